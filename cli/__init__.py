@@ -1,0 +1,1 @@
+"""vecmsaa's command-line layer (installed as ``vecmsaa.cli``)."""

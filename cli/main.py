@@ -1,0 +1,53 @@
+"""``vecmsaa`` entry point: one sub-command per module, imported only when it runs.
+
+Each command module exposes ``add_parser(subparsers)`` (cheap: argparse only) and
+``run(args) -> int``. Heavy imports (numba kernels, fontTools, PIL) happen inside ``run``, so
+``vecmsaa --help`` and start-up stay fast.
+"""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+COMMANDS = ("render", "font", "golden", "bench", "demo", "suite")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from vecmsaa import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="vecmsaa",
+        description="Render SVG files and font glyphs with Loop-Blinn curves and multisample "
+                    "antialiasing.")
+    parser.add_argument("--version", action="version", version=f"vecmsaa {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMANDS:
+        try:
+            module = importlib.import_module(f"vecmsaa.cli.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name == f"vecmsaa.cli.{name}":
+                continue  # command not built yet
+            raise
+        module.add_parser(sub)
+    return parser
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "command", None):
+        parser.print_help()
+        return 2
+    module = importlib.import_module(f"vecmsaa.cli.{args.command}")
+    try:
+        return int(module.run(args) or 0)
+    except KeyboardInterrupt:
+        print("vecmsaa: interrupted", file=sys.stderr)
+        return 130
+    except BrokenPipeError:
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

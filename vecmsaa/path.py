@@ -1,0 +1,197 @@
+"""Outlines: one path type for every source, filled through the fontTools pen protocol.
+
+A :class:`Path` is a pen (``moveTo``, ``lineTo``, ``qCurveTo``, ``curveTo``, ``closePath``,
+``endPath``) that records flat arrays: ``verbs`` (one byte per segment) and ``points`` (float64,
+N x 2). SVG paths, glyph outlines and stroke outlines all arrive here, so everything after this
+module sees one representation.
+"""
+from __future__ import annotations
+
+import numpy as np
+from fontTools.pens.basePen import BasePen
+
+MOVE, LINE, QUAD, CUBIC, CLOSE = 0, 1, 2, 3, 4
+#: how many points each verb consumes
+VERB_POINTS = (1, 1, 2, 3, 0)
+
+IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+
+
+def compose(m1, m2):
+    """Affine matrices in SVG order (a, b, c, d, e, f): the result applies m2 first, then m1."""
+    a1, b1, c1, d1, e1, f1 = m1
+    a2, b2, c2, d2, e2, f2 = m2
+    return (a1 * a2 + c1 * b2, b1 * a2 + d1 * b2,
+            a1 * c2 + c1 * d2, b1 * c2 + d1 * d2,
+            a1 * e2 + c1 * f2 + e1, b1 * e2 + d1 * f2 + f1)
+
+
+def invert(m):
+    """Inverse of an affine matrix; raises ValueError when it is singular."""
+    a, b, c, d, e, f = m
+    det = a * d - b * c
+    if det == 0 or not np.isfinite(det):
+        raise ValueError("singular transform")
+    ia, ib, ic, id_ = d / det, -b / det, -c / det, a / det
+    return (ia, ib, ic, id_, -(ia * e + ic * f), -(ib * e + id_ * f))
+
+
+def apply(m, pts):
+    """Transform an (N, 2) array of points."""
+    a, b, c, d, e, f = m
+    pts = np.asarray(pts, dtype=np.float64)
+    out = np.empty_like(pts)
+    out[:, 0] = a * pts[:, 0] + c * pts[:, 1] + e
+    out[:, 1] = b * pts[:, 0] + d * pts[:, 1] + f
+    return out
+
+
+class Path(BasePen):
+    """A pen that records an outline as flat verb and point arrays.
+
+    qCurveTo/curveTo with several off-curve points are decomposed by fontTools' BasePen
+    (TrueType implied on-curve points, super-Béziers), so the recorded segments are always
+    single lines, quadratics and cubics.
+    """
+
+    def __init__(self, glyphSet=None):
+        super().__init__(glyphSet)
+        self._verbs: list[int] = []
+        self._pts: list[tuple[float, float]] = []
+        self._arrays = None
+        self._open = False
+
+    # -- BasePen segment hooks -------------------------------------------------------------
+    def _moveTo(self, pt):
+        self._verbs.append(MOVE)
+        self._pts.append(pt)
+        self._arrays = None
+        self._open = True
+
+    def _lineTo(self, pt):
+        self._implicit_move()
+        self._verbs.append(LINE)
+        self._pts.append(pt)
+
+    def _qCurveToOne(self, pt1, pt2):
+        self._implicit_move()
+        self._verbs.append(QUAD)
+        self._pts.extend((pt1, pt2))
+
+    def _curveToOne(self, pt1, pt2, pt3):
+        self._implicit_move()
+        self._verbs.append(CUBIC)
+        self._pts.extend((pt1, pt2, pt3))
+
+    def _closePath(self):
+        if self._open:
+            self._verbs.append(CLOSE)
+        self._open = False
+
+    def _endPath(self):
+        self._open = False
+
+    def _implicit_move(self):
+        self._arrays = None
+        if not self._open:
+            # A drawing command after closePath starts at the last current point (SVG rule).
+            cur = self._getCurrentPoint() or (0.0, 0.0)
+            self._verbs.append(MOVE)
+            self._pts.append(cur)
+            self._open = True
+
+    # -- recorded arrays -------------------------------------------------------------------
+    @property
+    def verbs(self) -> np.ndarray:
+        return self._freeze()[0]
+
+    @property
+    def points(self) -> np.ndarray:
+        return self._freeze()[1]
+
+    def _freeze(self):
+        if self._arrays is None:
+            v = np.asarray(self._verbs, dtype=np.uint8)
+            p = np.asarray(self._pts, dtype=np.float64).reshape(-1, 2)
+            self._arrays = (v, p)
+        return self._arrays
+
+    @classmethod
+    def from_arrays(cls, verbs, points) -> "Path":
+        path = cls()
+        path._verbs = [int(v) for v in verbs]
+        path._pts = [tuple(p) for p in np.asarray(points, dtype=np.float64).reshape(-1, 2)]
+        path._open = bool(path._verbs) and path._verbs[-1] != CLOSE
+        if path._pts:
+            path._BasePen__currentPoint = path._pts[-1]
+        return path
+
+    def __len__(self):
+        return len(self._verbs)
+
+    def is_empty(self) -> bool:
+        return not any(v in (LINE, QUAD, CUBIC) for v in self._verbs)
+
+    def transformed(self, m) -> "Path":
+        if m == IDENTITY:
+            return self
+        v, p = self._freeze()
+        return Path.from_arrays(v, apply(m, p) if len(p) else p)
+
+    def bounds(self):
+        """Control-point bounds (x0, y0, x1, y1), or None for an empty path."""
+        p = self.points
+        if len(p) == 0:
+            return None
+        return (float(p[:, 0].min()), float(p[:, 1].min()),
+                float(p[:, 0].max()), float(p[:, 1].max()))
+
+    def draw(self, pen):
+        """Replay into another pen (fontTools protocol)."""
+        v, p = self._freeze()
+        i = 0
+        open_ = False
+        for verb in v:
+            n = VERB_POINTS[verb]
+            pts = [tuple(q) for q in p[i:i + n]]
+            i += n
+            if verb == MOVE:
+                if open_:
+                    pen.endPath()
+                pen.moveTo(pts[0])
+                open_ = True
+            elif verb == LINE:
+                pen.lineTo(pts[0])
+            elif verb == QUAD:
+                pen.qCurveTo(*pts)
+            elif verb == CUBIC:
+                pen.curveTo(*pts)
+            else:
+                pen.closePath()
+                open_ = False
+        if open_:
+            pen.endPath()
+
+    def extend(self, other: "Path"):
+        """Append all subpaths of another path."""
+        v, p = other._freeze()
+        if not len(v):
+            return
+        self._verbs.extend(int(x) for x in v)
+        self._pts.extend(tuple(q) for q in p)
+        self._open = v[-1] != CLOSE
+        self._BasePen__currentPoint = tuple(p[-1]) if len(p) else None
+        self._arrays = None
+
+    def __repr__(self):
+        return f"Path({len(self._verbs)} segments)"
+
+
+def rect_path(x, y, w, h) -> Path:
+    path = Path()
+    path.moveTo((x, y))
+    path.lineTo((x + w, y))
+    path.lineTo((x + w, y + h))
+    path.lineTo((x, y + h))
+    path.closePath()
+    return path

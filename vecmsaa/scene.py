@@ -1,0 +1,122 @@
+"""The resolved scene: what every front end (SVG, fonts) produces and the renderer consumes.
+
+Everything here is already resolved, as in usvg: geometry is in device pixels (y down, origin at
+the top-left corner of the output image), styles are plain values, paints carry the matrix that
+maps device pixels into paint space. A renderer needs nothing but this module to draw a scene.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Union
+
+import numpy as np
+
+from .path import IDENTITY, Path
+
+
+@dataclass
+class Solid:
+    """A flat colour: straight (not premultiplied) RGBA, each in [0, 1]."""
+    color: tuple = (0.0, 0.0, 0.0, 1.0)
+
+
+@dataclass
+class LinearGradient:
+    """Gradient along (x1, y1) → (x2, y2) in gradient space.
+
+    ``stops`` is a (K, 5) float array of (offset, r, g, b, a), offsets non-decreasing in [0, 1],
+    colours straight RGBA. ``to_paint`` maps device pixel coordinates into gradient space.
+    """
+    x1: float
+    y1: float
+    x2: float
+    y2: float
+    stops: np.ndarray
+    spread: str = "pad"          # pad | reflect | repeat
+    to_paint: tuple = IDENTITY
+
+
+@dataclass
+class RadialGradient:
+    """Two-point conical gradient from the focal circle (fx, fy, fr) to the circle (cx, cy, r)."""
+    cx: float
+    cy: float
+    r: float
+    fx: float
+    fy: float
+    stops: np.ndarray
+    fr: float = 0.0
+    spread: str = "pad"
+    to_paint: tuple = IDENTITY
+
+
+@dataclass
+class ImagePaint:
+    """A raster image (patterns, <image>): (H, W, 4) float32 premultiplied RGBA in [0, 1].
+
+    ``to_paint`` maps device pixels into image pixel coordinates (0..W, 0..H); ``repeat`` tiles
+    it (patterns), otherwise outside is transparent. ``smooth`` picks bilinear over nearest.
+    """
+    rgba: np.ndarray
+    to_paint: tuple = IDENTITY
+    repeat: bool = False
+    smooth: bool = True
+
+
+Paint = Union[Solid, LinearGradient, RadialGradient, ImagePaint]
+
+
+@dataclass
+class Fill:
+    """A path filled with a paint. Strokes and text arrive here already turned into outlines."""
+    path: Path
+    paint: Paint = field(default_factory=Solid)
+    rule: str = "nonzero"        # nonzero | evenodd
+    opacity: float = 1.0
+    antialias: bool = True       # shape-rendering: crispEdges turns it off
+
+
+@dataclass
+class Mask:
+    """``content`` is rendered, turned into a coverage (luminance or alpha), and multiplies."""
+    content: "Group"
+    kind: str = "luminance"      # luminance | alpha
+
+
+@dataclass
+class Group:
+    """Children drawn in order. A group with opacity < 1, a clip, a mask or a blend mode other
+    than normal is drawn into a layer of its own and composited; a plain group is flattened."""
+    children: list = field(default_factory=list)
+    opacity: float = 1.0
+    clip: "Group | None" = None  # its rendered alpha is the clip coverage
+    mask: Mask | None = None
+    blend: str = "normal"        # any CSS mix-blend-mode
+    isolate: bool = False
+
+    def needs_layer(self) -> bool:
+        return (self.opacity < 1.0 or self.clip is not None or self.mask is not None
+                or self.blend != "normal" or self.isolate)
+
+
+Node = Union[Fill, Group]
+
+
+@dataclass
+class Scene:
+    width: int
+    height: int
+    root: Group = field(default_factory=Group)
+    background: tuple = (0.0, 0.0, 0.0, 0.0)   # straight RGBA under everything
+
+    def fills(self):
+        """All Fill nodes in paint order (ignoring layers); handy for tests and statistics."""
+        stack = [self.root]
+        out = []
+        while stack:
+            node = stack.pop()
+            if isinstance(node, Fill):
+                out.append(node)
+            else:
+                stack.extend(reversed(node.children))
+        return out
