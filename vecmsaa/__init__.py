@@ -6,3 +6,11 @@ __version__ = "0.1.0"
 MODES = ("none", "alpha", "a2c", "persample", "approx", "analytic", "reference")
 DEFAULT_MODE = "approx"
 DEFAULT_SAMPLES = 8
+
+
+def __getattr__(name):
+    # The convenience API pulls in the SVG front end; import it only when asked for.
+    if name in ("render_svg", "render_svg_array"):
+        from . import api
+        return getattr(api, name)
+    raise AttributeError(f"module 'vecmsaa' has no attribute {name!r}")

@@ -1,0 +1,46 @@
+"""PNG output: deterministic bytes, written whole or not at all."""
+from __future__ import annotations
+
+import io
+import os
+import sys
+import tempfile
+
+import numpy as np
+
+
+def encode_png(rgba: np.ndarray) -> bytes:
+    """Straight RGBA uint8 (H, W, 4) → PNG bytes. Fixed settings and no metadata, so the same
+    pixels always give the same bytes."""
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.fromarray(np.ascontiguousarray(rgba, dtype=np.uint8), "RGBA").save(
+        buf, format="PNG", optimize=False, compress_level=6)
+    return buf.getvalue()
+
+
+def write_bytes_atomic(data: bytes, path) -> None:
+    """Write to a temporary file beside ``path`` and rename it into place; ``-`` is stdout."""
+    if str(path) == "-":
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
+        return
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    os.makedirs(folder, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".vecmsaa-", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def write_png(rgba: np.ndarray, path) -> None:
+    write_bytes_atomic(encode_png(rgba), path)
