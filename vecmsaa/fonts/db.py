@@ -1,0 +1,323 @@
+"""Font database: which face to use for a CSS font-family list, weight, style and stretch.
+
+Faces come from font folders (``--use-fonts-dir``), single files, and unless
+``--skip-system-fonts`` the usual fontconfig folders. Generic families (serif, sans-serif,
+cursive, fantasy, monospace) map to configurable family names (resvg's option names). Matching
+follows CSS Fonts 3 §5.2: the first family in the list that exists wins, then within it the
+closest stretch, then style, then weight. Missing characters fall back to the list's other
+families, then to any face that has them.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+from .face import FontError, WIDTH_CLASS_PERCENT, load_face
+
+FONT_EXTENSIONS = (".ttf", ".otf", ".ttc", ".otc")
+GENERIC_FAMILIES = ("serif", "sans-serif", "cursive", "fantasy", "monospace")
+#: Preferred family per generic, first present wins; the head of each list is the mapping the
+#: resvg test suite uses.
+DEFAULT_GENERICS = {
+    "serif": ["Noto Serif", "DejaVu Serif", "Liberation Serif", "Times New Roman"],
+    "sans-serif": ["Noto Sans", "DejaVu Sans", "Liberation Sans", "Arial"],
+    "cursive": ["Yellowtail", "Comic Sans MS", "DejaVu Sans"],
+    "fantasy": ["Sedgwick Ave Display", "Impact", "DejaVu Sans"],
+    "monospace": ["Noto Mono", "DejaVu Sans Mono", "Liberation Mono", "Courier New"],
+}
+SYSTEM_FONT_DIRS = ("/usr/share/fonts", "/usr/local/share/fonts", "~/.fonts",
+                    "~/.local/share/fonts", "/Library/Fonts", "/System/Library/Fonts",
+                    "C:\\Windows\\Fonts")
+
+
+@dataclass(frozen=True)
+class FaceInfo:
+    """What matching needs to know about one face, read from its tables once."""
+    path: str
+    index: int
+    families: tuple            # every family name it answers to, as in the font
+    postscript_name: str
+    weight: int
+    style: str                 # normal | italic | oblique
+    stretch: float             # percent, 100 = normal
+    monospace: bool
+
+    @property
+    def family(self) -> str:
+        return self.families[0] if self.families else ""
+
+    def load(self):
+        return load_face(self.path, self.index)
+
+
+def read_face_infos(path) -> list:
+    """FaceInfo for every face of a font file (unreadable files give an empty list)."""
+    from fontTools.ttLib import TTFont
+
+    from .face import face_count
+
+    out = []
+    try:
+        count = face_count(path)
+    except FontError:
+        return out
+    for index in range(count):
+        try:
+            font = TTFont(path, fontNumber=index, lazy=True)
+            name = font["name"]
+            families = []
+            for nid in (16, 1, 21):
+                for rec in name.names:
+                    if rec.nameID == nid:
+                        try:
+                            s = rec.toUnicode()
+                        except UnicodeDecodeError:
+                            continue
+                        if s and s not in families:
+                            families.append(s)
+            os2 = font["OS/2"] if "OS/2" in font else None
+            sub = (name.getDebugName(17) or name.getDebugName(2) or "").lower()
+            weight = int(os2.usWeightClass) if os2 is not None else (
+                700 if "bold" in sub else 400)
+            stretch = WIDTH_CLASS_PERCENT.get(os2.usWidthClass, 100.0) if os2 else 100.0
+            italic = bool(font["head"].macStyle & 2) or "italic" in sub or bool(
+                os2 is not None and os2.fsSelection & 1)
+            oblique = "oblique" in sub or bool(os2 is not None and os2.fsSelection & 512)
+            style = "italic" if italic else ("oblique" if oblique else "normal")
+            mono = bool("post" in font and font["post"].isFixedPitch)
+            out.append(FaceInfo(os.path.abspath(path), index, tuple(families),
+                                name.getDebugName(6) or "", weight, style, stretch, mono))
+            font.close()
+        except Exception:
+            continue   # a broken file in a font folder is skipped, as fontconfig does
+    return out
+
+
+def _stretch_order(wanted: float, available):
+    """CSS: exact, then narrower-first when wanted <= 100% else wider-first."""
+    avail = sorted(set(available))
+    if wanted in avail:
+        return [wanted]
+    narrower = sorted((s for s in avail if s < wanted), reverse=True)
+    wider = sorted(s for s in avail if s > wanted)
+    return narrower + wider if wanted <= 100 else wider + narrower
+
+
+def _style_order(wanted: str):
+    return {"italic": ["italic", "oblique", "normal"],
+            "oblique": ["oblique", "italic", "normal"]}.get(wanted, ["normal", "oblique", "italic"])
+
+
+def _weight_key(wanted: int):
+    """Sort key giving CSS weight preference (smaller is better)."""
+    def key(w):
+        if w == wanted:
+            return (0, 0)
+        if 400 <= wanted <= 500:
+            if wanted < w <= 500:
+                return (1, w - wanted)
+            if w < wanted:
+                return (2, wanted - w)
+            return (3, w - wanted)
+        if wanted < 400:
+            return (1, wanted - w) if w < wanted else (2, w - wanted)
+        return (1, w - wanted) if w > wanted else (2, wanted - w)
+    return key
+
+
+def best_match(faces, weight=400, style="normal", stretch=100.0):
+    """CSS Fonts 3 §5.2 step 4 among the faces of one family."""
+    if not faces:
+        return None
+    stretches = _stretch_order(float(stretch), [f.stretch for f in faces])
+    faces = [f for f in faces if f.stretch == stretches[0]]
+    for s in _style_order(style):
+        with_style = [f for f in faces if f.style == s]
+        if with_style:
+            faces = with_style
+            break
+    return min(faces, key=lambda f: _weight_key(int(weight))(f.weight))
+
+
+@dataclass
+class FontDatabase:
+    faces: list = field(default_factory=list)
+    generics: dict = field(default_factory=lambda: {k: list(v)
+                                                      for k, v in DEFAULT_GENERICS.items()})
+    default_family: str = "sans-serif"
+
+    def __post_init__(self):
+        self._by_family = None
+        self._seen = set()
+
+    # -- loading ---------------------------------------------------------------------------
+    def load_file(self, path):
+        path = os.path.abspath(os.fspath(path))
+        if path in self._seen:
+            return
+        self._seen.add(path)
+        self.faces.extend(read_face_infos(path))
+        self._by_family = None
+
+    def load_dir(self, folder):
+        folder = os.path.expanduser(os.fspath(folder))
+        for root, dirs, files in os.walk(folder):
+            dirs.sort()
+            for fn in sorted(files):
+                if fn.lower().endswith(FONT_EXTENSIONS):
+                    self.load_file(os.path.join(root, fn))
+
+    def load_system_fonts(self):
+        for folder in SYSTEM_FONT_DIRS:
+            folder = os.path.expanduser(folder)
+            if os.path.isdir(folder):
+                self.load_dir(folder)
+
+    def set_generic(self, generic: str, family: str):
+        """Map a generic family to one family name (e.g. ``--serif-family``)."""
+        self.generics[generic] = [family]
+
+    # -- queries ---------------------------------------------------------------------------
+    def _index(self):
+        if self._by_family is None:
+            idx = {}
+            for f in self.faces:
+                for name in f.families:
+                    idx.setdefault(name.lower(), []).append(f)
+            self._by_family = idx
+        return self._by_family
+
+    def family_faces(self, family: str) -> list:
+        """Faces of a family name; a generic name resolves through its mapping."""
+        family = family.strip().strip("'\"").strip()
+        key = family.lower()
+        if key in GENERIC_FAMILIES:
+            for name in self.generics.get(key, []):
+                faces = self._index().get(name.lower())
+                if faces:
+                    return faces
+            return []
+        return self._index().get(key, [])
+
+    def query(self, families, weight=400, style="normal", stretch=100.0):
+        """The best FaceInfo for a CSS family list, or None when no family exists."""
+        if isinstance(families, str):
+            families = parse_family_list(families)
+        for family in families:
+            match = best_match(self.family_faces(family), weight, style, stretch)
+            if match is not None:
+                return match
+        return None
+
+    def query_or_default(self, families, weight=400, style="normal", stretch=100.0):
+        """Like :meth:`query`, falling back to the default family and then to any face."""
+        match = self.query(families, weight, style, stretch)
+        if match is None:
+            match = self.query([self.default_family], weight, style, stretch)
+        if match is None and self.faces:
+            match = best_match(self.faces, weight, style, stretch)
+        return match
+
+    def fallback_for_char(self, char: str, families=(), weight=400, style="normal",
+                          stretch=100.0, exclude=()):
+        """A face that has ``char``: the list's families first, then any face in the db."""
+        cp = ord(char)
+        tried = set(exclude)
+        for family in families:
+            info = best_match(self.family_faces(family), weight, style, stretch)
+            if info is not None and info not in tried:
+                tried.add(info)
+                if _has_cp(info, cp):
+                    return info
+        candidates = [f for f in self.faces if f not in tried and _has_cp(f, cp)]
+        if not candidates:
+            return None
+        # Prefer faces whose style matches, in database order (as fontdb does).
+        same = [f for f in candidates if f.style == style]
+        pool = same or candidates
+        return best_match(pool, weight, style, stretch) if len(pool) > 1 else pool[0]
+
+
+def _has_cp(info: FaceInfo, cp: int) -> bool:
+    try:
+        return info.load().has_char(cp)
+    except FontError:
+        return False
+
+
+def parse_family_list(text: str) -> list:
+    """CSS font-family value → list of names (quotes removed, whitespace collapsed)."""
+    out = []
+    cur, quote = [], None
+    for ch in text or "":
+        if quote:
+            if ch == quote:
+                quote = None
+            else:
+                cur.append(ch)
+        elif ch in "'\"":
+            quote = ch
+        elif ch == ",":
+            out.append(" ".join("".join(cur).split()))
+            cur = []
+        else:
+            cur.append(ch)
+    out.append(" ".join("".join(cur).split()))
+    return [f for f in out if f]
+
+
+# -- command-line options (resvg's names) ----------------------------------------------------
+def add_font_arguments(parser):
+    """Add ``--use-fonts-dir``, ``--font-family``, generic-family and system-font options."""
+    g = parser.add_argument_group("fonts")
+    g.add_argument("--use-font-file", action="append", default=[], metavar="PATH",
+                   help="load a font file (repeatable)")
+    g.add_argument("--use-fonts-dir", action="append", default=[], metavar="DIR",
+                   help="load all fonts in a folder, recursively (repeatable)")
+    g.add_argument("--skip-system-fonts", action="store_true",
+                   help="do not load fonts from the system font folders")
+    g.add_argument("--font-family", metavar="NAME",
+                   help="family used when text names none [default: sans-serif]")
+    for generic in GENERIC_FAMILIES:
+        g.add_argument(f"--{generic}-family", metavar="NAME",
+                       dest=f"{generic.replace('-', '_')}_family",
+                       help=f"family for the generic '{generic}'")
+    return g
+
+
+_DB_CACHE = {}
+
+
+def database_from_args(args) -> FontDatabase:
+    """A FontDatabase configured from :func:`add_font_arguments` options (cached per options).
+    """
+    files = tuple(getattr(args, "use_font_file", None) or ())
+    dirs = tuple(getattr(args, "use_fonts_dir", None) or ())
+    skip = bool(getattr(args, "skip_system_fonts", False))
+    generics = tuple((g, getattr(args, f"{g.replace('-', '_')}_family", None))
+                     for g in GENERIC_FAMILIES)
+    family = getattr(args, "font_family", None)
+    key = (files, dirs, skip, generics, family)
+    db = _DB_CACHE.get(key)
+    if db is None:
+        db = FontDatabase()
+        for d in dirs:
+            db.load_dir(d)
+        for f in files:
+            db.load_file(f)
+        if not skip:
+            db.load_system_fonts()
+        for g, name in generics:
+            if name:
+                db.set_generic(g, name)
+        if family:
+            db.default_family = family
+        _DB_CACHE[key] = db
+    return db
+
+
+def default_database() -> FontDatabase:
+    """System fonts with default generic mappings."""
+    class _NoArgs:
+        pass
+    return database_from_args(_NoArgs())
