@@ -1,0 +1,370 @@
+"""SVG path data (the ``d`` attribute) → :class:`vecmsaa.path.Path`.
+
+The grammar is SVG 2's (section 9.3.9, BNF in SVG 1.1 F.6 / 8.3.9). Error handling follows
+SVG 2 9.5.4: the path is rendered up to the last complete segment before the first error.
+Arcs become cubic Béziers (at most 90° each) through the endpoint → centre conversion of
+SVG 1.1 appendix F.6.5 with the radii correction of F.6.6.
+
+Speed matters (OSM maps carry megabytes of path data), so the string is cut at command letters
+with one regex split and each command's arguments are read with one ``findall`` whose result
+``map(float, ...)`` converts in C; only arcs (whose flags may be written without separators)
+go through a slower scanner.
+"""
+from __future__ import annotations
+
+import math
+import re
+from itertools import accumulate
+
+import numpy as np
+
+from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path
+
+_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+# comma-wsp between numbers is optional ("-1-2", ".5.5" are two numbers each)
+_SEP = r"(?:[ \t\r\n\f]*,[ \t\r\n\f]*|[ \t\r\n\f]+)?"
+_WSP = r"[ \t\r\n\f]*"
+_COMMANDS = "MmLlHhVvCcSsQqTtAaZz"
+_SPLIT = re.compile(r"([MmLlHhVvCcSsQqTtAaZz])")
+_NUMBER_RE = re.compile(_NUMBER)
+# the arguments of one command: numbers with optional separators, wsp around; no leading or
+# trailing comma (those are errors in the grammar)
+_ARGS_VALID = re.compile(f"{_WSP}(?:{_NUMBER}(?:{_SEP}{_NUMBER})*)?{_WSP}")
+_ARG_NUMBER = re.compile(f"{_SEP}({_NUMBER})")
+_ARG_FLAG = re.compile(f"{_SEP}([01])")
+
+#: numbers each command consumes per repetition
+_ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "A": 7, "Z": 0}
+
+
+def parse_path_data(d: str) -> Path:
+    """The path described by an SVG ``d`` attribute (empty Path for an empty or invalid one)."""
+    return parse_path_data_with_commands(d)[0]
+
+
+def parse_path_data_with_commands(d: str):
+    """Like :func:`parse_path_data`, plus, for every recorded verb, the index of the path
+    command (counting implicit repetitions as their own commands) it came from.
+
+    Markers need this: an arc becomes several cubics but is one segment, so marker-mid must
+    not be placed between its pieces, and its directions are those of the whole arc.
+    """
+    verbs: list[int] = []
+    pts: list[tuple[float, float]] = []
+    origin: list[int] = []
+    parts = _SPLIT.split(d)
+    # parts = [text before first command, cmd, args, cmd, args, ...]
+    if parts[0].strip(" \t\r\n\f"):
+        return _finish(verbs, pts, origin)
+    cx = cy = 0.0               # current point
+    sx = sy = 0.0               # start of the current subpath
+    # control point that smooth curves reflect, and which kind of curve left it
+    rx = ry = 0.0
+    prev_kind = ""              # "C" after C/S, "Q" after Q/T, "" otherwise
+    subpath_open = False        # a MOVE has been recorded for the current subpath
+    command_index = 0
+    first = True
+
+    for k in range(1, len(parts), 2):
+        letter = parts[k]
+        args_text = parts[k + 1]
+        upper = letter.upper()
+        relative = letter != upper
+        arity = _ARITY[upper]
+        if first and upper != "M":
+            break               # path data must begin with a moveto
+        first = False
+
+        if upper == "A":
+            nums, ok = _scan_arcs(args_text)
+        else:
+            if _ARGS_VALID.fullmatch(args_text):
+                ok = True
+                nums = list(map(float, _NUMBER_RE.findall(args_text)))
+            else:
+                ok = False
+                prefix = _ARGS_VALID.match(args_text)
+                end = prefix.end()
+                nums = list(map(float, _NUMBER_RE.findall(args_text, 0, end)))
+                if nums and args_text[end:end + 1] in ("e", "E") and \
+                        args_text[end - 1] not in " \t\r\n\f,":
+                    # "1e" is a broken number, not "1" followed by junk (as browsers read it)
+                    nums.pop()
+        if arity == 0:
+            nums_ok = not nums
+            count = 0
+        else:
+            count = len(nums) // arity
+            nums_ok = count > 0 and count * arity == len(nums)
+
+        if upper == "Z":
+            if subpath_open:
+                verbs.append(CLOSE)
+                origin.append(command_index)
+                command_index += 1
+            cx, cy = sx, sy
+            subpath_open = False
+            prev_kind = ""
+            if not (ok and nums_ok):
+                break
+            continue
+
+        if (upper == "L" and count > 0) or (upper == "M" and count > 1):
+            # polylines dominate map data: handle a whole run of points at once
+            start = 0
+            if upper == "M":
+                x, y = nums[0], nums[1]
+                if relative:
+                    x += cx
+                    y += cy
+                verbs.append(MOVE)
+                pts.append((x, y))
+                origin.append(command_index)
+                sx, sy = cx, cy = x, y
+                subpath_open = True
+                command_index += 1
+                start = 1
+            elif not subpath_open:
+                verbs.append(MOVE)
+                pts.append((cx, cy))
+                origin.append(command_index)
+                subpath_open = True
+            xs = nums[2 * start:2 * count:2]
+            ys = nums[2 * start + 1:2 * count:2]
+            if relative:
+                xs = list(accumulate(xs, initial=cx))[1:]
+                ys = list(accumulate(ys, initial=cy))[1:]
+            run = len(xs)
+            pts.extend(zip(xs, ys))
+            verbs.extend([LINE] * run)
+            origin.extend(range(command_index, command_index + run))
+            command_index += run
+            cx, cy = xs[-1], ys[-1]
+            prev_kind = ""
+            if not (ok and nums_ok):
+                break
+            continue
+
+        for i in range(0, count * arity, arity):
+            if upper == "M":
+                x, y = nums[i], nums[i + 1]
+                if relative:
+                    x += cx
+                    y += cy
+                if i == 0:
+                    verbs.append(MOVE)
+                    pts.append((x, y))
+                    origin.append(command_index)
+                    sx, sy = x, y
+                    subpath_open = True
+                else:           # extra pairs after a moveto are implicit linetos
+                    verbs.append(LINE)
+                    pts.append((x, y))
+                    origin.append(command_index)
+                cx, cy = x, y
+                prev_kind = ""
+                command_index += 1
+                continue
+            if not subpath_open:
+                # a drawing command right after closepath starts a subpath at its start point
+                verbs.append(MOVE)
+                pts.append((cx, cy))
+                origin.append(command_index)
+                subpath_open = True
+            if upper == "L":
+                x, y = nums[i], nums[i + 1]
+                if relative:
+                    x += cx
+                    y += cy
+                verbs.append(LINE)
+                pts.append((x, y))
+                prev_kind = ""
+            elif upper == "H":
+                x = nums[i] + cx if relative else nums[i]
+                y = cy
+                verbs.append(LINE)
+                pts.append((x, y))
+                prev_kind = ""
+            elif upper == "V":
+                x = cx
+                y = nums[i] + cy if relative else nums[i]
+                verbs.append(LINE)
+                pts.append((x, y))
+                prev_kind = ""
+            elif upper == "C" or upper == "S":
+                if upper == "C":
+                    x1, y1, x2, y2, x, y = nums[i:i + 6]
+                    if relative:
+                        x1 += cx
+                        y1 += cy
+                else:
+                    x2, y2, x, y = nums[i:i + 4]
+                    if prev_kind == "C":
+                        x1, y1 = 2 * cx - rx, 2 * cy - ry
+                    else:
+                        x1, y1 = cx, cy
+                if relative:
+                    x2 += cx
+                    y2 += cy
+                    x += cx
+                    y += cy
+                verbs.append(CUBIC)
+                pts.extend(((x1, y1), (x2, y2), (x, y)))
+                rx, ry = x2, y2
+                prev_kind = "C"
+            elif upper == "Q" or upper == "T":
+                if upper == "Q":
+                    x1, y1, x, y = nums[i:i + 4]
+                    if relative:
+                        x1 += cx
+                        y1 += cy
+                else:
+                    x, y = nums[i:i + 2]
+                    if prev_kind == "Q":
+                        x1, y1 = 2 * cx - rx, 2 * cy - ry
+                    else:
+                        x1, y1 = cx, cy
+                if relative:
+                    x += cx
+                    y += cy
+                verbs.append(QUAD)
+                pts.extend(((x1, y1), (x, y)))
+                rx, ry = x1, y1
+                prev_kind = "Q"
+            else:               # A
+                arx, ary, rotation, large, sweep, x, y = nums[i:i + 7]
+                if relative:
+                    x += cx
+                    y += cy
+                pieces = arc_to_cubics(cx, cy, arx, ary, rotation, large != 0.0, sweep != 0.0,
+                                       x, y)
+                if pieces is None:
+                    verbs.append(LINE)
+                    pts.append((x, y))
+                    origin.append(command_index)
+                for piece in pieces or ():
+                    verbs.append(CUBIC)
+                    pts.extend(piece)
+                    origin.append(command_index)
+                cx, cy = x, y
+                prev_kind = ""
+                command_index += 1
+                continue
+            origin.append(command_index)
+            cx, cy = x, y
+            command_index += 1
+        if not (ok and nums_ok):
+            break
+    return _finish(verbs, pts, origin)
+
+
+def _finish(verbs, pts, origin):
+    # Path.from_arrays would convert the point list to an array and back to tuples; filling
+    # the recorder's lists directly halves the parse time of map data.
+    path = Path()
+    path._verbs = verbs
+    path._pts = pts
+    path._open = bool(verbs) and verbs[-1] != CLOSE
+    if pts:
+        path._BasePen__currentPoint = pts[-1]
+    return path, np.asarray(origin, dtype=np.int64)
+
+
+def _scan_arcs(text: str):
+    """Arguments of an arc command: (numbers, whether the whole text was valid).
+
+    Flags are single characters '0'/'1' and need no separator ("a10 10 0 1100 10" is valid),
+    so arcs cannot use the plain number regex.
+    """
+    nums: list[float] = []
+    pos = 0
+    end = len(text)
+    # leading wsp only (no comma) before the first argument
+    while pos < end and text[pos] in " \t\r\n\f":
+        pos += 1
+    field = 0
+    while True:
+        matcher = _ARG_FLAG if field in (3, 4) else _ARG_NUMBER
+        m = matcher.match(text, pos)
+        if m is None or (not nums and m.start(1) != pos):
+            break
+        nums.append(float(m.group(1)))
+        pos = m.end()
+        field = (field + 1) % 7
+    rest = text[pos:]
+    ok = not rest.strip(" \t\r\n\f")
+    # a partial arc before the error is dropped by the caller (count * arity)
+    return nums, ok
+
+
+def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
+    """An elliptical arc as cubic Bézier pieces ``[(c1, c2, end), ...]`` of at most 90° each.
+
+    Returns None when the arc is a straight line (a zero radius), and [] when the endpoints
+    coincide (SVG omits such an arc).
+    """
+    if x1 == x2 and y1 == y2:
+        return []
+    rx = abs(rx)
+    ry = abs(ry)
+    if rx == 0.0 or ry == 0.0:
+        return None
+    phi = math.radians(phi_deg % 360.0)
+    cos_phi = math.cos(phi)
+    sin_phi = math.sin(phi)
+    # F.6.5 step 1: (x1', y1')
+    dx2 = (x1 - x2) / 2.0
+    dy2 = (y1 - y2) / 2.0
+    x1p = cos_phi * dx2 + sin_phi * dy2
+    y1p = -sin_phi * dx2 + cos_phi * dy2
+    # F.6.6: scale radii up when no ellipse reaches both endpoints
+    lam = (x1p * x1p) / (rx * rx) + (y1p * y1p) / (ry * ry)
+    if lam > 1.0:
+        s = math.sqrt(lam)
+        rx *= s
+        ry *= s
+    # step 2: centre (cx', cy')
+    rx2, ry2 = rx * rx, ry * ry
+    num = rx2 * ry2 - rx2 * y1p * y1p - ry2 * x1p * x1p
+    den = rx2 * y1p * y1p + ry2 * x1p * x1p
+    coef = math.sqrt(max(num, 0.0) / den) if den > 0 else 0.0
+    if large_arc == sweep:
+        coef = -coef
+    cxp = coef * rx * y1p / ry
+    cyp = -coef * ry * x1p / rx
+    # step 3: centre (cx, cy)
+    cx = cos_phi * cxp - sin_phi * cyp + (x1 + x2) / 2.0
+    cy = sin_phi * cxp + cos_phi * cyp + (y1 + y2) / 2.0
+    # step 4: start angle and sweep, measured on the unit circle
+    ux, uy = (x1p - cxp) / rx, (y1p - cyp) / ry
+    vx, vy = (-x1p - cxp) / rx, (-y1p - cyp) / ry
+    theta1 = math.atan2(uy, ux)
+    dtheta = math.atan2(ux * vy - uy * vx, ux * vx + uy * vy)
+    if not sweep and dtheta > 0:
+        dtheta -= 2 * math.pi
+    elif sweep and dtheta < 0:
+        dtheta += 2 * math.pi
+    n = max(1, int(math.ceil(abs(dtheta) / (math.pi / 2) - 1e-9)))
+    delta = dtheta / n
+    # handle length of a cubic approximating a unit circular arc of angle delta
+    t = 4.0 / 3.0 * math.tan(delta / 4.0)
+    pieces = []
+    a = theta1
+    cos_a, sin_a = math.cos(a), math.sin(a)
+    for i in range(n):
+        b = theta1 + (i + 1) * delta
+        cos_b, sin_b = math.cos(b), math.sin(b)
+        # unit-circle control points, then scale by radii, rotate by phi, translate
+        unit = ((cos_a - t * sin_a, sin_a + t * cos_a),
+                (cos_b + t * sin_b, sin_b - t * cos_b),
+                (cos_b, sin_b))
+        piece = []
+        for ex, ey in unit:
+            ex *= rx
+            ey *= ry
+            piece.append((cos_phi * ex - sin_phi * ey + cx, sin_phi * ex + cos_phi * ey + cy))
+        if i == n - 1:
+            piece[2] = (x2, y2)  # land exactly on the requested endpoint
+        pieces.append(tuple(piece))
+        cos_a, sin_a = cos_b, sin_b
+    return pieces
