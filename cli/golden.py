@@ -1,0 +1,178 @@
+"""``vecmsaa golden update|check``: golden images for CI (docs/golden.md).
+
+Exit status of ``check``: 0 when every render matches its golden, 1 when any differs, has no
+golden or fails to render, 2 on usage or input errors (missing directory, unreadable manifest).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+RENDER_OPTIONS = ("width", "height", "zoom", "mode", "samples", "background")
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be positive: {text!r}")
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number: {text!r}")
+    return value
+
+
+def _threshold(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if not 0 <= value <= 255:
+        raise argparse.ArgumentTypeError(f"must be in 0..255: {text!r}")
+    return value
+
+
+def _fraction(text: str) -> float:
+    """A fraction of pixels: ``0.002`` or ``0.2%``."""
+    percent = text.endswith("%")
+    try:
+        value = float(text[:-1] if percent else text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a fraction or percentage: {text!r}") from None
+    if percent:
+        value /= 100
+    if not 0 <= value <= 1:
+        raise argparse.ArgumentTypeError(f"must be between 0 and 1 (0%% and 100%%): {text!r}")
+    return value
+
+
+def _tolerance(text: str) -> tuple[int, float]:
+    """Combined ``THRESHOLD/FRACTION``, e.g. ``48/0.2%`` or ``32/0.001``."""
+    threshold, sep, fraction = text.partition("/")
+    if not sep:
+        raise argparse.ArgumentTypeError(f"expected THRESHOLD/FRACTION, e.g. 48/0.2%: {text!r}")
+    return _threshold(threshold), _fraction(fraction)
+
+
+def _common(parser: argparse.ArgumentParser) -> None:
+    # -h is the render height (as in 'vecmsaa render'), so help is --help only.
+    parser.add_argument("--help", action="help", help="show this help message and exit")
+    parser.add_argument("svg_dir", metavar="SVG_DIR", help="directory searched recursively for *.svg")
+    parser.add_argument("--goldens", metavar="GOLDEN_DIR", required=True,
+                        help="directory of the golden PNGs and their manifest "
+                             "(SVG_DIR/a/b.svg has the golden GOLDEN_DIR/a/b.png)")
+
+
+def add_parser(subparsers) -> None:
+    from vecmsaa import MODES
+
+    golden = subparsers.add_parser(
+        "golden", help="render SVGs to golden PNGs and check renders against them",
+        description="Golden images for CI: 'update' renders every SVG under a directory to "
+                    "PNGs and records the render options; 'check' renders again with those "
+                    "options and compares. See docs/golden.md.")
+    actions = golden.add_subparsers(dest="golden_action", metavar="ACTION", required=True)
+
+    update = actions.add_parser(
+        "update", add_help=False, help="(re)create the golden PNGs and their manifest",
+        description="Render every SVG under SVG_DIR to GOLDEN_DIR/<relative path>.png and record "
+                    "the render options in GOLDEN_DIR/vecmsaa-golden.json. Without any render "
+                    "option, the options already recorded there are kept (defaults if none).")
+    _common(update)
+    render = update.add_argument_group("render options (recorded for 'check')")
+    render.add_argument("-w", "--width", type=_positive_int, help="output width in pixels")
+    render.add_argument("-h", "--height", type=_positive_int, help="output height in pixels")
+    render.add_argument("--zoom", type=_positive_float, help="scale factor")
+    render.add_argument("--mode", choices=MODES, help="antialiasing mode (default approx)")
+    render.add_argument("--samples", type=_positive_int, help="samples per pixel (default 8)")
+    render.add_argument("--background", metavar="COLOR", help="background colour")
+
+    check = actions.add_parser(
+        "check", add_help=False, help="render again and compare with the goldens",
+        description="Render every SVG under SVG_DIR with the options recorded in GOLDEN_DIR and "
+                    "compare with its golden. Exit 0 when all match, 1 when any differs, has "
+                    "no golden or fails to render, 2 on usage or input errors.")
+    _common(check)
+    check.add_argument("--report", metavar="DIR",
+                       help="write DIR/<relative path>.diff.png (expected | difference | actual) "
+                            "for each failure and DIR/index.html summarising them")
+    tol = check.add_argument_group(
+        "tolerance", "A pixel is off when a channel (premultiplied, 8 bits) differs by more than "
+                     "the threshold; a render matches when at most the given fraction of its "
+                     "pixels is off. Default: 48 and 0.2%%, the project's suite criterion.")
+    tol.add_argument("--threshold", type=_threshold, help="channel difference, 0..255")
+    tol.add_argument("--max-fraction", type=_fraction, metavar="FRACTION",
+                     help="fraction of pixels allowed off: 0.002 or 0.2%%")
+    tol.add_argument("--tolerance", type=_tolerance, metavar="THRESHOLD/FRACTION",
+                     help="both at once, e.g. 48/0.2%%")
+    check.add_argument("-q", "--quiet", action="store_true",
+                       help="print only failures and the summary")
+
+
+def run(args) -> int:
+    from vecmsaa import golden
+
+    try:
+        if args.golden_action == "update":
+            return _update(args, golden)
+        return _check(args, golden)
+    except golden.GoldenError as exc:
+        print(f"vecmsaa golden: error: {exc}", file=sys.stderr)
+        return 2
+
+
+def _update(args, golden) -> int:
+    given = {name: getattr(args, name) for name in RENDER_OPTIONS
+             if getattr(args, name) is not None}
+    if given:
+        options = golden.render_options(**given)
+    else:
+        try:
+            options = golden.read_manifest(args.goldens)["render_options"]
+            print("using the render options recorded in the manifest", file=sys.stderr)
+        except golden.GoldenError:
+            options = golden.render_options()
+    result = golden.update_goldens(args.svg_dir, args.goldens, options,
+                                   progress=lambda line: print(line, flush=True))
+    print(f"golden update: {len(result.written)} written, {len(result.unchanged)} unchanged, "
+          f"{len(result.errors)} failed to render")
+    return 1 if result.errors else 0
+
+
+def _check(args, golden) -> int:
+    if args.tolerance and (args.threshold is not None or args.max_fraction is not None):
+        print("vecmsaa golden check: error: --tolerance replaces --threshold and "
+              "--max-fraction; give one or the other", file=sys.stderr)
+        return 2
+    threshold, max_fraction = args.tolerance or (args.threshold, args.max_fraction)
+    tolerance = golden.Tolerance(
+        golden.THRESHOLD if threshold is None else threshold,
+        golden.MAX_FRACTION if max_fraction is None else max_fraction)
+    plan = golden.plan_check(args.svg_dir, args.goldens)
+    for orphan in plan.orphans:
+        print(f"note: golden {orphan} has no SVG any more", file=sys.stderr)
+    report = golden.ReportWriter(args.report, tolerance) if args.report else None
+    counts = {golden.PASS: 0, golden.DIFFERS: 0, golden.MISSING: 0, golden.ERROR: 0}
+    for outcome in golden.check_goldens(plan, tolerance):
+        counts[outcome.status] += 1
+        if outcome.failed or not args.quiet:
+            print(outcome.line(args.svg_dir), flush=True)
+        if report:
+            report.add(outcome)
+    summary = (f"golden check: {counts[golden.PASS]} matched, {counts[golden.DIFFERS]} differ, "
+               f"{counts[golden.MISSING]} missing, {counts[golden.ERROR]} errors "
+               f"[{tolerance.describe()}]")
+    if report:
+        index = report.finish(plan.options, plan.orphans)
+        summary += f"; report: {index}"
+    print(summary)
+    return 0 if counts[golden.PASS] == len(plan.svgs) else 1

@@ -1,0 +1,440 @@
+"""Golden images: `vecmsaa golden update|check`, vecmsaa.golden and vecmsaa.testing."""
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from vecmsaa import golden
+from vecmsaa.cli.main import main as vecmsaa_main
+from vecmsaa.png import encode_png
+from vecmsaa.testing import assert_matches_golden
+
+RED = "#c03020"
+BLUE = "#2040c0"
+
+
+def rect_svg(x=5, y=5, w=20, h=10, fill=RED, size=(40, 30)) -> str:
+    sw, sh = size
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{sw}" height="{sh}" '
+            f'viewBox="0 0 {sw} {sh}"><rect x="{x}" y="{y}" width="{w}" height="{h}" '
+            f'fill="{fill}"/></svg>')
+
+
+def stand_in_render(source, width=None, height=None, zoom=None, mode="approx", samples=8,
+                    background=None, **_):
+    """Supersampled rectangles: a renderer for the tests until vecmsaa.api exists."""
+    text = str(source) if str(source).lstrip().startswith("<") else Path(source).read_text()
+    try:
+        root = ET.fromstring(text)
+    except ET.ParseError as exc:
+        raise ValueError(f"not XML: {exc}") from None
+    sw, sh = float(root.get("width")), float(root.get("height"))
+    scale = zoom or (width / sw if width else height / sh if height else 1.0)
+    out_w, out_h = round(width or sw * scale), round(height or sh * scale)
+    n = max(1, int(round(samples ** 0.5)))
+    offsets = (np.arange(n) + 0.5) / n
+    img = np.zeros((out_h, out_w, 4))
+    if background:
+        img[:] = [int(background[i:i + 2], 16) / 255 for i in (1, 3, 5)] + [1]
+    for rect in root.iter("{http://www.w3.org/2000/svg}rect"):
+        x, y, w, h = (float(rect.get(k)) * scale for k in ("x", "y", "width", "height"))
+        fill = rect.get("fill")
+        color = np.array([int(fill[i:i + 2], 16) / 255 for i in (1, 3, 5)] + [1.0])
+        px = np.arange(out_w)[:, None] + offsets[None, :]
+        py = np.arange(out_h)[:, None] + offsets[None, :]
+        cov = (((py >= y) & (py < y + h)).mean(1)[:, None]
+               * ((px >= x) & (px < x + w)).mean(1)[None, :])[..., None]
+        img = color * cov + img * (1 - cov)   # premultiplied "over"
+    alpha = img[..., 3:4]
+    rgb = np.divide(img[..., :3], alpha, out=np.zeros_like(img[..., :3]), where=alpha > 0)
+    return np.round(np.concatenate([rgb, alpha], -1) * 255).astype(np.uint8)
+
+
+@pytest.fixture(autouse=True)
+def renderer(monkeypatch):
+    monkeypatch.setattr(golden, "default_renderer", stand_in_render)
+    return stand_in_render
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture
+def tree(tmp_path):
+    """An SVG directory with a nested file, and an empty golden directory."""
+    svgs = tmp_path / "svgs"
+    write(svgs / "plain.svg", rect_svg())
+    write(svgs / "icons" / "wide.svg", rect_svg(x=2, y=12, w=36, h=6, fill=BLUE))
+    goldens = tmp_path / "goldens"
+    goldens.mkdir()
+    return svgs, goldens
+
+
+def cli(capsys, *argv):
+    """Run the vecmsaa CLI in-process: (exit status, stdout, stderr)."""
+    try:
+        status = vecmsaa_main([str(a) for a in argv])
+    except SystemExit as exc:  # argparse usage errors
+        status = exc.code
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+# --- update ----------------------------------------------------------------------------------------
+
+def test_update_writes_one_png_per_svg_and_records_the_options(tree, capsys):
+    svgs, goldens = tree
+    status, out, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens,
+                         "-w", 80, "--samples", 16, "--background", "#ffffff")
+    assert status == 0
+    pngs = sorted(p.relative_to(goldens).as_posix() for p in goldens.rglob("*.png"))
+    assert pngs == ["icons/wide.png", "plain.png"]
+    expected = stand_in_render(svgs / "plain.svg", width=80, samples=16, background="#ffffff")
+    assert np.array_equal(golden.read_png_rgba(goldens / "plain.png"), expected)
+    manifest = json.loads((goldens / golden.MANIFEST_NAME).read_text())
+    assert manifest["render_options"] == {"width": 80, "height": None, "zoom": None,
+                                          "mode": "approx", "samples": 16,
+                                          "background": "#ffffff"}
+    assert manifest["goldens"] == ["icons/wide.png", "plain.png"]
+    assert manifest["vecmsaa_version"]
+    assert "2 written" in out
+
+
+def test_update_without_render_options_keeps_the_recorded_ones(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--zoom", 2)
+    write(svgs / "plain.svg", rect_svg(fill=BLUE))
+    status, _, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    assert status == 0
+    assert golden.read_manifest(goldens)["render_options"]["zoom"] == 2
+    assert golden.read_png_rgba(goldens / "plain.png").shape == (60, 80, 4)
+
+
+def test_update_output_is_byte_identical_across_runs_and_processes(tree, tmp_path, capsys):
+    svgs, first = tree
+    assert cli(capsys, "golden", "update", svgs, "--goldens", first)[0] == 0
+    second = tmp_path / "second"
+    # A separate interpreter, so nothing cached in this process can make the bytes agree.
+    script = ("import sys; from vecmsaa import golden; import test_golden as t; "
+              "golden.default_renderer = t.stand_in_render; "
+              "from vecmsaa.cli.main import main; sys.exit(main(sys.argv[1:]))")
+    done = subprocess.run([sys.executable, "-c", script, "golden", "update", str(svgs),
+                           "--goldens", str(second)], cwd=Path(__file__).parent,
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    files = sorted(p.relative_to(first) for p in first.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(second) for p in second.rglob("*") if p.is_file())
+    for rel in files:
+        assert (first / rel).read_bytes() == (second / rel).read_bytes(), rel
+    # ...and the bytes are those of the shared encoder, not merely stable.
+    expected = encode_png(stand_in_render(svgs / "plain.svg"))
+    assert (first / "plain.png").read_bytes() == expected
+
+
+def test_update_reports_svgs_that_fail_to_render(tree, capsys):
+    svgs, goldens = tree
+    write(svgs / "broken.svg", "<svg")
+    status, out, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    assert status == 1
+    assert re.search(r"^ERROR broken\.svg: render failed: ", out, re.M)
+    assert not (goldens / "broken.png").exists()
+    assert (goldens / "plain.png").exists()
+
+
+# --- check -----------------------------------------------------------------------------------------
+
+def test_check_passes_when_nothing_changed(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 0
+    assert "2 matched, 0 differ, 0 missing, 0 errors" in out
+
+
+def test_check_uses_the_recorded_render_options(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "-h", 90, "--samples", 4)
+    assert golden.read_png_rgba(goldens / "plain.png").shape == (90, 120, 4)
+    # Rendered at the default size (40x30) the check would report a size difference.
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 0
+
+
+def test_a_colour_change_fails_and_is_reported(tree, tmp_path, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "icons" / "wide.svg", rect_svg(x=2, y=12, w=36, h=6, fill=RED))
+    report = tmp_path / "report"
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens,
+                         "--report", report)
+    assert status == 1
+    # 36x6 pixels changed from blue to red, of 40x30.
+    line = f"FAIL {svgs.as_posix()}/icons/wide.svg: 216 of 1200 pixels off (18.000%), " \
+           "max channel difference 160"
+    fail_lines = [l for l in out.splitlines() if l.startswith("FAIL")]
+    assert len(fail_lines) == 1 and fail_lines[0].startswith(line)
+    assert "1 matched, 1 differ" in out
+
+    picture = golden.read_png_rgba(report / "icons" / "wide.diff.png")
+    zoom = 4   # small images are enlarged (nearest) to at least 128 px: 40 px x 4
+    panel_w = 40 * zoom
+    assert picture.shape == (30 * zoom, 3 * panel_w + 2 * golden.PANEL_GAP, 4)
+    mid = (15 * zoom, 20 * zoom)   # centre of the changed rectangle, in each panel
+    panels = [picture[:, i * (panel_w + golden.PANEL_GAP):][:, :panel_w] for i in range(3)]
+    assert tuple(panels[0][mid][:3]) == (0x20, 0x40, 0xc0)      # expected: the golden, blue
+    assert tuple(panels[2][mid][:3]) == (0xc0, 0x30, 0x20)      # actual: the new render, red
+    assert tuple(panels[1][mid][:3]) == tuple(golden.OFF_COLOR)  # difference: off
+    assert tuple(panels[1][2 * zoom, 2 * zoom][:3]) != tuple(golden.OFF_COLOR)  # unchanged
+
+    index = (report / "index.html").read_text()
+    links = LinkCollector.collect(index)
+    assert links == ["icons/wide.diff.png", "icons/wide.diff.png"]   # <a href> and <img src>
+    assert all((report / link).is_file() for link in links)
+    assert "icons/wide.svg" in index and "216 of 1200 pixels off" in index
+    assert "plain.svg" not in index   # only failures are listed
+
+
+class LinkCollector(HTMLParser):
+    """Every href/src in a page, to check the report is self-contained."""
+
+    def __init__(self):
+        super().__init__()
+        self.links = []
+
+    def handle_starttag(self, tag, attrs):
+        self.links += [value for name, value in attrs if name in ("href", "src")]
+
+    @classmethod
+    def collect(cls, page: str) -> list:
+        parser = cls()
+        parser.feed(page)
+        return parser.links
+
+
+def test_report_lists_missing_goldens_and_render_errors_offline(tree, tmp_path, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "new <one>.svg", rect_svg())
+    write(svgs / "broken.svg", "<svg")
+    report = tmp_path / "report"
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens,
+                         "--report", report)
+    assert status == 1
+    assert f"MISSING {svgs.as_posix()}/new <one>.svg: no golden new <one>.png" in out
+    assert re.search(r"^ERROR .*/broken\.svg: render failed: not XML", out, re.M)
+    index = (report / "index.html").read_text()
+    assert "new &lt;one&gt;.svg" in index and "<one>" not in index
+    assert "broken.svg" in index
+    links = LinkCollector.collect(index)
+    assert links and all(not re.match(r"[a-z]+:|/", link) for link in links)
+    assert (report / "new <one>.diff.png").is_file()
+
+
+def test_a_missing_golden_fails(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    (goldens / "plain.png").unlink()
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 1
+    assert f"MISSING {svgs.as_posix()}/plain.svg: no golden plain.png" in out
+
+
+def test_a_size_change_fails(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "plain.svg", rect_svg(size=(40, 31)))
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 1
+    assert "plain.svg: size differs: golden 40x30, rendered 40x31" in out
+
+
+def test_subpixel_shift_is_within_tolerance_but_a_real_move_is_not(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "plain.svg", rect_svg(x=5.1, y=4.9))
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 0
+    write(svgs / "plain.svg", rect_svg(x=7))
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 1
+
+
+def test_other_sample_count_is_within_tolerance(tree, capsys):
+    svgs, goldens = tree
+    write(svgs / "plain.svg", rect_svg(x=5.3, y=4.6, w=19.5, h=10.3))
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--samples", 64)
+    # Check with 16 samples against goldens made with 64: edges differ slightly, nothing more.
+    manifest = golden.read_manifest(goldens)
+    options = {**manifest["render_options"], "samples": 16}
+    (goldens / golden.MANIFEST_NAME).write_bytes(
+        golden.manifest_bytes(options, manifest["goldens"]))
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 0, out
+    plain = golden.read_png_rgba(goldens / "plain.png")
+    assert not np.array_equal(plain, stand_in_render(svgs / "plain.svg", samples=16))
+
+
+def test_tolerance_options(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "plain.svg", rect_svg(fill="#c03050"))   # blue channel +48 (premultiplied)
+    check = ("golden", "check", svgs, "--goldens", goldens)
+    assert cli(capsys, *check)[0] == 0
+    assert cli(capsys, *check, "--threshold", 47)[0] == 1
+    assert cli(capsys, *check, "--tolerance", "47/0.2%")[0] == 1
+    assert cli(capsys, *check, "--threshold", 47, "--max-fraction", "17%")[0] == 0
+    assert cli(capsys, *check, "--tolerance", "47/0.17")[0] == 0
+    status, out, _ = cli(capsys, *check, "--threshold", 47, "--max-fraction", "0.16")
+    assert status == 1
+    assert "200 of 1200 pixels off (16.667%), max channel difference 48 " \
+           "[threshold 47, allowed 16.000%]" in out
+
+
+def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    (svgs / "plain.svg").unlink()
+    status, _, err = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 0
+    assert "note: golden plain.png has no SVG any more" in err
+
+
+@pytest.mark.parametrize("args, message", [
+    (["check", "{svgs}"], "--goldens"),
+    (["check", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
+    (["check", "{svgs}", "--goldens", "{tmp}/nothing"], "not a directory"),
+    (["check", "{svgs}", "--goldens", "{tmp}"], "no manifest"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--threshold", "256"], "0..255"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--max-fraction", "2"], "between 0 and 1"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48"], "THRESHOLD/FRACTION"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48/1%", "--threshold", "3"],
+     "--tolerance replaces"),
+    (["check", "{goldens}", "--goldens", "{goldens}"], "no SVG files"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be positive"),
+    (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
+    (["compare", "{svgs}"], "invalid choice"),
+    ([], "ACTION"),
+])
+def test_usage_and_input_errors_exit_2(tree, tmp_path, capsys, args, message):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    argv = [a.format(svgs=svgs, goldens=goldens, tmp=tmp_path) for a in args]
+    status, out, err = cli(capsys, "golden", *argv)
+    assert status == 2
+    assert message in err
+    assert "FAIL" not in out
+
+
+@pytest.mark.parametrize("content", ["{not json", '{"format": 99}',
+                                     '{"format": 1, "render_options": {"colour": 1}}'])
+def test_unreadable_manifest_exits_2(tree, capsys, content):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    (goldens / golden.MANIFEST_NAME).write_text(content)
+    status, _, err = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 2
+    assert golden.MANIFEST_NAME in err
+
+
+def test_corrupt_golden_is_a_failure(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    (goldens / "plain.png").write_bytes(b"not a png")
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 1
+    assert re.search(r"^ERROR .*plain\.svg: golden plain\.png unreadable", out, re.M)
+
+
+# --- vecmsaa.testing -------------------------------------------------------------------------------
+
+def test_assert_matches_golden_passes_on_the_same_render(tmp_path):
+    svg = write(tmp_path / "a.svg", rect_svg())
+    golden_png = tmp_path / "a.png"
+    golden_png.write_bytes(encode_png(stand_in_render(svg, samples=16)))
+    assert_matches_golden(svg, golden_png, samples=4)   # other samples: within tolerance
+
+
+def test_assert_matches_golden_failure_message_and_triptych(tmp_path):
+    svg = write(tmp_path / "a.svg", rect_svg(fill=BLUE))
+    golden_png = tmp_path / "goldens" / "a.png"
+    golden_png.parent.mkdir()
+    golden_png.write_bytes(encode_png(stand_in_render(write(tmp_path / "b.svg", rect_svg()))))
+    with pytest.raises(AssertionError) as failure:
+        assert_matches_golden(svg, golden_png, update=False)
+    message = str(failure.value)
+    assert f"render of {svg} does not match golden {golden_png}: 200 of 1200 pixels off" in message
+    diff = tmp_path / "goldens" / "a.diff.png"
+    assert str(diff) in message and "VECMSAA_UPDATE_GOLDENS=1" in message
+    # expected | difference | actual, each 40x30 enlarged 4 times
+    assert golden.read_png_rgba(diff).shape == (120, 3 * 160 + 2 * golden.PANEL_GAP, 4)
+    # Once the render matches again, the stale triptych goes away.
+    write(svg, rect_svg())
+    assert_matches_golden(svg, golden_png, update=False)
+    assert not diff.exists()
+
+
+def test_assert_matches_golden_diff_dir_from_argument_and_environment(tmp_path, monkeypatch):
+    svg = write(tmp_path / "a.svg", rect_svg(fill=BLUE))
+    golden_png = tmp_path / "a.png"
+    golden_png.write_bytes(encode_png(stand_in_render(rect_svg())))
+    with pytest.raises(AssertionError):
+        assert_matches_golden(svg, golden_png, diff_dir=tmp_path / "given", update=False)
+    assert (tmp_path / "given" / "a.diff.png").is_file()
+    monkeypatch.setenv("VECMSAA_GOLDEN_DIFF_DIR", str(tmp_path / "env"))
+    with pytest.raises(AssertionError):
+        assert_matches_golden(svg, golden_png, update=False)
+    assert (tmp_path / "env" / "a.diff.png").is_file()
+    assert not (tmp_path / "a.diff.png").exists()
+
+
+def test_assert_matches_golden_missing_golden(tmp_path, monkeypatch):
+    monkeypatch.delenv("VECMSAA_UPDATE_GOLDENS", raising=False)
+    golden_png = tmp_path / "a.png"
+    with pytest.raises(AssertionError, match=r"golden .*a\.png does not exist"):
+        assert_matches_golden(rect_svg(), golden_png)
+    assert not golden_png.exists()
+
+
+@pytest.mark.parametrize("value, updates", [("1", True), ("yes", True), ("0", False),
+                                            ("", False)])
+def test_update_goldens_environment_variable(tmp_path, monkeypatch, value, updates):
+    monkeypatch.setenv("VECMSAA_UPDATE_GOLDENS", value)
+    golden_png = tmp_path / "a.png"
+    golden_png.write_bytes(encode_png(stand_in_render(rect_svg(fill=BLUE))))
+    if updates:
+        assert_matches_golden(rect_svg(), golden_png)
+        assert golden_png.read_bytes() == encode_png(stand_in_render(rect_svg()))
+    else:
+        with pytest.raises(AssertionError):
+            assert_matches_golden(rect_svg(), golden_png)
+
+
+def test_pytest_plugin_option_and_fixture(tmp_path):
+    write(tmp_path / "test_picture.py", (
+        "from vecmsaa import golden\n"
+        "from test_golden import stand_in_render, rect_svg\n"
+        "golden.default_renderer = stand_in_render\n"
+        "def test_red(assert_golden):\n"
+        f"    assert_golden(rect_svg(fill='{RED}'), samples=4)\n"))
+    run = lambda *extra: subprocess.run(   # noqa: E731
+        [sys.executable, "-m", "pytest", "-p", "vecmsaa.testing", "-q", "-p", "no:cacheprovider",
+         str(tmp_path / "test_picture.py"), *extra],
+        cwd=tmp_path, capture_output=True, text=True,
+        env={**__import__("os").environ, "PYTHONPATH": str(Path(__file__).parent),
+             "VECMSAA_UPDATE_GOLDENS": ""})
+    first = run()
+    assert first.returncode == 1 and "does not exist" in first.stdout
+    created = run("--update-goldens")
+    assert created.returncode == 0, created.stdout
+    made = tmp_path / "goldens" / "test_picture" / "test_red.png"
+    assert made.read_bytes() == encode_png(stand_in_render(rect_svg(), samples=4))
+    assert run().returncode == 0

@@ -1,0 +1,475 @@
+"""Golden images: render a directory of SVG files, keep the PNGs, and check later renders
+against them with the project's comparison criterion (:mod:`vecmsaa.compare`).
+
+Layout of a golden directory (see docs/golden.md)::
+
+    GOLDEN_DIR/vecmsaa-golden.json     render options, vecmsaa version, list of goldens
+    GOLDEN_DIR/icons/a.png             golden for SVG_DIR/icons/a.svg
+
+The golden of ``<rel>.svg`` is ``<rel>.png``: the suffix is replaced, as in the resvg test suite, so
+goldens may also live beside their SVG files (GOLDEN_DIR = SVG_DIR).
+
+Rendering goes through :func:`vecmsaa.api.render_svg_array`; every function that renders takes a
+``render`` callable with that signature so tests and tools can substitute another renderer.
+"""
+from __future__ import annotations
+
+import html
+import json
+import math
+import os
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+from typing import Callable, Iterator
+from urllib.parse import quote
+
+import numpy as np
+
+from . import DEFAULT_MODE, DEFAULT_SAMPLES, __version__
+from .compare import MAX_FRACTION, THRESHOLD, Comparison, compare_images, premultiplied_u8
+from .png import encode_png, write_bytes_atomic
+
+MANIFEST_NAME = "vecmsaa-golden.json"
+MANIFEST_FORMAT = 1
+#: render options a manifest records, with the values used when an option is not given
+DEFAULT_RENDER_OPTIONS = {
+    "width": None, "height": None, "zoom": None,
+    "mode": DEFAULT_MODE, "samples": DEFAULT_SAMPLES, "background": None,
+}
+DIFF_SUFFIX = ".diff.png"
+
+Renderer = Callable[..., np.ndarray]
+
+
+class GoldenError(Exception):
+    """Bad input to a golden run as a whole (missing directory, unreadable manifest): the run
+    cannot start, as opposed to one SVG failing."""
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """When a render matches its golden: at most ``max_fraction`` of pixels may have a channel
+    (premultiplied, 8 bits) differing by more than ``threshold``."""
+    threshold: int = THRESHOLD
+    max_fraction: float = MAX_FRACTION
+
+    def __post_init__(self):
+        if not 0 <= self.threshold <= 255:
+            raise ValueError(f"threshold must be in 0..255, not {self.threshold}")
+        if not 0 <= self.max_fraction <= 1:
+            raise ValueError(f"max fraction must be in 0..1, not {self.max_fraction}")
+
+    def describe(self) -> str:
+        return f"threshold {self.threshold}, allowed {100 * self.max_fraction:.3f}%"
+
+
+# --- rendering and files -------------------------------------------------------------------------
+
+def default_renderer(source, **options) -> np.ndarray:
+    # Imported on use: the SVG front end and the numba kernels are heavy.
+    from .api import render_svg_array
+    return render_svg_array(source, **options)
+
+
+def render_options(**given) -> dict:
+    """Complete set of recorded render options: ``given`` over the defaults; unknown names are
+    an error so a typo cannot silently render with defaults."""
+    unknown = sorted(set(given) - set(DEFAULT_RENDER_OPTIONS))
+    if unknown:
+        raise GoldenError(f"unknown render option(s): {', '.join(unknown)}")
+    return {**DEFAULT_RENDER_OPTIONS, **given}
+
+
+def render_rgba(source, options: dict, render: Renderer | None = None) -> np.ndarray:
+    """Render ``source`` (whatever :func:`vecmsaa.api.render_svg_array` accepts: a path or SVG
+    text) to straight RGBA uint8, checking the renderer's result shape."""
+    rgba = np.asarray((render or default_renderer)(source, **options))
+    if rgba.dtype != np.uint8 or rgba.ndim != 3 or rgba.shape[2] != 4:
+        raise TypeError(f"renderer returned {rgba.dtype} array of shape {rgba.shape}, "
+                        "expected (H, W, 4) uint8")
+    return rgba
+
+
+def read_png_rgba(path) -> np.ndarray:
+    """A PNG file as straight RGBA uint8 (H, W, 4)."""
+    from PIL import Image
+
+    with Image.open(path) as image:
+        return np.asarray(image.convert("RGBA"))
+
+
+def write_png_if_changed(rgba: np.ndarray, path) -> bool:
+    """Write the PNG unless the file already holds exactly these bytes (keeps timestamps and
+    version control quiet). Returns whether the file was written."""
+    data = encode_png(rgba)
+    try:
+        if Path(path).read_bytes() == data:
+            return False
+    except OSError:
+        pass
+    write_bytes_atomic(data, path)
+    return True
+
+
+def find_svgs(svg_dir) -> list[PurePosixPath]:
+    """SVG files under ``svg_dir``, recursively, as sorted relative POSIX paths. Hidden
+    directories (.git and the like) are skipped; symbolic links to directories are not followed,
+    so a link cycle cannot make the walk endless."""
+    root = Path(svg_dir)
+    if not root.is_dir():
+        raise GoldenError(f"{svg_dir}: not a directory")
+    found = []
+    for folder, subdirs, files in os.walk(root):
+        subdirs[:] = [d for d in subdirs if not d.startswith(".")]
+        rel_folder = Path(folder).relative_to(root)
+        found.extend(PurePosixPath(rel_folder.as_posix(), name) for name in files
+                     if name.lower().endswith(".svg") and not name.startswith("."))
+    return sorted(found, key=str)
+
+
+def golden_name(svg_rel: PurePosixPath) -> PurePosixPath:
+    """Relative path of the golden PNG for the SVG at ``svg_rel``."""
+    return svg_rel.with_suffix(".png")
+
+
+def diff_name(golden_rel: PurePosixPath) -> PurePosixPath:
+    """Relative path of the triptych written for a failing golden ``<name>.png``."""
+    return golden_rel.with_name(golden_rel.stem + DIFF_SUFFIX)
+
+
+# --- manifest ------------------------------------------------------------------------------------
+
+def manifest_bytes(options: dict, goldens: list[PurePosixPath]) -> bytes:
+    """The manifest as deterministic JSON (sorted keys, fixed layout)."""
+    doc = {
+        "format": MANIFEST_FORMAT,
+        "generator": f"vecmsaa {__version__}",
+        "vecmsaa_version": __version__,
+        "render_options": render_options(**options),
+        "goldens": [str(g) for g in sorted(goldens, key=str)],
+    }
+    return (json.dumps(doc, indent=2, sort_keys=True) + "\n").encode("utf-8")
+
+
+def read_manifest(golden_dir) -> dict:
+    """The manifest of ``golden_dir`` as a dict with ``render_options`` (complete) and
+    ``goldens`` (relative POSIX paths); GoldenError when it is missing or malformed."""
+    path = Path(golden_dir, MANIFEST_NAME)
+    if not Path(golden_dir).is_dir():
+        raise GoldenError(f"{golden_dir}: not a directory")
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise GoldenError(f"{path}: no manifest (create the goldens with 'vecmsaa golden update')")
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise GoldenError(f"{path}: unreadable manifest: {exc}") from None
+    if not isinstance(doc, dict) or doc.get("format") != MANIFEST_FORMAT:
+        raise GoldenError(f"{path}: not a version-{MANIFEST_FORMAT} vecmsaa golden manifest")
+    options, goldens = doc.get("render_options"), doc.get("goldens", [])
+    if not isinstance(options, dict) or not isinstance(goldens, list) \
+            or not all(isinstance(g, str) for g in goldens):
+        raise GoldenError(f"{path}: malformed manifest (render_options, goldens)")
+    try:
+        options = render_options(**options)
+    except GoldenError as exc:
+        raise GoldenError(f"{path}: {exc}") from None
+    return {"render_options": options, "goldens": [PurePosixPath(g) for g in goldens],
+            "vecmsaa_version": doc.get("vecmsaa_version")}
+
+
+# --- update --------------------------------------------------------------------------------------
+
+@dataclass
+class UpdateResult:
+    written: list = field(default_factory=list)     # golden paths (relative) rewritten
+    unchanged: list = field(default_factory=list)   # golden paths already holding these bytes
+    errors: list = field(default_factory=list)      # (svg path, message) for SVGs not rendered
+
+
+def update_goldens(svg_dir, golden_dir, options: dict,
+                   render: Renderer | None = None,
+                   progress: Callable[[str], None] | None = None) -> UpdateResult:
+    """Render every SVG under ``svg_dir`` into ``golden_dir`` and record ``options`` in the
+    manifest. SVGs that fail to render get no golden and are listed in ``errors``."""
+    options = render_options(**options)
+    svgs = find_svgs(svg_dir)
+    if not svgs:
+        raise GoldenError(f"{svg_dir}: no SVG files")
+    result = UpdateResult()
+    goldens = []
+    for rel in svgs:
+        try:
+            rgba = render_rgba(str(Path(svg_dir, rel)), options, render)
+        except Exception as exc:  # one bad SVG must not stop the others; it is reported
+            result.errors.append((rel, render_failure(exc)))
+            if progress:
+                progress(f"ERROR {rel}: {render_failure(exc)}")
+            continue
+        target = golden_name(rel)
+        goldens.append(target)
+        changed = write_png_if_changed(rgba, Path(golden_dir, target))
+        (result.written if changed else result.unchanged).append(target)
+    manifest = manifest_bytes(options, goldens)
+    manifest_path = Path(golden_dir, MANIFEST_NAME)
+    if not manifest_path.exists() or manifest_path.read_bytes() != manifest:
+        write_bytes_atomic(manifest, manifest_path)
+    return result
+
+
+def render_failure(exc: BaseException) -> str:
+    """One line for a render that raised: input errors (SvgError is a ValueError, unreadable
+    files OSError) by their message, anything else marked as an internal error."""
+    message = " ".join(str(exc).split()) or type(exc).__name__
+    if isinstance(exc, (ValueError, OSError)):
+        return f"render failed: {message}"
+    return f"render failed (internal error {type(exc).__name__}): {message}"
+
+
+# --- check ---------------------------------------------------------------------------------------
+
+PASS, DIFFERS, MISSING, ERROR = "pass", "differs", "missing", "error"
+
+
+@dataclass
+class Outcome:
+    """Result of checking one SVG. ``expected``/``actual`` are kept only for failures, so a
+    report can show them."""
+    svg: PurePosixPath
+    golden: PurePosixPath
+    status: str
+    detail: str = ""
+    expected: np.ndarray | None = None
+    actual: np.ndarray | None = None
+
+    @property
+    def failed(self) -> bool:
+        return self.status != PASS
+
+    def line(self, svg_dir="") -> str:
+        """One line naming the file and what was measured, for logs."""
+        label = {PASS: "ok", DIFFERS: "FAIL", MISSING: "MISSING", ERROR: "ERROR"}[self.status]
+        name = Path(svg_dir, self.svg).as_posix() if svg_dir else str(self.svg)
+        return f"{label} {name}: {self.detail}" if self.detail else f"{label} {name}"
+
+
+def difference_detail(comparison: Comparison, expected: np.ndarray, actual: np.ndarray,
+                      tolerance: Tolerance) -> str:
+    """What was measured, in one line."""
+    if not comparison.same_size:
+        return (f"size differs: golden {expected.shape[1]}x{expected.shape[0]}, "
+                f"rendered {actual.shape[1]}x{actual.shape[0]}")
+    return f"{comparison.describe()} [{tolerance.describe()}]"
+
+
+def compare_to_golden(actual: np.ndarray, expected: np.ndarray,
+                      tolerance: Tolerance) -> tuple[bool, str]:
+    """(matches, one-line description of the measured difference)."""
+    comparison = compare_images(actual, expected, threshold=tolerance.threshold)
+    return (comparison.passed(tolerance.max_fraction),
+            difference_detail(comparison, expected, actual, tolerance))
+
+
+def check_one(svg_path, golden_path, options: dict, tolerance: Tolerance,
+              render: Renderer | None = None, svg_rel=None, golden_rel=None) -> Outcome:
+    svg_rel = PurePosixPath(svg_rel or Path(svg_path).name)
+    golden_rel = PurePosixPath(golden_rel or Path(golden_path).name)
+    try:
+        actual = render_rgba(str(svg_path), options, render)
+    except Exception as exc:  # reported as this SVG's failure; the other SVGs still run
+        return Outcome(svg_rel, golden_rel, ERROR, render_failure(exc))
+    if not Path(golden_path).exists():
+        return Outcome(svg_rel, golden_rel, MISSING, f"no golden {golden_rel}", actual=actual)
+    try:
+        expected = read_png_rgba(golden_path)
+    except Exception as exc:  # PIL raises several types for corrupt files
+        return Outcome(svg_rel, golden_rel, ERROR,
+                       f"golden {golden_rel} unreadable: {' '.join(str(exc).split())}",
+                       actual=actual)
+    matches, detail = compare_to_golden(actual, expected, tolerance)
+    if matches:
+        return Outcome(svg_rel, golden_rel, PASS, detail)
+    return Outcome(svg_rel, golden_rel, DIFFERS, detail, expected, actual)
+
+
+@dataclass
+class CheckPlan:
+    """What a check will do: the recorded options, the SVGs, and goldens whose SVG is gone."""
+    svg_dir: Path
+    golden_dir: Path
+    options: dict
+    svgs: list
+    orphans: list     # golden paths listed in the manifest with no SVG any more
+    recorded_version: str | None
+
+
+def plan_check(svg_dir, golden_dir) -> CheckPlan:
+    """Validate the inputs of a check before any rendering (GoldenError on bad input)."""
+    svgs = find_svgs(svg_dir)
+    manifest = read_manifest(golden_dir)
+    if not svgs:
+        raise GoldenError(f"{svg_dir}: no SVG files")
+    current = {golden_name(s) for s in svgs}
+    orphans = [g for g in manifest["goldens"] if g not in current]
+    return CheckPlan(Path(svg_dir), Path(golden_dir), manifest["render_options"], svgs,
+                     orphans, manifest["vecmsaa_version"])
+
+
+def check_goldens(plan: CheckPlan, tolerance: Tolerance = Tolerance(),
+                  render: Renderer | None = None) -> Iterator[Outcome]:
+    """Render each SVG of ``plan`` with the recorded options and compare it with its golden,
+    yielding outcomes one by one (so callers can report progress and drop images)."""
+    for rel in plan.svgs:
+        golden_rel = golden_name(rel)
+        yield check_one(plan.svg_dir / rel, plan.golden_dir / golden_rel, plan.options,
+                        tolerance, render, rel, golden_rel)
+
+
+# --- triptych and report -------------------------------------------------------------------------
+
+PANEL_GAP = 4                          # px of neutral background between panels
+GAP_COLOR = (64, 64, 64, 255)
+CHECKER = (204, 255)                   # grey levels of the transparency checkerboard
+CHECKER_CELL = 8                       # checkerboard square, in output pixels
+MIN_PANEL = 128                        # small images are enlarged (nearest) up to this size
+MAX_ZOOM = 16
+OFF_COLOR = np.array([230, 0, 0])      # pixels beyond the threshold
+NEAR_COLOR = np.array([0, 90, 255])    # pixels that differ but within the threshold
+
+
+def _zoom_for(*images) -> int:
+    largest = max(max(im.shape[:2]) for im in images if im is not None)
+    return int(min(MAX_ZOOM, max(1, math.ceil(MIN_PANEL / max(largest, 1)))))
+
+
+def _over_checkerboard(rgba: np.ndarray, zoom: int) -> np.ndarray:
+    """Straight RGBA → opaque RGB over a checkerboard (so transparency is visible in any
+    viewer), enlarged ``zoom`` times with nearest neighbour."""
+    premul = premultiplied_u8(rgba).astype(np.int32)
+    premul = premul.repeat(zoom, axis=0).repeat(zoom, axis=1)
+    h, w = premul.shape[:2]
+    yy, xx = np.indices((h, w))
+    checker = np.where(((yy // CHECKER_CELL) + (xx // CHECKER_CELL)) % 2 == 0,
+                       CHECKER[0], CHECKER[1])[..., None]
+    rgb = premul[..., :3] + ((255 - premul[..., 3:4]) * checker + 127) // 255
+    return rgb.astype(np.uint8)
+
+
+def heat_map(expected: np.ndarray, actual: np.ndarray, threshold: int) -> np.ndarray:
+    """Opaque RGB (H, W, 3): the expected image faded to light grey for orientation; pixels
+    within the threshold but not equal in blue, stronger as they differ more; pixels beyond the
+    threshold (those the criterion counts) in red."""
+    e, a = premultiplied_u8(expected).astype(np.int32), premultiplied_u8(actual).astype(np.int32)
+    diff = np.abs(a - e).max(axis=-1)
+    # Luma of the expected image over white, squeezed into 191..255.
+    over_white = e[..., :3] + (255 - e[..., 3:4])
+    luma = (over_white @ np.array([77, 150, 29])) >> 8
+    out = np.repeat((191 + luma // 4)[..., None], 3, axis=-1)
+    near = (diff > 0) & (diff <= threshold)
+    strength = (64 + 191 * diff[near] // max(threshold, 1))[:, None]
+    out[near] = (out[near] * (255 - strength) + NEAR_COLOR * strength) // 255
+    out[diff > threshold] = OFF_COLOR
+    return out.astype(np.uint8)
+
+
+def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
+             threshold: int = THRESHOLD) -> np.ndarray:
+    """expected | difference heat map | actual, side by side, as straight RGBA uint8.
+
+    A missing image (no golden, failed render) leaves its panel empty; the heat map needs both
+    images at the same size and is empty otherwise. Small images are enlarged so single pixels
+    stay visible."""
+    zoom = _zoom_for(expected, actual)
+    panels = [None, None, None]
+    if expected is not None:
+        panels[0] = _over_checkerboard(expected, zoom)
+    if actual is not None:
+        panels[2] = _over_checkerboard(actual, zoom)
+    if expected is not None and actual is not None and expected.shape == actual.shape:
+        panels[1] = heat_map(expected, actual, threshold).repeat(zoom, 0).repeat(zoom, 1)
+    shown = [p for p in panels if p is not None]
+    height = max(p.shape[0] for p in shown)
+    width = max(p.shape[1] for p in shown)
+    out = np.empty((height, 3 * width + 2 * PANEL_GAP, 4), np.uint8)
+    out[:] = GAP_COLOR
+    for i, panel in enumerate(panels):
+        x = i * (width + PANEL_GAP)
+        if panel is None:
+            out[:, x:x + width, :3] = 128      # empty panel: flat mid grey
+        else:
+            out[:panel.shape[0], x:x + panel.shape[1], :3] = panel
+    return out
+
+
+def write_triptych(path, expected, actual, threshold: int = THRESHOLD) -> None:
+    write_bytes_atomic(encode_png(triptych(expected, actual, threshold)), path)
+
+
+_INDEX_STYLE = """
+body { font-family: sans-serif; margin: 1.5em; color: #222; }
+table { border-collapse: collapse; }
+td, th { border: 1px solid #bbb; padding: .4em .6em; text-align: left; vertical-align: top; }
+td.name { font-family: monospace; }
+td.differs, td.missing, td.error { color: #a00; }
+img { image-rendering: pixelated; max-width: 90vw; }
+.legend span { display: inline-block; width: 1em; height: 1em; vertical-align: middle; }
+"""
+
+
+class ReportWriter:
+    """Writes ``<report dir>/<rel>.diff.png`` for each failure as it comes, then an offline
+    ``index.html`` (relative links only, no scripts or external resources) listing them."""
+
+    def __init__(self, report_dir, tolerance: Tolerance):
+        self.report_dir = Path(report_dir)
+        self.tolerance = tolerance
+        self.rows: list[tuple[Outcome, PurePosixPath | None]] = []
+        self.total = 0
+
+    def add(self, outcome: Outcome) -> None:
+        self.total += 1
+        if not outcome.failed:
+            return
+        image = None
+        if outcome.expected is not None or outcome.actual is not None:
+            image = diff_name(outcome.golden)
+            write_triptych(self.report_dir / image, outcome.expected, outcome.actual,
+                           self.tolerance.threshold)
+        self.rows.append((outcome, image))
+
+    def finish(self, options: dict, orphans=()) -> Path:
+        failed = len(self.rows)
+        esc = html.escape
+        parts = [
+            "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+            "<title>vecmsaa golden check</title>", f"<style>{_INDEX_STYLE}</style>",
+            "</head>", "<body>", "<h1>vecmsaa golden check</h1>",
+            f"<p>{self.total} SVG files: {self.total - failed} matched, {failed} failed.</p>",
+            f"<p>Render options: {esc(json.dumps(options, sort_keys=True))}<br>"
+            f"Tolerance: {esc(self.tolerance.describe())} of pixels off.</p>",
+        ]
+        if orphans:
+            parts.append("<p>Goldens without an SVG any more: "
+                         + ", ".join(f"<code>{esc(str(o))}</code>" for o in orphans) + "</p>")
+        if self.rows:
+            parts += [
+                '<p class="legend">Each image: expected | difference | actual. Difference: '
+                f'<span style="background:rgb{tuple(OFF_COLOR)}"></span> beyond the threshold, '
+                f'<span style="background:rgb{tuple(NEAR_COLOR)}"></span> within it.</p>',
+                "<table>", "<tr><th>SVG</th><th>Result</th><th>expected | difference | actual"
+                "</th></tr>"]
+            for outcome, image in self.rows:
+                cell = ""
+                if image is not None:
+                    href = esc(quote(str(image)))
+                    cell = f'<a href="{href}"><img src="{href}" alt="{esc(str(image))}"></a>'
+                parts.append(
+                    f'<tr><td class="name">{esc(str(outcome.svg))}</td>'
+                    f'<td class="{outcome.status}">{esc(outcome.status)}: '
+                    f'{esc(outcome.detail)}</td><td>{cell}</td></tr>')
+            parts.append("</table>")
+        else:
+            parts.append("<p>All renders match their goldens.</p>")
+        parts += ["</body>", "</html>", ""]
+        index = self.report_dir / "index.html"
+        write_bytes_atomic("\n".join(parts).encode("utf-8"), index)
+        return index
