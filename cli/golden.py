@@ -31,6 +31,15 @@ def _positive_float(text: str) -> float:
     return value
 
 
+def _color(text: str) -> str:
+    """A CSS colour, kept as written (the manifest records it; the renderer parses it)."""
+    from vecmsaa.svg.color import parse_color
+
+    if not isinstance(parse_color(text), tuple):
+        raise argparse.ArgumentTypeError(f"not a CSS colour: {text!r}")
+    return text
+
+
 def _threshold(text: str) -> int:
     try:
         value = int(text)
@@ -94,7 +103,8 @@ def add_parser(subparsers) -> None:
     render.add_argument("--zoom", type=_positive_float, help="scale factor")
     render.add_argument("--mode", choices=MODES, help="antialiasing mode (default approx)")
     render.add_argument("--samples", type=_positive_int, help="samples per pixel (default 8)")
-    render.add_argument("--background", metavar="COLOR", help="background colour")
+    render.add_argument("--background", type=_color, metavar="COLOR",
+                        help="CSS background colour (default: transparent)")
 
     check = actions.add_parser(
         "check", add_help=False, help="render again and compare with the goldens",

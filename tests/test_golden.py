@@ -321,6 +321,7 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
     (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
     (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be positive"),
     (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "--background", "nocolour"], "CSS colour"),
     (["compare", "{svgs}"], "invalid choice"),
     ([], "ACTION"),
 ])
