@@ -1,0 +1,245 @@
+"""SVG path data parsing, checked against svgpathtools (an independent parser) and the SVG spec."""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from vecmsaa.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from vecmsaa.svg.pathdata import arc_to_cubics, parse_path_data, parse_path_data_with_commands
+
+svgpathtools = pytest.importorskip("svgpathtools")
+
+
+# -- helpers -------------------------------------------------------------------------------
+
+def segments(path):
+    """Drawn segments as lists of control points (complex), CLOSE as a line back to the start;
+    zero-length lines dropped (svgpathtools and the SVG model disagree about keeping them)."""
+    out = []
+    i = 0
+    cur = start = None
+    for verb in path.verbs:
+        n = VERB_POINTS[verb]
+        pts = [complex(x, y) for x, y in path.points[i:i + n]]
+        i += n
+        if verb == MOVE:
+            cur = start = pts[0]
+            continue
+        if verb == CLOSE:
+            pts = [start]
+        seg = [cur] + pts
+        if not (verb in (LINE, CLOSE) and seg[0] == seg[1]):
+            out.append(seg)
+        cur = seg[-1]
+    return out
+
+
+def bezier_point(ctrl, t):
+    while len(ctrl) > 1:
+        ctrl = [a + (b - a) * t for a, b in zip(ctrl, ctrl[1:])]
+    return ctrl[0]
+
+
+def reference_segments(d):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = svgpathtools.parse_path(d)
+    return [s for s in ref if not (isinstance(s, svgpathtools.Line) and s.start == s.end)]
+
+
+# -- random paths against svgpathtools -----------------------------------------------------
+
+coord = st.integers(-2000, 2000).map(lambda v: v / 8)
+radius = st.integers(1, 800).map(lambda v: v / 4)
+
+
+def _fmt(v, compact):
+    s = repr(float(v))
+    if s.endswith(".0"):
+        s = s[:-2]
+    if compact and s.startswith("0."):
+        s = s[1:]
+    elif compact and s.startswith("-0."):
+        s = "-" + s[2:]
+    return s
+
+
+@st.composite
+def path_commands(draw):
+    """(compact d for our parser, plainly spaced d for the reference parser)."""
+    n = draw(st.integers(1, 12))
+    cmds = [("M", [draw(coord), draw(coord)])]
+    for _ in range(n):
+        letter = draw(st.sampled_from("LHVCSQTAZ"))
+        reps = draw(st.integers(1, 3)) if letter != "Z" else 1
+        args = []
+        for _ in range(reps):
+            if letter in "LT":
+                args += [draw(coord), draw(coord)]
+            elif letter in "HV":
+                args += [draw(coord)]
+            elif letter == "C":
+                args += [draw(coord) for _ in range(6)]
+            elif letter in "SQ":
+                args += [draw(coord) for _ in range(4)]
+            elif letter == "A":
+                args += [draw(radius), draw(radius), draw(st.integers(-360, 360)),
+                         draw(st.integers(0, 1)), draw(st.integers(0, 1)), draw(coord), draw(coord)]
+        if draw(st.booleans()):
+            letter = letter.lower()
+        cmds.append((letter, args))
+    compact_parts, plain_parts = [], []
+    for letter, args in cmds:
+        compact = letter + draw(st.sampled_from(["", " ", "\n"]))
+        prev, prev_is_flag = None, False
+        for j, v in enumerate(args):
+            s = _fmt(v, True)
+            is_flag = letter in "Aa" and j % 7 in (3, 4)
+            glue_ok = prev is not None and (s.startswith("-") or (s.startswith(".") and ("." in prev))
+                                            or (prev in "01" and prev_is_flag))
+            sep = draw(st.sampled_from(["", " ", ","])) if glue_ok else \
+                (draw(st.sampled_from([" ", ",", " ,\t"])) if prev is not None else "")
+            compact += sep + s
+            prev, prev_is_flag = s, is_flag
+        compact_parts.append(compact)
+        plain_parts.append(letter + " " + " ".join(_fmt(v, False) for v in args))
+    return " ".join(compact_parts), " ".join(plain_parts)
+
+
+def _points_close(a, b, tol):
+    return abs(a - b) <= tol * (1 + abs(a))
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(path_commands())
+def test_random_paths_match_svgpathtools(pair):
+    compact, plain = pair
+    ours = segments(parse_path_data(compact))
+    ref = reference_segments(plain)
+    # our arcs are several cubics; walk both lists, consuming our pieces per reference arc
+    i = 0
+    for seg in ref:
+        if isinstance(seg, svgpathtools.Arc):
+            pieces = []
+            while i < len(ours) and (not pieces or not _points_close(pieces[-1][-1], seg.end, 1e-9)):
+                pieces.append(ours[i])
+                i += 1
+            assert pieces and _points_close(pieces[0][0], seg.start, 1e-9)
+            assert _points_close(pieces[-1][-1], seg.end, 1e-9)
+            assert len(pieces) <= 4  # at most 90° per piece
+            # every sampled point lies on the reference ellipse, and the pieces cover the arc
+            c, rot = seg.center, np.exp(-1j * math.radians(seg.rotation))
+            r = max(seg.radius.real, seg.radius.imag)
+            for piece in pieces:
+                for t in np.linspace(0, 1, 9):
+                    u = (bezier_point(piece, t) - c) * rot
+                    assert abs(math.hypot(u.real / seg.radius.real, u.imag / seg.radius.imag) - 1) < 1e-3
+            ref_samples = [seg.point(t) for t in np.linspace(0, 1, 9)]
+            ours_dense = [bezier_point(p, t) for p in pieces for t in np.linspace(0, 1, 200)]
+            for q in ref_samples:
+                assert min(abs(q - o) for o in ours_dense) < 0.02 * r + 1e-9
+            continue
+        assert i < len(ours), f"missing segment {seg}"
+        mine = ours[i]
+        i += 1
+        for t in (0.0, 0.3, 0.5, 0.8, 1.0):
+            assert _points_close(bezier_point(mine, t), seg.point(t), 1e-9), (compact, plain)
+    assert i == len(ours)
+
+
+# -- number and flag syntax ----------------------------------------------------------------
+
+@pytest.mark.parametrize("d, expected", [
+    ("M.5.5-1-2", [(0.5, 0.5), (-1, -2)]),
+    ("M1e-3,2E2 3e+1-4", [(0.001, 200), (30, -4)]),
+    ("M 1. 2. L 3.e1 4", [(1, 2), (30, 4)]),
+    ("m1 1 2 2", [(1, 1), (3, 3)]),
+    ("M0 0\n\t,1 1", [(0, 0), (1, 1)]),
+])
+def test_number_syntax(d, expected):
+    assert parse_path_data(d).points.tolist() == [list(map(float, p)) for p in expected]
+
+
+def test_compact_arc_flags():
+    a = parse_path_data("M0 0a10 10 0 1100 10")
+    b = parse_path_data("M0 0 a 10 10 0 1 1 0 10")
+    np.testing.assert_array_equal(a.points, b.points)
+    assert a.verbs.tolist() == b.verbs.tolist()
+
+
+def test_smooth_reflection_without_previous_curve_uses_current_point():
+    # S after a line: first control point is the current point (SVG 9.3.6)
+    p = parse_path_data("M0 0 L 10 0 S 20 10 30 0")
+    assert p.points[2].tolist() == [10.0, 0.0]
+    # T after a cubic (not a quadratic): control point is the current point
+    p = parse_path_data("M0 0 C 1 1 2 2 3 0 T 10 0")
+    assert p.points[4].tolist() == [3.0, 0.0]
+
+
+def test_drawing_after_close_starts_at_subpath_start():
+    p = parse_path_data("M 5 5 L 10 5 L 10 10 Z l 1 1")
+    assert p.verbs.tolist() == [MOVE, LINE, LINE, CLOSE, MOVE, LINE]
+    assert p.points[-2:].tolist() == [[5, 5], [6, 6]]
+
+
+# -- arcs ----------------------------------------------------------------------------------
+
+def test_arc_radii_scaled_up_when_too_small():
+    # F.6.6: radii too small for the endpoints are scaled until the arc is a half ellipse
+    p = parse_path_data("M0 0 A 1 1 0 0 1 10 0")
+    for seg in segments(p):
+        for t in np.linspace(0, 1, 11):
+            assert abs(abs(bezier_point(seg, t) - 5) - 5) < 5 * 3e-4
+
+
+def test_arc_zero_radius_is_line_and_coincident_endpoints_skipped():
+    assert parse_path_data("M0 0 A 0 5 0 0 1 10 0").verbs.tolist() == [MOVE, LINE]
+    assert parse_path_data("M0 0 A 5 5 0 0 1 0 0 L 1 1").verbs.tolist() == [MOVE, LINE]
+
+
+def test_arc_pieces_share_one_command_index():
+    _, origin = parse_path_data_with_commands("M0 0 L 1 0 A 5 5 0 1 1 1 1 L 3 3")
+    # verbs: MOVE, LINE, arc pieces..., LINE
+    assert len(origin) > 4 and len(set(origin[2:-1].tolist())) == 1
+    assert origin[1] < origin[2] < origin[-1]
+
+
+def test_arc_to_cubics_full_sweep_pieces():
+    pieces = arc_to_cubics(10, 0, 10, 10, 0, True, True, -10, 1e-9)
+    assert 2 <= len(pieces) <= 4
+
+
+# -- error recovery (SVG 2, 9.5.4: render up to the last complete segment) -------------------
+
+@pytest.mark.parametrize("bad, good", [
+    ("M 10 10 L 20 20 30", "M 10 10 L 20 20"),
+    ("M 10 10 L 20 20, Z", "M 10 10 L 20 20"),
+    ("M 10 10 L 20 20 X 5 5", "M 10 10 L 20 20"),
+    ("M 10 10 L 20 20 L", "M 10 10 L 20 20"),
+    ("M 10 10 L 20 20 L 1 1e", "M 10 10 L 20 20"),
+    ("M 10 10 C 1 2 3 4 5 6 7", "M 10 10 C 1 2 3 4 5 6"),
+    ("M 10 10 A 5 5 0 2 0 20 20", "M 10 10"),
+    ("M 10 10 A 5 5 0 1 0 20 20 5", "M 10 10 A 5 5 0 1 0 20 20"),
+    ("M 10 10 Z 5", "M 10 10 Z"),
+    ("M,10 10 L 20 20", ""),
+    ("L 10 10", ""),
+    ("x M 10 10", ""),
+    ("M 10", ""),
+    ("M 10 10 L 20 20 M", "M 10 10 L 20 20"),
+    ("M 10 10 20 20 30", "M 10 10 20 20"),
+])
+def test_error_recovery_keeps_prefix(bad, good):
+    a, b = parse_path_data(bad), parse_path_data(good)
+    assert a.verbs.tolist() == b.verbs.tolist()
+    np.testing.assert_array_equal(a.points, b.points)
+
+
+def test_empty_and_whitespace():
+    assert parse_path_data("").is_empty()
+    assert parse_path_data("  \n ").is_empty()
+    assert len(parse_path_data("none")) == 0
