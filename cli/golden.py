@@ -138,6 +138,9 @@ def run(args) -> int:
     except golden.GoldenError as exc:
         print(f"vecmsaa golden: error: {exc}", file=sys.stderr)
         return 2
+    except OSError as exc:  # writing goldens or the report (renders report their own errors)
+        print(f"vecmsaa golden: error: {exc}", file=sys.stderr)
+        return 2
 
 
 def _update(args, golden) -> int:

@@ -318,6 +318,9 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
     (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48/1%", "--threshold", "3"],
      "--tolerance replaces"),
     (["check", "{goldens}", "--goldens", "{goldens}"], "no SVG files"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--report", "{svgs}/plain.svg"],
+     "cannot create the report directory"),
+    (["update", "{svgs}", "--goldens", "{svgs}/plain.svg"], "not a directory"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
     (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be positive"),
     (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
@@ -335,8 +338,11 @@ def test_usage_and_input_errors_exit_2(tree, tmp_path, capsys, args, message):
     assert "FAIL" not in out
 
 
-@pytest.mark.parametrize("content", ["{not json", '{"format": 99}',
-                                     '{"format": 1, "render_options": {"colour": 1}}'])
+@pytest.mark.parametrize("content", ["{not json", '{"format": 99}', "[1]",
+                                     '{"format": 1, "render_options": {"colour": 1}}',
+                                     '{"format": 1, "render_options": {"samples": "8"}}',
+                                     '{"format": 1, "render_options": {"mode": "fast"}}',
+                                     '{"format": 1, "render_options": {"width": -3}}'])
 def test_unreadable_manifest_exits_2(tree, capsys, content):
     svgs, goldens = tree
     cli(capsys, "golden", "update", svgs, "--goldens", goldens)

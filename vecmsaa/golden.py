@@ -25,7 +25,7 @@ from urllib.parse import quote
 
 import numpy as np
 
-from . import DEFAULT_MODE, DEFAULT_SAMPLES, __version__
+from . import DEFAULT_MODE, DEFAULT_SAMPLES, MODES, __version__
 from .compare import MAX_FRACTION, THRESHOLD, Comparison, compare_images, premultiplied_u8
 from .png import encode_png, write_bytes_atomic
 
@@ -72,12 +72,29 @@ def default_renderer(source, **options) -> np.ndarray:
 
 
 def render_options(**given) -> dict:
-    """Complete set of recorded render options: ``given`` over the defaults; unknown names are
-    an error so a typo cannot silently render with defaults."""
+    """Complete set of recorded render options: ``given`` over the defaults. Unknown names and
+    values of the wrong kind are an error (GoldenError), so a typo or a hand-edited manifest
+    cannot silently render with something else."""
     unknown = sorted(set(given) - set(DEFAULT_RENDER_OPTIONS))
     if unknown:
         raise GoldenError(f"unknown render option(s): {', '.join(unknown)}")
-    return {**DEFAULT_RENDER_OPTIONS, **given}
+    options = {**DEFAULT_RENDER_OPTIONS, **given}
+
+    def positive(value, kinds):
+        return isinstance(value, kinds) and not isinstance(value, bool) and value > 0
+
+    checks = {
+        "width": lambda v: v is None or positive(v, int),
+        "height": lambda v: v is None or positive(v, int),
+        "zoom": lambda v: v is None or (positive(v, (int, float)) and math.isfinite(v)),
+        "mode": lambda v: v in MODES,
+        "samples": lambda v: positive(v, int),
+        "background": lambda v: v is None or isinstance(v, str),
+    }
+    bad = [f"{name}={options[name]!r}" for name, ok in checks.items() if not ok(options[name])]
+    if bad:
+        raise GoldenError(f"invalid render option(s): {', '.join(bad)}")
+    return options
 
 
 def render_rgba(source, options: dict, render: Renderer | None = None) -> np.ndarray:
@@ -193,6 +210,8 @@ def update_goldens(svg_dir, golden_dir, options: dict,
     manifest. SVGs that fail to render get no golden and are listed in ``errors``."""
     options = render_options(**options)
     svgs = find_svgs(svg_dir)
+    if Path(golden_dir).exists() and not Path(golden_dir).is_dir():
+        raise GoldenError(f"{golden_dir}: not a directory")
     if not svgs:
         raise GoldenError(f"{svg_dir}: no SVG files")
     result = UpdateResult()
@@ -421,6 +440,11 @@ class ReportWriter:
 
     def __init__(self, report_dir, tolerance: Tolerance):
         self.report_dir = Path(report_dir)
+        try:  # fail before any rendering when the report cannot be written
+            self.report_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise GoldenError(f"{report_dir}: cannot create the report directory: "
+                              f"{exc.strerror or exc}") from None
         self.tolerance = tolerance
         self.rows: list[tuple[Outcome, PurePosixPath | None]] = []
         self.total = 0
