@@ -72,6 +72,19 @@ def _tolerance(text: str) -> tuple[int, float]:
     return _threshold(threshold), _fraction(fraction)
 
 
+def _jobs(text: str) -> int:
+    """Worker processes; 0 means one per CPU."""
+    import os
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 (one per CPU) or more: {text!r}")
+    return value or os.cpu_count() or 1
+
+
 def _common(parser: argparse.ArgumentParser) -> None:
     # -h is the render height (as in 'vecmsaa render'), so help is --help only.
     parser.add_argument("--help", action="help", help="show this help message and exit")
@@ -79,6 +92,8 @@ def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--goldens", metavar="GOLDEN_DIR", required=True,
                         help="directory of the golden PNGs and their manifest "
                              "(SVG_DIR/a/b.svg has the golden GOLDEN_DIR/a/b.png)")
+    parser.add_argument("-j", "--jobs", type=_jobs, default=1, metavar="N",
+                        help="render in N processes, 0 for one per CPU (default 1)")
 
 
 def add_parser(subparsers) -> None:
@@ -155,7 +170,8 @@ def _update(args, golden) -> int:
         except golden.GoldenError:
             options = golden.render_options()
     result = golden.update_goldens(args.svg_dir, args.goldens, options,
-                                   progress=lambda line: print(line, flush=True))
+                                   progress=lambda line: print(line, flush=True),
+                                   jobs=args.jobs)
     print(f"golden update: {len(result.written)} written, {len(result.unchanged)} unchanged, "
           f"{len(result.errors)} failed to render")
     return 1 if result.errors else 0
@@ -175,7 +191,7 @@ def _check(args, golden) -> int:
         print(f"note: golden {orphan} has no SVG any more", file=sys.stderr)
     report = golden.ReportWriter(args.report, tolerance) if args.report else None
     counts = {golden.PASS: 0, golden.DIFFERS: 0, golden.MISSING: 0, golden.ERROR: 0}
-    for outcome in golden.check_goldens(plan, tolerance):
+    for outcome in golden.check_goldens(plan, tolerance, jobs=args.jobs):
         counts[outcome.status] += 1
         if outcome.failed or not args.quiet:
             print(outcome.line(args.svg_dir), flush=True)

@@ -147,7 +147,7 @@ def test_update_reports_svgs_that_fail_to_render(tree, capsys):
     write(svgs / "broken.svg", "<svg")
     status, out, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
     assert status == 1
-    assert re.search(r"^ERROR broken\.svg: render failed: ", out, re.M)
+    assert f"ERROR {svgs.as_posix()}/broken.svg: render failed: not XML" in out
     assert not (goldens / "broken.png").exists()
     assert (goldens / "plain.png").exists()
 
@@ -445,3 +445,22 @@ def test_pytest_plugin_option_and_fixture(tmp_path):
     made = tmp_path / "goldens" / "test_picture" / "test_red.png"
     assert made.read_bytes() == encode_png(stand_in_render(rect_svg(), samples=4))
     assert run().returncode == 0
+
+
+def test_parallel_runs_write_the_same_files_and_lines(tree, tmp_path, capsys):
+    svgs, serial = tree
+    for i in range(4):
+        write(svgs / "more" / f"r{i}.svg", rect_svg(x=3 + i, fill=BLUE))
+    parallel = tmp_path / "parallel"
+    assert cli(capsys, "golden", "update", svgs, "--goldens", serial)[0] == 0
+    assert cli(capsys, "golden", "update", svgs, "--goldens", parallel, "-j", 3)[0] == 0
+    files = sorted(p.relative_to(serial) for p in serial.rglob("*") if p.is_file())
+    assert len(files) == 7
+    for rel in files:
+        assert (serial / rel).read_bytes() == (parallel / rel).read_bytes(), rel
+    write(svgs / "more" / "r2.svg", rect_svg(x=5, fill=RED))
+    one = cli(capsys, "golden", "check", svgs, "--goldens", serial)
+    three = cli(capsys, "golden", "check", svgs, "--goldens", parallel, "--jobs", 3)
+    assert one[0] == three[0] == 1
+    assert one[1].replace(str(serial), "G") == three[1].replace(str(parallel), "G")
+    assert "FAIL" in one[1]

@@ -205,9 +205,10 @@ class UpdateResult:
 
 def update_goldens(svg_dir, golden_dir, options: dict,
                    render: Renderer | None = None,
-                   progress: Callable[[str], None] | None = None) -> UpdateResult:
+                   progress: Callable[[str], None] | None = None, jobs: int = 1) -> UpdateResult:
     """Render every SVG under ``svg_dir`` into ``golden_dir`` and record ``options`` in the
-    manifest. SVGs that fail to render get no golden and are listed in ``errors``."""
+    manifest. SVGs that fail to render get no golden and are listed in ``errors``. ``jobs`` > 1
+    renders in that many processes; the files written are the same."""
     options = render_options(**options)
     svgs = find_svgs(svg_dir)
     if Path(golden_dir).exists() and not Path(golden_dir).is_dir():
@@ -216,23 +217,43 @@ def update_goldens(svg_dir, golden_dir, options: dict,
         raise GoldenError(f"{svg_dir}: no SVG files")
     result = UpdateResult()
     goldens = []
-    for rel in svgs:
-        try:
-            rgba = render_rgba(str(Path(svg_dir, rel)), options, render)
-        except Exception as exc:  # one bad SVG must not stop the others; it is reported
-            result.errors.append((rel, render_failure(exc)))
+    tasks = [(Path(svg_dir, rel), Path(golden_dir, golden_name(rel)), options, render)
+             for rel in svgs]
+    for rel, (changed, failure) in zip(svgs, ordered_map(_update_one, tasks, jobs)):
+        if failure:
+            result.errors.append((rel, failure))
             if progress:
-                progress(f"ERROR {rel}: {render_failure(exc)}")
+                progress(f"ERROR {Path(svg_dir, rel).as_posix()}: {failure}")
             continue
-        target = golden_name(rel)
-        goldens.append(target)
-        changed = write_png_if_changed(rgba, Path(golden_dir, target))
-        (result.written if changed else result.unchanged).append(target)
+        goldens.append(golden_name(rel))
+        (result.written if changed else result.unchanged).append(golden_name(rel))
     manifest = manifest_bytes(options, goldens)
     manifest_path = Path(golden_dir, MANIFEST_NAME)
     if not manifest_path.exists() or manifest_path.read_bytes() != manifest:
         write_bytes_atomic(manifest, manifest_path)
     return result
+
+
+def _update_one(svg_path, golden_path, options, render) -> tuple[bool, str | None]:
+    """(golden rewritten, None) or (False, why the render failed)."""
+    try:
+        rgba = render_rgba(str(svg_path), options, render)
+    except Exception as exc:  # one bad SVG must not stop the others; it is reported
+        return False, render_failure(exc)
+    return write_png_if_changed(rgba, golden_path), None
+
+
+def ordered_map(func, argument_tuples: list, jobs: int = 1) -> Iterator:
+    """``func(*arguments)`` for each tuple, results in input order. With ``jobs`` > 1 the calls
+    run in that many worker processes (``func`` and its arguments must be picklable)."""
+    if jobs <= 1 or len(argument_tuples) <= 1:
+        for arguments in argument_tuples:
+            yield func(*arguments)
+        return
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(max_workers=min(jobs, len(argument_tuples))) as pool:
+        yield from pool.map(func, *zip(*argument_tuples))
 
 
 def render_failure(exc: BaseException) -> str:
@@ -334,13 +355,13 @@ def plan_check(svg_dir, golden_dir) -> CheckPlan:
 
 
 def check_goldens(plan: CheckPlan, tolerance: Tolerance = Tolerance(),
-                  render: Renderer | None = None) -> Iterator[Outcome]:
+                  render: Renderer | None = None, jobs: int = 1) -> Iterator[Outcome]:
     """Render each SVG of ``plan`` with the recorded options and compare it with its golden,
-    yielding outcomes one by one (so callers can report progress and drop images)."""
-    for rel in plan.svgs:
-        golden_rel = golden_name(rel)
-        yield check_one(plan.svg_dir / rel, plan.golden_dir / golden_rel, plan.options,
-                        tolerance, render, rel, golden_rel)
+    yielding outcomes in order, one by one (so callers can report progress and drop images).
+    ``jobs`` > 1 renders in that many processes."""
+    tasks = [(plan.svg_dir / rel, plan.golden_dir / golden_name(rel), plan.options,
+              tolerance, render, rel, golden_name(rel)) for rel in plan.svgs]
+    yield from ordered_map(check_one, tasks, jobs)
 
 
 # --- triptych and report -------------------------------------------------------------------------
