@@ -1,0 +1,94 @@
+"""CSS mix-blend-mode compositing of premultiplied layers (Compositing and Blending Level 1)."""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _unpremultiply(img):
+    a = img[..., 3:4]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(a > 0, img[..., :3] / np.maximum(a, 1e-12), 0.0), a
+
+
+def _lum(c):
+    return c[..., 0:1] * 0.3 + c[..., 1:2] * 0.59 + c[..., 2:3] * 0.11
+
+
+def _clip_color(c):
+    lum = _lum(c)
+    n = c.min(axis=-1, keepdims=True)
+    x = c.max(axis=-1, keepdims=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(n < 0, lum + (c - lum) * lum / np.where(lum - n == 0, 1, lum - n), c)
+        c = np.where(x > 1, lum + (c - lum) * (1 - lum) / np.where(x - lum == 0, 1, x - lum), c)
+    return c
+
+
+def _set_lum(c, lum):
+    return _clip_color(c + (lum - _lum(c)))
+
+
+def _sat(c):
+    return c.max(axis=-1, keepdims=True) - c.min(axis=-1, keepdims=True)
+
+
+def _set_sat(c, s):
+    mx = c.max(axis=-1, keepdims=True)
+    mn = c.min(axis=-1, keepdims=True)
+    rng = mx - mn
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.where(rng > 0, (c - mn) * s / np.where(rng == 0, 1, rng), 0.0)
+    return out
+
+
+def _separable(mode, cs, cd):
+    if mode == "multiply":
+        return cs * cd
+    if mode == "screen":
+        return cs + cd - cs * cd
+    if mode == "overlay":
+        return _separable("hard-light", cd, cs)
+    if mode == "darken":
+        return np.minimum(cs, cd)
+    if mode == "lighten":
+        return np.maximum(cs, cd)
+    if mode == "color-dodge":
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = np.minimum(1.0, cd / np.maximum(1.0 - cs, 1e-12))
+        return np.where(cd == 0, 0.0, np.where(cs >= 1, 1.0, r))
+    if mode == "color-burn":
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = 1.0 - np.minimum(1.0, (1.0 - cd) / np.maximum(cs, 1e-12))
+        return np.where(cd >= 1, 1.0, np.where(cs <= 0, 0.0, r))
+    if mode == "hard-light":
+        return np.where(cs <= 0.5, cd * 2 * cs, _separable("screen", 2 * cs - 1, cd))
+    if mode == "soft-light":
+        d = np.where(cd <= 0.25, ((16 * cd - 12) * cd + 4) * cd, np.sqrt(cd))
+        return np.where(cs <= 0.5, cd - (1 - 2 * cs) * cd * (1 - cd), cd + (2 * cs - 1) * (d - cd))
+    if mode == "difference":
+        return np.abs(cs - cd)
+    if mode == "exclusion":
+        return cs + cd - 2 * cs * cd
+    return None
+
+
+def blend_premultiplied(src: np.ndarray, dst: np.ndarray, mode: str) -> np.ndarray:
+    """Result of compositing premultiplied ``src`` onto ``dst`` with blend ``mode``."""
+    cs, sa = _unpremultiply(src)
+    cd, da = _unpremultiply(dst)
+    mixed = _separable(mode, cs, cd)
+    if mixed is None:
+        if mode == "hue":
+            mixed = _set_lum(_set_sat(cs, _sat(cd)), _lum(cd))
+        elif mode == "saturation":
+            mixed = _set_lum(_set_sat(cd, _sat(cs)), _lum(cd))
+        elif mode == "color":
+            mixed = _set_lum(cs, _lum(cd))
+        elif mode == "luminosity":
+            mixed = _set_lum(cd, _lum(cs))
+        else:
+            mixed = cs
+    out = np.empty_like(dst)
+    out[..., :3] = (1 - da) * src[..., :3] + (1 - sa) * dst[..., :3] + sa * da * np.clip(mixed, 0, 1)
+    out[..., 3:4] = sa + da - sa * da
+    return out.astype(dst.dtype)

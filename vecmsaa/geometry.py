@@ -1,0 +1,610 @@
+"""Paths → Loop–Blinn primitives: the straight-edge part plus one curve primitive per curve piece.
+
+Every curve segment is split into *pieces*. A piece contributes its chord (b0 → b_last) to the
+straight-edge polygon, and a curve primitive describing the *lens* between the chord and the
+curve. A sample's winding number is
+
+    winding(polygon with chords) + Σ_lenses wsign · [sample inside the lens]
+
+and a sample is inside a lens when it is on the lens side of the chord (tested with exactly the
+arithmetic the scan converter uses for that chord, so the two never disagree), on the inner side
+of the piece's end tangents (cubics only), and on the inner side of the curve according to the
+Loop–Blinn implicit function: u² − v for quadratics, k³ − l·m for cubics, with (u, v) and
+(k, l, m) affine in pixel coordinates.
+
+Cubics are classified as in Loop & Blinn (serpentine, loop, cusp, cusp at infinity, quadratic,
+line), split at inflections and at the double point of a loop, and further until each piece
+turns by at most 90° and bulges at most ``max_sagitta`` pixels from its chord (thin lenses keep
+the per-sample work on edge pixels). Numerically hopeless pieces fall back to quadratics.
+
+Everything here runs in numba over flat arrays for a whole batch of paths at once.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .path import CLOSE, CUBIC, LINE, MOVE, QUAD
+
+# -- curve primitive record layout (float64 row) ----------------------------------------------
+P_KIND = 0          # 0 quadratic (f = k² − l), 1 cubic (f = k³ − l·m)
+P_SIGMA = 1         # inside the lens ⟺ sigma · f < 0
+P_WSIGN = 2         # winding added to samples inside the lens
+P_OX, P_OY, P_INVS = 3, 4, 5   # f is evaluated at X = (x − ox)·invs, Y = (y − oy)·invs
+P_K, P_L, P_M = 6, 9, 12       # (a, b, c) of k, l, m = a·X + b·Y + c
+P_CHORD = 15        # x_top, y_top, x_bot, y_bot (sorted by y, exactly as the edge is scanned)
+P_RIGHT = 19        # 1: lens at x ≥ x_chord(y) (horizontal chord: at y ≥ y_chord); 0: other side
+P_T1, P_T2 = 20, 23  # tangent half-planes a·x + b·y + c ≥ 0 (cubics); (0, 0, 1) = no constraint
+P_BBOX = 26         # x0, y0, x1, y1
+P_CTRL = 30         # up to 4 control points (x, y), for the per-row x-range of the lens
+P_NCTRL = 38
+PRIM_FIELDS = 39
+
+KIND_QUAD = 0
+KIND_CUBIC = 1
+
+#: a curve that deviates less than this from its chord (pixels) is drawn as its chord
+LINE_EPS = 1.0 / 1024.0
+#: cubic → quadratic fallback tolerance (pixels)
+QUAD_FALLBACK_TOL = 1.0 / 128.0
+MAX_PIECES = 4096
+
+
+# -- growable output buffers --------------------------------------------------------------------
+@njit(cache=True)
+def _grow(arr, n):
+    if n < arr.shape[0]:
+        return arr
+    new = np.empty((arr.shape[0] * 2 + 16, arr.shape[1]), dtype=arr.dtype)
+    new[:n] = arr[:n]
+    return new
+
+
+@njit(cache=True)
+def _push_edge(edges, ne, x0, y0, x1, y1):
+    if y0 == y1:
+        return edges, ne        # horizontal edges never cross a scanline
+    edges = _grow(edges, ne)
+    edges[ne, 0] = x0
+    edges[ne, 1] = y0
+    edges[ne, 2] = x1
+    edges[ne, 3] = y1
+    return edges, ne + 1
+
+
+# -- Bézier helpers -----------------------------------------------------------------------------
+@njit(cache=True)
+def _quad_point(x0, y0, x1, y1, x2, y2, t):
+    mt = 1.0 - t
+    return (mt * mt * x0 + 2 * mt * t * x1 + t * t * x2,
+            mt * mt * y0 + 2 * mt * t * y1 + t * t * y2)
+
+
+@njit(cache=True)
+def _cubic_point(c, t):
+    mt = 1.0 - t
+    a, b, cc, d = mt * mt * mt, 3 * mt * mt * t, 3 * mt * t * t, t * t * t
+    return (a * c[0, 0] + b * c[1, 0] + cc * c[2, 0] + d * c[3, 0],
+            a * c[0, 1] + b * c[1, 1] + cc * c[2, 1] + d * c[3, 1])
+
+
+@njit(cache=True)
+def _cubic_sub(c, ta, tb):
+    """Control points of the cubic restricted to [ta, tb] (blossoming)."""
+    out = np.empty((4, 2))
+    for k in range(2):
+        p0, p1, p2, p3 = c[0, k], c[1, k], c[2, k], c[3, k]
+        out[0, k] = _blossom(p0, p1, p2, p3, ta, ta, ta)
+        out[1, k] = _blossom(p0, p1, p2, p3, ta, ta, tb)
+        out[2, k] = _blossom(p0, p1, p2, p3, ta, tb, tb)
+        out[3, k] = _blossom(p0, p1, p2, p3, tb, tb, tb)
+    # the ends must be bit-identical to the parent's so pieces join without cracks
+    if ta == 0.0:
+        out[0, 0], out[0, 1] = c[0, 0], c[0, 1]
+    if tb == 1.0:
+        out[3, 0], out[3, 1] = c[3, 0], c[3, 1]
+    return out
+
+
+@njit(cache=True)
+def _blossom(p0, p1, p2, p3, u, v, w):
+    """de Casteljau with three parameters (the polar form of the cubic)."""
+    a0 = p0 + (p1 - p0) * u
+    a1 = p1 + (p2 - p1) * u
+    a2 = p2 + (p3 - p2) * u
+    b0 = a0 + (a1 - a0) * v
+    b1 = a1 + (a2 - a1) * v
+    return b0 + (b1 - b0) * w
+
+
+@njit(cache=True)
+def _dist_to_line(px, py, ax, ay, bx, by):
+    dx, dy = bx - ax, by - ay
+    ln = math.hypot(dx, dy)
+    if ln == 0.0:
+        return math.hypot(px - ax, py - ay)
+    return abs((px - ax) * dy - (py - ay) * dx) / ln
+
+
+# -- flattening (analytic / reference modes) ----------------------------------------------------
+@njit(cache=True)
+def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
+    dd = math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
+    n = int(math.ceil(math.sqrt(dd / (4.0 * tol)))) if dd > 0 else 1
+    n = max(1, min(n, 65536))
+    px, py = x0, y0
+    for i in range(1, n + 1):
+        qx, qy = _quad_point(x0, y0, x1, y1, x2, y2, i / n)
+        if i == n:
+            qx, qy = x2, y2
+        edges, ne = _push_edge(edges, ne, px, py, qx, qy)
+        px, py = qx, qy
+    return edges, ne
+
+
+@njit(cache=True)
+def _flatten_cubic(edges, ne, c, tol):
+    m = max(math.hypot(c[0, 0] - 2 * c[1, 0] + c[2, 0], c[0, 1] - 2 * c[1, 1] + c[2, 1]),
+            math.hypot(c[1, 0] - 2 * c[2, 0] + c[3, 0], c[1, 1] - 2 * c[2, 1] + c[3, 1]))
+    n = int(math.ceil(math.sqrt(3.0 * m / (4.0 * tol)))) if m > 0 else 1
+    n = max(1, min(n, 65536))
+    px, py = c[0, 0], c[0, 1]
+    for i in range(1, n + 1):
+        qx, qy = _cubic_point(c, i / n)
+        if i == n:
+            qx, qy = c[3, 0], c[3, 1]
+        edges, ne = _push_edge(edges, ne, px, py, qx, qy)
+        px, py = qx, qy
+    return edges, ne
+
+
+# -- curve primitives -----------------------------------------------------------------------------
+@njit(cache=True)
+def _set_chord(prim, x0, y0, x1, y1, sx, sy):
+    """Store the chord sorted by y (as the scan converter sees it) and which side the lens
+    lies on, judged from the point (sx, sy) known to be inside the lens."""
+    if y0 < y1 or (y0 == y1 and x0 <= x1):
+        xt, yt, xb, yb = x0, y0, x1, y1
+    else:
+        xt, yt, xb, yb = x1, y1, x0, y0
+    prim[P_CHORD] = xt
+    prim[P_CHORD + 1] = yt
+    prim[P_CHORD + 2] = xb
+    prim[P_CHORD + 3] = yb
+    if yt == yb:
+        prim[P_RIGHT] = 1.0 if sy >= yt else 0.0
+    else:
+        dxdy = (xb - xt) / (yb - yt)
+        prim[P_RIGHT] = 1.0 if sx >= xt + (sy - yt) * dxdy else 0.0
+
+
+@njit(cache=True)
+def _set_frame_common(prim, ctrl, nctrl):
+    x0 = ctrl[0, 0]
+    y0 = ctrl[0, 1]
+    bx0, by0, bx1, by1 = x0, y0, x0, y0
+    for i in range(nctrl):
+        bx0 = min(bx0, ctrl[i, 0])
+        by0 = min(by0, ctrl[i, 1])
+        bx1 = max(bx1, ctrl[i, 0])
+        by1 = max(by1, ctrl[i, 1])
+        prim[P_CTRL + 2 * i] = ctrl[i, 0]
+        prim[P_CTRL + 2 * i + 1] = ctrl[i, 1]
+    prim[P_NCTRL] = nctrl
+    prim[P_BBOX] = bx0
+    prim[P_BBOX + 1] = by0
+    prim[P_BBOX + 2] = bx1
+    prim[P_BBOX + 3] = by1
+    # shoelace sign of the control polygon = orientation of the lens loop (curve, chord back);
+    # with y down and +1 for downward edges left of a sample, a positive area winds −1.
+    area = 0.0
+    for i in range(nctrl):
+        j = (i + 1) % nctrl
+        area += ctrl[i, 0] * ctrl[j, 1] - ctrl[j, 0] * ctrl[i, 1]
+    prim[P_WSIGN] = -1.0 if area > 0 else 1.0
+    prim[P_T1] = 0.0
+    prim[P_T1 + 1] = 0.0
+    prim[P_T1 + 2] = 1.0
+    prim[P_T2] = 0.0
+    prim[P_T2 + 1] = 0.0
+    prim[P_T2 + 2] = 1.0
+
+
+@njit(cache=True)
+def _emit_quad_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2):
+    """Chord edge plus lens primitive for one quadratic piece (u² − v, lens where f < 0)."""
+    edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
+    s = max(math.hypot(x1 - x0, y1 - y0), math.hypot(x2 - x0, y2 - y0))
+    if s == 0.0:
+        return edges, ne, prims, nc
+    inv = 1.0 / s
+    X1, Y1 = (x1 - x0) * inv, (y1 - y0) * inv
+    X2, Y2 = (x2 - x0) * inv, (y2 - y0) * inv
+    det = X1 * Y2 - X2 * Y1
+    if abs(det) < 1e-12:
+        return edges, ne, prims, nc
+    prims = _grow(prims, nc)
+    prim = prims[nc]
+    prim[:] = 0.0
+    prim[P_KIND] = KIND_QUAD
+    prim[P_SIGMA] = 1.0
+    prim[P_OX], prim[P_OY], prim[P_INVS] = x0, y0, inv
+    # (u, v) = (0, 0), (1/2, 0), (1, 1) at b0, b1, b2; b0 is the frame origin so c = 0.
+    prim[P_K] = (0.5 * Y2 - Y1) / det
+    prim[P_K + 1] = (X1 - 0.5 * X2) / det
+    prim[P_L] = -Y1 / det
+    prim[P_L + 1] = X1 / det
+    ctrl = np.empty((3, 2))
+    ctrl[0, 0], ctrl[0, 1] = x0, y0
+    ctrl[1, 0], ctrl[1, 1] = x1, y1
+    ctrl[2, 0], ctrl[2, 1] = x2, y2
+    _set_frame_common(prim, ctrl, 3)
+    mx, my = _quad_point(x0, y0, x1, y1, x2, y2, 0.5)
+    _set_chord(prim, x0, y0, x2, y2, 0.5 * (mx + 0.5 * (x0 + x2)), 0.5 * (my + 0.5 * (y0 + y2)))
+    return edges, ne, prims, nc + 1
+
+
+@njit(cache=True)
+def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
+    dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
+    if dev < LINE_EPS or not (math.isfinite(dev)):
+        edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
+        return edges, ne, prims, nc
+    # splitting into k pieces divides the bulge by k²
+    k = int(math.ceil(math.sqrt(dev / max_sagitta)))
+    k = max(1, min(k, MAX_PIECES))
+    for i in range(k):
+        ta, tb = i / k, (i + 1) / k
+        ax, ay = _quad_point(x0, y0, x1, y1, x2, y2, ta)
+        bx, by = _quad_point(x0, y0, x1, y1, x2, y2, tb)
+        if i == 0:
+            ax, ay = x0, y0
+        if i == k - 1:
+            bx, by = x2, y2
+        mt_a, mt_b = 1.0 - ta, 1.0 - tb
+        cx = mt_a * mt_b * x0 + (mt_a * tb + ta * mt_b) * x1 + ta * tb * x2
+        cy = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
+        edges, ne, prims, nc = _emit_quad_piece(edges, ne, prims, nc, ax, ay, cx, cy, bx, by)
+    return edges, ne, prims, nc
+
+
+@njit(cache=True)
+def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
+    """Fallback: approximate a cubic by quadratics within QUAD_FALLBACK_TOL."""
+    err = math.sqrt(3.0) / 36.0 * math.hypot(c[3, 0] - 3 * c[2, 0] + 3 * c[1, 0] - c[0, 0],
+                                             c[3, 1] - 3 * c[2, 1] + 3 * c[1, 1] - c[0, 1])
+    n = int(math.ceil((err / QUAD_FALLBACK_TOL) ** (1.0 / 3.0))) if err > 0 else 1
+    n = max(1, min(n, MAX_PIECES))
+    for i in range(n):
+        s = _cubic_sub(c, i / n, (i + 1) / n)
+        qx = (3.0 * (s[1, 0] + s[2, 0]) - s[0, 0] - s[3, 0]) * 0.25
+        qy = (3.0 * (s[1, 1] + s[2, 1]) - s[0, 1] - s[3, 1]) * 0.25
+        edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, s[0, 0], s[0, 1], qx, qy,
+                                          s[3, 0], s[3, 1], max_sagitta)
+    return edges, ne, prims, nc
+
+
+@njit(cache=True)
+def classify_cubic(X):
+    """Loop–Blinn classification of a cubic given in a normalised frame (4 x 2 array).
+
+    Returns (kind, klm, split parameters) where kind is 0 serpentine, 1 loop, 2 cusp,
+    3 cusp at infinity, 4 quadratic, 5 line/point; klm is (4, 3) at the control points and
+    the split parameters are inflections (serpentine, cusp) or the double point (loop).
+    """
+    b = np.ones((4, 3))
+    b[:, :2] = X
+    a1 = b[0, 0] * (b[3, 1] * b[2, 2] - b[3, 2] * b[2, 1]) - b[0, 1] * (b[3, 0] * b[2, 2] - b[3, 2] * b[2, 0]) + b[0, 2] * (b[3, 0] * b[2, 1] - b[3, 1] * b[2, 0])
+    a2 = b[1, 0] * (b[0, 1] * b[3, 2] - b[0, 2] * b[3, 1]) - b[1, 1] * (b[0, 0] * b[3, 2] - b[0, 2] * b[3, 0]) + b[1, 2] * (b[0, 0] * b[3, 1] - b[0, 1] * b[3, 0])
+    a3 = b[2, 0] * (b[1, 1] * b[0, 2] - b[1, 2] * b[0, 1]) - b[2, 1] * (b[1, 0] * b[0, 2] - b[1, 2] * b[0, 0]) + b[2, 2] * (b[1, 0] * b[0, 1] - b[1, 1] * b[0, 0])
+    d1 = a1 - 2.0 * a2 + 3.0 * a3
+    d2 = -a2 + 3.0 * a3
+    d3 = 3.0 * a3
+    dn = math.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
+    klm = np.zeros((4, 3))
+    splits = np.empty(2)
+    splits[:] = -1.0
+    eps = 1e-9
+    if dn < eps:
+        return 5, klm, splits
+    d1 /= dn
+    d2 /= dn
+    d3 /= dn
+    disc = 3.0 * d2 * d2 - 4.0 * d1 * d3
+    if abs(d1) > eps:
+        if disc >= -1e-12:
+            kind = 0 if disc > 1e-12 else 2
+            sq = math.sqrt(max(0.0, 3.0 * disc))
+            ls, lt = 3.0 * d2 - sq, 6.0 * d1
+            ms, mt = 3.0 * d2 + sq, 6.0 * d1
+            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls ** 3, ms ** 3
+            klm[1, 0] = (3.0 * ls * ms - ls * mt - lt * ms) / 3.0
+            klm[1, 1] = ls * ls * (ls - lt)
+            klm[1, 2] = ms * ms * (ms - mt)
+            klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
+            klm[2, 1] = (lt - ls) ** 2 * ls
+            klm[2, 2] = (mt - ms) ** 2 * ms
+            klm[3, 0] = (lt - ls) * (mt - ms)
+            klm[3, 1] = -(lt - ls) ** 3
+            klm[3, 2] = -(mt - ms) ** 3
+        else:
+            kind = 1
+            sq = math.sqrt(-disc)
+            ls, lt = d2 - sq, 2.0 * d1
+            ms, mt = d2 + sq, 2.0 * d1
+            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ms, ls * ms * ms
+            klm[1, 0] = (-ls * mt - lt * ms + 3.0 * ls * ms) / 3.0
+            klm[1, 1] = -ls * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
+            klm[1, 2] = -ms * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
+            klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
+            klm[2, 1] = (lt - ls) * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
+            klm[2, 2] = (mt - ms) * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
+            klm[3, 0] = (lt - ls) * (mt - ms)
+            klm[3, 1] = -(lt - ls) ** 2 * (mt - ms)
+            klm[3, 2] = -(lt - ls) * (mt - ms) ** 2
+        splits[0] = ls / lt
+        splits[1] = ms / mt
+        return kind, klm, splits
+    if abs(d2) > eps:
+        ls, lt = d3, 3.0 * d2
+        klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls ** 3, 1.0
+        klm[1, 0], klm[1, 1], klm[1, 2] = ls - lt / 3.0, ls * ls * (ls - lt), 1.0
+        klm[2, 0], klm[2, 1], klm[2, 2] = ls - 2.0 * lt / 3.0, (ls - lt) ** 2 * ls, 1.0
+        klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) ** 3, 1.0
+        splits[0] = ls / lt
+        return 3, klm, splits
+    if abs(d3) > eps:
+        return 4, klm, splits
+    return 5, klm, splits
+
+
+@njit(cache=True)
+def _turn_exceeds(c, max_turn_cos):
+    """Does the piece turn by more than acos(max_turn_cos) between its end tangents?"""
+    t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
+    if t0x == 0.0 and t0y == 0.0:
+        t0x, t0y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
+    t1x, t1y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
+    if t1x == 0.0 and t1y == 0.0:
+        t1x, t1y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
+    n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
+    if n0 == 0.0 or n1 == 0.0:
+        return True
+    return (t0x * t1x + t0y * t1y) / (n0 * n1) < max_turn_cos
+
+
+@njit(cache=True)
+def _tangent_plane(prim, off, px, py, dx, dy, ix, iy):
+    """Half-plane through (px, py) along (dx, dy), oriented so (ix, iy) is inside."""
+    ln = math.hypot(dx, dy)
+    if ln == 0.0:
+        return
+    a, b = -dy / ln, dx / ln
+    c = -(a * px + b * py)
+    if a * ix + b * iy + c < 0:
+        a, b, c = -a, -b, -c
+    prim[off] = a
+    prim[off + 1] = b
+    prim[off + 2] = c - 1e-9 * (abs(c) + 1.0)
+
+
+@njit(cache=True)
+def _eval_implicit(prim, x, y):
+    """f and its gradient (in pixel units) at (x, y)."""
+    inv = prim[P_INVS]
+    X = (x - prim[P_OX]) * inv
+    Y = (y - prim[P_OY]) * inv
+    k = prim[P_K] * X + prim[P_K + 1] * Y + prim[P_K + 2]
+    l = prim[P_L] * X + prim[P_L + 1] * Y + prim[P_L + 2]
+    if prim[P_KIND] == KIND_QUAD:
+        f = k * k - l
+        gx = 2.0 * k * prim[P_K] - prim[P_L]
+        gy = 2.0 * k * prim[P_K + 1] - prim[P_L + 1]
+    else:
+        m = prim[P_M] * X + prim[P_M + 1] * Y + prim[P_M + 2]
+        f = k * k * k - l * m
+        gx = 3.0 * k * k * prim[P_K] - l * prim[P_M] - m * prim[P_L]
+        gy = 3.0 * k * k * prim[P_K + 1] - l * prim[P_M + 1] - m * prim[P_L + 1]
+    return f, gx * inv, gy * inv
+
+
+@njit(cache=True)
+def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
+    """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""
+    prims = _grow(prims, nc)
+    prim = prims[nc]
+    prim[:] = 0.0
+    prim[P_KIND] = KIND_CUBIC
+    prim[P_OX], prim[P_OY], prim[P_INVS] = ox, oy, inv
+    for j in range(3):
+        prim[P_K + j] = M[j, 0]
+        prim[P_L + j] = M[j, 1]
+        prim[P_M + j] = M[j, 2]
+    mx, my = _cubic_point(c, 0.5)
+    qx = 0.5 * (mx + 0.5 * (c[0, 0] + c[3, 0]))
+    qy = 0.5 * (my + 0.5 * (c[0, 1] + c[3, 1]))
+    f, gx, gy = _eval_implicit(prim, qx, qy)
+    g = math.hypot(gx, gy)
+    depth = 0.5 * math.hypot(mx - 0.5 * (c[0, 0] + c[3, 0]), my - 0.5 * (c[0, 1] + c[3, 1]))
+    # q lies half-way between the chord and the curve: the implicit distance must say so,
+    # otherwise the frame is numerically unusable and the caller falls back to quadratics.
+    if not (g > 0.0) or not math.isfinite(f) or abs(f) / g < 0.2 * depth:
+        return edges, ne, prims, nc, False
+    prim[P_SIGMA] = 1.0 if f < 0 else -1.0
+    _set_frame_common(prim, c, 4)
+    _set_chord(prim, c[0, 0], c[0, 1], c[3, 0], c[3, 1], qx, qy)
+    t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
+    if t0x == 0.0 and t0y == 0.0:
+        t0x, t0y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
+    t1x, t1y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
+    if t1x == 0.0 and t1y == 0.0:
+        t1x, t1y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
+    _tangent_plane(prim, P_T1, c[0, 0], c[0, 1], t0x, t0y, qx, qy)
+    _tangent_plane(prim, P_T2, c[3, 0], c[3, 1], t1x, t1y, qx, qy)
+    edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
+    return edges, ne, prims, nc + 1, True
+
+
+@njit(cache=True)
+def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
+    # bulge of the control polygon over the chord; degenerate → chord or nothing
+    dev = max(_dist_to_line(c[1, 0], c[1, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]),
+              _dist_to_line(c[2, 0], c[2, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]))
+    if not math.isfinite(dev):
+        return edges, ne, prims, nc
+    if dev < LINE_EPS:
+        edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
+        return edges, ne, prims, nc
+    ox, oy = c[0, 0], c[0, 1]
+    s = 0.0
+    for i in range(1, 4):
+        s = max(s, math.hypot(c[i, 0] - ox, c[i, 1] - oy))
+    inv = 1.0 / s
+    X = np.empty((4, 2))
+    for i in range(4):
+        X[i, 0] = (c[i, 0] - ox) * inv
+        X[i, 1] = (c[i, 1] - oy) * inv
+    kind, klm, splits = classify_cubic(X)
+    if kind == 5:
+        edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
+        return edges, ne, prims, nc
+    if kind == 4:
+        qx = 0.25 * (3.0 * (c[1, 0] + c[2, 0]) - c[0, 0] - c[3, 0])
+        qy = 0.25 * (3.0 * (c[1, 1] + c[2, 1]) - c[0, 1] - c[3, 1])
+        return _emit_quad(edges, ne, prims, nc, c[0, 0], c[0, 1], qx, qy, c[3, 0], c[3, 1],
+                          max_sagitta)
+    # k, l, m are affine in the frame: solve [X Y 1] · M = klm (4 equations, 3 unknowns each)
+    A = np.ones((4, 3))
+    A[:, :2] = X
+    M = np.linalg.lstsq(A, klm)[0]
+    resid = 0.0
+    scale = 0.0
+    for i in range(4):
+        for j in range(3):
+            r = A[i, 0] * M[0, j] + A[i, 1] * M[1, j] + M[2, j] - klm[i, j]
+            resid = max(resid, abs(r))
+            scale = max(scale, abs(klm[i, j]))
+    if not (resid <= 1e-7 * max(scale, 1e-300)):
+        return _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta)
+    # parameter intervals: split at inflections / the double point inside (0, 1)
+    ts = np.empty(4)
+    nts = 0
+    ts[nts] = 0.0
+    nts += 1
+    sp = np.sort(splits)
+    for t in sp:
+        if 1e-6 < t < 1.0 - 1e-6 and t - ts[nts - 1] > 1e-6:
+            ts[nts] = t
+            nts += 1
+    ts[nts] = 1.0
+    nts += 1
+    # refine each interval until it turns ≤ 90° and bulges ≤ max_sagitta (explicit stack)
+    stack = np.empty((64, 3))
+    max_turn_cos = 0.0  # cos 90°
+    for iv in range(nts - 1):
+        top = 0
+        stack[0, 0], stack[0, 1], stack[0, 2] = ts[iv], ts[iv + 1], 0
+        while top >= 0:
+            ta, tb, depth = stack[top, 0], stack[top, 1], stack[top, 2]
+            top -= 1
+            sub = _cubic_sub(c, ta, tb)
+            bulge = max(_dist_to_line(sub[1, 0], sub[1, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]),
+                        _dist_to_line(sub[2, 0], sub[2, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]))
+            split = (0.75 * bulge > max_sagitta or _turn_exceeds(sub, max_turn_cos))
+            if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
+                edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
+                continue
+            if split and depth < 40 and top < 60:
+                tm = 0.5 * (ta + tb)
+                top += 1
+                stack[top, 0], stack[top, 1], stack[top, 2] = tm, tb, depth + 1
+                top += 1
+                stack[top, 0], stack[top, 1], stack[top, 2] = ta, tm, depth + 1
+                continue
+            edges, ne, prims, nc, ok = _emit_cubic_piece(edges, ne, prims, nc, sub, M, ox, oy, inv)
+            if not ok:
+                edges, ne, prims, nc = _cubic_as_quads(edges, ne, prims, nc, sub, max_sagitta)
+    return edges, ne, prims, nc
+
+
+@njit(cache=True)
+def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
+    """Straight edges and curve primitives for a batch of paths.
+
+    verbs/points are the concatenated arrays of all paths; path i owns verbs
+    verb_off[i]:verb_off[i+1] and points pt_off[i]:pt_off[i+1]. With flatten_tol > 0 curves
+    are flattened into edges (analytic and reference modes) and no primitives are made.
+    Returns (edges (E, 4), edge_off (P+1), prims (C, PRIM_FIELDS), prim_off (P+1)).
+    """
+    npaths = verb_off.shape[0] - 1
+    edges = np.empty((max(16, 2 * points.shape[0]), 4))
+    prims = np.empty((max(16, points.shape[0] // 2), PRIM_FIELDS))
+    edge_off = np.zeros(npaths + 1, dtype=np.int64)
+    prim_off = np.zeros(npaths + 1, dtype=np.int64)
+    ne = 0
+    nc = 0
+    c = np.empty((4, 2))
+    for p in range(npaths):
+        pi = pt_off[p]
+        sx = sy = cx = cy = 0.0
+        open_ = False
+        for vi in range(verb_off[p], verb_off[p + 1]):
+            v = verbs[vi]
+            if v == MOVE:
+                if open_:
+                    edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+                sx, sy = points[pi, 0], points[pi, 1]
+                cx, cy = sx, sy
+                pi += 1
+                open_ = True
+            elif v == LINE:
+                x, y = points[pi, 0], points[pi, 1]
+                edges, ne = _push_edge(edges, ne, cx, cy, x, y)
+                cx, cy = x, y
+                pi += 1
+            elif v == QUAD:
+                x1, y1 = points[pi, 0], points[pi, 1]
+                x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
+                if flatten_tol > 0:
+                    edges, ne = _flatten_quad(edges, ne, cx, cy, x1, y1, x2, y2, flatten_tol)
+                else:
+                    edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
+                                                      x2, y2, max_sagitta)
+                cx, cy = x2, y2
+                pi += 2
+            elif v == CUBIC:
+                c[0, 0], c[0, 1] = cx, cy
+                for k in range(3):
+                    c[k + 1, 0] = points[pi + k, 0]
+                    c[k + 1, 1] = points[pi + k, 1]
+                if flatten_tol > 0:
+                    edges, ne = _flatten_cubic(edges, ne, c, flatten_tol)
+                else:
+                    edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta)
+                cx, cy = c[3, 0], c[3, 1]
+                pi += 3
+            elif v == CLOSE:
+                if open_:
+                    edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+                cx, cy = sx, sy
+                open_ = False
+        if open_:
+            edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+        edge_off[p + 1] = ne
+        prim_off[p + 1] = nc
+    return edges[:ne].copy(), edge_off, prims[:nc].copy(), prim_off
+
+
+def batch_arrays(paths):
+    """Concatenate the verb/point arrays of several Paths for :func:`build_batch`."""
+    verbs = [p.verbs for p in paths]
+    pts = [p.points for p in paths]
+    verb_off = np.zeros(len(paths) + 1, dtype=np.int64)
+    pt_off = np.zeros(len(paths) + 1, dtype=np.int64)
+    verb_off[1:] = np.cumsum([len(v) for v in verbs])
+    pt_off[1:] = np.cumsum([len(p) for p in pts])
+    all_verbs = np.concatenate(verbs) if verbs else np.zeros(0, np.uint8)
+    all_pts = np.concatenate(pts) if pts else np.zeros((0, 2))
+    return all_verbs.astype(np.uint8), all_pts.reshape(-1, 2).astype(np.float64), verb_off, pt_off

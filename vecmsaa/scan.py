@@ -1,0 +1,561 @@
+"""Scan conversion: per-sample winding numbers, curve coverage by mode, MSAA compositing.
+
+One kernel call renders a whole batch of fills into a float32 premultiplied target, strip by
+strip (bounded memory). Per fill and strip:
+
+1. Straight edges (including curve chords) add ±1 at the first pixel right of their crossing
+   with each *sample row* (every pattern sample has its own y inside the pixel). A pixel box that
+   no edge touches has the same winding at all its samples, so it is *clean*; touched pixels are
+   *dirty* and listed per row.
+2. Curve primitives add their lens contribution to the samples of the pixels they touch, with
+   the coverage mode deciding which samples: the implicit function at every sample
+   (``persample``), one evaluation plus a half-plane mask table (``approx``), a fractional alpha
+   (``alpha``) or an alpha-to-coverage mask (``a2c``).
+3. A sweep over the dirty pixels of each row turns windings into coverage (fill rule) and
+   composites the paint — evaluated once per pixel — into the covered samples. Runs of clean
+   pixels between dirty ones are spans with one coverage: no per-sample work.
+
+The framebuffer is compressed like MSAA hardware: a pixel holds one colour until a partial
+coverage splits it into per-sample colours, and an opaque full cover merges it back.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .geometry import (P_BBOX, P_CHORD, P_CTRL, P_KIND, P_NCTRL, P_RIGHT, P_SIGMA, P_T1, P_T2,
+                       P_WSIGN, KIND_CUBIC, _eval_implicit)
+from .patterns import ANGLE_BINS, DIST_BINS, DMAX
+from .shaders import shade
+
+MODE_NONE, MODE_ALPHA, MODE_A2C, MODE_PERSAMPLE, MODE_APPROX = 0, 1, 2, 3, 4
+MODE_IDS = {"none": MODE_NONE, "alpha": MODE_ALPHA, "a2c": MODE_A2C,
+            "persample": MODE_PERSAMPLE, "approx": MODE_APPROX}
+RULE_NONZERO, RULE_EVENODD = 0, 1
+BIG = 1 << 40
+
+
+@njit(cache=True, inline="always")
+def coverage_of(w, rule):
+    """Fill rule on a (possibly fractional, alpha-mode) winding number."""
+    a = abs(w)
+    if rule == RULE_NONZERO:
+        return a if a < 1.0 else 1.0
+    a = a % 2.0
+    return a if a <= 1.0 else 2.0 - a
+
+
+@njit(cache=True, inline="always")
+def crossing_x(xt, yt, dxdy, ys):
+    """x where an edge (top point, slope dx/dy) crosses the scanline y = ys. The chord test of
+    a curve primitive uses this same arithmetic, so both always agree on a sample's side."""
+    return xt + (ys - yt) * dxdy
+
+
+@njit(cache=True)
+def _mark(dirty, dlist, dcount, r, px):
+    if dirty[r, px] == 0:
+        dirty[r, px] = 1
+        dlist[r, dcount[r]] = px
+        dcount[r] += 1
+
+
+@njit(cache=True)
+def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
+    """Winding deltas of one straight edge on the sample rows of strip [sy0, sy0 + rows)."""
+    if y0 == y1:
+        return
+    if min(x0, x1) >= W:
+        return
+    if y0 < y1:
+        xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
+    else:
+        xt, yt, xb, yb, d = x1, y1, x0, y0, -1.0
+    r_lo = max(int(math.floor(yt)) - sy0, 0)
+    r_hi = min(int(math.floor(yb)) - sy0, rows - 1)
+    if r_lo > r_hi:
+        return
+    dxdy = (xb - xt) / (yb - yt)
+    n = sx.shape[0]
+    for r in range(r_lo, r_hi + 1):
+        py = sy0 + r
+        for s in range(n):
+            ys = py + sy[s]
+            if ys < yt or ys >= yb:
+                continue
+            xc = crossing_x(xt, yt, dxdy, ys)
+            fx = math.ceil(xc - sx[s])
+            if fx >= W:
+                continue
+            px = int(fx) if fx > 0 else 0
+            delta[r, px, s] += d
+        # every pixel box this edge touches in the row becomes dirty (plus one to the right,
+        # where crossings of samples left of the edge land)
+        ya = max(yt, py)
+        yb_ = min(yb, py + 1.0)
+        xa = crossing_x(xt, yt, dxdy, ya)
+        xz = crossing_x(xt, yt, dxdy, yb_)
+        lo = math.floor(min(xa, xz))
+        hi = math.floor(max(xa, xz)) + 1
+        lo_i = int(max(0.0, min(lo, W - 1.0)))
+        hi_i = int(max(0.0, min(hi, W - 1.0)))
+        for px in range(lo_i, hi_i + 1):
+            _mark(dirty, dlist, dcount, r, px)
+
+
+@njit(cache=True)
+def _band_x_range(prim, y_lo, y_hi):
+    """x extent of the primitive's control polygon inside the band y_lo ≤ y ≤ y_hi."""
+    n = int(prim[P_NCTRL])
+    xmin, xmax = np.inf, -np.inf
+    for i in range(n):
+        j = (i + 1) % n
+        ax, ay = prim[P_CTRL + 2 * i], prim[P_CTRL + 2 * i + 1]
+        bx, by = prim[P_CTRL + 2 * j], prim[P_CTRL + 2 * j + 1]
+        if ay > by:
+            ax, ay, bx, by = bx, by, ax, ay
+        if by < y_lo or ay > y_hi:
+            continue
+        if by == ay:
+            xmin = min(xmin, ax, bx)
+            xmax = max(xmax, ax, bx)
+            continue
+        t0 = max(0.0, (y_lo - ay) / (by - ay))
+        t1 = min(1.0, (y_hi - ay) / (by - ay))
+        xa = ax + (bx - ax) * t0
+        xb = ax + (bx - ax) * t1
+        xmin = min(xmin, xa, xb)
+        xmax = max(xmax, xa, xb)
+    return xmin, xmax
+
+
+@njit(cache=True)
+def _clip_half_plane(lo, hi, s, a, b, c, sxs, ys):
+    """Narrow the pixel range [lo[s], hi[s]] to samples with a·x + b·y + c ≥ 0."""
+    if a == 0.0 and b == 0.0:
+        return
+    v = -(c + b * ys)
+    if a > 0.0:
+        t = math.ceil(v / a - sxs)
+        if t > lo[s]:
+            lo[s] = int(max(min(t, BIG), -BIG))
+    elif a < 0.0:
+        t = math.floor(v / a - sxs)
+        if t < hi[s]:
+            hi[s] = int(max(min(t, BIG), -BIG))
+    elif v > 0.0:
+        lo[s] = BIG
+
+
+@njit(cache=True)
+def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, dlist, dcount,
+              lo, hi):
+    """Lens contribution of one curve primitive on the strip, by coverage mode."""
+    bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
+    if bx0 >= W or bx1 < -1.0:
+        return
+    r_lo = max(int(math.floor(by0)) - sy0, 0)
+    r_hi = min(int(math.floor(by1)) - sy0, rows - 1)
+    if r_lo > r_hi:
+        return
+    n = sx.shape[0]
+    full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
+    xt, yt, xb, yb = prim[P_CHORD], prim[P_CHORD + 1], prim[P_CHORD + 2], prim[P_CHORD + 3]
+    right = prim[P_RIGHT] != 0.0
+    horizontal = yt == yb
+    dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
+    sigma = prim[P_SIGMA]
+    wsign = prim[P_WSIGN]
+    cubic = prim[P_KIND] == KIND_CUBIC
+    for r in range(r_lo, r_hi + 1):
+        py = sy0 + r
+        xa, xz = _band_x_range(prim, py, py + 1.0)
+        if not (xa <= xz):
+            continue
+        pxa = int(max(0.0, math.floor(xa)))
+        pxz = int(min(W - 1.0, math.floor(xz)))
+        if pxa > pxz:
+            continue
+        # per sample: the pixel range where it is on the lens side of chord and tangents
+        max_lo, min_hi = -BIG, BIG
+        for s in range(n):
+            ys = py + sy[s]
+            if horizontal:
+                inside = (ys >= yt) == right
+                lo[s] = -BIG if inside else BIG
+                hi[s] = BIG
+            else:
+                t = math.ceil(crossing_x(xt, yt, dxdy, ys) - sx[s])
+                t = max(min(t, BIG), -BIG)
+                if right:
+                    lo[s], hi[s] = int(t), BIG
+                else:
+                    lo[s], hi[s] = -BIG, int(t) - 1
+            if cubic:
+                _clip_half_plane(lo, hi, s, prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2], sx[s], ys)
+                _clip_half_plane(lo, hi, s, prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2], sx[s], ys)
+            max_lo = max(max_lo, lo[s])
+            min_hi = min(min_hi, hi[s])
+        for px in range(pxa, pxz + 1):
+            if px >= max_lo and px <= min_hi:
+                region = full
+            else:
+                region = np.uint64(0)
+                for s in range(n):
+                    if lo[s] <= px and px <= hi[s]:
+                        region |= np.uint64(1) << np.uint64(s)
+                if region == 0:
+                    continue
+            touched = False
+            if mode == MODE_PERSAMPLE or mode == MODE_NONE:
+                for s in range(n):
+                    if (region >> np.uint64(s)) & np.uint64(1):
+                        f, gx, gy = _eval_implicit(prim, px + sx[s], py + sy[s])
+                        if sigma * f < 0.0:
+                            local[r, px, s] += wsign
+                            touched = True
+            else:
+                f, gx, gy = _eval_implicit(prim, px + 0.5, py + 0.5)
+                g = math.hypot(gx, gy)
+                if not (g > 0.0) or not math.isfinite(f):
+                    # singular point (cusp, double point): evaluate per sample instead
+                    for s in range(n):
+                        if (region >> np.uint64(s)) & np.uint64(1):
+                            f2, gx2, gy2 = _eval_implicit(prim, px + sx[s], py + sy[s])
+                            if sigma * f2 < 0.0:
+                                local[r, px, s] += wsign
+                                touched = True
+                else:
+                    dist = sigma * f / g
+                    if mode == MODE_ALPHA:
+                        alpha = min(1.0, max(0.0, 0.5 - dist))
+                        if alpha > 0.0:
+                            for s in range(n):
+                                if (region >> np.uint64(s)) & np.uint64(1):
+                                    local[r, px, s] += wsign * alpha
+                                    touched = True
+                    else:
+                        if mode == MODE_APPROX:
+                            if dist <= -DMAX:
+                                bits = full
+                            elif dist >= DMAX:
+                                bits = np.uint64(0)
+                            else:
+                                nx = sigma * gx / g
+                                ny = sigma * gy / g
+                                if ny >= 0:
+                                    da = ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
+                                else:
+                                    da = 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
+                                ai = int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
+                                di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
+                                di = min(DIST_BINS - 1, max(0, di))
+                                bits = table[ai, di]
+                        else:  # MODE_A2C
+                            alpha = min(1.0, max(0.0, 0.5 - dist))
+                            k = int(alpha * n + 0.5)
+                            bits = a2c_bits[k]
+                        bits &= region
+                        if bits != 0:
+                            for s in range(n):
+                                if (bits >> np.uint64(s)) & np.uint64(1):
+                                    local[r, px, s] += wsign
+                            touched = True
+            if touched:
+                _mark(dirty, dlist, dcount, r, px)
+
+
+@njit(cache=True)
+def _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, c):
+    """Source-over of colour × coverage c onto every sample of a pixel."""
+    sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
+    k = 1.0 - sa
+    if cplx[r, px] < 0:
+        fb[r, px, 0] = sr + fb[r, px, 0] * k
+        fb[r, px, 1] = sg + fb[r, px, 1] * k
+        fb[r, px, 2] = sb + fb[r, px, 2] * k
+        fb[r, px, 3] = sa + fb[r, px, 3] * k
+    elif sa >= 1.0:
+        # opaque full cover: the pixel is one colour again
+        cplx[r, px] = -1
+        fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
+    else:
+        slot = cplx[r, px]
+        for s in range(pool.shape[1]):
+            pool[slot, s, 0] = sr + pool[slot, s, 0] * k
+            pool[slot, s, 1] = sg + pool[slot, s, 1] * k
+            pool[slot, s, 2] = sb + pool[slot, s, 2] * k
+            pool[slot, s, 3] = sa + pool[slot, s, 3] * k
+
+
+@njit(cache=True)
+def _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov):
+    """Source-over with a per-sample coverage; splits a one-colour pixel into samples."""
+    n = cov.shape[0]
+    if cplx[r, px] < 0:
+        slot = slot_of[r, px]
+        if slot < 0:
+            slot = npool
+            npool += 1
+            slot_of[r, px] = slot
+        for s in range(n):
+            pool[slot, s, 0] = fb[r, px, 0]
+            pool[slot, s, 1] = fb[r, px, 1]
+            pool[slot, s, 2] = fb[r, px, 2]
+            pool[slot, s, 3] = fb[r, px, 3]
+        cplx[r, px] = slot
+    slot = cplx[r, px]
+    for s in range(n):
+        c = cov[s]
+        if c <= 0.0:
+            continue
+        k = 1.0 - ca * c
+        pool[slot, s, 0] = cr * c + pool[slot, s, 0] * k
+        pool[slot, s, 1] = cg * c + pool[slot, s, 1] * k
+        pool[slot, s, 2] = cb * c + pool[slot, s, 2] * k
+        pool[slot, s, 3] = ca * c + pool[slot, s, 3] * k
+    return npool
+
+
+@njit(cache=True)
+def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
+              fb, cplx, slot_of, pool, npool, wrun, cov):
+    """Turn the row's winding deltas into coverage and composite the fill's paint."""
+    cnt = dcount[r]
+    if cnt == 0:
+        return npool
+    idx = np.sort(dlist[r, :cnt])
+    n = wrun.shape[0]
+    wrun[:] = 0.0
+    solid = kind == 0
+    cr, cg, cb, ca = f[0], f[1], f[2], f[3]
+    prev = -1
+    for i in range(cnt + 1):
+        px = idx[i] if i < cnt else W
+        if px > prev + 1:
+            c = coverage_of(wrun[0], rule)
+            if c > 0.0:
+                for q in range(prev + 1, px):
+                    if not solid:
+                        cr, cg, cb, ca = shade(kind, f, lut, tex, q + 0.5, py + 0.5)
+                    _blend_pixel(fb, cplx, pool, r, q, cr, cg, cb, ca, c)
+        if i == cnt:
+            break
+        dirty[r, px] = 0
+        uniform = True
+        for s in range(n):
+            wrun[s] += delta[r, px, s]
+            delta[r, px, s] = 0.0
+            cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
+            local[r, px, s] = 0.0
+            if cov[s] != cov[0]:
+                uniform = False
+        if not aa:
+            # crispEdges: one sample decides for the whole pixel
+            uniform = True
+        prev = px
+        if uniform and cov[0] <= 0.0:
+            continue
+        if not solid:
+            cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+        if uniform:
+            _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, cov[0])
+        else:
+            npool = _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov)
+    dcount[r] = 0
+    return npool
+
+
+@njit(cache=True)
+def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
+                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, strip_rows):
+    """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied) in place.
+
+    sx, sy: sample positions inside the pixel (0..1); weights: resolve filter weight per
+    sample (sums to 1). path_box: (P, 4) float bounds (x0, y0, x1, y1) per fill.
+    """
+    H, W = target.shape[0], target.shape[1]
+    n = sx.shape[0]
+    P = edge_off.shape[0] - 1
+    delta = np.zeros((strip_rows, W + 1, n), dtype=np.float32)
+    local = np.zeros((strip_rows, W + 1, n), dtype=np.float32)
+    dirty = np.zeros((strip_rows, W + 1), dtype=np.uint8)
+    dlist = np.empty((strip_rows, W + 1), dtype=np.int64)
+    dcount = np.zeros(strip_rows, dtype=np.int64)
+    fb = np.empty((strip_rows, W, 4), dtype=np.float32)
+    cplx = np.empty((strip_rows, W), dtype=np.int64)
+    slot_of = np.empty((strip_rows, W), dtype=np.int64)
+    pool = np.empty((strip_rows * W, n, 4), dtype=np.float32)
+    wrun = np.zeros(n, dtype=np.float32)
+    cov = np.zeros(n, dtype=np.float32)
+    lo = np.zeros(n, dtype=np.int64)
+    hi = np.zeros(n, dtype=np.int64)
+    for sy0 in range(0, H, strip_rows):
+        rows = min(strip_rows, H - sy0)
+        fb[:rows] = target[sy0:sy0 + rows]
+        cplx[:rows] = -1
+        slot_of[:rows] = -1
+        npool = 0
+        for p in range(P):
+            if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows:
+                continue
+            if path_box[p, 0] >= W:
+                continue
+            for e in range(edge_off[p], edge_off[p + 1]):
+                scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
+                          sx, sy, delta, dirty, dlist, dcount)
+            for c in range(prim_off[p], prim_off[p + 1]):
+                scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
+                          dirty, dlist, dcount, lo, hi)
+            fk = paint_kind[p]
+            for r in range(rows):
+                npool = sweep_row(r, sy0 + r, W, rules[p], aa[p], fk, paint_f[p], lut, tex,
+                                  delta, local, dirty, dlist, dcount, fb, cplx, slot_of, pool,
+                                  npool, wrun, cov)
+        # resolve: one-colour pixels copy, split pixels average their samples (box filter)
+        for r in range(rows):
+            for px in range(W):
+                slot = cplx[r, px]
+                if slot < 0:
+                    for ch in range(4):
+                        target[sy0 + r, px, ch] = fb[r, px, ch]
+                else:
+                    for ch in range(4):
+                        acc = 0.0
+                        for s in range(n):
+                            acc += pool[slot, s, ch] * weights[s]
+                        target[sy0 + r, px, ch] = acc
+
+
+# -- analytic coverage (tiny-skia style exact area) -------------------------------------------
+@njit(cache=True)
+def _accumulate(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
+    """Signed-area accumulation of one line (font-rs style) into rows of the strip;
+    x is already inside [0, W]."""
+    if y0 == y1:
+        return
+    if y0 < y1:
+        d = 1.0
+    else:
+        d = -1.0
+        x0, y0, x1, y1 = x1, y1, x0, y0
+    ytop = max(y0, float(sy0))
+    ybot = min(y1, float(sy0 + rows))
+    if ytop >= ybot:
+        return
+    dxdy = (x1 - x0) / (y1 - y0)
+    x = x0 + (ytop - y0) * dxdy
+    r0 = int(math.floor(ytop)) - sy0
+    r1 = min(rows - 1, int(math.ceil(ybot)) - 1 - sy0)
+    for r in range(r0, r1 + 1):
+        yrow = sy0 + r
+        dy = min(yrow + 1.0, ybot) - max(float(yrow), ytop)
+        if dy <= 0.0:
+            continue
+        xnext = x + dxdy * dy
+        dd = dy * d
+        xa, xb = (x, xnext) if x < xnext else (xnext, x)
+        xa_f = math.floor(xa)
+        xai = int(xa_f)
+        xb_c = math.ceil(xb)
+        xbi = int(xb_c)
+        xmin_row[r] = min(xmin_row[r], xai)
+        xmax_row[r] = max(xmax_row[r], xbi + 1)
+        if xbi <= xai + 1:
+            xmf = 0.5 * (x + xnext) - xa_f
+            acc[r, xai] += dd - dd * xmf
+            acc[r, xai + 1] += dd * xmf
+        else:
+            s = 1.0 / (xb - xa)
+            x0f = xa - xa_f
+            a0 = 0.5 * s * (1.0 - x0f) * (1.0 - x0f)
+            x1f = xb - xb_c + 1.0
+            am = 0.5 * s * x1f * x1f
+            acc[r, xai] += dd * a0
+            if xbi == xai + 2:
+                acc[r, xai + 1] += dd * (1.0 - a0 - am)
+            else:
+                a1 = s * (1.5 - x0f)
+                acc[r, xai + 1] += dd * (a1 - a0)
+                for xi in range(xai + 2, xbi - 1):
+                    acc[r, xi] += dd * s
+                a2 = a1 + (xbi - xai - 3) * s
+                acc[r, xbi - 1] += dd * (1.0 - a2 - am)
+            acc[r, xbi] += dd * am
+        x = xnext
+
+
+@njit(cache=True)
+def _accumulate_clipped(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
+    """Split a line at x = 0 and x = W; parts outside become vertical lines on the border,
+    which keeps the accumulated cover of the visible pixels exact."""
+    ts = np.empty(4)
+    nt = 0
+    ts[nt] = 0.0
+    nt += 1
+    if x0 != x1:
+        for xb in (0.0, float(W)):
+            t = (xb - x0) / (x1 - x0)
+            if 0.0 < t < 1.0:
+                ts[nt] = t
+                nt += 1
+    ts[nt] = 1.0
+    nt += 1
+    ts[:nt] = np.sort(ts[:nt])
+    for i in range(nt - 1):
+        ta, tb = ts[i], ts[i + 1]
+        ax, ay = x0 + (x1 - x0) * ta, y0 + (y1 - y0) * ta
+        bx, by = x0 + (x1 - x0) * tb, y0 + (y1 - y0) * tb
+        if tb == 1.0:
+            bx, by = x1, y1
+        ax = min(max(ax, 0.0), float(W))
+        bx = min(max(bx, 0.0), float(W))
+        _accumulate(acc, sy0, rows, W, ax, ay, bx, by, xmin_row, xmax_row)
+
+
+@njit(cache=True)
+def render_analytic(target, edges, edge_off, path_box, rules, paint_kind, paint_f, lut, tex,
+                    strip_rows):
+    """Exact-area coverage per fill, composited source-over per pixel (conflation included)."""
+    H, W = target.shape[0], target.shape[1]
+    P = edge_off.shape[0] - 1
+    acc = np.zeros((strip_rows, W + 3), dtype=np.float64)
+    xmin_row = np.empty(strip_rows, dtype=np.int64)
+    xmax_row = np.empty(strip_rows, dtype=np.int64)
+    for sy0 in range(0, H, strip_rows):
+        rows = min(strip_rows, H - sy0)
+        for p in range(P):
+            if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows or path_box[p, 0] >= W:
+                continue
+            xmin_row[:] = W + 2
+            xmax_row[:] = -1
+            for e in range(edge_off[p], edge_off[p + 1]):
+                _accumulate_clipped(acc, sy0, rows, W, edges[e, 0], edges[e, 1], edges[e, 2],
+                                    edges[e, 3], xmin_row, xmax_row)
+            kind = paint_kind[p]
+            f = paint_f[p]
+            for r in range(rows):
+                if xmax_row[r] < 0:
+                    continue
+                a = 0.0
+                x_end = min(W + 2, xmax_row[r])
+                # a path running off the right border keeps its cover up to the last column
+                for x in range(xmin_row[r], W + 3):
+                    a += acc[r, x]
+                    acc[r, x] = 0.0
+                    if x >= x_end and abs(a) < 1e-9:
+                        break
+                    if x >= W:
+                        continue
+                    c = coverage_of(a, rules[p])
+                    if c <= 1e-7:
+                        continue
+                    cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
+                    k = 1.0 - ca * c
+                    py = sy0 + r
+                    target[py, x, 0] = cr * c + target[py, x, 0] * k
+                    target[py, x, 1] = cg * c + target[py, x, 1] * k
+                    target[py, x, 2] = cb * c + target[py, x, 2] * k
+                    target[py, x, 3] = ca * c + target[py, x, 3] * k

@@ -1,0 +1,195 @@
+"""Paint evaluation, once per pixel (MSAA semantics): solid colours, gradients, images.
+
+Paints of a batch are packed into flat tables so the raster kernels can shade any fill:
+``paint_kind`` (one int per fill), ``paint_f`` (float64 parameters per fill), ``lut`` (gradient
+colour ramps, premultiplied, LUT_SIZE entries each) and ``texels`` (all images, flattened).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .path import invert
+from .scene import ImagePaint, LinearGradient, RadialGradient, Solid
+
+KIND_SOLID, KIND_LINEAR, KIND_RADIAL, KIND_IMAGE = 0, 1, 2, 3
+SPREADS = {"pad": 0, "reflect": 1, "repeat": 2}
+LUT_SIZE = 1024
+
+# paint_f layout
+F_COLOR = 0        # premultiplied solid colour (4), already times opacity
+F_MAT = 4          # device → paint space (a, b, c, d, e, f)
+F_GEOM = 10        # linear: x1 y1 x2 y2 | radial: cx cy r fx fy fr | image: offset h w repeat smooth
+F_SPREAD = 16
+F_LUT = 17
+F_OPACITY = 18
+PAINT_FIELDS = 20
+
+
+def gradient_lut(stops: np.ndarray, opacity: float) -> np.ndarray:
+    """Premultiplied colour ramp sampled at LUT_SIZE points; colours interpolate in straight
+    (non-premultiplied) sRGB between stops, as SVG specifies."""
+    stops = np.asarray(stops, dtype=np.float64).reshape(-1, 5)
+    t = (np.arange(LUT_SIZE) + 0.5) / LUT_SIZE
+    offs = np.maximum.accumulate(np.clip(stops[:, 0], 0.0, 1.0))
+    rgba = np.empty((LUT_SIZE, 4))
+    for ch in range(4):
+        rgba[:, ch] = np.interp(t, offs, stops[:, 1 + ch]) if len(offs) > 1 else stops[0, 1 + ch]
+    # np.interp takes the right-hand value at a repeated offset: a hard stop stays hard
+    rgba[:, 3] *= opacity
+    rgba[:, :3] *= rgba[:, 3:4]
+    return rgba.astype(np.float32)
+
+
+class PaintTable:
+    """Packs the paints of a batch of fills into flat arrays for the kernels."""
+
+    def __init__(self):
+        self.kinds: list[int] = []
+        self.params: list[np.ndarray] = []
+        self.luts: list[np.ndarray] = []
+        self.lut_size = 0
+        self.images: list[np.ndarray] = []
+        self.image_size = 0
+
+    def add(self, paint, opacity: float = 1.0) -> None:
+        f = np.zeros(PAINT_FIELDS)
+        f[F_OPACITY] = opacity
+        if isinstance(paint, Solid):
+            kind = KIND_SOLID
+            r, g, b, a = paint.color
+            a = a * opacity
+            f[F_COLOR:F_COLOR + 4] = (r * a, g * a, b * a, a)
+        else:
+            try:
+                f[F_MAT:F_MAT + 6] = paint.to_paint
+            except (TypeError, ValueError):
+                f[F_MAT:F_MAT + 6] = (1, 0, 0, 1, 0, 0)
+            if isinstance(paint, (LinearGradient, RadialGradient)):
+                f[F_SPREAD] = SPREADS.get(paint.spread, 0)
+                f[F_LUT] = self.lut_size
+                lut = gradient_lut(paint.stops, opacity)
+                self.luts.append(lut)
+                self.lut_size += len(lut)
+                if isinstance(paint, LinearGradient):
+                    kind = KIND_LINEAR
+                    f[F_GEOM:F_GEOM + 4] = (paint.x1, paint.y1, paint.x2, paint.y2)
+                else:
+                    kind = KIND_RADIAL
+                    f[F_GEOM:F_GEOM + 6] = (paint.cx, paint.cy, paint.r, paint.fx, paint.fy,
+                                            paint.fr)
+            elif isinstance(paint, ImagePaint):
+                kind = KIND_IMAGE
+                img = np.ascontiguousarray(paint.rgba, dtype=np.float32)
+                h, w = img.shape[:2]
+                f[F_GEOM:F_GEOM + 5] = (self.image_size, h, w, float(paint.repeat),
+                                        float(paint.smooth))
+                self.images.append(img.reshape(-1))
+                self.image_size += img.size
+            else:
+                raise TypeError(f"unknown paint {paint!r}")
+        self.kinds.append(kind)
+        self.params.append(f)
+
+    def arrays(self):
+        kinds = np.asarray(self.kinds, dtype=np.int64)
+        params = np.asarray(self.params, dtype=np.float64).reshape(-1, PAINT_FIELDS)
+        lut = np.concatenate(self.luts) if self.luts else np.zeros((1, 4), np.float32)
+        tex = np.concatenate(self.images) if self.images else np.zeros(4, np.float32)
+        return kinds, params, lut, tex
+
+
+def paint_to_device(m) -> tuple:
+    """Scene paints carry device → paint matrices; a helper for front ends that know the
+    paint → device matrix instead."""
+    return invert(m)
+
+
+@njit(cache=True)
+def _spread(t, mode):
+    if mode == 0:
+        return min(1.0, max(0.0, t))
+    if mode == 2:
+        return t - math.floor(t)
+    t = abs(t) % 2.0
+    return 2.0 - t if t > 1.0 else t
+
+
+@njit(cache=True)
+def _lut_color(lut, base, t):
+    i = int(t * 1024.0)
+    i = min(1023, max(0, i))
+    return lut[base + i, 0], lut[base + i, 1], lut[base + i, 2], lut[base + i, 3]
+
+
+@njit(cache=True)
+def _texel(tex, base, h, w, ix, iy, repeat):
+    if repeat:
+        ix = ix % w
+        iy = iy % h
+    else:
+        ix = min(w - 1, max(0, ix))
+        iy = min(h - 1, max(0, iy))
+    o = base + (iy * w + ix) * 4
+    return tex[o], tex[o + 1], tex[o + 2], tex[o + 3]
+
+
+@njit(cache=True)
+def shade(kind, f, lut, tex, x, y):
+    """Premultiplied colour of paint (kind, f) at device point (x, y)."""
+    if kind == 0:
+        return f[0], f[1], f[2], f[3]
+    gx = f[4] * x + f[6] * y + f[8]
+    gy = f[5] * x + f[7] * y + f[9]
+    if kind == 1:
+        dx, dy = f[12] - f[10], f[13] - f[11]
+        den = dx * dx + dy * dy
+        t = 0.0 if den == 0.0 else ((gx - f[10]) * dx + (gy - f[11]) * dy) / den
+        return _lut_color(lut, int(f[17]), _spread(t, int(f[16])))
+    if kind == 2:
+        cx, cy, r, fx, fy, fr = f[10], f[11], f[12], f[13], f[14], f[15]
+        cdx, cdy, dr = cx - fx, cy - fy, r - fr
+        pdx, pdy = gx - fx, gy - fy
+        a = cdx * cdx + cdy * cdy - dr * dr
+        b = pdx * cdx + pdy * cdy + fr * dr
+        c = pdx * pdx + pdy * pdy - fr * fr
+        if abs(a) < 1e-12 * max(1.0, r * r):
+            if b == 0.0:
+                return 0.0, 0.0, 0.0, 0.0
+            t = c / (2.0 * b)
+        else:
+            disc = b * b - a * c
+            if disc < 0.0:
+                return 0.0, 0.0, 0.0, 0.0
+            sq = math.sqrt(disc)
+            t1 = (b + sq) / a
+            t2 = (b - sq) / a
+            t = max(t1, t2)
+            if fr + t * dr < 0.0:
+                t = min(t1, t2)
+                if fr + t * dr < 0.0:
+                    return 0.0, 0.0, 0.0, 0.0
+        return _lut_color(lut, int(f[17]), _spread(t, int(f[16])))
+    # image
+    base, h, w = int(f[10]), int(f[11]), int(f[12])
+    repeat = f[13] != 0.0
+    op = f[18]
+    if not repeat and (gx < 0.0 or gy < 0.0 or gx >= w or gy >= h):
+        return 0.0, 0.0, 0.0, 0.0
+    if f[14] == 0.0:
+        r_, g_, b_, a_ = _texel(tex, base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
+        return r_ * op, g_ * op, b_ * op, a_ * op
+    u, v = gx - 0.5, gy - 0.5
+    x0, y0 = int(math.floor(u)), int(math.floor(v))
+    fu, fv = u - x0, v - y0
+    r00, g00, b00, a00 = _texel(tex, base, h, w, x0, y0, repeat)
+    r10, g10, b10, a10 = _texel(tex, base, h, w, x0 + 1, y0, repeat)
+    r01, g01, b01, a01 = _texel(tex, base, h, w, x0, y0 + 1, repeat)
+    r11, g11, b11, a11 = _texel(tex, base, h, w, x0 + 1, y0 + 1, repeat)
+    w00, w10, w01, w11 = (1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv
+    return ((r00 * w00 + r10 * w10 + r01 * w01 + r11 * w11) * op,
+            (g00 * w00 + g10 * w10 + g01 * w01 + g11 * w11) * op,
+            (b00 * w00 + b10 * w10 + b01 * w01 + b11 * w11) * op,
+            (a00 * w00 + a10 * w10 + a01 * w01 + a11 * w11) * op)
