@@ -198,7 +198,8 @@ def _check(args, golden) -> int:
         if report:
             report.add(outcome)
     summary = (f"golden check: {counts[golden.PASS]} matched, {counts[golden.DIFFERS]} differ, "
-               f"{counts[golden.MISSING]} missing, {counts[golden.ERROR]} errors "
+               f"{counts[golden.MISSING]} missing, {counts[golden.ERROR]} "
+               f"error{'' if counts[golden.ERROR] == 1 else 's'} "
                f"[{tolerance.describe()}]")
     if report:
         index = report.finish(plan.options, plan.orphans)

@@ -202,6 +202,8 @@ def test_a_colour_change_fails_and_is_reported(tree, tmp_path, capsys):
     assert all((report / link).is_file() for link in links)
     assert "icons/wide.svg" in index and "216 of 1200 pixels off" in index
     assert "plain.svg" not in index   # only failures are listed
+    legend = re.findall(r'style="([^"]*)"', index)
+    assert legend and all(re.fullmatch(r"background:rgb\(\d+, \d+, \d+\)", s) for s in legend)
 
 
 class LinkCollector(HTMLParser):

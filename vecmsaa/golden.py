@@ -160,7 +160,6 @@ def manifest_bytes(options: dict, goldens: list[PurePosixPath]) -> bytes:
     """The manifest as deterministic JSON (sorted keys, fixed layout)."""
     doc = {
         "format": MANIFEST_FORMAT,
-        "generator": f"vecmsaa {__version__}",
         "vecmsaa_version": __version__,
         "render_options": render_options(**options),
         "goldens": [str(g) for g in sorted(goldens, key=str)],
@@ -372,8 +371,8 @@ CHECKER = (204, 255)                   # grey levels of the transparency checker
 CHECKER_CELL = 8                       # checkerboard square, in output pixels
 MIN_PANEL = 128                        # small images are enlarged (nearest) up to this size
 MAX_ZOOM = 16
-OFF_COLOR = np.array([230, 0, 0])      # pixels beyond the threshold
-NEAR_COLOR = np.array([0, 90, 255])    # pixels that differ but within the threshold
+OFF_COLOR = (230, 0, 0)                # pixels beyond the threshold
+NEAR_COLOR = (0, 90, 255)              # pixels that differ but within the threshold
 
 
 def _zoom_for(*images) -> int:
@@ -406,7 +405,7 @@ def heat_map(expected: np.ndarray, actual: np.ndarray, threshold: int) -> np.nda
     out = np.repeat((191 + luma // 4)[..., None], 3, axis=-1)
     near = (diff > 0) & (diff <= threshold)
     strength = (64 + 191 * diff[near] // max(threshold, 1))[:, None]
-    out[near] = (out[near] * (255 - strength) + NEAR_COLOR * strength) // 255
+    out[near] = (out[near] * (255 - strength) + np.array(NEAR_COLOR) * strength) // 255
     out[diff > threshold] = OFF_COLOR
     return out.astype(np.uint8)
 
