@@ -1,0 +1,229 @@
+"""``vecmsaa suite DIR``: render the resvg test suite and compare with its reference PNGs.
+
+Each ``tests/<category>/<feature>/<name>.svg`` is rendered at its reference PNG's size with the
+suite's fonts (``fonts/``, generic families mapped as resvg does), compared with the project's
+criterion (:mod:`vecmsaa.compare`), and counted per category and feature. Failures get a diff
+image (rendered | reference | off pixels in red) in ``--out``.
+
+``--write-passing FILE`` writes the names of the passing tests: that is how
+``tests/resvg_passing.txt``, the ratchet list of ``tests/test_resvg_suite.py``, is regenerated::
+
+    vecmsaa suite ../shared/resvg-suite --jobs 2 --write-passing tests/resvg_passing.txt
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+#: how resvg's test harness maps the generic font families
+SUITE_FONTS = {"serif_family": "Noto Serif", "sans_serif_family": "Noto Sans",
+               "cursive_family": "Yellowtail", "fantasy_family": "Sedgwick Ave Display",
+               "monospace_family": "Noto Mono", "font_family": "Noto Serif"}
+TEST_TIMEOUT = 120
+
+
+def add_parser(subparsers):
+    p = subparsers.add_parser("suite", help="run the resvg test suite against its reference PNGs",
+                              description=__doc__.split("\n\n")[0])
+    p.add_argument("dir", help="the resvg suite folder (with tests/ and fonts/)")
+    p.add_argument("--out", help="folder for diff images of failing tests")
+    p.add_argument("--mode", default=None, help="coverage mode (default: the renderer's default)")
+    p.add_argument("--samples", type=int, default=None, help="samples per pixel")
+    p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
+                   help="worker processes (default: all cores)")
+    p.add_argument("--only", action="append", default=[], metavar="TEXT",
+                   help="only tests whose name contains TEXT (repeatable)")
+    p.add_argument("--category", action="append", default=[],
+                   help="only these categories (repeatable)")
+    p.add_argument("--features", action="store_true", help="print pass rates per feature too")
+    p.add_argument("--failures", action="store_true", help="list failing tests")
+    p.add_argument("--write-passing", metavar="FILE",
+                   help="write the names of passing tests (the ratchet list)")
+    return p
+
+
+def tests_root(folder):
+    folder = os.path.abspath(folder)
+    if os.path.isdir(os.path.join(folder, "tests")):
+        return folder, os.path.join(folder, "tests")
+    return os.path.dirname(folder), folder
+
+
+def collect(tests_dir, categories=(), only=()):
+    """Names like 'shapes/rect/simple-case' of all SVG tests with a reference PNG."""
+    out = []
+    for base, dirs, files in os.walk(tests_dir):
+        dirs.sort()
+        for f in sorted(files):
+            if not f.endswith(".svg"):
+                continue
+            rel = os.path.relpath(os.path.join(base, f[:-4]), tests_dir).replace(os.sep, "/")
+            if categories and rel.split("/")[0] not in categories:
+                continue
+            if only and not any(o in rel for o in only):
+                continue
+            if os.path.exists(os.path.join(base, f[:-4] + ".png")):
+                out.append(rel)
+    return out
+
+
+class _Timeout(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise _Timeout()
+
+
+def run_one(job):
+    """Render and compare one test → (name, passed, detail). Runs in worker processes."""
+    import signal
+
+    import numpy as np
+    from PIL import Image
+
+    from vecmsaa.api import render_svg_array
+    from vecmsaa.compare import compare_images
+
+    name, suite_dir, out_dir, mode, samples = job
+    tests_dir = os.path.join(suite_dir, "tests")
+    svg = os.path.join(tests_dir, name + ".svg")
+    with Image.open(os.path.join(tests_dir, name + ".png")) as im:
+        ref = np.asarray(im.convert("RGBA"))
+    kwargs = dict(SUITE_FONTS, use_fonts_dir=os.path.join(suite_dir, "fonts"),
+                  skip_system_fonts=True, resources_dir=os.path.join(suite_dir, "resources"))
+    if mode:
+        kwargs["mode"] = mode
+    if samples:
+        kwargs["samples"] = samples
+    h, w = ref.shape[:2]
+    old = signal.signal(signal.SIGALRM, _alarm) if hasattr(signal, "SIGALRM") else None
+    if old is not None:
+        signal.alarm(TEST_TIMEOUT)
+    try:
+        actual = render_svg_array(svg, width=w, **kwargs)
+        if actual.shape[:2] != (h, w):
+            actual = render_svg_array(svg, width=w, height=h, **kwargs)
+    except _Timeout:
+        return name, False, "timeout"
+    except Exception as exc:   # any failure of one test is a result, not a crash of the run
+        msg = str(exc).splitlines()[0] if str(exc) else ""
+        return name, False, f"error: {type(exc).__name__}: {msg}"[:200]
+    finally:
+        if old is not None:
+            signal.alarm(0)
+            signal.signal(signal.SIGALRM, old)
+    cmp = compare_images(actual, ref)
+    ok = cmp.passed()
+    if not ok and out_dir:
+        _write_diff(actual, ref, cmp, os.path.join(out_dir, name + ".png"))
+    return name, ok, cmp.describe()
+
+
+def _write_diff(actual, ref, cmp, path):
+    import numpy as np
+
+    from vecmsaa.png import write_png
+
+    h, w = ref.shape[:2]
+    panels = [ref, ref]
+    if actual.shape == ref.shape:
+        off = np.zeros_like(ref)
+        off[..., 3] = 255
+        off[..., :3] = (ref[..., :3] // 4 + 160)
+        off[cmp.off_map] = (255, 0, 0, 255)
+        panels = [actual, ref, off]
+    else:
+        a = np.zeros_like(ref)
+        ah, aw = min(h, actual.shape[0]), min(w, actual.shape[1])
+        a[:ah, :aw] = actual[:ah, :aw]
+        panels = [a, ref]
+    white = np.full((h, 4, 4), 255, np.uint8)
+    strip = []
+    for p in panels:
+        strip.extend([p, white])
+    write_png(np.concatenate(strip[:-1], axis=1), path)
+
+
+def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None):
+    """Run tests by name; returns {name: (passed, detail)}."""
+    jobs_list = [(n, suite_dir, out_dir, mode, samples) for n in names]
+    results = {}
+    if jobs <= 1 or len(names) <= 1:
+        for j in jobs_list:
+            name, ok, detail = run_one(j)
+            results[name] = (ok, detail)
+            if progress:
+                progress(len(results), len(names))
+        return results
+    import multiprocessing as mp
+
+    ctx = mp.get_context("fork") if "fork" in mp.get_all_start_methods() else mp.get_context()
+    with ctx.Pool(jobs, maxtasksperchild=200) as pool:
+        for name, ok, detail in pool.imap_unordered(run_one, jobs_list, chunksize=2):
+            results[name] = (ok, detail)
+            if progress:
+                progress(len(results), len(names))
+    return results
+
+
+def summarize(results, features=False):
+    from collections import defaultdict
+
+    cats = defaultdict(lambda: [0, 0])
+    feats = defaultdict(lambda: [0, 0])
+    for name, (ok, _) in results.items():
+        parts = name.split("/")
+        cats[parts[0]][0] += ok
+        cats[parts[0]][1] += 1
+        feats["/".join(parts[:2])][0] += ok
+        feats["/".join(parts[:2])][1] += 1
+    lines = []
+    total = [0, 0]
+    for c in sorted(cats):
+        p, n = cats[c]
+        total[0] += p
+        total[1] += n
+        lines.append(f"{c:<16} {p:4d}/{n:<4d} {100 * p / n:6.1f}%")
+        if features:
+            for f in sorted(k for k in feats if k.split("/")[0] == c):
+                fp, fn = feats[f]
+                lines.append(f"  {f.split('/', 1)[-1]:<30} {fp:4d}/{fn:<4d} {100 * fp / fn:6.1f}%")
+    if total[1]:
+        lines.append(f"{'total':<16} {total[0]:4d}/{total[1]:<4d} "
+                     f"{100 * total[0] / total[1]:6.1f}%")
+    return "\n".join(lines)
+
+
+def run(args) -> int:
+    suite_dir, tests_dir = tests_root(args.dir)
+    if not os.path.isdir(tests_dir):
+        print(f"vecmsaa suite: no tests folder in {args.dir}", file=sys.stderr)
+        return 2
+    names = collect(tests_dir, args.category, args.only)
+    if not names:
+        print("vecmsaa suite: no tests selected", file=sys.stderr)
+        return 2
+    tty = sys.stderr.isatty()
+
+    def progress(done, total):
+        if tty:
+            print(f"\r{done}/{total}", end="", file=sys.stderr, flush=True)
+        elif done % 100 == 0 or done == total:
+            print(f"{done}/{total}", file=sys.stderr, flush=True)
+    results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode, args.samples,
+                        progress)
+    if tty:
+        print(file=sys.stderr)
+    if args.failures:
+        for name in sorted(results):
+            ok, detail = results[name]
+            if not ok:
+                print(f"FAIL {name}: {detail}")
+    print(summarize(results, args.features))
+    if args.write_passing:
+        passing = sorted(n for n, (ok, _) in results.items() if ok)
+        from vecmsaa.png import write_bytes_atomic
+        write_bytes_atomic(("\n".join(passing) + "\n").encode(), args.write_passing)
+    return 0

@@ -1,0 +1,764 @@
+"""Scene construction: Element tree + computed styles → resolved :class:`~vecmsaa.scene.Scene`.
+
+All geometry leaves this module in device pixels. Each element is visited with a :class:`Ctx`
+holding the user → device matrix, the viewport used for percentages, and the state that ``<use>``
+and markers carry (``context-fill``/``context-stroke``, the instantiation stack). Structural
+effects (opacity, clip-path, mask, mix-blend-mode, isolation) become :class:`~vecmsaa.scene.Group`
+layers; anything else is flattened into its parent.
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..path import IDENTITY, Path, compose, invert, rect_path
+from ..scene import Fill, Group, ImagePaint, Mask, Scene, Solid
+from . import SvgError
+from .color import parse_color
+from .document import Document, Element, Style
+from .geometry import path_bounds, union
+from .resources import Resources
+from .shapes import shape_path
+from .units import (mean_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
+                    split_length, to_px, translate, viewbox_transform)
+
+SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
+MARKABLE = {"path", "line", "polyline", "polygon"}
+CONTAINERS = {"g", "a", "switch"}
+#: elements drawn where they appear in the tree
+RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
+#: elements whose ``overflow`` defaults to hidden (UA style sheet)
+CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
+
+MAX_USE_DEPTH = 32
+MAX_NODES = 2_000_000
+MAX_IMAGE_NESTING = 4
+
+_URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
+_TRANSFORM_UNITS = re.compile(r"(?<=[\d.])(px|deg)\b")
+
+
+@dataclass
+class Options:
+    mode: str = "approx"
+    samples: int = 8
+    font_options: dict = field(default_factory=dict)
+    image_nesting: int = 0
+
+
+@dataclass(frozen=True)
+class Ctx:
+    """Traversal state for one element (see module doc)."""
+    transform: tuple = IDENTITY           # user space → device pixels
+    viewport: tuple = (100.0, 100.0)      # width, height that percentages refer to
+    use_stack: tuple = ()                 # ids of elements being instantiated (cycle guard)
+    context_fill: object = None           # (paint, opacity) of the context element, or None
+    context_stroke: object = None
+    clip: bool = False                    # inside a clipPath: plain black fills, no strokes
+    geometry: bool = False                # only object geometry (bounding boxes)
+
+
+@dataclass
+class PaintRef:
+    """A resolved paint for one shape: paint, its opacity, and whether it may be drawn."""
+    paint: object
+    opacity: float
+
+
+def _is_none(v):
+    return v is None or v.strip() == "none"
+
+
+def parse_url(value):
+    """``url(#id) fallback`` → (ref, fallback text) or None."""
+    m = _URL.match(value or "")
+    if not m:
+        return None
+    return m.group(2).strip(), m.group(3).strip()
+
+
+def bbox_matrix(bbox):
+    x0, y0, x1, y1 = bbox
+    return (x1 - x0, 0.0, 0.0, y1 - y0, x0, y0)
+
+
+class Builder:
+    """Builds one document into scene nodes. Holds the document, resources and options."""
+
+    def __init__(self, doc: Document, resources: Resources, options: Options):
+        self.doc = doc
+        self.resources = resources
+        self.options = options
+        self.nodes_made = 0
+        self.root_scale = 1.0
+        self._paint_stack = []          # patterns being built (recursion guard)
+        self._ref_stack = []            # clip paths / masks / markers being built
+
+    # -- entry point -----------------------------------------------------------------------
+    def build_root(self, transform, viewport, root_scale=1.0) -> list:
+        """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
+        self.root_scale = root_scale
+        root = self.doc.root
+        style = self.doc.document_style(root)
+        ctx = Ctx(transform=transform, viewport=viewport)
+        nodes = self.children(root, ctx, style)
+        return self.wrap(root, style, ctx, nodes)
+
+    # -- lengths ---------------------------------------------------------------------------
+    def length(self, value, axis, style, viewport, default=None):
+        """A length attribute value → user units (axis: x, y or xy for the diagonal)."""
+        parsed = split_length(value) if value is not None else None
+        if parsed is None:
+            return default
+        v, unit = parsed
+        if unit == "%":
+            w, h = viewport
+            ref = w if axis == "x" else h if axis == "y" else math.sqrt((w * w + h * h) / 2)
+            return v * ref / 100
+        return to_px(v, unit, style.font_size())
+
+    def length_getter(self, el, style, ctx):
+        def get(name, axis, default=None):
+            return self.length(el.get(name), axis, style, ctx.viewport, default)
+        return get
+
+    # -- traversal -------------------------------------------------------------------------
+    def children(self, el, ctx, style) -> list:
+        out = []
+        for child in el.children:
+            out.extend(self.element(child, ctx, style))
+        return out
+
+    def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
+        if el.tag not in RENDERED:
+            return []
+        if not conditions_pass(el):
+            return []
+        self.nodes_made += 1
+        if self.nodes_made > MAX_NODES:
+            raise SvgError("document expands to too many elements")
+        style = parent_style.child(el)
+        if style.get("display").strip() == "none":
+            return []
+        m = self.element_transform(el, style, ctx)
+        if m is None:
+            return []
+        c = replace(ctx, transform=compose(ctx.transform, m))
+        tag = el.tag
+        if tag == "switch":
+            nodes = []
+            for child in el.children:
+                if child.tag in RENDERED and conditions_pass(child):
+                    nodes = self.element(child, c, style)
+                    break
+        elif tag in CONTAINERS:
+            nodes = self.children(el, c, style)
+        elif tag == "svg":
+            nodes = self.nested_svg(el, c, style)
+        elif tag == "use":
+            nodes = self.use(el, c, style)
+        elif tag in SHAPES:
+            nodes = self.shape(el, c, style)
+        elif tag == "image":
+            nodes = self.image(el, c, style)
+        elif tag == "text":
+            nodes = self.text(el, c, style)
+        else:
+            nodes = []
+        return self.wrap(el, style, c, nodes)
+
+    def element_transform(self, el, style, ctx):
+        """The element's own transform (with transform-origin), None when it is singular."""
+        text = el.specified.get("transform")
+        if not text or text == "none":
+            return IDENTITY
+        m = parse_transform(_TRANSFORM_UNITS.sub("", text))
+        if m is None:
+            return IDENTITY
+        origin = el.specified.get("transform-origin")
+        if origin:
+            ox, oy = self.transform_origin(origin, style, ctx.viewport)
+            if ox or oy:
+                m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
+        a, b, c, d, _, _ = m
+        if abs(a * d - b * c) < 1e-12 or not all(math.isfinite(v) for v in m):
+            return None
+        return m
+
+    def transform_origin(self, text, style, viewport, units_box=None):
+        """transform-origin → (x, y) in user units; ``units_box`` (w, h) replaces the viewport
+        for percentages (and turns plain numbers into fractions) in objectBoundingBox units."""
+        keywords = {"left": ("x", 0), "center": (None, 50), "right": ("x", 100),
+                    "top": ("y", 0), "bottom": ("y", 100)}
+        parts = text.split()
+        x = y = None
+        vals = []
+        for p in parts[:2]:
+            if p in keywords:
+                axis, pct = keywords[p]
+                vals.append((axis, f"{pct}%"))
+            else:
+                vals.append((None, p))
+        if len(vals) == 1:
+            vals.append((None, "50%"))
+        # keywords may come in either order: 'top left'
+        if vals[0][0] == "y" or vals[1][0] == "x":
+            vals = [vals[1], vals[0]]
+        box = units_box or viewport
+
+        def resolve(v, axis):
+            parsed = split_length(v)
+            if parsed is None:
+                return 0.0
+            n, unit = parsed
+            ref = box[0] if axis == "x" else box[1]
+            if unit == "%":
+                return n * ref / 100
+            return to_px(n, unit, style.font_size()) * (ref if units_box else 1)
+        x = resolve(vals[0][1], "x")
+        y = resolve(vals[1][1], "y")
+        return x, y
+
+    # -- structural wrapping ---------------------------------------------------------------
+    def wrap(self, el, style, ctx, nodes) -> list:
+        """Apply opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
+        if ctx.geometry:
+            return nodes
+        if ctx.clip:
+            clip_ref = el.specified.get("clip-path")
+            if clip_ref and clip_ref != "none" and nodes:
+                clip = self.clip_path(clip_ref, ctx, lambda: self.object_bbox(el, ctx, style))
+                if clip is False:
+                    return []
+                if clip is not None:
+                    return [Group(children=nodes, clip=clip)]
+            return nodes
+        opacity = parse_opacity(style.get("opacity"))
+        blend = (style.get("mix-blend-mode") or "normal").strip()
+        isolate = style.get("isolation").strip() == "isolate"
+        clip_ref = el.specified.get("clip-path")
+        mask_ref = el.specified.get("mask")
+        has_clip = clip_ref and clip_ref.strip() != "none"
+        has_mask = mask_ref and mask_ref.strip() != "none"
+        if opacity <= 0 and not has_mask:
+            return []
+        if not (has_clip or has_mask or opacity < 1 or blend != "normal" or isolate):
+            return nodes
+        if not nodes:
+            return []
+        bbox_cache = []
+
+        def bbox():
+            if not bbox_cache:
+                bbox_cache.append(self.object_bbox(el, ctx, style))
+            return bbox_cache[0]
+        group = Group(children=nodes, opacity=min(opacity, 1.0), blend=blend, isolate=isolate)
+        if has_clip:
+            clip = self.clip_path(clip_ref, ctx, bbox)
+            if clip is False:
+                return []
+            group.clip = clip
+        if has_mask:
+            masks = self.masks(mask_ref, ctx, bbox)
+            if masks is False:
+                return []
+            if masks:
+                group.mask = masks[0]
+                for extra in masks[1:]:
+                    group = Group(children=[group], mask=extra)
+                    # opacity, blend etc. stay on the inner group
+        return [group]
+
+    def object_bbox(self, el, ctx, style):
+        """Object bounding box of an element in its own user space (after its transform)."""
+        g = replace(ctx, transform=IDENTITY, geometry=True, clip=False)
+        tag = el.tag
+        if tag in SHAPES:
+            nodes = self.shape(el, g, style)
+        elif tag in CONTAINERS:
+            nodes = self.children(el, g, style)
+        elif tag == "svg":
+            nodes = self.nested_svg(el, g, style)
+        elif tag == "use":
+            nodes = self.use(el, g, style)
+        elif tag == "image":
+            nodes = self.image(el, g, style)
+        elif tag == "text":
+            nodes = self.text(el, g, style)
+        else:
+            nodes = []
+        box = None
+        for f in Scene(1, 1, Group(children=nodes)).fills():
+            box = union(box, path_bounds(f.path))
+        return box
+
+    # -- containers ------------------------------------------------------------------------
+    def viewport_clip(self, x, y, w, h, ctx) -> Group:
+        return Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
+
+    def overflow_hidden(self, el, style):
+        v = el.specified.get("overflow") or ("hidden" if el.tag in CLIPPING_BY_DEFAULT
+                                              else "visible")
+        return v.strip() in ("hidden", "scroll")
+
+    def nested_svg(self, el, ctx, style, size_override=None):
+        get = self.length_getter(el, style, ctx)
+        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
+        w = get("width", "x", ctx.viewport[0])
+        h = get("height", "y", ctx.viewport[1])
+        if size_override is not None:
+            ow, oh = size_override
+            w = w if ow is None else ow
+            h = h if oh is None else oh
+        if w <= 0 or h <= 0:
+            return []
+        vb = parse_viewbox(el.get("viewBox"))
+        m = translate(x, y)
+        if vb is not None:
+            m = compose(m, viewbox_transform(vb, parse_aspect(el.get("preserveAspectRatio")),
+                                             w, h))
+            viewport = (vb[2], vb[3])
+        else:
+            viewport = (w, h)
+        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        nodes = self.children(el, inner, style)
+        if not nodes or ctx.geometry or ctx.clip or not self.overflow_hidden(el, style):
+            return nodes
+        return [Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))]
+
+    def use(self, el, ctx, style):
+        ref = el.get("href")
+        if ref is None:
+            return []
+        target = self.doc.lookup(ref) if ref.strip().startswith("#") else None
+        if target is None:
+            return []
+        if (target is el or id(target) in ctx.use_stack or len(ctx.use_stack) >= MAX_USE_DEPTH
+                or any(a is target for a in el.ancestors())):
+            return []
+        if contains(target, el):
+            return []
+        get = self.length_getter(el, style, ctx)
+        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
+        c = replace(ctx, transform=compose(ctx.transform, translate(x, y)),
+                    use_stack=ctx.use_stack + (id(target),))
+        if not ctx.geometry:
+            c = replace(c, context_fill=self.context_paint(style, "fill", c),
+                        context_stroke=self.context_paint(style, "stroke", c))
+        if target.tag == "symbol":
+            return self.symbol(target, el, c, style)
+        if target.tag == "svg":
+            w = get("width", "x", None)
+            h = get("height", "y", None)
+            if not conditions_pass(target):
+                return []
+            tstyle = style.child(target)
+            if tstyle.get("display").strip() == "none":
+                return []
+            nodes = self.nested_svg(target, c, tstyle, size_override=(w, h))
+            return self.wrap(target, tstyle, c, nodes)
+        if ctx.clip and target.tag not in SHAPES | {"text"}:
+            return []
+        return self.element(target, c, style)
+
+    def symbol(self, sym, use_el, ctx, use_style):
+        style = use_style.child(sym)
+        if style.get("display").strip() == "none":
+            return []
+        get = self.length_getter(use_el, use_style, ctx)
+        w = get("width", "x", None)
+        h = get("height", "y", None)
+        sget = self.length_getter(sym, style, ctx)
+        if w is None:
+            w = sget("width", "x", ctx.viewport[0])
+        if h is None:
+            h = sget("height", "y", ctx.viewport[1])
+        sx, sy = sget("x", "x", 0.0), sget("y", "y", 0.0)
+        vb = parse_viewbox(sym.get("viewBox"))
+        m = translate(sx, sy)
+        viewport = ctx.viewport
+        if vb is not None:
+            if w <= 0 or h <= 0:
+                return []
+            m = compose(m, viewbox_transform(vb, parse_aspect(sym.get("preserveAspectRatio")),
+                                             w, h))
+            viewport = (vb[2], vb[3])
+        t = self.element_transform(sym, style, ctx)
+        if t is None:
+            return []
+        inner = replace(ctx, transform=compose(compose(ctx.transform, t), m), viewport=viewport)
+        nodes = self.children(sym, inner, style)
+        if not nodes or ctx.geometry or ctx.clip or not self.overflow_hidden(sym, style):
+            return self.wrap(sym, style, ctx, nodes)
+        nodes = [Group(children=nodes, clip=self.viewport_clip(sx, sy, w, h, ctx))]
+        return self.wrap(sym, style, ctx, nodes)
+
+    # -- shapes and painting -----------------------------------------------------------------
+    def shape(self, el, ctx, style):
+        commands = None
+        if el.tag == "path":
+            path, commands = parse_path_data_with_commands(el.get("d", ""))
+        else:
+            path = shape_path(el, self.length_getter(el, style, ctx))
+        if path is None or path.is_empty():
+            return []
+        if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
+            return []
+        return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE, commands=commands)
+
+    def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None,
+                  fill_rule=None, commands=None) -> list:
+        """Fill, stroke and markers of a user-space path with a computed style.
+
+        In a clip path only the fill outline is produced (black, clip-rule); when collecting
+        geometry for bounding boxes only the plain outline.
+        """
+        if ctx.geometry:
+            return [Fill(path.transformed(ctx.transform))]
+        antialias = style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed")
+        if ctx.clip:
+            rule = style.get("clip-rule").strip()
+            return [Fill(path.transformed(ctx.transform), Solid((0, 0, 0, 1)),
+                         rule="evenodd" if rule == "evenodd" else "nonzero",
+                         antialias=antialias)]
+        if bbox is None:
+            bbox = path_bounds(path)
+        order = paint_order(style.get("paint-order"))
+        out = []
+        for item in order:
+            if item == "fill":
+                ref = self.resolve_paint(style, "fill", ctx, bbox)
+                if ref is not None:
+                    rule = fill_rule or style.get("fill-rule").strip()
+                    out.append(Fill(path.transformed(ctx.transform), ref.paint,
+                                    rule="evenodd" if rule == "evenodd" else "nonzero",
+                                    opacity=ref.opacity, antialias=antialias))
+            elif item == "stroke":
+                out.extend(self.stroke(path, style, ctx, bbox, antialias))
+            elif item == "markers" and markers:
+                out.extend(self.markers(path, style, ctx, commands))
+        return out
+
+    def stroke_params(self, style, ctx):
+        """(width, join, cap, miterlimit, dashes, offset) in user units, None for no stroke."""
+        width = self.length(style.get("stroke-width"), "xy", style, ctx.viewport, 1.0)
+        if width is None or width <= 0:
+            return None
+        join = style.get("stroke-linejoin").strip()
+        if join not in ("miter", "round", "bevel", "miter-clip", "arcs"):
+            join = "miter"
+        cap = style.get("stroke-linecap").strip()
+        if cap not in ("butt", "round", "square"):
+            cap = "butt"
+        limit = parse_number(style.get("stroke-miterlimit"), 4.0)
+        if limit < 1:
+            return None
+        dashes = None
+        raw = style.get("stroke-dasharray").strip()
+        if raw and raw != "none":
+            vals = []
+            for tok in re.split(r"[\s,]+", raw):
+                if not tok:
+                    continue
+                v = self.length(tok, "xy", style, ctx.viewport)
+                if v is None or v < 0:
+                    vals = None
+                    break
+                vals.append(v)
+            if vals and sum(vals) > 0:
+                if len(vals) % 2:
+                    vals = vals * 2
+                dashes = vals
+        offset = self.length(style.get("stroke-dashoffset"), "xy", style, ctx.viewport, 0.0)
+        return width, join, cap, limit, dashes, offset or 0.0
+
+    def stroke(self, path, style, ctx, bbox, antialias):
+        ref = self.resolve_paint(style, "stroke", ctx, bbox)
+        if ref is None:
+            return []
+        params = self.stroke_params(style, ctx)
+        if params is None:
+            return []
+        width, join, cap, limit, dashes, offset = params
+        non_scaling = style.get("vector-effect").strip() == "non-scaling-stroke"
+        opacity = ref.opacity
+        if non_scaling:
+            # Stroke in device space: the width is in the outer viewport's px.
+            device_path = path.transformed(ctx.transform)
+            dev_width = width * self.root_scale
+            if dashes:
+                dashes = [d * self.root_scale for d in dashes]
+                offset *= self.root_scale
+            if 0 < dev_width < 1 and antialias:
+                opacity *= dev_width
+                dev_width = 1.0
+            outline = stroke_path(device_path, dev_width, join=join, cap=cap, miterlimit=limit,
+                                  dashes=dashes, dash_offset=offset, tolerance=0.25)
+            return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
+        device_width = width * mean_scale(ctx.transform)
+        stroke_width = width
+        if 0 < device_width < 1 and antialias:
+            # Wire antialiasing: a hairline drawn 1 px wide, faded by its true width.
+            opacity *= device_width
+            stroke_width = width / device_width
+        tolerance = 0.25 / max(mean_scale(ctx.transform), 1e-9)
+        outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
+                              dashes=dashes, dash_offset=offset, tolerance=tolerance)
+        if outline is None or outline.is_empty():
+            return []
+        return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
+                     antialias=antialias)]
+
+    # -- paints ----------------------------------------------------------------------------
+    def paint_value(self, style, name):
+        """The specified paint, skipping invalid declarations (they do not override)."""
+        s = style
+        while s is not None:
+            v = s.specified.get(name)
+            if v is not None and v != "inherit" and valid_paint(v):
+                return v.strip()
+            if v is not None and v != "inherit" and not valid_paint(v):
+                pass   # invalid: as if not specified
+            s = s.parent
+        from .document import INITIAL
+        return INITIAL[name]
+
+    def resolve_paint(self, style, which, ctx, bbox):
+        """fill/stroke of a style → PaintRef, or None when nothing is drawn."""
+        value = self.paint_value(style, which)
+        opacity = parse_opacity(style.get(f"{which}-opacity"))
+        return self.paint_from_value(value, style, ctx, bbox, opacity)
+
+    def paint_from_value(self, value, style, ctx, bbox, opacity):
+        if value == "none":
+            return None
+        if value in ("context-fill", "context-stroke"):
+            got = ctx.context_fill if value == "context-fill" else ctx.context_stroke
+            if got is None:
+                return None
+            paint, op = got
+            return PaintRef(paint, op * opacity)
+        url = parse_url(value)
+        if url is not None:
+            ref, fallback = url
+            target = self.doc.lookup(ref) if ref.startswith("#") else None
+            if target is None or target.tag not in ("linearGradient", "radialGradient",
+                                                    "pattern"):
+                if fallback and target is None:
+                    return self.paint_from_value(fallback, style, ctx, bbox, opacity)
+                return None
+            from .paint import paint_server
+            paint = paint_server(self, target, ctx, bbox, style)
+            if paint is None:
+                return None
+            return PaintRef(paint, opacity)
+        color = parse_color(value)
+        if color is None:
+            return None
+        if color == "currentColor":
+            color = self.current_color(style)
+        return PaintRef(Solid(tuple(float(c) for c in color)), opacity)
+
+    def current_color(self, style):
+        s = style
+        while s is not None:
+            v = s.specified.get("color")
+            if v is not None and v != "inherit":
+                c = parse_color(v)
+                if c is not None and c != "currentColor":
+                    return c
+            s = s.parent
+        return (0.0, 0.0, 0.0, 1.0)
+
+    def context_paint(self, style, which, ctx):
+        """The paint a ``<use>`` or marker passes to ``context-fill``/``context-stroke``."""
+        value = self.paint_value(style, which)
+        if value in ("context-fill", "context-stroke"):
+            return ctx.context_fill if value == "context-fill" else ctx.context_stroke
+        if parse_url(value) is not None:
+            return None   # needs the bbox of the referencing element; resolved per shape
+        ref = self.paint_from_value(value, style, ctx, None, 1.0)
+        if ref is None:
+            return None
+        return (ref.paint, parse_opacity(style.get(f"{which}-opacity")))
+
+    # -- markers ---------------------------------------------------------------------------
+    def markers(self, path, style, ctx, commands=None):
+        from .markers import draw_markers
+        return draw_markers(self, path, style, ctx, commands)
+
+    # -- clip paths and masks --------------------------------------------------------------
+    def clip_path(self, value, ctx, bbox_fn):
+        """clip-path value → clip Group, None (no clipping) or False (draw nothing)."""
+        from .masking import clip_path
+        return clip_path(self, value, ctx, bbox_fn)
+
+    def masks(self, value, ctx, bbox_fn):
+        from .masking import masks
+        return masks(self, value, ctx, bbox_fn)
+
+    # -- images and text -------------------------------------------------------------------
+    def image(self, el, ctx, style):
+        from .image import image_nodes
+        return image_nodes(self, el, ctx, style)
+
+    def text(self, el, ctx, style):
+        try:
+            from . import text as text_module
+        except ImportError:
+            return []
+        build = getattr(text_module, "build_text", None)
+        if build is None:
+            return []
+        nodes = build(el, TextContext(self, ctx, style))
+        if nodes is None:
+            return []
+        return list(nodes) if isinstance(nodes, (list, tuple)) else [nodes]
+
+
+class TextContext:
+    """What ``vecmsaa.svg.text.build_text(element, ctx)`` gets besides the ``<text>`` element.
+
+    ``element`` is a :class:`vecmsaa.svg.document.Element`: ``.tag``, ``.attrs`` / ``.get(name)``
+    (attributes with local names; ``xlink:href`` is ``href``), ``.children`` (elements: tspan,
+    textPath, tref, a), ``.text`` (characters before the first child) and ``.tail`` (characters
+    after the element, inside its parent), ``.source`` (the Document; ``.lookup('#id')`` resolves
+    references, e.g. for textPath and tref).
+
+    The context offers:
+
+    - ``style``: the computed :class:`~vecmsaa.svg.document.Style` of the ``<text>`` element;
+      ``style.get('font-family')`` returns specified/inherited values as strings,
+      ``style.font_size()`` the computed font size in user units.
+      ``style_of(child, parent_style)`` computes a child's style (tspan) from its parent's.
+    - ``transform``: user space → device pixels (already includes the element's transform);
+      ``viewport``: (w, h) in user units for percentages.
+    - ``length(value, axis, style, default)`` converts a length (axis 'x', 'y' or 'xy').
+    - ``draw(path, style, bbox=None)``: fill + stroke a glyph run path given in *user* units with
+      the style's paints (gradients use ``bbox``, the text's object bounding box in user units;
+      pass the same bbox for all runs of one text element); returns scene nodes in device
+      space. It honours paint-order, and in clip paths and bounding-box passes it returns the
+      plain outline, so text works in ``clipPath`` without special cases.
+    - ``resolve_paint(style, 'fill'|'stroke', bbox)``: a :class:`PaintRef` (``.paint``,
+      ``.opacity``) or None, for decorations drawn by hand.
+    - ``path_of(element)``: the user-space :class:`~vecmsaa.path.Path` of a shape element
+      (for textPath), or None.
+    - ``font_options``: dict of the font flags given to the API/CLI (``use_fonts_dir``,
+      ``font_family``, ``serif_family``, ``sans_serif_family``, ``cursive_family``,
+      ``fantasy_family``, ``monospace_family``, ``skip_system_fonts``).
+    - ``in_clip`` / ``geometry_only``: booleans, in case the text module wants to skip work.
+    - ``wrap(element, style, nodes)``: apply opacity/clip-path/mask/blend of a tspan-level
+      element if needed.
+    """
+
+    def __init__(self, builder: Builder, ctx: Ctx, style: Style):
+        self._builder = builder
+        self._ctx = ctx
+        self.style = style
+        self.transform = ctx.transform
+        self.viewport = ctx.viewport
+        self.font_options = dict(builder.options.font_options)
+        self.in_clip = ctx.clip
+        self.geometry_only = ctx.geometry
+
+    def style_of(self, element, parent_style=None):
+        return (parent_style or self.style).child(element)
+
+    def length(self, value, axis="x", style=None, default=None):
+        return self._builder.length(value, axis, style or self.style, self.viewport, default)
+
+    def draw(self, path, style=None, bbox=None):
+        return self._builder.draw_path(path, style or self.style, self._ctx, bbox=bbox)
+
+    def resolve_paint(self, style, which, bbox=None):
+        return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
+
+    def path_of(self, element):
+        if element.tag == "path":
+            return parse_path_data(element.get("d", ""))
+        style = self._builder.doc.document_style(element)
+        p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
+        if p is None:
+            return None
+        m = self._builder.element_transform(element, style, self._ctx)
+        return p.transformed(m) if m not in (None, IDENTITY) else p
+
+    def wrap(self, element, style, nodes):
+        return self._builder.wrap(element, style, self._ctx, nodes)
+
+
+# -- helpers --------------------------------------------------------------------------------
+def contains(ancestor, el):
+    """Whether ``el`` is ``ancestor`` or inside it."""
+    node = el
+    while node is not None:
+        if node is ancestor:
+            return True
+        node = node.parent
+    return False
+
+
+def conditions_pass(el):
+    """Conditional processing: systemLanguage (we are "en"), requiredExtensions."""
+    lang = el.attrs.get("systemLanguage")
+    if lang is not None:
+        langs = [x.strip().lower() for x in lang.split(",") if x.strip()]
+        if not any(x == "en" or x.startswith("en-") for x in langs):
+            return False
+    ext = el.attrs.get("requiredExtensions")
+    if ext is not None:
+        return False
+    return True
+
+
+def parse_opacity(value):
+    if value is None:
+        return 1.0
+    v = value.strip()
+    try:
+        f = float(v[:-1]) / 100 if v.endswith("%") else float(v)
+    except ValueError:
+        return 1.0
+    if not math.isfinite(f):
+        return 1.0
+    return min(1.0, max(0.0, f))
+
+
+def paint_order(value):
+    default = ["fill", "stroke", "markers"]
+    words = (value or "normal").split()
+    if not words or words == ["normal"] or any(w not in default for w in words):
+        return default
+    order = []
+    for w in words:
+        if w not in order:
+            order.append(w)
+    order.extend(w for w in default if w not in order)
+    return order
+
+
+def valid_paint(value):
+    v = value.strip()
+    if v in ("none", "context-fill", "context-stroke"):
+        return True
+    if parse_url(v) is not None:
+        fallback = parse_url(v)[1]
+        return not fallback or valid_paint(fallback)
+    return parse_color(v) is not None
+
+
+def parse_path_data(d):
+    return parse_path_data_with_commands(d)[0]
+
+
+def parse_path_data_with_commands(d):
+    from .pathdata import parse_path_data_with_commands as parse
+    return parse(d or "")
+
+
+def stroke_path(path, width, **kwargs):
+    from ..stroke import stroke_path as stroke
+    return stroke(path, width, **kwargs)

@@ -1,0 +1,491 @@
+"""Safe XML parsing, the CSS cascade and computed styles.
+
+The XML is parsed with defusedxml: no external entities, no network, no DTD processing. Documents
+that declare *internal* text entities in their DTD subset (``<!ENTITY name "value">``, common in
+files exported by old editors) are accepted through one bounded, non-recursive substitution pass
+before parsing: entity values may not reference other entities and the expanded document is
+capped, so there is no "billion laughs" amplification and nothing is read from outside.
+
+The tree is converted into :class:`Element` objects carrying the *specified* style of each
+element (presentation attributes < CSS rules by specificity and order < ``style=""`` <
+``!important``). :class:`Style` resolves inheritance and ``inherit`` on top of that.
+"""
+from __future__ import annotations
+
+import re
+
+from . import SvgError
+from .units import split_length, to_px
+
+SVG_NS = "http://www.w3.org/2000/svg"
+XLINK_NS = "http://www.w3.org/1999/xlink"
+XML_NS = "http://www.w3.org/XML/1998/namespace"
+
+MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
+MAX_ELEMENTS = 1_000_000
+
+#: properties that CSS (and presentation attributes) may set
+PROPERTIES = {
+    "alignment-baseline", "baseline-shift", "clip", "clip-path", "clip-rule", "color",
+    "color-interpolation", "color-interpolation-filters", "color-rendering", "direction",
+    "display", "dominant-baseline", "fill", "fill-opacity", "fill-rule", "filter",
+    "flood-color", "flood-opacity", "font", "font-family", "font-feature-settings",
+    "font-kerning", "font-size", "font-size-adjust", "font-stretch", "font-style",
+    "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
+    "font-variant-numeric", "font-variant-position", "font-variation-settings", "font-weight",
+    "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
+    "isolation", "letter-spacing", "lighting-color", "marker", "marker-end", "marker-mid",
+    "marker-start", "mask", "mask-type", "mix-blend-mode", "opacity", "overflow",
+    "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
+    "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
+    "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
+    "text-overflow", "text-rendering", "transform", "transform-origin", "unicode-bidi",
+    "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
+    "inline-size", "text-orientation", "font-synthesis", "line-height",
+}
+
+#: properties whose value passes from parent to child when not specified
+INHERITED = {
+    "clip-rule", "color", "color-interpolation", "color-interpolation-filters",
+    "color-rendering", "direction", "dominant-baseline", "fill", "fill-opacity", "fill-rule",
+    "font-family", "font-feature-settings", "font-kerning", "font-size", "font-size-adjust",
+    "font-stretch", "font-style", "font-variant", "font-variant-caps",
+    "font-variant-east-asian", "font-variant-ligatures", "font-variant-numeric",
+    "font-variant-position", "font-variation-settings", "font-weight",
+    "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
+    "letter-spacing", "marker-end", "marker-mid", "marker-start", "paint-order",
+    "pointer-events", "shape-rendering", "stroke", "stroke-dasharray", "stroke-dashoffset",
+    "stroke-linecap", "stroke-linejoin", "stroke-miterlimit", "stroke-opacity",
+    "stroke-width", "text-anchor", "text-rendering", "visibility", "white-space",
+    "word-spacing", "writing-mode", "text-orientation", "font-synthesis", "line-height",
+}
+
+#: initial values of the properties the front end reads
+INITIAL = {
+    "fill": "black", "fill-opacity": "1", "fill-rule": "nonzero", "stroke": "none",
+    "stroke-width": "1", "stroke-opacity": "1", "stroke-linecap": "butt",
+    "stroke-linejoin": "miter", "stroke-miterlimit": "4", "stroke-dasharray": "none",
+    "stroke-dashoffset": "0", "opacity": "1", "color": "black", "display": "inline",
+    "visibility": "visible", "clip-rule": "nonzero", "stop-color": "black", "stop-opacity": "1",
+    "overflow": "visible", "mix-blend-mode": "normal", "isolation": "auto",
+    "paint-order": "normal", "shape-rendering": "auto", "image-rendering": "auto",
+    "mask-type": "luminance", "font-size": "medium", "font-family": "serif",
+    "vector-effect": "none", "marker-start": "none", "marker-mid": "none", "marker-end": "none",
+}
+
+_FONT_SIZE_KEYWORDS = {"xx-small": 9, "x-small": 10, "small": 13, "medium": 16, "large": 18,
+                       "x-large": 24, "xx-large": 32, "xxx-large": 48}
+
+
+class Element:
+    """One SVG element: local tag name, attributes (local names; ``xlink:href`` → ``href``),
+    specified style properties, children, and the text around it (for ``<text>``)."""
+
+    __slots__ = ("tag", "attrs", "specified", "children", "parent", "text", "tail", "index",
+                 "source")
+
+    def __init__(self, tag, attrs, parent, index):
+        self.tag = tag
+        self.attrs = attrs
+        self.specified = {}
+        self.children = []
+        self.parent = parent
+        self.text = ""
+        self.tail = ""
+        self.index = index
+        self.source = None     # the Document this element belongs to
+
+    def get(self, name, default=None):
+        return self.attrs.get(name, default)
+
+    @property
+    def id(self):
+        return self.attrs.get("id")
+
+    def href(self):
+        """The fragment id of ``href``/``xlink:href`` (``#id`` only), or None."""
+        value = (self.attrs.get("href") or "").strip()
+        return value[1:] if value.startswith("#") else None
+
+    def ancestors(self):
+        node = self.parent
+        while node is not None:
+            yield node
+            node = node.parent
+
+    def __repr__(self):
+        return f"<{self.tag} id={self.id!r}>"
+
+
+class Style:
+    """Computed style: the element's specified values over its parent's computed style.
+
+    ``get(name)`` returns the value as a stripped string (``inherit`` resolved, initial values
+    filled in). The parent is the *rendering* parent: for content instantiated by ``<use>`` it
+    is the ``<use>`` element, as the SVG specification requires.
+    """
+
+    __slots__ = ("specified", "parent", "_font_size")
+
+    def __init__(self, specified, parent=None):
+        self.specified = specified
+        self.parent = parent
+        self._font_size = None
+
+    def get(self, name, default=None):
+        v = self.specified.get(name)
+        if v is not None and v != "inherit":
+            return v
+        if self.parent is not None and (v == "inherit" or name in INHERITED):
+            return self.parent.get(name, default)
+        return INITIAL.get(name, default)
+
+    def has_own(self, name):
+        return name in self.specified
+
+    def font_size(self) -> float:
+        """Computed font size in user units (em and % relative to the parent's)."""
+        if self._font_size is None:
+            parent = self.parent.font_size() if self.parent is not None else 16.0
+            v = self.specified.get("font-size")
+            size = parent
+            if v and v != "inherit":
+                v = v.strip().lower()
+                if v in _FONT_SIZE_KEYWORDS:
+                    size = float(_FONT_SIZE_KEYWORDS[v])
+                elif v == "larger":
+                    size = parent * 1.2
+                elif v == "smaller":
+                    size = parent / 1.2
+                else:
+                    parsed = split_length(v)
+                    if parsed is not None:
+                        value, unit = parsed
+                        if unit == "%":
+                            size = value * parent / 100
+                        elif unit in ("em", "ex"):
+                            size = to_px(value, unit, parent)
+                        else:
+                            size = to_px(value, unit)
+            self._font_size = size
+        return self._font_size
+
+    def child(self, element: Element) -> "Style":
+        return Style(element.specified, self)
+
+
+# -- XML ------------------------------------------------------------------------------------------
+_DOCTYPE_SUBSET = re.compile(rb"<!DOCTYPE[^\[>]*\[(.*?)\]\s*>", re.S)
+_ENTITY_DECL = re.compile(rb"<!ENTITY\s+([A-Za-z_][\w.-]*)\s+(\"([^\"]*)\"|'([^']*)')\s*>")
+_ENCODING_DECL = re.compile(rb"^(<\?xml[^>]*?)\s+encoding\s*=\s*[\"'][^\"']*[\"']", re.S)
+
+
+def _expand_internal_entities(data: bytes) -> bytes:
+    """Substitute simple internal entities once and drop the DTD subset (see module doc)."""
+    m = _DOCTYPE_SUBSET.search(data)
+    if not m:
+        return data
+    subset = m.group(1)
+    entities = {}
+    for em in _ENTITY_DECL.finditer(subset):
+        value = em.group(3) if em.group(3) is not None else em.group(4)
+        if b"&" in value or b"%" in value:
+            raise SvgError("entity values that reference other entities are not supported")
+        entities[em.group(1)] = value
+    rest = _ENTITY_DECL.sub(b"", subset)
+    rest = re.sub(rb"<!--.*?-->", b"", rest, flags=re.S)
+    if rest.strip():
+        raise SvgError("unsupported DTD declarations (only internal text entities are allowed)")
+    head, body = data[:m.start()], data[m.end():]
+    out = []
+    total = 0
+    pos = 0
+    for rm in re.finditer(rb"&([A-Za-z_][\w.-]*);", body):
+        name = rm.group(1)
+        if name not in entities:
+            continue
+        out.append(body[pos:rm.start()])
+        out.append(entities[name])
+        total += len(entities[name])
+        if total > MAX_DOCUMENT_BYTES:
+            raise SvgError("document too large after entity expansion")
+        pos = rm.end()
+    out.append(body[pos:])
+    return head + b"".join(out)
+
+
+def _decode_to_utf8(data: bytes) -> bytes:
+    """Re-encode a document as UTF-8 and drop its encoding declaration (needed before text-level
+    entity substitution)."""
+    m = re.match(rb"^\s*<\?xml[^>]*encoding\s*=\s*[\"']([^\"']+)[\"']", data)
+    enc = m.group(1).decode("ascii", "replace") if m else "utf-8"
+    try:
+        text = data.decode(enc)
+    except (LookupError, UnicodeDecodeError) as exc:
+        raise SvgError(f"cannot decode document as {enc}") from exc
+    return _ENCODING_DECL.sub(rb"\1", text.encode("utf-8"), count=1)
+
+
+def parse_xml(data: bytes):
+    """Bytes → xml.etree root element, safely. Raises SvgError with a one-line message."""
+    import xml.etree.ElementTree as ET
+
+    import defusedxml
+    from defusedxml.ElementTree import fromstring
+
+    if len(data) > MAX_DOCUMENT_BYTES:
+        raise SvgError("document too large")
+    if data[:2] == b"\x1f\x8b":
+        import gzip
+        import zlib
+        try:
+            d = zlib.decompressobj(16 + zlib.MAX_WBITS)
+            data = d.decompress(data, MAX_DOCUMENT_BYTES + 1)
+        except (OSError, zlib.error, EOFError) as exc:
+            raise SvgError(f"bad svgz data: {exc}") from exc
+        if len(data) > MAX_DOCUMENT_BYTES:
+            raise SvgError("document too large")
+        del gzip
+    if b"<!ENTITY" in data:
+        data = _expand_internal_entities(_decode_to_utf8(data))
+    try:
+        root = fromstring(data, forbid_dtd=False, forbid_entities=True, forbid_external=True)
+    except ET.ParseError as exc:
+        raise SvgError(f"malformed XML: {exc}") from None
+    except defusedxml.DefusedXmlException as exc:
+        raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
+    except (ValueError, UnicodeError) as exc:
+        raise SvgError(f"malformed XML: {exc}") from None
+    return root
+
+
+def _local(name):
+    if name.startswith("{"):
+        ns, _, local = name[1:].partition("}")
+        return ns, local
+    return "", name
+
+
+# -- CSS ------------------------------------------------------------------------------------------
+def _declarations(tokens_or_text):
+    import tinycss2
+
+    if isinstance(tokens_or_text, str):
+        decls = tinycss2.parse_declaration_list(tokens_or_text, skip_whitespace=True,
+                                                skip_comments=True)
+    else:
+        decls = tinycss2.parse_declaration_list(tokens_or_text, skip_whitespace=True,
+                                                skip_comments=True)
+    out = []
+    for d in decls:
+        if d.type != "declaration":
+            continue
+        value = tinycss2.serialize(d.value).strip()
+        out.append((d.lower_name, value, bool(d.important)))
+    return out
+
+
+def _expand_shorthand(name, value):
+    """``marker`` sets all three marker properties; ``font`` is left to the text module."""
+    if name == "marker":
+        return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
+    return [(name, value)]
+
+
+class Stylesheets:
+    """All CSS rules of a document, matched with cssselect2."""
+
+    def __init__(self, load_text=None):
+        import cssselect2
+
+        self.matcher = cssselect2.Matcher()
+        self.count = 0
+        self.load_text = load_text   # callable(url) -> str | None, for @import
+        self._import_depth = 0
+
+    def add(self, css_text):
+        import cssselect2
+        import tinycss2
+
+        rules = tinycss2.parse_stylesheet(css_text, skip_whitespace=True, skip_comments=True)
+        for rule in rules:
+            if rule.type == "at-rule" and rule.lower_at_keyword == "import":
+                self._import(rule)
+                continue
+            if rule.type != "qualified-rule":
+                continue
+            try:
+                selectors = cssselect2.compile_selector_list(rule.prelude)
+            except Exception:   # cssselect2 raises its own SelectorError and others
+                continue
+            decls = _declarations(rule.content)
+            for sel in selectors:
+                if sel.pseudo_element:
+                    continue
+                self.matcher.add_selector(sel, (self.count, decls))
+                self.count += 1
+
+    def _import(self, rule):
+        import tinycss2
+
+        if self.load_text is None or self._import_depth > 4:
+            return
+        url = None
+        for tok in rule.prelude:
+            if tok.type in ("string", "url"):
+                url = tok.value
+                break
+        if not url:
+            return
+        text = self.load_text(url)
+        if text:
+            self._import_depth += 1
+            try:
+                self.add(text)
+            finally:
+                self._import_depth -= 1
+        del tinycss2
+
+
+class Document:
+    """A parsed SVG document: the Element tree, an id map and the base folder for resources."""
+
+    def __init__(self, root: Element, ids: dict, base_dir=None):
+        self.root = root
+        self.ids = ids
+        self.base_dir = base_dir
+        self._doc_styles = {}
+
+    def lookup(self, ref):
+        """Element for an id, ``#id``, ``url(#id)`` or None."""
+        if ref is None:
+            return None
+        ref = ref.strip()
+        if ref.startswith("url("):
+            ref = ref[4:].rstrip(")").strip().strip("'\"")
+        if ref.startswith("#"):
+            ref = ref[1:]
+        return self.ids.get(ref)
+
+    def document_style(self, el: Element) -> Style:
+        """Computed style from the element's document ancestors (for paint servers, clip paths,
+        masks, markers and patterns, whose content inherits from where it is defined)."""
+        key = id(el)
+        style = self._doc_styles.get(key)
+        if style is None:
+            parent = self.document_style(el.parent) if el.parent is not None else None
+            style = Style(el.specified, parent)
+            self._doc_styles[key] = style
+        return style
+
+
+def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
+    """Parse SVG bytes into a Document. ``load_text(url)`` fetches CSS for ``@import``."""
+    import cssselect2
+
+    xml_root = parse_xml(data)
+    ns, tag = _local(xml_root.tag)
+    if tag != "svg" or ns not in (SVG_NS, ""):
+        raise SvgError("the root element is not <svg>")
+    default_ns = ns
+
+    sheets = Stylesheets(load_text)
+    # <style> elements anywhere apply to the whole document (even those after their use).
+    for node in xml_root.iter():
+        if not isinstance(node.tag, str):
+            continue
+        nns, ntag = _local(node.tag)
+        if ntag == "style" and nns == default_ns:
+            kind = (node.get("type") or "text/css").strip()
+            if kind not in ("", "text/css"):
+                continue
+            sheets.add("".join(node.itertext()))
+
+    matches = {}
+    if sheets.count:
+        wrapper = cssselect2.ElementWrapper.from_xml_root(xml_root)
+        for w in wrapper.iter_subtree():
+            found = sheets.matcher.match(w)
+            if found:
+                matches[id(w.etree_element)] = found
+
+    ids = {}
+    count = 0
+
+    def convert(node, parent, index):
+        nonlocal count
+        count += 1
+        if count > MAX_ELEMENTS:
+            raise SvgError("too many elements")
+        nns, ntag = _local(node.tag)
+        if nns != default_ns:
+            return None   # foreign element: skipped with its subtree
+        attrs = {}
+        style_attr = None
+        presentation = {}
+        for key, value in node.attrib.items():
+            ans, aname = _local(key)
+            if ans == XLINK_NS and aname == "href":
+                attrs.setdefault("href", value)
+                continue
+            if ans == XML_NS:
+                attrs["xml:" + aname] = value
+                continue
+            if ans:
+                continue
+            if aname == "href":
+                attrs["href"] = value
+                continue
+            attrs[aname] = value
+            if aname == "style":
+                style_attr = value
+            elif aname in PROPERTIES:
+                presentation[aname] = value.strip()
+        el = Element(ntag, attrs, parent, index)
+        spec = {}
+        for k, v in presentation.items():
+            for name, val in _expand_shorthand(k, v):
+                spec[name] = val
+        important = {}
+        for match in sorted(matches.get(id(node), ()), key=lambda m: (m[0], m[1])):
+            _order, decls = match[3]
+            for name, value, imp in decls:
+                if name not in PROPERTIES:
+                    continue
+                for pname, pval in _expand_shorthand(name, value):
+                    (important if imp else spec)[pname] = pval
+        if style_attr:
+            for name, value, imp in _declarations(style_attr):
+                if name not in PROPERTIES:
+                    continue
+                for pname, pval in _expand_shorthand(name, value):
+                    (important if imp else spec)[pname] = pval
+        spec.update(important)
+        el.specified = spec
+        el.text = node.text or ""
+        el.tail = node.tail or ""
+        if el.id is not None and el.id not in ids:
+            ids[el.id] = el
+        i = 0
+        for child in node:
+            if not isinstance(child.tag, str):
+                # comments and processing instructions: keep their tail text for <text>
+                if el.children:
+                    el.children[-1].tail += child.tail or ""
+                else:
+                    el.text += child.tail or ""
+                continue
+            c = convert(child, el, i)
+            if c is not None:
+                el.children.append(c)
+                i += 1
+        return el
+
+    root = convert(xml_root, None, 0)
+    doc = Document(root, ids, base_dir)
+    stack = [root]
+    while stack:
+        e = stack.pop()
+        e.source = doc
+        stack.extend(e.children)
+    return doc

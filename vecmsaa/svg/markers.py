@@ -1,0 +1,105 @@
+"""Markers (marker-start, marker-mid, marker-end) placed on path vertices."""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from ..path import compose
+from ..stroke import auto_angle
+from ..scene import Group
+from .units import (matrix_scale, parse_aspect, parse_number, parse_viewbox, translate,
+                    viewbox_transform)
+
+
+def draw_markers(builder, path, style, ctx, commands=None):
+    from .builder import parse_url
+
+    props = {kind: style.get(f"marker-{kind}") for kind in ("start", "mid", "end")}
+    targets = {}
+    for kind, value in props.items():
+        url = parse_url(value or "none")
+        if url is None:
+            continue
+        el = builder.doc.lookup(url[0])
+        if el is not None and el.tag == "marker":
+            targets[kind] = el
+    if not targets:
+        return []
+    from ..stroke import marker_vertices
+    width = builder.length(style.get("stroke-width"), "xy", style, ctx.viewport, 1.0)
+    context_fill = builder.context_paint(style, "fill", ctx)
+    context_stroke = builder.context_paint(style, "stroke", ctx)
+    out = []
+    for x, y, angle_in, angle_out, kind in marker_vertices(path, commands):
+        marker = targets.get(kind)
+        if marker is None:
+            continue
+        out.extend(one_marker(builder, marker, x, y, angle_in, angle_out, kind, width, ctx,
+                              context_fill, context_stroke))
+    return out
+
+
+def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, ctx,
+               context_fill, context_stroke):
+    if any(m is marker for m in builder._ref_stack):
+        return []
+    style = builder.doc.document_style(marker)
+    if style.get("display").strip() == "none":
+        return []
+    get = builder.length_getter(marker, style, ctx)
+    mw = get("markerWidth", "x", 3.0)
+    mh = get("markerHeight", "y", 3.0)
+    if mw <= 0 or mh <= 0:
+        return []
+    orient = (marker.get("orient") or "0").strip()
+    if orient == "auto":
+        angle = angle_out if kind == "start" else angle_in if kind == "end" else \
+            auto_angle(angle_in, angle_out)
+    elif orient == "auto-start-reverse":
+        if kind == "start":
+            angle = angle_out + 180
+        else:
+            angle = angle_in if kind == "end" else auto_angle(angle_in, angle_out)
+    else:
+        o = orient.lower()
+        factor = 1.0
+        for unit, f in (("deg", 1.0), ("grad", 0.9), ("rad", 180 / math.pi), ("turn", 360.0)):
+            if o.endswith(unit):
+                o = o[:-len(unit)]
+                factor = f
+                break
+        angle = (parse_number(o, 0.0) or 0.0) * factor
+    units = (marker.get("markerUnits") or "strokeWidth").strip()
+    scale = stroke_width if units != "userSpaceOnUse" else 1.0
+    m = translate(x, y)
+    if angle:
+        r = math.radians(angle)
+        m = compose(m, (math.cos(r), math.sin(r), -math.sin(r), math.cos(r), 0.0, 0.0))
+    vb = parse_viewbox(marker.get("viewBox"))
+    if vb is not None:
+        vb_m = viewbox_transform(vb, parse_aspect(marker.get("preserveAspectRatio")),
+                                 mw * scale, mh * scale)
+        sx, sy = matrix_scale(vb_m)
+        m = compose(m, (sx, 0.0, 0.0, sy, 0.0, 0.0))
+        clip_rect = vb
+        viewport = (vb[2], vb[3])
+    else:
+        m = compose(m, (scale, 0.0, 0.0, scale, 0.0, 0.0))
+        clip_rect = (0.0, 0.0, mw, mh)
+        viewport = ctx.viewport
+    ref_x = builder.length(marker.get("refX"), "x", style, viewport, 0.0)
+    ref_y = builder.length(marker.get("refY"), "y", style, viewport, 0.0)
+    m = compose(m, translate(-ref_x, -ref_y))
+    inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport,
+                    context_fill=context_fill, context_stroke=context_stroke)
+    builder._ref_stack.append(marker)
+    try:
+        nodes = builder.children(marker, inner, style)
+    finally:
+        builder._ref_stack.pop()
+    if not nodes:
+        return []
+    if builder.overflow_hidden(marker, style):
+        clip = builder.viewport_clip(*clip_rect, replace(ctx, transform=inner.transform))
+        nodes = [Group(children=nodes, clip=clip)]
+    return nodes

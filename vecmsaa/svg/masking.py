@@ -1,0 +1,135 @@
+"""clipPath and mask → the ``clip`` / ``mask`` of a scene Group.
+
+References to missing elements, to elements of the wrong kind, and recursive references are
+ignored (as in resvg and browsers). With objectBoundingBox units an element without a usable
+bounding box is not drawn at all.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+from ..path import IDENTITY, compose, rect_path
+from ..scene import Fill, Group, Mask
+from .units import parse_transform
+
+CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
+                 "use"}
+
+
+def _target(builder, value, tag):
+    from .builder import parse_url
+
+    url = parse_url(value or "")
+    if url is None:
+        return None
+    el = builder.doc.lookup(url[0]) if url[0].startswith("#") else None
+    if el is None or el.tag != tag:
+        return None
+    if any(r is el for r in builder._ref_stack):
+        return None   # recursion: the inner reference is dropped
+    return el
+
+
+def _usable(bbox):
+    return bbox is not None and bbox[2] - bbox[0] > 0 and bbox[3] - bbox[1] > 0
+
+
+def clip_path(builder, value, ctx, bbox_fn):
+    """clip-path value → clip Group, None (no clipping), or False (the element is not drawn)."""
+    from .builder import bbox_matrix
+
+    el = _target(builder, value, "clipPath")
+    if el is None:
+        return None
+    style = builder.doc.document_style(el)
+    m = parse_transform(el.specified.get("transform") or el.get("transform"))
+    m = IDENTITY if m is None else m
+    a, b, c, d = m[:4]
+    if abs(a * d - b * c) < 1e-12:
+        return False
+    transform = compose(ctx.transform, m)
+    if (el.get("clipPathUnits") or "").strip() == "objectBoundingBox":
+        bbox = bbox_fn()
+        if not _usable(bbox):
+            return False
+        transform = compose(transform, bbox_matrix(bbox))
+    inner = replace(ctx, transform=transform, clip=True, geometry=False)
+    builder._ref_stack.append(el)
+    try:
+        nodes = []
+        for child in el.children:
+            if child.tag not in CLIP_CHILDREN:
+                continue
+            nodes.extend(builder.element(child, inner, style))
+        group = Group(children=nodes)
+        own = el.specified.get("clip-path")
+        if own and own.strip() != "none":
+            outer = clip_path(builder, own, ctx, bbox_fn)
+            if outer is False:
+                return False
+            if outer is not None:
+                group.clip = outer
+    finally:
+        builder._ref_stack.pop()
+    return group
+
+
+def masks(builder, value, ctx, bbox_fn):
+    """mask value → list of Mask (the element's, then its mask's mask...), [] for none, or
+    False when the element is not drawn."""
+    from .builder import bbox_matrix
+
+    el = _target(builder, value, "mask")
+    if el is None:
+        return []
+    style = builder.doc.document_style(el)
+    units_obb = (el.get("maskUnits") or "objectBoundingBox").strip() != "userSpaceOnUse"
+    content_obb = (el.get("maskContentUnits") or "").strip() == "objectBoundingBox"
+    bbox = bbox_fn() if (units_obb or content_obb) else None
+    if (units_obb or content_obb) and not _usable(bbox):
+        return False
+    if units_obb:
+        def frac(name, default):
+            raw = el.get(name)
+            from .units import split_length
+            parsed = split_length(raw) if raw is not None else None
+            if parsed is None:
+                parsed = split_length(default)
+            v, unit = parsed
+            return v / 100 if unit == "%" else v
+        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
+        x = bx + frac("x", "-10%") * bw
+        y = by + frac("y", "-10%") * bh
+        w = frac("width", "120%") * bw
+        h = frac("height", "120%") * bh
+    else:
+        get = builder.length_getter(el, style, ctx)
+        x, y = get("x", "x", None), get("y", "y", None)
+        w, h = get("width", "x", None), get("height", "y", None)
+        vw, vh = ctx.viewport
+        x = -0.1 * vw if x is None else x
+        y = -0.1 * vh if y is None else y
+        w = 1.2 * vw if w is None else w
+        h = 1.2 * vh if h is None else h
+    if w <= 0 or h <= 0:
+        return False
+    transform = ctx.transform
+    if content_obb:
+        transform = compose(transform, bbox_matrix(bbox))
+    inner = replace(ctx, transform=transform, clip=False, geometry=False)
+    builder._ref_stack.append(el)
+    try:
+        nodes = builder.children(el, inner, style)
+        region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
+        content = Group(children=nodes, clip=region)
+        kind = (style.get("mask-type") or el.get("mask-type") or "luminance").strip()
+        out = [Mask(content=content, kind="alpha" if kind == "alpha" else "luminance")]
+        own = el.specified.get("mask")
+        if own and own.strip() != "none":
+            more = masks(builder, own, ctx, bbox_fn)
+            if more is False:
+                return False
+            out.extend(more)
+    finally:
+        builder._ref_stack.pop()
+    return out

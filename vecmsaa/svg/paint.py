@@ -1,0 +1,231 @@
+"""Paint servers: linearGradient, radialGradient and pattern → scene paints.
+
+Gradients become :class:`~vecmsaa.scene.LinearGradient` / ``RadialGradient`` with the matrix
+from device pixels into gradient space; patterns are rendered once per use into a tile image at
+device resolution and become a repeating :class:`~vecmsaa.scene.ImagePaint`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..path import IDENTITY, compose, invert
+from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
+from .color import parse_color
+from .units import (matrix_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
+                    split_length, to_px, translate, viewbox_transform)
+
+GRADIENT_TAGS = ("linearGradient", "radialGradient")
+MAX_TILE_PIXELS = 4096 * 4096
+
+
+def href_chain(builder, el, tags):
+    """The element followed by what its href leads to (same kind of element only), no cycles."""
+    chain = [el]
+    seen = {id(el)}
+    node = el
+    while True:
+        ref = node.href()
+        nxt = builder.doc.lookup(ref) if ref else None
+        if nxt is None or id(nxt) in seen or nxt.tag not in tags:
+            break
+        chain.append(nxt)
+        seen.add(id(nxt))
+        node = nxt
+    return chain
+
+
+def inherited_attr(chain, name, default=None):
+    for el in chain:
+        if name in el.attrs:
+            return el.attrs[name]
+    return default
+
+
+def gradient_stops(builder, chain):
+    """(K, 5) array of (offset, r, g, b, a) from the first element in the chain with stops."""
+    for el in chain:
+        stops = [c for c in el.children if c.tag == "stop"]
+        if stops:
+            break
+    else:
+        return np.zeros((0, 5))
+    out = []
+    last = 0.0
+    for stop in stops:
+        style = builder.doc.document_style(stop)
+        raw = (stop.get("offset") or "0").strip()
+        if raw.endswith("%"):
+            off = parse_number(raw[:-1], 0.0) / 100
+        else:
+            off = parse_number(raw, 0.0)
+        off = min(1.0, max(0.0, off))
+        off = max(off, last)
+        last = off
+        color = parse_color(style.get("stop-color") or "black")
+        if color is None:
+            color = (0.0, 0.0, 0.0, 1.0)
+        elif color == "currentColor":
+            color = builder.current_color(style)
+        from .builder import parse_opacity
+        alpha = color[3] * parse_opacity(style.get("stop-opacity"))
+        out.append((off, color[0], color[1], color[2], alpha))
+    return np.asarray(out, dtype=np.float64)
+
+
+def _coord(builder, value, axis, obb, style, viewport, default):
+    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units."""
+    if value is None:
+        value = default
+    parsed = split_length(value)
+    if parsed is None:
+        parsed = split_length(default)
+    v, unit = parsed
+    if obb:
+        return v / 100 if unit == "%" else v
+    return builder.length(value if split_length(value) else default, axis, style, viewport)
+
+
+def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
+    """gradientTransform/patternTransform with transform-origin."""
+    text = inherited_attr(chain, attr)
+    m = parse_transform(text) if text else IDENTITY
+    if m is None:
+        m = IDENTITY
+    origin = chain[0].get("transform-origin")
+    if origin and m != IDENTITY:
+        ox, oy = builder.transform_origin(origin, el_style, ctx.viewport,
+                                          units_box=(1.0, 1.0) if obb else None)
+        m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
+    return m
+
+
+def paint_server(builder, el, ctx, bbox, user_style):
+    """A paint for a paint-server element, Solid for degenerate gradients, None for none."""
+    if el.tag in GRADIENT_TAGS:
+        return gradient(builder, el, ctx, bbox)
+    if el.tag == "pattern":
+        return pattern(builder, el, ctx, bbox)
+    return None
+
+
+def gradient(builder, el, ctx, bbox):
+    chain = href_chain(builder, el, GRADIENT_TAGS)
+    stops = gradient_stops(builder, chain)
+    if len(stops) == 0:
+        return None
+    if len(stops) == 1:
+        return Solid(tuple(stops[0, 1:]))
+    obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
+    style = builder.doc.document_style(el)
+    m = ctx.transform
+    if obb:
+        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
+            return None
+        from .builder import bbox_matrix
+        m = compose(m, bbox_matrix(bbox))
+    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx, bbox, obb))
+    try:
+        to_paint = invert(m)
+    except ValueError:
+        return None
+    spread = inherited_attr(chain, "spreadMethod", "pad").strip()
+    if spread not in ("pad", "reflect", "repeat"):
+        spread = "pad"
+    vp = ctx.viewport
+
+    def attr(name, axis, default):
+        # coordinates inherit only from gradients of the same kind
+        same = [e for e in chain if e.tag == el.tag]
+        return _coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
+
+    if el.tag == "linearGradient":
+        x1, y1 = attr("x1", "x", "0%"), attr("y1", "y", "0%")
+        x2, y2 = attr("x2", "x", "100%"), attr("y2", "y", "0%")
+        if x1 == x2 and y1 == y2:
+            return Solid(tuple(stops[-1, 1:]))
+        return LinearGradient(x1, y1, x2, y2, stops, spread, to_paint)
+    cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
+    r = attr("r", "xy", "50%")
+    same = [e for e in chain if e.tag == el.tag]
+    fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
+    fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
+    fr = attr("fr", "xy", "0%")
+    if r < 0 or fr < 0:
+        return None
+    if r <= 0 or fr >= r:
+        return Solid(tuple(stops[-1, 1:]))
+    return RadialGradient(cx, cy, r, fx, fy, stops, fr, spread, to_paint)
+
+
+def pattern(builder, el, ctx, bbox):
+    from .builder import Ctx, bbox_matrix
+
+    if any(p is el for p in builder._paint_stack):
+        return None
+    chain = href_chain(builder, el, ("pattern",))
+    style = builder.doc.document_style(el)
+    obb = inherited_attr(chain, "patternUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
+    content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse").strip()
+                   == "objectBoundingBox")
+    vb = parse_viewbox(inherited_attr(chain, "viewBox"))
+    vp = ctx.viewport
+
+    def attr(name, axis):
+        return _coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
+    x, y, w, h = attr("x", "x"), attr("y", "y"), attr("width", "x"), attr("height", "y")
+    if obb or (content_obb and vb is None):
+        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
+            return None
+    if obb:
+        bx, by = bbox[0], bbox[1]
+        bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
+        x, y, w, h = bx + x * bw, by + y * bh, w * bw, h * bh
+    if w <= 0 or h <= 0:
+        return None
+    pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx, bbox, False)
+    full = compose(ctx.transform, pattern_m)
+    sx, sy = matrix_scale(full)
+    if sx <= 0 or sy <= 0:
+        return None
+    tw, th = max(1, round(w * sx)), max(1, round(h * sy))
+    if tw * th > MAX_TILE_PIXELS:
+        f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
+        sx, sy = sx * f, sy * f
+        tw, th = max(1, round(w * sx)), max(1, round(h * sy))
+    # tile image pixels → the exact tile size, so tiles repeat without gaps
+    sx, sy = tw / w, th / h
+    if vb is not None:
+        content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
+                                    w, h)
+        content_viewport = (vb[2], vb[3])
+    elif content_obb:
+        content = (bbox[2] - bbox[0], 0.0, 0.0, bbox[3] - bbox[1], 0.0, 0.0)
+        content_viewport = vp
+    else:
+        content = IDENTITY
+        content_viewport = vp
+    source = next((e for e in chain if any(c.tag for c in e.children)), el)
+    tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
+                   viewport=content_viewport, use_stack=ctx.use_stack,
+                   context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
+    builder._paint_stack.append(el)
+    try:
+        nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
+    finally:
+        builder._paint_stack.pop()
+    if not nodes:
+        return None
+    try:
+        from ..render import render_scene
+    except ImportError:
+        return None
+    rgba = render_scene(Scene(tw, th, Group(children=nodes)), mode=builder.options.mode,
+                        samples=builder.options.samples)
+    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
+    try:
+        to_paint = invert(tile_to_device)
+    except ValueError:
+        return None
+    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True, smooth=True)

@@ -1,0 +1,87 @@
+"""External resources: ``data:`` URLs and files, confined to allowed folders.
+
+A document may reference files in its own folder (and below) and in ``resources_dir``; nothing
+else is read: no network, no absolute paths elsewhere, no ``..`` escapes.
+"""
+from __future__ import annotations
+
+import base64
+import binascii
+import os
+import urllib.parse
+
+MAX_RESOURCE_BYTES = 64 * 1024 * 1024
+
+
+class Resources:
+    def __init__(self, base_dir=None, resources_dir=None):
+        self.roots = []
+        for d in (base_dir, resources_dir):
+            if d:
+                real = os.path.realpath(os.fspath(d))
+                if real not in self.roots:
+                    self.roots.append(real)
+        self.base_dir = os.path.realpath(os.fspath(base_dir)) if base_dir else None
+        self.resources_dir = (os.path.realpath(os.fspath(resources_dir))
+                              if resources_dir else None)
+
+    def child(self, base_dir):
+        """Resources for a document loaded from ``base_dir`` (a nested SVG image): the same
+        allowed roots, relative paths resolved from its folder."""
+        r = Resources.__new__(Resources)
+        r.roots = list(self.roots)
+        r.base_dir = base_dir
+        r.resources_dir = self.resources_dir
+        return r
+
+    def fetch(self, url):
+        """(bytes, mime or None, folder of the file or None); None when not allowed/found."""
+        url = (url or "").strip()
+        if not url:
+            return None
+        if url[:5].lower() == "data:":
+            return decode_data_url(url)
+        parsed = urllib.parse.urlsplit(url)
+        if parsed.scheme and parsed.scheme.lower() != "file" and len(parsed.scheme) > 1:
+            return None   # http, https, ftp...: no network access
+        path = urllib.parse.unquote(parsed.path if parsed.scheme else url.split("#")[0])
+        candidates = []
+        if os.path.isabs(path):
+            candidates.append(path)
+        else:
+            for base in (self.base_dir, self.resources_dir):
+                if base:
+                    candidates.append(os.path.join(base, path))
+        for cand in candidates:
+            real = os.path.realpath(cand)
+            if not any(real == r or real.startswith(r + os.sep) for r in self.roots):
+                continue
+            if not os.path.isfile(real):
+                continue
+            if os.path.getsize(real) > MAX_RESOURCE_BYTES:
+                return None
+            with open(real, "rb") as f:
+                return f.read(), None, os.path.dirname(real)
+        return None
+
+    def fetch_text(self, url):
+        got = self.fetch(url)
+        if got is None:
+            return None
+        return got[0].decode("utf-8", "replace")
+
+
+def decode_data_url(url):
+    header, sep, payload = url[5:].partition(",")
+    if not sep:
+        return None
+    parts = [p.strip() for p in header.split(";")]
+    mime = parts[0].lower() if parts and parts[0] else None
+    if any(p.lower() == "base64" for p in parts[1:]):
+        try:
+            data = base64.b64decode("".join(payload.split()), validate=False)
+        except (binascii.Error, ValueError):
+            return None
+    else:
+        data = urllib.parse.unquote_to_bytes(payload)
+    return data, mime, None

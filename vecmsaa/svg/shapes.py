@@ -1,0 +1,104 @@
+"""Basic shapes (rect, circle, ellipse, line, polyline, polygon) → paths in user units."""
+from __future__ import annotations
+
+from ..path import Path
+from .units import parse_numbers
+
+#: control-point distance of a cubic quarter circle, 4/3 (sqrt(2) - 1)
+KAPPA = 0.5522847498307936
+
+
+def ellipse_path(cx, cy, rx, ry) -> Path:
+    k = KAPPA
+    p = Path()
+    p.moveTo((cx + rx, cy))
+    p.curveTo((cx + rx, cy + ry * k), (cx + rx * k, cy + ry), (cx, cy + ry))
+    p.curveTo((cx - rx * k, cy + ry), (cx - rx, cy + ry * k), (cx - rx, cy))
+    p.curveTo((cx - rx, cy - ry * k), (cx - rx * k, cy - ry), (cx, cy - ry))
+    p.curveTo((cx + rx * k, cy - ry), (cx + rx, cy - ry * k), (cx + rx, cy))
+    p.closePath()
+    return p
+
+
+def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
+    p = Path()
+    if rx <= 0 or ry <= 0:
+        p.moveTo((x, y))
+        p.lineTo((x + w, y))
+        p.lineTo((x + w, y + h))
+        p.lineTo((x, y + h))
+        p.closePath()
+        return p
+    k = KAPPA
+    p.moveTo((x + rx, y))
+    p.lineTo((x + w - rx, y))
+    p.curveTo((x + w - rx + rx * k, y), (x + w, y + ry - ry * k), (x + w, y + ry))
+    p.lineTo((x + w, y + h - ry))
+    p.curveTo((x + w, y + h - ry + ry * k), (x + w - rx + rx * k, y + h), (x + w - rx, y + h))
+    p.lineTo((x + rx, y + h))
+    p.curveTo((x + rx - rx * k, y + h), (x, y + h - ry + ry * k), (x, y + h - ry))
+    p.lineTo((x, y + ry))
+    p.curveTo((x, y + ry - ry * k), (x + rx - rx * k, y), (x + rx, y))
+    p.closePath()
+    return p
+
+
+def shape_path(el, length):
+    """Path of a basic shape element in its user space, or None when it renders nothing.
+
+    ``length(name, axis, default)`` resolves an attribute to user units (axis: x, y or xy).
+    """
+    tag = el.tag
+    if tag == "rect":
+        w, h = length("width", "x", None), length("height", "y", None)
+        if w is None or h is None or w <= 0 or h <= 0:
+            return None
+        x, y = length("x", "x", 0.0), length("y", "y", 0.0)
+        rx, ry = length("rx", "x", None), length("ry", "y", None)
+        if rx is not None and rx < 0:
+            rx = None
+        if ry is not None and ry < 0:
+            ry = None
+        if rx is None and ry is None:
+            rx = ry = 0.0
+        elif rx is None:
+            rx = ry
+        elif ry is None:
+            ry = rx
+        return rounded_rect_path(x, y, w, h, min(rx, w / 2), min(ry, h / 2))
+    if tag == "circle":
+        r = length("r", "xy", 0.0)
+        if r <= 0:
+            return None
+        return ellipse_path(length("cx", "x", 0.0), length("cy", "y", 0.0), r, r)
+    if tag == "ellipse":
+        rx, ry = length("rx", "x", None), length("ry", "y", None)
+        if rx is None and ry is None:
+            return None
+        rx = ry if rx is None else rx
+        ry = rx if ry is None else ry
+        if rx <= 0 or ry <= 0:
+            return None
+        return ellipse_path(length("cx", "x", 0.0), length("cy", "y", 0.0), rx, ry)
+    if tag == "line":
+        p = Path()
+        p.moveTo((length("x1", "x", 0.0), length("y1", "y", 0.0)))
+        p.lineTo((length("x2", "x", 0.0), length("y2", "y", 0.0)))
+        p.endPath()
+        return p
+    if tag in ("polyline", "polygon"):
+        nums = parse_numbers(el.get("points", ""))
+        if len(nums) % 2:
+            nums = nums[:-1]
+        if len(nums) < 4:
+            return None
+        p = Path()
+        p.moveTo((nums[0], nums[1]))
+        for i in range(2, len(nums), 2):
+            p.lineTo((nums[i], nums[i + 1]))
+        if tag == "polygon":
+            p.closePath()
+        else:
+            p.endPath()
+        return p
+    return None

@@ -1,0 +1,43 @@
+"""The size of an SVG document and the matrix from its user space to that size."""
+from __future__ import annotations
+
+from . import SvgError
+from .document import Document, Style
+from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
+
+
+def document_size(doc: Document, dpi: float = 96.0):
+    """(width, height, matrix, viewport): intrinsic size in px, user space → (0, 0, w, h), and
+    the viewport size percentages of the root's children refer to."""
+    root = doc.root
+    vb = parse_viewbox(root.get("viewBox"))
+    style = Style(root.specified)
+
+    def dimension(name, vb_size):
+        raw = root.get(name)
+        parsed = split_length(raw) if raw is not None else None
+        if parsed is None or parsed[1] == "%":
+            if vb is not None:
+                return vb_size * (parsed[0] / 100 if parsed else 1.0)
+            return 100.0 * (parsed[0] / 100 if parsed else 1.0)
+        v, unit = parsed
+        px = to_px(v, unit, style.font_size())
+        if unit in ("pt", "pc", "mm", "cm", "in"):
+            px *= dpi / 96.0
+        return px
+
+    width = dimension("width", vb[2] if vb else 100.0)
+    height = dimension("height", vb[3] if vb else 100.0)
+    if vb is not None and root.get("width") is None and root.get("height") is not None:
+        width = height * vb[2] / vb[3]
+    elif vb is not None and root.get("height") is None and root.get("width") is not None:
+        height = width * vb[3] / vb[2]
+    if not (width > 0 and height > 0):
+        raise SvgError("the document has no size (zero or negative width or height)")
+    if vb is not None:
+        m = viewbox_transform(vb, parse_aspect(root.get("preserveAspectRatio")), width, height)
+        viewport = (vb[2], vb[3])
+    else:
+        m = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+        viewport = (width, height)
+    return width, height, m, viewport

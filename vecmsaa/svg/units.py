@@ -1,0 +1,150 @@
+"""Numbers, lengths, transforms, viewBox and preserveAspectRatio."""
+from __future__ import annotations
+
+import math
+import re
+
+from ..path import IDENTITY, compose
+
+NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
+_LENGTH = re.compile(rf"^\s*({NUMBER_RE})\s*(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)
+_NUMBERS = re.compile(NUMBER_RE)
+
+#: size of one unit in CSS px at 96 dpi
+UNIT_PX = {"": 1.0, "px": 1.0, "pt": 4 / 3, "pc": 16.0, "mm": 96 / 25.4, "cm": 96 / 2.54,
+           "in": 96.0}
+
+
+def parse_number(text, default=None):
+    if text is None:
+        return default
+    try:
+        v = float(text.strip())
+    except (ValueError, AttributeError):
+        return default
+    return v if math.isfinite(v) else default
+
+
+def parse_numbers(text) -> list[float]:
+    return [float(x) for x in _NUMBERS.findall(text or "")]
+
+
+def split_length(text):
+    """'12.5mm' → (12.5, 'mm'); None when not a length."""
+    if text is None:
+        return None
+    m = _LENGTH.match(text)
+    if not m:
+        return None
+    v = float(m.group(1))
+    if not math.isfinite(v):
+        return None
+    return v, (m.group(2) or "").lower()
+
+
+def to_px(value, unit, font_size=16.0, reference=0.0):
+    """Convert (value, unit) to user units; ``reference`` is what 100% means."""
+    if unit == "%":
+        return value * reference / 100.0
+    if unit == "em":
+        return value * font_size
+    if unit == "ex":
+        return value * font_size / 2
+    return value * UNIT_PX[unit]
+
+
+def parse_transform(text):
+    """An SVG transform list → affine matrix; None when the text is malformed."""
+    m = IDENTITY
+    if text is None:
+        return IDENTITY
+    s = text.strip()
+    pos = 0
+    pattern = re.compile(r"\s*,?\s*([a-zA-Z]+)\s*\(([^)]*)\)\s*,?")
+    while pos < len(s):
+        mt = pattern.match(s, pos)
+        if not mt:
+            return None
+        name, args = mt.group(1), mt.group(2)
+        nums = parse_numbers(args)
+        if re.sub(rf"{NUMBER_RE}|[\s,]", "", args):
+            return None
+        pos = mt.end()
+        n = len(nums)
+        if name == "matrix" and n == 6:
+            t = tuple(nums)
+        elif name == "translate" and n in (1, 2):
+            t = (1, 0, 0, 1, nums[0], nums[1] if n == 2 else 0.0)
+        elif name == "scale" and n in (1, 2):
+            t = (nums[0], 0, 0, nums[1] if n == 2 else nums[0], 0, 0)
+        elif name == "rotate" and n in (1, 3):
+            a = math.radians(nums[0])
+            c, sn = math.cos(a), math.sin(a)
+            t = (c, sn, -sn, c, 0, 0)
+            if n == 3:
+                cx, cy = nums[1], nums[2]
+                t = compose(compose((1, 0, 0, 1, cx, cy), t), (1, 0, 0, 1, -cx, -cy))
+        elif name == "skewX" and n == 1:
+            t = (1, 0, math.tan(math.radians(nums[0])), 1, 0, 0)
+        elif name == "skewY" and n == 1:
+            t = (1, math.tan(math.radians(nums[0])), 0, 1, 0, 0)
+        else:
+            return None
+        m = compose(m, tuple(float(x) for x in t))
+    return m
+
+
+def translate(x, y):
+    return (1.0, 0.0, 0.0, 1.0, float(x), float(y))
+
+
+def scale(sx, sy=None):
+    return (float(sx), 0.0, 0.0, float(sx if sy is None else sy), 0.0, 0.0)
+
+
+def matrix_scale(m):
+    """Per-axis scale factors of a matrix (lengths of the images of the unit vectors)."""
+    a, b, c, d, _, _ = m
+    return math.hypot(a, b), math.hypot(c, d)
+
+
+def mean_scale(m):
+    """The factor by which the matrix scales lengths on average (sqrt of |det|)."""
+    a, b, c, d, _, _ = m
+    return math.sqrt(abs(a * d - b * c))
+
+
+def parse_viewbox(text):
+    if not text:
+        return None
+    nums = parse_numbers(text)
+    if len(nums) != 4 or nums[2] <= 0 or nums[3] <= 0:
+        return None
+    return tuple(nums)
+
+
+def parse_aspect(text):
+    """preserveAspectRatio → (align, slice); align is 'none' or like 'xMidYMid'."""
+    parts = (text or "").split()
+    if parts and parts[0] == "defer":
+        parts = parts[1:]
+    align = parts[0] if parts else "xMidYMid"
+    valid = {"none"} | {f"x{a}Y{b}" for a in ("Min", "Mid", "Max") for b in ("Min", "Mid", "Max")}
+    if align not in valid:
+        align = "xMidYMid"
+    return align, len(parts) > 1 and parts[1] == "slice"
+
+
+def viewbox_transform(viewbox, aspect, width, height):
+    """Matrix mapping the viewBox onto a (0, 0, width, height) viewport."""
+    vx, vy, vw, vh = viewbox
+    align, slice_ = aspect
+    sx, sy = width / vw, height / vh
+    if align == "none":
+        return (sx, 0.0, 0.0, sy, -vx * sx, -vy * sy)
+    s = max(sx, sy) if slice_ else min(sx, sy)
+    tx, ty = -vx * s, -vy * s
+    dw, dh = width - vw * s, height - vh * s
+    tx += {"Min": 0.0, "Mid": dw / 2, "Max": dw}[align[1:4]]
+    ty += {"Min": 0.0, "Mid": dh / 2, "Max": dh}[align[5:8]]
+    return (s, 0.0, 0.0, s, tx, ty)
