@@ -62,6 +62,16 @@ class Ctx:
 
 
 @dataclass
+class ContextPaint:
+    """The fill or stroke of a context element (``<use>``, a shape with markers)."""
+    value: str
+    style: object
+    ctx: object
+    bbox_fn: object
+    opacity: float
+
+
+@dataclass
 class PaintRef:
     """A resolved paint for one shape: paint, its opacity, and whether it may be drawn."""
     paint: object
@@ -103,8 +113,14 @@ class Builder:
         self.root_scale = root_scale
         root = self.doc.root
         style = self.doc.document_style(root)
+        if style.get("display").strip() == "none" or not conditions_pass(root):
+            return []
         ctx = Ctx(transform=transform, viewport=viewport)
         nodes = self.children(root, ctx, style)
+        background = parse_color(root.specified.get("background-color") or "transparent")
+        if background not in (None, "currentColor") and background[3] > 0:
+            box = rect_path(0, 0, *viewport).transformed(transform)
+            nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
         return self.wrap(root, style, ctx, nodes)
 
     # -- lengths ---------------------------------------------------------------------------
@@ -346,8 +362,10 @@ class Builder:
         c = replace(ctx, transform=compose(ctx.transform, translate(x, y)),
                     use_stack=ctx.use_stack + (id(target),))
         if not ctx.geometry:
-            c = replace(c, context_fill=self.context_paint(style, "fill", c),
-                        context_stroke=self.context_paint(style, "stroke", c))
+            def bbox_fn():
+                return self.object_bbox(el, ctx, style)
+            c = replace(c, context_fill=self.context_paint(style, "fill", ctx, bbox_fn),
+                        context_stroke=self.context_paint(style, "stroke", ctx, bbox_fn))
         if target.tag == "symbol":
             return self.symbol(target, el, c, style)
         if target.tag == "svg":
@@ -386,10 +404,8 @@ class Builder:
             m = compose(m, viewbox_transform(vb, parse_aspect(sym.get("preserveAspectRatio")),
                                              w, h))
             viewport = (vb[2], vb[3])
-        t = self.element_transform(sym, style, ctx)
-        if t is None:
-            return []
-        inner = replace(ctx, transform=compose(compose(ctx.transform, t), m), viewport=viewport)
+        # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
+        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
         nodes = self.children(sym, inner, style)
         if not nodes or ctx.geometry or ctx.clip or not self.overflow_hidden(sym, style):
             return self.wrap(sym, style, ctx, nodes)
@@ -539,8 +555,11 @@ class Builder:
             got = ctx.context_fill if value == "context-fill" else ctx.context_stroke
             if got is None:
                 return None
-            paint, op = got
-            return PaintRef(paint, op * opacity)
+            ref = self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(),
+                                        got.opacity)
+            if ref is None:
+                return None
+            return PaintRef(ref.paint, ref.opacity * opacity)
         url = parse_url(value)
         if url is not None:
             ref, fallback = url
@@ -553,6 +572,9 @@ class Builder:
             from .paint import paint_server
             paint = paint_server(self, target, ctx, bbox, style)
             if paint is None:
+                # no stops, or objectBoundingBox units on an empty box: the fallback applies
+                if fallback:
+                    return self.paint_from_value(fallback, style, ctx, bbox, opacity)
                 return None
             return PaintRef(paint, opacity)
         color = parse_color(value)
@@ -573,17 +595,14 @@ class Builder:
             s = s.parent
         return (0.0, 0.0, 0.0, 1.0)
 
-    def context_paint(self, style, which, ctx):
-        """The paint a ``<use>`` or marker passes to ``context-fill``/``context-stroke``."""
+    def context_paint(self, style, which, ctx, bbox_fn):
+        """What a ``<use>`` or a marked shape passes on to ``context-fill``/``context-stroke``:
+        its paint, resolved lazily in its own user space and bounding box."""
         value = self.paint_value(style, which)
         if value in ("context-fill", "context-stroke"):
             return ctx.context_fill if value == "context-fill" else ctx.context_stroke
-        if parse_url(value) is not None:
-            return None   # needs the bbox of the referencing element; resolved per shape
-        ref = self.paint_from_value(value, style, ctx, None, 1.0)
-        if ref is None:
-            return None
-        return (ref.paint, parse_opacity(style.get(f"{which}-opacity")))
+        return ContextPaint(value, style, ctx, bbox_fn,
+                            parse_opacity(style.get(f"{which}-opacity")))
 
     # -- markers ---------------------------------------------------------------------------
     def markers(self, path, style, ctx, commands=None):

@@ -41,8 +41,12 @@ PROPERTIES = {
     "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
     "text-overflow", "text-rendering", "transform", "transform-origin", "unicode-bidi",
     "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
-    "inline-size", "text-orientation", "font-synthesis", "line-height",
+    "inline-size", "text-orientation", "font-synthesis", "line-height", "background-color",
 }
+
+#: properties settable from CSS only, not as presentation attributes
+CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
+            "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space"}
 
 #: properties whose value passes from parent to child when not specified
 INHERITED = {
@@ -439,7 +443,7 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
             attrs[aname] = value
             if aname == "style":
                 style_attr = value
-            elif aname in PROPERTIES:
+            elif aname in PROPERTIES and aname not in CSS_ONLY:
                 presentation[aname] = value.strip()
         el = Element(ntag, attrs, parent, index)
         spec = {}

@@ -97,9 +97,9 @@ def image_nodes(builder, el, ctx, style):
         else:
             outline = rect_path(0, 0, iw, ih).transformed(image_to_user)
         return [Fill(outline.transformed(ctx.transform), ImagePaint(rgba, to_paint, False, smooth))]
-    doc, _, _, root_m, sub_builder = sub
+    _doc, _w, _h, root_m, sub_builder, sub_viewport = sub
     sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user, root_m)),
-                      viewport=sub[5], use_stack=(), context_fill=None, context_stroke=None)
+                      viewport=sub_viewport, use_stack=(), context_fill=None, context_stroke=None)
     nodes = sub_builder.build_root(sub_ctx.transform, sub_ctx.viewport,
                                    builder.root_scale)
     if not nodes:

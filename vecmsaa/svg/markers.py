@@ -27,8 +27,10 @@ def draw_markers(builder, path, style, ctx, commands=None):
         return []
     from ..stroke import marker_vertices
     width = builder.length(style.get("stroke-width"), "xy", style, ctx.viewport, 1.0)
-    context_fill = builder.context_paint(style, "fill", ctx)
-    context_stroke = builder.context_paint(style, "stroke", ctx)
+    from .geometry import path_bounds
+    bbox = path_bounds(path)
+    context_fill = builder.context_paint(style, "fill", ctx, lambda: bbox)
+    context_stroke = builder.context_paint(style, "stroke", ctx, lambda: bbox)
     out = []
     for x, y, angle_in, angle_out, kind in marker_vertices(path, commands):
         marker = targets.get(kind)

@@ -70,8 +70,26 @@ def gradient_stops(builder, chain):
             color = builder.current_color(style)
         from .builder import parse_opacity
         alpha = color[3] * parse_opacity(style.get("stop-opacity"))
-        out.append((off, color[0], color[1], color[2], alpha))
-    return np.asarray(out, dtype=np.float64)
+        out.append([off, color[0], color[1], color[2], alpha])
+    return np.asarray(separate_equal_offsets(out), dtype=np.float64)
+
+
+def separate_equal_offsets(stops, eps=1e-6):
+    """Of three or more stops at one offset keep the first and the last, and move the first
+    of an equal pair slightly left (right at 0), so that the colour before a hard stop is the
+    earlier stop's (what resvg and browsers show, e.g. in the pad area)."""
+    kept = []
+    for i, s in enumerate(stops):
+        if (0 < i < len(stops) - 1 and stops[i - 1][0] == s[0] == stops[i + 1][0]):
+            continue
+        kept.append(list(s))
+    for i in range(1, len(kept)):
+        if abs(kept[i][0] - kept[i - 1][0]) < eps:
+            if kept[i - 1][0] <= eps:
+                kept[i][0] = kept[i - 1][0] + eps
+            else:
+                kept[i - 1][0] = kept[i][0] - eps
+    return kept
 
 
 def _coord(builder, value, axis, obb, style, viewport, default):
@@ -152,8 +170,7 @@ def gradient(builder, el, ctx, bbox):
     fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
     fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
     fr = attr("fr", "xy", "0%")
-    if r < 0 or fr < 0:
-        return None
+    fr = max(fr, 0.0)
     if r <= 0 or fr >= r:
         return Solid(tuple(stops[-1, 1:]))
     return RadialGradient(cx, cy, r, fx, fy, stops, fr, spread, to_paint)
@@ -189,13 +206,11 @@ def pattern(builder, el, ctx, bbox):
     sx, sy = matrix_scale(full)
     if sx <= 0 or sy <= 0:
         return None
-    tw, th = max(1, round(w * sx)), max(1, round(h * sy))
+    tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
     if tw * th > MAX_TILE_PIXELS:
         f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
         sx, sy = sx * f, sy * f
-        tw, th = max(1, round(w * sx)), max(1, round(h * sy))
-    # tile image pixels → the exact tile size, so tiles repeat without gaps
-    sx, sy = tw / w, th / h
+        tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
     if vb is not None:
         content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
                                     w, h)
@@ -228,4 +243,5 @@ def pattern(builder, el, ctx, bbox):
         to_paint = invert(tile_to_device)
     except ValueError:
         return None
-    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True, smooth=True)
+    # nearest: the tile is already at device resolution (resvg samples it the same way)
+    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True, smooth=False)

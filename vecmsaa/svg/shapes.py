@@ -73,6 +73,9 @@ def shape_path(el, length):
         return ellipse_path(length("cx", "x", 0.0), length("cy", "y", 0.0), r, r)
     if tag == "ellipse":
         rx, ry = length("rx", "x", None), length("ry", "y", None)
+        # negative or missing radii mean "auto": take the other one (SVG 2)
+        rx = None if rx is not None and rx < 0 else rx
+        ry = None if ry is not None and ry < 0 else ry
         if rx is None and ry is None:
             return None
         rx = ry if rx is None else rx
