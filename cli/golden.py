@@ -40,6 +40,17 @@ def _color(text: str) -> str:
     return text
 
 
+def _samples(text: str) -> int:
+    """A sample count the renderer has a pattern for."""
+    from vecmsaa.patterns import D3D_PATTERNS
+
+    value = _positive_int(text)
+    if value not in D3D_PATTERNS:
+        raise argparse.ArgumentTypeError(
+            f"must be one of {', '.join(map(str, sorted(D3D_PATTERNS)))}: {text!r}")
+    return value
+
+
 def _threshold(text: str) -> int:
     try:
         value = int(text)
@@ -117,7 +128,7 @@ def add_parser(subparsers) -> None:
     render.add_argument("-h", "--height", type=_positive_int, help="output height in pixels")
     render.add_argument("--zoom", type=_positive_float, help="scale factor")
     render.add_argument("--mode", choices=MODES, help="antialiasing mode (default approx)")
-    render.add_argument("--samples", type=_positive_int, help="samples per pixel (default 8)")
+    render.add_argument("--samples", type=_samples, help="samples per pixel (default 8)")
     render.add_argument("--background", type=_color, metavar="COLOR",
                         help="CSS background colour (default: transparent)")
 

@@ -1,11 +1,15 @@
-"""Golden images: `vecmsaa golden update|check`, vecmsaa.golden and vecmsaa.testing."""
+"""Golden images: `vecmsaa golden update|check`, vecmsaa.golden and vecmsaa.testing.
+
+Everything renders with the real renderer (vecmsaa.api). Expected pixel counts come from the
+test drawings: rectangles on whole pixels, so a colour change alters exactly their area.
+"""
 from __future__ import annotations
 
 import json
 import re
+import shutil
 import subprocess
 import sys
-import xml.etree.ElementTree as ET
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -13,9 +17,12 @@ import numpy as np
 import pytest
 
 from vecmsaa import golden
+from vecmsaa.api import render_svg_array
 from vecmsaa.cli.main import main as vecmsaa_main
 from vecmsaa.png import encode_png
 from vecmsaa.testing import assert_matches_golden
+
+pytest_plugins = ["pytester"]
 
 RED = "#c03020"
 BLUE = "#2040c0"
@@ -26,42 +33,6 @@ def rect_svg(x=5, y=5, w=20, h=10, fill=RED, size=(40, 30)) -> str:
     return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{sw}" height="{sh}" '
             f'viewBox="0 0 {sw} {sh}"><rect x="{x}" y="{y}" width="{w}" height="{h}" '
             f'fill="{fill}"/></svg>')
-
-
-def stand_in_render(source, width=None, height=None, zoom=None, mode="approx", samples=8,
-                    background=None, **_):
-    """Supersampled rectangles: a renderer for the tests until vecmsaa.api exists."""
-    text = str(source) if str(source).lstrip().startswith("<") else Path(source).read_text()
-    try:
-        root = ET.fromstring(text)
-    except ET.ParseError as exc:
-        raise ValueError(f"not XML: {exc}") from None
-    sw, sh = float(root.get("width")), float(root.get("height"))
-    scale = zoom or (width / sw if width else height / sh if height else 1.0)
-    out_w, out_h = round(width or sw * scale), round(height or sh * scale)
-    n = max(1, int(round(samples ** 0.5)))
-    offsets = (np.arange(n) + 0.5) / n
-    img = np.zeros((out_h, out_w, 4))
-    if background:
-        img[:] = [int(background[i:i + 2], 16) / 255 for i in (1, 3, 5)] + [1]
-    for rect in root.iter("{http://www.w3.org/2000/svg}rect"):
-        x, y, w, h = (float(rect.get(k)) * scale for k in ("x", "y", "width", "height"))
-        fill = rect.get("fill")
-        color = np.array([int(fill[i:i + 2], 16) / 255 for i in (1, 3, 5)] + [1.0])
-        px = np.arange(out_w)[:, None] + offsets[None, :]
-        py = np.arange(out_h)[:, None] + offsets[None, :]
-        cov = (((py >= y) & (py < y + h)).mean(1)[:, None]
-               * ((px >= x) & (px < x + w)).mean(1)[None, :])[..., None]
-        img = color * cov + img * (1 - cov)   # premultiplied "over"
-    alpha = img[..., 3:4]
-    rgb = np.divide(img[..., :3], alpha, out=np.zeros_like(img[..., :3]), where=alpha > 0)
-    return np.round(np.concatenate([rgb, alpha], -1) * 255).astype(np.uint8)
-
-
-@pytest.fixture(autouse=True)
-def renderer(monkeypatch):
-    monkeypatch.setattr(golden, "default_renderer", stand_in_render)
-    return stand_in_render
 
 
 def write(path: Path, text: str) -> Path:
@@ -100,7 +71,7 @@ def test_update_writes_one_png_per_svg_and_records_the_options(tree, capsys):
     assert status == 0
     pngs = sorted(p.relative_to(goldens).as_posix() for p in goldens.rglob("*.png"))
     assert pngs == ["icons/wide.png", "plain.png"]
-    expected = stand_in_render(svgs / "plain.svg", width=80, samples=16, background="#ffffff")
+    expected = render_svg_array(svgs / "plain.svg", width=80, samples=16, background="#ffffff")
     assert np.array_equal(golden.read_png_rgba(goldens / "plain.png"), expected)
     manifest = json.loads((goldens / golden.MANIFEST_NAME).read_text())
     assert manifest["render_options"] == {"width": 80, "height": None, "zoom": None,
@@ -125,20 +96,16 @@ def test_update_output_is_byte_identical_across_runs_and_processes(tree, tmp_pat
     svgs, first = tree
     assert cli(capsys, "golden", "update", svgs, "--goldens", first)[0] == 0
     second = tmp_path / "second"
-    # A separate interpreter, so nothing cached in this process can make the bytes agree.
-    script = ("import sys; from vecmsaa import golden; import test_golden as t; "
-              "golden.default_renderer = t.stand_in_render; "
-              "from vecmsaa.cli.main import main; sys.exit(main(sys.argv[1:]))")
-    done = subprocess.run([sys.executable, "-c", script, "golden", "update", str(svgs),
-                           "--goldens", str(second)], cwd=Path(__file__).parent,
-                          capture_output=True, text=True)
+    # A separate interpreter, so nothing kept in this process can make the bytes agree.
+    done = subprocess.run([sys.executable, "-m", "vecmsaa.cli", "golden", "update", str(svgs),
+                           "--goldens", str(second)], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
     files = sorted(p.relative_to(first) for p in first.rglob("*") if p.is_file())
     assert files == sorted(p.relative_to(second) for p in second.rglob("*") if p.is_file())
     for rel in files:
         assert (first / rel).read_bytes() == (second / rel).read_bytes(), rel
     # ...and the bytes are those of the shared encoder, not merely stable.
-    expected = encode_png(stand_in_render(svgs / "plain.svg"))
+    expected = encode_png(render_svg_array(svgs / "plain.svg"))
     assert (first / "plain.png").read_bytes() == expected
 
 
@@ -147,7 +114,7 @@ def test_update_reports_svgs_that_fail_to_render(tree, capsys):
     write(svgs / "broken.svg", "<svg")
     status, out, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
     assert status == 1
-    assert f"ERROR {svgs.as_posix()}/broken.svg: render failed: not XML" in out
+    assert f"ERROR {svgs.as_posix()}/broken.svg: render failed: malformed XML" in out
     assert not (goldens / "broken.png").exists()
     assert (goldens / "plain.png").exists()
 
@@ -233,7 +200,7 @@ def test_report_lists_missing_goldens_and_render_errors_offline(tree, tmp_path, 
                          "--report", report)
     assert status == 1
     assert f"MISSING {svgs.as_posix()}/new <one>.svg: no golden new <one>.png" in out
-    assert re.search(r"^ERROR .*/broken\.svg: render failed: not XML", out, re.M)
+    assert re.search(r"^ERROR .*/broken\.svg: render failed: malformed XML", out, re.M)
     index = (report / "index.html").read_text()
     assert "new &lt;one&gt;.svg" in index and "<one>" not in index
     assert "broken.svg" in index
@@ -269,19 +236,31 @@ def test_subpixel_shift_is_within_tolerance_but_a_real_move_is_not(tree, capsys)
     assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 1
 
 
-def test_other_sample_count_is_within_tolerance(tree, capsys):
-    svgs, goldens = tree
-    write(svgs / "plain.svg", rect_svg(x=5.3, y=4.6, w=19.5, h=10.3))
-    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--samples", 64)
-    # Check with 16 samples against goldens made with 64: edges differ slightly, nothing more.
-    manifest = golden.read_manifest(goldens)
-    options = {**manifest["render_options"], "samples": 16}
-    (goldens / golden.MANIFEST_NAME).write_bytes(
-        golden.manifest_bytes(options, manifest["goldens"]))
+# A disc and a translucent sliver: curved and slanted edges, none on whole pixels.
+SHAPES_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="40" height="30" viewBox="0 0 40 30">'
+    '<circle cx="20.3" cy="14.6" r="9.7" fill="#c03020"/>'
+    '<path d="M2 28 L38 3 L38 8 Z" fill="#2040c0" fill-opacity="0.7"/></svg>')
+
+
+@pytest.mark.parametrize("other_setting, passes", [
+    (["--samples", "8"], True),       # fewer samples: antialiasing noise only
+    (["--samples", "4"], True),
+    (["--mode", "analytic"], True),   # exact area coverage instead of samples
+    (["--mode", "none"], False),      # aliased: every edge pixel is all or nothing
+])
+def test_antialiasing_noise_is_within_tolerance_but_aliasing_is_not(
+        tmp_path, capsys, other_setting, passes):
+    svgs = tmp_path / "svgs"
+    write(svgs / "shapes.svg", SHAPES_SVG)
+    goldens, other = tmp_path / "goldens", tmp_path / "other"
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--zoom", 4, "--samples", 16)
+    cli(capsys, "golden", "update", svgs, "--goldens", other, "--zoom", 4, *other_setting)
+    assert (goldens / "shapes.png").read_bytes() != (other / "shapes.png").read_bytes()
+    # Check with the other setting (its manifest) against the goldens made with 16 samples.
+    shutil.copy(other / golden.MANIFEST_NAME, goldens / golden.MANIFEST_NAME)
     status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
-    assert status == 0, out
-    plain = golden.read_png_rgba(goldens / "plain.png")
-    assert not np.array_equal(plain, stand_in_render(svgs / "plain.svg", samples=16))
+    assert status == (0 if passes else 1), out
 
 
 def test_tolerance_options(tree, capsys):
@@ -325,6 +304,7 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
     (["update", "{svgs}", "--goldens", "{svgs}/plain.svg"], "not a directory"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
     (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be positive"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "--samples", "32"], "must be one of"),
     (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--background", "nocolour"], "CSS colour"),
     (["compare", "{svgs}"], "invalid choice"),
@@ -368,7 +348,7 @@ def test_corrupt_golden_is_a_failure(tree, capsys):
 def test_assert_matches_golden_passes_on_the_same_render(tmp_path):
     svg = write(tmp_path / "a.svg", rect_svg())
     golden_png = tmp_path / "a.png"
-    golden_png.write_bytes(encode_png(stand_in_render(svg, samples=16)))
+    golden_png.write_bytes(encode_png(render_svg_array(svg, samples=16)))
     assert_matches_golden(svg, golden_png, samples=4)   # other samples: within tolerance
 
 
@@ -376,7 +356,7 @@ def test_assert_matches_golden_failure_message_and_triptych(tmp_path):
     svg = write(tmp_path / "a.svg", rect_svg(fill=BLUE))
     golden_png = tmp_path / "goldens" / "a.png"
     golden_png.parent.mkdir()
-    golden_png.write_bytes(encode_png(stand_in_render(write(tmp_path / "b.svg", rect_svg()))))
+    golden_png.write_bytes(encode_png(render_svg_array(write(tmp_path / "b.svg", rect_svg()))))
     with pytest.raises(AssertionError) as failure:
         assert_matches_golden(svg, golden_png, update=False)
     message = str(failure.value)
@@ -394,7 +374,7 @@ def test_assert_matches_golden_failure_message_and_triptych(tmp_path):
 def test_assert_matches_golden_diff_dir_from_argument_and_environment(tmp_path, monkeypatch):
     svg = write(tmp_path / "a.svg", rect_svg(fill=BLUE))
     golden_png = tmp_path / "a.png"
-    golden_png.write_bytes(encode_png(stand_in_render(rect_svg())))
+    golden_png.write_bytes(encode_png(render_svg_array(rect_svg())))
     with pytest.raises(AssertionError):
         assert_matches_golden(svg, golden_png, diff_dir=tmp_path / "given", update=False)
     assert (tmp_path / "given" / "a.diff.png").is_file()
@@ -418,35 +398,36 @@ def test_assert_matches_golden_missing_golden(tmp_path, monkeypatch):
 def test_update_goldens_environment_variable(tmp_path, monkeypatch, value, updates):
     monkeypatch.setenv("VECMSAA_UPDATE_GOLDENS", value)
     golden_png = tmp_path / "a.png"
-    golden_png.write_bytes(encode_png(stand_in_render(rect_svg(fill=BLUE))))
+    golden_png.write_bytes(encode_png(render_svg_array(rect_svg(fill=BLUE))))
     if updates:
         assert_matches_golden(rect_svg(), golden_png)
-        assert golden_png.read_bytes() == encode_png(stand_in_render(rect_svg()))
+        assert golden_png.read_bytes() == encode_png(render_svg_array(rect_svg()))
     else:
         with pytest.raises(AssertionError):
             assert_matches_golden(rect_svg(), golden_png)
 
 
-def test_pytest_plugin_option_and_fixture(tmp_path):
-    write(tmp_path / "test_picture.py", (
-        "from vecmsaa import golden\n"
-        "from test_golden import stand_in_render, rect_svg\n"
-        "golden.default_renderer = stand_in_render\n"
-        "def test_red(assert_golden):\n"
-        f"    assert_golden(rect_svg(fill='{RED}'), samples=4)\n"))
-    run = lambda *extra: subprocess.run(   # noqa: E731
-        [sys.executable, "-m", "pytest", "-p", "vecmsaa.testing", "-q", "-p", "no:cacheprovider",
-         str(tmp_path / "test_picture.py"), *extra],
-        cwd=tmp_path, capture_output=True, text=True,
-        env={**__import__("os").environ, "PYTHONPATH": str(Path(__file__).parent),
-             "VECMSAA_UPDATE_GOLDENS": ""})
-    first = run()
-    assert first.returncode == 1 and "does not exist" in first.stdout
-    created = run("--update-goldens")
-    assert created.returncode == 0, created.stdout
-    made = tmp_path / "goldens" / "test_picture" / "test_red.png"
-    assert made.read_bytes() == encode_png(stand_in_render(rect_svg(), samples=4))
-    assert run().returncode == 0
+def test_pytest_plugin_option_and_fixture(pytester, monkeypatch):
+    monkeypatch.delenv("VECMSAA_UPDATE_GOLDENS", raising=False)
+    monkeypatch.delenv("VECMSAA_GOLDEN_DIFF_DIR", raising=False)
+
+    def write_test(fill):
+        pytester.makepyfile(test_picture=f"def test_rect(assert_golden):\n"
+                                         f"    assert_golden({rect_svg(fill=fill)!r}, samples=4)\n")
+
+    write_test(RED)
+    pytester.runpytest("-p", "vecmsaa.testing").assert_outcomes(failed=1)   # no golden yet
+    made = pytester.path / "goldens" / "test_picture" / "test_rect.png"
+    assert not made.exists()
+    pytester.runpytest("-p", "vecmsaa.testing", "--update-goldens").assert_outcomes(passed=1)
+    assert made.read_bytes() == encode_png(render_svg_array(rect_svg(), samples=4))
+    pytester.runpytest("-p", "vecmsaa.testing").assert_outcomes(passed=1)
+    write_test(BLUE)
+    changed = pytester.runpytest("-p", "vecmsaa.testing")
+    changed.assert_outcomes(failed=1)
+    changed.stdout.fnmatch_lines(["*does not match golden*200 of 1200 pixels off*"])
+    assert (made.parent / "test_rect.diff.png").is_file()
+    assert made.read_bytes() == encode_png(render_svg_array(rect_svg(), samples=4))
 
 
 def test_parallel_runs_write_the_same_files_and_lines(tree, tmp_path, capsys):
