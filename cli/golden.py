@@ -139,12 +139,12 @@ def add_parser(subparsers) -> None:
                     "no golden or fails to render, 2 on usage or input errors.")
     _common(check)
     check.add_argument("--report", metavar="DIR",
-                       help="write DIR/<relative path>.diff.png (expected | difference | actual) "
-                            "for each failure and DIR/index.html summarising them")
+                       help="write DIR/a/b.diff.png (expected | difference | actual) "
+                            "for each failing SVG_DIR/a/b.svg and DIR/index.html summarising them")
     tol = check.add_argument_group(
         "tolerance", "A pixel is off when a channel (premultiplied, 8 bits) differs by more than "
                      "the threshold; a render matches when at most the given fraction of its "
-                     "pixels is off. Default: 48 and 0.2%%, the project's suite criterion.")
+                     "pixels is off. Default: 48 and 0.2%, the project's suite criterion.")
     tol.add_argument("--threshold", type=_threshold, help="channel difference, 0..255")
     tol.add_argument("--max-fraction", type=_fraction, metavar="FRACTION",
                      help="fraction of pixels allowed off: 0.002 or 0.2%%")
