@@ -16,7 +16,7 @@ import os
 import numpy as np
 
 from .path import compose
-from .scene import Scene
+from .scene import Group, Scene
 from .svg import SvgError
 
 MAX_PIXELS = 1 << 28
@@ -107,19 +107,41 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
     data, folder = _read_source(source)
     resources = Resources(folder, resources_dir)
     doc = load_document(data, folder, load_text=resources.fetch_text)
-    doc_w, doc_h, root_m, viewport = document_size(doc, dpi)
-    w, h = output_size(doc_w, doc_h, width, height, zoom)
-    to_device = compose((w / doc_w, 0.0, 0.0, h / doc_h, 0.0, 0.0), root_m)
     options = Options(mode=mode, samples=samples,
                       font_options={k: v for k, v in font_options.items() if v is not None})
     builder = Builder(doc, resources, options)
+    doc_w, doc_h, root_m, viewport = document_size(doc, dpi)
+    if doc_w is None:
+        doc_w, doc_h = _drawing_extent(builder, viewport)
+    if not (doc_w > 0 and doc_h > 0):
+        # SVG: a zero or negative size disables rendering; an explicit output size still
+        # gives an (empty) image of that size
+        if width is None and height is None:
+            raise SvgError("the document has a zero or negative size")
+        w, h = output_size(1.0, 1.0, width, height, zoom)
+        return Scene(w, h, Group(), _background(background))
+    w, h = output_size(doc_w, doc_h, width, height, zoom)
+    to_device = compose((w / doc_w, 0.0, 0.0, h / doc_h, 0.0, 0.0), root_m)
     try:
         nodes = builder.build_root(to_device, viewport, root_scale=math.sqrt(
             (w / doc_w) * (h / doc_h)))
     except RecursionError:
         raise SvgError("document nesting is too deep") from None
-    from .scene import Group
     return Scene(w, h, Group(children=nodes), _background(background))
+
+
+def _drawing_extent(builder, viewport):
+    """Size of a document without width, height and viewBox: the drawing's right and bottom
+    edges (strokes included), as resvg does; 100 x 100 when it draws nothing."""
+    from .svg.geometry import path_bounds, union
+
+    box = None
+    for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
+                                                           viewport))).fills():
+        box = union(box, path_bounds(f.path))
+    if box is None or box[2] <= 0 or box[3] <= 0:
+        return 100.0, 100.0
+    return box[2], box[3]
 
 
 def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,

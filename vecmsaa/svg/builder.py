@@ -26,7 +26,8 @@ from .units import (mean_scale, parse_aspect, parse_number, parse_transform, par
                     split_length, to_px, translate, viewbox_transform)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
-MARKABLE = {"path", "line", "polyline", "polygon"}
+#: SVG 2 draws markers on every basic shape
+MARKABLE = SHAPES
 CONTAINERS = {"g", "a", "switch"}
 #: elements drawn where they appear in the tree
 RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
@@ -366,6 +367,8 @@ class Builder:
                 return self.object_bbox(el, ctx, style)
             c = replace(c, context_fill=self.context_paint(style, "fill", ctx, bbox_fn),
                         context_stroke=self.context_paint(style, "stroke", ctx, bbox_fn))
+        if ctx.clip and target.tag not in SHAPES | {"text"}:
+            return []   # in a clipPath, <use> may only point at shapes and text
         if target.tag == "symbol":
             return self.symbol(target, el, c, style)
         if target.tag == "svg":
@@ -378,8 +381,6 @@ class Builder:
                 return []
             nodes = self.nested_svg(target, c, tstyle, size_override=(w, h))
             return self.wrap(target, tstyle, c, nodes)
-        if ctx.clip and target.tag not in SHAPES | {"text"}:
-            return []
         return self.element(target, c, style)
 
     def symbol(self, sym, use_el, ctx, use_style):
@@ -397,7 +398,7 @@ class Builder:
         sx, sy = sget("x", "x", 0.0), sget("y", "y", 0.0)
         vb = parse_viewbox(sym.get("viewBox"))
         m = translate(sx, sy)
-        viewport = ctx.viewport
+        viewport = (w, h)
         if vb is not None:
             if w <= 0 or h <= 0:
                 return []

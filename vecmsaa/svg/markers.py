@@ -5,10 +5,21 @@ import math
 from dataclasses import replace
 
 from ..path import compose
-from ..stroke import auto_angle
 from ..scene import Group
 from .units import (matrix_scale, parse_aspect, parse_number, parse_viewbox, translate,
                     viewbox_transform)
+
+
+def bisector(angle_in, angle_out):
+    """orient="auto" at a vertex: halfway from the incoming to the outgoing direction, turning
+    the short way; a U-turn gives the perpendicular (as resvg and Chrome draw it)."""
+    a_in = math.radians(angle_in) % (2 * math.pi)
+    a_out = math.radians(angle_out) % (2 * math.pi)
+    d = (a_out - a_in) / 2
+    angle = a_in + d
+    if abs(d) > math.pi / 2:
+        angle -= math.pi
+    return math.degrees(angle % (2 * math.pi))
 
 
 def draw_markers(builder, path, style, ctx, commands=None):
@@ -56,12 +67,12 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     orient = (marker.get("orient") or "0").strip()
     if orient == "auto":
         angle = angle_out if kind == "start" else angle_in if kind == "end" else \
-            auto_angle(angle_in, angle_out)
+            bisector(angle_in, angle_out)
     elif orient == "auto-start-reverse":
         if kind == "start":
             angle = angle_out + 180
         else:
-            angle = angle_in if kind == "end" else auto_angle(angle_in, angle_out)
+            angle = angle_in if kind == "end" else bisector(angle_in, angle_out)
     else:
         o = orient.lower()
         factor = 1.0

@@ -8,9 +8,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..path import IDENTITY, compose, rect_path
+from ..path import compose, rect_path
 from ..scene import Fill, Group, Mask
-from .units import parse_transform
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
                  "use"}
@@ -42,10 +41,8 @@ def clip_path(builder, value, ctx, bbox_fn):
     if el is None:
         return None
     style = builder.doc.document_style(el)
-    m = parse_transform(el.specified.get("transform") or el.get("transform"))
-    m = IDENTITY if m is None else m
-    a, b, c, d = m[:4]
-    if abs(a * d - b * c) < 1e-12:
+    m = builder.element_transform(el, style, ctx)
+    if m is None:
         return False
     transform = compose(ctx.transform, m)
     if (el.get("clipPathUnits") or "").strip() == "objectBoundingBox":

@@ -1,14 +1,17 @@
 """The size of an SVG document and the matrix from its user space to that size."""
 from __future__ import annotations
 
-from . import SvgError
 from .document import Document, Style
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
 
 
 def document_size(doc: Document, dpi: float = 96.0):
     """(width, height, matrix, viewport): intrinsic size in px, user space → (0, 0, w, h), and
-    the viewport size percentages of the root's children refer to."""
+    the viewport size percentages of the root's children refer to.
+
+    A zero or negative width or height comes back as is (SVG: rendering is disabled); a
+    document with neither size nor viewBox gets None for both (its drawing's extent decides).
+    """
     root = doc.root
     vb = parse_viewbox(root.get("viewBox"))
     style = Style(root.specified)
@@ -26,6 +29,8 @@ def document_size(doc: Document, dpi: float = 96.0):
             px *= dpi / 96.0
         return px
 
+    if vb is None and root.get("width") is None and root.get("height") is None:
+        return None, None, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
     width = dimension("width", vb[2] if vb else 100.0)
     height = dimension("height", vb[3] if vb else 100.0)
     if vb is not None and root.get("width") is None and root.get("height") is not None:
@@ -33,7 +38,7 @@ def document_size(doc: Document, dpi: float = 96.0):
     elif vb is not None and root.get("height") is None and root.get("width") is not None:
         height = width * vb[3] / vb[2]
     if not (width > 0 and height > 0):
-        raise SvgError("the document has no size (zero or negative width or height)")
+        return width, height, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
     if vb is not None:
         m = viewbox_transform(vb, parse_aspect(root.get("preserveAspectRatio")), width, height)
         viewport = (vb[2], vb[3])
