@@ -1,0 +1,232 @@
+"""Font faces, outlines, shaping, layout and the font database.
+
+Truth comes from outside vecmsaa's font code: table fields read with ``struct`` straight from
+the font bytes, FreeType's advances and outlines, hand-built glyphs.
+"""
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+import pytest
+
+from vecmsaa.fonts import (FontError, layout_line, line_fills, load_face, parse_features,
+                           parse_variations, shape_text)
+from vecmsaa.fonts.db import FontDatabase, best_match, parse_family_list, FaceInfo
+from vecmsaa.fonts.shape import bidi_runs
+from vecmsaa.path import CUBIC, QUAD
+
+FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
+TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
+CFF = os.path.join(FIXTURES, "NotoSans-Subset-CFF.otf")
+VAR = os.path.join(FIXTURES, "RobotoFlex-Subset.ttf")
+SUITE_FONTS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite",
+                           "fonts")
+needs_suite = pytest.mark.skipif(not os.path.isdir(SUITE_FONTS),
+                                 reason="../shared/resvg-suite/fonts not present")
+
+
+def read_table(path, tag):
+    """Raw bytes of one sfnt table, found through the table directory by hand."""
+    data = open(path, "rb").read()
+    num_tables = struct.unpack(">H", data[4:6])[0]
+    for i in range(num_tables):
+        rec = data[12 + 16 * i: 28 + 16 * i]
+        if rec[:4] == tag.encode():
+            offset, length = struct.unpack(">II", rec[8:16])
+            return data[offset:offset + length]
+    raise KeyError(tag)
+
+
+def freetype_face(path, size=None):
+    freetype = pytest.importorskip("freetype")
+    face = freetype.Face(path)
+    if size:
+        face.set_char_size(int(size * 64), 0, 72, 72)
+    return face
+
+
+@pytest.mark.parametrize("path", [TTF, CFF])
+def test_metrics_match_the_tables(path):
+    face = load_face(path)
+    units_per_em = struct.unpack(">H", read_table(path, "head")[18:20])[0]
+    ascent, descent, gap = struct.unpack(">hhh", read_table(path, "hhea")[4:10])
+    assert face.units_per_em == units_per_em
+    assert (face.metrics.ascender, face.metrics.descender, face.metrics.line_gap) == (
+        ascent, descent, gap)
+    os2 = read_table(path, "OS/2")
+    assert face.weight == struct.unpack(">H", os2[4:6])[0]
+
+
+@pytest.mark.parametrize("path,kind", [(TTF, QUAD), (CFF, CUBIC)])
+def test_outline_points_match_freetype(path, kind):
+    """Every on-curve point FreeType loads (unscaled) is an endpoint of our outline."""
+    freetype = pytest.importorskip("freetype")
+    face = load_face(path)
+    ft = freetype_face(path)
+    for ch in "Bag&8":
+        gid = face.glyph_for_char(ch)
+        verbs, points = face.outline(gid)
+        assert kind in verbs
+        ft.load_glyph(gid, freetype.FT_LOAD_NO_SCALE | freetype.FT_LOAD_NO_HINTING)
+        outline = ft.glyph.outline
+        on_curve = {tuple(p) for p, tag in zip(outline.points, outline.tags) if tag & 1}
+        ours = {(round(x), round(y)) for x, y in points}
+        assert on_curve <= ours, ch
+        xs, ys = zip(*outline.points)
+        assert (points[:, 0].min(), points[:, 0].max()) == (min(xs), max(xs))
+        assert (points[:, 1].min(), points[:, 1].max()) == (min(ys), max(ys))
+
+
+def test_outlines_are_cached_per_glyph_and_location():
+    face = load_face(VAR)
+    gid = face.glyph_for_char("H")
+    assert face.outline(gid) is face.outline(gid)
+    heavy = face.clamp_location({"wght": 900})
+    assert face.outline(gid, heavy) is face.outline(gid, heavy)
+    assert face.outline(gid, heavy)[1].shape == face.outline(gid)[1].shape
+
+
+def test_variable_location_matches_freetype():
+    """Outline bounds at wght=900, wdth=60 agree with FreeType's variation engine."""
+    freetype = pytest.importorskip("freetype")
+    face = load_face(VAR)
+    loc = face.clamp_location({"wght": 900, "wdth": 60})
+    ft = freetype_face(VAR)
+    axes = [a.tag for a in ft.get_variation_info().axes]
+    ft.set_var_design_coords([dict(loc)[t] for t in axes])
+    for ch in "AHOe":
+        gid = face.glyph_for_char(ch)
+        ft.load_glyph(gid, freetype.FT_LOAD_NO_SCALE | freetype.FT_LOAD_NO_HINTING)
+        pts = np.array(ft.glyph.outline.points, dtype=float)
+        ours = face.outline(gid, loc)[1]
+        assert np.allclose(ours.min(axis=0), pts.min(axis=0), atol=1.0)
+        assert np.allclose(ours.max(axis=0), pts.max(axis=0), atol=1.0)
+        # and it really moved away from the default master
+        assert not np.allclose(face.outline(gid)[1].max(axis=0), ours.max(axis=0), atol=1.0)
+
+
+def test_unshaped_advances_match_freetype():
+    """With kerning off, a line's width is the sum of FreeType's linear advances."""
+    freetype = pytest.importorskip("freetype")
+    ft = freetype_face(TTF, 40)
+    text = "Hamburgefonstiv"
+    expected = 0.0
+    for ch in text:
+        ft.load_char(ch, freetype.FT_LOAD_NO_HINTING)
+        expected += ft.glyph.linearHoriAdvance / 65536.0
+    line = layout_line(load_face(TTF), text, 40, features="kern=0")
+    # linearHoriAdvance is 16.16 fixed point: 1/65536 px per glyph.
+    assert line.advance == pytest.approx(expected, abs=len(text) / 65536 * 40)
+
+
+def test_kerning_tightens_av_and_can_be_switched_off():
+    face = load_face(TTF)
+    kerned = layout_line(face, "AVAV", 100).advance
+    plain = layout_line(face, "AVAV", 100, features={"kern": 0}).advance
+    assert kerned < plain
+
+
+def test_feature_changes_glyphs():
+    face = load_face(TTF)
+    plain = shape_text(face, "abc")[0].gids
+    small_caps = shape_text(face, "abc", features="smcp")[0].gids
+    assert not np.array_equal(plain, small_caps)
+
+
+def test_combining_mark_composes_to_precomposed_glyph():
+    face = load_face(TTF)
+    assert list(shape_text(face, "e\u0301")[0].gids) == [face.glyph_for_char("é")]
+
+
+def test_parse_options():
+    assert parse_features("liga=0,ss01,-kern,+smcp") == {
+        "liga": 0, "ss01": 1, "kern": 0, "smcp": 1}
+    assert parse_variations("wght=700, wdth=80") == {"wght": 700.0, "wdth": 80.0}
+    with pytest.raises(ValueError):
+        parse_variations("wght")
+    assert parse_family_list("'Noto Sans', serif,  \"A  B\"") == ["Noto Sans", "serif", "A B"]
+
+
+def test_bidi_runs_split_and_order():
+    text = "abc \u05d0\u05d1\u05d2 def"
+    assert bidi_runs(text) == [(0, 4, "ltr"), (4, 7, "rtl"), (7, 11, "ltr")]
+    assert bidi_runs("\u05d0\u05d1 abc", "rtl") == [(0, 3, "rtl"), (3, 6, "ltr")]
+
+
+@needs_suite
+def test_rtl_run_is_reversed_and_ligated():
+    face = load_face(os.path.join(SUITE_FONTS, "Amiri-Regular.ttf"))
+    runs = shape_text(face, "abc \u0644\u0627 def")
+    assert [r.direction for r in runs] == ["ltr", "rtl", "ltr"]
+    rtl = runs[1]
+    # Visual order inside an RTL run: clusters decrease left to right.
+    assert list(rtl.clusters) == sorted(rtl.clusters, reverse=True)
+    # Joining: a lam before alef takes a different (initial/ligature) form than alone.
+    alone = shape_text(face, "\u0644")[0].gids[0]
+    lam = rtl.gids[list(rtl.clusters).index(4)]
+    assert lam != alone
+
+
+def test_line_fills_share_one_path_and_sit_on_the_baseline():
+    face = load_face(TTF)
+    line = layout_line(face, "Hxg", 50)
+    fills = line_fills(line, (10, 100))
+    assert len(fills) == 1
+    x0, y0, x1, y1 = fills[0].path.bounds()
+    scale = 50 / face.units_per_em
+    cap = face.outline(face.glyph_for_char("H"))[1][:, 1].max()
+    assert y0 == pytest.approx(100 - cap * scale)    # H top is the highest point
+    assert y1 > 100                                  # g descends below the baseline
+    assert x1 <= 10 + line.advance + 1
+
+
+def test_broken_font_is_a_font_error(tmp_path):
+    bad = tmp_path / "bad.ttf"
+    bad.write_bytes(b"\x00\x01\x00\x00" + b"garbage" * 10)
+    with pytest.raises(FontError):
+        load_face(bad)
+    with pytest.raises(FontError):
+        load_face(tmp_path / "missing.ttf")
+    with pytest.raises(FontError):
+        load_face(TTF, 3)
+
+
+def _info(weight=400, style="normal", stretch=100.0, name="x"):
+    return FaceInfo(name, 0, ("F",), name, weight, style, stretch, False)
+
+
+@pytest.mark.parametrize("wanted,available,expected", [
+    (400, [300, 500, 700], 500),        # 400 tries 500 first
+    (500, [300, 400, 700], 400),
+    (300, [100, 400, 700], 100),        # lighter first
+    (600, [400, 500, 800], 800),        # heavier first
+    (600, [400, 500], 500),
+    (700, [700, 900], 700),
+])
+def test_css_weight_matching(wanted, available, expected):
+    faces = [_info(w, name=str(w)) for w in available]
+    assert best_match(faces, weight=wanted).weight == expected
+
+
+def test_css_style_and_stretch_matching():
+    faces = [_info(style="normal", name="n"), _info(style="oblique", name="o"),
+             _info(style="italic", stretch=75, name="ci")]
+    assert best_match(faces, style="italic").path == "o"          # stretch 100 comes first
+    assert best_match(faces, style="italic", stretch=75).path == "ci"
+    assert best_match(faces, style="normal", stretch=87.5).path == "ci"   # narrower first
+    assert best_match(faces, style="normal", stretch=150).path == "n"
+
+
+def test_database_generic_families_and_fallback():
+    db = FontDatabase()
+    db.load_dir(FIXTURES)
+    assert db.query("sans-serif").family == "Noto Sans"       # first preferred present
+    assert db.query("'Nope', Roboto Flex").family == "Roboto Flex"
+    assert db.query("Nope") is None
+    db.set_generic("serif", "Roboto Flex")
+    assert db.query("serif").family == "Roboto Flex"
+    # Roboto Flex's subset has no 'z': fall back to a face that has it.
+    info = db.fallback_for_char("z", ["Roboto Flex"])
+    assert info is not None and info.load().has_char("z")
