@@ -74,7 +74,7 @@ def test_oversampled_reference_agrees_with_direct_freetype_at_large_size(kind):
         assert (direct.left, direct.top) == (fine.left, fine.top)
         assert direct.coverage.shape == fine.coverage.shape
         # Same grid, same glyph: only curve pixels differ, by FreeType's chord error.
-        assert np.abs(direct.coverage - fine.coverage).max() < 0.1
+        assert np.abs(direct.coverage - fine.coverage).max() < 0.2
         assert direct.ink == pytest.approx(fine.ink, rel=0.01)
 
 
