@@ -286,17 +286,29 @@ def add_font_arguments(parser):
 
 
 _DB_CACHE = {}
+OPTION_NAMES = ("use_font_file", "use_fonts_dir", "skip_system_fonts", "font_family") + tuple(
+    f"{g.replace('-', '_')}_family" for g in GENERIC_FAMILIES)
 
 
 def database_from_args(args) -> FontDatabase:
-    """A FontDatabase configured from :func:`add_font_arguments` options (cached per options).
-    """
-    files = tuple(getattr(args, "use_font_file", None) or ())
-    dirs = tuple(getattr(args, "use_fonts_dir", None) or ())
-    skip = bool(getattr(args, "skip_system_fonts", False))
-    generics = tuple((g, getattr(args, f"{g.replace('-', '_')}_family", None))
+    """A FontDatabase configured from :func:`add_font_arguments` options (cached)."""
+    return database_from_options({k: getattr(args, k, None) for k in OPTION_NAMES})
+
+
+def database_from_options(options: dict) -> FontDatabase:
+    """A FontDatabase from a dict of the option names (``use_fonts_dir`` may be one folder or
+    a list, ``serif_family`` etc. one family each); cached per distinct options."""
+    def as_tuple(v):
+        if not v:
+            return ()
+        return (v,) if isinstance(v, (str, bytes)) or hasattr(v, "__fspath__") else tuple(v)
+
+    files = as_tuple(options.get("use_font_file"))
+    dirs = as_tuple(options.get("use_fonts_dir"))
+    skip = bool(options.get("skip_system_fonts"))
+    generics = tuple((g, options.get(f"{g.replace('-', '_')}_family"))
                      for g in GENERIC_FAMILIES)
-    family = getattr(args, "font_family", None)
+    family = options.get("font_family")
     key = (files, dirs, skip, generics, family)
     db = _DB_CACHE.get(key)
     if db is None:
@@ -318,6 +330,4 @@ def database_from_args(args) -> FontDatabase:
 
 def default_database() -> FontDatabase:
     """System fonts with default generic mappings."""
-    class _NoArgs:
-        pass
-    return database_from_args(_NoArgs())
+    return database_from_options({})
