@@ -30,7 +30,7 @@ from ..fonts import FontError
 from ..fonts.db import FontDatabase, database_from_options, parse_family_list
 from ..fonts.layout import glyphs_arrays
 from ..fonts.shape import bidi_runs, shape_run, visual_order
-from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, rect_path
+from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, compose, rect_path
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
 WEIGHTS = {"normal": 400, "bold": 700}
@@ -471,85 +471,101 @@ def glyph_matrix(x, y, scale, rotate=0.0, sx=1.0):
 
 
 # -- textPath ---------------------------------------------------------------------------------
-class PathWalker:
-    """Arc-length parametrised polyline of a path (curves flattened finely)."""
+# Gauss–Legendre nodes and weights on [-1, 1] for arc lengths of cubic segments.
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(24)
 
-    def __init__(self, path: Path, steps=32):
-        pts, starts = [], []
+
+class PathWalker:
+    """Points and tangents of a path at arc lengths, located the way resvg does.
+
+    resvg turns every segment into a cubic (a line becomes a cubic with its inner control
+    points at 0.33 and 0.66) and finds the parameter for an arc length with kurbo's ITP root
+    finder stopped at a fixed accuracy (0.5 user units over the text's scale). That tolerance
+    moves glyphs by up to a third of a pixel, visibly, so the same search is done here.
+    """
+
+    def __init__(self, path: Path, scale: float = 1.0):
+        self.accuracy = 0.5 / max(scale, 1.0)
+        self.cubics = []
         v, p = path.verbs, path.points
         i = 0
         cur = start = None
-        poly = []
-
-        def flush():
-            if len(poly) > 1:
-                pts.append(np.array(poly))
         for verb in v:
             k = VERB_POINTS[verb]
             q = p[i:i + k]
             i += k
             if verb == MOVE:
-                flush()
-                poly = [tuple(q[0])]
                 cur = start = q[0]
-            elif verb == LINE:
-                poly.append(tuple(q[0]))
-                cur = q[0]
-            elif verb in (QUAD, CUBIC):
-                ctrl = np.vstack([cur, q])
-                t = np.linspace(0, 1, steps + 1)[1:, None]
-                n = len(ctrl) - 1
-                from math import comb
-                b = sum(comb(n, j) * (1 - t) ** (n - j) * t ** j * ctrl[j] for j in range(n + 1))
-                poly.extend(map(tuple, b))
-                cur = q[-1]
-            elif verb == CLOSE:
-                if start is not None:
-                    poly.append(tuple(start))
-                    cur = start
-        flush()
-        # Subpaths are joined: resvg walks the whole path, moving over the gaps.
-        segs = []
-        for arr in pts:
-            segs.append(arr)
-        if segs:
-            allp = np.concatenate(segs)
-            d = np.hypot(*np.diff(allp, axis=0).T)
-            # a jump between subpaths does not count as length
-            jumps = np.cumsum([len(s) for s in segs])[:-1] - 1
-            d[jumps] = 0.0
-            self.points = allp
-            self.cum = np.concatenate([[0.0], np.cumsum(d)])
-        else:
-            self.points = np.zeros((0, 2))
-            self.cum = np.zeros(0)
-        self.length = float(self.cum[-1]) if len(self.cum) else 0.0
+                continue
+            if verb == LINE or (verb == CLOSE and start is not None):
+                end = q[0] if verb == LINE else start
+                c = np.array([cur, cur + (end - cur) * 0.33, cur + (end - cur) * 0.66, end])
+            elif verb == QUAD:
+                c = np.array([cur, cur + 2 / 3 * (q[0] - cur), q[1] + 2 / 3 * (q[0] - q[1]),
+                              q[1]])
+            elif verb == CUBIC:
+                c = np.array([cur, q[0], q[1], q[2]])
+            else:
+                continue
+            self.cubics.append(c)
+            cur = c[3]
+        self.lengths = [self._arclen(c, 1.0) for c in self.cubics]
+        self.length = float(sum(self.lengths))
+
+    @staticmethod
+    def _deriv(c, t):
+        t = np.asarray(t)[..., None]
+        return 3 * ((1 - t) ** 2 * (c[1] - c[0]) + 2 * t * (1 - t) * (c[2] - c[1])
+                    + t ** 2 * (c[3] - c[2]))
+
+    def _arclen(self, c, t1):
+        u = (_GL_X + 1) / 2 * t1
+        return float(np.sum(_GL_W * np.hypot(*self._deriv(c, u).T)) * t1 / 2)
+
+    def _inv_arclen(self, c, total, arc):
+        """kurbo's ParamCurveArclen::inv_arclen: ITP search to ``accuracy``."""
+        if arc <= 0:
+            return 0.0
+        if arc >= total:
+            return 1.0
+        eps = self.accuracy / total
+        a, b = 0.0, 1.0
+        ya, yb = -arc, total - arc
+        n_half = max(math.ceil(math.log2((b - a) / eps)) - 1, 0)
+        scaled = eps * float(1 << (1 + n_half))
+        k1 = 0.2
+        while b - a > 2 * eps:
+            mid = 0.5 * (a + b)
+            r = scaled - 0.5 * (b - a)
+            xf = (yb * a - ya * b) / (yb - ya)
+            sigma = mid - xf
+            delta = k1 * (b - a) ** 2
+            xt = xf + math.copysign(delta, sigma) if delta <= abs(mid - xf) else mid
+            x = xt if abs(xt - mid) <= r else mid - math.copysign(r, sigma)
+            y = self._arclen(c, x) - arc
+            if y > 0:
+                b, yb = x, y
+            elif y < 0:
+                a, ya = x, y
+            else:
+                return x
+            scaled *= 0.5
+        return 0.5 * (a + b)
 
     def at(self, s):
-        """(x, y, angle in degrees) at arc length s, or None outside [0, length]."""
-        if len(self.cum) < 2 or s < 0 or s > self.length + 1e-9:
+        """(x, y, tangent angle in degrees) at arc length s, or None off the path."""
+        if s < 0:
             return None
-        k = int(np.searchsorted(self.cum, s, side="right")) - 1
-        k = min(max(k, 0), len(self.cum) - 2)
-        while k < len(self.cum) - 2 and self.cum[k + 1] - self.cum[k] <= 0:
-            k += 1
-        seg = self.cum[k + 1] - self.cum[k]
-        t = (s - self.cum[k]) / seg if seg > 0 else 0.0
-        p0, p1 = self.points[k], self.points[k + 1]
-        pt = p0 + (p1 - p0) * t
-        ang = math.degrees(math.atan2(p1[1] - p0[1], p1[0] - p0[0]))
-        return float(pt[0]), float(pt[1]), ang
-
-
-def reversed_path(path: Path) -> Path:
-    """The same outline walked backwards (textPath side="right")."""
-    walker_pts = PathWalker(path).points[::-1]
-    out = Path()
-    if len(walker_pts):
-        out.moveTo(tuple(walker_pts[0]))
-        for q in walker_pts[1:]:
-            out.lineTo(tuple(q))
-    return out
+        length = 0.0
+        for c, L in zip(self.cubics, self.lengths):
+            if length <= s <= length + L:
+                t = min(max(self._inv_arclen(c, L, s - length), 0.0), 1.0)
+                u = 1 - t
+                pt = u ** 3 * c[0] + 3 * u * u * t * c[1] + 3 * u * t * t * c[2] + t ** 3 * c[3]
+                d = self._deriv(c, t)
+                return float(pt[0]), float(pt[1]), math.degrees(math.atan2(d[1], d[0]))
+            length += L
+        return None
 
 
 # -- the entry point ----------------------------------------------------------------------------
@@ -591,13 +607,14 @@ def build_text(element, ctx):
     pen_x = pen_y = 0.0
     for a, b in zip(bounds[:-1], bounds[1:]):
         first = chars[a]
-        if first.text_path is not None and first.text_path is not (
-                chars[a - 1].text_path if a else None):
-            pen_x, pen_y = 0.0, 0.0
-        if first.x is not None:
-            pen_x = first.x
-        if first.y is not None:
-            pen_y = first.y
+        if first.text_path is not None:
+            # On a path, x is an offset along it and y is ignored (as in resvg).
+            pen_x, pen_y = first.x or 0.0, 0.0
+        else:
+            if first.x is not None:
+                pen_x = first.x
+            if first.y is not None:
+                pen_y = first.y
         glyphs = shape_chunk(chars, faces, specs, a, b, direction)
         pen_x, pen_y = place_chunk(glyphs, chars, specs, styles, a, b, pen_x, pen_y,
                                    vertical, direction, ctx)
@@ -759,9 +776,8 @@ def place_on_path(tp, glyphs, chars, ctx, styles):
         for g in glyphs:
             g.hidden = True
         return
-    if (tp.get("side") or "left").strip() == "right":
-        path = reversed_path(path)
-    walker = PathWalker(path)
+    a, b, c, d = ctx.transform[:4]
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(c, d)))
     style = styles.get(id(tp), ctx.style)
     offset = 0.0
     so = tp.get("startOffset")
@@ -782,14 +798,22 @@ def place_on_path(tp, glyphs, chars, ctx, styles):
             g.hidden = True
             continue
         px, py, ang = at
-        ang += g.rotate
-        # g.y carries dy and baseline shifts: offset perpendicular to the path
-        c, s = math.cos(math.radians(ang)), math.sin(math.radians(ang))
-        ox = -adv / 2 + g.off_x
-        oy = g.y - g.off_y
-        gx = px + c * ox - s * oy
-        gy = py + s * ox + c * oy
-        g.matrix = glyph_matrix(gx, gy, g.scale, ang, g.sx)
+        hw = adv / 2
+        # Rotated about the glyph's midpoint on the path, then shifted off the path (dy,
+        # baselines) and turned by its own rotate value about its origin.
+        m = compose(_translate(px - hw, py), _rotate_at(ang, hw, 0.0))
+        m = compose(m, _translate(0.0, g.y))
+        m = compose(m, _rotate_at(g.rotate, 0.0, 0.0))
+        g.matrix = compose(m, (g.scale * g.sx, 0.0, 0.0, -g.scale, g.off_x, -g.off_y))
+
+
+def _translate(x, y):
+    return (1.0, 0.0, 0.0, 1.0, x, y)
+
+
+def _rotate_at(deg, cx, cy):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return (c, s, -s, c, cx - c * cx + s * cy, cy - s * cx - c * cy)
 
 
 # -- 7. drawing -------------------------------------------------------------------------------
