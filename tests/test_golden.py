@@ -419,9 +419,13 @@ def test_pytest_plugin_option_and_fixture(pytester, monkeypatch):
     pytester.runpytest("-p", "vecmsaa.testing").assert_outcomes(failed=1)   # no golden yet
     made = pytester.path / "goldens" / "test_picture" / "test_rect.png"
     assert not made.exists()
-    pytester.runpytest("-p", "vecmsaa.testing", "--update-goldens").assert_outcomes(passed=1)
+    updating = pytester.runpytest("-p", "vecmsaa.testing", "--update-goldens")
+    updating.assert_outcomes(passed=1)
+    updating.stdout.fnmatch_lines(["vecmsaa: updating golden images instead of comparing*"])
     assert made.read_bytes() == encode_png(render_svg_array(rect_svg(), samples=4))
-    pytester.runpytest("-p", "vecmsaa.testing").assert_outcomes(passed=1)
+    checking = pytester.runpytest("-p", "vecmsaa.testing")
+    checking.assert_outcomes(passed=1)
+    assert "updating golden images" not in checking.stdout.str()
     write_test(BLUE)
     changed = pytester.runpytest("-p", "vecmsaa.testing")
     changed.assert_outcomes(failed=1)

@@ -109,6 +109,14 @@ def pytest_configure(config) -> None:
     _update_requested_by_option = bool(config.getoption("update_goldens", False))
 
 
+def pytest_report_header(config):
+    # Regenerating is easy to leave switched on by accident (an exported variable): say so.
+    if updating_goldens():
+        return (f"vecmsaa: updating golden images instead of comparing "
+                f"(--update-goldens or {UPDATE_ENV})")
+    return None
+
+
 def pytest_unconfigure(config) -> None:
     global _update_requested_by_option
     _update_requested_by_option = False
