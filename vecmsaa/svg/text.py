@@ -370,6 +370,9 @@ class Glyph:
     path_anchor: float = 0.0  # textPath: text-anchor shift along the path
     sx: float = 1.0           # lengthAdjust=spacingAndGlyphs horizontal scale
     spacing: float = 0.0      # letter/word spacing added after this cluster
+    size: float = 0.0         # font size in user units
+    frame: tuple = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)   # cluster frame: origin and direction
+    shifted: bool = False     # moved by dx/dy/rotate or on a path (breaks decorations)
 
 
 def shape_chunk(chars, faces, specs, start, end, direction):
@@ -403,7 +406,8 @@ def shape_chunk(chars, faces, specs, start, end, direction):
             for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
                 glyphs.append(Glyph(face, loc, int(gid), int(cl), float(adv[0]) * scale,
                                     off_x=float(off[0]) * scale, off_y=float(off[1]) * scale,
-                                    scale=scale, cluster_start=int(cl) != prev))
+                                    scale=scale, cluster_start=int(cl) != prev,
+                                    size=spec.size))
                 prev = int(cl)
     return glyphs
 
@@ -462,12 +466,6 @@ def _os2(face, name, default):
         if v:
             return abs(v)
     return default
-
-
-def glyph_matrix(x, y, scale, rotate=0.0, sx=1.0):
-    """Font units (y up) → user units (y down) at (x, y), rotated by ``rotate`` degrees."""
-    c, s = math.cos(math.radians(rotate)), math.sin(math.radians(rotate))
-    return (scale * sx * c, scale * sx * s, scale * s, -scale * c, x, y)
 
 
 # -- textPath ---------------------------------------------------------------------------------
@@ -616,6 +614,8 @@ def build_text(element, ctx):
             if first.y is not None:
                 pen_y = first.y
         glyphs = shape_chunk(chars, faces, specs, a, b, direction)
+        if glyphs:
+            glyphs[0].shifted = True     # a chunk starts a new decoration line
         pen_x, pen_y = place_chunk(glyphs, chars, specs, styles, a, b, pen_x, pen_y,
                                    vertical, direction, ctx)
         placed.append((a, b, glyphs))
@@ -629,7 +629,9 @@ def build_text(element, ctx):
     for _, _, glyphs in placed:
         for g in glyphs:
             if g.matrix is None:
-                g.matrix = glyph_matrix(g.x + g.off_x, g.y - g.off_y, g.scale, g.rotate, g.sx)
+                g.frame = compose(_translate(g.x, g.y), _rotate_at(g.rotate, 0.0, 0.0))
+                g.matrix = compose(g.frame, (g.scale * g.sx, 0.0, 0.0, -g.scale, g.off_x,
+                                             -g.off_y))
     return draw_glyphs(element, chars, placed, ctx, styles, vertical)
 
 
@@ -645,6 +647,7 @@ def place_chunk(glyphs, chars, specs, styles, a, b, pen_x, pen_y, vertical, dire
             done_dxdy.add(g.char)
             x += c.dx
             y += c.dy
+            g.shifted = g.shifted or bool(c.dx or c.dy or c.rotate)
         style = styles[id(c.el)]
         shift = baseline_offset(style, g.face, spec, ctx.style)
         if vertical:
@@ -804,6 +807,8 @@ def place_on_path(tp, glyphs, chars, ctx, styles):
         m = compose(_translate(px - hw, py), _rotate_at(ang, hw, 0.0))
         m = compose(m, _translate(0.0, g.y))
         m = compose(m, _rotate_at(g.rotate, 0.0, 0.0))
+        g.frame = m
+        g.shifted = True
         g.matrix = compose(m, (g.scale * g.sx, 0.0, 0.0, -g.scale, g.off_x, -g.off_y))
 
 
@@ -912,51 +917,72 @@ def _wrap_tree(el, nodes_by_el, ctx, styles, top=False):
 
 
 def text_decorations(text_el, chars, glyphs, styles, vertical):
-    """{kind: [(style of the decorating element, user-space path)]}: one rectangle per glyph
-    advance, in the glyph's own frame so rotated glyphs and textPath get bent decorations."""
-    out = {}
-    elements = []
+    """{kind: [(style of the declaring element, user-space path)]}.
 
-    def walk(el):
-        elements.append(el)
-        for c in el.children:
-            if c.tag in TEXT_CONTENT and id(c) in styles:
-                walk(c)
-    walk(text_el)
-    for el in elements:
-        value = (el.specified.get("text-decoration") or "").strip()
-        if not value or value == "none":
+    As in resvg: a text span (characters of one innermost element) is decorated by every
+    kind declared on it or an ancestor, painted with the declaring element's fill and stroke,
+    sized by the span's own font (rectangle centred on the underline, ascender or strike-out
+    line, underline thickness); the line runs over consecutive clusters and restarts at each
+    cluster moved by dx/dy/rotate or placed on a path.
+    """
+    out = {}
+    clusters = [g for g in glyphs if g.cluster_start]
+    # Declared outside <text> (on a <g>), a decoration is painted with the text's own style.
+    outer = {}
+    for anc in text_el.ancestors():
+        value = (anc.specified.get("text-decoration") or "").split()
+        for kind in ("underline", "overline", "line-through"):
+            if kind in value:
+                outer.setdefault(kind, text_el)
+    span_kinds = {}
+    for g in clusters:
+        el = chars[g.char].el
+        if id(el) in span_kinds:
             continue
-        kinds = [k for k in ("underline", "overline", "line-through") if k in value.split()]
-        gl = [g for g in glyphs if g.cluster_start
-              and any(e is el for e in chars[g.char].chain)]
-        if not gl:
-            continue
-        style = styles[id(el)]
-        # metrics of the decorating element's own font
-        face, size = gl[0].face, style.font_size()
-        m = face.metrics
-        upem = face.units_per_em
-        for kind in kinds:
-            if kind == "underline":
-                pos, thick = m.underline_position, m.underline_thickness
-                top = pos + thick / 2
-            elif kind == "overline":
-                thick = m.underline_thickness
-                top = m.ascender
+        kinds = {}
+        for anc in reversed(chars[g.char].chain):
+            value = (anc.specified.get("text-decoration") or "").split()
+            for kind in ("underline", "overline", "line-through"):
+                if kind in value and kind not in kinds:
+                    kinds[kind] = anc
+        for kind, decl in outer.items():
+            kinds.setdefault(kind, decl)
+        span_kinds[id(el)] = kinds
+    for kind in ("underline", "overline", "line-through"):
+        by_decl = {}
+        run = None       # [frame, width, g0, declaring element]
+        runs = []
+        prev_el = None
+        for g in clusters:
+            el = chars[g.char].el
+            decl = span_kinds[id(el)].get(kind)
+            adv = _cluster_advance(g, glyphs, chars)
+            if decl is None:
+                run = None
+            elif run is None or g.shifted or el is not prev_el:
+                run = [g.frame, adv, g, decl]
+                runs.append(run)
             else:
-                pos, thick = m.strikeout_position, m.strikeout_thickness
-                top = pos + thick
-            s = size / upem
-            path = Path()
-            for g in gl:
-                adv = _cluster_advance(g, glyphs, chars)
-                # the glyph's frame without its scale: origin, baseline direction
-                a, b, c, d, e, f = g.matrix
-                cos, sin = -d / g.scale, c / g.scale
-                rect = rect_path(0.0, -top * s, adv * g.sx, thick * s)
-                path.extend(rect.transformed((cos, sin, -sin, cos, e, f)))
-            out.setdefault(kind, []).append((style, path))
+                run[1] += adv
+            prev_el = el
+        for frame, width, g0, decl in runs:
+            face = g0.face
+            m = face.metrics
+            scale = g0.size / face.units_per_em
+            if kind == "underline":
+                dy = -m.underline_position * scale
+            elif kind == "overline":
+                dy = -m.ascender * scale
+            else:
+                dy = -m.strikeout_position * scale
+            thick = m.underline_thickness * scale
+            if vertical:
+                dy = {"underline": (m.ascender - m.descender) * scale / 2,
+                      "overline": -(m.ascender - m.descender) * scale / 2}.get(kind, 0.0)
+            rect = rect_path(0.0, dy - thick / 2, width, thick).transformed(frame)
+            entry = by_decl.setdefault(id(decl), (styles[id(decl)], Path()))
+            entry[1].extend(rect)
+        out[kind] = list(by_decl.values())
     return out
 
 
@@ -969,4 +995,4 @@ def _cluster_advance(g, glyphs, chars):
         if h.cluster_start or h.char != g.char:
             break
         adv += h.advance
-    return adv + g.spacing
+    return adv * g.sx + g.spacing
