@@ -57,7 +57,7 @@ class Char:
 
 
 def _space_preserved(el, inherited):
-    v = el.get("space")
+    v = el.get("xml:space", el.get("space"))
     if v == "preserve":
         return True
     if v == "default":
@@ -259,13 +259,30 @@ def _quoted_settings(text, default_value):
     return out
 
 
-def font_spec(style, ctx) -> FontSpec:
+def font_spec(style, ctx, chain=()) -> FontSpec:
+    """Font settings of a text content element; ``chain`` is it and its ancestors, innermost
+    last (the SVG 1.1 ``kerning`` attribute is looked up along it)."""
     families = parse_family_list(style.get("font-family") or "serif")
     features = {}
     for tag, value in _quoted_settings(style.get("font-feature-settings"), 1):
         features[tag] = int(value)
-    if (style.get("font-kerning") or "auto").strip() == "none":
-        features["kern"] = 0
+    # resvg honours SVG 1.1 kerning="0", and font-kerning only from CSS (it is not a
+    # presentation attribute there).
+    for el in reversed(chain):
+        value = el.specified.get("font-kerning")
+        if value is None:
+            continue
+        from_attribute = el.get("font-kerning") is not None and "font-kerning" not in (
+            el.get("style") or "")
+        if not from_attribute and value.strip() == "none":
+            features["kern"] = 0
+        break
+    for el in reversed(chain):
+        kerning = el.get("kerning")
+        if kerning is not None:
+            if kerning.strip() in ("0", "0px"):
+                features["kern"] = 0
+            break
     variant = (style.get("font-variant") or "normal").strip()
     caps = (style.get("font-variant-caps") or "normal").strip()
     small_caps = variant == "small-caps" or caps == "small-caps"
@@ -433,7 +450,8 @@ def baseline_offset(style, face, spec, root_style):
     # baseline-shift accumulates over the ancestors that set it
     s = style
     total = 0.0
-    while s is not None:
+    # baseline-shift of the text content elements; on <text> itself it is ignored (resvg)
+    while s is not None and s is not root_style:
         v = (s.specified.get("baseline-shift") or "").strip()
         if v and v not in ("baseline", "inherit"):
             fs = s.font_size()
@@ -453,8 +471,6 @@ def baseline_offset(style, face, spec, root_style):
                 parsed = split_length(v)
                 if parsed is not None:
                     total += to_px(parsed[0], parsed[1], fs)
-        if s is root_style:
-            break
         s = s.parent
     return shift - total
 
@@ -581,7 +597,8 @@ def build_text(element, ctx):
     for c in chars:
         s = spec_cache.get(id(c.el))
         if s is None:
-            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx)
+            chain = tuple(reversed(list(element.ancestors()))) + c.chain
+            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, chain)
         specs.append(s)
     faces = assign_faces(chars, specs, db)
     if all(f is None for f in faces):
