@@ -6,9 +6,9 @@ golden or fails to render, 2 on usage or input errors (missing directory, unread
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
-RENDER_OPTIONS = ("width", "height", "zoom", "mode", "samples", "background")
 
 
 def _positive_int(text: str) -> int:
@@ -38,6 +38,12 @@ def _color(text: str) -> str:
     if not isinstance(parse_color(text), tuple):
         raise argparse.ArgumentTypeError(f"not a CSS colour: {text!r}")
     return text
+
+
+def _size(text: str):
+    """A positive number of pixels; whole numbers stay int so the manifest reads 300, not 300.0."""
+    value = _positive_float(text)
+    return int(value) if value.is_integer() else value
 
 
 def _samples(text: str) -> int:
@@ -123,14 +129,26 @@ def add_parser(subparsers) -> None:
                     "the render options in GOLDEN_DIR/vecmsaa-golden.json. Without any render "
                     "option, the options already recorded there are kept (defaults if none).")
     _common(update)
-    render = update.add_argument_group("render options (recorded for 'check')")
-    render.add_argument("-w", "--width", type=_positive_int, help="output width in pixels")
-    render.add_argument("-h", "--height", type=_positive_int, help="output height in pixels")
-    render.add_argument("--zoom", type=_positive_float, help="scale factor")
+    from vecmsaa.cli.render import FONT_FLAGS
+
+    render = update.add_argument_group(
+        "render options", "Recorded in the manifest and used by 'check'; folders are recorded "
+                          "relative to GOLDEN_DIR.")
+    render.add_argument("-w", "--width", type=_size, help="output width in pixels")
+    render.add_argument("-h", "--height", type=_size, help="output height in pixels")
+    render.add_argument("-z", "--zoom", type=_positive_float, help="scale factor")
+    render.add_argument("--dpi", type=_positive_float, help="resolution for mm, in, pt (96)")
     render.add_argument("--mode", choices=MODES, help="antialiasing mode (default approx)")
     render.add_argument("--samples", type=_samples, help="samples per pixel (default 8)")
     render.add_argument("--background", type=_color, metavar="COLOR",
                         help="CSS background colour (default: transparent)")
+    render.add_argument("--resources-dir", metavar="DIR",
+                        help="extra folder images and CSS may be loaded from")
+    for flag, dest, metavar, text in FONT_FLAGS:
+        render.add_argument(flag, dest=dest, metavar=metavar, help=text)
+    render.add_argument("--skip-system-fonts", action="store_true", default=None,
+                        help="use only fonts from --use-fonts-dir (goldens that do not depend "
+                             "on the machine's fonts)")
 
     check = actions.add_parser(
         "check", add_help=False, help="render again and compare with the goldens",
@@ -170,8 +188,12 @@ def run(args) -> int:
 
 
 def _update(args, golden) -> int:
-    given = {name: getattr(args, name) for name in RENDER_OPTIONS
-             if getattr(args, name) is not None}
+    given = {name: getattr(args, name) for name in golden.DEFAULT_RENDER_OPTIONS
+             if getattr(args, name, None) is not None}
+    for name in golden.PATH_OPTIONS:
+        if name in given and not os.path.isdir(given[name]):
+            raise golden.GoldenError(f"--{name.replace('_', '-')} {given[name]}: "
+                                     "not a directory")
     if given:
         options = golden.render_options(**given)
     else:
@@ -189,6 +211,8 @@ def _update(args, golden) -> int:
 
 
 def _check(args, golden) -> int:
+    from vecmsaa import __version__
+
     if args.tolerance and (args.threshold is not None or args.max_fraction is not None):
         print("vecmsaa golden check: error: --tolerance replaces --threshold and "
               "--max-fraction; give one or the other", file=sys.stderr)
@@ -198,6 +222,9 @@ def _check(args, golden) -> int:
         golden.THRESHOLD if threshold is None else threshold,
         golden.MAX_FRACTION if max_fraction is None else max_fraction)
     plan = golden.plan_check(args.svg_dir, args.goldens)
+    if plan.recorded_version and plan.recorded_version != __version__:
+        print(f"note: goldens made with vecmsaa {plan.recorded_version}, checking with "
+              f"{__version__}", file=sys.stderr)
     for orphan in plan.orphans:
         print(f"note: golden {orphan} has no SVG any more", file=sys.stderr)
     report = golden.ReportWriter(args.report, tolerance) if args.report else None

@@ -74,9 +74,12 @@ def test_update_writes_one_png_per_svg_and_records_the_options(tree, capsys):
     expected = render_svg_array(svgs / "plain.svg", width=80, samples=16, background="#ffffff")
     assert np.array_equal(golden.read_png_rgba(goldens / "plain.png"), expected)
     manifest = json.loads((goldens / golden.MANIFEST_NAME).read_text())
-    assert manifest["render_options"] == {"width": 80, "height": None, "zoom": None,
-                                          "mode": "approx", "samples": 16,
-                                          "background": "#ffffff"}
+    assert manifest["render_options"] == {
+        "width": 80, "height": None, "zoom": None, "dpi": 96, "mode": "approx", "samples": 16,
+        "background": "#ffffff", "resources_dir": None, "use_fonts_dir": None,
+        "skip_system_fonts": False, "font_family": None, "serif_family": None,
+        "sans_serif_family": None, "cursive_family": None, "fantasy_family": None,
+        "monospace_family": None}
     assert manifest["goldens"] == ["icons/wide.png", "plain.png"]
     assert manifest["vecmsaa_version"]
     assert "2 written" in out
@@ -117,6 +120,37 @@ def test_update_reports_svgs_that_fail_to_render(tree, capsys):
     assert f"ERROR {svgs.as_posix()}/broken.svg: render failed: malformed XML" in out
     assert not (goldens / "broken.png").exists()
     assert (goldens / "plain.png").exists()
+
+
+TEXT_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="60" height="30">'
+            '<text x="2" y="22" font-family="Noto Sans" font-size="20">Hi</text></svg>')
+FIXTURE_FONTS = Path(__file__).resolve().parents[1] / "fixtures" / "fonts"
+
+
+def test_font_folder_is_recorded_relative_so_the_tree_can_move(tmp_path, capsys):
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURE_FONTS, project / "fonts")
+    write(project / "svgs" / "hi.svg", TEXT_SVG)
+    status, _, _ = cli(capsys, "golden", "update", project / "svgs", "--goldens",
+                       project / "goldens", "--use-fonts-dir", project / "fonts",
+                       "--skip-system-fonts")
+    assert status == 0
+    options = json.loads((project / "goldens" / golden.MANIFEST_NAME).read_text())[
+        "render_options"]
+    assert options["use_fonts_dir"] == "../fonts" and options["skip_system_fonts"] is True
+    expected = render_svg_array(TEXT_SVG, use_fonts_dir=str(FIXTURE_FONTS),
+                                skip_system_fonts=True)
+    assert (expected[..., 3] > 0).any()   # the text was drawn with the given font
+    assert np.array_equal(golden.read_png_rgba(project / "goldens" / "hi.png"), expected)
+
+    moved = tmp_path / "elsewhere" / "checkout"
+    moved.parent.mkdir()
+    project.rename(moved)
+    assert cli(capsys, "golden", "check", moved / "svgs", "--goldens", moved / "goldens")[0] == 0
+    # Without the folder the text would silently fall back to no font: refuse to run instead.
+    shutil.rmtree(moved / "fonts")
+    status, _, err = cli(capsys, "golden", "check", moved / "svgs", "--goldens", moved / "goldens")
+    assert status == 2 and "use_fonts_dir '../fonts' is not a directory" in err
 
 
 # --- check -----------------------------------------------------------------------------------------
@@ -303,9 +337,11 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
      "cannot create the report directory"),
     (["update", "{svgs}", "--goldens", "{svgs}/plain.svg"], "not a directory"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
-    (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be positive"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be a positive number"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--samples", "32"], "must be one of"),
     (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "--use-fonts-dir", "{tmp}/none"],
+     "--use-fonts-dir"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--background", "nocolour"], "CSS colour"),
     (["compare", "{svgs}"], "invalid choice"),
     ([], "ACTION"),
@@ -324,7 +360,9 @@ def test_usage_and_input_errors_exit_2(tree, tmp_path, capsys, args, message):
                                      '{"format": 1, "render_options": {"colour": 1}}',
                                      '{"format": 1, "render_options": {"samples": "8"}}',
                                      '{"format": 1, "render_options": {"mode": "fast"}}',
-                                     '{"format": 1, "render_options": {"width": -3}}'])
+                                     '{"format": 1, "render_options": {"width": -3}}',
+                                     '{"format": 1, "render_options": {"dpi": "96"}}',
+                                     '{"format": 1, "render_options": {"font_family": 3}}'])
 def test_unreadable_manifest_exits_2(tree, capsys, content):
     svgs, goldens = tree
     cli(capsys, "golden", "update", svgs, "--goldens", goldens)

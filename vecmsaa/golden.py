@@ -33,9 +33,16 @@ MANIFEST_NAME = "vecmsaa-golden.json"
 MANIFEST_FORMAT = 1
 #: render options a manifest records, with the values used when an option is not given
 DEFAULT_RENDER_OPTIONS = {
-    "width": None, "height": None, "zoom": None,
+    "width": None, "height": None, "zoom": None, "dpi": 96,
     "mode": DEFAULT_MODE, "samples": DEFAULT_SAMPLES, "background": None,
+    "resources_dir": None,
+    # fonts (see vecmsaa.fonts.db): what text renders with must not depend on the machine
+    "use_fonts_dir": None, "skip_system_fonts": False, "font_family": None,
+    "serif_family": None, "sans_serif_family": None, "cursive_family": None,
+    "fantasy_family": None, "monospace_family": None,
 }
+#: options naming folders; the manifest stores them relative to itself, so a checkout can move
+PATH_OPTIONS = ("resources_dir", "use_fonts_dir")
 DIFF_SUFFIX = ".diff.png"
 
 Renderer = Callable[..., np.ndarray]
@@ -83,15 +90,23 @@ def render_options(**given) -> dict:
     def positive(value, kinds):
         return isinstance(value, kinds) and not isinstance(value, bool) and value > 0
 
+    def number(v):
+        return positive(v, (int, float)) and math.isfinite(v)
+
+    def text_or_none(v):
+        return v is None or isinstance(v, str)
+
     checks = {
-        "width": lambda v: v is None or positive(v, int),
-        "height": lambda v: v is None or positive(v, int),
-        "zoom": lambda v: v is None or (positive(v, (int, float)) and math.isfinite(v)),
+        "width": lambda v: v is None or number(v),
+        "height": lambda v: v is None or number(v),
+        "zoom": lambda v: v is None or number(v),
+        "dpi": number,
         "mode": lambda v: v in MODES,
         "samples": lambda v: positive(v, int),
-        "background": lambda v: v is None or isinstance(v, str),
+        "skip_system_fonts": lambda v: isinstance(v, bool),
     }
-    bad = [f"{name}={options[name]!r}" for name, ok in checks.items() if not ok(options[name])]
+    bad = [f"{name}={value!r}" for name, value in options.items()
+           if not checks.get(name, text_or_none)(value)]
     if bad:
         raise GoldenError(f"invalid render option(s): {', '.join(bad)}")
     return options
@@ -156,20 +171,27 @@ def diff_name(golden_rel: PurePosixPath) -> PurePosixPath:
 
 # --- manifest ------------------------------------------------------------------------------------
 
-def manifest_bytes(options: dict, goldens: list[PurePosixPath]) -> bytes:
-    """The manifest as deterministic JSON (sorted keys, fixed layout)."""
+def manifest_bytes(options: dict, goldens: list[PurePosixPath], golden_dir) -> bytes:
+    """The manifest as deterministic JSON (sorted keys, fixed layout). Folder options are
+    stored relative to ``golden_dir``, where the manifest lives."""
+    recorded = render_options(**options)
+    for name in PATH_OPTIONS:
+        if recorded[name] is not None:
+            recorded[name] = Path(os.path.relpath(os.path.abspath(recorded[name]),
+                                                  os.path.abspath(golden_dir))).as_posix()
     doc = {
         "format": MANIFEST_FORMAT,
         "vecmsaa_version": __version__,
-        "render_options": render_options(**options),
+        "render_options": recorded,
         "goldens": [str(g) for g in sorted(goldens, key=str)],
     }
     return (json.dumps(doc, indent=2, sort_keys=True) + "\n").encode("utf-8")
 
 
 def read_manifest(golden_dir) -> dict:
-    """The manifest of ``golden_dir`` as a dict with ``render_options`` (complete) and
-    ``goldens`` (relative POSIX paths); GoldenError when it is missing or malformed."""
+    """The manifest of ``golden_dir`` as a dict with ``render_options`` (complete, folders
+    resolved against ``golden_dir``), ``goldens`` (relative POSIX paths) and
+    ``vecmsaa_version``; GoldenError when it is missing or malformed."""
     path = Path(golden_dir, MANIFEST_NAME)
     if not Path(golden_dir).is_dir():
         raise GoldenError(f"{golden_dir}: not a directory")
@@ -189,6 +211,13 @@ def read_manifest(golden_dir) -> dict:
         options = render_options(**options)
     except GoldenError as exc:
         raise GoldenError(f"{path}: {exc}") from None
+    for name in PATH_OPTIONS:
+        if options[name] is not None:
+            folder = os.path.normpath(os.path.join(golden_dir, options[name]))
+            if not os.path.isdir(folder):
+                raise GoldenError(f"{path}: {name} {options[name]!r} is not a directory "
+                                  f"(looked for {folder})")
+            options[name] = folder
     return {"render_options": options, "goldens": [PurePosixPath(g) for g in goldens],
             "vecmsaa_version": doc.get("vecmsaa_version")}
 
@@ -226,7 +255,7 @@ def update_goldens(svg_dir, golden_dir, options: dict,
             continue
         goldens.append(golden_name(rel))
         (result.written if changed else result.unchanged).append(golden_name(rel))
-    manifest = manifest_bytes(options, goldens)
+    manifest = manifest_bytes(options, goldens, golden_dir)
     manifest_path = Path(golden_dir, MANIFEST_NAME)
     if not manifest_path.exists() or manifest_path.read_bytes() != manifest:
         write_bytes_atomic(manifest, manifest_path)
