@@ -489,3 +489,17 @@ def test_parallel_runs_write_the_same_files_and_lines(tree, tmp_path, capsys):
     assert one[0] == three[0] == 1
     assert one[1].replace(str(serial), "G") == three[1].replace(str(parallel), "G")
     assert "FAIL" in one[1]
+
+
+def test_goldens_from_another_version_are_noted_and_still_compared(tree, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    manifest_path = goldens / golden.MANIFEST_NAME
+    manifest = json.loads(manifest_path.read_text())
+    manifest["vecmsaa_version"] = "0.0.1"
+    manifest_path.write_text(json.dumps(manifest))
+    status, _, err = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == 0
+    assert "note: goldens made with vecmsaa 0.0.1, checking with " in err
+    write(svgs / "plain.svg", rect_svg(fill=BLUE))
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 1
