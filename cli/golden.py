@@ -196,12 +196,12 @@ def _update(args, golden) -> int:
                                      "not a directory")
     if given:
         options = golden.render_options(**given)
+    elif os.path.exists(os.path.join(args.goldens, golden.MANIFEST_NAME)):
+        # An unreadable manifest stops here (exit 2) rather than being replaced by defaults.
+        options = golden.read_manifest(args.goldens)["render_options"]
+        print("using the render options recorded in the manifest", file=sys.stderr)
     else:
-        try:
-            options = golden.read_manifest(args.goldens)["render_options"]
-            print("using the render options recorded in the manifest", file=sys.stderr)
-        except golden.GoldenError:
-            options = golden.render_options()
+        options = golden.render_options()
     result = golden.update_goldens(args.svg_dir, args.goldens, options,
                                    progress=lambda line: print(line, flush=True),
                                    jobs=args.jobs)

@@ -95,6 +95,17 @@ def test_update_without_render_options_keeps_the_recorded_ones(tree, capsys):
     assert golden.read_png_rgba(goldens / "plain.png").shape == (60, 80, 4)
 
 
+def test_update_does_not_replace_an_unreadable_manifest_with_defaults(tree, capsys):
+    svgs, goldens = tree
+    (goldens / golden.MANIFEST_NAME).write_text("{broken")
+    status, _, err = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    assert status == 2 and "unreadable manifest" in err
+    assert (goldens / golden.MANIFEST_NAME).read_text() == "{broken"
+    # Options given explicitly replace it.
+    assert cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--samples", 4)[0] == 0
+    assert golden.read_manifest(goldens)["render_options"]["samples"] == 4
+
+
 def test_update_output_is_byte_identical_across_runs_and_processes(tree, tmp_path, capsys):
     svgs, first = tree
     assert cli(capsys, "golden", "update", svgs, "--goldens", first)[0] == 0
