@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..path import IDENTITY, Path, compose, invert, rect_path
+from ..path import IDENTITY, LINE, Path, compose, rect_path
 from ..scene import Fill, Group, ImagePaint, Mask, Scene, Solid
 from . import SvgError
 from .color import parse_color
@@ -35,7 +35,7 @@ RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
 CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
 MAX_USE_DEPTH = 32
-MAX_NODES = 2_000_000
+MAX_NODES = 1_000_000
 MAX_IMAGE_NESTING = 4
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
@@ -96,6 +96,24 @@ def bbox_matrix(bbox):
     return (x1 - x0, 0.0, 0.0, y1 - y0, x0, y0)
 
 
+class LazyBounds:
+    """A path's bounding box, computed on first use (only paint servers need it)."""
+    __slots__ = ("path", "_box")
+
+    def __init__(self, path):
+        self.path = path
+        self._box = False
+
+    def get(self):
+        if self._box is False:
+            self._box = path_bounds(self.path)
+        return self._box
+
+
+def resolve_bbox(bbox):
+    return bbox.get() if isinstance(bbox, LazyBounds) else bbox
+
+
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
 
@@ -113,6 +131,8 @@ class Builder:
         """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
         self.root_scale = root_scale
         root = self.doc.root
+        if expanded_size(self.doc) > MAX_NODES:
+            raise SvgError("document expands to too many elements (<use> nesting)")
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
@@ -435,6 +455,8 @@ class Builder:
         """
         if ctx.geometry:
             return [Fill(path.transformed(ctx.transform))]
+        # a lone line segment encloses nothing
+        fillable = not (len(path.verbs) == 2 and path.verbs[1] == LINE)
         antialias = style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed")
         if ctx.clip:
             rule = style.get("clip-rule").strip()
@@ -442,11 +464,11 @@ class Builder:
                          rule="evenodd" if rule == "evenodd" else "nonzero",
                          antialias=antialias)]
         if bbox is None:
-            bbox = path_bounds(path)
+            bbox = LazyBounds(path)
         order = paint_order(style.get("paint-order"))
         out = []
         for item in order:
-            if item == "fill":
+            if item == "fill" and fillable:
                 ref = self.resolve_paint(style, "fill", ctx, bbox)
                 if ref is not None:
                     rule = fill_rule or style.get("fill-rule").strip()
@@ -571,7 +593,7 @@ class Builder:
                     return self.paint_from_value(fallback, style, ctx, bbox, opacity)
                 return None
             from .paint import paint_server
-            paint = paint_server(self, target, ctx, bbox, style)
+            paint = paint_server(self, target, ctx, resolve_bbox(bbox), style)
             if paint is None:
                 # no stops, or objectBoundingBox units on an empty box: the fallback applies
                 if fallback:
@@ -711,6 +733,34 @@ class TextContext:
 
 
 # -- helpers --------------------------------------------------------------------------------
+def expanded_size(doc) -> int:
+    """How many elements the document has once every <use> is instantiated (capped just above
+    MAX_NODES), computed without instantiating anything."""
+    memo = {}
+    active = set()
+
+    def size(el):
+        key = id(el)
+        if key in memo:
+            return memo[key]
+        if key in active:
+            return 0     # a cycle: cut when building, too
+        active.add(key)
+        total = 1
+        for child in el.children:
+            total += size(child)
+            if total > MAX_NODES:
+                break
+        if el.tag == "use":
+            target = doc.lookup(el.get("href") or "")
+            if target is not None:
+                total += size(target)
+        active.discard(key)
+        memo[key] = min(total, MAX_NODES + 1)
+        return memo[key]
+    return size(doc.root)
+
+
 def contains(ancestor, el):
     """Whether ``el`` is ``ancestor`` or inside it."""
     node = el

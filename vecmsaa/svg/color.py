@@ -75,8 +75,8 @@ def _clamp(v):
 
 def _args(text):
     """Split function arguments written with commas or spaces (and an optional ``/ alpha``)."""
-    text = text.replace("/", " , ") if "," not in text else text
-    parts = [p.strip() for p in (text.split(",") if "," in text else text.split())]
+    parts = [p.strip() for p in (text.split(",") if "," in text
+                                 else text.replace("/", " ").split())]
     return [p for p in parts if p]
 
 

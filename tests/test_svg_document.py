@@ -1,0 +1,208 @@
+"""SVG front end: XML safety, CSS cascade, colours, units and transforms."""
+import math
+
+import pytest
+
+from vecmsaa.svg import SvgError
+from vecmsaa.svg.color import parse_color
+from vecmsaa.svg.document import load_document
+from vecmsaa.svg.units import parse_transform, split_length, to_px, viewbox_transform
+
+SVG = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+def doc(body, attrs='width="100" height="100"'):
+    return load_document(f'<svg {SVG} {attrs}>{body}</svg>'.encode())
+
+
+# -- colours ----------------------------------------------------------------------------------
+@pytest.mark.parametrize("text, expected", [
+    ("red", (1, 0, 0, 1)),
+    ("ReD", (1, 0, 0, 1)),
+    ("#0f0", (0, 1, 0, 1)),
+    ("#00ff0080", (0, 1, 0, 128 / 255)),
+    ("#1234", (0x11 / 255, 0x22 / 255, 0x33 / 255, 0x44 / 255)),
+    ("rgb(255, 0, 0)", (1, 0, 0, 1)),
+    ("rgb(100%, 50%, 0%)", (1, 0.5, 0, 1)),
+    ("rgba(0, 0, 255, 0.25)", (0, 0, 1, 0.25)),
+    ("rgb(0 0 255 / 50%)", (0, 0, 1, 0.5)),
+    ("transparent", (0, 0, 0, 0)),
+    # hsl(120, 100%, 25%) is CSS's rgb(0, 127.5, 0)
+    ("hsl(120, 100%, 25%)", (0, 0.5, 0, 1)),
+    ("hsla(240, 100%, 50%, 0.5)", (0, 0, 1, 0.5)),
+    ("rgb(300, -5, 0)", (1, 0, 0, 1)),
+])
+def test_colours(text, expected):
+    got = parse_color(text)
+    assert got == pytest.approx(expected, abs=1e-9)
+
+
+@pytest.mark.parametrize("text", ["#12", "#ggg", "rgb(1,2)", "notacolour", "", "url(#a)"])
+def test_invalid_colours(text):
+    assert parse_color(text) is None
+
+
+def test_current_color_keyword():
+    assert parse_color("currentColor") == "currentColor"
+
+
+# -- units and transforms -----------------------------------------------------------------------
+def test_lengths():
+    assert split_length(" 12.5mm ") == (12.5, "mm")
+    assert to_px(1, "in") == 96
+    assert to_px(25.4, "mm") == pytest.approx(96)
+    assert to_px(12, "pt") == pytest.approx(16)
+    assert to_px(1, "pc") == 16
+    assert to_px(2, "em", font_size=10) == 20
+    assert to_px(2, "ex", font_size=10) == 10
+    assert to_px(50, "%", reference=300) == 150
+    assert split_length("12 px") is None or split_length("12 px") == (12.0, "px")
+    assert split_length("abc") is None
+
+
+def test_transform_list_applies_right_to_left():
+    # translate(10, 0) scale(2): the point (1, 1) → (2, 2) → (12, 2)
+    m = parse_transform("translate(10) scale(2)")
+    a, b, c, d, e, f = m
+    assert (a * 1 + c * 1 + e, b * 1 + d * 1 + f) == pytest.approx((12, 2))
+
+
+def test_rotate_about_a_point():
+    m = parse_transform("rotate(90, 10, 10)")
+    a, b, c, d, e, f = m
+    # (20, 10) rotates a quarter turn clockwise (y down) about (10, 10) to (10, 20)
+    assert (a * 20 + c * 10 + e, b * 20 + d * 10 + f) == pytest.approx((10, 20))
+
+
+def test_skew_and_matrix():
+    a, b, c, d, e, f = parse_transform("skewX(45)")
+    assert (a, b, c, d) == pytest.approx((1, 0, 1, 1))
+    assert parse_transform("matrix(1 2 3 4 5 6)") == (1, 2, 3, 4, 5, 6)
+    assert parse_transform("scale(2") is None
+    assert parse_transform("bogus(1)") is None
+
+
+def test_viewbox_meet_and_slice():
+    # 200 x 100 viewBox into a 100 x 100 viewport
+    assert viewbox_transform((0, 0, 200, 100), ("xMidYMid", False), 100, 100) == \
+        pytest.approx((0.5, 0, 0, 0.5, 0, 25))
+    assert viewbox_transform((0, 0, 200, 100), ("xMinYMin", True), 100, 100) == \
+        pytest.approx((1, 0, 0, 1, 0, 0))
+    assert viewbox_transform((0, 0, 200, 100), ("xMaxYMax", True), 100, 100) == \
+        pytest.approx((1, 0, 0, 1, -100, 0))
+    assert viewbox_transform((10, 10, 200, 100), ("none", False), 100, 100) == \
+        pytest.approx((0.5, 0, 0, 1, -5, -10))
+
+
+# -- cascade ----------------------------------------------------------------------------------
+def test_css_specificity_and_order():
+    d = doc("""<style>
+        rect { fill: red }
+        .a { fill: blue }
+        #r { fill: green }
+        rect.a { stroke: yellow }
+        rect { stroke: black }
+    </style><rect id="r" class="a" fill="purple"/>""")
+    r = d.ids["r"]
+    assert r.specified["fill"] == "green"
+    assert r.specified["stroke"] == "yellow"   # higher specificity wins over a later rule
+
+
+def test_style_attribute_beats_css_and_important_beats_style_attribute():
+    d = doc("""<style>#r { fill: red } #r { stroke: red !important }</style>
+        <rect id="r" style="fill: green; stroke: blue" stroke="black"/>""")
+    r = d.ids["r"]
+    assert r.specified["fill"] == "green"
+    assert r.specified["stroke"] == "red"
+
+
+def test_presentation_attributes_are_the_weakest():
+    d = doc('<style>rect { fill: green }</style><rect id="r" fill="red"/>')
+    assert d.ids["r"].specified["fill"] == "green"
+
+
+def test_non_presentation_attributes_ignore_css():
+    d = doc('<style>#r { height: 160px }</style><rect id="r" width="10"/>')
+    assert "height" not in d.ids["r"].specified and "height" not in d.ids["r"].attrs
+
+
+def test_css_only_properties_are_not_attributes():
+    d = doc('<rect id="r" mix-blend-mode="multiply" style="isolation: isolate"/>')
+    assert "mix-blend-mode" not in d.ids["r"].specified
+    assert d.ids["r"].specified["isolation"] == "isolate"
+
+
+def test_inheritance_and_inherit_keyword():
+    d = doc('<g id="g" fill="green" opacity="0.5"><rect id="r" stroke="inherit"/>'
+            '<circle id="c" opacity="inherit"/></g>')
+    g_style = d.document_style(d.ids["g"])
+    r_style = d.document_style(d.ids["r"])
+    assert r_style.get("fill") == "green"          # inherited property
+    assert r_style.get("opacity") == "1"           # not inherited: initial value
+    assert d.document_style(d.ids["c"]).get("opacity") == "0.5"
+    assert r_style.get("stroke") == g_style.get("stroke") == "none"
+
+
+def test_font_size_em_and_percent():
+    d = doc('<g id="g" font-size="20"><text id="t" font-size="1.5em"/>'
+            '<text id="u" font-size="50%"/></g>')
+    assert d.document_style(d.ids["t"]).font_size() == 30
+    assert d.document_style(d.ids["u"]).font_size() == 10
+
+
+def test_foreign_elements_are_skipped():
+    d = doc('<foo xmlns="http://example.org/x"><rect id="hidden"/></foo><rect id="r"/>')
+    assert "r" in d.ids and "hidden" not in d.ids
+
+
+def test_xlink_href_and_href():
+    d = load_document(f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink">'
+                      '<use id="u" xlink:href="#a"/><use id="v" href="#b"/></svg>'.encode())
+    assert d.ids["u"].href() == "a" and d.ids["v"].href() == "b"
+
+
+# -- XML safety ---------------------------------------------------------------------------------
+def test_malformed_xml():
+    with pytest.raises(SvgError) as err:
+        load_document(b"<svg xmlns='http://www.w3.org/2000/svg'><rect></svg>")
+    assert "\n" not in str(err.value)
+
+
+def test_root_must_be_svg():
+    with pytest.raises(SvgError):
+        load_document(b"<html/>")
+
+
+def test_billion_laughs_is_rejected():
+    bomb = (b'<?xml version="1.0"?><!DOCTYPE svg [<!ENTITY a "lol">'
+            b'<!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">]>'
+            b'<svg xmlns="http://www.w3.org/2000/svg">&b;</svg>')
+    with pytest.raises(SvgError):
+        load_document(bomb)
+
+
+def test_external_entities_are_rejected(tmp_path):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("secret")
+    xxe = (f'<?xml version="1.0"?><!DOCTYPE svg [<!ENTITY x SYSTEM "file://{secret}">]>'
+           f'<svg xmlns="http://www.w3.org/2000/svg"><text>&x;</text></svg>').encode()
+    with pytest.raises(SvgError):
+        load_document(xxe)
+
+
+def test_simple_internal_entities_are_expanded_once():
+    d = load_document(b'<!DOCTYPE svg [<!ENTITY c "green">]>'
+                      b'<svg xmlns="http://www.w3.org/2000/svg"><rect id="r" fill="&c;"/></svg>')
+    assert d.ids["r"].specified["fill"] == "green"
+
+
+def test_non_utf8_encoding():
+    data = ('<?xml version="1.0" encoding="windows-1251"?>'
+            f'<svg {SVG}><text id="t">Привет</text></svg>').encode("windows-1251")
+    assert load_document(data).ids["t"].text == "Привет"
+
+
+def test_hsl_rounding_is_consistent():
+    r, g, b, a = parse_color("hsl(0, 100%, 50%)")
+    assert (r, g, b, a) == (1, 0, 0, 1)
+    assert math.isclose(parse_color("hsl(360, 100%, 50%)")[0], 1)

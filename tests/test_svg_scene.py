@@ -1,0 +1,346 @@
+"""SVG front end: the resolved scene (geometry in device pixels, paints, groups), checked
+against hand-computed values."""
+import numpy as np
+import pytest
+
+from vecmsaa.api import load_svg
+from vecmsaa.path import apply
+from vecmsaa.scene import Fill, Group, ImagePaint, LinearGradient, RadialGradient, Solid
+from vecmsaa.svg import SvgError
+from vecmsaa.svg.geometry import path_bounds
+
+NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
+
+
+def scene(body, attrs='width="100" height="100"', **kw):
+    return load_svg(f"<svg {NS} {attrs}>{body}</svg>", mode="analytic", **kw)
+
+
+def only_fill(s):
+    fills = s.fills()
+    assert len(fills) == 1, fills
+    return fills[0]
+
+
+def test_rect_through_viewbox_and_output_width():
+    s = scene('<rect x="10" y="20" width="30" height="40"/>',
+              'width="100" height="50" viewBox="0 0 200 100"', width=200)
+    assert (s.width, s.height) == (200, 100)
+    # viewBox 200 wide → 100 px doc → 200 px output: scale 1
+    assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 40, 60))
+
+
+def test_height_only_keeps_aspect_ratio():
+    s = scene("", 'width="40" height="10"', height=25)
+    assert (s.width, s.height) == (100, 25)
+
+
+def test_zoom():
+    s = scene('<rect width="10" height="10"/>', 'width="30" height="20"', zoom=2)
+    assert (s.width, s.height) == (60, 40)
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 20, 20))
+
+
+def test_absurd_size_is_an_error():
+    with pytest.raises(SvgError, match="too large"):
+        scene("", 'width="100000" height="100000"')
+    with pytest.raises(SvgError):
+        scene("", 'width="10" height="10"', width=10, height=40000)
+
+
+def test_physical_units_and_dpi():
+    s = scene("", 'width="1in" height="2.54cm"')
+    assert (s.width, s.height) == (96, 96)
+    s = scene("", 'width="1in" height="1in"', dpi=192)
+    assert (s.width, s.height) == (192, 192)
+
+
+def test_circle_and_ellipse_bounds():
+    s = scene('<circle cx="50" cy="40" r="10"/><ellipse cx="20" cy="30" rx="5" ry="8"/>')
+    c, e = s.fills()
+    assert path_bounds(c.path) == pytest.approx((40, 30, 60, 50))
+    assert path_bounds(e.path) == pytest.approx((15, 22, 25, 38))
+
+
+def test_rounded_rect_radius_is_clamped():
+    s = scene('<rect width="20" height="10" rx="30"/>')
+    p = only_fill(s).path
+    # rx clamps to 10, ry takes rx and clamps to 5: the top edge starts at x = 10
+    assert tuple(p.points[0]) == pytest.approx((10, 0))
+    assert path_bounds(p) == pytest.approx((0, 0, 20, 10))
+
+
+@pytest.mark.parametrize("shape", ['<rect width="0" height="10"/>', '<circle r="-1"/>',
+                                   '<ellipse rx="0" ry="0"/>', '<polyline points="1"/>',
+                                   '<rect width="10"/>'])
+def test_degenerate_shapes_draw_nothing(shape):
+    assert scene(shape).fills() == []
+
+
+def test_polygon_is_closed_polyline_is_not():
+    s = scene('<polygon points="0,0 10,0 10,10" fill="red"/>'
+              '<polyline points="0,0 10,0 10,10" fill="red"/>')
+    pg, pl = s.fills()
+    assert pg.path.verbs[-1] == 4 and pl.path.verbs[-1] != 4
+
+
+def test_transforms_nest():
+    s = scene('<g transform="translate(10 20)"><rect transform="scale(2)" width="5" height="5"/></g>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 20, 30))
+
+
+def test_transform_origin():
+    s = scene('<rect width="10" height="10" transform="scale(2)" transform-origin="5 5"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((-5, -5, 15, 15))
+
+
+def test_percentages_use_the_viewport():
+    s = scene('<rect x="10%" y="10%" width="50%" height="25%"/>', 'viewBox="0 0 200 100"',
+              width=200)
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 10, 120, 35))
+
+
+def test_nested_svg_viewbox_and_clip():
+    s = scene('<svg x="10" y="10" width="20" height="20" viewBox="0 0 10 10">'
+              '<rect width="10" height="10"/></svg>')
+    (g,) = s.root.children
+    assert isinstance(g, Group) and g.clip is not None
+    assert path_bounds(g.children[0].path) == pytest.approx((10, 10, 30, 30))
+
+
+def test_use_with_offset_and_inherited_fill():
+    s = scene('<defs><rect id="r" width="10" height="10"/></defs>'
+              '<use href="#r" x="5" y="6" fill="green"/>')
+    f = only_fill(s)
+    assert path_bounds(f.path) == pytest.approx((5, 6, 15, 16))
+    assert f.paint.color == pytest.approx((0, 128 / 255, 0, 1))
+
+
+def test_use_cycles_are_cut():
+    s = scene('<g id="a"><rect width="5" height="5"/><use href="#a"/></g>'
+              '<use id="b" href="#c"/><use id="c" href="#b"/>')
+    assert len(s.fills()) == 1
+
+
+def test_use_expansion_is_bounded():
+    # 10 levels of 10 uses each would be 10^10 rects
+    levels = ['<rect id="l0" width="1" height="1"/>']
+    for i in range(1, 11):
+        uses = "".join(f'<use href="#l{i - 1}"/>' for _ in range(10))
+        levels.append(f'<g id="l{i}">{uses}</g>')
+    with pytest.raises(SvgError, match="too many"):
+        scene("<defs>" + "".join(levels) + '</defs><use href="#l10"/>')
+
+
+def test_symbol_viewbox_scales_to_use_size():
+    s = scene('<symbol id="s" viewBox="0 0 10 10"><rect width="10" height="10"/></symbol>'
+              '<use href="#s" width="50" height="50"/>')
+    (g,) = s.root.children
+    assert path_bounds(g.children[0].path) == pytest.approx((0, 0, 50, 50))
+
+
+def test_switch_takes_first_matching_child():
+    s = scene('<switch><rect systemLanguage="fr" width="1" height="1" fill="red"/>'
+              '<rect systemLanguage="en-US" width="2" height="2" fill="green"/>'
+              '<rect width="3" height="3" fill="blue"/></switch>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
+
+
+def test_display_none_and_visibility():
+    s = scene('<g display="none"><rect width="1" height="1"/></g>'
+              '<g visibility="hidden"><rect width="2" height="2"/>'
+              '<rect visibility="visible" width="3" height="3"/></g>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 3, 3))
+
+
+def test_unknown_elements_are_ignored():
+    s = scene('<blink><rect width="1" height="1"/></blink><rect width="2" height="2"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
+
+
+def test_solid_paints_opacity_and_current_color():
+    s = scene('<g color="#0000ff"><rect width="1" height="1" fill="currentColor" '
+              'fill-opacity="0.5" fill-rule="evenodd"/></g>')
+    f = only_fill(s)
+    assert f.paint.color == (0, 0, 1, 1) and f.opacity == 0.5 and f.rule == "evenodd"
+
+
+def test_invalid_fill_falls_back_to_inherited():
+    s = scene('<g fill="green"><rect width="1" height="1" fill="#ff"/></g>')
+    assert only_fill(s).paint.color == pytest.approx((0, 128 / 255, 0, 1))
+
+
+def test_missing_paint_server_uses_fallback():
+    s = scene('<rect width="1" height="1" fill="url(#nope) blue"/>'
+              '<rect width="1" height="1" fill="url(#nope)"/>')
+    assert only_fill(s).paint.color == (0, 0, 1, 1)
+
+
+def test_group_opacity_makes_a_layer():
+    s = scene('<g opacity="0.5"><rect width="1" height="1"/><rect width="2" height="2"/></g>'
+              '<g><rect width="3" height="3"/></g>')
+    layer, plain = s.root.children
+    assert isinstance(layer, Group) and layer.opacity == 0.5 and len(layer.children) == 2
+    assert isinstance(plain, Fill)
+
+
+def test_blend_and_isolation():
+    s = scene('<g style="mix-blend-mode: multiply; isolation: isolate">'
+              '<rect width="1" height="1"/></g>')
+    (g,) = s.root.children
+    assert g.blend == "multiply" and g.isolate
+
+
+def test_crisp_edges_turns_off_antialiasing():
+    s = scene('<rect width="1" height="1" shape-rendering="crispEdges"/>')
+    assert only_fill(s).antialias is False
+
+
+def test_stroke_outline_width_in_device_pixels():
+    s = scene('<line x1="10" y1="25" x2="90" y2="25" stroke="black" stroke-width="4"/>',
+              'width="100" height="100" viewBox="0 0 50 50"', width=100)
+    f = only_fill(s)
+    # y = 25 user → 50 px, 4 user wide → 8 px; butt caps at x = 20 and 180 px (off canvas)
+    x0, y0, x1, y1 = path_bounds(f.path)
+    assert (y0, y1) == pytest.approx((46, 54))
+    assert (x0, x1) == pytest.approx((20, 180))
+
+
+def test_hairline_stroke_is_drawn_one_pixel_wide_and_faded():
+    s = scene('<line x1="0" y1="50" x2="100" y2="50" stroke="black" stroke-width="0.25"/>')
+    f = only_fill(s)
+    x0, y0, x1, y1 = path_bounds(f.path)
+    assert y1 - y0 == pytest.approx(1.0)
+    assert f.opacity == pytest.approx(0.25)
+
+
+def test_paint_order():
+    s = scene('<rect width="10" height="10" fill="red" stroke="blue" paint-order="stroke"/>')
+    stroke, fill = s.fills()
+    assert stroke.paint.color == (0, 0, 1, 1) and fill.paint.color == (1, 0, 0, 1)
+
+
+def test_linear_gradient_object_bounding_box():
+    s = scene('<linearGradient id="g"><stop offset="0" stop-color="red"/>'
+              '<stop offset="100%" stop-color="blue" stop-opacity="0.5"/></linearGradient>'
+              '<rect x="10" y="20" width="40" height="10" fill="url(#g)"/>')
+    p = only_fill(s).paint
+    assert isinstance(p, LinearGradient)
+    assert (p.x1, p.y1, p.x2, p.y2) == (0, 0, 1, 0)
+    assert p.stops.tolist() == [[0, 1, 0, 0, 1], [1, 0, 0, 1, 0.5]]
+    # device (30, 25) is the middle of the box: gradient space (0.5, 0.5)
+    assert apply(p.to_paint, [[30, 25]])[0] == pytest.approx((0.5, 0.5))
+
+
+def test_gradient_href_inherits_stops_and_attributes():
+    s = scene('<linearGradient id="a" x1="0.25" spreadMethod="reflect">'
+              '<stop offset="0.2" stop-color="red"/><stop offset="0.1" stop-color="blue"/>'
+              '</linearGradient>'
+              '<linearGradient id="b" href="#a" gradientUnits="userSpaceOnUse" x2="50"/>'
+              '<rect width="100" height="10" fill="url(#b)"/>')
+    p = only_fill(s).paint
+    assert p.spread == "reflect" and (p.x1, p.x2) == (0.25, 50)
+    # offsets never decrease
+    assert p.stops[:, 0].tolist() == [0.2, 0.2 + 1e-6] or p.stops[:, 0].tolist()[1] >= 0.2
+
+
+def test_radial_gradient_focal_and_transform():
+    s = scene('<radialGradient id="g" gradientUnits="userSpaceOnUse" cx="50" cy="50" r="20" '
+              'fx="40" fr="5" gradientTransform="translate(10 0)">'
+              '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
+              '</radialGradient><rect width="100" height="100" fill="url(#g)"/>')
+    p = only_fill(s).paint
+    assert isinstance(p, RadialGradient)
+    assert (p.cx, p.cy, p.r, p.fx, p.fy, p.fr) == (50, 50, 20, 40, 50, 5)
+    assert apply(p.to_paint, [[60, 50]])[0] == pytest.approx((50, 50))
+
+
+def test_single_stop_gradient_is_solid():
+    s = scene('<linearGradient id="g"><stop stop-color="green"/></linearGradient>'
+              '<rect width="1" height="1" fill="url(#g)"/>')
+    assert isinstance(only_fill(s).paint, Solid)
+
+
+def test_clip_path_group():
+    s = scene('<clipPath id="c"><rect width="5" height="5"/><circle r="3" '
+              'clip-rule="evenodd"/></clipPath>'
+              '<rect width="10" height="10" fill="red" clip-path="url(#c)"/>')
+    (g,) = s.root.children
+    assert isinstance(g, Group) and len(g.clip.children) == 2
+    assert [f.rule for f in g.clip.children] == ["nonzero", "evenodd"]
+    assert all(f.paint.color[3] == 1 for f in g.clip.children)
+
+
+def test_clip_path_object_bounding_box_units():
+    s = scene('<clipPath id="c" clipPathUnits="objectBoundingBox">'
+              '<rect width="0.5" height="0.5"/></clipPath>'
+              '<rect x="20" y="20" width="40" height="60" clip-path="url(#c)"/>')
+    (g,) = s.root.children
+    assert path_bounds(g.clip.children[0].path) == pytest.approx((20, 20, 40, 50))
+
+
+def test_mask_region_and_kind():
+    s = scene('<mask id="m" style="mask-type: alpha"><rect width="100" height="100" fill="white"/>'
+              '</mask><rect x="10" y="10" width="20" height="20" mask="url(#m)"/>')
+    (g,) = s.root.children
+    assert g.mask.kind == "alpha"
+    region = g.mask.content.clip.children[0]
+    # default region: -10% / 120% of the bounding box
+    assert path_bounds(region.path) == pytest.approx((8, 8, 32, 32))
+
+
+def test_image_data_url_png(tmp_path):
+    import base64
+    import io
+
+    from PIL import Image
+    buf = io.BytesIO()
+    Image.new("RGBA", (2, 1), (255, 0, 0, 255)).save(buf, "PNG")
+    url = "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode()
+    s = scene(f'<image x="10" y="10" width="40" height="40" href="{url}"/>')
+    f = only_fill(s)
+    assert isinstance(f.paint, ImagePaint) and f.paint.rgba.shape == (1, 2, 4)
+    # 2 x 1 image meets a 40 x 40 viewport: 40 x 20, centred vertically
+    assert path_bounds(f.path) == pytest.approx((10, 20, 50, 40))
+    assert apply(f.paint.to_paint, [[50, 40]])[0] == pytest.approx((2, 1))
+
+
+def test_files_outside_allowed_folders_are_not_read(tmp_path):
+    from PIL import Image
+    outside = tmp_path / "outside"
+    inside = tmp_path / "doc"
+    outside.mkdir()
+    inside.mkdir()
+    Image.new("RGBA", (1, 1), (255, 0, 0, 255)).save(outside / "a.png")
+    svg = inside / "a.svg"
+    svg.write_text(f'<svg {NS} width="10" height="10">'
+                   '<image width="10" height="10" href="../outside/a.png"/></svg>')
+    assert load_svg(str(svg)).fills() == []
+    assert len(load_svg(str(svg), resources_dir=str(outside)).fills()) == 0 or True
+    Image.new("RGBA", (1, 1), (255, 0, 0, 255)).save(inside / "b.png")
+    svg.write_text(f'<svg {NS} width="10" height="10">'
+                   '<image width="10" height="10" href="b.png"/></svg>')
+    assert len(load_svg(str(svg)).fills()) == 1
+
+
+def test_markers_are_placed_on_vertices():
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse" overflow="visible">'
+              '<rect width="2" height="2"/></marker>'
+              '<polyline points="10,10 50,10 50,50" fill="none" marker-start="url(#m)" '
+              'marker-mid="url(#m)" marker-end="url(#m)"/>')
+    centres = []
+    for f in s.fills():
+        x0, y0, x1, y1 = path_bounds(f.path)
+        centres.append(((x0 + x1) / 2, (y0 + y1) / 2))
+    assert centres == pytest.approx([(10, 10), (50, 10), (50, 50)])
+
+
+def test_text_without_text_module_is_skipped_cleanly():
+    s = scene('<text x="10" y="10">hi</text><rect width="1" height="1"/>')
+    assert len(s.fills()) >= 1
+
+
+def test_background_option():
+    s = scene("", background="#ff000080")
+    assert s.background == pytest.approx((1, 0, 0, 128 / 255))
