@@ -64,8 +64,9 @@ def _grow(arr, n):
 
 @njit(cache=True)
 def _push_edge(edges, ne, x0, y0, x1, y1):
-    if y0 == y1:
-        return edges, ne        # horizontal edges never cross a scanline
+    if y0 == y1 and x0 == x1:
+        return edges, ne
+    # horizontal edges cross no scanline but still split a pixel's samples: keep them
     edges = _grow(edges, ne)
     edges[ne, 0] = x0
     edges[ne, 1] = y0
@@ -423,14 +424,14 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
         prim[P_L + j] = M[j, 1]
         prim[P_M + j] = M[j, 2]
     mx, my = _cubic_point(c, 0.5)
+    # q: half-way from the curve's midpoint to the chord's, inside the (convex) lens; its
+    # mirror image through the curve point lies outside. The implicit function must change
+    # sign between them, or the frame is numerically unusable (caller falls back to quads).
     qx = 0.5 * (mx + 0.5 * (c[0, 0] + c[3, 0]))
     qy = 0.5 * (my + 0.5 * (c[0, 1] + c[3, 1]))
     f, gx, gy = _eval_implicit(prim, qx, qy)
-    g = math.hypot(gx, gy)
-    depth = 0.5 * math.hypot(mx - 0.5 * (c[0, 0] + c[3, 0]), my - 0.5 * (c[0, 1] + c[3, 1]))
-    # q lies half-way between the chord and the curve: the implicit distance must say so,
-    # otherwise the frame is numerically unusable and the caller falls back to quadratics.
-    if not (g > 0.0) or not math.isfinite(f) or abs(f) / g < 0.2 * depth:
+    f_out, gx2, gy2 = _eval_implicit(prim, 2.0 * mx - qx, 2.0 * my - qy)
+    if not (math.isfinite(f) and math.isfinite(f_out)) or f == 0.0 or (f < 0) == (f_out < 0):
         return edges, ne, prims, nc, False
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
     _set_frame_common(prim, c, 4)

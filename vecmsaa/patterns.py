@@ -67,15 +67,9 @@ def pattern_for(samples: int) -> np.ndarray:
     return standard_pattern(samples)
 
 
-def diamond_angle(nx, ny):
-    """A cheap monotone stand-in for atan2 on [0, 4): the Hough angle of the look-up table."""
-    if ny >= 0:
-        return ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
-    return 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
-
-
 def _diamond_to_vector(a):
-    """Inverse of :func:`diamond_angle` (up to length): a direction for a table bin."""
+    """Direction of a table bin: inverse of the pseudo-angle used by scan.mask_lookup
+    (a cheap monotone stand-in for atan2 on [0, 4))."""
     if a < 1:
         return np.array([1.0 - a, a])
     if a < 2:

@@ -47,7 +47,9 @@ class RenderOptions:
         if mode == "none":
             samples = 1
         if mode == "reference":
-            offsets = stratified_pattern()
+            # 256 samples unless more are asked for (a square number: 1024 = 32 x 32)
+            side = max(16, int(round(np.sqrt(samples)))) if samples > 16 else 16
+            offsets = stratified_pattern(side)
         elif mode == "analytic":
             offsets = np.zeros((1, 2))
         else:

@@ -55,6 +55,24 @@ def crossing_x(xt, yt, dxdy, ys):
 
 
 @njit(cache=True)
+def mask_lookup(table, nx, ny, dist, full):
+    """Samples inside the half-plane <x, n> + dist < 0 (unit n, pixel-centre origin), from
+    the precomputed (pseudo-angle, distance) table: the paper's look-up texture."""
+    if dist <= -DMAX:
+        return full
+    if dist >= DMAX:
+        return np.uint64(0)
+    if ny >= 0:
+        da = ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
+    else:
+        da = 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
+    ai = int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
+    di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
+    di = min(DIST_BINS - 1, max(0, di))
+    return table[ai, di]
+
+
+@njit(cache=True)
 def _mark(dirty, dlist, dcount, r, px):
     if dirty[r, px] == 0:
         dirty[r, px] = 1
@@ -65,9 +83,16 @@ def _mark(dirty, dlist, dcount, r, px):
 @njit(cache=True)
 def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
     """Winding deltas of one straight edge on the sample rows of strip [sy0, sy0 + rows)."""
-    if y0 == y1:
-        return
     if min(x0, x1) >= W:
+        return
+    if y0 == y1:
+        # no crossing, but samples above and below it differ: the pixels it touches are dirty
+        r = int(math.floor(y0)) - sy0
+        if 0 <= r < rows:
+            lo_i = int(max(0.0, min(math.floor(min(x0, x1)), W - 1.0)))
+            hi_i = int(max(0.0, min(math.floor(max(x0, x1)) + 1, W - 1.0)))
+            for px in range(lo_i, hi_i + 1):
+                _mark(dirty, dlist, dcount, r, px)
         return
     if y0 < y1:
         xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
@@ -238,21 +263,7 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
                                     touched = True
                     else:
                         if mode == MODE_APPROX:
-                            if dist <= -DMAX:
-                                bits = full
-                            elif dist >= DMAX:
-                                bits = np.uint64(0)
-                            else:
-                                nx = sigma * gx / g
-                                ny = sigma * gy / g
-                                if ny >= 0:
-                                    da = ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
-                                else:
-                                    da = 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
-                                ai = int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
-                                di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
-                                di = min(DIST_BINS - 1, max(0, di))
-                                bits = table[ai, di]
+                            bits = mask_lookup(table, sigma * gx / g, sigma * gy / g, dist, full)
                         else:  # MODE_A2C
                             alpha = min(1.0, max(0.0, 0.5 - dist))
                             k = int(alpha * n + 0.5)
