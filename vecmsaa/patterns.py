@@ -63,8 +63,29 @@ def stratified_pattern(side: int = REFERENCE_SIDE, seed: int = 1) -> np.ndarray:
     return pts - 0.5
 
 
-def pattern_for(samples: int) -> np.ndarray:
-    return standard_pattern(samples)
+def grid_pattern(samples: int) -> np.ndarray:
+    """Ordered grid (√n x √n, or 2 x 1 / 4 x 2 for non-squares): a baseline to compare the
+    D3D patterns against. Samples share rows here, which the scan converter handles too."""
+    cols = int(round(np.sqrt(samples)))
+    while samples % cols:
+        cols -= 1
+    rows = samples // cols
+    if cols < rows:
+        cols, rows = rows, cols
+    xs = (np.arange(cols) + 0.5) / cols - 0.5
+    ys = (np.arange(rows) + 0.5) / rows - 0.5
+    return np.array([(x, y) for y in ys for x in xs], dtype=np.float64)
+
+
+PATTERNS = {"d3d": standard_pattern, "grid": grid_pattern}
+
+
+def pattern_offsets(name: str, samples: int) -> np.ndarray:
+    if name not in PATTERNS:
+        raise ValueError(f"unknown sample pattern {name!r}; choose from {', '.join(PATTERNS)}")
+    if samples not in D3D_PATTERNS:
+        raise ValueError(f"samples must be one of {sorted(D3D_PATTERNS)}, not {samples}")
+    return PATTERNS[name](samples)
 
 
 def _diamond_to_vector(a):
@@ -80,10 +101,10 @@ def _diamond_to_vector(a):
 
 
 @lru_cache(maxsize=None)
-def mask_table(samples: int) -> np.ndarray:
+def mask_table(samples: int, pattern: str = "d3d") -> np.ndarray:
     """(ANGLE_BINS, DIST_BINS) uint64: bit s set when sample s is inside <x, n> + d < 0 for the
-    bin's centre direction n and centre distance d."""
-    offs = standard_pattern(samples)
+    bin's centre direction n and centre distance d. One table per sample pattern."""
+    offs = pattern_offsets(pattern, samples)
     table = np.zeros((ANGLE_BINS, DIST_BINS), dtype=np.uint64)
     dists = (np.arange(DIST_BINS) + 0.5) / DIST_BINS * 2 * DMAX - DMAX
     for ai in range(ANGLE_BINS):
@@ -96,10 +117,10 @@ def mask_table(samples: int) -> np.ndarray:
     return table
 
 
-def a2c_order(samples: int) -> np.ndarray:
+def a2c_order(samples: int, pattern: str = "d3d") -> np.ndarray:
     """Fixed order in which alpha-to-coverage turns samples on: farthest-point order, so any
     prefix is spread over the pixel (as hardware dither patterns are)."""
-    offs = standard_pattern(samples)
+    offs = pattern_offsets(pattern, samples)
     order = [int(np.argmin(np.hypot(offs[:, 0], offs[:, 1])))]
     while len(order) < samples:
         d = np.min(np.hypot(offs[:, None, 0] - offs[None, order, 0],

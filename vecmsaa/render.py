@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .geometry import batch_arrays, build_batch
-from .patterns import a2c_order, mask_table, standard_pattern, stratified_pattern
+from .patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, render_analytic, render_msaa
 from .scene import Fill, Group, Scene
 from .shaders import PaintTable
@@ -32,12 +32,14 @@ MAX_SAGITTA = 1.0
 #: elements (rows x width x samples) of one strip's per-sample buffers
 STRIP_BUDGET = 1 << 22
 FILTERS = ("box", "tent")
+PATTERN_NAMES = tuple(PATTERNS)
 
 
 class RenderOptions:
     """Everything the raster stage needs besides the scene."""
 
-    def __init__(self, mode: str = "approx", samples: int = 8, filter: str = "box"):
+    def __init__(self, mode: str = "approx", samples: int = 8, filter: str = "box",
+                 pattern: str = "d3d"):
         if mode not in ALL_MODES:
             raise ValueError(f"unknown mode {mode!r}; choose from {', '.join(ALL_MODES)}")
         if filter not in FILTERS:
@@ -53,7 +55,7 @@ class RenderOptions:
         elif mode == "analytic":
             offsets = np.zeros((1, 2))
         else:
-            offsets = standard_pattern(samples)
+            offsets = pattern_offsets(pattern, samples)
         self.samples = len(offsets)
         self.sx = np.ascontiguousarray(offsets[:, 0] + 0.5)
         self.sy = np.ascontiguousarray(offsets[:, 1] + 0.5)
@@ -63,8 +65,8 @@ class RenderOptions:
             w = np.ones(len(offsets))
         self.weights = (w / w.sum()).astype(np.float32)
         if mode in ("approx", "a2c", "alpha", "persample"):
-            self.table = mask_table(samples)
-            order = a2c_order(samples)
+            self.table = mask_table(samples, pattern)
+            order = a2c_order(samples, pattern)
             bits = np.zeros(samples + 1, dtype=np.uint64)
             for k in range(1, samples + 1):
                 bits[k] = bits[k - 1] | (np.uint64(1) << np.uint64(order[k - 1]))
@@ -82,9 +84,14 @@ def premultiplied(color) -> np.ndarray:
 
 
 def render_scene(scene: Scene, mode: str = "approx", samples: int = 8,
-                 filter: str = "box") -> np.ndarray:
-    """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1]."""
-    opts = RenderOptions(mode, samples, filter)
+                 filter: str = "box", pattern: str = "d3d") -> np.ndarray:
+    """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1].
+
+    ``samples`` per pixel for the MSAA modes (1, 2, 4, 8, 16; ``none`` always uses 1, the
+    ``reference`` mode 256 or a larger square), ``pattern`` their positions (``d3d``: the
+    Direct3D 10.1 standard patterns, ``grid``: an ordered grid), ``filter`` the resolve filter
+    (``box`` or ``tent``)."""
+    opts = RenderOptions(mode, samples, filter, pattern)
     target = np.zeros((scene.height, scene.width, 4), dtype=np.float32)
     if scene.background[3] > 0:
         target[:] = premultiplied(scene.background)
