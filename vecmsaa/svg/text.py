@@ -367,44 +367,58 @@ def _load(info):
 
 
 # -- 5/6. shaping and placement ----------------------------------------------------------------
+IDENTITY_M = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+#: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
+#: code point ranges: Arabic, Syriac, NKo, Mandaic, Devanagari, Bengali, Gurmukhi, Ogham,
+#: Mongolian, Syloti Nagri, Phags-pa, Arabic presentation forms
+NO_LETTER_SPACING = ((0x0600, 0x08FF), (0x0900, 0x0A7F), (0x1680, 0x169F), (0x1800, 0x18AF),
+                     (0xA800, 0xA87F), (0xFB50, 0xFDFF), (0xFE70, 0xFEFF))
+WORD_SEPARATORS = {0x20, 0xA0, 0x1361, 0x10100, 0x10101, 0x1039F, 0x1091F}
+
+
 @dataclass
 class Glyph:
     face: object
     location: tuple
     gid: int
-    char: int                 # index of its cluster's first character
-    advance: float            # user units along the line
-    x: float = 0.0            # pen position (user units)
-    y: float = 0.0
-    off_x: float = 0.0
-    off_y: float = 0.0
-    scale: float = 1.0        # user units per font unit
-    rotate: float = 0.0       # degrees
-    matrix: tuple | None = None   # font units → user units, when done
-    cluster_start: bool = True
-    hidden: bool = False
-    advance_v: float = 0.0    # vertical writing: pen advance down the column
-    path_anchor: float = 0.0  # textPath: text-anchor shift along the path
-    sx: float = 1.0           # lengthAdjust=spacingAndGlyphs horizontal scale
-    spacing: float = 0.0      # letter/word spacing added after this cluster
-    size: float = 0.0         # font size in user units
-    frame: tuple = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)   # cluster frame: origin and direction
-    shifted: bool = False     # moved by dx/dy/rotate or on a path (breaks decorations)
+    dx: float                 # offset inside its cluster (user units, y down)
+    dy: float
+    scale: float              # user units per font unit
+    matrix: tuple | None = None
 
 
-def shape_chunk(chars, faces, specs, start, end, direction):
-    """Glyphs of chars[start:end] in visual order."""
+@dataclass
+class Cluster:
+    """Glyphs of one typographic character (ligature, base + marks): the unit that SVG
+    positions, rotates and spaces (as resvg's GlyphCluster)."""
+    char: int                 # index of its first character
+    glyphs: list
+    face: object
+    size: float
+    width: float              # widest glyph advance
+    advance: float            # width plus spacing
+    ascent: float = 0.0       # user units, y up
+    descent: float = 0.0
+    pre: tuple = IDENTITY_M   # vertical writing: shift of rotated clusters
+    path_ts: tuple = IDENTITY_M   # vertical writing: upright clusters turned back
+    sx: float = 1.0           # lengthAdjust=spacingAndGlyphs
+    frame: tuple = IDENTITY_M     # cluster transform in user units (without path_ts)
+    visible: bool = True
+    shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
+
+
+def shape_chunk(chars, faces, specs, start, end):
+    """Clusters of chars[start:end] in visual order (LTR paragraph, bidi runs reversed)."""
     text = "".join(c.ch for c in chars)
-    glyphs = []
-    for s, e, d in visual_order(bidi_runs(text[start:end], direction), direction):
+    clusters = []
+    for s, e, d in bidi_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
         pieces = []
         k = s
         while k < e:
+            key = (id(faces[k]), specs[k].features, specs[k].variations)
             j = k + 1
-            key = (id(faces[k]), specs[k].size, specs[k].features, specs[k].variations)
-            while j < e and (id(faces[j]), specs[j].size, specs[j].features,
-                             specs[j].variations) == key:
+            while j < e and (id(faces[j]), specs[j].features, specs[j].variations) == key:
                 j += 1
             pieces.append((k, j))
             k = j
@@ -418,18 +432,179 @@ def shape_chunk(chars, faces, specs, start, end, direction):
             loc = face_location(face, spec)
             run = shape_run(face, text, a, b, location=loc, features=dict(spec.features),
                             direction=d)
-            scale = spec.size / face.units_per_em
-            prev = None
+            current = None
             for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
-                glyphs.append(Glyph(face, loc, int(gid), int(cl), float(adv[0]) * scale,
-                                    off_x=float(off[0]) * scale, off_y=float(off[1]) * scale,
-                                    scale=scale, cluster_start=int(cl) != prev,
-                                    size=spec.size))
-                prev = int(cl)
-    return glyphs
+                cl = int(cl)
+                size = specs[cl].size
+                scale = size / face.units_per_em
+                if current is None or current.char != cl:
+                    m = face.metrics
+                    current = Cluster(cl, [], face, size, 0.0, 0.0, m.ascender * scale,
+                                      m.descender * scale)
+                    clusters.append(current)
+                    pen = 0.0
+                current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
+                                            -float(off[1]) * scale, scale))
+                width = float(adv[0]) * scale
+                pen += width
+                current.width = max(current.width, width)
+                current.advance = current.width
+    return clusters
 
 
-def baseline_offset(style, face, spec, root_style):
+def _spacing_allowed(ch):
+    cp = ord(ch)
+    return not any(lo <= cp <= hi for lo, hi in NO_LETTER_SPACING)
+
+
+def apply_spacing(clusters, chars, specs):
+    """letter-spacing after every cluster but the last (not in cursive scripts; a cluster
+    whose advance drops to zero or below disappears) and word-spacing after separators."""
+    if any(specs[c.char].letter_spacing for c in clusters):
+        last = len(clusters) - 1
+        for i, c in enumerate(clusters):
+            if _spacing_allowed(chars[c.char].ch):
+                if i != last:
+                    c.advance += specs[c.char].letter_spacing
+                if not c.advance > 0:
+                    c.width = c.advance = 0.0
+                    c.glyphs = []
+    for c in clusters:
+        if ord(chars[c.char].ch) in WORD_SEPARATORS:
+            c.advance += specs[c.char].word_spacing
+
+
+def apply_writing_mode(clusters, chars):
+    """Vertical text: upright characters (CJK) are turned back upright about their centre,
+    others keep the rotated line, centred on the column."""
+    for c in clusters:
+        if _is_upright(ord(chars[c.char].ch)):
+            h = c.ascent - c.descent
+            dy = c.width - h
+            m = compose(_translate(c.width / 2, 0.0), _rotate_at(-90.0, 0.0, 0.0))
+            c.path_ts = compose(m, _translate(-c.width / 2, -dy))
+            c.ascent, c.descent = c.width / 2, -c.width / 2
+        else:
+            # Rotated characters sit on the central baseline (measured against resvg 0.48)
+            c.pre = _translate(0.0, (c.ascent + c.descent) / 2)
+
+
+def _is_upright(cp):
+    """Unicode Vertical_Orientation U (the common blocks): CJK, kana, hangul, emoji."""
+    return (0x1100 <= cp <= 0x11FF or 0x2E80 <= cp <= 0x2FFF or 0x3040 <= cp <= 0xA4CF
+            or 0xAC00 <= cp <= 0xD7AF or 0xF900 <= cp <= 0xFAFF or 0xFE30 <= cp <= 0xFE4F
+            or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
+
+
+def apply_length_adjust(clusters, chars, text_length, on_path):
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)})."""
+    for el_id, (target, adjust) in text_length.items():
+        idx = [i for i, c in enumerate(clusters)
+               if any(id(e) == el_id for e in chars[c.char].chain)]
+        if not idx:
+            continue
+        width = sum(clusters[i].width for i in idx)
+        if adjust == "spacingAndGlyphs":
+            if width <= 0:
+                continue
+            factor = target / width
+            if factor < 0.001:
+                continue
+            for i in idx:
+                clusters[i].sx = factor
+                if on_path:
+                    clusters[i].advance *= factor
+                    clusters[i].width *= factor
+        else:
+            factor = (target - width) / (len(idx) - 1) if len(idx) > 1 else 0.0
+            for i in idx:
+                clusters[i].advance = clusters[i].width + factor
+
+
+def _anchor(anchor, width):
+    return {"middle": -width / 2, "end": -width}.get(anchor, 0.0)
+
+
+def position_linear(clusters, chars, anchor, vertical):
+    """Cluster transforms of a chunk laid along x from 0 (the anchor moves the start);
+    returns the pen at its end."""
+    x = _anchor(anchor, sum(c.advance for c in clusters))
+    y = 0.0
+    for c in clusters:
+        ch = chars[c.char]
+        if vertical:
+            y -= ch.dx
+            x += ch.dy
+        else:
+            x += ch.dx
+            y += ch.dy
+        c.shifted = c.shifted or bool(ch.dx or ch.dy)
+        frame = compose(compose(c.pre, (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0)), _translate(x, y))
+        if ch.rotate:
+            frame = compose(frame, _rotate_at(ch.rotate, 0.0, 0.0))
+            c.shifted = True
+        c.frame = frame
+        x += c.advance
+    return x, y
+
+
+def position_on_path(clusters, chars, text_path, chunk_x, anchor, ctx, styles, shifts):
+    """Clusters along a textPath: each cluster's midpoint on the path, turned to its tangent,
+    then moved off the path by dy and baseline shifts; returns the pen at the end."""
+    target = _lookup(text_path)
+    path = ctx.path_of(target) if target is not None else None
+    if path is None or path.is_empty():
+        for c in clusters:
+            c.visible = False
+        return 0.0, 0.0
+    a, b, cc, d = ctx.transform[:4]
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)))
+    style = styles.get(id(text_path), ctx.style)
+    offset = 0.0
+    start = text_path.get("startOffset")
+    if start is not None:
+        start = start.strip()
+        if start.endswith("%"):
+            try:
+                offset = float(start[:-1]) / 100 * walker.length
+            except ValueError:
+                offset = 0.0
+        else:
+            offset = ctx.length(start, "x", style, 0.0) or 0.0
+    advance = chunk_x + offset + _anchor(anchor, sum(c.advance for c in clusters))
+    dy = 0.0
+    last = (0.0, 0.0)
+    for c in clusters:
+        ch = chars[c.char]
+        advance += ch.dx
+        hw = c.width / 2
+        at = walker.at(advance + hw)
+        advance += c.advance
+        dy += ch.dy
+        if at is None:
+            c.visible = False
+            continue
+        px, py, ang = at
+        frame = compose(_translate(px - hw, py), _rotate_at(ang, hw, 0.0))
+        frame = compose(frame, _translate(0.0, dy + shifts[c.char]))
+        if ch.rotate:
+            frame = compose(frame, _rotate_at(ch.rotate, 0.0, 0.0))
+        c.frame = compose(frame, compose(c.pre, (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0)))
+        c.shifted = True
+        last = (px + c.advance, py)
+    return last
+
+
+def _translate(x, y):
+    return (1.0, 0.0, 0.0, 1.0, x, y)
+
+
+def _rotate_at(deg, cx, cy):
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return (c, s, -s, c, cx - c * cx + s * cy, cy - s * cx - c * cy)
+
+
+def baseline_offset(style, face, spec, root_style, vertical=False):
     """Shift (user units, positive = down) of the baseline for dominant-/alignment-baseline
     and baseline-shift of this element and its ancestors."""
     m = face.metrics
@@ -445,7 +620,7 @@ def baseline_offset(style, face, spec, root_style):
         "text-bottom": m.descender, "text-after-edge": m.descender,
         "ideographic": m.descender, "before-edge": m.ascender, "after-edge": m.descender,
     }
-    if base in table:
+    if base in table and not vertical:
         shift += table[base] * scale
     # baseline-shift accumulates over the ancestors that set it
     s = style
@@ -594,287 +769,120 @@ def build_text(element, ctx):
     db = font_database(ctx)
     spec_cache = {}
     specs = []
+    outer = tuple(reversed(list(element.ancestors())))
     for c in chars:
         s = spec_cache.get(id(c.el))
         if s is None:
-            chain = tuple(reversed(list(element.ancestors()))) + c.chain
-            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, chain)
+            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, outer + c.chain)
         specs.append(s)
     faces = assign_faces(chars, specs, db)
     if all(f is None for f in faces):
         return []
-    root_style = ctx.style
-    direction = (root_style.get("direction") or "ltr").strip()
-    direction = "rtl" if direction == "rtl" else "ltr"
-    writing = (root_style.get("writing-mode") or "lr").strip()
+    writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
-
-    # chunks
-    bounds = []
-    for i, c in enumerate(chars):
-        starts = i == 0 or c.x is not None or c.y is not None or (
-            c.text_path is not chars[i - 1].text_path)
-        if starts:
-            bounds.append(i)
-    bounds.append(len(chars))
-
-    placed = []
-    pen_x = pen_y = 0.0
-    for a, b in zip(bounds[:-1], bounds[1:]):
-        first = chars[a]
-        if first.text_path is not None:
-            # On a path, x is an offset along it and y is ignored (as in resvg).
-            pen_x, pen_y = first.x or 0.0, 0.0
-        else:
-            if first.x is not None:
-                pen_x = first.x
-            if first.y is not None:
-                pen_y = first.y
-        glyphs = shape_chunk(chars, faces, specs, a, b, direction)
-        if glyphs:
-            glyphs[0].shifted = True     # a chunk starts a new decoration line
-        pen_x, pen_y = place_chunk(glyphs, chars, specs, styles, a, b, pen_x, pen_y,
-                                   vertical, direction, ctx)
-        placed.append((a, b, glyphs))
-    # textLength on the <text> element and tspans
-    apply_text_length(element, chars, placed, ctx, styles)
-    # textPath placement
-    for a, b, glyphs in placed:
-        tp = chars[a].text_path
-        if tp is not None:
-            place_on_path(tp, glyphs, chars, ctx, styles)
-    for _, _, glyphs in placed:
-        for g in glyphs:
-            if g.matrix is None:
-                g.frame = compose(_translate(g.x, g.y), _rotate_at(g.rotate, 0.0, 0.0))
-                g.matrix = compose(g.frame, (g.scale * g.sx, 0.0, 0.0, -g.scale, g.off_x,
-                                             -g.off_y))
-    return draw_glyphs(element, chars, placed, ctx, styles, vertical)
-
-
-def place_chunk(glyphs, chars, specs, styles, a, b, pen_x, pen_y, vertical, direction, ctx):
-    """Pen positions of one chunk's glyphs, then text-anchor; returns the new pen."""
-    x0, y0 = pen_x, pen_y
-    x, y = pen_x, pen_y
-    done_dxdy = set()
-    for g in glyphs:
-        c = chars[g.char]
-        spec = specs[g.char]
-        if g.cluster_start and g.char not in done_dxdy:
-            done_dxdy.add(g.char)
-            x += c.dx
-            y += c.dy
-            g.shifted = g.shifted or bool(c.dx or c.dy or c.rotate)
-        style = styles[id(c.el)]
-        shift = baseline_offset(style, g.face, spec, ctx.style)
-        if vertical:
-            g.x, g.y = x, y
-            _vertical_glyph(g, spec, shift)
-            y += g.advance_v
-        else:
-            g.x, g.y = x, y + shift
-            g.rotate = c.rotate
-            x += g.advance
-        if g.cluster_start:
-            extra = spec.letter_spacing
-            if c.ch in SPACES:
-                extra += spec.word_spacing
-            g.spacing = extra
-            if vertical:
-                y += extra
-            else:
-                x += extra
-    # text-anchor of the chunk (the style of its first character's element)
-    anchor = (styles[id(chars[a].el)].get("text-anchor") or "start").strip()
-    if direction == "rtl" and not vertical:
-        anchor = {"start": "end", "end": "start"}.get(anchor, anchor)
-    width = (y - y0) if vertical else (x - x0)
-    k = {"middle": 0.5, "end": 1.0}.get(anchor, 0.0)
-    if k and chars[a].text_path is None:
-        for g in glyphs:
-            if vertical:
-                g.y -= width * k
-            else:
-                g.x -= width * k
-        if vertical:
-            y -= width * k
-        else:
-            x -= width * k
-    elif k:
-        for g in glyphs:
-            g.path_anchor = width * k
-    return x, y
-
-
-def _vertical_glyph(g, spec, shift):
-    """Vertical writing: upright CJK, other glyphs turned 90° clockwise (text-orientation:
-    mixed); the pen moves down by the advance."""
-    face = g.face
-    m = face.metrics
-    cp = face.reverse_cmap.get(g.gid)
-    upright = cp is not None and _is_upright(cp)
-    if upright:
-        g.advance_v = spec.size   # one em per ideograph
-        # centre the glyph horizontally on the pen, top at the pen
-        g.x -= g.advance / 2
-        g.y += m.ascender * g.scale
-        g.off_x = 0.0
-        g.off_y = 0.0
-    else:
-        g.advance_v = g.advance
-        g.rotate = 90.0
-        # rotated: the baseline runs down the column, centred on its central baseline
-        central = (m.ascender + m.descender) / 2 * g.scale
-        g.x -= central
-        g.off_x, g.off_y = 0.0, 0.0
-
-
-def _is_upright(cp):
-    return (0x1100 <= cp <= 0x11FF or 0x2E80 <= cp <= 0xA4CF or 0xAC00 <= cp <= 0xD7AF
-            or 0xF900 <= cp <= 0xFAFF or 0xFE30 <= cp <= 0xFE4F or 0xFF00 <= cp <= 0xFFEF
-            or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
-
-
-
-def apply_text_length(text_el, chars, placed, ctx, styles):
-    """textLength/lengthAdjust on <text> (whole text) and on tspans (their characters)."""
-    targets = [text_el]
-
-    def walk(el):
-        for c in el.children:
-            if c.tag in TEXT_CONTENT:
-                if c.get("textLength") is not None:
-                    targets.append(c)
-                walk(c)
-    walk(text_el)
-    for el in targets:
+    text_length = {}
+    for el in [element] + [e for c in chars for e in c.chain[1:]]:
         value = el.get("textLength")
-        if value is None:
+        if value is None or id(el) in text_length:
             continue
         length = ctx.length(value, "x", styles.get(id(el), ctx.style))
-        if length is None or length < 0:
+        if length is not None and length >= 0:
+            text_length[id(el)] = (length, (el.get("lengthAdjust") or "spacing").strip())
+    # baseline shift of every character (positive moves down)
+    shift_cache = {}
+    shifts = []
+    for c, spec, face in zip(chars, specs, faces):
+        key = (id(c.el), id(face))
+        if key not in shift_cache:
+            shift_cache[key] = baseline_offset(styles[id(c.el)], face, spec, ctx.style,
+                                               vertical) if face is not None else 0.0
+        shifts.append(shift_cache[key])
+
+    bounds = [i for i, c in enumerate(chars)
+              if i == 0 or c.x is not None or c.y is not None
+              or c.text_path is not chars[i - 1].text_path]
+    bounds.append(len(chars))
+    all_clusters = []
+    last_x = last_y = 0.0
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        first = chars[a]
+        on_path = first.text_path is not None
+        clusters = shape_chunk(chars, faces, specs, a, b)
+        if not clusters:
             continue
-        gl = [g for _, _, gs in placed for g in gs
-              if any(e is el for e in chars[g.char].chain)]
-        if not gl:
-            continue
-        x0 = min(g.x for g in gl)
-        x1 = max(g.x + g.advance for g in gl)
-        natural = x1 - x0
-        if natural <= 0:
-            continue
-        adjust = (el.get("lengthAdjust") or "spacing").strip()
-        if adjust == "spacingAndGlyphs":
-            k = length / natural
-            for g in gl:
-                g.x = x0 + (g.x - x0) * k
-                g.off_x *= k
-                g.sx = k
+        clusters[0].shifted = True       # a chunk starts a new decoration line
+        if vertical:
+            apply_writing_mode(clusters, chars)
+        apply_spacing(clusters, chars, specs)
+        apply_length_adjust(clusters, chars, text_length, on_path)
+        anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
+        if on_path:
+            chunk_x = (first.y if vertical else first.x) or 0.0
+            last_x, last_y = position_on_path(clusters, chars, first.text_path, chunk_x,
+                                              anchor, ctx, styles, shifts)
         else:
-            clusters = sorted({g.char for g in gl})
-            if len(clusters) < 2:
-                continue
-            step = (length - natural) / (len(clusters) - 1)
-            rank = {c: i for i, c in enumerate(clusters)}
-            for g in gl:
-                g.x += step * rank[g.char]
-        # Glyphs after the adjusted element in the same chunk move with its end.
-        delta = length - natural
-        last = max(g.char for g in gl)
-        for _, _, gs in placed:
-            if any(g in gl for g in gs):
-                for g in gs:
-                    if g.char > last:
-                        g.x += delta
-
-
-def place_on_path(tp, glyphs, chars, ctx, styles):
-    """Glyphs along a textPath: each glyph's midpoint on the path, rotated to its tangent."""
-    target = _lookup(tp)
-    path = ctx.path_of(target) if target is not None else None
-    if path is None or path.is_empty():
-        for g in glyphs:
-            g.hidden = True
-        return
-    a, b, c, d = ctx.transform[:4]
-    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(c, d)))
-    style = styles.get(id(tp), ctx.style)
-    offset = 0.0
-    so = tp.get("startOffset")
-    if so is not None:
-        so = so.strip()
-        if so.endswith("%"):
-            try:
-                offset = float(so[:-1]) / 100 * walker.length
-            except ValueError:
-                offset = 0.0
-        else:
-            offset = ctx.length(so, "x", style, 0.0) or 0.0
-    for g in glyphs:
-        adv = g.advance * g.sx
-        mid = offset + g.x - g.path_anchor + adv / 2
-        at = walker.at(mid)
-        if at is None:
-            g.hidden = True
-            continue
-        px, py, ang = at
-        hw = adv / 2
-        # Rotated about the glyph's midpoint on the path, then shifted off the path (dy,
-        # baselines) and turned by its own rotate value about its origin.
-        m = compose(_translate(px - hw, py), _rotate_at(ang, hw, 0.0))
-        m = compose(m, _translate(0.0, g.y))
-        m = compose(m, _rotate_at(g.rotate, 0.0, 0.0))
-        g.frame = m
-        g.shifted = True
-        g.matrix = compose(m, (g.scale * g.sx, 0.0, 0.0, -g.scale, g.off_x, -g.off_y))
-
-
-def _translate(x, y):
-    return (1.0, 0.0, 0.0, 1.0, x, y)
-
-
-def _rotate_at(deg, cx, cy):
-    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
-    return (c, s, -s, c, cx - c * cx + s * cy, cy - s * cx - c * cy)
+            x = first.x if first.x is not None else last_x
+            y = first.y if first.y is not None else last_y
+            cx, cy = position_linear(clusters, chars, anchor, vertical)
+            chunk_ts = _rotate_at(90.0, x, y) if vertical else IDENTITY_M
+            for c in clusters:
+                span = compose(chunk_ts, _translate(x, y + shifts[c.char]))
+                c.frame = compose(span, c.frame)
+            if vertical:
+                cx, cy = cy, cx
+            last_x, last_y = x + cx, y + cy
+        all_clusters.extend(clusters)
+    for c in all_clusters:
+        base = compose(c.frame, c.path_ts)
+        for g in c.glyphs:
+            g.matrix = compose(base, (g.scale, 0.0, 0.0, -g.scale, g.dx, g.dy))
+    return draw_clusters(element, chars, all_clusters, ctx, styles, vertical)
 
 
 # -- 7. drawing -------------------------------------------------------------------------------
-def draw_glyphs(text_el, chars, placed, ctx, styles, vertical):
-    glyphs = [g for _, _, gs in placed for g in gs if not g.hidden]
-    if not glyphs:
+def text_bbox(clusters):
+    """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
+    (ascent to descent over the advance), not of the glyph outlines."""
+    box = None
+    for c in clusters:
+        if not c.visible:
+            continue
+        adv = c.advance if c.advance > 0 else 1.0
+        r = rect_path(0.0, -c.ascent, adv, c.ascent - c.descent).transformed(
+            compose(c.frame, c.path_ts))
+        b = r.bounds()
+        box = b if box is None else (min(box[0], b[0]), min(box[1], b[1]),
+                                     max(box[2], b[2]), max(box[3], b[3]))
+    return box
+
+
+def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
+    visible = [c for c in clusters if c.visible]
+    if not visible:
         return []
-    # glyph outlines grouped per (element) in document order of their first character
     by_el = {}
-    order = []
-    for g in glyphs:
-        el = chars[g.char].el
-        if id(el) not in by_el:
-            by_el[id(el)] = (el, [])
-            order.append(id(el))
-        by_el[id(el)][1].append(g)
-    paths = {}
-    bbox = None
-    for key in order:
-        el, gl = by_el[key]
-        path = _glyph_path(gl)
-        paths[key] = path
-        b = path.bounds()
-        if b is not None:
-            bbox = b if bbox is None else (min(bbox[0], b[0]), min(bbox[1], b[1]),
-                                           max(bbox[2], b[2]), max(bbox[3], b[3]))
+    for c in visible:
+        el = chars[c.char].el
+        by_el.setdefault(id(el), (el, []))[1].extend(c.glyphs)
+    bbox = text_bbox(visible)
     if bbox is None:
         return []
-    decorations = text_decorations(text_el, chars, glyphs, styles, vertical)
+    decorations = text_decorations(text_el, chars, clusters, styles, vertical)
+    for kind in decorations:
+        for _, path in decorations[kind]:
+            b = path.bounds()
+            if b is not None:
+                bbox = (min(bbox[0], b[0]), min(bbox[1], b[1]), max(bbox[2], b[2]),
+                        max(bbox[3], b[3]))
     nodes_by_el = {}
-    for key in order:
-        el, gl = by_el[key]
+    for key, (el, glyphs) in by_el.items():
         style = styles[id(el)]
-        if style.get("visibility").strip() in ("hidden", "collapse"):
+        if style.get("visibility").strip() in ("hidden", "collapse") or not glyphs:
             continue
-        if paths[key].is_empty():
+        path = _glyph_path(glyphs)
+        if path.is_empty():
             continue
-        nodes_by_el.setdefault(id(el), []).extend(_color_or_plain(gl, paths[key], style, ctx,
-                                                                  bbox))
+        nodes_by_el.setdefault(key, []).extend(_color_or_plain(glyphs, path, style, ctx, bbox))
     out = []
     for kind in ("underline", "overline"):
         for deco_style, path in decorations.get(kind, []):
@@ -890,8 +898,7 @@ def _glyph_path(glyphs):
     verbs, points = [], []
     by_face = {}
     for g in glyphs:
-        by_face.setdefault((id(g.face), g.location), (g.face, g.location, [], []))
-        entry = by_face[(id(g.face), g.location)]
+        entry = by_face.setdefault((id(g.face), g.location), (g.face, g.location, [], []))
         entry[2].append(g.gid)
         entry[3].append(g.matrix)
     for face, loc, gids, mats in by_face.values():
@@ -933,18 +940,17 @@ def _wrap_tree(el, nodes_by_el, ctx, styles, top=False):
     return ctx.wrap(el, styles[id(el)], nodes)
 
 
-def text_decorations(text_el, chars, glyphs, styles, vertical):
+def text_decorations(text_el, chars, clusters, styles, vertical):
     """{kind: [(style of the declaring element, user-space path)]}.
 
     As in resvg: a text span (characters of one innermost element) is decorated by every
-    kind declared on it or an ancestor, painted with the declaring element's fill and stroke,
-    sized by the span's own font (rectangle centred on the underline, ascender or strike-out
-    line, underline thickness); the line runs over consecutive clusters and restarts at each
-    cluster moved by dx/dy/rotate or placed on a path.
+    kind declared on it or an ancestor, painted with the declaring element's fill and stroke
+    (the text's own style when declared outside <text>), sized by the span's own font (a
+    rectangle centred on the underline, ascender or strike-out line, underline thickness);
+    the line runs over consecutive clusters and restarts at each cluster moved by
+    dx/dy/rotate, placed on a path or starting a chunk.
     """
     out = {}
-    clusters = [g for g in glyphs if g.cluster_start]
-    # Declared outside <text> (on a <g>), a decoration is painted with the text's own style.
     outer = {}
     for anc in text_el.ancestors():
         value = (anc.specified.get("text-decoration") or "").split()
@@ -952,12 +958,12 @@ def text_decorations(text_el, chars, glyphs, styles, vertical):
             if kind in value:
                 outer.setdefault(kind, text_el)
     span_kinds = {}
-    for g in clusters:
-        el = chars[g.char].el
+    for c in clusters:
+        el = chars[c.char].el
         if id(el) in span_kinds:
             continue
         kinds = {}
-        for anc in reversed(chars[g.char].chain):
+        for anc in reversed(chars[c.char].chain):
             value = (anc.specified.get("text-decoration") or "").split()
             for kind in ("underline", "overline", "line-through"):
                 if kind in value and kind not in kinds:
@@ -967,49 +973,35 @@ def text_decorations(text_el, chars, glyphs, styles, vertical):
         span_kinds[id(el)] = kinds
     for kind in ("underline", "overline", "line-through"):
         by_decl = {}
-        run = None       # [frame, width, g0, declaring element]
         runs = []
+        run = None
         prev_el = None
-        for g in clusters:
-            el = chars[g.char].el
+        for c in clusters:
+            el = chars[c.char].el
             decl = span_kinds[id(el)].get(kind)
-            adv = _cluster_advance(g, glyphs, chars)
-            if decl is None:
+            if decl is None or not c.visible:
                 run = None
-            elif run is None or g.shifted or el is not prev_el:
-                run = [g.frame, adv, g, decl]
+            elif run is None or c.shifted or el is not prev_el:
+                run = [c, c.advance, decl]
                 runs.append(run)
             else:
-                run[1] += adv
+                run[1] += c.advance
             prev_el = el
-        for frame, width, g0, decl in runs:
-            face = g0.face
-            m = face.metrics
-            scale = g0.size / face.units_per_em
-            if kind == "underline":
+        for c0, width, decl in runs:
+            m = c0.face.metrics
+            scale = c0.size / c0.face.units_per_em
+            if vertical:
+                half = (m.ascender - m.descender) * scale / 2
+                dy = {"underline": half, "overline": -half}.get(kind, 0.0)
+            elif kind == "underline":
                 dy = -m.underline_position * scale
             elif kind == "overline":
                 dy = -m.ascender * scale
             else:
                 dy = -m.strikeout_position * scale
             thick = m.underline_thickness * scale
-            if vertical:
-                dy = {"underline": (m.ascender - m.descender) * scale / 2,
-                      "overline": -(m.ascender - m.descender) * scale / 2}.get(kind, 0.0)
-            rect = rect_path(0.0, dy - thick / 2, width, thick).transformed(frame)
+            rect = rect_path(0.0, dy - thick / 2, width, thick).transformed(c0.frame)
             entry = by_decl.setdefault(id(decl), (styles[id(decl)], Path()))
             entry[1].extend(rect)
         out[kind] = list(by_decl.values())
     return out
-
-
-def _cluster_advance(g, glyphs, chars):
-    """Advance of a whole cluster (ligatures, marks) starting with glyph g, with its letter
-    and word spacing."""
-    i = glyphs.index(g)
-    adv = g.advance
-    for h in glyphs[i + 1:]:
-        if h.cluster_start or h.char != g.char:
-            break
-        adv += h.advance
-    return adv * g.sx + g.spacing
