@@ -800,8 +800,9 @@ def parse_opacity(value):
 def paint_order(value):
     default = ["fill", "stroke", "markers"]
     words = (value or "normal").split()
-    if not words or words == ["normal"] or any(w not in default for w in words):
-        return default
+    if (not words or words == ["normal"] or any(w not in default for w in words)
+            or len(set(words)) != len(words)):
+        return default   # invalid (unknown keyword, duplicates): the initial value
     order = []
     for w in words:
         if w not in order:

@@ -116,9 +116,11 @@ def _load_svg(builder, data, folder):
     from .resources import Resources
     from .sizing import document_size
 
-    resources = builder.resources.child(folder) if folder else Resources()
+    # As in resvg, an SVG used as an image may embed data: URLs but load no files: that also
+    # rules out documents that show themselves.
+    resources = Resources()
     try:
-        doc = load_document(data, folder, load_text=resources.fetch_text)
+        doc = load_document(data, None, load_text=resources.fetch_text)
         size = document_size(doc)
     except SvgError:
         return None

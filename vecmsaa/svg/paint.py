@@ -243,5 +243,9 @@ def pattern(builder, el, ctx, bbox):
         to_paint = invert(tile_to_device)
     except ValueError:
         return None
-    # nearest: the tile is already at device resolution (resvg samples it the same way)
-    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True, smooth=False)
+    # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
+    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering.
+    a, b, c, d = tile_to_device[:4]
+    axis_aligned = abs(b) < 1e-9 and abs(c) < 1e-9
+    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True,
+                      smooth=not axis_aligned)

@@ -25,15 +25,6 @@ class Resources:
         self.resources_dir = (os.path.realpath(os.fspath(resources_dir))
                               if resources_dir else None)
 
-    def child(self, base_dir):
-        """Resources for a document loaded from ``base_dir`` (a nested SVG image): the same
-        allowed roots, relative paths resolved from its folder."""
-        r = Resources.__new__(Resources)
-        r.roots = list(self.roots)
-        r.base_dir = base_dir
-        r.resources_dir = self.resources_dir
-        return r
-
     def fetch(self, url):
         """(bytes, mime or None, folder of the file or None); None when not allowed/found."""
         url = (url or "").strip()

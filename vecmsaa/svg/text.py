@@ -408,48 +408,74 @@ class Cluster:
 
 
 def shape_chunk(chars, faces, specs, start, end):
-    """Clusters of chars[start:end] in visual order (LTR paragraph, bidi runs reversed)."""
+    """Clusters of chars[start:end] in visual order (LTR paragraph, bidi runs reversed).
+
+    As resvg does, each bidi run is shaped whole with every face (and font settings) that
+    its characters use, and each cluster is taken from the shaping by its own character's
+    face: kerning and joining across tspans of different fonts come from the run's context.
+    """
     text = "".join(c.ch for c in chars)
     clusters = []
     for s, e, d in bidi_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
-        pieces = []
-        k = s
-        while k < e:
-            key = (id(faces[k]), specs[k].features, specs[k].variations)
-            j = k + 1
-            while j < e and (id(faces[j]), specs[j].features, specs[j].variations) == key:
-                j += 1
-            pieces.append((k, j))
-            k = j
-        if d == "rtl":
-            pieces.reverse()
-        for a, b in pieces:
-            face = faces[a]
-            if face is None:
+        keys = {}
+        for k in range(s, e):
+            if faces[k] is not None:
+                keys.setdefault((id(faces[k]), specs[k].features, specs[k].variations), k)
+        if not keys:
+            continue
+        shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k)
+                  for key, k in keys.items()}
+        base_key = next(iter(keys))
+        covered = set()
+        for cl in shaped[base_key]:
+            first = cl.char
+            if first in covered:
                 continue
-            spec = specs[a]
-            loc = face_location(face, spec)
-            run = shape_run(face, text, a, b, location=loc, features=dict(spec.features),
-                            direction=d)
-            current = None
-            for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
-                cl = int(cl)
-                size = specs[cl].size
-                scale = size / face.units_per_em
-                if current is None or current.char != cl:
-                    m = face.metrics
-                    current = Cluster(cl, [], face, size, 0.0, 0.0, m.ascender * scale,
-                                      m.descender * scale)
-                    clusters.append(current)
-                    pen = 0.0
-                current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
-                                            -float(off[1]) * scale, scale))
-                width = float(adv[0]) * scale
-                pen += width
-                current.width = max(current.width, width)
-                current.advance = current.width
+            face = faces[first]
+            key = (id(face), specs[first].features, specs[first].variations) \
+                if face is not None else base_key
+            own = shaped.get(key, shaped[base_key])
+            pick = next((c for c in own if c.char == first), cl)
+            clusters.append(pick)
+            source = own if pick is not cl else shaped[base_key]
+            covered.update(range(first, _cluster_end(source, pick, e)))
     return clusters
+
+
+def _cluster_end(clusters, cluster, end):
+    """First character after a cluster in logical order (``end`` for the last one)."""
+    later = [c.char for c in clusters if c.char > cluster.char]
+    return min(later) if later else end
+
+
+def _shape_clusters(chars, faces, specs, text, s, e, direction, k):
+    """text[s:e] shaped with the face and settings of character k, as clusters."""
+    face = faces[k]
+    spec = specs[k]
+    loc = face_location(face, spec)
+    run = shape_run(face, text, s, e, location=loc, features=dict(spec.features),
+                    direction=direction)
+    out = []
+    current = None
+    pen = 0.0
+    for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
+        cl = int(cl)
+        size = specs[cl].size
+        scale = size / face.units_per_em
+        if current is None or current.char != cl:
+            m = face.metrics
+            current = Cluster(cl, [], face, size, 0.0, 0.0, m.ascender * scale,
+                              m.descender * scale)
+            out.append(current)
+            pen = 0.0
+        current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
+                                    -float(off[1]) * scale, scale))
+        width = float(adv[0]) * scale
+        pen += width
+        current.width = max(current.width, width)
+        current.advance = current.width
+    return out
 
 
 def _spacing_allowed(ch):
@@ -611,8 +637,7 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     scale = spec.size / face.units_per_em
     shift = 0.0
     align = (style.get("alignment-baseline") or "auto").strip()
-    base = align if align not in ("auto", "baseline") else (
-        style.get("dominant-baseline") or "auto").strip()
+    base = align if align not in ("auto", "baseline") else _dominant_baseline(style)
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
         "hanging": m.ascender * 0.8, "mathematical": m.ascender * 0.5,
@@ -648,6 +673,17 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
                     total += to_px(parsed[0], parsed[1], fs)
         s = s.parent
     return shift - total
+
+
+def _dominant_baseline(style):
+    """dominant-baseline, with SVG 1.1's no-change/reset-size taking the parent's value."""
+    s = style
+    while s is not None:
+        v = (s.get("dominant-baseline") or "auto").strip()
+        if v not in ("no-change", "reset-size"):
+            return v
+        s = s.parent
+    return "auto"
 
 
 def _os2(face, name, default):
@@ -930,14 +966,14 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
 
 
 def _wrap_tree(el, nodes_by_el, ctx, styles, top=False):
-    """Nodes of an element's subtree in order, each tspan wrapped for opacity/clip/mask."""
+    """Nodes of an element's subtree in document order. Like resvg, opacity, clip-path, mask
+    and filter on tspan-level elements are not applied (only on <text> itself, by the
+    builder)."""
     nodes = list(nodes_by_el.get(id(el), []))
     for c in el.children:
         if c.tag in TEXT_CONTENT and id(c) in styles:
             nodes.extend(_wrap_tree(c, nodes_by_el, ctx, styles))
-    if top or not nodes:
-        return nodes
-    return ctx.wrap(el, styles[id(el)], nodes)
+    return nodes
 
 
 def text_decorations(text_el, chars, clusters, styles, vertical):
