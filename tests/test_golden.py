@@ -514,3 +514,16 @@ def test_goldens_from_another_version_are_noted_and_still_compared(tree, capsys)
     assert "note: goldens made with vecmsaa 0.0.1, checking with " in err
     write(svgs / "plain.svg", rect_svg(fill=BLUE))
     assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 1
+
+
+def test_heat_map_marks_off_pixels_red_and_small_differences_blue():
+    expected = np.zeros((1, 3, 4), np.uint8)
+    expected[:] = (100, 100, 100, 255)
+    actual = expected.copy()
+    actual[0, 1, 0] += 20      # within the threshold
+    actual[0, 2, 0] += 100     # beyond it
+    heat = golden.heat_map(expected, actual, threshold=48)
+    unchanged, near, off = (tuple(int(c) for c in heat[0, i]) for i in range(3))
+    assert unchanged[0] == unchanged[1] == unchanged[2]          # grey: no difference
+    assert near[2] > near[0] and near[2] > near[1]               # blue-ish
+    assert off == golden.OFF_COLOR
