@@ -37,7 +37,12 @@ WEIGHTS = {"normal": 400, "bold": 700}
 STRETCHES = {"ultra-condensed": 50.0, "extra-condensed": 62.5, "condensed": 75.0,
              "semi-condensed": 87.5, "normal": 100.0, "semi-expanded": 112.5,
              "expanded": 125.0, "extra-expanded": 150.0, "ultra-expanded": 200.0}
-SPACES = {" ", "\u00a0", "\u3000"}
+#: tref may take the characters of SVG elements only
+SVG_ELEMENTS = {"svg", "g", "defs", "symbol", "use", "switch", "a", "rect", "circle", "ellipse",
+                "line", "polyline", "polygon", "path", "text", "tspan", "tref", "textPath",
+                "image", "title", "desc", "metadata", "style", "clipPath", "mask", "marker",
+                "pattern", "linearGradient", "radialGradient", "stop", "filter", "view",
+                "foreignObject"}
 
 
 # -- 1. characters ---------------------------------------------------------------------------
@@ -90,7 +95,7 @@ def collect_chars(text_el, ctx, styles):
                     elif child.tag == "tref":
                         styles[id(child)] = cstyle
                         target = _lookup(child)
-                        if target is not None:
+                        if target is not None and target.tag in SVG_ELEMENTS:
                             add(_all_text(target), child, chain + (child,), cpres, tp)
                     else:
                         walk(child, chain + (child,), cstyle, cpres, tp)
@@ -427,19 +432,29 @@ def shape_chunk(chars, faces, specs, start, end):
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k)
                   for key, k in keys.items()}
         base_key = next(iter(keys))
+        base = shaped[base_key]
         covered = set()
-        for cl in shaped[base_key]:
-            first = cl.char
-            if first in covered:
-                continue
-            face = faces[first]
-            key = (id(face), specs[first].features, specs[first].variations) \
-                if face is not None else base_key
-            own = shaped.get(key, shaped[base_key])
-            pick = next((c for c in own if c.char == first), cl)
-            clusters.append(pick)
-            source = own if pick is not cl else shaped[base_key]
-            covered.update(range(first, _cluster_end(source, pick, e)))
+        for cl in base:
+            # Characters of this base cluster, each taken from the shaping by its own face
+            # (a ligature of the base font may split into several clusters of another).
+            end = _cluster_end(base, cl, e)
+            picked = []
+            for k in range(cl.char, end):
+                if k in covered:
+                    continue
+                face = faces[k]
+                key = (id(face), specs[k].features, specs[k].variations) \
+                    if face is not None else base_key
+                own = shaped.get(key, base)
+                pick = next((c for c in own if c.char == k), None)
+                if pick is None:
+                    if k == cl.char:
+                        pick, own = cl, base
+                    else:
+                        continue
+                picked.append(pick)
+                covered.update(range(k, _cluster_end(own, pick, e)))
+            clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
 
 
