@@ -1,0 +1,423 @@
+"""Stroking, dashing and marker vertices, checked against geometry computed independently:
+exact areas, distances to the source curve, the SVG miter/cap/dash rules."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+
+from vecmsaa.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from vecmsaa.stroke import auto_angle, dash_pattern, marker_vertices, stroke_path
+from vecmsaa.svg.pathdata import parse_path_data, parse_path_data_with_commands
+
+
+# -- independent geometry: flattening, winding numbers, distances ---------------------------
+
+def _bezier(ctrl, ts):
+    ctrl = np.asarray(ctrl, dtype=np.float64)
+    pts = np.repeat(ctrl[None], len(ts), axis=0)
+    t = ts[:, None, None]
+    while pts.shape[1] > 1:
+        pts = pts[:, :-1] + (pts[:, 1:] - pts[:, :-1]) * t
+    return pts[:, 0]
+
+
+def contours(path, per_curve=64):
+    """Closed polylines of a path (every subpath closed, as filling does)."""
+    return [c for c, _ in _polylines(path, per_curve)]
+
+
+def source_polylines(path, per_curve):
+    """Polylines of a path as stroked: a closed subpath includes its closing segment."""
+    return [np.vstack([c, c[:1]]) if closed else c for c, closed in _polylines(path, per_curve)]
+
+
+def _polylines(path, per_curve):
+    out, cur = [], None
+    i = 0
+    ts = np.linspace(0, 1, per_curve + 1)[1:]
+    for v in path.verbs:
+        n = VERB_POINTS[v]
+        p = path.points[i:i + n]
+        i += n
+        if v == MOVE:
+            cur = [p[0]]
+            out.append([cur, False])
+        elif v == LINE:
+            cur.append(p[0])
+        elif v in (QUAD, CUBIC):
+            cur.extend(_bezier(np.vstack([cur[-1][None], p]), ts))
+        elif v == CLOSE:
+            out[-1][1] = True
+    return [(np.asarray(c), closed) for c, closed in out if len(c) > 1]
+
+
+def winding(path, q):
+    """Nonzero winding number of the (flattened) path at points q (M, 2)."""
+    q = np.asarray(q, dtype=np.float64)
+    w = np.zeros(len(q), dtype=np.int64)
+    cs = contours(path)
+    if not cs:
+        return w
+    a = np.vstack(cs)
+    b = np.vstack([np.roll(c, -1, axis=0) for c in cs])
+    qx, qy = q[:, 0:1], q[:, 1:2]
+    for lo in range(0, len(a), 256):
+        ax, ay = a[lo:lo + 256, 0][None], a[lo:lo + 256, 1][None]
+        bx, by = b[lo:lo + 256, 0][None], b[lo:lo + 256, 1][None]
+        side = (bx - ax) * (qy - ay) - (qx - ax) * (by - ay)
+        up = (ay <= qy) & (by > qy) & (side > 0)
+        down = (ay > qy) & (by <= qy) & (side < 0)
+        w += up.sum(axis=1) - down.sum(axis=1)
+    return w
+
+
+def inside(path, q):
+    return winding(path, q) != 0
+
+
+def distance_to_polylines(q, polys):
+    """Exact distance from points q to a set of polylines."""
+    q = np.asarray(q, dtype=np.float64)
+    best = np.full(len(q), np.inf)
+    for poly in polys:
+        a, b = poly[:-1], poly[1:]
+        ab = b - a
+        l2 = (ab ** 2).sum(-1)
+        l2 = np.where(l2 > 0, l2, 1)
+        for lo in range(0, len(q), 256):
+            qq = q[lo:lo + 256, None]
+            t = np.clip(((qq - a) * ab).sum(-1) / l2, 0, 1)
+            d2 = ((qq - (a + ab * t[..., None])) ** 2).sum(-1).min(axis=1)
+            best[lo:lo + 256] = np.minimum(best[lo:lo + 256], np.sqrt(d2))
+    return best
+
+
+def grid_area(path, box, step):
+    x0, y0, x1, y1 = box
+    xs = np.arange(x0 + step / 2, x1, step)
+    ys = np.arange(y0 + step / 2, y1, step)
+    gx, gy = np.meshgrid(xs, ys)
+    q = np.column_stack([gx.ravel(), gy.ravel()])
+    return inside(path, q).sum() * step * step
+
+
+def line(*pts, close=False):
+    p = Path()
+    p.moveTo(pts[0])
+    for q in pts[1:]:
+        p.lineTo(q)
+    if close:
+        p.closePath()
+    else:
+        p.endPath()
+    return p
+
+
+def polygon_area(poly):
+    x, y = poly[:, 0], poly[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+# -- basic shapes ----------------------------------------------------------------------------
+
+def test_straight_line_is_exact_rectangle():
+    length, w = math.hypot(30, 40), 3.0
+    out = stroke_path(line((10, 20), (40, 60)), w)
+    cs = contours(out)
+    assert len(cs) == 1
+    assert polygon_area(cs[0]) == pytest.approx(length * w, rel=1e-12)
+
+
+def test_all_contours_positive():
+    # the outline is a union of positive pieces: nonzero filling needs every one positive
+    out = stroke_path(parse_path_data("M0 0 C 50 100 100 -50 150 50 L 160 0 Q 100 30 90 90 Z"), 8,
+                      join="round", cap="round")
+    for c in contours(out, per_curve=32):
+        assert polygon_area(c) > -1e-9
+
+
+def test_circle_stroke_is_annulus():
+    r, w = 40.0, 10.0
+    circle = parse_path_data(f"M {50 + r} 50 A {r} {r} 0 0 1 {50 - r} 50 A {r} {r} 0 0 1 {50 + r} 50 Z")
+    out = stroke_path(circle, w, tolerance=0.01)
+    area = grid_area(out, (0, 0, 100, 100), 0.2)
+    expected = math.pi * ((r + w / 2) ** 2 - (r - w / 2) ** 2)
+    assert area == pytest.approx(expected, rel=0.005)
+    assert not inside(out, [(50, 50)])[0]
+
+
+def test_tight_circle_has_no_hole():
+    # radius smaller than the half width: the stroke is a full disc of radius r + w/2
+    r, w = 3.0, 10.0
+    circle = parse_path_data(f"M {50 + r} 50 A {r} {r} 0 0 1 {50 - r} 50 A {r} {r} 0 0 1 {50 + r} 50 Z")
+    out = stroke_path(circle, w, tolerance=0.01)
+    area = grid_area(out, (40, 40, 60, 60), 0.1)
+    assert area == pytest.approx(math.pi * (r + w / 2) ** 2, rel=0.01)
+
+
+# -- every point of the stroke within w/2 of the source, every such point covered ------------
+
+def check_distance_property(src_path, w, tol, rng, n=3000):
+    """With round joins and caps the stroke is exactly the set of points within w/2 of the
+    source (the Minkowski sum with a disc), so it is checked point by point."""
+    out = stroke_path(src_path, w, join="round", cap="round", tolerance=tol)
+    polys = source_polylines(src_path, per_curve=800)
+    poly = np.vstack(polys)
+    lo = poly.min(axis=0) - w
+    hi = poly.max(axis=0) + w
+    q = lo + rng.random((n, 2)) * (hi - lo)
+    # also points concentrated near the boundary
+    idx = rng.integers(0, len(poly), n)
+    ang = rng.random(n) * 2 * math.pi
+    rad = w / 2 + (rng.random(n) - 0.5) * 4 * tol
+    q = np.vstack([q, poly[idx] + np.column_stack([np.cos(ang), np.sin(ang)]) * rad[:, None]])
+    d = distance_to_polylines(q, polys)
+    ins = inside(out, q)
+    margin = tol * 1.01 + 1e-6
+    assert np.all(ins[d < w / 2 - margin]), "point within the stroke not covered"
+    assert not np.any(ins[d > w / 2 + margin]), "point outside the stroke covered"
+    return out
+
+
+def test_distance_property_curves():
+    rng = np.random.default_rng(1)
+    for d in ["M 10 10 C 90 10 10 90 90 90", "M 10 50 Q 50 -30 90 50 T 170 50",
+              "M 0 0 C 100 100 0 100 100 0",            # a loop
+              "M 0 0 C 100 100 0 100 100 0 L 10 5 Z",
+              "M 0 0 C 60 60 40 60 100 0",             # tight bend vs a wide stroke
+              "M 10 10 L 60 10 L 15 14 L 70 40"]:       # sharp turns, short segments
+        src = parse_path_data(d)
+        for w in (2.0, 12.0, 40.0):
+            check_distance_property(src, w, 0.05, rng)
+
+
+def test_cusp_cubic():
+    rng = np.random.default_rng(2)
+    # control polygon crossing itself symmetrically: a true cusp (zero derivative) at t = 0.5
+    check_distance_property(parse_path_data("M 0 0 C 100 100 0 100 100 0"), 10, 0.05, rng)
+    check_distance_property(parse_path_data("M 0 0 C 100 60 0 60 100 0"), 10, 0.05, rng)
+
+
+coordinate = st.floats(-100, 100, allow_nan=False).map(lambda v: round(v, 2))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(coordinate, coordinate), min_size=4, max_size=4),
+       st.sampled_from([1.0, 6.0, 30.0]), st.integers(0, 2 ** 31))
+def test_random_cubic_distance_property(ctrl, w, seed):
+    p = Path()
+    p.moveTo(ctrl[0])
+    p.curveTo(*ctrl[1:])
+    p.endPath()
+    check_distance_property(p, w, 0.1, np.random.default_rng(seed), n=800)
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(coordinate, coordinate), min_size=4, max_size=10),
+       st.sampled_from(["miter", "miter-clip", "round", "bevel", "arcs"]),
+       st.sampled_from(["butt", "round", "square"]),
+       st.floats(0.01, 50), st.booleans())
+def test_random_curves_finite_and_bounded(pts, join, cap, w, closed):
+    p = Path()
+    p.moveTo(pts[0])
+    rest = pts[1:]
+    while len(rest) >= 3:
+        p.curveTo(*rest[:3])
+        rest = rest[3:]
+    for q in rest:
+        p.lineTo(q)
+    p.closePath() if closed else p.endPath()
+    out = stroke_path(p, w, join=join, cap=cap, miterlimit=4.0, tolerance=0.1)
+    pts_out = out.points
+    assert np.all(np.isfinite(pts_out))
+    if len(pts_out):
+        src = np.asarray(pts)
+        # a miter reaches miterlimit · w/2 along the bisector, a clipped one w/2 sideways too
+        reach = w / 2 * math.sqrt(4.0 ** 2 + 1) + 1e-6
+        assert np.all(pts_out >= src.min(axis=0) - reach)
+        assert np.all(pts_out <= src.max(axis=0) + reach)
+
+
+# -- joins -----------------------------------------------------------------------------------
+
+def _corner(angle_deg):
+    """Two segments of length 50 meeting at (50, 50) with the given interior angle."""
+    a = math.radians(angle_deg)
+    return line((0, 50), (50, 50), (50 - 50 * math.cos(a), 50 - 50 * math.sin(a)))
+
+
+def _outer_bisector(angle_deg):
+    a = math.radians(angle_deg)
+    d0 = np.array([1.0, 0.0])
+    d1 = np.array([-math.cos(a), -math.sin(a)])
+    b = d0 - d1
+    return b / np.linalg.norm(b)
+
+
+@pytest.mark.parametrize("angle", [30, 60, 90, 120, 150])
+def test_miter_tip_length(angle):
+    w = 4.0
+    ratio = 1 / math.sin(math.radians(angle) / 2)     # SVG: miter length / stroke width
+    tip = ratio * w / 2
+    b = _outer_bisector(angle)
+    probe = lambda out, dist: inside(out, [np.array([50, 50]) + b * dist])[0]
+    out = stroke_path(_corner(angle), w, join="miter", miterlimit=ratio + 0.01)
+    assert probe(out, tip * 0.98) and not probe(out, tip * 1.02)
+    # over the limit: bevel, whose edge is at w/2 · sin(θ/2) from the vertex
+    out = stroke_path(_corner(angle), w, join="miter", miterlimit=ratio - 0.01)
+    bevel = w / 2 * math.sin(math.radians(angle) / 2)
+    assert probe(out, bevel * 0.98) and not probe(out, bevel * 1.02 + 1e-3)
+    # miter-clip: cut at miterlimit · w/2 from the vertex
+    limit = max(1.0, ratio / 2)
+    out = stroke_path(_corner(angle), w, join="miter-clip", miterlimit=limit)
+    clip = max(limit * w / 2, bevel)
+    assert probe(out, clip * 0.98) and not probe(out, clip * 1.02 + 1e-3)
+
+
+@pytest.mark.parametrize("angle", [20, 90, 160])
+def test_round_join_radius(angle):
+    w = 6.0
+    b = _outer_bisector(angle)
+    out = stroke_path(_corner(angle), w, join="round")
+    assert inside(out, [np.array([50, 50]) + b * w / 2 * 0.99])[0]
+    assert not inside(out, [np.array([50, 50]) + b * w / 2 * 1.01])[0]
+
+
+def test_u_turn_has_no_spike():
+    out = stroke_path(line((0, 0), (50, 0), (0, 0)), 4, join="miter")
+    assert np.all(np.isfinite(out.points))
+    assert out.points[:, 0].max() <= 52 + 1e-9
+    out = stroke_path(line((0, 0), (50, 0), (0, 0)), 4, join="round")
+    assert inside(out, [(51.9, 0)])[0] and not inside(out, [(52.1, 0)])[0]
+
+
+# -- caps ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("cap, beyond", [("butt", 0.0), ("square", 3.0), ("round", 3.0)])
+def test_cap_extent(cap, beyond):
+    out = stroke_path(line((10, 10), (50, 10)), 6, cap=cap)
+    for x_end, sign in ((50, 1), (10, -1)):
+        assert inside(out, [(x_end + sign * (beyond - 0.05), 10)])[0] or beyond == 0
+        assert not inside(out, [(x_end + sign * (beyond + 0.05), 10)])[0]
+    if cap == "round":   # the corner of a square cap is outside a round one
+        assert not inside(out, [(50 + 2.5, 12.5)])[0]
+    if cap == "square":
+        assert inside(out, [(50 + 2.9, 12.9)])[0]
+
+
+def test_closed_subpath_has_no_caps():
+    out = stroke_path(line((10, 10), (50, 10), (50, 50), close=True), 4, cap="square",
+                      join="bevel")
+    # a square cap at (10, 10) would cover the point just before the start along -x
+    assert not inside(out, [(7.5, 10)])[0]
+
+
+@pytest.mark.parametrize("cap, area", [("round", math.pi * 9), ("square", 36.0), ("butt", 0.0)])
+def test_zero_length_subpath_dot(cap, area):
+    for d in ("M 20 20 Z", "M 20 20 L 20 20", "M 20 20 l 0 0 0 0"):
+        out = stroke_path(parse_path_data(d), 6, cap=cap)
+        assert grid_area(out, (10, 10, 30, 30), 0.1) == pytest.approx(area, rel=0.02, abs=0.01)
+
+
+def test_lone_moveto_not_stroked():
+    assert stroke_path(parse_path_data("M 20 20"), 6, cap="round").is_empty()
+
+
+# -- dashes ----------------------------------------------------------------------------------
+
+def test_dash_pattern_rules():
+    assert dash_pattern(None) is None
+    assert dash_pattern([5]) == [5, 5]
+    assert dash_pattern([1, 2, 3]) == [1, 2, 3, 1, 2, 3]
+    assert dash_pattern([1, -2]) is None
+    assert dash_pattern([0, 0]) is None
+    assert dash_pattern([]) is None
+
+
+def _dash_on(s, pattern, offset):
+    pattern = dash_pattern(pattern)
+    pos = (s + offset) % sum(pattern)
+    for k, v in enumerate(pattern):
+        if pos < v:
+            return k % 2 == 0
+        pos -= v
+    return False
+
+
+@pytest.mark.parametrize("pattern, offset", [([10, 5], 0), ([10, 5], 3), ([10, 5], -4),
+                                             ([7], 0), ([3, 2, 6], 1.5), ([4, 1], 123)])
+def test_dashes_on_line(pattern, offset):
+    out = stroke_path(line((0, 0), (100, 0)), 2, dashes=pattern, dash_offset=offset)
+    s = np.arange(0.25, 100, 0.5)
+    on = np.array([_dash_on(v, pattern, offset) for v in s])
+    # skip samples within 0.05 of a dash boundary
+    near = np.array([_dash_on(v - 0.05, pattern, offset) != _dash_on(v + 0.05, pattern, offset)
+                     for v in s])
+    got = inside(out, np.column_stack([s, np.zeros_like(s)]))
+    assert np.array_equal(got[~near], on[~near])
+
+
+def test_dashes_follow_curves():
+    r = 30.0
+    circle = parse_path_data(f"M {50 + r} 50 A {r} {r} 0 0 1 {50 - r} 50 A {r} {r} 0 0 1 {50 + r} 50 Z")
+    pattern, offset = [12, 7], 2.0
+    out = stroke_path(circle, 2, dashes=pattern, dash_offset=offset, tolerance=0.01)
+    s = np.arange(0.1, 2 * math.pi * r, 0.37)
+    on = np.array([_dash_on(v, pattern, offset) for v in s])
+    near = np.array([_dash_on(v - 0.2, pattern, offset) != _dash_on(v + 0.2, pattern, offset)
+                     for v in s])
+    # the arc starts at angle 0 and runs with increasing angle (sweep flag 1, y down)
+    q = np.column_stack([50 + r * np.cos(s / r), 50 + r * np.sin(s / r)])
+    got = inside(out, q)
+    assert np.array_equal(got[~near], on[~near])
+
+
+def test_dashes_invalid_or_zero_draw_solid():
+    solid = stroke_path(line((0, 0), (100, 0)), 2)
+    for pattern in ([5, -1], [0, 0], []):
+        out = stroke_path(line((0, 0), (100, 0)), 2, dashes=pattern)
+        np.testing.assert_array_equal(out.points, solid.points)
+
+
+def test_zero_length_dashes_with_round_caps_are_dots():
+    out = stroke_path(line((0, 0), (100, 0)), 2, cap="round", dashes=[0, 10])
+    assert inside(out, [(50, 0), (50, 0.9), (0.5, 0)]).all()
+    assert not inside(out, [(55, 0)])[0]
+    assert stroke_path(line((0, 0), (100, 0)), 2, cap="butt", dashes=[0, 10]).is_empty()
+
+
+# -- markers ---------------------------------------------------------------------------------
+
+def test_marker_vertices_open_path():
+    v = marker_vertices(parse_path_data("M 0 0 L 10 0 L 10 10"))
+    assert [k for *_, k in v] == ["start", "mid", "end"]
+    assert [(x, y) for x, y, *_ in v] == [(0, 0), (10, 0), (10, 10)]
+    assert v[0][2:4] == (0.0, 0.0)
+    assert v[1][2:4] == (0.0, 90.0)
+    assert auto_angle(*v[1][2:4]) == pytest.approx(45.0)
+    assert v[2][2:4] == (90.0, 90.0)
+
+
+def test_marker_vertices_closed_path_uses_closing_segment():
+    v = marker_vertices(parse_path_data("M 0 0 L 10 0 L 10 10 Z"))
+    assert [(x, y) for x, y, *_ in v] == [(0, 0), (10, 0), (10, 10), (0, 0)]
+    assert v[0][2] == pytest.approx(-135.0) and v[0][3] == 0.0
+    assert v[-1][2] == pytest.approx(-135.0) and v[-1][3] == 0.0
+
+
+def test_marker_vertices_arc_is_one_segment():
+    path, cmds = parse_path_data_with_commands("M 0 0 A 10 10 0 0 1 20 0 L 20 10")
+    v = marker_vertices(path, cmds)
+    assert [(round(x, 9), round(y, 9)) for x, y, *_ in v] == [(0, 0), (20, 0), (20, 10)]
+    # the half circle from (0,0) to (20,0) with sweep 1 leaves going up (-y) and ends going down
+    assert v[0][3] == pytest.approx(-90.0)
+    assert v[1][2] == pytest.approx(90.0)
+
+
+def test_marker_zero_length_segment_takes_neighbour_direction():
+    v = marker_vertices(parse_path_data("M 0 0 L 0 0 L 10 0"))
+    assert v[0][3] == 0.0 and v[1][2] == 0.0

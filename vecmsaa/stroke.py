@@ -1,0 +1,770 @@
+"""Strokes as fillable outlines, dashing, and marker vertices.
+
+:func:`stroke_path` returns the stroke's outline as a Path to be filled with the nonzero rule.
+The outline is a union of pieces, every one a closed contour with positive orientation (positive
+shoelace area): one per run of smooth segment pieces (its right offset forward, its left offset
+backward), one per join wedge on the outer side of a turn, one per cap, and a patch wherever a
+curve bends tighter than half the stroke width. Because no contour winds negatively, the nonzero
+union is the stroke however short the segments and however sharp the turns: the single-contour
+construction (offsets joined through the pivot on the inner side) leaves holes when segments are
+shorter than the stroke is wide, which is common in map data.
+
+Offsets of curves are cubic Béziers fitted to the true offset (exact end points and tangents, the
+midpoint matched), subdivided until within ``tolerance`` at the quarter points.
+
+Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offsets are P + w/2·n.
+"""
+from __future__ import annotations
+
+import math
+from bisect import bisect_left
+
+from .path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from .svg.pathdata import path_from_lists
+
+JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
+CAPS = ("butt", "round", "square")
+
+_MAX_DEPTH = 12          # curve subdivision depth: 4096 pieces at most per segment
+_SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
+_KAPPA_90 = 4.0 / 3.0 * math.tan(math.pi / 8)  # cubic handle for a quarter circle
+
+
+# -- small vector helpers on (x, y) tuples (pure Python: faster than numpy for 2-vectors) ----
+
+def _unit(dx, dy):
+    n = math.hypot(dx, dy)
+    if n == 0.0 or not math.isfinite(n):
+        return None
+    return dx / n, dy / n
+
+
+def _cubic_point(c, t):
+    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = c
+    u = 1.0 - t
+    a, b, cc, d = u * u * u, 3 * u * u * t, 3 * u * t * t, t * t * t
+    return a * x0 + b * x1 + cc * x2 + d * x3, a * y0 + b * y1 + cc * y2 + d * y3
+
+
+def _cubic_deriv(c, t):
+    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = c
+    u = 1.0 - t
+    a, b, d = 3 * u * u, 6 * u * t, 3 * t * t
+    return (a * (x1 - x0) + b * (x2 - x1) + d * (x3 - x2),
+            a * (y1 - y0) + b * (y2 - y1) + d * (y3 - y2))
+
+
+def _cubic_deriv2(c, t):
+    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = c
+    u = 1.0 - t
+    return (6 * (u * (x2 - 2 * x1 + x0) + t * (x3 - 2 * x2 + x1)),
+            6 * (u * (y2 - 2 * y1 + y0) + t * (y3 - 2 * y2 + y1)))
+
+
+def _split_cubic(c, t):
+    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = c
+    ax, ay = x0 + (x1 - x0) * t, y0 + (y1 - y0) * t
+    bx, by = x1 + (x2 - x1) * t, y1 + (y2 - y1) * t
+    cx, cy = x2 + (x3 - x2) * t, y2 + (y3 - y2) * t
+    dx, dy = ax + (bx - ax) * t, ay + (by - ay) * t
+    ex, ey = bx + (cx - bx) * t, by + (cy - by) * t
+    fx, fy = dx + (ex - dx) * t, dy + (ey - dy) * t
+    return ((x0, y0), (ax, ay), (dx, dy), (fx, fy)), ((fx, fy), (ex, ey), (cx, cy), (x3, y3))
+
+
+def _sub_cubic(c, t0, t1):
+    """The part of cubic c between parameters t0 < t1."""
+    if t1 < 1.0:
+        c = _split_cubic(c, t1)[0]
+        t0 = t0 / t1 if t1 > 0 else 0.0
+    if t0 > 0.0:
+        c = _split_cubic(c, t0)[1]
+    return c
+
+
+def _seg_tangents(seg):
+    """Unit directions at the start and end of a segment (control points tuple), or None
+    for a segment of zero length."""
+    p0 = seg[0]
+    start = end = None
+    for q in seg[1:]:
+        start = _unit(q[0] - p0[0], q[1] - p0[1])
+        if start:
+            break
+    p3 = seg[-1]
+    for q in reversed(seg[:-1]):
+        end = _unit(p3[0] - q[0], p3[1] - q[1])
+        if end:
+            break
+    if start is None or end is None:
+        return None
+    return start, end
+
+
+def _signed_area(pts):
+    a = 0.0
+    n = len(pts)
+    for i in range(n):
+        x0, y0 = pts[i]
+        x1, y1 = pts[(i + 1) % n]
+        a += x0 * y1 - x1 * y0
+    return a
+
+
+# -- output ---------------------------------------------------------------------------------
+
+class _Out:
+    """Verb and point lists of the outline being built, one closed contour at a time."""
+
+    def __init__(self):
+        self.verbs: list[int] = []
+        self.pts: list[tuple[float, float]] = []
+
+    def contour(self, items):
+        """items: a start point, then (verb, points...) tuples; closed and oriented positive."""
+        start = items[0]
+        segs = items[1:]
+        poly = [start]
+        for s in segs:
+            poly.extend(s[1:])
+        if _signed_area(poly) < 0:
+            start, segs = _reverse_contour(start, segs)
+        self.verbs.append(MOVE)
+        self.pts.append(start)
+        for s in segs:
+            self.verbs.append(s[0])
+            self.pts.extend(s[1:])
+        self.verbs.append(CLOSE)
+
+
+def _reverse_contour(start, segs):
+    """The same closed contour traversed backwards."""
+    ends = [start] + [s[-1] for s in segs]
+    out = []
+    for i in range(len(segs) - 1, -1, -1):
+        s = segs[i]
+        ctrl = list(reversed(s[1:-1]))
+        out.append((s[0], *ctrl, ends[i]))
+    return ends[-1], out
+
+
+# -- geometry of one segment ----------------------------------------------------------------
+
+class _Piece:
+    """A piece of a segment: source control points (2 for lines, 4 for cubics), unit tangents
+    at both ends, and per side either the offset's control points or None where the curve
+    bends tighter than the half width on that side (the side then follows the source curve and
+    a patch covers the inside of the bend)."""
+    __slots__ = ("src", "t0", "t1", "right", "left", "patch_right", "patch_left")
+
+    def __init__(self, src, t0, t1, right, left, patch_right=None, patch_left=None):
+        self.src, self.t0, self.t1 = src, t0, t1
+        self.right, self.left = right, left
+        self.patch_right, self.patch_left = patch_right, patch_left
+
+
+def _line_piece(p0, p1, d, hw):
+    nx, ny = -d[1] * hw, d[0] * hw
+    return _Piece((p0, p1), d, d,
+                  ((p0[0] - nx, p0[1] - ny), (p1[0] - nx, p1[1] - ny)),
+                  ((p0[0] + nx, p0[1] + ny), (p1[0] + nx, p1[1] + ny)))
+
+
+def _curvature(c, t):
+    dx, dy = _cubic_deriv(c, t)
+    sp2 = dx * dx + dy * dy
+    if sp2 < 1e-24:
+        return math.inf
+    ex, ey = _cubic_deriv2(c, t)
+    return (dx * ey - dy * ex) / (sp2 * math.sqrt(sp2))
+
+
+def _offset_point(c, t, off):
+    """Point of the true offset at parameter t (off = signed distance along the left normal)."""
+    d = _unit(*_cubic_deriv(c, t))
+    if d is None:
+        return None
+    x, y = _cubic_point(c, t)
+    return x - d[1] * off, y + d[0] * off
+
+
+def _fit_offset(c, t0, t1, off):
+    """Cubic approximating the offset of cubic c by off (signed, along the left normal):
+    end points and tangents exact, handle lengths chosen so the midpoints agree."""
+    p0, p1, p2, p3 = c
+    q0 = (p0[0] - t0[1] * off, p0[1] + t0[0] * off)
+    q3 = (p3[0] - t1[1] * off, p3[1] + t1[0] * off)
+    m = _offset_point(c, 0.5, off)
+    a = b = None
+    det = t1[0] * t0[1] - t0[0] * t1[1]     # det of [t0, -t1]
+    if m is not None and abs(det) > 1e-9:
+        # solve a·t0 − b·t1 = 8/3·(m − (q0 + q3)/2)
+        rx = 8.0 / 3.0 * (m[0] - (q0[0] + q3[0]) / 2)
+        ry = 8.0 / 3.0 * (m[1] - (q0[1] + q3[1]) / 2)
+        a = (rx * (-t1[1]) - ry * (-t1[0])) / det
+        b = (t0[0] * ry - t0[1] * rx) / det
+        if a < 0 or b < 0:
+            a = b = None
+    if a is None:
+        # parallel end tangents: scale the source handles by the offset's speed ratio
+        k0 = _curvature(c, 0.0)
+        k1 = _curvature(c, 1.0)
+        a = math.hypot(p1[0] - p0[0], p1[1] - p0[1]) * max(0.0, 1 - off * k0) \
+            if math.isfinite(k0) else 0.0
+        b = math.hypot(p3[0] - p2[0], p3[1] - p2[1]) * max(0.0, 1 - off * k1) \
+            if math.isfinite(k1) else 0.0
+    return (q0, (q0[0] + a * t0[0], q0[1] + a * t0[1]),
+            (q3[0] - b * t1[0], q3[1] - b * t1[1]), q3)
+
+
+def _offset_error(c, fit, off):
+    err = 0.0
+    for t in (0.25, 0.75):
+        true = _offset_point(c, t, off)
+        if true is None:
+            return math.inf
+        x, y = _cubic_point(fit, t)
+        err = max(err, math.hypot(x - true[0], y - true[1]))
+    return err
+
+
+def _bend_patch(c, side, hw):
+    """Inside of a bend tighter than the half width: the region swept by the normals on that
+    side, up to the centre of curvature (points beyond it are nearer another part of the curve).
+    Contour: the curve, then back along the (clamped) normals at both ends."""
+    ends = []
+    for t, p in ((0.0, c[0]), (1.0, c[3])):
+        k = _curvature(c, t)
+        d = _unit(*_cubic_deriv(c, t)) or _seg_tangents(c)[0 if t == 0 else 1]
+        reach = hw if not math.isfinite(k) or k == 0 else min(hw, 1.0 / abs(k))
+        if not math.isfinite(k):
+            reach = 0.0
+        ends.append((p[0] - d[1] * reach * side, p[1] + d[0] * reach * side))
+    return ends
+
+
+def _cubic_pieces(c, hw, tol, out_pieces, depth=0):
+    tans = _seg_tangents(c)
+    if tans is None:
+        return
+    t0, t1 = tans
+    # a bend tighter than hw on a side makes that offset fold back: find which sides
+    ks = [_curvature(c, t) for t in (0.0, 0.5, 1.0)]
+    folds = []
+    for side in (-1.0, 1.0):
+        f = [(not math.isfinite(k)) or 1 - side * hw * k <= 0 for k in ks]
+        folds.append(f)
+    chord = math.hypot(c[3][0] - c[0][0], c[3][1] - c[0][1]) + \
+        math.hypot(c[1][0] - c[0][0], c[1][1] - c[0][1]) + \
+        math.hypot(c[3][0] - c[2][0], c[3][1] - c[2][1])
+    tiny = chord < tol * 1e-3
+    split = False
+    fits = []
+    for side, f in zip((-1.0, 1.0), folds):
+        if any(f):
+            if not all(f):
+                split = True     # part folds, part does not: separate them
+            fits.append(None)
+            continue
+        fit = _fit_offset(c, t0, t1, side * hw)
+        if _offset_error(c, fit, side * hw) > tol:
+            split = True
+        fits.append(fit)
+    # a piece turning by more than 90° is split so the midpoint fit stays well posed
+    if t0[0] * t1[0] + t0[1] * t1[1] < 0.0:
+        split = True
+    if split:
+        if depth < _MAX_DEPTH and not tiny:
+            a, b = _split_cubic(c, 0.5)
+            _cubic_pieces(a, hw, tol, out_pieces, depth + 1)
+            _cubic_pieces(b, hw, tol, out_pieces, depth + 1)
+            return
+        # too small to split further and still not offsettable (a cusp, a kink): two lines
+        # through its midpoint; the stroker puts round joins where their directions differ
+        pm = _cubic_point(c, 0.5)
+        for q0, q1 in ((c[0], pm), (pm, c[3])):
+            d = _unit(q1[0] - q0[0], q1[1] - q0[1])
+            if d:
+                out_pieces.append(_line_piece(q0, q1, d, hw))
+        return
+    right, left = fits
+    piece = _Piece(c, t0, t1, right, left)
+    if right is None:
+        piece.patch_right = _bend_patch(c, -1.0, hw)
+    if left is None:
+        piece.patch_left = _bend_patch(c, 1.0, hw)
+    out_pieces.append(piece)
+
+
+def _segment_pieces(seg, hw, tol):
+    """Pieces of one segment (control points tuple), or [] for a zero-length segment."""
+    if len(seg) == 2:
+        d = _unit(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1])
+        return [_line_piece(seg[0], seg[1], d, hw)] if d else []
+    if len(seg) == 3:       # quadratic → the identical cubic
+        p0, p1, p2 = seg
+        seg = (p0, (p0[0] + 2 / 3 * (p1[0] - p0[0]), p0[1] + 2 / 3 * (p1[1] - p0[1])),
+               (p2[0] + 2 / 3 * (p1[0] - p2[0]), p2[1] + 2 / 3 * (p1[1] - p2[1])), p2)
+    pieces: list[_Piece] = []
+    _cubic_pieces(seg, hw, tol, pieces)
+    return pieces
+
+
+# -- contours -------------------------------------------------------------------------------
+
+def _side_items(pieces, attr, reverse):
+    """The path along one side of a run of pieces: offsets where they exist, the source curve
+    where the side folds, joined by straight lines."""
+    items = []
+    seq = reversed(pieces) if reverse else pieces
+    for p in seq:
+        ctrl = getattr(p, attr) or p.src
+        if reverse:
+            ctrl = tuple(reversed(ctrl))
+        verb = LINE if len(ctrl) == 2 else CUBIC
+        if items and items[-1][-1] != ctrl[0]:
+            items.append((LINE, ctrl[0]))
+        elif not items:
+            items.append(ctrl[0])
+        items.append((verb, *ctrl[1:]))
+    return items
+
+
+def _emit_run(out, pieces):
+    right = _side_items(pieces, "right", False)
+    left = _side_items(pieces, "left", True)
+    items = right + [(LINE, left[0])] + left[1:]
+    out.contour(items)
+    for p in pieces:
+        for patch in (p.patch_right, p.patch_left):
+            if patch is not None:
+                src = p.src
+                items = [src[0], (CUBIC, *src[1:]) if len(src) == 4 else (LINE, src[1]),
+                         (LINE, patch[1]), (LINE, patch[0])]
+                out.contour(items)
+
+
+def _arc_items(center, r, a0, a1):
+    """Cubic pieces (≤ 90° each) of the circular arc from angle a0 to a1 (radians)."""
+    n = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-9)))
+    delta = (a1 - a0) / n
+    k = 4.0 / 3.0 * math.tan(delta / 4.0) * r
+    cx, cy = center
+    items = []
+    ca, sa = math.cos(a0), math.sin(a0)
+    for i in range(n):
+        b = a0 + (i + 1) * delta
+        cb, sb = math.cos(b), math.sin(b)
+        items.append((CUBIC, (cx + r * ca - k * sa, cy + r * sa + k * ca),
+                      (cx + r * cb + k * sb, cy + r * sb - k * cb), (cx + r * cb, cy + r * sb)))
+        ca, sa = cb, sb
+    return items
+
+
+def _emit_join(out, p, d0, d1, hw, join, miterlimit):
+    """Wedge filling the outer side of the turn at p from direction d0 to direction d1."""
+    cross = d0[0] * d1[1] - d0[1] * d1[0]
+    dot = d0[0] * d1[0] + d0[1] * d1[1]
+    if dot > _SMOOTH_COS:
+        return
+    side = -1.0 if cross > 0 else 1.0      # turning towards the left normal: outer is right
+    if cross == 0.0 and dot < 0:
+        side = 1.0                           # a U-turn: both sides are outer; pick one
+    n0 = (-d0[1] * side, d0[0] * side)
+    n1 = (-d1[1] * side, d1[0] * side)
+    a = (p[0] + n0[0] * hw, p[1] + n0[1] * hw)
+    b = (p[0] + n1[0] * hw, p[1] + n1[1] * hw)
+    if join == "round":
+        a0 = math.atan2(n0[1], n0[0])
+        turn = math.atan2(n0[0] * n1[1] - n0[1] * n1[0], n0[0] * n1[0] + n0[1] * n1[1])
+        if cross == 0.0 and dot < 0:
+            turn = math.pi
+        out.contour([p, (LINE, a)] + _arc_items(p, hw, a0, a0 + turn))
+        if cross == 0.0 and dot < 0:     # a U-turn needs the other half disc too
+            out.contour([p, (LINE, b)] + _arc_items(p, hw, a0 + math.pi, a0 + 2 * math.pi))
+        return
+    if join in ("miter", "miter-clip", "arcs"):
+        # miter length / stroke width = 1 / sin(θ/2) for the interior angle θ; with φ the
+        # turning angle (cos φ = dot), sin(θ/2) = cos(φ/2)
+        cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))
+        if cos_half > 0 and 1.0 / cos_half <= miterlimit:
+            # tip: where the two offset lines meet, on the bisector at hw / cos_half
+            bx, by = n0[0] + n1[0], n0[1] + n1[1]
+            bl = math.hypot(bx, by)
+            tip = (p[0] + bx / bl * hw / cos_half, p[1] + by / bl * hw / cos_half)
+            out.contour([p, (LINE, a), (LINE, tip), (LINE, b)])
+            return
+        if join == "miter-clip":
+            # SVG 2: clip the miter at miterlimit·w/2 from p, perpendicular to the bisector
+            bx, by = n0[0] + n1[0], n0[1] + n1[1]
+            bl = math.hypot(bx, by)
+            if bl < 1e-12:
+                bx, by, bl = d0[0], d0[1], 1.0
+            bx, by = bx / bl, by / bl
+            lim = miterlimit * hw
+            da = d0[0] * bx + d0[1] * by
+            db = -(d1[0] * bx + d1[1] * by)
+            pa = (a[0] - p[0]) * bx + (a[1] - p[1]) * by
+            if da > 1e-12 and db > 1e-12 and lim > pa:
+                u = (lim - pa) / da
+                v = (lim - pa) / db
+                ca = (a[0] + d0[0] * u, a[1] + d0[1] * u)
+                cb = (b[0] - d1[0] * v, b[1] - d1[1] * v)
+                out.contour([p, (LINE, a), (LINE, ca), (LINE, cb), (LINE, b)])
+                return
+    out.contour([p, (LINE, a), (LINE, b)])   # bevel, and miters over the limit
+
+
+def _emit_cap(out, p, d, hw, cap):
+    """Cap at p for a stroke leaving p in direction d (d points away from the stroke)."""
+    if cap == "butt":
+        return
+    nx, ny = -d[1] * hw, d[0] * hw
+    a = (p[0] + nx, p[1] + ny)
+    b = (p[0] - nx, p[1] - ny)
+    if cap == "square":
+        out.contour([a, (LINE, (a[0] + d[0] * hw, a[1] + d[1] * hw)),
+                     (LINE, (b[0] + d[0] * hw, b[1] + d[1] * hw)), (LINE, b)])
+    else:
+        a0 = math.atan2(ny, nx)
+        out.contour([a] + _arc_items(p, hw, a0, a0 - math.pi))
+
+
+def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
+    """A zero-length subpath: a disc for round caps, a square (along d) for square caps."""
+    if cap == "round":
+        out.contour([(p[0] + hw, p[1])] + _arc_items(p, hw, 0.0, 2 * math.pi))
+    elif cap == "square":
+        nx, ny = -d[1] * hw, d[0] * hw
+        ex, ey = d[0] * hw, d[1] * hw
+        out.contour([(p[0] - ex - nx, p[1] - ey - ny), (LINE, (p[0] + ex - nx, p[1] + ey - ny)),
+                     (LINE, (p[0] + ex + nx, p[1] + ey + ny)),
+                     (LINE, (p[0] - ex + nx, p[1] - ey + ny))])
+
+
+def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
+    """segs: control point tuples of one subpath (closing line included when closed)."""
+    # runs: consecutive pieces with continuous tangents; a join between runs
+    runs: list[list[_Piece]] = []
+    run_joins: list[str] = []    # join kind before each run (intra-curve kinks are round)
+    for seg in segs:
+        pieces = _segment_pieces(seg, hw, tol)
+        first_of_seg = True
+        for pc in pieces:
+            if runs and not first_of_seg:
+                prev = runs[-1][-1]
+                if prev.t1[0] * pc.t0[0] + prev.t1[1] * pc.t0[1] > _SMOOTH_COS:
+                    runs[-1].append(pc)
+                    continue
+            runs.append([pc])
+            run_joins.append(join if first_of_seg else "round")
+            first_of_seg = False
+    if not runs:
+        if segs:
+            _emit_dot(out, segs[0][0], hw, cap)
+        return
+    for i, run in enumerate(runs):
+        _emit_run(out, run)
+        if i > 0:
+            _emit_join(out, run[0].src[0], runs[i - 1][-1].t1, run[0].t0, hw, run_joins[i],
+                       miterlimit)
+    if closed:
+        _emit_join(out, runs[0][0].src[0], runs[-1][-1].t1, runs[0][0].t0, hw, join, miterlimit)
+    else:
+        first, last = runs[0][0], runs[-1][-1]
+        _emit_cap(out, first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
+        _emit_cap(out, last.src[-1], last.t1, hw, cap)
+
+
+# -- subpaths of a Path ----------------------------------------------------------------------
+
+def _subpaths(path):
+    """[(segments as control point tuples, closed)] with the closing line made explicit.
+    Subpaths with a moveto alone are dropped (they are not stroked); others are kept even if
+    all their segments have zero length (they get dots with round or square caps)."""
+    verbs = path.verbs
+    pts = path.points.tolist()
+    out = []
+    segs: list = []
+    start = cur = None
+    drawn = False
+    i = 0
+    for v in verbs.tolist():
+        n = VERB_POINTS[v]
+        if v == MOVE:
+            if drawn:
+                out.append((segs, False))
+            segs, drawn = [], False
+            start = cur = tuple(pts[i])
+        elif v == CLOSE:
+            if start is not None:
+                segs.append((cur, start))
+                out.append((segs, True))
+                cur = start
+            segs, drawn = [], False
+        else:
+            ctrl = (cur,) + tuple(tuple(q) for q in pts[i:i + n])
+            segs.append(ctrl)
+            drawn = True
+            cur = ctrl[-1]
+        i += n
+    if drawn:
+        out.append((segs, False))
+    return out
+
+
+def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt",
+                miterlimit: float = 4.0, dashes=None, dash_offset: float = 0.0,
+                tolerance: float = 0.25) -> Path:
+    """The outline of ``path`` stroked with ``width``, to be filled with the nonzero rule.
+
+    ``tolerance`` bounds the distance between the approximated and the true offset curves, in
+    the path's units (callers pass 0.25 device pixels divided by the device scale).
+    ``join`` is one of JOINS ("arcs" falls back to "miter"), ``cap`` one of CAPS.
+    ``dashes`` is the stroke-dasharray (odd counts repeat, negative values disable dashing,
+    all zeros draw solid); ``dash_offset`` shifts the pattern's start (negative allowed).
+    """
+    out = _Out()
+    hw = width / 2.0
+    if not (hw > 0 and math.isfinite(hw)):
+        return path_from_lists([], [])
+    miterlimit = max(1.0, miterlimit)
+    pattern = dash_pattern(dashes)
+    for segs, closed in _subpaths(path):
+        if pattern is None:
+            _stroke_subpath(out, segs, closed, hw, tolerance, join, cap, miterlimit)
+            continue
+        for dash in _dash_subpath(segs, pattern, dash_offset, tolerance):
+            if isinstance(dash, tuple):      # a zero-length dash: (point, direction)
+                _emit_dot(out, dash[0], hw, cap, dash[1])
+            else:
+                _stroke_subpath(out, dash, False, hw, tolerance, join, cap, miterlimit)
+    return path_from_lists(out.verbs, out.pts)
+
+
+# -- dashes ---------------------------------------------------------------------------------
+
+def dash_pattern(dashes):
+    """The effective dash array, or None for a solid stroke (SVG rules: odd counts repeat,
+    any negative value or an all-zero sum makes the stroke solid)."""
+    if dashes is None:
+        return None
+    values = [float(v) for v in dashes]
+    if not values or any(v < 0 or not math.isfinite(v) for v in values) or sum(values) <= 0:
+        return None
+    if len(values) % 2:
+        values = values * 2
+    return values
+
+
+_GAUSS_X = (-0.906179845938664, -0.5384693101056831, 0.0, 0.5384693101056831, 0.906179845938664)
+_GAUSS_W = (0.23692688505618908, 0.47862867049936647, 0.5688888888888889, 0.47862867049936647,
+            0.23692688505618908)
+
+
+class _Measured:
+    """A segment with a table of cumulative arc length against parameter."""
+
+    def __init__(self, seg, tol):
+        if len(seg) == 3:
+            p0, p1, p2 = seg
+            seg = (p0, (p0[0] + 2 / 3 * (p1[0] - p0[0]), p0[1] + 2 / 3 * (p1[1] - p0[1])),
+                   (p2[0] + 2 / 3 * (p1[0] - p2[0]), p2[1] + 2 / 3 * (p1[1] - p2[1])), p2)
+        self.seg = seg
+        if len(seg) == 2:
+            self.ts = [0.0, 1.0]
+            self.lengths = [0.0, math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1])]
+        else:
+            poly = math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1]) + \
+                math.hypot(seg[2][0] - seg[1][0], seg[2][1] - seg[1][1]) + \
+                math.hypot(seg[3][0] - seg[2][0], seg[3][1] - seg[2][1])
+            n = int(min(256, max(4, math.sqrt(poly / max(tol, 1e-9)) * 2)))
+            self.ts = [i / n for i in range(n + 1)]
+            self.lengths = [0.0]
+            for i in range(n):
+                a, b = self.ts[i], self.ts[i + 1]
+                s = 0.0
+                for x, w in zip(_GAUSS_X, _GAUSS_W):
+                    dx, dy = _cubic_deriv(seg, (a + b) / 2 + (b - a) / 2 * x)
+                    s += w * math.hypot(dx, dy)
+                self.lengths.append(self.lengths[-1] + s * (b - a) / 2)
+        self.length = self.lengths[-1]
+
+    def t_at(self, s):
+        """Parameter at arc length s (linear within the table's intervals)."""
+        if len(self.seg) == 2:
+            return s / self.length if self.length > 0 else 0.0
+        ls = self.lengths
+        i = bisect_left(ls, s)
+        i = min(max(i, 1), len(ls) - 1)
+        span = ls[i] - ls[i - 1]
+        f = (s - ls[i - 1]) / span if span > 0 else 0.0
+        return self.ts[i - 1] + f * (self.ts[i] - self.ts[i - 1])
+
+    def part(self, s0, s1):
+        t0, t1 = self.t_at(s0), self.t_at(s1)
+        seg = self.seg
+        if len(seg) == 2:
+            (x0, y0), (x1, y1) = seg
+            return ((x0 + (x1 - x0) * t0, y0 + (y1 - y0) * t0),
+                    (x0 + (x1 - x0) * t1, y0 + (y1 - y0) * t1))
+        return _sub_cubic(seg, t0, t1)
+
+    def direction(self, s):
+        seg = self.seg
+        if len(seg) == 2:
+            return _unit(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1]) or (1.0, 0.0)
+        return _unit(*_cubic_deriv(seg, self.t_at(s))) or (_seg_tangents(seg) or ((1.0, 0.0),))[0]
+
+
+def _dash_subpath(segs, pattern, offset, tol):
+    """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes."""
+    measured = [_Measured(s, tol) for s in segs]
+    total = sum(m.length for m in measured)
+    period = sum(pattern)
+    # position within the pattern at the subpath's start
+    phase = offset % period
+    k = 0
+    # intervals are half open, except that a zero-length dash right at the phase is drawn
+    while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
+        phase -= pattern[k]
+        k = (k + 1) % len(pattern)
+    dashes = []
+    # walk the pattern intervals along the subpath
+    pos = -phase                     # subpath arc length where the current interval starts
+    seg_i, seg_start = 0, 0.0        # current segment and the arc length where it starts
+    guard = 0
+    while pos < total and guard < 1_000_000:
+        guard += 1
+        length = pattern[k]
+        on = k % 2 == 0
+        a, b = max(pos, 0.0), min(pos + length, total)
+        if on and b >= a and (b > a or pos >= 0):
+            dash = []
+            # find segments overlapping [a, b]
+            while seg_i < len(measured) - 1 and seg_start + measured[seg_i].length < a:
+                seg_start += measured[seg_i].length
+                seg_i += 1
+            if b == a:
+                m = measured[seg_i]
+                s = min(max(a - seg_start, 0.0), m.length)
+                seg = m.part(s, s)
+                dashes.append((seg[0], m.direction(s)))
+            else:
+                j, js = seg_i, seg_start
+                while j < len(measured) and js < b:
+                    m = measured[j]
+                    lo, hi = max(a - js, 0.0), min(b - js, m.length)
+                    if hi > lo:
+                        dash.append(m.part(lo, hi))
+                    js += m.length
+                    j += 1
+                if dash:
+                    dashes.append(dash)
+        pos += length
+        k = (k + 1) % len(pattern)
+    return dashes
+
+
+# -- markers --------------------------------------------------------------------------------
+
+def marker_vertices(path: Path, commands=None):
+    """Marker positions with directions: [(x, y, angle_in, angle_out, kind)], angles in degrees,
+    kind "start" (first vertex of the path), "end" (last) or "mid".
+
+    ``commands`` (from parse_path_data_with_commands) groups verbs that came from one path
+    command (an arc's cubic pieces) into one segment. For orient="auto" use
+    :func:`auto_angle` (the bisector at mid vertices). Zero-length segments take their
+    direction from the neighbouring segments; a closed subpath's first vertex takes its
+    incoming direction from the closing segment and its last vertex its outgoing direction
+    from the first segment.
+    """
+    verbs = path.verbs.tolist()
+    pts = path.points.tolist()
+    # group into segments: (start, ctrl..., end) with zero-length check
+    subpaths = []          # [(vertices [(x,y)], segs [(dir_start, dir_end) or None], closed)]
+    cur = start = None
+    verts, dirs, closed = None, None, False
+    i = 0
+    prev_cmd = None
+    for vi, v in enumerate(verbs):
+        n = VERB_POINTS[v]
+        cmd = commands[vi] if commands is not None else vi
+        if v == MOVE:
+            if verts is not None:
+                subpaths.append((verts, dirs, closed))
+            start = cur = tuple(pts[i])
+            verts, dirs, closed = [start], [], False
+        elif verts is None:
+            pass
+        else:
+            if v == CLOSE:
+                ctrl = (cur, start)
+            else:
+                ctrl = (cur,) + tuple(tuple(q) for q in pts[i:i + n])
+            tans = _seg_tangents(ctrl)
+            if v != CLOSE and prev_cmd == cmd and dirs and v == CUBIC:
+                # another piece of the same arc: extend the segment
+                d0 = dirs[-1][0] if dirs[-1] else (tans[0] if tans else None)
+                d1 = tans[1] if tans else (dirs[-1][1] if dirs[-1] else None)
+                dirs[-1] = (d0, d1) if d0 and d1 else dirs[-1]
+                verts[-1] = ctrl[-1]
+            else:
+                dirs.append(tans)
+                verts.append(ctrl[-1])
+            cur = ctrl[-1]
+            if v == CLOSE:
+                closed = True
+                subpaths.append((verts, dirs, closed))
+                verts, dirs, closed = [start], [], False
+                verts = None
+                cur = start
+        prev_cmd = cmd
+        i += n
+    if verts is not None and len(verts) > 1:
+        subpaths.append((verts, dirs, closed))
+
+    out = []
+    for verts, dirs, closed in subpaths:
+        # fill zero-length segments' directions from neighbours
+        filled = list(dirs)
+        last = None
+        for j, d in enumerate(filled):
+            if d is None and last is not None:
+                filled[j] = (last, last)
+            elif d is not None:
+                last = d[1]
+        nxt = None
+        for j in range(len(filled) - 1, -1, -1):
+            if filled[j] is None and nxt is not None:
+                filled[j] = (nxt, nxt)
+            elif filled[j] is not None:
+                nxt = filled[j][0]
+        filled = [d or ((1.0, 0.0), (1.0, 0.0)) for d in filled]
+        ang = [(math.degrees(math.atan2(a[1], a[0])), math.degrees(math.atan2(b[1], b[0])))
+               for a, b in filled]
+        for j, (x, y) in enumerate(verts):
+            if not ang:
+                a_in = a_out = 0.0
+            elif j == 0:
+                a_out = ang[0][0]
+                a_in = ang[-1][1] if closed else a_out
+            elif j == len(verts) - 1:
+                a_in = ang[-1][1]
+                a_out = ang[0][0] if closed else a_in
+            else:
+                a_in, a_out = ang[j - 1][1], ang[j][0]
+            out.append([x, y, a_in, a_out, "mid"])
+    if out:
+        out[0][4] = "start"
+        out[-1][4] = "end"
+    return [tuple(v) for v in out]
+
+
+def auto_angle(angle_in: float, angle_out: float) -> float:
+    """orient="auto": the bisector of the incoming and outgoing directions (degrees)."""
+    a, b = math.radians(angle_in), math.radians(angle_out)
+    x, y = math.cos(a) + math.cos(b), math.sin(a) + math.sin(b)
+    if abs(x) < 1e-12 and abs(y) < 1e-12:
+        return angle_in          # a U-turn: SVG takes the incoming direction
+    return math.degrees(math.atan2(y, x))
