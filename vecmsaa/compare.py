@@ -49,12 +49,20 @@ def premultiplied_u8(rgba) -> np.ndarray:
     return np.concatenate([rgb, alpha], axis=-1).astype(np.int16)
 
 
-def compare_images(actual, expected, threshold: int = THRESHOLD) -> Comparison:
-    """Compare two straight-alpha RGBA images (PIL images or uint8 arrays)."""
+def channel_difference(actual, expected):
+    """(H, W) largest premultiplied channel difference per pixel, or None when sizes differ."""
     a = premultiplied_u8(actual)
     e = premultiplied_u8(expected)
     if a.shape != e.shape:
-        return Comparison(False, e.shape[0] * e.shape[1], e.shape[0] * e.shape[1], 255, None)
-    diff = np.abs(a - e).max(axis=-1)
+        return None
+    return np.abs(a - e).max(axis=-1)
+
+
+def compare_images(actual, expected, threshold: int = THRESHOLD) -> Comparison:
+    """Compare two straight-alpha RGBA images (PIL images or uint8 arrays)."""
+    diff = channel_difference(actual, expected)
+    if diff is None:
+        h, w = np.asarray(expected).shape[:2]
+        return Comparison(False, h * w, h * w, 255, None)
     off = diff > threshold
     return Comparison(True, int(off.sum()), int(off.size), int(diff.max(initial=0)), off)

@@ -26,7 +26,8 @@ from urllib.parse import quote
 import numpy as np
 
 from . import DEFAULT_MODE, DEFAULT_SAMPLES, MODES, __version__
-from .compare import MAX_FRACTION, THRESHOLD, Comparison, compare_images, premultiplied_u8
+from .compare import (MAX_FRACTION, THRESHOLD, Comparison, channel_difference, compare_images,
+                      premultiplied_u8)
 from .png import encode_png, write_bytes_atomic
 
 MANIFEST_NAME = "vecmsaa-golden.json"
@@ -426,8 +427,8 @@ def heat_map(expected: np.ndarray, actual: np.ndarray, threshold: int) -> np.nda
     """Opaque RGB (H, W, 3): the expected image faded to light grey for orientation; pixels
     within the threshold but not equal in blue, stronger as they differ more; pixels beyond the
     threshold (those the criterion counts) in red."""
-    e, a = premultiplied_u8(expected).astype(np.int32), premultiplied_u8(actual).astype(np.int32)
-    diff = np.abs(a - e).max(axis=-1)
+    e = premultiplied_u8(expected).astype(np.int32)
+    diff = channel_difference(actual, expected).astype(np.int32)
     # Luma of the expected image over white, squeezed into 191..255.
     over_white = e[..., :3] + (255 - e[..., 3:4])
     luma = (over_white @ np.array([77, 150, 29])) >> 8
