@@ -277,3 +277,49 @@ def test_msaa_modes_close_to_exact_area_on_a_smooth_shape(mode):
     edge = (exact > 0.01) & (exact < 0.99)
     # 16 samples resolve coverage to 1/16; approx and a2c add their approximation on top
     assert np.abs(got - exact)[edge].mean() < 0.06
+
+
+@pytest.mark.parametrize("mode", ["none", "persample", "approx", "alpha", "a2c", "reference"])
+def test_abutting_shapes_hit_every_sample_exactly_once(mode):
+    # two half-transparent triangles sharing a diagonal edge (and the square's outline): a
+    # double-hit sample would show alpha 0.75, a missed one 0; each must be exactly 0.5
+    a, b, c, d = (1.3, 1.7), (14.6, 2.2), (13.9, 14.8), (2.1, 13.4)
+    t1, t2 = Path(), Path()
+    t1.moveTo(a)
+    t1.lineTo(b)
+    t1.lineTo(c)
+    t1.closePath()
+    t2.moveTo(a)
+    t2.lineTo(c)
+    t2.lineTo(d)
+    t2.closePath()
+    half = Solid((0, 0, 0, 0.5))
+    scene = Scene(SIZE, SIZE, Group([Fill(t1, half), Fill(t2, half)]))
+    alpha = render_scene(scene, mode=mode, samples=16)[..., 3]
+    inside = alpha_of(_quad(a, b, c, d), mode, 16)
+    np.testing.assert_allclose(alpha, 0.5 * inside, atol=1e-6)
+
+
+def _quad(a, b, c, d):
+    p = Path()
+    p.moveTo(a)
+    for q in (b, c, d):
+        p.lineTo(q)
+    p.closePath()
+    return p
+
+
+def test_paint_is_evaluated_once_per_pixel_at_its_centre():
+    from vecmsaa.path import rect_path
+    from vecmsaa.scene import LinearGradient
+    stops = np.array([[0, 0, 0, 0, 1], [1, 1, 1, 1, 1]], dtype=float)
+    grad = LinearGradient(0.0, 0.0, 16.0, 0.0, stops)
+    # the rectangle's left and right edges cut pixel columns 3 and 12 at 0.4: partial coverage
+    scene = Scene(SIZE, SIZE, Group([Fill(rect_path(3.6, 0, 9.0, SIZE), grad)]))
+    img = render_scene(scene, mode="approx", samples=8)
+    for x in range(4, 12):
+        # fully covered columns: the gradient's value at the pixel centre (1/1024 ramp steps)
+        assert abs(img[5, x, 0] - (x + 0.5) / 16) < 2e-3
+    # a partly covered pixel carries its centre colour times its coverage
+    cov = img[5, 3, 3]
+    assert 0.3 < cov < 0.5 and abs(img[5, 3, 0] / cov - 3.5 / 16) < 2e-3
