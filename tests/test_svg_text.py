@@ -1,0 +1,186 @@
+"""SVG <text> against independent truth: FreeType's rendering and advances of the same font,
+metrics read from the font tables by hand, geometric equivalences, and (when ../shared is
+present) resvg's reference images.
+"""
+from __future__ import annotations
+
+import os
+import struct
+
+import numpy as np
+import pytest
+
+from vecmsaa.api import render_svg_array
+
+FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
+TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
+SUITE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite")
+FONTS = dict(use_fonts_dir=FIXTURES, skip_system_fonts=True, font_family="Noto Sans")
+
+
+def render(body, width=200, height=100, mode="analytic", **kw):
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+           f'font-family="Noto Sans" font-size="40">{body}</svg>')
+    opts = dict(FONTS)
+    opts.update(kw)
+    return render_svg_array(svg, mode=mode, **opts)
+
+
+def alpha(img):
+    return img[..., 3].astype(np.float64) / 255.0
+
+
+def ink_box(a, level=0.5):
+    ys, xs = np.nonzero(a > level)
+    return xs.min(), ys.min(), xs.max(), ys.max()
+
+
+def freetype_advance(text, size, kerning=False):
+    freetype = pytest.importorskip("freetype")
+    face = freetype.Face(TTF)
+    face.set_char_size(int(size * 64), 0, 72, 72)
+    total = 0.0
+    for ch in text:
+        face.load_char(ch, freetype.FT_LOAD_NO_HINTING)
+        total += face.glyph.linearHoriAdvance / 65536.0
+    return total
+
+
+def read_table(tag):
+    data = open(TTF, "rb").read()
+    for i in range(struct.unpack(">H", data[4:6])[0]):
+        rec = data[12 + 16 * i: 28 + 16 * i]
+        if rec[:4] == tag.encode():
+            off, length = struct.unpack(">II", rec[8:16])
+            return data[off:off + length]
+    raise KeyError(tag)
+
+
+def test_glyph_matches_freetype_pixel_for_pixel():
+    """An 'H' at (20, 70), 40 px: same coverage as FreeType's unhinted rendering there."""
+    freetype = pytest.importorskip("freetype")
+    face = freetype.Face(TTF)
+    face.set_char_size(40 * 64, 0, 72, 72)
+    face.load_char("H", freetype.FT_LOAD_NO_HINTING | freetype.FT_LOAD_RENDER)
+    bm = face.glyph.bitmap
+    ft = np.array(bm.buffer, dtype=np.float64).reshape(bm.rows, bm.pitch)[:, :bm.width] / 255
+    ours = alpha(render('<text x="20" y="70">H</text>'))
+    top, left = 70 - face.glyph.bitmap_top, 20 + face.glyph.bitmap_left
+    window = ours[top:top + bm.rows, left:left + bm.width]
+    # H is straight lines: FreeType is exact there, so the only difference is 8-bit rounding.
+    assert np.abs(window - ft).max() < 0.02
+    assert ours.sum() == pytest.approx(ft.sum(), rel=0.005)
+
+
+@pytest.mark.parametrize("anchor,shift", [("start", 0.0), ("middle", 0.5), ("end", 1.0)])
+def test_text_anchor_moves_by_the_advance(anchor, shift):
+    # kerning="0" so the advance is the plain sum FreeType reports
+    start = ink_box(alpha(render('<text x="100" y="70" kerning="0">HH</text>')))
+    moved = ink_box(alpha(render(f'<text x="100" y="70" kerning="0" '
+                                 f'text-anchor="{anchor}">HH</text>')))
+    advance = freetype_advance("HH", 40)
+    assert moved[0] == pytest.approx(start[0] - shift * advance, abs=1)
+
+
+def test_letter_spacing_adds_between_characters_only():
+    plain = ink_box(alpha(render('<text x="10" y="70" kerning="0">HHH</text>', width=300)))
+    spaced = ink_box(alpha(render('<text x="10" y="70" kerning="0" letter-spacing="10">HHH'
+                                  '</text>', width=300)))
+    assert spaced[0] == plain[0]
+    assert spaced[2] - plain[2] == pytest.approx(20, abs=1)   # two gaps, not three
+
+
+def test_x_list_places_each_character():
+    img = alpha(render('<text x="10 110" y="70">HH</text>'))
+    left = ink_box(img[:, :100])
+    right = ink_box(img[:, 100:])
+    assert right[0] + 100 - left[0] == pytest.approx(100, abs=1)
+
+
+def test_dy_and_rotate():
+    base = ink_box(alpha(render('<text x="10" y="60">H</text>')))
+    down = ink_box(alpha(render('<text x="10" y="60" dy="15">H</text>')))
+    assert down[1] - base[1] == pytest.approx(15, abs=1)
+    # rotate 90 about the glyph origin: the H now hangs below-left... its box swaps sides
+    turned = ink_box(alpha(render('<text x="60" y="30" rotate="90">H</text>')))
+    w, h = base[2] - base[0], base[3] - base[1]
+    assert turned[2] - turned[0] == pytest.approx(h, abs=2)
+    assert turned[3] - turned[1] == pytest.approx(w, abs=2)
+
+
+def test_text_on_a_straight_path_is_plain_text():
+    plain = alpha(render('<text x="10" y="70">Hxg</text>'))
+    on_path = alpha(render('<defs><path id="p" d="M 10 70 H 190"/></defs>'
+                           '<text><textPath href="#p">Hxg</textPath></text>'))
+    # Positions on a path are found to resvg's arc-length tolerance (a third of a unit at
+    # this scale), so compare ink and its box, not pixels.
+    assert on_path.sum() == pytest.approx(plain.sum(), rel=0.01)
+    assert np.allclose(ink_box(on_path), ink_box(plain), atol=1)
+
+
+def test_underline_follows_the_post_table():
+    post = read_table("post")
+    position, thickness = struct.unpack(">hh", post[8:12])
+    upem = struct.unpack(">H", read_table("head")[18:20])[0]
+    size = 100
+    img = alpha(render('<text x="10" y="100" font-size="100" text-decoration="underline" '
+                       'kerning="0">H H</text>', width=300, height=150))
+    # Under the space there is nothing but the underline: a bar centred on -position.
+    h = freetype_advance("H", size)
+    space = freetype_advance(" ", size)
+    column = img[:, int(10 + h + 3):int(10 + h + space - 3)]
+    rows = np.nonzero(column.max(axis=1) > 0.5)[0]
+    centre = 100 - position * size / upem
+    assert (rows.min() + rows.max() + 1) / 2 == pytest.approx(centre, abs=0.6)
+    assert rows.max() + 1 - rows.min() == pytest.approx(thickness * size / upem, abs=1)
+
+
+def test_missing_character_falls_back_to_another_face():
+    # Roboto Flex's test subset has no 'z'; the fixture folder's Noto Sans does.
+    with_fallback = alpha(render('<text x="10" y="70" font-family="Roboto Flex">z</text>'))
+    assert with_fallback.sum() > 20
+
+
+def test_white_space_collapses_unless_preserved():
+    collapsed = ink_box(alpha(render('<text x="10" y="70" kerning="0">H   \n  H</text>')))
+    preserved = ink_box(alpha(render('<text x="10" y="70" kerning="0" xml:space="preserve">'
+                                     'H   H</text>', width=300)))
+    space = freetype_advance(" ", 40)
+    assert preserved[2] - collapsed[2] == pytest.approx(2 * space, abs=1)
+
+
+def test_gradient_on_text_uses_the_text_box():
+    img = render('<defs><linearGradient id="g"><stop offset="0" stop-color="#f00"/>'
+                 '<stop offset="1" stop-color="#00f"/></linearGradient></defs>'
+                 '<text x="10" y="70" fill="url(#g)">HHHH</text>', width=300)
+    a = alpha(img)
+    x0, _, x1, _ = ink_box(a)
+    left, right = img[50, x0 + 2], img[50, x1 - 2]
+    assert left[0] > left[2] and right[2] > right[0]
+
+
+SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
+                 "text/text-anchor/middle-on-text", "text/textPath/simple-case",
+                 "text/text-decoration/indirect", "text/letter-spacing/1mm",
+                 "text/writing-mode/tb-rl", "text/font-weight/700",
+                 "text/text/rotate", "text/dominant-baseline/middle"]
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("name", SUITE_SAMPLES)
+def test_matches_resvg_reference(name):
+    from PIL import Image
+
+    from vecmsaa.compare import compare_images
+
+    svg = os.path.join(SUITE, "tests", name + ".svg")
+    if not os.path.exists(svg):
+        pytest.skip(f"{name} not in this copy of the suite")
+    ref = np.asarray(Image.open(svg[:-4] + ".png").convert("RGBA"))
+    out = render_svg_array(svg, width=ref.shape[1], mode="analytic",
+                           use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                           serif_family="Noto Serif", sans_serif_family="Noto Sans",
+                           cursive_family="Yellowtail", fantasy_family="Sedgwick Ave Display",
+                           monospace_family="Noto Mono", font_family="Noto Serif")
+    cmp = compare_images(out, ref)
+    assert cmp.passed(), cmp.describe()
