@@ -163,7 +163,7 @@ SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
                  "text/text-anchor/middle-on-text", "text/textPath/simple-case",
                  "text/text-decoration/indirect", "text/letter-spacing/1mm",
                  "text/writing-mode/tb-rl", "text/font-weight/700",
-                 "text/text/rotate", "text/dominant-baseline/middle"]
+                 "text/text/rotate", "text/dominant-baseline/central"]
 
 
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
