@@ -132,6 +132,16 @@ def test_straight_line_is_exact_rectangle():
     assert polygon_area(cs[0]) == pytest.approx(length * w, rel=1e-12)
 
 
+def test_polyline_miter_areas_exact():
+    # open L shape: union of [0, 11]x[-1, 1] and [9, 11]x[-1, 10]
+    out = stroke_path(line((0, 0), (10, 0), (10, 10)), 2, join="miter")
+    assert sum(polygon_area(c) for c in contours(out)) == pytest.approx(40.0, rel=1e-12)
+    # closed square: the square ring between side 12 and side 8
+    out = stroke_path(line((0, 0), (10, 0), (10, 10), (0, 10), close=True), 2, join="miter")
+    assert sum(polygon_area(c) for c in contours(out)) == pytest.approx(144.0 - 64.0, rel=1e-12)
+    assert not inside(out, [(5, 5)])[0] and inside(out, [(5, 0.5), (10.9, 10.9)]).all()
+
+
 def test_all_contours_positive():
     # the outline is a union of positive pieces: nonzero filling needs every one positive
     out = stroke_path(parse_path_data("M0 0 C 50 100 100 -50 150 50 L 160 0 Q 100 30 90 90 Z"), 8,
@@ -214,6 +224,16 @@ def test_random_cubic_distance_property(ctrl, w, seed):
     p.curveTo(*ctrl[1:])
     p.endPath()
     check_distance_property(p, w, 0.1, np.random.default_rng(seed), n=800)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 40)), min_size=2, max_size=12),
+       st.sampled_from([0.5, 3.0, 12.0]), st.booleans(), st.integers(0, 2 ** 31))
+def test_random_polyline_distance_property(pts, w, closed, seed):
+    # short segments, sharp turns and U-turns relative to the width: where the polyline
+    # stroker's inline joins stop being exact it must fall back to separate pieces
+    p = line(*[(x / 4, y / 4) for x, y in pts], close=closed)
+    check_distance_property(p, w, 0.05, np.random.default_rng(seed), n=800)
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

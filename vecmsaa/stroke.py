@@ -120,15 +120,17 @@ class _Out:
         self.verbs: list[int] = []
         self.pts: list[tuple[float, float]] = []
 
-    def contour(self, items):
-        """items: a start point, then (verb, points...) tuples; closed and oriented positive."""
+    def contour(self, items, orient=True):
+        """items: a start point, then (verb, points...) tuples; closed, and reversed if its
+        orientation is negative (unless the caller guarantees it with orient=False)."""
         start = items[0]
         segs = items[1:]
-        poly = [start]
-        for s in segs:
-            poly.extend(s[1:])
-        if _signed_area(poly) < 0:
-            start, segs = _reverse_contour(start, segs)
+        if orient:
+            poly = [start]
+            for s in segs:
+                poly.extend(s[1:])
+            if _signed_area(poly) < 0:
+                start, segs = _reverse_contour(start, segs)
         self.verbs.append(MOVE)
         self.pts.append(start)
         for s in segs:
@@ -444,6 +446,10 @@ def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
 
 def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     """segs: control point tuples of one subpath (closing line included when closed)."""
+    if all(len(seg) == 2 for seg in segs):
+        _stroke_polyline(out, [seg[0] for seg in segs] + [segs[-1][1]], closed, hw, join, cap,
+                         miterlimit)
+        return
     # runs: consecutive pieces with continuous tangents; a join between runs
     runs: list[list[_Piece]] = []
     run_joins: list[str] = []    # join kind before each run (intra-curve kinks are round)
@@ -474,6 +480,176 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
         first, last = runs[0][0], runs[-1][-1]
         _emit_cap(out, first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
         _emit_cap(out, last.src[-1], last.t1, hw, cap)
+
+
+def _cap_items(p, d, hw, cap):
+    """Items from the right offset to the left offset at an end p with outward direction d."""
+    nx, ny = -d[1] * hw, d[0] * hw          # left normal of the outward direction
+    b = (p[0] + nx, p[1] + ny)
+    if cap == "square":
+        a = (p[0] - nx, p[1] - ny)
+        return [(LINE, (a[0] + d[0] * hw, a[1] + d[1] * hw)),
+                (LINE, (b[0] + d[0] * hw, b[1] + d[1] * hw)), (LINE, b)]
+    if cap == "round":
+        a0 = math.atan2(-ny, -nx)
+        return _arc_items(p, hw, a0, a0 + math.pi)
+    return [(LINE, b)]
+
+
+def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot):
+    """Items along the outer side (side: +1 left, -1 right) of a turn at p, from the end of the
+    incoming offset (excluded) to the start of the outgoing one (included)."""
+    n0x, n0y = -d0[1] * side, d0[0] * side
+    n1x, n1y = -d1[1] * side, d1[0] * side
+    b = (p[0] + n1x * hw, p[1] + n1y * hw)
+    if join == "round":
+        a0 = math.atan2(n0y, n0x)
+        turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
+        return _arc_items(p, hw, a0, a0 + turn)
+    cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))
+    if join != "bevel" and cos_half > 0 and 1.0 / cos_half <= miterlimit:
+        k = hw / (1.0 + dot)
+        return [(LINE, (p[0] + (n0x + n1x) * k, p[1] + (n0y + n1y) * k)), (LINE, b)]
+    if join == "miter-clip":
+        bx, by = n0x + n1x, n0y + n1y
+        bl = math.hypot(bx, by)
+        if bl > 1e-12:
+            bx, by = bx / bl, by / bl
+            lim = miterlimit * hw
+            da = d0[0] * bx + d0[1] * by
+            pa = hw * (n0x * bx + n0y * by)
+            if da > 1e-12 and lim > pa:
+                u = (lim - pa) / da
+                a = (p[0] + n0x * hw, p[1] + n0y * hw)
+                return [(LINE, (a[0] + d0[0] * u, a[1] + d0[1] * u)),
+                        (LINE, (b[0] - d1[0] * u, b[1] - d1[1] * u)), (LINE, b)]
+    return [(LINE, b)]
+
+
+def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
+    """Fast path for subpaths of straight lines (map data): chains of segments become single
+    contours with their joins inline. On the inner side of a turn the two offsets are cut
+    where they cross, which is exact as long as that crossing lies within both segments; where
+    it does not (a segment shorter than what the turns at its two ends cut from it) the chain
+    is broken there and the join becomes a separate wedge, as in the general stroker."""
+    # distinct consecutive points, directions and lengths
+    q = [pts[0]]
+    for p in pts[1:]:
+        if p != q[-1]:
+            q.append(p)
+    if closed and len(q) > 1 and q[-1] == q[0]:
+        q.pop()
+    n = len(q)
+    if n < 2:
+        _emit_dot(out, pts[0], hw, cap)
+        return
+    nseg = n if closed else n - 1
+    dirs, lens = [], []
+    for i in range(nseg):
+        a, b = q[i], q[(i + 1) % n]
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        ln = math.hypot(dx, dy)
+        dirs.append((dx / ln, dy / ln))
+        lens.append(ln)
+
+    # chains of segments joined inline, built forward on both sides; a break starts another
+    right: list = []
+    left: list = []
+    chains = []
+    wedges = []                 # (vertex, d0, d1): joins emitted as separate pieces
+    used = [0.0, 0.0]           # length cut from the current segment's start: [right, left]
+    first_end_cut = [0.0, 0.0]  # length cut from segment 0's end
+
+    def start_chain(i):
+        d, p = dirs[i], q[i]
+        nx, ny = -d[1] * hw, d[0] * hw
+        right[:] = [(p[0] - nx, p[1] - ny)]
+        left[:] = [(p[0] + nx, p[1] + ny)]
+
+    def end_chain(i):           # butt end of segment i at its end vertex
+        d, p = dirs[i], q[(i + 1) % n]
+        nx, ny = -d[1] * hw, d[0] * hw
+        right.append((LINE, (p[0] - nx, p[1] - ny)))
+        left.append((LINE, (p[0] + nx, p[1] + ny)))
+        chains.append((list(right), list(left)))
+
+    start_chain(0)
+    for i in range(nseg if closed else nseg - 1):
+        j = (i + 1) % nseg
+        d0, d1 = dirs[i], dirs[j]
+        p = q[j]
+        cross = d0[0] * d1[1] - d0[1] * d1[0]
+        dot = d0[0] * d1[0] + d0[1] * d1[1]
+        inner = 1 if cross > 0 else 0       # index into used: 1 when the left side is inner
+        cut = hw * abs(cross) / (1.0 + dot) if dot > -0.999999 else math.inf
+        # the segment after a closed loop's last vertex is segment 0, already cut at its end
+        room_j = lens[j] - (first_end_cut[inner] if closed and j == 0 else 0.0)
+        if used[inner] + cut <= lens[i] and cut <= room_j:
+            if i == 0:
+                first_end_cut[inner] = cut
+            k = hw / (1.0 + dot)
+            cx, cy = (-d0[1] - d1[1]) * k, (d0[0] + d1[0]) * k   # (n0 + n1)·hw/(1 + dot)
+            if dot > _SMOOTH_COS:           # (almost) straight on: both sides at the corner
+                left.append((LINE, (p[0] + cx, p[1] + cy)))
+                right.append((LINE, (p[0] - cx, p[1] - cy)))
+            elif cross > 0:
+                left.append((LINE, (p[0] + cx, p[1] + cy)))
+                right.append((LINE, (p[0] + d0[1] * hw, p[1] - d0[0] * hw)))
+                right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot))
+            else:
+                right.append((LINE, (p[0] - cx, p[1] - cy)))
+                left.append((LINE, (p[0] - d0[1] * hw, p[1] + d0[0] * hw)))
+                left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot))
+            used = [0.0, 0.0]
+            used[inner] = cut
+        elif closed:
+            # a closed polyline that cannot be one pair of loops: stroke it open from vertex 0
+            # (butt ends there) and add the join at vertex 0 as a wedge
+            _stroke_polyline(out, q + [q[0]], False, hw, join, "butt", miterlimit)
+            _emit_join(out, q[0], dirs[-1], dirs[0], hw, join, miterlimit)
+            return
+        else:
+            end_chain(i)
+            wedges.append((p, d0, d1))
+            start_chain(j)
+            used = [0.0, 0.0]
+
+    if closed:
+        # one loop on each side, the stroke is the region between them. The lists start with
+        # vertex 0's butt points, which lie on the first segment's offsets: drop them.
+        r_loop = [right[-1][-1]] + right[1:]
+        l_loop = [left[-1][-1]] + left[1:]
+        ar = _signed_area([r_loop[0]] + [it[-1] for it in r_loop[1:]])
+        al = _signed_area([l_loop[0]] + [it[-1] for it in l_loop[1:]])
+        if ar >= al:
+            out.contour(r_loop, orient=False)
+            out.contour(_reversed_items(l_loop), orient=False)
+        else:
+            out.contour(_reversed_items(r_loop), orient=False)
+            out.contour(l_loop, orient=False)
+        return
+
+    # open: right side forward, end cap, left side backward, start cap
+    end_chain(nseg - 1)
+    last = len(chains) - 1
+    for idx, (r, l_) in enumerate(chains):
+        items = list(r)
+        if idx == last:
+            items += _cap_items(q[-1], dirs[-1], hw, cap)
+        else:
+            items.append((LINE, l_[-1][-1]))     # butt end at a break
+        items += _reversed_items(l_)[1:]
+        if idx == 0:
+            d = dirs[0]
+            items += _cap_items(q[0], (-d[0], -d[1]), hw, cap)
+        out.contour(items, orient=False)
+    for p, d0, d1 in wedges:
+        _emit_join(out, p, d0, d1, hw, join, miterlimit)
+
+
+def _reversed_items(items):
+    start, segs = _reverse_contour(items[0], items[1:])
+    return [start] + segs
 
 
 # -- subpaths of a Path ----------------------------------------------------------------------
