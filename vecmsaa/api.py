@@ -106,7 +106,10 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
         raise TypeError(f"unknown options: {', '.join(sorted(unknown))}")
     data, folder = _read_source(source)
     resources = Resources(folder, resources_dir)
-    doc = load_document(data, folder, load_text=resources.fetch_text)
+    try:
+        doc = load_document(data, folder, load_text=resources.fetch_text)
+    except RecursionError:
+        raise SvgError("document nesting is too deep") from None
     options = Options(mode=mode, samples=samples,
                       font_options={k: v for k, v in font_options.items() if v is not None})
     builder = Builder(doc, resources, options)

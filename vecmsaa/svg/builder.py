@@ -554,16 +554,20 @@ class Builder:
     # -- paints ----------------------------------------------------------------------------
     def paint_value(self, style, name):
         """The specified paint, skipping invalid declarations (they do not override)."""
-        s = style
-        while s is not None:
-            v = s.specified.get(name)
-            if v is not None and v != "inherit" and valid_paint(v):
-                return v.strip()
-            if v is not None and v != "inherit" and not valid_paint(v):
-                pass   # invalid: as if not specified
-            s = s.parent
-        from .document import INITIAL
-        return INITIAL[name]
+        key = ("paint", name)
+        cached = style.cache.get(key)
+        if cached is not None:
+            return cached
+        v = style.specified.get(name)
+        if v is not None and v != "inherit" and valid_paint(v):
+            value = v.strip()
+        elif style.parent is not None:
+            value = self.paint_value(style.parent, name)
+        else:
+            from .document import INITIAL
+            value = INITIAL[name]
+        style.cache[key] = value
+        return value
 
     def resolve_paint(self, style, which, ctx, bbox):
         """fill/stroke of a style → PaintRef, or None when nothing is drawn."""

@@ -129,20 +129,28 @@ class Style:
     is the ``<use>`` element, as the SVG specification requires.
     """
 
-    __slots__ = ("specified", "parent", "_font_size")
+    __slots__ = ("specified", "parent", "_font_size", "cache")
 
     def __init__(self, specified, parent=None):
         self.specified = specified
         self.parent = parent
         self._font_size = None
+        self.cache = {}   # computed values by name (styles are read many times, never changed)
 
     def get(self, name, default=None):
+        try:
+            return self.cache[name]
+        except KeyError:
+            pass
         v = self.specified.get(name)
         if v is not None and v != "inherit":
-            return v
-        if self.parent is not None and (v == "inherit" or name in INHERITED):
-            return self.parent.get(name, default)
-        return INITIAL.get(name, default)
+            value = v
+        elif self.parent is not None and (v == "inherit" or name in INHERITED):
+            value = self.parent.get(name)
+        else:
+            value = INITIAL.get(name)
+        self.cache[name] = value
+        return default if value is None else value
 
     def has_own(self, name):
         return name in self.specified

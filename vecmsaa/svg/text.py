@@ -328,6 +328,10 @@ def face_location(face, spec):
         loc["wdth"] = spec.stretch
     if "opsz" in face.axes:
         loc["opsz"] = spec.size
+    if spec.style == "oblique" and "slnt" in face.axes:
+        loc["slnt"] = -14.0          # CSS: oblique without an angle is 14deg
+    if spec.style == "italic" and "ital" in face.axes:
+        loc["ital"] = 1.0
     loc.update(dict(spec.variations))
     return face.clamp_location(loc)
 
@@ -933,7 +937,10 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         path = _glyph_path(glyphs)
         if path.is_empty():
             continue
-        nodes_by_el.setdefault(key, []).extend(_color_or_plain(glyphs, path, style, ctx, bbox))
+        nodes = _color_or_plain(glyphs, path, style, ctx, bbox)
+        if (style.get("text-rendering") or "auto").strip() == "optimizeSpeed":
+            _no_antialias(nodes)     # resvg draws such text aliased, like crispEdges
+        nodes_by_el.setdefault(key, []).extend(nodes)
     out = []
     for kind in ("underline", "overline"):
         for deco_style, path in decorations.get(kind, []):
@@ -942,6 +949,17 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     for deco_style, path in decorations.get("line-through", []):
         out.extend(ctx.draw(path, deco_style, bbox))
     return out
+
+
+def _no_antialias(nodes):
+    from ..scene import Fill
+    stack = list(nodes)
+    while stack:
+        n = stack.pop()
+        if isinstance(n, Fill):
+            n.antialias = False
+        else:
+            stack.extend(getattr(n, "children", []))
 
 
 def _glyph_path(glyphs):
