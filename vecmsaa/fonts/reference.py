@@ -66,6 +66,35 @@ def outline_area(verbs, points) -> float:
     return 0.5 * total
 
 
+def outline_length(verbs, points, steps=32) -> float:
+    """Total length of a path's contours (closing each), curves flattened finely."""
+    total = 0.0
+    i = 0
+    start = cur = None
+    t = np.linspace(0.0, 1.0, steps + 1)
+    for verb in verbs:
+        k = VERB_POINTS[verb]
+        pts = np.asarray(points[i:i + k], dtype=np.float64)
+        i += k
+        if verb == MOVE:
+            if start is not None:
+                total += float(np.hypot(*(start - cur)))
+            start = cur = pts[0]
+        elif verb == LINE:
+            total += float(np.hypot(*(pts[0] - cur)))
+            cur = pts[0]
+        elif verb in (QUAD, CUBIC):
+            p, _ = _bezier(np.vstack([cur, pts]), t)
+            total += float(np.hypot(*np.diff(p, axis=0).T).sum())
+            cur = pts[-1]
+        elif verb == CLOSE:
+            total += float(np.hypot(*(start - cur)))
+            cur = start
+    if start is not None:
+        total += float(np.hypot(*(start - cur)))
+    return total
+
+
 def _cross(a, b) -> float:
     return float(a[0] * b[1] - a[1] * b[0])
 
@@ -140,6 +169,7 @@ class GlyphComparison:
     freetype: np.ndarray       # (H, W) coverage, padded by ``pad`` pixels
     ours: np.ndarray | None    # same shape, vecmsaa's coverage (None when not rendered)
     area: float                # exact outline area in px²
+    perimeter: float = 0.0     # outline length in px
 
     @property
     def freetype_ink(self) -> float:
@@ -180,6 +210,7 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
     origin = (pad - ft.left, pad + ft.top)
     verbs, points = glyph_device_arrays(face, gid, size, origin, loc)
     area = abs(outline_area(verbs, points))
+    perimeter = outline_length(verbs, points)
     ours = None
     if mode is not None:
         from ..render import render_scene
@@ -188,7 +219,7 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
                       Group([Fill(Path.from_arrays(verbs, points))]), (0.0, 0.0, 0.0, 0.0))
         ours = np.asarray(render_scene(scene, mode=mode, samples=samples))[..., 3].astype(
             np.float64)
-    return GlyphComparison(int(gid), float(size), cov, ours, area)
+    return GlyphComparison(int(gid), float(size), cov, ours, area, perimeter)
 
 
 def error_map_rgba(comparison: GlyphComparison, zoom: int = 8) -> np.ndarray:
@@ -223,3 +254,77 @@ def ink_table(face, sizes, text=None, *, mode="analytic", samples=8, location=()
             rows.append((ch, gid, size, c.freetype_ink, c.area, c.ours_ink,
                          c.ink_error() if mode else c.area_error()))
     return rows
+
+
+def ink_summary(face, sizes, modes, text=None, samples=8, oversample=None):
+    """{mode: {size: (max per-glyph error, mean |error|, total-ink error)}} against FreeType
+    (``oversample=None`` picks about 400 px per em for the reference; 1 is FreeType as is)."""
+    out = {}
+    for mode in modes:
+        per_size = {}
+        for size in sizes:
+            k = oversample or max(1, -(-400 // int(size)))
+            rows = ink_table(face, [size], text, mode=mode, samples=samples, oversample=k)
+            errs = np.array([(r[5] - r[3]) / r[3] for r in rows])
+            total = sum(r[5] for r in rows) / sum(r[3] for r in rows) - 1
+            per_size[size] = (float(np.abs(errs).max()), float(np.abs(errs).mean()),
+                              float(total))
+        out[mode] = per_size
+    return out
+
+
+def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom=8):
+    """PNG error maps (see :func:`error_map_rgba`) for each character and size; returns paths.
+    """
+    import os
+
+    from ..png import write_png
+
+    paths = []
+    for ch in text:
+        gid = face.glyph_for_char(ch)
+        for size in sizes:
+            c = compare_glyph(face, gid, size, mode=mode, samples=samples,
+                              oversample=max(1, -(-400 // int(size))))
+            if not c.freetype.size:
+                continue
+            path = os.path.join(folder, f"{mode}-{size}px-U{ord(ch):04X}.png")
+            write_png(error_map_rgba(c, zoom), path)
+            paths.append(path)
+    return paths
+
+
+def main(argv=None) -> int:
+    """``python -m vecmsaa.fonts.reference FONT``: the ink table against FreeType."""
+    import argparse
+
+    from .face import load_face
+
+    p = argparse.ArgumentParser(prog="python -m vecmsaa.fonts.reference",
+                                description="Per-glyph ink of vecmsaa against FreeType.")
+    p.add_argument("font")
+    p.add_argument("--sizes", default="10,12,16,24,36,48,72")
+    p.add_argument("--modes", default="analytic,approx")
+    p.add_argument("--samples", type=int, default=8)
+    p.add_argument("--text", default=None, help="characters (default: printable ASCII)")
+    p.add_argument("--direct", action="store_true",
+                   help="compare with FreeType at the size itself (no oversampled reference)")
+    p.add_argument("--maps", metavar="DIR", help="also write error-map PNGs here")
+    args = p.parse_args(argv)
+    face = load_face(args.font)
+    sizes = [float(s) for s in args.sizes.split(",")]
+    modes = args.modes.split(",")
+    summary = ink_summary(face, sizes, modes, args.text, args.samples,
+                          1 if args.direct else None)
+    print(f"{'mode':<10} {'size':>5} {'max |err|':>10} {'mean |err|':>11} {'total':>8}")
+    for mode, per_size in summary.items():
+        for size, (worst, mean, total) in per_size.items():
+            print(f"{mode:<10} {size:>5g} {worst:>10.3%} {mean:>11.3%} {total:>8.3%}")
+    if args.maps:
+        for mode in modes:
+            write_error_maps(face, args.text or "agH&", sizes, args.maps, mode, args.samples)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
