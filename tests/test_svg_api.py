@@ -1,0 +1,118 @@
+"""SVG API and the ``vecmsaa render`` command: sources, sizes, pixels, errors."""
+import io
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from vecmsaa.api import render_svg, render_svg_array
+from vecmsaa.svg import SvgError
+
+NS = 'xmlns="http://www.w3.org/2000/svg"'
+# a 20 x 10 document: left half opaque green, right half transparent
+HALF = f'<svg {NS} width="20" height="10"><rect width="10" height="10" fill="#008000"/></svg>'
+
+
+def run_cli(*args, stdin=None):
+    return subprocess.run([sys.executable, "-m", "vecmsaa.cli", *args], input=stdin,
+                          capture_output=True, timeout=300)
+
+
+def test_sources_are_equivalent(tmp_path):
+    path = tmp_path / "half.svg"
+    path.write_text(HALF)
+    results = [render_svg_array(src, mode="analytic") for src in
+               (HALF, HALF.encode(), str(path), path, io.BytesIO(HALF.encode()),
+                io.StringIO(HALF))]
+    for r in results[1:]:
+        assert np.array_equal(r, results[0])
+
+
+def test_pixels_of_a_half_filled_document():
+    arr = render_svg_array(HALF, mode="analytic")
+    assert arr.shape == (10, 20, 4) and arr.dtype == np.uint8
+    assert (arr[:, :10] == (0, 128, 0, 255)).all()
+    assert (arr[:, 10:, 3] == 0).all()
+
+
+def test_render_svg_returns_rgba_image_with_width_only():
+    im = render_svg(HALF, width=40, mode="analytic")
+    assert im.mode == "RGBA" and im.size == (40, 20)
+
+
+def test_background_fills_transparent_pixels():
+    arr = render_svg_array(HALF, background="white", mode="analytic")
+    assert (arr[:, 15] == 255).all()
+
+
+def test_reference_png_from_the_suite(shared_dir):
+    from vecmsaa.compare import compare_images
+
+    base = shared_dir / "resvg-suite" / "tests" / "masking" / "mask" / "simple-case"
+    if not base.with_suffix(".svg").exists():
+        pytest.skip("suite test missing")
+    ref = Image.open(base.with_suffix(".png")).convert("RGBA")
+    im = render_svg(str(base.with_suffix(".svg")), width=ref.width, mode="analytic")
+    assert compare_images(im, ref).passed()
+
+
+@pytest.mark.parametrize("bad", [b"", b"<svg", b"not xml at all", b"<html/>"])
+def test_bad_input_is_an_svg_error(bad):
+    with pytest.raises(SvgError):
+        render_svg_array(bad)
+
+
+def test_bad_sizes():
+    with pytest.raises(SvgError):
+        render_svg_array(HALF, width=-5)
+    with pytest.raises(SvgError, match="too large"):
+        render_svg_array(HALF, zoom=1e6)
+
+
+def test_missing_file_is_an_svg_error(tmp_path):
+    with pytest.raises(SvgError, match="cannot read"):
+        render_svg_array(str(tmp_path / "nope.svg"))
+
+
+# -- command line -------------------------------------------------------------------------------
+def test_cli_single_file_with_height_flag(tmp_path):
+    src = tmp_path / "half.svg"
+    src.write_text(HALF)
+    out = tmp_path / "out.png"
+    r = run_cli("render", str(src), "-o", str(out), "-h", "30", "--mode", "analytic")
+    assert r.returncode == 0, r.stderr
+    assert Image.open(out).size == (60, 30)
+
+
+def test_cli_stdin_to_stdout():
+    r = run_cli("render", "-", "-o", "-", "--mode", "analytic", stdin=HALF.encode())
+    assert r.returncode == 0, r.stderr
+    assert Image.open(io.BytesIO(r.stdout)).size == (20, 10)
+
+
+def test_cli_batch_with_a_broken_file(tmp_path):
+    folder = tmp_path / "in"
+    folder.mkdir()
+    (folder / "good.svg").write_text(HALF)
+    (folder / "broken.svg").write_text("<svg")
+    out = tmp_path / "out"
+    r = run_cli("render", str(folder), "--out-dir", str(out), "--mode", "analytic",
+                "--jobs", "2")
+    assert r.returncode == 1
+    err = r.stderr.decode()
+    assert "broken.svg" in err and "malformed XML" in err
+    assert sorted(os.listdir(out)) == ["good.png"]
+
+
+def test_cli_error_leaves_no_file(tmp_path):
+    src = tmp_path / "broken.svg"
+    src.write_text("<svg")
+    out = tmp_path / "out.png"
+    r = run_cli("render", str(src), "-o", str(out))
+    assert r.returncode != 0
+    lines = r.stderr.decode().strip().splitlines()
+    assert len(lines) == 1 and "broken.svg" in lines[0]
+    assert not out.exists() and os.listdir(tmp_path) == ["broken.svg"]
