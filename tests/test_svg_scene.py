@@ -345,3 +345,17 @@ def test_text_without_text_module_is_skipped_cleanly():
 def test_background_option():
     s = scene("", background="#ff000080")
     assert s.background == pytest.approx((1, 0, 0, 128 / 255))
+
+
+def test_non_scaling_stroke_keeps_its_device_width():
+    s = scene('<g transform="scale(4 1)"><line x1="0" y1="50" x2="20" y2="50" stroke="black" '
+              'stroke-width="2" vector-effect="non-scaling-stroke"/></g>')
+    x0, y0, x1, y1 = path_bounds(only_fill(s).path)
+    assert (x0, x1, y1 - y0) == pytest.approx((0, 80, 2))
+
+
+def test_markers_ignore_display_on_the_marker():
+    s = scene('<marker id="m" display="none" markerUnits="userSpaceOnUse" overflow="visible">'
+              '<rect width="2" height="2"/></marker>'
+              '<path d="M 10 10 L 20 10" marker-end="url(#m)"/>')
+    assert len(s.fills()) == 1

@@ -56,9 +56,8 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
                context_fill, context_stroke):
     if any(m is marker for m in builder._ref_stack):
         return []
+    # 'display' does not apply to <marker>: it is drawn even under display="none"
     style = builder.doc.document_style(marker)
-    if style.get("display").strip() == "none":
-        return []
     get = builder.length_getter(marker, style, ctx)
     mw = get("markerWidth", "x", 3.0)
     mh = get("markerHeight", "y", 3.0)
