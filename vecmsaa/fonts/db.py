@@ -266,33 +266,7 @@ def parse_family_list(text: str) -> list:
     return [f for f in out if f]
 
 
-# -- command-line options (resvg's names) ----------------------------------------------------
-def add_font_arguments(parser):
-    """Add ``--use-fonts-dir``, ``--font-family``, generic-family and system-font options."""
-    g = parser.add_argument_group("fonts")
-    g.add_argument("--use-font-file", action="append", default=[], metavar="PATH",
-                   help="load a font file (repeatable)")
-    g.add_argument("--use-fonts-dir", action="append", default=[], metavar="DIR",
-                   help="load all fonts in a folder, recursively (repeatable)")
-    g.add_argument("--skip-system-fonts", action="store_true",
-                   help="do not load fonts from the system font folders")
-    g.add_argument("--font-family", metavar="NAME",
-                   help="family used when text names none [default: sans-serif]")
-    for generic in GENERIC_FAMILIES:
-        g.add_argument(f"--{generic}-family", metavar="NAME",
-                       dest=f"{generic.replace('-', '_')}_family",
-                       help=f"family for the generic '{generic}'")
-    return g
-
-
 _DB_CACHE = {}
-OPTION_NAMES = ("use_font_file", "use_fonts_dir", "skip_system_fonts", "font_family") + tuple(
-    f"{g.replace('-', '_')}_family" for g in GENERIC_FAMILIES)
-
-
-def database_from_args(args) -> FontDatabase:
-    """A FontDatabase configured from :func:`add_font_arguments` options (cached)."""
-    return database_from_options({k: getattr(args, k, None) for k in OPTION_NAMES})
 
 
 def database_from_options(options: dict) -> FontDatabase:
