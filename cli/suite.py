@@ -12,7 +12,6 @@ image (rendered | reference | off pixels in red) in ``--out``.
 """
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 

@@ -359,3 +359,13 @@ def test_markers_ignore_display_on_the_marker():
               '<rect width="2" height="2"/></marker>'
               '<path d="M 10 10 L 20 10" marker-end="url(#m)"/>')
     assert len(s.fills()) == 1
+
+
+def test_linear_rgb_mask_content():
+    s = scene('<mask id="m" color-interpolation="linearRGB">'
+              '<rect width="10" height="10" fill="#808080"/></mask>'
+              '<rect width="10" height="10" mask="url(#m)"/>')
+    (g,) = s.root.children
+    (f,) = g.mask.content.children
+    # sRGB 128/255 → linear ((0.50196 + 0.055) / 1.055) ** 2.4
+    assert f.paint.color[:3] == pytest.approx((0.21586,) * 3, abs=1e-4)

@@ -12,10 +12,9 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-import numpy as np
 
 from ..path import IDENTITY, LINE, Path, compose, rect_path
-from ..scene import Fill, Group, ImagePaint, Mask, Scene, Solid
+from ..scene import Fill, Group, Scene, Solid
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style

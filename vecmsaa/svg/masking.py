@@ -8,8 +8,10 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
+
 from ..path import compose, rect_path
-from ..scene import Fill, Group, Mask
+from ..scene import Fill, Group, ImagePaint, LinearGradient, Mask, RadialGradient, Solid
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
                  "use"}
@@ -119,8 +121,10 @@ def masks(builder, value, ctx, bbox_fn):
         nodes = builder.children(el, inner, style)
         region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
         content = Group(children=nodes, clip=region)
-        kind = (style.get("mask-type") or el.get("mask-type") or "luminance").strip()
-        out = [Mask(content=content, kind="alpha" if kind == "alpha" else "luminance")]
+        kind = "alpha" if style.get("mask-type").strip() == "alpha" else "luminance"
+        if kind == "luminance" and style.get("color-interpolation", "").strip() == "linearRGB":
+            to_linear_rgb(content)
+        out = [Mask(content=content, kind=kind)]
         own = el.specified.get("mask")
         if own and own.strip() != "none":
             more = masks(builder, own, ctx, bbox_fn)
@@ -130,3 +134,34 @@ def masks(builder, value, ctx, bbox_fn):
     finally:
         builder._ref_stack.pop()
     return out
+
+
+def _linear(c):
+    c = np.asarray(c, dtype=np.float64)
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def to_linear_rgb(group):
+    """Convert the paints of mask content to linear RGB in place (color-interpolation:
+    linearRGB: the luminance is taken from linearised colours)."""
+    stack = [group]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Group):
+            stack.extend(node.children)
+            continue
+        paint = node.paint
+        if isinstance(paint, Solid):
+            r, g, b, a = paint.color
+            node.paint = Solid((*(float(v) for v in _linear((r, g, b))), a))
+        elif isinstance(paint, (LinearGradient, RadialGradient)):
+            stops = paint.stops.copy()
+            stops[:, 1:4] = _linear(stops[:, 1:4])
+            node.paint = replace(paint, stops=stops)
+        elif isinstance(paint, ImagePaint):
+            rgba = paint.rgba.astype(np.float32).copy()
+            alpha = rgba[..., 3:4]
+            straight = np.divide(rgba[..., :3], alpha, out=np.zeros_like(rgba[..., :3]),
+                                 where=alpha > 0)
+            rgba[..., :3] = _linear(straight).astype(np.float32) * alpha
+            node.paint = replace(paint, rgba=rgba)

@@ -14,7 +14,7 @@ from ..path import IDENTITY, compose, invert
 from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
 from .units import (matrix_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
-                    split_length, to_px, translate, viewbox_transform)
+                    split_length, translate, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 MAX_TILE_PIXELS = 4096 * 4096
