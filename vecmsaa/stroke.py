@@ -505,6 +505,8 @@ def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot):
     if join == "round":
         a0 = math.atan2(n0y, n0x)
         turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
+        if abs(turn) > math.pi - 1e-9:
+            turn = -side * math.pi      # a U-turn: round the far side (through p + hw·d0)
         return _arc_items(p, hw, a0, a0 + turn)
     cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))
     if join != "bevel" and cos_half > 0 and 1.0 / cos_half <= miterlimit:
@@ -527,12 +529,17 @@ def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot):
 
 
 def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
-    """Fast path for subpaths of straight lines (map data): chains of segments become single
-    contours with their joins inline. On the inner side of a turn the two offsets are cut
-    where they cross, which is exact as long as that crossing lies within both segments; where
-    it does not (a segment shorter than what the turns at its two ends cut from it) the chain
-    is broken there and the join becomes a separate wedge, as in the general stroker."""
-    # distinct consecutive points, directions and lengths
+    """Fast path for subpaths of straight lines (map data): one contour per open subpath and
+    two loops per closed one, with joins and caps inline.
+
+    As chains, this outline is exactly the sum of the separate positive pieces of the general
+    stroker (one rectangle per segment, one wedge per join, caps): on the outer side the wedge
+    and the rectangles' butt ends collapse into the join shape, on the inner side into the
+    path corner → vertex → corner. So it fills the same union for any segment lengths. Where
+    the inner offsets' crossing lies within both segments (and so does the other corner),
+    the crossing replaces the detour through the vertex: that removes a quadrilateral lying
+    inside both rectangles, which leaves the union unchanged but avoids overlapping edges.
+    """
     q = [pts[0]]
     for p in pts[1:]:
         if p != q[-1]:
@@ -552,99 +559,64 @@ def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
         dirs.append((dx / ln, dy / ln))
         lens.append(ln)
 
-    # chains of segments joined inline, built forward on both sides; a break starts another
-    right: list = []
-    left: list = []
-    chains = []
-    wedges = []                 # (vertex, d0, d1): joins emitted as separate pieces
-    used = [0.0, 0.0]           # length cut from the current segment's start: [right, left]
-    first_end_cut = [0.0, 0.0]  # length cut from segment 0's end
-
-    def start_chain(i):
-        d, p = dirs[i], q[i]
-        nx, ny = -d[1] * hw, d[0] * hw
-        right[:] = [(p[0] - nx, p[1] - ny)]
-        left[:] = [(p[0] + nx, p[1] + ny)]
-
-    def end_chain(i):           # butt end of segment i at its end vertex
-        d, p = dirs[i], q[(i + 1) % n]
-        nx, ny = -d[1] * hw, d[0] * hw
-        right.append((LINE, (p[0] - nx, p[1] - ny)))
-        left.append((LINE, (p[0] + nx, p[1] + ny)))
-        chains.append((list(right), list(left)))
-
-    start_chain(0)
+    d = dirs[0]
+    p = q[0]
+    right = [(p[0] + d[1] * hw, p[1] - d[0] * hw)]
+    left = [(p[0] - d[1] * hw, p[1] + d[0] * hw)]
     for i in range(nseg if closed else nseg - 1):
         j = (i + 1) % nseg
         d0, d1 = dirs[i], dirs[j]
         p = q[j]
         cross = d0[0] * d1[1] - d0[1] * d1[0]
         dot = d0[0] * d1[0] + d0[1] * d1[1]
-        inner = 1 if cross > 0 else 0       # index into used: 1 when the left side is inner
-        cut = hw * abs(cross) / (1.0 + dot) if dot > -0.999999 else math.inf
-        # the segment after a closed loop's last vertex is segment 0, already cut at its end
-        room_j = lens[j] - (first_end_cut[inner] if closed and j == 0 else 0.0)
-        if used[inner] + cut <= lens[i] and cut <= room_j:
-            if i == 0:
-                first_end_cut[inner] = cut
+        # offsets of the incoming segment's end and the outgoing one's start, per side
+        r0 = (p[0] + d0[1] * hw, p[1] - d0[0] * hw)
+        l0 = (p[0] - d0[1] * hw, p[1] + d0[0] * hw)
+        r1 = (p[0] + d1[1] * hw, p[1] - d1[0] * hw)
+        l1 = (p[0] - d1[1] * hw, p[1] + d1[0] * hw)
+        if dot > _SMOOTH_COS:
+            # (almost) straight on: both sides meet at their offsets' crossing
             k = hw / (1.0 + dot)
             cx, cy = (-d0[1] - d1[1]) * k, (d0[0] + d1[0]) * k   # (n0 + n1)·hw/(1 + dot)
-            if dot > _SMOOTH_COS:           # (almost) straight on: both sides at the corner
-                left.append((LINE, (p[0] + cx, p[1] + cy)))
-                right.append((LINE, (p[0] - cx, p[1] - cy)))
-            elif cross > 0:
-                left.append((LINE, (p[0] + cx, p[1] + cy)))
-                right.append((LINE, (p[0] + d0[1] * hw, p[1] - d0[0] * hw)))
-                right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot))
-            else:
-                right.append((LINE, (p[0] - cx, p[1] - cy)))
-                left.append((LINE, (p[0] - d0[1] * hw, p[1] + d0[0] * hw)))
-                left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot))
-            used = [0.0, 0.0]
-            used[inner] = cut
-        elif closed:
-            # a closed polyline that cannot be one pair of loops: stroke it open from vertex 0
-            # (butt ends there) and add the join at vertex 0 as a wedge
-            _stroke_polyline(out, q + [q[0]], False, hw, join, "butt", miterlimit)
-            _emit_join(out, q[0], dirs[-1], dirs[0], hw, join, miterlimit)
-            return
+            left.append((LINE, (p[0] + cx, p[1] + cy)))
+            right.append((LINE, (p[0] - cx, p[1] - cy)))
+            continue
+        if cross > 0:       # turning left: left side inner
+            inner, c0, c1 = left, l0, l1
+            right.append((LINE, r0))
+            right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot))
+            sign = 1.0
         else:
-            end_chain(i)
-            wedges.append((p, d0, d1))
-            start_chain(j)
-            used = [0.0, 0.0]
+            inner, c0, c1 = right, r0, r1
+            left.append((LINE, l0))
+            left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot))
+            sign = -1.0
+        # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
+        # hw·sin φ; both must lie within both segments
+        sin_turn = abs(cross)
+        reach = hw * max(sin_turn / (1.0 + dot) if dot > -1.0 else math.inf, sin_turn)
+        if reach <= lens[i] and reach <= lens[j]:
+            k = sign * hw / (1.0 + dot)
+            inner.append((LINE, (p[0] + (-d0[1] - d1[1]) * k, p[1] + (d0[0] + d1[0]) * k)))
+        else:
+            inner.extend(((LINE, c0), (LINE, p), (LINE, c1)))
 
     if closed:
-        # one loop on each side, the stroke is the region between them. The lists start with
-        # vertex 0's butt points, which lie on the first segment's offsets: drop them.
+        # the lists start at vertex 0's butt points, on the first segment's offsets: start the
+        # loops at the closing join's last point instead. Right forward, left backward.
         r_loop = [right[-1][-1]] + right[1:]
         l_loop = [left[-1][-1]] + left[1:]
-        ar = _signed_area([r_loop[0]] + [it[-1] for it in r_loop[1:]])
-        al = _signed_area([l_loop[0]] + [it[-1] for it in l_loop[1:]])
-        if ar >= al:
-            out.contour(r_loop, orient=False)
-            out.contour(_reversed_items(l_loop), orient=False)
-        else:
-            out.contour(_reversed_items(r_loop), orient=False)
-            out.contour(l_loop, orient=False)
+        out.contour(r_loop, orient=False)
+        out.contour(_reversed_items(l_loop), orient=False)
         return
-
-    # open: right side forward, end cap, left side backward, start cap
-    end_chain(nseg - 1)
-    last = len(chains) - 1
-    for idx, (r, l_) in enumerate(chains):
-        items = list(r)
-        if idx == last:
-            items += _cap_items(q[-1], dirs[-1], hw, cap)
-        else:
-            items.append((LINE, l_[-1][-1]))     # butt end at a break
-        items += _reversed_items(l_)[1:]
-        if idx == 0:
-            d = dirs[0]
-            items += _cap_items(q[0], (-d[0], -d[1]), hw, cap)
-        out.contour(items, orient=False)
-    for p, d0, d1 in wedges:
-        _emit_join(out, p, d0, d1, hw, join, miterlimit)
+    d = dirs[-1]
+    p = q[-1]
+    right.append((LINE, (p[0] + d[1] * hw, p[1] - d[0] * hw)))
+    left.append((LINE, (p[0] - d[1] * hw, p[1] + d[0] * hw)))
+    items = right + _cap_items(p, d, hw, cap) + _reversed_items(left)[1:]
+    d = dirs[0]
+    items += _cap_items(q[0], (-d[0], -d[1]), hw, cap)
+    out.contour(items, orient=False)
 
 
 def _reversed_items(items):
