@@ -299,10 +299,11 @@ def test_image_data_url_png(tmp_path):
     url = "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode()
     s = scene(f'<image x="10" y="10" width="40" height="40" href="{url}"/>')
     f = only_fill(s)
-    assert isinstance(f.paint, ImagePaint) and f.paint.rgba.shape == (1, 2, 4)
+    # the image plus one replicated texel on every side
+    assert isinstance(f.paint, ImagePaint) and f.paint.rgba.shape == (3, 4, 4)
     # 2 x 1 image meets a 40 x 40 viewport: 40 x 20, centred vertically
     assert path_bounds(f.path) == pytest.approx((10, 20, 50, 40))
-    assert apply(f.paint.to_paint, [[50, 40]])[0] == pytest.approx((2, 1))
+    assert apply(f.paint.to_paint, [[50, 40]])[0] == pytest.approx((3, 2))
 
 
 def test_files_outside_allowed_folders_are_not_read(tmp_path):

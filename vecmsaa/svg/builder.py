@@ -291,7 +291,7 @@ class Builder:
             if not bbox_cache:
                 bbox_cache.append(self.object_bbox(el, ctx, style))
             return bbox_cache[0]
-        group = Group(children=nodes, opacity=min(opacity, 1.0), blend=blend, isolate=isolate)
+        group = Group(children=nodes)
         if has_clip:
             clip = self.clip_path(clip_ref, ctx, bbox)
             if clip is False:
@@ -303,9 +303,12 @@ class Builder:
                 return []
             if masks:
                 group.mask = masks[0]
-                for extra in masks[1:]:
+                for extra in masks[1:]:     # the mask's own mask multiplies in
                     group = Group(children=[group], mask=extra)
-                    # opacity, blend etc. stay on the inner group
+        # opacity and blending apply to the result, so they go on the outermost layer
+        group.opacity = min(opacity, 1.0)
+        group.blend = blend
+        group.isolate = isolate
         return [group]
 
     def object_bbox(self, el, ctx, style):

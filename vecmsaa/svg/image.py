@@ -96,7 +96,12 @@ def image_nodes(builder, el, ctx, style):
             outline = rect_path(x, y, w, h)          # slice: the viewport clips the image
         else:
             outline = rect_path(0, 0, iw, ih).transformed(image_to_user)
-        return [Fill(outline.transformed(ctx.transform), ImagePaint(rgba, to_paint, False, smooth))]
+        # One texel of edge replication: filtering at the image border then repeats the edge
+        # (clamp) instead of fading into transparency; the outline does the clipping.
+        padded = np.pad(rgba, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        to_paint = compose(translate(1, 1), to_paint)
+        return [Fill(outline.transformed(ctx.transform),
+                     ImagePaint(padded, to_paint, False, smooth))]
     _doc, _w, _h, root_m, sub_builder, sub_viewport = sub
     sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user, root_m)),
                       viewport=sub_viewport, use_stack=(), context_fill=None, context_stroke=None)
