@@ -163,7 +163,8 @@ SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
                  "text/text-anchor/middle-on-text", "text/textPath/simple-case",
                  "text/text-decoration/indirect", "text/letter-spacing/1mm",
                  "text/writing-mode/tb-rl", "text/font-weight/700",
-                 "text/text/rotate", "text/dominant-baseline/central"]
+                 "text/text/rotate", "text/dominant-baseline/central",
+                 "text/color-font/cbdt", "text/color-font/colrv0"]
 
 
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")

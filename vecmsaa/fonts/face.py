@@ -91,6 +91,7 @@ class Face:
                 t in self.ttfont for t in ("sbix", "CBDT")):
             raise FontError(f"unsupported font {self.path}: no glyf, CFF or CFF2 outlines")
         self.units_per_em = int(head.unitsPerEm) or 1000
+        self.has_outlines = any(t in self.ttfont for t in ("glyf", "CFF ", "CFF2"))
         self.num_glyphs = len(self.glyph_order)
         self._glyph_sets = {}
         self._outlines = {}
@@ -249,6 +250,8 @@ class Face:
         hit = self._outlines.get(key)
         if hit is not None:
             return hit
+        if not self.has_outlines:       # bitmap-only font (CBDT): see fonts.color
+            return empty_outline()
         gs = self.glyph_set(location)
         path = Path(glyphSet=gs)
         name = self.glyph_order[gid] if 0 <= gid < self.num_glyphs else ".notdef"
@@ -264,8 +267,10 @@ class Face:
 
     def advance(self, gid: int, location: tuple = ()) -> float:
         """Horizontal advance in font units (including variations)."""
-        gs = self.glyph_set(location)
         name = self.glyph_order[gid] if 0 <= gid < self.num_glyphs else ".notdef"
+        if not self.has_outlines:
+            return float(self.ttfont["hmtx"][name][0]) if "hmtx" in self.ttfont else 0.0
+        gs = self.glyph_set(location)
         return float(gs[name].width) if name in gs else 0.0
 
     # -- HarfBuzz --------------------------------------------------------------------------
