@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..path import IDENTITY
 from ..scene import Fill, Solid
 
 FOREGROUND = 0xFFFF
@@ -40,34 +41,56 @@ def palette_color(face, index: int):
     return (c.red / 255.0, c.green / 255.0, c.blue / 255.0, c.alpha / 255.0)
 
 
+def is_color_glyph(face, gid) -> bool:
+    """Whether a glyph draws its own colours (COLR v0 layers or an sbix/CBDT bitmap)."""
+    return int(gid) in colr_layers(face) or (has_bitmaps(face) and
+                                             bitmap_glyph(face, int(gid)) is not None)
+
+
+def color_glyph_fills(face, location, gid, matrix, paint, to_device=IDENTITY) -> list:
+    """Fills of one colour glyph placed by ``matrix`` (font units → user space; ``to_device``
+    then maps user space to device pixels)."""
+    from ..path import compose
+    from .layout import glyphs_path
+
+    a, b, c, d = matrix[:4]
+    scale = abs(a * d - b * c) ** 0.5
+    if has_bitmaps(face) and scale > 0:
+        # user units at the glyph origin (y down) → user space
+        origin = compose(tuple(matrix), (1 / scale, 0.0, 0.0, -1 / scale, 0.0, 0.0))
+        fill = bitmap_fill(face, int(gid), origin, scale * face.units_per_em, to_device)
+        if fill is not None:
+            return [fill]
+    fills = []
+    for layer_gid, color_index in colr_layers(face).get(int(gid), []):
+        path = glyphs_path(face, location, [layer_gid], [matrix])
+        if path.is_empty():
+            continue
+        layer_paint = paint if color_index == FOREGROUND else Solid(
+            palette_color(face, color_index))
+        fills.append(Fill(path.transformed(to_device), layer_paint))
+    return fills
+
+
 def color_fills(face, location, gids, matrices, paint) -> list:
-    """Fills for glyphs placed by ``matrices`` (see :func:`layout.placement`)."""
+    """Fills for glyphs placed by ``matrices`` (see :func:`layout.placement`): plain glyphs
+    share one fill with ``paint``, colour glyphs add their own."""
     from .layout import glyphs_path
 
     gids = np.asarray(gids)
     matrices = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
-    layers = colr_layers(face)
-    if not layers:
+    if not colr_layers(face) and not has_bitmaps(face):
         path = glyphs_path(face, location, gids, matrices)
         return [] if path.is_empty() else [Fill(path, paint)]
-    colored = np.array([int(g) in layers for g in gids], dtype=bool)
+    colored = np.array([is_color_glyph(face, g) for g in gids], dtype=bool)
     fills = []
     if (~colored).any():
         path = glyphs_path(face, location, gids[~colored], matrices[~colored])
         if not path.is_empty():
             fills.append(Fill(path, paint))
     for i in np.nonzero(colored)[0]:
-        for layer_gid, color_index in layers[int(gids[i])]:
-            path = glyphs_path(face, location, [layer_gid], matrices[i:i + 1])
-            if path.is_empty():
-                continue
-            layer_paint = paint if color_index == FOREGROUND else Solid(
-                palette_color(face, color_index))
-            fills.append(Fill(path, layer_paint))
+        fills.extend(color_glyph_fills(face, location, gids[i], matrices[i], paint))
     return fills
-
-
-__all__ = ["color_fills", "colr_layers", "palette_color"]
 
 
 def bitmap_glyph(face, gid):

@@ -976,42 +976,27 @@ def _glyph_path(glyphs):
 
 
 def _color_or_plain(glyphs, path, style, ctx, bbox):
-    """Bitmap (sbix, CBDT) and COLR glyphs draw their own colours; everything else is the
-    outline path filled and stroked through ctx.draw."""
-    from ..fonts.color import bitmap_fill, color_fills, colr_layers, has_bitmaps
+    """Colour glyphs (COLR layers, sbix/CBDT bitmaps) draw their own colours; everything else
+    is the outline path filled and stroked through ctx.draw."""
+    from ..fonts.color import color_glyph_fills, is_color_glyph
     from ..scene import Fill, Solid
 
-    special = {}
-    for i, g in enumerate(glyphs):
-        if has_bitmaps(g.face) or colr_layers(g.face).get(g.gid):
-            special[i] = g
+    special = [g for g in glyphs if is_color_glyph(g.face, g.gid)]
     if not special:
         return ctx.draw(path, style, bbox) if not path.is_empty() else []
+    plain = [g for g in glyphs if not is_color_glyph(g.face, g.gid)]
     out = []
-    plain = [g for i, g in enumerate(glyphs) if i not in special]
-    ref = None
-    for g in special.values():
-        # user units at the glyph origin → user space: the glyph matrix without its scale
-        origin = compose(g.matrix, (1 / g.scale, 0.0, 0.0, -1 / g.scale, 0.0, 0.0))
-        fill = bitmap_fill(g.face, g.gid, origin, g.scale * g.face.units_per_em,
-                           ctx.transform)
-        if fill is not None:
+    plain_path = _glyph_path(plain) if plain else None
+    if plain_path is not None and not plain_path.is_empty():
+        out.extend(ctx.draw(plain_path, style, bbox))
+    ref = ctx.resolve_paint(style, "fill", bbox)
+    paint = ref.paint if ref is not None else Solid()
+    for g in special:
+        for fill in color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint,
+                                      ctx.transform):
             if ctx.in_clip or ctx.geometry_only:
                 fill = Fill(fill.path, Solid((0.0, 0.0, 0.0, 1.0)))
             out.append(fill)
-            continue
-        if not colr_layers(g.face).get(g.gid) or ctx.in_clip or ctx.geometry_only:
-            plain.append(g)
-            continue
-        if ref is None:
-            ref = ctx.resolve_paint(style, "fill", bbox)
-        paint = ref.paint if ref is not None else Solid()
-        for f in color_fills(g.face, g.location, [g.gid], [g.matrix], paint):
-            f.path = f.path.transformed(ctx.transform)
-            out.append(f)
-    plain_path = _glyph_path(plain) if plain else None
-    if plain_path is not None and not plain_path.is_empty():
-        out = ctx.draw(plain_path, style, bbox) + out
     return out
 
 
