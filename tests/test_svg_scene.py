@@ -370,3 +370,9 @@ def test_linear_rgb_mask_content():
     (f,) = g.mask.content.children
     # sRGB 128/255 → linear ((0.50196 + 0.055) / 1.055) ** 2.4
     assert f.paint.color[:3] == pytest.approx((0.21586,) * 3, abs=1e-4)
+
+
+def test_element_with_a_broken_filter_reference_is_not_drawn():
+    s = scene('<filter id="f"/><rect width="1" height="1" filter="url(#missing)"/>'
+              '<rect width="2" height="2" filter="url(#f)"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))

@@ -272,6 +272,8 @@ class Builder:
                 if clip is not None:
                     return [Group(children=nodes, clip=clip)]
             return nodes
+        if not self.filter_usable(el):
+            return []
         opacity = parse_opacity(style.get("opacity"))
         blend = (style.get("mix-blend-mode") or "normal").strip()
         isolate = style.get("isolation").strip() == "isolate"
@@ -310,6 +312,18 @@ class Builder:
         group.blend = blend
         group.isolate = isolate
         return [group]
+
+    def filter_usable(self, el):
+        """False when ``filter`` points at nothing usable: the element is then not drawn (SVG,
+        resvg). Filter effects themselves are not implemented; a valid filter is ignored."""
+        value = el.specified.get("filter")
+        if not value or value.strip() == "none":
+            return True
+        for ref in re.findall(r"url\(\s*['\"]?([^'\")]*)", value):
+            target = self.doc.lookup(ref) if ref.strip().startswith("#") else None
+            if target is None or target.tag != "filter":
+                return False
+        return True
 
     def object_bbox(self, el, ctx, style):
         """Object bounding box of an element in its own user space (after its transform)."""
