@@ -603,7 +603,11 @@ def position_on_path(clusters, chars, text_path, chunk_x, anchor, ctx, styles, s
             c.visible = False
         return 0.0, 0.0
     a, b, cc, d = ctx.transform[:4]
-    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)))
+    # resvg's tolerance follows the text's transform in the SVG's own units, before the
+    # output is scaled to its pixel size: divide that scaling out.
+    root = getattr(ctx, "root_scale", None) or getattr(getattr(ctx, "_builder", None),
+                                                       "root_scale", 1.0) or 1.0
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / root)
     style = styles.get(id(text_path), ctx.style)
     offset = 0.0
     start = text_path.get("startOffset")
