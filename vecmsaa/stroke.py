@@ -332,11 +332,8 @@ def _side_items(pieces, attr, reverse):
     return items
 
 
-def _emit_run(out, pieces):
-    right = _side_items(pieces, "right", False)
-    left = _side_items(pieces, "left", True)
-    items = right + [(LINE, left[0])] + left[1:]
-    out.contour(items)
+def _emit_patches(out, pieces):
+    """Separate contours covering the inside of bends tighter than the half width."""
     for p in pieces:
         for patch in (p.patch_right, p.patch_left):
             if patch is not None:
@@ -361,75 +358,6 @@ def _arc_items(center, r, a0, a1):
                       (cx + r * cb + k * sb, cy + r * sb - k * cb), (cx + r * cb, cy + r * sb)))
         ca, sa = cb, sb
     return items
-
-
-def _emit_join(out, p, d0, d1, hw, join, miterlimit):
-    """Wedge filling the outer side of the turn at p from direction d0 to direction d1."""
-    cross = d0[0] * d1[1] - d0[1] * d1[0]
-    dot = d0[0] * d1[0] + d0[1] * d1[1]
-    if dot > _SMOOTH_COS:
-        return
-    side = -1.0 if cross > 0 else 1.0      # turning towards the left normal: outer is right
-    if cross == 0.0 and dot < 0:
-        side = 1.0                           # a U-turn: both sides are outer; pick one
-    n0 = (-d0[1] * side, d0[0] * side)
-    n1 = (-d1[1] * side, d1[0] * side)
-    a = (p[0] + n0[0] * hw, p[1] + n0[1] * hw)
-    b = (p[0] + n1[0] * hw, p[1] + n1[1] * hw)
-    if join == "round":
-        a0 = math.atan2(n0[1], n0[0])
-        turn = math.atan2(n0[0] * n1[1] - n0[1] * n1[0], n0[0] * n1[0] + n0[1] * n1[1])
-        if cross == 0.0 and dot < 0:
-            turn = math.pi
-        out.contour([p, (LINE, a)] + _arc_items(p, hw, a0, a0 + turn))
-        if cross == 0.0 and dot < 0:     # a U-turn needs the other half disc too
-            out.contour([p, (LINE, b)] + _arc_items(p, hw, a0 + math.pi, a0 + 2 * math.pi))
-        return
-    if join in ("miter", "miter-clip", "arcs"):
-        # miter length / stroke width = 1 / sin(θ/2) for the interior angle θ; with φ the
-        # turning angle (cos φ = dot), sin(θ/2) = cos(φ/2)
-        cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))
-        if cos_half > 0 and 1.0 / cos_half <= miterlimit:
-            # tip: where the two offset lines meet, on the bisector at hw / cos_half
-            bx, by = n0[0] + n1[0], n0[1] + n1[1]
-            bl = math.hypot(bx, by)
-            tip = (p[0] + bx / bl * hw / cos_half, p[1] + by / bl * hw / cos_half)
-            out.contour([p, (LINE, a), (LINE, tip), (LINE, b)])
-            return
-        if join == "miter-clip":
-            # SVG 2: clip the miter at miterlimit·w/2 from p, perpendicular to the bisector
-            bx, by = n0[0] + n1[0], n0[1] + n1[1]
-            bl = math.hypot(bx, by)
-            if bl < 1e-12:
-                bx, by, bl = d0[0], d0[1], 1.0
-            bx, by = bx / bl, by / bl
-            lim = miterlimit * hw
-            da = d0[0] * bx + d0[1] * by
-            db = -(d1[0] * bx + d1[1] * by)
-            pa = (a[0] - p[0]) * bx + (a[1] - p[1]) * by
-            if da > 1e-12 and db > 1e-12 and lim > pa:
-                u = (lim - pa) / da
-                v = (lim - pa) / db
-                ca = (a[0] + d0[0] * u, a[1] + d0[1] * u)
-                cb = (b[0] - d1[0] * v, b[1] - d1[1] * v)
-                out.contour([p, (LINE, a), (LINE, ca), (LINE, cb), (LINE, b)])
-                return
-    out.contour([p, (LINE, a), (LINE, b)])   # bevel, and miters over the limit
-
-
-def _emit_cap(out, p, d, hw, cap):
-    """Cap at p for a stroke leaving p in direction d (d points away from the stroke)."""
-    if cap == "butt":
-        return
-    nx, ny = -d[1] * hw, d[0] * hw
-    a = (p[0] + nx, p[1] + ny)
-    b = (p[0] - nx, p[1] - ny)
-    if cap == "square":
-        out.contour([a, (LINE, (a[0] + d[0] * hw, a[1] + d[1] * hw)),
-                     (LINE, (b[0] + d[0] * hw, b[1] + d[1] * hw)), (LINE, b)])
-    else:
-        a0 = math.atan2(ny, nx)
-        out.contour([a] + _arc_items(p, hw, a0, a0 - math.pi))
 
 
 def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
@@ -469,17 +397,56 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
         if segs:
             _emit_dot(out, segs[0][0], hw, cap)
         return
-    for i, run in enumerate(runs):
-        _emit_run(out, run)
-        if i > 0:
-            _emit_join(out, run[0].src[0], runs[i - 1][-1].t1, run[0].t0, hw, run_joins[i],
-                       miterlimit)
+    # One chain along both sides, joins and caps inline: as chains this equals the sum of the
+    # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
+    # explained in _stroke_polyline, so the nonzero fill is their union.
+    right = _side_items(runs[0], "right", False)
+    left = _side_items(runs[0], "left", False)
+    _emit_patches(out, runs[0])
+    for i in range(1, len(runs) + (1 if closed else 0)):
+        run = runs[i % len(runs)]
+        prev = runs[i - 1][-1]
+        run_right = _side_items(run, "right", False)
+        run_left = _side_items(run, "left", False)
+        _join_items(right, left, run[0].src[0], prev.t1, run[0].t0, hw,
+                    run_joins[i] if i < len(runs) else join, miterlimit, run_right[0],
+                    run_left[0])
+        if i < len(runs):
+            right += run_right[1:]
+            left += run_left[1:]
+            _emit_patches(out, run)
     if closed:
-        _emit_join(out, runs[0][0].src[0], runs[-1][-1].t1, runs[0][0].t0, hw, join, miterlimit)
+        # the lists start where the first run starts; the closing join ended there too
+        out.contour([right[-1][-1]] + right[1:], orient=False)
+        out.contour(_reversed_items([left[-1][-1]] + left[1:]), orient=False)
+        return
+    first, last = runs[0][0], runs[-1][-1]
+    items = right + _cap_items(last.src[-1], last.t1, hw, cap) + _reversed_items(left)[1:]
+    items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
+    out.contour(items, orient=False)
+
+
+def _join_items(right, left, p, d0, d1, hw, join, miterlimit, r1, l1):
+    """Extend both sides across the turn at p from direction d0 to d1; r1, l1 are the next
+    offsets' starts. The outer side takes the join shape, the inner side goes through p."""
+    cross = d0[0] * d1[1] - d0[1] * d1[0]
+    dot = d0[0] * d1[0] + d0[1] * d1[1]
+    if dot > _SMOOTH_COS:
+        right.append((LINE, r1))
+        left.append((LINE, l1))
+        return
+    if cross > 0:       # turning left: left side inner
+        outer, side, inner, o1, c1 = right, -1.0, left, r1, l1
     else:
-        first, last = runs[0][0], runs[-1][-1]
-        _emit_cap(out, first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
-        _emit_cap(out, last.src[-1], last.t1, hw, cap)
+        outer, side, inner, o1, c1 = left, 1.0, right, l1, r1
+    # a side that follows the source (a tight bend) ends at p, not at its offset
+    a = (p[0] - d0[1] * side * hw, p[1] + d0[0] * side * hw)
+    if outer[-1][-1] != a:
+        outer.append((LINE, a))
+    outer.extend(_outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot))
+    if outer[-1][-1] != o1:
+        outer.append((LINE, o1))
+    inner.extend(((LINE, p), (LINE, c1)))
 
 
 def _cap_items(p, d, hw, cap):
@@ -538,7 +505,8 @@ def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
     path corner → vertex → corner. So it fills the same union for any segment lengths. Where
     the inner offsets' crossing lies within both segments (and so does the other corner),
     the crossing replaces the detour through the vertex: that removes a quadrilateral lying
-    inside both rectangles, which leaves the union unchanged but avoids overlapping edges.
+    inside both rectangles, which leaves the union unchanged (a point in m such regions lies
+    in at least m + 1 rectangles) but avoids overlapping edges.
     """
     q = [pts[0]]
     for p in pts[1:]:
@@ -592,10 +560,12 @@ def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
             left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot))
             sign = -1.0
         # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
-        # hw·sin φ; both must lie within both segments
+        # hw·sin φ; both must lie within both segments. Each shortcut removes a region
+        # covered by the two segments at its vertex; around a whole loop of shortcuts a point
+        # could lose all its cover, so a closed loop keeps the detour at vertex 0.
         sin_turn = abs(cross)
         reach = hw * max(sin_turn / (1.0 + dot) if dot > -1.0 else math.inf, sin_turn)
-        if reach <= lens[i] and reach <= lens[j]:
+        if reach <= lens[i] and reach <= lens[j] and not (closed and j == 0):
             k = sign * hw / (1.0 + dot)
             inner.append((LINE, (p[0] + (-d0[1] - d1[1]) * k, p[1] + (d0[0] + d1[0]) * k)))
         else:
