@@ -55,7 +55,7 @@ class Ctx:
     transform: tuple = IDENTITY           # user space → device pixels
     viewport: tuple = (100.0, 100.0)      # width, height that percentages refer to
     use_stack: tuple = ()                 # ids of elements being instantiated (cycle guard)
-    context_fill: object = None           # (paint, opacity) of the context element, or None
+    context_fill: object = None           # ContextPaint of the context element, or None
     context_stroke: object = None
     clip: bool = False                    # inside a clipPath: plain black fills, no strokes
     geometry: bool = False                # only object geometry (bounding boxes)
@@ -76,10 +76,6 @@ class PaintRef:
     """A resolved paint for one shape: paint, its opacity, and whether it may be drawn."""
     paint: object
     opacity: float
-
-
-def _is_none(v):
-    return v is None or v.strip() == "none"
 
 
 def parse_url(value):
@@ -122,8 +118,8 @@ class Builder:
         self.options = options
         self.nodes_made = 0
         self.root_scale = 1.0
-        self._paint_stack = []          # patterns being built (recursion guard)
-        self._ref_stack = []            # clip paths / masks / markers being built
+        self.paint_stack = []          # patterns being built (recursion guard)
+        self.ref_stack = []            # clip paths / masks / markers being built
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0) -> list:

@@ -54,7 +54,7 @@ def draw_markers(builder, path, style, ctx, commands=None):
 
 def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, ctx,
                context_fill, context_stroke):
-    if any(m is marker for m in builder._ref_stack):
+    if any(m is marker for m in builder.ref_stack):
         return []
     # 'display' does not apply to <marker>: it is drawn even under display="none"
     style = builder.doc.document_style(marker)
@@ -104,11 +104,11 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     m = compose(m, translate(-ref_x, -ref_y))
     inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport,
                     context_fill=context_fill, context_stroke=context_stroke)
-    builder._ref_stack.append(marker)
+    builder.ref_stack.append(marker)
     try:
         nodes = builder.children(marker, inner, style)
     finally:
-        builder._ref_stack.pop()
+        builder.ref_stack.pop()
     if not nodes:
         return []
     if builder.overflow_hidden(marker, style):

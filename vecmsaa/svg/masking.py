@@ -26,7 +26,7 @@ def _target(builder, value, tag):
     el = builder.doc.lookup(url[0]) if url[0].startswith("#") else None
     if el is None or el.tag != tag:
         return None
-    if any(r is el for r in builder._ref_stack):
+    if any(r is el for r in builder.ref_stack):
         return None   # recursion: the inner reference is dropped
     return el
 
@@ -53,7 +53,7 @@ def clip_path(builder, value, ctx, bbox_fn):
             return False
         transform = compose(transform, bbox_matrix(bbox))
     inner = replace(ctx, transform=transform, clip=True, geometry=False)
-    builder._ref_stack.append(el)
+    builder.ref_stack.append(el)
     try:
         nodes = []
         for child in el.children:
@@ -69,7 +69,7 @@ def clip_path(builder, value, ctx, bbox_fn):
             if outer is not None:
                 group.clip = outer
     finally:
-        builder._ref_stack.pop()
+        builder.ref_stack.pop()
     return group
 
 
@@ -116,7 +116,7 @@ def masks(builder, value, ctx, bbox_fn):
     if content_obb:
         transform = compose(transform, bbox_matrix(bbox))
     inner = replace(ctx, transform=transform, clip=False, geometry=False)
-    builder._ref_stack.append(el)
+    builder.ref_stack.append(el)
     try:
         nodes = builder.children(el, inner, style)
         region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
@@ -132,7 +132,7 @@ def masks(builder, value, ctx, bbox_fn):
                 return False
             out.extend(more)
     finally:
-        builder._ref_stack.pop()
+        builder.ref_stack.pop()
     return out
 
 

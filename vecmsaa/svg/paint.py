@@ -179,7 +179,7 @@ def gradient(builder, el, ctx, bbox):
 def pattern(builder, el, ctx, bbox):
     from .builder import Ctx, bbox_matrix
 
-    if any(p is el for p in builder._paint_stack):
+    if any(p is el for p in builder.paint_stack):
         return None
     chain = href_chain(builder, el, ("pattern",))
     style = builder.doc.document_style(el)
@@ -225,11 +225,11 @@ def pattern(builder, el, ctx, bbox):
     tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
                    viewport=content_viewport, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
-    builder._paint_stack.append(el)
+    builder.paint_stack.append(el)
     try:
         nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
     finally:
-        builder._paint_stack.pop()
+        builder.paint_stack.pop()
     if not nodes:
         return None
     try:

@@ -849,6 +849,9 @@ def build_text(element, ctx):
             s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, outer + c.chain)
         specs.append(s)
     faces = assign_faces(chars, specs, db)
+    # a zero, negative or non-finite size draws nothing
+    faces = [f if math.isfinite(sp.size) and sp.size > 0 else None
+             for f, sp in zip(faces, specs)]
     if all(f is None for f in faces):
         return []
     writing = (ctx.style.get("writing-mode") or "lr").strip()
