@@ -21,6 +21,7 @@ FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
 CFF = os.path.join(FIXTURES, "NotoSans-Subset-CFF.otf")
 VAR = os.path.join(FIXTURES, "RobotoFlex-Subset.ttf")
+TTC = os.path.join(FIXTURES, "Collection.ttc")
 SUITE_FONTS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite",
                            "fonts")
 needs_suite = pytest.mark.skipif(not os.path.isdir(SUITE_FONTS),
@@ -230,3 +231,17 @@ def test_database_generic_families_and_fallback():
     # Roboto Flex's subset has no 'z': fall back to a face that has it.
     info = db.fallback_for_char("z", ["Roboto Flex"])
     assert info is not None and info.load().has_char("z")
+
+
+def test_collection_faces():
+    from vecmsaa.fonts import face_count
+
+    data = open(TTC, "rb").read()
+    assert data[:4] == b"ttcf"
+    count = struct.unpack(">I", data[8:12])[0]
+    assert face_count(TTC) == count == 2
+    assert load_face(TTC, 0).family == "Noto Sans"
+    second = load_face(TTC, 1)
+    assert second.family == "Roboto Flex" and "wght" in second.axes
+    with pytest.raises(FontError):
+        load_face(TTC, 2)
