@@ -312,7 +312,7 @@ def test_miter_tip_length(angle):
 def test_round_join_radius(angle):
     w = 6.0
     b = _outer_bisector(angle)
-    out = stroke_path(_corner(angle), w, join="round")
+    out = stroke_path(_corner(angle), w, join="round", tolerance=0.001)
     assert inside(out, [np.array([50, 50]) + b * w / 2 * 0.99])[0]
     assert not inside(out, [np.array([50, 50]) + b * w / 2 * 1.01])[0]
 

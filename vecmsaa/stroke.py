@@ -375,8 +375,8 @@ def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
 def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     """segs: control point tuples of one subpath (closing line included when closed)."""
     if all(len(seg) == 2 for seg in segs):
-        _stroke_polyline(out, [seg[0] for seg in segs] + [segs[-1][1]], closed, hw, join, cap,
-                         miterlimit)
+        _stroke_polyline(out, [seg[0] for seg in segs] + [segs[-1][1]], closed, hw, tol, join,
+                         cap, miterlimit)
         return
     # runs: consecutive pieces with continuous tangents; a join between runs
     runs: list[list[_Piece]] = []
@@ -409,7 +409,7 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
         run_right = _side_items(run, "right", False)
         run_left = _side_items(run, "left", False)
         _join_items(right, left, run[0].src[0], prev.t1, run[0].t0, hw,
-                    run_joins[i] if i < len(runs) else join, miterlimit, run_right[0],
+                    run_joins[i] if i < len(runs) else join, miterlimit, tol, run_right[0],
                     run_left[0])
         if i < len(runs):
             right += run_right[1:]
@@ -426,7 +426,7 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     out.contour(items, orient=False)
 
 
-def _join_items(right, left, p, d0, d1, hw, join, miterlimit, r1, l1):
+def _join_items(right, left, p, d0, d1, hw, join, miterlimit, tol, r1, l1):
     """Extend both sides across the turn at p from direction d0 to d1; r1, l1 are the next
     offsets' starts. The outer side takes the join shape, the inner side goes through p."""
     cross = d0[0] * d1[1] - d0[1] * d1[0]
@@ -443,7 +443,7 @@ def _join_items(right, left, p, d0, d1, hw, join, miterlimit, r1, l1):
     a = (p[0] - d0[1] * side * hw, p[1] + d0[0] * side * hw)
     if outer[-1][-1] != a:
         outer.append((LINE, a))
-    outer.extend(_outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot))
+    outer.extend(_outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol))
     if outer[-1][-1] != o1:
         outer.append((LINE, o1))
     inner.extend(((LINE, p), (LINE, c1)))
@@ -463,13 +463,16 @@ def _cap_items(p, d, hw, cap):
     return [(LINE, b)]
 
 
-def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot):
+def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
     """Items along the outer side (side: +1 left, -1 right) of a turn at p, from the end of the
     incoming offset (excluded) to the start of the outgoing one (included)."""
     n0x, n0y = -d0[1] * side, d0[0] * side
     n1x, n1y = -d1[1] * side, d1[0] * side
     b = (p[0] + n1x * hw, p[1] + n1y * hw)
     if join == "round":
+        if hw * (1.0 - math.sqrt(max(0.0, (1.0 + dot) / 2.0))) <= tol:
+            # a bevel is within tolerance of this arc (thin strokes of dense map polylines)
+            return [(LINE, b)]
         a0 = math.atan2(n0y, n0x)
         turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
         if abs(turn) > math.pi - 1e-9:
@@ -495,7 +498,7 @@ def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot):
     return [(LINE, b)]
 
 
-def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
+def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
     """Fast path for subpaths of straight lines (map data): one contour per open subpath and
     two loops per closed one, with joins and caps inline.
 
@@ -552,12 +555,12 @@ def _stroke_polyline(out, pts, closed, hw, join, cap, miterlimit):
         if cross > 0:       # turning left: left side inner
             inner, c0, c1 = left, l0, l1
             right.append((LINE, r0))
-            right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot))
+            right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot, tol))
             sign = 1.0
         else:
             inner, c0, c1 = right, r0, r1
             left.append((LINE, l0))
-            left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot))
+            left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot, tol))
             sign = -1.0
         # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
         # hw·sin φ; both must lie within both segments. Each shortcut removes a region
