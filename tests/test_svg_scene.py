@@ -376,3 +376,14 @@ def test_element_with_a_broken_filter_reference_is_not_drawn():
     s = scene('<filter id="f"/><rect width="1" height="1" filter="url(#missing)"/>'
               '<rect width="2" height="2" filter="url(#f)"/>')
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
+
+
+def test_group_bounding_box_maps_child_boxes_through_transforms():
+    # A circle of radius 5 rotated 45°: its box (a 10 x 10 square) rotated and boxed again
+    # spans ±5√2, as browsers compute getBBox() for groups.
+    s = scene('<clipPath id="c" clipPathUnits="objectBoundingBox"><rect width="1" height="1"/>'
+              '</clipPath><g transform="translate(50 50)" clip-path="url(#c)">'
+              '<circle r="5" transform="rotate(45)"/></g>')
+    (g,) = s.root.children
+    h = 5 * 2 ** 0.5
+    assert path_bounds(g.clip.children[0].path) == pytest.approx((50 - h, 50 - h, 50 + h, 50 + h))

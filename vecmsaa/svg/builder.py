@@ -466,7 +466,13 @@ class Builder:
         geometry for bounding boxes only the plain outline.
         """
         if ctx.geometry:
-            return [Fill(path.transformed(ctx.transform))]
+            # Bounding boxes of groups are unions of their children's boxes mapped through
+            # the transforms (as browsers and resvg compute them), not of the mapped outlines.
+            box = bbox.get() if isinstance(bbox, LazyBounds) else bbox or path_bounds(path)
+            if box is None:
+                return []
+            x0, y0, x1, y1 = box
+            return [Fill(rect_path(x0, y0, x1 - x0, y1 - y0).transformed(ctx.transform))]
         # a lone line segment encloses nothing
         fillable = not (len(path.verbs) == 2 and path.verbs[1] == LINE)
         antialias = style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed")
