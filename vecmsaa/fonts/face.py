@@ -191,11 +191,15 @@ class Face:
     # -- characters and glyphs -------------------------------------------------------------
     @property
     def cmap(self) -> dict:
-        """Code point → glyph name (the best Unicode cmap subtable)."""
-        try:
-            return self.ttfont.getBestCmap() or {}
-        except Exception:
-            return {}
+        """Code point → glyph name (the best Unicode cmap subtable), read once."""
+        cmap = getattr(self, "_cmap", None)
+        if cmap is None:
+            try:
+                cmap = self.ttfont.getBestCmap() or {}
+            except Exception:
+                cmap = {}
+            self._cmap = cmap
+        return cmap
 
     @property
     def reverse_cmap(self) -> dict:
@@ -295,6 +299,9 @@ class Face:
 
 @lru_cache(maxsize=64)
 def _load(path: str, index: int, mtime: float) -> Face:
+    count = face_count(path)
+    if not 0 <= index < count:
+        raise FontError(f"{path} has {count} face(s); --face-index {index} is out of range")
     return Face(path, index)
 
 
@@ -305,9 +312,6 @@ def load_face(path, index: int = 0) -> Face:
         mtime = os.stat(path).st_mtime
     except OSError as exc:
         raise FontError(f"cannot read font {path}: {exc.strerror or exc}") from None
-    count = face_count(path)
-    if not 0 <= index < count:
-        raise FontError(f"{path} has {count} face(s); --face-index {index} is out of range")
     return _load(path, int(index), mtime)
 
 

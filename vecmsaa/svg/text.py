@@ -340,6 +340,7 @@ def assign_faces(chars, specs, db):
     """Face for every character: the family list's best match, else a fallback face."""
     faces = []
     primary = {}
+    loaded = {}
     for c, spec in zip(chars, specs):
         key = (spec.families, spec.weight, spec.style, spec.stretch)
         info = primary.get(key)
@@ -347,7 +348,9 @@ def assign_faces(chars, specs, db):
             info = db.query_or_default(list(spec.families), spec.weight, spec.style,
                                        spec.stretch)
             primary[key] = info
-        face = _load(info)
+        if info not in loaded:
+            loaded[info] = _load(info)
+        face = loaded[info]
         if face is not None and not face.has_char(c.ch) and not _is_control(c.ch):
             alt = db.fallback_for_char(c.ch, list(spec.families), spec.weight, spec.style,
                                        spec.stretch, exclude=(info,))
@@ -919,17 +922,20 @@ def build_text(element, ctx):
 def text_bbox(clusters):
     """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
     (ascent to descent over the advance), not of the glyph outlines."""
-    box = None
+    corners = []
     for c in clusters:
         if not c.visible:
             continue
         adv = c.advance if c.advance > 0 else 1.0
-        r = rect_path(0.0, -c.ascent, adv, c.ascent - c.descent).transformed(
-            compose(c.frame, c.path_ts))
-        b = r.bounds()
-        box = b if box is None else (min(box[0], b[0]), min(box[1], b[1]),
-                                     max(box[2], b[2]), max(box[3], b[3]))
-    return box
+        a, b, cc, d, e, f = compose(c.frame, c.path_ts)
+        for x, y in ((0.0, -c.ascent), (adv, -c.ascent), (0.0, -c.descent),
+                     (adv, -c.descent)):
+            corners.append((a * x + cc * y + e, b * x + d * y + f))
+    if not corners:
+        return None
+    pts = np.asarray(corners)
+    return (float(pts[:, 0].min()), float(pts[:, 1].min()), float(pts[:, 0].max()),
+            float(pts[:, 1].max()))
 
 
 def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
