@@ -25,9 +25,11 @@ def bisector(angle_in, angle_out):
 def draw_markers(builder, path, style, ctx, commands=None):
     from .builder import parse_url
 
-    props = {kind: style.get(f"marker-{kind}") for kind in ("start", "mid", "end")}
     targets = {}
-    for kind, value in props.items():
+    for kind in ("start", "mid", "end"):
+        value = style.get(f"marker-{kind}")
+        if value == "none":
+            continue
         url = parse_url(value or "none")
         if url is None:
             continue
