@@ -387,3 +387,27 @@ def test_group_bounding_box_maps_child_boxes_through_transforms():
     (g,) = s.root.children
     h = 5 * 2 ** 0.5
     assert path_bounds(g.clip.children[0].path) == pytest.approx((50 - h, 50 - h, 50 + h, 50 + h))
+
+
+def test_pattern_tile_and_period():
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" x="5" width="20" height="10">'
+              '<rect width="10" height="10" fill="green"/></pattern>'
+              '<rect width="100" height="100" fill="url(#p)"/>', width=200)
+    p = only_fill(s).paint
+    assert isinstance(p, ImagePaint) and p.repeat
+    # 20 x 10 user units at 2 px per unit: a 40 x 20 tile starting at x = 10 px
+    assert p.rgba.shape[:2] == (20, 40)
+    assert apply(p.to_paint, [[10, 0], [50, 20]]).tolist() == [[0, 0], [40, 20]]
+    # left half green, right half empty
+    assert p.rgba[10, 5, 3] == pytest.approx(1) and p.rgba[10, 35, 3] == 0
+
+
+def test_tiny_pattern_tiles_keep_their_period():
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="0.3" height="0.3">'
+              '<rect width="0.15" height="0.3" fill="green"/></pattern>'
+              '<rect width="100" height="100" fill="url(#p)"/>')
+    p = only_fill(s).paint
+    h, w = p.rgba.shape[:2]
+    # device point 0.3 px further is exactly one tile further in texels
+    a, b = apply(p.to_paint, [[0, 0], [0.3, 0.3]])
+    assert (b - a).tolist() == pytest.approx([w, h])

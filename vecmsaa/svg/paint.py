@@ -17,7 +17,7 @@ from .units import (matrix_scale, parse_aspect, parse_number, parse_transform, p
                     split_length, translate, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
-MAX_TILE_PIXELS = 4096 * 4096
+MAX_TILE_PIXELS = 2048 * 2048
 
 
 def href_chain(builder, el, tags):
@@ -211,6 +211,13 @@ def pattern(builder, el, ctx, bbox):
         f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
         sx, sy = sx * f, sy * f
         tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
+    # Like resvg, the tile is a whole number of pixels at the device scale, so the period
+    # drifts by under half a pixel per tile. Tiles under two pixels, where that error would
+    # dominate, get their scale adjusted instead so the period stays exact.
+    if w * sx < 2:
+        sx = tw / w
+    if h * sy < 2:
+        sy = th / h
     if vb is not None:
         content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
                                     w, h)
