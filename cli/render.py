@@ -1,6 +1,7 @@
 """``vecmsaa render``: SVG files to PNG.
 
-One file: ``vecmsaa render in.svg -o out.png`` (``-`` reads stdin / writes stdout). Several files
+One file: ``vecmsaa render in.svg -o out.png`` (``-`` reads stdin / writes stdout; without
+``-o`` the PNG goes beside the input). Several files
 or folders: ``vecmsaa render a.svg b.svg dir/ --out-dir out/`` renders them in one process (or
 ``--jobs`` processes); a broken file is reported with its name and reason, the others still
 render, and the exit status is 1. Output files are written whole or not at all.
