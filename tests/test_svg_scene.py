@@ -411,3 +411,18 @@ def test_tiny_pattern_tiles_keep_their_period():
     # device point 0.3 px further is exactly one tile further in texels
     a, b = apply(p.to_paint, [[0, 0], [0.3, 0.3]])
     assert (b - a).tolist() == pytest.approx([w, h])
+
+
+def test_symlinks_out_of_the_document_folder_are_not_followed(tmp_path):
+    from PIL import Image
+    outside = tmp_path / "outside"
+    inside = tmp_path / "doc"
+    outside.mkdir()
+    inside.mkdir()
+    Image.new("RGBA", (1, 1), (255, 0, 0, 255)).save(outside / "a.png")
+    (inside / "link.png").symlink_to(outside / "a.png")
+    svg = inside / "a.svg"
+    svg.write_text(f'<svg {NS} width="10" height="10">'
+                   '<image width="10" height="10" href="link.png"/>'
+                   '<image width="10" height="10" href="http://example.com/a.png"/></svg>')
+    assert load_svg(str(svg)).fills() == []
