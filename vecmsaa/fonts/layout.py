@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..path import Path
-from ..scene import Fill, Solid
+from ..scene import Solid
 from .shape import ShapedRun, shape_text
 
 

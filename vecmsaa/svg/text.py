@@ -22,14 +22,14 @@ from __future__ import annotations
 import math
 import re
 import unicodedata
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..fonts import FontError
 from ..fonts.db import FontDatabase, database_from_options, parse_family_list
 from ..fonts.layout import glyphs_arrays
-from ..fonts.shape import bidi_runs, shape_run, visual_order
+from ..fonts.shape import bidi_runs, shape_run
 from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, compose, rect_path
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
