@@ -1,16 +1,20 @@
 """Strokes as fillable outlines, dashing, and marker vertices.
 
-:func:`stroke_path` returns the stroke's outline as a Path to be filled with the nonzero rule.
-The outline is a union of pieces, every one a closed contour with positive orientation (positive
-shoelace area): one per run of smooth segment pieces (its right offset forward, its left offset
-backward), one per join wedge on the outer side of a turn, one per cap, and a patch wherever a
-curve bends tighter than half the stroke width. Because no contour winds negatively, the nonzero
-union is the stroke however short the segments and however sharp the turns: the single-contour
-construction (offsets joined through the pivot on the inner side) leaves holes when segments are
-shorter than the stroke is wide, which is common in map data.
+:func:`stroke_path` returns the stroke's outline as a Path to be filled with the nonzero rule:
+per subpath one contour (right side forward, end cap, left side backward, start cap), or two
+loops for a closed one, with the joins inline.
+
+Why that is exact under nonzero even with segments shorter than the stroke is wide (map data):
+as a chain, the contour is exactly the sum of separate positively oriented pieces (a contour
+per smooth run of segment pieces closed by butt lines, a wedge per join on the outer side of the
+turn, the caps). On the outer side a wedge and the butt lines collapse into the join shape; on
+the inner side into the detour offset corner → vertex → next offset corner. Winding numbers add
+over chains, every piece winds +1 over itself, so the fill is their union.
 
 Offsets of curves are cubic Béziers fitted to the true offset (exact end points and tangents, the
-midpoint matched), subdivided until within ``tolerance`` at the quarter points.
+midpoint matched), subdivided until within ``tolerance`` at the quarter points; where the offset
+folds (bends tighter than half the width) or will not fit, pieces are split until flat within
+the tolerance and stroked as chords with round joins.
 
 Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offsets are P + w/2·n.
 """
@@ -154,15 +158,12 @@ def _reverse_contour(start, segs):
 
 class _Piece:
     """A piece of a segment: source control points (2 for lines, 4 for cubics), unit tangents
-    at both ends, and per side either the offset's control points or None where the curve
-    bends tighter than the half width on that side (the side then follows the source curve and
-    a patch covers the inside of the bend)."""
-    __slots__ = ("src", "t0", "t1", "right", "left", "patch_right", "patch_left")
+    at both ends, and the control points of its right and left offsets."""
+    __slots__ = ("src", "t0", "t1", "right", "left")
 
-    def __init__(self, src, t0, t1, right, left, patch_right=None, patch_left=None):
+    def __init__(self, src, t0, t1, right, left):
         self.src, self.t0, self.t1 = src, t0, t1
         self.right, self.left = right, left
-        self.patch_right, self.patch_left = patch_right, patch_left
 
 
 def _line_piece(p0, p1, d, hw):
@@ -230,72 +231,65 @@ def _offset_error(c, fit, off):
     return err
 
 
-def _bend_patch(c, side, hw):
-    """Inside of a bend tighter than the half width: the region swept by the normals on that
-    side, up to the centre of curvature (points beyond it are nearer another part of the curve).
-    Contour: the curve, then back along the (clamped) normals at both ends."""
-    ends = []
-    for t, p in ((0.0, c[0]), (1.0, c[3])):
-        k = _curvature(c, t)
-        d = _unit(*_cubic_deriv(c, t)) or _seg_tangents(c)[0 if t == 0 else 1]
-        reach = hw if not math.isfinite(k) or k == 0 else min(hw, 1.0 / abs(k))
-        if not math.isfinite(k):
-            reach = 0.0
-        ends.append((p[0] - d[1] * reach * side, p[1] + d[0] * reach * side))
-    return ends
-
-
 def _cubic_pieces(c, hw, tol, out_pieces, depth=0):
+    """Pieces of cubic c: offset cubics where they fit within tol, else halves, down to pieces
+    flat within tol, which become their chords. Stroked with round joins between them (the
+    stroker's rule inside a curve), chords are within tol of the curve's stroke: the round-
+    joined stroke of a polyline is its Minkowski sum with the pen disc. That is also how
+    bends tighter than the half width are handled, where the offset folds back on itself."""
     tans = _seg_tangents(c)
     if tans is None:
         return
     t0, t1 = tans
-    # a bend tighter than hw on a side makes that offset fold back: find which sides
-    ks = [_curvature(c, t) for t in (0.0, 0.5, 1.0)]
-    folds = []
-    for side in (-1.0, 1.0):
-        f = [(not math.isfinite(k)) or 1 - side * hw * k <= 0 for k in ks]
-        folds.append(f)
-    chord = math.hypot(c[3][0] - c[0][0], c[3][1] - c[0][1]) + \
-        math.hypot(c[1][0] - c[0][0], c[1][1] - c[0][1]) + \
-        math.hypot(c[3][0] - c[2][0], c[3][1] - c[2][1])
-    tiny = chord < tol * 1e-3
-    split = False
-    fits = []
-    for side, f in zip((-1.0, 1.0), folds):
-        if any(f):
-            if not all(f):
-                split = True     # part folds, part does not: separate them
-            fits.append(None)
-            continue
-        fit = _fit_offset(c, t0, t1, side * hw)
-        if _offset_error(c, fit, side * hw) > tol:
-            split = True
-        fits.append(fit)
     # a piece turning by more than 90° is split so the midpoint fit stays well posed
-    if t0[0] * t1[0] + t0[1] * t1[1] < 0.0:
-        split = True
-    if split:
-        if depth < _MAX_DEPTH and not tiny:
-            a, b = _split_cubic(c, 0.5)
-            _cubic_pieces(a, hw, tol, out_pieces, depth + 1)
-            _cubic_pieces(b, hw, tol, out_pieces, depth + 1)
-            return
-        # too small to split further and still not offsettable (a cusp, a kink): two lines
-        # through its midpoint; the stroker puts round joins where their directions differ
+    ok = t0[0] * t1[0] + t0[1] * t1[1] >= 0.0
+    if ok:
+        # a bend tighter than hw on a side makes that side's offset fold back
+        for t in (0.0, 0.5, 1.0):
+            k = _curvature(c, t)
+            if not math.isfinite(k) or hw * abs(k) >= 1.0:
+                ok = False
+                break
+    if ok:
+        fits = []
+        for side in (-1.0, 1.0):
+            fit = _fit_offset(c, t0, t1, side * hw)
+            if _offset_error(c, fit, side * hw) > tol:
+                ok = False
+                break
+            fits.append(fit)
+    if ok:
+        out_pieces.append(_Piece(c, t0, t1, fits[0], fits[1]))
+        return
+    if depth < _MAX_DEPTH and _flatness(c) > tol:
+        a, b = _split_cubic(c, 0.5)
+        _cubic_pieces(a, hw, tol, out_pieces, depth + 1)
+        _cubic_pieces(b, hw, tol, out_pieces, depth + 1)
+        return
+    d = _unit(c[3][0] - c[0][0], c[3][1] - c[0][1])
+    if d:
+        out_pieces.append(_line_piece(c[0], c[3], d, hw))
+    else:
+        # a closed loop too small to matter (or depth exhausted): two chords via its midpoint
         pm = _cubic_point(c, 0.5)
         for q0, q1 in ((c[0], pm), (pm, c[3])):
             d = _unit(q1[0] - q0[0], q1[1] - q0[1])
             if d:
                 out_pieces.append(_line_piece(q0, q1, d, hw))
-        return
-    right, left = fits
-    piece = _Piece(c, t0, t1, right, left)
-    if right is None:
-        piece.patch_right = _bend_patch(c, -1.0, hw)
-    if left is None:
-        piece.patch_left = _bend_patch(c, 1.0, hw)
-    out_pieces.append(piece)
+
+
+def _flatness(c):
+    """An upper bound of the cubic's distance from its chord: the control points' distance
+    from the chord segment (not its line: a curve can overshoot along the chord)."""
+    (x0, y0), _, _, (x3, y3) = c
+    dx, dy = x3 - x0, y3 - y0
+    l2 = dx * dx + dy * dy
+    worst = 0.0
+    for x, y in c[1:3]:
+        t = ((x - x0) * dx + (y - y0) * dy) / l2 if l2 > 0 else 0.0
+        t = min(1.0, max(0.0, t))
+        worst = max(worst, math.hypot(x - x0 - t * dx, y - y0 - t * dy))
+    return worst
 
 
 def _segment_pieces(seg, hw, tol):
@@ -314,33 +308,16 @@ def _segment_pieces(seg, hw, tol):
 
 # -- contours -------------------------------------------------------------------------------
 
-def _side_items(pieces, attr, reverse):
-    """The path along one side of a run of pieces: offsets where they exist, the source curve
-    where the side folds, joined by straight lines."""
-    items = []
-    seq = reversed(pieces) if reverse else pieces
-    for p in seq:
-        ctrl = getattr(p, attr) or p.src
-        if reverse:
-            ctrl = tuple(reversed(ctrl))
-        verb = LINE if len(ctrl) == 2 else CUBIC
-        if items and items[-1][-1] != ctrl[0]:
-            items.append((LINE, ctrl[0]))
-        elif not items:
-            items.append(ctrl[0])
-        items.append((verb, *ctrl[1:]))
-    return items
-
-
-def _emit_patches(out, pieces):
-    """Separate contours covering the inside of bends tighter than the half width."""
+def _side_items(pieces, attr):
+    """The path along one side of a run of pieces (their offsets, joined by straight lines
+    where consecutive offsets do not quite meet): a start point, then items."""
+    items = [getattr(pieces[0], attr)[0]]
     for p in pieces:
-        for patch in (p.patch_right, p.patch_left):
-            if patch is not None:
-                src = p.src
-                items = [src[0], (CUBIC, *src[1:]) if len(src) == 4 else (LINE, src[1]),
-                         (LINE, patch[1]), (LINE, patch[0])]
-                out.contour(items)
+        ctrl = getattr(p, attr)
+        if len(items) > 1 and items[-1][-1] != ctrl[0]:
+            items.append((LINE, ctrl[0]))
+        items.append((LINE, ctrl[1]) if len(ctrl) == 2 else (CUBIC, *ctrl[1:]))
+    return items
 
 
 def _arc_items(center, r, a0, a1):
@@ -400,21 +377,19 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     # One chain along both sides, joins and caps inline: as chains this equals the sum of the
     # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
     # explained in _stroke_polyline, so the nonzero fill is their union.
-    right = _side_items(runs[0], "right", False)
-    left = _side_items(runs[0], "left", False)
-    _emit_patches(out, runs[0])
+    right = _side_items(runs[0], "right")
+    left = _side_items(runs[0], "left")
     for i in range(1, len(runs) + (1 if closed else 0)):
         run = runs[i % len(runs)]
         prev = runs[i - 1][-1]
-        run_right = _side_items(run, "right", False)
-        run_left = _side_items(run, "left", False)
+        run_right = _side_items(run, "right")
+        run_left = _side_items(run, "left")
         _join_items(right, left, run[0].src[0], prev.t1, run[0].t0, hw,
                     run_joins[i] if i < len(runs) else join, miterlimit, tol, run_right[0],
                     run_left[0])
         if i < len(runs):
             right += run_right[1:]
             left += run_left[1:]
-            _emit_patches(out, run)
     if closed:
         # the lists start where the first run starts; the closing join ended there too
         out.contour([right[-1][-1]] + right[1:], orient=False)
@@ -439,7 +414,7 @@ def _join_items(right, left, p, d0, d1, hw, join, miterlimit, tol, r1, l1):
         outer, side, inner, o1, c1 = right, -1.0, left, r1, l1
     else:
         outer, side, inner, o1, c1 = left, 1.0, right, l1, r1
-    # a side that follows the source (a tight bend) ends at p, not at its offset
+    # runs end exactly on their offsets, except chords of flattened pieces near p
     a = (p[0] - d0[1] * side * hw, p[1] + d0[0] * side * hw)
     if outer[-1][-1] != a:
         outer.append((LINE, a))
