@@ -159,6 +159,13 @@ def test_gradient_on_text_uses_the_text_box():
     assert left[0] > left[2] and right[2] > right[0]
 
 
+def test_font_shorthand_sets_and_resets_longhands():
+    explicit = render('<text x="10" y="70" font-size="30" font-family="Noto Sans">AVA</text>')
+    shorthand = render('<g style="font-size: 90px; font-kerning: none; font-family: Nope">'
+                       '<text x="10" y="70" style="font: 30px \'Noto Sans\'">AVA</text></g>')
+    assert np.array_equal(explicit, shorthand)
+
+
 SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
                  "text/text-anchor/middle-on-text", "text/textPath/simple-case",
                  "text/text-decoration/indirect", "text/letter-spacing/1mm",

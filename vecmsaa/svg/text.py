@@ -70,6 +70,80 @@ def _space_preserved(el, inherited):
     return inherited
 
 
+FONT_SIZE_KEYWORDS = {"xx-small", "x-small", "small", "medium", "large", "x-large",
+                      "xx-large", "xxx-large", "larger", "smaller"}
+#: what the CSS ``font`` shorthand resets when it does not set it
+FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": "normal",
+               "font-stretch": "normal", "line-height": "normal", "font-kerning": "auto",
+               "font-size-adjust": "none", "font-feature-settings": "normal",
+               "font-variation-settings": "normal"}
+
+
+def parse_font_shorthand(value):
+    """CSS ``font`` → {longhand: value}, or None when it is not valid."""
+    tokens = re.findall(r"""("[^"]*"|'[^']*'|[^\s"']+)""", value.strip())
+    longhands = {}
+    for i, tok in enumerate(tokens):
+        low = tok.lower()
+        size = low.split("/")[0]
+        if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
+                                                  r"em|ex|%)?$", size):
+            if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
+                                                     "700", "800", "900"):
+                longhands["font-weight"] = size
+                continue
+            longhands["font-size"] = tok.split("/")[0]
+            rest = tokens[i + 1:]
+            # a line height may follow as "/1.2", "/ 1.2" or be glued: "12px/1.2"
+            if tok.endswith("/") and rest:
+                rest = rest[1:]
+            elif rest and rest[0] == "/":
+                rest = rest[2:]
+            elif rest and rest[0].startswith("/"):
+                rest = rest[1:]
+            family = " ".join(rest)
+            if not family:
+                return None
+            longhands["font-family"] = family
+            return {**FONT_RESETS, **longhands}
+        if low in ("italic", "oblique"):
+            longhands["font-style"] = low
+        elif low == "small-caps":
+            longhands["font-variant"] = low
+        elif low in ("bold", "bolder", "lighter"):
+            longhands["font-weight"] = low
+        elif low in STRETCHES:
+            longhands["font-stretch"] = low
+        elif low != "normal":
+            return None
+    return None
+
+
+def _content_elements(text_el):
+    stack = [text_el]
+    while stack:
+        el = stack.pop()
+        yield el
+        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
+
+
+def expand_font_shorthand(text_el):
+    """Spread a ``font`` shorthand on <text> and its content elements into the longhands it
+    sets (a longhand the element specifies itself wins). The document leaves ``font`` to the
+    text module."""
+    stack = [text_el]
+    while stack:
+        el = stack.pop()
+        value = el.specified.get("font")
+        if value:
+            parsed = parse_font_shorthand(value)
+            if parsed:
+                for name, v in parsed.items():
+                    el.specified.setdefault(name, v)
+            del el.specified["font"]
+        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
+
+
 def collect_chars(text_el, ctx, styles):
     """All characters of a <text> element with their element chains (before white-space)."""
     out = []
@@ -837,6 +911,10 @@ class PathWalker:
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
     styles = {}
+    if any("font" in el.specified for el in _content_elements(element)):
+        expand_font_shorthand(element)
+        ctx.style = ctx.style.parent.child(element) if ctx.style.parent is not None \
+            else ctx.style
     chars = collect_chars(element, ctx, styles)
     chars = collapse_white_space(chars)
     if not chars:
