@@ -414,11 +414,10 @@ def _join_items(right, left, p, d0, d1, hw, join, miterlimit, tol, r1, l1):
         outer, side, inner, o1, c1 = right, -1.0, left, r1, l1
     else:
         outer, side, inner, o1, c1 = left, 1.0, right, l1, r1
-    # runs end exactly on their offsets, except chords of flattened pieces near p
-    a = (p[0] - d0[1] * side * hw, p[1] + d0[0] * side * hw)
-    if outer[-1][-1] != a:
-        outer.append((LINE, a))
-    outer.extend(_outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol))
+    items = _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol)
+    if items[0][-1] == outer[-1][-1]:
+        items = items[1:]               # the run already ends at the offset's end
+    outer.extend(items)
     if outer[-1][-1] != o1:
         outer.append((LINE, o1))
     inner.extend(((LINE, p), (LINE, c1)))
@@ -439,24 +438,32 @@ def _cap_items(p, d, hw, cap):
 
 
 def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
-    """Items along the outer side (side: +1 left, -1 right) of a turn at p, from the end of the
-    incoming offset (excluded) to the start of the outgoing one (included)."""
+    """Items along the outer side (side: +1 left, -1 right) of a turn at p, after the
+    incoming side's last point (a point on its offset line) and before the outgoing side's next
+    point (on the outgoing offset line). The offset ends a and b are left out where they are
+    collinear with their neighbours (a miter's tip, a clipped miter's corners)."""
     n0x, n0y = -d0[1] * side, d0[0] * side
     n1x, n1y = -d1[1] * side, d1[0] * side
+    a = (p[0] + n0x * hw, p[1] + n0y * hw)
     b = (p[0] + n1x * hw, p[1] + n1y * hw)
+    cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))   # cos of half the turning angle
+    tip = None
+    if cos_half > 0:
+        k = hw / (1.0 + dot)
+        tip = (LINE, (p[0] + (n0x + n1x) * k, p[1] + (n0y + n1y) * k))
     if join == "round":
-        if hw * (1.0 - math.sqrt(max(0.0, (1.0 + dot) / 2.0))) <= tol:
-            # a bevel is within tolerance of this arc (thin strokes of dense map polylines)
-            return [(LINE, b)]
+        # thin strokes of dense polylines: a miter tip or a bevel within tolerance of the arc
+        if tip is not None and hw * (1.0 / cos_half - 1.0) <= tol:
+            return [tip]
+        if hw * (1.0 - cos_half) <= tol:
+            return [(LINE, a), (LINE, b)]
         a0 = math.atan2(n0y, n0x)
         turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
         if abs(turn) > math.pi - 1e-9:
             turn = -side * math.pi      # a U-turn: round the far side (through p + hw·d0)
-        return _arc_items(p, hw, a0, a0 + turn)
-    cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))
-    if join != "bevel" and cos_half > 0 and 1.0 / cos_half <= miterlimit:
-        k = hw / (1.0 + dot)
-        return [(LINE, (p[0] + (n0x + n1x) * k, p[1] + (n0y + n1y) * k)), (LINE, b)]
+        return [(LINE, a)] + _arc_items(p, hw, a0, a0 + turn)
+    if join != "bevel" and tip is not None and 1.0 / cos_half <= miterlimit:
+        return [tip]                    # miter (and "arcs", which falls back to it)
     if join == "miter-clip":
         bx, by = n0x + n1x, n0y + n1y
         bl = math.hypot(bx, by)
@@ -467,10 +474,9 @@ def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
             pa = hw * (n0x * bx + n0y * by)
             if da > 1e-12 and lim > pa:
                 u = (lim - pa) / da
-                a = (p[0] + n0x * hw, p[1] + n0y * hw)
                 return [(LINE, (a[0] + d0[0] * u, a[1] + d0[1] * u)),
-                        (LINE, (b[0] - d1[0] * u, b[1] - d1[1] * u)), (LINE, b)]
-    return [(LINE, b)]
+                        (LINE, (b[0] - d1[0] * u, b[1] - d1[1] * u))]
+    return [(LINE, a), (LINE, b)]      # bevel, and miters over the limit
 
 
 def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
@@ -529,12 +535,10 @@ def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
             continue
         if cross > 0:       # turning left: left side inner
             inner, c0, c1 = left, l0, l1
-            right.append((LINE, r0))
             right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot, tol))
             sign = 1.0
         else:
             inner, c0, c1 = right, r0, r1
-            left.append((LINE, l0))
             left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot, tol))
             sign = -1.0
         # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
