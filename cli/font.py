@@ -111,7 +111,10 @@ def run(args) -> int:
         return _fail(f"renderer not available: {exc}")
     from vecmsaa.png import write_png
 
-    image = render_scene(scene, mode=args.mode, samples=args.samples)
+    try:
+        image = render_scene(scene, mode=args.mode, samples=args.samples)
+    except ValueError as exc:     # e.g. a sample count the mode has no pattern for
+        return _fail(str(exc))
     try:
         write_png(to_rgba8(image), args.output)
     except OSError as exc:

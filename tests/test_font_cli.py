@@ -126,6 +126,7 @@ def test_broken_font_one_error_line_no_output(tmp_path):
 
 def test_unsupported_option_values_fail_cleanly(tmp_path):
     for args in (["--variations", "wght"], ["--features", "toolong=1"],
-                 ["--foreground", "notacolour"], ["--waterfall", "0,10"]):
+                 ["--foreground", "notacolour"], ["--waterfall", "0,10"],
+                 ["--samples", "3"]):
         code, out = run_font(tmp_path, TTF, "--text", "x", *args)
         assert code == 1 and not out.exists(), args
