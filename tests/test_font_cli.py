@@ -126,7 +126,11 @@ def test_broken_font_one_error_line_no_output(tmp_path):
 
 def test_unsupported_option_values_fail_cleanly(tmp_path):
     for args in (["--variations", "wght"], ["--features", "toolong=1"],
-                 ["--foreground", "notacolour"], ["--waterfall", "0,10"],
-                 ["--samples", "3"]):
+                 ["--foreground", "notacolour"], ["--waterfall", "0,10"]):
         code, out = run_font(tmp_path, TTF, "--text", "x", *args)
         assert code == 1 and not out.exists(), args
+    out = tmp_path / "s.png"
+    # 3 samples: no multisample pattern exists for it
+    assert main(["font", TTF, "--text", "x", "--mode", "approx", "--samples", "3", "-o",
+                 str(out)]) == 1
+    assert not out.exists()
