@@ -113,17 +113,23 @@ def layout_line(face, text: str, size: float, *, location=(), features=None, dir
                       m.ascender * scale, -m.descender * scale, size, vertical)
 
 
+def run_placements(line: LineLayout, origin=(0.0, 0.0), skew: float = 0.0):
+    """(run, (N, 6) glyph matrices) of a laid-out line with its baseline origin at ``origin``.
+    """
+    origin = np.asarray(origin, dtype=np.float64)
+    for run in line.runs:
+        yield run, placement(run.origins + origin, run.scale, skew)
+
+
 def line_fills(line: LineLayout, origin=(0.0, 0.0), paint=None, skew: float = 0.0) -> list:
     """Scene fills drawing a laid-out line with its baseline origin at ``origin``.
 
-    Plain glyphs of a face share one Fill; COLR colour glyphs add one Fill per layer.
+    Plain glyphs of a face share one Fill; colour glyphs add their own (fonts.color).
     """
     from .color import color_fills
 
     paint = paint if paint is not None else Solid()
     fills = []
-    for run in line.runs:
-        matrices = placement(run.origins + np.asarray(origin, dtype=np.float64), run.scale,
-                             skew)
+    for run, matrices in run_placements(line, origin, skew):
         fills.extend(color_fills(run.face, run.location, run.gids, matrices, paint))
     return fills

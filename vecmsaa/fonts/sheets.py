@@ -14,7 +14,7 @@ import numpy as np
 from ..path import Path, rect_path
 from ..scene import Fill, Group, Scene, Solid
 from .color import color_fills
-from .layout import LineLayout, layout_line, placement
+from .layout import LineLayout, layout_line, placement, run_placements
 
 LABEL_GRAY = (0.45, 0.45, 0.45, 1.0)
 RULE_GRAY = (0.82, 0.82, 0.82, 1.0)
@@ -32,10 +32,8 @@ class GlyphBatch:
         entry[4].append(np.asarray(matrices, dtype=np.float64).reshape(-1, 6))
 
     def add_line(self, line: LineLayout, origin, color):
-        origin = np.asarray(origin, dtype=np.float64)
-        for run in line.runs:
-            self.add_glyphs(run.face, run.location, run.gids,
-                            placement(run.origins + origin, run.scale), color)
+        for run, matrices in run_placements(line, origin):
+            self.add_glyphs(run.face, run.location, run.gids, matrices, color)
 
     def fills(self) -> list:
         out = []
