@@ -145,16 +145,18 @@ def expand_font_shorthand(text_el):
 
 
 def collect_chars(text_el, ctx, styles):
-    """All characters of a <text> element with their element chains (before white-space)."""
-    out = []
+    """The text nodes of a <text> element, in document order, as
+    [(characters, depth, preserve)]: depth 0 for <text>'s own text, +1 per nested element."""
+    nodes = []
 
-    def add(string, el, chain, preserve, text_path):
-        for ch in string:
-            out.append(Char(ch, el, chain, preserve, text_path=text_path))
+    def add(string, el, chain, depth, preserve, text_path):
+        if string:
+            nodes.append(([Char(ch, el, chain, preserve, text_path=text_path)
+                           for ch in string], depth, preserve))
 
-    def walk(el, chain, style, preserve, text_path):
+    def walk(el, chain, style, preserve, text_path, depth):
         styles[id(el)] = style
-        add(el.text, el, chain, preserve, text_path)
+        add(el.text, el, chain, depth, preserve, text_path)
         for child in el.children:
             if child.tag in TEXT_CONTENT and _conditions(child):
                 cstyle = style.child(child)
@@ -162,21 +164,27 @@ def collect_chars(text_el, ctx, styles):
                     cpres = _space_preserved(child, preserve)
                     tp = text_path
                     if child.tag == "textPath":
-                        # A textPath inside a textPath is ignored (with its text).
-                        if text_path is None:
+                        # textPath must be a direct child of <text> (as in resvg)
+                        if text_path is None and el is text_el:
                             tp = child
-                            walk(child, chain + (child,), cstyle, cpres, tp)
+                            walk(child, chain + (child,), cstyle, cpres, tp, depth + 1)
                     elif child.tag == "tref":
                         styles[id(child)] = cstyle
                         target = _lookup(child)
                         if target is not None and target.tag in SVG_ELEMENTS:
-                            add(_all_text(target), child, chain + (child,), cpres, tp)
+                            add(_all_text(target), child, chain + (child,), depth + 1, cpres,
+                                tp)
                     else:
-                        walk(child, chain + (child,), cstyle, cpres, tp)
-            add(child.tail, el, chain, preserve, text_path)
+                        walk(child, chain + (child,), cstyle, cpres, tp, depth + 1)
+            add(child.tail, el, chain, depth, preserve, text_path)
 
-    walk(text_el, (text_el,), ctx.style, _space_preserved(text_el, False), None)
-    return out
+    preserve = False
+    for el in [text_el] + list(text_el.ancestors()):
+        if el.get("xml:space", el.get("space")) is not None:
+            preserve = _space_preserved(el, False)
+            break
+    walk(text_el, (text_el,), ctx.style, preserve, None, 0)
+    return nodes
 
 
 def _conditions(el):
@@ -199,27 +207,59 @@ def _all_text(el):
     return "".join(parts)
 
 
-def collapse_white_space(chars):
-    """SVG 1.1 xml:space: default drops newlines, turns tabs into spaces, strips leading and
-    trailing spaces and collapses runs of spaces (across element boundaries); ``preserve``
-    turns newlines and tabs into spaces and keeps everything."""
-    out = []
-    for c in chars:
-        if c.preserve:
-            if c.ch in "\n\r\t":
+def collapse_white_space(nodes):
+    """White space as resvg handles it (it mimics Chrome): in each text node newlines and tabs
+    become spaces and, unless ``xml:space="preserve"``, runs of spaces collapse; then between
+    neighbouring nodes a node entered one level deeper loses its leading space, and of two
+    spaces meeting otherwise the first goes; the text's first leading and last trailing spaces
+    go. Returns the characters."""
+    texts = []
+    for chars, depth, preserve in nodes:
+        kept = []
+        for c in chars:
+            if c.ch in "\r\n\t":
                 c.ch = " "
-            out.append(c)
-            continue
-        if c.ch in "\n\r":
-            continue
-        if c.ch == "\t":
-            c.ch = " "
-        if c.ch == " " and (not out or out[-1].ch == " "):
-            continue
-        out.append(c)
-    while out and out[-1].ch == " " and not out[-1].preserve:
-        out.pop()
-    return out
+            if not preserve and c.ch == " " and kept and kept[-1].ch == " ":
+                continue
+            kept.append(c)
+        texts.append([kept, depth, preserve])
+    if len(texts) == 1:
+        chars, _, preserve = texts[0]
+        if not preserve:
+            if chars and chars[0].ch == " ":
+                chars.pop(0)
+            if chars and chars[-1].ch == " ":
+                chars.pop()
+    last_non_empty = None
+    n = len(texts) - 1
+    for i in range(n):
+        first = texts[i]
+        second = texts[i + 1]
+        if not first[0] and last_non_empty is not None:
+            first = last_non_empty
+        t1, depth1, pres1 = first
+        t2, depth2, pres2 = second
+        c1 = t1[0].ch if t1 else None
+        c2 = t1[-1].ch if t1 else None
+        c3 = t2[0].ch if t2 else None
+        c4 = t2[-1].ch if t2 else None
+        if depth1 < depth2:
+            if c3 == " " and not pres2:
+                t2.pop(0)
+        elif c2 == " " and c3 == " ":
+            if not pres1 and not pres2:
+                t1.pop()
+            elif pres1 and not pres2:
+                t2.pop(0)
+        if i == 0 and c1 == " " and not pres1 and t1:
+            t1.pop(0)
+        elif i == n - 1 and c4 == " " and t2 and not pres2:
+            t2.pop()
+        if i == n - 1 and c2 == " " and t1 and not t2 and t1[-1].ch == " ":
+            t1.pop()
+        if any(c.ch != " " for c in t1):
+            last_non_empty = first
+    return [c for chars, _, _ in texts for c in chars]
 
 
 # -- 2. position attributes -------------------------------------------------------------------
