@@ -426,3 +426,9 @@ def test_symlinks_out_of_the_document_folder_are_not_followed(tmp_path):
                    '<image width="10" height="10" href="link.png"/>'
                    '<image width="10" height="10" href="http://example.com/a.png"/></svg>')
     assert load_svg(str(svg)).fills() == []
+
+
+def test_dpi_scales_physical_units_everywhere():
+    s = scene('<rect width="1in" height="72pt"/>', 'width="2in" height="2in"', dpi=48)
+    assert (s.width, s.height) == (96, 96)
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 48, 48))

@@ -110,7 +110,7 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
         doc = load_document(data, folder, load_text=resources.fetch_text)
     except RecursionError:
         raise SvgError("document nesting is too deep") from None
-    options = Options(mode=mode, samples=samples,
+    options = Options(mode=mode, samples=samples, dpi=float(dpi),
                       font_options={k: v for k, v in font_options.items() if v is not None})
     builder = Builder(doc, resources, options)
     doc_w, doc_h, root_m, viewport = document_size(doc, dpi)

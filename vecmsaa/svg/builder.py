@@ -33,6 +33,7 @@ RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
 #: elements whose ``overflow`` defaults to hidden (UA style sheet)
 CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
+PHYSICAL_UNITS = ("pt", "pc", "mm", "cm", "in")
 MAX_USE_DEPTH = 32
 MAX_NODES = 1_000_000
 MAX_IMAGE_NESTING = 4
@@ -47,6 +48,7 @@ class Options:
     samples: int = 8
     font_options: dict = field(default_factory=dict)
     image_nesting: int = 0
+    dpi: float = 96.0            # what 1in is in px: scales pt, pc, mm, cm, in
 
 
 @dataclass(frozen=True)
@@ -150,7 +152,8 @@ class Builder:
             w, h = viewport
             ref = w if axis == "x" else h if axis == "y" else math.sqrt((w * w + h * h) / 2)
             return v * ref / 100
-        return to_px(v, unit, style.font_size())
+        px = to_px(v, unit, style.font_size())
+        return px * (self.options.dpi / 96.0) if unit in PHYSICAL_UNITS else px
 
     def length_getter(self, el, style, ctx):
         def get(name, axis, default=None):

@@ -126,7 +126,7 @@ def _load_svg(builder, data, folder):
     resources = Resources()
     try:
         doc = load_document(data, None, load_text=resources.fetch_text)
-        size = document_size(doc)
+        size = document_size(doc, builder.options.dpi)
     except SvgError:
         return None
     width, height, root_m, viewport = size

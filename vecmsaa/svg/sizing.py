@@ -1,6 +1,7 @@
 """The size of an SVG document and the matrix from its user space to that size."""
 from __future__ import annotations
 
+from .builder import PHYSICAL_UNITS
 from .document import Document, Style
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
 
@@ -25,7 +26,7 @@ def document_size(doc: Document, dpi: float = 96.0):
             return 100.0 * (parsed[0] / 100 if parsed else 1.0)
         v, unit = parsed
         px = to_px(v, unit, style.font_size())
-        if unit in ("pt", "pc", "mm", "cm", "in"):
+        if unit in PHYSICAL_UNITS:
             px *= dpi / 96.0
         return px
 
