@@ -515,7 +515,7 @@ class Builder:
             cap = "butt"
         limit = parse_number(style.get("stroke-miterlimit"), 4.0)
         if limit < 1:
-            return None
+            limit = 4.0     # an invalid value: the initial one applies
         dashes = None
         raw = style.get("stroke-dasharray").strip()
         if raw and raw != "none":
