@@ -419,9 +419,8 @@ class Builder:
         return self.element(target, c, style)
 
     def symbol(self, sym, use_el, ctx, use_style):
+        # 'display' does not apply to <symbol>: it is drawn through <use> regardless
         style = use_style.child(sym)
-        if style.get("display").strip() == "none":
-            return []
         get = self.length_getter(use_el, use_style, ctx)
         w = get("width", "x", None)
         h = get("height", "y", None)
