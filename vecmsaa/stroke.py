@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from bisect import bisect_left
 
-from .path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from .path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
 from .svg.pathdata import path_from_lists
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
@@ -31,7 +31,6 @@ CAPS = ("butt", "round", "square")
 
 _MAX_DEPTH = 12          # curve subdivision depth: 4096 pieces at most per segment
 _SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
-_KAPPA_90 = 4.0 / 3.0 * math.tan(math.pi / 8)  # cubic handle for a quarter circle
 
 
 # -- small vector helpers on (x, y) tuples (pure Python: faster than numpy for 2-vectors) ----
@@ -105,16 +104,6 @@ def _seg_tangents(seg):
     return start, end
 
 
-def _signed_area(pts):
-    a = 0.0
-    n = len(pts)
-    for i in range(n):
-        x0, y0 = pts[i]
-        x1, y1 = pts[(i + 1) % n]
-        a += x0 * y1 - x1 * y0
-    return a
-
-
 # -- output ---------------------------------------------------------------------------------
 
 class _Out:
@@ -124,20 +113,12 @@ class _Out:
         self.verbs: list[int] = []
         self.pts: list[tuple[float, float]] = []
 
-    def contour(self, items, orient=True):
-        """items: a start point, then (verb, points...) tuples; closed, and reversed if its
-        orientation is negative (unless the caller guarantees it with orient=False)."""
-        start = items[0]
-        segs = items[1:]
-        if orient:
-            poly = [start]
-            for s in segs:
-                poly.extend(s[1:])
-            if _signed_area(poly) < 0:
-                start, segs = _reverse_contour(start, segs)
+    def contour(self, items):
+        """items: a start point, then (verb, points...) tuples, the contour being closed.
+        Callers build every contour (or pair of loops) as a sum of positive pieces."""
         self.verbs.append(MOVE)
-        self.pts.append(start)
-        for s in segs:
+        self.pts.append(items[0])
+        for s in items[1:]:
             self.verbs.append(s[0])
             self.pts.extend(s[1:])
         self.verbs.append(CLOSE)
@@ -392,13 +373,13 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
             left += run_left[1:]
     if closed:
         # the lists start where the first run starts; the closing join ended there too
-        out.contour([right[-1][-1]] + right[1:], orient=False)
-        out.contour(_reversed_items([left[-1][-1]] + left[1:]), orient=False)
+        out.contour([right[-1][-1]] + right[1:])
+        out.contour(_reversed_items([left[-1][-1]] + left[1:]))
         return
     first, last = runs[0][0], runs[-1][-1]
     items = right + _cap_items(last.src[-1], last.t1, hw, cap) + _reversed_items(left)[1:]
     items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
-    out.contour(items, orient=False)
+    out.contour(items)
 
 
 def _join_items(right, left, p, d0, d1, hw, join, miterlimit, tol, r1, l1):
@@ -558,8 +539,8 @@ def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
         # loops at the closing join's last point instead. Right forward, left backward.
         r_loop = [right[-1][-1]] + right[1:]
         l_loop = [left[-1][-1]] + left[1:]
-        out.contour(r_loop, orient=False)
-        out.contour(_reversed_items(l_loop), orient=False)
+        out.contour(r_loop)
+        out.contour(_reversed_items(l_loop))
         return
     d = dirs[-1]
     p = q[-1]
@@ -568,7 +549,7 @@ def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
     items = right + _cap_items(p, d, hw, cap) + _reversed_items(left)[1:]
     d = dirs[0]
     items += _cap_items(q[0], (-d[0], -d[1]), hw, cap)
-    out.contour(items, orient=False)
+    out.contour(items)
 
 
 def _reversed_items(items):
