@@ -391,7 +391,7 @@ def _tangent_plane(prim, off, px, py, dx, dy, ix, iy):
     prim[off + 2] = c - 1e-9 * (abs(c) + 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _eval_implicit(prim, x, y):
     """f and its gradient (in pixel units) at (x, y)."""
     inv = prim[P_INVS]

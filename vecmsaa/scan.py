@@ -54,7 +54,7 @@ def crossing_x(xt, yt, dxdy, ys):
     return xt + (ys - yt) * dxdy
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def mask_lookup(table, nx, ny, dist, full):
     """Samples inside the half-plane <x, n> + dist < 0 (unit n, pixel-centre origin), from
     the precomputed (pseudo-angle, distance) table: the paper's look-up texture."""
@@ -72,7 +72,7 @@ def mask_lookup(table, nx, ny, dist, full):
     return table[ai, di]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _mark(dirty, dlist, dcount, r, px):
     if dirty[r, px] == 0:
         dirty[r, px] = 1
@@ -130,7 +130,7 @@ def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
             _mark(dirty, dlist, dcount, r, px)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _band_x_range(prim, y_lo, y_hi):
     """x extent of the primitive's control polygon inside the band y_lo ≤ y ≤ y_hi."""
     n = int(prim[P_NCTRL])
@@ -156,7 +156,7 @@ def _band_x_range(prim, y_lo, y_hi):
     return xmin, xmax
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _clip_half_plane(lo, hi, s, a, b, c, sxs, ys):
     """Narrow the pixel range [lo[s], hi[s]] to samples with a·x + b·y + c ≥ 0."""
     if a == 0.0 and b == 0.0:
@@ -278,7 +278,7 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
                 _mark(dirty, dlist, dcount, r, px)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, c):
     """Source-over of colour × coverage c onto every sample of a pixel."""
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
@@ -301,7 +301,7 @@ def _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, c):
             pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov):
     """Source-over with a per-sample coverage; splits a one-colour pixel into samples."""
     n = cov.shape[0]
@@ -337,7 +337,8 @@ def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
     cnt = dcount[r]
     if cnt == 0:
         return npool
-    idx = np.sort(dlist[r, :cnt])
+    idx = dlist[r, :cnt]
+    idx.sort()
     n = wrun.shape[0]
     wrun[:] = 0.0
     solid = kind == 0
@@ -380,6 +381,34 @@ def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
 
 
 @njit(cache=True)
+def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
+    """Winding deltas of edges e0..e1 on the strip (one call per fill: array arguments are
+    reference-counted once per fill rather than once per edge)."""
+    for e in range(e0, e1):
+        scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
+                  sx, sy, delta, dirty, dlist, dcount)
+
+
+@njit(cache=True)
+def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
+                dlist, dcount, lo, hi):
+    """Lens contributions of primitives c0..c1 on the strip (one call per fill)."""
+    for c in range(c0, c1):
+        scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
+                  dirty, dlist, dcount, lo, hi)
+
+
+@njit(cache=True)
+def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
+               dcount, fb, cplx, slot_of, pool, npool, wrun, cov):
+    """sweep_row over rows r0..r1 of the strip (one call per fill)."""
+    for r in range(r0, r1 + 1):
+        npool = sweep_row(r, sy0 + r, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
+                          dlist, dcount, fb, cplx, slot_of, pool, npool, wrun, cov)
+    return npool
+
+
+@njit(cache=True)
 def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
                 paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, strip_rows):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied) in place.
@@ -414,17 +443,17 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
                 continue
             if path_box[p, 0] >= W:
                 continue
-            for e in range(edge_off[p], edge_off[p + 1]):
-                scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
-                          sx, sy, delta, dirty, dlist, dcount)
-            for c in range(prim_off[p], prim_off[p + 1]):
-                scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
-                          dirty, dlist, dcount, lo, hi)
-            fk = paint_kind[p]
-            for r in range(rows):
-                npool = sweep_row(r, sy0 + r, W, rules[p], aa[p], fk, paint_f[p], lut, tex,
-                                  delta, local, dirty, dlist, dcount, fb, cplx, slot_of, pool,
-                                  npool, wrun, cov)
+            scan_edges(edges, edge_off[p], edge_off[p + 1], sy0, rows, W, sx, sy, delta, dirty,
+                       dlist, dcount)
+            if prim_off[p + 1] > prim_off[p]:
+                scan_lenses(prims, prim_off[p], prim_off[p + 1], sy0, rows, W, sx, sy, mode,
+                            table, a2c_bits, local, dirty, dlist, dcount, lo, hi)
+            # rows outside the fill's box have no deltas and nothing dirty
+            r_first = max(0, int(max(math.floor(path_box[p, 1]), -1.0)) - sy0)
+            r_last = min(rows - 1, int(min(math.floor(path_box[p, 3]), H + 1.0)) - sy0)
+            npool = sweep_rows(r_first, r_last, sy0, W, rules[p], aa[p], paint_kind[p],
+                               paint_f[p], lut, tex, delta, local, dirty, dlist, dcount, fb,
+                               cplx, slot_of, pool, npool, wrun, cov)
         # resolve: one-colour pixels copy, split pixels average their samples (box filter)
         for r in range(rows):
             for px in range(W):
