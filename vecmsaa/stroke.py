@@ -564,7 +564,7 @@ def _subpaths(path):
     Subpaths with a moveto alone are dropped (they are not stroked); others are kept even if
     all their segments have zero length (they get dots with round or square caps)."""
     verbs = path.verbs
-    pts = path.points.tolist()
+    pts = list(map(tuple, path.points.tolist()))
     out = []
     segs: list = []
     start = cur = None
@@ -576,7 +576,7 @@ def _subpaths(path):
             if drawn:
                 out.append((segs, False))
             segs, drawn = [], False
-            start = cur = tuple(pts[i])
+            start = cur = pts[i]
         elif v == CLOSE:
             if start is not None:
                 segs.append((cur, start))
@@ -584,7 +584,7 @@ def _subpaths(path):
                 cur = start
             segs, drawn = [], False
         else:
-            ctrl = (cur,) + tuple(tuple(q) for q in pts[i:i + n])
+            ctrl = (cur, *pts[i:i + n])
             segs.append(ctrl)
             drawn = True
             cur = ctrl[-1]
