@@ -1074,10 +1074,14 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
             if b is not None:
                 bbox = (min(bbox[0], b[0]), min(bbox[1], b[1]), max(bbox[2], b[2]),
                         max(bbox[3], b[3]))
+    if ctx.geometry_only:
+        # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
+        x0, y0, x1, y1 = bbox
+        return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
     nodes_by_el = {}
     for key, (el, glyphs) in by_el.items():
         style = styles[id(el)]
-        if style.get("visibility").strip() in ("hidden", "collapse") or not glyphs:
+        if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
             continue
         path = _glyph_path(glyphs)
         nodes = _color_or_plain(glyphs, path, style, ctx, bbox)
