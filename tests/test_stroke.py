@@ -407,6 +407,19 @@ def test_dashes_follow_curves():
     assert np.array_equal(got[~near], on[~near])
 
 
+def test_dash_through_start_of_closed_subpath_is_joined():
+    # perimeter 40, dashes [0, 10], [15, 25], [30, 40]: the last and the first are one dash
+    # turning the corner at (0, 0), so that corner gets the miter, not two butt ends
+    square = line((0, 0), (10, 0), (10, 10), (0, 10), close=True)
+    out = stroke_path(square, 2, join="miter", dashes=[10, 5])
+    assert inside(out, [(-0.9, -0.9)])[0]
+    assert not inside(out, [(12.5, 0)])[0]          # a gap: 12.5 lies in (10, 15)
+    # the same outline left open is not joined: its ends get (butt) caps
+    out = stroke_path(line((0, 0), (10, 0), (10, 10), (0, 10), (0, 0)), 2, join="miter",
+                      dashes=[10, 5])
+    assert not inside(out, [(-0.9, -0.9)])[0]
+
+
 def test_dashes_invalid_or_zero_draw_solid():
     solid = stroke_path(line((0, 0), (100, 0)), 2)
     for pattern in ([5, -1], [0, 0], []):

@@ -615,7 +615,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
         if pattern is None:
             _stroke_subpath(out, segs, closed, hw, tolerance, join, cap, miterlimit)
             continue
-        for dash in _dash_subpath(segs, pattern, dash_offset, tolerance):
+        for dash in _dash_subpath(segs, closed, pattern, dash_offset, tolerance):
             if isinstance(dash, tuple):      # a zero-length dash: (point, direction)
                 _emit_dot(out, dash[0], hw, cap, dash[1])
             else:
@@ -698,8 +698,10 @@ class _Measured:
         return _unit(*_cubic_deriv(seg, self.t_at(s))) or (_seg_tangents(seg) or ((1.0, 0.0),))[0]
 
 
-def _dash_subpath(segs, pattern, offset, tol):
-    """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes."""
+def _dash_subpath(segs, closed, pattern, offset, tol):
+    """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes.
+    On a closed subpath a dash running through the start point is one dash (as in Skia, and so
+    in browsers and resvg), joined there rather than capped twice."""
     measured = [_Measured(s, tol) for s in segs]
     total = sum(m.length for m in measured)
     period = sum(pattern)
@@ -715,6 +717,7 @@ def _dash_subpath(segs, pattern, offset, tol):
     pos = -phase                     # subpath arc length where the current interval starts
     seg_i, seg_start = 0, 0.0        # current segment and the arc length where it starts
     guard = 0
+    first_at_start = last_at_end = False
     while pos < total and guard < 1_000_000:
         guard += 1
         length = pattern[k]
@@ -742,8 +745,14 @@ def _dash_subpath(segs, pattern, offset, tol):
                     j += 1
                 if dash:
                     dashes.append(dash)
+                    if a == 0.0:
+                        first_at_start = True
+                    last_at_end = b >= total
         pos += length
         k = (k + 1) % len(pattern)
+    if closed and first_at_start and last_at_end and len(dashes) > 1 and \
+            isinstance(dashes[-1], list):
+        dashes[0] = dashes.pop() + dashes[0]
     return dashes
 
 
