@@ -117,14 +117,21 @@ class Path(BasePen):
         return self._arrays
 
     @classmethod
-    def from_arrays(cls, verbs, points) -> "Path":
+    def from_lists(cls, verbs: list, pts: list) -> "Path":
+        """A Path that takes ownership of ready-made verb and (x, y)-tuple lists (the fast way
+        for parsers and the stroker: no per-point pen calls, no array round trip)."""
         path = cls()
-        path._verbs = [int(v) for v in verbs]
-        path._pts = [tuple(p) for p in np.asarray(points, dtype=np.float64).reshape(-1, 2)]
-        path._open = bool(path._verbs) and path._verbs[-1] != CLOSE
-        if path._pts:
-            path._BasePen__currentPoint = path._pts[-1]
+        path._verbs = verbs
+        path._pts = pts
+        path._open = bool(verbs) and verbs[-1] != CLOSE
+        if pts:
+            path._BasePen__currentPoint = pts[-1]
         return path
+
+    @classmethod
+    def from_arrays(cls, verbs, points) -> "Path":
+        return cls.from_lists([int(v) for v in verbs],
+                              [tuple(p) for p in np.asarray(points, dtype=np.float64).reshape(-1, 2)])
 
     def __len__(self):
         return len(self._verbs)

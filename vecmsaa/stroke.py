@@ -24,7 +24,6 @@ import math
 from bisect import bisect_left
 
 from .path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
-from .svg.pathdata import path_from_lists
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
@@ -608,7 +607,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     out = _Out()
     hw = width / 2.0
     if not (hw > 0 and math.isfinite(hw)):
-        return path_from_lists([], [])
+        return Path.from_lists([], [])
     miterlimit = max(1.0, miterlimit)
     pattern = dash_pattern(dashes)
     for segs, closed in _subpaths(path):
@@ -620,7 +619,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
                 _emit_dot(out, dash[0], hw, cap, dash[1])
             else:
                 _stroke_subpath(out, dash, False, hw, tolerance, join, cap, miterlimit)
-    return path_from_lists(out.verbs, out.pts)
+    return Path.from_lists(out.verbs, out.pts)
 
 
 # -- dashes ---------------------------------------------------------------------------------

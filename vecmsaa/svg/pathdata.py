@@ -259,22 +259,7 @@ def parse_path_data_with_commands(d: str):
 
 
 def _finish(verbs, pts, origin):
-    return path_from_lists(verbs, pts), np.asarray(origin, dtype=np.int64)
-
-
-def path_from_lists(verbs: list, pts: list) -> Path:
-    """A Path owning ready-made verb and (x, y)-tuple lists.
-
-    Path.from_arrays would convert the points to an array and back to tuples; handing the
-    recorder its lists directly halves the parse time of map data (and the stroker's output).
-    """
-    path = Path()
-    path._verbs = verbs
-    path._pts = pts
-    path._open = bool(verbs) and verbs[-1] != CLOSE
-    if pts:
-        path._BasePen__currentPoint = pts[-1]
-    return path
+    return Path.from_lists(verbs, pts), np.asarray(origin, dtype=np.int64)
 
 
 def _scan_arcs(text: str):
