@@ -122,6 +122,7 @@ class Builder:
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
+        self.tile_cache = {}           # rendered pattern tiles, see paint.pattern
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0) -> list:

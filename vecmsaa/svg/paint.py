@@ -232,6 +232,32 @@ def pattern(builder, el, ctx, bbox):
     tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
                    viewport=content_viewport, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
+    # Shapes sharing a pattern at the same scale share its tile (it does not depend on
+    # where the shape is); the key holds everything the tile's content can depend on.
+    key = (id(el), tw, th, tile_ctx.transform, content_viewport, id(ctx.context_fill),
+           id(ctx.context_stroke), ctx.use_stack, tuple(map(id, builder.paint_stack)),
+           tuple(map(id, builder.ref_stack)))
+    if key in builder.tile_cache:
+        rgba = builder.tile_cache[key]
+    else:
+        rgba = builder.tile_cache[key] = _render_tile(builder, el, source, tile_ctx, tw, th)
+    if rgba is None:
+        return None
+    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
+    try:
+        to_paint = invert(tile_to_device)
+    except ValueError:
+        return None
+    # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
+    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering.
+    a, b, c, d = tile_to_device[:4]
+    axis_aligned = abs(b) < 1e-9 and abs(c) < 1e-9
+    return ImagePaint(rgba, to_paint, repeat=True,
+                      smooth=not axis_aligned)
+
+
+def _render_tile(builder, el, source, tile_ctx, tw, th):
+    """The pattern's content rendered into a tw x th image, or None when it draws nothing."""
     builder.paint_stack.append(el)
     try:
         nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
@@ -245,14 +271,4 @@ def pattern(builder, el, ctx, bbox):
         return None
     rgba = render_scene(Scene(tw, th, Group(children=nodes)), mode=builder.options.mode,
                         samples=builder.options.samples)
-    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
-    try:
-        to_paint = invert(tile_to_device)
-    except ValueError:
-        return None
-    # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
-    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering.
-    a, b, c, d = tile_to_device[:4]
-    axis_aligned = abs(b) < 1e-9 and abs(c) < 1e-9
-    return ImagePaint(np.asarray(rgba, dtype=np.float32), to_paint, repeat=True,
-                      smooth=not axis_aligned)
+    return np.asarray(rgba, dtype=np.float32)
