@@ -432,3 +432,9 @@ def test_dpi_scales_physical_units_everywhere():
     s = scene('<rect width="1in" height="72pt"/>', 'width="2in" height="2in"', dpi=48)
     assert (s.width, s.height) == (96, 96)
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 48, 48))
+
+
+def test_transform_on_the_root_applies_outside_the_viewbox():
+    s = scene('<rect width="10" height="10"/>',
+              'width="100" height="100" viewBox="0 0 50 50" transform="translate(20 0)"')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 0, 40, 20))

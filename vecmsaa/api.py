@@ -124,7 +124,12 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
         w, h = output_size(1.0, 1.0, width, height, zoom)
         return Scene(w, h, Group(), _background(background))
     w, h = output_size(doc_w, doc_h, width, height, zoom)
-    to_device = compose((w / doc_w, 0.0, 0.0, h / doc_h, 0.0, 0.0), root_m)
+    # SVG 2: a transform on the root <svg> applies to its viewport, outside the viewBox
+    root_transform = builder.root_transform(doc_w, doc_h)
+    if root_transform is None:
+        return Scene(w, h, Group(), _background(background))
+    to_device = compose(compose((w / doc_w, 0.0, 0.0, h / doc_h, 0.0, 0.0), root_transform),
+                        root_m)
     try:
         nodes = builder.build_root(to_device, viewport, root_scale=math.sqrt(
             (w / doc_w) * (h / doc_h)))

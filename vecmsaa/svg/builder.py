@@ -142,6 +142,12 @@ class Builder:
             nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
         return self.wrap(root, style, ctx, nodes)
 
+    def root_transform(self, width, height):
+        """The root <svg>'s own transform in its viewport's px (None when singular)."""
+        root = self.doc.root
+        return self.element_transform(root, self.doc.document_style(root),
+                                      Ctx(viewport=(width, height)))
+
     # -- lengths ---------------------------------------------------------------------------
     def length(self, value, axis, style, viewport, default=None):
         """A length attribute value → user units (axis: x, y or xy for the diagonal)."""
