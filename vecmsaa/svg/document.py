@@ -22,6 +22,7 @@ XLINK_NS = "http://www.w3.org/1999/xlink"
 XML_NS = "http://www.w3.org/XML/1998/namespace"
 
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
+MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
 MAX_ELEMENTS = 1_000_000
 
 #: properties that CSS (and presentation attributes) may set
@@ -219,7 +220,7 @@ def _expand_internal_entities(data: bytes) -> bytes:
         out.append(body[pos:rm.start()])
         out.append(entities[name])
         total += len(entities[name])
-        if total > MAX_DOCUMENT_BYTES:
+        if total > MAX_ENTITY_EXPANSION:
             raise SvgError("document too large after entity expansion")
         pos = rm.end()
     out.append(body[pos:])
