@@ -206,3 +206,11 @@ def test_hsl_rounding_is_consistent():
     r, g, b, a = parse_color("hsl(0, 100%, 50%)")
     assert (r, g, b, a) == (1, 0, 0, 1)
     assert math.isclose(parse_color("hsl(360, 100%, 50%)")[0], 1)
+
+
+def test_quadratic_entity_blowup_is_rejected():
+    big = b"x" * 100_000
+    data = (b'<!DOCTYPE svg [<!ENTITY a "' + big + b'">]><svg xmlns="http://www.w3.org/2000/svg">'
+            + b"<text>" + b"&a;" * 200 + b"</text></svg>")
+    with pytest.raises(SvgError, match="too large"):
+        load_document(data)
