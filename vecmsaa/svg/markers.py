@@ -104,7 +104,9 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     ref_x = builder.length(marker.get("refX"), "x", style, viewport, 0.0)
     ref_y = builder.length(marker.get("refY"), "y", style, viewport, 0.0)
     m = compose(m, translate(-ref_x, -ref_y))
-    inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport,
+    # Marker content is a fresh instantiation: the <use> cycle guard restarts (recursion
+    # through markers is cut by ref_stack instead).
+    inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport, use_stack=(),
                     context_fill=context_fill, context_stroke=context_stroke)
     builder.ref_stack.append(marker)
     try:
