@@ -56,16 +56,18 @@ class Path(BasePen):
 
     def __init__(self, glyphSet=None):
         super().__init__(glyphSet)
-        self._verbs: list[int] = []
-        self._pts: list[tuple[float, float]] = []
+        # Recorded as Python lists while drawing (cheap appends) and as arrays once read;
+        # a path built from arrays keeps only those until someone draws into it again.
+        self._verbs: list[int] | None = []
+        self._pts: list[tuple[float, float]] | None = []
         self._arrays = None
         self._open = False
 
     # -- BasePen segment hooks -------------------------------------------------------------
     def _moveTo(self, pt):
+        self._thaw()
         self._verbs.append(MOVE)
         self._pts.append(pt)
-        self._arrays = None
         self._open = True
 
     def _lineTo(self, pt):
@@ -85,6 +87,7 @@ class Path(BasePen):
 
     def _closePath(self):
         if self._open:
+            self._thaw()
             self._verbs.append(CLOSE)
         self._open = False
 
@@ -92,13 +95,21 @@ class Path(BasePen):
         self._open = False
 
     def _implicit_move(self):
-        self._arrays = None
+        self._thaw()
         if not self._open:
             # A drawing command after closePath starts at the last current point (SVG rule).
             cur = self._getCurrentPoint() or (0.0, 0.0)
             self._verbs.append(MOVE)
             self._pts.append(cur)
             self._open = True
+
+    def _thaw(self):
+        """Make the lists current before appending; the arrays go stale."""
+        if self._verbs is None:
+            v, p = self._arrays
+            self._verbs = v.tolist()
+            self._pts = list(map(tuple, p.tolist()))
+        self._arrays = None
 
     # -- recorded arrays -------------------------------------------------------------------
     @property
@@ -130,14 +141,23 @@ class Path(BasePen):
 
     @classmethod
     def from_arrays(cls, verbs, points) -> "Path":
-        return cls.from_lists([int(v) for v in verbs],
-                              [tuple(p) for p in np.asarray(points, dtype=np.float64).reshape(-1, 2)])
+        """A Path holding the given arrays as they are (no per-point Python objects)."""
+        path = cls()
+        v = np.ascontiguousarray(verbs, dtype=np.uint8)
+        p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
+        path._verbs = path._pts = None
+        path._arrays = (v, p)
+        path._open = bool(len(v)) and v[-1] != CLOSE
+        if len(p):
+            path._BasePen__currentPoint = (float(p[-1, 0]), float(p[-1, 1]))
+        return path
 
     def __len__(self):
-        return len(self._verbs)
+        return len(self.verbs)
 
     def is_empty(self) -> bool:
-        return not any(v in (LINE, QUAD, CUBIC) for v in self._verbs)
+        v = self.verbs
+        return not bool(np.any((v >= LINE) & (v <= CUBIC)))
 
     def transformed(self, m) -> "Path":
         if m == IDENTITY:
@@ -184,14 +204,14 @@ class Path(BasePen):
         v, p = other._freeze()
         if not len(v):
             return
-        self._verbs.extend(int(x) for x in v)
-        self._pts.extend(tuple(q) for q in p)
+        self._thaw()
+        self._verbs.extend(v.tolist())
+        self._pts.extend(map(tuple, p.tolist()))
         self._open = v[-1] != CLOSE
-        self._BasePen__currentPoint = tuple(p[-1]) if len(p) else None
-        self._arrays = None
+        self._BasePen__currentPoint = tuple(p[-1].tolist()) if len(p) else None
 
     def __repr__(self):
-        return f"Path({len(self._verbs)} segments)"
+        return f"Path({len(self)} segments)"
 
 
 def rect_path(x, y, w, h) -> Path:
