@@ -8,12 +8,13 @@ layers; anything else is flattened into its parent.
 """
 from __future__ import annotations
 
+import functools
 import math
 import re
 from dataclasses import dataclass, field, replace
 
 
-from ..path import IDENTITY, LINE, Path, compose, rect_path
+from ..path import CUBIC, IDENTITY, LINE, Path, compose, rect_path
 from ..scene import Fill, Group, Scene, Solid
 from . import SvgError
 from .color import parse_color
@@ -461,7 +462,7 @@ class Builder:
             path, commands = parse_path_data_with_commands(el.get("d", ""))
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
-        if path is None or path.is_empty():
+        if path is None or not has_segments(path):
             return []
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
@@ -573,7 +574,7 @@ class Builder:
         tolerance = 0.25 / max(mean_scale(ctx.transform), 1e-9)
         outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance)
-        if outline is None or outline.is_empty():
+        if outline is None or not has_segments(outline):
             return []
         return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
                      antialias=antialias)]
@@ -815,6 +816,13 @@ def conditions_pass(el):
     return True
 
 
+def has_segments(path) -> bool:
+    """Whether a path draws anything (a vectorised Path.is_empty for long paths)."""
+    verbs = path.verbs
+    return bool(((verbs >= LINE) & (verbs <= CUBIC)).any())
+
+
+@functools.lru_cache(maxsize=256)
 def parse_opacity(value):
     if value is None:
         return 1.0
