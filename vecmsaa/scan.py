@@ -278,32 +278,46 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
                 _mark(dirty, dlist, dcount, r, px)
 
 
-@njit(cache=True, inline="always")
-def _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, c):
-    """Source-over of colour × coverage c onto every sample of a pixel."""
+@njit(cache=True)
+def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
+    """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row.
+    One call per span (not per pixel): array arguments cost a reference count per call."""
+    cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
     k = 1.0 - sa
-    if cplx[r, px] < 0:
-        fb[r, px, 0] = sr + fb[r, px, 0] * k
-        fb[r, px, 1] = sg + fb[r, px, 1] * k
-        fb[r, px, 2] = sb + fb[r, px, 2] * k
-        fb[r, px, 3] = sa + fb[r, px, 3] * k
-    elif sa >= 1.0:
-        # opaque full cover: the pixel is one colour again
-        cplx[r, px] = -1
-        fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
-    else:
+    if kind == 0 and sa >= 1.0:
+        # opaque solid span: every sample becomes the colour (the common case of big areas)
+        for px in range(q0, q1):
+            cplx[r, px] = -1
+            fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
+        return
+    for px in range(q0, q1):
+        if kind != 0:
+            cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+            sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
+            k = 1.0 - sa
         slot = cplx[r, px]
-        for s in range(pool.shape[1]):
-            pool[slot, s, 0] = sr + pool[slot, s, 0] * k
-            pool[slot, s, 1] = sg + pool[slot, s, 1] * k
-            pool[slot, s, 2] = sb + pool[slot, s, 2] * k
-            pool[slot, s, 3] = sa + pool[slot, s, 3] * k
+        if slot < 0:
+            fb[r, px, 0] = sr + fb[r, px, 0] * k
+            fb[r, px, 1] = sg + fb[r, px, 1] * k
+            fb[r, px, 2] = sb + fb[r, px, 2] * k
+            fb[r, px, 3] = sa + fb[r, px, 3] * k
+        elif sa >= 1.0:
+            # opaque full cover: the pixel is one colour again
+            cplx[r, px] = -1
+            fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
+        else:
+            for s in range(pool.shape[1]):
+                pool[slot, s, 0] = sr + pool[slot, s, 0] * k
+                pool[slot, s, 1] = sg + pool[slot, s, 1] * k
+                pool[slot, s, 2] = sb + pool[slot, s, 2] * k
+                pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
 @njit(cache=True, inline="always")
-def _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov):
-    """Source-over with a per-sample coverage; splits a one-colour pixel into samples."""
+def _blend_samples(fb, cplx, slot_of, slot_pixel, pool, npool, r, px, cr, cg, cb, ca, cov):
+    """Source-over with a per-sample coverage; splits a one-colour pixel into samples.
+    A pixel keeps its pool slot once it has one; slot_pixel records whose slot it is."""
     n = cov.shape[0]
     if cplx[r, px] < 0:
         slot = slot_of[r, px]
@@ -311,6 +325,7 @@ def _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov):
             slot = npool
             npool += 1
             slot_of[r, px] = slot
+            slot_pixel[slot] = r * fb.shape[1] + px
         for s in range(n):
             pool[slot, s, 0] = fb[r, px, 0]
             pool[slot, s, 1] = fb[r, px, 1]
@@ -332,7 +347,7 @@ def _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov):
 
 @njit(cache=True)
 def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
-              fb, cplx, slot_of, pool, npool, wrun, cov):
+              fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
     """Turn the row's winding deltas into coverage and composite the fill's paint."""
     cnt = dcount[r]
     if cnt == 0:
@@ -349,10 +364,7 @@ def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
         if px > prev + 1:
             c = coverage_of(wrun[0], rule)
             if c > 0.0:
-                for q in range(prev + 1, px):
-                    if not solid:
-                        cr, cg, cb, ca = shade(kind, f, lut, tex, q + 0.5, py + 0.5)
-                    _blend_pixel(fb, cplx, pool, r, q, cr, cg, cb, ca, c)
+                _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c)
         if i == cnt:
             break
         dirty[r, px] = 0
@@ -370,12 +382,13 @@ def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
         prev = px
         if uniform and cov[0] <= 0.0:
             continue
-        if not solid:
-            cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
         if uniform:
-            _blend_pixel(fb, cplx, pool, r, px, cr, cg, cb, ca, cov[0])
+            _blend_span(fb, cplx, pool, r, px, px + 1, py, kind, f, lut, tex, cov[0])
         else:
-            npool = _blend_samples(fb, cplx, slot_of, pool, npool, r, px, cr, cg, cb, ca, cov)
+            if not solid:
+                cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+            npool = _blend_samples(fb, cplx, slot_of, slot_pixel, pool, npool, r, px, cr, cg, cb,
+                                   ca, cov)
     dcount[r] = 0
     return npool
 
@@ -400,11 +413,12 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
 
 @njit(cache=True)
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
-               dcount, fb, cplx, slot_of, pool, npool, wrun, cov):
+               dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
     """sweep_row over rows r0..r1 of the strip (one call per fill)."""
     for r in range(r0, r1 + 1):
         npool = sweep_row(r, sy0 + r, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
-                          dlist, dcount, fb, cplx, slot_of, pool, npool, wrun, cov)
+                          dlist, dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun,
+                          cov)
     return npool
 
 
@@ -424,9 +438,11 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
     dirty = np.zeros((strip_rows, W + 1), dtype=np.uint8)
     dlist = np.empty((strip_rows, W + 1), dtype=np.int64)
     dcount = np.zeros(strip_rows, dtype=np.int64)
-    fb = np.empty((strip_rows, W, 4), dtype=np.float32)
-    cplx = np.empty((strip_rows, W), dtype=np.int64)
-    slot_of = np.empty((strip_rows, W), dtype=np.int64)
+    # one-colour pixels live in the target itself; only split pixels have pool slots, and
+    # only those are reset and resolved (untouched and fully covered pixels cost nothing)
+    cplx = np.full((strip_rows, W), -1, dtype=np.int64)
+    slot_of = np.full((strip_rows, W), -1, dtype=np.int64)
+    slot_pixel = np.empty(strip_rows * W, dtype=np.int64)
     pool = np.empty((strip_rows * W, n, 4), dtype=np.float32)
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
@@ -434,9 +450,7 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
     hi = np.zeros(n, dtype=np.int64)
     for sy0 in range(0, H, strip_rows):
         rows = min(strip_rows, H - sy0)
-        fb[:rows] = target[sy0:sy0 + rows]
-        cplx[:rows] = -1
-        slot_of[:rows] = -1
+        fb = target[sy0:sy0 + rows]
         npool = 0
         for p in range(P):
             if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows:
@@ -453,20 +467,20 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
             r_last = min(rows - 1, int(min(math.floor(path_box[p, 3]), H + 1.0)) - sy0)
             npool = sweep_rows(r_first, r_last, sy0, W, rules[p], aa[p], paint_kind[p],
                                paint_f[p], lut, tex, delta, local, dirty, dlist, dcount, fb,
-                               cplx, slot_of, pool, npool, wrun, cov)
-        # resolve: one-colour pixels copy, split pixels average their samples (box filter)
-        for r in range(rows):
-            for px in range(W):
-                slot = cplx[r, px]
-                if slot < 0:
-                    for ch in range(4):
-                        target[sy0 + r, px, ch] = fb[r, px, ch]
-                else:
-                    for ch in range(4):
-                        acc = 0.0
-                        for s in range(n):
-                            acc += pool[slot, s, ch] * weights[s]
-                        target[sy0 + r, px, ch] = acc
+                               cplx, slot_of, slot_pixel, pool, npool, wrun, cov)
+        # resolve: split pixels average their samples (resolve filter weights); one-colour
+        # pixels are already in the target
+        for slot in range(npool):
+            r = slot_pixel[slot] // W
+            px = slot_pixel[slot] - r * W
+            if cplx[r, px] == slot:
+                for ch in range(4):
+                    acc = 0.0
+                    for s in range(n):
+                        acc += pool[slot, s, ch] * weights[s]
+                    fb[r, px, ch] = acc
+            cplx[r, px] = -1
+            slot_of[r, px] = -1
 
 
 # -- analytic coverage (tiny-skia style exact area) -------------------------------------------
