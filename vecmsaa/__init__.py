@@ -7,6 +7,10 @@ MODES = ("none", "alpha", "a2c", "persample", "approx", "analytic", "reference")
 DEFAULT_MODE = "approx"
 DEFAULT_SAMPLES = 8
 
+from .jitcache import ensure_fresh_cache  # noqa: E402
+
+ensure_fresh_cache()
+
 
 def __getattr__(name):
     # The convenience API pulls in the SVG front end; import it only when asked for.

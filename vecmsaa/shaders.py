@@ -29,12 +29,14 @@ PAINT_FIELDS = 20
 
 
 def gradient_lut(stops: np.ndarray, opacity: float) -> np.ndarray:
-    """Premultiplied colour ramp sampled at LUT_SIZE points; colours interpolate in straight
-    (non-premultiplied) sRGB between stops, as SVG specifies."""
+    """Premultiplied colour ramp sampled at LUT_SIZE points, followed by the exact first and
+    last stop colours (what pad spread shows before the first and after the last offset, even
+    when several stops share that offset). Colours interpolate in straight (non-premultiplied)
+    sRGB between stops, as SVG specifies."""
     stops = np.asarray(stops, dtype=np.float64).reshape(-1, 5)
-    t = (np.arange(LUT_SIZE) + 0.5) / LUT_SIZE
+    t = np.concatenate([(np.arange(LUT_SIZE) + 0.5) / LUT_SIZE, [-1.0, 2.0]])
     offs = np.maximum.accumulate(np.clip(stops[:, 0], 0.0, 1.0))
-    rgba = np.empty((LUT_SIZE, 4))
+    rgba = np.empty((LUT_SIZE + 2, 4))
     for ch in range(4):
         rgba[:, ch] = np.interp(t, offs, stops[:, 1 + ch]) if len(offs) > 1 else stops[0, 1 + ch]
     # np.interp takes the right-hand value at a repeated offset: a hard stop stays hard
@@ -110,7 +112,7 @@ def paint_to_device(m) -> tuple:
 @njit(cache=True)
 def _spread(t, mode):
     if mode == 0:
-        return min(1.0, max(0.0, t))
+        return t  # pad: _lut_color picks the end colours outside [0, 1]
     if mode == 2:
         return t - math.floor(t)
     t = abs(t) % 2.0
@@ -119,8 +121,12 @@ def _spread(t, mode):
 
 @njit(cache=True)
 def _lut_color(lut, base, t):
-    i = int(t * 1024.0)
-    i = min(1023, max(0, i))
+    if t <= 0.0:
+        i = LUT_SIZE if t < 0.0 else 0
+    elif t >= 1.0:
+        i = LUT_SIZE + 1 if t > 1.0 else LUT_SIZE - 1
+    else:
+        i = min(LUT_SIZE - 1, int(t * LUT_SIZE))
     return lut[base + i, 0], lut[base + i, 1], lut[base + i, 2], lut[base + i, 3]
 
 
@@ -173,11 +179,11 @@ def shade(kind, f, lut, tex, x, y):
                     return 0.0, 0.0, 0.0, 0.0
         return _lut_color(lut, int(f[17]), _spread(t, int(f[16])))
     # image
+    # the image's own fill bounds it; a pixel centre just outside (partly covered edge pixel)
+    # takes the edge texel (_texel clamps), as resvg does
     base, h, w = int(f[10]), int(f[11]), int(f[12])
     repeat = f[13] != 0.0
     op = f[18]
-    if not repeat and (gx < 0.0 or gy < 0.0 or gx >= w or gy >= h):
-        return 0.0, 0.0, 0.0, 0.0
     if f[14] == 0.0:
         r_, g_, b_, a_ = _texel(tex, base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
         return r_ * op, g_ * op, b_ * op, a_ * op
