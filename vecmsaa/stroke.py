@@ -23,13 +23,16 @@ from __future__ import annotations
 import math
 from bisect import bisect_left
 
-from .path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
+import numpy as np
+
+from . import stroke_kernels as kernels
+from .path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
 
 _MAX_DEPTH = 12          # curve subdivision depth: 4096 pieces at most per segment
-_SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
+_SMOOTH_COS = kernels.SMOOTH_COS           # tangents this close need no join
 
 
 # -- small vector helpers on (x, y) tuples (pure Python: faster than numpy for 2-vectors) ----
@@ -106,11 +109,12 @@ def _seg_tangents(seg):
 # -- output ---------------------------------------------------------------------------------
 
 class _Out:
-    """Verb and point lists of the outline being built, one closed contour at a time."""
+    """The outline being built: contours from Python items, and arrays from the kernels."""
 
     def __init__(self):
         self.verbs: list[int] = []
         self.pts: list[tuple[float, float]] = []
+        self.chunks: list[tuple[np.ndarray, np.ndarray]] = []
 
     def contour(self, items):
         """items: a start point, then (verb, points...) tuples, the contour being closed.
@@ -121,6 +125,24 @@ class _Out:
             self.verbs.append(s[0])
             self.pts.extend(s[1:])
         self.verbs.append(CLOSE)
+
+    def arrays(self, verbs, pts):
+        """Contours made by a kernel."""
+        self._flush()
+        self.chunks.append((verbs, pts))
+
+    def _flush(self):
+        if self.verbs:
+            self.chunks.append((np.asarray(self.verbs, dtype=np.uint8),
+                                np.asarray(self.pts, dtype=np.float64).reshape(-1, 2)))
+            self.verbs, self.pts = [], []
+
+    def path(self) -> Path:
+        self._flush()
+        if not self.chunks:
+            return Path.from_arrays(np.empty(0, np.uint8), np.empty((0, 2)))
+        return Path.from_arrays(np.concatenate([v for v, _ in self.chunks]),
+                                np.concatenate([p for _, p in self.chunks]))
 
 
 def _reverse_contour(start, segs):
@@ -300,41 +322,71 @@ def _side_items(pieces, attr):
     return items
 
 
-def _arc_items(center, r, a0, a1):
-    """Cubic pieces (≤ 90° each) of the circular arc from angle a0 to a1 (radians)."""
-    n = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-9)))
-    delta = (a1 - a0) / n
-    k = 4.0 / 3.0 * math.tan(delta / 4.0) * r
-    cx, cy = center
-    items = []
-    ca, sa = math.cos(a0), math.sin(a0)
-    for i in range(n):
-        b = a0 + (i + 1) * delta
-        cb, sb = math.cos(b), math.sin(b)
-        items.append((CUBIC, (cx + r * ca - k * sa, cy + r * sa + k * ca),
-                      (cx + r * cb + k * sb, cy + r * sb - k * cb), (cx + r * cb, cy + r * sb)))
-        ca, sa = cb, sb
+def _kernel_items(kernel, *args):
+    """Items (verb, points...) written by a join or cap kernel."""
+    verbs = np.empty(8, np.uint8)
+    pts = np.empty((16, 2))
+    cnt = np.zeros(2, np.int64)
+    kernel(verbs, pts, cnt, *args)
+    pts = list(map(tuple, pts[:cnt[1]].tolist()))
+    items, i = [], 0
+    for v in verbs[:cnt[0]].tolist():
+        n = VERB_POINTS[v]
+        items.append((v, *pts[i:i + n]))
+        i += n
     return items
+
+
+def _cap_items(p, d, hw, cap):
+    """Items from the right offset to the left offset at an end p with outward direction d."""
+    return _kernel_items(kernels.cap_items, float(p[0]), float(p[1]), float(d[0]), float(d[1]),
+                         float(hw), kernels.CAP_CODES.get(cap, 0))
+
+
+def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
+    """Items along the outer side (side: +1 left, -1 right) of a turn at p from direction d0
+    to d1 (see kernels.outer_join_items)."""
+    return _kernel_items(kernels.outer_join_items, float(p[0]), float(p[1]), float(d0[0]),
+                         float(d0[1]), float(d1[0]), float(d1[1]), float(side), float(hw),
+                         kernels.JOIN_CODES.get(join, 0), float(miterlimit), float(dot),
+                         float(tol))
 
 
 def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
     """A zero-length subpath: a disc for round caps, a square (along d) for square caps."""
-    if cap == "round":
-        out.contour([(p[0] + hw, p[1])] + _arc_items(p, hw, 0.0, 2 * math.pi))
-    elif cap == "square":
-        nx, ny = -d[1] * hw, d[0] * hw
-        ex, ey = d[0] * hw, d[1] * hw
-        out.contour([(p[0] - ex - nx, p[1] - ey - ny), (LINE, (p[0] + ex - nx, p[1] + ey - ny)),
-                     (LINE, (p[0] + ex + nx, p[1] + ey + ny)),
-                     (LINE, (p[0] - ex + nx, p[1] - ey + ny))])
+    verbs = np.empty(8, np.uint8)
+    pts = np.empty((16, 2))
+    cnt = np.zeros(2, np.int64)
+    kernels.dot_contour(verbs, pts, cnt, float(p[0]), float(p[1]), float(d[0]), float(d[1]),
+                        float(hw), kernels.CAP_CODES.get(cap, 0))
+    if cnt[0]:
+        out.arrays(verbs[:cnt[0]], pts[:cnt[1]])
+
+
+def _stroke_lines(out, verbs, pts, hw, tol, join, cap, miterlimit, pattern=None, offset=0.0):
+    """Stroke a path of lines only (verb and point arrays) with the compiled stroker."""
+    v, p = kernels.stroke_lines(np.ascontiguousarray(verbs, dtype=np.uint8),
+                                np.ascontiguousarray(pts, dtype=np.float64).reshape(-1, 2),
+                                float(hw), float(tol), kernels.JOIN_CODES.get(join, 0),
+                                kernels.CAP_CODES.get(cap, 0), float(miterlimit),
+                                np.asarray(pattern or (), dtype=np.float64), float(offset))
+    if len(v):
+        out.arrays(v, p)
 
 
 def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     """segs: control point tuples of one subpath (closing line included when closed)."""
     if all(len(seg) == 2 for seg in segs):
-        _stroke_polyline(out, [seg[0] for seg in segs] + [segs[-1][1]], closed, hw, tol, join,
-                         cap, miterlimit)
+        pts = [seg[0] for seg in segs] + [segs[-1][1]]
+        verbs = [MOVE] + [LINE] * (len(pts) - 1) + ([CLOSE] if closed else [])
+        _stroke_lines(out, verbs, pts, hw, tol, join, cap, miterlimit)
         return
+    _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit)
+
+
+def _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit):
+    """The general stroker: segments become pieces (lines, offset cubics, chords) grouped
+    into runs with continuous tangents, joined inline."""
     # runs: consecutive pieces with continuous tangents; a join between runs
     runs: list[list[_Piece]] = []
     run_joins: list[str] = []    # join kind before each run (intra-curve kinks are round)
@@ -356,7 +408,7 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
         return
     # One chain along both sides, joins and caps inline: as chains this equals the sum of the
     # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
-    # explained in _stroke_polyline, so the nonzero fill is their union.
+    # explained in the kernels' _stroke_polyline, so the nonzero fill is their union.
     right = _side_items(runs[0], "right")
     left = _side_items(runs[0], "left")
     for i in range(1, len(runs) + (1 if closed else 0)):
@@ -401,154 +453,6 @@ def _join_items(right, left, p, d0, d1, hw, join, miterlimit, tol, r1, l1):
     if outer[-1][-1] != o1:
         outer.append((LINE, o1))
     inner.extend(((LINE, p), (LINE, c1)))
-
-
-def _cap_items(p, d, hw, cap):
-    """Items from the right offset to the left offset at an end p with outward direction d."""
-    nx, ny = -d[1] * hw, d[0] * hw          # left normal of the outward direction
-    b = (p[0] + nx, p[1] + ny)
-    if cap == "square":
-        a = (p[0] - nx, p[1] - ny)
-        return [(LINE, (a[0] + d[0] * hw, a[1] + d[1] * hw)),
-                (LINE, (b[0] + d[0] * hw, b[1] + d[1] * hw)), (LINE, b)]
-    if cap == "round":
-        a0 = math.atan2(-ny, -nx)
-        return _arc_items(p, hw, a0, a0 + math.pi)
-    return [(LINE, b)]
-
-
-def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
-    """Items along the outer side (side: +1 left, -1 right) of a turn at p, after the
-    incoming side's last point (a point on its offset line) and before the outgoing side's next
-    point (on the outgoing offset line). The offset ends a and b are left out where they are
-    collinear with their neighbours (a miter's tip, a clipped miter's corners)."""
-    n0x, n0y = -d0[1] * side, d0[0] * side
-    n1x, n1y = -d1[1] * side, d1[0] * side
-    a = (p[0] + n0x * hw, p[1] + n0y * hw)
-    b = (p[0] + n1x * hw, p[1] + n1y * hw)
-    cos_half = math.sqrt(max(0.0, (1.0 + dot) / 2.0))   # cos of half the turning angle
-    tip = None
-    if cos_half > 0:
-        k = hw / (1.0 + dot)
-        tip = (LINE, (p[0] + (n0x + n1x) * k, p[1] + (n0y + n1y) * k))
-    if join == "round":
-        # thin strokes of dense polylines: a miter tip or a bevel within tolerance of the arc
-        if tip is not None and hw * (1.0 / cos_half - 1.0) <= tol:
-            return [tip]
-        if hw * (1.0 - cos_half) <= tol:
-            return [(LINE, a), (LINE, b)]
-        a0 = math.atan2(n0y, n0x)
-        turn = math.atan2(n0x * n1y - n0y * n1x, n0x * n1x + n0y * n1y)
-        if abs(turn) > math.pi - 1e-9:
-            turn = -side * math.pi      # a U-turn: round the far side (through p + hw·d0)
-        return [(LINE, a)] + _arc_items(p, hw, a0, a0 + turn)
-    if join != "bevel" and tip is not None and 1.0 / cos_half <= miterlimit:
-        return [tip]                    # miter (and "arcs", which falls back to it)
-    if join == "miter-clip":
-        bx, by = n0x + n1x, n0y + n1y
-        bl = math.hypot(bx, by)
-        if bl > 1e-12:
-            bx, by = bx / bl, by / bl
-            lim = miterlimit * hw
-            da = d0[0] * bx + d0[1] * by
-            pa = hw * (n0x * bx + n0y * by)
-            if da > 1e-12 and lim > pa:
-                u = (lim - pa) / da
-                return [(LINE, (a[0] + d0[0] * u, a[1] + d0[1] * u)),
-                        (LINE, (b[0] - d1[0] * u, b[1] - d1[1] * u))]
-    return [(LINE, a), (LINE, b)]      # bevel, and miters over the limit
-
-
-def _stroke_polyline(out, pts, closed, hw, tol, join, cap, miterlimit):
-    """Fast path for subpaths of straight lines (map data): one contour per open subpath and
-    two loops per closed one, with joins and caps inline.
-
-    As chains, this outline is exactly the sum of the separate positive pieces of the general
-    stroker (one rectangle per segment, one wedge per join, caps): on the outer side the wedge
-    and the rectangles' butt ends collapse into the join shape, on the inner side into the
-    path corner → vertex → corner. So it fills the same union for any segment lengths. Where
-    the inner offsets' crossing lies within both segments (and so does the other corner),
-    the crossing replaces the detour through the vertex: that removes a quadrilateral lying
-    inside both rectangles, which leaves the union unchanged (a point in m such regions lies
-    in at least m + 1 rectangles) but avoids overlapping edges.
-    """
-    q = [pts[0]]
-    for p in pts[1:]:
-        if p != q[-1]:
-            q.append(p)
-    if closed and len(q) > 1 and q[-1] == q[0]:
-        q.pop()
-    n = len(q)
-    if n < 2:
-        _emit_dot(out, pts[0], hw, cap)
-        return
-    nseg = n if closed else n - 1
-    dirs, lens = [], []
-    for i in range(nseg):
-        a, b = q[i], q[(i + 1) % n]
-        dx, dy = b[0] - a[0], b[1] - a[1]
-        ln = math.hypot(dx, dy)
-        dirs.append((dx / ln, dy / ln))
-        lens.append(ln)
-
-    d = dirs[0]
-    p = q[0]
-    right = [(p[0] + d[1] * hw, p[1] - d[0] * hw)]
-    left = [(p[0] - d[1] * hw, p[1] + d[0] * hw)]
-    for i in range(nseg if closed else nseg - 1):
-        j = (i + 1) % nseg
-        d0, d1 = dirs[i], dirs[j]
-        p = q[j]
-        cross = d0[0] * d1[1] - d0[1] * d1[0]
-        dot = d0[0] * d1[0] + d0[1] * d1[1]
-        # offsets of the incoming segment's end and the outgoing one's start, per side
-        r0 = (p[0] + d0[1] * hw, p[1] - d0[0] * hw)
-        l0 = (p[0] - d0[1] * hw, p[1] + d0[0] * hw)
-        r1 = (p[0] + d1[1] * hw, p[1] - d1[0] * hw)
-        l1 = (p[0] - d1[1] * hw, p[1] + d1[0] * hw)
-        if dot > _SMOOTH_COS:
-            # (almost) straight on: both sides meet at their offsets' crossing
-            k = hw / (1.0 + dot)
-            cx, cy = (-d0[1] - d1[1]) * k, (d0[0] + d1[0]) * k   # (n0 + n1)·hw/(1 + dot)
-            left.append((LINE, (p[0] + cx, p[1] + cy)))
-            right.append((LINE, (p[0] - cx, p[1] - cy)))
-            continue
-        if cross > 0:       # turning left: left side inner
-            inner, c0, c1 = left, l0, l1
-            right.extend(_outer_join_items(p, d0, d1, -1.0, hw, join, miterlimit, dot, tol))
-            sign = 1.0
-        else:
-            inner, c0, c1 = right, r0, r1
-            left.extend(_outer_join_items(p, d0, d1, 1.0, hw, join, miterlimit, dot, tol))
-            sign = -1.0
-        # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
-        # hw·sin φ; both must lie within both segments. Each shortcut removes a region
-        # covered by the two segments at its vertex; around a whole loop of shortcuts a point
-        # could lose all its cover, so a closed loop keeps the detour at vertex 0.
-        sin_turn = abs(cross)
-        reach = hw * max(sin_turn / (1.0 + dot) if dot > -1.0 else math.inf, sin_turn)
-        if reach <= lens[i] and reach <= lens[j] and not (closed and j == 0):
-            k = sign * hw / (1.0 + dot)
-            inner.append((LINE, (p[0] + (-d0[1] - d1[1]) * k, p[1] + (d0[0] + d1[0]) * k)))
-        else:
-            inner.extend(((LINE, c0), (LINE, p), (LINE, c1)))
-
-    if closed:
-        # the lists start at vertex 0's butt points, on the first segment's offsets: start the
-        # loops at the closing join's last point instead. Right forward, left backward.
-        r_loop = [right[-1][-1]] + right[1:]
-        l_loop = [left[-1][-1]] + left[1:]
-        out.contour(r_loop)
-        out.contour(_reversed_items(l_loop))
-        return
-    d = dirs[-1]
-    p = q[-1]
-    right.append((LINE, (p[0] + d[1] * hw, p[1] - d[0] * hw)))
-    left.append((LINE, (p[0] - d[1] * hw, p[1] + d[0] * hw)))
-    items = right + _cap_items(p, d, hw, cap) + _reversed_items(left)[1:]
-    d = dirs[0]
-    items += _cap_items(q[0], (-d[0], -d[1]), hw, cap)
-    out.contour(items)
 
 
 def _reversed_items(items):
@@ -607,9 +511,14 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     out = _Out()
     hw = width / 2.0
     if not (hw > 0 and math.isfinite(hw)):
-        return Path.from_lists([], [])
+        return out.path()
     miterlimit = max(1.0, miterlimit)
     pattern = dash_pattern(dashes)
+    verbs = path.verbs
+    if not np.any((verbs == QUAD) | (verbs == CUBIC)):
+        _stroke_lines(out, verbs, path.points, hw, tolerance, join, cap, miterlimit, pattern,
+                      dash_offset)
+        return out.path()
     for segs, closed in _subpaths(path):
         if pattern is None:
             _stroke_subpath(out, segs, closed, hw, tolerance, join, cap, miterlimit)
@@ -619,7 +528,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
                 _emit_dot(out, dash[0], hw, cap, dash[1])
             else:
                 _stroke_subpath(out, dash, False, hw, tolerance, join, cap, miterlimit)
-    return Path.from_lists(out.verbs, out.pts)
+    return out.path()
 
 
 # -- dashes ---------------------------------------------------------------------------------
