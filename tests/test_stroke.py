@@ -358,6 +358,72 @@ def test_lone_moveto_not_stroked():
     assert stroke_path(parse_path_data("M 20 20"), 6, cap="round").is_empty()
 
 
+def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
+    """The same stroke through the general (curve) stroker: every line a separate piece,
+    dashes walked by the pure-Python dash walker."""
+    from vecmsaa import stroke
+
+    out = stroke._Out()
+    pattern = dash_pattern(dashes)
+    for segs, closed in stroke._subpaths(path):
+        parts = [(segs, closed)] if pattern is None else \
+            [(d, False) for d in stroke._dash_subpath(segs, closed, pattern, offset, tol)]
+        for part, part_closed in parts:
+            if isinstance(part, tuple):          # a zero-length dash
+                stroke._emit_dot(out, part[0], w / 2, cap, part[1])
+            else:
+                stroke._stroke_pieces(out, part, part_closed, w / 2, tol, join, cap,
+                                      max(1.0, miterlimit))
+    return out.path()
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.lists(st.tuples(st.integers(0, 24), st.integers(0, 24)), min_size=1,
+                         max_size=8), min_size=1, max_size=3),
+       st.lists(st.booleans(), min_size=3, max_size=3),
+       st.sampled_from(["miter", "miter-clip", "round", "bevel", "arcs"]),
+       st.sampled_from(["butt", "round", "square"]), st.sampled_from([0.4, 2.0, 7.0]),
+       st.sampled_from([1.0, 1.5, 4.0]),
+       st.one_of(st.none(), st.lists(st.sampled_from([0.0, 0.5, 1.5, 4.0]), min_size=1,
+                                     max_size=3)),
+       st.floats(-10, 10), st.integers(0, 2 ** 31))
+@example(subpaths=[[(0, 0), (8, 0), (8, 8), (0, 8)]], closed=[True, False, False], join="miter",
+         cap="butt", w=2.0, miterlimit=4.0, dashes=[8.0, 4.0], offset=2.0, seed=0)
+def test_compiled_polylines_fill_as_the_general_stroker(subpaths, closed, join, cap, w,
+                                                        miterlimit, dashes, offset, seed):
+    # the compiled polyline stroker (inline joins, shortcuts at inner corners, dashes walked
+    # in the kernel) against the curve stroker's separate pieces: the same filled set
+    p = Path()
+    for pts, cl in zip(subpaths, closed):
+        p.moveTo((pts[0][0] / 2, pts[0][1] / 2))
+        for x, y in pts[1:]:
+            p.lineTo((x / 2, y / 2))
+        p.closePath() if cl else p.endPath()
+    tol = 0.05
+    fast = stroke_path(p, w, join=join, cap=cap, miterlimit=miterlimit, dashes=dashes,
+                       dash_offset=offset, tolerance=tol)
+    ref = _pieces_stroke(p, w, join, cap, miterlimit, dashes, offset, tol)
+    assert np.all(np.isfinite(fast.points))
+    rng = np.random.default_rng(seed)
+    reach = w / 2 * (max(miterlimit, math.sqrt(2)) + 1)
+    q = -reach + rng.random((2000, 2)) * (12 + 2 * reach)
+    ref_pts = np.vstack(contours(ref)) if len(ref.points) else np.empty((0, 2))
+    if len(ref_pts):
+        # also points right next to the reference outline
+        idx = rng.integers(0, len(ref_pts), 1000)
+        q = np.vstack([q, ref_pts[idx] + rng.normal(0, w / 20, (1000, 2))])
+    got, want = inside(fast, q), inside(ref, q)
+    assert np.all(winding(fast, q) >= 0)
+    differ = got != want
+    if differ.any():
+        # only within rounding distance of an outline (collinear pieces meet slightly
+        # differently in the two strokers: within w·(1 − cos 0.5°))
+        polys = contours(fast) + contours(ref)
+        polys = [np.vstack([c, c[:1]]) for c in polys]
+        d = distance_to_polylines(q[differ], polys)
+        assert np.all(d < 1e-4 * w + 1e-9), q[differ][d >= 1e-4 * w + 1e-9][:5]
+
+
 # -- dashes ----------------------------------------------------------------------------------
 
 def test_dash_pattern_rules():
