@@ -8,8 +8,6 @@ DEFAULT_TEXT = "The quick brown fox jumps over the lazy dog"
 
 
 def add_parser(subparsers):
-    from vecmsaa import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
-
     p = subparsers.add_parser(
         "font", help="render text or glyph sheets of a font file",
         description="Render one line of text, a waterfall, every glyph, or a specimen sheet of "
@@ -48,10 +46,8 @@ def add_parser(subparsers):
                    help="glyphs per --glyphs page [default: 256]")
     p.add_argument("--columns", type=int, default=16, metavar="N",
                    help="columns of the --glyphs grid [default: 16]")
-    p.add_argument("--mode", choices=MODES, default=DEFAULT_MODE,
-                   help=f"antialiasing mode [default: {DEFAULT_MODE}]")
-    p.add_argument("--samples", type=int, default=DEFAULT_SAMPLES,
-                   help=f"samples per pixel [default: {DEFAULT_SAMPLES}]")
+    from .options import add_coverage_options
+    add_coverage_options(p, with_defaults=True)
     p.set_defaults(func=run)
     return p
 
@@ -90,8 +86,6 @@ def run(args) -> int:
         features = parse_features(args.features)
         if not 0 < args.size <= 2000:
             raise ValueError("--size must be in (0, 2000]")
-        if args.samples < 1:
-            raise ValueError("--samples must be at least 1")
         sizes = _sizes(args.waterfall) if args.waterfall else None
     except ValueError as exc:
         return _fail(str(exc))

@@ -46,17 +46,6 @@ def _size(text: str):
     return int(value) if value.is_integer() else value
 
 
-def _samples(text: str) -> int:
-    """A sample count the renderer has a pattern for."""
-    from vecmsaa.patterns import D3D_PATTERNS
-
-    value = _positive_int(text)
-    if value not in D3D_PATTERNS:
-        raise argparse.ArgumentTypeError(
-            f"must be one of {', '.join(map(str, sorted(D3D_PATTERNS)))}: {text!r}")
-    return value
-
-
 def _threshold(text: str) -> int:
     try:
         value = int(text)
@@ -114,8 +103,6 @@ def _common(parser: argparse.ArgumentParser) -> None:
 
 
 def add_parser(subparsers) -> None:
-    from vecmsaa import MODES
-
     golden = subparsers.add_parser(
         "golden", help="render SVGs to golden PNGs and check renders against them",
         description="Golden images for CI: 'update' renders every SVG under a directory to "
@@ -138,8 +125,8 @@ def add_parser(subparsers) -> None:
     render.add_argument("-h", "--height", type=_size, help="output height in pixels")
     render.add_argument("-z", "--zoom", type=_positive_float, help="scale factor")
     render.add_argument("--dpi", type=_positive_float, help="resolution for mm, in, pt (96)")
-    render.add_argument("--mode", choices=MODES, help="antialiasing mode (default approx)")
-    render.add_argument("--samples", type=_samples, help="samples per pixel (default 8)")
+    from .options import add_coverage_options
+    add_coverage_options(render)
     render.add_argument("--background", type=_color, metavar="COLOR",
                         help="CSS background colour (default: transparent)")
     render.add_argument("--resources-dir", metavar="DIR",

@@ -20,6 +20,9 @@ FONT_FLAGS = (("--use-fonts-dir", "use_fonts_dir", "DIR", "load fonts from DIR")
               ("--monospace-family", "monospace_family", "NAME", "font for 'monospace'"))
 
 
+from .options import add_coverage_options  # noqa: E402  (argparse only: cheap)
+
+
 def add_parser(subparsers):
     # -h is the output height, so argparse's automatic -h/--help is replaced by --help alone.
     p = subparsers.add_parser("render", help="render SVG files to PNG", add_help=False,
@@ -34,8 +37,7 @@ def add_parser(subparsers):
     p.add_argument("-z", "--zoom", type=float, help="scale factor on the intrinsic size")
     p.add_argument("--dpi", type=float, default=96.0, help="resolution for mm, in, pt (96)")
     p.add_argument("--background", help="background colour (any CSS colour)")
-    p.add_argument("--mode", default=None, help="coverage mode (default: approx)")
-    p.add_argument("--samples", type=int, default=None, help="samples per pixel (default 8)")
+    add_coverage_options(p)
     p.add_argument("--resources-dir", help="extra folder images and CSS may be loaded from")
     p.add_argument("--jobs", "-j", type=int, default=1, help="worker processes for batches")
     for flag, dest, metavar, text in FONT_FLAGS:

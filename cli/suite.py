@@ -27,8 +27,8 @@ def add_parser(subparsers):
                               description=__doc__.split("\n\n")[0])
     p.add_argument("dir", help="the resvg suite folder (with tests/ and fonts/)")
     p.add_argument("--out", help="folder for diff images of failing tests")
-    p.add_argument("--mode", default=None, help="coverage mode (default: the renderer's default)")
-    p.add_argument("--samples", type=int, default=None, help="samples per pixel")
+    from .options import add_coverage_options
+    add_coverage_options(p)
     p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
                    help="worker processes (default: all cores)")
     p.add_argument("--only", action="append", default=[], metavar="TEXT",

@@ -130,7 +130,8 @@ def test_unsupported_option_values_fail_cleanly(tmp_path):
         code, out = run_font(tmp_path, TTF, "--text", "x", *args)
         assert code == 1 and not out.exists(), args
     out = tmp_path / "s.png"
-    # 3 samples: no multisample pattern exists for it
-    assert main(["font", TTF, "--text", "x", "--mode", "approx", "--samples", "3", "-o",
-                 str(out)]) == 1
+    # 3 samples: no multisample pattern exists for it — a usage error, as for every command
+    with pytest.raises(SystemExit) as exc:
+        main(["font", TTF, "--text", "x", "--mode", "approx", "--samples", "3", "-o", str(out)])
+    assert exc.value.code == 2
     assert not out.exists()

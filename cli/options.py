@@ -1,0 +1,35 @@
+"""Options shared by the commands that rasterise: one definition, one validation."""
+from __future__ import annotations
+
+import argparse
+
+
+def sample_count(text: str) -> int:
+    """A sample count the renderer has a pattern for: 1, 2, 4, 8, 16 — or, for the reference
+    mode, a square number of at least 256."""
+    from vecmsaa.patterns import D3D_PATTERNS
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    side = int(round(value ** 0.5)) if value > 0 else 0
+    if value in D3D_PATTERNS or (value >= 256 and side * side == value):
+        return value
+    raise argparse.ArgumentTypeError(
+        f"must be one of {', '.join(map(str, sorted(D3D_PATTERNS)))} "
+        f"(or a square >= 256 for the reference mode): {text!r}")
+
+
+def add_coverage_options(parser, with_defaults: bool = False) -> None:
+    """--mode and --samples. Without defaults they stay None, meaning 'the renderer's default'
+    (or, for golden checks, 'what the manifest recorded')."""
+    from vecmsaa import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
+
+    parser.add_argument("--mode", choices=MODES, default=DEFAULT_MODE if with_defaults else None,
+                        help=f"coverage mode: {', '.join(MODES)} (default {DEFAULT_MODE}; "
+                             "see docs/modes.md)")
+    parser.add_argument("--samples", type=sample_count,
+                        default=DEFAULT_SAMPLES if with_defaults else None,
+                        help=f"samples per pixel: 1, 2, 4, 8, 16 (default {DEFAULT_SAMPLES}); "
+                             "the reference mode takes 256 or a larger square")
