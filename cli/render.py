@@ -124,6 +124,11 @@ def run(args) -> int:
         print("vecmsaa render: '-' (stdin) works only as the single input", file=sys.stderr)
         return 2
     out_dir = args.out_dir or "."
+    try:
+        os.makedirs(out_dir, exist_ok=True)
+    except OSError as exc:
+        print(f"vecmsaa render: cannot create {out_dir}: {exc.strerror}", file=sys.stderr)
+        return 1
     jobs = [(src, output_name(src, out_dir), opts) for src in inputs]
     names = [j[1] for j in jobs]
     if len(set(names)) != len(names):

@@ -142,7 +142,7 @@ def _write_diff(actual, ref, cmp, path):
     strip = []
     for p in panels:
         strip.extend([p, white])
-    write_png(np.concatenate(strip[:-1], axis=1), path)
+    write_png(np.concatenate(strip[:-1], axis=1), path, make_folders=True)
 
 
 def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None):

@@ -40,6 +40,7 @@ def upem(path):
 
 
 def run_font(tmp_path, *args):
+    tmp_path.mkdir(parents=True, exist_ok=True)
     out = tmp_path / "out.png"
     code = main(["font", *map(str, args), "-o", str(out), "--mode", "analytic"])
     return code, out

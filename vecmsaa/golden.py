@@ -140,7 +140,7 @@ def write_png_if_changed(rgba: np.ndarray, path) -> bool:
             return False
     except OSError:
         pass
-    write_bytes_atomic(data, path)
+    write_bytes_atomic(data, path, make_folders=True)
     return True
 
 
@@ -259,7 +259,7 @@ def update_goldens(svg_dir, golden_dir, options: dict,
     manifest = manifest_bytes(options, goldens, golden_dir)
     manifest_path = Path(golden_dir, MANIFEST_NAME)
     if not manifest_path.exists() or manifest_path.read_bytes() != manifest:
-        write_bytes_atomic(manifest, manifest_path)
+        write_bytes_atomic(manifest, manifest_path, make_folders=True)
     return result
 
 
@@ -470,7 +470,7 @@ def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
 
 
 def write_triptych(path, expected, actual, threshold: int = THRESHOLD) -> None:
-    write_bytes_atomic(encode_png(triptych(expected, actual, threshold)), path)
+    write_bytes_atomic(encode_png(triptych(expected, actual, threshold)), path, make_folders=True)
 
 
 _INDEX_STYLE = """
@@ -545,5 +545,5 @@ class ReportWriter:
             parts.append("<p>All renders match their goldens.</p>")
         parts += ["</body>", "</html>", ""]
         index = self.report_dir / "index.html"
-        write_bytes_atomic("\n".join(parts).encode("utf-8"), index)
+        write_bytes_atomic("\n".join(parts).encode("utf-8"), index, make_folders=True)
         return index

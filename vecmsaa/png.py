@@ -1,6 +1,7 @@
 """PNG output: deterministic bytes, written whole or not at all."""
 from __future__ import annotations
 
+import errno
 import io
 import os
 import sys
@@ -20,15 +21,19 @@ def encode_png(rgba: np.ndarray) -> bytes:
     return buf.getvalue()
 
 
-def write_bytes_atomic(data: bytes, path) -> None:
-    """Write to a temporary file beside ``path`` and rename it into place; ``-`` is stdout."""
+def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
+    """Write to a temporary file beside ``path`` and rename it into place; ``-`` is stdout.
+    A missing folder is an error (as for rsvg-convert) unless ``make_folders``."""
     if str(path) == "-":
         sys.stdout.buffer.write(data)
         sys.stdout.buffer.flush()
         return
     path = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(path))
-    os.makedirs(folder, exist_ok=True)
+    if make_folders:
+        os.makedirs(folder, exist_ok=True)
+    elif not os.path.isdir(folder):
+        raise FileNotFoundError(errno.ENOENT, "no such folder", folder)
     fd, tmp = tempfile.mkstemp(prefix=".vecmsaa-", suffix=".tmp", dir=folder)
     try:
         with os.fdopen(fd, "wb") as f:
@@ -46,5 +51,5 @@ def write_bytes_atomic(data: bytes, path) -> None:
         raise
 
 
-def write_png(rgba: np.ndarray, path) -> None:
-    write_bytes_atomic(encode_png(rgba), path)
+def write_png(rgba: np.ndarray, path, make_folders: bool = False) -> None:
+    write_bytes_atomic(encode_png(rgba), path, make_folders)

@@ -289,7 +289,7 @@ def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom
             if not c.freetype.size:
                 continue
             path = os.path.join(folder, f"{mode}-{size}px-U{ord(ch):04X}.png")
-            write_png(error_map_rgba(c, zoom), path)
+            write_png(error_map_rgba(c, zoom), path, make_folders=True)
             paths.append(path)
     return paths
 

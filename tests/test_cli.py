@@ -1,0 +1,53 @@
+"""Command-line behaviour shared by all commands: errors, output files."""
+import os
+import stat
+import subprocess
+import sys
+
+SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="10">'
+       '<rect x="2" y="2" width="16" height="6" fill="#08f"/></svg>')
+
+
+def vecmsaa(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "vecmsaa.cli", *map(str, args)],
+                          capture_output=True, text=True, **kw)
+
+
+def test_output_into_a_missing_folder_is_a_one_line_error(tmp_path):
+    src = tmp_path / "a.svg"
+    src.write_text(SVG)
+    out = tmp_path / "missing" / "a.png"
+    proc = vecmsaa("render", src, "-o", out)
+    assert proc.returncode == 1
+    assert len(proc.stderr.strip().splitlines()) == 1 and "missing" in proc.stderr
+    assert not (tmp_path / "missing").exists()
+
+
+def test_batch_creates_its_output_folder_and_files_get_normal_permissions(tmp_path):
+    a, b = tmp_path / "a.svg", tmp_path / "b.svg"
+    a.write_text(SVG)
+    b.write_text(SVG)
+    out_dir = tmp_path / "out" / "nested"
+    old = os.umask(0o022)
+    try:
+        proc = vecmsaa("render", a, b, "--out-dir", out_dir)
+    finally:
+        os.umask(old)
+    assert proc.returncode == 0, proc.stderr
+    mode = stat.S_IMODE((out_dir / "a.png").stat().st_mode)
+    assert mode == 0o644
+
+
+def test_usage_errors_exit_2(tmp_path):
+    src = tmp_path / "a.svg"
+    src.write_text(SVG)
+    for bad in (["--mode", "sharp"], ["--samples", "3"]):
+        proc = vecmsaa("render", src, "-o", tmp_path / "x.png", *bad)
+        assert proc.returncode == 2
+        assert not (tmp_path / "x.png").exists()
+
+
+def test_help_lists_every_command():
+    proc = vecmsaa("--help")
+    for command in ("render", "font", "golden", "demo", "suite", "bench"):
+        assert command in proc.stdout
