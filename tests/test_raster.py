@@ -323,3 +323,14 @@ def test_paint_is_evaluated_once_per_pixel_at_its_centre():
     # a partly covered pixel carries its centre colour times its coverage
     cov = img[5, 3, 3]
     assert 0.3 < cov < 0.5 and abs(img[5, 3, 0] / cov - 3.5 / 16) < 2e-3
+
+
+@pytest.mark.parametrize("mode", ["analytic", "approx", "persample"])
+def test_crisp_edges_give_whole_pixels(mode):
+    from vecmsaa.path import rect_path
+    scene = Scene(SIZE, SIZE, Group([Fill(rect_path(2.3, 3.6, 8.5, 6.2), Solid((0, 0, 0, 1)),
+                                          antialias=False)]))
+    a = render_scene(scene, mode=mode, samples=8)[..., 3]
+    assert set(np.unique(np.round(a, 6))) <= {0.0, 1.0}
+    # columns 3..10 and rows 4..9 are covered by more than half (x 2.3..10.8, y 3.6..9.8)
+    assert a.sum() == pytest.approx(8 * 6, abs=8)

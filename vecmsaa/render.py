@@ -153,7 +153,7 @@ def draw_fills(fills, target: np.ndarray, opts: RenderOptions) -> None:
     H, W = target.shape[:2]
     if opts.mode == "analytic":
         rows = max(1, min(256, STRIP_BUDGET // max(1, W)))
-        render_analytic(target, edges, edge_off, box, rules, kinds, params, lut, tex, rows)
+        render_analytic(target, edges, edge_off, box, rules, aa, kinds, params, lut, tex, rows)
         return
     rows = max(1, min(256, STRIP_BUDGET // max(1, W * opts.samples)))
     render_msaa(target, edges, edge_off, prims, prim_off, box, rules, aa, kinds, params, lut,

@@ -570,7 +570,7 @@ def _accumulate_clipped(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
 
 
 @njit(cache=True)
-def render_analytic(target, edges, edge_off, path_box, rules, paint_kind, paint_f, lut, tex,
+def render_analytic(target, edges, edge_off, path_box, rules, aa, paint_kind, paint_f, lut, tex,
                     strip_rows):
     """Exact-area coverage per fill, composited source-over per pixel (conflation included)."""
     H, W = target.shape[0], target.shape[1]
@@ -604,6 +604,9 @@ def render_analytic(target, edges, edge_off, path_box, rules, paint_kind, paint_
                     if x >= W:
                         continue
                     c = coverage_of(a, rules[p])
+                    if not aa[p]:
+                        # crispEdges: a pixel is in when at least half of it is
+                        c = 1.0 if c >= 0.5 else 0.0
                     if c <= 1e-7:
                         continue
                     cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
