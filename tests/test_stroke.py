@@ -370,7 +370,7 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
             [(d, False) for d in stroke._dash_subpath(segs, closed, pattern, offset, tol)]
         for part, part_closed in parts:
             if isinstance(part, tuple):          # a zero-length dash
-                stroke._emit_dot(out, part[0], w / 2, cap, part[1])
+                stroke._emit_dot(out, part[0], w / 2, cap, tol, part[1])
             else:
                 stroke._stroke_pieces(out, part, part_closed, w / 2, tol, join, cap,
                                       max(1.0, miterlimit))

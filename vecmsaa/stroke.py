@@ -337,10 +337,10 @@ def _kernel_items(kernel, *args):
     return items
 
 
-def _cap_items(p, d, hw, cap):
+def _cap_items(p, d, hw, cap, tol):
     """Items from the right offset to the left offset at an end p with outward direction d."""
     return _kernel_items(kernels.cap_items, float(p[0]), float(p[1]), float(d[0]), float(d[1]),
-                         float(hw), kernels.CAP_CODES.get(cap, 0))
+                         float(hw), kernels.CAP_CODES.get(cap, 0), float(tol))
 
 
 def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
@@ -352,13 +352,13 @@ def _outer_join_items(p, d0, d1, side, hw, join, miterlimit, dot, tol):
                          float(tol))
 
 
-def _emit_dot(out, p, hw, cap, d=(1.0, 0.0)):
+def _emit_dot(out, p, hw, cap, tol, d=(1.0, 0.0)):
     """A zero-length subpath: a disc for round caps, a square (along d) for square caps."""
     verbs = np.empty(8, np.uint8)
     pts = np.empty((16, 2))
     cnt = np.zeros(2, np.int64)
     kernels.dot_contour(verbs, pts, cnt, float(p[0]), float(p[1]), float(d[0]), float(d[1]),
-                        float(hw), kernels.CAP_CODES.get(cap, 0))
+                        float(hw), kernels.CAP_CODES.get(cap, 0), float(tol))
     if cnt[0]:
         out.arrays(verbs[:cnt[0]], pts[:cnt[1]])
 
@@ -404,7 +404,7 @@ def _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit):
             first_of_seg = False
     if not runs:
         if segs:
-            _emit_dot(out, segs[0][0], hw, cap)
+            _emit_dot(out, segs[0][0], hw, cap, tol)
         return
     # One chain along both sides, joins and caps inline: as chains this equals the sum of the
     # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
@@ -428,8 +428,8 @@ def _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit):
         out.contour(_reversed_items([left[-1][-1]] + left[1:]))
         return
     first, last = runs[0][0], runs[-1][-1]
-    items = right + _cap_items(last.src[-1], last.t1, hw, cap) + _reversed_items(left)[1:]
-    items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap)
+    items = right + _cap_items(last.src[-1], last.t1, hw, cap, tol) + _reversed_items(left)[1:]
+    items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap, tol)
     out.contour(items)
 
 
@@ -525,7 +525,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
             continue
         for dash in _dash_subpath(segs, closed, pattern, dash_offset, tolerance):
             if isinstance(dash, tuple):      # a zero-length dash: (point, direction)
-                _emit_dot(out, dash[0], hw, cap, dash[1])
+                _emit_dot(out, dash[0], hw, cap, tolerance, dash[1])
             else:
                 _stroke_subpath(out, dash, False, hw, tolerance, join, cap, miterlimit)
     return out.path()

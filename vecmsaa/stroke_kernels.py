@@ -23,10 +23,15 @@ _BUTT, _ROUND_CAP, _SQUARE = 0, 1, 2
 SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
 _MAX_DASH_STEPS = 1_000_000                # pattern intervals walked per subpath at most
 
-# bounds of what one vertex, cap or dot adds (round U-turn: a line and two quarter arcs)
+_MAX_ARC_CHORDS = 4     # an arc needing more chords within the tolerance is drawn as cubics
+# bounds of what one vertex's side, a cap or a dot adds (a round U-turn: a line and two
+# quarter cubics or _MAX_ARC_CHORDS lines; an inner corner: three lines)
 _SIDE_PTS_PER_VERTEX = 7
+_SIDE_VERBS_PER_VERTEX = 1 + _MAX_ARC_CHORDS
 _CAP_PTS = 6
+_CAP_VERBS = _MAX_ARC_CHORDS
 _DOT_PTS = 13
+_DOT_VERBS = 2 + _MAX_ARC_CHORDS
 
 
 @njit(cache=True, inline="always")
@@ -44,9 +49,18 @@ def _line(verbs, pts, cnt, x, y):
 
 
 @njit(cache=True)
-def _arc(verbs, pts, cnt, cx, cy, r, a0, a1):
-    """Cubic pieces (≤ 90° each) of the circular arc from angle a0 to a1 (radians)."""
-    n = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-9)))
+def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
+    """The circular arc from angle a0 to a1 (radians): chords when a few lie within tol of it
+    (thin strokes: lines are cheaper to raster than curves), else cubics of ≤ 90° each."""
+    quarters = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-9)))
+    chord_angle = 2.0 * math.acos(max(-1.0, 1.0 - tol / r))   # widest chord within tol
+    chords = max(quarters, int(math.ceil(abs(a1 - a0) / chord_angle - 1e-9)))
+    if chords <= _MAX_ARC_CHORDS:
+        for i in range(1, chords + 1):
+            b = a0 + (a1 - a0) * i / chords
+            _line(verbs, pts, cnt, cx + r * math.cos(b), cy + r * math.sin(b))
+        return
+    n = quarters
     delta = (a1 - a0) / n
     k = 4.0 / 3.0 * math.tan(delta / 4.0) * r
     ca, sa = math.cos(a0), math.sin(a0)
@@ -62,7 +76,7 @@ def _arc(verbs, pts, cnt, cx, cy, r, a0, a1):
 
 
 @njit(cache=True)
-def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap):
+def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """From the right offset to the left offset at an end p with outward direction d."""
     nx, ny = -dy * hw, dx * hw          # left normal of the outward direction
     if cap == _SQUARE:
@@ -71,20 +85,20 @@ def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap):
         _line(verbs, pts, cnt, px + nx, py + ny)
     elif cap == _ROUND_CAP:
         a0 = math.atan2(-ny, -nx)
-        _arc(verbs, pts, cnt, px, py, hw, a0, a0 + math.pi)
+        _arc(verbs, pts, cnt, px, py, hw, a0, a0 + math.pi, tol)
     else:
         _line(verbs, pts, cnt, px + nx, py + ny)
 
 
 @njit(cache=True)
-def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap):
+def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """A zero-length subpath or dash: a disc for round caps, a square along d for square caps,
     nothing for butt caps."""
     if cap == _ROUND_CAP:
         verbs[cnt[0]] = MOVE
         cnt[0] += 1
         _point(pts, cnt, px + hw, py)
-        _arc(verbs, pts, cnt, px, py, hw, 0.0, 2 * math.pi)
+        _arc(verbs, pts, cnt, px, py, hw, 0.0, 2 * math.pi, tol)
     elif cap == _SQUARE:
         nx, ny = -dy * hw, dx * hw
         ex, ey = dx * hw, dy * hw
@@ -131,7 +145,7 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
         if abs(turn) > math.pi - 1e-9:
             turn = -side * math.pi      # a U-turn: round the far side (through p + hw·d0)
         _line(verbs, pts, cnt, ax, ay)
-        _arc(verbs, pts, cnt, px, py, hw, a0, a0 + turn)
+        _arc(verbs, pts, cnt, px, py, hw, a0, a0 + turn, tol)
         return
     if join != _BEVEL and has_tip and 1.0 / cos_half <= miterlimit:
         _line(verbs, pts, cnt, tx, ty)  # miter (and "arcs", which falls back to it)
@@ -196,7 +210,7 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
     if closed and n > 1 and q[n - 1, 0] == q[0, 0] and q[n - 1, 1] == q[0, 1]:
         n -= 1
     if n < 2:
-        dot_contour(verbs, pts, cnt, src[lo, 0], src[lo, 1], 1.0, 0.0, hw, cap)
+        dot_contour(verbs, pts, cnt, src[lo, 0], src[lo, 1], 1.0, 0.0, hw, cap, tol)
         return
     nseg = n if closed else n - 1
     for i in range(nseg):
@@ -279,9 +293,10 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
     verbs[cnt[0]] = MOVE
     cnt[0] += 1
     _emit_side_forward(verbs, pts, cnt, rv, rp, rc, 0)
-    cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap)
+    cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol)
     _emit_side_backward(verbs, pts, cnt, lv, lp, lc, 0)
-    cap_items(verbs, pts, cnt, q[0, 0], q[0, 1], -dirs[0, 0], -dirs[0, 1], hw, cap)
+    cap_items(verbs, pts, cnt, q[0, 0], q[0, 1], -dirs[0, 0], -dirs[0, 1], hw, cap,
+              tol)
     verbs[cnt[0]] = CLOSE
     cnt[0] += 1
 
@@ -485,7 +500,8 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     ndot = len(dots) // 2
     max_pts = 2 * (_SIDE_PTS_PER_VERTEX * total + 2 * nsub) + (2 * _CAP_PTS + 4) * nsub + \
         (_DOT_PTS + 1) * (ndot + nsub)
-    max_verbs = 6 * total + 12 * nsub + 8 * (ndot + nsub)
+    max_verbs = 2 * (_SIDE_VERBS_PER_VERTEX * total + 2 * nsub) + (2 * _CAP_VERBS + 4) * nsub + \
+        _DOT_VERBS * (ndot + nsub)
     verbs = np.empty(max_verbs, np.uint8)
     pts = np.empty((max_pts, 2))
     cnt = np.zeros(2, np.int64)
@@ -493,8 +509,8 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     dirs = np.empty((longest, 2))
     lens = np.empty(longest)
     side_pts = _SIDE_PTS_PER_VERTEX * longest + 4
-    rv = np.empty(3 * longest + 4, np.uint8)
-    lv = np.empty(3 * longest + 4, np.uint8)
+    rv = np.empty(_SIDE_VERBS_PER_VERTEX * longest + 4, np.uint8)
+    lv = np.empty(_SIDE_VERBS_PER_VERTEX * longest + 4, np.uint8)
     rp = np.empty((side_pts, 2))
     lp = np.empty((side_pts, 2))
     for s in range(nsub):
@@ -505,7 +521,7 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
                          miterlimit, q, dirs, lens, rv, rp, lv, lp)
     for i in range(ndot):
         dot_contour(verbs, pts, cnt, dots[2 * i, 0], dots[2 * i, 1], dots[2 * i + 1, 0],
-                    dots[2 * i + 1, 1], hw, cap)
+                    dots[2 * i + 1, 1], hw, cap, tol)
     return verbs[:cnt[0]], pts[:cnt[1]]
 
 
