@@ -16,6 +16,10 @@ midpoint matched), subdivided until within ``tolerance`` at the quarter points; 
 folds (bends tighter than half the width) or will not fit, pieces are split until flat within
 the tolerance and stroked as chords with round joins.
 
+Paths of straight lines only (map data), dashes and all, are stroked by the compiled kernels in
+:mod:`vecmsaa.stroke_kernels`; so are the join, cap and dot shapes of the curve stroker here, and
+the line-only subpaths and dashes of paths with curves.
+
 Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offsets are P + w/2·n.
 """
 from __future__ import annotations
