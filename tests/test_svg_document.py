@@ -150,6 +150,28 @@ def test_font_size_em_and_percent():
     assert d.document_style(d.ids["u"]).font_size() == 10
 
 
+def test_font_size_initial_and_named_sizes_follow_resvg():
+    # resvg: initial 12 px; a named size is the parent's times 1.2 per step from medium.
+    d = doc('<text id="root"/><text id="em" font-size="3em"/><text id="ex" font-size="5ex"/>'
+            '<g font-size="20"><text id="m" font-size="medium"/><text id="l" font-size="large"/>'
+            '<text id="xxs" font-size="xx-small"/><text id="s" font-size="smaller"/></g>'
+            '<text id="xxl" font-size="xx-large"/>')
+    size = lambda i: d.document_style(d.ids[i]).font_size()  # noqa: E731
+    assert size("root") == 12
+    assert size("em") == 36 and size("ex") == 30
+    assert size("m") == 20
+    assert size("l") == pytest.approx(24)
+    assert size("xxs") == pytest.approx(20 / 1.728)
+    assert size("s") == pytest.approx(20 / 1.2)
+    assert size("xxl") == pytest.approx(12 * 1.728)
+
+
+def test_font_kerning_is_css_only():
+    d = doc('<text id="a" font-kerning="none"/><text id="b" style="font-kerning: none"/>')
+    assert d.document_style(d.ids["a"]).get("font-kerning") in (None, "auto")
+    assert d.document_style(d.ids["b"]).get("font-kerning") == "none"
+
+
 def test_foreign_elements_are_skipped():
     d = doc('<foo xmlns="http://example.org/x"><rect id="hidden"/></foo><rect id="r"/>')
     assert "r" in d.ids and "hidden" not in d.ids

@@ -166,6 +166,15 @@ def test_font_shorthand_sets_and_resets_longhands():
     assert np.array_equal(explicit, shorthand)
 
 
+def test_font_kerning_none_only_from_css():
+    # Noto Sans kerns "AV": the attribute is ignored, the CSS property turns kerning off.
+    plain = ink_box(alpha(render('<text x="10" y="70">AVA</text>')))
+    attribute = ink_box(alpha(render('<text x="10" y="70" font-kerning="none">AVA</text>')))
+    css = ink_box(alpha(render('<text x="10" y="70" style="font-kerning: none">AVA</text>')))
+    assert attribute == plain
+    assert css[2] > plain[2]
+
+
 SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
                  "text/text-anchor/middle-on-text", "text/textPath/simple-case",
                  "text/text-decoration/indirect", "text/letter-spacing/1mm",

@@ -709,7 +709,8 @@ class TextContext:
       ``style.font_size()`` the computed font size in user units.
       ``style_of(child, parent_style)`` computes a child's style (tspan) from its parent's.
     - ``transform``: user space → device pixels (already includes the element's transform);
-      ``viewport``: (w, h) in user units for percentages.
+      ``viewport``: (w, h) in user units for percentages; ``root_scale``: the scale from the
+      SVG's own units to output pixels (the output size over the document size).
     - ``length(value, axis, style, default)`` converts a length (axis 'x', 'y' or 'xy').
     - ``draw(path, style, bbox=None)``: fill + stroke a glyph run path given in *user* units with
       the style's paints (gradients use ``bbox``, the text's object bounding box in user units;
@@ -734,6 +735,7 @@ class TextContext:
         self.style = style
         self.transform = ctx.transform
         self.viewport = ctx.viewport
+        self.root_scale = builder.root_scale
         self.font_options = dict(builder.options.font_options)
         self.in_clip = ctx.clip
         self.geometry_only = ctx.geometry

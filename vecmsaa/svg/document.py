@@ -47,7 +47,8 @@ PROPERTIES = {
 
 #: properties settable from CSS only, not as presentation attributes
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
-            "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space"}
+            "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
+            "font-kerning"}   # resvg: font-kerning is not a presentation attribute
 
 #: properties whose value passes from parent to child when not specified
 INHERITED = {
@@ -74,12 +75,17 @@ INITIAL = {
     "visibility": "visible", "clip-rule": "nonzero", "stop-color": "black", "stop-opacity": "1",
     "overflow": "visible", "mix-blend-mode": "normal", "isolation": "auto",
     "paint-order": "normal", "shape-rendering": "auto", "image-rendering": "auto",
-    "mask-type": "luminance", "font-size": "medium", "font-family": "serif",
+    "mask-type": "luminance", "font-size": "12", "font-family": "serif",
     "vector-effect": "none", "marker-start": "none", "marker-mid": "none", "marker-end": "none",
 }
 
-_FONT_SIZE_KEYWORDS = {"xx-small": 9, "x-small": 10, "small": 13, "medium": 16, "large": 18,
-                       "x-large": 24, "xx-large": 32, "xxx-large": 48}
+#: resvg's initial font size (its default ``Options::font_size``)
+INITIAL_FONT_SIZE = 12.0
+
+#: named font sizes as steps of 1.2 (CSS 2's suggested ratio). resvg applies the step to the
+#: *parent's* size, so ``medium`` keeps it and ``large`` is 1.2 times it; we follow resvg.
+_FONT_SIZE_STEPS = {"xx-small": -3, "x-small": -2, "small": -1, "medium": 0, "large": 1,
+                    "x-large": 2, "xx-large": 3, "smaller": -1, "larger": 1}
 
 
 class Element:
@@ -159,17 +165,14 @@ class Style:
     def font_size(self) -> float:
         """Computed font size in user units (em and % relative to the parent's)."""
         if self._font_size is None:
-            parent = self.parent.font_size() if self.parent is not None else 16.0
+            parent = (self.parent.font_size() if self.parent is not None
+                      else INITIAL_FONT_SIZE)
             v = self.specified.get("font-size")
             size = parent
             if v and v != "inherit":
                 v = v.strip().lower()
-                if v in _FONT_SIZE_KEYWORDS:
-                    size = float(_FONT_SIZE_KEYWORDS[v])
-                elif v == "larger":
-                    size = parent * 1.2
-                elif v == "smaller":
-                    size = parent / 1.2
+                if v in _FONT_SIZE_STEPS:
+                    size = parent * 1.2 ** _FONT_SIZE_STEPS[v]
                 else:
                     parsed = split_length(v)
                     if parsed is not None:

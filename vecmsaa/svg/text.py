@@ -385,17 +385,10 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
     features = {}
     for tag, value in _quoted_settings(style.get("font-feature-settings"), 1):
         features[tag] = int(value)
-    # resvg honours SVG 1.1 kerning="0", and font-kerning only from CSS (it is not a
-    # presentation attribute there).
-    for el in reversed(chain):
-        value = el.specified.get("font-kerning")
-        if value is None:
-            continue
-        from_attribute = el.get("font-kerning") is not None and "font-kerning" not in (
-            el.get("style") or "")
-        if not from_attribute and value.strip() == "none":
-            features["kern"] = 0
-        break
+    # font-kerning comes from CSS only (the cascade ignores the attribute, as resvg does).
+    if (style.get("font-kerning") or "auto").strip() == "none":
+        features["kern"] = 0
+    # resvg also honours the SVG 1.1 kerning="0" attribute.
     for el in reversed(chain):
         kerning = el.get("kerning")
         if kerning is not None:
@@ -736,9 +729,7 @@ def position_on_path(clusters, chars, text_path, chunk_x, anchor, ctx, styles, s
     a, b, cc, d = ctx.transform[:4]
     # resvg's tolerance follows the text's transform in the SVG's own units, before the
     # output is scaled to its pixel size: divide that scaling out.
-    root = getattr(ctx, "root_scale", None) or getattr(getattr(ctx, "_builder", None),
-                                                       "root_scale", 1.0) or 1.0
-    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / root)
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / ctx.root_scale)
     style = styles.get(id(text_path), ctx.style)
     offset = 0.0
     start = text_path.get("startOffset")
