@@ -402,6 +402,16 @@ def test_pattern_tile_and_period():
     assert p.rgba[10, 5, 3] == pytest.approx(1) and p.rgba[10, 35, 3] == 0
 
 
+def test_skewed_pattern_tile_resolution_uses_row_norms_as_resvg():
+    # skewX(45) at 1 px per unit: rows (1, 1) and (0, 1), so resvg renders the 20 x 10 tile
+    # at sqrt(2) x 1 texels per unit: round(28.28) x 10 texels (column norms would give 20 x 14).
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="20" height="10" '
+              'patternTransform="skewX(45)"><rect width="10" height="10" fill="green"/>'
+              '</pattern><rect width="100" height="100" fill="url(#p)"/>')
+    p = only_fill(s).paint
+    assert p.rgba.shape[:2] == (10, 28)
+
+
 def test_tiny_pattern_tiles_keep_their_period():
     s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="0.3" height="0.3">'
               '<rect width="0.15" height="0.3" fill="green"/></pattern>'

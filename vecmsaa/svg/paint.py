@@ -13,7 +13,7 @@ import numpy as np
 from ..path import IDENTITY, compose, invert
 from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
-from .units import (matrix_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
+from .units import (row_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
                     split_length, translate, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
@@ -203,7 +203,9 @@ def pattern(builder, el, ctx, bbox):
         return None
     pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx, bbox, False)
     full = compose(ctx.transform, pattern_m)
-    sx, sy = matrix_scale(full)
+    # The tile's resolution as resvg picks it (row norms), so a skewed pattern's content is
+    # laid out at the same scale as in resvg.
+    sx, sy = row_scale(full)
     if sx <= 0 or sy <= 0:
         return None
     tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))

@@ -108,6 +108,14 @@ def matrix_scale(m):
     return math.hypot(a, b), math.hypot(c, d)
 
 
+def row_scale(m):
+    """Per-axis scale factors as resvg computes a pattern tile's resolution (tiny-skia's
+    ``Transform::get_scale``): the lengths of the matrix *rows*, (|(a, c)|, |(b, d)|). They
+    equal :func:`matrix_scale` for rotations and scales, and differ under skew."""
+    a, b, c, d, _, _ = m
+    return math.hypot(a, c), math.hypot(b, d)
+
+
 def mean_scale(m):
     """The factor by which the matrix scales lengths on average (sqrt of |det|)."""
     a, b, c, d, _, _ = m
