@@ -37,7 +37,9 @@ def test_colours(text, expected):
     assert got == pytest.approx(expected, abs=1e-9)
 
 
-@pytest.mark.parametrize("text", ["#12", "#ggg", "rgb(1,2)", "notacolour", "", "url(#a)"])
+# a percentage alpha after commas is invalid in resvg (svgtypes)
+@pytest.mark.parametrize("text", ["#12", "#ggg", "rgb(1,2)", "notacolour", "", "url(#a)",
+                                  "rgba(0, 127, 0, 50%)"])
 def test_invalid_colours(text):
     assert parse_color(text) is None
 
@@ -164,6 +166,13 @@ def test_font_size_initial_and_named_sizes_follow_resvg():
     assert size("xxs") == pytest.approx(20 / 1.728)
     assert size("s") == pytest.approx(20 / 1.2)
     assert size("xxl") == pytest.approx(12 * 1.728)
+
+
+def test_invalid_fill_colour_falls_back_to_black():
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="10" height="10"><rect width="10" height="10" '
+                           'fill="rgba(0, 127, 0, 50%)"/></svg>')
+    assert img[5, 5].tolist() == [0, 0, 0, 255]
 
 
 def test_font_kerning_is_css_only():

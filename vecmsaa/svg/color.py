@@ -142,6 +142,10 @@ def parse_color(text: str):
         return None
     alpha = 1.0
     if len(args) == 4:
+        # resvg (svgtypes) rejects a percentage alpha in the comma-separated form, so
+        # rgba(0, 127, 0, 50%) is an invalid colour there; the CSS 4 form "/ 50%" is kept.
+        if "," in m.group(2) and args[3].endswith("%"):
+            return None
         alpha = _alpha(args[3])
         if alpha is None:
             return None
