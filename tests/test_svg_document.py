@@ -175,6 +175,16 @@ def test_invalid_fill_colour_falls_back_to_black():
     assert img[5, 5].tolist() == [0, 0, 0, 255]
 
 
+def test_css_import_is_not_followed():
+    # resvg ignores @import; the rules around it still apply
+    fetched = []
+    d = load_document(f'<svg {SVG}><style>@import "green.css"; #r {{ stroke: blue }}</style>'
+                      '<rect id="r" fill="red"/></svg>'.encode(),
+                      load_text=lambda url: fetched.append(url) or "#r { fill: green }")
+    style = d.document_style(d.ids["r"])
+    assert style.get("fill") == "red" and style.get("stroke") == "blue" and not fetched
+
+
 def test_font_kerning_is_css_only():
     d = doc('<text id="a" font-kerning="none"/><text id="b" style="font-kerning: none"/>')
     assert d.document_style(d.ids["a"]).get("font-kerning") in (None, "auto")

@@ -311,13 +311,11 @@ def _expand_shorthand(name, value):
 class Stylesheets:
     """All CSS rules of a document, matched with cssselect2."""
 
-    def __init__(self, load_text=None):
+    def __init__(self):
         import cssselect2
 
         self.matcher = cssselect2.Matcher()
         self.count = 0
-        self.load_text = load_text   # callable(url) -> str | None, for @import
-        self._import_depth = 0
 
     def add(self, css_text):
         import cssselect2
@@ -325,9 +323,7 @@ class Stylesheets:
 
         rules = tinycss2.parse_stylesheet(css_text, skip_whitespace=True, skip_comments=True)
         for rule in rules:
-            if rule.type == "at-rule" and rule.lower_at_keyword == "import":
-                self._import(rule)
-                continue
+            # at-rules, @import included, are skipped: resvg does not follow @import
             if rule.type != "qualified-rule":
                 continue
             try:
@@ -340,27 +336,6 @@ class Stylesheets:
                     continue
                 self.matcher.add_selector(sel, (self.count, decls))
                 self.count += 1
-
-    def _import(self, rule):
-        import tinycss2
-
-        if self.load_text is None or self._import_depth > 4:
-            return
-        url = None
-        for tok in rule.prelude:
-            if tok.type in ("string", "url"):
-                url = tok.value
-                break
-        if not url:
-            return
-        text = self.load_text(url)
-        if text:
-            self._import_depth += 1
-            try:
-                self.add(text)
-            finally:
-                self._import_depth -= 1
-        del tinycss2
 
 
 class Document:
@@ -396,7 +371,10 @@ class Document:
 
 
 def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
-    """Parse SVG bytes into a Document. ``load_text(url)`` fetches CSS for ``@import``."""
+    """Parse SVG bytes into a Document.
+
+    ``load_text`` is accepted for existing callers and unused: CSS ``@import`` is not followed,
+    as in resvg."""
     import cssselect2
 
     xml_root = parse_xml(data)
@@ -405,7 +383,7 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
         raise SvgError("the root element is not <svg>")
     default_ns = ns
 
-    sheets = Stylesheets(load_text)
+    sheets = Stylesheets()
     # <style> elements anywhere apply to the whole document (even those after their use).
     for node in xml_root.iter():
         if not isinstance(node.tag, str):

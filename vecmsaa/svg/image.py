@@ -125,7 +125,7 @@ def _load_svg(builder, data, folder):
     # rules out documents that show themselves.
     resources = Resources()
     try:
-        doc = load_document(data, None, load_text=resources.fetch_text)
+        doc = load_document(data, None)
         size = document_size(doc, builder.options.dpi)
     except SvgError:
         return None
