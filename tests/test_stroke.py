@@ -389,6 +389,8 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
        st.floats(-10, 10), st.integers(0, 2 ** 31))
 @example(subpaths=[[(0, 0), (8, 0), (8, 8), (0, 8)]], closed=[True, False, False], join="miter",
          cap="butt", w=2.0, miterlimit=4.0, dashes=[8.0, 4.0], offset=2.0, seed=0)
+@example(subpaths=[[(17, 15), (21, 3), (20, 6)]], closed=[False, False, False], join="miter",
+         cap="butt", w=0.4, miterlimit=1.0, dashes=None, offset=0.0, seed=0)   # a U-turn
 def test_compiled_polylines_fill_as_the_general_stroker(subpaths, closed, join, cap, w,
                                                         miterlimit, dashes, offset, seed):
     # the compiled polyline stroker (inline joins, shortcuts at inner corners, dashes walked

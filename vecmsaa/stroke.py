@@ -145,6 +145,8 @@ class _Out:
         self._flush()
         if not self.chunks:
             return Path.from_arrays(np.empty(0, np.uint8), np.empty((0, 2)))
+        if len(self.chunks) == 1:
+            return Path.from_arrays(*self.chunks[0])
         return Path.from_arrays(np.concatenate([v for v, _ in self.chunks]),
                                 np.concatenate([p for _, p in self.chunks]))
 
@@ -367,15 +369,17 @@ def _emit_dot(out, p, hw, cap, tol, d=(1.0, 0.0)):
         out.arrays(verbs[:cnt[0]], pts[:cnt[1]])
 
 
-def _stroke_lines(out, verbs, pts, hw, tol, join, cap, miterlimit, pattern=None, offset=0.0):
-    """Stroke a path of lines only (verb and point arrays) with the compiled stroker."""
-    v, p = kernels.stroke_lines(np.ascontiguousarray(verbs, dtype=np.uint8),
+_SOLID = np.empty(0)
+
+
+def _line_outline(verbs, pts, hw, tol, join, cap, miterlimit, pattern=None, offset=0.0):
+    """Outline arrays (verbs, points) of a path of lines only, from the compiled stroker."""
+    return kernels.stroke_lines(np.ascontiguousarray(verbs, dtype=np.uint8),
                                 np.ascontiguousarray(pts, dtype=np.float64).reshape(-1, 2),
                                 float(hw), float(tol), kernels.JOIN_CODES.get(join, 0),
                                 kernels.CAP_CODES.get(cap, 0), float(miterlimit),
-                                np.asarray(pattern or (), dtype=np.float64), float(offset))
-    if len(v):
-        out.arrays(v, p)
+                                _SOLID if pattern is None else np.asarray(pattern, np.float64),
+                                float(offset))
 
 
 def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
@@ -383,7 +387,7 @@ def _stroke_subpath(out, segs, closed, hw, tol, join, cap, miterlimit):
     if all(len(seg) == 2 for seg in segs):
         pts = [seg[0] for seg in segs] + [segs[-1][1]]
         verbs = [MOVE] + [LINE] * (len(pts) - 1) + ([CLOSE] if closed else [])
-        _stroke_lines(out, verbs, pts, hw, tol, join, cap, miterlimit)
+        out.arrays(*_line_outline(verbs, pts, hw, tol, join, cap, miterlimit))
         return
     _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit)
 
@@ -519,10 +523,9 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     miterlimit = max(1.0, miterlimit)
     pattern = dash_pattern(dashes)
     verbs = path.verbs
-    if not np.any((verbs == QUAD) | (verbs == CUBIC)):
-        _stroke_lines(out, verbs, path.points, hw, tolerance, join, cap, miterlimit, pattern,
-                      dash_offset)
-        return out.path()
+    if not ((verbs == QUAD) | (verbs == CUBIC)).any():
+        return Path.from_arrays(*_line_outline(verbs, path.points, hw, tolerance, join, cap,
+                                               miterlimit, pattern, dash_offset))
     for segs, closed in _subpaths(path):
         if pattern is None:
             _stroke_subpath(out, segs, closed, hw, tolerance, join, cap, miterlimit)

@@ -250,8 +250,10 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
         # hw·sin φ; both must lie within both segments. Each shortcut removes a region
         # covered by the two segments at its vertex; around a whole loop of shortcuts a point
         # could lose all its cover, so a closed loop keeps the detour at vertex 0.
+        # tan(φ/2) as (1 − cos φ)/sin φ: near a U-turn sin φ/(1 + cos φ) is rounding noise
+        # over rounding noise, and a shortcut there would cut the turn's inside open
         sin_turn = abs(cross)
-        reach = hw * max(sin_turn / (1.0 + dot) if dot > -1.0 else math.inf, sin_turn)
+        reach = hw * max((1.0 - dot) / sin_turn if sin_turn > 0.0 else math.inf, sin_turn)
         if reach <= lens[i] and reach <= lens[j] and not (closed and j == 0):
             k = sign * hw / (1.0 + dot)
             ix, iy = px + (-d0y - d1y) * k, py + (d0x + d1x) * k
