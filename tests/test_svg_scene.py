@@ -338,6 +338,17 @@ def test_markers_are_placed_on_vertices():
     assert np.asarray(centres).ravel() == pytest.approx([10, 10, 50, 10, 50, 50])
 
 
+def test_mid_markers_go_between_the_pieces_of_an_arc():
+    # resvg: a semicircle is two 90° cubics, and the joint at its top gets a mid marker
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse" overflow="visible">'
+              '<rect width="2" height="2"/></marker>'
+              '<path d="M 10 60 A 40 40 0 0 1 90 60" fill="none" marker-mid="url(#m)"/>')
+    (mid,) = s.fills()
+    x0, y0, x1, y1 = path_bounds(mid.path)
+    assert ((x0 + x1) / 2, (y0 + y1) / 2) == pytest.approx((50, 20))
+
+
 def test_text_without_text_module_is_skipped_cleanly():
     s = scene('<text x="10" y="10">hi</text><rect width="1" height="1"/>')
     assert len(s.fills()) >= 1

@@ -457,19 +457,18 @@ class Builder:
 
     # -- shapes and painting -----------------------------------------------------------------
     def shape(self, el, ctx, style):
-        commands = None
         if el.tag == "path":
-            path, commands = parse_path_data_with_commands(el.get("d", ""))
+            path = parse_path_data(el.get("d", ""))
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
         if path is None or not has_segments(path):
             return []
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
-        return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE, commands=commands)
+        return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE)
 
     def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None,
-                  fill_rule=None, commands=None) -> list:
+                  fill_rule=None) -> list:
         """Fill, stroke and markers of a user-space path with a computed style.
 
         In a clip path only the fill outline is produced (black, clip-rule); when collecting
@@ -506,7 +505,7 @@ class Builder:
             elif item == "stroke":
                 out.extend(self.stroke(path, style, ctx, bbox, antialias))
             elif item == "markers" and markers:
-                out.extend(self.markers(path, style, ctx, commands))
+                out.extend(self.markers(path, style, ctx))
         return out
 
     def stroke_params(self, style, ctx):
@@ -660,9 +659,9 @@ class Builder:
                             parse_opacity(style.get(f"{which}-opacity")))
 
     # -- markers ---------------------------------------------------------------------------
-    def markers(self, path, style, ctx, commands=None):
+    def markers(self, path, style, ctx):
         from .markers import draw_markers
-        return draw_markers(self, path, style, ctx, commands)
+        return draw_markers(self, path, style, ctx)
 
     # -- clip paths and masks --------------------------------------------------------------
     def clip_path(self, value, ctx, bbox_fn):
@@ -863,11 +862,7 @@ def valid_paint(value):
 
 
 def parse_path_data(d):
-    return parse_path_data_with_commands(d)[0]
-
-
-def parse_path_data_with_commands(d):
-    from .pathdata import parse_path_data_with_commands as parse
+    from .pathdata import parse_path_data as parse
     return parse(d or "")
 
 

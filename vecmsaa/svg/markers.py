@@ -22,7 +22,9 @@ def bisector(angle_in, angle_out):
     return math.degrees(angle % (2 * math.pi))
 
 
-def draw_markers(builder, path, style, ctx, commands=None):
+def draw_markers(builder, path, style, ctx):
+    """Marker nodes of a path. Every verb is a segment, the cubic pieces of an arc included:
+    resvg places mid markers between them too."""
     from .builder import parse_url
 
     targets = {}
@@ -45,7 +47,7 @@ def draw_markers(builder, path, style, ctx, commands=None):
     context_fill = builder.context_paint(style, "fill", ctx, lambda: bbox)
     context_stroke = builder.context_paint(style, "stroke", ctx, lambda: bbox)
     out = []
-    for x, y, angle_in, angle_out, kind in marker_vertices(path, commands):
+    for x, y, angle_in, angle_out, kind in marker_vertices(path):
         marker = targets.get(kind)
         if marker is None:
             continue

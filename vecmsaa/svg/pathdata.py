@@ -46,8 +46,8 @@ def parse_path_data_with_commands(d: str):
     """Like :func:`parse_path_data`, plus, for every recorded verb, the index of the path
     command (counting implicit repetitions as their own commands) it came from.
 
-    Markers need this: an arc becomes several cubics but is one segment, so marker-mid must
-    not be placed between its pieces, and its directions are those of the whole arc.
+    An arc becomes several cubics; this tells which verbs belong to one command. (SVG markers
+    do not use it: resvg places mid markers between an arc's pieces too.)
     """
     verbs: list[int] = []
     pts: list[tuple[float, float]] = []
