@@ -533,3 +533,18 @@ def test_marker_vertices_arc_is_one_segment():
 def test_marker_zero_length_segment_takes_neighbour_direction():
     v = marker_vertices(parse_path_data("M 0 0 L 0 0 L 10 0"))
     assert v[0][3] == 0.0 and v[1][2] == 0.0
+
+
+def test_closepath_vertex_gets_no_mid_marker_but_the_next_moveto_does():
+    from vecmsaa.stroke import marker_vertices
+    path = Path()
+    path.moveTo((0, 0))
+    path.lineTo((10, 0))
+    path.lineTo((10, 10))
+    path.closePath()
+    path.moveTo((20, 0))
+    path.lineTo((30, 0))
+    got = [(round(x), round(y), kind) for x, y, _i, _o, kind in marker_vertices(path)]
+    # resvg: mid markers on every vertex but those reached by ClosePath
+    assert got == [(0, 0, "start"), (10, 0, "mid"), (10, 10, "mid"), (20, 0, "mid"),
+                   (30, 0, "end")]

@@ -730,7 +730,11 @@ def marker_vertices(path: Path, commands=None):
         subpaths.append((verts, dirs, closed))
 
     out = []
-    for verts, dirs, closed in subpaths:
+    for k, (verts, dirs, closed) in enumerate(subpaths):
+        if closed and k < len(subpaths) - 1:
+            # the vertex a closepath returns to gets no mid marker (resvg skips ClosePath
+            # segments); only the path's very last one is kept, as the end marker
+            verts = verts[:-1]
         # fill zero-length segments' directions from neighbours
         filled = list(dirs)
         last = None
@@ -754,7 +758,7 @@ def marker_vertices(path: Path, commands=None):
             elif j == 0:
                 a_out = ang[0][0]
                 a_in = ang[-1][1] if closed else a_out
-            elif j == len(verts) - 1:
+            elif j == len(verts) - 1 and j == len(ang):
                 a_in = ang[-1][1]
                 a_out = ang[0][0] if closed else a_in
             else:
