@@ -73,6 +73,27 @@ def mask_lookup(table, nx, ny, dist, full):
 
 
 @njit(cache=True, inline="always")
+def _floor_int(v):
+    """floor(v) as an int, clamped to ±BIG first (0 for NaN): converting a float beyond the
+    int64 range is undefined (a coordinate of 1e307 once became a row past the strip)."""
+    if not (v == v):
+        return 0
+    # clamp before floor: numba's math.floor already returns an int64
+    return math.floor(max(min(v, float(BIG)), -float(BIG)))
+
+
+@njit(cache=True, inline="always")
+def _pixel_index(v, W):
+    """floor(v) clamped to the columns 0..W-1, and 0 for NaN (compiled min/max pass NaN
+    through, and int(NaN) is undefined: an index far outside the row)."""
+    if v >= W - 1.0:
+        return W - 1
+    if v >= 0.0:
+        return int(math.floor(v))
+    return 0
+
+
+@njit(cache=True, inline="always")
 def _mark(dirty, dlist, dcount, r, px):
     if dirty[r, px] == 0:
         dirty[r, px] = 1
@@ -87,10 +108,10 @@ def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
         return
     if y0 == y1:
         # no crossing, but samples above and below it differ: the pixels it touches are dirty
-        r = int(math.floor(y0)) - sy0
+        r = _floor_int(y0) - sy0
         if 0 <= r < rows:
-            lo_i = int(max(0.0, min(math.floor(min(x0, x1)), W - 1.0)))
-            hi_i = int(max(0.0, min(math.floor(max(x0, x1)) + 1, W - 1.0)))
+            lo_i = _pixel_index(min(x0, x1), W)
+            hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
             for px in range(lo_i, hi_i + 1):
                 _mark(dirty, dlist, dcount, r, px)
         return
@@ -98,8 +119,8 @@ def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
         xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
     else:
         xt, yt, xb, yb, d = x1, y1, x0, y0, -1.0
-    r_lo = max(int(math.floor(yt)) - sy0, 0)
-    r_hi = min(int(math.floor(yb)) - sy0, rows - 1)
+    r_lo = max(_floor_int(yt) - sy0, 0)
+    r_hi = min(_floor_int(yb) - sy0, rows - 1)
     if r_lo > r_hi:
         return
     dxdy = (xb - xt) / (yb - yt)
@@ -122,10 +143,10 @@ def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
         yb_ = min(yb, py + 1.0)
         xa = crossing_x(xt, yt, dxdy, ya)
         xz = crossing_x(xt, yt, dxdy, yb_)
-        lo = math.floor(min(xa, xz))
-        hi = math.floor(max(xa, xz)) + 1
-        lo_i = int(max(0.0, min(lo, W - 1.0)))
-        hi_i = int(max(0.0, min(hi, W - 1.0)))
+        lo = _floor_int(min(xa, xz))
+        hi = _floor_int(max(xa, xz)) + 1
+        lo_i = _pixel_index(lo, W)
+        hi_i = _pixel_index(hi, W)
         for px in range(lo_i, hi_i + 1):
             _mark(dirty, dlist, dcount, r, px)
 
@@ -181,8 +202,8 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
     bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
     if bx0 >= W or bx1 < -1.0:
         return
-    r_lo = max(int(math.floor(by0)) - sy0, 0)
-    r_hi = min(int(math.floor(by1)) - sy0, rows - 1)
+    r_lo = max(_floor_int(by0) - sy0, 0)
+    r_hi = min(_floor_int(by1) - sy0, rows - 1)
     if r_lo > r_hi:
         return
     n = sx.shape[0]
@@ -199,8 +220,8 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
         xa, xz = _band_x_range(prim, py, py + 1.0)
         if not (xa <= xz):
             continue
-        pxa = int(max(0.0, math.floor(xa)))
-        pxz = int(min(W - 1.0, math.floor(xz)))
+        pxa = max(0, _floor_int(xa))
+        pxz = min(W - 1, _floor_int(xz))
         if pxa > pxz:
             continue
         # per sample: the pixel range where it is on the lens side of chord and tangents
@@ -463,8 +484,8 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
                 scan_lenses(prims, prim_off[p], prim_off[p + 1], sy0, rows, W, sx, sy, mode,
                             table, a2c_bits, local, dirty, dlist, dcount, lo, hi)
             # rows outside the fill's box have no deltas and nothing dirty
-            r_first = max(0, int(max(math.floor(path_box[p, 1]), -1.0)) - sy0)
-            r_last = min(rows - 1, int(min(math.floor(path_box[p, 3]), H + 1.0)) - sy0)
+            r_first = max(0, _floor_int(path_box[p, 1]) - sy0)
+            r_last = min(rows - 1, _floor_int(path_box[p, 3]) - sy0)
             npool = sweep_rows(r_first, r_last, sy0, W, rules[p], aa[p], paint_kind[p],
                                paint_f[p], lut, tex, delta, local, dirty, dlist, dcount, fb,
                                cplx, slot_of, slot_pixel, pool, npool, wrun, cov)
