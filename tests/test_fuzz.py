@@ -20,17 +20,7 @@ HANG = 5
 
 #: still-open bugs found by the fuzzer, by the file (and exception) they escape from; the
 #: bounded pass tolerates these signatures so that it reports only new ones
-OPEN_BUGS = {
-    ("font", "face.py"): "fontTools loads tables lazily: a corrupt table raises on first use "
-                         "(names, metrics, OS/2, hmtx, glyph set) outside the FontError wrapper",
-    ("pathdata", "pathdata.py"): "an arc after a coordinate of 1e999 (inf) raises ValueError "
-                                 "'cannot convert float NaN to integer' in arc_to_cubics",
-    ("pathdata", "Timeout"): "catastrophic regex backtracking in pathdata._ARGS_VALID on a long "
-                             "digit run followed by junk: 20 digits take about two minutes",
-    ("svg", "Timeout"): "same path-data regex backtracking, reached through a <path d>",
-    ("svg", "pathdata.py"): "same NaN arc as above, reached through a <path d>",
-    ("svg", "masking.py"): "<mask> without mask-type: style.get('mask-type') is None",
-}
+OPEN_BUGS: dict = {}  # (kind, file or "Timeout") -> why it is still open
 
 
 def signature(key):
@@ -66,10 +56,7 @@ def open_bug(name):
 
 @pytest.fixture(scope="module")
 def warm():
-    # compile/load the kernels before alarms are armed (see tools/fuzz.py)
-    fuzz.run_svg(b'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8">'
-                 b'<path d="M0 0 C 8 0 0 8 8 8Z"/></svg>')
-    fuzz.run_pathdata("M0 0 C 50 0 0 50 50 50 Q 0 50 0 0 Z")
+    fuzz.warm_up()
 
 
 @pytest.mark.parametrize("name", regression_inputs())

@@ -271,17 +271,25 @@ def save_crash(folder, target, item, key, message):
     return path
 
 
+def warm_up():
+    """Compile or load every kernel (fills, curves, line and curve strokes, dashes, text) before
+    any alarm is armed: an alarm that fires inside numba's compiler or cache loader leaves it
+    broken, which is not a bug of the input."""
+    run_svg(b'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><path d="M0 0 C 8 0 '
+            b'0 8 8 8 Q 4 0 0 0Z" stroke="red"/><path d="M0 0 L8 8 L0 8" stroke="blue" '
+            b'stroke-dasharray="2 1" stroke-linejoin="round" stroke-linecap="round"/>'
+            b'<path d="M1 1 H7 V7 Z" stroke="green" stroke-width="0.3"/>'
+            b'<text y="6" font-size="4">x</text></svg>')
+    run_pathdata("M0 0 C 50 0 0 50 50 50 Q 0 50 0 0 Z")
+
+
 def fuzz(seconds=60.0, targets=("svg", "pathdata", "font"), seed=0, save=None, timeout=20,
          log=print, max_inputs=None, last_input=None):
     """Fuzz each target for an equal share of ``seconds``. Returns a report dict."""
     import logging
     logging.getLogger("fontTools").setLevel(logging.CRITICAL)
     rng = random.Random(seed)
-    # load the compiled kernels before any alarm is armed: an alarm that fires inside numba's
-    # compiler or cache loader leaves it broken, which is not a bug of the input
-    run_svg(b'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><path d="M0 0 C 8 0 '
-            b'0 8 8 8 Q 4 0 0 0Z" stroke="red"/><text y="6" font-size="4">x</text></svg>')
-    run_pathdata("M0 0 C 50 0 0 50 50 50 Q 0 50 0 0 Z")
+    warm_up()
     svgs = svg_seeds(rng=rng) if "svg" in targets or "pathdata" in targets else []
     svg_bytes = [d for d, _ in svgs]
     paths = path_seeds(svgs) if "pathdata" in targets else []

@@ -517,7 +517,9 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
             if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
                 edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
                 continue
-            if split and depth < 40 and top < 60:
+            # depth 12: at most 4096 pieces per interval; a bigger bulge (absurd coordinates)
+            # keeps a thicker lens, which is still exact, instead of exploding in count
+            if split and depth < 12 and top < 60:
                 tm = 0.5 * (ta + tb)
                 top += 1
                 stack[top, 0], stack[top, 1], stack[top, 2] = tm, tb, depth + 1

@@ -87,6 +87,14 @@ class Face:
             raise FontError(f"not a usable font: {self.path}: {exc}") from None
         except Exception as exc:  # fontTools raises many kinds on corrupt data
             raise FontError(f"broken font {self.path}: {type(exc).__name__}: {exc}") from None
+        try:
+            self._read_tables(head)
+        except FontError:
+            raise
+        except Exception as exc:  # tables load lazily: corrupt ones raise on first use
+            raise FontError(f"broken font {self.path}: {type(exc).__name__}: {exc}") from None
+
+    def _read_tables(self, head):
         if not any(t in self.ttfont for t in ("glyf", "CFF ", "CFF2")) and not any(
                 t in self.ttfont for t in ("sbix", "CBDT")):
             raise FontError(f"unsupported font {self.path}: no glyf, CFF or CFF2 outlines")
@@ -244,7 +252,11 @@ class Face:
     def glyph_set(self, location: tuple = ()):
         gs = self._glyph_sets.get(location)
         if gs is None:
-            gs = self.ttfont.getGlyphSet(location=dict(location) if location else None)
+            try:
+                gs = self.ttfont.getGlyphSet(location=dict(location) if location else None)
+            except Exception as exc:  # corrupt glyf/CFF/gvar tables load here
+                raise FontError(f"broken outlines in {self.path}: "
+                                f"{type(exc).__name__}: {exc}") from None
             self._glyph_sets[location] = gs
         return gs
 
@@ -272,10 +284,14 @@ class Face:
     def advance(self, gid: int, location: tuple = ()) -> float:
         """Horizontal advance in font units (including variations)."""
         name = self.glyph_order[gid] if 0 <= gid < self.num_glyphs else ".notdef"
-        if not self.has_outlines:
-            return float(self.ttfont["hmtx"][name][0]) if "hmtx" in self.ttfont else 0.0
-        gs = self.glyph_set(location)
-        return float(gs[name].width) if name in gs else 0.0
+        try:
+            if not self.has_outlines:
+                return float(self.ttfont["hmtx"][name][0]) if "hmtx" in self.ttfont else 0.0
+            gs = self.glyph_set(location)
+            return float(gs[name].width) if name in gs else 0.0
+        except Exception as exc:
+            raise FontError(f"broken metrics for {name!r} in {self.path}: "
+                            f"{type(exc).__name__}: {exc}") from None
 
     # -- HarfBuzz --------------------------------------------------------------------------
     def hb_font(self, location: tuple = ()):

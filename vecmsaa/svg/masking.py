@@ -121,8 +121,8 @@ def masks(builder, value, ctx, bbox_fn):
         nodes = builder.children(el, inner, style)
         region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
         content = Group(children=nodes, clip=region)
-        kind = "alpha" if style.get("mask-type").strip() == "alpha" else "luminance"
-        if kind == "luminance" and style.get("color-interpolation", "").strip() == "linearRGB":
+        kind = "alpha" if (style.get("mask-type") or "").strip() == "alpha" else "luminance"
+        if kind == "luminance" and (style.get("color-interpolation") or "").strip() == "linearRGB":
             to_linear_rgb(content)
         out = [Mask(content=content, kind=kind)]
         own = el.specified.get("mask")

@@ -27,9 +27,7 @@ _WSP = r"[ \t\r\n\f]*"
 _COMMANDS = "MmLlHhVvCcSsQqTtAaZz"
 _SPLIT = re.compile(r"([MmLlHhVvCcSsQqTtAaZz])")
 _NUMBER_RE = re.compile(_NUMBER)
-# the arguments of one command: numbers with optional separators, wsp around; no leading or
-# trailing comma (those are errors in the grammar)
-_ARGS_VALID = re.compile(f"{_WSP}(?:{_NUMBER}(?:{_SEP}{_NUMBER})*)?{_WSP}")
+_LEADING_WSP = re.compile(_WSP)
 _ARG_NUMBER = re.compile(f"{_SEP}({_NUMBER})")
 _ARG_FLAG = re.compile(f"{_SEP}([01])")
 
@@ -78,18 +76,11 @@ def parse_path_data_with_commands(d: str):
         if upper == "A":
             nums, ok = _scan_arcs(args_text)
         else:
-            if _ARGS_VALID.fullmatch(args_text):
-                ok = True
-                nums = list(map(float, _NUMBER_RE.findall(args_text)))
-            else:
-                ok = False
-                prefix = _ARGS_VALID.match(args_text)
-                end = prefix.end()
-                nums = list(map(float, _NUMBER_RE.findall(args_text, 0, end)))
-                if nums and args_text[end:end + 1] in ("e", "E") and \
-                        args_text[end - 1] not in " \t\r\n\f,":
-                    # "1e" is a broken number, not "1" followed by junk (as browsers read it)
-                    nums.pop()
+            nums, ok, end = _scan_numbers(args_text)
+            if not ok and nums and args_text[end:end + 1] in ("e", "E") and \
+                    args_text[end - 1] not in " \t\r\n\f,":
+                # "1e" is a broken number, not "1" followed by junk (as browsers read it)
+                nums.pop()
         if arity == 0:
             nums_ok = not nums
             count = 0
@@ -289,6 +280,23 @@ def _scan_arcs(text: str):
     return nums, ok
 
 
+def _scan_numbers(text: str):
+    """The numbers of one command's arguments, whether the whole text is valid (numbers with
+    optional separators, white space around; no leading or trailing comma), and where valid
+    input ends. Each number is matched once, greedily: linear time. (One regex for the whole
+    argument list backtracks exponentially on a long digit run followed by junk, because
+    adjacent numbers may split the run anywhere.)"""
+    nums = []
+    pos = _LEADING_WSP.match(text).end()
+    m = _NUMBER_RE.match(text, pos)
+    while m:
+        nums.append(float(m.group(m.lastindex or 0)))
+        pos = m.end()
+        m = _ARG_NUMBER.match(text, pos)
+    ok = _LEADING_WSP.match(text, pos).end() == len(text)
+    return nums, ok, pos
+
+
 def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     """An elliptical arc as cubic Bézier pieces ``[(c1, c2, end), ...]`` of at most 90° each.
 
@@ -297,6 +305,8 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     """
     if x1 == x2 and y1 == y2:
         return []
+    if not all(map(math.isfinite, (x1, y1, rx, ry, phi_deg, x2, y2))):
+        return None  # an infinite coordinate (1e999): no arc to speak of, a straight line
     rx = abs(rx)
     ry = abs(ry)
     if rx == 0.0 or ry == 0.0:
@@ -309,6 +319,11 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     dy2 = (y1 - y2) / 2.0
     x1p = cos_phi * dx2 + sin_phi * dy2
     y1p = -sin_phi * dx2 + cos_phi * dy2
+    # Radii beyond 1e±150 of the half-chord would underflow or overflow when squared below:
+    # such an arc is, to any precision we draw, its chord (as a zero radius is by the spec).
+    half = max(abs(x1p), abs(y1p))
+    if half == 0.0 or not 1e-150 < min(rx, ry) / half or max(rx, ry) / half > 1e150:
+        return None
     # F.6.6: scale radii up when no ellipse reaches both endpoints
     lam = (x1p * x1p) / (rx * rx) + (y1p * y1p) / (ry * ry)
     if lam > 1.0:
