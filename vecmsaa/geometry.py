@@ -362,14 +362,21 @@ def classify_cubic(X):
 
 
 @njit(cache=True)
-def _turn_exceeds(c, max_turn_cos):
-    """Does the piece turn by more than acos(max_turn_cos) between its end tangents?"""
+def _end_tangents(c):
+    """Directions of a cubic at its ends; a control point on its end point defers to the next."""
     t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
     if t0x == 0.0 and t0y == 0.0:
         t0x, t0y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
     t1x, t1y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
     if t1x == 0.0 and t1y == 0.0:
         t1x, t1y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
+    return t0x, t0y, t1x, t1y
+
+
+@njit(cache=True)
+def _turn_exceeds(c, max_turn_cos):
+    """Does the piece turn by more than acos(max_turn_cos) between its end tangents?"""
+    t0x, t0y, t1x, t1y = _end_tangents(c)
     n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
     if n0 == 0.0 or n1 == 0.0:
         return True
@@ -436,12 +443,7 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
     _set_frame_common(prim, c, 4)
     _set_chord(prim, c[0, 0], c[0, 1], c[3, 0], c[3, 1], qx, qy)
-    t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
-    if t0x == 0.0 and t0y == 0.0:
-        t0x, t0y = c[2, 0] - c[0, 0], c[2, 1] - c[0, 1]
-    t1x, t1y = c[3, 0] - c[2, 0], c[3, 1] - c[2, 1]
-    if t1x == 0.0 and t1y == 0.0:
-        t1x, t1y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
+    t0x, t0y, t1x, t1y = _end_tangents(c)
     _tangent_plane(prim, P_T1, c[0, 0], c[0, 1], t0x, t0y, qx, qy)
     _tangent_plane(prim, P_T2, c[3, 0], c[3, 1], t1x, t1y, qx, qy)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
