@@ -195,6 +195,19 @@ def _clip_half_plane(lo, hi, s, a, b, c, sxs, ys):
         lo[s] = BIG
 
 
+@njit(cache=True, inline="always")
+def _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local):
+    """The implicit function at every sample of ``region``: the persample test."""
+    touched = False
+    for s in range(sx.shape[0]):
+        if (region >> np.uint64(s)) & np.uint64(1):
+            f, gx, gy = _eval_implicit(prim, px + sx[s], py + sy[s])
+            if sigma * f < 0.0:
+                local[r, px, s] += wsign
+                touched = True
+    return touched
+
+
 @njit(cache=True)
 def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, dlist, dcount,
               lo, hi):
@@ -256,23 +269,14 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
                     continue
             touched = False
             if mode == MODE_PERSAMPLE or mode == MODE_NONE:
-                for s in range(n):
-                    if (region >> np.uint64(s)) & np.uint64(1):
-                        f, gx, gy = _eval_implicit(prim, px + sx[s], py + sy[s])
-                        if sigma * f < 0.0:
-                            local[r, px, s] += wsign
-                            touched = True
+                touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local)
             else:
                 f, gx, gy = _eval_implicit(prim, px + 0.5, py + 0.5)
                 g = math.hypot(gx, gy)
                 if not (g > 0.0) or not math.isfinite(f):
                     # singular point (cusp, double point): evaluate per sample instead
-                    for s in range(n):
-                        if (region >> np.uint64(s)) & np.uint64(1):
-                            f2, gx2, gy2 = _eval_implicit(prim, px + sx[s], py + sy[s])
-                            if sigma * f2 < 0.0:
-                                local[r, px, s] += wsign
-                                touched = True
+                    touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign,
+                                               local)
                 else:
                     dist = sigma * f / g
                     if mode == MODE_ALPHA:
