@@ -11,7 +11,6 @@ import math
 import numpy as np
 from numba import njit
 
-from .path import invert
 from .scene import ImagePaint, LinearGradient, RadialGradient, Solid
 
 KIND_SOLID, KIND_LINEAR, KIND_RADIAL, KIND_IMAGE = 0, 1, 2, 3
@@ -101,12 +100,6 @@ class PaintTable:
         lut = np.concatenate(self.luts) if self.luts else np.zeros((1, 4), np.float32)
         tex = np.concatenate(self.images) if self.images else np.zeros(4, np.float32)
         return kinds, params, lut, tex
-
-
-def paint_to_device(m) -> tuple:
-    """Scene paints carry device → paint matrices; a helper for front ends that know the
-    paint → device matrix instead."""
-    return invert(m)
 
 
 @njit(cache=True)

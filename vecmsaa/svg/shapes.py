@@ -1,7 +1,7 @@
 """Basic shapes (rect, circle, ellipse, line, polyline, polygon) → paths in user units."""
 from __future__ import annotations
 
-from ..path import Path
+from ..path import Path, rect_path
 from .units import parse_numbers
 
 #: control-point distance of a cubic quarter circle, 4/3 (sqrt(2) - 1)
@@ -21,14 +21,9 @@ def ellipse_path(cx, cy, rx, ry) -> Path:
 
 
 def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
-    p = Path()
     if rx <= 0 or ry <= 0:
-        p.moveTo((x, y))
-        p.lineTo((x + w, y))
-        p.lineTo((x + w, y + h))
-        p.lineTo((x, y + h))
-        p.closePath()
-        return p
+        return rect_path(x, y, w, h)
+    p = Path()
     k = KAPPA
     p.moveTo((x + rx, y))
     p.lineTo((x + w - rx, y))
