@@ -451,6 +451,38 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
 
 
 @njit(cache=True)
+def _affine_fit(X, V):
+    """Least-squares M (3, 3) with [x y 1] · M ≈ V for the 4 points X (4, 2) and values V (4, 3).
+
+    Centred columns and Gram–Schmidt on the two that remain: as stable as a QR solve, and no
+    np.linalg, whose first use makes numba import scipy (~0.1 s of every start-up). Collinear
+    points give NaN, which the caller's residual test rejects."""
+    xm = 0.25 * (X[0, 0] + X[1, 0] + X[2, 0] + X[3, 0])
+    ym = 0.25 * (X[0, 1] + X[1, 1] + X[2, 1] + X[3, 1])
+    xc = X[:, 0] - xm
+    yc = X[:, 1] - ym
+    M = np.full((3, 3), np.nan)
+    n1 = math.sqrt(np.sum(xc * xc))
+    if n1 == 0.0:
+        return M
+    q1 = xc / n1
+    beta = np.sum(q1 * yc)
+    y2 = yc - beta * q1
+    n2 = math.sqrt(np.sum(y2 * y2))
+    if n2 == 0.0:
+        return M
+    q2 = y2 / n2
+    for j in range(3):
+        vm = 0.25 * (V[0, j] + V[1, j] + V[2, j] + V[3, j])
+        c1 = np.sum(q1 * V[:, j])
+        c2 = np.sum(q2 * V[:, j])
+        M[1, j] = c2 / n2
+        M[0, j] = c1 / n1 - c2 * beta / (n1 * n2)
+        M[2, j] = vm - M[0, j] * xm - M[1, j] * ym
+    return M
+
+
+@njit(cache=True)
 def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     # bulge of the control polygon over the chord; degenerate → chord or nothing
     dev = max(_dist_to_line(c[1, 0], c[1, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]),
@@ -481,7 +513,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     # k, l, m are affine in the frame: solve [X Y 1] · M = klm (4 equations, 3 unknowns each)
     A = np.ones((4, 3))
     A[:, :2] = X
-    M = np.linalg.lstsq(A, klm)[0]
+    M = _affine_fit(X, klm)
     resid = 0.0
     scale = 0.0
     for i in range(4):
