@@ -128,10 +128,18 @@ class Path(BasePen):
         return self._arrays
 
     @classmethod
+    def _blank(cls) -> "Path":
+        """An empty Path without running the pen constructors, whose keyword handling costs
+        more than the rest of building a short path (map data makes tens of thousands)."""
+        path = cls.__new__(cls)
+        path.__dict__.update(_BLANK_STATE)
+        return path
+
+    @classmethod
     def from_lists(cls, verbs: list, pts: list) -> "Path":
         """A Path that takes ownership of ready-made verb and (x, y)-tuple lists (the fast way
         for parsers and the stroker: no per-point pen calls, no array round trip)."""
-        path = cls()
+        path = cls._blank()
         path._verbs = verbs
         path._pts = pts
         path._open = bool(verbs) and verbs[-1] != CLOSE
@@ -142,7 +150,7 @@ class Path(BasePen):
     @classmethod
     def from_arrays(cls, verbs, points) -> "Path":
         """A Path holding the given arrays as they are (no per-point Python objects)."""
-        path = cls()
+        path = cls._blank()
         v = np.ascontiguousarray(verbs, dtype=np.uint8)
         p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
         path._verbs = path._pts = None
@@ -222,3 +230,7 @@ def rect_path(x, y, w, h) -> Path:
     path.lineTo((x, y + h))
     path.closePath()
     return path
+
+
+#: the attributes of a fresh Path (Path._blank copies them; the lists are replaced there)
+_BLANK_STATE = vars(Path())

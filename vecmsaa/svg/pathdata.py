@@ -6,9 +6,11 @@ Arcs become cubic Béziers (at most 90° each) through the endpoint → centre c
 SVG 1.1 appendix F.6.5 with the radii correction of F.6.6.
 
 Speed matters (OSM maps carry megabytes of path data), so the string is cut at command letters
-with one regex split and each command's arguments are read with one ``findall`` whose result
-``map(float, ...)`` converts in C; only arcs (whose flags may be written without separators)
-go through a slower scanner.
+with one regex split, and arguments written plainly (numbers between white space or single
+commas) are converted by ``map(float, str.split())`` in C; only other spellings ("-1-2", ".5.5",
+errors) and arcs (whose flags may be written without separators) go through the regex
+scanners. Points are collected as one flat list of floats and verbs as bytes, which become the
+Path's arrays without per-point Python objects.
 """
 from __future__ import annotations
 
@@ -30,6 +32,10 @@ _NUMBER_RE = re.compile(_NUMBER)
 _LEADING_WSP = re.compile(_WSP)
 _ARG_NUMBER = re.compile(f"{_SEP}({_NUMBER})")
 _ARG_FLAG = re.compile(f"{_SEP}([01])")
+# only characters that can occur in plainly written numbers and separators
+_PLAIN_ARGS = re.compile(r"[0-9.eE+\-, \t\r\n\f]*")
+
+_LINES = bytes([LINE]) * 4096
 
 #: numbers each command consumes per repetition
 _ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "A": 7, "Z": 0}
@@ -47,8 +53,8 @@ def parse_path_data_with_commands(d: str):
     An arc becomes several cubics; this tells which verbs belong to one command. (SVG markers
     do not use it: resvg places mid markers between an arc's pieces too.)
     """
-    verbs: list[int] = []
-    pts: list[tuple[float, float]] = []
+    verbs = bytearray()
+    pts: list[float] = []       # x0, y0, x1, y1, ...
     origin: list[int] = []
     parts = _SPLIT.split(d)
     # parts = [text before first command, cmd, args, cmd, args, ...]
@@ -109,7 +115,7 @@ def parse_path_data_with_commands(d: str):
                     x += cx
                     y += cy
                 verbs.append(MOVE)
-                pts.append((x, y))
+                pts += (x, y)
                 origin.append(command_index)
                 sx, sy = cx, cy = x, y
                 subpath_open = True
@@ -117,20 +123,21 @@ def parse_path_data_with_commands(d: str):
                 start = 1
             elif not subpath_open:
                 verbs.append(MOVE)
-                pts.append((cx, cy))
+                pts += (cx, cy)
                 origin.append(command_index)
                 subpath_open = True
-            xs = nums[2 * start:2 * count:2]
-            ys = nums[2 * start + 1:2 * count:2]
+            run = count - start
             if relative:
-                xs = list(accumulate(xs, initial=cx))[1:]
-                ys = list(accumulate(ys, initial=cy))[1:]
-            run = len(xs)
-            pts.extend(zip(xs, ys))
-            verbs.extend([LINE] * run)
+                xy = [0.0] * (2 * run)
+                xy[0::2] = list(accumulate(nums[2 * start:2 * count:2], initial=cx))[1:]
+                xy[1::2] = list(accumulate(nums[2 * start + 1:2 * count:2], initial=cy))[1:]
+            else:
+                xy = nums[2 * start:2 * count]
+            pts += xy
+            verbs += _LINES[:run] if run <= len(_LINES) else bytes([LINE]) * run
             origin.extend(range(command_index, command_index + run))
             command_index += run
-            cx, cy = xs[-1], ys[-1]
+            cx, cy = xy[-2], xy[-1]
             prev_kind = ""
             if not (ok and nums_ok):
                 break
@@ -144,13 +151,13 @@ def parse_path_data_with_commands(d: str):
                     y += cy
                 if i == 0:
                     verbs.append(MOVE)
-                    pts.append((x, y))
+                    pts += (x, y)
                     origin.append(command_index)
                     sx, sy = x, y
                     subpath_open = True
                 else:           # extra pairs after a moveto are implicit linetos
                     verbs.append(LINE)
-                    pts.append((x, y))
+                    pts += (x, y)
                     origin.append(command_index)
                 cx, cy = x, y
                 prev_kind = ""
@@ -159,7 +166,7 @@ def parse_path_data_with_commands(d: str):
             if not subpath_open:
                 # a drawing command right after closepath starts a subpath at its start point
                 verbs.append(MOVE)
-                pts.append((cx, cy))
+                pts += (cx, cy)
                 origin.append(command_index)
                 subpath_open = True
             if upper == "L":
@@ -168,19 +175,19 @@ def parse_path_data_with_commands(d: str):
                     x += cx
                     y += cy
                 verbs.append(LINE)
-                pts.append((x, y))
+                pts += (x, y)
                 prev_kind = ""
             elif upper == "H":
                 x = nums[i] + cx if relative else nums[i]
                 y = cy
                 verbs.append(LINE)
-                pts.append((x, y))
+                pts += (x, y)
                 prev_kind = ""
             elif upper == "V":
                 x = cx
                 y = nums[i] + cy if relative else nums[i]
                 verbs.append(LINE)
-                pts.append((x, y))
+                pts += (x, y)
                 prev_kind = ""
             elif upper == "C" or upper == "S":
                 if upper == "C":
@@ -200,7 +207,7 @@ def parse_path_data_with_commands(d: str):
                     x += cx
                     y += cy
                 verbs.append(CUBIC)
-                pts.extend(((x1, y1), (x2, y2), (x, y)))
+                pts += (x1, y1, x2, y2, x, y)
                 rx, ry = x2, y2
                 prev_kind = "C"
             elif upper == "Q" or upper == "T":
@@ -219,7 +226,7 @@ def parse_path_data_with_commands(d: str):
                     x += cx
                     y += cy
                 verbs.append(QUAD)
-                pts.extend(((x1, y1), (x, y)))
+                pts += (x1, y1, x, y)
                 rx, ry = x1, y1
                 prev_kind = "Q"
             else:               # A
@@ -231,11 +238,11 @@ def parse_path_data_with_commands(d: str):
                                        x, y)
                 if pieces is None:
                     verbs.append(LINE)
-                    pts.append((x, y))
+                    pts += (x, y)
                     origin.append(command_index)
-                for piece in pieces or ():
+                for (x1, y1), (x2, y2), (x3, y3) in pieces or ():
                     verbs.append(CUBIC)
-                    pts.extend(piece)
+                    pts += (x1, y1, x2, y2, x3, y3)
                     origin.append(command_index)
                 cx, cy = x, y
                 prev_kind = ""
@@ -250,7 +257,9 @@ def parse_path_data_with_commands(d: str):
 
 
 def _finish(verbs, pts, origin):
-    return Path.from_lists(verbs, pts), np.asarray(origin, dtype=np.int64)
+    return (Path.from_arrays(np.frombuffer(verbs, dtype=np.uint8),
+                             np.array(pts, dtype=np.float64)),
+            np.asarray(origin, dtype=np.int64))
 
 
 def _scan_arcs(text: str):
@@ -286,6 +295,14 @@ def _scan_numbers(text: str):
     input ends. Each number is matched once, greedily: linear time. (One regex for the whole
     argument list backtracks exponentially on a long digit run followed by junk, because
     adjacent numbers may split the run anywhere.)"""
+    if _PLAIN_ARGS.fullmatch(text):
+        # Over these characters float() accepts exactly one SVG number per token; commas
+        # are valid when each lies between numbers (no empty piece around one).
+        if "," not in text or all(p.strip(" \t\r\n\f") for p in text.split(",")):
+            try:
+                return list(map(float, text.replace(",", " ").split())), True, len(text)
+            except ValueError:
+                pass            # "-1-2", ".5.5", "1e": the scanner below sorts them out
     nums = []
     pos = _LEADING_WSP.match(text).end()
     m = _NUMBER_RE.match(text, pos)
