@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 from fontTools.pens.basePen import BasePen
+from numba import njit
 
 MOVE, LINE, QUAD, CUBIC, CLOSE = 0, 1, 2, 3, 4
 #: how many points each verb consumes
@@ -38,11 +39,18 @@ def invert(m):
 
 def apply(m, pts):
     """Transform an (N, 2) array of points."""
-    a, b, c, d, e, f = m
-    pts = np.asarray(pts, dtype=np.float64)
-    out = np.empty_like(pts)
-    out[:, 0] = a * pts[:, 0] + c * pts[:, 1] + e
-    out[:, 1] = b * pts[:, 0] + d * pts[:, 1] + f
+    return _apply(np.asarray(pts, dtype=np.float64), *m)
+
+
+# Compiled because most paths are short: numpy's per-call overhead was most of the cost.
+@njit("f8[:, :](f8[:, :], f8, f8, f8, f8, f8, f8)", cache=True)
+def _apply(pts, a, b, c, d, e, f):
+    out = np.empty((pts.shape[0], 2))
+    for i in range(pts.shape[0]):
+        x = pts[i, 0]
+        y = pts[i, 1]
+        out[i, 0] = a * x + c * y + e
+        out[i, 1] = b * x + d * y + f
     return out
 
 
@@ -157,7 +165,7 @@ class Path(BasePen):
         path._arrays = (v, p)
         path._open = bool(len(v)) and v[-1] != CLOSE
         if len(p):
-            path._BasePen__currentPoint = (float(p[-1, 0]), float(p[-1, 1]))
+            path._BasePen__currentPoint = tuple(p[-1].tolist())
         return path
 
     def __len__(self):

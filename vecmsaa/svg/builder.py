@@ -14,12 +14,14 @@ import re
 from dataclasses import dataclass, field, replace
 
 
-from ..path import CUBIC, IDENTITY, LINE, Path, compose, rect_path
+from ..path import CLOSE, IDENTITY, LINE, MOVE, Path, compose, rect_path
 from ..scene import Fill, Group, Scene, Solid
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style
 from .geometry import path_bounds, union
+from .markers import draw_markers
+from .pathdata import parse_path_data
 from .resources import Resources
 from .shapes import shape_path
 from .units import (mean_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
@@ -189,7 +191,7 @@ class Builder:
         m = self.element_transform(el, style, ctx)
         if m is None:
             return []
-        c = replace(ctx, transform=compose(ctx.transform, m))
+        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m))
         tag = el.tag
         if tag == "switch":
             nodes = []
@@ -458,7 +460,7 @@ class Builder:
     # -- shapes and painting -----------------------------------------------------------------
     def shape(self, el, ctx, style):
         if el.tag == "path":
-            path = parse_path_data(el.get("d", ""))
+            path = parse_path_data(el.get("d") or "")
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
         if path is None or not has_segments(path):
@@ -509,8 +511,17 @@ class Builder:
         return out
 
     def stroke_params(self, style, ctx):
-        """(width, join, cap, miterlimit, dashes, offset) in user units, None for no stroke."""
-        width = self.length(style.get("stroke-width"), "xy", style, ctx.viewport, 1.0)
+        """(width, join, cap, miterlimit, dashes, offset) in user units, None for no stroke.
+        Kept with the (shared) style: they depend on nothing else but the viewport."""
+        key = ("stroke-params", ctx.viewport, self.options.dpi)
+        try:
+            return style.cache[key]
+        except KeyError:
+            params = style.cache[key] = self._stroke_params(style, ctx.viewport)
+            return params
+
+    def _stroke_params(self, style, viewport):
+        width = self.length(style.get("stroke-width"), "xy", style, viewport, 1.0)
         if width is None or width <= 0:
             return None
         join = style.get("stroke-linejoin").strip()
@@ -529,7 +540,7 @@ class Builder:
             for tok in re.split(r"[\s,]+", raw):
                 if not tok:
                     continue
-                v = self.length(tok, "xy", style, ctx.viewport)
+                v = self.length(tok, "xy", style, viewport)
                 if v is None or v < 0:
                     vals = None
                     break
@@ -538,7 +549,7 @@ class Builder:
                 if len(vals) % 2:
                     vals = vals * 2
                 dashes = vals
-        offset = self.length(style.get("stroke-dashoffset"), "xy", style, ctx.viewport, 0.0)
+        offset = self.length(style.get("stroke-dashoffset"), "xy", style, viewport, 0.0)
         return width, join, cap, limit, dashes, offset or 0.0
 
     def stroke(self, path, style, ctx, bbox, antialias):
@@ -597,10 +608,19 @@ class Builder:
         return value
 
     def resolve_paint(self, style, which, ctx, bbox):
-        """fill/stroke of a style → PaintRef, or None when nothing is drawn."""
+        """fill/stroke of a style → PaintRef, or None when nothing is drawn. A colour depends
+        on the style alone and is kept with it; paint servers and context paints are not."""
+        key = ("paint-ref", which)
+        try:
+            return style.cache[key]
+        except KeyError:
+            pass
         value = self.paint_value(style, which)
         opacity = parse_opacity(style.get(f"{which}-opacity"))
-        return self.paint_from_value(value, style, ctx, bbox, opacity)
+        ref = self.paint_from_value(value, style, ctx, bbox, opacity)
+        if value not in ("context-fill", "context-stroke") and parse_url(value) is None:
+            style.cache[key] = ref
+        return ref
 
     def paint_from_value(self, value, style, ctx, bbox, opacity):
         if value == "none":
@@ -660,7 +680,6 @@ class Builder:
 
     # -- markers ---------------------------------------------------------------------------
     def markers(self, path, style, ctx):
-        from .markers import draw_markers
         return draw_markers(self, path, style, ctx)
 
     # -- clip paths and masks --------------------------------------------------------------
@@ -753,7 +772,7 @@ class TextContext:
 
     def path_of(self, element):
         if element.tag == "path":
-            return parse_path_data(element.get("d", ""))
+            return parse_path_data(element.get("d") or "")
         style = self._builder.doc.document_style(element)
         p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
         if p is None:
@@ -817,10 +836,13 @@ def conditions_pass(el):
     return True
 
 
+_NOT_DRAWING = bytes((MOVE, CLOSE))
+
+
 def has_segments(path) -> bool:
-    """Whether a path draws anything (a vectorised Path.is_empty for long paths)."""
-    verbs = path.verbs
-    return bool(((verbs >= LINE) & (verbs <= CUBIC)).any())
+    """Whether a path draws anything: some verb besides MOVE and CLOSE (Path.is_empty, done
+    on the verb bytes, which costs far less than numpy calls on the short paths of maps)."""
+    return bool(path.verbs.tobytes().translate(None, _NOT_DRAWING))
 
 
 @functools.lru_cache(maxsize=256)
@@ -837,8 +859,10 @@ def parse_opacity(value):
     return min(1.0, max(0.0, f))
 
 
+@functools.lru_cache(maxsize=64)
 def paint_order(value):
-    default = ["fill", "stroke", "markers"]
+    """The painting steps of a paint-order value, in order (a tuple: the result is shared)."""
+    default = ("fill", "stroke", "markers")
     words = (value or "normal").split()
     if (not words or words == ["normal"] or any(w not in default for w in words)
             or len(set(words)) != len(words)):
@@ -848,7 +872,7 @@ def paint_order(value):
         if w not in order:
             order.append(w)
     order.extend(w for w in default if w not in order)
-    return order
+    return tuple(order)
 
 
 def valid_paint(value):
@@ -859,11 +883,6 @@ def valid_paint(value):
         fallback = parse_url(v)[1]
         return not fallback or valid_paint(fallback)
     return parse_color(v) is not None
-
-
-def parse_path_data(d):
-    from .pathdata import parse_path_data as parse
-    return parse(d or "")
 
 
 def stroke_path(path, width, **kwargs):

@@ -12,6 +12,7 @@ element (presentation attributes < CSS rules by specificity and order < ``style=
 """
 from __future__ import annotations
 
+import functools
 import re
 
 from . import SvgError
@@ -49,6 +50,9 @@ PROPERTIES = {
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "font-kerning"}   # resvg: font-kerning is not a presentation attribute
+
+#: properties that may be given as presentation attributes
+PRESENTATION = PROPERTIES - CSS_ONLY
 
 #: properties whose value passes from parent to child when not specified
 INHERITED = {
@@ -136,13 +140,14 @@ class Style:
     is the ``<use>`` element, as the SVG specification requires.
     """
 
-    __slots__ = ("specified", "parent", "_font_size", "cache")
+    __slots__ = ("specified", "parent", "_font_size", "cache", "_children")
 
     def __init__(self, specified, parent=None):
         self.specified = specified
         self.parent = parent
         self._font_size = None
         self.cache = {}   # computed values by name (styles are read many times, never changed)
+        self._children = {}
 
     def get(self, name, default=None):
         try:
@@ -187,7 +192,15 @@ class Style:
         return self._font_size
 
     def child(self, element: Element) -> "Style":
-        return Style(element.specified, self)
+        """The style of ``element`` under this one. Siblings specifying the same values share
+        one Style, and with it every value computed from it (map data repeats one style over
+        thousands of elements). The shared Style keeps a copy of the values, as the text
+        module expands ``font`` in an element's own dict."""
+        key = tuple(element.specified.items())
+        style = self._children.get(key)
+        if style is None:
+            style = self._children[key] = Style(dict(key), self)
+        return style
 
 
 # -- XML ------------------------------------------------------------------------------------------
@@ -275,6 +288,7 @@ def parse_xml(data: bytes):
     return root
 
 
+@functools.lru_cache(maxsize=1024)
 def _local(name):
     if name.startswith("{"):
         ns, _, local = name[1:].partition("}")
@@ -299,6 +313,13 @@ def _declarations(tokens_or_text):
         value = tinycss2.serialize(d.value).strip()
         out.append((d.lower_name, value, bool(d.important)))
     return out
+
+
+@functools.lru_cache(maxsize=4096)
+def _style_attribute(text):
+    """The declarations of a ``style`` attribute; documents repeat the same few strings over
+    thousands of elements, so each is parsed once."""
+    return tuple(_declarations(text))
 
 
 def _expand_shorthand(name, value):
@@ -416,32 +437,25 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
             return None   # foreign element: skipped with its subtree
         attrs = {}
         style_attr = None
-        presentation = {}
+        spec = {}         # presentation attributes (none is a shorthand: marker is CSS only)
         for key, value in node.attrib.items():
-            ans, aname = _local(key)
-            if ans == XLINK_NS and aname == "href":
-                attrs.setdefault("href", value)
+            if key[0] == "{":
+                ans, aname = _local(key)
+                if ans == XLINK_NS and aname == "href":
+                    attrs.setdefault("href", value)
+                elif ans == XML_NS:
+                    attrs["xml:" + aname] = value
                 continue
-            if ans == XML_NS:
-                attrs["xml:" + aname] = value
-                continue
-            if ans:
-                continue
-            if aname == "href":
-                attrs["href"] = value
-                continue
-            attrs[aname] = value
-            if aname == "style":
+            attrs[key] = value      # a plain href overrides xlink:href
+            if key == "style":
                 style_attr = value
-            elif aname in PROPERTIES and aname not in CSS_ONLY:
-                presentation[aname] = value.strip()
+            elif key in PRESENTATION:
+                spec[key] = value.strip()
         el = Element(ntag, attrs, parent, index)
-        spec = {}
-        for k, v in presentation.items():
-            for name, val in _expand_shorthand(k, v):
-                spec[name] = val
+        el.source = doc
         important = {}
-        for match in sorted(matches.get(id(node), ()), key=lambda m: (m[0], m[1])):
+        found = matches.get(id(node))
+        for match in sorted(found, key=lambda m: (m[0], m[1])) if found else ():
             _order, decls = match[3]
             for name, value, imp in decls:
                 if name not in PROPERTIES:
@@ -449,7 +463,7 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
                 for pname, pval in _expand_shorthand(name, value):
                     (important if imp else spec)[pname] = pval
         if style_attr:
-            for name, value, imp in _declarations(style_attr):
+            for name, value, imp in _style_attribute(style_attr):
                 if name not in PROPERTIES:
                     continue
                 for pname, pval in _expand_shorthand(name, value):
@@ -475,11 +489,6 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
                 i += 1
         return el
 
-    root = convert(xml_root, None, 0)
-    doc = Document(root, ids, base_dir)
-    stack = [root]
-    while stack:
-        e = stack.pop()
-        e.source = doc
-        stack.extend(e.children)
+    doc = Document(None, ids, base_dir)
+    doc.root = convert(xml_root, None, 0)
     return doc

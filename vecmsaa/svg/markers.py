@@ -25,19 +25,9 @@ def bisector(angle_in, angle_out):
 def draw_markers(builder, path, style, ctx):
     """Marker nodes of a path. Every verb is a segment, the cubic pieces of an arc included:
     resvg places mid markers between them too."""
-    from .builder import parse_url
-
-    targets = {}
-    for kind in ("start", "mid", "end"):
-        value = style.get(f"marker-{kind}")
-        if value == "none":
-            continue
-        url = parse_url(value or "none")
-        if url is None:
-            continue
-        el = builder.doc.lookup(url[0])
-        if el is not None and el.tag == "marker":
-            targets[kind] = el
+    targets = style.cache.get(("marker-targets",))
+    if targets is None:
+        targets = style.cache[("marker-targets",)] = marker_targets(builder.doc, style)
     if not targets:
         return []
     from ..stroke import marker_vertices
@@ -54,6 +44,24 @@ def draw_markers(builder, path, style, ctx):
         out.extend(one_marker(builder, marker, x, y, angle_in, angle_out, kind, width, ctx,
                               context_fill, context_stroke))
     return out
+
+
+def marker_targets(doc, style):
+    """The <marker> elements a style names, by kind (start, mid, end)."""
+    from .builder import parse_url
+
+    targets = {}
+    for kind in ("start", "mid", "end"):
+        value = style.get(f"marker-{kind}")
+        if value == "none":
+            continue
+        url = parse_url(value or "none")
+        if url is None:
+            continue
+        el = doc.lookup(url[0])
+        if el is not None and el.tag == "marker":
+            targets[kind] = el
+    return targets
 
 
 def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, ctx,
