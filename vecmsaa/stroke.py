@@ -30,7 +30,7 @@ from bisect import bisect_left
 import numpy as np
 
 from . import stroke_kernels as kernels
-from .path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from .path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
@@ -370,6 +370,7 @@ def _emit_dot(out, p, hw, cap, tol, d=(1.0, 0.0)):
 
 
 _SOLID = np.empty(0)
+_LINE_VERBS = bytes((MOVE, LINE, CLOSE))
 
 
 def _line_outline(verbs, pts, hw, tol, join, cap, miterlimit, pattern=None, offset=0.0):
@@ -523,7 +524,8 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     miterlimit = max(1.0, miterlimit)
     pattern = dash_pattern(dashes)
     verbs = path.verbs
-    if not ((verbs == QUAD) | (verbs == CUBIC)).any():
+    # lines only (a test on the verb bytes: numpy calls cost more on the short paths of maps)
+    if not verbs.tobytes().translate(None, _LINE_VERBS):
         return Path.from_arrays(*_line_outline(verbs, path.points, hw, tolerance, join, cap,
                                                miterlimit, pattern, dash_offset))
     for segs, closed in _subpaths(path):
