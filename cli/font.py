@@ -100,17 +100,17 @@ def run(args) -> int:
     except (FontError, ValueError) as exc:
         return _fail(str(exc))
     try:
-        from vecmsaa.render import render_scene, to_rgba8
+        from vecmsaa.render import render_scene_rgba8
     except ImportError as exc:
         return _fail(f"renderer not available: {exc}")
     from vecmsaa.png import write_png
 
     try:
-        image = render_scene(scene, mode=args.mode, samples=args.samples)
+        image = render_scene_rgba8(scene, mode=args.mode, samples=args.samples)
     except ValueError as exc:     # e.g. a sample count the mode has no pattern for
         return _fail(str(exc))
     try:
-        write_png(to_rgba8(image), args.output)
+        write_png(image, args.output)
     except OSError as exc:
         return _fail(f"cannot write {args.output}: {exc.strerror or exc}")
     return 0

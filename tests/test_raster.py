@@ -10,9 +10,9 @@ from hypothesis import strategies as st
 from truth import distance_to_outline, polygon_pixel_coverage, segments, winding_at
 from vecmsaa.path import Path
 from vecmsaa.patterns import mask_table, standard_pattern
-from vecmsaa.render import ALL_MODES, render_scene
+from vecmsaa.render import ALL_MODES, render_scene, render_scene_rgba8, to_rgba8
 from vecmsaa.scan import mask_lookup
-from vecmsaa.scene import Fill, Group, Scene, Solid
+from vecmsaa.scene import Fill, Group, LinearGradient, Mask, Scene, Solid
 
 SIZE = 16
 coord = st.floats(min_value=-2.0, max_value=SIZE + 2.0, allow_nan=False, width=32)
@@ -323,3 +323,44 @@ def test_crisp_edges_give_whole_pixels(mode):
     assert set(np.unique(np.round(a, 6))) <= {0.0, 1.0}
     # columns 3..10 and rows 4..9 are covered by more than half (x 2.3..10.8, y 3.6..9.8)
     assert a.sum() == pytest.approx(8 * 6, abs=8)
+
+
+def layered_scene(size=37):
+    """Curved shapes crossing many rows, in layers of every kind: group opacity, a clip path
+    (with a clip of its own), a luminance mask with a gradient, a blend mode; some layers cover
+    only a few rows, so bands skip them."""
+    from vecmsaa.path import rect_path
+    stops = np.array([[0, 1, 1, 1, 1], [1, 0.2, 0.2, 0.2, 0.5]], dtype=float)
+    ramp = LinearGradient(0.0, 0.0, 0.0, size, stops)
+    disc = Fill(circle_path((size * 0.45, size * 0.5), size * 0.4), Solid((0.9, 0.3, 0.1, 1)))
+    ring = Fill(circle_path((size * 0.6, size * 0.4), size * 0.3), Solid((0.1, 0.5, 0.9, 0.8)),
+                rule="evenodd")
+    ring.path.moveTo((size * 0.6 + size * 0.15, size * 0.4))
+    ring.path.curveTo((size * 0.75, size * 0.6), (size * 0.4, size * 0.6), (size * 0.45, size * 0.4))
+    ring.path.closePath()
+    band_clip = Group([Fill(rect_path(0, size * 0.3, size, size * 0.2))],
+                      clip=Group([Fill(circle_path((size * 0.5, size * 0.4), size * 0.35))]))
+    return Scene(size, size, Group([
+        Fill(rect_path(0, 0, size, size), ramp),
+        Group([disc, ring], opacity=0.6),
+        Group([Fill(circle_path((size * 0.3, size * 0.6), size * 0.3), Solid((0, 0.8, 0.2, 1)))],
+              clip=band_clip),
+        Group([Fill(rect_path(size * 0.1, size * 0.1, size * 0.8, size * 0.8),
+                    Solid((0.5, 0.1, 0.7, 1)))],
+              mask=Mask(Group([Fill(circle_path((size * 0.5, size * 0.5), size * 0.45), ramp)]))),
+        Group([Fill(circle_path((size * 0.7, size * 0.7), size * 0.25), Solid((1, 0.9, 0, 0.9)))],
+              blend="multiply"),
+    ]), background=(1, 1, 1, 0.5))
+
+
+@pytest.mark.parametrize("mode", ALL_MODES)
+def test_bands_give_the_same_image_as_one_band(mode):
+    scene = layered_scene()
+    whole = render_scene(scene, mode=mode, samples=8)     # the default budget: one band
+    rgba8 = to_rgba8(whole)
+    for band_rows in (1, 3, 7):
+        budget = band_rows * scene.width * 16
+        assert np.array_equal(render_scene(scene, mode=mode, samples=8, band_budget=budget),
+                              whole)
+        assert np.array_equal(render_scene_rgba8(scene, mode=mode, samples=8,
+                                                 band_budget=budget), rgba8)

@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from .path import Path
-from .render import EXACT_TOLERANCE, RenderOptions, draw_group_children, render_scene
+from .render import EXACT_TOLERANCE, RenderOptions, render_float, render_scene
 from .scene import Fill, Group, Scene, Solid
 
 GROUND_TRUTH_SAMPLES = 1024
@@ -30,9 +30,7 @@ def ideal_msaa(scene: Scene, samples: int) -> np.ndarray:
     tested per sample, no Loop–Blinn approximation anywhere."""
     opts = RenderOptions("persample", samples)
     opts.flatten_tol = EXACT_TOLERANCE
-    target = np.zeros((scene.height, scene.width, 4), dtype=np.float32)
-    draw_group_children(scene.root, target, opts)
-    return target
+    return render_float(scene, opts)
 
 
 def edge_mask(truth: np.ndarray) -> np.ndarray:

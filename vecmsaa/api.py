@@ -155,12 +155,12 @@ def _drawing_extent(builder, viewport):
 def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,
                      mode="approx", samples=8, resources_dir=None, **font_options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA."""
-    from .render import render_scene, to_rgba8
+    from .render import render_scene_rgba8
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, mode=mode, samples=samples,
                      resources_dir=resources_dir, **font_options)
-    return to_rgba8(render_scene(scene, mode=mode, samples=samples))
+    return render_scene_rgba8(scene, mode=mode, samples=samples)
 
 
 def render_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,

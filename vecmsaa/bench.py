@@ -462,10 +462,10 @@ def special_rows(size, repeat, quick):
 _MEMORY_SNIPPET = r"""
 import resource, time, json
 from vecmsaa.bench import blobs_scene
-from vecmsaa.render import render_scene, to_rgba8
+from vecmsaa.render import render_scene_rgba8
 scene = blobs_scene(%d, count=300)
 t = time.perf_counter()
-img = to_rgba8(render_scene(scene, mode=%r, samples=%d))
+img = render_scene_rgba8(scene, mode=%r, samples=%d)
 print(json.dumps({"time_s": time.perf_counter() - t,
                   "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
 """

@@ -16,9 +16,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import batch_arrays, build_batch
+from .blend import blend_premultiplied, unpremultiply_to_rgba8
+from .geometry import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
-from .scan import MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, render_analytic, render_msaa
+from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
+                   msaa_scratch, render_analytic, render_msaa)
 from .scene import Fill, Group, Scene
 from .shaders import PaintTable
 
@@ -31,6 +33,9 @@ EXACT_TOLERANCE = 1.0 / 256.0
 MAX_SAGITTA = 1.0
 #: elements (rows x width x samples) of one strip's per-sample buffers
 STRIP_BUDGET = 1 << 22
+#: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
+#: level is rendered band by band so the whole image never exists in float
+BAND_BUDGET = 1 << 24
 FILTERS = ("box", "tent")
 PATTERN_NAMES = tuple(PATTERNS)
 
@@ -84,31 +89,176 @@ def premultiplied(color) -> np.ndarray:
 
 
 def render_scene(scene: Scene, mode: str = "approx", samples: int = 8,
-                 filter: str = "box", pattern: str = "d3d") -> np.ndarray:
+                 filter: str = "box", pattern: str = "d3d",
+                 band_budget: int = BAND_BUDGET) -> np.ndarray:
     """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1].
 
     ``samples`` per pixel for the MSAA modes (1, 2, 4, 8, 16; ``none`` always uses 1, the
     ``reference`` mode 256 or a larger square), ``pattern`` their positions (``d3d``: the
     Direct3D 10.1 standard patterns, ``grid``: an ordered grid), ``filter`` the resolve filter
-    (``box`` or ``tent``)."""
-    opts = RenderOptions(mode, samples, filter, pattern)
-    target = np.zeros((scene.height, scene.width, 4), dtype=np.float32)
-    if scene.background[3] > 0:
-        target[:] = premultiplied(scene.background)
-    draw_group_children(scene.root, target, opts)
+    (``box`` or ``tent``). ``band_budget``: bytes of one band's buffers (the result does not
+    depend on it)."""
+    return render_float(scene, RenderOptions(mode, samples, filter, pattern), band_budget)
+
+
+def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET) -> np.ndarray:
+    target = np.empty((scene.height, scene.width, 4), dtype=np.float32)
+    for _ in render_bands(scene, opts, band_budget, target):
+        pass
     return target
 
 
-def draw_group_children(group: Group, target: np.ndarray, opts: RenderOptions) -> None:
+def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
+                       filter: str = "box", pattern: str = "d3d",
+                       band_budget: int = BAND_BUDGET) -> np.ndarray:
+    """Render to an (H, W, 4) uint8 array of straight RGBA: ``to_rgba8(render_scene(...))``
+    exactly, without ever holding the whole image in float (band by band)."""
+    opts = RenderOptions(mode, samples, filter, pattern)
+    out = np.empty((scene.height, scene.width, 4), dtype=np.uint8)
+    for y0, band in render_bands(scene, opts, band_budget):
+        unpremultiply_to_rgba8(band, out[y0:y0 + band.shape[0]])
+    return out
+
+
+def render_bands(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET,
+                 target: np.ndarray | None = None):
+    """Yield (y0, band): the scene rendered band by band, each band the premultiplied float32
+    rows y0 .. y0 + len(band) - 1. Geometry is built once for all bands. With ``target`` the
+    bands are its rows (the whole image); without, one band buffer is reused, so a band is valid
+    only until the next one is asked for."""
+    H, W = scene.height, scene.width
+    items = prepare_items(scene.root, opts)
+    band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
+    band_rows = min(band_rows, H)
+    raster = Raster(opts, W, strip_rows)
+    buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
+    background = premultiplied(scene.background)
+    for y0 in range(0, H, band_rows):
+        rows = min(band_rows, H - y0)
+        band = buffer[:rows] if target is None else target[y0:y0 + rows]
+        band[:] = background
+        draw_items(items, band, y0, raster)
+        yield y0, band
+
+
+def band_layout(W: int, samples: int, band_budget: int) -> tuple[int, int]:
+    """(rows of a band, rows of a kernel strip) for an image W pixels wide. A band is a whole
+    number of strips, so no strip is cut short in the middle of the image."""
+    strip_rows = max(1, min(256, STRIP_BUDGET // max(1, W * samples)))
+    band_rows = max(1, band_budget // (W * 16))     # float32 RGBA: 16 bytes a pixel
+    if band_rows <= strip_rows:
+        return band_rows, band_rows
+    return band_rows // strip_rows * strip_rows, strip_rows
+
+
+class Raster:
+    """The raster kernels and their strip buffers for one image width: allocated once, reused
+    by every band and batch (the kernels leave them clean), so no band pays for fresh pages."""
+
+    def __init__(self, opts: RenderOptions, width: int, strip_rows: int):
+        self.opts = opts
+        if opts.mode == "analytic":
+            self.scratch = analytic_scratch(strip_rows, width)
+        else:
+            self.scratch = msaa_scratch(strip_rows, width, opts.samples)
+
+    def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
+        b, o = batch, self.opts
+        if o.mode == "analytic":
+            render_analytic(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
+                            b.params, b.lut, b.tex, self.scratch)
+            return
+        render_msaa(target, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
+                    b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
+                    o.table, o.a2c_bits, self.scratch)
+
+
+class FillBatch:
+    """Consecutive fills as the kernels take them: geometry and paints, built once per render.
+    ``rows``: the device y range its fills lie in."""
+
+    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions):
+        self.edges, self.edge_off, self.prims, self.prim_off = build_batch(
+            verbs, pts, voff, poff, opts.flatten_tol, MAX_SAGITTA)
+        # per-fill bounds from the control points (a curve lies in its control hull, the
+        # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
+        starts = poff[:-1]
+        box = np.empty((len(fills), 4))
+        box[:, 0] = np.minimum.reduceat(pts[:, 0], starts) - QUAD_FALLBACK_TOL
+        box[:, 1] = np.minimum.reduceat(pts[:, 1], starts) - QUAD_FALLBACK_TOL
+        box[:, 2] = np.maximum.reduceat(pts[:, 0], starts) + QUAD_FALLBACK_TOL
+        box[:, 3] = np.maximum.reduceat(pts[:, 1], starts) + QUAD_FALLBACK_TOL
+        self.box = box
+        self.rows = (box[:, 1].min(), box[:, 3].max())
+        self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
+                               for f in fills], dtype=np.int64)
+        self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
+        table = PaintTable()
+        for f in fills:
+            table.add(f.paint, f.opacity)
+        self.kinds, self.params, self.lut, self.tex = table.arrays()
+
+
+class Layer:
+    """A group drawn into a buffer of its own and composited, prepared once per render: its
+    items, the clip (a layer whose alpha is a coverage) and the mask (a layer whose luminance
+    or alpha is) that multiply it, opacity and blend mode. ``rows``: the device y range where
+    it can be non-zero — inside its content, its clip and its mask — or None."""
+
+    def __init__(self, group: Group, opts: RenderOptions):
+        self.items = prepare_items(group, opts)
+        self.clip = Layer(group.clip, opts) if group.clip is not None else None
+        self.mask = Layer(group.mask.content, opts) if group.mask is not None else None
+        self.mask_kind = group.mask.kind if group.mask is not None else None
+        self.opacity = group.opacity
+        self.blend = group.blend
+        rows = _union([item.rows for item in self.items])
+        for part in (self.clip, self.mask):
+            if part is not None:
+                rows = _intersection(rows, part.rows)
+        self.rows = rows
+
+
+def _union(ranges):
+    ranges = [r for r in ranges if r is not None]
+    if not ranges:
+        return None
+    return min(r[0] for r in ranges), max(r[1] for r in ranges)
+
+
+def _intersection(a, b):
+    if a is None or b is None or max(a[0], b[0]) > min(a[1], b[1]):
+        return None
+    return max(a[0], b[0]), min(a[1], b[1])
+
+
+def prepare_items(group: Group, opts: RenderOptions) -> list:
+    """The group's content as FillBatch and Layer items in paint order."""
+    items = []
     batch: list[Fill] = []
     for node in _walk(group):
         if isinstance(node, Fill):
             batch.append(node)
             continue
-        draw_fills(batch, target, opts)
+        items.extend(_fill_batches(batch, opts))
         batch = []
-        draw_layer(node, target, opts)
-    draw_fills(batch, target, opts)
+        items.append(Layer(node, opts))
+    items.extend(_fill_batches(batch, opts))
+    return items
+
+
+def _fill_batches(fills, opts: RenderOptions) -> list:
+    """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or []."""
+    fills = [f for f in fills if not f.path.is_empty() and f.opacity > 0]
+    if not fills:
+        return []
+    arrays = batch_arrays([f.path for f in fills])
+    if not np.isfinite(arrays[1]).all():
+        fills = [f for f in fills if np.isfinite(f.path.points).all()]
+        if not fills:
+            return []
+        arrays = batch_arrays([f.path for f in fills])
+    return [FillBatch(fills, *arrays, opts)]
 
 
 def _walk(group: Group):
@@ -123,82 +273,51 @@ def _walk(group: Group):
             yield node
 
 
-def draw_fills(fills, target: np.ndarray, opts: RenderOptions) -> None:
-    fills = [f for f in fills if not f.path.is_empty() and f.opacity > 0]
-    if not fills:
-        return
-    verbs, pts, voff, poff = batch_arrays([f.path for f in fills])
-    if not np.isfinite(pts).all():
-        keep = [i for i, f in enumerate(fills) if np.isfinite(f.path.points).all()]
-        fills = [fills[i] for i in keep]
-        if not fills:
-            return
-        verbs, pts, voff, poff = batch_arrays([f.path for f in fills])
-    edges, edge_off, prims, prim_off = build_batch(verbs, pts, voff, poff, opts.flatten_tol,
-                                                   MAX_SAGITTA)
-    # per-fill bounds from the control points (a curve lies in its control hull)
-    starts = poff[:-1]
-    box = np.empty((len(fills), 4))
-    box[:, 0] = np.minimum.reduceat(pts[:, 0], starts)
-    box[:, 1] = np.minimum.reduceat(pts[:, 1], starts)
-    box[:, 2] = np.maximum.reduceat(pts[:, 0], starts)
-    box[:, 3] = np.maximum.reduceat(pts[:, 1], starts)
-    rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO for f in fills],
-                     dtype=np.int64)
-    aa = np.array([f.antialias for f in fills], dtype=np.bool_)
-    table = PaintTable()
-    for f in fills:
-        table.add(f.paint, f.opacity)
-    kinds, params, lut, tex = table.arrays()
-    H, W = target.shape[:2]
-    if opts.mode == "analytic":
-        rows = max(1, min(256, STRIP_BUDGET // max(1, W)))
-        render_analytic(target, edges, edge_off, box, rules, aa, kinds, params, lut, tex, rows)
-        return
-    rows = max(1, min(256, STRIP_BUDGET // max(1, W * opts.samples)))
-    render_msaa(target, edges, edge_off, prims, prim_off, box, rules, aa, kinds, params, lut,
-                tex, opts.sx, opts.sy, opts.weights, opts.kernel_mode, opts.table,
-                opts.a2c_bits, rows)
+def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
+    """Draw items onto ``target``, the device rows y0 .. y0 + len(target) - 1. An item outside
+    those rows is skipped: a fill there draws nothing, and a transparent layer composites to
+    exactly the target it is composited on."""
+    y1 = y0 + target.shape[0]
+    for item in items:
+        if item.rows is None or item.rows[1] < y0 or item.rows[0] >= y1:
+            continue
+        if isinstance(item, FillBatch):
+            raster.fill(item, target, y0)
+        else:
+            draw_layer(item, target, y0, raster)
 
 
-def draw_layer(group: Group, target: np.ndarray, opts: RenderOptions) -> None:
-    layer = np.zeros_like(target)
-    draw_group_children(group, layer, opts)
-    if group.clip is not None:
-        layer *= render_coverage(group.clip, target.shape, opts)[..., None]
-    if group.mask is not None:
-        layer *= render_mask(group.mask, target.shape, opts)[..., None]
-    if group.opacity < 1.0:
-        layer *= np.float32(group.opacity)
-    composite(layer, target, group.blend)
+def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> None:
+    img = np.zeros_like(target)
+    draw_items(layer.items, img, y0, raster)
+    for factor in _clip_and_mask(layer, target.shape, y0, raster):
+        img *= factor[..., None]
+    if layer.opacity < 1.0:
+        img *= np.float32(layer.opacity)
+    composite(img, target, layer.blend)
 
 
-def render_coverage(clip: Group, shape, opts: RenderOptions) -> np.ndarray:
-    """A clip group's coverage: the alpha of its content drawn opaque, clipped by its own clip."""
+def _clip_and_mask(layer: Layer, shape, y0: int, raster: Raster):
+    """The clip coverage, then the mask values, that multiply a layer (as they exist)."""
+    if layer.clip is not None:
+        yield render_coverage(layer.clip, "clip", shape, y0, raster)
+    if layer.mask is not None:
+        yield render_coverage(layer.mask, layer.mask_kind, shape, y0, raster)
+
+
+def render_coverage(layer: Layer, kind: str, shape, y0: int, raster: Raster) -> np.ndarray:
+    """A clip's coverage (``clip``: the alpha of its content drawn opaque) or a mask's values
+    (``alpha`` or ``luminance``), each times the layer's own clip and mask."""
     img = np.zeros(shape, dtype=np.float32)
-    draw_group_children(clip, img, opts)
-    cov = img[..., 3].copy()
-    if clip.clip is not None:
-        cov *= render_coverage(clip.clip, shape, opts)
-    if clip.mask is not None:
-        cov *= render_mask(clip.mask, shape, opts)
-    return cov
-
-
-def render_mask(mask, shape, opts: RenderOptions) -> np.ndarray:
-    img = np.zeros(shape, dtype=np.float32)
-    draw_group_children(mask.content, img, opts)
-    if mask.kind == "alpha":
-        cov = img[..., 3].copy()
-    else:
+    draw_items(layer.items, img, y0, raster)
+    if kind == "luminance":
         # luminance of the premultiplied colour = luminance × alpha (sRGB coefficients)
         cov = img[..., 0] * 0.2125 + img[..., 1] * 0.7154 + img[..., 2] * 0.0721
-    content = mask.content
-    if content.clip is not None:
-        cov *= render_coverage(content.clip, shape, opts)
-    if content.mask is not None:
-        cov *= render_mask(content.mask, shape, opts)
-    return np.clip(cov, 0.0, 1.0)
+    else:
+        cov = img[..., 3].copy()
+    for factor in _clip_and_mask(layer, shape, y0, raster):
+        cov *= factor
+    return cov if kind == "clip" else np.clip(cov, 0.0, 1.0)
 
 
 def composite(src: np.ndarray, dst: np.ndarray, blend: str = "normal") -> None:
@@ -208,19 +327,14 @@ def composite(src: np.ndarray, dst: np.ndarray, blend: str = "normal") -> None:
         dst *= (1.0 - sa)
         dst += src
         return
-    from .blend import blend_premultiplied
     dst[:] = blend_premultiplied(src, dst, blend)
 
 
 def to_rgba8(img: np.ndarray) -> np.ndarray:
-    """Premultiplied float RGBA → straight uint8 RGBA."""
-    img = np.clip(img, 0.0, 1.0)
-    a = img[..., 3:4]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        rgb = np.where(a > 0, img[..., :3] / np.maximum(a, 1e-12), 0.0)
+    """Premultiplied float RGBA → straight uint8 RGBA (float32 arithmetic)."""
+    img = np.ascontiguousarray(img, dtype=np.float32)
     out = np.empty(img.shape[:2] + (4,), dtype=np.uint8)
-    out[..., :3] = np.clip(rgb * 255.0 + 0.5, 0, 255).astype(np.uint8)
-    out[..., 3] = np.clip(a[..., 0] * 255.0 + 0.5, 0, 255).astype(np.uint8)
+    unpremultiply_to_rgba8(img, out)
     return out
 
 

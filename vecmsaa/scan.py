@@ -447,10 +447,28 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
     return npool
 
 
+def msaa_scratch(strip_rows, W, n):
+    """render_msaa's per-strip buffers, allocated once per image and reused by every call:
+    the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels)."""
+    return (np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # delta
+            np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # local
+            np.zeros((strip_rows, W + 1), dtype=np.uint8),          # dirty
+            np.empty((strip_rows, W + 1), dtype=np.int64),          # dlist
+            np.zeros(strip_rows, dtype=np.int64),                   # dcount
+            # one-colour pixels live in the target itself; only split pixels have pool
+            # slots, and only those are reset and resolved (untouched and fully covered
+            # pixels cost nothing)
+            np.full((strip_rows, W), -1, dtype=np.int64),           # cplx
+            np.full((strip_rows, W), -1, dtype=np.int64),           # slot_of
+            np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
+            np.empty((strip_rows * W, n, 4), dtype=np.float32))     # pool
+
+
 @njit(cache=True)
-def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
-                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, strip_rows):
-    """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied) in place.
+def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
+                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, scratch):
+    """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
+    device rows y0 .. y0 + H - 1) in place, strip by strip with the ``msaa_scratch`` buffers.
 
     sx, sy: sample positions inside the pixel (0..1); weights: resolve filter weight per
     sample (sums to 1). path_box: (P, 4) float bounds (x0, y0, x1, y1) per fill.
@@ -458,24 +476,15 @@ def render_msaa(target, edges, edge_off, prims, prim_off, path_box, rules, aa, p
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
     P = edge_off.shape[0] - 1
-    delta = np.zeros((strip_rows, W + 1, n), dtype=np.float32)
-    local = np.zeros((strip_rows, W + 1, n), dtype=np.float32)
-    dirty = np.zeros((strip_rows, W + 1), dtype=np.uint8)
-    dlist = np.empty((strip_rows, W + 1), dtype=np.int64)
-    dcount = np.zeros(strip_rows, dtype=np.int64)
-    # one-colour pixels live in the target itself; only split pixels have pool slots, and
-    # only those are reset and resolved (untouched and fully covered pixels cost nothing)
-    cplx = np.full((strip_rows, W), -1, dtype=np.int64)
-    slot_of = np.full((strip_rows, W), -1, dtype=np.int64)
-    slot_pixel = np.empty(strip_rows * W, dtype=np.int64)
-    pool = np.empty((strip_rows * W, n, 4), dtype=np.float32)
+    delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool = scratch
+    strip_rows = delta.shape[0]
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
-    for sy0 in range(0, H, strip_rows):
-        rows = min(strip_rows, H - sy0)
-        fb = target[sy0:sy0 + rows]
+    for sy0 in range(y0, y0 + H, strip_rows):
+        rows = min(strip_rows, y0 + H - sy0)
+        fb = target[sy0 - y0:sy0 - y0 + rows]
         npool = 0
         for p in range(P):
             if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows:
@@ -525,15 +534,21 @@ def _accumulate(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
     if ytop >= ybot:
         return
     dxdy = (x1 - x0) / (y1 - y0)
-    x = x0 + (ytop - y0) * dxdy
+    x_lo, x_hi = min(x0, x1), max(x0, x1)
     r0 = int(math.floor(ytop)) - sy0
     r1 = min(rows - 1, int(math.ceil(ybot)) - 1 - sy0)
     for r in range(r0, r1 + 1):
         yrow = sy0 + r
-        dy = min(yrow + 1.0, ybot) - max(float(yrow), ytop)
+        ya = max(float(yrow), ytop)
+        yz = min(yrow + 1.0, ybot)
+        dy = yz - ya
         if dy <= 0.0:
             continue
-        xnext = x + dxdy * dy
+        # x where the line enters and leaves the row, from the line alone (not summed from
+        # the strip's top), so a pixel's value does not depend on where strips begin; kept
+        # inside the line's x range, which rounding could leave by an ulp (column -1)
+        x = min(max(x0 + (ya - y0) * dxdy, x_lo), x_hi)
+        xnext = x1 if yz == y1 else min(max(x0 + (yz - y0) * dxdy, x_lo), x_hi)
         dd = dy * d
         xa, xb = (x, xnext) if x < xnext else (xnext, x)
         xa_f = math.floor(xa)
@@ -563,7 +578,6 @@ def _accumulate(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
                 a2 = a1 + (xbi - xai - 3) * s
                 acc[r, xbi - 1] += dd * (1.0 - a2 - am)
             acc[r, xbi] += dd * am
-        x = xnext
 
 
 @njit(cache=True)
@@ -594,17 +608,25 @@ def _accumulate_clipped(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
         _accumulate(acc, sy0, rows, W, ax, ay, bx, by, xmin_row, xmax_row)
 
 
+def analytic_scratch(strip_rows, W):
+    """render_analytic's per-strip buffers, allocated once per image and reused by every call
+    (the kernel leaves the accumulator zero)."""
+    return (np.zeros((strip_rows, W + 3), dtype=np.float64),       # acc
+            np.empty(strip_rows, dtype=np.int64),                   # xmin_row
+            np.empty(strip_rows, dtype=np.int64))                   # xmax_row
+
+
 @njit(cache=True)
-def render_analytic(target, edges, edge_off, path_box, rules, aa, paint_kind, paint_f, lut, tex,
-                    strip_rows):
-    """Exact-area coverage per fill, composited source-over per pixel (conflation included)."""
+def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind, paint_f, lut,
+                    tex, scratch):
+    """Exact-area coverage per fill, composited source-over per pixel (conflation included);
+    ``target`` holds the device rows y0 .. y0 + H - 1."""
     H, W = target.shape[0], target.shape[1]
     P = edge_off.shape[0] - 1
-    acc = np.zeros((strip_rows, W + 3), dtype=np.float64)
-    xmin_row = np.empty(strip_rows, dtype=np.int64)
-    xmax_row = np.empty(strip_rows, dtype=np.int64)
-    for sy0 in range(0, H, strip_rows):
-        rows = min(strip_rows, H - sy0)
+    acc, xmin_row, xmax_row = scratch
+    strip_rows = acc.shape[0]
+    for sy0 in range(y0, y0 + H, strip_rows):
+        rows = min(strip_rows, y0 + H - sy0)
         for p in range(P):
             if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows or path_box[p, 0] >= W:
                 continue
@@ -636,8 +658,8 @@ def render_analytic(target, edges, edge_off, path_box, rules, aa, paint_kind, pa
                         continue
                     cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
                     k = 1.0 - ca * c
-                    py = sy0 + r
-                    target[py, x, 0] = cr * c + target[py, x, 0] * k
-                    target[py, x, 1] = cg * c + target[py, x, 1] * k
-                    target[py, x, 2] = cb * c + target[py, x, 2] * k
-                    target[py, x, 3] = ca * c + target[py, x, 3] * k
+                    ty = sy0 - y0 + r
+                    target[ty, x, 0] = cr * c + target[ty, x, 0] * k
+                    target[ty, x, 1] = cg * c + target[ty, x, 1] * k
+                    target[ty, x, 2] = cb * c + target[ty, x, 2] * k
+                    target[ty, x, 3] = ca * c + target[ty, x, 3] * k
