@@ -129,7 +129,7 @@ def render_bands(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDG
     H, W = scene.height, scene.width
     items = prepare_items(scene.root, opts)
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
-    band_rows = min(band_rows, H)
+    band_rows = max(1, min(band_rows, H))
     raster = Raster(opts, W, strip_rows)
     buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
     background = premultiplied(scene.background)
@@ -145,7 +145,7 @@ def band_layout(W: int, samples: int, band_budget: int) -> tuple[int, int]:
     """(rows of a band, rows of a kernel strip) for an image W pixels wide. A band is a whole
     number of strips, so no strip is cut short in the middle of the image."""
     strip_rows = max(1, min(256, STRIP_BUDGET // max(1, W * samples)))
-    band_rows = max(1, band_budget // (W * 16))     # float32 RGBA: 16 bytes a pixel
+    band_rows = max(1, band_budget // max(1, W * 16))     # float32 RGBA: 16 bytes a pixel
     if band_rows <= strip_rows:
         return band_rows, band_rows
     return band_rows // strip_rows * strip_rows, strip_rows
