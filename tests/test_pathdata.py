@@ -6,7 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from vecmsaa.path import CLOSE, LINE, MOVE, VERB_POINTS
@@ -48,7 +48,12 @@ def bezier_point(ctrl, t):
 def reference_segments(d):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = svgpathtools.parse_path(d)
+        try:
+            ref = svgpathtools.parse_path(d)
+        except AssertionError:
+            # svgpathtools refuses an arc that ends where it starts (SVG F.5 omits it:
+            # test_arc_to_its_own_start_draws_nothing)
+            assume(False)
     return [s for s in ref if not (isinstance(s, svgpathtools.Line) and s.start == s.end)]
 
 
@@ -152,6 +157,11 @@ def test_random_paths_match_svgpathtools(pair):
         for t in (0.0, 0.3, 0.5, 0.8, 1.0):
             assert _points_close(bezier_point(mine, t), seg.point(t), 1e-9), (compact, plain)
     assert i == len(ours)
+
+
+def test_arc_to_its_own_start_draws_nothing():
+    assert segments(parse_path_data("M0 0 A.25.25 0 000 0")) == []
+    assert segments(parse_path_data("M1 1 A5 5 0 0 1 1 1 L2 2")) == [[1 + 1j, 2 + 2j]]
 
 
 # -- number and flag syntax ----------------------------------------------------------------
