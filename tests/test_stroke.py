@@ -224,6 +224,7 @@ coordinate = st.floats(-100, 100, allow_nan=False).map(lambda v: round(v, 2))
 @given(st.lists(st.tuples(coordinate, coordinate), min_size=4, max_size=4),
        st.sampled_from([1.0, 6.0, 30.0]), st.integers(0, 2 ** 31))
 @example(ctrl=[(0, 0), (0, 0), (2, 0), (0, 0)], w=1.0, seed=0)   # overshoots its chord
+@example(ctrl=[(0.0, 0.0), (0.0, 2.0), (4.0, 2.0), (0.0, 1.0)], w=30.0, seed=0)  # errors add
 def test_random_cubic_distance_property(ctrl, w, seed):
     p = Path()
     p.moveTo(ctrl[0])

@@ -14,7 +14,9 @@ over chains, every piece winds +1 over itself, so the fill is their union.
 Offsets of curves are cubic Béziers fitted to the true offset (exact end points and tangents, the
 midpoint matched), subdivided until within ``tolerance`` at the quarter points; where the offset
 folds (bends tighter than half the width) or will not fit, pieces are split until flat within
-the tolerance and stroked as chords with round joins.
+half the tolerance and stroked as chords with round joins. Errors add up there: a chord off the
+curve by f moves its whole stroke by up to f, so the joins and caps at a chord's ends are drawn
+within the rest of the tolerance (tolerance − f, at least half of it).
 
 Paths of straight lines only (map data), dashes and all, are stroked by the compiled kernels in
 :mod:`vecmsaa.stroke_kernels`; so are the join, cap and dot shapes of the curve stroker here, and
@@ -166,19 +168,28 @@ def _reverse_contour(start, segs):
 
 class _Piece:
     """A piece of a segment: source control points (2 for lines, 4 for cubics), unit tangents
-    at both ends, and the control points of its right and left offsets."""
-    __slots__ = ("src", "t0", "t1", "right", "left")
+    at both ends, the control points of its right and left offsets, and err: how far the
+    source may be from the true segment (a chord's flatness; 0 where it is exact)."""
+    __slots__ = ("src", "t0", "t1", "right", "left", "err")
 
-    def __init__(self, src, t0, t1, right, left):
+    def __init__(self, src, t0, t1, right, left, err=0.0):
         self.src, self.t0, self.t1 = src, t0, t1
         self.right, self.left = right, left
+        self.err = err
 
 
-def _line_piece(p0, p1, d, hw):
+def _line_piece(p0, p1, d, hw, err=0.0):
     nx, ny = -d[1] * hw, d[0] * hw
     return _Piece((p0, p1), d, d,
                   ((p0[0] - nx, p0[1] - ny), (p1[0] - nx, p1[1] - ny)),
-                  ((p0[0] + nx, p0[1] + ny), (p1[0] + nx, p1[1] + ny)))
+                  ((p0[0] + nx, p0[1] + ny), (p1[0] + nx, p1[1] + ny)), err)
+
+
+def _shape_tol(tol, *pieces):
+    """Tolerance left for a join or cap at the ends of pieces: a chord's own error f moves the
+    stroke around it by up to f, so the shape gets tol − f (at least tol / 2, chords being
+    flat within that unless subdivision ran out of depth)."""
+    return tol - min(max(p.err for p in pieces), tol / 2)
 
 
 def _curvature(c, t):
@@ -241,10 +252,12 @@ def _offset_error(c, fit, off):
 
 def _cubic_pieces(c, hw, tol, out_pieces, depth=0):
     """Pieces of cubic c: offset cubics where they fit within tol, else halves, down to pieces
-    flat within tol, which become their chords. Stroked with round joins between them (the
-    stroker's rule inside a curve), chords are within tol of the curve's stroke: the round-
+    flat within tol / 2, which become their chords. Stroked with round joins between them (the
+    stroker's rule inside a curve), chords are within tol / 2 of the curve's stroke: the round-
     joined stroke of a polyline is its Minkowski sum with the pen disc. That is also how
-    bends tighter than the half width are handled, where the offset folds back on itself."""
+    bends tighter than the half width are handled, where the offset folds back on itself.
+    The joins' and caps' arcs may lie inside the disc by their own tolerance, which adds to
+    the chord's: they get what the chord leaves (see _shape_tol)."""
     tans = _seg_tangents(c)
     if tans is None:
         return
@@ -269,21 +282,22 @@ def _cubic_pieces(c, hw, tol, out_pieces, depth=0):
     if ok:
         out_pieces.append(_Piece(c, t0, t1, fits[0], fits[1]))
         return
-    if depth < _MAX_DEPTH and _flatness(c) > tol:
+    flat = _flatness(c)
+    if depth < _MAX_DEPTH and flat > tol / 2:
         a, b = _split_cubic(c, 0.5)
         _cubic_pieces(a, hw, tol, out_pieces, depth + 1)
         _cubic_pieces(b, hw, tol, out_pieces, depth + 1)
         return
     d = _unit(c[3][0] - c[0][0], c[3][1] - c[0][1])
     if d:
-        out_pieces.append(_line_piece(c[0], c[3], d, hw))
+        out_pieces.append(_line_piece(c[0], c[3], d, hw, flat))
     else:
         # a closed loop too small to matter (or depth exhausted): two chords via its midpoint
         pm = _cubic_point(c, 0.5)
         for q0, q1 in ((c[0], pm), (pm, c[3])):
             d = _unit(q1[0] - q0[0], q1[1] - q0[1])
             if d:
-                out_pieces.append(_line_piece(q0, q1, d, hw))
+                out_pieces.append(_line_piece(q0, q1, d, hw, flat))
 
 
 def _flatness(c):
@@ -426,8 +440,8 @@ def _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit):
         run_right = _side_items(run, "right")
         run_left = _side_items(run, "left")
         _join_items(right, left, run[0].src[0], prev.t1, run[0].t0, hw,
-                    run_joins[i] if i < len(runs) else join, miterlimit, tol, run_right[0],
-                    run_left[0])
+                    run_joins[i] if i < len(runs) else join, miterlimit,
+                    _shape_tol(tol, prev, run[0]), run_right[0], run_left[0])
         if i < len(runs):
             right += run_right[1:]
             left += run_left[1:]
@@ -437,8 +451,10 @@ def _stroke_pieces(out, segs, closed, hw, tol, join, cap, miterlimit):
         out.contour(_reversed_items([left[-1][-1]] + left[1:]))
         return
     first, last = runs[0][0], runs[-1][-1]
-    items = right + _cap_items(last.src[-1], last.t1, hw, cap, tol) + _reversed_items(left)[1:]
-    items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap, tol)
+    items = right + _cap_items(last.src[-1], last.t1, hw, cap, _shape_tol(tol, last)) + \
+        _reversed_items(left)[1:]
+    items += _cap_items(first.src[0], (-first.t0[0], -first.t0[1]), hw, cap,
+                        _shape_tol(tol, first))
     out.contour(items)
 
 
