@@ -158,9 +158,14 @@ class Path(BasePen):
     @classmethod
     def from_arrays(cls, verbs, points) -> "Path":
         """A Path holding the given arrays as they are (no per-point Python objects)."""
+        return cls._of_arrays(np.ascontiguousarray(verbs, dtype=np.uint8),
+                              np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2))
+
+    @classmethod
+    def _of_arrays(cls, v, p) -> "Path":
+        """from_arrays for arrays already in the stored form (contiguous uint8 verbs, float64
+        points of shape (N, 2)): the conversions cost a third of a short path's wrapping."""
         path = cls._blank()
-        v = np.ascontiguousarray(verbs, dtype=np.uint8)
-        p = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
         path._verbs = path._pts = None
         path._arrays = (v, p)
         path._open = bool(len(v)) and v[-1] != CLOSE
@@ -179,7 +184,7 @@ class Path(BasePen):
         if m == IDENTITY:
             return self
         v, p = self._freeze()
-        return Path.from_arrays(v, apply(m, p) if len(p) else p)
+        return Path._of_arrays(v, apply(m, p) if len(p) else p)
 
     def bounds(self):
         """Control-point bounds (x0, y0, x1, y1), or None for an empty path."""

@@ -43,7 +43,7 @@ _ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "A": 7
 
 def parse_path_data(d: str) -> Path:
     """The path described by an SVG ``d`` attribute (empty Path for an empty or invalid one)."""
-    return parse_path_data_with_commands(d)[0]
+    return _parse(d)[0]
 
 
 def parse_path_data_with_commands(d: str):
@@ -53,6 +53,12 @@ def parse_path_data_with_commands(d: str):
     An arc becomes several cubics; this tells which verbs belong to one command. (SVG markers
     do not use it: resvg places mid markers between an arc's pieces too.)
     """
+    path, origin = _parse(d)
+    return path, np.asarray(origin, dtype=np.int64)
+
+
+def _parse(d: str):
+    """→ (Path, list of the command index of every verb)."""
     verbs = bytearray()
     pts: list[float] = []       # x0, y0, x1, y1, ...
     origin: list[int] = []
@@ -257,9 +263,9 @@ def parse_path_data_with_commands(d: str):
 
 
 def _finish(verbs, pts, origin):
-    return (Path.from_arrays(np.frombuffer(verbs, dtype=np.uint8),
-                             np.array(pts, dtype=np.float64)),
-            np.asarray(origin, dtype=np.int64))
+    return (Path._of_arrays(np.frombuffer(verbs, dtype=np.uint8),
+                            np.array(pts, dtype=np.float64).reshape(-1, 2)),
+            origin)
 
 
 def _scan_arcs(text: str):
