@@ -16,6 +16,7 @@ from dataclasses import dataclass, field, replace
 
 from ..path import CLOSE, IDENTITY, LINE, MOVE, Path, compose, rect_path
 from ..scene import Fill, Group, Scene, Solid
+from ..stroke import stroke_path
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style
@@ -281,6 +282,8 @@ class Builder:
                 if clip is not None:
                     return [Group(children=nodes, clip=clip)]
             return nodes
+        if style.cache.get("plain-wrap"):
+            return nodes
         if not self.filter_usable(el):
             return []
         opacity = parse_opacity(style.get("opacity"))
@@ -293,6 +296,10 @@ class Builder:
         if opacity <= 0 and not has_mask:
             return []
         if not (has_clip or has_mask or opacity < 1 or blend != "normal" or isolate):
+            # This follows from the style alone (clip-path, mask and filter are not inherited,
+            # so they are among the element's own values that styles are shared by): kept
+            # with it, since map data asks thousands of times.
+            style.cache["plain-wrap"] = True
             return nodes
         if not nodes:
             return []
@@ -575,13 +582,14 @@ class Builder:
             outline = stroke_path(device_path, dev_width, join=join, cap=cap, miterlimit=limit,
                                   dashes=dashes, dash_offset=offset, tolerance=0.25)
             return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
-        device_width = width * mean_scale(ctx.transform)
+        scale = mean_scale(ctx.transform)
+        device_width = width * scale
         stroke_width = width
         if 0 < device_width < 1 and antialias:
             # Wire antialiasing: a hairline drawn 1 px wide, faded by its true width.
             opacity *= device_width
             stroke_width = width / device_width
-        tolerance = 0.25 / max(mean_scale(ctx.transform), 1e-9)
+        tolerance = 0.25 / max(scale, 1e-9)
         outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance)
         if outline is None or not has_segments(outline):
@@ -884,7 +892,3 @@ def valid_paint(value):
         return not fallback or valid_paint(fallback)
     return parse_color(v) is not None
 
-
-def stroke_path(path, width, **kwargs):
-    from ..stroke import stroke_path as stroke
-    return stroke(path, width, **kwargs)
