@@ -16,6 +16,7 @@ MOVE, LINE, QUAD, CUBIC, CLOSE = 0, 1, 2, 3, 4
 VERB_POINTS = (1, 1, 2, 3, 0)
 
 IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+_NOT_DRAWING = bytes((MOVE, CLOSE))
 
 
 def compose(m1, m2):
@@ -177,8 +178,9 @@ class Path(BasePen):
         return len(self.verbs)
 
     def is_empty(self) -> bool:
-        v = self.verbs
-        return not bool(np.any((v >= LINE) & (v <= CUBIC)))
+        """No verb besides MOVE and CLOSE: nothing to draw. On the verb bytes, which costs far
+        less than numpy calls on the short paths of maps."""
+        return not self.verbs.tobytes().translate(None, _NOT_DRAWING)
 
     def transformed(self, m) -> "Path":
         if m == IDENTITY:

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass, field, replace
 
 
-from ..path import CLOSE, IDENTITY, LINE, MOVE, Path, compose, rect_path
+from ..path import IDENTITY, LINE, Path, compose, rect_path
 from ..scene import Fill, Group, Scene, Solid
 from ..stroke import stroke_path
 from . import SvgError
@@ -470,7 +470,7 @@ class Builder:
             path = parse_path_data(el.get("d") or "")
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
-        if path is None or not has_segments(path):
+        if path is None or path.is_empty():
             return []
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
@@ -592,7 +592,7 @@ class Builder:
         tolerance = 0.25 / max(scale, 1e-9)
         outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance)
-        if outline is None or not has_segments(outline):
+        if outline is None or outline.is_empty():
             return []
         return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
                      antialias=antialias)]
@@ -842,15 +842,6 @@ def conditions_pass(el):
     if ext is not None:
         return False
     return True
-
-
-_NOT_DRAWING = bytes((MOVE, CLOSE))
-
-
-def has_segments(path) -> bool:
-    """Whether a path draws anything: some verb besides MOVE and CLOSE (Path.is_empty, done
-    on the verb bytes, which costs far less than numpy calls on the short paths of maps)."""
-    return bool(path.verbs.tobytes().translate(None, _NOT_DRAWING))
 
 
 @functools.lru_cache(maxsize=256)
