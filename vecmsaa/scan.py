@@ -101,7 +101,7 @@ def _mark(dirty, dlist, dcount, r, px):
         dcount[r] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
     """Winding deltas of one straight edge on the sample rows of strip [sy0, sy0 + rows)."""
     if min(x0, x1) >= W:
@@ -208,7 +208,7 @@ def _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local):
     return touched
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, dlist, dcount,
               lo, hi):
     """Lens contribution of one curve primitive on the strip, by coverage mode."""
@@ -303,10 +303,9 @@ def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, d
                 _mark(dirty, dlist, dcount, r, px)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
-    """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row.
-    One call per span (not per pixel): array arguments cost a reference count per call."""
+    """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row."""
     cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
     k = 1.0 - sa
@@ -370,15 +369,32 @@ def _blend_samples(fb, cplx, slot_of, slot_pixel, pool, npool, r, px, cr, cg, cb
     return npool
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
+def _sort_prefix(a, cnt):
+    """Sort a[:cnt] in place. A row's dirty list is short (a few edge crossings): insertion
+    sort, no call and no allocation (numba's quicksort allocates its partition stack);
+    long lists (horizontal edges) still get the O(n log n) sort."""
+    if cnt > 64:
+        a[:cnt].sort()
+        return
+    for i in range(1, cnt):
+        v = a[i]
+        j = i - 1
+        while j >= 0 and a[j] > v:
+            a[j + 1] = a[j]
+            j -= 1
+        a[j + 1] = v
+
+
+@njit(cache=True, inline="always")
 def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
               fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
     """Turn the row's winding deltas into coverage and composite the fill's paint."""
     cnt = dcount[r]
     if cnt == 0:
         return npool
-    idx = dlist[r, :cnt]
-    idx.sort()
+    idx = dlist[r]
+    _sort_prefix(idx, cnt)
     n = wrun.shape[0]
     wrun[:] = 0.0
     solid = kind == 0
