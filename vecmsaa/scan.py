@@ -338,35 +338,22 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
                 pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
-@njit(cache=True, inline="always")
-def _blend_samples(fb, cplx, slot_of, slot_pixel, pool, npool, r, px, cr, cg, cb, ca, cov):
-    """Source-over with a per-sample coverage; splits a one-colour pixel into samples.
-    A pixel keeps its pool slot once it has one; slot_pixel records whose slot it is."""
-    n = cov.shape[0]
-    if cplx[r, px] < 0:
-        slot = slot_of[r, px]
-        if slot < 0:
-            slot = npool
-            npool += 1
-            slot_of[r, px] = slot
-            slot_pixel[slot] = r * fb.shape[1] + px
-        for s in range(n):
-            pool[slot, s, 0] = fb[r, px, 0]
-            pool[slot, s, 1] = fb[r, px, 1]
-            pool[slot, s, 2] = fb[r, px, 2]
-            pool[slot, s, 3] = fb[r, px, 3]
-        cplx[r, px] = slot
-    slot = cplx[r, px]
-    for s in range(n):
-        c = cov[s]
-        if c <= 0.0:
-            continue
-        k = 1.0 - ca * c
-        pool[slot, s, 0] = cr * c + pool[slot, s, 0] * k
-        pool[slot, s, 1] = cg * c + pool[slot, s, 1] * k
-        pool[slot, s, 2] = cb * c + pool[slot, s, 2] * k
-        pool[slot, s, 3] = ca * c + pool[slot, s, 3] * k
-    return npool
+@njit(cache=True)
+def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
+    """Winding deltas of edges e0..e1 on the strip (one call per fill: array arguments are
+    reference-counted once per fill rather than once per edge)."""
+    for e in range(e0, e1):
+        scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
+                  sx, sy, delta, dirty, dlist, dcount)
+
+
+@njit(cache=True)
+def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
+                dlist, dcount, lo, hi):
+    """Lens contributions of primitives c0..c1 on the strip (one call per fill)."""
+    for c in range(c0, c1):
+        scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
+                  dirty, dlist, dcount, lo, hi)
 
 
 @njit(cache=True, inline="always")
@@ -386,80 +373,106 @@ def _sort_prefix(a, cnt):
         a[j + 1] = v
 
 
-@njit(cache=True, inline="always")
-def sweep_row(r, py, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
-              fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
-    """Turn the row's winding deltas into coverage and composite the fill's paint."""
-    cnt = dcount[r]
-    if cnt == 0:
-        return npool
-    idx = dlist[r]
-    _sort_prefix(idx, cnt)
-    n = wrun.shape[0]
-    wrun[:] = 0.0
-    solid = kind == 0
-    cr, cg, cb, ca = f[0], f[1], f[2], f[3]
-    prev = -1
-    for i in range(cnt + 1):
-        px = idx[i] if i < cnt else W
-        if px > prev + 1:
-            c = coverage_of(wrun[0], rule)
-            if c > 0.0:
-                _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c)
-        if i == cnt:
-            break
-        dirty[r, px] = 0
-        uniform = True
-        for s in range(n):
-            wrun[s] += delta[r, px, s]
-            delta[r, px, s] = 0.0
-            cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
-            local[r, px, s] = 0.0
-            if cov[s] != cov[0]:
-                uniform = False
-        if not aa:
-            # crispEdges: one sample decides for the whole pixel
-            uniform = True
-        prev = px
-        if uniform and cov[0] <= 0.0:
-            continue
-        if uniform:
-            _blend_span(fb, cplx, pool, r, px, px + 1, py, kind, f, lut, tex, cov[0])
-        else:
-            if not solid:
-                cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
-            npool = _blend_samples(fb, cplx, slot_of, slot_pixel, pool, npool, r, px, cr, cg, cb,
-                                   ca, cov)
-    dcount[r] = 0
-    return npool
-
-
-@njit(cache=True)
-def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
-    """Winding deltas of edges e0..e1 on the strip (one call per fill: array arguments are
-    reference-counted once per fill rather than once per edge)."""
-    for e in range(e0, e1):
-        scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
-                  sx, sy, delta, dirty, dlist, dcount)
-
-
-@njit(cache=True)
-def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi):
-    """Lens contributions of primitives c0..c1 on the strip (one call per fill)."""
-    for c in range(c0, c1):
-        scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
-                  dirty, dlist, dcount, lo, hi)
-
-
 @njit(cache=True)
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
                dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
-    """sweep_row over rows r0..r1 of the strip (one call per fill)."""
+    """Per row r0..r1 of the strip: turn the winding deltas into coverage and composite the
+    fill's paint (one call per fill). The per-pixel work is written out in this loop nest:
+    every array handed to a helper, even an inlined one, costs an atomic reference count
+    increment and decrement per call, which per dirty pixel was a third of the kernel time.
+    Spans (fewer) still go through _blend_span."""
+    n = wrun.shape[0]
+    solid = kind == 0
     for r in range(r0, r1 + 1):
-        npool = sweep_row(r, sy0 + r, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
-                          dlist, dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun,
-                          cov)
+        cnt = dcount[r]
+        if cnt == 0:
+            continue
+        py = sy0 + r
+        _sort_prefix(dlist[r], cnt)
+        wrun[:] = 0.0
+        cr, cg, cb, ca = f[0], f[1], f[2], f[3]
+        prev = -1
+        for i in range(cnt + 1):
+            px = dlist[r, i] if i < cnt else W
+            if px > prev + 1:
+                c = coverage_of(wrun[0], rule)
+                if c > 0.0:
+                    _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c)
+            if i == cnt:
+                break
+            dirty[r, px] = 0
+            uniform = True
+            for s in range(n):
+                wrun[s] += delta[r, px, s]
+                delta[r, px, s] = 0.0
+                cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
+                local[r, px, s] = 0.0
+                if cov[s] != cov[0]:
+                    uniform = False
+            if not aa:
+                # crispEdges: one sample decides for the whole pixel
+                uniform = True
+            prev = px
+            if uniform and cov[0] <= 0.0:
+                continue
+            if uniform:
+                # _blend_span of the one pixel, coverage cov[0]
+                cu = cov[0]
+                if kind != 0:
+                    pr, pg, pb, pa = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+                else:
+                    pr, pg, pb, pa = f[0], f[1], f[2], f[3]
+                sr, sg, sb, sa = pr * cu, pg * cu, pb * cu, pa * cu
+                k = 1.0 - sa
+                if kind == 0 and sa >= 1.0:
+                    cplx[r, px] = -1
+                    fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
+                    continue
+                slot = cplx[r, px]
+                if slot < 0:
+                    fb[r, px, 0] = sr + fb[r, px, 0] * k
+                    fb[r, px, 1] = sg + fb[r, px, 1] * k
+                    fb[r, px, 2] = sb + fb[r, px, 2] * k
+                    fb[r, px, 3] = sa + fb[r, px, 3] * k
+                elif sa >= 1.0:
+                    # opaque full cover: the pixel is one colour again
+                    cplx[r, px] = -1
+                    fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
+                else:
+                    for s in range(n):
+                        pool[slot, s, 0] = sr + pool[slot, s, 0] * k
+                        pool[slot, s, 1] = sg + pool[slot, s, 1] * k
+                        pool[slot, s, 2] = sb + pool[slot, s, 2] * k
+                        pool[slot, s, 3] = sa + pool[slot, s, 3] * k
+                continue
+            if not solid:
+                cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+            # per-sample coverage: a one-colour pixel splits into samples. A pixel keeps its
+            # pool slot once it has one; slot_pixel records whose slot it is.
+            if cplx[r, px] < 0:
+                slot = slot_of[r, px]
+                if slot < 0:
+                    slot = npool
+                    npool += 1
+                    slot_of[r, px] = slot
+                    slot_pixel[slot] = r * W + px
+                for s in range(n):
+                    pool[slot, s, 0] = fb[r, px, 0]
+                    pool[slot, s, 1] = fb[r, px, 1]
+                    pool[slot, s, 2] = fb[r, px, 2]
+                    pool[slot, s, 3] = fb[r, px, 3]
+                cplx[r, px] = slot
+            slot = cplx[r, px]
+            for s in range(n):
+                cs = cov[s]
+                if cs <= 0.0:
+                    continue
+                k = 1.0 - ca * cs
+                pool[slot, s, 0] = cr * cs + pool[slot, s, 0] * k
+                pool[slot, s, 1] = cg * cs + pool[slot, s, 1] * k
+                pool[slot, s, 2] = cb * cs + pool[slot, s, 2] * k
+                pool[slot, s, 3] = ca * cs + pool[slot, s, 3] * k
+        dcount[r] = 0
     return npool
 
 
