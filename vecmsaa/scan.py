@@ -102,56 +102,6 @@ def _mark(dirty, dlist, dcount, r, px):
 
 
 @njit(cache=True, inline="always")
-def scan_edge(x0, y0, x1, y1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
-    """Winding deltas of one straight edge on the sample rows of strip [sy0, sy0 + rows)."""
-    if min(x0, x1) >= W:
-        return
-    if y0 == y1:
-        # no crossing, but samples above and below it differ: the pixels it touches are dirty
-        r = _floor_int(y0) - sy0
-        if 0 <= r < rows:
-            lo_i = _pixel_index(min(x0, x1), W)
-            hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
-            for px in range(lo_i, hi_i + 1):
-                _mark(dirty, dlist, dcount, r, px)
-        return
-    if y0 < y1:
-        xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
-    else:
-        xt, yt, xb, yb, d = x1, y1, x0, y0, -1.0
-    r_lo = max(_floor_int(yt) - sy0, 0)
-    r_hi = min(_floor_int(yb) - sy0, rows - 1)
-    if r_lo > r_hi:
-        return
-    dxdy = (xb - xt) / (yb - yt)
-    n = sx.shape[0]
-    for r in range(r_lo, r_hi + 1):
-        py = sy0 + r
-        for s in range(n):
-            ys = py + sy[s]
-            if ys < yt or ys >= yb:
-                continue
-            xc = crossing_x(xt, yt, dxdy, ys)
-            fx = math.ceil(xc - sx[s])
-            if fx >= W:
-                continue
-            px = int(fx) if fx > 0 else 0
-            delta[r, px, s] += d
-        # every pixel box this edge touches in the row becomes dirty (plus one to the right,
-        # where crossings of samples left of the edge land)
-        ya = max(yt, py)
-        yb_ = min(yb, py + 1.0)
-        xa = crossing_x(xt, yt, dxdy, ya)
-        xz = crossing_x(xt, yt, dxdy, yb_)
-        lo = _floor_int(min(xa, xz))
-        hi = _floor_int(max(xa, xz)) + 1
-        lo_i = _pixel_index(lo, W)
-        hi_i = _pixel_index(hi, W)
-        for px in range(lo_i, hi_i + 1):
-            _mark(dirty, dlist, dcount, r, px)
-
-
-@njit(cache=True, inline="always")
 def _band_x_range(prim, y_lo, y_hi):
     """x extent of the primitive's control polygon inside the band y_lo ≤ y ≤ y_hi."""
     n = int(prim[P_NCTRL])
@@ -340,11 +290,63 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
 
 @njit(cache=True)
 def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
-    """Winding deltas of edges e0..e1 on the strip (one call per fill: array arguments are
-    reference-counted once per fill rather than once per edge)."""
+    """Winding deltas of the straight edges e0..e1 (one fill) on the sample rows of strip
+    [sy0, sy0 + rows). Written out in one loop nest: an array handed to a helper costs a
+    reference count per call, here per edge and per marked pixel."""
+    n = sx.shape[0]
     for e in range(e0, e1):
-        scan_edge(edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3], sy0, rows, W,
-                  sx, sy, delta, dirty, dlist, dcount)
+        x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
+        if min(x0, x1) >= W:
+            continue
+        if y0 == y1:
+            # no crossing, but samples above and below it differ: the pixels it touches are
+            # dirty
+            r = _floor_int(y0) - sy0
+            if 0 <= r < rows:
+                lo_i = _pixel_index(min(x0, x1), W)
+                hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
+                for px in range(lo_i, hi_i + 1):
+                    if dirty[r, px] == 0:
+                        dirty[r, px] = 1
+                        dlist[r, dcount[r]] = px
+                        dcount[r] += 1
+            continue
+        if y0 < y1:
+            xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
+        else:
+            xt, yt, xb, yb, d = x1, y1, x0, y0, -1.0
+        r_lo = max(_floor_int(yt) - sy0, 0)
+        r_hi = min(_floor_int(yb) - sy0, rows - 1)
+        if r_lo > r_hi:
+            continue
+        dxdy = (xb - xt) / (yb - yt)
+        for r in range(r_lo, r_hi + 1):
+            py = sy0 + r
+            for s in range(n):
+                ys = py + sy[s]
+                if ys < yt or ys >= yb:
+                    continue
+                xc = crossing_x(xt, yt, dxdy, ys)
+                fx = math.ceil(xc - sx[s])
+                if fx >= W:
+                    continue
+                px = int(fx) if fx > 0 else 0
+                delta[r, px, s] += d
+            # every pixel box this edge touches in the row becomes dirty (plus one to the
+            # right, where crossings of samples left of the edge land)
+            ya = max(yt, py)
+            yb_ = min(yb, py + 1.0)
+            xa = crossing_x(xt, yt, dxdy, ya)
+            xz = crossing_x(xt, yt, dxdy, yb_)
+            lo = _floor_int(min(xa, xz))
+            hi = _floor_int(max(xa, xz)) + 1
+            lo_i = _pixel_index(lo, W)
+            hi_i = _pixel_index(hi, W)
+            for px in range(lo_i, hi_i + 1):
+                if dirty[r, px] == 0:
+                    dirty[r, px] = 1
+                    dlist[r, dcount[r]] = px
+                    dcount[r] += 1
 
 
 @njit(cache=True)
