@@ -94,14 +94,6 @@ def _pixel_index(v, W):
 
 
 @njit(cache=True, inline="always")
-def _mark(dirty, dlist, dcount, r, px):
-    if dirty[r, px] == 0:
-        dirty[r, px] = 1
-        dlist[r, dcount[r]] = px
-        dcount[r] += 1
-
-
-@njit(cache=True, inline="always")
 def _band_x_range(prim, y_lo, y_hi):
     """x extent of the primitive's control polygon inside the band y_lo ≤ y ≤ y_hi."""
     n = int(prim[P_NCTRL])
@@ -156,101 +148,6 @@ def _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local):
                 local[r, px, s] += wsign
                 touched = True
     return touched
-
-
-@njit(cache=True, inline="always")
-def scan_lens(prim, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty, dlist, dcount,
-              lo, hi):
-    """Lens contribution of one curve primitive on the strip, by coverage mode."""
-    bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
-    if bx0 >= W or bx1 < -1.0:
-        return
-    r_lo = max(_floor_int(by0) - sy0, 0)
-    r_hi = min(_floor_int(by1) - sy0, rows - 1)
-    if r_lo > r_hi:
-        return
-    n = sx.shape[0]
-    full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
-    xt, yt, xb, yb = prim[P_CHORD], prim[P_CHORD + 1], prim[P_CHORD + 2], prim[P_CHORD + 3]
-    right = prim[P_RIGHT] != 0.0
-    horizontal = yt == yb
-    dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
-    sigma = prim[P_SIGMA]
-    wsign = prim[P_WSIGN]
-    cubic = prim[P_KIND] == KIND_CUBIC
-    for r in range(r_lo, r_hi + 1):
-        py = sy0 + r
-        xa, xz = _band_x_range(prim, py, py + 1.0)
-        if not (xa <= xz):
-            continue
-        pxa = max(0, _floor_int(xa))
-        pxz = min(W - 1, _floor_int(xz))
-        if pxa > pxz:
-            continue
-        # per sample: the pixel range where it is on the lens side of chord and tangents
-        max_lo, min_hi = -BIG, BIG
-        for s in range(n):
-            ys = py + sy[s]
-            if horizontal:
-                inside = (ys >= yt) == right
-                lo[s] = -BIG if inside else BIG
-                hi[s] = BIG
-            else:
-                t = math.ceil(crossing_x(xt, yt, dxdy, ys) - sx[s])
-                t = max(min(t, BIG), -BIG)
-                if right:
-                    lo[s], hi[s] = int(t), BIG
-                else:
-                    lo[s], hi[s] = -BIG, int(t) - 1
-            if cubic:
-                _clip_half_plane(lo, hi, s, prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2], sx[s], ys)
-                _clip_half_plane(lo, hi, s, prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2], sx[s], ys)
-            max_lo = max(max_lo, lo[s])
-            min_hi = min(min_hi, hi[s])
-        for px in range(pxa, pxz + 1):
-            if px >= max_lo and px <= min_hi:
-                region = full
-            else:
-                region = np.uint64(0)
-                for s in range(n):
-                    if lo[s] <= px and px <= hi[s]:
-                        region |= np.uint64(1) << np.uint64(s)
-                if region == 0:
-                    continue
-            touched = False
-            if mode == MODE_PERSAMPLE or mode == MODE_NONE:
-                touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local)
-            else:
-                f, gx, gy = _eval_implicit(prim, px + 0.5, py + 0.5)
-                g = math.hypot(gx, gy)
-                if not (g > 0.0) or not math.isfinite(f):
-                    # singular point (cusp, double point): evaluate per sample instead
-                    touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign,
-                                               local)
-                else:
-                    dist = sigma * f / g
-                    if mode == MODE_ALPHA:
-                        alpha = min(1.0, max(0.0, 0.5 - dist))
-                        if alpha > 0.0:
-                            for s in range(n):
-                                if (region >> np.uint64(s)) & np.uint64(1):
-                                    local[r, px, s] += wsign * alpha
-                                    touched = True
-                    else:
-                        if mode == MODE_APPROX:
-                            bits = mask_lookup(table, sigma * gx / g, sigma * gy / g, dist, full)
-                        else:  # MODE_A2C
-                            alpha = min(1.0, max(0.0, 0.5 - dist))
-                            k = int(alpha * n + 0.5)
-                            bits = a2c_bits[k]
-                        bits &= region
-                        if bits != 0:
-                            for s in range(n):
-                                if (bits >> np.uint64(s)) & np.uint64(1):
-                                    local[r, px, s] += wsign
-                            touched = True
-            if touched:
-                _mark(dirty, dlist, dcount, r, px)
 
 
 @njit(cache=True, inline="always")
@@ -352,10 +249,102 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
 @njit(cache=True)
 def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
                 dlist, dcount, lo, hi):
-    """Lens contributions of primitives c0..c1 on the strip (one call per fill)."""
+    """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
+    mode. Written out in one loop nest: an array handed to a helper costs a reference count
+    per call, here per primitive and per touched pixel."""
     for c in range(c0, c1):
-        scan_lens(prims[c], sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
-                  dirty, dlist, dcount, lo, hi)
+        prim = prims[c]
+        bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
+        if bx0 >= W or bx1 < -1.0:
+            continue
+        r_lo = max(_floor_int(by0) - sy0, 0)
+        r_hi = min(_floor_int(by1) - sy0, rows - 1)
+        if r_lo > r_hi:
+            continue
+        n = sx.shape[0]
+        full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
+        xt, yt, xb, yb = prim[P_CHORD], prim[P_CHORD + 1], prim[P_CHORD + 2], prim[P_CHORD + 3]
+        right = prim[P_RIGHT] != 0.0
+        horizontal = yt == yb
+        dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
+        sigma = prim[P_SIGMA]
+        wsign = prim[P_WSIGN]
+        cubic = prim[P_KIND] == KIND_CUBIC
+        for r in range(r_lo, r_hi + 1):
+            py = sy0 + r
+            xa, xz = _band_x_range(prim, py, py + 1.0)
+            if not (xa <= xz):
+                continue
+            pxa = max(0, _floor_int(xa))
+            pxz = min(W - 1, _floor_int(xz))
+            if pxa > pxz:
+                continue
+            # per sample: the pixel range where it is on the lens side of chord and tangents
+            max_lo, min_hi = -BIG, BIG
+            for s in range(n):
+                ys = py + sy[s]
+                if horizontal:
+                    inside = (ys >= yt) == right
+                    lo[s] = -BIG if inside else BIG
+                    hi[s] = BIG
+                else:
+                    t = math.ceil(crossing_x(xt, yt, dxdy, ys) - sx[s])
+                    t = max(min(t, BIG), -BIG)
+                    if right:
+                        lo[s], hi[s] = int(t), BIG
+                    else:
+                        lo[s], hi[s] = -BIG, int(t) - 1
+                if cubic:
+                    _clip_half_plane(lo, hi, s, prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2], sx[s], ys)
+                    _clip_half_plane(lo, hi, s, prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2], sx[s], ys)
+                max_lo = max(max_lo, lo[s])
+                min_hi = min(min_hi, hi[s])
+            for px in range(pxa, pxz + 1):
+                if px >= max_lo and px <= min_hi:
+                    region = full
+                else:
+                    region = np.uint64(0)
+                    for s in range(n):
+                        if lo[s] <= px and px <= hi[s]:
+                            region |= np.uint64(1) << np.uint64(s)
+                    if region == 0:
+                        continue
+                touched = False
+                if mode == MODE_PERSAMPLE or mode == MODE_NONE:
+                    touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local)
+                else:
+                    f, gx, gy = _eval_implicit(prim, px + 0.5, py + 0.5)
+                    g = math.hypot(gx, gy)
+                    if not (g > 0.0) or not math.isfinite(f):
+                        # singular point (cusp, double point): evaluate per sample instead
+                        touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign,
+                                                   local)
+                    else:
+                        dist = sigma * f / g
+                        if mode == MODE_ALPHA:
+                            alpha = min(1.0, max(0.0, 0.5 - dist))
+                            if alpha > 0.0:
+                                for s in range(n):
+                                    if (region >> np.uint64(s)) & np.uint64(1):
+                                        local[r, px, s] += wsign * alpha
+                                        touched = True
+                        else:
+                            if mode == MODE_APPROX:
+                                bits = mask_lookup(table, sigma * gx / g, sigma * gy / g, dist, full)
+                            else:  # MODE_A2C
+                                alpha = min(1.0, max(0.0, 0.5 - dist))
+                                k = int(alpha * n + 0.5)
+                                bits = a2c_bits[k]
+                            bits &= region
+                            if bits != 0:
+                                for s in range(n):
+                                    if (bits >> np.uint64(s)) & np.uint64(1):
+                                        local[r, px, s] += wsign
+                                touched = True
+                if touched and dirty[r, px] == 0:
+                    dirty[r, px] = 1
+                    dlist[r, dcount[r]] = px
+                    dcount[r] += 1
 
 
 @njit(cache=True, inline="always")
