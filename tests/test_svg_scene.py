@@ -384,8 +384,13 @@ def test_linear_rgb_mask_content():
 
 
 def test_element_with_a_broken_filter_reference_is_not_drawn():
-    s = scene('<filter id="f"/><rect width="1" height="1" filter="url(#missing)"/>'
-              '<rect width="2" height="2" filter="url(#f)"/>')
+    # a missing element and a filter without primitives are both unusable (usvg)
+    s = scene('<filter id="f"/><filter id="g"><feOffset/></filter>'
+              '<rect width="1" height="1" filter="url(#missing)"/>'
+              '<rect width="3" height="3" filter="url(#f)"/>'
+              '<rect width="2" height="2" filter="url(#g)"/>')
+    (g,) = s.root.children
+    assert len(g.filters) == 1 and g.filters[0].primitives[0].kind == "offset"
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .blend import blend_premultiplied, unpremultiply_to_rgba8
+from .filters import apply_filter
 from .geometry import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
@@ -36,6 +37,9 @@ STRIP_BUDGET = 1 << 22
 #: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
 #: level is rendered band by band so the whole image never exists in float
 BAND_BUDGET = 1 << 24
+#: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
+#: filter region (within the image) is larger is not drawn
+MAX_FILTER_PIXELS = 1 << 24
 FILTERS = ("box", "tent")
 PATTERN_NAMES = tuple(PATTERNS)
 
@@ -130,7 +134,7 @@ def render_bands(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDG
     items = prepare_items(scene.root, opts)
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
     band_rows = max(1, min(band_rows, H))
-    raster = Raster(opts, W, strip_rows)
+    raster = Raster(opts, W, H, strip_rows)
     buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
     background = premultiplied(scene.background)
     for y0 in range(0, H, band_rows):
@@ -155,8 +159,9 @@ class Raster:
     """The raster kernels and their strip buffers for one image width: allocated once, reused
     by every band and batch (the kernels leave them clean), so no band pays for fresh pages."""
 
-    def __init__(self, opts: RenderOptions, width: int, strip_rows: int):
+    def __init__(self, opts: RenderOptions, width: int, height: int, strip_rows: int):
         self.opts = opts
+        self.width, self.height = width, height
         if opts.mode == "analytic":
             self.scratch = analytic_scratch(strip_rows, width)
         else:
@@ -203,7 +208,9 @@ class Layer:
     """A group drawn into a buffer of its own and composited, prepared once per render: its
     items, the clip (a layer whose alpha is a coverage) and the mask (a layer whose luminance
     or alpha is) that multiply it, opacity and blend mode. ``rows``: the device y range where
-    it can be non-zero — inside its content, its clip and its mask — or None."""
+    it can be non-zero — inside its content (or its filter region), its clip and its mask — or
+    None. A filtered layer is rendered and filtered whole, once, the first time a band needs it
+    (``filtered``: (x0, y0, x1, y1) device rect and its pixels)."""
 
     def __init__(self, group: Group, opts: RenderOptions):
         self.items = prepare_items(group, opts)
@@ -212,7 +219,12 @@ class Layer:
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
-        rows = _union([item.rows for item in self.items])
+        self.filters = group.filters
+        self.filtered = None
+        if self.filters:
+            rows = _union([(f.region[1], f.region[3]) for f in self.filters])
+        else:
+            rows = _union([item.rows for item in self.items])
         for part in (self.clip, self.mask):
             if part is not None:
                 rows = _intersection(rows, part.rows)
@@ -289,12 +301,54 @@ def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
 
 def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> None:
     img = np.zeros_like(target)
-    draw_items(layer.items, img, y0, raster)
+    if layer.filters:
+        draw_filtered(layer, img, y0, raster)
+    else:
+        draw_items(layer.items, img, y0, raster)
     for factor in _clip_and_mask(layer, target.shape, y0, raster):
         img *= factor[..., None]
     if layer.opacity < 1.0:
         img *= np.float32(layer.opacity)
     composite(img, target, layer.blend)
+
+
+def draw_filtered(layer: Layer, img: np.ndarray, y0: int, raster: Raster) -> None:
+    """Copy the rows of ``img`` (device rows from y0) that the layer's filtered content covers."""
+    if layer.filtered is None:
+        layer.filtered = render_filtered(layer, raster)
+    (x0, fy0, x1, fy1), pixels = layer.filtered
+    a, b = max(y0, fy0), min(y0 + img.shape[0], fy1)
+    if a < b and x0 < x1:
+        img[a - y0:b - y0, x0:x1] = pixels[a - fy0:b - fy0]
+
+
+def render_filtered(layer: Layer, raster: Raster):
+    """(rect, pixels): the layer's content rendered in the union of its filter regions (within
+    the image) and put through its filters in order, each taking the previous one's result."""
+    W, H = raster.width, raster.height
+    regions = [f.region for f in layer.filters]
+    x0, y0 = max(min(r[0] for r in regions), 0), max(min(r[1] for r in regions), 0)
+    x1, y1 = min(max(r[2] for r in regions), W), min(max(r[3] for r in regions), H)
+    if x1 <= x0 or y1 <= y0 or (x1 - x0) * (y1 - y0) > MAX_FILTER_PIXELS:
+        return (0, 0, 0, 0), None
+    rows = np.zeros((y1 - y0, W, 4), dtype=np.float32)
+    draw_items(layer.items, rows, y0, raster)
+    pixels = rows[:, x0:x1]
+    for f in layer.filters:
+        fx0, fy0 = max(f.region[0], x0), max(f.region[1], y0)
+        fx1, fy1 = min(f.region[2], x1), min(f.region[3], y1)
+        out = np.zeros_like(pixels)
+        if fx1 > fx0 and fy1 > fy0:
+            part = np.ascontiguousarray(pixels[fy0 - y0:fy1 - y0, fx0 - x0:fx1 - x0])
+
+            def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
+                img = np.zeros((fy1 - fy0, W, 4), dtype=np.float32)
+                draw_items(prepare_items(group, raster.opts), img, fy0, raster)
+                return img[:, fx0:fx1]
+            out[fy0 - y0:fy1 - y0, fx0 - x0:fx1 - x0] = apply_filter(part, f, (fx0, fy0),
+                                                                     draw_content)
+        pixels = out
+    return (x0, y0, x1, y1), pixels
 
 
 def _clip_and_mask(layer: Layer, shape, y0: int, raster: Raster):

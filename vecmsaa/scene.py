@@ -84,19 +84,47 @@ class Mask:
 
 
 @dataclass
+class Primitive:
+    """One filter primitive, resolved to device pixels (see vecmsaa/filters.py for the kinds and
+    their ``params``). ``inputs``: SOURCE_GRAPHIC, SOURCE_ALPHA or the index of an earlier
+    primitive; ``subregion``: (x0, y0, x1, y1) device pixels its result is confined to;
+    ``linear``: computed in linearRGB (color-interpolation-filters) rather than sRGB."""
+    kind: str
+    params: dict = field(default_factory=dict)
+    inputs: tuple = ()
+    subregion: tuple = (0, 0, 0, 0)
+    linear: bool = True
+
+
+SOURCE_GRAPHIC = -1
+SOURCE_ALPHA = -2
+
+
+@dataclass
+class Filter:
+    """A filter effect: its primitives applied in order inside ``region`` ((x0, y0, x1, y1)
+    device pixels); the last primitive's result, cropped to the region, replaces the group."""
+    region: tuple
+    primitives: list = field(default_factory=list)
+
+
+@dataclass
 class Group:
-    """Children drawn in order. A group with opacity < 1, a clip, a mask or a blend mode other
-    than normal is drawn into a layer of its own and composited; a plain group is flattened."""
+    """Children drawn in order. A group with opacity < 1, a clip, a mask, a blend mode other
+    than normal or filters is drawn into a layer of its own and composited; a plain group is
+    flattened. Filters apply first (each to the previous one's result), then clip, mask and
+    opacity."""
     children: list = field(default_factory=list)
     opacity: float = 1.0
     clip: "Group | None" = None  # its rendered alpha is the clip coverage
     mask: Mask | None = None
     blend: str = "normal"        # any CSS mix-blend-mode
     isolate: bool = False
+    filters: list = field(default_factory=list)
 
     def needs_layer(self) -> bool:
         return (self.opacity < 1.0 or self.clip is not None or self.mask is not None
-                or self.blend != "normal" or self.isolate)
+                or self.blend != "normal" or self.isolate or bool(self.filters))
 
 
 Node = Union[Fill, Group]

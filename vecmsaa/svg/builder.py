@@ -3,7 +3,7 @@
 All geometry leaves this module in device pixels. Each element is visited with a :class:`Ctx`
 holding the user → device matrix, the viewport used for percentages, and the state that ``<use>``
 and markers carry (``context-fill``/``context-stroke``, the instantiation stack). Structural
-effects (opacity, clip-path, mask, mix-blend-mode, isolation) become :class:`~vecmsaa.scene.Group`
+effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
 layers; anything else is flattened into its parent.
 """
 from __future__ import annotations
@@ -20,6 +20,7 @@ from ..stroke import stroke_path
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style
+from .filters import element_filters
 from .geometry import path_bounds, union
 from .markers import draw_markers
 from .pathdata import parse_path_data
@@ -270,7 +271,7 @@ class Builder:
 
     # -- structural wrapping ---------------------------------------------------------------
     def wrap(self, el, style, ctx, nodes) -> list:
-        """Apply opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
+        """Apply filter, opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
         if ctx.geometry:
             return nodes
         if ctx.clip:
@@ -284,8 +285,6 @@ class Builder:
             return nodes
         if style.cache.get("plain-wrap"):
             return nodes
-        if not self.filter_usable(el):
-            return []
         opacity = parse_opacity(style.get("opacity"))
         blend = (style.get("mix-blend-mode") or "normal").strip()
         isolate = style.get("isolation").strip() == "isolate"
@@ -293,23 +292,27 @@ class Builder:
         mask_ref = el.specified.get("mask")
         has_clip = clip_ref and clip_ref.strip() != "none"
         has_mask = mask_ref and mask_ref.strip() != "none"
+        filter_ref = el.specified.get("filter")
+        has_filter = filter_ref and filter_ref.strip() != "none"
         if opacity <= 0 and not has_mask:
             return []
-        if not (has_clip or has_mask or opacity < 1 or blend != "normal" or isolate):
+        if not (has_clip or has_mask or has_filter or opacity < 1 or blend != "normal"
+                or isolate):
             # This follows from the style alone (clip-path, mask and filter are not inherited,
             # so they are among the element's own values that styles are shared by): kept
             # with it, since map data asks thousands of times.
             style.cache["plain-wrap"] = True
             return nodes
-        if not nodes:
-            return []
         bbox_cache = []
 
         def bbox():
             if not bbox_cache:
                 bbox_cache.append(self.object_bbox(el, ctx, style))
             return bbox_cache[0]
-        group = Group(children=nodes)
+        filters = element_filters(self, el, style, ctx, bbox) if has_filter else []
+        if filters is False or not (nodes or filters):
+            return []
+        group = Group(children=nodes, filters=filters)
         if has_clip:
             clip = self.clip_path(clip_ref, ctx, bbox)
             if clip is False:
@@ -328,18 +331,6 @@ class Builder:
         group.blend = blend
         group.isolate = isolate
         return [group]
-
-    def filter_usable(self, el):
-        """False when ``filter`` points at nothing usable: the element is then not drawn (SVG,
-        resvg). Filter effects themselves are not implemented; a valid filter is ignored."""
-        value = el.specified.get("filter")
-        if not value or value.strip() == "none":
-            return True
-        for ref in re.findall(r"url\(\s*['\"]?([^'\")]*)", value):
-            target = self.doc.lookup(ref) if ref.strip().startswith("#") else None
-            if target is None or target.tag != "filter":
-                return False
-        return True
 
     def object_bbox(self, el, ctx, style):
         """Object bounding box of an element in its own user space (after its transform)."""

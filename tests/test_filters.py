@@ -1,0 +1,192 @@
+"""Filter primitives (vecmsaa.filters) against the spec's formulas computed here, and filters end
+to end through the SVG front end."""
+import math
+
+import numpy as np
+import pytest
+
+from vecmsaa import filters as F
+from vecmsaa.api import render_svg_array
+from vecmsaa.scene import SOURCE_GRAPHIC, Filter, Primitive
+
+NS = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+def square(size=41, lo=15, hi=26, color=(1.0, 0.5, 0.25, 1.0)):
+    img = np.zeros((size, size, 4), dtype=np.float32)
+    img[lo:hi, lo:hi] = color
+    return img
+
+
+def direct_gaussian(img, sigma):
+    """2-D convolution with a sampled Gaussian, written out as a plain sum over the kernel."""
+    r = int(math.ceil(3 * sigma))
+    out = np.zeros_like(img, dtype=np.float64)
+    h, w = img.shape[:2]
+    weights = {}
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            weights[dy, dx] = math.exp(-(dx * dx + dy * dy) / (2 * sigma * sigma))
+    total = sum(weights.values())
+    for (dy, dx), wgt in weights.items():
+        shifted = np.zeros_like(out)
+        shifted[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = \
+            img[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)]
+        out += wgt / total * shifted
+    return out
+
+
+def test_small_blur_is_a_gaussian_convolution():
+    img = square()
+    got = F.gaussian_blur(img, 1.5, 1.5)
+    assert np.abs(got - direct_gaussian(img, 1.5)).max() < 1e-5
+
+
+def test_large_blur_approximates_a_gaussian_and_keeps_the_mass():
+    img = square()
+    got = F.gaussian_blur(img, 4.0, 4.0)
+    assert abs(got[..., 3].sum() - img[..., 3].sum()) < 1e-3 * img[..., 3].sum()
+    assert np.abs(got - direct_gaussian(img, 4.0)).max() < 0.03
+
+
+def test_box_sizes_match_the_variance():
+    for sigma in (2.0, 3.7, 10.0, 55.0):
+        sizes = F.box_sizes(sigma)
+        assert all(s % 2 == 1 for s in sizes)
+        variance = sum((s * s - 1) / 12 for s in sizes)
+        assert abs(math.sqrt(variance) - sigma) < 0.1 * sigma
+
+
+def test_blur_zero_or_huge_is_safe():
+    img = square()
+    assert F.gaussian_blur(img, 0, 0) is img
+    huge = F.gaussian_blur(img, 1e6, 1e6)
+    assert np.isfinite(huge).all() and huge.max() <= 1.0
+
+
+def test_offset_shifts_exactly():
+    img = np.random.default_rng(1).random((7, 9, 4)).astype(np.float32)
+    got = F.offset(img, 2, -3)
+    assert np.array_equal(got[:4, 2:], img[3:, :7])
+    assert not got[4:].any() and not got[:, :2].any()
+    assert not F.offset(img, 100, 0).any()
+
+
+def test_color_matrix_formulas():
+    red = np.array([[[1.0, 0.0, 0.0, 1.0]]], dtype=np.float32)
+    from vecmsaa.svg.filters import hue_rotate_matrix, saturate_matrix
+    grey = F.color_matrix(red, saturate_matrix(0.0))
+    assert np.allclose(grey[0, 0, :3], 0.2126, atol=1e-6)
+    # hue rotation by 0 is the identity, by 360 too
+    for deg in (0.0, 360.0):
+        assert np.allclose(F.color_matrix(red, hue_rotate_matrix(deg)), red, atol=1e-5)
+    # a translucent colour: the matrix acts on straight colour, the result is premultiplied
+    half = np.array([[[0.25, 0.1, 0.0, 0.5]]], dtype=np.float32)     # straight (0.5, 0.2, 0)
+    m = [0, 1, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1, 0, 0.5, 0, 0, 0, 1, 0]  # swap r, g; b = 0.5
+    assert np.allclose(F.color_matrix(half, m)[0, 0], [0.1, 0.25, 0.25, 0.5], atol=1e-6)
+
+
+def test_composite_arithmetic_is_clamped_formula():
+    rng = np.random.default_rng(2)
+    a = rng.random((5, 5, 4)).astype(np.float32)
+    b = rng.random((5, 5, 4)).astype(np.float32)
+    a[..., :3] *= a[..., 3:]
+    b[..., :3] *= b[..., 3:]
+    k = (0.5, 0.7, -0.2, 0.1)
+    got = F.composite(a, b, "arithmetic", k)
+    want = np.clip(k[0] * a * b + k[1] * a + k[2] * b + k[3], 0, 1)
+    want[..., :3] = np.minimum(want[..., :3], want[..., 3:])
+    assert np.allclose(got, want, atol=1e-6)
+    assert np.allclose(F.composite(a, b, "in"), a * b[..., 3:])
+    assert np.allclose(F.composite(a, b, "over"), a + b * (1 - a[..., 3:]))
+
+
+def test_linear_rgb_round_trip_and_known_value():
+    c = np.linspace(0, 1, 101)
+    assert np.allclose(F.linear_to_srgb(F.srgb_to_linear(c)), c, atol=1e-9)
+    assert abs(F.srgb_to_linear(np.array(0.5)) - 0.21404) < 1e-4
+
+
+def test_component_transfer_table_discrete_gamma():
+    c = np.array([0.0, 0.25, 0.5, 1.0], dtype=np.float32)
+    assert np.allclose(F.transfer(c, ("table", (0.0, 1.0, 0.0))), [0, 0.5, 1, 0])
+    assert np.allclose(F.transfer(c, ("discrete", (0.2, 0.8))), [0.2, 0.2, 0.8, 0.8])
+    assert np.allclose(F.transfer(c, ("gamma", (2.0, 2.0, 0.1))), 2 * c * c + 0.1)
+
+
+def test_morphology_dilate_grows_a_pixel_by_the_radius():
+    img = np.zeros((9, 9, 4), dtype=np.float32)
+    img[4, 4] = 1.0
+    got = F.morphology(img, "dilate", 2, 1)
+    # window offsets [-2, 1] in x, [-1, 0] in y: the pixel spreads to x 3..6, y 4..5
+    ys, xs = np.nonzero(got[..., 3])
+    assert (xs.min(), xs.max(), ys.min(), ys.max()) == (3, 6, 4, 5)
+
+
+def test_subregion_clips_and_result_is_srgb():
+    source = square(20, 0, 20, (0.5, 0.5, 0.5, 1.0))
+    flt = Filter(region=(10, 10, 30, 30), primitives=[
+        Primitive("color_matrix", {"matrix": [1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0,
+                                              0, 0, 0, 1, 0]},
+                  (SOURCE_GRAPHIC,), (15, 10, 30, 30), True)])
+    out = F.apply_filter(source, flt)
+    assert not out[:, :5].any()
+    assert np.allclose(out[:, 5:], (0.5, 0.5, 0.5, 1.0), atol=1e-6)   # linearRGB and back
+
+
+# -- end to end ----------------------------------------------------------------------------
+def render(body, size=40):
+    svg = f'<svg {NS} width="{size}" height="{size}">{body}</svg>'
+    return render_svg_array(svg).astype(int)
+
+
+def test_flood_fills_the_filter_region_in_user_space():
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="5" y="10" width="20" '
+                 'height="10"><feFlood flood-color="#00ff00" flood-opacity="0.5"/></filter>'
+                 '<rect width="40" height="40" fill="red" filter="url(#f)"/>')
+    assert tuple(img[15, 10]) == (0, 255, 0, 128)
+    assert img[5, 10, 3] == 0 and img[25, 30, 3] == 0
+
+
+def test_default_region_is_the_bounding_box_grown_by_ten_percent():
+    img = render('<filter id="f"><feFlood flood-color="blue"/></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    # region: 8 .. 32 in both axes
+    assert img[8, 8, 3] == 255 and img[31, 31, 3] == 255
+    assert img[7, 20, 3] == 0 and img[20, 32, 3] == 0
+
+
+def test_drop_shadow_sits_under_the_shape_offset():
+    img = render('<filter id="f"><feDropShadow dx="4" dy="4" stdDeviation="0" '
+                 'flood-color="black"/></filter>'
+                 '<rect x="10" y="10" width="10" height="10" fill="#ff0000" filter="url(#f)"/>')
+    assert tuple(img[15, 15]) == (255, 0, 0, 255)
+    assert tuple(img[20, 20]) == (0, 0, 0, 255)
+    assert img[12, 20, 3] == 0
+    assert img[22, 22, 3] == 0          # outside the filter region (9 .. 21)
+
+
+def test_broken_or_empty_filters_hide_the_element():
+    for ref in ('url(#missing)', 'url(#notafilter)', 'url(#empty)', 'url(#zero)'):
+        img = render('<filter id="empty"/><linearGradient id="notafilter"/>'
+                     '<filter id="zero" width="0"><feFlood/></filter>'
+                     f'<rect width="40" height="40" filter="{ref}"/>')
+        assert not img[..., 3].any(), ref
+
+
+def test_unparsable_filter_value_is_ignored():
+    img = render('<rect width="40" height="40" fill="#0000ff" filter="blur(-3px)"/>')
+    assert tuple(img[20, 20]) == (0, 0, 255, 255)
+
+
+def test_css_grayscale_function():
+    img = render('<rect width="40" height="40" fill="#ff0000" filter="grayscale(1)"/>')
+    v = round(0.2126 * 255)
+    assert abs(img[20, 20, 0] - v) <= 1 and img[20, 20, 0] == img[20, 20, 1] == img[20, 20, 2]
+
+
+@pytest.mark.parametrize("std", ["1e9", "-5", "nan", "1 2 3"])
+def test_bad_blur_values_do_not_crash(std):
+    img = render(f'<filter id="f"><feGaussianBlur stdDeviation="{std}"/></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    assert np.isfinite(img).all()

@@ -1,0 +1,565 @@
+"""The ``filter`` property → resolved :class:`~vecmsaa.scene.Filter` lists (usvg semantics).
+
+``filter`` is a list of ``url(#id)`` references to ``<filter>`` elements and CSS filter
+functions (``blur()``, ``drop-shadow()``, ``grayscale()``...), applied in order. Regions,
+subregions, standard deviations and offsets are resolved here to device pixels: the filter region
+is the device bounding box of its user-space rectangle, and lengths are scaled by the
+transform's x and y scale (as resvg: a rotated or skewed element is filtered in device space).
+
+A reference to nothing usable (a missing element, another kind of element, an empty or invalid
+region, a filter without primitives) counts as invalid; when every entry is invalid the element
+is not drawn. A value that does not parse is ignored (the element is drawn unfiltered).
+"""
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import replace
+
+from ..scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
+from .color import parse_color
+from .document import Element
+from .units import parse_number, parse_numbers, split_length
+
+_FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
+PRIMITIVE_TAGS = {
+    "feBlend", "feColorMatrix", "feComponentTransfer", "feComposite", "feConvolveMatrix",
+    "feDiffuseLighting", "feDisplacementMap", "feDropShadow", "feFlood", "feGaussianBlur",
+    "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
+    "feTurbulence"}
+#: primitives not implemented: their result is transparent (what usvg makes of a bad primitive)
+UNSUPPORTED = {"feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap",
+               "feSpecularLighting", "feTurbulence"}
+TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
+LUMA = (0.2126, 0.7152, 0.0722)
+
+
+def element_filters(builder, el, style, ctx, bbox_fn):
+    """[Filter] for the element's ``filter`` value, [] when there is none (or it does not
+    parse), False when the element is not drawn."""
+    value = (el.specified.get("filter") or "").strip()
+    if not value or value == "none" or any(r is el for r in builder.ref_stack):
+        return []           # an feImage draws the element it references unfiltered
+    entries = parse_filter_value(value)
+    if entries is None:
+        return []
+    out, invalid = [], False
+    for name, args in entries:
+        if name == "url":
+            ref = args.strip().strip("'\"")
+            target = builder.doc.lookup(ref) if ref.startswith("#") else None
+            flt = (filter_element(builder, target, el, ctx, bbox_fn)
+                   if target is not None and target.tag == "filter" else None)
+            if flt is None:
+                invalid = True
+            else:
+                out.append(flt)
+        else:
+            flt = filter_function(builder, name, args, style, ctx, bbox_fn)
+            if flt is False:
+                return []
+            if flt is not None:
+                out.append(flt)
+    if not out and invalid:
+        return False
+    return out
+
+
+def parse_filter_value(value):
+    """[(function name, argument text)] or None when the value does not parse."""
+    out, pos = [], 0
+    while pos < len(value):
+        m = _FUNCTION.match(value, pos)
+        if not m:
+            return None
+        out.append((m.group(1).lower(), m.group(2)))
+        pos = m.end()
+    return out
+
+
+# -- geometry ------------------------------------------------------------------------------
+def device_rect(x, y, w, h, m):
+    """Integer device bounding box (x0, y0, x1, y1) of a user rectangle, as tiny-skia's
+    ``to_int_rect`` rounds it (corner floored, size ceiled)."""
+    a, b, c, d, e, f = m
+    xs = [a * px + c * py + e for px, py in ((x, y), (x + w, y), (x, y + h), (x + w, y + h))]
+    ys = [b * px + d * py + f for px, py in ((x, y), (x + w, y), (x, y + h), (x + w, y + h))]
+    if not all(math.isfinite(v) for v in xs + ys):
+        return None
+    x0, y0 = math.floor(min(xs)), math.floor(min(ys))
+    x1 = x0 + max(1, math.ceil(max(xs) - min(xs)))
+    y1 = y0 + max(1, math.ceil(max(ys) - min(ys)))
+    return (x0, y0, x1, y1)
+
+
+def transform_scale(m):
+    """(x scale, y scale) of a matrix, as tiny-skia's ``get_scale``."""
+    a, b, c, d, _, _ = m
+    return math.hypot(a, c), math.hypot(b, d)
+
+
+def _fraction(text):
+    """An objectBoundingBox coordinate: a number or a percentage, as a fraction."""
+    parsed = split_length(text) if text is not None else None
+    if parsed is None:
+        return None
+    v, unit = parsed
+    return v / 100 if unit == "%" else v
+
+
+def _href_chain(el, doc):
+    seen = []
+    while el is not None and el.tag == "filter" and all(e is not el for e in seen):
+        seen.append(el)
+        el = doc.lookup(el.href()) if el.href() else None
+    return seen
+
+
+# -- <filter> ------------------------------------------------------------------------------
+def filter_element(builder, fel, el, ctx, bbox_fn):
+    """The Filter of a ``<filter>`` element for ``el``, or None when unusable."""
+    chain = _href_chain(fel, builder.doc)
+
+    def attr(name):
+        for e in chain:
+            if e.get(name) is not None:
+                return e.get(name)
+        return None
+
+    units_obb = (attr("filterUnits") or "").strip() != "userSpaceOnUse"
+    prim_obb = (attr("primitiveUnits") or "").strip() == "objectBoundingBox"
+    bbox = bbox_fn() if (units_obb or prim_obb) else None
+    if (units_obb or prim_obb) and (bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]):
+        return None
+    style = builder.doc.document_style(fel)
+    if units_obb:
+        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
+        fr = [_fraction(attr(n)) for n in ("x", "y", "width", "height")]
+        fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
+        x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+    else:
+        vw, vh = ctx.viewport
+
+        def length(name, axis, default):
+            v = builder.length(attr(name), axis, style, ctx.viewport)
+            return default if v is None else v
+        x, y = length("x", "x", -0.1 * vw), length("y", "y", -0.1 * vh)
+        w, h = length("width", "x", 1.2 * vw), length("height", "y", 1.2 * vh)
+    if not (w > 0 and h > 0):
+        return None
+    region = device_rect(x, y, w, h, ctx.transform)
+    holder = next((e for e in chain if any(c.tag in PRIMITIVE_TAGS or c.tag.startswith("fe")
+                                           for c in e.children)), None)
+    if region is None or holder is None:
+        return None
+    resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), bbox if prim_obb else None)
+    primitives = resolver.primitives(holder)
+    if not primitives:
+        return None
+    return Filter(region=region, primitives=primitives)
+
+
+class PrimitiveResolver:
+    """Resolves the primitives of one ``<filter>`` for one element: subregions, inputs and
+    results, and the lengths (scaled by the bounding box with primitiveUnits=objectBoundingBox,
+    then by the transform's scale)."""
+
+    def __init__(self, builder, el, ctx, region, obb_box):
+        self.builder, self.el, self.ctx = builder, el, ctx
+        self.region = region                  # user-space x, y, w, h
+        self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
+        sx, sy = transform_scale(ctx.transform)
+        if obb_box is not None:
+            sx *= obb_box[2] - obb_box[0]
+            sy *= obb_box[3] - obb_box[1]
+        self.scale = (sx, sy)                 # primitive units → device pixels
+        self.names = {}
+        self.count = 0
+
+    def primitives(self, holder):
+        out = []
+        for child in holder.children:
+            if child.tag not in PRIMITIVE_TAGS:
+                continue
+            sub = self.subregion(child)
+            if sub is None:
+                break                                   # usvg stops at an invalid subregion
+            style = self.builder.doc.document_style(child)
+            kind, params, inputs = self.kind(child, style)
+            cif = (style.get("color-interpolation-filters") or "").strip()
+            out.append(Primitive(kind, params, tuple(inputs), sub, cif != "sRGB"))
+            name = child.get("result")
+            if name:
+                self.names[name.strip()] = self.count
+            self.count += 1
+        return out
+
+    def subregion(self, fe):
+        """Device rect of the primitive subregion (default: the filter region), or None."""
+        rx, ry, rw, rh = self.region
+        names = ("x", "y", "width", "height")
+        if self.obb_box is not None:
+            bx, by = self.obb_box[0], self.obb_box[1]
+            bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
+            f = [_fraction(fe.get(n)) for n in names]
+            x = rx if f[0] is None else bx + f[0] * bw
+            y = ry if f[1] is None else by + f[1] * bh
+            w = rw if f[2] is None else f[2] * bw
+            h = rh if f[3] is None else f[3] * bh
+        else:
+            style = self.builder.doc.document_style(fe)
+            vals = [self.builder.length(fe.get(n), a, style, self.ctx.viewport)
+                    for n, a in zip(names, ("x", "y", "x", "y"))]
+            x, y, w, h = [d if v is None else v for v, d in zip(vals, self.region)]
+        if not (w > 0 and h > 0):
+            return None
+        return device_rect(x, y, w, h, self.ctx.transform)
+
+    def input(self, fe, attr="in"):
+        value = fe.get(attr)
+        value = value.strip() if value is not None else None
+        previous = self.count - 1 if self.count else SOURCE_GRAPHIC
+        if value is None:
+            return previous
+        if value == "SourceAlpha":
+            return SOURCE_ALPHA
+        if value in ("SourceGraphic", "BackgroundImage", "BackgroundAlpha", "FillPaint",
+                     "StrokePaint"):
+            return SOURCE_GRAPHIC
+        return self.names.get(value, previous)
+
+    def pair(self, fe, attr, default):
+        """A one-or-two number attribute scaled to device pixels (x, y); None when invalid."""
+        text = fe.get(attr)
+        nums = parse_numbers(text) if text is not None else list(default)
+        if len(nums) == 1:
+            nums = nums * 2
+        if len(nums) != 2:
+            return None
+        return nums[0] * self.scale[0], nums[1] * self.scale[1]
+
+    def number(self, fe, attr, default):
+        return parse_number(fe.get(attr), default)
+
+    def flood_color(self, style):
+        c = parse_color(style.get("flood-color") or "black")
+        if c == "currentColor":
+            c = self.builder.current_color(style)
+        if c is None:
+            c = (0.0, 0.0, 0.0, 1.0)
+        opacity = _opacity(style.get("flood-opacity"))
+        return (c[0], c[1], c[2], c[3] * opacity)
+
+    def kind(self, fe, style):
+        """(kind, params, inputs) of one primitive element."""
+        tag = fe.tag
+        inp = self.input(fe)
+        if tag in UNSUPPORTED:
+            return TRANSPARENT + ((),)
+        if tag == "feFlood":
+            return "flood", {"color": self.flood_color(style)}, ()
+        if tag == "feGaussianBlur":
+            s = self.pair(fe, "stdDeviation", (0.0,))
+            if s is None or s[0] < 0 or s[1] < 0:
+                s = (0.0, 0.0)
+            return "blur", {"sx": s[0], "sy": s[1]}, (inp,)
+        if tag == "feOffset":
+            sx, sy = self.scale
+            return ("offset", {"dx": self.number(fe, "dx", 0.0) * sx,
+                               "dy": self.number(fe, "dy", 0.0) * sy}, (inp,))
+        if tag == "feDropShadow":
+            s = self.pair(fe, "stdDeviation", (2.0,))
+            if s is None or s[0] < 0 or s[1] < 0:
+                s = (0.0, 0.0)
+            sx, sy = self.scale
+            return ("drop_shadow", {"sx": s[0], "sy": s[1], "color": self.flood_color(style),
+                                    "dx": self.number(fe, "dx", 2.0) * sx,
+                                    "dy": self.number(fe, "dy", 2.0) * sy}, (inp,))
+        if tag == "feMerge":
+            inputs = [self.input(node) for node in fe.children if node.tag == "feMergeNode"]
+            return "merge", {}, tuple(inputs)
+        if tag == "feComposite":
+            op = (fe.get("operator") or "over").strip()
+            if op not in ("over", "in", "out", "atop", "xor", "lighter", "arithmetic"):
+                op = "over"
+            k = tuple(self.number(fe, n, 0.0) for n in ("k1", "k2", "k3", "k4"))
+            return "composite", {"operator": op, "k": k}, (inp, self.input(fe, "in2"))
+        if tag == "feBlend":
+            mode = (fe.get("mode") or "normal").strip()
+            if mode not in BLEND_MODES:
+                mode = "normal"
+            return "blend", {"mode": mode}, (inp, self.input(fe, "in2"))
+        if tag == "feColorMatrix":
+            return "color_matrix", {"matrix": color_matrix_of(fe)}, (inp,)
+        if tag == "feComponentTransfer":
+            funcs = [("identity", ())] * 4
+            for node in fe.children:
+                ch = {"feFuncR": 0, "feFuncG": 1, "feFuncB": 2, "feFuncA": 3}.get(node.tag)
+                if ch is not None:
+                    func = transfer_function(node)
+                    if func is not None:
+                        funcs[ch] = func
+            return "component_transfer", {"funcs": funcs}, (inp,)
+        if tag == "feTile":
+            return "tile", {}, (inp,)
+        if tag == "feMorphology":
+            return self.morphology(fe, inp)
+        if tag == "feImage":
+            if self.builder.doc.lookup(fe.get("href") or "") is self.el:
+                # a filter drawing its own element: resvg shows the element unfiltered
+                return "offset", {"dx": 0.0, "dy": 0.0}, (SOURCE_GRAPHIC,)
+            content = self.image(fe)
+            if content is None:
+                return TRANSPARENT + ((),)
+            return "image", {"content": content}, ()
+        return TRANSPARENT + ((),)
+
+    def morphology(self, fe, inp):
+        op = "dilate" if (fe.get("operator") or "").strip() == "dilate" else "erode"
+        rx, ry = 1.0, 1.0
+        text = fe.get("radius")
+        if text is not None:
+            nums = parse_numbers(text)
+            rx, ry = (nums * 2)[:2] if len(nums) == 1 else nums if len(nums) == 2 else (0, 0)
+            if rx == 0 and ry == 0:
+                rx = ry = 1.0
+            rx = 1.0 if rx == 0 else rx          # Chrome and Safari: one zero radius is 1
+            ry = 1.0 if ry == 0 else ry
+            if rx < 0 or ry < 0:
+                rx, ry = 1.0, 1.0
+        return ("morphology", {"operator": op, "rx": rx * self.scale[0],
+                               "ry": ry * self.scale[1]}, (inp,))
+
+    def image(self, fe):
+        """feImage content as a scene Group in device pixels, or None. An element is drawn in
+        the filtered element's user space moved to the subregion's corner, without its own
+        filter (as resvg); a file or data URL is fitted into the subregion."""
+        from ..path import compose
+        from .image import image_nodes
+        from .units import translate
+
+        b = self.builder
+        href = (fe.get("href") or "").strip()
+        if not href:
+            return None
+        style = b.doc.document_style(fe)
+        x, y, w, h = self.region
+        if self.obb_box is None:
+            vals = [b.length(fe.get(n), a, style, self.ctx.viewport)
+                    for n, a in (("x", "x"), ("y", "y"), ("width", "x"), ("height", "y"))]
+            x, y, w, h = [d if v is None else v for v, d in zip(vals, (x, y, w, h))]
+        if href.startswith("#"):
+            target = b.doc.lookup(href)
+            if target is None or any(r is target for r in b.ref_stack):
+                return None
+            ctx = replace(self.ctx, transform=compose(self.ctx.transform, translate(x, y)))
+            parent = target.parent if target.parent is not None else target
+            b.ref_stack.append(target)
+            try:
+                nodes = b.element(target, ctx, b.doc.document_style(parent))
+            finally:
+                b.ref_stack.pop()
+            return Group(children=nodes) if nodes else None
+        attrs = {"x": str(x), "y": str(y), "width": str(w), "height": str(h), "href": href}
+        if fe.get("preserveAspectRatio") is not None:
+            attrs["preserveAspectRatio"] = fe.get("preserveAspectRatio")
+        nodes = image_nodes(b, Element("image", attrs, fe.parent, 0), self.ctx, style)
+        return Group(children=nodes) if nodes else None
+
+
+BLEND_MODES = {"normal", "multiply", "screen", "overlay", "darken", "lighten", "color-dodge",
+               "color-burn", "hard-light", "soft-light", "difference", "exclusion", "hue",
+               "saturation", "color", "luminosity"}
+
+
+def _opacity(text):
+    parsed = split_length(text) if text else None
+    if parsed is None:
+        return 1.0
+    v, unit = parsed
+    return min(max(v / 100 if unit == "%" else v, 0.0), 1.0)
+
+
+def saturate_matrix(s):
+    r, g, b = LUMA
+    return [r + (1 - r) * s, g - g * s, b - b * s, 0, 0,
+            r - r * s, g + (1 - g) * s, b - b * s, 0, 0,
+            r - r * s, g - g * s, b + (1 - b) * s, 0, 0,
+            0, 0, 0, 1, 0]
+
+
+def hue_rotate_matrix(degrees):
+    a = math.radians(degrees)
+    c, s = math.cos(a), math.sin(a)
+    return [0.213 + c * 0.787 - s * 0.213, 0.715 - c * 0.715 - s * 0.715,
+            0.072 - c * 0.072 + s * 0.928, 0, 0,
+            0.213 - c * 0.213 + s * 0.143, 0.715 + c * 0.285 + s * 0.140,
+            0.072 - c * 0.072 - s * 0.283, 0, 0,
+            0.213 - c * 0.213 - s * 0.787, 0.715 - c * 0.715 + s * 0.715,
+            0.072 + c * 0.928 + s * 0.072, 0, 0,
+            0, 0, 0, 1, 0]
+
+
+LUMINANCE_TO_ALPHA = [0] * 15 + [0.2125, 0.7154, 0.0721, 0, 0]
+IDENTITY_MATRIX = [1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0]
+
+
+def color_matrix_of(fe):
+    """The 4 x 5 matrix of an feColorMatrix (usvg: a bad or missing ``values`` is identity,
+    except that saturate and hueRotate without values mean 1 and 0)."""
+    kind = (fe.get("type") or "matrix").strip()
+    text = fe.get("values")
+    values = parse_numbers(text) if text is not None else None
+    if kind == "saturate":
+        if values is None:
+            return IDENTITY_MATRIX
+        return saturate_matrix(min(max(values[0], 0.0), 1.0) if values else 1.0)
+    if kind == "hueRotate":
+        if values is None:
+            return IDENTITY_MATRIX
+        return hue_rotate_matrix(values[0] if values else 0.0)
+    if kind == "luminanceToAlpha":
+        return LUMINANCE_TO_ALPHA
+    if values is not None and len(values) == 20:
+        return values
+    return IDENTITY_MATRIX
+
+
+def transfer_function(node):
+    kind = (node.get("type") or "").strip()
+    if kind in ("table", "discrete"):
+        return kind, tuple(parse_numbers(node.get("tableValues") or ""))
+    if kind == "linear":
+        return kind, (parse_number(node.get("slope"), 1.0),
+                      parse_number(node.get("intercept"), 0.0))
+    if kind == "gamma":
+        return kind, (parse_number(node.get("amplitude"), 1.0),
+                      parse_number(node.get("exponent"), 1.0),
+                      parse_number(node.get("offset"), 0.0))
+    if kind == "identity":
+        return kind, ()
+    return None
+
+
+# -- CSS filter functions ------------------------------------------------------------------
+def _amount(args, default=1.0):
+    """A number or percentage argument; None when invalid (negative or not a number)."""
+    args = args.strip()
+    if not args:
+        return default
+    parsed = split_length(args)
+    if parsed is None or parsed[1] not in ("", "%") or parsed[0] < 0:
+        return None
+    return parsed[0] / 100 if parsed[1] == "%" else parsed[0]
+
+
+def filter_function(builder, name, args, style, ctx, bbox_fn):
+    """Filter for one CSS filter function; None when the element has no bounding box (the
+    function is skipped), False when it does not parse (the whole value is ignored)."""
+    sx, sy = transform_scale(ctx.transform)
+    linear = False                      # filter functions work in sRGB
+    if name == "blur":
+        std = _css_length(builder, args or "0", style, ctx)
+        if std is None or std < 0:
+            return False
+        prim = ("blur", {"sx": std * sx, "sy": std * sy})
+    elif name == "drop-shadow":
+        prim = _drop_shadow(builder, args, style, ctx, sx, sy)
+        if prim is None:
+            return False
+    elif name in ("grayscale", "sepia", "saturate", "hue-rotate", "invert", "opacity",
+                  "brightness", "contrast"):
+        if name == "hue-rotate":
+            deg = _angle(args)
+            if deg is None:
+                return False
+            prim = ("color_matrix", {"matrix": hue_rotate_matrix(deg)})
+        else:
+            amount = _amount(args)
+            if amount is None:
+                return False
+            prim = _amount_primitive(name, amount)
+    else:
+        return False
+    bbox = bbox_fn()
+    if bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]:
+        return None
+    frac = (-0.5, -0.5, 2.0, 2.0) if name in ("blur", "drop-shadow") else (-0.1, -0.1, 1.2, 1.2)
+    bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
+    region = device_rect(bbox[0] + frac[0] * bw, bbox[1] + frac[1] * bh, frac[2] * bw,
+                         frac[3] * bh, ctx.transform)
+    if region is None:
+        return None
+    kind, params = prim
+    return Filter(region=region, primitives=[
+        Primitive(kind, params, (SOURCE_GRAPHIC,), region, linear)])
+
+
+def _amount_primitive(name, amount):
+    a = min(amount, 1.0)
+    if name == "grayscale":
+        return "color_matrix", {"matrix": saturate_matrix(1 - a)}
+    if name == "sepia":
+        k = 1 - a
+        return "color_matrix", {"matrix": [
+            0.393 + 0.607 * k, 0.769 - 0.769 * k, 0.189 - 0.189 * k, 0, 0,
+            0.349 - 0.349 * k, 0.686 + 0.314 * k, 0.168 - 0.168 * k, 0, 0,
+            0.272 - 0.272 * k, 0.534 - 0.534 * k, 0.131 + 0.869 * k, 0, 0,
+            0, 0, 0, 1, 0]}
+    if name == "saturate":
+        return "color_matrix", {"matrix": saturate_matrix(amount)}
+    identity = ("identity", ())
+    if name == "invert":
+        t = ("table", (a, 1 - a))
+        return "component_transfer", {"funcs": [t, t, t, identity]}
+    if name == "opacity":
+        return "component_transfer", {"funcs": [identity] * 3 + [("table", (0.0, a))]}
+    if name == "brightness":
+        t = ("linear", (amount, 0.0))
+        return "component_transfer", {"funcs": [t, t, t, identity]}
+    t = ("linear", (amount, 0.5 - 0.5 * amount))          # contrast
+    return "component_transfer", {"funcs": [t, t, t, identity]}
+
+
+def _angle(args):
+    args = args.strip()
+    if not args:
+        return 0.0
+    m = re.fullmatch(r"([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(deg|grad|rad|turn)?", args)
+    if not m:
+        return None
+    v = float(m.group(1))
+    unit = m.group(2) or ("deg" if v == 0 else None)
+    if unit is None:
+        return None
+    return {"deg": v, "grad": v * 0.9, "rad": math.degrees(v), "turn": v * 360}[unit]
+
+
+def _css_length(builder, text, style, ctx):
+    text = text.strip()
+    parsed = split_length(text)
+    if parsed is None or parsed[1] == "%":
+        return None
+    return builder.length(text, "x", style, ctx.viewport)
+
+
+def _drop_shadow(builder, args, style, ctx, sx, sy):
+    """drop-shadow(color? dx dy std?) in any order of colour and lengths."""
+    tokens = re.findall(r"[a-zA-Z]+\([^)]*\)|#[0-9a-fA-F]+|[^\s]+", args)
+    color, lengths = None, []
+    for tok in tokens:
+        length = _css_length(builder, tok, style, ctx)
+        if length is not None:
+            lengths.append(length)
+            continue
+        c = parse_color(tok)
+        if c is None or color is not None:
+            return None
+        color = c
+    if len(lengths) not in (2, 3) or (len(lengths) == 3 and lengths[2] < 0):
+        return None
+    dx, dy, std = (lengths + [0.0, 0.0, 0.0])[:3]
+    if color is None or color == "currentColor":
+        color = builder.current_color(style)
+    return ("drop_shadow", {"sx": std * sx, "sy": std * sy, "dx": dx * sx, "dy": dy * sy,
+                            "color": tuple(color)})
