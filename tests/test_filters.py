@@ -190,3 +190,18 @@ def test_bad_blur_values_do_not_crash(std):
     img = render(f'<filter id="f"><feGaussianBlur stdDeviation="{std}"/></filter>'
                  '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
     assert np.isfinite(img).all()
+
+
+def test_turbulence_is_zero_noise_on_lattice_points():
+    # Perlin noise vanishes where both coordinates are whole lattice units: one octave of
+    # fractal noise is then exactly mid-grey (0.5), turbulence exactly 0.
+    params = {"fx": 1.0, "fy": 1.0, "octaves": 1, "seed": 3, "stitch": False,
+              "tile": (0, 0, 8, 8), "to_device": (1.0, 1.0, 0.0, 0.0)}
+    fractal = F.turbulence((8, 8), (0, 0), dict(params, fractal=True))
+    turb = F.turbulence((8, 8), (0, 0), dict(params, fractal=False))
+    assert np.allclose(fractal[..., 3], 0.5, atol=1e-6)
+    assert np.allclose(fractal[..., :3], 0.25, atol=1e-6)     # premultiplied by alpha 0.5
+    assert not turb.any()
+    # between lattice points it is not constant
+    half = F.turbulence((8, 8), (0, 0), dict(params, fractal=True, fx=0.37, fy=0.41))
+    assert half[..., 0].std() > 0.01

@@ -21,12 +21,14 @@ Primitive kinds and their ``params`` (all lengths already in device pixels):
 - ``image``: content, a scene Group (device pixels) rendered into the region by the caller's
   ``draw_content``.
 - ``morphology``: operator (erode, dilate), rx, ry.
+- ``turbulence``: see :func:`turbulence`.
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
+from numba import njit
 
 from .blend import blend_premultiplied
 from .scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter
@@ -289,7 +291,7 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
         if prim.kind == "image":
             img, linear = draw_content(prim.params["content"]), False
         else:
-            img, linear = run_primitive(prim, inputs, source.shape)
+            img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
         if prim.kind == "offset":
             rect = inputs[0].rect          # resvg: feOffset keeps its input's subregion
         elif rect != full:
@@ -303,10 +305,13 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     return results[-1].in_space(False)
 
 
-def run_primitive(prim, inputs, shape):
-    """(result, is linearRGB) of one primitive."""
+def run_primitive(prim, inputs, shape, origin=(0, 0)):
+    """(result, is linearRGB) of one primitive; ``origin``: device pixel of the image's
+    top-left corner."""
     p, cs = prim.params, prim.linear
     kind = prim.kind
+    if kind == "turbulence":
+        return turbulence(shape, origin, p), cs
     if kind == "flood":
         return flood(shape, p["color"]), False
     if kind == "tile":
@@ -341,3 +346,144 @@ def run_primitive(prim, inputs, shape):
             shadow = convert_space(shadow, True)
         return over(img, offset(shadow, p["dx"], p["dy"])), cs
     raise ValueError(f"unknown filter primitive {kind!r}")
+
+
+# -- feTurbulence (the SVG specification's reference Perlin noise) -------------------------
+_BSIZE = 0x100
+_BM = 0xFF
+_PERLIN_N = 0x1000
+
+
+def _next_random(seed: int) -> int:
+    seed = 16807 * (seed % 127773) - 2836 * (seed // 127773)
+    return seed + 2147483647 if seed <= 0 else seed
+
+
+def turbulence_tables(seed: int):
+    """(lattice, gradient) of the reference implementation for a seed."""
+    if seed <= 0:
+        seed = (-seed) % (2147483647 - 1) + 1        # C's remainder keeps the sign
+    if seed > 2147483647 - 1:
+        seed = 2147483647 - 1
+    lattice = np.zeros(_BSIZE + _BSIZE + 2, dtype=np.int64)
+    gradient = np.zeros((4, _BSIZE + _BSIZE + 2, 2), dtype=np.float64)
+    for k in range(4):
+        for i in range(_BSIZE):
+            lattice[i] = i
+            for j in range(2):
+                seed = _next_random(seed)
+                gradient[k, i, j] = ((seed % (_BSIZE + _BSIZE)) - _BSIZE) / _BSIZE
+            norm = math.hypot(gradient[k, i, 0], gradient[k, i, 1])
+            if norm > 0:
+                gradient[k, i] /= norm
+    for i in range(_BSIZE - 1, 0, -1):
+        k = lattice[i]
+        seed = _next_random(seed)
+        j = seed % _BSIZE
+        lattice[i] = lattice[j]
+        lattice[j] = k
+    for i in range(_BSIZE + 2):
+        lattice[_BSIZE + i] = lattice[i]
+        gradient[:, _BSIZE + i] = gradient[:, i]
+    return lattice, gradient
+
+
+@njit(cache=True)
+def _noise2(ch, x, y, lattice, gradient, stitch, wrap_x, wrap_y, width, height):
+    t = x + _PERLIN_N
+    bx0 = int(t) & _BM
+    bx1 = (bx0 + 1) & _BM
+    rx0 = t - int(t)
+    rx1 = rx0 - 1.0
+    t = y + _PERLIN_N
+    by0 = int(t) & _BM
+    by1 = (by0 + 1) & _BM
+    ry0 = t - int(t)
+    ry1 = ry0 - 1.0
+    if stitch:
+        if bx0 >= wrap_x:
+            bx0 -= width
+        if bx1 >= wrap_x:
+            bx1 -= width
+        if by0 >= wrap_y:
+            by0 -= height
+        if by1 >= wrap_y:
+            by1 -= height
+    bx0 &= _BM
+    bx1 &= _BM
+    by0 &= _BM
+    by1 &= _BM
+    i = lattice[bx0]
+    j = lattice[bx1]
+    b00 = lattice[i + by0]
+    b10 = lattice[j + by0]
+    b01 = lattice[i + by1]
+    b11 = lattice[j + by1]
+    sx = rx0 * rx0 * (3.0 - 2.0 * rx0)
+    sy = ry0 * ry0 * (3.0 - 2.0 * ry0)
+    u = rx0 * gradient[ch, b00, 0] + ry0 * gradient[ch, b00, 1]
+    v = rx1 * gradient[ch, b10, 0] + ry0 * gradient[ch, b10, 1]
+    a = u + sx * (v - u)
+    u = rx0 * gradient[ch, b01, 0] + ry1 * gradient[ch, b01, 1]
+    v = rx1 * gradient[ch, b11, 0] + ry1 * gradient[ch, b11, 1]
+    b = u + sx * (v - u)
+    return a + sy * (b - a)
+
+
+@njit(cache=True)
+def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, tile,
+                       lattice, gradient):
+    """Straight RGBA of the noise at device pixels (x0 + i, y0 + j), mapped to user space
+    by ((x - tile origin ...) / scale): ``x0, y0`` already hold the translation."""
+    tx, ty, tw, th = tile
+    if stitch:
+        if fx != 0.0:
+            lo = math.floor(tw * fx) / tw
+            hi = math.ceil(tw * fx) / tw
+            fx = lo if (lo > 0 and fx / lo < hi / fx) else hi
+        if fy != 0.0:
+            lo = math.floor(th * fy) / th
+            hi = math.ceil(th * fy) / th
+            fy = lo if (lo > 0 and fy / lo < hi / fy) else hi
+    h, w = out.shape[0], out.shape[1]
+    for j in range(h):
+        for i in range(w):
+            px = (x0 + i) / sx
+            py = (y0 + j) / sy
+            for ch in range(4):
+                width = int(tw * fx + 0.5)
+                height = int(th * fy + 0.5)
+                wrap_x = int(tx * fx + _PERLIN_N + width)
+                wrap_y = int(ty * fy + _PERLIN_N + height)
+                total = 0.0
+                vx = px * fx
+                vy = py * fy
+                ratio = 1.0
+                for _ in range(octaves):
+                    n = _noise2(ch, vx, vy, lattice, gradient, stitch, wrap_x, wrap_y,
+                                width, height)
+                    total += (n if fractal else abs(n)) / ratio
+                    vx *= 2.0
+                    vy *= 2.0
+                    ratio *= 2.0
+                    if stitch:
+                        width *= 2
+                        wrap_x = 2 * wrap_x - _PERLIN_N
+                        height *= 2
+                        wrap_y = 2 * wrap_y - _PERLIN_N
+                v = (total * 255.0 + 255.0) / 2.0 if fractal else total * 255.0
+                out[j, i, ch] = min(max(v, 0.0), 255.0) / 255.0
+
+
+def turbulence(shape, origin, p) -> np.ndarray:
+    """feTurbulence over an image whose top-left pixel is device ``origin``; ``p``: base
+    frequencies fx, fy, octaves, seed, stitch, fractal, tile (user rect) and the device
+    transform's scale and translation (the noise is a function of user coordinates)."""
+    lattice, gradient = turbulence_tables(p["seed"])
+    out = np.zeros(shape[:2] + (4,), dtype=np.float64)
+    sx, sy, tx, ty = p["to_device"]
+    if sx > 0 and sy > 0 and p["octaves"] > 0:
+        _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p["fx"], p["fy"],
+                           p["octaves"], p["fractal"], p["stitch"], p["tile"], lattice,
+                           gradient)
+    return premultiply(out.astype(np.float32))

@@ -4,7 +4,7 @@ All geometry leaves this module in device pixels. Each element is visited with a
 holding the user → device matrix, the viewport used for percentages, and the state that ``<use>``
 and markers carry (``context-fill``/``context-stroke``, the instantiation stack). Structural
 effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
-layers; anything else is flattened into its parent.
+:class:`~vecmsaa.scene.Group` layers; anything else is flattened into its parent.
 """
 from __future__ import annotations
 

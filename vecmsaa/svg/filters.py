@@ -29,7 +29,7 @@ PRIMITIVE_TAGS = {
     "feTurbulence"}
 #: primitives not implemented: their result is transparent (what usvg makes of a bad primitive)
 UNSUPPORTED = {"feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap",
-               "feSpecularLighting", "feTurbulence"}
+               "feSpecularLighting"}
 TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
 LUMA = (0.2126, 0.7152, 0.0722)
 
@@ -304,6 +304,8 @@ class PrimitiveResolver:
             return "tile", {}, (inp,)
         if tag == "feMorphology":
             return self.morphology(fe, inp)
+        if tag == "feTurbulence":
+            return "turbulence", self.turbulence(fe), ()
         if tag == "feImage":
             if self.builder.doc.lookup(fe.get("href") or "") is self.el:
                 # a filter drawing its own element: resvg shows the element unfiltered
@@ -329,6 +331,20 @@ class PrimitiveResolver:
                 rx, ry = 1.0, 1.0
         return ("morphology", {"operator": op, "rx": rx * self.scale[0],
                                "ry": ry * self.scale[1]}, (inp,))
+
+    def turbulence(self, fe):
+        fx = fy = 0.0
+        nums = parse_numbers(fe.get("baseFrequency") or "")
+        if len(nums) in (1, 2) and min(nums) >= 0:
+            fx, fy = (nums * 2)[:2]
+        octaves = parse_number(fe.get("numOctaves"), 1.0)
+        seed = parse_number(fe.get("seed"), 0.0)
+        a, b, c, d, e, f = self.ctx.transform
+        sx, sy = transform_scale(self.ctx.transform)
+        return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), 24)),
+                "seed": int(seed), "stitch": (fe.get("stitchTiles") or "") == "stitch",
+                "fractal": (fe.get("type") or "").strip() == "fractalNoise",
+                "tile": self.region, "to_device": (sx, sy, e, f)}
 
     def image(self, fe):
         """feImage content as a scene Group in device pixels, or None. An element is drawn in
