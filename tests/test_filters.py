@@ -205,3 +205,38 @@ def test_turbulence_is_zero_noise_on_lattice_points():
     # between lattice points it is not constant
     half = F.turbulence((8, 8), (0, 0), dict(params, fractal=True, fx=0.37, fy=0.41))
     assert half[..., 0].std() > 0.01
+
+
+def test_lighting_of_a_flat_surface_follows_lamberts_and_phongs_laws():
+    flat = np.ones((7, 9, 4), dtype=np.float32)
+    color = (1.0, 0.5, 0.2)
+    # light from straight above: N · L = 1 everywhere
+    base = {"surface_scale": 3.0, "constant": 0.8, "exponent": 1.0, "color": color}
+    diffuse = F.lighting(flat, dict(base, light=("distant", 0.0, 90.0)), False)
+    assert np.allclose(diffuse[..., :3], np.round(np.array(color) * 0.8 * 255) / 255)
+    assert np.allclose(diffuse[..., 3], 1.0)
+    # a distant light at elevation 30°: N · L = sin 30° = 0.5
+    low = F.lighting(flat, dict(base, constant=1.0, light=("distant", 45.0, 30.0)), False)
+    assert np.allclose(low[..., 1], math.floor(0.5 * 0.5 * 255 + 0.5) / 255)
+    # specular, light above: H = (0, 0, 2), N · H / |H| = 1; alpha is the brightest channel
+    spec = F.lighting(flat, dict(base, exponent=4.0, light=("distant", 0.0, 90.0)), True)
+    assert np.allclose(spec[..., 3], spec[..., :3].max(axis=-1))
+    assert np.allclose(spec[..., 0], round(0.8 * 255) / 255)
+    # a point light above pixel (4, 3) at height 10 over a surface at height 3
+    point = F.lighting(flat, dict(base, constant=1.0, light=("point", 4.0, 3.0, 10.0)), False)
+    assert np.isclose(point[3, 4, 0], 1.0)
+    d = np.array([4.0 - 0, 3.0 - 0, 7.0])          # corner pixel (0, 0): k = L.z (flat)
+    want = round(min(255, 255 * d[2] / np.linalg.norm(d))) / 255
+    assert np.isclose(point[0, 0, 0], want)
+
+
+def test_lighting_normals_see_a_ramp():
+    # alpha rising to the right by 0.1 a pixel; the spec's interior kernel (factor 1/4 on
+    # differences two pixels apart, weights 1 2 1) gives 2 · 0.1 · 255
+    ramp = np.zeros((5, 6, 4), dtype=np.float32)
+    ramp[..., 3] = np.arange(6) * 0.1
+    out = F.lighting(ramp, {"surface_scale": 1.0, "constant": 1.0, "exponent": 1.0,
+                            "color": (1.0, 1.0, 1.0), "light": ("distant", 0.0, 90.0)}, False)
+    nx = -2 * 0.1 * 255 / 255                   # surface_scale · derivative / 255
+    want = round(255 / math.sqrt(nx * nx + 1)) / 255
+    assert np.isclose(out[2, 2, 0], want)

@@ -22,6 +22,9 @@ Primitive kinds and their ``params`` (all lengths already in device pixels):
   ``draw_content``.
 - ``morphology``: operator (erode, dilate), rx, ry.
 - ``turbulence``: see :func:`turbulence`.
+- ``diffuse``, ``specular``: surface_scale, constant, exponent, color and light: ("distant",
+  azimuth, elevation), ("point", x, y, z) or ("spot", x, y, z, at x, at y, at z, exponent,
+  cone angle or None), positions in device pixels.
 """
 from __future__ import annotations
 
@@ -312,6 +315,13 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     kind = prim.kind
     if kind == "turbulence":
         return turbulence(shape, origin, p), cs
+    if kind in ("diffuse", "specular"):
+        light = p["light"]
+        if light[0] != "distant":            # device pixels → the image's pixels
+            ox, oy = origin
+            light = (light[0], light[1] - ox, light[2] - oy, light[3]) + (
+                (light[4] - ox, light[5] - oy) + light[6:] if light[0] == "spot" else ())
+        return lighting(inputs[0].img, dict(p, light=light), kind == "specular"), cs
     if kind == "flood":
         return flood(shape, p["color"]), False
     if kind == "tile":
@@ -487,3 +497,83 @@ def turbulence(shape, origin, p) -> np.ndarray:
                            p["octaves"], p["fractal"], p["stitch"], p["tile"], lattice,
                            gradient)
     return premultiply(out.astype(np.float32))
+
+
+# -- lighting --------------------------------------------------------------------------------
+def _axis_gradient(a: np.ndarray, axis: int):
+    """The spec's Sobel derivative of ``a`` along ``axis`` with its edge forms: differences of
+    the nearest neighbours on either side (the pixel itself at an edge), summed over the
+    neighbouring lines that exist with weights 1, 2, 1, and the factor 2 / (weights · span)."""
+    n, m = a.shape[axis], a.shape[1 - axis]
+    hi = np.minimum(np.arange(n) + 1, n - 1)
+    lo = np.maximum(np.arange(n) - 1, 0)
+    d = np.take(a, hi, axis=axis) - np.take(a, lo, axis=axis)
+    span = (hi - lo).astype(np.float64)
+    other = 1 - axis
+    s = 2 * d
+    s += np.take(d, np.maximum(np.arange(m) - 1, 0), axis=other) * _exists(m, -1, other, a.ndim)
+    s += np.take(d, np.minimum(np.arange(m) + 1, m - 1), axis=other) * _exists(m, 1, other,
+                                                                               a.ndim)
+    weights = 2 + _exists(m, -1, other, a.ndim) + _exists(m, 1, other, a.ndim)
+    span = span.reshape((-1, 1) if axis == 0 else (1, -1))
+    return s * 2.0 / (weights * span)
+
+
+def _exists(m, step, axis, ndim):
+    """1 where the neighbour ``step`` lines away along ``axis`` exists, shaped to broadcast."""
+    idx = np.arange(m) + step
+    ok = ((idx >= 0) & (idx < m)).astype(np.float64)
+    return ok.reshape((-1, 1) if axis == 0 else (1, -1))
+
+
+def lighting(img: np.ndarray, p: dict, specular: bool) -> np.ndarray:
+    """feDiffuseLighting / feSpecularLighting of the input's alpha as a height map (the spec's
+    formulas as resvg evaluates them, with alpha on a 0..255 scale)."""
+    h, w = img.shape[:2]
+    out = np.zeros((h, w, 4), dtype=np.float32)
+    if h < 3 or w < 3:
+        return out
+    a = img[..., 3].astype(np.float64) * 255.0
+    scale = p["surface_scale"]
+    nx = -_axis_gradient(a, 1) * scale / 255.0
+    ny = -_axis_gradient(a, 0) * scale / 255.0
+    n_len = np.sqrt(nx * nx + ny * ny + 1.0)
+    light = p["light"]
+    color = np.array(p["color"][:3], dtype=np.float64) * 255.0
+    if light[0] == "distant":
+        az, el = math.radians(light[1]), math.radians(light[2])
+        lx = np.full((h, w), math.cos(az) * math.cos(el))
+        ly = np.full((h, w), math.sin(az) * math.cos(el))
+        lz = np.full((h, w), math.sin(el))
+    else:
+        px, py, pz = light[1:4]
+        ys, xs = np.mgrid[0:h, 0:w]
+        lx, ly, lz = px - xs, py - ys, pz - a / 255.0 * scale
+        length = np.sqrt(lx * lx + ly * ly + lz * lz)
+        length = np.where(length == 0, 1.0, length)
+        lx, ly, lz = lx / length, ly / length, lz / length
+    light_color = np.broadcast_to(color, (h, w, 3)).copy()
+    if light[0] == "spot":
+        sx, sy, sz = (light[4] - light[1], light[5] - light[2], light[6] - light[3])
+        sl = math.sqrt(sx * sx + sy * sy + sz * sz) or 1.0
+        minus_l_dot_s = -(lx * sx + ly * sy + lz * sz) / sl
+        factor = np.power(np.maximum(minus_l_dot_s, 0.0), light[7])
+        dark = minus_l_dot_s <= 0
+        if light[8] is not None:
+            dark |= minus_l_dot_s < math.cos(math.radians(light[8]))
+        factor = np.where(dark, 0.0, factor)
+        light_color = np.floor(np.clip(light_color * factor[..., None], 0, 255) + 0.5)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if specular:
+            hx, hy, hz = lx, ly, lz + 1.0
+            h_len = np.sqrt(hx * hx + hy * hy + hz * hz)
+            n_dot_h = (nx * hx + ny * hy + hz) / n_len / np.where(h_len == 0, 1.0, h_len)
+            k = n_dot_h if p["exponent"] == 1.0 else np.power(n_dot_h, p["exponent"])
+            k = np.where(h_len == 0, 0.0, k) * p["constant"]
+        else:
+            k = p["constant"] * (nx * lx + ny * ly + lz) / n_len
+    k = np.nan_to_num(k, nan=0.0)
+    rgb = np.floor(np.clip(light_color * k[..., None], 0.0, 255.0) + 0.5) / 255.0
+    out[..., :3] = rgb
+    out[..., 3] = rgb.max(axis=-1) if specular else 1.0
+    return out

@@ -28,8 +28,7 @@ PRIMITIVE_TAGS = {
     "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
     "feTurbulence"}
 #: primitives not implemented: their result is transparent (what usvg makes of a bad primitive)
-UNSUPPORTED = {"feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap",
-               "feSpecularLighting"}
+UNSUPPORTED = {"feConvolveMatrix", "feDisplacementMap"}
 TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
 LUMA = (0.2126, 0.7152, 0.0722)
 
@@ -306,6 +305,11 @@ class PrimitiveResolver:
             return self.morphology(fe, inp)
         if tag == "feTurbulence":
             return "turbulence", self.turbulence(fe), ()
+        if tag in ("feDiffuseLighting", "feSpecularLighting"):
+            params = self.lighting(fe, style, tag == "feSpecularLighting")
+            if params is None:
+                return TRANSPARENT + ((),)
+            return ("specular" if tag == "feSpecularLighting" else "diffuse"), params, (inp,)
         if tag == "feImage":
             if self.builder.doc.lookup(fe.get("href") or "") is self.el:
                 # a filter drawing its own element: resvg shows the element unfiltered
@@ -331,6 +335,52 @@ class PrimitiveResolver:
                 rx, ry = 1.0, 1.0
         return ("morphology", {"operator": op, "rx": rx * self.scale[0],
                                "ry": ry * self.scale[1]}, (inp,))
+
+    def lighting(self, fe, style, specular):
+        """Lighting parameters, or None for a primitive usvg drops (no light source, specular
+        exponent outside 1..128, a bad kernelUnitLength)."""
+        src = next((c for c in fe.children
+                    if c.tag in ("feDistantLight", "fePointLight", "feSpotLight")), None)
+        if src is None:
+            return None
+        if fe.get("kernelUnitLength") is not None:
+            k = parse_numbers(fe.get("kernelUnitLength"))
+            if not k or min(k) <= 0:
+                return None
+        exponent = parse_number(fe.get("specularExponent"), 1.0)
+        if specular and not 1.0 <= exponent <= 128.0:
+            return None
+        num = lambda el, name: parse_number(el.get(name), 0.0)  # noqa: E731
+        m = self.ctx.transform
+        if src.tag == "feDistantLight":
+            light = ("distant", num(src, "azimuth"), num(src, "elevation"))
+        else:
+            z_scale = math.hypot(m[0], m[3]) / math.sqrt(2)
+            pts = [(num(src, "x"), num(src, "y"), num(src, "z"))]
+            if src.tag == "feSpotLight":
+                pts.append((num(src, "pointsAtX"), num(src, "pointsAtY"), num(src, "pointsAtZ")))
+            device = []
+            for x, y, z in pts:   # user units even with objectBoundingBox units (resvg)
+                device.append((m[0] * x + m[2] * y + m[4], m[1] * x + m[3] * y + m[5],
+                               z * z_scale))
+            if src.tag == "fePointLight":
+                light = ("point",) + device[0]
+            else:
+                spot_exp = parse_number(src.get("specularExponent"), 1.0)
+                cone = parse_number(src.get("limitingConeAngle"), None)
+                light = (("spot",) + device[0] + device[1]
+                         + (spot_exp if spot_exp > 0 else 1.0, cone))
+        return {"surface_scale": parse_number(fe.get("surfaceScale"), 1.0),
+                "constant": parse_number(fe.get("specularConstant" if specular
+                                                else "diffuseConstant"), 1.0),
+                "exponent": exponent, "color": self.lighting_color(style), "light": light}
+
+    def lighting_color(self, style):
+        value = (style.get("lighting-color") or "white").strip()
+        c = parse_color(value)
+        if c == "currentColor":
+            c = self.builder.current_color(style)
+        return (1.0, 1.0, 1.0) if c is None else tuple(c[:3])
 
     def turbulence(self, fe):
         fx = fy = 0.0
