@@ -240,3 +240,31 @@ def test_lighting_normals_see_a_ramp():
     nx = -2 * 0.1 * 255 / 255                   # surface_scale · derivative / 255
     want = round(255 / math.sqrt(nx * nx + 1)) / 255
     assert np.isclose(out[2, 2, 0], want)
+
+
+def test_convolve_matrix_is_the_specs_sum():
+    rng = np.random.default_rng(5)
+    img = rng.random((6, 7, 4)).astype(np.float32)
+    img[..., :3] *= img[..., 3:]
+    kernel = rng.random((3, 2)) - 0.3             # 3 rows, 2 columns
+    p = {"kernel": kernel, "target": (1, 2), "divisor": 1.5, "bias": 0.0,
+         "edge_mode": "duplicate", "preserve_alpha": False}
+    got = F.convolve_matrix(img, p)
+    h, w = img.shape[:2]
+    for y in range(h):
+        for x in range(w):
+            # RESULT(X,Y) = Σ SOURCE(X - targetX + j, Y - targetY + i) · kernel[rows-1-i][cols-1-j]
+            s = np.zeros(4)
+            for i in range(3):
+                for j in range(2):
+                    sx = min(max(x - 1 + j, 0), w - 1)
+                    sy = min(max(y - 2 + i, 0), h - 1)
+                    s += img[sy, sx] * kernel[2 - i, 1 - j]
+            s /= 1.5
+            a = min(max(s[3], 0), 1)
+            assert np.allclose(got[y, x], list(np.clip(s[:3], 0, a)) + [a], atol=1e-5)
+    # edge mode none: a kernel reading the right neighbour leaves the last column empty
+    shift = {"kernel": [[0, 0, 0], [1, 0, 0], [0, 0, 0]], "target": (1, 1), "divisor": 1.0,
+             "bias": 0.0, "edge_mode": "none", "preserve_alpha": False}
+    out = F.convolve_matrix(img, shift)
+    assert np.allclose(out[:, :-1], img[:, 1:], atol=1e-6) and not out[:, -1].any()

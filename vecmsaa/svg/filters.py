@@ -28,7 +28,7 @@ PRIMITIVE_TAGS = {
     "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
     "feTurbulence"}
 #: primitives not implemented: their result is transparent (what usvg makes of a bad primitive)
-UNSUPPORTED = {"feConvolveMatrix", "feDisplacementMap"}
+UNSUPPORTED = {"feDisplacementMap"}
 TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
 LUMA = (0.2126, 0.7152, 0.0722)
 
@@ -305,6 +305,9 @@ class PrimitiveResolver:
             return self.morphology(fe, inp)
         if tag == "feTurbulence":
             return "turbulence", self.turbulence(fe), ()
+        if tag == "feConvolveMatrix":
+            params = convolve_params(fe)
+            return ("convolve", params, (inp,)) if params else TRANSPARENT + ((),)
         if tag in ("feDiffuseLighting", "feSpecularLighting"):
             params = self.lighting(fe, style, tag == "feSpecularLighting")
             if params is None:
@@ -489,6 +492,41 @@ def color_matrix_of(fe):
     if values is not None and len(values) == 20:
         return values
     return IDENTITY_MATRIX
+
+
+def convolve_params(fe):
+    """feConvolveMatrix parameters, or None when usvg drops the primitive (a kernel of the
+    wrong size, a zero divisor, a target outside the kernel, a bad kernelUnitLength)."""
+    cols = rows = 3
+    order = parse_numbers(fe.get("order") or "")
+    if order:
+        x = int(order[0])
+        y = int(order[1]) if len(order) > 1 else x
+        if x > 0 and y > 0:
+            cols, rows = x, y
+    values = parse_numbers(fe.get("kernelMatrix") or "")
+    if len(values) != cols * rows:
+        return None
+    total = round(sum(values), 6)
+    divisor = parse_number(fe.get("divisor"), total if total != 0 else 1.0)
+    if divisor == 0:
+        return None
+    target = []
+    for name, n in (("targetX", cols), ("targetY", rows)):
+        t = int(parse_number(fe.get(name), float(n // 2)))
+        if not 0 <= t < n:
+            return None
+        target.append(t)
+    if fe.get("kernelUnitLength") is not None:
+        k = parse_numbers(fe.get("kernelUnitLength"))
+        if not k or min(k) <= 0:
+            return None
+    edge = (fe.get("edgeMode") or "duplicate").strip()
+    return {"kernel": [values[r * cols:(r + 1) * cols] for r in range(rows)],
+            "target": tuple(target), "divisor": divisor,
+            "bias": parse_number(fe.get("bias"), 0.0),
+            "edge_mode": edge if edge in ("none", "wrap") else "duplicate",
+            "preserve_alpha": (fe.get("preserveAlpha") or "").strip() == "true"}
 
 
 def transfer_function(node):
