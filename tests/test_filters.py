@@ -268,3 +268,15 @@ def test_convolve_matrix_is_the_specs_sum():
              "bias": 0.0, "edge_mode": "none", "preserve_alpha": False}
     out = F.convolve_matrix(img, shift)
     assert np.allclose(out[:, :-1], img[:, 1:], atol=1e-6) and not out[:, -1].any()
+
+
+def test_displacement_map_moves_by_channel_times_scale():
+    img = np.random.default_rng(7).random((6, 8, 4)).astype(np.float32)
+    img[..., 3] = 1.0
+    disp = np.zeros((6, 8, 4), dtype=np.float32)
+    disp[..., 0] = 1.0                 # R = 1: x moves by (1 − ½) · 4 = +2
+    disp[..., 1] = 0.5                 # G = ½: y stays
+    disp[..., 3] = 1.0
+    out = F.displacement_map(img, disp, {"sx": 4.0, "sy": 4.0, "x_channel": "R",
+                                         "y_channel": "G"})
+    assert np.array_equal(out[:, :6], img[:, 2:]) and not out[:, 6:].any()

@@ -22,6 +22,7 @@ Primitive kinds and their ``params`` (all lengths already in device pixels):
   ``draw_content``.
 - ``morphology``: operator (erode, dilate), rx, ry.
 - ``turbulence``: see :func:`turbulence`.
+- ``displacement``: sx, sy (scale in device pixels), x_channel, y_channel (R, G, B, A).
 - ``convolve``: kernel (rows x columns), target (x, y), divisor, bias, edge_mode,
   preserve_alpha.
 - ``diffuse``, ``specular``: surface_scale, constant, exponent, color and light: ("distant",
@@ -317,6 +318,8 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     kind = prim.kind
     if kind == "turbulence":
         return turbulence(shape, origin, p), cs
+    if kind == "displacement":
+        return displacement_map(inputs[0].in_space(cs), inputs[1].in_space(cs), p), cs
     if kind == "convolve":
         return convolve_matrix(inputs[0].in_space(cs), p), cs
     if kind in ("diffuse", "specular"):
@@ -627,4 +630,23 @@ def convolve_matrix(img: np.ndarray, p: dict) -> np.ndarray:
     out = np.empty((h, w, 4), dtype=np.float32)
     out[..., :3] = color
     out[..., 3] = bounded
+    return out
+
+
+# -- feDisplacementMap -----------------------------------------------------------------------
+CHANNELS = {"R": 0, "G": 1, "B": 2, "A": 3}
+
+
+def displacement_map(img: np.ndarray, displacement: np.ndarray, p: dict) -> np.ndarray:
+    """Each pixel takes the input pixel at its own position moved by (channel − ½) · scale
+    (straight colour of the map, scale per axis in device pixels), nearest, transparent
+    outside the image."""
+    h, w = img.shape[:2]
+    straight = unpremultiply(displacement)
+    ys, xs = np.mgrid[0:h, 0:w]
+    sx = np.rint(xs + (straight[..., CHANNELS[p["x_channel"]]] - 0.5) * p["sx"]).astype(np.int64)
+    sy = np.rint(ys + (straight[..., CHANNELS[p["y_channel"]]] - 0.5) * p["sy"]).astype(np.int64)
+    inside = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
+    out = np.zeros_like(img)
+    out[inside] = img[sy[inside], sx[inside]]
     return out

@@ -27,8 +27,6 @@ PRIMITIVE_TAGS = {
     "feDiffuseLighting", "feDisplacementMap", "feDropShadow", "feFlood", "feGaussianBlur",
     "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
     "feTurbulence"}
-#: primitives not implemented: their result is transparent (what usvg makes of a bad primitive)
-UNSUPPORTED = {"feDisplacementMap"}
 TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
 LUMA = (0.2126, 0.7152, 0.0722)
 
@@ -253,8 +251,6 @@ class PrimitiveResolver:
         """(kind, params, inputs) of one primitive element."""
         tag = fe.tag
         inp = self.input(fe)
-        if tag in UNSUPPORTED:
-            return TRANSPARENT + ((),)
         if tag == "feFlood":
             return "flood", {"color": self.flood_color(style)}, ()
         if tag == "feGaussianBlur":
@@ -305,6 +301,16 @@ class PrimitiveResolver:
             return self.morphology(fe, inp)
         if tag == "feTurbulence":
             return "turbulence", self.turbulence(fe), ()
+        if tag == "feDisplacementMap":
+            scale = self.number(fe, "scale", 0.0)
+
+            def channel(name):
+                v = (fe.get(name) or "A").strip()
+                return v if v in ("R", "G", "B") else "A"
+            return ("displacement", {"sx": scale * self.scale[0], "sy": scale * self.scale[1],
+                                     "x_channel": channel("xChannelSelector"),
+                                     "y_channel": channel("yChannelSelector")},
+                    (inp, self.input(fe, "in2")))
         if tag == "feConvolveMatrix":
             params = convolve_params(fe)
             return ("convolve", params, (inp,)) if params else TRANSPARENT + ((),)
