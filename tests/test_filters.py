@@ -280,3 +280,22 @@ def test_displacement_map_moves_by_channel_times_scale():
     out = F.displacement_map(img, disp, {"sx": 4.0, "sy": 4.0, "x_channel": "R",
                                          "y_channel": "G"})
     assert np.array_equal(out[:, :6], img[:, 2:]) and not out[:, 6:].any()
+
+
+def test_feimage_draws_an_element_at_the_subregion_corner():
+    # resvg: the referenced element is drawn in the filtered element's user space, moved to
+    # the primitive subregion's corner (here the filter region's, x = y = 10)
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="10" y="10" width="20" '
+                 'height="20"><feImage href="#g"/></filter>'
+                 '<defs><rect id="g" width="5" height="5" fill="#00ff00"/></defs>'
+                 '<rect width="40" height="40" fill="red" filter="url(#f)"/>')
+    assert tuple(img[12, 12]) == (0, 255, 0, 255)
+    assert img[17, 17, 3] == 0 and img[5, 5, 3] == 0
+
+
+def test_flood_subregion_in_bounding_box_units():
+    img = render('<filter id="f" primitiveUnits="objectBoundingBox">'
+                 '<feFlood flood-color="#0000ff" x="0.5" width="0.5"/></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    assert tuple(img[15, 25]) == (0, 0, 255, 255)
+    assert img[15, 15, 3] == 0 and img[15, 31, 3] == 0

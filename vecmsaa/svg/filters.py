@@ -35,8 +35,8 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     """[Filter] for the element's ``filter`` value, [] when there is none (or it does not
     parse), False when the element is not drawn."""
     value = (el.specified.get("filter") or "").strip()
-    if not value or value == "none" or any(r is el for r in builder.ref_stack):
-        return []           # an feImage draws the element it references unfiltered
+    if not value or value == "none":
+        return []
     entries = parse_filter_value(value)
     if entries is None:
         return []
@@ -193,16 +193,24 @@ class PrimitiveResolver:
 
     def subregion(self, fe):
         """Device rect of the primitive subregion (default: the filter region), or None."""
+        user = self.user_subregion(fe)
+        return None if user is None else device_rect(*user, self.ctx.transform)
+
+    def user_subregion(self, fe):
+        """(x, y, width, height) of the primitive subregion in user space, or None."""
         rx, ry, rw, rh = self.region
         names = ("x", "y", "width", "height")
         if self.obb_box is not None:
             bx, by = self.obb_box[0], self.obb_box[1]
             bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
-            f = [_fraction(fe.get(n)) for n in names]
-            x = rx if f[0] is None else bx + f[0] * bw
-            y = ry if f[1] is None else by + f[1] * bh
-            w = rw if f[2] is None else f[2] * bw
-            h = rh if f[3] is None else f[3] * bh
+            fx, fy, fw, fh = [d if v is None else v for v, d in
+                              zip([_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
+            if fe.tag in ("feFlood", "feImage"):
+                # usvg: fractions of the bounding box
+                x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+            else:
+                # usvg: the filter region scaled by the fractions (and x, y added as they are)
+                x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
         else:
             style = self.builder.doc.document_style(fe)
             vals = [self.builder.length(fe.get(n), a, style, self.ctx.viewport)
@@ -210,7 +218,7 @@ class PrimitiveResolver:
             x, y, w, h = [d if v is None else v for v, d in zip(vals, self.region)]
         if not (w > 0 and h > 0):
             return None
-        return device_rect(x, y, w, h, self.ctx.transform)
+        return x, y, w, h
 
     def input(self, fe, attr="in"):
         value = fe.get(attr)
@@ -418,11 +426,7 @@ class PrimitiveResolver:
         if not href:
             return None
         style = b.doc.document_style(fe)
-        x, y, w, h = self.region
-        if self.obb_box is None:
-            vals = [b.length(fe.get(n), a, style, self.ctx.viewport)
-                    for n, a in (("x", "x"), ("y", "y"), ("width", "x"), ("height", "y"))]
-            x, y, w, h = [d if v is None else v for v, d in zip(vals, (x, y, w, h))]
+        x, y, w, h = self.user_subregion(fe)
         if href.startswith("#"):
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
