@@ -102,9 +102,13 @@ def test_composite_arithmetic_is_clamped_formula():
 
 
 def test_linear_rgb_round_trip_and_known_value():
-    c = np.linspace(0, 1, 101)
-    assert np.allclose(F.linear_to_srgb(F.srgb_to_linear(c)), c, atol=1e-9)
-    assert abs(F.srgb_to_linear(np.array(0.5)) - 0.21404) < 1e-4
+    img = np.zeros((1, 101, 4), dtype=np.float32)
+    img[0, :, :3] = np.linspace(0, 1, 101)[:, None] * 0.5      # premultiplied by alpha 0.5
+    img[0, :, 3] = 0.5
+    linear = F.convert_space(img, True)
+    assert np.allclose(F.convert_space(linear, False), img, atol=1e-6)
+    assert abs(linear[0, 50, 0] / 0.5 - 0.21404) < 1e-4       # sRGB 0.5 is linear 0.21404
+    assert np.allclose(linear[..., 3], 0.5)
 
 
 def test_component_transfer_table_discrete_gamma():
@@ -299,3 +303,17 @@ def test_flood_subregion_in_bounding_box_units():
                  '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
     assert tuple(img[15, 25]) == (0, 0, 255, 255)
     assert img[15, 15, 3] == 0 and img[15, 31, 3] == 0
+
+
+@pytest.mark.parametrize("op", ["erode", "dilate"])
+def test_morphology_matches_a_direct_window_search(op):
+    a = np.random.default_rng(0).random((13, 17, 4)).astype(np.float32)
+    pick = np.min if op == "erode" else np.max
+    for rx, ry in ((1, 1), (2.5, 1), (3, 7), (40, 2)):
+        cx, cy = math.ceil(rx), math.ceil(ry)
+        want = np.zeros_like(a)
+        for y in range(13):
+            for x in range(17):
+                window = a[max(0, y - cy):y + cy, max(0, x - cx):x + cx]
+                want[y, x] = pick(window.reshape(-1, 4), axis=0)
+        assert np.array_equal(F.morphology(a, op, rx, ry), want)

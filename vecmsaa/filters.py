@@ -46,13 +46,29 @@ BOX_PASSES = 5
 
 
 # -- colour spaces ---------------------------------------------------------------------------
-def srgb_to_linear(c: np.ndarray) -> np.ndarray:
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+@njit(cache=True)
+def srgb_to_linear(c: float) -> float:
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
 
 
-def linear_to_srgb(c: np.ndarray) -> np.ndarray:
-    c = np.maximum(c, 0.0)
-    return np.where(c <= 0.0031308, c * 12.92, 1.055 * c ** (1 / 2.4) - 0.055)
+@njit(cache=True)
+def linear_to_srgb(c: float) -> float:
+    return c * 12.92 if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+
+
+@njit(cache=True)
+def _convert_space(img, out, to_linear):
+    h, w = img.shape[:2]
+    for y in range(h):
+        for x in range(w):
+            a = img[y, x, 3]
+            out[y, x, 3] = a
+            for c in range(3):
+                if a <= 0.0:
+                    out[y, x, c] = 0.0
+                    continue
+                v = min(max(img[y, x, c] / a, 0.0), 1.0)
+                out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
 
 
 def unpremultiply(img: np.ndarray) -> np.ndarray:
@@ -71,11 +87,11 @@ def premultiply(img: np.ndarray) -> np.ndarray:
 
 
 def convert_space(img: np.ndarray, to_linear: bool) -> np.ndarray:
-    """Premultiplied RGBA from sRGB to linearRGB (or back)."""
-    straight = unpremultiply(img)
-    convert = srgb_to_linear if to_linear else linear_to_srgb
-    straight[..., :3] = convert(straight[..., :3])
-    return premultiply(straight).astype(np.float32)
+    """Premultiplied RGBA from sRGB to linearRGB (or back), on the straight colour."""
+    img = np.ascontiguousarray(img, dtype=np.float32)
+    out = np.empty_like(img)
+    _convert_space(img, out, to_linear)
+    return out
 
 
 # -- primitives -----------------------------------------------------------------------------
@@ -111,18 +127,51 @@ def box_sizes(sigma: float, passes: int = BOX_PASSES) -> list[int]:
     return [wl if i < m else wl + 2 for i in range(passes)]
 
 
+@njit(cache=True)
+def _box_blur_rows(src, dst, r, div):
+    """dst[y, x] = Σ src[y, x - r .. x + r] / div (zeros outside), a running sum per row."""
+    h, w, nc = src.shape
+    for y in range(h):
+        for c in range(nc):
+            acc = 0.0
+            for x in range(min(r, w - 1) + 1):
+                acc += src[y, x, c]
+            for x in range(w):
+                dst[y, x, c] = acc / div
+                if x + r + 1 < w:
+                    acc += src[y, x + r + 1, c]
+                if x - r >= 0:
+                    acc -= src[y, x - r, c]
+
+
+@njit(cache=True)
+def _box_blur_columns(src, dst, r, div):
+    """The same along columns, one running sum per (x, channel) so rows are read in order."""
+    h, w, nc = src.shape
+    acc = np.zeros((w, nc))
+    for y in range(min(r, h - 1) + 1):
+        for x in range(w):
+            for c in range(nc):
+                acc[x, c] += src[y, x, c]
+    for y in range(h):
+        for x in range(w):
+            for c in range(nc):
+                dst[y, x, c] = acc[x, c] / div
+                if y + r + 1 < h:
+                    acc[x, c] += src[y + r + 1, x, c]
+                if y - r >= 0:
+                    acc[x, c] -= src[y - r, x, c]
+
+
 def box_blur_axis(img: np.ndarray, radius: int, axis: int) -> np.ndarray:
     """Mean over the 2·radius + 1 pixels centred on each pixel along ``axis`` (zeros outside)."""
     if radius <= 0:
         return img
-    n = img.shape[axis]
-    r = min(radius, n)        # a wider window covers no more pixels, only divides by more
-    pad = [(0, 0)] * img.ndim
-    pad[axis] = (r + 1, r)
-    c = np.cumsum(np.pad(img.astype(np.float64), pad), axis=axis)
-    hi = np.take(c, np.arange(2 * r + 1, 2 * r + 1 + n), axis=axis)
-    lo = np.take(c, np.arange(0, n), axis=axis)
-    return ((hi - lo) / (2 * radius + 1)).astype(np.float32)
+    src = np.ascontiguousarray(img, dtype=np.float32)
+    out = np.empty_like(src)
+    blur = _box_blur_rows if axis == 1 else _box_blur_columns
+    blur(src, out, min(radius, src.shape[axis]), float(2 * radius + 1))
+    return out
 
 
 def gaussian_blur(img: np.ndarray, sx: float, sy: float) -> np.ndarray:
@@ -243,21 +292,36 @@ def morphology(img: np.ndarray, operator: str, rx: float, ry: float) -> np.ndarr
     """Minimum (erode) or maximum (dilate) over a 2·ceil(r) wide window [-c, c - 1] per axis,
     skipping pixels outside the image (resvg)."""
     pick = np.minimum if operator == "erode" else np.maximum
+    fill = np.inf if operator == "erode" else -np.inf
     out = img
     for axis, r in ((1, rx), (0, ry)):
-        n = out.shape[axis]
-        c = min(int(math.ceil(r)), n)
-        acc = out.copy()
-        for d in range(-c, c):
-            if d == 0 or abs(d) >= n:
-                continue
-            src = [slice(None)] * 3
-            dst = [slice(None)] * 3
-            src[axis] = slice(max(d, 0), n + min(d, 0))
-            dst[axis] = slice(max(-d, 0), n - max(d, 0))
-            acc[tuple(dst)] = pick(acc[tuple(dst)], out[tuple(src)])
-        out = acc
+        c = min(int(math.ceil(r)), out.shape[axis])
+        if c > 0:
+            out = sliding_extreme(out, c, axis, pick, fill)
     return out
+
+
+def sliding_extreme(a: np.ndarray, c: int, axis: int, pick, fill) -> np.ndarray:
+    """pick() over a[i - c : i + c] along ``axis`` (outside counts as ``fill``), in O(log c)
+    array passes: windows of doubling length combined by the binary digits of 2c."""
+    n = a.shape[axis]
+    pad = [(0, 0)] * a.ndim
+    pad[axis] = (c, c)
+    cur = np.pad(a, pad, constant_values=fill)     # cur[j] = pick(b[j : j + k]), k = 1
+    length, k, pos = 2 * c, 1, 0
+    result = None
+    while k <= length:
+        if length & k:
+            part = np.take(cur, np.arange(pos, pos + n), axis=axis)
+            result = part if result is None else pick(result, part)
+            pos += k
+        m = cur.shape[axis] - k
+        if m <= 0:
+            break
+        cur = pick(np.take(cur, np.arange(m), axis=axis),
+                   np.take(cur, np.arange(k, k + m), axis=axis))
+        k *= 2
+    return result
 
 
 # -- the filter graph -----------------------------------------------------------------------

@@ -27,6 +27,7 @@ PRIMITIVE_TAGS = {
     "feDiffuseLighting", "feDisplacementMap", "feDropShadow", "feFlood", "feGaussianBlur",
     "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
     "feTurbulence"}
+MAX_OCTAVES = 12
 TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
 LUMA = (0.2126, 0.7152, 0.0722)
 
@@ -408,7 +409,8 @@ class PrimitiveResolver:
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
         sx, sy = transform_scale(self.ctx.transform)
-        return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), 24)),
+        # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
+        return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), MAX_OCTAVES)),
                 "seed": int(seed), "stitch": (fe.get("stitchTiles") or "") == "stitch",
                 "fractal": (fe.get("type") or "").strip() == "fractalNoise",
                 "tile": self.region, "to_device": (sx, sy, e, f)}
