@@ -317,3 +317,15 @@ def test_morphology_matches_a_direct_window_search(op):
                 window = a[max(0, y - cy):y + cy, max(0, x - cx):x + cx]
                 want[y, x] = pick(window.reshape(-1, 4), axis=0)
         assert np.array_equal(F.morphology(a, op, rx, ry), want)
+
+
+def test_extreme_parameters_give_finite_colours():
+    img = render('<filter id="f"><feComposite in2="SourceAlpha" operator="arithmetic" '
+                 'k2="1e308" k3="-1e308"/><feComponentTransfer><feFuncG type="gamma" '
+                 'exponent="-1"/></feComponentTransfer></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    out = F.apply_filter(np.full((4, 4, 4), 0.5, np.float32), Filter((0, 0, 4, 4), [
+        Primitive("composite", {"operator": "arithmetic", "k": (0, 1e308, -1e308, 0)},
+                  (SOURCE_GRAPHIC, SOURCE_GRAPHIC), (0, 0, 4, 4), False)]))
+    assert np.isfinite(out).all() and 0 <= out.min() and out.max() <= 1
+    assert img.min() >= 0

@@ -361,7 +361,10 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
         if prim.kind == "image":
             img, linear = draw_content(prim.params["content"]), False
         else:
-            img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
+            with np.errstate(all="ignore"):      # extreme parameters: cleaned up below
+                img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
+            img = np.nan_to_num(img.astype(np.float32, copy=False), nan=0.0, posinf=1.0,
+                                neginf=0.0)
         if prim.kind == "offset":
             rect = inputs[0].rect          # resvg: feOffset keeps its input's subregion
         elif rect != full:
