@@ -475,13 +475,13 @@ def turbulence_tables(seed: int):
 @njit(cache=True)
 def _noise2(ch, x, y, lattice, gradient, stitch, wrap_x, wrap_y, width, height):
     t = x + _PERLIN_N
-    bx0 = int(t) & _BM
-    bx1 = (bx0 + 1) & _BM
+    bx0 = int(t)
+    bx1 = bx0 + 1
     rx0 = t - int(t)
     rx1 = rx0 - 1.0
     t = y + _PERLIN_N
-    by0 = int(t) & _BM
-    by1 = (by0 + 1) & _BM
+    by0 = int(t)
+    by1 = by0 + 1
     ry0 = t - int(t)
     ry1 = ry0 - 1.0
     if stitch:
@@ -515,11 +515,13 @@ def _noise2(ch, x, y, lattice, gradient, stitch, wrap_x, wrap_y, width, height):
 
 
 @njit(cache=True)
-def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, tile,
-                       lattice, gradient):
-    """Straight RGBA of the noise at device pixels (x0 + i, y0 + j), mapped to user space
-    by ((x - tile origin ...) / scale): ``x0, y0`` already hold the translation."""
-    tx, ty, tw, th = tile
+def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, lattice,
+                       gradient):
+    """Straight RGBA of the noise at user points ((x0 + i) / sx, (y0 + j) / sy) for the
+    pixels (i, j) of ``out``. Stitching tiles the image's own size in pixels, the tile
+    starting at the pixel itself (as resvg)."""
+    h, w = out.shape[0], out.shape[1]
+    tw, th = float(w), float(h)
     if stitch:
         if fx != 0.0:
             lo = math.floor(tw * fx) / tw
@@ -529,7 +531,6 @@ def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, ti
             lo = math.floor(th * fy) / th
             hi = math.ceil(th * fy) / th
             fy = lo if (lo > 0 and fy / lo < hi / fy) else hi
-    h, w = out.shape[0], out.shape[1]
     for j in range(h):
         for i in range(w):
             px = (x0 + i) / sx
@@ -537,8 +538,8 @@ def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, ti
             for ch in range(4):
                 width = int(tw * fx + 0.5)
                 height = int(th * fy + 0.5)
-                wrap_x = int(tx * fx + _PERLIN_N + width)
-                wrap_y = int(ty * fy + _PERLIN_N + height)
+                wrap_x = int(i * fx + _PERLIN_N + width)
+                wrap_y = int(j * fy + _PERLIN_N + height)
                 total = 0.0
                 vx = px * fx
                 vy = py * fy
@@ -561,15 +562,14 @@ def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, ti
 
 def turbulence(shape, origin, p) -> np.ndarray:
     """feTurbulence over an image whose top-left pixel is device ``origin``; ``p``: base
-    frequencies fx, fy, octaves, seed, stitch, fractal, tile (user rect) and the device
-    transform's scale and translation (the noise is a function of user coordinates)."""
+    frequencies fx, fy, octaves, seed, stitch, fractal and the device transform's scale and
+    translation (the noise is a function of user coordinates)."""
     lattice, gradient = turbulence_tables(p["seed"])
     out = np.zeros(shape[:2] + (4,), dtype=np.float64)
     sx, sy, tx, ty = p["to_device"]
     if sx > 0 and sy > 0 and p["octaves"] > 0:
         _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p["fx"], p["fy"],
-                           p["octaves"], p["fractal"], p["stitch"], p["tile"], lattice,
-                           gradient)
+                           p["octaves"], p["fractal"], p["stitch"], lattice, gradient)
     return premultiply(out.astype(np.float32))
 
 

@@ -413,7 +413,7 @@ class PrimitiveResolver:
         return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), MAX_OCTAVES)),
                 "seed": int(seed), "stitch": (fe.get("stitchTiles") or "") == "stitch",
                 "fractal": (fe.get("type") or "").strip() == "fractalNoise",
-                "tile": self.region, "to_device": (sx, sy, e, f)}
+                "to_device": (sx, sy, e, f)}
 
     def image(self, fe):
         """feImage content as a scene Group in device pixels, or None. An element is drawn in
