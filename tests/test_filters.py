@@ -342,3 +342,14 @@ def test_filtered_layers_do_not_depend_on_bands():
     whole = render_scene_rgba8(scene)
     banded = render_scene_rgba8(scene, band_budget=64 * 16 * 5)     # five rows a band
     assert whole[..., 3].any() and np.array_equal(whole, banded)
+
+
+def test_blur_pulls_in_content_beyond_the_image_edge():
+    # a half-plane x < 0 (outside the image) blurred with sigma 2: at the first pixel centre
+    # (x = 0.5) the Gaussian's tail gives 1 − Φ(0.5 / 2) ≈ 0.40
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="-60" y="-60" width="160" '
+                 'height="160"><feGaussianBlur stdDeviation="2"/></filter>'
+                 '<rect x="-50" y="-50" width="50" height="140" filter="url(#f)"/>')
+    want = 1 - 0.5 * (1 + math.erf(0.5 / 2 / math.sqrt(2)))
+    assert abs(img[20, 0, 3] / 255 - want) < 0.05
+    assert img[20, 8, 3] < 3

@@ -14,6 +14,8 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .blend import blend_premultiplied, unpremultiply_to_rgba8
@@ -22,7 +24,7 @@ from .geometry import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
-from .scene import Fill, Group, Scene
+from .scene import Fill, Group, Scene, translated
 from .shaders import PaintTable
 
 MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
@@ -213,7 +215,9 @@ class Layer:
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels)."""
 
     def __init__(self, group: Group, opts: RenderOptions):
-        self.items = prepare_items(group, opts)
+        # a filtered layer's content is prepared when it is filtered (moved to its region)
+        self.group = group if group.filters else None
+        self.items = [] if group.filters else prepare_items(group, opts)
         self.clip = Layer(group.clip, opts) if group.clip is not None else None
         self.mask = Layer(group.mask.content, opts) if group.mask is not None else None
         self.mask_kind = group.mask.kind if group.mask is not None else None
@@ -318,35 +322,48 @@ def draw_filtered(layer: Layer, img: np.ndarray, y0: int, raster: Raster) -> Non
         layer.filtered = render_filtered(layer, raster)
     (x0, fy0, x1, fy1), pixels = layer.filtered
     a, b = max(y0, fy0), min(y0 + img.shape[0], fy1)
-    if a < b and x0 < x1:
-        img[a - y0:b - y0, x0:x1] = pixels[a - fy0:b - fy0]
+    c, d = max(x0, 0), min(x1, img.shape[1])
+    if a < b and c < d:
+        img[a - y0:b - y0, c:d] = pixels[a - fy0:b - fy0, c - x0:d - x0]
 
 
 def render_filtered(layer: Layer, raster: Raster):
-    """(rect, pixels): the layer's content rendered in the union of its filter regions (within
-    the image) and put through its filters in order, each taking the previous one's result."""
+    """(rect, pixels): the layer's content rendered in the union of its filter regions and put
+    through its filters in order, each taking the previous one's result. Like resvg, content
+    up to two image sizes beyond the image's edges takes part (a blur pulls it in); a region
+    too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
     W, H = raster.width, raster.height
     regions = [f.region for f in layer.filters]
-    x0, y0 = max(min(r[0] for r in regions), 0), max(min(r[1] for r in regions), 0)
-    x1, y1 = min(max(r[2] for r in regions), W), min(max(r[3] for r in regions), H)
-    if x1 <= x0 or y1 <= y0 or (x1 - x0) * (y1 - y0) > MAX_FILTER_PIXELS:
+    box = (min(r[0] for r in regions), min(r[1] for r in regions),
+           max(r[2] for r in regions), max(r[3] for r in regions))
+    for limit in ((-2 * W, -2 * H, 3 * W, 3 * H), (0, 0, W, H)):
+        x0, y0 = max(box[0], limit[0]), max(box[1], limit[1])
+        x1, y1 = min(box[2], limit[2]), min(box[3], limit[3])
+        if x1 <= x0 or y1 <= y0:
+            return (0, 0, 0, 0), None
+        if (x1 - x0) * (y1 - y0) <= MAX_FILTER_PIXELS:
+            break
+    else:
         return (0, 0, 0, 0), None
-    rows = np.zeros((y1 - y0, W, 4), dtype=np.float32)
-    draw_items(layer.items, rows, y0, raster)
-    pixels = rows[:, x0:x1]
-    for f in layer.filters:
-        fx0, fy0 = max(f.region[0], x0), max(f.region[1], y0)
-        fx1, fy1 = min(f.region[2], x1), min(f.region[3], y1)
+    w, h = x1 - x0, y1 - y0
+    moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
+    local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET)[1])
+
+    def draw(group, top, rows):
+        img = np.zeros((rows, w, 4), dtype=np.float32)
+        draw_items(prepare_items(group, raster.opts), img, top, local)
+        return img
+    pixels = draw(Group(children=moved.children), 0, h)
+    for f in moved.filters:
+        fx0, fy0 = max(f.region[0], 0), max(f.region[1], 0)
+        fx1, fy1 = min(f.region[2], w), min(f.region[3], h)
         out = np.zeros_like(pixels)
         if fx1 > fx0 and fy1 > fy0:
-            part = np.ascontiguousarray(pixels[fy0 - y0:fy1 - y0, fx0 - x0:fx1 - x0])
+            part = np.ascontiguousarray(pixels[fy0:fy1, fx0:fx1])
 
             def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
-                img = np.zeros((fy1 - fy0, W, 4), dtype=np.float32)
-                draw_items(prepare_items(group, raster.opts), img, fy0, raster)
-                return img[:, fx0:fx1]
-            out[fy0 - y0:fy1 - y0, fx0 - x0:fx1 - x0] = apply_filter(part, f, (fx0, fy0),
-                                                                     draw_content)
+                return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
+            out[fy0:fy1, fx0:fx1] = apply_filter(part, f, (fx0, fy0), draw_content)
         pixels = out
     return (x0, y0, x1, y1), pixels
 

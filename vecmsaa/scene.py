@@ -6,12 +6,12 @@ maps device pixels into paint space. A renderer needs nothing but this module to
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Union
 
 import numpy as np
 
-from .path import IDENTITY, Path
+from .path import IDENTITY, Path, compose
 
 
 @dataclass
@@ -148,3 +148,46 @@ class Scene:
             else:
                 stack.extend(reversed(node.children))
         return out
+
+
+def translated(node: Node, dx: float, dy: float) -> Node:
+    """A copy of ``node`` moved by (dx, dy) device pixels: paths, paint matrices, clips, masks
+    and filters (regions, subregions and the device positions in primitive parameters)."""
+    if isinstance(node, Fill):
+        paint = node.paint
+        if not isinstance(paint, Solid):
+            paint = replace(paint, to_paint=compose(paint.to_paint, (1.0, 0.0, 0.0, 1.0,
+                                                                      -dx, -dy)))
+        return replace(node, path=node.path.transformed((1.0, 0.0, 0.0, 1.0, dx, dy)),
+                       paint=paint)
+    return replace(
+        node, children=[translated(c, dx, dy) for c in node.children],
+        clip=None if node.clip is None else translated(node.clip, dx, dy),
+        mask=None if node.mask is None else replace(node.mask,
+                                                     content=translated(node.mask.content, dx, dy)),
+        filters=[_translated_filter(f, dx, dy) for f in node.filters])
+
+
+def _shift_rect(r, dx, dy):
+    return (r[0] + dx, r[1] + dy, r[2] + dx, r[3] + dy)
+
+
+def _translated_filter(f: Filter, dx: int, dy: int) -> Filter:
+    prims = []
+    for p in f.primitives:
+        params = dict(p.params)
+        if "content" in params:                          # feImage
+            params["content"] = translated(params["content"], dx, dy)
+        if "to_device" in params:                        # feTurbulence
+            sx, sy, e, f_ = params["to_device"]
+            params["to_device"] = (sx, sy, e + dx, f_ + dy)
+        if "light" in params and params["light"][0] != "distant":
+            light = list(params["light"])
+            light[1] += dx
+            light[2] += dy
+            if light[0] == "spot":
+                light[4] += dx
+                light[5] += dy
+            params["light"] = tuple(light)
+        prims.append(replace(p, params=params, subregion=_shift_rect(p.subregion, dx, dy)))
+    return Filter(region=_shift_rect(f.region, dx, dy), primitives=prims)
