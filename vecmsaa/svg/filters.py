@@ -146,8 +146,7 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     if not (w > 0 and h > 0):
         return None
     region = device_rect(x, y, w, h, ctx.transform)
-    holder = next((e for e in chain if any(c.tag in PRIMITIVE_TAGS or c.tag.startswith("fe")
-                                           for c in e.children)), None)
+    holder = next((e for e in chain if e.children), None)   # usvg: the first with children
     if region is None or holder is None:
         return None
     resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), bbox if prim_obb else None)
