@@ -115,7 +115,7 @@ def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resou
     from .svg.builder import Builder, Options
     from .svg.document import load_document
     from .svg.resources import Resources
-    from .svg.sizing import document_size
+    from .svg.sizing import document_size, drawing_extent
 
     unknown = set(font_options) - set(FONT_OPTIONS)
     if unknown:
@@ -131,7 +131,7 @@ def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resou
     builder = Builder(doc, resources, options)
     doc_w, doc_h, root_m, viewport = document_size(doc, dpi)
     if doc_w is None:
-        doc_w, doc_h = _drawing_extent(builder, viewport)
+        doc_w, doc_h = drawing_extent(builder, viewport)
     if not (doc_w > 0 and doc_h > 0):
         # SVG: a zero or negative size disables rendering; an explicit output size still
         # gives an (empty) image of that size
@@ -152,20 +152,6 @@ def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resou
     except RecursionError:
         raise SvgError("document nesting is too deep") from None
     return Scene(w, h, Group(children=nodes), _background(background))
-
-
-def _drawing_extent(builder, viewport):
-    """Size of a document without width, height and viewBox: the drawing's right and bottom
-    edges (strokes included), as resvg does; 100 x 100 when it draws nothing."""
-    from .svg.geometry import path_bounds, union
-
-    box = None
-    for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
-                                                           viewport))).fills():
-        box = union(box, path_bounds(f.path))
-    if box is None or box[2] <= 0 or box[3] <= 0:
-        return 100.0, 100.0
-    return box[2], box[3]
 
 
 def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,

@@ -254,7 +254,8 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
         # over rounding noise, and a shortcut there would cut the turn's inside open
         sin_turn = abs(cross)
         reach = hw * max((1.0 - dot) / sin_turn if sin_turn > 0.0 else math.inf, sin_turn)
-        if reach <= lens[i] and reach <= lens[j] and not (closed and j == 0):
+        # (at dot = −1 with a rounding-noise cross, the offsets cross at infinity)
+        if reach <= lens[i] and reach <= lens[j] and not (closed and j == 0) and dot > -1.0:
             k = sign * hw / (1.0 + dot)
             ix, iy = px + (-d0y - d1y) * k, py + (d0x + d1x) * k
             if cross > 0:

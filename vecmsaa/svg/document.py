@@ -283,7 +283,7 @@ def parse_xml(data: bytes):
         raise SvgError(f"malformed XML: {exc}") from None
     except defusedxml.DefusedXmlException as exc:
         raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
-    except (ValueError, UnicodeError) as exc:
+    except (ValueError, UnicodeError, LookupError) as exc:   # LookupError: unknown encoding
         raise SvgError(f"malformed XML: {exc}") from None
     return root
 

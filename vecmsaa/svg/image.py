@@ -119,7 +119,7 @@ def _load_svg(builder, data, folder):
     from .builder import Builder
     from .document import load_document
     from .resources import Resources
-    from .sizing import document_size
+    from .sizing import document_size, drawing_extent
 
     # As in resvg, an SVG used as an image may embed data: URLs but load no files: that also
     # rules out documents that show themselves.
@@ -132,4 +132,6 @@ def _load_svg(builder, data, folder):
     width, height, root_m, viewport = size
     options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
     sub_builder = Builder(doc, resources, options)
+    if width is None:
+        width, height = drawing_extent(sub_builder, viewport)
     return doc, width, height, root_m, sub_builder, viewport

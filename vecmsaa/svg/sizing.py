@@ -1,8 +1,10 @@
 """The size of an SVG document and the matrix from its user space to that size."""
 from __future__ import annotations
 
+from ..scene import Group, Scene
 from .builder import PHYSICAL_UNITS
 from .document import Document, Style
+from .geometry import path_bounds, union
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
 
 
@@ -47,3 +49,15 @@ def document_size(doc: Document, dpi: float = 96.0):
         m = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
         viewport = (width, height)
     return width, height, m, viewport
+
+
+def drawing_extent(builder, viewport):
+    """Size of a document without width, height and viewBox: the drawing's right and bottom
+    edges (strokes included), as resvg does; 100 x 100 when it draws nothing."""
+    box = None
+    for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
+                                                           viewport))).fills():
+        box = union(box, path_bounds(f.path))
+    if box is None or box[2] <= 0 or box[3] <= 0:
+        return 100.0, 100.0
+    return box[2], box[3]

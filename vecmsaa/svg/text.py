@@ -722,7 +722,8 @@ def position_on_path(clusters, chars, text_path, chunk_x, anchor, ctx, styles, s
     then moved off the path by dy and baseline shifts; returns the pen at the end."""
     target = _lookup(text_path)
     path = ctx.path_of(target) if target is not None else None
-    if path is None or path.is_empty():
+    # a path with an infinite coordinate is not drawn, and has no length to lay text along
+    if path is None or path.is_empty() or not np.isfinite(path.points).all():
         for c in clusters:
             c.visible = False
         return 0.0, 0.0

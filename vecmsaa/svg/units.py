@@ -126,7 +126,9 @@ def parse_viewbox(text):
     if not text:
         return None
     nums = parse_numbers(text)
-    if len(nums) != 4 or nums[2] <= 0 or nums[3] <= 0:
+    # a number that overflows to infinity makes the viewBox as invalid as a negative size
+    if len(nums) != 4 or not (0 < nums[2] < math.inf and 0 < nums[3] < math.inf) \
+            or not (math.isfinite(nums[0]) and math.isfinite(nums[1])):
         return None
     return tuple(nums)
 
