@@ -54,7 +54,10 @@ def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
     (thin strokes: lines are cheaper to raster than curves), else cubics of ≤ 90° each."""
     quarters = max(1, int(math.ceil(abs(a1 - a0) / (math.pi / 2) - 1e-9)))
     chord_angle = 2.0 * math.acos(max(-1.0, 1.0 - tol / r))   # widest chord within tol
-    chords = max(quarters, int(math.ceil(abs(a1 - a0) / chord_angle - 1e-9)))
+    if chord_angle > 0.0:
+        chords = max(quarters, int(math.ceil(abs(a1 - a0) / chord_angle - 1e-9)))
+    else:   # tol below the rounding of r: only curves will do
+        chords = _MAX_ARC_CHORDS + 1
     if chords <= _MAX_ARC_CHORDS:
         for i in range(1, chords + 1):
             b = a0 + (a1 - a0) * i / chords

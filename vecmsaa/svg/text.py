@@ -722,15 +722,19 @@ def position_on_path(clusters, chars, text_path, chunk_x, anchor, ctx, styles, s
     then moved off the path by dy and baseline shifts; returns the pen at the end."""
     target = _lookup(text_path)
     path = ctx.path_of(target) if target is not None else None
-    # a path with an infinite coordinate is not drawn, and has no length to lay text along
-    if path is None or path.is_empty() or not np.isfinite(path.points).all():
+    walker = None
+    if path is not None and not path.is_empty():
+        a, b, cc, d = ctx.transform[:4]
+        # resvg's tolerance follows the text's transform in the SVG's own units, before the
+        # output is scaled to its pixel size: divide that scaling out.
+        walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d))
+                            / ctx.root_scale)
+    # a path with infinite coordinates (or a length that overflows) is not drawn, and has no
+    # length to lay text along
+    if walker is None or not math.isfinite(walker.length):
         for c in clusters:
             c.visible = False
         return 0.0, 0.0
-    a, b, cc, d = ctx.transform[:4]
-    # resvg's tolerance follows the text's transform in the SVG's own units, before the
-    # output is scaled to its pixel size: divide that scaling out.
-    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / ctx.root_scale)
     style = styles.get(id(text_path), ctx.style)
     offset = 0.0
     start = text_path.get("startOffset")
