@@ -26,8 +26,8 @@ from .markers import draw_markers
 from .pathdata import parse_path_data
 from .resources import Resources
 from .shapes import shape_path
-from .units import (mean_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
-                    split_length, to_px, translate, viewbox_transform)
+from .units import (mean_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
+                    parse_viewbox, split_length, to_px, translate, viewbox_transform)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -833,20 +833,6 @@ def conditions_pass(el):
     if ext is not None:
         return False
     return True
-
-
-@functools.lru_cache(maxsize=256)
-def parse_opacity(value):
-    if value is None:
-        return 1.0
-    v = value.strip()
-    try:
-        f = float(v[:-1]) / 100 if v.endswith("%") else float(v)
-    except ValueError:
-        return 1.0
-    if not math.isfinite(f):
-        return 1.0
-    return min(1.0, max(0.0, f))
 
 
 @functools.lru_cache(maxsize=64)

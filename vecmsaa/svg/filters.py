@@ -19,7 +19,7 @@ from dataclasses import replace
 from ..scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
 from .color import parse_color
 from .document import Element
-from .units import parse_number, parse_numbers, split_length
+from .units import parse_number, parse_numbers, parse_opacity, split_length
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -252,7 +252,7 @@ class PrimitiveResolver:
             c = self.builder.current_color(style)
         if c is None:
             c = (0.0, 0.0, 0.0, 1.0)
-        opacity = _opacity(style.get("flood-opacity"))
+        opacity = parse_opacity(style.get("flood-opacity"))
         return (c[0], c[1], c[2], c[3] * opacity)
 
     def kind(self, fe, style):
@@ -450,14 +450,6 @@ class PrimitiveResolver:
 BLEND_MODES = {"normal", "multiply", "screen", "overlay", "darken", "lighten", "color-dodge",
                "color-burn", "hard-light", "soft-light", "difference", "exclusion", "hue",
                "saturation", "color", "luminosity"}
-
-
-def _opacity(text):
-    parsed = split_length(text) if text else None
-    if parsed is None:
-        return 1.0
-    v, unit = parsed
-    return min(max(v / 100 if unit == "%" else v, 0.0), 1.0)
 
 
 def saturate_matrix(s):

@@ -13,8 +13,8 @@ import numpy as np
 from ..path import IDENTITY, compose, invert
 from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
-from .units import (row_scale, parse_aspect, parse_number, parse_transform, parse_viewbox,
-                    split_length, translate, viewbox_transform)
+from .units import (row_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
+                    parse_viewbox, split_length, translate, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 MAX_TILE_PIXELS = 2048 * 2048
@@ -68,7 +68,6 @@ def gradient_stops(builder, chain):
             color = (0.0, 0.0, 0.0, 1.0)
         elif color == "currentColor":
             color = builder.current_color(style)
-        from .builder import parse_opacity
         alpha = color[3] * parse_opacity(style.get("stop-opacity"))
         out.append([off, color[0], color[1], color[2], alpha])
     return np.asarray(separate_equal_offsets(out), dtype=np.float64)
@@ -177,7 +176,7 @@ def gradient(builder, el, ctx, bbox):
 
 
 def pattern(builder, el, ctx, bbox):
-    from .builder import Ctx, bbox_matrix
+    from .builder import Ctx
 
     if any(p is el for p in builder.paint_stack):
         return None

@@ -1,6 +1,7 @@
 """Numbers, lengths, transforms, viewBox and preserveAspectRatio."""
 from __future__ import annotations
 
+import functools
 import math
 import re
 
@@ -158,3 +159,17 @@ def viewbox_transform(viewbox, aspect, width, height):
     tx += {"Min": 0.0, "Mid": dw / 2, "Max": dw}[align[1:4]]
     ty += {"Min": 0.0, "Mid": dh / 2, "Max": dh}[align[5:8]]
     return (s, 0.0, 0.0, s, tx, ty)
+
+
+@functools.lru_cache(maxsize=256)
+def parse_opacity(value):
+    if value is None:
+        return 1.0
+    v = value.strip()
+    try:
+        f = float(v[:-1]) / 100 if v.endswith("%") else float(v)
+    except ValueError:
+        return 1.0
+    if not math.isfinite(f):
+        return 1.0
+    return min(1.0, max(0.0, f))
