@@ -18,6 +18,7 @@ from .units import (row_scale, parse_aspect, parse_number, parse_opacity, parse_
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 MAX_TILE_PIXELS = 2048 * 2048
+MAX_TILE_SIDE = 8192
 
 
 def href_chain(builder, el, tags):
@@ -207,6 +208,13 @@ def pattern(builder, el, ctx, bbox):
     sx, sy = row_scale(full)
     if sx <= 0 or sy <= 0:
         return None
+    tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
+    # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
+    # 1e12) would otherwise become a 1-pixel sliver of millions of rows
+    if tw > MAX_TILE_SIDE:
+        sx *= MAX_TILE_SIDE / tw
+    if th > MAX_TILE_SIDE:
+        sy *= MAX_TILE_SIDE / th
     tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
     if tw * th > MAX_TILE_PIXELS:
         f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
