@@ -6,10 +6,19 @@ import numpy as np
 from numba import njit
 
 
-def _unpremultiply(img):
+def unpremultiply(img: np.ndarray) -> np.ndarray:
+    """Straight RGBA (transparent pixels black)."""
+    out = img.copy()
     a = img[..., 3:4]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(a > 0, img[..., :3] / np.maximum(a, 1e-12), 0.0), a
+    np.divide(img[..., :3], a, out=out[..., :3], where=a > 0)
+    out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
+    return out
+
+
+def premultiply(img: np.ndarray) -> np.ndarray:
+    out = img.copy()
+    out[..., :3] *= img[..., 3:4]
+    return out
 
 
 def _lum(c):
@@ -76,8 +85,9 @@ def _separable(mode, cs, cd):
 
 def blend_premultiplied(src: np.ndarray, dst: np.ndarray, mode: str) -> np.ndarray:
     """Result of compositing premultiplied ``src`` onto ``dst`` with blend ``mode``."""
-    cs, sa = _unpremultiply(src)
-    cd, da = _unpremultiply(dst)
+    s, d = unpremultiply(src), unpremultiply(dst)
+    cs, sa = s[..., :3], s[..., 3:4]
+    cd, da = d[..., :3], d[..., 3:4]
     mixed = _separable(mode, cs, cd)
     if mixed is None:
         if mode == "hue":

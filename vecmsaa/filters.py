@@ -36,7 +36,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .blend import blend_premultiplied
+from .blend import blend_premultiplied, premultiply, unpremultiply
 from .scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter
 
 #: sigmas below this are blurred with a true Gaussian kernel, above with box blurs (resvg)
@@ -69,21 +69,6 @@ def _convert_space(img, out, to_linear):
                     continue
                 v = min(max(img[y, x, c] / a, 0.0), 1.0)
                 out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
-
-
-def unpremultiply(img: np.ndarray) -> np.ndarray:
-    """Straight RGBA (transparent pixels black)."""
-    out = img.copy()
-    a = img[..., 3:4]
-    np.divide(img[..., :3], a, out=out[..., :3], where=a > 0)
-    out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
-    return out
-
-
-def premultiply(img: np.ndarray) -> np.ndarray:
-    out = img.copy()
-    out[..., :3] *= img[..., 3:4]
-    return out
 
 
 def convert_space(img: np.ndarray, to_linear: bool) -> np.ndarray:
