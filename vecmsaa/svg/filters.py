@@ -19,7 +19,8 @@ from dataclasses import replace
 from ..scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
 from .color import parse_color
 from .document import Element
-from .units import parse_number, parse_numbers, parse_opacity, split_length
+from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity, row_scale,
+                    split_length)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -90,21 +91,6 @@ def device_rect(x, y, w, h, m):
     return (x0, y0, x1, y1)
 
 
-def transform_scale(m):
-    """(x scale, y scale) of a matrix, as tiny-skia's ``get_scale``."""
-    a, b, c, d, _, _ = m
-    return math.hypot(a, c), math.hypot(b, d)
-
-
-def _fraction(text):
-    """An objectBoundingBox coordinate: a number or a percentage, as a fraction."""
-    parsed = split_length(text) if text is not None else None
-    if parsed is None:
-        return None
-    v, unit = parsed
-    return v / 100 if unit == "%" else v
-
-
 def _href_chain(el, doc):
     seen = []
     while el is not None and el.tag == "filter" and all(e is not el for e in seen):
@@ -132,7 +118,7 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     style = builder.doc.document_style(fel)
     if units_obb:
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
-        fr = [_fraction(attr(n)) for n in ("x", "y", "width", "height")]
+        fr = [parse_fraction(attr(n)) for n in ("x", "y", "width", "height")]
         fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
         x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
     else:
@@ -165,7 +151,7 @@ class PrimitiveResolver:
         self.builder, self.el, self.ctx = builder, el, ctx
         self.region = region                  # user-space x, y, w, h
         self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
-        sx, sy = transform_scale(ctx.transform)
+        sx, sy = row_scale(ctx.transform)
         if obb_box is not None:
             sx *= obb_box[2] - obb_box[0]
             sy *= obb_box[3] - obb_box[1]
@@ -204,7 +190,7 @@ class PrimitiveResolver:
             bx, by = self.obb_box[0], self.obb_box[1]
             bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
             fx, fy, fw, fh = [d if v is None else v for v, d in
-                              zip([_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
+                              zip([parse_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
             if fe.tag in ("feFlood", "feImage"):
                 # usvg: fractions of the bounding box
                 x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
@@ -407,7 +393,7 @@ class PrimitiveResolver:
         octaves = parse_number(fe.get("numOctaves"), 1.0)
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
-        sx, sy = transform_scale(self.ctx.transform)
+        sx, sy = row_scale(self.ctx.transform)
         # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
         return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), MAX_OCTAVES)),
                 "seed": int(seed), "stitch": (fe.get("stitchTiles") or "") == "stitch",
@@ -563,7 +549,7 @@ def _amount(args, default=1.0):
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
-    sx, sy = transform_scale(ctx.transform)
+    sx, sy = row_scale(ctx.transform)
     linear = False                      # filter functions work in sRGB
     if name == "blur":
         std = _css_length(builder, args or "0", style, ctx)

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..path import compose, rect_path
 from ..scene import Fill, Group, ImagePaint, LinearGradient, Mask, RadialGradient, Solid
+from .units import parse_fraction
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
                  "use"}
@@ -89,13 +90,8 @@ def masks(builder, value, ctx, bbox_fn):
         return False
     if units_obb:
         def frac(name, default):
-            raw = el.get(name)
-            from .units import split_length
-            parsed = split_length(raw) if raw is not None else None
-            if parsed is None:
-                parsed = split_length(default)
-            v, unit = parsed
-            return v / 100 if unit == "%" else v
+            f = parse_fraction(el.get(name))
+            return parse_fraction(default) if f is None else f
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
         x = bx + frac("x", "-10%") * bw
         y = by + frac("y", "-10%") * bh

@@ -13,8 +13,8 @@ import numpy as np
 from ..path import IDENTITY, compose, invert
 from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
-from .units import (row_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, translate, viewbox_transform)
+from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, translate, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 MAX_TILE_PIXELS = 2048 * 2048
@@ -94,15 +94,11 @@ def separate_equal_offsets(stops, eps=1e-6):
 
 def _coord(builder, value, axis, obb, style, viewport, default):
     """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units."""
-    if value is None:
+    if value is None or split_length(value) is None:
         value = default
-    parsed = split_length(value)
-    if parsed is None:
-        parsed = split_length(default)
-    v, unit = parsed
     if obb:
-        return v / 100 if unit == "%" else v
-    return builder.length(value if split_length(value) else default, axis, style, viewport)
+        return parse_fraction(value)
+    return builder.length(value, axis, style, viewport)
 
 
 def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):

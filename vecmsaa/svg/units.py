@@ -43,6 +43,16 @@ def split_length(text):
     return v, (m.group(2) or "").lower()
 
 
+def parse_fraction(text):
+    """An objectBoundingBox coordinate: a number or a percentage, as a fraction of the box;
+    None when it does not parse."""
+    parsed = split_length(text) if text is not None else None
+    if parsed is None:
+        return None
+    v, unit = parsed
+    return v / 100 if unit == "%" else v
+
+
 def to_px(value, unit, font_size=16.0, reference=0.0):
     """Convert (value, unit) to user units; ``reference`` is what 100% means."""
     if unit == "%":
