@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit
 
 from .blend import blend_premultiplied, premultiply, unpremultiply
-from .scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter
+from .scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, shifted_light
 
 #: sigmas below this are blurred with a true Gaussian kernel, above with box blurs (resvg)
 BOX_BLUR_SIGMA = 2.0
@@ -375,11 +375,8 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if kind == "convolve":
         return convolve_matrix(inputs[0].in_space(cs), p), cs
     if kind in ("diffuse", "specular"):
-        light = p["light"]
-        if light[0] != "distant":            # device pixels → the image's pixels
-            ox, oy = origin
-            light = (light[0], light[1] - ox, light[2] - oy, light[3]) + (
-                (light[4] - ox, light[5] - oy) + light[6:] if light[0] == "spot" else ())
+        # device pixels → the image's pixels
+        light = shifted_light(p["light"], -origin[0], -origin[1])
         return lighting(inputs[0].img, dict(p, light=light), kind == "specular"), cs
     if kind == "flood":
         return flood(shape, p["color"]), False

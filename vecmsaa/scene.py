@@ -168,6 +168,20 @@ def translated(node: Node, dx: float, dy: float) -> Node:
         filters=[_translated_filter(f, dx, dy) for f in node.filters])
 
 
+def shifted_light(light: tuple, dx: float, dy: float) -> tuple:
+    """A lighting primitive's light source moved by (dx, dy) pixels: a point light's position,
+    a spot light's position and target; a distant light has no position."""
+    if light[0] == "distant":
+        return light
+    light = list(light)
+    light[1] += dx
+    light[2] += dy
+    if light[0] == "spot":
+        light[4] += dx
+        light[5] += dy
+    return tuple(light)
+
+
 def _shift_rect(r, dx, dy):
     return (r[0] + dx, r[1] + dy, r[2] + dx, r[3] + dy)
 
@@ -181,13 +195,7 @@ def _translated_filter(f: Filter, dx: int, dy: int) -> Filter:
         if "to_device" in params:                        # feTurbulence
             sx, sy, e, f_ = params["to_device"]
             params["to_device"] = (sx, sy, e + dx, f_ + dy)
-        if "light" in params and params["light"][0] != "distant":
-            light = list(params["light"])
-            light[1] += dx
-            light[2] += dy
-            if light[0] == "spot":
-                light[4] += dx
-                light[5] += dy
-            params["light"] = tuple(light)
+        if "light" in params:
+            params["light"] = shifted_light(params["light"], dx, dy)
         prims.append(replace(p, params=params, subregion=_shift_rect(p.subregion, dx, dy)))
     return Filter(region=_shift_rect(f.region, dx, dy), primitives=prims)
