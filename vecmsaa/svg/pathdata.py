@@ -35,7 +35,6 @@ _ARG_FLAG = re.compile(f"{_SEP}([01])")
 # only characters that can occur in plainly written numbers and separators
 _PLAIN_ARGS = re.compile(r"[0-9.eE+\-, \t\r\n\f]*")
 
-_LINES = bytes([LINE]) * 4096
 
 #: numbers each command consumes per repetition
 _ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "A": 7, "Z": 0}
@@ -140,7 +139,7 @@ def _parse(d: str):
             else:
                 xy = nums[2 * start:2 * count]
             pts += xy
-            verbs += _LINES[:run] if run <= len(_LINES) else bytes([LINE]) * run
+            verbs += bytes((LINE,)) * run
             origin.extend(range(command_index, command_index + run))
             command_index += run
             cx, cy = xy[-2], xy[-1]
