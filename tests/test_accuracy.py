@@ -5,7 +5,7 @@ import sys
 import numpy as np
 from PIL import Image
 
-from vecmsaa.accuracy import measure, random_scene
+from vecmsaa.tools.accuracy import measure, random_scene
 
 
 def test_msaa_modes_against_ground_truth_on_unseen_scenes():

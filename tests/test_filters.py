@@ -1,13 +1,13 @@
-"""Filter primitives (vecmsaa.filters) against the spec's formulas computed here, and filters end
+"""Filter primitives (vecmsaa.raster.filter_effects) against the spec's formulas computed here, and filters end
 to end through the SVG front end."""
 import math
 
 import numpy as np
 import pytest
 
-from vecmsaa import filters as F
+from vecmsaa.raster import filter_effects as F
 from vecmsaa.api import render_svg_array
-from vecmsaa.scene import SOURCE_GRAPHIC, Filter, Primitive
+from vecmsaa.scene.nodes import SOURCE_GRAPHIC, Filter, Primitive
 
 NS = 'xmlns="http://www.w3.org/2000/svg"'
 
@@ -333,7 +333,7 @@ def test_extreme_parameters_give_finite_colours():
 
 def test_filtered_layers_do_not_depend_on_bands():
     from vecmsaa.api import load_svg
-    from vecmsaa.render import render_scene_rgba8
+    from vecmsaa.raster.render import render_scene_rgba8
     svg = (f'<svg {NS} width="64" height="64"><filter id="f"><feGaussianBlur '
            'stdDeviation="3"/><feOffset dx="2" dy="3"/></filter>'
            '<g filter="url(#f) drop-shadow(2px 2px 1px red)" opacity="0.7">'

@@ -15,7 +15,7 @@ from vecmsaa.fonts import (FontError, layout_line, line_fills, load_face, parse_
                            parse_variations, shape_text)
 from vecmsaa.fonts.db import FontDatabase, best_match, parse_family_list, FaceInfo
 from vecmsaa.fonts.shape import bidi_runs
-from vecmsaa.path import CUBIC, QUAD
+from vecmsaa.scene.path import CUBIC, QUAD
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")

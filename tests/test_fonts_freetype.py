@@ -21,9 +21,8 @@ import numpy as np
 import pytest
 
 from vecmsaa.fonts import load_face
-from vecmsaa.fonts.reference import (compare_glyph, error_map_rgba, freetype_glyph,
-                                     outline_area)
-from vecmsaa.path import Path
+from vecmsaa.tools.font_reference import compare_glyph, error_map_rgba, freetype_glyph, outline_area
+from vecmsaa.scene.path import Path
 
 pytest.importorskip("freetype")
 
@@ -96,7 +95,7 @@ def test_outline_area_matches_freetype_ink(kind):
 
 def _render_available():
     try:
-        import vecmsaa.render  # noqa: F401
+        import vecmsaa.raster.render  # noqa: F401
         return True
     except ImportError:
         return False

@@ -6,9 +6,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.geometry import (P_KIND, PRIM_FIELDS, _eval_implicit, build_batch, classify_cubic,
-                              KIND_CUBIC)
-from vecmsaa.path import Path
+from vecmsaa.geometry.primitives import (P_KIND, PRIM_FIELDS, _eval_implicit, build_batch,
+                                         classify_cubic, KIND_CUBIC)
+from vecmsaa.scene.path import Path
 
 SERPENTINE, LOOP, CUSP, CUSP_AT_INFINITY, QUADRATIC, LINE = range(6)
 

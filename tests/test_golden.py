@@ -1,4 +1,4 @@
-"""Golden images: `vecmsaa golden update|check`, vecmsaa.golden and vecmsaa.testing.
+"""Golden images: `vecmsaa golden update|check`, vecmsaa.tools.golden and vecmsaa.tools.testing.
 
 Everything renders with the real renderer (vecmsaa.api). Expected pixel counts come from the
 test drawings: rectangles on whole pixels, so a colour change alters exactly their area.
@@ -16,11 +16,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vecmsaa import golden
+from vecmsaa.tools import golden
 from vecmsaa.api import render_svg_array
 from vecmsaa.cli.main import main as vecmsaa_main
-from vecmsaa.png import encode_png
-from vecmsaa.testing import assert_matches_golden
+from vecmsaa.output.png import encode_png
+from vecmsaa.tools.testing import assert_matches_golden
 
 pytest_plugins = ["pytester"]
 
@@ -392,7 +392,7 @@ def test_corrupt_golden_is_a_failure(tree, capsys):
     assert re.search(r"^ERROR .*plain\.svg: golden plain\.png unreadable", out, re.M)
 
 
-# --- vecmsaa.testing -------------------------------------------------------------------------------
+# --- vecmsaa.tools.testing -------------------------------------------------------------------------------
 
 def test_assert_matches_golden_passes_on_the_same_render(tmp_path):
     svg = write(tmp_path / "a.svg", rect_svg())
@@ -465,18 +465,18 @@ def test_pytest_plugin_option_and_fixture(pytester, monkeypatch):
                                          f"    assert_golden({rect_svg(fill=fill)!r}, samples=4)\n")
 
     write_test(RED)
-    pytester.runpytest("-p", "vecmsaa.testing").assert_outcomes(failed=1)   # no golden yet
+    pytester.runpytest("-p", "vecmsaa.tools.testing").assert_outcomes(failed=1)   # no golden yet
     made = pytester.path / "goldens" / "test_picture" / "test_rect.png"
     assert not made.exists()
-    updating = pytester.runpytest("-p", "vecmsaa.testing", "--update-goldens")
+    updating = pytester.runpytest("-p", "vecmsaa.tools.testing", "--update-goldens")
     updating.assert_outcomes(passed=1)
     updating.stdout.fnmatch_lines(["vecmsaa: updating golden images instead of comparing*"])
     assert made.read_bytes() == encode_png(render_svg_array(rect_svg(), samples=4))
-    checking = pytester.runpytest("-p", "vecmsaa.testing")
+    checking = pytester.runpytest("-p", "vecmsaa.tools.testing")
     checking.assert_outcomes(passed=1)
     assert "updating golden images" not in checking.stdout.str()
     write_test(BLUE)
-    changed = pytester.runpytest("-p", "vecmsaa.testing")
+    changed = pytester.runpytest("-p", "vecmsaa.tools.testing")
     changed.assert_outcomes(failed=1)
     changed.stdout.fnmatch_lines(["*does not match golden*200 of 1200 pixels off*"])
     assert (made.parent / "test_rect.diff.png").is_file()

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.path import CLOSE, LINE, MOVE, VERB_POINTS
+from vecmsaa.scene.path import CLOSE, LINE, MOVE, VERB_POINTS
 from vecmsaa.svg.pathdata import arc_to_cubics, parse_path_data, parse_path_data_with_commands
 
 svgpathtools = pytest.importorskip("svgpathtools")

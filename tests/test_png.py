@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from vecmsaa import png
+from vecmsaa.output import png
 
 
 def decode(data: bytes) -> np.ndarray:

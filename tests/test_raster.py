@@ -8,11 +8,12 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from truth import distance_to_outline, polygon_pixel_coverage, segments, winding_at
-from vecmsaa.path import Path
-from vecmsaa.patterns import mask_table, standard_pattern
-from vecmsaa.render import ALL_MODES, render_scene, render_scene_rgba8, to_rgba8
-from vecmsaa.scan import mask_lookup
-from vecmsaa.scene import Fill, Group, LinearGradient, Mask, Scene, Solid
+from vecmsaa.scene.path import Path
+from vecmsaa.raster.sample_patterns import mask_table, standard_pattern
+from vecmsaa.raster.render import ALL_MODES, render_scene, render_scene_rgba8
+from vecmsaa.output.rgba8 import to_rgba8
+from vecmsaa.raster.scan import mask_lookup
+from vecmsaa.scene.nodes import Fill, Group, LinearGradient, Mask, Scene, Solid
 
 SIZE = 16
 coord = st.floats(min_value=-2.0, max_value=SIZE + 2.0, allow_nan=False, width=32)
@@ -299,8 +300,8 @@ def _quad(a, b, c, d):
 
 
 def test_paint_is_evaluated_once_per_pixel_at_its_centre():
-    from vecmsaa.path import rect_path
-    from vecmsaa.scene import LinearGradient
+    from vecmsaa.scene.path import rect_path
+    from vecmsaa.scene.nodes import LinearGradient
     stops = np.array([[0, 0, 0, 0, 1], [1, 1, 1, 1, 1]], dtype=float)
     grad = LinearGradient(0.0, 0.0, 16.0, 0.0, stops)
     # the rectangle's left and right edges cut pixel columns 3 and 12 at 0.4: partial coverage
@@ -316,7 +317,7 @@ def test_paint_is_evaluated_once_per_pixel_at_its_centre():
 
 @pytest.mark.parametrize("mode", ["analytic", "approx", "persample"])
 def test_crisp_edges_give_whole_pixels(mode):
-    from vecmsaa.path import rect_path
+    from vecmsaa.scene.path import rect_path
     scene = Scene(SIZE, SIZE, Group([Fill(rect_path(2.3, 3.6, 8.5, 6.2), Solid((0, 0, 0, 1)),
                                           antialias=False)]))
     a = render_scene(scene, mode=mode, samples=8)[..., 3]
@@ -329,7 +330,7 @@ def layered_scene(size=37):
     """Curved shapes crossing many rows, in layers of every kind: group opacity, a clip path
     (with a clip of its own), a luminance mask with a gradient, a blend mode; some layers cover
     only a few rows, so bands skip them."""
-    from vecmsaa.path import rect_path
+    from vecmsaa.scene.path import rect_path
     stops = np.array([[0, 1, 1, 1, 1], [1, 0.2, 0.2, 0.2, 0.5]], dtype=float)
     ramp = LinearGradient(0.0, 0.0, 0.0, size, stops)
     disc = Fill(circle_path((size * 0.45, size * 0.5), size * 0.4), Solid((0.9, 0.3, 0.1, 1)))

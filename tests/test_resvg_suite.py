@@ -27,7 +27,7 @@ def listed_tests():
 def suite_results():
     if not (SUITE / "tests").is_dir():
         pytest.skip("../shared/resvg-suite is not present")
-    from vecmsaa.cli.suite import run_suite
+    from vecmsaa.tools.suite import run_suite
 
     names = [n for n in listed_tests() if (SUITE / "tests" / (n + ".svg")).exists()]
     if not names:

@@ -15,9 +15,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.path import Path
-from vecmsaa.render import render_scene
-from vecmsaa.scene import Fill, Group, LinearGradient, RadialGradient, Scene, Solid
+from vecmsaa.scene.path import Path
+from vecmsaa.raster.render import render_scene
+from vecmsaa.scene.nodes import Fill, Group, LinearGradient, RadialGradient, Scene, Solid
 
 SIZE = 24
 MODES = ("persample", "approx", "alpha", "a2c")

@@ -9,8 +9,9 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
-from vecmsaa.stroke import auto_angle, dash_pattern, marker_vertices, stroke_path
+from vecmsaa.scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from vecmsaa.svg.markers import auto_angle, marker_vertices
+from vecmsaa.geometry.stroke import dash_pattern, stroke_path
 from vecmsaa.svg.pathdata import parse_path_data, parse_path_data_with_commands
 
 
@@ -362,7 +363,7 @@ def test_lone_moveto_not_stroked():
 def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
     """The same stroke through the general (curve) stroker: every line a separate piece,
     dashes walked by the pure-Python dash walker."""
-    from vecmsaa import stroke
+    from vecmsaa.geometry import stroke
 
     out = stroke._Out()
     pattern = dash_pattern(dashes)
@@ -537,7 +538,7 @@ def test_marker_zero_length_segment_takes_neighbour_direction():
 
 
 def test_closepath_vertex_gets_no_mid_marker_but_the_next_moveto_does():
-    from vecmsaa.stroke import marker_vertices
+    from vecmsaa.svg.markers import marker_vertices
     path = Path()
     path.moveTo((0, 0))
     path.lineTo((10, 0))

@@ -49,7 +49,7 @@ def test_background_fills_transparent_pixels():
 
 
 def test_reference_png_from_the_suite(shared_dir):
-    from vecmsaa.compare import compare_images
+    from vecmsaa.tools.compare import compare_images
 
     base = shared_dir / "resvg-suite" / "tests" / "masking" / "mask" / "simple-case"
     if not base.with_suffix(".svg").exists():

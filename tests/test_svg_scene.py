@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 
 from vecmsaa.api import load_svg
-from vecmsaa.path import apply
-from vecmsaa.scene import Fill, Group, ImagePaint, LinearGradient, RadialGradient, Solid
+from vecmsaa.scene.transform import apply
+from vecmsaa.scene.nodes import Fill, Group, ImagePaint, LinearGradient, RadialGradient, Solid
 from vecmsaa.svg import SvgError
-from vecmsaa.svg.geometry import path_bounds
+from vecmsaa.scene.bounds import path_bounds
 
 NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
 

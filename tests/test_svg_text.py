@@ -188,7 +188,7 @@ SUITE_SAMPLES = ["text/text/simple-case", "text/tspan/mixed-font-size",
 def test_matches_resvg_reference(name):
     from PIL import Image
 
-    from vecmsaa.compare import compare_images
+    from vecmsaa.tools.compare import compare_images
 
     svg = os.path.join(SUITE, "tests", name + ".svg")
     if not os.path.exists(svg):

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vecmsaa.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from vecmsaa.scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
 
 
 def segments(path):

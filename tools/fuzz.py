@@ -166,7 +166,7 @@ def mutate_text(text: str, rng: random.Random) -> str:
 # -- targets: each returns normally or raises; documented errors are filtered by the caller ---
 def run_svg(data: bytes, folder=None):
     from vecmsaa.api import load_svg
-    from vecmsaa.render import render_scene
+    from vecmsaa.raster.render import render_scene
 
     scene = load_svg(data, width=48)
     # render small: the renderer must cope with whatever the front end resolved
@@ -177,9 +177,9 @@ def run_svg(data: bytes, folder=None):
 def run_pathdata(text: str):
     import numpy as np
 
-    from vecmsaa.path import Path
-    from vecmsaa.render import render_scene
-    from vecmsaa.scene import Fill, Group, Scene, Solid
+    from vecmsaa.scene.path import Path
+    from vecmsaa.raster.render import render_scene
+    from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
     from vecmsaa.svg.pathdata import parse_path_data
 
     path = parse_path_data(text)

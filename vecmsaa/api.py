@@ -16,8 +16,8 @@ import os
 
 import numpy as np
 
-from .path import compose
-from .scene import Group, Scene
+from .scene.transform import compose
+from .scene.nodes import Group, Scene
 from .svg import SvgError
 
 MAX_PIXELS = 1 << 28
@@ -157,7 +157,7 @@ def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resou
 def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,
                      mode="approx", samples=8, resources_dir=None, **font_options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA."""
-    from .render import render_scene_rgba8
+    from .raster.render import render_scene_rgba8
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, mode=mode, samples=samples,

@@ -7,8 +7,8 @@
 from __future__ import annotations
 
 from .face import Face, FontError, Metrics, load_face, face_count, parse_variations
-from .layout import (LineLayout, glyphs_arrays, glyphs_path, layout_line, line_fills,
-                     place_runs, placement)
+from .layout import (LineLayout, glyphs_arrays, glyphs_path, layout_line, line_fills, place_runs,
+                     placement)
 from .shape import ShapedRun, parse_features, shape_text
 
 __all__ = ["Face", "FontError", "Metrics", "load_face", "face_count", "parse_variations",

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..path import IDENTITY
-from ..scene import Fill, Solid
+from ..scene.transform import IDENTITY
+from ..scene.nodes import Fill, Solid
 
 FOREGROUND = 0xFFFF
 
@@ -50,7 +50,7 @@ def is_color_glyph(face, gid) -> bool:
 def color_glyph_fills(face, location, gid, matrix, paint, to_device=IDENTITY) -> list:
     """Fills of one colour glyph placed by ``matrix`` (font units → user space; ``to_device``
     then maps user space to device pixels)."""
-    from ..path import compose
+    from ..scene.transform import compose
     from .layout import glyphs_path
 
     a, b, c, d = matrix[:4]
@@ -157,8 +157,9 @@ def bitmap_fill(face, gid, origin_matrix, size, to_device):
     The image is scaled by size/ppem with its bottom-left corner at the strike offset. An
     sbix glyph that also has an outline sits on that outline's lowest point, as resvg (0.48)
     draws it (measured on the suite's CFF-and-SBIX font)."""
-    from ..path import compose, invert, rect_path
-    from ..scene import ImagePaint
+    from ..scene.transform import compose, invert
+    from ..scene.path import rect_path
+    from ..scene.nodes import ImagePaint
 
     found = bitmap_glyph(face, gid)
     if found is None:

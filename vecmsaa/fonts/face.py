@@ -3,7 +3,7 @@
 A :class:`Face` wraps one face of a font file (a .ttc/.otc collection holds several, chosen by
 ``index``). Outlines come from fontTools' glyph set, which covers TrueType ``glyf`` (quadratic,
 composite), ``CFF``/``CFF2`` (cubic) and variable fonts (gvar/CFF2 blends at a location). Each
-glyph is drawn once per (face, location, gid) into a :class:`vecmsaa.path.Path` and kept as flat
+glyph is drawn once per (face, location, gid) into a :class:`vecmsaa.scene.path.Path` and kept as flat
 arrays in font units, y up; :func:`vecmsaa.fonts.layout.glyphs_path` places many of them at once.
 """
 from __future__ import annotations
@@ -14,7 +14,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..path import Path
+from ..scene.path import Path
 
 
 class FontError(Exception):

@@ -1,6 +1,6 @@
 """Placing shaped glyphs in device space and turning them into scene fills.
 
-All glyphs that share a paint become ONE :class:`~vecmsaa.path.Path`: the cached font-unit
+All glyphs that share a paint become ONE :class:`~vecmsaa.scene.path.Path`: the cached font-unit
 outlines are concatenated and transformed with numpy in one go (a glyph costs a dict lookup,
 not a Python loop over its points), so a page of thousands of glyphs is one fill and one
 raster pass.
@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..path import Path
-from ..scene import Solid
+from ..scene.path import Path
+from ..scene.nodes import Solid
 from .shape import ShapedRun, shape_text
 
 

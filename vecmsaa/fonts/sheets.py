@@ -1,6 +1,6 @@
 """Scenes for the ``vecmsaa font`` command: one line, a waterfall, a glyph grid, a specimen.
 
-Each builder returns a :class:`vecmsaa.scene.Scene` sized to its content. Text is collected in
+Each builder returns a :class:`vecmsaa.scene.nodes.Scene` sized to its content. Text is collected in
 a :class:`GlyphBatch` so that a whole sheet -- thousands of glyphs and their labels -- becomes a
 few fills (one per face and paint) and is rasterised in one pass.
 """
@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..path import Path, rect_path
-from ..scene import Fill, Group, Scene, Solid
+from ..scene.path import Path, rect_path
+from ..scene.nodes import Fill, Group, Scene, Solid
 from .color import color_fills
 from .layout import LineLayout, layout_line, placement, run_placements
 

@@ -1,10 +1,10 @@
-"""Scene construction: Element tree + computed styles → resolved :class:`~vecmsaa.scene.Scene`.
+"""Scene construction: Element tree + computed styles → resolved :class:`~vecmsaa.scene.nodes.Scene`.
 
 All geometry leaves this module in device pixels. Each element is visited with a :class:`Ctx`
 holding the user → device matrix, the viewport used for percentages, and the state that ``<use>``
 and markers carry (``context-fill``/``context-stroke``, the instantiation stack). Structural
 effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
-:class:`~vecmsaa.scene.Group` layers; anything else is flattened into its parent.
+:class:`~vecmsaa.scene.nodes.Group` layers; anything else is flattened into its parent.
 """
 from __future__ import annotations
 
@@ -14,14 +14,15 @@ import re
 from dataclasses import dataclass, field, replace
 
 
-from ..path import IDENTITY, LINE, Path, compose, rect_path
-from ..scene import Fill, Group, Scene, Solid
-from ..stroke import stroke_path
+from ..scene.transform import IDENTITY, compose
+from ..scene.path import LINE, Path, rect_path
+from ..scene.nodes import Fill, Group, Scene, Solid
+from ..geometry.stroke import stroke_path
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style
 from .filters import element_filters
-from .geometry import path_bounds, union
+from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import parse_path_data
 from .resources import Resources
@@ -736,7 +737,7 @@ class TextContext:
       plain outline, so text works in ``clipPath`` without special cases.
     - ``resolve_paint(style, 'fill'|'stroke', bbox)``: a :class:`PaintRef` (``.paint``,
       ``.opacity``) or None, for decorations drawn by hand.
-    - ``path_of(element)``: the user-space :class:`~vecmsaa.path.Path` of a shape element
+    - ``path_of(element)``: the user-space :class:`~vecmsaa.scene.path.Path` of a shape element
       (for textPath), or None.
     - ``font_options``: dict of the font flags given to the API/CLI (``use_fonts_dir``,
       ``font_family``, ``serif_family``, ``sans_serif_family``, ``cursive_family``,

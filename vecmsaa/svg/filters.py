@@ -1,4 +1,4 @@
-"""The ``filter`` property → resolved :class:`~vecmsaa.scene.Filter` lists (usvg semantics).
+"""The ``filter`` property → resolved :class:`~vecmsaa.scene.nodes.Filter` lists (usvg semantics).
 
 ``filter`` is a list of ``url(#id)`` references to ``<filter>`` elements and CSS filter
 functions (``blur()``, ``drop-shadow()``, ``grayscale()``...), applied in order. Regions,
@@ -16,7 +16,7 @@ import math
 import re
 from dataclasses import replace
 
-from ..scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
+from ..scene.nodes import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
 from .color import parse_color
 from .document import Element
 from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity, row_scale,
@@ -404,7 +404,7 @@ class PrimitiveResolver:
         """feImage content as a scene Group in device pixels, or None. An element is drawn in
         the filtered element's user space moved to the subregion's corner, without its own
         filter (as resvg); a file or data URL is fitted into the subregion."""
-        from ..path import compose
+        from ..scene.transform import compose
         from .image import image_nodes
         from .units import translate
 

@@ -6,8 +6,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..path import compose, invert, rect_path
-from ..scene import Fill, Group, ImagePaint
+from ..scene.transform import compose, invert
+from ..scene.path import rect_path
+from ..scene.nodes import Fill, Group, ImagePaint
 from .units import parse_aspect, translate, viewbox_transform
 
 MAX_IMAGE_PIXELS = 1 << 26

@@ -4,8 +4,10 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from ..path import compose
-from ..scene import Group
+from ..geometry.stroke import segment_tangents
+from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
+from ..scene.transform import compose
+from ..scene.nodes import Group
 from .units import (matrix_scale, parse_aspect, parse_number, parse_viewbox, translate,
                     viewbox_transform)
 
@@ -30,9 +32,8 @@ def draw_markers(builder, path, style, ctx):
         targets = style.cache[("marker-targets",)] = marker_targets(builder.doc, style)
     if not targets:
         return []
-    from ..stroke import marker_vertices
     width = builder.length(style.get("stroke-width"), "xy", style, ctx.viewport, 1.0)
-    from .geometry import path_bounds
+    from ..scene.bounds import path_bounds
     bbox = path_bounds(path)
     context_fill = builder.context_paint(style, "fill", ctx, lambda: bbox)
     context_stroke = builder.context_paint(style, "stroke", ctx, lambda: bbox)
@@ -129,3 +130,109 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
         clip = builder.viewport_clip(*clip_rect, replace(ctx, transform=inner.transform))
         nodes = [Group(children=nodes, clip=clip)]
     return nodes
+
+
+def marker_vertices(path: Path, commands=None):
+    """Marker positions with directions: [(x, y, angle_in, angle_out, kind)], angles in degrees,
+    kind "start" (first vertex of the path), "end" (last) or "mid".
+
+    ``commands`` (from parse_path_data_with_commands) groups verbs that came from one path
+    command (an arc's cubic pieces) into one segment. For orient="auto" use
+    :func:`auto_angle` (the bisector at mid vertices). Zero-length segments take their
+    direction from the neighbouring segments; a closed subpath's first vertex takes its
+    incoming direction from the closing segment and its last vertex its outgoing direction
+    from the first segment.
+    """
+    verbs = path.verbs.tolist()
+    pts = path.points.tolist()
+    # group into segments: (start, ctrl..., end) with zero-length check
+    subpaths = []          # [(vertices [(x,y)], segs [(dir_start, dir_end) or None], closed)]
+    cur = start = None
+    verts, dirs, closed = None, None, False
+    i = 0
+    prev_cmd = None
+    for vi, v in enumerate(verbs):
+        n = VERB_POINTS[v]
+        cmd = commands[vi] if commands is not None else vi
+        if v == MOVE:
+            if verts is not None:
+                subpaths.append((verts, dirs, closed))
+            start = cur = tuple(pts[i])
+            verts, dirs, closed = [start], [], False
+        elif verts is None:
+            pass
+        else:
+            if v == CLOSE:
+                ctrl = (cur, start)
+            else:
+                ctrl = (cur,) + tuple(tuple(q) for q in pts[i:i + n])
+            tans = segment_tangents(ctrl)
+            if v != CLOSE and prev_cmd == cmd and dirs and v == CUBIC:
+                # another piece of the same arc: extend the segment
+                d0 = dirs[-1][0] if dirs[-1] else (tans[0] if tans else None)
+                d1 = tans[1] if tans else (dirs[-1][1] if dirs[-1] else None)
+                dirs[-1] = (d0, d1) if d0 and d1 else dirs[-1]
+                verts[-1] = ctrl[-1]
+            else:
+                dirs.append(tans)
+                verts.append(ctrl[-1])
+            cur = ctrl[-1]
+            if v == CLOSE:
+                closed = True
+                subpaths.append((verts, dirs, closed))
+                verts, dirs, closed = [start], [], False
+                verts = None
+                cur = start
+        prev_cmd = cmd
+        i += n
+    if verts is not None and len(verts) > 1:
+        subpaths.append((verts, dirs, closed))
+
+    out = []
+    for k, (verts, dirs, closed) in enumerate(subpaths):
+        if closed and k < len(subpaths) - 1:
+            # the vertex a closepath returns to gets no mid marker (resvg skips ClosePath
+            # segments); only the path's very last one is kept, as the end marker
+            verts = verts[:-1]
+        # fill zero-length segments' directions from neighbours
+        filled = list(dirs)
+        last = None
+        for j, d in enumerate(filled):
+            if d is None and last is not None:
+                filled[j] = (last, last)
+            elif d is not None:
+                last = d[1]
+        nxt = None
+        for j in range(len(filled) - 1, -1, -1):
+            if filled[j] is None and nxt is not None:
+                filled[j] = (nxt, nxt)
+            elif filled[j] is not None:
+                nxt = filled[j][0]
+        filled = [d or ((1.0, 0.0), (1.0, 0.0)) for d in filled]
+        ang = [(math.degrees(math.atan2(a[1], a[0])), math.degrees(math.atan2(b[1], b[0])))
+               for a, b in filled]
+        for j, (x, y) in enumerate(verts):
+            if not ang:
+                a_in = a_out = 0.0
+            elif j == 0:
+                a_out = ang[0][0]
+                a_in = ang[-1][1] if closed else a_out
+            elif j == len(verts) - 1 and j == len(ang):
+                a_in = ang[-1][1]
+                a_out = ang[0][0] if closed else a_in
+            else:
+                a_in, a_out = ang[j - 1][1], ang[j][0]
+            out.append([x, y, a_in, a_out, "mid"])
+    if out:
+        out[0][4] = "start"
+        out[-1][4] = "end"
+    return [tuple(v) for v in out]
+
+
+def auto_angle(angle_in: float, angle_out: float) -> float:
+    """orient="auto": the bisector of the incoming and outgoing directions (degrees)."""
+    a, b = math.radians(angle_in), math.radians(angle_out)
+    x, y = math.cos(a) + math.cos(b), math.sin(a) + math.sin(b)
+    if abs(x) < 1e-12 and abs(y) < 1e-12:
+        return angle_in          # a U-turn: SVG takes the incoming direction
+    return math.degrees(math.atan2(y, x))

@@ -10,8 +10,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..path import compose, rect_path
-from ..scene import Fill, Group, ImagePaint, LinearGradient, Mask, RadialGradient, Solid
+from ..scene.transform import compose
+from ..scene.path import rect_path
+from ..scene.nodes import Fill, Group, ImagePaint, LinearGradient, Mask, RadialGradient, Solid
 from .units import parse_fraction
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",

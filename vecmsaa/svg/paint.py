@@ -1,8 +1,8 @@
 """Paint servers: linearGradient, radialGradient and pattern → scene paints.
 
-Gradients become :class:`~vecmsaa.scene.LinearGradient` / ``RadialGradient`` with the matrix
+Gradients become :class:`~vecmsaa.scene.nodes.LinearGradient` / ``RadialGradient`` with the matrix
 from device pixels into gradient space; patterns are rendered once per use into a tile image at
-device resolution and become a repeating :class:`~vecmsaa.scene.ImagePaint`.
+device resolution and become a repeating :class:`~vecmsaa.scene.nodes.ImagePaint`.
 """
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ import math
 
 import numpy as np
 
-from ..path import IDENTITY, compose, invert
-from ..scene import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
+from ..scene.transform import IDENTITY, compose, invert
+from ..scene.nodes import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
 from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
                     parse_transform, parse_viewbox, split_length, translate, viewbox_transform)
@@ -271,7 +271,7 @@ def _render_tile(builder, el, source, tile_ctx, tw, th):
     if not nodes:
         return None
     try:
-        from ..render import render_scene
+        from ..raster.render import render_scene
     except ImportError:
         return None
     rgba = render_scene(Scene(tw, th, Group(children=nodes)), mode=builder.options.mode,

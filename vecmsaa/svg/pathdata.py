@@ -1,4 +1,4 @@
-"""SVG path data (the ``d`` attribute) → :class:`vecmsaa.path.Path`.
+"""SVG path data (the ``d`` attribute) → :class:`vecmsaa.scene.path.Path`.
 
 The grammar is SVG 2's (section 9.3.9, BNF in SVG 1.1 F.6 / 8.3.9). Error handling follows
 SVG 2 9.5.4: the path is rendered up to the last complete segment before the first error.
@@ -20,7 +20,7 @@ from itertools import accumulate
 
 import numpy as np
 
-from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path
 
 _NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 # comma-wsp between numbers is optional ("-1-2", ".5.5" are two numbers each)

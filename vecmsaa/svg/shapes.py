@@ -1,7 +1,7 @@
 """Basic shapes (rect, circle, ellipse, line, polyline, polygon) → paths in user units."""
 from __future__ import annotations
 
-from ..path import Path, rect_path
+from ..scene.path import Path, rect_path
 from .units import parse_numbers
 
 #: control-point distance of a cubic quarter circle, 4/3 (sqrt(2) - 1)

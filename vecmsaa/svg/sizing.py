@@ -1,10 +1,10 @@
 """The size of an SVG document and the matrix from its user space to that size."""
 from __future__ import annotations
 
-from ..scene import Group, Scene
+from ..scene.nodes import Group, Scene
 from .builder import PHYSICAL_UNITS
 from .document import Document, Style
-from .geometry import path_bounds, union
+from ..scene.bounds import path_bounds, union
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
 
 

@@ -30,7 +30,8 @@ from ..fonts import FontError
 from ..fonts.db import FontDatabase, database_from_options, parse_family_list
 from ..fonts.layout import glyphs_arrays
 from ..fonts.shape import bidi_runs, shape_run
-from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, compose, rect_path
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, rect_path
+from ..scene.transform import compose
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
 WEIGHTS = {"normal": 400, "bold": 700}
@@ -1095,7 +1096,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
 
 
 def _no_antialias(nodes):
-    from ..scene import Fill
+    from ..scene.nodes import Fill
     stack = list(nodes)
     while stack:
         n = stack.pop()
@@ -1124,7 +1125,7 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
     """Colour glyphs (COLR layers, sbix/CBDT bitmaps) draw their own colours; everything else
     is the outline path filled and stroked through ctx.draw."""
     from ..fonts.color import color_glyph_fills, is_color_glyph
-    from ..scene import Fill, Solid
+    from ..scene.nodes import Fill, Solid
 
     special = [g for g in glyphs if is_color_glyph(g.face, g.gid)]
     if not special:

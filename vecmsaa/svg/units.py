@@ -5,7 +5,7 @@ import functools
 import math
 import re
 
-from ..path import IDENTITY, compose
+from ..scene.transform import IDENTITY, compose
 
 NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _LENGTH = re.compile(rf"^\s*({NUMBER_RE})\s*(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)

@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from .path import Path
-from .render import EXACT_TOLERANCE, RenderOptions, render_float, render_scene
-from .scene import Fill, Group, Scene, Solid
+from ..scene.path import Path
+from ..raster.render import EXACT_TOLERANCE, RenderOptions, render_float, render_scene
+from ..scene.nodes import Fill, Group, Scene, Solid
 
 GROUND_TRUTH_SAMPLES = 1024
 

@@ -7,7 +7,7 @@ import argparse
 def sample_count(text: str) -> int:
     """A sample count the renderer has a pattern for: 1, 2, 4, 8, 16 — or, for the reference
     mode, a square number of at least 256."""
-    from vecmsaa.patterns import D3D_PATTERNS
+    from vecmsaa.raster.sample_patterns import D3D_PATTERNS
 
     try:
         value = int(text)

@@ -6,7 +6,7 @@ A corpus of scenes (built-in synthetic ones plus any SVG files) is rendered
   of ``repeat`` runs after one warm-up run (so JIT compilation is not in it);
 - at the *error size* (small, so the ``reference`` mode — 256 stratified samples per pixel,
   composited per sample — is affordable): mean absolute error over all pixels, mean error over
-  edge pixels (:func:`vecmsaa.accuracy.edge_mask`) and the largest error, all in premultiplied
+  edge pixels (:func:`vecmsaa.tools.accuracy.edge_mask`) and the largest error, all in premultiplied
   RGBA in [0, 1] against that reference.
 
 JIT compilation is measured apart, in fresh subprocesses: once with an empty numba cache (cold
@@ -55,7 +55,7 @@ def _rgba(rng, alpha_range=(0.5, 1.0)):
 def blobs_scene(size, count=200, seed=7):
     """Curve-heavy: many overlapping random cubic blobs, some translucent, some even-odd."""
     from .accuracy import _blob
-    from .scene import Fill, Group, Scene, Solid
+    from ..scene.nodes import Fill, Group, Scene, Solid
 
     rng = np.random.default_rng(seed)
     fills = []
@@ -69,15 +69,15 @@ def blobs_scene(size, count=200, seed=7):
 
 def full_rect_scene(size):
     """One opaque rectangle covering the whole canvas: no edge inside, no curve."""
-    from .path import rect_path
-    from .scene import Fill, Group, Scene, Solid
+    from ..scene.path import rect_path
+    from ..scene.nodes import Fill, Group, Scene, Solid
 
     return Scene(size, size, Group([Fill(rect_path(0, 0, size, size),
                                          Solid((0.2, 0.4, 0.8, 1.0)))]))
 
 
 def _segment_polygon(x0, y0, x1, y1, width):
-    from .path import Path
+    from ..scene.path import Path
 
     dx, dy = x1 - x0, y1 - y0
     ln = math.hypot(dx, dy) or 1.0
@@ -94,7 +94,7 @@ def _segment_polygon(x0, y0, x1, y1, width):
 def thin_lines_scene(size, count=600, seed=3):
     """Many thin straight strokes (already outlined, 0.3 to 2 px wide) in random directions:
     map-like, every pixel of them is an edge pixel."""
-    from .scene import Fill, Group, Scene, Solid
+    from ..scene.nodes import Fill, Group, Scene, Solid
 
     rng = np.random.default_rng(seed)
     fills = []
@@ -142,8 +142,8 @@ def _glyph_s(path, x, y, h):
 def text_scene(size, em=None):
     """Text-like: lines of small glyph-shaped outlines (quadratic 'o's, cubic 's's), one fill
     per line of text as a font front end makes them."""
-    from .path import Path
-    from .scene import Fill, Group, Scene, Solid
+    from ..scene.path import Path
+    from ..scene.nodes import Fill, Group, Scene, Solid
 
     em = em or max(6.0, size / 40)
     fills = []
@@ -170,8 +170,8 @@ def text_scene(size, em=None):
 
 def tiles_scene(size, cells=16):
     """Non-overlapping axis-aligned rectangles: no curves, no overlaps (the cheap path)."""
-    from .path import rect_path
-    from .scene import Fill, Group, Scene, Solid
+    from ..scene.path import rect_path
+    from ..scene.nodes import Fill, Group, Scene, Solid
 
     rng = np.random.default_rng(11)
     step = size / cells
@@ -200,7 +200,7 @@ class Case:
 
 
 def svg_case(path):
-    from .api import load_svg
+    from ..api import load_svg
 
     landscape = []
 
@@ -258,7 +258,7 @@ def configs(quick):
 
 def bench_case(case, size, error_size, repeat, quick, log=print):
     from .accuracy import edge_mask
-    from .render import render_scene
+    from ..raster.render import render_scene
 
     rows = []
     scene = case.make(size)
@@ -374,8 +374,8 @@ def external_rows(case, scene, small, truth, mask, repeat, log):
 _JIT_SNIPPET = r"""
 import time, json
 t0 = time.perf_counter()
-from vecmsaa.render import render_scene
-from vecmsaa.accuracy import figure1_scene
+from vecmsaa.raster.render import render_scene
+from vecmsaa.tools.accuracy import figure1_scene
 t1 = time.perf_counter()
 scene = figure1_scene(32)
 out = {"import_s": t1 - t0}
@@ -421,7 +421,7 @@ def startup_time(repeat):
 
 def special_rows(size, repeat, quick):
     """Skip-what-is-not-needed rows: each scene against the cheapest thing it could cost."""
-    from .render import render_scene
+    from ..raster.render import render_scene
 
     rows = []
     big = size if quick else 4096
@@ -461,8 +461,8 @@ def special_rows(size, repeat, quick):
 
 _MEMORY_SNIPPET = r"""
 import resource, time, json
-from vecmsaa.bench import blobs_scene
-from vecmsaa.render import render_scene_rgba8
+from vecmsaa.tools.bench import blobs_scene
+from vecmsaa.raster.render import render_scene_rgba8
 scene = blobs_scene(%d, count=300)
 t = time.perf_counter()
 img = render_scene_rgba8(scene, mode=%r, samples=%d)

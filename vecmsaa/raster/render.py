@@ -1,4 +1,4 @@
-"""Render a resolved :class:`~vecmsaa.scene.Scene`: batches of fills through the raster kernels,
+"""Render a resolved :class:`~vecmsaa.scene.nodes.Scene`: batches of fills through the raster kernels,
 groups that need it through layers (opacity, clip, mask, blend mode).
 
 Coverage modes (see docs/modes.md):
@@ -18,13 +18,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from .blend import blend_premultiplied, unpremultiply_to_rgba8
-from .filters import apply_filter
-from .geometry import QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from .patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
+from .blend import blend_premultiplied
+from ..output.rgba8 import unpremultiply_to_rgba8
+from .filter_effects import apply_filter
+from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
+from .sample_patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
-from .scene import Fill, Group, Scene, translated
+from ..scene.nodes import Fill, Group, Scene, translated
 from .shaders import PaintTable
 
 MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
@@ -401,14 +402,3 @@ def composite(src: np.ndarray, dst: np.ndarray, blend: str = "normal") -> None:
     dst[:] = blend_premultiplied(src, dst, blend)
 
 
-def to_rgba8(img: np.ndarray) -> np.ndarray:
-    """Premultiplied float RGBA → straight uint8 RGBA (float32 arithmetic)."""
-    img = np.ascontiguousarray(img, dtype=np.float32)
-    out = np.empty(img.shape[:2] + (4,), dtype=np.uint8)
-    unpremultiply_to_rgba8(img, out)
-    return out
-
-
-def to_pil(img: np.ndarray):
-    from PIL import Image
-    return Image.fromarray(to_rgba8(img), "RGBA")

@@ -1,5 +1,5 @@
 """Golden images: render a directory of SVG files, keep the PNGs, and check later renders
-against them with the project's comparison criterion (:mod:`vecmsaa.compare`).
+against them with the project's comparison criterion (:mod:`vecmsaa.tools.compare`).
 
 Layout of a golden directory (see docs/golden.md)::
 
@@ -25,10 +25,10 @@ from urllib.parse import quote
 
 import numpy as np
 
-from . import DEFAULT_MODE, DEFAULT_SAMPLES, MODES, __version__
+from .. import DEFAULT_MODE, DEFAULT_SAMPLES, MODES, __version__
 from .compare import (MAX_FRACTION, THRESHOLD, Comparison, channel_difference, compare_images,
                       premultiplied_u8)
-from .png import encode_png, write_bytes_atomic
+from ..output.png import encode_png, write_bytes_atomic
 
 MANIFEST_NAME = "vecmsaa-golden.json"
 MANIFEST_FORMAT = 1
@@ -75,7 +75,7 @@ class Tolerance:
 
 def default_renderer(source, **options) -> np.ndarray:
     # Imported on use: the SVG front end and the numba kernels are heavy.
-    from .api import render_svg_array
+    from ..api import render_svg_array
     return render_svg_array(source, **options)
 
 

@@ -1,6 +1,6 @@
 """SVG filter effects on (H, W, 4) float32 premultiplied RGBA arrays, as resvg computes them.
 
-:func:`apply_filter` runs the primitives of a resolved :class:`~vecmsaa.scene.Filter` on the
+:func:`apply_filter` runs the primitives of a resolved :class:`~vecmsaa.scene.nodes.Filter` on the
 group's rendered content, cropped to the filter region; every primitive's result has the size of
 that region. Each result remembers its colour space (linearRGB or sRGB) and is converted when a
 primitive working in the other space reads it, and once more at the end (to sRGB).
@@ -37,7 +37,7 @@ import numpy as np
 from numba import njit
 
 from .blend import blend_premultiplied, premultiply, unpremultiply
-from .scene import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, shifted_light
+from ..scene.nodes import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, shifted_light
 
 #: sigmas below this are blurred with a true Gaussian kernel, above with box blurs (resvg)
 BOX_BLUR_SIGMA = 2.0

@@ -19,8 +19,8 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from vecmsaa.demo import demo_image
-    from vecmsaa.png import write_png
+    from vecmsaa.tools.demo import demo_image
+    from vecmsaa.output.png import write_png
 
     if not (8 <= args.size <= 512 and 1 <= args.zoom <= 32):
         print("vecmsaa demo: --size must be 8..512 and --zoom 1..32", file=sys.stderr)

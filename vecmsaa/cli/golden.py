@@ -160,7 +160,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from vecmsaa import golden
+    from vecmsaa.tools import golden
 
     try:
         if args.golden_action == "update":

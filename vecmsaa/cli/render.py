@@ -89,7 +89,7 @@ def render_one(job):
     src, dst, opts = job
     try:
         from vecmsaa.api import render_svg_array
-        from vecmsaa.png import write_png
+        from vecmsaa.output.png import write_png
         source = sys.stdin.buffer.read() if src == "-" else src
         arr = render_svg_array(source, **opts)
         write_png(arr, dst)

@@ -11,7 +11,8 @@ from typing import Union
 
 import numpy as np
 
-from .path import IDENTITY, Path, compose
+from .transform import IDENTITY, compose
+from .path import Path
 
 
 @dataclass
@@ -85,7 +86,7 @@ class Mask:
 
 @dataclass
 class Primitive:
-    """One filter primitive, resolved to device pixels (see vecmsaa/filters.py for the kinds and
+    """One filter primitive, resolved to device pixels (see vecmsaa/raster/filter_effects.py for the kinds and
     their ``params``). ``inputs``: SOURCE_GRAPHIC, SOURCE_ALPHA or the index of an earlier
     primitive; ``subregion``: (x0, y0, x1, y1) device pixels its result is confined to;
     ``linear``: computed in linearRGB (color-interpolation-filters) rather than sRGB."""

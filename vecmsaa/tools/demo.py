@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from .accuracy import edge_error, edge_mask, figure1_scene, ground_truth
-from .render import render_scene, to_rgba8
+from ..raster.render import render_scene
+from ..output.rgba8 import to_rgba8
 
 DEMO_MODES = ("none", "alpha", "a2c", "persample", "approx", "analytic")
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
 
 # Gauss–Legendre nodes/weights on [0, 1]: exact for x(t)·y'(t) of a cubic (degree 5).
 _GL_T = (np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
@@ -155,7 +155,7 @@ def freetype_glyph(path, gid: int, size: float, index: int = 0, location=None,
 
 def glyph_device_arrays(face, gid: int, size: float, origin, location=()):
     """(verbs, points) of one glyph at ``size`` px with its pen origin at ``origin`` (y down)."""
-    from .layout import glyphs_arrays, placement
+    from ..fonts.layout import glyphs_arrays, placement
 
     scale = size / face.units_per_em
     return glyphs_arrays(face, face.clamp_location(location), [gid],
@@ -198,8 +198,8 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
                   oversample: int = 1) -> GlyphComparison:
     """Render one glyph with FreeType and (unless ``mode`` is None) with vecmsaa on the same
     pixel grid; the bitmap is padded by ``pad`` pixels so no ink falls outside."""
-    from ..scene import Fill, Group, Scene
-    from ..path import Path
+    from ..scene.nodes import Fill, Group, Scene
+    from ..scene.path import Path
 
     loc = face.clamp_location(location)
     ft = freetype_glyph(face.path, gid, size, face.index, dict(loc), oversample)
@@ -213,7 +213,7 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
     perimeter = outline_length(verbs, points)
     ours = None
     if mode is not None:
-        from ..render import render_scene
+        from ..raster.render import render_scene
 
         scene = Scene(cov.shape[1], cov.shape[0],
                       Group([Fill(Path.from_arrays(verbs, points))]), (0.0, 0.0, 0.0, 0.0))
@@ -278,7 +278,7 @@ def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom
     """
     import os
 
-    from ..png import write_png
+    from ..output.png import write_png
 
     paths = []
     for ch in text:
@@ -295,12 +295,12 @@ def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom
 
 
 def main(argv=None) -> int:
-    """``python -m vecmsaa.fonts.reference FONT``: the ink table against FreeType."""
+    """``python -m vecmsaa.tools.font_reference FONT``: the ink table against FreeType."""
     import argparse
 
-    from .face import load_face
+    from ..fonts.face import load_face
 
-    p = argparse.ArgumentParser(prog="python -m vecmsaa.fonts.reference",
+    p = argparse.ArgumentParser(prog="python -m vecmsaa.tools.font_reference",
                                 description="Per-glyph ink of vecmsaa against FreeType.")
     p.add_argument("font")
     p.add_argument("--sizes", default="10,12,16,24,36,48,72")

@@ -1,45 +1,15 @@
-"""``vecmsaa suite DIR``: render the resvg test suite and compare with its reference PNGs.
-
-Each ``tests/<category>/<feature>/<name>.svg`` is rendered at its reference PNG's size with the
-suite's fonts (``fonts/``, generic families mapped as resvg does), compared with the project's
-criterion (:mod:`vecmsaa.compare`), and counted per category and feature. Failures get a diff
-image (rendered | reference | off pixels in red) in ``--out``.
-
-``--write-passing FILE`` writes the names of the passing tests: that is how
-``tests/resvg_passing.txt``, the ratchet list of ``tests/test_resvg_suite.py``, is regenerated::
-
-    vecmsaa suite ../shared/resvg-suite --jobs 2 --write-passing tests/resvg_passing.txt
-"""
+"""The resvg test suite runner: render each test at its reference PNG's size with the suite's
+fonts (``fonts/``, generic families mapped as resvg does), compare with the project's criterion
+(:mod:`vecmsaa.tools.compare`), count per category and feature. The command is ``vecmsaa suite``."""
 from __future__ import annotations
 
 import os
-import sys
 
 #: how resvg's test harness maps the generic font families
 SUITE_FONTS = {"serif_family": "Noto Serif", "sans_serif_family": "Noto Sans",
                "cursive_family": "Yellowtail", "fantasy_family": "Sedgwick Ave Display",
                "monospace_family": "Noto Mono", "font_family": "Noto Serif"}
 TEST_TIMEOUT = 120
-
-
-def add_parser(subparsers):
-    p = subparsers.add_parser("suite", help="run the resvg test suite against its reference PNGs",
-                              description=__doc__.split("\n\n")[0])
-    p.add_argument("dir", help="the resvg suite folder (with tests/ and fonts/)")
-    p.add_argument("--out", help="folder for diff images of failing tests")
-    from .options import add_coverage_options
-    add_coverage_options(p)
-    p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
-                   help="worker processes (default: all cores)")
-    p.add_argument("--only", action="append", default=[], metavar="TEXT",
-                   help="only tests whose name contains TEXT (repeatable)")
-    p.add_argument("--category", action="append", default=[],
-                   help="only these categories (repeatable)")
-    p.add_argument("--features", action="store_true", help="print pass rates per feature too")
-    p.add_argument("--failures", action="store_true", help="list failing tests")
-    p.add_argument("--write-passing", metavar="FILE",
-                   help="write the names of passing tests (the ratchet list)")
-    return p
 
 
 def tests_root(folder):
@@ -83,7 +53,7 @@ def run_one(job):
     from PIL import Image
 
     from vecmsaa.api import render_svg_array
-    from vecmsaa.compare import compare_images
+    from vecmsaa.tools.compare import compare_images
 
     name, suite_dir, out_dir, mode, samples = job
     tests_dir = os.path.join(suite_dir, "tests")
@@ -123,7 +93,7 @@ def run_one(job):
 def _write_diff(actual, ref, cmp, path):
     import numpy as np
 
-    from vecmsaa.png import write_png
+    from vecmsaa.output.png import write_png
 
     h, w = ref.shape[:2]
     panels = [ref, ref]
@@ -193,36 +163,3 @@ def summarize(results, features=False):
         lines.append(f"{'total':<16} {total[0]:4d}/{total[1]:<4d} "
                      f"{100 * total[0] / total[1]:6.1f}%")
     return "\n".join(lines)
-
-
-def run(args) -> int:
-    suite_dir, tests_dir = tests_root(args.dir)
-    if not os.path.isdir(tests_dir):
-        print(f"vecmsaa suite: no tests folder in {args.dir}", file=sys.stderr)
-        return 2
-    names = collect(tests_dir, args.category, args.only)
-    if not names:
-        print("vecmsaa suite: no tests selected", file=sys.stderr)
-        return 2
-    tty = sys.stderr.isatty()
-
-    def progress(done, total):
-        if tty:
-            print(f"\r{done}/{total}", end="", file=sys.stderr, flush=True)
-        elif done % 100 == 0 or done == total:
-            print(f"{done}/{total}", file=sys.stderr, flush=True)
-    results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode, args.samples,
-                        progress)
-    if tty:
-        print(file=sys.stderr)
-    if args.failures:
-        for name in sorted(results):
-            ok, detail = results[name]
-            if not ok:
-                print(f"FAIL {name}: {detail}")
-    print(summarize(results, args.features))
-    if args.write_passing:
-        passing = sorted(n for n, (ok, _) in results.items() if ok)
-        from vecmsaa.png import write_bytes_atomic
-        write_bytes_atomic(("\n".join(passing) + "\n").encode(), args.write_passing)
-    return 0

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .scene import ImagePaint, LinearGradient, RadialGradient, Solid
+from ..scene.nodes import ImagePaint, LinearGradient, RadialGradient, Solid
 
 KIND_SOLID, KIND_LINEAR, KIND_RADIAL, KIND_IMAGE = 0, 1, 2, 3
 SPREADS = {"pad": 0, "reflect": 1, "repeat": 2}

@@ -30,7 +30,7 @@ def add_parser(subparsers):
 
 
 def run(args) -> int:
-    from vecmsaa.bench import run_bench
+    from vecmsaa.tools.bench import run_bench
 
     if args.size is not None and args.size < 8:
         print("vecmsaa bench: --size must be at least 8", file=sys.stderr)

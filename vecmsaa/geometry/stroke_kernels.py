@@ -1,10 +1,10 @@
 """Compiled kernels of the stroker: polylines (the bulk of map data) with every join, cap and
-dash, and the join and cap shapes that the curve stroker in :mod:`vecmsaa.stroke` shares.
+dash, and the join and cap shapes that the curve stroker in :mod:`vecmsaa.geometry.stroke` shares.
 
 Outlines are written into flat buffers: ``verbs`` (uint8, the path.py codes), ``pts`` (N x 2)
 and ``cnt`` = [verbs written, points written]. A *side* buffer has the same layout without
 MOVE/CLOSE: its point 0 is the side's start, then each verb's points. The geometry and why it
-fills the exact stroke under nonzero is explained in :mod:`vecmsaa.stroke`.
+fills the exact stroke under nonzero is explained in :mod:`vecmsaa.geometry.stroke`.
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .path import CLOSE, CUBIC, LINE, MOVE
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
 CAP_CODES = {"butt": 0, "round": 1, "square": 2}

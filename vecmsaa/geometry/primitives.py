@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .path import CLOSE, CUBIC, LINE, MOVE, QUAD
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD
 
 # -- curve primitive record layout (float64 row) ----------------------------------------------
 P_KIND = 0          # 0 quadratic (f = k² − l), 1 cubic (f = k³ − l·m)

@@ -1,18 +1,18 @@
 """Golden-image assertions for pytest, and a pytest plugin adding ``--update-goldens``.
 
-    from vecmsaa.testing import assert_matches_golden
+    from vecmsaa.tools.testing import assert_matches_golden
 
     def test_logo():
         assert_matches_golden("art/logo.svg", "tests/goldens/logo.png", width=256)
 
-The render is compared with :func:`vecmsaa.compare.compare_images` and the project's criterion
+The render is compared with :func:`vecmsaa.tools.compare.compare_images` and the project's criterion
 (threshold 48, at most 0.2% of pixels off) unless ``threshold``/``max_fraction`` say otherwise.
 On a mismatch the assertion writes a triptych (expected | difference | actual) to
 ``<golden name>.diff.png`` beside the golden, or into ``diff_dir`` / $VECMSAA_GOLDEN_DIFF_DIR.
 
 Goldens are (re)written instead of compared when $VECMSAA_UPDATE_GOLDENS is set to 1 (or any
 value but 0/false/no), or when pytest runs with ``--update-goldens``; that option exists when
-this module is loaded as a plugin (``-p vecmsaa.testing`` or ``pytest_plugins`` in the root
+this module is loaded as a plugin (``-p vecmsaa.tools.testing`` or ``pytest_plugins`` in the root
 conftest.py). The plugin also provides the ``assert_golden`` fixture. See docs/golden.md.
 """
 from __future__ import annotations

@@ -3,7 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, apply
+from .path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from .transform import apply
 
 
 def _cubic_extrema(p0, p1, p2, p3):

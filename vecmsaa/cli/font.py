@@ -100,10 +100,10 @@ def run(args) -> int:
     except (FontError, ValueError) as exc:
         return _fail(str(exc))
     try:
-        from vecmsaa.render import render_scene_rgba8
+        from vecmsaa.raster.render import render_scene_rgba8
     except ImportError as exc:
         return _fail(f"renderer not available: {exc}")
-    from vecmsaa.png import write_png
+    from vecmsaa.output.png import write_png
 
     try:
         image = render_scene_rgba8(scene, mode=args.mode, samples=args.samples)

@@ -32,7 +32,7 @@ from bisect import bisect_left
 import numpy as np
 
 from . import stroke_kernels as kernels
-from .path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
@@ -93,7 +93,7 @@ def _sub_cubic(c, t0, t1):
     return c
 
 
-def _seg_tangents(seg):
+def segment_tangents(seg):
     """Unit directions at the start and end of a segment (control points tuple), or None
     for a segment of zero length."""
     p0 = seg[0]
@@ -258,7 +258,7 @@ def _cubic_pieces(c, hw, tol, out_pieces, depth=0):
     bends tighter than the half width are handled, where the offset folds back on itself.
     The joins' and caps' arcs may lie inside the disc by their own tolerance, which adds to
     the chord's: they get what the chord leaves (see _shape_tol)."""
-    tans = _seg_tangents(c)
+    tans = segment_tangents(c)
     if tans is None:
         return
     t0, t1 = tans
@@ -628,7 +628,7 @@ class _Measured:
         seg = self.seg
         if len(seg) == 2:
             return _unit(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1]) or (1.0, 0.0)
-        return _unit(*_cubic_deriv(seg, self.t_at(s))) or (_seg_tangents(seg) or ((1.0, 0.0),))[0]
+        return _unit(*_cubic_deriv(seg, self.t_at(s))) or (segment_tangents(seg) or ((1.0, 0.0),))[0]
 
 
 def _dash_subpath(segs, closed, pattern, offset, tol):
@@ -691,107 +691,4 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
 
 # -- markers --------------------------------------------------------------------------------
 
-def marker_vertices(path: Path, commands=None):
-    """Marker positions with directions: [(x, y, angle_in, angle_out, kind)], angles in degrees,
-    kind "start" (first vertex of the path), "end" (last) or "mid".
 
-    ``commands`` (from parse_path_data_with_commands) groups verbs that came from one path
-    command (an arc's cubic pieces) into one segment. For orient="auto" use
-    :func:`auto_angle` (the bisector at mid vertices). Zero-length segments take their
-    direction from the neighbouring segments; a closed subpath's first vertex takes its
-    incoming direction from the closing segment and its last vertex its outgoing direction
-    from the first segment.
-    """
-    verbs = path.verbs.tolist()
-    pts = path.points.tolist()
-    # group into segments: (start, ctrl..., end) with zero-length check
-    subpaths = []          # [(vertices [(x,y)], segs [(dir_start, dir_end) or None], closed)]
-    cur = start = None
-    verts, dirs, closed = None, None, False
-    i = 0
-    prev_cmd = None
-    for vi, v in enumerate(verbs):
-        n = VERB_POINTS[v]
-        cmd = commands[vi] if commands is not None else vi
-        if v == MOVE:
-            if verts is not None:
-                subpaths.append((verts, dirs, closed))
-            start = cur = tuple(pts[i])
-            verts, dirs, closed = [start], [], False
-        elif verts is None:
-            pass
-        else:
-            if v == CLOSE:
-                ctrl = (cur, start)
-            else:
-                ctrl = (cur,) + tuple(tuple(q) for q in pts[i:i + n])
-            tans = _seg_tangents(ctrl)
-            if v != CLOSE and prev_cmd == cmd and dirs and v == CUBIC:
-                # another piece of the same arc: extend the segment
-                d0 = dirs[-1][0] if dirs[-1] else (tans[0] if tans else None)
-                d1 = tans[1] if tans else (dirs[-1][1] if dirs[-1] else None)
-                dirs[-1] = (d0, d1) if d0 and d1 else dirs[-1]
-                verts[-1] = ctrl[-1]
-            else:
-                dirs.append(tans)
-                verts.append(ctrl[-1])
-            cur = ctrl[-1]
-            if v == CLOSE:
-                closed = True
-                subpaths.append((verts, dirs, closed))
-                verts, dirs, closed = [start], [], False
-                verts = None
-                cur = start
-        prev_cmd = cmd
-        i += n
-    if verts is not None and len(verts) > 1:
-        subpaths.append((verts, dirs, closed))
-
-    out = []
-    for k, (verts, dirs, closed) in enumerate(subpaths):
-        if closed and k < len(subpaths) - 1:
-            # the vertex a closepath returns to gets no mid marker (resvg skips ClosePath
-            # segments); only the path's very last one is kept, as the end marker
-            verts = verts[:-1]
-        # fill zero-length segments' directions from neighbours
-        filled = list(dirs)
-        last = None
-        for j, d in enumerate(filled):
-            if d is None and last is not None:
-                filled[j] = (last, last)
-            elif d is not None:
-                last = d[1]
-        nxt = None
-        for j in range(len(filled) - 1, -1, -1):
-            if filled[j] is None and nxt is not None:
-                filled[j] = (nxt, nxt)
-            elif filled[j] is not None:
-                nxt = filled[j][0]
-        filled = [d or ((1.0, 0.0), (1.0, 0.0)) for d in filled]
-        ang = [(math.degrees(math.atan2(a[1], a[0])), math.degrees(math.atan2(b[1], b[0])))
-               for a, b in filled]
-        for j, (x, y) in enumerate(verts):
-            if not ang:
-                a_in = a_out = 0.0
-            elif j == 0:
-                a_out = ang[0][0]
-                a_in = ang[-1][1] if closed else a_out
-            elif j == len(verts) - 1 and j == len(ang):
-                a_in = ang[-1][1]
-                a_out = ang[0][0] if closed else a_in
-            else:
-                a_in, a_out = ang[j - 1][1], ang[j][0]
-            out.append([x, y, a_in, a_out, "mid"])
-    if out:
-        out[0][4] = "start"
-        out[-1][4] = "end"
-    return [tuple(v) for v in out]
-
-
-def auto_angle(angle_in: float, angle_out: float) -> float:
-    """orient="auto": the bisector of the incoming and outgoing directions (degrees)."""
-    a, b = math.radians(angle_in), math.radians(angle_out)
-    x, y = math.cos(a) + math.cos(b), math.sin(a) + math.sin(b)
-    if abs(x) < 1e-12 and abs(y) < 1e-12:
-        return angle_in          # a U-turn: SVG takes the incoming direction
-    return math.degrees(math.atan2(y, x))

@@ -9,50 +9,14 @@ from __future__ import annotations
 
 import numpy as np
 from fontTools.pens.basePen import BasePen
-from numba import njit
+
+from .transform import IDENTITY, apply
 
 MOVE, LINE, QUAD, CUBIC, CLOSE = 0, 1, 2, 3, 4
 #: how many points each verb consumes
 VERB_POINTS = (1, 1, 2, 3, 0)
 
-IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
-
-
-def compose(m1, m2):
-    """Affine matrices in SVG order (a, b, c, d, e, f): the result applies m2 first, then m1."""
-    a1, b1, c1, d1, e1, f1 = m1
-    a2, b2, c2, d2, e2, f2 = m2
-    return (a1 * a2 + c1 * b2, b1 * a2 + d1 * b2,
-            a1 * c2 + c1 * d2, b1 * c2 + d1 * d2,
-            a1 * e2 + c1 * f2 + e1, b1 * e2 + d1 * f2 + f1)
-
-
-def invert(m):
-    """Inverse of an affine matrix; raises ValueError when it is singular."""
-    a, b, c, d, e, f = m
-    det = a * d - b * c
-    if det == 0 or not np.isfinite(det):
-        raise ValueError("singular transform")
-    ia, ib, ic, id_ = d / det, -b / det, -c / det, a / det
-    return (ia, ib, ic, id_, -(ia * e + ic * f), -(ib * e + id_ * f))
-
-
-def apply(m, pts):
-    """Transform an (N, 2) array of points."""
-    return _apply(np.asarray(pts, dtype=np.float64), *m)
-
-
-# Compiled because most paths are short: numpy's per-call overhead was most of the cost.
-@njit("f8[:, :](f8[:, :], f8, f8, f8, f8, f8, f8)", cache=True)
-def _apply(pts, a, b, c, d, e, f):
-    out = np.empty((pts.shape[0], 2))
-    for i in range(pts.shape[0]):
-        x = pts[i, 0]
-        y = pts[i, 1]
-        out[i, 0] = a * x + c * y + e
-        out[i, 1] = b * x + d * y + f
-    return out
 
 
 class Path(BasePen):

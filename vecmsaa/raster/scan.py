@@ -25,9 +25,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .geometry import (P_BBOX, P_CHORD, P_CTRL, P_KIND, P_NCTRL, P_RIGHT, P_SIGMA, P_T1, P_T2,
-                       P_WSIGN, KIND_CUBIC, _eval_implicit)
-from .patterns import ANGLE_BINS, DIST_BINS, DMAX
+from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_KIND, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
+                                   P_T2, P_WSIGN, KIND_CUBIC, _eval_implicit)
+from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade
 
 MODE_NONE, MODE_ALPHA, MODE_A2C, MODE_PERSAMPLE, MODE_APPROX = 0, 1, 2, 3, 4
