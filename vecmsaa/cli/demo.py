@@ -8,13 +8,15 @@ def add_parser(sub):
     p = sub.add_parser("demo", help="render Figure 1 (shared curved boundary) in every mode",
                        description="Render the Figure 1 situation of Schwarz & Stamminger — two "
                        "regions sharing one curved boundary and a third overlapping both — in "
-                       "every coverage mode side by side, with error images against the "
-                       "1024-samples-per-pixel reference.")
+                       "every coverage mode side by side, with a magnified inset of the shared "
+                       "boundary, error images against the 1024-samples-per-pixel reference, and "
+                       "each mode's error on the shared boundary and on the whole picture.")
     p.add_argument("-o", "--output", default="demo.png", help="output PNG (default demo.png; - for stdout)")
     p.add_argument("--samples", type=int, default=8, choices=(2, 4, 8, 16),
                    help="samples per pixel for the MSAA modes (default 8)")
-    p.add_argument("--size", type=int, default=48, help="scene size in pixels (default 48)")
-    p.add_argument("--zoom", type=int, default=6, help="pixel magnification (default 6)")
+    p.add_argument("--size", type=int, default=40, help="scene size in pixels (default 40)")
+    p.add_argument("--zoom", type=int, default=3,
+                   help="pixel magnification (default 3: a sheet about 900 px wide)")
     return p
 
 
