@@ -26,12 +26,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fonts import FontError
-from ..fonts.db import FontDatabase, database_from_options, parse_family_list
-from ..fonts.layout import glyphs_arrays
-from ..fonts.shape import bidi_runs, shape_run
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, rect_path
-from ..scene.transform import compose
+from ...fonts import FontError
+from ...fonts.db import FontDatabase, database_from_options, parse_family_list
+from ...fonts.layout import glyphs_arrays
+from ...fonts.shape import bidi_runs, shape_run
+from ...scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, rect_path
+from ...scene.transform import compose
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
 WEIGHTS = {"normal": 400, "bold": 700}
@@ -189,7 +189,7 @@ def collect_chars(text_el, ctx, styles):
 
 
 def _conditions(el):
-    from .builder import conditions_pass
+    from ..builder import conditions_pass
     return conditions_pass(el)
 
 
@@ -818,7 +818,7 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
                 except ValueError:
                     pass
             else:
-                from .units import split_length, to_px
+                from ..units import split_length, to_px
                 parsed = split_length(v)
                 if parsed is not None:
                     total += to_px(parsed[0], parsed[1], fs)
@@ -1096,7 +1096,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
 
 
 def _no_antialias(nodes):
-    from ..scene.nodes import Fill
+    from ...scene.nodes import Fill
     stack = list(nodes)
     while stack:
         n = stack.pop()
@@ -1124,8 +1124,8 @@ def _glyph_path(glyphs):
 def _color_or_plain(glyphs, path, style, ctx, bbox):
     """Colour glyphs (COLR layers, sbix/CBDT bitmaps) draw their own colours; everything else
     is the outline path filled and stroked through ctx.draw."""
-    from ..fonts.color import color_glyph_fills, is_color_glyph
-    from ..scene.nodes import Fill, Solid
+    from ...fonts.color import color_glyph_fills, is_color_glyph
+    from ...scene.nodes import Fill, Solid
 
     special = [g for g in glyphs if is_color_glyph(g.face, g.gid)]
     if not special:
