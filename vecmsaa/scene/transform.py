@@ -1,6 +1,8 @@
 """Affine transforms in SVG order (a, b, c, d, e, f): composition, inversion, applying to points."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -14,6 +16,16 @@ def compose(m1, m2):
     return (a1 * a2 + c1 * b2, b1 * a2 + d1 * b2,
             a1 * c2 + c1 * d2, b1 * c2 + d1 * d2,
             a1 * e2 + c1 * f2 + e1, b1 * e2 + d1 * f2 + f1)
+
+
+def translate(x, y):
+    return (1.0, 0.0, 0.0, 1.0, float(x), float(y))
+
+
+def rotate_at(degrees, cx, cy):
+    """Rotation by ``degrees`` (clockwise on screen, y down) about (cx, cy)."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return (c, s, -s, c, cx - c * cx + s * cy, cy - s * cx - c * cy)
 
 
 def invert(m):

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass, field, replace
 
 
-from ..scene.transform import IDENTITY, compose
+from ..scene.transform import IDENTITY, compose, translate
 from ..scene.path import LINE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry.stroke import stroke_path
@@ -28,7 +28,7 @@ from .pathdata import parse_path_data
 from .resources import Resources
 from .shapes import shape_path
 from .units import (mean_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, to_px, translate, viewbox_transform)
+                    parse_viewbox, split_length, to_px, viewbox_transform)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -698,17 +698,9 @@ class Builder:
         return image_nodes(self, el, ctx, style)
 
     def text(self, el, ctx, style):
-        try:
-            from . import text as text_module
-        except ImportError:
-            return []
-        build = getattr(text_module, "build_text", None)
-        if build is None:
-            return []
-        nodes = build(el, TextContext(self, ctx, style))
-        if nodes is None:
-            return []
-        return list(nodes) if isinstance(nodes, (list, tuple)) else [nodes]
+        # imported at the first <text>: text brings in HarfBuzz and the font database (~0.25 s)
+        from .text import build_text
+        return list(build_text(el, TextContext(self, ctx, style)))
 
 
 class TextContext:

@@ -404,9 +404,8 @@ class PrimitiveResolver:
         """feImage content as a scene Group in device pixels, or None. An element is drawn in
         the filtered element's user space moved to the subregion's corner, without its own
         filter (as resvg); a file or data URL is fitted into the subregion."""
-        from ..scene.transform import compose
+        from ..scene.transform import compose, translate
         from .image import image_nodes
-        from .units import translate
 
         b = self.builder
         href = (fe.get("href") or "").strip()

@@ -6,10 +6,10 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..scene.transform import compose, invert
+from ..scene.transform import compose, invert, translate
 from ..scene.path import rect_path
 from ..scene.nodes import Fill, Group, ImagePaint
-from .units import parse_aspect, translate, viewbox_transform
+from .units import parse_aspect, viewbox_transform
 
 MAX_IMAGE_PIXELS = 1 << 26
 

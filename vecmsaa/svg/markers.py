@@ -6,10 +6,9 @@ from dataclasses import replace
 
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
-from ..scene.transform import compose
+from ..scene.transform import compose, translate
 from ..scene.nodes import Group
-from .units import (matrix_scale, parse_aspect, parse_number, parse_viewbox, translate,
-                    viewbox_transform)
+from .units import matrix_scale, parse_aspect, parse_number, parse_viewbox, viewbox_transform
 
 
 def bisector(angle_in, angle_out):

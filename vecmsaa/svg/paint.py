@@ -10,11 +10,11 @@ import math
 
 import numpy as np
 
-from ..scene.transform import IDENTITY, compose, invert
+from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
 from .color import parse_color
 from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, translate, viewbox_transform)
+                    parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 MAX_TILE_PIXELS = 2048 * 2048

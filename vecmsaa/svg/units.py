@@ -105,10 +105,6 @@ def parse_transform(text):
     return m
 
 
-def translate(x, y):
-    return (1.0, 0.0, 0.0, 1.0, float(x), float(y))
-
-
 def scale(sx, sy=None):
     return (float(sx), 0.0, 0.0, float(sx if sy is None else sy), 0.0, 0.0)
 

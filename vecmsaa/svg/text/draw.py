@@ -1,0 +1,198 @@
+"""Text drawing: glyph outlines grouped by element, filled and stroked through the builder
+(``ctx.draw``), colour glyphs drawn in their own colours, and text decorations as rectangles
+under/over the glyphs; the object bounding box of text as resvg computes it."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...fonts.color import color_glyph_fills, is_color_glyph
+from ...fonts.layout import glyphs_arrays
+from ...scene.nodes import Fill, Solid
+from ...scene.path import Path, rect_path
+from ...scene.transform import compose
+from .content import TEXT_CONTENT
+
+def text_bbox(clusters):
+    """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
+    (ascent to descent over the advance), not of the glyph outlines."""
+    corners = []
+    for c in clusters:
+        if not c.visible:
+            continue
+        adv = c.advance if c.advance > 0 else 1.0
+        a, b, cc, d, e, f = compose(c.frame, c.path_ts)
+        for x, y in ((0.0, -c.ascent), (adv, -c.ascent), (0.0, -c.descent),
+                     (adv, -c.descent)):
+            corners.append((a * x + cc * y + e, b * x + d * y + f))
+    if not corners:
+        return None
+    pts = np.asarray(corners)
+    return (float(pts[:, 0].min()), float(pts[:, 1].min()), float(pts[:, 0].max()),
+            float(pts[:, 1].max()))
+
+
+def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
+    visible = [c for c in clusters if c.visible]
+    if not visible:
+        return []
+    by_el = {}
+    for c in visible:
+        el = chars[c.char].el
+        by_el.setdefault(id(el), (el, []))[1].extend(c.glyphs)
+    bbox = text_bbox(visible)
+    if bbox is None:
+        return []
+    decorations = text_decorations(text_el, chars, clusters, styles, vertical)
+    for kind in decorations:
+        for _, path in decorations[kind]:
+            b = path.bounds()
+            if b is not None:
+                bbox = (min(bbox[0], b[0]), min(bbox[1], b[1]), max(bbox[2], b[2]),
+                        max(bbox[3], b[3]))
+    if ctx.geometry_only:
+        # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
+        x0, y0, x1, y1 = bbox
+        return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
+    nodes_by_el = {}
+    for key, (el, glyphs) in by_el.items():
+        style = styles[id(el)]
+        if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
+            continue
+        path = _glyph_path(glyphs)
+        nodes = _color_or_plain(glyphs, path, style, ctx, bbox)
+        if (style.get("text-rendering") or "auto").strip() == "optimizeSpeed":
+            _no_antialias(nodes)     # resvg draws such text aliased, like crispEdges
+        nodes_by_el.setdefault(key, []).extend(nodes)
+    out = []
+    for kind in ("underline", "overline"):
+        for deco_style, path in decorations.get(kind, []):
+            out.extend(ctx.draw(path, deco_style, bbox))
+    out.extend(_wrap_tree(text_el, nodes_by_el, ctx, styles, top=True))
+    for deco_style, path in decorations.get("line-through", []):
+        out.extend(ctx.draw(path, deco_style, bbox))
+    return out
+
+
+def _no_antialias(nodes):
+    stack = list(nodes)
+    while stack:
+        n = stack.pop()
+        if isinstance(n, Fill):
+            n.antialias = False
+        else:
+            stack.extend(getattr(n, "children", []))
+
+
+def _glyph_path(glyphs):
+    """One user-space path for glyphs, each placed by its matrix (fonts.layout)."""
+    verbs, points = [], []
+    by_face = {}
+    for g in glyphs:
+        entry = by_face.setdefault((id(g.face), g.location), (g.face, g.location, [], []))
+        entry[2].append(g.gid)
+        entry[3].append(g.matrix)
+    for face, loc, gids, mats in by_face.values():
+        v, p = glyphs_arrays(face, loc, gids, mats)
+        verbs.append(v)
+        points.append(p)
+    return Path.from_arrays(np.concatenate(verbs), np.concatenate(points))
+
+
+def _color_or_plain(glyphs, path, style, ctx, bbox):
+    """Colour glyphs (COLR layers, sbix/CBDT bitmaps) draw their own colours; everything else
+    is the outline path filled and stroked through ctx.draw."""
+    special = [g for g in glyphs if is_color_glyph(g.face, g.gid)]
+    if not special:
+        return ctx.draw(path, style, bbox) if not path.is_empty() else []
+    plain = [g for g in glyphs if not is_color_glyph(g.face, g.gid)]
+    out = []
+    plain_path = _glyph_path(plain) if plain else None
+    if plain_path is not None and not plain_path.is_empty():
+        out.extend(ctx.draw(plain_path, style, bbox))
+    ref = ctx.resolve_paint(style, "fill", bbox)
+    paint = ref.paint if ref is not None else Solid()
+    for g in special:
+        for fill in color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint,
+                                      ctx.transform):
+            if ctx.in_clip or ctx.geometry_only:
+                fill = Fill(fill.path, Solid((0.0, 0.0, 0.0, 1.0)))
+            out.append(fill)
+    return out
+
+
+def _wrap_tree(el, nodes_by_el, ctx, styles, top=False):
+    """Nodes of an element's subtree in document order. Like resvg, opacity, clip-path, mask
+    and filter on tspan-level elements are not applied (only on <text> itself, by the
+    builder)."""
+    nodes = list(nodes_by_el.get(id(el), []))
+    for c in el.children:
+        if c.tag in TEXT_CONTENT and id(c) in styles:
+            nodes.extend(_wrap_tree(c, nodes_by_el, ctx, styles))
+    return nodes
+
+
+def text_decorations(text_el, chars, clusters, styles, vertical):
+    """{kind: [(style of the declaring element, user-space path)]}.
+
+    As in resvg: a text span (characters of one innermost element) is decorated by every
+    kind declared on it or an ancestor, painted with the declaring element's fill and stroke
+    (the text's own style when declared outside <text>), sized by the span's own font (a
+    rectangle centred on the underline, ascender or strike-out line, underline thickness);
+    the line runs over consecutive clusters and restarts at each cluster moved by
+    dx/dy/rotate, placed on a path or starting a chunk.
+    """
+    out = {}
+    outer = {}
+    for anc in text_el.ancestors():
+        value = (anc.specified.get("text-decoration") or "").split()
+        for kind in ("underline", "overline", "line-through"):
+            if kind in value:
+                outer.setdefault(kind, text_el)
+    span_kinds = {}
+    for c in clusters:
+        el = chars[c.char].el
+        if id(el) in span_kinds:
+            continue
+        kinds = {}
+        for anc in reversed(chars[c.char].chain):
+            value = (anc.specified.get("text-decoration") or "").split()
+            for kind in ("underline", "overline", "line-through"):
+                if kind in value and kind not in kinds:
+                    kinds[kind] = anc
+        for kind, decl in outer.items():
+            kinds.setdefault(kind, decl)
+        span_kinds[id(el)] = kinds
+    for kind in ("underline", "overline", "line-through"):
+        by_decl = {}
+        runs = []
+        run = None
+        prev_el = None
+        for c in clusters:
+            el = chars[c.char].el
+            decl = span_kinds[id(el)].get(kind)
+            if decl is None or not c.visible:
+                run = None
+            elif run is None or c.shifted or el is not prev_el:
+                run = [c, c.advance, decl]
+                runs.append(run)
+            else:
+                run[1] += c.advance
+            prev_el = el
+        for c0, width, decl in runs:
+            m = c0.face.metrics
+            scale = c0.size / c0.face.units_per_em
+            if vertical:
+                half = (m.ascender - m.descender) * scale / 2
+                dy = {"underline": half, "overline": -half}.get(kind, 0.0)
+            elif kind == "underline":
+                dy = -m.underline_position * scale
+            elif kind == "overline":
+                dy = -m.ascender * scale
+            else:
+                dy = -m.strikeout_position * scale
+            thick = m.underline_thickness * scale
+            rect = rect_path(0.0, dy - thick / 2, width, thick).transformed(c0.frame)
+            entry = by_decl.setdefault(id(decl), (styles[id(decl)], Path()))
+            entry[1].extend(rect)
+        out[kind] = list(by_decl.values())
+    return out

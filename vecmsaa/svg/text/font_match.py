@@ -1,0 +1,266 @@
+"""Font matching for text: CSS font properties → :class:`FontSpec` → a face per character.
+
+The ``font`` shorthand is spread into longhands; weight (with bolder/lighter), style, stretch,
+size, feature and variation settings, letter/word spacing and small caps make a FontSpec. The
+family list is matched in the font database (:mod:`vecmsaa.fonts.db`); characters the face lacks
+fall back to other faces, combining marks stay with their base's face.
+"""
+from __future__ import annotations
+
+import re
+import unicodedata
+from dataclasses import dataclass
+
+from ...fonts import FontError
+from ...fonts.db import FontDatabase, database_from_options, parse_family_list
+from .content import TEXT_CONTENT
+
+WEIGHTS = {"normal": 400, "bold": 700}
+STRETCHES = {"ultra-condensed": 50.0, "extra-condensed": 62.5, "condensed": 75.0,
+             "semi-condensed": 87.5, "normal": 100.0, "semi-expanded": 112.5,
+             "expanded": 125.0, "extra-expanded": 150.0, "ultra-expanded": 200.0}
+
+
+FONT_SIZE_KEYWORDS = {"xx-small", "x-small", "small", "medium", "large", "x-large",
+                      "xx-large", "xxx-large", "larger", "smaller"}
+#: what the CSS ``font`` shorthand resets when it does not set it
+FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": "normal",
+               "font-stretch": "normal", "line-height": "normal", "font-kerning": "auto",
+               "font-size-adjust": "none", "font-feature-settings": "normal",
+               "font-variation-settings": "normal"}
+
+
+def parse_font_shorthand(value):
+    """CSS ``font`` → {longhand: value}, or None when it is not valid."""
+    tokens = re.findall(r"""("[^"]*"|'[^']*'|[^\s"']+)""", value.strip())
+    longhands = {}
+    for i, tok in enumerate(tokens):
+        low = tok.lower()
+        size = low.split("/")[0]
+        if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
+                                                  r"em|ex|%)?$", size):
+            if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
+                                                     "700", "800", "900"):
+                longhands["font-weight"] = size
+                continue
+            longhands["font-size"] = tok.split("/")[0]
+            rest = tokens[i + 1:]
+            # a line height may follow as "/1.2", "/ 1.2" or be glued: "12px/1.2"
+            if tok.endswith("/") and rest:
+                rest = rest[1:]
+            elif rest and rest[0] == "/":
+                rest = rest[2:]
+            elif rest and rest[0].startswith("/"):
+                rest = rest[1:]
+            family = " ".join(rest)
+            if not family:
+                return None
+            longhands["font-family"] = family
+            return {**FONT_RESETS, **longhands}
+        if low in ("italic", "oblique"):
+            longhands["font-style"] = low
+        elif low == "small-caps":
+            longhands["font-variant"] = low
+        elif low in ("bold", "bolder", "lighter"):
+            longhands["font-weight"] = low
+        elif low in STRETCHES:
+            longhands["font-stretch"] = low
+        elif low != "normal":
+            return None
+    return None
+
+
+
+def expand_font_shorthand(text_el):
+    """Spread a ``font`` shorthand on <text> and its content elements into the longhands it
+    sets (a longhand the element specifies itself wins). The document leaves ``font`` to the
+    text module."""
+    stack = [text_el]
+    while stack:
+        el = stack.pop()
+        value = el.specified.get("font")
+        if value:
+            parsed = parse_font_shorthand(value)
+            if parsed:
+                for name, v in parsed.items():
+                    el.specified.setdefault(name, v)
+            del el.specified["font"]
+        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
+
+
+@dataclass(frozen=True)
+class FontSpec:
+    families: tuple
+    weight: int
+    style: str
+    stretch: float
+    size: float
+    features: tuple
+    variations: tuple
+    letter_spacing: float
+    word_spacing: float
+    small_caps: bool
+
+
+def _weight(style):
+    """Computed font-weight, resolving bolder/lighter against the parent (CSS Fonts 3)."""
+    v = (style.specified.get("font-weight") or "").strip()
+    parent = _weight(style.parent) if style.parent is not None else 400
+    if not v or v == "inherit":
+        return parent
+    if v in WEIGHTS:
+        return WEIGHTS[v]
+    if v == "bolder":
+        return 400 if parent < 350 else 700 if parent < 550 else 900
+    if v == "lighter":
+        return 100 if parent < 550 else 400 if parent < 750 else 700
+    try:
+        w = float(v)
+    except ValueError:
+        return parent
+    return int(w) if 1 <= w <= 1000 else parent
+
+
+def _stretch(style):
+    v = (style.get("font-stretch") or "normal").strip()
+    if v in STRETCHES:
+        return STRETCHES[v]
+    if v.endswith("%"):
+        try:
+            return float(v[:-1])
+        except ValueError:
+            pass
+    return 100.0
+
+
+def _font_style(style):
+    v = (style.get("font-style") or "normal").strip().split()
+    return v[0] if v and v[0] in ("italic", "oblique") else "normal"
+
+
+def _quoted_settings(text, default_value):
+    """``"liga" 0, 'wght' 700`` → [(tag, value)]."""
+    out = []
+    for item in (text or "").split(","):
+        m = re.match(r"""\s*["']([^"']{4})["']\s*(\S*)\s*$""", item)
+        if not m:
+            continue
+        val = m.group(2)
+        if val in ("", "on"):
+            value = default_value
+        elif val == "off":
+            value = 0
+        else:
+            try:
+                value = float(val)
+            except ValueError:
+                continue
+        out.append((m.group(1), value))
+    return out
+
+
+def font_spec(style, ctx, chain=()) -> FontSpec:
+    """Font settings of a text content element; ``chain`` is it and its ancestors, innermost
+    last (the SVG 1.1 ``kerning`` attribute is looked up along it)."""
+    families = parse_family_list(style.get("font-family") or "serif")
+    features = {}
+    for tag, value in _quoted_settings(style.get("font-feature-settings"), 1):
+        features[tag] = int(value)
+    # font-kerning comes from CSS only (the cascade ignores the attribute, as resvg does).
+    if (style.get("font-kerning") or "auto").strip() == "none":
+        features["kern"] = 0
+    # resvg also honours the SVG 1.1 kerning="0" attribute.
+    for el in reversed(chain):
+        kerning = el.get("kerning")
+        if kerning is not None:
+            if kerning.strip() in ("0", "0px"):
+                features["kern"] = 0
+            break
+    variant = (style.get("font-variant") or "normal").strip()
+    caps = (style.get("font-variant-caps") or "normal").strip()
+    small_caps = variant == "small-caps" or caps == "small-caps"
+    if small_caps:
+        features["smcp"] = 1
+    variations = dict(_quoted_settings(style.get("font-variation-settings"), 1))
+    size = style.font_size()
+    letter = _spacing(style.get("letter-spacing"), ctx, style)
+    word = _spacing(style.get("word-spacing"), ctx, style)
+    if letter:
+        # CSS: letter-spacing turns off optional ligatures.
+        features.setdefault("liga", 0)
+        features.setdefault("clig", 0)
+    return FontSpec(tuple(families), _weight(style), _font_style(style), _stretch(style), size,
+                    tuple(sorted(features.items())), tuple(sorted(variations.items())), letter,
+                    word, small_caps)
+
+
+def _spacing(value, ctx, style):
+    v = (value or "normal").strip()
+    if v == "normal":
+        return 0.0
+    return ctx.length(v, "x", style, 0.0) or 0.0
+
+
+def font_database(ctx) -> FontDatabase:
+    return database_from_options(ctx.font_options)
+
+
+def face_location(face, spec):
+    """Variation location: font-variation-settings, else wght/wdth/slnt from the CSS props."""
+    if not face.axes:
+        return ()
+    loc = {}
+    if "wght" in face.axes:
+        loc["wght"] = spec.weight
+    if "wdth" in face.axes:
+        loc["wdth"] = spec.stretch
+    if "opsz" in face.axes:
+        loc["opsz"] = spec.size
+    if spec.style == "oblique" and "slnt" in face.axes:
+        loc["slnt"] = -14.0          # CSS: oblique without an angle is 14deg
+    if spec.style == "italic" and "ital" in face.axes:
+        loc["ital"] = 1.0
+    loc.update(dict(spec.variations))
+    return face.clamp_location(loc)
+
+
+def assign_faces(chars, specs, db):
+    """Face for every character: the family list's best match, else a fallback face."""
+    faces = []
+    primary = {}
+    loaded = {}
+    for c, spec in zip(chars, specs):
+        key = (spec.families, spec.weight, spec.style, spec.stretch)
+        info = primary.get(key)
+        if key not in primary:
+            info = db.query_or_default(list(spec.families), spec.weight, spec.style,
+                                       spec.stretch)
+            primary[key] = info
+        if info not in loaded:
+            loaded[info] = _load(info)
+        face = loaded[info]
+        if face is not None and not face.has_char(c.ch) and not _is_control(c.ch):
+            alt = db.fallback_for_char(c.ch, list(spec.families), spec.weight, spec.style,
+                                       spec.stretch, exclude=(info,))
+            if alt is not None:
+                face = _load(alt) or face
+        faces.append(face)
+    # Combining marks stay with their base character's face when that face has them.
+    for i in range(1, len(chars)):
+        if unicodedata.category(chars[i].ch).startswith("M") and faces[i - 1] is not None \
+                and faces[i - 1].has_char(chars[i].ch):
+            faces[i] = faces[i - 1]
+    return faces
+
+
+def _is_control(ch):
+    return unicodedata.category(ch) in ("Cc", "Cf", "Zs") and ch != "\u00a0"
+
+
+def _load(info):
+    if info is None:
+        return None
+    try:
+        return info.load()
+    except FontError:
+        return None
