@@ -5,7 +5,9 @@ import pytest
 
 from vecmsaa.api import load_svg
 from vecmsaa.scene.transform import apply
-from vecmsaa.scene.nodes import Fill, Group, ImagePaint, LinearGradient, RadialGradient, Solid
+from vecmsaa.raster.render import RenderOptions, pattern_tile, render_scene
+from vecmsaa.scene.nodes import (Fill, Group, ImagePaint, LinearGradient, PatternPaint,
+                                 RadialGradient, Solid)
 from vecmsaa.svg import SvgError
 from vecmsaa.scene.bounds import path_bounds
 
@@ -13,7 +15,7 @@ NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xli
 
 
 def scene(body, attrs='width="100" height="100"', **kw):
-    return load_svg(f"<svg {NS} {attrs}>{body}</svg>", mode="analytic", **kw)
+    return load_svg(f"<svg {NS} {attrs}>{body}</svg>", **kw)
 
 
 def only_fill(s):
@@ -410,12 +412,38 @@ def test_pattern_tile_and_period():
               '<rect width="10" height="10" fill="green"/></pattern>'
               '<rect width="100" height="100" fill="url(#p)"/>', width=200)
     p = only_fill(s).paint
-    assert isinstance(p, ImagePaint) and p.repeat
+    assert isinstance(p, PatternPaint)
     # 20 x 10 user units at 2 px per unit: a 40 x 20 tile starting at x = 10 px
-    assert p.rgba.shape[:2] == (20, 40)
+    assert (p.width, p.height) == (40, 20)
     assert apply(p.to_paint, [[10, 0], [50, 20]]).tolist() == [[0, 0], [40, 20]]
-    # left half green, right half empty
-    assert p.rgba[10, 5, 3] == pytest.approx(1) and p.rgba[10, 35, 3] == 0
+    # the raster renders it as a repeating image: left half green, right half empty
+    tile = pattern_tile(p, RenderOptions("analytic"))
+    assert isinstance(tile, ImagePaint) and tile.repeat and tile.rgba.shape[:2] == (20, 40)
+    assert tile.rgba[10, 5, 3] == pytest.approx(1) and tile.rgba[10, 35, 3] == 0
+
+
+def test_pattern_tile_shared_between_shapes_and_rendered_once():
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="10" height="10">'
+              '<circle cx="5" cy="5" r="4"/></pattern>'
+              '<rect width="50" height="50" fill="url(#p)"/>'
+              '<rect x="50" y="50" width="50" height="50" fill="url(#p)"/>')
+    a, b = (f.paint for f in s.fills())
+    assert a.content is b.content
+    opts = RenderOptions("approx", 8)
+    assert pattern_tile(a, opts).rgba is pattern_tile(b, opts).rgba
+    assert len(opts.tiles) == 1
+
+
+def test_pattern_tile_rendered_with_the_renders_mode():
+    # an axis-aligned tile maps texels onto pixels: aliased (mode none) content stays aliased,
+    # antialiased content has partial coverage at the circle's edge
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="20" height="20">'
+              '<circle cx="10" cy="10" r="7"/></pattern>'
+              '<rect width="100" height="100" fill="url(#p)"/>')
+    aliased = np.unique(render_scene(s, mode="none")[..., 3])
+    assert set(aliased.tolist()) == {0.0, 1.0}
+    smooth = render_scene(s, mode="approx")[..., 3]
+    assert ((smooth > 0.05) & (smooth < 0.95)).any()
 
 
 def test_skewed_pattern_tile_resolution_uses_row_norms_as_resvg():
@@ -425,7 +453,7 @@ def test_skewed_pattern_tile_resolution_uses_row_norms_as_resvg():
               'patternTransform="skewX(45)"><rect width="10" height="10" fill="green"/>'
               '</pattern><rect width="100" height="100" fill="url(#p)"/>')
     p = only_fill(s).paint
-    assert p.rgba.shape[:2] == (10, 28)
+    assert (p.height, p.width) == (10, 28)
 
 
 def test_tiny_pattern_tiles_keep_their_period():
@@ -433,7 +461,7 @@ def test_tiny_pattern_tiles_keep_their_period():
               '<rect width="0.15" height="0.3" fill="green"/></pattern>'
               '<rect width="100" height="100" fill="url(#p)"/>')
     p = only_fill(s).paint
-    h, w = p.rgba.shape[:2]
+    h, w = p.height, p.width
     # device point 0.3 px further is exactly one tile further in texels
     a, b = apply(p.to_paint, [[0, 0], [0.3, 0.3]])
     assert (b - a).tolist() == pytest.approx([w, h])

@@ -95,7 +95,7 @@ def _background(background):
 
 
 def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,
-             mode="approx", samples=8, resources_dir=None, **font_options) -> Scene:
+             resources_dir=None, **font_options) -> Scene:
     """Parse an SVG document and resolve it into a Scene at the requested output size."""
     # The cyclic garbage collector is paused meanwhile: the build allocates hundreds of
     # thousands of objects that all stay alive, and the collections they trigger (a quarter
@@ -103,15 +103,14 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
     collecting = gc.isenabled()
     gc.disable()
     try:
-        return _load_svg(source, width, height, zoom, dpi, background, mode, samples,
-                         resources_dir, font_options)
+        return _load_svg(source, width, height, zoom, dpi, background, resources_dir,
+                         font_options)
     finally:
         if collecting:
             gc.enable()
 
 
-def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resources_dir,
-              font_options) -> Scene:
+def _load_svg(source, width, height, zoom, dpi, background, resources_dir, font_options) -> Scene:
     from .svg.builder import Builder, Options
     from .svg.document import load_document
     from .svg.resources import Resources
@@ -126,7 +125,7 @@ def _load_svg(source, width, height, zoom, dpi, background, mode, samples, resou
         doc = load_document(data, folder, load_text=resources.fetch_text)
     except RecursionError:
         raise SvgError("document nesting is too deep") from None
-    options = Options(mode=mode, samples=samples, dpi=float(dpi),
+    options = Options(dpi=float(dpi),
                       font_options={k: v for k, v in font_options.items() if v is not None})
     builder = Builder(doc, resources, options)
     doc_w, doc_h, root_m, viewport = document_size(doc, dpi)
@@ -160,8 +159,7 @@ def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, backgro
     from .raster.render import render_scene_rgba8
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
-                     background=background, mode=mode, samples=samples,
-                     resources_dir=resources_dir, **font_options)
+                     background=background, resources_dir=resources_dir, **font_options)
     return render_scene_rgba8(scene, mode=mode, samples=samples)
 
 

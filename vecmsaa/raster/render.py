@@ -25,7 +25,8 @@ from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .sample_patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
-from ..scene.nodes import Fill, Group, Scene, translated
+from ..scene.color import linear_rgb_image
+from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, translated
 from .shaders import PaintTable
 
 MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
@@ -88,6 +89,8 @@ class RenderOptions:
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
         self.kernel_mode = MODE_IDS.get(mode, MODE_PERSAMPLE)
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
+        #: rendered pattern tiles, by content group: see pattern_tile
+        self.tiles = {}
 
 
 def premultiplied(color) -> np.ndarray:
@@ -203,8 +206,23 @@ class FillBatch:
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
         table = PaintTable()
         for f in fills:
-            table.add(f.paint, f.opacity)
+            paint = pattern_tile(f.paint, opts) if isinstance(f.paint, PatternPaint) else f.paint
+            table.add(paint, f.opacity)
         self.kinds, self.params, self.lut, self.tex = table.arrays()
+
+
+def pattern_tile(paint: PatternPaint, opts: RenderOptions) -> ImagePaint:
+    """A pattern as the repeating image of its tile, rendered with the render's own options
+    once per content group (shapes sharing a pattern share its content)."""
+    key = (id(paint.content), paint.width, paint.height, paint.linear_rgb)
+    hit = opts.tiles.get(key)
+    if hit is None:
+        rgba = render_float(Scene(paint.width, paint.height, paint.content), opts)
+        if paint.linear_rgb:
+            rgba = linear_rgb_image(rgba)
+        # the content is kept with its tile: its id stays unique while the entry lives
+        hit = opts.tiles[key] = (paint.content, rgba)
+    return ImagePaint(hit[1], paint.to_paint, repeat=True, smooth=paint.smooth)
 
 
 class Layer:

@@ -53,7 +53,8 @@ class RadialGradient:
 
 @dataclass
 class ImagePaint:
-    """A raster image (patterns, <image>): (H, W, 4) float32 premultiplied RGBA in [0, 1].
+    """A raster image (<image>, colour glyph bitmaps, rendered pattern tiles): (H, W, 4)
+    float32 premultiplied RGBA in [0, 1].
 
     ``to_paint`` maps device pixels into image pixel coordinates (0..W, 0..H); ``repeat`` tiles
     it (patterns), otherwise outside is transparent. ``smooth`` picks bilinear over nearest.
@@ -64,7 +65,24 @@ class ImagePaint:
     smooth: bool = True
 
 
-Paint = Union[Solid, LinearGradient, RadialGradient, ImagePaint]
+@dataclass
+class PatternPaint:
+    """An SVG ``<pattern>``: ``content`` drawn in tile pixels (0..width, 0..height), repeated.
+
+    The raster renders the tile with the render's own options, once per render for each
+    ``content`` group: shapes sharing a pattern at one scale share its content (the front end
+    hands them the same group) and so the tile. ``to_paint`` maps device pixels into tile
+    pixels; ``smooth`` picks bilinear over nearest; ``linear_rgb`` converts the rendered tile's
+    colours to linearRGB (mask content with color-interpolation: linearRGB)."""
+    content: "Group"
+    width: int
+    height: int
+    to_paint: tuple = IDENTITY
+    smooth: bool = True
+    linear_rgb: bool = False
+
+
+Paint = Union[Solid, LinearGradient, RadialGradient, ImagePaint, PatternPaint]
 
 
 @dataclass

@@ -50,8 +50,6 @@ _TRANSFORM_UNITS = re.compile(r"(?<=[\d.])(px|deg)\b")
 
 @dataclass
 class Options:
-    mode: str = "approx"
-    samples: int = 8
     font_options: dict = field(default_factory=dict)
     image_nesting: int = 0
     dpi: float = 96.0            # what 1in is in px: scales pt, pc, mm, cm, in
@@ -128,7 +126,7 @@ class Builder:
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
-        self.tile_cache = {}           # rendered pattern tiles, see paint.pattern
+        self.tile_cache = {}           # pattern tile contents, see paint.pattern
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0) -> list:

@@ -8,11 +8,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
-
 from ..scene.transform import compose
 from ..scene.path import rect_path
-from ..scene.nodes import Fill, Group, ImagePaint, LinearGradient, Mask, RadialGradient, Solid
+from ..scene.color import linear_rgb_image, srgb_to_linear
+from ..scene.nodes import (Fill, Group, ImagePaint, LinearGradient, Mask, PatternPaint,
+                           RadialGradient, Solid)
 from .units import parse_fraction
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
@@ -133,11 +133,6 @@ def masks(builder, value, ctx, bbox_fn):
     return out
 
 
-def _linear(c):
-    c = np.asarray(c, dtype=np.float64)
-    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
-
-
 def to_linear_rgb(group):
     """Convert the paints of mask content to linear RGB in place (color-interpolation:
     linearRGB: the luminance is taken from linearised colours)."""
@@ -150,15 +145,12 @@ def to_linear_rgb(group):
         paint = node.paint
         if isinstance(paint, Solid):
             r, g, b, a = paint.color
-            node.paint = Solid((*(float(v) for v in _linear((r, g, b))), a))
+            node.paint = Solid((*(float(v) for v in srgb_to_linear((r, g, b))), a))
         elif isinstance(paint, (LinearGradient, RadialGradient)):
             stops = paint.stops.copy()
-            stops[:, 1:4] = _linear(stops[:, 1:4])
+            stops[:, 1:4] = srgb_to_linear(stops[:, 1:4])
             node.paint = replace(paint, stops=stops)
         elif isinstance(paint, ImagePaint):
-            rgba = paint.rgba.astype(np.float32).copy()
-            alpha = rgba[..., 3:4]
-            straight = np.divide(rgba[..., :3], alpha, out=np.zeros_like(rgba[..., :3]),
-                                 where=alpha > 0)
-            rgba[..., :3] = _linear(straight).astype(np.float32) * alpha
-            node.paint = replace(paint, rgba=rgba)
+            node.paint = replace(paint, rgba=linear_rgb_image(paint.rgba))
+        elif isinstance(paint, PatternPaint):
+            node.paint = replace(paint, linear_rgb=True)    # the raster converts the tile

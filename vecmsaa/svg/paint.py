@@ -1,8 +1,9 @@
 """Paint servers: linearGradient, radialGradient and pattern → scene paints.
 
 Gradients become :class:`~vecmsaa.scene.nodes.LinearGradient` / ``RadialGradient`` with the matrix
-from device pixels into gradient space; patterns are rendered once per use into a tile image at
-device resolution and become a repeating :class:`~vecmsaa.scene.nodes.ImagePaint`.
+from device pixels into gradient space; a pattern becomes a
+:class:`~vecmsaa.scene.nodes.PatternPaint`: its content laid out in a tile of whole device pixels,
+which the raster renders and repeats.
 """
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import math
 import numpy as np
 
 from ..scene.transform import IDENTITY, compose, invert, translate
-from ..scene.nodes import Group, ImagePaint, LinearGradient, RadialGradient, Scene, Solid
+from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_color
 from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
                     parse_transform, parse_viewbox, split_length, viewbox_transform)
@@ -238,15 +239,16 @@ def pattern(builder, el, ctx, bbox):
                    viewport=content_viewport, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
     # Shapes sharing a pattern at the same scale share its tile (it does not depend on
-    # where the shape is); the key holds everything the tile's content can depend on.
+    # where the shape is): they get the same content group, which the raster renders once.
+    # The key holds everything the tile's content can depend on.
     key = (id(el), tw, th, tile_ctx.transform, content_viewport, id(ctx.context_fill),
            id(ctx.context_stroke), ctx.use_stack, tuple(map(id, builder.paint_stack)),
            tuple(map(id, builder.ref_stack)))
     if key in builder.tile_cache:
-        rgba = builder.tile_cache[key]
+        content = builder.tile_cache[key]
     else:
-        rgba = builder.tile_cache[key] = _render_tile(builder, el, source, tile_ctx, tw, th)
-    if rgba is None:
+        content = builder.tile_cache[key] = _tile_content(builder, el, source, tile_ctx)
+    if content is None:
         return None
     tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
@@ -257,23 +259,14 @@ def pattern(builder, el, ctx, bbox):
     # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering.
     a, b, c, d = tile_to_device[:4]
     axis_aligned = abs(b) < 1e-9 and abs(c) < 1e-9
-    return ImagePaint(rgba, to_paint, repeat=True,
-                      smooth=not axis_aligned)
+    return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
 
 
-def _render_tile(builder, el, source, tile_ctx, tw, th):
-    """The pattern's content rendered into a tw x th image, or None when it draws nothing."""
+def _tile_content(builder, el, source, tile_ctx):
+    """The pattern's content in tile pixels as a Group, or None when it draws nothing."""
     builder.paint_stack.append(el)
     try:
         nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
     finally:
         builder.paint_stack.pop()
-    if not nodes:
-        return None
-    try:
-        from ..raster.render import render_scene
-    except ImportError:
-        return None
-    rgba = render_scene(Scene(tw, th, Group(children=nodes)), mode=builder.options.mode,
-                        samples=builder.options.samples)
-    return np.asarray(rgba, dtype=np.float32)
+    return Group(children=nodes) if nodes else None
