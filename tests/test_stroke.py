@@ -516,6 +516,21 @@ def test_marker_vertices_open_path():
     assert v[2][2:4] == (90.0, 90.0)
 
 
+@pytest.mark.parametrize("angle_in, angle_out, expected", [
+    (0, 90, 45), (90, 0, 45), (350, 10, 0), (10, 350, 0), (-90, 180, 225),
+    # U-turns: both bisectors are as short; resvg and Chrome turn the incoming direction by +90°
+    (0, 180, 90), (180, 0, 90), (90, -90, 180), (45, 225, 135),
+])
+def test_auto_orient_is_the_short_bisector(angle_in, angle_out, expected):
+    assert auto_angle(angle_in, angle_out) % 360 == pytest.approx(expected % 360)
+
+
+def test_auto_orient_at_a_u_turn_vertex_is_perpendicular():
+    v = marker_vertices(parse_path_data("M 10 50 L 90 50 L 10 50"))
+    assert v[1][2:4] == (0.0, 180.0)
+    assert auto_angle(*v[1][2:4]) == pytest.approx(90.0)
+
+
 def test_marker_vertices_closed_path_uses_closing_segment():
     v = marker_vertices(parse_path_data("M 0 0 L 10 0 L 10 10 Z"))
     assert [(x, y) for x, y, *_ in v] == [(0, 0), (10, 0), (10, 10), (0, 0)]

@@ -11,9 +11,11 @@ from ..scene.nodes import Group
 from .units import matrix_scale, parse_aspect, parse_number, parse_viewbox, viewbox_transform
 
 
-def bisector(angle_in, angle_out):
-    """orient="auto" at a vertex: halfway from the incoming to the outgoing direction, turning
-    the short way; a U-turn gives the perpendicular (as resvg and Chrome draw it)."""
+def auto_angle(angle_in, angle_out):
+    """orient="auto" at a mid vertex (degrees): the bisector of the incoming and outgoing
+    directions, halfway the short way round (SVG 1.1 §11.6.2). At a U-turn both halves are
+    equally short; like resvg (usvg's calc_angle) and Chrome the result is the incoming
+    direction turned by +90°."""
     a_in = math.radians(angle_in) % (2 * math.pi)
     a_out = math.radians(angle_out) % (2 * math.pi)
     d = (a_out - a_in) / 2
@@ -78,12 +80,12 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     orient = (marker.get("orient") or "0").strip()
     if orient == "auto":
         angle = angle_out if kind == "start" else angle_in if kind == "end" else \
-            bisector(angle_in, angle_out)
+            auto_angle(angle_in, angle_out)
     elif orient == "auto-start-reverse":
         if kind == "start":
             angle = angle_out + 180
         else:
-            angle = angle_in if kind == "end" else bisector(angle_in, angle_out)
+            angle = angle_in if kind == "end" else auto_angle(angle_in, angle_out)
     else:
         o = orient.lower()
         factor = 1.0
@@ -137,7 +139,7 @@ def marker_vertices(path: Path, commands=None):
 
     ``commands`` (from parse_path_data_with_commands) groups verbs that came from one path
     command (an arc's cubic pieces) into one segment. For orient="auto" use
-    :func:`auto_angle` (the bisector at mid vertices). Zero-length segments take their
+    :func:`auto_angle` at mid vertices. Zero-length segments take their
     direction from the neighbouring segments; a closed subpath's first vertex takes its
     incoming direction from the closing segment and its last vertex its outgoing direction
     from the first segment.
@@ -227,11 +229,3 @@ def marker_vertices(path: Path, commands=None):
         out[-1][4] = "end"
     return [tuple(v) for v in out]
 
-
-def auto_angle(angle_in: float, angle_out: float) -> float:
-    """orient="auto": the bisector of the incoming and outgoing directions (degrees)."""
-    a, b = math.radians(angle_in), math.radians(angle_out)
-    x, y = math.cos(a) + math.cos(b), math.sin(a) + math.sin(b)
-    if abs(x) < 1e-12 and abs(y) < 1e-12:
-        return angle_in          # a U-turn: SVG takes the incoming direction
-    return math.degrees(math.atan2(y, x))
