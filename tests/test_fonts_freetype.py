@@ -129,7 +129,7 @@ def test_analytic_ink_per_glyph_within_one_percent(kind):
 @needs_render
 @pytest.mark.parametrize("kind", FONTS)
 def test_default_mode_ink_within_sample_quantisation(kind):
-    from vecmsaa import DEFAULT_MODE, DEFAULT_SAMPLES
+    from vecmsaa.raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES
 
     face = load_face(FONTS[kind])
     for size in SIZES:

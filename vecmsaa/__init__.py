@@ -3,10 +3,6 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-MODES = ("none", "alpha", "a2c", "persample", "approx", "analytic", "reference")
-DEFAULT_MODE = "approx"
-DEFAULT_SAMPLES = 8
-
 from .jitcache import ensure_fresh_cache  # noqa: E402
 
 ensure_fresh_cache()

@@ -24,7 +24,7 @@ def sample_count(text: str) -> int:
 def add_coverage_options(parser, with_defaults: bool = False) -> None:
     """--mode and --samples. Without defaults they stay None, meaning 'the renderer's default'
     (or, for golden checks, 'what the manifest recorded')."""
-    from vecmsaa import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
+    from ..raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
 
     parser.add_argument("--mode", choices=MODES, default=DEFAULT_MODE if with_defaults else None,
                         help=f"coverage mode: {', '.join(MODES)} (default {DEFAULT_MODE}; "

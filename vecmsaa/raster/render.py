@@ -21,6 +21,7 @@ import numpy as np
 from .blend import blend_premultiplied
 from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter
+from .modes import EXACT_MODES, MASK_TABLE_MODES, MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .sample_patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
@@ -29,9 +30,6 @@ from ..scene.color import linear_rgb_image
 from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, translated
 from .shaders import PaintTable
 
-MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
-EXACT_MODES = ("analytic", "reference")
-ALL_MODES = MSAA_MODES + EXACT_MODES
 #: flattening tolerance of the exact modes (pixels)
 EXACT_TOLERANCE = 1.0 / 256.0
 #: a curve piece bulges at most this far from its chord (pixels); keeps lenses thin
@@ -53,8 +51,8 @@ class RenderOptions:
 
     def __init__(self, mode: str = "approx", samples: int = 8, filter: str = "box",
                  pattern: str = "d3d"):
-        if mode not in ALL_MODES:
-            raise ValueError(f"unknown mode {mode!r}; choose from {', '.join(ALL_MODES)}")
+        if mode not in MODES:
+            raise ValueError(f"unknown mode {mode!r}; choose from {', '.join(MODES)}")
         if filter not in FILTERS:
             raise ValueError(f"unknown filter {filter!r}; choose from {', '.join(FILTERS)}")
         self.mode = mode
@@ -77,7 +75,7 @@ class RenderOptions:
         else:
             w = np.ones(len(offsets))
         self.weights = (w / w.sum()).astype(np.float32)
-        if mode in ("approx", "a2c", "alpha", "persample"):
+        if mode in MASK_TABLE_MODES:
             self.table = mask_table(samples, pattern)
             order = a2c_order(samples, pattern)
             bits = np.zeros(samples + 1, dtype=np.uint64)

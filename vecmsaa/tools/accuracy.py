@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from ..scene.path import Path
+from ..raster.modes import MODES
 from ..raster.render import EXACT_TOLERANCE, RenderOptions, render_float, render_scene
 from ..scene.nodes import Fill, Group, Scene, Solid
 
@@ -127,8 +128,7 @@ def random_scene(seed: int, size: int = 64) -> Scene:
     return Scene(size, size, Group(fills), background=(1, 1, 1, 1))
 
 
-def measure(scenes, samples: int = 8, modes=("none", "alpha", "a2c", "persample", "approx",
-                                                "analytic")):
+def measure(scenes, samples: int = 8, modes=tuple(m for m in MODES if m != "reference")):
     """Mean edge-pixel error per mode (and of ideal MSAA) over scenes, against ground truth."""
     totals = {m: 0.0 for m in modes}
     totals["ideal"] = 0.0

@@ -33,7 +33,8 @@ import time
 
 import numpy as np
 
-MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
+from ..raster.modes import MSAA_MODES
+
 SAMPLE_COUNTS = (1, 2, 4, 8, 16)
 PATTERNS = ("d3d", "grid")
 QUICK_SAMPLES = (1, 4, 16)

@@ -15,10 +15,12 @@ from dataclasses import replace
 import numpy as np
 
 from ..output.rgba8 import to_rgba8
+from ..raster.modes import MODES
 from ..raster.render import render_scene
 from .accuracy import GROUND_TRUTH_SAMPLES, figure1_scene, ground_truth
 
-DEMO_MODES = ("none", "alpha", "a2c", "persample", "approx", "analytic")
+#: every mode but the reference, which is the ground truth the errors are measured against
+DEMO_MODES = tuple(m for m in MODES if m != "reference")
 #: shared-boundary pixels: touched by both regions (coverage above this), by the third not at all
 TOUCHED = 0.02
 INSET_PIXELS = 10

@@ -25,7 +25,8 @@ from urllib.parse import quote
 
 import numpy as np
 
-from .. import DEFAULT_MODE, DEFAULT_SAMPLES, MODES, __version__
+from .. import __version__
+from ..raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
 from .compare import (MAX_FRACTION, THRESHOLD, Comparison, channel_difference, compare_images,
                       premultiplied_u8)
 from ..output.png import encode_png, write_bytes_atomic
