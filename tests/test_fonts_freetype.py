@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 
 from vecmsaa.fonts import load_face
-from vecmsaa.tools.font_reference import compare_glyph, error_map_rgba, freetype_glyph, outline_area
+from vecmsaa.tools.compare import OFF_COLOR, PANEL_GAP
+from vecmsaa.tools.font_reference import compare_glyph, error_image, freetype_glyph, outline_area
 from vecmsaa.scene.path import Path
 
 pytest.importorskip("freetype")
@@ -141,9 +142,17 @@ def test_default_mode_ink_within_sample_quantisation(kind):
 
 
 @needs_render
-def test_error_map_is_drawable():
+def test_error_image_shows_freetype_difference_and_ours():
     face = load_face(FONTS["truetype"])
     c = compare_glyph(face, face.glyph_for_char("g"), 16, oversample=oversample(16))
-    img = error_map_rgba(c, zoom=4)
-    assert img.shape == (c.freetype.shape[0] * 4, c.freetype.shape[1] * 4, 4)
-    assert img.dtype == np.uint8
+    h, w = c.freetype.shape
+    zoom = -(-128 // max(h, w))           # small images are enlarged to at least 128 px
+    img = error_image(c)
+    assert img.dtype == np.uint8 and img.shape == (h * zoom, 3 * w * zoom + 2 * PANEL_GAP, 4)
+    # where FreeType has full ink the left panel is black, and a pixel where one side has ink
+    # and the other none is off in the difference panel
+    y, x = np.argwhere(c.freetype > 0.999)[0]
+    assert tuple(img[y * zoom, x * zoom, :3]) == (0, 0, 0)
+    c.ours[y, x] = 0.0
+    img = error_image(c)
+    assert tuple(img[y * zoom, w * zoom + PANEL_GAP + x * zoom, :3]) == OFF_COLOR

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from vecmsaa.tools import golden
+from vecmsaa.tools import compare, golden
 from vecmsaa.api import render_svg_array
 from vecmsaa.cli.main import main as vecmsaa_main
 from vecmsaa.output.png import encode_png
@@ -200,13 +200,13 @@ def test_a_colour_change_fails_and_is_reported(tree, tmp_path, capsys):
     picture = golden.read_png_rgba(report / "icons" / "wide.diff.png")
     zoom = 4   # small images are enlarged (nearest) to at least 128 px: 40 px x 4
     panel_w = 40 * zoom
-    assert picture.shape == (30 * zoom, 3 * panel_w + 2 * golden.PANEL_GAP, 4)
+    assert picture.shape == (30 * zoom, 3 * panel_w + 2 * compare.PANEL_GAP, 4)
     mid = (15 * zoom, 20 * zoom)   # centre of the changed rectangle, in each panel
-    panels = [picture[:, i * (panel_w + golden.PANEL_GAP):][:, :panel_w] for i in range(3)]
+    panels = [picture[:, i * (panel_w + compare.PANEL_GAP):][:, :panel_w] for i in range(3)]
     assert tuple(panels[0][mid][:3]) == (0x20, 0x40, 0xc0)      # expected: the golden, blue
     assert tuple(panels[2][mid][:3]) == (0xc0, 0x30, 0x20)      # actual: the new render, red
-    assert tuple(panels[1][mid][:3]) == tuple(golden.OFF_COLOR)  # difference: off
-    assert tuple(panels[1][2 * zoom, 2 * zoom][:3]) != tuple(golden.OFF_COLOR)  # unchanged
+    assert tuple(panels[1][mid][:3]) == tuple(compare.OFF_COLOR)  # difference: off
+    assert tuple(panels[1][2 * zoom, 2 * zoom][:3]) != tuple(compare.OFF_COLOR)  # unchanged
 
     index = (report / "index.html").read_text()
     links = LinkCollector.collect(index)
@@ -413,7 +413,7 @@ def test_assert_matches_golden_failure_message_and_triptych(tmp_path):
     diff = tmp_path / "goldens" / "a.diff.png"
     assert str(diff) in message and "VECMSAA_UPDATE_GOLDENS=1" in message
     # expected | difference | actual, each 40x30 enlarged 4 times
-    assert golden.read_png_rgba(diff).shape == (120, 3 * 160 + 2 * golden.PANEL_GAP, 4)
+    assert golden.read_png_rgba(diff).shape == (120, 3 * 160 + 2 * compare.PANEL_GAP, 4)
     # Once the render matches again, the stale triptych goes away.
     write(svg, rect_svg())
     assert_matches_golden(svg, golden_png, update=False)
@@ -522,8 +522,8 @@ def test_heat_map_marks_off_pixels_red_and_small_differences_blue():
     actual = expected.copy()
     actual[0, 1, 0] += 20      # within the threshold
     actual[0, 2, 0] += 100     # beyond it
-    heat = golden.heat_map(expected, actual, threshold=48)
+    heat = compare.heat_map(expected, actual, threshold=48)
     unchanged, near, off = (tuple(int(c) for c in heat[0, i]) for i in range(3))
     assert unchanged[0] == unchanged[1] == unchanged[2]          # grey: no difference
     assert near[2] > near[0] and near[2] > near[1]               # blue-ish
-    assert off == golden.OFF_COLOR
+    assert off == compare.OFF_COLOR

@@ -3,7 +3,7 @@
 Each ``tests/<category>/<feature>/<name>.svg`` is rendered at its reference PNG's size with the
 suite's fonts (``fonts/``, generic families mapped as resvg does), compared with the project's
 criterion (:mod:`vecmsaa.tools.compare`), and counted per category and feature. Failures get a diff
-image (rendered | reference | off pixels in red) in ``--out``.
+image (reference | difference | rendered, as golden checks draw it) in ``--out``.
 
 ``--write-passing FILE`` writes the names of the passing tests: that is how
 ``tests/resvg_passing.txt``, the ratchet list of ``tests/test_resvg_suite.py``, is regenerated::

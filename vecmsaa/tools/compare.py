@@ -1,14 +1,19 @@
-"""Image comparison with the project's pass criterion (../shared/README.md).
+"""Image comparison with the project's pass criterion (../shared/README.md), and the one
+picture of a difference that golden checks, the suite runner and the font reference write.
 
 Both images are compared in premultiplied RGBA, 8 bits per channel; a pixel is *off* when any
 channel differs by more than ``threshold`` (48); images *match* when at most ``max_fraction``
-(0.2%) of pixels are off and the sizes agree.
+(0.2%) of pixels are off and the sizes agree. :func:`triptych` shows expected | difference |
+actual side by side.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from ..output.png import encode_png, write_bytes_atomic
 
 THRESHOLD = 48
 MAX_FRACTION = 0.002
@@ -66,3 +71,81 @@ def compare_images(actual, expected, threshold: int = THRESHOLD) -> Comparison:
         return Comparison(False, h * w, h * w, 255, None)
     off = diff > threshold
     return Comparison(True, int(off.sum()), int(off.size), int(diff.max(initial=0)), off)
+
+
+PANEL_GAP = 4                          # px of neutral background between panels
+GAP_COLOR = (64, 64, 64, 255)
+CHECKER = (204, 255)                   # grey levels of the transparency checkerboard
+CHECKER_CELL = 8                       # checkerboard square, in output pixels
+MIN_PANEL = 128                        # small images are enlarged (nearest) up to this size
+MAX_ZOOM = 16
+OFF_COLOR = (230, 0, 0)                # pixels beyond the threshold
+NEAR_COLOR = (0, 90, 255)              # pixels that differ but within the threshold
+
+
+def _zoom_for(*images) -> int:
+    largest = max(max(im.shape[:2]) for im in images if im is not None)
+    return int(min(MAX_ZOOM, max(1, math.ceil(MIN_PANEL / max(largest, 1)))))
+
+
+def _over_checkerboard(rgba: np.ndarray, zoom: int) -> np.ndarray:
+    """Straight RGBA → opaque RGB over a checkerboard (so transparency is visible in any
+    viewer), enlarged ``zoom`` times with nearest neighbour."""
+    premul = premultiplied_u8(rgba).astype(np.int32)
+    premul = premul.repeat(zoom, axis=0).repeat(zoom, axis=1)
+    h, w = premul.shape[:2]
+    yy, xx = np.indices((h, w))
+    checker = np.where(((yy // CHECKER_CELL) + (xx // CHECKER_CELL)) % 2 == 0,
+                       CHECKER[0], CHECKER[1])[..., None]
+    rgb = premul[..., :3] + ((255 - premul[..., 3:4]) * checker + 127) // 255
+    return rgb.astype(np.uint8)
+
+
+def heat_map(expected: np.ndarray, actual: np.ndarray, threshold: int) -> np.ndarray:
+    """Opaque RGB (H, W, 3): the expected image faded to light grey for orientation; pixels
+    within the threshold but not equal in blue, stronger as they differ more; pixels beyond the
+    threshold (those the criterion counts) in red."""
+    e = premultiplied_u8(expected).astype(np.int32)
+    diff = channel_difference(actual, expected).astype(np.int32)
+    # Luma of the expected image over white, squeezed into 191..255.
+    over_white = e[..., :3] + (255 - e[..., 3:4])
+    luma = (over_white @ np.array([77, 150, 29])) >> 8
+    out = np.repeat((191 + luma // 4)[..., None], 3, axis=-1)
+    near = (diff > 0) & (diff <= threshold)
+    strength = (64 + 191 * diff[near] // max(threshold, 1))[:, None]
+    out[near] = (out[near] * (255 - strength) + np.array(NEAR_COLOR) * strength) // 255
+    out[diff > threshold] = OFF_COLOR
+    return out.astype(np.uint8)
+
+
+def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
+             threshold: int = THRESHOLD) -> np.ndarray:
+    """expected | difference heat map | actual, side by side, as straight RGBA uint8.
+
+    A missing image (no golden, failed render) leaves its panel empty; the heat map needs both
+    images at the same size and is empty otherwise. Small images are enlarged so single pixels
+    stay visible."""
+    zoom = _zoom_for(expected, actual)
+    panels = [None, None, None]
+    if expected is not None:
+        panels[0] = _over_checkerboard(expected, zoom)
+    if actual is not None:
+        panels[2] = _over_checkerboard(actual, zoom)
+    if expected is not None and actual is not None and expected.shape == actual.shape:
+        panels[1] = heat_map(expected, actual, threshold).repeat(zoom, 0).repeat(zoom, 1)
+    shown = [p for p in panels if p is not None]
+    height = max(p.shape[0] for p in shown)
+    width = max(p.shape[1] for p in shown)
+    out = np.empty((height, 3 * width + 2 * PANEL_GAP, 4), np.uint8)
+    out[:] = GAP_COLOR
+    for i, panel in enumerate(panels):
+        x = i * (width + PANEL_GAP)
+        if panel is None:
+            out[:, x:x + width, :3] = 128      # empty panel: flat mid grey
+        else:
+            out[:panel.shape[0], x:x + panel.shape[1], :3] = panel
+    return out
+
+
+def write_triptych(path, expected, actual, threshold: int = THRESHOLD) -> None:
+    write_bytes_atomic(encode_png(triptych(expected, actual, threshold)), path, make_folders=True)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from .compare import triptych, write_triptych
 
 # Gauss–Legendre nodes/weights on [0, 1]: exact for x(t)·y'(t) of a cubic (degree 5).
 _GL_T = (np.array([-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
@@ -222,19 +223,17 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
     return GlyphComparison(int(gid), float(size), cov, ours, area, perimeter)
 
 
-def error_map_rgba(comparison: GlyphComparison, zoom: int = 8) -> np.ndarray:
-    """Straight RGBA uint8 picture of an error map: gray = FreeType's glyph, red where vecmsaa
-    has more ink, blue where it has less (full colour at 25% coverage difference)."""
-    diff = comparison.error_map()
-    base = 1.0 - 0.35 * comparison.freetype
-    strength = np.clip(np.abs(diff) / 0.25, 0, 1)
-    rgb = np.stack([base, base, base], axis=-1)
-    more = (diff > 0)[..., None]
-    target = np.where(more, np.array([1.0, 0.1, 0.1]), np.array([0.1, 0.2, 1.0]))
-    rgb = rgb * (1 - strength[..., None]) + target * strength[..., None]
-    img = (np.clip(rgb, 0, 1) * 255 + 0.5).astype(np.uint8)
-    img = np.concatenate([img, np.full(img.shape[:2] + (1,), 255, np.uint8)], axis=-1)
-    return img.repeat(zoom, axis=0).repeat(zoom, axis=1)
+def coverage_rgba(coverage: np.ndarray) -> np.ndarray:
+    """A (H, W) coverage in [0, 1] as black ink: straight RGBA uint8 with that alpha."""
+    img = np.zeros(coverage.shape + (4,), np.uint8)
+    img[..., 3] = np.round(np.clip(coverage, 0.0, 1.0) * 255)
+    return img
+
+
+def error_image(comparison: GlyphComparison) -> np.ndarray:
+    """FreeType | difference | vecmsaa, as golden checks draw a difference
+    (:func:`vecmsaa.tools.compare.triptych`)."""
+    return triptych(coverage_rgba(comparison.freetype), coverage_rgba(comparison.ours))
 
 
 def ink_table(face, sizes, text=None, *, mode="analytic", samples=8, location=(),
@@ -273,12 +272,10 @@ def ink_summary(face, sizes, modes, text=None, samples=8, oversample=None):
     return out
 
 
-def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom=8):
-    """PNG error maps (see :func:`error_map_rgba`) for each character and size; returns paths.
+def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8):
+    """PNG error images (see :func:`error_image`) for each character and size; returns paths.
     """
     import os
-
-    from ..output.png import write_png
 
     paths = []
     for ch in text:
@@ -289,7 +286,7 @@ def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8, zoom
             if not c.freetype.size:
                 continue
             path = os.path.join(folder, f"{mode}-{size}px-U{ord(ch):04X}.png")
-            write_png(error_map_rgba(c, zoom), path, make_folders=True)
+            write_triptych(path, coverage_rgba(c.freetype), coverage_rgba(c.ours))
             paths.append(path)
     return paths
 
@@ -309,7 +306,8 @@ def main(argv=None) -> int:
     p.add_argument("--text", default=None, help="characters (default: printable ASCII)")
     p.add_argument("--direct", action="store_true",
                    help="compare with FreeType at the size itself (no oversampled reference)")
-    p.add_argument("--maps", metavar="DIR", help="also write error-map PNGs here")
+    p.add_argument("--maps", metavar="DIR",
+                   help="also write error images (FreeType | difference | vecmsaa) here")
     args = p.parse_args(argv)
     face = load_face(args.font)
     sizes = [float(s) for s in args.sizes.split(",")]

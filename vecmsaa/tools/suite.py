@@ -53,7 +53,7 @@ def run_one(job):
     from PIL import Image
 
     from vecmsaa.api import render_svg_array
-    from vecmsaa.tools.compare import compare_images
+    from vecmsaa.tools.compare import compare_images, write_triptych
 
     name, suite_dir, out_dir, mode, samples = job
     tests_dir = os.path.join(suite_dir, "tests")
@@ -86,33 +86,8 @@ def run_one(job):
     cmp = compare_images(actual, ref)
     ok = cmp.passed()
     if not ok and out_dir:
-        _write_diff(actual, ref, cmp, os.path.join(out_dir, name + ".png"))
+        write_triptych(os.path.join(out_dir, name + ".png"), ref, actual)
     return name, ok, cmp.describe()
-
-
-def _write_diff(actual, ref, cmp, path):
-    import numpy as np
-
-    from vecmsaa.output.png import write_png
-
-    h, w = ref.shape[:2]
-    panels = [ref, ref]
-    if actual.shape == ref.shape:
-        off = np.zeros_like(ref)
-        off[..., 3] = 255
-        off[..., :3] = (ref[..., :3] // 4 + 160)
-        off[cmp.off_map] = (255, 0, 0, 255)
-        panels = [actual, ref, off]
-    else:
-        a = np.zeros_like(ref)
-        ah, aw = min(h, actual.shape[0]), min(w, actual.shape[1])
-        a[:ah, :aw] = actual[:ah, :aw]
-        panels = [a, ref]
-    white = np.full((h, 4, 4), 255, np.uint8)
-    strip = []
-    for p in panels:
-        strip.extend([p, white])
-    write_png(np.concatenate(strip[:-1], axis=1), path, make_folders=True)
 
 
 def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None):

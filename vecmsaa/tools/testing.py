@@ -67,8 +67,8 @@ def assert_matches_golden(svg, golden, *, threshold: int = THRESHOLD,
     callable with render_svg_array's signature).
     """
     __tracebackhide__ = True  # pytest: show the caller's line, not this helper's internals
-    from .golden import (Tolerance, compare_to_golden, read_png_rgba, render_rgba,
-                         write_png_if_changed, write_triptych)
+    from .compare import write_triptych
+    from .golden import Tolerance, compare_to_golden, read_png_rgba, render_rgba, write_png_if_changed
 
     golden = Path(golden)
     tolerance = Tolerance(threshold, max_fraction)
