@@ -488,6 +488,14 @@ def test_dpi_scales_physical_units_everywhere():
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 48, 48))
 
 
+def test_dpi_scales_physical_units_of_transform_origin():
+    # rotate(180) about (0.5in, 0.5in), the centre of the 1in square at any dpi, leaves the
+    # square where it is; an origin at 96 dpi's 48 px would turn it onto (48..96)
+    s = scene('<rect width="1in" height="1in" transform="rotate(180)" '
+              'style="transform-origin: 0.5in 0.5in"/>', 'width="2in" height="2in"', dpi=48)
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 48, 48))
+
+
 def test_transform_on_the_root_applies_outside_the_viewbox():
     s = scene('<rect width="10" height="10"/>',
               'width="100" height="100" viewBox="0 0 50 50" transform="translate(20 0)"')

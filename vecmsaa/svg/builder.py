@@ -39,7 +39,6 @@ RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
 #: elements whose ``overflow`` defaults to hidden (UA style sheet)
 CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
-PHYSICAL_UNITS = ("pt", "pc", "mm", "cm", "in")
 MAX_USE_DEPTH = 32
 MAX_NODES = 1_000_000
 MAX_IMAGE_NESTING = 4
@@ -163,8 +162,7 @@ class Builder:
             w, h = viewport
             ref = w if axis == "x" else h if axis == "y" else math.sqrt((w * w + h * h) / 2)
             return v * ref / 100
-        px = to_px(v, unit, style.font_size())
-        return px * (self.options.dpi / 96.0) if unit in PHYSICAL_UNITS else px
+        return to_px(v, unit, style.font_size(), dpi=self.options.dpi)
 
     def length_getter(self, el, style, ctx):
         def get(name, axis, default=None):
@@ -263,7 +261,8 @@ class Builder:
             ref = box[0] if axis == "x" else box[1]
             if unit == "%":
                 return n * ref / 100
-            return to_px(n, unit, style.font_size()) * (ref if units_box else 1)
+            return to_px(n, unit, style.font_size(), dpi=self.options.dpi) * \
+                (ref if units_box else 1)
         x = resolve(vals[0][1], "x")
         y = resolve(vals[1][1], "y")
         return x, y

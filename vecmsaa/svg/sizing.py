@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 from ..scene.nodes import Group, Scene
-from .builder import PHYSICAL_UNITS
 from .document import Document, Style
 from ..scene.bounds import path_bounds, union
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
@@ -27,10 +26,7 @@ def document_size(doc: Document, dpi: float = 96.0):
                 return vb_size * (parsed[0] / 100 if parsed else 1.0)
             return 100.0 * (parsed[0] / 100 if parsed else 1.0)
         v, unit = parsed
-        px = to_px(v, unit, style.font_size())
-        if unit in PHYSICAL_UNITS:
-            px *= dpi / 96.0
-        return px
+        return to_px(v, unit, style.font_size(), dpi=dpi)
 
     if vb is None and root.get("width") is None and root.get("height") is None:
         return None, None, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)

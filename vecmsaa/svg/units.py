@@ -11,6 +11,8 @@ NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 _LENGTH = re.compile(rf"^\s*({NUMBER_RE})\s*(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)
 _NUMBERS = re.compile(NUMBER_RE)
 
+#: units whose size in px follows the output resolution (``dpi``; CSS fixes them at 96 dpi)
+PHYSICAL_UNITS = ("pt", "pc", "mm", "cm", "in")
 #: size of one unit in CSS px at 96 dpi
 UNIT_PX = {"": 1.0, "px": 1.0, "pt": 4 / 3, "pc": 16.0, "mm": 96 / 25.4, "cm": 96 / 2.54,
            "in": 96.0}
@@ -53,15 +55,17 @@ def parse_fraction(text):
     return v / 100 if unit == "%" else v
 
 
-def to_px(value, unit, font_size=16.0, reference=0.0):
-    """Convert (value, unit) to user units; ``reference`` is what 100% means."""
+def to_px(value, unit, font_size=16.0, reference=0.0, dpi=96.0):
+    """Convert (value, unit) to user units; ``reference`` is what 100% means, ``dpi`` what
+    1in is in px (it scales the physical units)."""
     if unit == "%":
         return value * reference / 100.0
     if unit == "em":
         return value * font_size
     if unit == "ex":
         return value * font_size / 2
-    return value * UNIT_PX[unit]
+    px = value * UNIT_PX[unit]
+    return px * (dpi / 96.0) if unit in PHYSICAL_UNITS else px
 
 
 def parse_transform(text):
