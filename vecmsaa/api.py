@@ -111,26 +111,22 @@ def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None
 
 
 def _load_svg(source, width, height, zoom, dpi, background, resources_dir, font_options) -> Scene:
-    from .svg.builder import Builder, Options
-    from .svg.document import load_document
+    from .svg.builder import Options
     from .svg.resources import Resources
-    from .svg.sizing import document_size, drawing_extent
+    from .svg.sizing import open_svg
 
     unknown = set(font_options) - set(FONT_OPTIONS)
     if unknown:
         raise TypeError(f"unknown options: {', '.join(sorted(unknown))}")
     data, folder = _read_source(source)
-    resources = Resources(folder, resources_dir)
-    try:
-        doc = load_document(data, folder, load_text=resources.fetch_text)
-    except RecursionError:
-        raise SvgError("document nesting is too deep") from None
     options = Options(dpi=float(dpi),
                       font_options={k: v for k, v in font_options.items() if v is not None})
-    builder = Builder(doc, resources, options)
-    doc_w, doc_h, root_m, viewport = document_size(doc, dpi)
-    if doc_w is None:
-        doc_w, doc_h = drawing_extent(builder, viewport)
+    try:
+        document = open_svg(data, folder, Resources(folder, resources_dir), options)
+    except RecursionError:
+        raise SvgError("document nesting is too deep") from None
+    builder, doc_w, doc_h = document.builder, document.width, document.height
+    root_m, viewport = document.root_matrix, document.viewport
     if not (doc_w > 0 and doc_h > 0):
         # SVG: a zero or negative size disables rendering; an explicit output size still
         # gives an (empty) image of that size

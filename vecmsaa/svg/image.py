@@ -51,7 +51,7 @@ def image_nodes(builder, el, ctx, style):
     got = builder.resources.fetch(el.get("href") or "")
     if got is None:
         return []
-    data, mime, folder = got
+    data, mime, _ = got
     kind = sniff(data, mime)
     get = builder.length_getter(el, style, ctx)
     x, y = get("x", "x", 0.0), get("y", "y", 0.0)
@@ -67,10 +67,10 @@ def image_nodes(builder, el, ctx, style):
     elif kind == "svg":
         if builder.options.image_nesting >= 3:
             return []
-        sub = _load_svg(builder, data, folder)
+        sub = _load_svg(builder, data)
         if sub is None:
             return []
-        iw, ih = sub[1], sub[2]
+        iw, ih = sub.width, sub.height
     else:
         return []
     if w is None and h is None:
@@ -103,36 +103,26 @@ def image_nodes(builder, el, ctx, style):
         to_paint = compose(translate(1, 1), to_paint)
         return [Fill(outline.transformed(ctx.transform),
                      ImagePaint(padded, to_paint, False, smooth))]
-    _doc, _w, _h, root_m, sub_builder, sub_viewport = sub
-    sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user, root_m)),
-                      viewport=sub_viewport, use_stack=(), context_fill=None, context_stroke=None)
-    nodes = sub_builder.build_root(sub_ctx.transform, sub_ctx.viewport,
-                                   builder.root_scale)
+    sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user,
+                                                                     sub.root_matrix)),
+                      viewport=sub.viewport, use_stack=(), context_fill=None, context_stroke=None)
+    nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
     if not nodes:
         return []
     clip = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
     return [Group(children=nodes, clip=clip)]
 
 
-def _load_svg(builder, data, folder):
-    """A nested SVG image → (doc, width, height, root matrix, builder, viewport) or None."""
+def _load_svg(builder, data):
+    """A nested SVG image as a SizedDocument, or None when it cannot be read. As in resvg, it
+    may embed data: URLs but load no files: that also rules out documents that show
+    themselves."""
     from . import SvgError
-    from .builder import Builder
-    from .document import load_document
     from .resources import Resources
-    from .sizing import document_size, drawing_extent
+    from .sizing import open_svg
 
-    # As in resvg, an SVG used as an image may embed data: URLs but load no files: that also
-    # rules out documents that show themselves.
-    resources = Resources()
+    options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
     try:
-        doc = load_document(data, None)
-        size = document_size(doc, builder.options.dpi)
+        return open_svg(data, None, Resources(), options)
     except SvgError:
         return None
-    width, height, root_m, viewport = size
-    options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
-    sub_builder = Builder(doc, resources, options)
-    if width is None:
-        width, height = drawing_extent(sub_builder, viewport)
-    return doc, width, height, root_m, sub_builder, viewport

@@ -1,8 +1,13 @@
-"""The size of an SVG document and the matrix from its user space to that size."""
+"""Opening an SVG document: parsed, with its builder, its size and the matrix from its user
+space to that size (:func:`open_svg`, for the API and for SVG images alike)."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from ..scene.nodes import Group, Scene
-from .document import Document, Style
+from .builder import Builder, Options
+from .document import Document, Style, load_document
+from .resources import Resources
 from ..scene.bounds import path_bounds, union
 from .units import parse_aspect, parse_viewbox, split_length, to_px, viewbox_transform
 
@@ -45,6 +50,29 @@ def document_size(doc: Document, dpi: float = 96.0):
         m = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
         viewport = (width, height)
     return width, height, m, viewport
+
+
+@dataclass
+class SizedDocument:
+    """A parsed document ready to build: ``width`` x ``height`` px (zero or negative when the
+    document disables rendering), ``root_matrix`` from user space to that size, ``viewport``
+    the size percentages of the root's children refer to."""
+    builder: Builder
+    width: float
+    height: float
+    root_matrix: tuple
+    viewport: tuple
+
+
+def open_svg(data: bytes, folder, resources: Resources, options: Options) -> SizedDocument:
+    """Parse SVG bytes and size the document; a document without width, height and viewBox
+    takes its drawing's extent. Raises SvgError (and RecursionError on absurd nesting)."""
+    doc = load_document(data, folder)
+    width, height, root_m, viewport = document_size(doc, options.dpi)
+    builder = Builder(doc, resources, options)
+    if width is None:
+        width, height = drawing_extent(builder, viewport)
+    return SizedDocument(builder, width, height, root_m, viewport)
 
 
 def drawing_extent(builder, viewport):
