@@ -1,13 +1,15 @@
 """Filter primitives (vecmsaa.raster.filter_effects) against the spec's formulas computed here, and filters end
 to end through the SVG front end."""
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from vecmsaa.raster import filter_effects as F
 from vecmsaa.api import render_svg_array
-from vecmsaa.scene.nodes import SOURCE_GRAPHIC, Filter, Primitive
+from vecmsaa.scene.nodes import (SOURCE_GRAPHIC, ColorMatrix, Composite, ConvolveMatrix,
+                                 DisplacementMap, Filter, Lighting, Primitive, Turbulence)
 
 NS = 'xmlns="http://www.w3.org/2000/svg"'
 
@@ -130,8 +132,7 @@ def test_morphology_dilate_grows_a_pixel_by_the_radius():
 def test_subregion_clips_and_result_is_srgb():
     source = square(20, 0, 20, (0.5, 0.5, 0.5, 1.0))
     flt = Filter(region=(10, 10, 30, 30), primitives=[
-        Primitive("color_matrix", {"matrix": [1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0,
-                                              0, 0, 0, 1, 0]},
+        Primitive(ColorMatrix((1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0)),
                   (SOURCE_GRAPHIC,), (15, 10, 30, 30), True)])
     out = F.apply_filter(source, flt)
     assert not out[:, :5].any()
@@ -199,15 +200,15 @@ def test_bad_blur_values_do_not_crash(std):
 def test_turbulence_is_zero_noise_on_lattice_points():
     # Perlin noise vanishes where both coordinates are whole lattice units: one octave of
     # fractal noise is then exactly mid-grey (0.5), turbulence exactly 0.
-    params = {"fx": 1.0, "fy": 1.0, "octaves": 1, "seed": 3, "stitch": False,
-              "to_device": (1.0, 1.0, 0.0, 0.0)}
-    fractal = F.turbulence((8, 8), (0, 0), dict(params, fractal=True))
-    turb = F.turbulence((8, 8), (0, 0), dict(params, fractal=False))
+    params = Turbulence(fx=1.0, fy=1.0, octaves=1, seed=3, stitch=False, fractal=True,
+                        to_device=(1.0, 1.0, 0.0, 0.0))
+    fractal = F.turbulence((8, 8), (0, 0), params)
+    turb = F.turbulence((8, 8), (0, 0), replace(params, fractal=False))
     assert np.allclose(fractal[..., 3], 0.5, atol=1e-6)
     assert np.allclose(fractal[..., :3], 0.25, atol=1e-6)     # premultiplied by alpha 0.5
     assert not turb.any()
     # between lattice points it is not constant
-    half = F.turbulence((8, 8), (0, 0), dict(params, fractal=True, fx=0.37, fy=0.41))
+    half = F.turbulence((8, 8), (0, 0), replace(params, fx=0.37, fy=0.41))
     assert half[..., 0].std() > 0.01
 
 
@@ -215,19 +216,20 @@ def test_lighting_of_a_flat_surface_follows_lamberts_and_phongs_laws():
     flat = np.ones((7, 9, 4), dtype=np.float32)
     color = (1.0, 0.5, 0.2)
     # light from straight above: N · L = 1 everywhere
-    base = {"surface_scale": 3.0, "constant": 0.8, "exponent": 1.0, "color": color}
-    diffuse = F.lighting(flat, dict(base, light=("distant", 0.0, 90.0)), False)
+    base = Lighting(specular=False, surface_scale=3.0, constant=0.8, exponent=1.0, color=color,
+                    light=("distant", 0.0, 90.0))
+    diffuse = F.lighting(flat, base)
     assert np.allclose(diffuse[..., :3], np.round(np.array(color) * 0.8 * 255) / 255)
     assert np.allclose(diffuse[..., 3], 1.0)
     # a distant light at elevation 30°: N · L = sin 30° = 0.5
-    low = F.lighting(flat, dict(base, constant=1.0, light=("distant", 45.0, 30.0)), False)
+    low = F.lighting(flat, replace(base, constant=1.0, light=("distant", 45.0, 30.0)))
     assert np.allclose(low[..., 1], math.floor(0.5 * 0.5 * 255 + 0.5) / 255)
     # specular, light above: H = (0, 0, 2), N · H / |H| = 1; alpha is the brightest channel
-    spec = F.lighting(flat, dict(base, exponent=4.0, light=("distant", 0.0, 90.0)), True)
+    spec = F.lighting(flat, replace(base, exponent=4.0, specular=True))
     assert np.allclose(spec[..., 3], spec[..., :3].max(axis=-1))
     assert np.allclose(spec[..., 0], round(0.8 * 255) / 255)
     # a point light above pixel (4, 3) at height 10 over a surface at height 3
-    point = F.lighting(flat, dict(base, constant=1.0, light=("point", 4.0, 3.0, 10.0)), False)
+    point = F.lighting(flat, replace(base, constant=1.0, light=("point", 4.0, 3.0, 10.0)))
     assert np.isclose(point[3, 4, 0], 1.0)
     d = np.array([4.0 - 0, 3.0 - 0, 7.0])          # corner pixel (0, 0): k = L.z (flat)
     want = round(min(255, 255 * d[2] / np.linalg.norm(d))) / 255
@@ -239,8 +241,7 @@ def test_lighting_normals_see_a_ramp():
     # differences two pixels apart, weights 1 2 1) gives 2 · 0.1 · 255
     ramp = np.zeros((5, 6, 4), dtype=np.float32)
     ramp[..., 3] = np.arange(6) * 0.1
-    out = F.lighting(ramp, {"surface_scale": 1.0, "constant": 1.0, "exponent": 1.0,
-                            "color": (1.0, 1.0, 1.0), "light": ("distant", 0.0, 90.0)}, False)
+    out = F.lighting(ramp, Lighting(False, 1.0, 1.0, 1.0, (1.0, 1.0, 1.0), ("distant", 0.0, 90.0)))
     nx = -2 * 0.1 * 255 / 255                   # surface_scale · derivative / 255
     want = round(255 / math.sqrt(nx * nx + 1)) / 255
     assert np.isclose(out[2, 2, 0], want)
@@ -251,8 +252,8 @@ def test_convolve_matrix_is_the_specs_sum():
     img = rng.random((6, 7, 4)).astype(np.float32)
     img[..., :3] *= img[..., 3:]
     kernel = rng.random((3, 2)) - 0.3             # 3 rows, 2 columns
-    p = {"kernel": kernel, "target": (1, 2), "divisor": 1.5, "bias": 0.0,
-         "edge_mode": "duplicate", "preserve_alpha": False}
+    p = ConvolveMatrix(kernel=kernel, target=(1, 2), divisor=1.5, bias=0.0,
+                       edge_mode="duplicate", preserve_alpha=False)
     got = F.convolve_matrix(img, p)
     h, w = img.shape[:2]
     for y in range(h):
@@ -268,8 +269,8 @@ def test_convolve_matrix_is_the_specs_sum():
             a = min(max(s[3], 0), 1)
             assert np.allclose(got[y, x], list(np.clip(s[:3], 0, a)) + [a], atol=1e-5)
     # edge mode none: a kernel reading the right neighbour leaves the last column empty
-    shift = {"kernel": [[0, 0, 0], [1, 0, 0], [0, 0, 0]], "target": (1, 1), "divisor": 1.0,
-             "bias": 0.0, "edge_mode": "none", "preserve_alpha": False}
+    shift = ConvolveMatrix(kernel=((0, 0, 0), (1, 0, 0), (0, 0, 0)), target=(1, 1), divisor=1.0,
+                           bias=0.0, edge_mode="none", preserve_alpha=False)
     out = F.convolve_matrix(img, shift)
     assert np.allclose(out[:, :-1], img[:, 1:], atol=1e-6) and not out[:, -1].any()
 
@@ -281,8 +282,8 @@ def test_displacement_map_moves_by_channel_times_scale():
     disp[..., 0] = 1.0                 # R = 1: x moves by (1 − ½) · 4 = +2
     disp[..., 1] = 0.5                 # G = ½: y stays
     disp[..., 3] = 1.0
-    out = F.displacement_map(img, disp, {"sx": 4.0, "sy": 4.0, "x_channel": "R",
-                                         "y_channel": "G"})
+    out = F.displacement_map(img, disp, DisplacementMap(sx=4.0, sy=4.0, x_channel="R",
+                                                        y_channel="G"))
     assert np.array_equal(out[:, :6], img[:, 2:]) and not out[:, 6:].any()
 
 
@@ -325,7 +326,7 @@ def test_extreme_parameters_give_finite_colours():
                  'exponent="-1"/></feComponentTransfer></filter>'
                  '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
     out = F.apply_filter(np.full((4, 4, 4), 0.5, np.float32), Filter((0, 0, 4, 4), [
-        Primitive("composite", {"operator": "arithmetic", "k": (0, 1e308, -1e308, 0)},
+        Primitive(Composite("arithmetic", (0, 1e308, -1e308, 0)),
                   (SOURCE_GRAPHIC, SOURCE_GRAPHIC), (0, 0, 4, 4), False)]))
     assert np.isfinite(out).all() and 0 <= out.min() and out.max() <= 1
     assert img.min() >= 0

@@ -6,7 +6,7 @@ import pytest
 from vecmsaa.api import load_svg
 from vecmsaa.scene.transform import apply
 from vecmsaa.raster.render import RenderOptions, pattern_tile, render_scene
-from vecmsaa.scene.nodes import (Fill, Group, ImagePaint, LinearGradient, PatternPaint,
+from vecmsaa.scene.nodes import (Fill, Group, ImagePaint, LinearGradient, Offset, PatternPaint,
                                  RadialGradient, Solid)
 from vecmsaa.svg import SvgError
 from vecmsaa.scene.bounds import path_bounds
@@ -392,7 +392,7 @@ def test_element_with_a_broken_filter_reference_is_not_drawn():
               '<rect width="3" height="3" filter="url(#f)"/>'
               '<rect width="2" height="2" filter="url(#g)"/>')
     (g,) = s.root.children
-    assert len(g.filters) == 1 and g.filters[0].primitives[0].kind == "offset"
+    assert len(g.filters) == 1 and isinstance(g.filters[0].primitives[0].effect, Offset)
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
 
 

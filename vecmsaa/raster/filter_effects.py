@@ -5,39 +5,25 @@ group's rendered content, cropped to the filter region; every primitive's result
 that region. Each result remembers its colour space (linearRGB or sRGB) and is converted when a
 primitive working in the other space reads it, and once more at the end (to sRGB).
 
-Primitive kinds and their ``params`` (all lengths already in device pixels):
-
-- ``blur``: sx, sy (standard deviations); a true Gaussian below sigma 2, five box blurs above
-  (as resvg); outside the region is transparent.
-- ``offset``: dx, dy (whole pixels, truncated like resvg).
-- ``flood``: color (straight sRGB RGBA).
-- ``merge``: its inputs drawn over each other in order.
-- ``composite``: operator (over, in, out, atop, xor, lighter, arithmetic) and k1..k4.
-- ``blend``: mode (any CSS blend mode); in over in2.
-- ``color_matrix``: matrix (4 x 5, on straight colour).
-- ``component_transfer``: funcs, four (type, values) for R, G, B, A.
-- ``drop_shadow``: sx, sy, dx, dy, color.
-- ``tile``: fills the region with the input's subregion, repeated.
-- ``image``: content, a scene Group (device pixels) rendered into the region by the caller's
-  ``draw_content``.
-- ``morphology``: operator (erode, dilate), rx, ry.
-- ``turbulence``: see :func:`turbulence`.
-- ``displacement``: sx, sy (scale in device pixels), x_channel, y_channel (R, G, B, A).
-- ``convolve``: kernel (rows x columns), target (x, y), divisor, bias, edge_mode,
-  preserve_alpha.
-- ``diffuse``, ``specular``: surface_scale, constant, exponent, color and light: ("distant",
-  azimuth, elevation), ("point", x, y, z) or ("spot", x, y, z, at x, at y, at z, exponent,
-  cone angle or None), positions in device pixels.
+The primitives' effects are the small dataclasses of :mod:`vecmsaa.scene.nodes` (``Flood``,
+``GaussianBlur``, ``Offset``, ... ``Lighting``), their lengths already in device pixels. A blur
+is a true Gaussian below sigma 2 and five box blurs above (as resvg), transparent outside the
+region; an offset moves by whole pixels (truncated like resvg); an ``Image``'s content is
+rendered into the region by the caller's ``draw_content``.
 """
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from numba import njit
 
 from .blend import blend_premultiplied, premultiply, unpremultiply
-from ..scene.nodes import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, shifted_light
+from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,
+                           Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
+                           GaussianBlur, Image, Lighting, Merge, Morphology, Offset, Tile,
+                           Turbulence, shifted_light)
 
 #: sigmas below this are blurred with a true Gaussian kernel, above with box blurs (resvg)
 BOX_BLUR_SIGMA = 2.0
@@ -343,14 +329,14 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
         x0, y0, x1, y1 = prim.subregion
         rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
         inputs = [get(i) for i in prim.inputs]
-        if prim.kind == "image":
-            img, linear = draw_content(prim.params["content"]), False
+        if isinstance(prim.effect, Image):
+            img, linear = draw_content(prim.effect.content), False
         else:
             with np.errstate(all="ignore"):      # extreme parameters: cleaned up below
                 img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
             img = np.nan_to_num(img.astype(np.float32, copy=False), nan=0.0, posinf=1.0,
                                 neginf=0.0)
-        if prim.kind == "offset":
+        if isinstance(prim.effect, Offset):
             rect = inputs[0].rect          # resvg: feOffset keeps its input's subregion
         elif rect != full:
             clipped = np.zeros_like(img)
@@ -366,52 +352,51 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
 def run_primitive(prim, inputs, shape, origin=(0, 0)):
     """(result, is linearRGB) of one primitive; ``origin``: device pixel of the image's
     top-left corner."""
-    p, cs = prim.params, prim.linear
-    kind = prim.kind
-    if kind == "turbulence":
-        return turbulence(shape, origin, p), cs
-    if kind == "displacement":
-        return displacement_map(inputs[0].in_space(cs), inputs[1].in_space(cs), p), cs
-    if kind == "convolve":
-        return convolve_matrix(inputs[0].in_space(cs), p), cs
-    if kind in ("diffuse", "specular"):
+    e, cs = prim.effect, prim.linear
+    if isinstance(e, Turbulence):
+        return turbulence(shape, origin, e), cs
+    if isinstance(e, DisplacementMap):
+        return displacement_map(inputs[0].in_space(cs), inputs[1].in_space(cs), e), cs
+    if isinstance(e, ConvolveMatrix):
+        return convolve_matrix(inputs[0].in_space(cs), e), cs
+    if isinstance(e, Lighting):
         # device pixels → the image's pixels
-        light = shifted_light(p["light"], -origin[0], -origin[1])
-        return lighting(inputs[0].img, dict(p, light=light), kind == "specular"), cs
-    if kind == "flood":
-        return flood(shape, p["color"]), False
-    if kind == "tile":
+        light = shifted_light(e.light, -origin[0], -origin[1])
+        return lighting(inputs[0].img, replace(e, light=light)), cs
+    if isinstance(e, Flood):
+        return flood(shape, e.color), False
+    if isinstance(e, Tile):
         return tile(inputs[0].img, inputs[0].rect), inputs[0].linear
-    if kind == "offset":
-        return offset(inputs[0].img, p["dx"], p["dy"]), inputs[0].linear
-    if kind == "merge":
+    if isinstance(e, Offset):
+        return offset(inputs[0].img, e.dx, e.dy), inputs[0].linear
+    if isinstance(e, Merge):
         out = np.zeros(shape, dtype=np.float32)
         for inp in inputs:
             out = over(inp.in_space(cs), out)
         return out, cs
-    if kind in ("composite", "blend"):
+    if isinstance(e, (Composite, Blend)):
         i1, i2 = inputs[0].in_space(cs), inputs[1].in_space(cs)
-        if kind == "blend":
-            return blend_premultiplied(i1, i2.copy(), p["mode"]), cs
-        return composite(i1, i2, p["operator"], p.get("k", (0, 0, 0, 0))), cs
+        if isinstance(e, Blend):
+            return blend_premultiplied(i1, i2.copy(), e.mode), cs
+        return composite(i1, i2, e.operator, e.k), cs
     img = inputs[0].in_space(cs)
-    if kind == "blur":
-        return gaussian_blur(img, p["sx"], p["sy"]), cs
-    if kind == "color_matrix":
-        return color_matrix(img, p["matrix"]), cs
-    if kind == "component_transfer":
-        return component_transfer(img, p["funcs"]), cs
-    if kind == "morphology":
-        if not (p["rx"] > 0 and p["ry"] > 0):
+    if isinstance(e, GaussianBlur):
+        return gaussian_blur(img, e.sx, e.sy), cs
+    if isinstance(e, ColorMatrix):
+        return color_matrix(img, e.matrix), cs
+    if isinstance(e, ComponentTransfer):
+        return component_transfer(img, e.funcs), cs
+    if isinstance(e, Morphology):
+        if not (e.rx > 0 and e.ry > 0):
             return np.zeros_like(img), cs
-        return morphology(img, p["operator"], p["rx"], p["ry"]), cs
-    if kind == "drop_shadow":
-        blurred = gaussian_blur(img, p["sx"], p["sy"])
-        shadow = flood(shape, p["color"]) * blurred[..., 3:4]
+        return morphology(img, e.operator, e.rx, e.ry), cs
+    if isinstance(e, DropShadow):
+        blurred = gaussian_blur(img, e.sx, e.sy)
+        shadow = flood(shape, e.color) * blurred[..., 3:4]
         if cs:
             shadow = convert_space(shadow, True)
-        return over(img, offset(shadow, p["dx"], p["dy"])), cs
-    raise ValueError(f"unknown filter primitive {kind!r}")
+        return over(img, offset(shadow, e.dx, e.dy)), cs
+    raise ValueError(f"unknown filter primitive {e!r}")
 
 
 # -- feTurbulence (the SVG specification's reference Perlin noise) -------------------------
@@ -542,16 +527,16 @@ def _turbulence_pixels(out, x0, y0, sx, sy, fx, fy, octaves, fractal, stitch, la
                 out[j, i, ch] = min(max(v, 0.0), 255.0) / 255.0
 
 
-def turbulence(shape, origin, p) -> np.ndarray:
+def turbulence(shape, origin, p: Turbulence) -> np.ndarray:
     """feTurbulence over an image whose top-left pixel is device ``origin``; ``p``: base
     frequencies fx, fy, octaves, seed, stitch, fractal and the device transform's scale and
     translation (the noise is a function of user coordinates)."""
-    lattice, gradient = turbulence_tables(p["seed"])
+    lattice, gradient = turbulence_tables(p.seed)
     out = np.zeros(shape[:2] + (4,), dtype=np.float64)
-    sx, sy, tx, ty = p["to_device"]
-    if sx > 0 and sy > 0 and p["octaves"] > 0:
-        _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p["fx"], p["fy"],
-                           p["octaves"], p["fractal"], p["stitch"], lattice, gradient)
+    sx, sy, tx, ty = p.to_device
+    if sx > 0 and sy > 0 and p.octaves > 0:
+        _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p.fx, p.fy,
+                           p.octaves, p.fractal, p.stitch, lattice, gradient)
     return premultiply(out.astype(np.float32))
 
 
@@ -582,7 +567,7 @@ def _exists(m, step, axis, ndim):
     return ok.reshape((-1, 1) if axis == 0 else (1, -1))
 
 
-def lighting(img: np.ndarray, p: dict, specular: bool) -> np.ndarray:
+def lighting(img: np.ndarray, p: Lighting) -> np.ndarray:
     """feDiffuseLighting / feSpecularLighting of the input's alpha as a height map (the spec's
     formulas as resvg evaluates them, with alpha on a 0..255 scale)."""
     h, w = img.shape[:2]
@@ -590,12 +575,12 @@ def lighting(img: np.ndarray, p: dict, specular: bool) -> np.ndarray:
     if h < 3 or w < 3:
         return out
     a = img[..., 3].astype(np.float64) * 255.0
-    scale = p["surface_scale"]
+    scale = p.surface_scale
     nx = -_axis_gradient(a, 1) * scale / 255.0
     ny = -_axis_gradient(a, 0) * scale / 255.0
     n_len = np.sqrt(nx * nx + ny * ny + 1.0)
-    light = p["light"]
-    color = np.array(p["color"][:3], dtype=np.float64) * 255.0
+    light = p.light
+    color = np.array(p.color[:3], dtype=np.float64) * 255.0
     if light[0] == "distant":
         az, el = math.radians(light[1]), math.radians(light[2])
         lx = np.full((h, w), math.cos(az) * math.cos(el))
@@ -620,18 +605,18 @@ def lighting(img: np.ndarray, p: dict, specular: bool) -> np.ndarray:
         factor = np.where(dark, 0.0, factor)
         light_color = np.floor(np.clip(light_color * factor[..., None], 0, 255) + 0.5)
     with np.errstate(invalid="ignore", divide="ignore"):
-        if specular:
+        if p.specular:
             hx, hy, hz = lx, ly, lz + 1.0
             h_len = np.sqrt(hx * hx + hy * hy + hz * hz)
             n_dot_h = (nx * hx + ny * hy + hz) / n_len / np.where(h_len == 0, 1.0, h_len)
-            k = n_dot_h if p["exponent"] == 1.0 else np.power(n_dot_h, p["exponent"])
-            k = np.where(h_len == 0, 0.0, k) * p["constant"]
+            k = n_dot_h if p.exponent == 1.0 else np.power(n_dot_h, p.exponent)
+            k = np.where(h_len == 0, 0.0, k) * p.constant
         else:
-            k = p["constant"] * (nx * lx + ny * ly + lz) / n_len
+            k = p.constant * (nx * lx + ny * ly + lz) / n_len
     k = np.nan_to_num(k, nan=0.0)
     rgb = np.floor(np.clip(light_color * k[..., None], 0.0, 255.0) + 0.5) / 255.0
     out[..., :3] = rgb
-    out[..., 3] = rgb.max(axis=-1) if specular else 1.0
+    out[..., 3] = rgb.max(axis=-1) if p.specular else 1.0
     return out
 
 
@@ -645,30 +630,30 @@ def _edge_indices(n: int, offset: int, edge_mode: str):
     return np.clip(idx, 0, n - 1), (None if edge_mode == "duplicate" else inside)
 
 
-def convolve_matrix(img: np.ndarray, p: dict) -> np.ndarray:
+def convolve_matrix(img: np.ndarray, p: ConvolveMatrix) -> np.ndarray:
     """The kernel (rows x columns, applied rotated by 180° as the spec's sum is written) around
     (target_x, target_y); edge modes duplicate, wrap, none; divisor, bias, preserveAlpha as
     resvg evaluates them (bias scaled by the result's alpha for colour)."""
-    kernel = np.asarray(p["kernel"], dtype=np.float64)
+    kernel = np.asarray(p.kernel, dtype=np.float64)
     rows, cols = kernel.shape
-    tx, ty = p["target"]
-    preserve = p["preserve_alpha"]
+    tx, ty = p.target
+    preserve = p.preserve_alpha
     src = unpremultiply(img) if preserve else img
     src = src.astype(np.float64)
     h, w = img.shape[:2]
     acc = np.zeros((h, w, 4))
     for oy in range(rows):
-        yi, yin = _edge_indices(h, oy - ty, p["edge_mode"])
+        yi, yin = _edge_indices(h, oy - ty, p.edge_mode)
         for ox in range(cols):
             k = kernel[rows - oy - 1, cols - ox - 1]
             if k == 0:
                 continue
-            xi, xin = _edge_indices(w, ox - tx, p["edge_mode"])
+            xi, xin = _edge_indices(w, ox - tx, p.edge_mode)
             part = src[yi][:, xi]
             if yin is not None:
                 part = part * yin[:, None, None] * xin[None, :, None]
             acc += k * part
-    divisor, bias = p["divisor"], p["bias"]
+    divisor, bias = p.divisor, p.bias
     alpha = img[..., 3].astype(np.float64) if preserve else acc[..., 3] / divisor + bias
     bounded = np.clip(alpha, 0.0, 1.0)
     color = acc[..., :3] / divisor + bias * alpha[..., None]
@@ -686,15 +671,15 @@ def convolve_matrix(img: np.ndarray, p: dict) -> np.ndarray:
 CHANNELS = {"R": 0, "G": 1, "B": 2, "A": 3}
 
 
-def displacement_map(img: np.ndarray, displacement: np.ndarray, p: dict) -> np.ndarray:
+def displacement_map(img: np.ndarray, displacement: np.ndarray, p: DisplacementMap) -> np.ndarray:
     """Each pixel takes the input pixel at its own position moved by (channel − ½) · scale
     (straight colour of the map, scale per axis in device pixels), nearest, transparent
     outside the image."""
     h, w = img.shape[:2]
     straight = unpremultiply(displacement)
     ys, xs = np.mgrid[0:h, 0:w]
-    sx = np.rint(xs + (straight[..., CHANNELS[p["x_channel"]]] - 0.5) * p["sx"]).astype(np.int64)
-    sy = np.rint(ys + (straight[..., CHANNELS[p["y_channel"]]] - 0.5) * p["sy"]).astype(np.int64)
+    sx = np.rint(xs + (straight[..., CHANNELS[p.x_channel]] - 0.5) * p.sx).astype(np.int64)
+    sy = np.rint(ys + (straight[..., CHANNELS[p.y_channel]] - 0.5) * p.sy).astype(np.int64)
     inside = (sx >= 0) & (sx < w) & (sy >= 0) & (sy < h)
     out = np.zeros_like(img)
     out[inside] = img[sy[inside], sx[inside]]

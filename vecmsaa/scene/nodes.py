@@ -102,14 +102,131 @@ class Mask:
     kind: str = "luminance"      # luminance | alpha
 
 
+# -- filter primitives, one kind each (as usvg's filter::Kind); lengths in device pixels ------
+@dataclass(frozen=True)
+class Flood:
+    color: tuple                 # straight sRGB RGBA
+
+
+@dataclass(frozen=True)
+class GaussianBlur:
+    sx: float                    # standard deviations
+    sy: float
+
+
+@dataclass(frozen=True)
+class Offset:
+    dx: float                    # whole pixels (truncated, as resvg)
+    dy: float
+
+
+@dataclass(frozen=True)
+class DropShadow:
+    sx: float
+    sy: float
+    dx: float
+    dy: float
+    color: tuple
+
+
+@dataclass(frozen=True)
+class Merge:
+    """Its inputs drawn over each other in order."""
+
+
+@dataclass(frozen=True)
+class Composite:
+    operator: str                # over, in, out, atop, xor, lighter, arithmetic
+    k: tuple = (0.0, 0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Blend:
+    mode: str                    # any CSS blend mode; in over in2
+
+
+@dataclass(frozen=True)
+class ColorMatrix:
+    matrix: tuple                # 4 x 5, row by row, on straight colour
+
+
+@dataclass(frozen=True)
+class ComponentTransfer:
+    funcs: tuple                 # four (type, values) for R, G, B, A
+
+
+@dataclass(frozen=True)
+class Tile:
+    """The region filled with the input's subregion, repeated."""
+
+
+@dataclass(frozen=True)
+class Image:
+    content: "Group"             # device pixels, rendered into the region by the raster
+
+
+@dataclass(frozen=True)
+class Morphology:
+    operator: str                # erode, dilate
+    rx: float
+    ry: float
+
+
+@dataclass(frozen=True)
+class Turbulence:
+    fx: float                    # base frequency
+    fy: float
+    octaves: int
+    seed: int
+    stitch: bool
+    fractal: bool
+    to_device: tuple             # (sx, sy, e, f): primitive units → device pixels
+
+
+@dataclass(frozen=True)
+class DisplacementMap:
+    sx: float                    # scale in device pixels
+    sy: float
+    x_channel: str               # R, G, B, A
+    y_channel: str
+
+
+@dataclass(frozen=True)
+class ConvolveMatrix:
+    kernel: tuple                # rows of columns
+    target: tuple                # (x, y)
+    divisor: float
+    bias: float
+    edge_mode: str               # duplicate, wrap, none
+    preserve_alpha: bool
+
+
+@dataclass(frozen=True)
+class Lighting:
+    """feDiffuseLighting, or feSpecularLighting when ``specular``. ``light``: ("distant",
+    azimuth, elevation), ("point", x, y, z) or ("spot", x, y, z, at x, at y, at z, exponent,
+    cone angle or None), positions in device pixels."""
+    specular: bool
+    surface_scale: float
+    constant: float
+    exponent: float
+    color: tuple
+    light: tuple
+
+
+Effect = Union[Flood, GaussianBlur, Offset, DropShadow, Merge, Composite, Blend, ColorMatrix,
+               ComponentTransfer, Tile, Image, Morphology, Turbulence, DisplacementMap,
+               ConvolveMatrix, Lighting]
+
+
 @dataclass
 class Primitive:
-    """One filter primitive, resolved to device pixels (see vecmsaa/raster/filter_effects.py for the kinds and
-    their ``params``). ``inputs``: SOURCE_GRAPHIC, SOURCE_ALPHA or the index of an earlier
-    primitive; ``subregion``: (x0, y0, x1, y1) device pixels its result is confined to;
-    ``linear``: computed in linearRGB (color-interpolation-filters) rather than sRGB."""
-    kind: str
-    params: dict = field(default_factory=dict)
+    """One filter primitive, resolved to device pixels: ``effect`` is what it computes (one of
+    the kinds above; vecmsaa/raster/filter_effects.py computes them). ``inputs``:
+    SOURCE_GRAPHIC, SOURCE_ALPHA or the index of an earlier primitive; ``subregion``: (x0, y0,
+    x1, y1) device pixels its result is confined to; ``linear``: computed in linearRGB
+    (color-interpolation-filters) rather than sRGB."""
+    effect: Effect
     inputs: tuple = ()
     subregion: tuple = (0, 0, 0, 0)
     linear: bool = True
@@ -208,13 +325,13 @@ def _shift_rect(r, dx, dy):
 def _translated_filter(f: Filter, dx: int, dy: int) -> Filter:
     prims = []
     for p in f.primitives:
-        params = dict(p.params)
-        if "content" in params:                          # feImage
-            params["content"] = translated(params["content"], dx, dy)
-        if "to_device" in params:                        # feTurbulence
-            sx, sy, e, f_ = params["to_device"]
-            params["to_device"] = (sx, sy, e + dx, f_ + dy)
-        if "light" in params:
-            params["light"] = shifted_light(params["light"], dx, dy)
-        prims.append(replace(p, params=params, subregion=_shift_rect(p.subregion, dx, dy)))
+        effect = p.effect
+        if isinstance(effect, Image):
+            effect = replace(effect, content=translated(effect.content, dx, dy))
+        elif isinstance(effect, Turbulence):
+            sx, sy, e, f_ = effect.to_device
+            effect = replace(effect, to_device=(sx, sy, e + dx, f_ + dy))
+        elif isinstance(effect, Lighting):
+            effect = replace(effect, light=shifted_light(effect.light, dx, dy))
+        prims.append(replace(p, effect=effect, subregion=_shift_rect(p.subregion, dx, dy)))
     return Filter(region=_shift_rect(f.region, dx, dy), primitives=prims)

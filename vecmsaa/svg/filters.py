@@ -16,7 +16,10 @@ import math
 import re
 from dataclasses import replace
 
-from ..scene.nodes import SOURCE_ALPHA, SOURCE_GRAPHIC, Filter, Group, Primitive
+from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,
+                           Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
+                           GaussianBlur, Group, Image, Lighting, Merge, Morphology, Offset,
+                           Primitive, Tile, Turbulence)
 from .color import parse_color
 from .document import Element
 from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity, row_scale,
@@ -29,7 +32,7 @@ PRIMITIVE_TAGS = {
     "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting", "feTile",
     "feTurbulence"}
 MAX_OCTAVES = 12
-TRANSPARENT = ("flood", {"color": (0.0, 0.0, 0.0, 0.0)})
+TRANSPARENT = Flood((0.0, 0.0, 0.0, 0.0))
 LUMA = (0.2126, 0.7152, 0.0722)
 
 
@@ -168,9 +171,9 @@ class PrimitiveResolver:
             if sub is None:
                 break                                   # usvg stops at an invalid subregion
             style = self.builder.doc.document_style(child)
-            kind, params, inputs = self.kind(child, style)
+            effect, inputs = self.effect(child, style)
             cif = (style.get("color-interpolation-filters") or "").strip()
-            out.append(Primitive(kind, params, tuple(inputs), sub, cif != "sRGB"))
+            out.append(Primitive(effect, tuple(inputs), sub, cif != "sRGB"))
             name = child.get("result")
             if name:
                 self.names[name.strip()] = self.count
@@ -241,45 +244,43 @@ class PrimitiveResolver:
         opacity = parse_opacity(style.get("flood-opacity"))
         return (c[0], c[1], c[2], c[3] * opacity)
 
-    def kind(self, fe, style):
-        """(kind, params, inputs) of one primitive element."""
+    def effect(self, fe, style):
+        """(effect, inputs) of one primitive element."""
         tag = fe.tag
         inp = self.input(fe)
         if tag == "feFlood":
-            return "flood", {"color": self.flood_color(style)}, ()
+            return Flood(self.flood_color(style)), ()
         if tag == "feGaussianBlur":
             s = self.pair(fe, "stdDeviation", (0.0,))
             if s is None or s[0] < 0 or s[1] < 0:
                 s = (0.0, 0.0)
-            return "blur", {"sx": s[0], "sy": s[1]}, (inp,)
+            return GaussianBlur(s[0], s[1]), (inp,)
         if tag == "feOffset":
             sx, sy = self.scale
-            return ("offset", {"dx": self.number(fe, "dx", 0.0) * sx,
-                               "dy": self.number(fe, "dy", 0.0) * sy}, (inp,))
+            return Offset(self.number(fe, "dx", 0.0) * sx, self.number(fe, "dy", 0.0) * sy), (inp,)
         if tag == "feDropShadow":
             s = self.pair(fe, "stdDeviation", (2.0,))
             if s is None or s[0] < 0 or s[1] < 0:
                 s = (0.0, 0.0)
             sx, sy = self.scale
-            return ("drop_shadow", {"sx": s[0], "sy": s[1], "color": self.flood_color(style),
-                                    "dx": self.number(fe, "dx", 2.0) * sx,
-                                    "dy": self.number(fe, "dy", 2.0) * sy}, (inp,))
+            return DropShadow(s[0], s[1], self.number(fe, "dx", 2.0) * sx,
+                              self.number(fe, "dy", 2.0) * sy, self.flood_color(style)), (inp,)
         if tag == "feMerge":
             inputs = [self.input(node) for node in fe.children if node.tag == "feMergeNode"]
-            return "merge", {}, tuple(inputs)
+            return Merge(), tuple(inputs)
         if tag == "feComposite":
             op = (fe.get("operator") or "over").strip()
             if op not in ("over", "in", "out", "atop", "xor", "lighter", "arithmetic"):
                 op = "over"
             k = tuple(self.number(fe, n, 0.0) for n in ("k1", "k2", "k3", "k4"))
-            return "composite", {"operator": op, "k": k}, (inp, self.input(fe, "in2"))
+            return Composite(op, k), (inp, self.input(fe, "in2"))
         if tag == "feBlend":
             mode = (fe.get("mode") or "normal").strip()
             if mode not in BLEND_MODES:
                 mode = "normal"
-            return "blend", {"mode": mode}, (inp, self.input(fe, "in2"))
+            return Blend(mode), (inp, self.input(fe, "in2"))
         if tag == "feColorMatrix":
-            return "color_matrix", {"matrix": color_matrix_of(fe)}, (inp,)
+            return ColorMatrix(tuple(color_matrix_of(fe))), (inp,)
         if tag == "feComponentTransfer":
             funcs = [("identity", ())] * 4
             for node in fe.children:
@@ -288,40 +289,37 @@ class PrimitiveResolver:
                     func = transfer_function(node)
                     if func is not None:
                         funcs[ch] = func
-            return "component_transfer", {"funcs": funcs}, (inp,)
+            return ComponentTransfer(tuple(funcs)), (inp,)
         if tag == "feTile":
-            return "tile", {}, (inp,)
+            return Tile(), (inp,)
         if tag == "feMorphology":
             return self.morphology(fe, inp)
         if tag == "feTurbulence":
-            return "turbulence", self.turbulence(fe), ()
+            return self.turbulence(fe), ()
         if tag == "feDisplacementMap":
             scale = self.number(fe, "scale", 0.0)
 
             def channel(name):
                 v = (fe.get(name) or "A").strip()
                 return v if v in ("R", "G", "B") else "A"
-            return ("displacement", {"sx": scale * self.scale[0], "sy": scale * self.scale[1],
-                                     "x_channel": channel("xChannelSelector"),
-                                     "y_channel": channel("yChannelSelector")},
+            return (DisplacementMap(scale * self.scale[0], scale * self.scale[1],
+                                    channel("xChannelSelector"), channel("yChannelSelector")),
                     (inp, self.input(fe, "in2")))
         if tag == "feConvolveMatrix":
-            params = convolve_params(fe)
-            return ("convolve", params, (inp,)) if params else TRANSPARENT + ((),)
+            effect = convolve_effect(fe)
+            return (effect, (inp,)) if effect is not None else (TRANSPARENT, ())
         if tag in ("feDiffuseLighting", "feSpecularLighting"):
-            params = self.lighting(fe, style, tag == "feSpecularLighting")
-            if params is None:
-                return TRANSPARENT + ((),)
-            return ("specular" if tag == "feSpecularLighting" else "diffuse"), params, (inp,)
+            effect = self.lighting(fe, style, tag == "feSpecularLighting")
+            return (effect, (inp,)) if effect is not None else (TRANSPARENT, ())
         if tag == "feImage":
             if self.builder.doc.lookup(fe.get("href") or "") is self.el:
                 # a filter drawing its own element: resvg shows the element unfiltered
-                return "offset", {"dx": 0.0, "dy": 0.0}, (SOURCE_GRAPHIC,)
+                return Offset(0.0, 0.0), (SOURCE_GRAPHIC,)
             content = self.image(fe)
             if content is None:
-                return TRANSPARENT + ((),)
-            return "image", {"content": content}, ()
-        return TRANSPARENT + ((),)
+                return TRANSPARENT, ()
+            return Image(content), ()
+        return TRANSPARENT, ()
 
     def morphology(self, fe, inp):
         op = "dilate" if (fe.get("operator") or "").strip() == "dilate" else "erode"
@@ -336,11 +334,10 @@ class PrimitiveResolver:
             ry = 1.0 if ry == 0 else ry
             if rx < 0 or ry < 0:
                 rx, ry = 1.0, 1.0
-        return ("morphology", {"operator": op, "rx": rx * self.scale[0],
-                               "ry": ry * self.scale[1]}, (inp,))
+        return Morphology(op, rx * self.scale[0], ry * self.scale[1]), (inp,)
 
     def lighting(self, fe, style, specular):
-        """Lighting parameters, or None for a primitive usvg drops (no light source, specular
+        """The Lighting effect, or None for a primitive usvg drops (no light source, specular
         exponent outside 1..128, a bad kernelUnitLength)."""
         src = next((c for c in fe.children
                     if c.tag in ("feDistantLight", "fePointLight", "feSpotLight")), None)
@@ -373,10 +370,10 @@ class PrimitiveResolver:
                 cone = parse_number(src.get("limitingConeAngle"), None)
                 light = (("spot",) + device[0] + device[1]
                          + (spot_exp if spot_exp > 0 else 1.0, cone))
-        return {"surface_scale": parse_number(fe.get("surfaceScale"), 1.0),
-                "constant": parse_number(fe.get("specularConstant" if specular
-                                                else "diffuseConstant"), 1.0),
-                "exponent": exponent, "color": self.lighting_color(style), "light": light}
+        return Lighting(specular, parse_number(fe.get("surfaceScale"), 1.0),
+                        parse_number(fe.get("specularConstant" if specular
+                                            else "diffuseConstant"), 1.0),
+                        exponent, self.lighting_color(style), light)
 
     def lighting_color(self, style):
         value = (style.get("lighting-color") or "white").strip()
@@ -395,10 +392,9 @@ class PrimitiveResolver:
         a, b, c, d, e, f = self.ctx.transform
         sx, sy = row_scale(self.ctx.transform)
         # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
-        return {"fx": fx, "fy": fy, "octaves": max(0, min(int(round(octaves)), MAX_OCTAVES)),
-                "seed": int(seed), "stitch": (fe.get("stitchTiles") or "") == "stitch",
-                "fractal": (fe.get("type") or "").strip() == "fractalNoise",
-                "to_device": (sx, sy, e, f)}
+        return Turbulence(fx, fy, max(0, min(int(round(octaves)), MAX_OCTAVES)), int(seed),
+                          (fe.get("stitchTiles") or "") == "stitch",
+                          (fe.get("type") or "").strip() == "fractalNoise", (sx, sy, e, f))
 
     def image(self, fe):
         """feImage content as a scene Group in device pixels, or None. An element is drawn in
@@ -482,9 +478,10 @@ def color_matrix_of(fe):
     return IDENTITY_MATRIX
 
 
-def convolve_params(fe):
-    """feConvolveMatrix parameters, or None when usvg drops the primitive (a kernel of the
-    wrong size, a zero divisor, a target outside the kernel, a bad kernelUnitLength)."""
+def convolve_effect(fe):
+    """The ConvolveMatrix effect of an feConvolveMatrix, or None when usvg drops the
+    primitive (a kernel of the wrong size, a zero divisor, a target outside the kernel, a bad
+    kernelUnitLength)."""
     cols = rows = 3
     order = parse_numbers(fe.get("order") or "")
     if order:
@@ -510,11 +507,10 @@ def convolve_params(fe):
         if not k or min(k) <= 0:
             return None
     edge = (fe.get("edgeMode") or "duplicate").strip()
-    return {"kernel": [values[r * cols:(r + 1) * cols] for r in range(rows)],
-            "target": tuple(target), "divisor": divisor,
-            "bias": parse_number(fe.get("bias"), 0.0),
-            "edge_mode": edge if edge in ("none", "wrap") else "duplicate",
-            "preserve_alpha": (fe.get("preserveAlpha") or "").strip() == "true"}
+    return ConvolveMatrix(tuple(values[r * cols:(r + 1) * cols] for r in range(rows)),
+                          tuple(target), divisor, parse_number(fe.get("bias"), 0.0),
+                          edge if edge in ("none", "wrap") else "duplicate",
+                          (fe.get("preserveAlpha") or "").strip() == "true")
 
 
 def transfer_function(node):
@@ -554,10 +550,10 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
         std = _css_length(builder, args or "0", style, ctx)
         if std is None or std < 0:
             return False
-        prim = ("blur", {"sx": std * sx, "sy": std * sy})
+        effect = GaussianBlur(std * sx, std * sy)
     elif name == "drop-shadow":
-        prim = _drop_shadow(builder, args, style, ctx, sx, sy)
-        if prim is None:
+        effect = _drop_shadow(builder, args, style, ctx, sx, sy)
+        if effect is None:
             return False
     elif name in ("grayscale", "sepia", "saturate", "hue-rotate", "invert", "opacity",
                   "brightness", "contrast"):
@@ -565,12 +561,12 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
             deg = _angle(args)
             if deg is None:
                 return False
-            prim = ("color_matrix", {"matrix": hue_rotate_matrix(deg)})
+            effect = ColorMatrix(tuple(hue_rotate_matrix(deg)))
         else:
             amount = _amount(args)
             if amount is None:
                 return False
-            prim = _amount_primitive(name, amount)
+            effect = _amount_effect(name, amount)
     else:
         return False
     bbox = bbox_fn()
@@ -582,35 +578,33 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
                          frac[3] * bh, ctx.transform)
     if region is None:
         return None
-    kind, params = prim
-    return Filter(region=region, primitives=[
-        Primitive(kind, params, (SOURCE_GRAPHIC,), region, linear)])
+    return Filter(region=region, primitives=[Primitive(effect, (SOURCE_GRAPHIC,), region, linear)])
 
 
-def _amount_primitive(name, amount):
+def _amount_effect(name, amount):
     a = min(amount, 1.0)
     if name == "grayscale":
-        return "color_matrix", {"matrix": saturate_matrix(1 - a)}
+        return ColorMatrix(tuple(saturate_matrix(1 - a)))
     if name == "sepia":
         k = 1 - a
-        return "color_matrix", {"matrix": [
+        return ColorMatrix((
             0.393 + 0.607 * k, 0.769 - 0.769 * k, 0.189 - 0.189 * k, 0, 0,
             0.349 - 0.349 * k, 0.686 + 0.314 * k, 0.168 - 0.168 * k, 0, 0,
             0.272 - 0.272 * k, 0.534 - 0.534 * k, 0.131 + 0.869 * k, 0, 0,
-            0, 0, 0, 1, 0]}
+            0, 0, 0, 1, 0))
     if name == "saturate":
-        return "color_matrix", {"matrix": saturate_matrix(amount)}
+        return ColorMatrix(tuple(saturate_matrix(amount)))
     identity = ("identity", ())
     if name == "invert":
         t = ("table", (a, 1 - a))
-        return "component_transfer", {"funcs": [t, t, t, identity]}
+        return ComponentTransfer((t, t, t, identity))
     if name == "opacity":
-        return "component_transfer", {"funcs": [identity] * 3 + [("table", (0.0, a))]}
+        return ComponentTransfer((identity,) * 3 + (("table", (0.0, a)),))
     if name == "brightness":
         t = ("linear", (amount, 0.0))
-        return "component_transfer", {"funcs": [t, t, t, identity]}
+        return ComponentTransfer((t, t, t, identity))
     t = ("linear", (amount, 0.5 - 0.5 * amount))          # contrast
-    return "component_transfer", {"funcs": [t, t, t, identity]}
+    return ComponentTransfer((t, t, t, identity))
 
 
 def _angle(args):
@@ -653,5 +647,4 @@ def _drop_shadow(builder, args, style, ctx, sx, sy):
     dx, dy, std = (lengths + [0.0, 0.0, 0.0])[:3]
     if color is None or color == "currentColor":
         color = builder.current_color(style)
-    return ("drop_shadow", {"sx": std * sx, "sy": std * sy, "dx": dx * sx, "dy": dy * sy,
-                            "color": tuple(color)})
+    return DropShadow(std * sx, std * sy, dx * sx, dy * sy, tuple(color))
