@@ -18,12 +18,12 @@ ALLOWED = {
     "api": {"svg", "fonts", "geometry", "scene", "raster", "output"},
     "tools": {"api", "svg", "fonts", "geometry", "scene", "raster", "output"},
     "cli": {"tools", "api", "svg", "fonts", "geometry", "scene", "raster", "output"},
-    # the package itself: version and defaults, the numba cache check, the api on demand
+    # the package itself: the version, the numba cache check, the api on demand
     "vecmsaa": {"api"},
     "jitcache": set(),
 }
-#: what every module may import: the package's own __init__ (version, defaults) and the
-#: numba cache check it runs
+#: what every module may import: the package's own __init__ (the version) and the numba
+#: cache check it runs
 SHARED = {"vecmsaa", "jitcache"}
 
 
