@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from ..geometry.arclength import path_length
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
 from .compare import triptych, write_triptych
 
 # Gauss–Legendre nodes/weights on [0, 1]: exact for x(t)·y'(t) of a cubic (degree 5).
@@ -65,35 +66,6 @@ def outline_area(verbs, points) -> float:
     if start is not None:
         total += _cross(cur, start)
     return 0.5 * total
-
-
-def outline_length(verbs, points, steps=32) -> float:
-    """Total length of a path's contours (closing each), curves flattened finely."""
-    total = 0.0
-    i = 0
-    start = cur = None
-    t = np.linspace(0.0, 1.0, steps + 1)
-    for verb in verbs:
-        k = VERB_POINTS[verb]
-        pts = np.asarray(points[i:i + k], dtype=np.float64)
-        i += k
-        if verb == MOVE:
-            if start is not None:
-                total += float(np.hypot(*(start - cur)))
-            start = cur = pts[0]
-        elif verb == LINE:
-            total += float(np.hypot(*(pts[0] - cur)))
-            cur = pts[0]
-        elif verb in (QUAD, CUBIC):
-            p, _ = _bezier(np.vstack([cur, pts]), t)
-            total += float(np.hypot(*np.diff(p, axis=0).T).sum())
-            cur = pts[-1]
-        elif verb == CLOSE:
-            total += float(np.hypot(*(start - cur)))
-            cur = start
-    if start is not None:
-        total += float(np.hypot(*(start - cur)))
-    return total
 
 
 def _cross(a, b) -> float:
@@ -200,7 +172,6 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
     """Render one glyph with FreeType and (unless ``mode`` is None) with vecmsaa on the same
     pixel grid; the bitmap is padded by ``pad`` pixels so no ink falls outside."""
     from ..scene.nodes import Fill, Group, Scene
-    from ..scene.path import Path
 
     loc = face.clamp_location(location)
     ft = freetype_glyph(face.path, gid, size, face.index, dict(loc), oversample)
@@ -211,7 +182,7 @@ def compare_glyph(face, gid: int, size: float, *, mode: str | None = "analytic",
     origin = (pad - ft.left, pad + ft.top)
     verbs, points = glyph_device_arrays(face, gid, size, origin, loc)
     area = abs(outline_area(verbs, points))
-    perimeter = outline_length(verbs, points)
+    perimeter = path_length(Path.from_arrays(verbs, points))
     ours = None
     if mode is not None:
         from ..raster.render import render_scene

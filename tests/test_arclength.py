@@ -1,0 +1,51 @@
+"""Arc length along paths (vecmsaa.geometry.arclength) against exact lengths and a brute-force
+polyline."""
+import math
+
+import numpy as np
+import pytest
+
+from vecmsaa.geometry.arclength import PathWalker, path_length
+from vecmsaa.svg.pathdata import parse_path_data
+
+
+def polyline_length(f, n=200_000):
+    pts = np.array([f(t) for t in np.linspace(0.0, 1.0, n + 1)])
+    return float(np.hypot(*np.diff(pts, axis=0).T).sum())
+
+
+def test_lines_and_closepath_exactly():
+    assert path_length(parse_path_data("M0 0 L3 4 L3 10 Z")) == pytest.approx(
+        5 + 6 + math.hypot(3, 10), rel=1e-12)
+
+
+def test_subpath_gaps_do_not_count():
+    assert path_length(parse_path_data("M0 0 L10 0 M50 50 L50 60")) == pytest.approx(20, rel=1e-12)
+
+
+def test_quadratic_and_cubic_against_brute_force():
+    quad = polyline_length(lambda t: ((1 - t) ** 2 * np.array([0, 0]) + 2 * t * (1 - t)
+                                      * np.array([10, 30]) + t * t * np.array([20, 0])))
+    assert path_length(parse_path_data("M0 0 Q10 30 20 0")) == pytest.approx(quad, rel=1e-6)
+    c = np.array([[0, 0], [0, 40], [30, -20], [30, 20]], dtype=float)
+    cubic = polyline_length(lambda t: ((1 - t) ** 3 * c[0] + 3 * t * (1 - t) ** 2 * c[1]
+                                       + 3 * t * t * (1 - t) * c[2] + t ** 3 * c[3]))
+    assert path_length(parse_path_data("M0 0 C0 40 30 -20 30 20")) == pytest.approx(cubic,
+                                                                                  rel=1e-6)
+
+
+def test_circle_of_arcs():
+    # arcs arrive as cubics, which bulge off the circle by ~1e-4 of the radius
+    circle = parse_path_data("M10 0 A10 10 0 0 1 -10 0 A10 10 0 0 1 10 0 Z")
+    assert path_length(circle) == pytest.approx(20 * math.pi, rel=5e-4)
+
+
+def test_point_and_tangent_at_an_arc_length():
+    # a fine accuracy (a large scale) makes the search exact enough to check
+    walker = PathWalker(parse_path_data("M0 0 L3 4 L3 10"), scale=1e4)
+    x, y, angle = walker.at(2.5)
+    assert (x, y) == pytest.approx((1.5, 2.0), abs=1e-4)
+    assert angle == pytest.approx(math.degrees(math.atan2(4, 3)))
+    x, y, angle = walker.at(8.0)
+    assert (x, y) == pytest.approx((3.0, 7.0), abs=1e-4) and angle == pytest.approx(90.0)
+    assert walker.at(-1) is None and walker.at(11.5) is None
