@@ -1,10 +1,12 @@
 """SVG front end: XML → resolved :class:`vecmsaa.scene.nodes.Scene` (geometry in device pixels).
 
-Modules: :mod:`.document` (safe XML, CSS cascade, computed style), :mod:`.color`, :mod:`.units`
-(lengths, transforms, viewBox), :mod:`.shapes` (basic shapes → paths), :mod:`.paint` (paint
-servers), :mod:`.resources` (data: URLs and files, confined to allowed folders), :mod:`.builder`
-(the scene construction). ``pathdata``, ``text`` and :mod:`vecmsaa.geometry.stroke` come from other parts
-of the project.
+Modules: :mod:`.document` (safe XML, CSS cascade, computed style), :mod:`.sizing` (opening a
+document: its size and root matrix), :mod:`.builder` (the scene construction), :mod:`.units`
+(numbers, lengths, transform lists, viewBox), :mod:`.color`, :mod:`.shapes` and :mod:`.pathdata`
+(basic shapes and path data → paths), :mod:`.paint` (gradients, patterns), :mod:`.masking`
+(clipPath, mask), :mod:`.filters`, :mod:`.markers`, :mod:`.image`, :mod:`.resources` (data: URLs
+and files, confined to allowed folders) and :mod:`.text` (``<text>``, a package by job). Strokes
+come from :mod:`vecmsaa.geometry.stroke`, fonts from :mod:`vecmsaa.fonts`.
 """
 from __future__ import annotations
 
