@@ -150,13 +150,15 @@ def _load_svg(source, width, height, zoom, dpi, background, resources_dir, font_
 
 
 def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,
-                     mode="approx", samples=8, resources_dir=None, **font_options) -> np.ndarray:
-    """Render to an (H, W, 4) uint8 array of straight RGBA."""
+                     mode="approx", samples=8, resources_dir=None, threads=None,
+                     **font_options) -> np.ndarray:
+    """Render to an (H, W, 4) uint8 array of straight RGBA. ``threads``: bands rendered at
+    once (None: every available core; the image does not depend on it)."""
     from .raster.render import render_scene_rgba8
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, resources_dir=resources_dir, **font_options)
-    return render_scene_rgba8(scene, mode=mode, samples=samples)
+    return render_scene_rgba8(scene, mode=mode, samples=samples, threads=threads)
 
 
 def render_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,

@@ -40,6 +40,9 @@ def add_parser(subparsers):
     add_coverage_options(p)
     p.add_argument("--resources-dir", help="extra folder images and CSS may be loaded from")
     p.add_argument("--jobs", "-j", type=int, default=1, help="worker processes for batches")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="threads rendering one image (default: every core, or 1 in each "
+                        "--jobs worker); the image does not depend on it")
     for flag, dest, metavar, text in FONT_FLAGS:
         p.add_argument(flag, dest=dest, metavar=metavar, help=text)
     p.add_argument("--skip-system-fonts", action="store_true",
@@ -59,6 +62,10 @@ def render_options(args) -> dict:
             opts[dest] = getattr(args, dest)
     if args.skip_system_fonts:
         opts["skip_system_fonts"] = True
+    if args.threads is not None:
+        opts["threads"] = max(1, args.threads)
+    elif args.jobs > 1:
+        opts["threads"] = 1     # the workers already use the cores
     return opts
 
 

@@ -15,7 +15,7 @@ def _unit(v):
     return np.float32(0.0)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)   # bands convert on threads
 def unpremultiply_to_rgba8(img, out):
     """Premultiplied float32 RGBA (clamped to [0, 1]) → straight uint8 RGBA in ``out`` (same
     height and width), rounded half up. Every step is rounded to float32, as numpy computed

@@ -14,6 +14,8 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+import os
+import threading
 from dataclasses import replace
 
 import numpy as np
@@ -98,55 +100,94 @@ def premultiplied(color) -> np.ndarray:
 
 def render_scene(scene: Scene, mode: str = "approx", samples: int = 8,
                  filter: str = "box", pattern: str = "d3d",
-                 band_budget: int = BAND_BUDGET) -> np.ndarray:
+                 band_budget: int = BAND_BUDGET, threads: int = 1) -> np.ndarray:
     """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1].
 
     ``samples`` per pixel for the MSAA modes (1, 2, 4, 8, 16; ``none`` always uses 1, the
     ``reference`` mode 256 or a larger square), ``pattern`` their positions (``d3d``: the
     Direct3D 10.1 standard patterns, ``grid``: an ordered grid), ``filter`` the resolve filter
-    (``box`` or ``tent``). ``band_budget``: bytes of one band's buffers (the result does not
-    depend on it)."""
-    return render_float(scene, RenderOptions(mode, samples, filter, pattern), band_budget)
+    (``box`` or ``tent``). ``band_budget``: bytes of one band's buffers; ``threads``: bands
+    rendered at once (None: every available core). The result depends on neither."""
+    return render_float(scene, RenderOptions(mode, samples, filter, pattern), band_budget,
+                        threads)
 
 
-def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET) -> np.ndarray:
+def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET,
+                 threads: int = 1) -> np.ndarray:
     target = np.empty((scene.height, scene.width, 4), dtype=np.float32)
-    for _ in render_bands(scene, opts, band_budget, target):
-        pass
+    render_bands(scene, opts, lambda y0, band: None, band_budget, threads, target)
     return target
 
 
 def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
                        filter: str = "box", pattern: str = "d3d",
-                       band_budget: int = BAND_BUDGET) -> np.ndarray:
+                       band_budget: int = BAND_BUDGET, threads: int = 1) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA: ``to_rgba8(render_scene(...))``
     exactly, without ever holding the whole image in float (band by band)."""
     opts = RenderOptions(mode, samples, filter, pattern)
     out = np.empty((scene.height, scene.width, 4), dtype=np.uint8)
-    for y0, band in render_bands(scene, opts, band_budget):
+
+    def convert(y0, band):
         unpremultiply_to_rgba8(band, out[y0:y0 + band.shape[0]])
+    render_bands(scene, opts, convert, band_budget, threads)
     return out
 
 
-def render_bands(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET,
-                 target: np.ndarray | None = None):
-    """Yield (y0, band): the scene rendered band by band, each band the premultiplied float32
-    rows y0 .. y0 + len(band) - 1. Geometry is built once for all bands. With ``target`` the
-    bands are its rows (the whole image); without, one band buffer is reused, so a band is valid
-    only until the next one is asked for."""
+def available_cores() -> int:
+    """Cores this process may run on (its affinity mask, not the machine's count)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = BAND_BUDGET,
+                 threads: int | None = 1, target: np.ndarray | None = None) -> None:
+    """Render the scene band by band and call ``consume(y0, band)`` with each band, the
+    premultiplied float32 rows y0 .. y0 + len(band) - 1, valid only during the call. Geometry
+    is built once for all bands. With ``target`` the bands are its rows (the whole image).
+
+    ``threads`` > 1 (None: every available core) renders that many bands at once, each thread
+    with its own kernel buffers; ``consume`` is then called from those threads, in no
+    particular order, and must only touch its own rows. A band's pixels do not depend on
+    where the band begins or on the other bands, so the image is the same for any number of
+    threads (the kernels release the GIL)."""
     H, W = scene.height, scene.width
     items = prepare_items(scene.root, opts)
+    threads = available_cores() if threads is None else max(1, int(threads))
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
     band_rows = max(1, min(band_rows, H))
-    raster = Raster(opts, W, H, strip_rows)
-    buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
+    if threads > 1 and band_rows > strip_rows:
+        # at least two bands a thread, so that a thread with a light band is not left idle
+        share = -(-H // (2 * threads))
+        band_rows = max(strip_rows, min(band_rows, -(-share // strip_rows) * strip_rows))
+    starts = range(0, H, band_rows)
+    threads = min(threads, len(starts))
     background = premultiplied(scene.background)
-    for y0 in range(0, H, band_rows):
-        rows = min(band_rows, H - y0)
-        band = buffer[:rows] if target is None else target[y0:y0 + rows]
-        band[:] = background
-        draw_items(items, band, y0, raster)
-        yield y0, band
+
+    def draw_bands(next_start):
+        raster = Raster(opts, W, H, strip_rows)
+        buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
+        for y0 in iter(next_start, None):
+            rows = min(band_rows, H - y0)
+            band = buffer[:rows] if target is None else target[y0:y0 + rows]
+            band[:] = background
+            draw_items(items, band, y0, raster)
+            consume(y0, band)
+    if threads == 1:
+        todo = iter(starts)
+        draw_bands(lambda: next(todo, None))
+        return
+    from concurrent.futures import ThreadPoolExecutor   # only for threaded renders
+    todo = iter(starts)
+    lock = threading.Lock()
+
+    def next_start():
+        with lock:
+            return next(todo, None)
+    with ThreadPoolExecutor(threads) as pool:
+        for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
+            future.result()
 
 
 def band_layout(W: int, samples: int, band_budget: int) -> tuple[int, int]:
@@ -242,6 +283,7 @@ class Layer:
         self.blend = group.blend
         self.filters = group.filters
         self.filtered = None
+        self.filtering = threading.Lock()   # bands on threads: one of them filters
         if self.filters:
             rows = _union([(f.region[1], f.region[3]) for f in self.filters])
         else:
@@ -335,8 +377,9 @@ def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> Non
 
 def draw_filtered(layer: Layer, img: np.ndarray, y0: int, raster: Raster) -> None:
     """Copy the rows of ``img`` (device rows from y0) that the layer's filtered content covers."""
-    if layer.filtered is None:
-        layer.filtered = render_filtered(layer, raster)
+    with layer.filtering:
+        if layer.filtered is None:
+            layer.filtered = render_filtered(layer, raster)
     (x0, fy0, x1, fy1), pixels = layer.filtered
     a, b = max(y0, fy0), min(y0 + img.shape[0], fy1)
     c, d = max(x0, 0), min(x1, img.shape[1])

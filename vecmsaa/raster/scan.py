@@ -484,7 +484,7 @@ def msaa_scratch(strip_rows, W, n):
             np.empty((strip_rows * W, n, 4), dtype=np.float32))     # pool
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
                 paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, scratch):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
@@ -636,7 +636,7 @@ def analytic_scratch(strip_rows, W):
             np.empty(strip_rows, dtype=np.int64))                   # xmax_row
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)   # bands render on threads
 def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind, paint_f, lut,
                     tex, scratch):
     """Exact-area coverage per fill, composited source-over per pixel (conflation included);
