@@ -54,3 +54,15 @@ def test_bytes_do_not_depend_on_the_number_of_cores(monkeypatch):
     many = png.encode_png(rgba)
     monkeypatch.setattr(png.os, "cpu_count", lambda: 1)
     assert png.encode_png(rgba) == many
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_adler32_of_pieces_concatenated_equals_zlib_on_the_whole(seed):
+    rng = np.random.default_rng(seed)
+    data = rng.integers(0, 256, int(rng.integers(0, 300000)), dtype=np.uint8).tobytes()
+    cuts = sorted(rng.integers(0, len(data) + 1, 5))
+    parts = [data[a:b] for a, b in zip([0] + cuts, cuts + [len(data)])]
+    adler = 1
+    for part in parts:
+        adler = png.adler32_concat(adler, zlib.adler32(part), len(part))
+    assert adler == zlib.adler32(data)

@@ -10,8 +10,9 @@ from hypothesis import strategies as st
 from truth import distance_to_outline, polygon_pixel_coverage, segments, winding_at
 from vecmsaa.scene.path import Path
 from vecmsaa.raster.sample_patterns import mask_table, standard_pattern
+from vecmsaa.output.png import encode_png
 from vecmsaa.raster.modes import MODES
-from vecmsaa.raster.render import render_scene, render_scene_rgba8
+from vecmsaa.raster.render import render_scene, render_scene_png, render_scene_rgba8
 from vecmsaa.output.rgba8 import to_rgba8
 from vecmsaa.raster.scan import mask_lookup
 from vecmsaa.scene.nodes import Fill, Group, LinearGradient, Mask, Scene, Solid
@@ -397,6 +398,10 @@ def test_threads_and_bands_give_the_same_bytes(source, request):
             budget = band_rows * scene.width * 16
             assert np.array_equal(render_scene_rgba8(scene, threads=threads,
                                                      band_budget=budget), one), (threads, band_rows)
+    # PNG rows deflated as bands arrive: the bytes of the whole image's encoding
+    png = encode_png(one)
+    assert render_scene_png(scene) == png
+    assert render_scene_png(scene, threads=3, band_budget=3 * scene.width * 16) == png
     assert np.array_equal(render_scene(scene, mode="analytic", threads=3, band_budget=
                                        7 * scene.width * 16),
                           render_scene(scene, mode="analytic"))

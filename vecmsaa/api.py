@@ -161,6 +161,18 @@ def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, backgro
     return render_scene_rgba8(scene, mode=mode, samples=samples, threads=threads)
 
 
+def render_svg_png(source, width=None, height=None, zoom=None, dpi=96, background=None,
+                   mode="approx", samples=8, resources_dir=None, threads=None,
+                   **font_options) -> bytes:
+    """Render to PNG bytes: ``encode_png(render_svg_array(...))``, without holding the whole
+    image (bands are encoded as they are rendered)."""
+    from .raster.render import render_scene_png
+
+    scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
+                     background=background, resources_dir=resources_dir, **font_options)
+    return render_scene_png(scene, mode=mode, samples=samples, threads=threads)
+
+
 def render_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,
                mode="approx", samples=8, resources_dir=None, **font_options):
     """Render to a PIL RGBA image."""

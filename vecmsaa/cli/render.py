@@ -95,11 +95,10 @@ def render_one(job):
     """(input, output, options) → (input, error or None). Never raises."""
     src, dst, opts = job
     try:
-        from vecmsaa.api import render_svg_array
-        from vecmsaa.output.png import write_png
+        from vecmsaa.api import render_svg_png
+        from vecmsaa.output.png import write_bytes_atomic
         source = sys.stdin.buffer.read() if src == "-" else src
-        arr = render_svg_array(source, **opts)
-        write_png(arr, dst)
+        write_bytes_atomic(render_svg_png(source, **opts), dst)
         return src, None
     except MemoryError:
         return src, "out of memory"
