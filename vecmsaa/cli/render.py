@@ -22,6 +22,10 @@ FONT_FLAGS = (("--use-fonts-dir", "use_fonts_dir", "DIR", "load fonts from DIR")
 
 from .options import add_coverage_options  # noqa: E402  (argparse only: cheap)
 
+#: a filled curve and a stroke: what every SVG needs compiled
+WARM_UP_SVG = (b'<svg xmlns="http://www.w3.org/2000/svg" width="8" height="8"><path d="M1 1 '
+               b'Q7 1 7 7Z" fill="red" stroke="blue"/></svg>')
+
 
 def add_parser(subparsers):
     # -h is the output height, so argparse's automatic -h/--help is replaced by --help alone.
@@ -152,6 +156,14 @@ def run(args) -> int:
             print(f"[{i}/{total}] {src}", file=sys.stderr, flush=True)
     if args.jobs > 1 and total > 1:
         import multiprocessing as mp
+        if sys.platform != "win32":
+            # the workers are forked from here: import the renderer and load its compiled
+            # kernels once, not once a worker (half a second each)
+            from vecmsaa.api import render_svg_png
+            try:
+                render_svg_png(WARM_UP_SVG, **{**opts, "width": 8, "height": 8, "zoom": None})
+            except Exception:   # a bad option: every file reports it
+                pass
         with mp.get_context("spawn" if sys.platform == "win32" else "fork").Pool(
                 min(args.jobs, total)) as pool:
             for i, (src, err) in enumerate(pool.imap(render_one, jobs), 1):
