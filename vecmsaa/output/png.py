@@ -12,8 +12,10 @@ import zlib
 import numpy as np
 
 
-#: zlib level of the IDAT stream
-COMPRESS_LEVEL = 6
+#: zlib level of the IDAT stream: at 8192 px (tiger) level 3 deflates in 0.9 s of CPU where
+#: 6 takes 2.2 s (more than resvg's whole process), for a file 4.1 MB instead of 2.9 MB
+#: (resvg's: 5.2 MB); levels 1-2 are barely faster
+COMPRESS_LEVEL = 3
 #: filtered bytes per independently compressed piece of the IDAT stream
 PIECE_BYTES = 1 << 20
 
@@ -95,8 +97,8 @@ class PngStream:
         adler = 1
         for _, piece_adler, size in self.done:
             adler = adler32_concat(adler, piece_adler, size)
-        # zlib header: deflate, 32 KiB window, default level (FCHECK: a multiple of 31)
-        idat = b"\x78\x9c" + b"".join(d[0] for d in self.done) + struct.pack(">I", adler)
+        # zlib header: deflate, 32 KiB window, a fast level (FCHECK: a multiple of 31)
+        idat = b"\x78\x5e" + b"".join(d[0] for d in self.done) + struct.pack(">I", adler)
         ihdr = struct.pack(">IIBBBBB", self.width, self.height, 8, 6, 0, 0, 0)   # RGBA8
         return b"".join((b"\x89PNG\r\n\x1a\n", _chunk(b"IHDR", ihdr),
                          _chunk(b"IDAT", idat), _chunk(b"IEND", b"")))
