@@ -69,7 +69,7 @@ def output_size(doc_w, doc_h, width=None, height=None, zoom=None):
         if zoom is not None:
             w, h = w * zoom, h * zoom
     if w > MAX_SIDE or h > MAX_SIDE or w * h > MAX_PIXELS:
-        raise SvgError(f"output size {w:.0f}x{h:.0f} is too large (limit {MAX_SIDE} px per "
+        raise SvgError(f"output size {w:.6g}x{h:.6g} is too large (limit {MAX_SIDE} px per "
                        f"side and {MAX_PIXELS} pixels)")
     iw, ih = max(1, math.ceil(w - 1e-6)), max(1, math.ceil(h - 1e-6))
     return iw, ih

@@ -6,11 +6,11 @@
 """
 from __future__ import annotations
 
-from .face import Face, FontError, Metrics, load_face, face_count, parse_variations
+from .face import Face, FontError, FontWarning, Metrics, load_face, face_count, parse_variations
 from .layout import (LineLayout, glyphs_arrays, glyphs_path, layout_line, line_fills, place_runs,
                      placement)
 from .shape import ShapedRun, parse_features, shape_text
 
-__all__ = ["Face", "FontError", "Metrics", "load_face", "face_count", "parse_variations",
+__all__ = ["Face", "FontError", "FontWarning", "Metrics", "load_face", "face_count", "parse_variations",
            "LineLayout", "glyphs_arrays", "glyphs_path", "layout_line", "line_fills",
            "place_runs", "placement", "ShapedRun", "parse_features", "shape_text"]

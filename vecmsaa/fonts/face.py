@@ -8,7 +8,9 @@ arrays in font units, y up; :func:`vecmsaa.fonts.layout.glyphs_path` places many
 """
 from __future__ import annotations
 
+import math
 import os
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -19,6 +21,19 @@ from ..scene.path import Path
 
 class FontError(Exception):
     """A font file that cannot be read or has nothing vecmsaa can draw."""
+
+
+class FontWarning(UserWarning):
+    """A part of a usable font is broken (one glyph, a variation): it is drawn empty."""
+
+
+#: Bounds on one TrueType composite glyph: how deep components nest and how many simple-glyph
+#: copies the glyph expands to. Real fonts stay far below (accented letters: depth 1-2, a few
+#: copies); a hostile font doubling its copies per level would otherwise draw 2^depth contours.
+MAX_COMPONENT_DEPTH = 16
+MAX_COMPONENT_COPIES = 4096
+#: A collection (.ttc/.otc) holding more faces than this is refused; real ones hold < 100.
+MAX_COLLECTION_FACES = 1024
 
 
 #: CSS font-stretch keywords by OS/2 usWidthClass (1..9), as percentages.
@@ -103,6 +118,7 @@ class Face:
         self.num_glyphs = len(self.glyph_order)
         self._glyph_sets = {}
         self._outlines = {}
+        self._component_sizes = {}
         self._hb_face = None
         self._hb_fonts = {}
         self._read_names()
@@ -244,7 +260,7 @@ class Face:
             return ()
         out = {}
         for tag, value in dict(location).items():
-            if tag in self.axes:
+            if tag in self.axes and math.isfinite(float(value)):   # 'wght' NaN: the default
                 lo, _, hi = self.axes[tag]
                 out[tag] = min(max(float(value), lo), hi)
         return normalize_location(out)
@@ -261,25 +277,68 @@ class Face:
         return gs
 
     def outline(self, gid: int, location: tuple = ()):
-        """(verbs, points) of a glyph in font units, y up; drawn once and cached."""
+        """(verbs, points) of a glyph in font units, y up; drawn once and cached. A broken
+        glyph (corrupt data, a recursive or exploding composite) is empty, with a
+        :class:`FontWarning`: the rest of the text still draws."""
         key = (gid, location)
         hit = self._outlines.get(key)
         if hit is not None:
             return hit
         if not self.has_outlines:       # bitmap-only font (CBDT): see fonts.color
             return empty_outline()
-        gs = self.glyph_set(location)
-        path = Path(glyphSet=gs)
         name = self.glyph_order[gid] if 0 <= gid < self.num_glyphs else ".notdef"
         try:
+            gs = self.glyph_set(location)
+            path = Path(glyphSet=gs)
             if name in gs:
+                self._check_components(name)
                 gs[name].draw(path)
+            hit = (path.verbs, path.points)
         except Exception as exc:
-            raise FontError(f"broken glyph {name!r} in {self.path}: "
-                            f"{type(exc).__name__}: {exc}") from None
-        hit = (path.verbs, path.points)
+            why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
+            warnings.warn(f"broken glyph {name!r} in {self.path} drawn empty: {why}",
+                          FontWarning, stacklevel=2)
+            hit = empty_outline()
         self._outlines[key] = hit
         return hit
+
+    def _check_components(self, name):
+        """Raise FontError when a TrueType composite nests deeper than MAX_COMPONENT_DEPTH,
+        refers to itself, or expands to more than MAX_COMPONENT_COPIES simple glyphs; sizes
+        are memoized per glyph, so checking costs one visit of each component glyph."""
+        if "glyf" not in self.ttfont:
+            return
+        glyf, sizes = self.ttfont["glyf"], self._component_sizes
+
+        def size(n, depth):                  # → (simple-glyph copies, nesting depth)
+            hit = sizes.get(n)
+            if hit is None:
+                if depth > MAX_COMPONENT_DEPTH:
+                    raise FontError(f"components nest deeper than {MAX_COMPONENT_DEPTH}")
+                g = glyf[n]
+                if not g.isComposite():
+                    hit = (1, 0)
+                else:
+                    sizes[n] = (0, -1)       # being visited: a cycle meets this mark
+                    try:
+                        parts = [size(c.glyphName, depth + 1) for c in g.components]
+                    except FontError:
+                        del sizes[n]
+                        raise
+                    hit = (sum(p[0] for p in parts), 1 + max(p[1] for p in parts))
+                sizes[n] = hit
+            elif hit[1] < 0:
+                raise FontError(f"glyph {n!r} contains itself")
+            if hit[0] > MAX_COMPONENT_COPIES or depth + hit[1] > MAX_COMPONENT_DEPTH:
+                sizes[n] = hit
+                raise FontError(f"components expand to {hit[0]} copies at depth {hit[1]} "
+                                f"(limits {MAX_COMPONENT_COPIES} and {MAX_COMPONENT_DEPTH})")
+            return hit
+
+        try:
+            size(name, 0)
+        except KeyError as exc:
+            raise FontError(f"missing component {exc}") from None
 
     def advance(self, gid: int, location: tuple = ()) -> float:
         """Horizontal advance in font units (including variations)."""
@@ -339,7 +398,11 @@ def face_count(path) -> int:
     except OSError as exc:
         raise FontError(f"cannot read font {path}: {exc.strerror or exc}") from None
     if head[:4] == b"ttcf" and len(head) >= 12:
-        return int.from_bytes(head[8:12], "big")
+        count = int.from_bytes(head[8:12], "big")
+        if count > MAX_COLLECTION_FACES or 12 + 4 * count > os.path.getsize(path):
+            raise FontError(f"font collection {path} claims {count} faces (limit "
+                            f"{MAX_COLLECTION_FACES}, and its offsets must fit in the file)")
+        return count
     return 1
 
 

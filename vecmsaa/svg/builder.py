@@ -588,20 +588,26 @@ class Builder:
 
     # -- paints ----------------------------------------------------------------------------
     def paint_value(self, style, name):
-        """The specified paint, skipping invalid declarations (they do not override)."""
+        """The specified paint, skipping invalid declarations (they do not override); resolved
+        up the ancestors without recursion and cached on each style passed."""
         key = ("paint", name)
-        cached = style.cache.get(key)
-        if cached is not None:
-            return cached
-        v = style.specified.get(name)
-        if v is not None and v != "inherit" and valid_paint(v):
-            value = v.strip()
-        elif style.parent is not None:
-            value = self.paint_value(style.parent, name)
-        else:
-            from .document import INITIAL
-            value = INITIAL[name]
-        style.cache[key] = value
+        passed = []
+        while True:
+            value = style.cache.get(key)
+            if value is not None:
+                break
+            passed.append(style)
+            v = style.specified.get(name)
+            if v is not None and v != "inherit" and valid_paint(v):
+                value = v.strip()
+                break
+            if style.parent is None:
+                from .document import INITIAL
+                value = INITIAL[name]
+                break
+            style = style.parent
+        for style in passed:
+            style.cache[key] = value
         return value
 
     def resolve_paint(self, style, which, ctx, bbox):

@@ -25,6 +25,9 @@ XML_NS = "http://www.w3.org/XML/1998/namespace"
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
 MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
 MAX_ELEMENTS = 1_000_000
+#: Deepest element nesting accepted; building and drawing recurse per level, and vecmsaa's
+#: recursion limit (vecmsaa/__init__.py) leaves room for this many levels of filtered groups.
+MAX_DEPTH = 1024
 
 #: properties that CSS (and presentation attributes) may set
 PROPERTIES = {
@@ -151,18 +154,35 @@ class Style:
 
     def get(self, name, default=None):
         try:
-            return self.cache[name]
+            value = self.cache[name]
         except KeyError:
-            pass
-        v = self.specified.get(name)
-        if v is not None and v != "inherit":
-            value = v
-        elif self.parent is not None and (v == "inherit" or name in INHERITED):
-            value = self.parent.get(name)
-        else:
-            value = INITIAL.get(name)
-        self.cache[name] = value
+            value = self._inherit(name)
         return default if value is None else value
+
+    def _inherit(self, name):
+        """Resolve ``name`` up the ancestors without recursion (deep nesting must not reach
+        Python's recursion limit) and cache it on every style passed on the way."""
+        passed = []
+        style = self
+        inherited = name in INHERITED
+        while True:
+            if name in style.cache:
+                value = style.cache[name]
+                break
+            v = style.specified.get(name)
+            if v is not None and v != "inherit":
+                value = v
+                passed.append(style)
+                break
+            if style.parent is None or not (v == "inherit" or inherited):
+                value = INITIAL.get(name)
+                passed.append(style)
+                break
+            passed.append(style)
+            style = style.parent
+        for style in passed:
+            style.cache[name] = value
+        return value
 
     def has_own(self, name):
         return name in self.specified
@@ -170,26 +190,34 @@ class Style:
     def font_size(self) -> float:
         """Computed font size in user units (em and % relative to the parent's)."""
         if self._font_size is None:
-            parent = (self.parent.font_size() if self.parent is not None
-                      else INITIAL_FONT_SIZE)
-            v = self.specified.get("font-size")
-            size = parent
-            if v and v != "inherit":
-                v = v.strip().lower()
-                if v in _FONT_SIZE_STEPS:
-                    size = parent * 1.2 ** _FONT_SIZE_STEPS[v]
-                else:
-                    parsed = split_length(v)
-                    if parsed is not None:
-                        value, unit = parsed
-                        if unit == "%":
-                            size = value * parent / 100
-                        elif unit in ("em", "ex"):
-                            size = to_px(value, unit, parent)
-                        else:
-                            size = to_px(value, unit)
-            self._font_size = size
+            unresolved = []   # up to the nearest resolved ancestor, without recursion
+            style = self
+            while style is not None and style._font_size is None:
+                unresolved.append(style)
+                style = style.parent
+            size = style._font_size if style is not None else INITIAL_FONT_SIZE
+            for style in reversed(unresolved):
+                size = style._font_size = style._own_font_size(size)
         return self._font_size
+
+    def _own_font_size(self, parent: float) -> float:
+        v = self.specified.get("font-size")
+        size = parent
+        if v and v != "inherit":
+            v = v.strip().lower()
+            if v in _FONT_SIZE_STEPS:
+                size = parent * 1.2 ** _FONT_SIZE_STEPS[v]
+            else:
+                parsed = split_length(v)
+                if parsed is not None:
+                    value, unit = parsed
+                    if unit == "%":
+                        size = value * parent / 100
+                    elif unit in ("em", "ex"):
+                        size = to_px(value, unit, parent)
+                    else:
+                        size = to_px(value, unit)
+        return size
 
     def child(self, element: Element) -> "Style":
         """The style of ``element`` under this one. Siblings specifying the same values share
@@ -427,11 +455,13 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
     ids = {}
     count = 0
 
-    def convert(node, parent, index):
+    def convert(node, parent, index, depth):
         nonlocal count
         count += 1
         if count > MAX_ELEMENTS:
             raise SvgError("too many elements")
+        if depth > MAX_DEPTH:
+            raise SvgError(f"elements nest deeper than {MAX_DEPTH} levels")
         nns, ntag = _local(node.tag)
         if nns != default_ns:
             return None   # foreign element: skipped with its subtree
@@ -483,12 +513,12 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
                 else:
                     el.text += child.tail or ""
                 continue
-            c = convert(child, el, i)
+            c = convert(child, el, i, depth + 1)
             if c is not None:
                 el.children.append(c)
                 i += 1
         return el
 
     doc = Document(None, ids, base_dir)
-    doc.root = convert(xml_root, None, 0)
+    doc.root = convert(xml_root, None, 0, 0)
     return doc

@@ -82,8 +82,8 @@ def parse_transform(text):
             return None
         name, args = mt.group(1), mt.group(2)
         nums = parse_numbers(args)
-        if re.sub(rf"{NUMBER_RE}|[\s,]", "", args):
-            return None
+        if re.sub(rf"{NUMBER_RE}|[\s,]", "", args) or not all(map(math.isfinite, nums)):
+            return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
         n = len(nums)
         if name == "matrix" and n == 6:

@@ -1,0 +1,166 @@
+"""Hostile input: bounded time and memory, broken parts that do not fail the whole document.
+
+Every input is small and generated here; each test states the independent truth it checks
+(exact geometry, counts known by construction, or a render of an equivalent document).
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from fontTools.fontBuilder import FontBuilder
+from fontTools.pens.ttGlyphPen import TTGlyphPen
+from fontTools.ttLib import TTFont
+from fontTools.ttLib.tables._g_l_y_f import Glyph, GlyphComponent
+
+from vecmsaa.api import render_svg_array
+from vecmsaa.fonts import FontError, FontWarning, face_count, load_face
+from vecmsaa.fonts.db import read_face_infos
+from vecmsaa.fonts.face import MAX_COMPONENT_COPIES
+from vecmsaa.svg import SvgError
+
+SVG = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+# -- fonts ------------------------------------------------------------------------------------
+def _square():
+    pen = TTGlyphPen(None)
+    pen.moveTo((100, 0))
+    pen.lineTo((100, 700))
+    pen.lineTo((500, 700))
+    pen.lineTo((500, 0))
+    pen.closePath()
+    return pen.glyph()
+
+
+def _composite(*names):
+    g = Glyph()
+    g.numberOfContours = -1
+    g.components = []
+    for i, name in enumerate(names):
+        c = GlyphComponent()
+        c.glyphName, c.x, c.y, c.flags = name, 10 * i, 0, 0x4
+        g.components.append(c)
+    return g
+
+
+def hostile_font(path, levels=25, self_reference=False):
+    """A font whose 'A' is a square and whose 'B' is broken: a composite of two copies of the
+    level below, ``levels`` deep (2^levels squares), or a composite containing itself."""
+    order = [".notdef", "space", "A", "B"] + [f"L{i}" for i in range(levels + 1)]
+    glyphs = {".notdef": _square(), "space": Glyph(), "A": _square(), "L0": _square(),
+              "B": _composite("A" if self_reference else f"L{levels}")}
+    for i in range(1, levels + 1):
+        glyphs[f"L{i}"] = _composite(f"L{i - 1}", f"L{i - 1}")
+    fb = FontBuilder(1000, isTTF=True)
+    fb.setupGlyphOrder(order)
+    fb.setupCharacterMap({0x20: "space", 0x41: "A", 0x42: "B"})
+    fb.setupGlyf(glyphs)
+    fb.setupHorizontalMetrics({n: (600, 0) for n in order})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    fb.setupNameTable({"familyName": "Hostile", "styleName": "Regular"})
+    fb.setupOS2()
+    fb.setupPost()
+    fb.font.recalcBBoxes = False     # bounds of 2^25 copies would take as long as drawing them
+    fb.save(str(path))
+    if self_reference:
+        font = TTFont(str(path), recalcBBoxes=False)
+        font["glyf"]["B"].components[0].glyphName = "B"
+        font.save(str(path))
+    return path
+
+
+@pytest.mark.parametrize("self_reference", [False, True])
+def test_broken_composite_glyph_is_empty_with_a_warning(tmp_path, self_reference):
+    face = load_face(hostile_font(tmp_path / "h.ttf", self_reference=self_reference))
+    with pytest.warns(FontWarning, match="broken glyph 'B'"):
+        verbs, points = face.outline(face.glyph_for_char("B"))
+    assert len(verbs) == 0 and len(points) == 0
+    assert len(face.outline(face.glyph_for_char("A"))[1]) == 4       # the square's corners
+
+
+def test_composite_within_the_limit_draws_every_copy(tmp_path):
+    levels = int(np.log2(MAX_COMPONENT_COPIES))
+    face = load_face(hostile_font(tmp_path / "h.ttf", levels=levels + 1))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        points = face.outline(face.glyph_ids[f"L{levels}"])[1]
+    assert len(points) == 4 * 2 ** levels                            # 2^levels squares
+    with pytest.warns(FontWarning, match="copies"):
+        assert len(face.outline(face.glyph_ids[f"L{levels + 1}"])[1]) == 0
+
+
+@pytest.mark.parametrize("self_reference", [False, True])
+def test_text_with_a_broken_glyph_draws_the_rest(tmp_path, self_reference):
+    hostile_font(tmp_path / "h.ttf", self_reference=self_reference)
+    fonts = dict(use_fonts_dir=str(tmp_path), skip_system_fonts=True)
+
+    def text(s):
+        return (f'<svg {SVG} width="120" height="40"><text x="5" y="30" font-size="20" '
+                f'font-family="Hostile" xml:space="preserve">{s}</text></svg>')
+
+    with pytest.warns(FontWarning):
+        got = render_svg_array(text("AB A"), **fonts)
+    # B has the advance of a space: the picture is that of "A  A"
+    want = render_svg_array(text("A  A"), **fonts)
+    assert (want[..., 3] > 0).any()
+    assert np.array_equal(got, want)
+
+
+def test_collection_claiming_two_billion_faces_is_refused_at_once(tmp_path):
+    bomb = tmp_path / "bomb.ttc"
+    bomb.write_bytes(b"ttcf\x00\x01\x00\x00\x80\x00\x00\x00" + b"\x00" * 16)   # 28 bytes
+    with pytest.raises(FontError, match="claims 2147483648 faces"):
+        face_count(bomb)
+    assert read_face_infos(str(bomb)) == []      # a font folder scan skips it
+
+
+def test_nan_variation_falls_back_to_the_default_instance():
+    import os
+    path = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts",
+                        "RobotoFlex-Subset.ttf")
+    face = load_face(path)
+    assert face.clamp_location({"wght": float("nan")}) == ()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.array_equal(face.outline(face.glyph_for_char("H"),
+                                           face.clamp_location({"wght": float("nan")}))[1],
+                              face.outline(face.glyph_for_char("H"))[1])
+
+
+# -- documents --------------------------------------------------------------------------------
+@pytest.mark.parametrize("transform", ["rotate(1e400)", "skewX(1e999)", "scale(1e400 1)"])
+def test_overflowing_transform_is_ignored_as_malformed(transform):
+    """resvg: a number that overflows is an invalid transform list, which is ignored."""
+    def doc(t):
+        return (f'<svg {SVG} width="40" height="20"><rect x="2" y="2" width="10" height="10"'
+                f'{t}/><rect x="22" y="2" width="10" height="10" fill="blue"/></svg>')
+    assert np.array_equal(render_svg_array(doc(f' transform="{transform}"')), render_svg_array(doc("")))
+
+
+def test_huge_size_in_an_error_message_is_short():
+    with pytest.raises(SvgError) as info:
+        render_svg_array(f'<svg {SVG} width="1e308" height="10"/>')
+    assert "1e+308x10" in str(info.value) and len(str(info.value)) < 150
+
+
+@pytest.mark.parametrize("filtered", [False, True])
+def test_deep_nesting_renders(filtered):
+    """400 nested groups in a document without a size (its extent is measured by building it),
+    and 200 nested filtered groups: the same pixels as the rectangle alone."""
+    g = '<g filter="url(#f)">' if filtered else "<g>"
+    n = 200 if filtered else 400
+    size = ' width="20" height="20"' if filtered else ""
+    rect = '<rect width="10" height="10" fill="red"/>'
+    defs = '<filter id="f" x="0" y="0" width="1" height="1"><feOffset/></filter>'
+    deep = render_svg_array(f'<svg {SVG}{size}>{defs}{g * n}{rect}{"</g>" * n}</svg>')
+    flat = render_svg_array(f'<svg {SVG}{size}>{rect}</svg>')
+    assert deep.shape == flat.shape and np.array_equal(deep, flat)
+
+
+def test_nesting_beyond_the_limit_is_a_clean_error():
+    from vecmsaa.svg.document import MAX_DEPTH
+    n = MAX_DEPTH + 1
+    with pytest.raises(SvgError, match=f"deeper than {MAX_DEPTH}"):
+        render_svg_array(f'<svg {SVG} width="10" height="10">{"<g>" * n}{"</g>" * n}</svg>')
