@@ -164,3 +164,83 @@ def test_nesting_beyond_the_limit_is_a_clean_error():
     n = MAX_DEPTH + 1
     with pytest.raises(SvgError, match=f"deeper than {MAX_DEPTH}"):
         render_svg_array(f'<svg {SVG} width="10" height="10">{"<g>" * n}{"</g>" * n}</svg>')
+
+
+# -- images -----------------------------------------------------------------------------------
+def _png(array, mode=None):
+    import io
+
+    from PIL import Image
+    buf = io.BytesIO()
+    im = Image.fromarray(array)
+    (im.convert(mode) if mode else im).save(buf, "PNG")
+    return buf.getvalue()
+
+
+def _image_doc(png, copies=1, size=64):
+    import base64
+    href = "data:image/png;base64," + base64.b64encode(png).decode()
+    images = "".join(f'<image href="{href}" width="{size}" height="{size}"/>'
+                     for _ in range(copies))
+    return f'<svg {SVG} width="{size}" height="{size}">{images}</svg>'
+
+
+def test_large_image_drawn_small_is_decoded_once_and_averaged(monkeypatch):
+    """A 4096² 1-bit noise image drawn at 64² in ten places: one decode; each device pixel is
+    the mean of its 64² texels (box reduction), close to the noise's 50 % grey, where plain
+    bilinear sampling of the full image would pick single texels (0 or 255)."""
+    from PIL import Image
+    rng = np.random.default_rng(16)
+    png = _png(rng.integers(0, 2, (4096, 4096), dtype=np.uint8) * 255, "1")
+    opened = []
+    real_open = Image.open
+    monkeypatch.setattr(Image, "open", lambda *a, **k: opened.append(1) or real_open(*a, **k))
+    out = render_svg_array(_image_doc(png, copies=10))
+    assert len(opened) == 1
+    grey = out[1:-1, 1:-1, :3].astype(float)
+    assert (out[..., 3] == 255).all()
+    assert abs(grey.mean() - 127.5) < 3 and np.abs(grey - 127.5).max() < 40
+
+
+def test_images_over_the_decoded_pixel_budget_are_skipped(monkeypatch):
+    from vecmsaa.svg import image
+    monkeypatch.setattr(image, "MAX_DECODED_PIXELS", 64 * 64)
+    red = _png(np.full((64, 64, 3), (255, 0, 0), np.uint8))
+    blue = _png(np.full((64, 64, 3), (0, 0, 255), np.uint8))
+    doc = _image_doc(red, copies=3).replace("</svg>", _image_doc(blue)[_image_doc(blue).index(
+        "<image"):])
+    out = render_svg_array(doc)
+    assert (out[..., 0] == 255).all() and (out[..., 2] == 0).all()   # red drawn, blue not
+
+
+# -- dashes -----------------------------------------------------------------------------------
+@pytest.mark.parametrize("cap, dashes, covered", [
+    ("butt", "0.01 0.03", 0.25),            # a quarter of each 0.04 px period is on
+    ("square", "0.01 0.05", 1.0),           # 10 px square caps cover the gaps
+    ("butt", "0", None),                    # all zeros: a solid stroke
+    ("butt", "0 0.001", 0.0),               # zero-length butt dashes draw nothing
+])
+def test_sub_pixel_dashes_are_a_coverage(cap, dashes, covered):
+    def doc(d):
+        return (f'<svg {SVG} width="120" height="20"><path d="M10 10 H110" stroke="black" '
+                f'stroke-width="10" stroke-linecap="{cap}" stroke-dasharray="{d}"/></svg>')
+    alpha = render_svg_array(doc(dashes))[8:13, 20:100, 3].astype(float) / 255
+    want = 1.0 if covered is None else covered
+    assert np.abs(alpha - want).max() <= 1.5 / 255
+
+
+def test_huge_dashed_circle_is_bounded_and_half_covered():
+    """r = 1e6 with dasharray 0.001: 3e9 dashes of 2.5e-7 device px, drawn as coverage 1/2."""
+    out = render_svg_array(f'<svg {SVG} width="100" height="100" viewBox="-1.1e6 -1.1e6 2.2e6 '
+                           f'2.2e6"><circle r="1e6" fill="none" stroke="black" stroke-width="1e5"'
+                           f' stroke-dasharray="0.001"/></svg>')
+    ring = out[50, 2:7, 3].astype(float) / 255          # the stroke's left side, 4.5 px wide
+    assert np.abs(ring[1:-1] - 0.5).max() <= 2 / 255
+
+
+def test_path_cut_into_too_many_dashes_is_a_coverage():
+    from vecmsaa.geometry.stroke import MAX_DASHES
+    n = 4 * MAX_DASHES      # a line of 4 * MAX_DASHES periods of 2 px, mostly off the canvas
+    out = render_svg_array(f'<svg {SVG} width="40" height="20"><path d="M0 10 H{2 * n}" '
+                           f'stroke="black" stroke-width="8" stroke-dasharray="1 1"/></svg>')
+    assert np.abs(out[8:13, 5:35, 3].astype(float) / 255 - 0.5).max() <= 2 / 255

@@ -571,6 +571,27 @@ def dash_pattern(dashes):
     return values
 
 
+#: Dash patterns repeating faster than this (device px), or cutting one path into more than
+#: MAX_DASHES dashes, are drawn as a solid stroke faded by the pattern's coverage (see
+#: dash_coverage): below a pixel the dashes are a coverage, not millions of segments.
+MIN_DASH_PERIOD = 1.0
+MAX_DASHES = 100_000
+
+
+def dash_coverage(pattern, path: Path, width: float, cap: str, device_scale: float):
+    """None when the dashes are drawn as dashes; else the fraction of the solid stroke they
+    cover (per period: the dashes plus their caps, at most 1), for a dash pattern too fine for
+    the device (MIN_DASH_PERIOD) or too long a path (MAX_DASHES)."""
+    period = sum(pattern)
+    if period * device_scale >= MIN_DASH_PERIOD:
+        pts = path.points        # the control polygon is at least as long as the path
+        if len(pts) < 2 or np.abs(np.diff(pts, axis=0)).sum() <= MAX_DASHES * period:
+            return None
+    caps = {"butt": 0.0, "square": width, "round": width * math.pi / 4}.get(cap, 0.0)
+    covered = sum(pattern[0::2]) + caps * (len(pattern) // 2)
+    return min(1.0, covered / period)
+
+
 _GAUSS_X = (-0.906179845938664, -0.5384693101056831, 0.0, 0.5384693101056831, 0.906179845938664)
 _GAUSS_W = (0.23692688505618908, 0.47862867049936647, 0.5688888888888889, 0.47862867049936647,
             0.23692688505618908)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field, replace
 from ..scene.transform import IDENTITY, compose, translate
 from ..scene.path import LINE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
-from ..geometry.stroke import stroke_path
+from ..geometry.stroke import dash_coverage, stroke_path
 from . import SvgError
 from .color import parse_color
 from .document import Document, Element, Style
@@ -565,6 +565,9 @@ class Builder:
             if dashes:
                 dashes = [d * self.root_scale for d in dashes]
                 offset *= self.root_scale
+                coverage = dash_coverage(dashes, device_path, dev_width, cap, 1.0)
+                if coverage is not None:
+                    opacity, dashes = opacity * coverage, None
             if 0 < dev_width < 1 and antialias:
                 opacity *= dev_width
                 dev_width = 1.0
@@ -572,6 +575,10 @@ class Builder:
                                   dashes=dashes, dash_offset=offset, tolerance=0.25)
             return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
         scale = mean_scale(ctx.transform)
+        if dashes:
+            coverage = dash_coverage(dashes, path, width, cap, scale)
+            if coverage is not None:
+                opacity, dashes = opacity * coverage, None
         device_width = width * scale
         stroke_width = width
         if 0 < device_width < 1 and antialias:

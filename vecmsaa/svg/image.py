@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import io
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -11,7 +12,10 @@ from ..scene.path import rect_path
 from ..scene.nodes import Fill, Group, ImagePaint
 from .units import parse_aspect, viewbox_transform
 
+#: Pixels of one raster image, and of all distinct raster images of a document (each decoded
+#: once, however often it is referenced); an image over either limit is not drawn.
 MAX_IMAGE_PIXELS = 1 << 26
+MAX_DECODED_PIXELS = 1 << 28
 
 
 def sniff(data: bytes, mime=None):
@@ -32,17 +36,65 @@ def sniff(data: bytes, mime=None):
     return None
 
 
-def decode_raster(data: bytes) -> np.ndarray:
-    """Image bytes → (H, W, 4) float32 premultiplied RGBA."""
+def decode_raster(data: bytes, resources=None):
+    """The first frame of an image file as a Pillow image in its own mode (1-bit, grey and
+    palette images stay one byte per pixel), decoded once per document (``resources`` holds
+    the cache and the MAX_DECODED_PIXELS budget). Raises ValueError when over a limit."""
     from PIL import Image
 
-    with Image.open(io.BytesIO(data)) as im:
-        if im.width * im.height > MAX_IMAGE_PIXELS:
-            raise ValueError("image too large")
+    cache = resources.decoded_images if resources is not None else {}
+    im = cache.get(data)
+    if im is None:
+        im = Image.open(io.BytesIO(data))
+        pixels = im.width * im.height
+        if pixels > MAX_IMAGE_PIXELS:
+            raise ValueError(f"image of {im.width}x{im.height} pixels is too large (limit "
+                             f"{MAX_IMAGE_PIXELS} pixels)")
+        if resources is not None:
+            if resources.decoded_pixels + pixels > MAX_DECODED_PIXELS:
+                raise ValueError(f"images decode to more than {MAX_DECODED_PIXELS} pixels")
+            resources.decoded_pixels += pixels
         im.seek(0)
-        rgba = np.asarray(im.convert("RGBA"), dtype=np.float32) / 255.0
-    rgba[..., :3] *= rgba[..., 3:4]
-    return rgba
+        im.load()
+        cache[data] = im
+    return im
+
+
+def image_texels(im, fx: int = 1, fy: int = 1) -> np.ndarray:
+    """A Pillow image → (H + 2, W + 2, 4) float32 premultiplied RGBA with one texel of edge
+    replication (filtering at the border then repeats the edge instead of fading into
+    transparency), box-reduced by (fx, fy) first when it is drawn that much smaller."""
+    if fx > 1 or fy > 1:
+        if im.mode in ("1", "L"):
+            im = im.convert("L")
+        elif im.mode != "RGB":
+            im = im.convert("RGBA").convert("RGBa")    # average premultiplied colours
+        im = im.reduce((fx, fy))
+    h, w = im.height, im.width
+    out = np.empty((h + 2, w + 2, 4), np.float32)
+    inner = out[1:-1, 1:-1]
+    if im.mode in ("L", "RGB"):
+        inner[..., :3] = np.asarray(im, dtype=np.float32).reshape(h, w, -1) / 255.0
+        inner[..., 3] = 1.0
+    elif im.mode == "RGBa":
+        inner[...] = np.asarray(im, dtype=np.float32) / 255.0
+    else:
+        inner[...] = np.asarray(im.convert("RGBA"), dtype=np.float32) / 255.0
+        inner[..., :3] *= inner[..., 3:4]
+    out[0, 1:-1], out[-1, 1:-1] = inner[0], inner[-1]
+    out[:, 0], out[:, -1] = out[:, 1], out[:, -2]
+    return out
+
+
+def _reduction(to_device, iw, ih):
+    """Integer box-reduction factors along the image's x and y that keep at least two texels
+    per device pixel (bilinear sampling would skip the others); 1 below four texels."""
+    a, b, c, d = to_device[:4]
+    fx = int(1.0 / (2.0 * max(math.hypot(a, b), 1e-300)))
+    fy = int(1.0 / (2.0 * max(math.hypot(c, d), 1e-300)))
+    fx = min(fx, iw) if fx >= 2 else 1
+    fy = min(fy, ih) if fy >= 2 else 1
+    return fx, fy
 
 
 def image_nodes(builder, el, ctx, style):
@@ -59,10 +111,10 @@ def image_nodes(builder, el, ctx, style):
     aspect = parse_aspect(el.get("preserveAspectRatio"))
     if kind == "raster":
         try:
-            rgba = decode_raster(data)
+            im = decode_raster(data, builder.resources)
         except Exception:   # Pillow raises many kinds of errors on corrupt data
             return []
-        iw, ih = rgba.shape[1], rgba.shape[0]
+        iw, ih = im.width, im.height
         sub = None
     elif kind == "svg":
         if builder.options.image_nesting >= 3:
@@ -97,12 +149,20 @@ def image_nodes(builder, el, ctx, style):
             outline = rect_path(x, y, w, h)          # slice: the viewport clips the image
         else:
             outline = rect_path(0, 0, iw, ih).transformed(image_to_user)
-        # One texel of edge replication: filtering at the image border then repeats the edge
-        # (clamp) instead of fading into transparency; the outline does the clipping.
-        padded = np.pad(rgba, ((1, 1), (1, 1), (0, 0)), mode="edge")
-        to_paint = compose(translate(1, 1), to_paint)
+        fx, fy = _reduction(to_device, iw, ih)
+        key = (data, fx, fy)
+        texels = builder.resources.image_texels.get(key)
+        if texels is None:
+            try:
+                texels = builder.resources.image_texels[key] = image_texels(im, fx, fy)
+            except Exception:   # Pillow raises many kinds of errors on corrupt data
+                return []
+        # texels are reduced by (fx, fy) and padded by one (see image_texels); the outline
+        # does the clipping
+        to_paint = compose(compose(translate(1, 1), (1.0 / fx, 0, 0, 1.0 / fy, 0, 0)),
+                           to_paint)
         return [Fill(outline.transformed(ctx.transform),
-                     ImagePaint(padded, to_paint, False, smooth))]
+                     ImagePaint(texels, to_paint, False, smooth))]
     sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user,
                                                                      sub.root_matrix)),
                       viewport=sub.viewport, use_stack=(), context_fill=None, context_stroke=None)

@@ -24,6 +24,11 @@ class Resources:
         self.base_dir = os.path.realpath(os.fspath(base_dir)) if base_dir else None
         self.resources_dir = (os.path.realpath(os.fspath(resources_dir))
                               if resources_dir else None)
+        # raster images decoded once per document (svg.image): bytes → Pillow image, with the
+        # pixels decoded so far, and (bytes, reduction) → texels for the scene
+        self.decoded_images = {}
+        self.decoded_pixels = 0
+        self.image_texels = {}
 
     def fetch(self, url):
         """(bytes, mime or None, folder of the file or None); None when not allowed/found."""
