@@ -244,3 +244,15 @@ def test_path_cut_into_too_many_dashes_is_a_coverage():
     out = render_svg_array(f'<svg {SVG} width="40" height="20"><path d="M0 10 H{2 * n}" '
                            f'stroke="black" stroke-width="8" stroke-dasharray="1 1"/></svg>')
     assert np.abs(out[8:13, 5:35, 3].astype(float) / 255 - 0.5).max() <= 2 / 255
+
+
+# -- text -------------------------------------------------------------------------------------
+def test_text_longer_than_the_limit_is_a_clean_error(monkeypatch):
+    from vecmsaa.svg import builder
+    monkeypatch.setattr(builder, "MAX_TEXT_CHARS", 100)
+
+    def doc(n):
+        return f'<svg {SVG} width="400" height="20"><text y="15">{"ab" * (n // 2)}</text></svg>'
+    render_svg_array(doc(100))
+    with pytest.raises(SvgError, match="longer than 100 characters"):
+        render_svg_array(doc(102))

@@ -1,12 +1,17 @@
 #!/usr/bin/env python3
 """Mutation fuzzer for the SVG parser (and renderer), the path-data parser and font loading.
 
-    python tools/fuzz.py --seconds 300 [--targets svg,pathdata,font] [--seed N]
-                         [--save tests/fuzz_regressions]
+    python tools/fuzz.py --seconds 300 [--targets svg,svgtree,pathdata,font] [--seed N]
+                         [--save tests/fuzz_regressions] [--memory-mb 2048]
 
 Seeds are the resvg suite's SVGs and fonts (../shared, when present) and the project's fixture
-fonts; inputs are mutated (byte flips, deletions, duplications, splices between seeds and
-insertion of hostile tokens: huge numbers, NaN, deep nesting, references, entities).
+fonts. ``svg``, ``pathdata`` and ``font`` mutate bytes (flips, deletions, duplications, splices
+between seeds and insertion of hostile tokens: huge numbers, NaN, deep nesting, references,
+entities). ``svgtree`` mutates the seeds' element trees: extreme numbers in attribute values,
+attributes swapped between elements, elements duplicated many times, and elements nested in
+copies of themselves or of other elements (fan-out of references, filters, masks, markers).
+``--memory-mb`` caps the address space above the warmed-up process, so that an input needing
+that much more memory is a crash (MemoryError) instead of a swap storm.
 
 A *crash* is any exception other than the documented errors: :class:`vecmsaa.svg.SvgError` or
 another ``ValueError`` with a message for documents and path data (path data never raises: a
@@ -31,7 +36,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 SHARED = os.path.join(os.path.dirname(REPO), "shared")
 REGRESSIONS = os.path.join(REPO, "tests", "fuzz_regressions")
-EXTENSIONS = {"svg": ".svg", "pathdata": ".d.txt", "font": ".font"}
+EXTENSIONS = {"svg": ".svg", "svgtree": ".svg", "pathdata": ".d.txt", "font": ".font"}
+#: finds of a target are saved (and replayed by tests/test_fuzz.py) as this kind of input
+SAVED_AS = {"svgtree": "svg"}
 
 #: fragments that stress the parser: numbers at the limits, references, nesting, entities
 SVG_TOKENS = [
@@ -163,6 +170,101 @@ def mutate_text(text: str, rng: random.Random) -> str:
     return "".join(chars)
 
 
+# -- structure-aware SVG mutation (target svgtree) ---------------------------------------------
+SVG_NS = "http://www.w3.org/2000/svg"
+XLINK_NS = "http://www.w3.org/1999/xlink"
+EXTREME_NUMBERS = ["1e308", "-1e308", "1e-308", "1e400", "-1e400", "0", "-0", "1e9", "-1e9",
+                   "65536", "2147483648", "4294967297", "1e-9", "0.000001", "NaN", "inf", "-1"]
+_NUMBER = None
+
+
+def parse_tree(data: bytes):
+    """A seed's element tree, or None (seeds with entities or bad XML stay byte-mutated)."""
+    import xml.etree.ElementTree as ET
+
+    if b"<!ENTITY" in data or b"<!DOCTYPE" in data:
+        return None
+    try:
+        return ET.fromstring(data)
+    except (ET.ParseError, ValueError):
+        return None
+
+
+def serialize_tree(root) -> bytes:
+    import xml.etree.ElementTree as ET
+
+    ET.register_namespace("", SVG_NS)
+    ET.register_namespace("xlink", XLINK_NS)
+    return ET.tostring(root)
+
+
+def mutate_tree(root, rng: random.Random, donors):
+    """Mutate an element tree in place (1 to 4 operations); ``donors`` are other seeds' trees
+    to take elements and attribute values from."""
+    import copy
+    import re
+
+    global _NUMBER
+    if _NUMBER is None:
+        _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+    elements = list(root.iter())
+    parents = {child: parent for parent in elements for child in parent}
+    for _ in range(rng.randint(1, 4)):
+        op = rng.randrange(5)
+        el = rng.choice(elements)
+        if op == 0 and el.attrib:                   # an extreme number in an attribute
+            name = rng.choice(list(el.attrib))
+            numbers = list(_NUMBER.finditer(el.attrib[name]))
+            value = el.attrib[name]
+            if numbers:
+                m = rng.choice(numbers)
+                value = value[:m.start()] + rng.choice(EXTREME_NUMBERS) + value[m.end():]
+            else:
+                value = rng.choice(EXTREME_NUMBERS)
+            el.set(name, value)
+        elif op == 1:                               # attribute swap between elements
+            donor_tree = rng.choice(donors) if donors and rng.random() < 0.5 else root
+            donor = rng.choice(list(donor_tree.iter()))
+            if donor.attrib:
+                name = rng.choice(list(donor.attrib))
+                if el.attrib and rng.random() < 0.5:    # swap values of two attributes
+                    other = rng.choice(list(el.attrib))
+                    el.set(other, donor.attrib[name])
+                else:
+                    el.set(name, donor.attrib[name])
+        elif op == 2 and el in parents:             # duplicate an element many times
+            parent = parents[el]
+            n = rng.choice([2, 10, 100, 1000])
+            at = list(parent).index(el)
+            for i in range(n):
+                parent.insert(at + 1, copy.deepcopy(el))
+            elements = list(root.iter())
+            parents = {c: p for p in elements for c in p}
+        elif op == 3 and el in parents:             # nest an element in copies of itself
+            parent = parents[el]
+            depth = rng.choice([2, 8, 50, 300])
+            inner = copy.deepcopy(el)
+            for _ in range(depth):
+                outer = copy.deepcopy(el)
+                outer.append(inner)
+                inner = outer
+            parent.insert(list(parent).index(el) + 1, inner)
+            elements = list(root.iter())
+            parents = {c: p for p in elements for c in p}
+        elif op == 4:                               # graft an element of another seed
+            donor_tree = rng.choice(donors) if donors else root
+            graft = copy.deepcopy(rng.choice(list(donor_tree.iter())))
+            target = rng.choice(elements)
+            target.append(graft)
+            if rng.random() < 0.5:                  # and make it a wrapper of its new parent
+                graft.append(copy.deepcopy(target))
+            elements = list(root.iter())
+            parents = {c: p for p in elements for c in p}
+        if len(elements) > 200_000:
+            break
+    return root
+
+
 # -- targets: each returns normally or raises; documented errors are filtered by the caller ---
 def run_svg(data: bytes, folder=None):
     from vecmsaa.api import load_svg
@@ -240,7 +342,7 @@ def run_one(target, item, timeout):
     signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(timeout)
     try:
-        if target == "svg":
+        if target in ("svg", "svgtree"):
             run_svg(item)
         elif target == "pathdata":
             run_pathdata(item)
@@ -263,7 +365,8 @@ def save_crash(folder, target, item, key, message):
     os.makedirs(folder, exist_ok=True)
     raw = item.encode("utf-8", "surrogatepass") if isinstance(item, str) else item
     digest = hashlib.sha1(raw).hexdigest()[:12]
-    path = os.path.join(folder, f"{target}-{digest}{EXTENSIONS[target]}")
+    kind = SAVED_AS.get(target, target)
+    path = os.path.join(folder, f"{kind}-{digest}{EXTENSIONS[kind]}")
     with open(path, "wb") as f:
         f.write(raw)
     with open(path + ".why", "w") as f:
@@ -283,15 +386,25 @@ def warm_up():
     run_pathdata("M0 0 C 50 0 0 50 50 50 Q 0 50 0 0 Z")
 
 
-def fuzz(seconds=60.0, targets=("svg", "pathdata", "font"), seed=0, save=None, timeout=20,
-         log=print, max_inputs=None, last_input=None):
+def fuzz(seconds=60.0, targets=("svg", "svgtree", "pathdata", "font"), seed=0, save=None,
+         timeout=20, log=print, max_inputs=None, last_input=None, memory_mb=None):
     """Fuzz each target for an equal share of ``seconds``. Returns a report dict."""
     import logging
+    import warnings
     logging.getLogger("fontTools").setLevel(logging.CRITICAL)
+    warnings.simplefilter("ignore")      # broken glyphs warn; only exceptions are crashes
     rng = random.Random(seed)
     warm_up()
-    svgs = svg_seeds(rng=rng) if "svg" in targets or "pathdata" in targets else []
+    if memory_mb:
+        import resource
+        with open("/proc/self/statm") as f:
+            used = int(f.read().split()[0]) * os.sysconf("SC_PAGE_SIZE")
+        limit = used + memory_mb * 1024 * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    svgs = svg_seeds(rng=rng) if {"svg", "svgtree", "pathdata"} & set(targets) else []
     svg_bytes = [d for d, _ in svgs]
+    trees = [t for t in (parse_tree(d) for d in svg_bytes) if t is not None] \
+        if "svgtree" in targets else []
     paths = path_seeds(svgs) if "pathdata" in targets else []
     fonts = font_seeds() if "font" in targets else []
     report = {"seed": seed, "targets": {}}
@@ -306,6 +419,9 @@ def fuzz(seconds=60.0, targets=("svg", "pathdata", "font"), seed=0, save=None, t
         while time.monotonic() < end and (max_inputs is None or tried < max_inputs):
             if target == "svg":
                 item = mutate_bytes(rng.choice(svg_bytes), rng, SVG_TOKENS, svg_bytes)
+            elif target == "svgtree":
+                import copy
+                item = serialize_tree(mutate_tree(copy.deepcopy(rng.choice(trees)), rng, trees))
             elif target == "pathdata":
                 item = mutate_text(rng.choice(paths), rng)
             else:
@@ -332,7 +448,9 @@ def fuzz(seconds=60.0, targets=("svg", "pathdata", "font"), seed=0, save=None, t
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--seconds", type=float, default=60.0, help="total fuzzing time")
-    ap.add_argument("--targets", default="svg,pathdata,font")
+    ap.add_argument("--targets", default="svg,svgtree,pathdata,font")
+    ap.add_argument("--memory-mb", type=int, default=None,
+                    help="address space allowed above the warmed-up process (MB)")
     ap.add_argument("--seed", type=int, default=None, help="random seed (default: time)")
     ap.add_argument("--save", default=REGRESSIONS, help="folder for crash inputs")
     ap.add_argument("--no-save", action="store_true", help="only report crashes")
@@ -347,7 +465,8 @@ def main(argv=None):
         if t not in EXTENSIONS:
             ap.error(f"unknown target {t!r}")
     report = fuzz(args.seconds, targets, seed, None if args.no_save else args.save,
-                  args.timeout, log=lambda s: print(s, flush=True), last_input=args.last_input)
+                  args.timeout, log=lambda s: print(s, flush=True), last_input=args.last_input,
+                  memory_mb=args.memory_mb)
     total = sum(len(t["crashes"]) for t in report["targets"].values())
     print(f"seed {seed}: " + ", ".join(f"{k} {v['inputs']} inputs / {len(v['crashes'])} crashes"
                                        for k, v in report["targets"].items()))

@@ -41,6 +41,9 @@ CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
 MAX_USE_DEPTH = 32
 MAX_NODES = 1_000_000
+#: Characters of all <text> elements of a document (as built: a text drawn twice, by <use> or
+#: for a bounding box, counts twice); layout is linear, about 30 µs per character.
+MAX_TEXT_CHARS = 200_000
 MAX_IMAGE_NESTING = 4
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
@@ -122,6 +125,7 @@ class Builder:
         self.resources = resources
         self.options = options
         self.nodes_made = 0
+        self.text_chars = 0            # characters laid out so far (MAX_TEXT_CHARS)
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
@@ -745,6 +749,7 @@ class TextContext:
       ``font_family``, ``serif_family``, ``sans_serif_family``, ``cursive_family``,
       ``fantasy_family``, ``monospace_family``, ``skip_system_fonts``).
     - ``in_clip`` / ``geometry_only``: booleans, in case the text module wants to skip work.
+    - ``count_characters(n)``: charge n characters to the document's MAX_TEXT_CHARS budget.
     - ``wrap(element, style, nodes)``: apply opacity/clip-path/mask/blend of a tspan-level
       element if needed.
     """
@@ -762,6 +767,12 @@ class TextContext:
 
     def style_of(self, element, parent_style=None):
         return (parent_style or self.style).child(element)
+
+    def count_characters(self, n):
+        """Charge ``n`` characters to the document's MAX_TEXT_CHARS budget (SvgError past it)."""
+        self._builder.text_chars += n
+        if self._builder.text_chars > MAX_TEXT_CHARS:
+            raise SvgError(f"the document's text is longer than {MAX_TEXT_CHARS} characters")
 
     def length(self, value, axis="x", style=None, default=None):
         return self._builder.length(value, axis, style or self.style, self.viewport, default)

@@ -9,6 +9,7 @@ cluster transforms along the line (dx/dy, rotate, text-anchor, baseline shifts) 
 from __future__ import annotations
 
 import math
+from bisect import bisect_right
 from dataclasses import dataclass
 
 from ...fonts.shape import bidi_runs, shape_run
@@ -79,12 +80,13 @@ def shape_chunk(chars, faces, specs, start, end):
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k)
                   for key, k in keys.items()}
         base_key = next(iter(keys))
-        base = shaped[base_key]
+        index = {key: _ClusterIndex(got) for key, got in shaped.items()}
+        base = index[base_key]
         covered = set()
-        for cl in base:
+        for cl in base.clusters:
             # Characters of this base cluster, each taken from the shaping by its own face
             # (a ligature of the base font may split into several clusters of another).
-            end = _cluster_end(base, cl, e)
+            end = base.end(cl, e)
             picked = []
             for k in range(cl.char, end):
                 if k in covered:
@@ -92,23 +94,34 @@ def shape_chunk(chars, faces, specs, start, end):
                 face = faces[k]
                 key = (id(face), specs[k].features, specs[k].variations) \
                     if face is not None else base_key
-                own = shaped.get(key, base)
-                pick = next((c for c in own if c.char == k), None)
+                own = index.get(key, base)
+                pick = own.first.get(k)
                 if pick is None:
                     if k == cl.char:
                         pick, own = cl, base
                     else:
                         continue
                 picked.append(pick)
-                covered.update(range(k, _cluster_end(own, pick, e)))
+                covered.update(range(k, own.end(pick, e)))
             clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
 
 
-def _cluster_end(clusters, cluster, end):
-    """First character after a cluster in logical order (``end`` for the last one)."""
-    later = [c.char for c in clusters if c.char > cluster.char]
-    return min(later) if later else end
+class _ClusterIndex:
+    """The clusters of one shaping, looked up by character in constant time and their ends
+    by bisection: per character scans of all clusters made long texts quadratic."""
+
+    def __init__(self, clusters):
+        self.clusters = clusters
+        self.first = {}                      # character → its first cluster, in shaping order
+        for c in clusters:
+            self.first.setdefault(c.char, c)
+        self.starts = sorted(self.first)
+
+    def end(self, cluster, end):
+        """First character after a cluster in logical order (``end`` for the last one)."""
+        i = bisect_right(self.starts, cluster.char)
+        return self.starts[i] if i < len(self.starts) else end
 
 
 def _shape_clusters(chars, faces, specs, text, s, e, direction, k):
@@ -324,8 +337,8 @@ def build_text(element, ctx):
         expand_font_shorthand(element)
         ctx.style = ctx.style.parent.child(element) if ctx.style.parent is not None \
             else ctx.style
-    chars = collect_chars(element, ctx, styles)
-    chars = collapse_white_space(chars)
+    chars = collapse_white_space(collect_chars(element, ctx, styles))
+    ctx.count_characters(len(chars))
     if not chars:
         return []
     apply_positions(element, chars, ctx, styles)
