@@ -256,3 +256,24 @@ def test_text_longer_than_the_limit_is_a_clean_error(monkeypatch):
     render_svg_array(doc(100))
     with pytest.raises(SvgError, match="longer than 100 characters"):
         render_svg_array(doc(102))
+
+
+# -- reference fan-out ------------------------------------------------------------------------
+def test_mask_chain_fan_out_is_a_clean_error():
+    """Each mask's content uses the next mask twice: 2^14 mask layers for one rectangle."""
+    masks = "".join(f'<mask id="k{i}"><rect width="10" height="10" fill="white" mask="url(#k'
+                    f'{i + 1})"/><rect width="5" height="10" fill="white" mask="url(#k{i + 1})"/>'
+                    f'</mask>' for i in range(14))
+    doc = (f'<svg {SVG} width="10" height="10">{masks}<mask id="k14"><rect width="10" '
+           f'height="10" fill="white"/></mask><rect width="10" height="10" mask="url(#k0)"/></svg>')
+    with pytest.raises(SvgError, match="fan-out"):
+        render_svg_array(doc)
+
+
+def test_nested_references_within_the_limit_render():
+    """Three levels of masks (6 nested instances): white rect under a chain of full masks."""
+    masks = "".join(f'<mask id="k{i}"><rect width="10" height="10" fill="white" mask="url(#k'
+                    f'{i + 1})"/></mask>' for i in range(3))
+    doc = (f'<svg {SVG} width="10" height="10">{masks}<mask id="k3"><rect width="10" '
+           f'height="10" fill="white"/></mask><rect width="10" height="10" mask="url(#k0)"/></svg>')
+    assert (render_svg_array(doc)[..., 3] == 255).all()

@@ -45,6 +45,9 @@ MAX_NODES = 1_000_000
 #: for a bounding box, counts twice); layout is linear, about 30 µs per character.
 MAX_TEXT_CHARS = 200_000
 MAX_IMAGE_NESTING = 4
+#: Clip paths, masks, markers and feImage targets built inside another one: fan-out multiplies
+#: (a mask whose content uses two masks, 14 deep, is 2^14 layers), so these count per document.
+MAX_NESTED_REFERENCES = 4096
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
 _TRANSFORM_UNITS = re.compile(r"(?<=[\d.])(px|deg)\b")
@@ -129,7 +132,18 @@ class Builder:
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
+        self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+
+    def enter_reference(self, el):
+        """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
+        done); one built inside another counts against MAX_NESTED_REFERENCES."""
+        if self.ref_stack:
+            self.nested_references += 1
+            if self.nested_references > MAX_NESTED_REFERENCES:
+                raise SvgError(f"more than {MAX_NESTED_REFERENCES} clip paths, masks and "
+                               f"markers inside others (reference fan-out)")
+        self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0) -> list:

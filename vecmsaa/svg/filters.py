@@ -415,7 +415,7 @@ class PrimitiveResolver:
                 return None
             ctx = replace(self.ctx, transform=compose(self.ctx.transform, translate(x, y)))
             parent = target.parent if target.parent is not None else target
-            b.ref_stack.append(target)
+            b.enter_reference(target)
             try:
                 nodes = b.element(target, ctx, b.doc.document_style(parent))
             finally:

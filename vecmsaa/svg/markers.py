@@ -120,7 +120,7 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     # through markers is cut by ref_stack instead).
     inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport, use_stack=(),
                     context_fill=context_fill, context_stroke=context_stroke)
-    builder.ref_stack.append(marker)
+    builder.enter_reference(marker)
     try:
         nodes = builder.children(marker, inner, style)
     finally:

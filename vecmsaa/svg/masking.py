@@ -55,7 +55,7 @@ def clip_path(builder, value, ctx, bbox_fn):
             return False
         transform = compose(transform, bbox_matrix(bbox))
     inner = replace(ctx, transform=transform, clip=True, geometry=False)
-    builder.ref_stack.append(el)
+    builder.enter_reference(el)
     try:
         nodes = []
         for child in el.children:
@@ -113,7 +113,7 @@ def masks(builder, value, ctx, bbox_fn):
     if content_obb:
         transform = compose(transform, bbox_matrix(bbox))
     inner = replace(ctx, transform=transform, clip=False, geometry=False)
-    builder.ref_stack.append(el)
+    builder.enter_reference(el)
     try:
         nodes = builder.children(el, inner, style)
         region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
