@@ -308,20 +308,54 @@ def test_antialiasing_noise_is_within_tolerance_but_aliasing_is_not(
     assert status == (0 if passes else 1), out
 
 
+@pytest.mark.parametrize("change, passes", [
+    ("#c03020", True),     # the same colour: antialiasing noise only
+    ("#c03030", False),    # green +16 on the disc
+    ("#b03020", False),    # red -16
+    ("#c03029", False),    # blue +9: just beyond the flat threshold of 8
+    ("#c03028", True),     # blue +8: within it
+])
+def test_a_16_level_change_of_one_shape_fails_by_default(tmp_path, capsys, change, passes):
+    """The disc's colour changes while the golden and the check differ in antialiasing as
+    well (16 samples against analytic coverage): the change must show, the noise must not."""
+    svgs = tmp_path / "svgs"
+    write(svgs / "shapes.svg", SHAPES_SVG)
+    goldens = tmp_path / "goldens"
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens, "--zoom", 4, "--samples", 16)
+    write(svgs / "shapes.svg", SHAPES_SVG.replace("#c03020", change))
+    manifest = goldens / golden.MANIFEST_NAME
+    recorded = json.loads(manifest.read_text())
+    recorded["render_options"]["mode"] = "analytic"
+    manifest.write_text(json.dumps(recorded))
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens)
+    assert status == (0 if passes else 1), out
+    # The suite's criterion (no strict threshold away from edges) lets every one of them pass.
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens,
+               "--flat-threshold", 48)[0] == 0
+
+
 def test_tolerance_options(tree, capsys):
     svgs, goldens = tree
     cli(capsys, "golden", "update", svgs, "--goldens", goldens)
     write(svgs / "plain.svg", rect_svg(fill="#c03050"))   # blue channel +48 (premultiplied)
     check = ("golden", "check", svgs, "--goldens", goldens)
-    assert cli(capsys, *check)[0] == 0
-    assert cli(capsys, *check, "--threshold", 47)[0] == 1
+    status, out, _ = cli(capsys, *check)
+    assert status == 1
+    # The 20x10 rectangle on whole pixels, every pixel changed by 48: the 18x8 inside it are
+    # away from edges, the ring around them sits on the edge and passes at 48.
+    assert "144 of 1200 pixels off (12.000%), max channel difference 48 " \
+           "[threshold 48 (8 away from edges), allowed 0.200%]" in out
+    assert cli(capsys, *check, "--flat-threshold", 48)[0] == 0
+    assert cli(capsys, *check, "--flat-threshold", 60)[0] == 0   # capped by --threshold
+    assert cli(capsys, *check, "--tolerance", "48/48/0.2%")[0] == 0
+    assert cli(capsys, *check, "--flat-threshold", 48, "--threshold", 47)[0] == 1
     assert cli(capsys, *check, "--tolerance", "47/0.2%")[0] == 1
-    assert cli(capsys, *check, "--threshold", 47, "--max-fraction", "17%")[0] == 0
+    assert cli(capsys, *check, "--max-fraction", "17%")[0] == 0
     assert cli(capsys, *check, "--tolerance", "47/0.17")[0] == 0
     status, out, _ = cli(capsys, *check, "--threshold", 47, "--max-fraction", "0.16")
     assert status == 1
     assert "200 of 1200 pixels off (16.667%), max channel difference 48 " \
-           "[threshold 47, allowed 16.000%]" in out
+           "[threshold 47 (8 away from edges), allowed 16.000%]" in out
 
 
 def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
@@ -341,6 +375,9 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
     (["check", "{svgs}", "--goldens", "{goldens}", "--threshold", "256"], "0..255"),
     (["check", "{svgs}", "--goldens", "{goldens}", "--max-fraction", "2"], "between 0 and 1"),
     (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48"], "THRESHOLD/FRACTION"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48/8/1/1%"], "THRESHOLD/FLAT"),
+    (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48/1%", "--flat-threshold",
+      "3"], "--tolerance replaces"),
     (["check", "{svgs}", "--goldens", "{goldens}", "--tolerance", "48/1%", "--threshold", "3"],
      "--tolerance replaces"),
     (["check", "{goldens}", "--goldens", "{goldens}"], "no SVG files"),

@@ -70,12 +70,14 @@ def _fraction(text: str) -> float:
     return value
 
 
-def _tolerance(text: str) -> tuple[int, float]:
-    """Combined ``THRESHOLD/FRACTION``, e.g. ``48/0.2%`` or ``32/0.001``."""
-    threshold, sep, fraction = text.partition("/")
-    if not sep:
-        raise argparse.ArgumentTypeError(f"expected THRESHOLD/FRACTION, e.g. 48/0.2%: {text!r}")
-    return _threshold(threshold), _fraction(fraction)
+def _tolerance(text: str) -> tuple[int, int | None, float]:
+    """Combined ``THRESHOLD[/FLAT]/FRACTION``, e.g. ``48/8/0.2%`` or ``32/0.001``."""
+    parts = text.split("/")
+    if len(parts) not in (2, 3):
+        raise argparse.ArgumentTypeError(
+            f"expected THRESHOLD/FRACTION or THRESHOLD/FLAT/FRACTION, e.g. 48/8/0.2%: {text!r}")
+    flat = _threshold(parts[1]) if len(parts) == 3 else None
+    return _threshold(parts[0]), flat, _fraction(parts[-1])
 
 
 def _jobs(text: str) -> int:
@@ -146,15 +148,27 @@ def add_parser(subparsers) -> None:
     check.add_argument("--report", metavar="DIR",
                        help="write DIR/a/b.diff.png (expected | difference | actual) "
                             "for each failing SVG_DIR/a/b.svg and DIR/index.html summarising them")
+    from vecmsaa.tools.compare import FLAT_SPREAD, FLAT_THRESHOLD, MAX_FRACTION, THRESHOLD
+
     tol = check.add_argument_group(
-        "tolerance", "A pixel is off when a channel (premultiplied, 8 bits) differs by more than "
-                     "the threshold; a render matches when at most the given fraction of its "
-                     "pixels is off. Default: 48 and 0.2%, the project's suite criterion.")
-    tol.add_argument("--threshold", type=_threshold, help="channel difference, 0..255")
+        "tolerance",
+        "A pixel is off when a channel (premultiplied, 8 bits) differs by more than the "
+        f"threshold ({THRESHOLD}), or, away from edges (its 3x3 neighbourhood varies by at "
+        f"most {FLAT_SPREAD} levels in both images), by more than the flat threshold "
+        f"({FLAT_THRESHOLD}); a render matches when at most the given fraction of its pixels "
+        f"({100 * MAX_FRACTION:g}%) is off. The defaults pass antialiasing noise (another "
+        "sample count or coverage mode, a sub-pixel shift) and catch a one-colour change of "
+        "16 levels on one shape, a moved or missing shape, aliasing and size changes.")
+    tol.add_argument("--threshold", type=_threshold, help="channel difference at edges, 0..255")
+    tol.add_argument("--flat-threshold", type=_threshold, metavar="N",
+                     help="channel difference away from edges, 0..255 (at or above "
+                          "--threshold: no distinction, the suite's criterion)")
     tol.add_argument("--max-fraction", type=_fraction, metavar="FRACTION",
                      help="fraction of pixels allowed off: 0.002 or 0.2%%")
-    tol.add_argument("--tolerance", type=_tolerance, metavar="THRESHOLD/FRACTION",
-                     help="both at once, e.g. 48/0.2%%")
+    tol.add_argument("--tolerance", type=_tolerance, metavar="THRESHOLD[/FLAT]/FRACTION",
+                     help=f"all at once, e.g. {THRESHOLD}/{FLAT_THRESHOLD}/"
+                          f"{100 * MAX_FRACTION:g}%% (the default); without FLAT the flat "
+                          "threshold keeps its default")
     check.add_argument("-q", "--quiet", action="store_true",
                        help="print only failures and the summary")
 
@@ -200,14 +214,17 @@ def _update(args, golden) -> int:
 def _check(args, golden) -> int:
     from vecmsaa import __version__
 
-    if args.tolerance and (args.threshold is not None or args.max_fraction is not None):
-        print("vecmsaa golden check: error: --tolerance replaces --threshold and "
-              "--max-fraction; give one or the other", file=sys.stderr)
+    if args.tolerance and (args.threshold is not None or args.max_fraction is not None
+                           or args.flat_threshold is not None):
+        print("vecmsaa golden check: error: --tolerance replaces --threshold, "
+              "--flat-threshold and --max-fraction; give one or the others", file=sys.stderr)
         return 2
-    threshold, max_fraction = args.tolerance or (args.threshold, args.max_fraction)
+    threshold, flat, max_fraction = args.tolerance or (args.threshold, args.flat_threshold,
+                                                       args.max_fraction)
     tolerance = golden.Tolerance(
         golden.THRESHOLD if threshold is None else threshold,
-        golden.MAX_FRACTION if max_fraction is None else max_fraction)
+        golden.MAX_FRACTION if max_fraction is None else max_fraction,
+        golden.FLAT_THRESHOLD if flat is None else flat)
     plan = golden.plan_check(args.svg_dir, args.goldens)
     if plan.recorded_version and plan.recorded_version != __version__:
         print(f"note: goldens made with vecmsaa {plan.recorded_version}, checking with "

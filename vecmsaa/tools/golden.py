@@ -27,8 +27,8 @@ import numpy as np
 
 from .. import __version__
 from ..raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
-from .compare import (MAX_FRACTION, NEAR_COLOR, OFF_COLOR, THRESHOLD, Comparison, compare_images,
-                      write_triptych)
+from .compare import (FLAT_THRESHOLD, MAX_FRACTION, NEAR_COLOR, OFF_COLOR, THRESHOLD, Comparison,
+                      compare_images, write_triptych)
 from ..output.png import encode_png, write_bytes_atomic
 
 MANIFEST_NAME = "vecmsaa-golden.json"
@@ -57,19 +57,33 @@ class GoldenError(Exception):
 
 @dataclass(frozen=True)
 class Tolerance:
-    """When a render matches its golden: at most ``max_fraction`` of pixels may have a channel
-    (premultiplied, 8 bits) differing by more than ``threshold``."""
+    """When a render matches its golden: at most ``max_fraction`` of pixels may be off. A pixel
+    is off when a channel (premultiplied, 8 bits) differs by more than ``threshold``, or, away
+    from edges (its 3x3 neighbourhood varies by at most FLAT_SPREAD in both images), by more
+    than ``flat_threshold``: antialiasing noise is confined to edges, a colour change is not.
+    A flat threshold at or above ``threshold`` switches the distinction off."""
     threshold: int = THRESHOLD
     max_fraction: float = MAX_FRACTION
+    flat_threshold: int = FLAT_THRESHOLD
 
     def __post_init__(self):
-        if not 0 <= self.threshold <= 255:
-            raise ValueError(f"threshold must be in 0..255, not {self.threshold}")
+        for name in ("threshold", "flat_threshold"):
+            if not 0 <= getattr(self, name) <= 255:
+                raise ValueError(f"{name} must be in 0..255, not {getattr(self, name)}")
         if not 0 <= self.max_fraction <= 1:
             raise ValueError(f"max fraction must be in 0..1, not {self.max_fraction}")
 
+    @property
+    def strict(self) -> int:
+        """The threshold that applies away from edges (never looser than at edges)."""
+        return min(self.threshold, self.flat_threshold)
+
     def describe(self) -> str:
-        return f"threshold {self.threshold}, allowed {100 * self.max_fraction:.3f}%"
+        away = f" ({self.strict} away from edges)" if self.strict < self.threshold else ""
+        return f"threshold {self.threshold}{away}, allowed {100 * self.max_fraction:.3f}%"
+
+    def compare(self, actual: np.ndarray, expected: np.ndarray) -> Comparison:
+        return compare_images(actual, expected, self.threshold, self.strict)
 
 
 # --- rendering and files -------------------------------------------------------------------------
@@ -334,7 +348,7 @@ def difference_detail(comparison: Comparison, expected: np.ndarray, actual: np.n
 def compare_to_golden(actual: np.ndarray, expected: np.ndarray,
                       tolerance: Tolerance) -> tuple[bool, str]:
     """(matches, one-line description of the measured difference)."""
-    comparison = compare_images(actual, expected, threshold=tolerance.threshold)
+    comparison = tolerance.compare(actual, expected)
     return (comparison.passed(tolerance.max_fraction),
             difference_detail(comparison, expected, actual, tolerance))
 
@@ -430,7 +444,7 @@ class ReportWriter:
         if outcome.expected is not None or outcome.actual is not None:
             image = diff_name(outcome.golden)
             write_triptych(self.report_dir / image, outcome.expected, outcome.actual,
-                           self.tolerance.threshold)
+                           self.tolerance.threshold, self.tolerance.strict)
         self.rows.append((outcome, image))
 
     def finish(self, options: dict, orphans=()) -> Path:
@@ -450,7 +464,7 @@ class ReportWriter:
         if self.rows:
             parts += [
                 '<p class="legend">Each image: expected | difference | actual. Difference: '
-                f'<span style="background:rgb{tuple(OFF_COLOR)}"></span> beyond the threshold, '
+                f'<span style="background:rgb{tuple(OFF_COLOR)}"></span> off, '
                 f'<span style="background:rgb{tuple(NEAR_COLOR)}"></span> within it.</p>',
                 "<table>", "<tr><th>SVG</th><th>Result</th><th>expected | difference | actual"
                 "</th></tr>"]

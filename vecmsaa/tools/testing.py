@@ -5,8 +5,9 @@
     def test_logo():
         assert_matches_golden("art/logo.svg", "tests/goldens/logo.png", width=256)
 
-The render is compared with :func:`vecmsaa.tools.compare.compare_images` and the project's criterion
-(threshold 48, at most 0.2% of pixels off) unless ``threshold``/``max_fraction`` say otherwise.
+The render is compared with the golden tolerance of :class:`vecmsaa.tools.golden.Tolerance`
+(a pixel is off beyond 48 levels at edges or 8 away from them; at most 0.2% of pixels off)
+unless ``threshold``/``flat_threshold``/``max_fraction`` say otherwise.
 On a mismatch the assertion writes a triptych (expected | difference | actual) to
 ``<golden name>.diff.png`` beside the golden, or into ``diff_dir`` / $VECMSAA_GOLDEN_DIFF_DIR.
 
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import pytest
 
-from .compare import MAX_FRACTION, THRESHOLD
+from .compare import FLAT_THRESHOLD, MAX_FRACTION, THRESHOLD
 
 UPDATE_ENV = "VECMSAA_UPDATE_GOLDENS"
 DIFF_DIR_ENV = "VECMSAA_GOLDEN_DIFF_DIR"
@@ -56,7 +57,8 @@ def _describe_source(svg) -> str:
 
 
 def assert_matches_golden(svg, golden, *, threshold: int = THRESHOLD,
-                          max_fraction: float = MAX_FRACTION, diff_dir=None,
+                          max_fraction: float = MAX_FRACTION,
+                          flat_threshold: int = FLAT_THRESHOLD, diff_dir=None,
                           update: bool | None = None, render=None, **render_options) -> None:
     """Render ``svg`` and assert that it matches the PNG ``golden``.
 
@@ -71,7 +73,7 @@ def assert_matches_golden(svg, golden, *, threshold: int = THRESHOLD,
     from .golden import Tolerance, compare_to_golden, read_png_rgba, render_rgba, write_png_if_changed
 
     golden = Path(golden)
-    tolerance = Tolerance(threshold, max_fraction)
+    tolerance = Tolerance(threshold, max_fraction, flat_threshold)
     diff_path = diff_path_for(golden, diff_dir)
     actual = render_rgba(svg, render_options, render)
     if updating_goldens() if update is None else update:
@@ -81,7 +83,7 @@ def assert_matches_golden(svg, golden, *, threshold: int = THRESHOLD,
     how_to_update = (f"to accept the new render as the golden, run again with {UPDATE_ENV}=1 "
                      "(or pytest --update-goldens)")
     if not golden.exists():
-        write_triptych(diff_path, None, actual, tolerance.threshold)
+        write_triptych(diff_path, None, actual, tolerance.threshold, tolerance.strict)
         raise AssertionError(
             f"golden {golden} does not exist (render of {_describe_source(svg)} in {diff_path});"
             f" {how_to_update}")
@@ -90,7 +92,7 @@ def assert_matches_golden(svg, golden, *, threshold: int = THRESHOLD,
     if matches:
         diff_path.unlink(missing_ok=True)  # a triptych from an earlier failure is stale now
         return
-    write_triptych(diff_path, expected, actual, tolerance.threshold)
+    write_triptych(diff_path, expected, actual, tolerance.threshold, tolerance.strict)
     raise AssertionError(
         f"render of {_describe_source(svg)} does not match golden {golden}: {detail}\n"
         f"  expected | difference | actual: {diff_path}\n  {how_to_update}")
