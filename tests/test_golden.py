@@ -564,3 +564,121 @@ def test_heat_map_marks_off_pixels_red_and_small_differences_blue():
     assert unchanged[0] == unchanged[1] == unchanged[2]          # grey: no difference
     assert near[2] > near[0] and near[2] > near[1]               # blue-ish
     assert off == compare.OFF_COLOR
+
+
+# --- results for CI systems ------------------------------------------------------------------------
+
+def test_junit_and_json_results_parse_back(tree, tmp_path, capsys):
+    import xml.etree.ElementTree as ET
+
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    write(svgs / "icons" / "wide.svg", rect_svg(x=2, y=12, w=36, h=6, fill=RED))
+    write(svgs / "broken.svg", "<svg")
+    write(svgs / "new.svg", rect_svg())
+    junit, results, report = tmp_path / "junit.xml", tmp_path / "results.json", tmp_path / "r"
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens,
+                         "--junit", junit, "--json", results, "--report", report)
+    assert status == 1
+    accept = f"vecmsaa golden update {svgs.as_posix()} --goldens {goldens.as_posix()}"
+    assert out.splitlines()[-1] == f"to accept these renders as the new goldens: {accept}"
+
+    suite = ET.parse(junit).getroot().find("testsuite")
+    assert (suite.get("tests"), suite.get("failures"), suite.get("errors")) == ("4", "2", "1")
+    cases = {case.get("name"): case for case in suite.iter("testcase")}
+    assert sorted(cases) == ["broken.svg", "icons/wide.svg", "new.svg", "plain.svg"]
+    assert list(cases["plain.svg"]) == []                      # passed: no child element
+    assert cases["icons/wide.svg"].get("classname") == "vecmsaa.golden.icons"
+    failure = cases["icons/wide.svg"].find("failure")
+    assert failure.get("type") == "differs"
+    assert failure.get("message").startswith("216 of 1200 pixels off (18.000%)")
+    assert f"{(report / 'icons' / 'wide.diff.png').as_posix()}" in failure.text
+    assert accept in failure.text
+    assert cases["new.svg"].find("failure").get("type") == "missing"
+    error = cases["broken.svg"].find("error")
+    assert error.get("message").startswith("render failed: malformed XML")
+    assert accept not in error.text        # accepting does not mend a file that fails
+    assert all(float(case.get("time")) >= 0 for case in cases.values())
+
+    doc = json.loads(results.read_text())
+    assert doc["format"] == 1 and doc["passed"] is False
+    assert doc["counts"] == {"total": 4, "pass": 1, "differs": 1, "missing": 1, "error": 1}
+    assert doc["tolerance"] == {"threshold": 48, "flat_threshold": 8, "max_fraction": 0.002}
+    assert doc["accept"] == accept and doc["render_options"]["samples"] == 8
+    by_svg = {r["svg"]: r for r in doc["results"]}
+    wide = by_svg["icons/wide.svg"]
+    assert (wide["status"], wide["off_pixels"], wide["total_pixels"],
+            wide["max_channel_difference"]) == ("differs", 216, 1200, 160)
+    assert wide["diff_image"] == "icons/wide.diff.png" and (report / wide["diff_image"]).is_file()
+    assert by_svg["plain.svg"]["off_pixels"] == 0 and by_svg["plain.svg"]["diff_image"] is None
+    assert by_svg["broken.svg"]["off_pixels"] is None and by_svg["broken.svg"]["diff_image"] is None
+    assert by_svg["new.svg"]["status"] == "missing"
+
+
+def test_result_files_say_all_passed(tree, tmp_path, capsys):
+    import xml.etree.ElementTree as ET
+
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    junit, results = tmp_path / "junit.xml", tmp_path / "results.json"
+    status, out, _ = cli(capsys, "golden", "check", svgs, "--goldens", goldens, "-q",
+                         "--junit", junit, "--json", results)
+    assert status == 0 and "to accept" not in out
+    suite = ET.parse(junit).getroot().find("testsuite")
+    assert (suite.get("tests"), suite.get("failures"), suite.get("errors")) == ("2", "0", "0")
+    assert json.loads(results.read_text())["passed"] is True
+
+
+def test_result_file_in_a_missing_folder_exits_2_before_rendering(tree, tmp_path, capsys):
+    svgs, goldens = tree
+    cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    status, out, err = cli(capsys, "golden", "check", svgs, "--goldens", goldens,
+                           "--junit", tmp_path / "nowhere" / "junit.xml")
+    assert status == 2 and "cannot write here" in err and "ok " not in out
+
+
+def test_pytest_summary_of_failures_and_unused_goldens(pytester, monkeypatch):
+    monkeypatch.delenv("VECMSAA_UPDATE_GOLDENS", raising=False)
+    monkeypatch.delenv("VECMSAA_GOLDEN_DIFF_DIR", raising=False)
+
+    def write_tests(fill):
+        pytester.makepyfile(test_pictures=(
+            "import pytest\n"
+            "from vecmsaa.tools.testing import assert_matches_golden\n"
+            f"def test_red(assert_golden):\n    assert_golden({rect_svg(fill=fill)!r})\n"
+            f"def test_blue(assert_golden):\n    assert_golden({rect_svg(fill=BLUE)!r})\n"
+            "def test_caught(assert_golden, tmp_path):\n"
+            "    with pytest.raises(AssertionError):\n"
+            f"        assert_matches_golden({rect_svg()!r}, tmp_path / 'none.png', update=False)\n"))
+
+    plugin = ("-p", "vecmsaa.tools.testing")
+    write_tests(RED)
+    pytester.runpytest(*plugin, "--update-goldens").assert_outcomes(passed=3)
+    folder = pytester.path / "goldens" / "test_pictures"
+    shutil.copy(folder / "test_red.png", folder / "test_removed.png")   # its test is gone
+    write_tests(BLUE)
+    result = pytester.runpytest(*plugin)
+    result.assert_outcomes(passed=2, failed=1)
+    report = pytester.path / "golden-report"
+    result.stdout.fnmatch_lines([
+        "*to accept the new render as the golden, run: pytest --update-goldens "
+        "test_pictures.py::test_red*",
+        "*vecmsaa golden images*",
+        f"1 golden assertion(s) failed; summary: {report / 'index.html'}",
+        f"warning: golden {folder / 'test_removed.png'} was used by no test"])
+    index = (report / "index.html").read_text()
+    links = LinkCollector.collect(index)
+    assert links == ["goldens/test_pictures/test_red.diff.png"] * 2
+    assert (report / links[0]).is_file()
+    assert "test_pictures.py::test_red" in index and "200 of 1200 pixels off" in index
+    assert "test_caught" not in index and "test_blue" not in index   # passed
+    assert "pytest --update-goldens" in index
+    # A partial run cannot tell unused goldens; a passing whole run drops the stale summary.
+    partial = pytester.runpytest(*plugin, "-k", "blue")
+    assert "was used by no test" not in partial.stdout.str()
+    (folder / "test_removed.png").unlink()
+    write_tests(RED)
+    passing = pytester.runpytest(*plugin)
+    passing.assert_outcomes(passed=3)
+    assert "vecmsaa golden images" not in passing.stdout.str()
+    assert not (report / "index.html").exists()

@@ -102,6 +102,8 @@ def _common(parser: argparse.ArgumentParser) -> None:
                              "(SVG_DIR/a/b.svg has the golden GOLDEN_DIR/a/b.png)")
     parser.add_argument("-j", "--jobs", type=_jobs, default=1, metavar="N",
                         help="render in N processes, 0 for one per CPU (default 1)")
+    from vecmsaa.tools.cluster import add_scheduler_option
+    add_scheduler_option(parser)
 
 
 def add_parser(subparsers) -> None:
@@ -143,7 +145,9 @@ def add_parser(subparsers) -> None:
         "check", add_help=False, help="render again and compare with the goldens",
         description="Render every SVG under SVG_DIR with the options recorded in GOLDEN_DIR and "
                     "compare with its golden. Exit 0 when all match, 1 when any differs, has "
-                    "no golden or fails to render, 2 on usage or input errors.")
+                    "no golden or fails to render, 2 on usage or input errors. After a "
+                    "failure, 'vecmsaa golden update SVG_DIR --goldens GOLDEN_DIR' accepts the "
+                    "new renders (keeping the recorded options).")
     _common(check)
     check.add_argument("--report", metavar="DIR",
                        help="write DIR/a/b.diff.png (expected | difference | actual) "
@@ -169,18 +173,24 @@ def add_parser(subparsers) -> None:
                      help=f"all at once, e.g. {THRESHOLD}/{FLAT_THRESHOLD}/"
                           f"{100 * MAX_FRACTION:g}%% (the default); without FLAT the flat "
                           "threshold keeps its default")
+    check.add_argument("--junit", metavar="FILE",
+                       help="write the results as JUnit XML (one test case per SVG) for CI")
+    check.add_argument("--json", metavar="FILE",
+                       help="write the results as JSON (counts, tolerance, and per SVG the "
+                            "status and measured difference; docs/golden.md)")
     check.add_argument("-q", "--quiet", action="store_true",
                        help="print only failures and the summary")
 
 
 def run(args) -> int:
     from vecmsaa.tools import golden
+    from vecmsaa.tools.cluster import ClusterError
 
     try:
         if args.golden_action == "update":
             return _update(args, golden)
         return _check(args, golden)
-    except golden.GoldenError as exc:
+    except (golden.GoldenError, ClusterError) as exc:
         print(f"vecmsaa golden: error: {exc}", file=sys.stderr)
         return 2
     except OSError as exc:  # writing goldens or the report (renders report their own errors)
@@ -205,7 +215,7 @@ def _update(args, golden) -> int:
         options = golden.render_options()
     result = golden.update_goldens(args.svg_dir, args.goldens, options,
                                    progress=lambda line: print(line, flush=True),
-                                   jobs=args.jobs)
+                                   jobs=args.jobs, scheduler=args.scheduler)
     print(f"golden update: {len(result.written)} written, {len(result.unchanged)} unchanged, "
           f"{len(result.errors)} failed to render")
     return 1 if result.errors else 0
@@ -231,20 +241,26 @@ def _check(args, golden) -> int:
               f"{__version__}", file=sys.stderr)
     for orphan in plan.orphans:
         print(f"note: golden {orphan} has no SVG any more", file=sys.stderr)
+    results = golden.ResultFiles(args.junit, args.json)
     report = golden.ReportWriter(args.report, tolerance) if args.report else None
-    counts = {golden.PASS: 0, golden.DIFFERS: 0, golden.MISSING: 0, golden.ERROR: 0}
-    for outcome in golden.check_goldens(plan, tolerance, jobs=args.jobs):
-        counts[outcome.status] += 1
+    for outcome in golden.check_goldens(plan, tolerance, jobs=args.jobs,
+                                        scheduler=args.scheduler):
+        results.add(outcome)
         if outcome.failed or not args.quiet:
             print(outcome.line(args.svg_dir), flush=True)
         if report:
             report.add(outcome)
+    counts = results.counts()
     summary = (f"golden check: {counts[golden.PASS]} matched, {counts[golden.DIFFERS]} differ, "
                f"{counts[golden.MISSING]} missing, {counts[golden.ERROR]} "
                f"error{'' if counts[golden.ERROR] == 1 else 's'} "
                f"[{tolerance.describe()}]")
+    accept = golden.accept_command(args.svg_dir, args.goldens)
     if report:
-        index = report.finish(plan.options, plan.orphans)
+        index = report.finish(plan.options, plan.orphans, accept)
         summary += f"; report: {index}"
+    results.finish(plan, tolerance, args.report)
     print(summary)
+    if counts[golden.DIFFERS] or counts[golden.MISSING]:
+        print(f"to accept these renders as the new goldens: {accept}")
     return 0 if counts[golden.PASS] == len(plan.svgs) else 1

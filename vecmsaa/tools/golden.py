@@ -18,6 +18,9 @@ import html
 import json
 import math
 import os
+import shlex
+import time
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Callable, Iterator
@@ -149,7 +152,10 @@ def read_png_rgba(path) -> np.ndarray:
 def write_png_if_changed(rgba: np.ndarray, path) -> bool:
     """Write the PNG unless the file already holds exactly these bytes (keeps timestamps and
     version control quiet). Returns whether the file was written."""
-    data = encode_png(rgba)
+    return write_if_changed(encode_png(rgba), path)
+
+
+def write_if_changed(data: bytes, path) -> bool:
     try:
         if Path(path).read_bytes() == data:
             return False
@@ -249,10 +255,12 @@ class UpdateResult:
 
 def update_goldens(svg_dir, golden_dir, options: dict,
                    render: Renderer | None = None,
-                   progress: Callable[[str], None] | None = None, jobs: int = 1) -> UpdateResult:
+                   progress: Callable[[str], None] | None = None, jobs: int = 1,
+                   scheduler: str | None = None) -> UpdateResult:
     """Render every SVG under ``svg_dir`` into ``golden_dir`` and record ``options`` in the
     manifest. SVGs that fail to render get no golden and are listed in ``errors``. ``jobs`` > 1
-    renders in that many processes; the files written are the same."""
+    renders in that many processes, ``scheduler`` on that Dask cluster (vecmsaa.tools.cluster);
+    the files written are the same."""
     options = render_options(**options)
     svgs = find_svgs(svg_dir)
     if Path(golden_dir).exists() and not Path(golden_dir).is_dir():
@@ -261,9 +269,8 @@ def update_goldens(svg_dir, golden_dir, options: dict,
         raise GoldenError(f"{svg_dir}: no SVG files")
     result = UpdateResult()
     goldens = []
-    tasks = [(Path(svg_dir, rel), Path(golden_dir, golden_name(rel)), options, render)
-             for rel in svgs]
-    for rel, (changed, failure) in zip(svgs, ordered_map(_update_one, tasks, jobs)):
+    results = _updates(svg_dir, golden_dir, svgs, options, render, jobs, scheduler)
+    for rel, (changed, failure) in zip(svgs, results):
         if failure:
             result.errors.append((rel, failure))
             if progress:
@@ -276,6 +283,24 @@ def update_goldens(svg_dir, golden_dir, options: dict,
     if not manifest_path.exists() or manifest_path.read_bytes() != manifest:
         write_bytes_atomic(manifest, manifest_path, make_folders=True)
     return result
+
+
+def _updates(svg_dir, golden_dir, svgs, options, render, jobs, scheduler) -> Iterator:
+    """(golden rewritten, None) or (False, why the render failed) for each SVG, in order."""
+    if scheduler is None:
+        tasks = [(Path(svg_dir, rel), Path(golden_dir, golden_name(rel)), options, render)
+                 for rel in svgs]
+        yield from ordered_map(_update_one, tasks, jobs)
+        return
+    from .cluster import Cluster
+
+    with Cluster(scheduler) as cluster:
+        items = ((str(Path(svg_dir, rel)), options) for rel in svgs)
+        for rel, png in zip(svgs, cluster.render_pngs(items, render)):
+            if isinstance(png, BaseException):
+                yield False, render_failure(png)
+            else:
+                yield write_if_changed(png, Path(golden_dir, golden_name(rel))), None
 
 
 def _update_one(svg_path, golden_path, options, render) -> tuple[bool, str | None]:
@@ -317,13 +342,16 @@ PASS, DIFFERS, MISSING, ERROR = "pass", "differs", "missing", "error"
 @dataclass
 class Outcome:
     """Result of checking one SVG. ``expected``/``actual`` are kept only for failures, so a
-    report can show them."""
+    report can show them; ``comparison`` holds the measured numbers (without the pixel map)
+    when both images were there; ``seconds`` is the time to render, when rendered here."""
     svg: PurePosixPath
     golden: PurePosixPath
     status: str
     detail: str = ""
     expected: np.ndarray | None = None
     actual: np.ndarray | None = None
+    comparison: Comparison | None = None
+    seconds: float | None = None
 
     @property
     def failed(self) -> bool:
@@ -355,12 +383,23 @@ def compare_to_golden(actual: np.ndarray, expected: np.ndarray,
 
 def check_one(svg_path, golden_path, options: dict, tolerance: Tolerance,
               render: Renderer | None = None, svg_rel=None, golden_rel=None) -> Outcome:
-    svg_rel = PurePosixPath(svg_rel or Path(svg_path).name)
-    golden_rel = PurePosixPath(golden_rel or Path(golden_path).name)
+    start = time.perf_counter()
     try:
         actual = render_rgba(str(svg_path), options, render)
     except Exception as exc:  # reported as this SVG's failure; the other SVGs still run
-        return Outcome(svg_rel, golden_rel, ERROR, render_failure(exc))
+        actual = exc
+    outcome = judge(actual, golden_path, tolerance, svg_rel or Path(svg_path).name,
+                    golden_rel or Path(golden_path).name)
+    outcome.seconds = time.perf_counter() - start
+    return outcome
+
+
+def judge(actual, golden_path, tolerance: Tolerance, svg_rel, golden_rel) -> Outcome:
+    """The outcome for a render (an RGBA array, or the exception rendering raised) of the
+    SVG whose golden is ``golden_path``."""
+    svg_rel, golden_rel = PurePosixPath(svg_rel), PurePosixPath(golden_rel)
+    if isinstance(actual, BaseException):
+        return Outcome(svg_rel, golden_rel, ERROR, render_failure(actual))
     if not Path(golden_path).exists():
         return Outcome(svg_rel, golden_rel, MISSING, f"no golden {golden_rel}", actual=actual)
     try:
@@ -369,10 +408,12 @@ def check_one(svg_path, golden_path, options: dict, tolerance: Tolerance,
         return Outcome(svg_rel, golden_rel, ERROR,
                        f"golden {golden_rel} unreadable: {' '.join(str(exc).split())}",
                        actual=actual)
-    matches, detail = compare_to_golden(actual, expected, tolerance)
-    if matches:
-        return Outcome(svg_rel, golden_rel, PASS, detail)
-    return Outcome(svg_rel, golden_rel, DIFFERS, detail, expected, actual)
+    comparison = tolerance.compare(actual, expected)
+    detail = difference_detail(comparison, expected, actual, tolerance)
+    comparison.off_map = None   # outcomes travel between processes: keep them small
+    if comparison.passed(tolerance.max_fraction):
+        return Outcome(svg_rel, golden_rel, PASS, detail, comparison=comparison)
+    return Outcome(svg_rel, golden_rel, DIFFERS, detail, expected, actual, comparison)
 
 
 @dataclass
@@ -399,13 +440,24 @@ def plan_check(svg_dir, golden_dir) -> CheckPlan:
 
 
 def check_goldens(plan: CheckPlan, tolerance: Tolerance = Tolerance(),
-                  render: Renderer | None = None, jobs: int = 1) -> Iterator[Outcome]:
+                  render: Renderer | None = None, jobs: int = 1,
+                  scheduler: str | None = None) -> Iterator[Outcome]:
     """Render each SVG of ``plan`` with the recorded options and compare it with its golden,
     yielding outcomes in order, one by one (so callers can report progress and drop images).
-    ``jobs`` > 1 renders in that many processes."""
-    tasks = [(plan.svg_dir / rel, plan.golden_dir / golden_name(rel), plan.options,
-              tolerance, render, rel, golden_name(rel)) for rel in plan.svgs]
-    yield from ordered_map(check_one, tasks, jobs)
+    ``jobs`` > 1 renders in that many processes, ``scheduler`` on that Dask cluster (the
+    comparison then runs here)."""
+    if scheduler is None:
+        tasks = [(plan.svg_dir / rel, plan.golden_dir / golden_name(rel), plan.options,
+                  tolerance, render, rel, golden_name(rel)) for rel in plan.svgs]
+        yield from ordered_map(check_one, tasks, jobs)
+        return
+    from .cluster import Cluster
+
+    with Cluster(scheduler) as cluster:
+        items = ((str(plan.svg_dir / rel), plan.options) for rel in plan.svgs)
+        for rel, actual in zip(plan.svgs, cluster.render_arrays(items, render)):
+            yield judge(actual, plan.golden_dir / golden_name(rel), tolerance, rel,
+                        golden_name(rel))
 
 
 # --- triptych and report -------------------------------------------------------------------------
@@ -425,8 +477,9 @@ class ReportWriter:
     """Writes ``<report dir>/<rel>.diff.png`` for each failure as it comes, then an offline
     ``index.html`` (relative links only, no scripts or external resources) listing them."""
 
-    def __init__(self, report_dir, tolerance: Tolerance):
+    def __init__(self, report_dir, tolerance: Tolerance, title: str = "vecmsaa golden check"):
         self.report_dir = Path(report_dir)
+        self.title = title
         try:  # fail before any rendering when the report cannot be written
             self.report_dir.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
@@ -447,20 +500,27 @@ class ReportWriter:
                            self.tolerance.threshold, self.tolerance.strict)
         self.rows.append((outcome, image))
 
-    def finish(self, options: dict, orphans=()) -> Path:
+    def finish(self, options: dict | None, orphans=(), accept: str | None = None) -> Path:
+        """Write index.html. ``options``: the render options all SVGs used (None when they
+        vary, as in pytest); ``accept``: the command that accepts the failing renders."""
         failed = len(self.rows)
         esc = html.escape
         parts = [
             "<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
-            "<title>vecmsaa golden check</title>", f"<style>{_INDEX_STYLE}</style>",
-            "</head>", "<body>", "<h1>vecmsaa golden check</h1>",
-            f"<p>{self.total} SVG files: {self.total - failed} matched, {failed} failed.</p>",
-            f"<p>Render options: {esc(json.dumps(options, sort_keys=True))}<br>"
-            f"Tolerance: {esc(self.tolerance.describe())} of pixels off.</p>",
+            f"<title>{esc(self.title)}</title>", f"<style>{_INDEX_STYLE}</style>",
+            "</head>", "<body>", f"<h1>{esc(self.title)}</h1>",
+            f"<p>{self.total} SVG files: {self.total - failed} matched, {failed} failed.</p>"
+            if options is not None else f"<p>{failed} failed.</p>",
+            "<p>" + (f"Render options: {esc(json.dumps(options, sort_keys=True))}<br>"
+                     if options is not None else "")
+            + f"Tolerance: {esc(self.tolerance.describe())} of pixels off.</p>",
         ]
         if orphans:
             parts.append("<p>Goldens without an SVG any more: "
                          + ", ".join(f"<code>{esc(str(o))}</code>" for o in orphans) + "</p>")
+        if self.rows and accept:
+            parts.append(f"<p>To accept these renders as the new goldens: "
+                         f"<code>{esc(accept)}</code></p>")
         if self.rows:
             parts += [
                 '<p class="legend">Each image: expected | difference | actual. Difference: '
@@ -484,3 +544,116 @@ class ReportWriter:
         index = self.report_dir / "index.html"
         write_bytes_atomic("\n".join(parts).encode("utf-8"), index, make_folders=True)
         return index
+
+
+# --- result files for CI systems -----------------------------------------------------------------
+
+RESULTS_FORMAT = 1
+
+
+def accept_command(svg_dir, golden_dir) -> str:
+    """The command that makes the current renders the goldens (keeping the recorded options)."""
+    return (f"vecmsaa golden update {shlex.quote(Path(svg_dir).as_posix())} "
+            f"--goldens {shlex.quote(Path(golden_dir).as_posix())}")
+
+
+class ResultFiles:
+    """Collects the outcomes of a check (numbers and lines, no images) and writes them at the
+    end as JUnit XML (``junit``) and/or JSON (``json_path``), each written whole."""
+
+    def __init__(self, junit=None, json_path=None):
+        self.junit, self.json_path = junit, json_path
+        for path in (junit, json_path):
+            if path is not None:
+                folder = Path(path).resolve().parent
+                if not folder.is_dir() or Path(path).is_dir():
+                    raise GoldenError(f"{path}: cannot write here (no such folder, or a folder)")
+        self.outcomes: list[Outcome] = []
+        self.pictured: set = set()   # goldens whose failure a report shows in a triptych
+
+    def add(self, outcome: Outcome) -> None:
+        self.outcomes.append(Outcome(outcome.svg, outcome.golden, outcome.status,
+                                     outcome.detail, comparison=outcome.comparison,
+                                     seconds=outcome.seconds))
+        if outcome.failed and (outcome.expected is not None or outcome.actual is not None):
+            self.pictured.add(outcome.golden)
+
+    def counts(self) -> dict:
+        counts = dict.fromkeys((PASS, DIFFERS, MISSING, ERROR), 0)
+        for outcome in self.outcomes:
+            counts[outcome.status] += 1
+        return counts
+
+    def finish(self, plan: CheckPlan, tolerance: Tolerance, report_dir=None) -> None:
+        accept = accept_command(plan.svg_dir, plan.golden_dir)
+        if self.json_path is not None:
+            write_bytes_atomic(self._json(plan, tolerance, report_dir, accept), self.json_path)
+        if self.junit is not None:
+            write_bytes_atomic(self._junit(plan, tolerance, report_dir, accept), self.junit)
+
+    def _json(self, plan, tolerance, report_dir, accept) -> bytes:
+        def result(o: Outcome) -> dict:
+            c = o.comparison
+            shown = report_dir is not None and o.golden in self.pictured
+            return {
+                "svg": str(o.svg), "golden": str(o.golden), "status": o.status,
+                "detail": o.detail,
+                "off_pixels": c.off_pixels if c and c.same_size else None,
+                "total_pixels": c.total_pixels if c and c.same_size else None,
+                "max_channel_difference": c.max_diff if c and c.same_size else None,
+                "seconds": None if o.seconds is None else round(o.seconds, 4),
+                "diff_image": str(diff_name(o.golden)) if shown else None,
+            }
+
+        doc = {
+            "format": RESULTS_FORMAT, "vecmsaa_version": __version__,
+            "svg_dir": plan.svg_dir.as_posix(), "golden_dir": plan.golden_dir.as_posix(),
+            "render_options": plan.options,
+            "tolerance": {"threshold": tolerance.threshold,
+                          "flat_threshold": tolerance.strict,
+                          "max_fraction": tolerance.max_fraction},
+            "counts": {"total": len(self.outcomes), **self.counts()},
+            "passed": all(not o.failed for o in self.outcomes),
+            "orphans": [str(o) for o in plan.orphans],
+            "report": None if report_dir is None else str(Path(report_dir, "index.html")),
+            "accept": accept,
+            "results": [result(o) for o in self.outcomes],
+        }
+        return (json.dumps(doc, indent=2, sort_keys=True) + "\n").encode("utf-8")
+
+    def _junit(self, plan, tolerance, report_dir, accept) -> bytes:
+        counts = self.counts()
+        failures, errors = counts[DIFFERS] + counts[MISSING], counts[ERROR]
+        total_time = sum(o.seconds or 0.0 for o in self.outcomes)
+        attrs = {"name": "vecmsaa golden check", "tests": str(len(self.outcomes)),
+                 "failures": str(failures), "errors": str(errors), "skipped": "0",
+                 "time": f"{total_time:.3f}"}
+        root = ET.Element("testsuites", attrs)
+        suite = ET.SubElement(root, "testsuite", attrs)
+        properties = ET.SubElement(suite, "properties")
+        for name, value in (("tolerance", tolerance.describe()),
+                            ("render_options", json.dumps(plan.options, sort_keys=True)),
+                            ("golden_dir", plan.golden_dir.as_posix()),
+                            ("vecmsaa_version", __version__)):
+            ET.SubElement(properties, "property", {"name": name, "value": value})
+        for o in self.outcomes:
+            folder = o.svg.parent.as_posix()
+            case = ET.SubElement(suite, "testcase", {
+                "classname": "vecmsaa.golden" + ("" if folder == "." else
+                                                 "." + folder.replace("/", ".")),
+                "name": str(o.svg), "file": (plan.svg_dir / o.svg).as_posix()})
+            if o.seconds is not None:
+                case.set("time", f"{o.seconds:.3f}")
+            if not o.failed:
+                continue
+            text = [f"{o.line(plan.svg_dir)}"]
+            if report_dir is not None and o.golden in self.pictured:
+                text.append(f"expected | difference | actual: "
+                            f"{Path(report_dir, diff_name(o.golden)).as_posix()}")
+            if o.status != ERROR:   # a render that fails is not fixed by accepting
+                text.append(f"to accept the new render as the golden: {accept}")
+            element = ET.SubElement(case, "error" if o.status == ERROR else "failure",
+                                    {"type": o.status, "message": o.detail})
+            element.text = "\n".join(text)
+        ET.indent(root)
+        return ET.tostring(root, encoding="utf-8", xml_declaration=True) + b"\n"
