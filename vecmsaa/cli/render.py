@@ -47,6 +47,8 @@ def add_parser(subparsers):
     p.add_argument("--threads", type=int, metavar="N",
                    help="threads rendering one image (default: every core, or 1 in each "
                         "--jobs worker); the image does not depend on it")
+    from vecmsaa.tools.cluster import add_scheduler_option
+    add_scheduler_option(p)
     for flag, dest, metavar, text in FONT_FLAGS:
         p.add_argument(flag, dest=dest, metavar=metavar, help=text)
     p.add_argument("--skip-system-fonts", action="store_true",
@@ -104,13 +106,18 @@ def render_one(job):
         source = sys.stdin.buffer.read() if src == "-" else src
         write_bytes_atomic(render_svg_png(source, **opts), dst)
         return src, None
-    except MemoryError:
-        return src, "out of memory"
-    except (ValueError, OSError, TypeError) as exc:
-        text = str(exc).strip().splitlines()
-        return src, text[0] if text else type(exc).__name__
     except Exception as exc:   # a bug on one file must not stop the batch
-        return src, f"internal error: {type(exc).__name__}: {exc}"
+        return src, failure_text(exc)
+
+
+def failure_text(exc: BaseException) -> str:
+    """One line for a file that failed to render."""
+    if isinstance(exc, MemoryError):
+        return "out of memory"
+    if isinstance(exc, (ValueError, OSError, TypeError)):
+        text = str(exc).strip().splitlines()
+        return text[0] if text else type(exc).__name__
+    return f"internal error: {type(exc).__name__}: {exc}"
 
 
 def run(args) -> int:
@@ -154,7 +161,15 @@ def run(args) -> int:
             print(f"[{i}/{total}] FAILED {src}: {err}", file=sys.stderr, flush=True)
         else:
             print(f"[{i}/{total}] {src}", file=sys.stderr, flush=True)
-    if args.jobs > 1 and total > 1:
+    if args.scheduler:
+        from vecmsaa.tools.cluster import ClusterError, render_files
+        try:
+            for i, (src, err) in enumerate(render_files(jobs, args.scheduler, failure_text), 1):
+                report(i, src, err)
+        except ClusterError as exc:
+            print(f"vecmsaa render: {exc}", file=sys.stderr)
+            return 2
+    elif args.jobs > 1 and total > 1:
         import multiprocessing as mp
         if sys.platform != "win32":
             # the workers are forked from here: import the renderer and load its compiled

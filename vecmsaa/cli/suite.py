@@ -25,6 +25,8 @@ def add_parser(subparsers):
     add_coverage_options(p)
     p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
                    help="worker processes (default: all cores)")
+    from vecmsaa.tools.cluster import add_scheduler_option
+    add_scheduler_option(p)
     p.add_argument("--only", action="append", default=[], metavar="TEXT",
                    help="only tests whose name contains TEXT (repeatable)")
     p.add_argument("--category", action="append", default=[],
@@ -54,8 +56,13 @@ def run(args) -> int:
             print(f"\r{done}/{total}", end="", file=sys.stderr, flush=True)
         elif done % 100 == 0 or done == total:
             print(f"{done}/{total}", file=sys.stderr, flush=True)
-    results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode, args.samples,
-                        progress)
+    from vecmsaa.tools.cluster import ClusterError
+    try:
+        results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode,
+                            args.samples, progress, args.scheduler)
+    except ClusterError as exc:
+        print(f"vecmsaa suite: {exc}", file=sys.stderr)
+        return 2
     if tty:
         print(file=sys.stderr)
     if args.failures:

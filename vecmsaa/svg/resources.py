@@ -37,6 +37,16 @@ class Resources:
             return None
         if url[:5].lower() == "data:":
             return decode_data_url(url)
+        real = self.locate(url)
+        if real is None or os.path.getsize(real) > MAX_RESOURCE_BYTES:
+            return None
+        with open(real, "rb") as f:
+            return f.read(), None, os.path.dirname(real)
+
+    def locate(self, url):
+        """The real path of the file a (non-data) URL names, when it exists in an allowed
+        folder; None otherwise. Batches on a cluster send exactly these files along."""
+        url = (url or "").strip()
         parsed = urllib.parse.urlsplit(url)
         if parsed.scheme and parsed.scheme.lower() != "file" and len(parsed.scheme) > 1:
             return None   # http, https, ftp...: no network access
@@ -52,12 +62,8 @@ class Resources:
             real = os.path.realpath(cand)
             if not any(real == r or real.startswith(r + os.sep) for r in self.roots):
                 continue
-            if not os.path.isfile(real):
-                continue
-            if os.path.getsize(real) > MAX_RESOURCE_BYTES:
-                return None
-            with open(real, "rb") as f:
-                return f.read(), None, os.path.dirname(real)
+            if os.path.isfile(real):
+                return real
         return None
 
     def fetch_text(self, url):

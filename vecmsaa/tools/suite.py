@@ -45,44 +45,67 @@ def _alarm(signum, frame):
     raise _Timeout()
 
 
-def run_one(job):
-    """Render and compare one test → (name, passed, detail). Runs in worker processes."""
-    import signal
-
-    import numpy as np
-    from PIL import Image
-
-    from vecmsaa.api import render_svg_array
-    from vecmsaa.tools.compare import compare_images, write_triptych
-
-    name, suite_dir, out_dir, mode, samples = job
-    tests_dir = os.path.join(suite_dir, "tests")
-    svg = os.path.join(tests_dir, name + ".svg")
-    with Image.open(os.path.join(tests_dir, name + ".png")) as im:
-        ref = np.asarray(im.convert("RGBA"))
+def suite_options(suite_dir, mode=None, samples=None) -> dict:
+    """Render options of every test: the suite's fonts and resources, and the coverage."""
     kwargs = dict(SUITE_FONTS, use_fonts_dir=os.path.join(suite_dir, "fonts"),
                   skip_system_fonts=True, resources_dir=os.path.join(suite_dir, "resources"))
     if mode:
         kwargs["mode"] = mode
     if samples:
         kwargs["samples"] = samples
+    return kwargs
+
+
+def render_test(svg, width, height, **kwargs):
+    """One test at its reference's size: by width (the aspect ratio kept), and by both sides
+    when that misses the height."""
+    from vecmsaa.api import render_svg_array
+
+    actual = render_svg_array(svg, width=width, **kwargs)
+    if actual.shape[:2] != (height, width):
+        actual = render_svg_array(svg, width=width, height=height, **kwargs)
+    return actual
+
+
+def _reference(suite_dir, name):
+    import numpy as np
+    from PIL import Image
+
+    with Image.open(os.path.join(suite_dir, "tests", name + ".png")) as im:
+        return np.asarray(im.convert("RGBA"))
+
+
+def run_one(job):
+    """Render and compare one test → (name, passed, detail). Runs in worker processes."""
+    import signal
+
+    name, suite_dir, out_dir, mode, samples = job
+    svg = os.path.join(suite_dir, "tests", name + ".svg")
+    ref = _reference(suite_dir, name)
     h, w = ref.shape[:2]
     old = signal.signal(signal.SIGALRM, _alarm) if hasattr(signal, "SIGALRM") else None
     if old is not None:
         signal.alarm(TEST_TIMEOUT)
     try:
-        actual = render_svg_array(svg, width=w, **kwargs)
-        if actual.shape[:2] != (h, w):
-            actual = render_svg_array(svg, width=w, height=h, **kwargs)
+        actual = render_test(svg, w, h, **suite_options(suite_dir, mode, samples))
     except _Timeout:
         return name, False, "timeout"
     except Exception as exc:   # any failure of one test is a result, not a crash of the run
-        msg = str(exc).splitlines()[0] if str(exc) else ""
-        return name, False, f"error: {type(exc).__name__}: {msg}"[:200]
+        actual = exc
     finally:
         if old is not None:
             signal.alarm(0)
             signal.signal(signal.SIGALRM, old)
+    return judge(name, actual, ref, out_dir)
+
+
+def judge(name, actual, ref, out_dir):
+    """(name, passed, detail) for a render (an array, or the exception rendering raised)."""
+    from vecmsaa.tools.compare import compare_images, write_triptych
+
+    if isinstance(actual, BaseException):
+        msg = str(actual).splitlines()[0] if str(actual) else ""
+        return name, False, f"error: {type(actual).__name__}: {msg}"[:200]
     cmp = compare_images(actual, ref)
     ok = cmp.passed()
     if not ok and out_dir:
@@ -90,10 +113,32 @@ def run_one(job):
     return name, ok, cmp.describe()
 
 
-def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None):
-    """Run tests by name; returns {name: (passed, detail)}."""
+def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None,
+              scheduler=None):
+    """Run tests by name; returns {name: (passed, detail)}. With ``scheduler`` the renders run
+    on that Dask cluster (vecmsaa.tools.cluster; no per-test timeout there), the comparisons
+    here."""
     jobs_list = [(n, suite_dir, out_dir, mode, samples) for n in names]
     results = {}
+    if scheduler:
+        from PIL import Image
+
+        from .cluster import Cluster
+
+        def item(name):
+            with Image.open(os.path.join(suite_dir, "tests", name + ".png")) as im:
+                w, h = im.size
+            return (os.path.join(suite_dir, "tests", name + ".svg"),
+                    dict(suite_options(suite_dir, mode, samples), width=w, height=h))
+
+        with Cluster(scheduler) as cluster:
+            renders = cluster.render_arrays((item(n) for n in names), render_test)
+            for name, actual in zip(names, renders):
+                _, ok, detail = judge(name, actual, _reference(suite_dir, name), out_dir)
+                results[name] = (ok, detail)
+                if progress:
+                    progress(len(results), len(names))
+        return results
     if jobs <= 1 or len(names) <= 1:
         for j in jobs_list:
             name, ok, detail = run_one(j)
