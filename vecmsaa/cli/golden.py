@@ -107,11 +107,21 @@ def _common(parser: argparse.ArgumentParser) -> None:
 
 
 def add_parser(subparsers) -> None:
+    from vecmsaa.tools.compare import FLAT_THRESHOLD, MAX_FRACTION, THRESHOLD
+
     golden = subparsers.add_parser(
         "golden", help="render SVGs to golden PNGs and check renders against them",
         description="Golden images for CI: 'update' renders every SVG under a directory to "
                     "PNGs and records the render options; 'check' renders again with those "
-                    "options and compares. See docs/golden.md.")
+                    "options and compares. See docs/golden.md.",
+        epilog=f"Default tolerance of 'check': a pixel is off beyond {THRESHOLD} levels on "
+               f"edges and {FLAT_THRESHOLD} away from them, at most {100 * MAX_FRACTION:g}% "
+               "of pixels off: antialiasing noise passes, a 16-level colour change of one "
+               "shape fails. 'check --junit FILE --json FILE' writes results for CI systems; "
+               "after a failure, 'vecmsaa golden update SVG_DIR --goldens GOLDEN_DIR' (or "
+               "pytest --update-goldens) accepts the new renders. With --scheduler "
+               "tcp://HOST:8786 both actions render on a Dask cluster (docs/cluster.md). "
+               "'vecmsaa golden ACTION --help' lists the options.")
     actions = golden.add_subparsers(dest="golden_action", metavar="ACTION", required=True)
 
     update = actions.add_parser(
