@@ -134,6 +134,7 @@ class GoldenSession:
         self.failures = 0
         self.deselected = 0
         self.pending: list = []   # the running test's golden failures: reported if it fails
+        self.report_error: str | None = None
 
     def failed(self, svg, golden: Path, status, detail, expected, actual, tolerance) -> None:
         from .golden import Outcome
@@ -150,17 +151,20 @@ class GoldenSession:
     def test_finished(self, failed: bool) -> None:
         """A test whose golden assertion failed and was caught (pytest.raises) passes, and
         its failure is not one to summarise; one that failed gets its golden failures in."""
-        from .golden import ReportWriter
+        from .golden import GoldenError, ReportWriter
 
-        if failed:
-            for outcome, tolerance in self.pending:
+        try:
+            for outcome, tolerance in self.pending if failed else ():
                 if self.report is None:
                     self.report = ReportWriter(self.report_dir, tolerance,
                                                title="vecmsaa golden images in pytest")
                 self.report.tolerance = tolerance
                 self.report.add(outcome)
                 self.failures += 1
-        self.pending.clear()
+        except (GoldenError, OSError) as exc:   # the summary is an extra: never break the run
+            self.report_error = str(exc)
+        finally:
+            self.pending.clear()
 
     def unused_goldens(self) -> list[Path]:
         """Golden PNGs no assertion used, in the folders (within the rootdir) of the goldens
@@ -232,9 +236,14 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config) -> None:
         return
     lines = []
     index = _session.report_dir / "index.html"
-    if _session.report is not None:
-        _session.report.finish(None, accept=f"pytest --update-goldens (or {UPDATE_ENV}=1)")
-        lines.append(f"{_session.failures} golden assertion(s) failed; summary: {index}")
+    if _session.report is not None and _session.report_error is None:
+        try:
+            _session.report.finish(None, accept=f"pytest --update-goldens (or {UPDATE_ENV}=1)")
+            lines.append(f"{_session.failures} golden assertion(s) failed; summary: {index}")
+        except OSError as exc:
+            _session.report_error = str(exc)
+    if _session.report_error is not None:
+        lines.append(f"warning: no summary of the golden failures: {_session.report_error}")
     whole = _session.pytest_session is not None and _whole_run(_session.pytest_session)
     if _session.report is None and index.is_file() and whole:
         index.unlink()   # a summary of failures that are gone would mislead
