@@ -126,6 +126,7 @@ class Builder:
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+        self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0) -> list:
@@ -212,7 +213,10 @@ class Builder:
             nodes = self.text(el, c, style)
         else:
             nodes = []
-        return self.wrap(el, style, c, nodes)
+        nodes = self.wrap(el, style, c, nodes)
+        if self.nodes_by_id is not None and el.id is not None:
+            self.nodes_by_id.setdefault(el.id, nodes)
+        return nodes
 
     def element_transform(self, el, style, ctx):
         """The element's own transform (with transform-origin), None when it is singular."""
@@ -813,11 +817,13 @@ def contains(ancestor, el):
 
 
 def conditions_pass(el):
-    """Conditional processing: systemLanguage (we are "en"), requiredExtensions."""
+    """Conditional processing: systemLanguage (a listed language is one of the user's, or
+    starts with one and a hyphen: en-US for en), requiredExtensions."""
     lang = el.attrs.get("systemLanguage")
     if lang is not None:
+        user = getattr(el.source, "languages", ("en",))
         langs = [x.strip().lower() for x in lang.split(",") if x.strip()]
-        if not any(x == "en" or x.startswith("en-") for x in langs):
+        if not any(x in user or x.split("-")[0] in user for x in langs):
             return False
     ext = el.attrs.get("requiredExtensions")
     if ext is not None:
