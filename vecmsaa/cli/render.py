@@ -25,12 +25,14 @@ DESCRIPTION = ("Render SVG files to PNG, WebP, JPEG or TIFF: 'vecmsaa render in.
                "--out-dir. Folders are searched recursively and mirrored under --out-dir.")
 
 #: (flag, option name, metavar, help) of the font options, one value each
-FONT_FLAGS = (("--font-family", "font_family", "NAME", "default font family"),
+FAMILY_FLAGS = (("--font-family", "font_family", "NAME", "default font family"),
               ("--serif-family", "serif_family", "NAME", "font for 'serif'"),
               ("--sans-serif-family", "sans_serif_family", "NAME", "font for 'sans-serif'"),
               ("--cursive-family", "cursive_family", "NAME", "font for 'cursive'"),
               ("--fantasy-family", "fantasy_family", "NAME", "font for 'fantasy'"),
               ("--monospace-family", "monospace_family", "NAME", "font for 'monospace'"))
+#: the font flags 'vecmsaa golden update' records (one fonts folder: the manifest keeps one)
+FONT_FLAGS = (("--use-fonts-dir", "use_fonts_dir", "DIR", "load fonts from DIR"),) + FAMILY_FLAGS
 #: repeatable font sources
 FONT_SOURCES = (("--use-font-file", "use_font_file", "FILE",
                  "load this font file (repeatable)"),
@@ -58,7 +60,7 @@ def add_parser(subparsers):
                      help="write the image to standard output")
     out.add_argument("--out-dir", metavar="DIR",
                      help="folder for the images of several inputs (tree of folders mirrored)")
-    out.add_argument("--format", choices=FORMATS,
+    out.add_argument("-f", "--format", choices=FORMATS,
                      help="image format (default: from the output name, else png); JPEG is "
                           "flattened onto --background, white by default")
     size = p.add_argument_group("size")
@@ -69,15 +71,15 @@ def add_parser(subparsers):
                            "resvg)")
     size.add_argument("-a", "--keep-aspect-ratio", action="store_true",
                       help="with both -w and -h, fit inside that size instead of stretching")
-    size.add_argument("--dpi", type=float, default=96.0, help="resolution for mm, in, pt (96)")
-    size.add_argument("--no-size-limit", action="store_true",
+    size.add_argument("-d", "--dpi", type=float, default=96.0, help="resolution for mm, in, pt (96)")
+    size.add_argument("-u", "--no-size-limit", "--unlimited", action="store_true",
                       help="allow images beyond 32768 px per side or 2^28 pixels")
-    size.add_argument("--export-id", metavar="ID",
+    size.add_argument("-i", "--export-id", metavar="ID",
                       help="render only the element with this id, cropped to its bounds")
     size.add_argument("--export-area-drawing", action="store_true",
                       help="crop the image to the drawing's bounds")
     look = p.add_argument_group("rendering")
-    look.add_argument("--background", metavar="COLOR", help="background colour (any CSS colour)")
+    look.add_argument("-b", "--background", "--background-color", metavar="COLOR", help="background colour (any CSS colour)")
     add_coverage_options(look)
     look.add_argument("--shape-rendering", choices=SHAPE_RENDERING,
                       help="default shape-rendering (crispEdges: no antialiasing)")
@@ -85,16 +87,16 @@ def add_parser(subparsers):
                       help="default text-rendering")
     look.add_argument("--image-rendering", choices=IMAGE_RENDERING,
                       help="default image-rendering (optimizeSpeed: nearest neighbour)")
-    look.add_argument("--stylesheet", metavar="CSS",
+    look.add_argument("-s", "--stylesheet", metavar="CSS",
                       help="CSS file applied to the document (before its own style sheets)")
-    look.add_argument("--languages", metavar="LANGS", default="en",
+    look.add_argument("--languages", "--accept-language", metavar="LANGS", default="en",
                       help="comma-separated languages for systemLanguage (default: en)")
     look.add_argument("--resources-dir", metavar="DIR",
                       help="extra folder images and CSS may be loaded from")
     fonts = p.add_argument_group("fonts")
     for flag, dest, metavar, text in FONT_SOURCES:
         fonts.add_argument(flag, dest=dest, metavar=metavar, action="append", help=text)
-    for flag, dest, metavar, text in FONT_FLAGS:
+    for flag, dest, metavar, text in FAMILY_FLAGS:
         fonts.add_argument(flag, dest=dest, metavar=metavar, help=text)
     fonts.add_argument("--font-size", type=float, metavar="SIZE",
                        help="font size where the document sets none (default: 12)")
@@ -131,7 +133,7 @@ def render_options(args) -> dict:
     langs = [x.strip() for x in args.languages.split(",") if x.strip()]
     if langs != ["en"]:
         opts["languages"] = tuple(langs)
-    for _flag, dest, _m, _t in FONT_SOURCES + FONT_FLAGS:
+    for _flag, dest, _m, _t in FONT_SOURCES + FAMILY_FLAGS:
         if getattr(args, dest, None):
             opts[dest] = getattr(args, dest)
     if args.skip_system_fonts:
