@@ -3,16 +3,19 @@
 >>> from vecmsaa.api import render_svg
 >>> render_svg("drawing.svg", width=512).save("drawing.png")   # doctest: +SKIP
 
-``source`` may be a path, bytes, a str holding the XML, or a binary/text file object. Sizes:
-with only ``width`` or only ``height`` the aspect ratio is kept; with both the drawing is
-stretched to exactly that size; ``zoom`` scales the intrinsic size. All errors are
-:class:`vecmsaa.svg.SvgError` (a ValueError) with a one-line message.
+``source`` may be a path, bytes, a str holding the XML, or a binary/text file object (read up
+to 64 MiB). Sizes as resvg computes them: with only ``width`` or only ``height`` the aspect
+ratio is kept; with both the drawing is stretched to exactly that size (or fitted inside with
+``keep_aspect=True``); ``zoom`` scales the intrinsic size and is ignored with a width or
+height. Problems that do not stop a render are :class:`vecmsaa.RenderWarning` warnings; all
+errors are :class:`vecmsaa.svg.SvgError` (a ValueError) with a one-line message.
 """
 from __future__ import annotations
 
 import gc
 import math
 import os
+from typing import TYPE_CHECKING, BinaryIO, Sequence, Union
 
 import numpy as np
 
@@ -22,6 +25,14 @@ from .scene.bounds import path_bounds, union
 from .scene.nodes import Group, Scene
 from .scene.transform import IDENTITY, compose
 from .svg import SvgError
+
+if TYPE_CHECKING:
+    from PIL import Image
+
+#: an SVG: a path, the bytes, a str holding the XML, or a binary file object
+Source = Union[str, os.PathLike, bytes, bytearray, memoryview, BinaryIO]
+#: a CSS colour, an RGB(A) tuple (0–1, or 0–255 when any value is above 1) or None
+Background = Union[str, Sequence[float], None]
 
 MAX_PIXELS = 1 << 28
 MAX_SIDE = 32768
@@ -130,9 +141,10 @@ DOCUMENT_OPTIONS = ("stylesheet", "languages", "font_size", "shape_rendering", "
                     "image_rendering")
 
 
-def load_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,
-             resources_dir=None, *, keep_aspect=False, size_limit=True, export_id=None,
-             **options) -> Scene:
+def load_svg(source: Source, width: float | None = None, height: float | None = None,
+             zoom: float | None = None, dpi: float = 96, background: Background = None,
+             resources_dir: str | os.PathLike | None = None, *, keep_aspect: bool = False,
+             size_limit: bool = True, export_id: str | None = None, **options) -> Scene:
     """Parse an SVG document and resolve it into a Scene at the requested output size.
 
     ``options`` are the document options (DOCUMENT_OPTIONS) and the font options
@@ -272,10 +284,13 @@ def query_bounds(source, dpi=96, resources_dir=None, **options) -> list:
                 for ident, (x0, y0, x1, y1) in loaded.bounds_by_id().items()]
 
 
-def render_svg_array(source, width=None, height=None, zoom=None, dpi=96, background=None,
-                     mode=DEFAULT_MODE, samples=DEFAULT_SAMPLES, resources_dir=None, *,
-                     keep_aspect=False, size_limit=True, export_id=None,
-                     export_area_drawing=False, **options) -> np.ndarray:
+def render_svg_array(source: Source, width: float | None = None, height: float | None = None,
+                     zoom: float | None = None, dpi: float = 96, background: Background = None,
+                     mode: str = DEFAULT_MODE, samples: int = DEFAULT_SAMPLES,
+                     resources_dir: str | os.PathLike | None = None, *,
+                     keep_aspect: bool = False, size_limit: bool = True,
+                     export_id: str | None = None, export_area_drawing: bool = False,
+                     **options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA; see :func:`render_svg`."""
     from .raster.render import render_scene_rgba8
 
@@ -301,8 +316,10 @@ def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:
     return rgba[y0:y1, x0:x1]
 
 
-def render_svg(source, width=None, height=None, zoom=None, dpi=96, background=None,
-               mode=DEFAULT_MODE, samples=DEFAULT_SAMPLES, resources_dir=None, **options):
+def render_svg(source: Source, width: float | None = None, height: float | None = None,
+               zoom: float | None = None, dpi: float = 96, background: Background = None,
+               mode: str = DEFAULT_MODE, samples: int = DEFAULT_SAMPLES,
+               resources_dir: str | os.PathLike | None = None, **options) -> Image.Image:
     """Render an SVG document to a PIL RGBA image.
 
     ``source``: a path, bytes, a str holding the XML, or a binary file object.

@@ -10,7 +10,12 @@ reported once per render. Imports nothing of vecmsaa, so every stage may use it.
 from __future__ import annotations
 
 import contextlib
+import os
+import sys
 import warnings
+
+#: frames a warning does not point at: vecmsaa's own and the context managers'
+_SKIPPED = (os.path.dirname(os.path.abspath(__file__)) + os.sep, contextlib.__file__)
 
 
 class RenderWarning(UserWarning):
@@ -27,7 +32,7 @@ def warn(message: str) -> None:
         if message not in sink:
             sink.append(message)
     else:
-        warnings.warn(message, RenderWarning, stacklevel=2)
+        warnings.warn(message, RenderWarning, stacklevel=_outside_level())
 
 
 @contextlib.contextmanager
@@ -51,5 +56,12 @@ def as_python_warnings():
     with collecting(found):
         yield
     for message in found:
-        # stacklevel 4: the caller of the vecmsaa.api function that opened this block
-        warnings.warn(message, RenderWarning, stacklevel=4)
+        warnings.warn(message, RenderWarning, stacklevel=_outside_level())
+
+
+def _outside_level() -> int:
+    """The stacklevel of the first caller outside vecmsaa, so a warning names the user's line."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and frame.f_code.co_filename.startswith(_SKIPPED):
+        frame, level = frame.f_back, level + 1
+    return level

@@ -41,6 +41,9 @@ class _WithVersion:
         self.subparsers, self.version = subparsers, version
 
     def add_parser(self, *args, **kwargs):
+        for key in ("help", "description"):   # docstring markup does not belong in --help
+            if isinstance(kwargs.get(key), str):
+                kwargs[key] = kwargs[key].replace("``", "'")
         parser = self.subparsers.add_parser(*args, **kwargs)
         parser.add_argument("-V", "--version", action="version", version=self.version)
         return parser

@@ -26,11 +26,13 @@ class Progress:
             self.bar = tqdm(total=total, desc=what, unit="file", file=sys.stderr,
                             dynamic_ncols=True)
 
-    def write(self, line: str) -> None:
+    def write(self, line: str, file=None) -> None:
+        """Print ``line`` (to stderr unless ``file``) without breaking the bar."""
+        file = file or sys.stderr
         if self.bar is not None:
-            self.bar.write(line, file=sys.stderr)
+            self.bar.write(line, file=file)
         else:
-            print(line, file=sys.stderr, flush=True)
+            print(line, file=file, flush=True)
 
     def advance(self, name: str = "") -> None:
         if self.bar is not None:

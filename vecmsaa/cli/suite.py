@@ -23,8 +23,8 @@ def add_parser(subparsers):
     p.add_argument("--out", help="folder for diff images of failing tests")
     from .options import add_coverage_options
     add_coverage_options(p)
-    p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
-                   help="worker processes (default: all cores)")
+    from .options import add_jobs_option
+    add_jobs_option(p, default=0)
     p.add_argument("--only", action="append", default=[], metavar="TEXT",
                    help="only tests whose name contains TEXT (repeatable)")
     p.add_argument("--category", action="append", default=[],
@@ -47,17 +47,15 @@ def run(args) -> int:
     if not names:
         print("vecmsaa suite: no tests selected", file=sys.stderr)
         return 2
-    tty = sys.stderr.isatty()
+    from .progress import Progress
 
-    def progress(done, total):
-        if tty:
-            print(f"\r{done}/{total}", end="", file=sys.stderr, flush=True)
-        elif done % 100 == 0 or done == total:
-            print(f"{done}/{total}", file=sys.stderr, flush=True)
-    results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode, args.samples,
-                        progress)
-    if tty:
-        print(file=sys.stderr)
+    with Progress(len(names), "suite") as bar:
+        def progress(done, total):
+            if bar.bar is None and (done % 100 == 0 or done == total):
+                print(f"{done}/{total}", file=sys.stderr, flush=True)
+            bar.advance()
+        results = run_suite(suite_dir, names, args.jobs, args.out, args.mode, args.samples,
+                            progress)
     if args.failures:
         for name in sorted(results):
             ok, detail = results[name]

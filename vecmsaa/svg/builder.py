@@ -13,7 +13,7 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-
+from ..diagnostics import warn
 from ..scene.transform import IDENTITY, compose, translate
 from ..scene.path import LINE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
@@ -36,6 +36,9 @@ MARKABLE = SHAPES
 CONTAINERS = {"g", "a", "switch"}
 #: elements drawn where they appear in the tree
 RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
+#: elements that would draw something but are not drawn (warned about, as resvg does)
+UNSUPPORTED = {"foreignObject", "animate", "animateMotion", "animateTransform", "set",
+               "video", "audio", "iframe", "canvas"}
 #: elements whose ``overflow`` defaults to hidden (UA style sheet)
 CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
@@ -179,6 +182,8 @@ class Builder:
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if el.tag not in RENDERED:
+            if el.tag in UNSUPPORTED:
+                warn(f"<{el.tag}> is not supported: skipped")
             return []
         if not conditions_pass(el):
             return []
@@ -639,6 +644,9 @@ class Builder:
         if url is not None:
             ref, fallback = url
             target = self.doc.lookup(ref) if ref.startswith("#") else None
+            if target is None:
+                warn(f"unresolved url({ref}): "
+                     + (f"using the fallback {fallback}" if fallback else "not painted"))
             if target is None or target.tag not in ("linearGradient", "radialGradient",
                                                     "pattern"):
                 if fallback and target is None:

@@ -10,6 +10,8 @@ import binascii
 import os
 import urllib.parse
 
+from ..diagnostics import warn
+
 MAX_RESOURCE_BYTES = 64 * 1024 * 1024
 
 
@@ -31,9 +33,13 @@ class Resources:
         if not url:
             return None
         if url[:5].lower() == "data:":
-            return decode_data_url(url)
+            got = decode_data_url(url)
+            if got is None:
+                warn("a data: URL that does not decode was skipped")
+            return got
         parsed = urllib.parse.urlsplit(url)
         if parsed.scheme and parsed.scheme.lower() != "file" and len(parsed.scheme) > 1:
+            warn(f"{_short(url)} refused: network URLs are not fetched")
             return None   # http, https, ftp...: no network access
         path = urllib.parse.unquote(parsed.path if parsed.scheme else url.split("#")[0])
         candidates = []
@@ -43,16 +49,23 @@ class Resources:
             for base in (self.base_dir, self.resources_dir):
                 if base:
                     candidates.append(os.path.join(base, path))
+        outside = False
         for cand in candidates:
             real = os.path.realpath(cand)
             if not any(real == r or real.startswith(r + os.sep) for r in self.roots):
+                outside = True
                 continue
             if not os.path.isfile(real):
                 continue
             if os.path.getsize(real) > MAX_RESOURCE_BYTES:
+                warn(f"{_short(url)} refused: larger than {MAX_RESOURCE_BYTES >> 20} MiB")
                 return None
             with open(real, "rb") as f:
                 return f.read(), None, os.path.dirname(real)
+        if outside:
+            warn(f"{_short(url)} refused: outside the document's folder and --resources-dir")
+        else:
+            warn(f"{_short(url)} not found")
         return None
 
     def fetch_text(self, url):
@@ -60,6 +73,11 @@ class Resources:
         if got is None:
             return None
         return got[0].decode("utf-8", "replace")
+
+
+def _short(url: str) -> str:
+    """A URL as a message shows it: at most 80 characters."""
+    return url if len(url) <= 80 else url[:77] + "..."
 
 
 def decode_data_url(url):
