@@ -347,3 +347,25 @@ def test_font_size_sets_the_default_for_text(tmp_path):
         rows = np.nonzero(np.asarray(image(out))[..., 3].max(axis=1) > 128)[0]
         heights.append(rows.max() - rows.min() + 1)
     assert 3.5 < heights[1] / heights[0] < 4.5        # cap height scales with the font size
+
+
+def test_help_has_no_docstring_markup(capsys):
+    for command in ("render", "suite", "bench", "golden", "font"):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        out = capsys.readouterr().out
+        assert "``" not in out and ":func:" not in out, command
+
+
+def test_jobs_means_the_same_everywhere(capsys):
+    from vecmsaa.cli.main import build_parser
+    from vecmsaa.tools.workers import default_jobs
+
+    parser = build_parser()
+    for argv in (["render", "x.svg"], ["golden", "check", "d", "--goldens", "g"]):
+        assert parser.parse_args(argv + ["-j", "0"]).jobs == default_jobs()
+        assert parser.parse_args(argv + ["--jobs", "3"]).jobs == 3
+    assert parser.parse_args(["suite", "d"]).jobs == default_jobs()
+    with pytest.raises(SystemExit) as exit_:
+        parser.parse_args(["render", "x.svg", "-j", "-1"])
+    assert exit_.value.code == 2

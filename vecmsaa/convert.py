@@ -4,9 +4,9 @@
 arguments as CairoSVG's function of that name and returns the PNG bytes when ``write_to`` is
 None; ``svg2webp``, ``svg2jpeg`` and ``svg2tiff`` do the same in those formats. Differences:
 ``url`` is a file path or ``file://`` URL (no network access, as everywhere in vecmsaa);
-``unsafe`` has no effect (resources always stay within the document's folder and
-``resources_dir``); ``parent_width``/``parent_height`` are the size a document of percentage
-width/height gets.
+``unsafe``, ``parent_width`` and ``parent_height`` are accepted and have no effect (resources
+always stay within the document's folder and ``resources_dir``; a percentage size on the root
+resolves against its viewBox, as in resvg).
 """
 from __future__ import annotations
 
@@ -61,7 +61,7 @@ def svg2image(fmt: str, bytestring: bytes | str | None = None, *, url=None, file
     from .api import render_svg_array
     from .output.formats import encode
 
-    del unsafe   # resources are always confined; nothing to unlock
+    del unsafe, parent_width, parent_height   # accepted for CairoSVG's callers; see above
     source = _source(bytestring, url, file_obj)
     width, height, zoom = output_width, output_height, None
     if width is None and height is None:
