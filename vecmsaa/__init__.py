@@ -23,7 +23,7 @@ _LAZY = {
     "render_text": "convert",
     "SvgError": "svg", "RenderWarning": "diagnostics",
 }
-__all__ = sorted(_LAZY) + ["DEFAULT_MODE", "DEFAULT_SAMPLES", "MODES", "__version__"]
+__all__ = sorted(_LAZY) + ["__version__"]
 
 
 def __getattr__(name):

@@ -16,7 +16,7 @@ from typing import BinaryIO, Union
 
 import numpy as np
 
-from . import DEFAULT_MODE, DEFAULT_SAMPLES
+from .raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES
 from .svg import SvgError
 
 PathOrFile = Union[str, os.PathLike, BinaryIO]
