@@ -129,7 +129,7 @@ def test_unsupported_option_values_fail_cleanly(tmp_path):
     for args in (["--variations", "wght"], ["--features", "toolong=1"],
                  ["--foreground", "notacolour"], ["--waterfall", "0,10"]):
         code, out = run_font(tmp_path, TTF, "--text", "x", *args)
-        assert code == 1 and not out.exists(), args
+        assert code == 2 and not out.exists(), args   # bad option values: usage errors
     out = tmp_path / "s.png"
     # 3 samples: no multisample pattern exists for it — a usage error, as for every command
     with pytest.raises(SystemExit) as exc:

@@ -16,15 +16,18 @@ ALLOWED = {
     "fonts": {"geometry", "scene"},
     "svg": {"fonts", "geometry", "scene"},
     "api": {"svg", "fonts", "geometry", "scene", "raster", "output"},
+    # CairoSVG-style calls and font previews, beside the api
+    "convert": {"api", "svg", "fonts", "geometry", "scene", "raster", "output"},
     "tools": {"api", "svg", "fonts", "geometry", "scene", "raster", "output"},
     "cli": {"tools", "api", "svg", "fonts", "geometry", "scene", "raster", "output"},
-    # the package itself: the version, the numba cache check, the api on demand
-    "vecmsaa": {"api"},
+    # the package itself: the version, the numba cache check, the public names on demand
+    "vecmsaa": {"api", "convert", "svg"},
     "jitcache": set(),
+    "diagnostics": set(),
 }
-#: what every module may import: the package's own __init__ (the version) and the numba
-#: cache check it runs
-SHARED = {"vecmsaa", "jitcache"}
+#: what every module may import: the package's own __init__ (the version), the numba cache
+#: check it runs, and the warnings channel (diagnostics.warn: imports nothing)
+SHARED = {"vecmsaa", "jitcache", "diagnostics"}
 
 
 def module_name(path: Path) -> str:

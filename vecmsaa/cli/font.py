@@ -52,9 +52,15 @@ def add_parser(subparsers):
     return p
 
 
-def _fail(message: str) -> int:
+#: at most this many --waterfall sizes and this --margin (px): beyond, the sheet could only
+#: be refused by its size after laying out all of it
+MAX_SIZES = 256
+MAX_MARGIN = 10000.0
+
+
+def _fail(message: str, status: int = 1) -> int:
     print(f"vecmsaa font: error: {message}", file=sys.stderr)
-    return 1
+    return status
 
 
 def _color(text: str, what: str):
@@ -73,6 +79,8 @@ def _sizes(text: str) -> list:
         raise ValueError(f"bad --waterfall sizes {text!r}") from None
     if not sizes or any(not 0 < s <= 2000 for s in sizes):
         raise ValueError(f"bad --waterfall sizes {text!r}: need sizes in (0, 2000]")
+    if len(sizes) > MAX_SIZES:
+        raise ValueError(f"--waterfall has {len(sizes)} sizes, over the limit of {MAX_SIZES}")
     return sizes
 
 
@@ -86,9 +94,12 @@ def run(args) -> int:
         features = parse_features(args.features)
         if not 0 < args.size <= 2000:
             raise ValueError("--size must be in (0, 2000]")
+        if args.margin is not None and not 0 <= args.margin <= MAX_MARGIN:
+            raise ValueError(f"--margin must be in [0, {MAX_MARGIN:g}], over that is beyond the "
+                             "image size limit")
         sizes = _sizes(args.waterfall) if args.waterfall else None
     except ValueError as exc:
-        return _fail(str(exc))
+        return _fail(str(exc), 2)   # option values: a usage error
     try:
         face = load_face(args.font, args.face_index)
         for tag in location:

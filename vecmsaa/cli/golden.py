@@ -80,19 +80,6 @@ def _tolerance(text: str) -> tuple[int, int | None, float]:
     return _threshold(parts[0]), flat, _fraction(parts[-1])
 
 
-def _jobs(text: str) -> int:
-    """Worker processes; 0 means one per CPU."""
-    import os
-
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 (one per CPU) or more: {text!r}")
-    return value or os.cpu_count() or 1
-
-
 def _common(parser: argparse.ArgumentParser) -> None:
     # -h is the render height (as in 'vecmsaa render'), so help is --help only.
     parser.add_argument("--help", action="help", help="show this help message and exit")
@@ -100,8 +87,8 @@ def _common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--goldens", metavar="GOLDEN_DIR", required=True,
                         help="directory of the golden PNGs and their manifest "
                              "(SVG_DIR/a/b.svg has the golden GOLDEN_DIR/a/b.png)")
-    parser.add_argument("-j", "--jobs", type=_jobs, default=1, metavar="N",
-                        help="render in N processes, 0 for one per CPU (default 1)")
+    from .options import add_jobs_option
+    add_jobs_option(parser)
     from vecmsaa.tools.cluster import add_scheduler_option
     add_scheduler_option(parser)
 
@@ -253,13 +240,17 @@ def _check(args, golden) -> int:
         print(f"note: golden {orphan} has no SVG any more", file=sys.stderr)
     results = golden.ResultFiles(args.junit, args.json)
     report = golden.ReportWriter(args.report, tolerance) if args.report else None
-    for outcome in golden.check_goldens(plan, tolerance, jobs=args.jobs,
-                                        scheduler=args.scheduler):
-        results.add(outcome)
-        if outcome.failed or not args.quiet:
-            print(outcome.line(args.svg_dir), flush=True)
-        if report:
-            report.add(outcome)
+    from .progress import Progress
+
+    with Progress(len(plan.svgs), "golden check") as bar:
+        for outcome in golden.check_goldens(plan, tolerance, jobs=args.jobs,
+                                            scheduler=args.scheduler):
+            results.add(outcome)
+            if outcome.failed or not args.quiet:
+                bar.write(outcome.line(args.svg_dir), file=sys.stdout)
+            if report:
+                report.add(outcome)
+            bar.advance()
     counts = results.counts()
     summary = (f"golden check: {counts[golden.PASS]} matched, {counts[golden.DIFFERS]} differ, "
                f"{counts[golden.MISSING]} missing, {counts[golden.ERROR]} "

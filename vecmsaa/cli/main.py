@@ -20,8 +20,9 @@ def build_parser() -> argparse.ArgumentParser:
         prog="vecmsaa",
         description="Render SVG files and font glyphs with Loop-Blinn curves and multisample "
                     "antialiasing.")
-    parser.add_argument("--version", action="version", version=f"vecmsaa {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    version = f"vecmsaa {__version__}"
+    parser.add_argument("-V", "--version", action="version", version=version)
+    sub = _WithVersion(parser.add_subparsers(dest="command", metavar="COMMAND"), version)
     for name in COMMANDS:
         try:
             module = importlib.import_module(f"vecmsaa.cli.{name}")
@@ -31,6 +32,21 @@ def build_parser() -> argparse.ArgumentParser:
             raise
         module.add_parser(sub)
     return parser
+
+
+class _WithVersion:
+    """The sub-command registry, giving every command -V/--version (as resvg has)."""
+
+    def __init__(self, subparsers, version):
+        self.subparsers, self.version = subparsers, version
+
+    def add_parser(self, *args, **kwargs):
+        for key in ("help", "description"):   # docstring markup does not belong in --help
+            if isinstance(kwargs.get(key), str):
+                kwargs[key] = kwargs[key].replace("``", "'")
+        parser = self.subparsers.add_parser(*args, **kwargs)
+        parser.add_argument("-V", "--version", action="version", version=self.version)
+        return parser
 
 
 def main(argv=None) -> int:

@@ -33,3 +33,26 @@ def add_coverage_options(parser, with_defaults: bool = False) -> None:
                         default=DEFAULT_SAMPLES if with_defaults else None,
                         help=f"samples per pixel: 1, 2, 4, 8, 16 (default {DEFAULT_SAMPLES}); "
                              "the reference mode takes 256 or a larger square")
+
+
+def job_count(text: str) -> int:
+    """Worker processes; 0 means one per core."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be 0 (one per core) or more: {text!r}")
+    if value == 0:
+        from vecmsaa.tools.workers import default_jobs
+        return default_jobs()
+    return value
+
+
+def add_jobs_option(parser, default: int = 1) -> None:
+    """``-j/--jobs N``, the same in every batch command: N worker processes, 0 = one per core.
+    A worker that dies (killed, out of memory) fails only the file it had."""
+    stated = "one per core" if default == 0 else str(default)
+    # a string default goes through job_count too (so 0 becomes the core count)
+    parser.add_argument("-j", "--jobs", type=job_count, default=str(default), metavar="N",
+                        help=f"worker processes, 0 for one per core (default: {stated})")

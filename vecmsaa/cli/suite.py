@@ -23,8 +23,8 @@ def add_parser(subparsers):
     p.add_argument("--out", help="folder for diff images of failing tests")
     from .options import add_coverage_options
     add_coverage_options(p)
-    p.add_argument("--jobs", "-j", type=int, default=os.cpu_count() or 1,
-                   help="worker processes (default: all cores)")
+    from .options import add_jobs_option
+    add_jobs_option(p, default=0)
     from vecmsaa.tools.cluster import add_scheduler_option
     add_scheduler_option(p)
     p.add_argument("--only", action="append", default=[], metavar="TEXT",
@@ -49,22 +49,21 @@ def run(args) -> int:
     if not names:
         print("vecmsaa suite: no tests selected", file=sys.stderr)
         return 2
-    tty = sys.stderr.isatty()
+    from .progress import Progress
 
-    def progress(done, total):
-        if tty:
-            print(f"\r{done}/{total}", end="", file=sys.stderr, flush=True)
-        elif done % 100 == 0 or done == total:
-            print(f"{done}/{total}", file=sys.stderr, flush=True)
     from vecmsaa.tools.cluster import ClusterError
-    try:
-        results = run_suite(suite_dir, names, max(1, args.jobs), args.out, args.mode,
-                            args.samples, progress, args.scheduler)
-    except ClusterError as exc:
-        print(f"vecmsaa suite: {exc}", file=sys.stderr)
-        return 2
-    if tty:
-        print(file=sys.stderr)
+
+    with Progress(len(names), "suite") as bar:
+        def progress(done, total):
+            if bar.bar is None and (done % 100 == 0 or done == total):
+                print(f"{done}/{total}", file=sys.stderr, flush=True)
+            bar.advance()
+        try:
+            results = run_suite(suite_dir, names, args.jobs, args.out, args.mode, args.samples,
+                                progress, args.scheduler)
+        except ClusterError as exc:
+            print(f"vecmsaa suite: {exc}", file=sys.stderr)
+            return 2
     if args.failures:
         for name in sorted(results):
             ok, detail = results[name]

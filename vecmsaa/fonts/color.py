@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..diagnostics import warn
 from ..scene.transform import IDENTITY
 from ..scene.nodes import Fill, Solid
 
@@ -32,6 +33,20 @@ def colr_layers(face) -> dict:
                 layers = {}
         face._colr_layers = layers
     return layers
+
+
+def undrawn_color_formats(face) -> tuple:
+    """The colour glyph formats of a face that are not drawn in colour (COLRv1, SVG)."""
+    kinds = getattr(face, "_undrawn_color", None)
+    if kinds is None:
+        t = face.ttfont
+        kinds = []
+        if "COLR" in t and getattr(t["COLR"], "version", 0) >= 1:
+            kinds.append("COLRv1")
+        if "SVG " in t:
+            kinds.append("SVG")
+        kinds = face._undrawn_color = tuple(kinds)
+    return kinds
 
 
 def palette_color(face, index: int):
@@ -77,6 +92,8 @@ def color_fills(face, location, gids, matrices, paint) -> list:
     share one fill with ``paint``, colour glyphs add their own."""
     from .layout import glyphs_path
 
+    for kind in undrawn_color_formats(face):
+        warn(f"font '{face.family}': {kind} colour glyphs are drawn as plain outlines")
     gids = np.asarray(gids)
     matrices = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
     if not colr_layers(face) and not has_bitmaps(face):

@@ -14,6 +14,7 @@ import numpy as np
 from ..scene.path import Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from .color import color_fills
+from .face import FontError
 from .layout import LineLayout, layout_line, placement, run_placements
 
 LABEL_GRAY = (0.45, 0.45, 0.45, 1.0)
@@ -53,9 +54,18 @@ def _rules(rects, color) -> list:
     return [Fill(path, Solid(tuple(color)))]
 
 
+#: the largest sheet: as for SVG output, 32768 px per side and 2^28 pixels in all
+MAX_SIDE = 32768
+MAX_PIXELS = 1 << 28
+
+
 def _scene(width, height, fills, background) -> Scene:
-    return Scene(max(1, int(math.ceil(width))), max(1, int(math.ceil(height))),
-                 Group(list(fills)), tuple(background))
+    w, h = max(1, int(math.ceil(width))), max(1, int(math.ceil(height)))
+    if w > MAX_SIDE or h > MAX_SIDE or w * h > MAX_PIXELS:
+        raise FontError(f"the image would be {w}x{h} px, over the limit of {MAX_SIDE} px per "
+                        f"side and {MAX_PIXELS} pixels (less text, fewer sizes or a smaller "
+                        "size or margin)")
+    return Scene(w, h, Group(list(fills)), tuple(background))
 
 
 def default_margin(size: float) -> float:

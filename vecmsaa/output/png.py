@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import errno
 import os
+import stat
 import struct
 import sys
-import tempfile
 import threading
 import zlib
 
@@ -120,27 +120,49 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", crc)
 
 
+#: temporary files are named ``.<target>.<pid>`` + this; one left by a killed process is
+#: removed by the next write to the same target (see :func:`write_bytes_atomic`)
+TEMP_SUFFIX = ".vecmsaa-tmp"
+
+
 def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
-    """Write to a temporary file beside ``path`` and rename it into place; ``-`` is stdout.
-    A missing folder is an error (as for rsvg-convert) unless ``make_folders``."""
+    """Write ``data`` to ``path`` whole or not at all; ``-`` is stdout.
+
+    A regular file (or a new name) is written to a temporary file beside it and renamed into
+    place, so a reader never sees half a file. A symbolic link is followed: its target is
+    written, the link stays. Anything else that exists and is not a folder (a FIFO, a device
+    such as ``/dev/null`` or ``/dev/stdout``) is written through, never replaced. A missing
+    folder is an error (as for rsvg-convert) unless ``make_folders``. A process killed between
+    write and rename leaves ``.<name>.<pid>.vecmsaa-tmp``; the next write to that name removes
+    it once that process is gone."""
     if str(path) == "-":
         sys.stdout.buffer.write(data)
         sys.stdout.buffer.flush()
         return
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
+    path = os.path.realpath(os.fspath(path))   # a symlink's target, not the link
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        st = None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise IsADirectoryError(errno.EISDIR, "is a folder", path)
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        with open(path, "wb") as f:   # FIFO, device: write through
+            f.write(data)
+        return
+    folder, name = os.path.split(path)
     if make_folders:
         os.makedirs(folder, exist_ok=True)
     elif not os.path.isdir(folder):
         raise FileNotFoundError(errno.ENOENT, "no such folder", folder)
-    fd, tmp = tempfile.mkstemp(prefix=".vecmsaa-", suffix=".tmp", dir=folder)
+    _remove_stale_temps(folder, name)
+    tmp = os.path.join(folder, f".{name}.{os.getpid()}{TEMP_SUFFIX}")
+    # O_EXCL: never write through a file (or link) someone else put at that name; the mode
+    # is the one a plain open() would give (0666 less the umask)
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), 0o666)
     try:
         with os.fdopen(fd, "wb") as f:
             f.write(data)
-        # mkstemp makes the file private (0600); give it the mode a plain open() would
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -148,6 +170,37 @@ def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
         except OSError:
             pass
         raise
+
+
+def _remove_stale_temps(folder: str, name: str) -> None:
+    """Remove ``.<name>.<pid>.vecmsaa-tmp`` files whose process no longer exists."""
+    prefix = f".{name}."
+    try:
+        entries = os.listdir(folder)
+    except OSError:
+        return
+    for entry in entries:
+        if not (entry.startswith(prefix) and entry.endswith(TEMP_SUFFIX)):
+            continue
+        pid = entry[len(prefix):-len(TEMP_SUFFIX)]
+        if not pid.isdigit() or _process_exists(int(pid)):
+            continue
+        try:
+            os.unlink(os.path.join(folder, entry))
+        except OSError:
+            pass
+
+
+def _process_exists(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OSError):
+        return True
+    return True
 
 
 def write_png(rgba: np.ndarray, path, make_folders: bool = False) -> None:

@@ -13,7 +13,7 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
-
+from ..diagnostics import warn
 from ..scene.transform import IDENTITY, compose, translate
 from ..scene.path import LINE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
@@ -36,6 +36,9 @@ MARKABLE = SHAPES
 CONTAINERS = {"g", "a", "switch"}
 #: elements drawn where they appear in the tree
 RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
+#: elements that would draw something but are not drawn (warned about, as resvg does)
+UNSUPPORTED = {"foreignObject", "animate", "animateMotion", "animateTransform", "set",
+               "video", "audio", "iframe", "canvas"}
 #: elements whose ``overflow`` defaults to hidden (UA style sheet)
 CLIPPING_BY_DEFAULT = {"svg", "symbol", "marker", "pattern", "image"}
 
@@ -134,6 +137,7 @@ class Builder:
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+        self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -196,6 +200,8 @@ class Builder:
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if el.tag not in RENDERED:
+            if el.tag in UNSUPPORTED:
+                warn(f"<{el.tag}> is not supported: skipped")
             return []
         if not conditions_pass(el):
             return []
@@ -230,7 +236,10 @@ class Builder:
             nodes = self.text(el, c, style)
         else:
             nodes = []
-        return self.wrap(el, style, c, nodes)
+        nodes = self.wrap(el, style, c, nodes)
+        if self.nodes_by_id is not None and el.id is not None:
+            self.nodes_by_id.setdefault(el.id, nodes)
+        return nodes
 
     def element_transform(self, el, style, ctx):
         """The element's own transform (with transform-origin), None when it is singular."""
@@ -666,6 +675,9 @@ class Builder:
         if url is not None:
             ref, fallback = url
             target = self.doc.lookup(ref) if ref.startswith("#") else None
+            if target is None:
+                warn(f"unresolved url({ref}): "
+                     + (f"using the fallback {fallback}" if fallback else "not painted"))
             if target is None or target.tag not in ("linearGradient", "radialGradient",
                                                     "pattern"):
                 if fallback and target is None:
@@ -851,11 +863,13 @@ def contains(ancestor, el):
 
 
 def conditions_pass(el):
-    """Conditional processing: systemLanguage (we are "en"), requiredExtensions."""
+    """Conditional processing: systemLanguage (a listed language is one of the user's, or
+    starts with one and a hyphen: en-US for en), requiredExtensions."""
     lang = el.attrs.get("systemLanguage")
     if lang is not None:
+        user = getattr(el.source, "languages", ("en",))
         langs = [x.strip().lower() for x in lang.split(",") if x.strip()]
-        if not any(x == "en" or x.startswith("en-") for x in langs):
+        if not any(x in user or x.split("-")[0] in user for x in langs):
             return False
     ext = el.attrs.get("requiredExtensions")
     if ext is not None:

@@ -394,6 +394,7 @@ class Document:
         self.root = root
         self.ids = ids
         self.base_dir = base_dir
+        self.languages = ("en",)   # the user's, for systemLanguage
         self._doc_styles = {}
 
     def lookup(self, ref):
@@ -419,9 +420,14 @@ class Document:
         return style
 
 
-def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
+def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
+                  root_defaults=None, languages=("en",)) -> Document:
     """Parse SVG bytes into a Document.
 
+    ``stylesheet`` is CSS applied before the document's own ``<style>`` sheets (resvg's
+    ``--stylesheet``); ``root_defaults`` are property values the root element gets where it
+    specifies none (``--font-size``, ``--shape-rendering``...: inherited, so they act as new
+    initial values); ``languages`` are the user's languages for ``systemLanguage``.
     ``load_text`` is accepted for existing callers and unused: CSS ``@import`` is not followed,
     as in resvg."""
     import cssselect2
@@ -433,6 +439,8 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
     default_ns = ns
 
     sheets = Stylesheets()
+    if stylesheet:
+        sheets.add(stylesheet)
     # <style> elements anywhere apply to the whole document (even those after their use).
     for node in xml_root.iter():
         if not isinstance(node.tag, str):
@@ -520,5 +528,8 @@ def load_document(data: bytes, base_dir=None, load_text=None) -> Document:
         return el
 
     doc = Document(None, ids, base_dir)
+    doc.languages = tuple(x.strip().lower() for x in languages)
     doc.root = convert(xml_root, None, 0, 0)
+    for name, value in (root_defaults or {}).items():
+        doc.root.specified.setdefault(name, value)
     return doc

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from ..diagnostics import warn
 from ..scene.transform import compose
 from ..scene.path import rect_path
 from ..scene.color import linear_rgb_image, srgb_to_linear
@@ -26,6 +27,8 @@ def _target(builder, value, tag):
     if url is None:
         return None
     el = builder.doc.lookup(url[0]) if url[0].startswith("#") else None
+    if el is None:
+        warn(f"unresolved url({url[0]}) in {tag.replace('P', '-p')}")
     if el is None or el.tag != tag:
         return None
     if any(r is el for r in builder.ref_stack):

@@ -10,6 +10,8 @@ import binascii
 import os
 import urllib.parse
 
+from ..diagnostics import warn
+
 MAX_RESOURCE_BYTES = 64 * 1024 * 1024
 
 
@@ -36,19 +38,27 @@ class Resources:
         if not url:
             return None
         if url[:5].lower() == "data:":
-            return decode_data_url(url)
+            got = decode_data_url(url)
+            if got is None:
+                warn("a data: URL that does not decode was skipped")
+            return got
         real = self.locate(url)
-        if real is None or os.path.getsize(real) > MAX_RESOURCE_BYTES:
+        if real is None:
+            return None
+        if os.path.getsize(real) > MAX_RESOURCE_BYTES:
+            warn(f"{_short(url)} refused: larger than {MAX_RESOURCE_BYTES >> 20} MiB")
             return None
         with open(real, "rb") as f:
             return f.read(), None, os.path.dirname(real)
 
     def locate(self, url):
         """The real path of the file a (non-data) URL names, when it exists in an allowed
-        folder; None otherwise. Batches on a cluster send exactly these files along."""
+        folder; None otherwise (with a warning why). Batches on a cluster send exactly these
+        files along."""
         url = (url or "").strip()
         parsed = urllib.parse.urlsplit(url)
         if parsed.scheme and parsed.scheme.lower() != "file" and len(parsed.scheme) > 1:
+            warn(f"{_short(url)} refused: network URLs are not fetched")
             return None   # http, https, ftp...: no network access
         path = urllib.parse.unquote(parsed.path if parsed.scheme else url.split("#")[0])
         candidates = []
@@ -58,12 +68,18 @@ class Resources:
             for base in (self.base_dir, self.resources_dir):
                 if base:
                     candidates.append(os.path.join(base, path))
+        outside = False
         for cand in candidates:
             real = os.path.realpath(cand)
             if not any(real == r or real.startswith(r + os.sep) for r in self.roots):
+                outside = True
                 continue
             if os.path.isfile(real):
                 return real
+        if outside:
+            warn(f"{_short(url)} refused: outside the document's folder and --resources-dir")
+        else:
+            warn(f"{_short(url)} not found")
         return None
 
     def fetch_text(self, url):
@@ -71,6 +87,11 @@ class Resources:
         if got is None:
             return None
         return got[0].decode("utf-8", "replace")
+
+
+def _short(url: str) -> str:
+    """A URL as a message shows it: at most 80 characters."""
+    return url if len(url) <= 80 else url[:77] + "..."
 
 
 def decode_data_url(url):

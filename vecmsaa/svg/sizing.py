@@ -64,10 +64,13 @@ class SizedDocument:
     viewport: tuple
 
 
-def open_svg(data: bytes, folder, resources: Resources, options: Options) -> SizedDocument:
+def open_svg(data: bytes, folder, resources: Resources, options: Options,
+             **document_options) -> SizedDocument:
     """Parse SVG bytes and size the document; a document without width, height and viewBox
-    takes its drawing's extent. Raises SvgError (and RecursionError on absurd nesting)."""
-    doc = load_document(data, folder)
+    takes its drawing's extent. ``document_options`` go to :func:`load_document` (user
+    stylesheet, root defaults, languages). Raises SvgError (and RecursionError on absurd
+    nesting)."""
+    doc = load_document(data, folder, **document_options)
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:

@@ -11,6 +11,7 @@ import re
 import unicodedata
 from dataclasses import dataclass
 
+from ...diagnostics import warn
 from ...fonts import FontError
 from ...fonts.db import FontDatabase, database_from_options, parse_family_list
 from .content import TEXT_CONTENT
@@ -224,6 +225,15 @@ def face_location(face, spec):
     return face.clamp_location(loc)
 
 
+def warn_font_fallback(db, spec, info):
+    """Warn when none of a font-family list is available (what was used instead)."""
+    if info is None:
+        warn("no font available: text is not drawn")
+    elif db.query(list(spec.families), spec.weight, spec.style, spec.stretch) is None:
+        names = ", ".join(f"'{f}'" for f in spec.families)
+        warn(f"font family {names} not found, using '{info.family}'")
+
+
 def assign_faces(chars, specs, db):
     """Face for every character: the family list's best match, else a fallback face."""
     faces = []
@@ -236,6 +246,7 @@ def assign_faces(chars, specs, db):
             info = db.query_or_default(list(spec.families), spec.weight, spec.style,
                                        spec.stretch)
             primary[key] = info
+            warn_font_fallback(db, spec, info)
         if info not in loaded:
             loaded[info] = _load(info)
         face = loaded[info]

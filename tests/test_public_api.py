@@ -1,0 +1,124 @@
+"""The Python API as CairoSVG and resvg-py users expect it, and the warnings channel."""
+from __future__ import annotations
+
+import io
+import os
+import warnings
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import vecmsaa
+from vecmsaa.cli.main import main
+
+SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="10">'
+       '<rect x="2" y="2" width="16" height="6" fill="#0080ff"/></svg>')
+FONTS = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
+FONT = os.path.join(FONTS, "NotoSans-Subset.ttf")
+
+
+def pixels(data: bytes) -> np.ndarray:
+    return np.asarray(Image.open(io.BytesIO(data)).convert("RGBA"))
+
+
+def test_dir_and_all_list_the_public_functions():
+    for name in ("svg2png", "svg2webp", "svg2jpeg", "svg2tiff", "render_svg", "render_svg_array",
+                 "render_text", "RenderWarning", "SvgError"):
+        assert name in vecmsaa.__all__ and name in dir(vecmsaa)
+        assert getattr(vecmsaa, name).__doc__
+
+
+def test_svg2png_is_cairosvgs_call(tmp_path):
+    png = vecmsaa.svg2png(bytestring=SVG)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    assert np.array_equal(pixels(png), vecmsaa.render_svg_array(SVG.encode()))
+    path = tmp_path / "a.svg"
+    path.write_text(SVG)
+    assert vecmsaa.svg2png(url=str(path)) == png
+    assert vecmsaa.svg2png(url=path.as_uri()) == png
+    with open(path, "rb") as f:
+        assert vecmsaa.svg2png(file_obj=f) == png
+    assert vecmsaa.svg2png(bytestring=SVG, write_to=str(tmp_path / "o.png")) is None
+    assert (tmp_path / "o.png").read_bytes() == png
+    buf = io.BytesIO()
+    vecmsaa.svg2png(bytestring=SVG, write_to=buf)
+    assert buf.getvalue() == png
+
+
+def test_svg2png_sizes_scale_and_background():
+    assert pixels(vecmsaa.svg2png(bytestring=SVG, scale=3)).shape[:2] == (30, 60)
+    assert pixels(vecmsaa.svg2png(bytestring=SVG, output_width=40)).shape[:2] == (20, 40)
+    # CairoSVG: scale multiplies the given output size
+    assert pixels(vecmsaa.svg2png(bytestring=SVG, output_width=40,
+                                  scale=2)).shape[:2] == (40, 80)
+    px = pixels(vecmsaa.svg2png(bytestring=SVG, background_color="red"))
+    assert tuple(px[0, 0]) == (255, 0, 0, 255) and tuple(px[5, 10]) == (0, 128, 255, 255)
+    neg = pixels(vecmsaa.svg2png(bytestring=SVG, negate_colors=True, background_color="white"))
+    assert tuple(neg[5, 10]) == (255, 127, 0, 255) and tuple(neg[0, 0]) == (255, 255, 255, 255)
+
+
+def test_svg2png_refuses_network_urls():
+    with pytest.raises(vecmsaa.SvgError, match="local files"):
+        vecmsaa.svg2png(url="https://example.com/a.svg")
+
+
+def test_other_formats():
+    assert Image.open(io.BytesIO(vecmsaa.svg2webp(bytestring=SVG))).format == "WEBP"
+    assert Image.open(io.BytesIO(vecmsaa.svg2jpeg(bytestring=SVG))).format == "JPEG"
+    assert Image.open(io.BytesIO(vecmsaa.svg2tiff(bytestring=SVG))).format == "TIFF"
+
+
+def test_render_text_matches_the_font_command(tmp_path):
+    img = vecmsaa.render_text(FONT, "Hamburg", 32)
+    out = tmp_path / "line.png"
+    assert main(["font", FONT, "--text", "Hamburg", "--size", "32", "-o", str(out)]) == 0
+    assert np.array_equal(np.asarray(img), np.asarray(Image.open(out).convert("RGBA")))
+
+
+def test_font_output_over_the_size_cap_is_one_line(tmp_path, capsys):
+    out = tmp_path / "big.png"
+    for flags in (["--text", "H" * 100_000], ["--margin", "1e9"],
+                  ["--waterfall", ",".join(["100"] * 5000)]):
+        assert main(["font", FONT, "-o", str(out), *flags]) in (1, 2)
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "limit" in err, err
+        assert not out.exists()
+
+
+# -- warnings ------------------------------------------------------------------------------
+
+MISSING = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="20">'
+           '<rect width="10" height="10" fill="url(#nowhere)"/>'
+           '<image href="missing.png" width="10" height="10"/>'
+           '<image href="https://example.com/x.png" width="10" height="10"/>'
+           '<text x="2" y="15" font-family="NoSuchFamily" font-size="10">Hi</text></svg>')
+
+
+def warned(**options):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        vecmsaa.render_svg_array(MISSING.encode(), use_fonts_dir=FONTS, skip_system_fonts=True,
+                                 **options)
+    return [str(w.message) for w in caught if issubclass(w.category, vecmsaa.RenderWarning)]
+
+
+def test_python_api_reports_problems_as_warnings():
+    messages = warned()
+    assert any("url(#nowhere)" in m for m in messages), messages
+    assert any("missing.png" in m and "not found" in m for m in messages), messages
+    assert any("https://example.com/x.png" in m and "network" in m for m in messages), messages
+    assert any("'NoSuchFamily'" in m and "Noto Sans" in m for m in messages), messages
+    assert len(messages) == len(set(messages))
+
+
+def test_cli_prints_one_line_per_warning_naming_the_file(tmp_path, capfd):
+    path = tmp_path / "w.svg"
+    path.write_text(MISSING)
+    args = ["render", str(path), "-o", str(tmp_path / "w.png"), "--use-fonts-dir", FONTS,
+            "--skip-system-fonts"]
+    assert main(args) == 0
+    err = capfd.readouterr().err.splitlines()
+    assert len(err) >= 4 and all(line.startswith(f"vecmsaa: warning: {path}: ") for line in err)
+    assert main(args + ["--quiet"]) == 0
+    assert capfd.readouterr().err == ""
