@@ -490,29 +490,19 @@ def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, n
 
 
 @njit(cache=True)
-def _parse_kernel(buf, mode, given, spans):
-    """One path's data → (verbs, flat points, command indices, numbers read, status)."""
-    n = len(buf)
-    verbs = np.empty(n + 2, np.uint8)
-    origin = np.empty(n + 2, np.int64)
-    pts = np.empty(3 * n + 32, np.float64)
-    nums = np.empty(n + 1, np.float64)
-    nv, npts, k, status = _parse_into(buf, 0, n, mode, given, spans, verbs, origin, pts, nums,
-                                      0, 0)
-    return verbs[:nv].copy(), pts[:npts].copy(), origin[:nv].copy(), k, status
-
-
-@njit(cache=True)
-def _parse_batch(buf, starts):
+def _parse_batch(buf, starts, mode, given, spans):
     """The path data buf[starts[i]:starts[i + 1]] of several paths → (verbs, flat points,
     command indices, where each path's verbs and coordinates start (n + 1 each), status of
-    each path); a path with status _NOT_EXACT is left empty here."""
+    each path, numbers read in each); a path with status _NOT_EXACT is left empty here.
+    Modes _SPANS and _GIVEN (see _parse_into) are for one path at a time.
+
+    The only entry point: numba optimises a kernel together with everything it calls, so
+    each further entry would compile the parser again."""
     count = len(starts) - 1
     longest = 0
     for i in range(count):
         longest = max(longest, starts[i + 1] - starts[i])
     nums = np.empty(longest + 1, np.float64)
-    no_spans = np.empty(0, np.int64)
     vcap = len(buf) + 2 * count + 2
     verbs = np.empty(vcap, np.uint8)
     origin = np.empty(vcap, np.int64)
@@ -521,6 +511,7 @@ def _parse_batch(buf, starts):
     vstart = np.empty(count + 1, np.int64)
     pstart = np.empty(count + 1, np.int64)
     status = np.zeros(count, np.int64)
+    numbers = np.zeros(count, np.int64)
     nv = npts = 0
     for i in range(count):
         a, b = starts[i], starts[i + 1]
@@ -532,15 +523,16 @@ def _parse_batch(buf, starts):
             pts = grown
         vstart[i] = nv
         pstart[i] = npts
-        nv2, npts2, _, st = _parse_into(buf, a, b, _CONVERT, nums, no_spans, verbs, origin, pts,
-                                        nums, nv, npts)
+        nv2, npts2, numbers[i], st = _parse_into(buf, a, b, mode, given, spans, verbs, origin,
+                                                 pts, nums, nv, npts)
         if st:
             status[i] = st
         else:
             nv, npts = nv2, npts2
     vstart[count] = nv
     pstart[count] = npts
-    return verbs[:nv].copy(), pts[:npts].copy(), origin[:nv].copy(), vstart, pstart, status
+    return (verbs[:nv].copy(), pts[:npts].copy(), origin[:nv].copy(), vstart, pstart, status,
+            numbers)
 
 
 _NO_NUMBERS = np.empty(0, np.float64)
@@ -564,15 +556,20 @@ def parse_path_data_with_commands(d: str):
 
 def _parse(d: str):
     """→ (Path, command index of every verb)."""
-    buf = np.frombuffer(d.encode("utf-8", "replace"), np.uint8)
-    verbs, pts, origin, count, status = _parse_kernel(buf, _CONVERT, _NO_NUMBERS, _NO_SPANS)
-    if status == _NOT_EXACT:
-        spans = np.empty(2 * len(buf) + 2, np.int64)
-        count = _parse_kernel(buf, _SPANS, _NO_NUMBERS, spans)[3]
-        raw = buf.tobytes()
-        given = np.array([float(raw[a:b]) for a, b in spans[:2 * count].reshape(-1, 2).tolist()],
-                         np.float64)
-        verbs, pts, origin, _, _ = _parse_kernel(buf, _GIVEN, given, _NO_SPANS)
+    return PathBatch([d]).get(0)
+
+
+def _parse_exactly(text: str):
+    """_parse for data with numbers the kernel cannot convert exactly: the kernel finds them,
+    Python's float converts them, the kernel reads the path with those values."""
+    buf = np.frombuffer(text.encode("utf-8", "replace"), np.uint8)
+    starts = np.array([0, len(buf)], np.int64)
+    spans = np.empty(2 * len(buf) + 2, np.int64)
+    count = _parse_batch(buf, starts, _SPANS, _NO_NUMBERS, spans)[6][0]
+    raw = buf.tobytes()
+    given = np.array([float(raw[a:b]) for a, b in spans[:2 * count].reshape(-1, 2).tolist()],
+                     np.float64)
+    verbs, pts, origin = _parse_batch(buf, starts, _GIVEN, given, _NO_SPANS)[:3]
     return Path._of_arrays(verbs, pts.reshape(-1, 2)), origin
 
 
@@ -585,7 +582,8 @@ class PathBatch:
         starts = np.zeros(len(raw) + 1, np.int64)
         np.cumsum([len(r) for r in raw], out=starts[1:])
         buf = np.frombuffer(b"".join(raw), np.uint8)
-        verbs, pts, origin, vstart, pstart, status = _parse_batch(buf, starts)
+        verbs, pts, origin, vstart, pstart, status, _ = _parse_batch(
+            buf, starts, _CONVERT, _NO_NUMBERS, _NO_SPANS)
         self.texts = texts
         self.verbs, self.points, self.origin = verbs, pts.reshape(-1, 2), origin
         self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
@@ -594,7 +592,7 @@ class PathBatch:
     def get(self, i):
         """(Path, command index of every verb) of the i-th text."""
         if self.status[i]:
-            return _parse(self.texts[i])
+            return _parse_exactly(self.texts[i])
         v0, v1 = self.vstart[i], self.vstart[i + 1]
         return (Path._of_arrays(self.verbs[v0:v1], self.points[self.pstart[i]:self.pstart[i + 1]]),
                 self.origin[v0:v1])
