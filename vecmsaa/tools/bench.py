@@ -509,14 +509,13 @@ def _best_child(cmd, repeat):
 
 _WARM_SNIPPET = r"""
 import json, sys, time
-from vecmsaa.api import render_svg_array
-from vecmsaa.output.png import encode_png
+from vecmsaa.api import render_svg_png
 path, width, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-encode_png(render_svg_array(path, width=width))
+render_svg_png(path, width=width)
 best = 1e9
 for _ in range(repeat):
     t = time.perf_counter()
-    encode_png(render_svg_array(path, width=width))
+    render_svg_png(path, width=width)
     best = min(best, time.perf_counter() - t)
 print(json.dumps({"warm_s": best}))
 """
@@ -592,7 +591,7 @@ def write_versus(out_dir, result):
              f"{machine()}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Whole "
              f"process: `vecmsaa render FILE -o out.png -w N` and `resvg -w N FILE out.png`, "
              f"min wall time of {result['repeat']}, peak RSS (MB) of the process; warm: "
-             f"file → PNG bytes in one process (`render_svg_array` + `encode_png`), min of "
+             f"file → PNG bytes in one process (`render_svg_png`), min of "
              f"{result['repeat']} after a warm-up. Approx, 8 samples, warm JIT caches.", "",
              md_table(rows, [("file", "scene"),
                              (f"vecmsaa {big} (s)", f"vecmsaa_{big}_s"),
