@@ -15,6 +15,12 @@ COMPILE_SECONDS = "60–90"
 
 
 def install(stream=None):
+    """Announce compiles on ``stream`` (default: stderr when it is a terminal — scripts that
+    read stderr, such as a one-line error check, see only what they did before)."""
+    if stream is None:
+        if not sys.stderr.isatty():
+            return None
+        stream = sys.stderr
     from numba.core import event
 
     class Notice(event.Listener):
@@ -25,7 +31,7 @@ def install(stream=None):
                 self.said = True
                 print(f"vecmsaa: compiling the numba kernels this command uses, once (about "
                       f"{COMPILE_SECONDS} s for everything render, font and demo use); later "
-                      f"runs load them from the cache", file=stream or sys.stderr, flush=True)
+                      f"runs load them from the cache", file=stream, flush=True)
 
         def on_end(self, ev):
             pass
