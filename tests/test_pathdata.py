@@ -267,3 +267,32 @@ def test_a_long_digit_run_before_junk_parses_in_linear_time():
 def test_an_arc_after_an_infinite_coordinate_does_not_raise():
     path = parse_path_data("m0 1e999v 0a9 5 0 1 0 10 0")
     assert len(path.verbs) >= 1
+
+
+# -- the compiled reader: exact numbers, one call per document ------------------------------
+
+@pytest.mark.parametrize("text", [
+    "0.1", "-0", "1e22", "1e-22", "123456789012345", "0.000000000000000000001234",
+    "1234567890123456789", "0.1000000000000000055511151231257827", "1e23", "4.9e-324",
+    "1e-400", "1.7976931348623157e308", "1e999", "9007199254740993", ".5e+3", "-7.e-2",
+])
+def test_numbers_are_the_doubles_python_reads(text):
+    # Python's float is correctly rounded: the kernel's fast path and its fallback must agree
+    path = parse_path_data(f"M {text} {text}")
+    assert path.points.tobytes() == np.array([[float(text), float(text)]]).tobytes()
+
+
+def test_a_batch_reads_every_path_as_alone():
+    from vecmsaa.svg.pathdata import PathBatch
+    texts = ["M0 0 L10 10 z", "", "M 1.23456789012345678 2 a5 5 0 1 1 10 10", "junk",
+             "M.5.5-1-2 h3 v-4 Q 1 2 3 4 T 5 6 z m 1 1 l 2 2", "M 1e999 1 L 2 2",
+             "M0 0 C 1 1 2 2 3 3 S 4 4 5 5"]
+    batch = PathBatch(texts)
+    for i, text in enumerate(texts):
+        got, got_origin = batch.get(i)
+        alone, origin = parse_path_data_with_commands(text)
+        assert got.verbs.tolist() == alone.verbs.tolist()
+        assert got.points.tobytes() == alone.points.tobytes()
+        assert got_origin.tolist() == origin.tolist()
+    # the long number came through Python's float, not the fast path
+    assert batch.get(2)[0].points[0].tolist() == [1.23456789012345678, 2.0]

@@ -12,9 +12,10 @@ from vecmsaa.scene.path import Path
 from vecmsaa.raster.sample_patterns import mask_table, standard_pattern
 from vecmsaa.output.png import encode_png
 from vecmsaa.raster.modes import MODES
-from vecmsaa.raster.render import render_scene, render_scene_png, render_scene_rgba8
+from vecmsaa.raster.render import (RenderOptions, render_float, render_scene, render_scene_png,
+                                   render_scene_rgba8)
 from vecmsaa.output.rgba8 import to_rgba8
-from vecmsaa.raster.scan import mask_lookup
+from vecmsaa.raster.scan import mask_error, mask_lookup
 from vecmsaa.scene.nodes import Fill, Group, LinearGradient, Mask, Scene, Solid
 
 SIZE = 16
@@ -92,6 +93,45 @@ def assert_matches_brute_force(path, mode, samples, rule):
 @given(closed_paths(), st.sampled_from(["nonzero", "evenodd"]))
 def test_persample_equals_point_in_region_at_the_same_samples(path, rule):
     assert_matches_brute_force(path, "persample", 8, rule)
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(closed_paths(), st.sampled_from(["nonzero", "evenodd"]), st.sampled_from([8, 16]))
+def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
+    # random curves at 16 px turn within pixels, end inside them and share them: the half-plane
+    # is wrong there, and approx must notice and evaluate those samples
+    assert_matches_brute_force(path, "approx", samples, rule)
+
+
+def test_approx_evaluates_samples_only_near_a_curve_that_turns_within_the_pixel():
+    """Pixels where approx evaluates samples: few on a big circle (nearly straight per pixel),
+    many on a circle of one pixel's radius; the result is persample's either way."""
+    fractions = []
+    for size, r in ((512, 250.3), (16, 0.9)):
+        scene = Scene(size, size, Group([Fill(circle_path((size / 2 + 0.01, size / 2 + 0.02), r),
+                                              Solid((0, 0, 0, 1)))]))
+        opts = RenderOptions("approx", 8)
+        approx = render_float(scene, opts)
+        persample = render_scene(scene, mode="persample", samples=8)
+        assert np.array_equal(approx, persample)
+        fractions.append(opts.lens_stats[1] / opts.lens_stats[0])
+    assert fractions[0] < 0.25 and fractions[1] > 0.5, fractions
+
+
+def test_approx_margin_covers_the_mask_table_quantisation():
+    rng = np.random.default_rng(3)
+    for n in (8, 16):
+        offs = standard_pattern(n)
+        table = mask_table(n)
+        full = np.uint64((1 << n) - 1)
+        margin = mask_error(float(np.hypot(offs[:, 0], offs[:, 1]).max()))
+        for theta, d in zip(rng.uniform(0, 2 * math.pi, 20000), rng.uniform(-0.8, 0.8, 20000)):
+            nx, ny = math.cos(theta), math.sin(theta)
+            bits = int(mask_lookup(table, nx, ny, d, full))
+            for s, (ox, oy) in enumerate(offs):
+                side = ox * nx + oy * ny + d
+                if abs(side) > margin:
+                    assert bool(bits >> s & 1) == (side < 0), (n, s, side)
 
 
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -26,6 +26,10 @@ def add_parser(subparsers):
     p.add_argument("--memory", default=None, metavar="SIZES",
                    help="comma-separated sizes for the peak-memory rows (default 2048,4096,8192; "
                         "quick none; 0 = none)")
+    p.add_argument("--versus-resvg", action="store_true",
+                   help="only the rows against resvg on the given SVG files: whole process at "
+                        "8192 and 2048 px with peak memory, warm in one process at 2048 px, "
+                        "the files as a batch with --jobs 1 and 2 (writes versus.md/json)")
     return p
 
 
@@ -45,6 +49,16 @@ def run(args) -> int:
 
     def log(text):
         print(text, file=sys.stderr, flush=True)
+    if args.versus_resvg:
+        from vecmsaa.cli.render import expand_inputs
+        from vecmsaa.tools.bench import versus_rows, write_versus
+        paths = expand_inputs(args.inputs)
+        if not paths:
+            print("vecmsaa bench: --versus-resvg needs SVG files or folders", file=sys.stderr)
+            return 2
+        write_versus(args.out_dir, versus_rows(paths, repeat=args.repeat or 3, log=log))
+        log(f"bench: results in {args.out_dir}/ (versus.md, versus.json)")
+        return 0
     result = run_bench(args.inputs, args.out_dir, quick=args.quick, size=args.size,
                        repeat=args.repeat, log=log, synthetic=not args.no_synthetic,
                        jit=not args.no_jit, special=not args.no_special, memory=memory)

@@ -11,6 +11,8 @@ import importlib
 import sys
 
 COMMANDS = ("render", "font", "golden", "bench", "demo", "suite")
+#: commands that run numba kernels (they say so on stderr when they compile them)
+COMPILING = set(COMMANDS)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -55,6 +57,9 @@ def main(argv=None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
+    if args.command in COMPILING:
+        from .compile_notice import install
+        install()
     module = importlib.import_module(f"vecmsaa.cli.{args.command}")
     try:
         return int(module.run(args) or 0)

@@ -418,6 +418,23 @@ def _eval_implicit(prim, x, y):
     return f, gx * inv, gy * inv
 
 
+@njit(cache=True, inline="always")
+def _linearisation_bound(prim, x, y, rho):
+    """Bound on |f(p + δ) − f(p) − ∇f(p)·δ| over all |δ| ≤ rho (pixels): how far the implicit
+    function can depart from its tangent plane at p within that disc. With k, l, m affine and
+    α, β, γ their changes (|α| ≤ A = ‖∇k‖ρ, ...): quadratics f = k² − l leave α² ≤ A², cubics
+    f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
+    s = rho * prim[P_INVS]
+    a = math.hypot(prim[P_K], prim[P_K + 1]) * s
+    if prim[P_KIND] == KIND_QUAD:
+        return a * a
+    inv = prim[P_INVS]
+    k = (prim[P_K] * (x - prim[P_OX]) + prim[P_K + 1] * (y - prim[P_OY])) * inv + prim[P_K + 2]
+    b = math.hypot(prim[P_L], prim[P_L + 1]) * s
+    c = math.hypot(prim[P_M], prim[P_M + 1]) * s
+    return 3.0 * abs(k) * a * a + a * a * a + b * c
+
+
 @njit(cache=True)
 def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""

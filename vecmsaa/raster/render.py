@@ -89,6 +89,9 @@ class RenderOptions:
             self.table = np.zeros((1, 1), dtype=np.uint64)
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
         self.kernel_mode = MODE_IDS.get(mode, MODE_PERSAMPLE)
+        #: counted by the approx mode over a render: curve pixels, those where the half-plane
+        #: did not decide every sample, and the samples evaluated there (scan.scan_lenses)
+        self.lens_stats = np.zeros(3, dtype=np.int64)
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
         self.tiles = {}
@@ -236,7 +239,7 @@ class Raster:
         if opts.mode == "analytic":
             self.scratch = analytic_scratch(strip_rows, width)
         else:
-            self.scratch = msaa_scratch(strip_rows, width, opts.samples)
+            self.scratch = msaa_scratch(strip_rows, width, opts.samples, opts.lens_stats)
 
     def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
         b, o = batch, self.opts

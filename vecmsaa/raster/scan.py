@@ -26,7 +26,8 @@ import numpy as np
 from numba import njit
 
 from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_KIND, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
-                                   P_T2, P_WSIGN, KIND_CUBIC, _eval_implicit)
+                                   P_T2, P_WSIGN, KIND_CUBIC, _eval_implicit,
+                                   _linearisation_bound)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade
 
@@ -70,6 +71,15 @@ def mask_lookup(table, nx, ny, dist, full):
     di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
     di = min(DIST_BINS - 1, max(0, di))
     return table[ai, di]
+
+
+@njit(cache=True, inline="always")
+def mask_error(rho):
+    """How far (pixels) a mask_lookup answer can put a sample at radius ≤ rho from the pixel
+    centre on the wrong side of the exact half-plane: half a distance bin, plus half an angle
+    bin (a pseudo-angle bin spans at most 2·4/ANGLE_BINS radians) turning the line by rho·Δθ,
+    plus float slack."""
+    return DMAX / DIST_BINS + rho * 4.0 / ANGLE_BINS + 1e-6
 
 
 @njit(cache=True, inline="always")
@@ -248,10 +258,16 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
 
 @njit(cache=True)
 def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi):
+                dlist, dcount, lo, hi, lens_stats):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
     mode. Written out in one loop nest: an array handed to a helper costs a reference count
-    per call, here per primitive and per touched pixel."""
+    per call, here per primitive and per touched pixel. ``lens_stats`` counts the curve pixels of
+    the approx mode (0), those where it evaluated samples (1) and those samples (2)."""
+    n = sx.shape[0]
+    rho = 0.0
+    for s in range(n):
+        rho = max(rho, math.hypot(sx[s] - 0.5, sy[s] - 0.5))
+    quantum = mask_error(rho)
     for c in range(c0, c1):
         prim = prims[c]
         bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
@@ -261,7 +277,6 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         r_hi = min(_floor_int(by1) - sy0, rows - 1)
         if r_lo > r_hi:
             continue
-        n = sx.shape[0]
         full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
         xt, yt, xb, yb = prim[P_CHORD], prim[P_CHORD + 1], prim[P_CHORD + 2], prim[P_CHORD + 3]
         right = prim[P_RIGHT] != 0.0
@@ -317,6 +332,9 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                     g = math.hypot(gx, gy)
                     if not (g > 0.0) or not math.isfinite(f):
                         # singular point (cusp, double point): evaluate per sample instead
+                        if mode == MODE_APPROX:
+                            lens_stats[0] += 1
+                            lens_stats[1] += 1
                         touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign,
                                                    local)
                     else:
@@ -330,12 +348,33 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                                         touched = True
                         else:
                             if mode == MODE_APPROX:
-                                bits = mask_lookup(table, sigma * gx / g, sigma * gy / g, dist, full)
+                                # the half-plane decides the samples farther from it than the
+                                # curve can depart from its tangent in the pixel plus the
+                                # table's quantisation; the rest are evaluated
+                                margin = (_linearisation_bound(prim, px + 0.5, py + 0.5, rho) / g
+                                          + quantum)
+                                if margin < DMAX:
+                                    nx, ny = sigma * gx / g, sigma * gy / g
+                                    bits = mask_lookup(table, nx, ny, dist + margin, full) & region
+                                    unsure = (mask_lookup(table, nx, ny, dist - margin, full)
+                                              & region & ~bits)
+                                else:
+                                    bits = np.uint64(0)
+                                    unsure = region
+                                lens_stats[0] += 1
+                                if unsure != 0:
+                                    lens_stats[1] += 1
+                                    for s in range(n):
+                                        if (unsure >> np.uint64(s)) & np.uint64(1):
+                                            lens_stats[2] += 1
+                                            fs, gxs, gys = _eval_implicit(prim, px + sx[s],
+                                                                          py + sy[s])
+                                            if sigma * fs < 0.0:
+                                                bits |= np.uint64(1) << np.uint64(s)
                             else:  # MODE_A2C
                                 alpha = min(1.0, max(0.0, 0.5 - dist))
                                 k = int(alpha * n + 0.5)
-                                bits = a2c_bits[k]
-                            bits &= region
+                                bits = a2c_bits[k] & region
                             if bits != 0:
                                 for s in range(n):
                                     if (bits >> np.uint64(s)) & np.uint64(1):
@@ -467,9 +506,10 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
     return npool
 
 
-def msaa_scratch(strip_rows, W, n):
+def msaa_scratch(strip_rows, W, n, lens_stats=None):
     """render_msaa's per-strip buffers, allocated once per image and reused by every call:
-    the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels)."""
+    the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels).
+    ``lens_stats``: where scan_lenses counts (3 int64), e.g. shared by a whole render."""
     return (np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # delta
             np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # local
             np.zeros((strip_rows, W + 1), dtype=np.uint8),          # dirty
@@ -481,7 +521,8 @@ def msaa_scratch(strip_rows, W, n):
             np.full((strip_rows, W), -1, dtype=np.int64),           # cplx
             np.full((strip_rows, W), -1, dtype=np.int64),           # slot_of
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
-            np.empty((strip_rows * W, n, 4), dtype=np.float32))     # pool
+            np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
+            np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats)
 
 
 @njit(cache=True, nogil=True)   # bands render on threads
@@ -496,7 +537,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
     P = edge_off.shape[0] - 1
-    delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool = scratch
+    delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats = scratch
     strip_rows = delta.shape[0]
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
@@ -515,7 +556,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                        dlist, dcount)
             if prim_off[p + 1] > prim_off[p]:
                 scan_lenses(prims, prim_off[p], prim_off[p + 1], sy0, rows, W, sx, sy, mode,
-                            table, a2c_bits, local, dirty, dlist, dcount, lo, hi)
+                            table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats)
             # rows outside the fill's box have no deltas and nothing dirty
             r_first = max(0, _floor_int(path_box[p, 1]) - sy0)
             r_last = min(rows - 1, _floor_int(path_box[p, 3]) - sy0)

@@ -59,12 +59,13 @@ class Path(BasePen):
         self._pts.extend((pt1, pt2, pt3))
 
     def _closePath(self):
+        self._thaw()
         if self._open:
-            self._thaw()
             self._verbs.append(CLOSE)
         self._open = False
 
     def _endPath(self):
+        self._thaw()
         self._open = False
 
     def _implicit_move(self):
@@ -77,11 +78,16 @@ class Path(BasePen):
             self._open = True
 
     def _thaw(self):
-        """Make the lists current before appending; the arrays go stale."""
+        """Make the lists current before appending; the arrays go stale. A path made from
+        arrays gets its pen state (open subpath, current point) here, when first drawn into:
+        most never are."""
         if self._verbs is None:
             v, p = self._arrays
             self._verbs = v.tolist()
             self._pts = list(map(tuple, p.tolist()))
+            self._open = bool(self._verbs) and self._verbs[-1] != CLOSE
+            if self._pts:
+                self._BasePen__currentPoint = self._pts[-1]
         self._arrays = None
 
     # -- recorded arrays -------------------------------------------------------------------
@@ -130,12 +136,9 @@ class Path(BasePen):
     def _of_arrays(cls, v, p) -> "Path":
         """from_arrays for arrays already in the stored form (contiguous uint8 verbs, float64
         points of shape (N, 2)): the conversions cost a third of a short path's wrapping."""
-        path = cls._blank()
-        path._verbs = path._pts = None
+        path = cls.__new__(cls)
+        path.__dict__.update(_ARRAY_STATE)
         path._arrays = (v, p)
-        path._open = bool(len(v)) and v[-1] != CLOSE
-        if len(p):
-            path._BasePen__currentPoint = tuple(p[-1].tolist())
         return path
 
     def __len__(self):
@@ -213,3 +216,5 @@ def rect_path(x, y, w, h) -> Path:
 
 #: the attributes of a fresh Path (Path._blank copies them; the lists are replaced there)
 _BLANK_STATE = vars(Path())
+#: and of one made from arrays (no lists; its pen state is set when it is thawed)
+_ARRAY_STATE = dict(_BLANK_STATE, _verbs=None, _pts=None)

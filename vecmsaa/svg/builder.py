@@ -24,7 +24,7 @@ from .document import Document, Element, Style
 from .filters import element_filters
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
-from .pathdata import parse_path_data
+from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import shape_path
 from .units import (mean_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
@@ -138,6 +138,8 @@ class Builder:
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
+        self._path_index = None        # <path> element → its index in self._path_batch
+        self._path_batch = None
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -481,9 +483,21 @@ class Builder:
         return self.wrap(sym, style, ctx, nodes)
 
     # -- shapes and painting -----------------------------------------------------------------
+    def path_data(self, el) -> Path:
+        """The Path of a <path> element. The document's path data is read in one go when
+        the first one is asked for."""
+        if self._path_index is None:
+            elements = [e for e in iter_elements(self.doc.root) if e.tag == "path"]
+            self._path_index = {e: i for i, e in enumerate(elements)}
+            self._path_batch = PathBatch([e.get("d") or "" for e in elements])
+        i = self._path_index.get(el)
+        if i is None:
+            return parse_path_data(el.get("d") or "")
+        return self._path_batch.get(i)[0]
+
     def shape(self, el, ctx, style):
         if el.tag == "path":
-            path = parse_path_data(el.get("d") or "")
+            path = self.path_data(el)
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
         if path is None or path.is_empty():
@@ -811,7 +825,7 @@ class TextContext:
 
     def path_of(self, element):
         if element.tag == "path":
-            return parse_path_data(element.get("d") or "")
+            return self._builder.path_data(element)
         style = self._builder.doc.document_style(element)
         p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
         if p is None:
@@ -850,6 +864,15 @@ def expanded_size(doc) -> int:
         memo[key] = min(total, MAX_NODES + 1)
         return memo[key]
     return size(doc.root)
+
+
+def iter_elements(root):
+    """Every element of a tree, depth first (without recursion: trees may be deep)."""
+    stack = [root]
+    while stack:
+        el = stack.pop()
+        yield el
+        stack.extend(reversed(el.children))
 
 
 def contains(ancestor, el):

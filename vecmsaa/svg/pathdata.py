@@ -5,334 +5,171 @@ SVG 2 9.5.4: the path is rendered up to the last complete segment before the fir
 Arcs become cubic Béziers (at most 90° each) through the endpoint → centre conversion of
 SVG 1.1 appendix F.6.5 with the radii correction of F.6.6.
 
-Speed matters (OSM maps carry megabytes of path data), so the string is cut at command letters
-with one regex split, and arguments written plainly (numbers between white space or single
-commas) are converted by ``map(float, str.split())`` in C; only other spellings ("-1-2", ".5.5",
-errors) and arcs (whose flags may be written without separators) go through the regex
-scanners. Points are collected as one flat list of floats and verbs as bytes, which become the
-Path's arrays without per-point Python objects.
+Speed matters (OSM maps carry megabytes of path data, tens of thousands of paths), so one
+compiled kernel reads the bytes of ``d`` and writes the verb, point and command arrays: no
+Python objects per number or segment. Numbers are converted in the kernel when that is exact
+(at most 15 significant digits and a decimal exponent within ±22: one correctly rounded
+multiplication or division of two exact doubles, as in Clinger's fast path); a path with any
+other number is read again with its numbers converted by Python's ``float`` (correctly rounded),
+so the result is the same double for every spelling.
 """
 from __future__ import annotations
 
 import math
-import re
-from itertools import accumulate
 
 import numpy as np
+from numba import njit
 
 from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path
 
-_NUMBER = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
-# comma-wsp between numbers is optional ("-1-2", ".5.5" are two numbers each)
-_SEP = r"(?:[ \t\r\n\f]*,[ \t\r\n\f]*|[ \t\r\n\f]+)?"
-_WSP = r"[ \t\r\n\f]*"
-_COMMANDS = "MmLlHhVvCcSsQqTtAaZz"
-_SPLIT = re.compile(r"([MmLlHhVvCcSsQqTtAaZz])")
-_NUMBER_RE = re.compile(_NUMBER)
-_LEADING_WSP = re.compile(_WSP)
-_ARG_NUMBER = re.compile(f"{_SEP}({_NUMBER})")
-_ARG_FLAG = re.compile(f"{_SEP}([01])")
-# only characters that can occur in plainly written numbers and separators
-_PLAIN_ARGS = re.compile(r"[0-9.eE+\-, \t\r\n\f]*")
+# byte codes
+_PLUS, _MINUS, _DOT, _COMMA, _ZERO, _ONE, _NINE = 43, 45, 46, 44, 48, 49, 57
+_E_LOWER, _E_UPPER = 101, 69
+#: command letters in the order of their codes below: upper case | 32 is lower case
+_LETTERS = b"MLHVCSQTAZ"
+_M, _L, _H, _V, _C, _S, _Q, _T, _A, _Z = range(10)
+#: numbers each command consumes per repetition, by code
+_ARITY = np.array([2, 2, 1, 1, 6, 4, 4, 2, 7, 0], np.int64)
+_POW10 = np.array([10.0 ** k for k in range(23)])   # exact doubles 1 … 1e22
+_MAX_EXACT = 2 ** 53
+
+# kernel modes: convert numbers (stop at one that is not exact), record where the numbers
+# are (no geometry), or take the numbers from ``given``
+_CONVERT, _SPANS, _GIVEN = 0, 1, 2
+_NOT_EXACT = 1              # status: some number needs Python's float
 
 
-#: numbers each command consumes per repetition
-_ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "A": 7, "Z": 0}
+@njit(cache=True)
+def _is_wsp(c):
+    return c == 32 or c == 9 or c == 10 or c == 13 or c == 12
 
 
-def parse_path_data(d: str) -> Path:
-    """The path described by an SVG ``d`` attribute (empty Path for an empty or invalid one)."""
-    return _parse(d)[0]
+@njit(cache=True)
+def _command(c):
+    """Code of a command letter (0–9, see _LETTERS), + 16 when relative; -1 for any other byte."""
+    rel = 0
+    if 97 <= c <= 122:
+        rel = 16
+        c -= 32
+    if c == 77:
+        return _M + rel
+    if c == 76:
+        return _L + rel
+    if c == 72:
+        return _H + rel
+    if c == 86:
+        return _V + rel
+    if c == 67:
+        return _C + rel
+    if c == 83:
+        return _S + rel
+    if c == 81:
+        return _Q + rel
+    if c == 84:
+        return _T + rel
+    if c == 65:
+        return _A + rel
+    if c == 90:
+        return _Z + rel
+    return -1
 
 
-def parse_path_data_with_commands(d: str):
-    """Like :func:`parse_path_data`, plus, for every recorded verb, the index of the path
-    command (counting implicit repetitions as their own commands) it came from.
-
-    An arc becomes several cubics; this tells which verbs belong to one command. (SVG markers
-    do not use it: resvg places mid markers between an arc's pieces too.)
-    """
-    path, origin = _parse(d)
-    return path, np.asarray(origin, dtype=np.int64)
-
-
-def _parse(d: str):
-    """→ (Path, list of the command index of every verb)."""
-    verbs = bytearray()
-    pts: list[float] = []       # x0, y0, x1, y1, ...
-    origin: list[int] = []
-    parts = _SPLIT.split(d)
-    # parts = [text before first command, cmd, args, cmd, args, ...]
-    if parts[0].strip(" \t\r\n\f"):
-        return _finish(verbs, pts, origin)
-    cx = cy = 0.0               # current point
-    sx = sy = 0.0               # start of the current subpath
-    # control point that smooth curves reflect, and which kind of curve left it
-    rx = ry = 0.0
-    prev_kind = ""              # "C" after C/S, "Q" after Q/T, "" otherwise
-    subpath_open = False        # a MOVE has been recorded for the current subpath
-    command_index = 0
-    first = True
-
-    for k in range(1, len(parts), 2):
-        letter = parts[k]
-        args_text = parts[k + 1]
-        upper = letter.upper()
-        relative = letter != upper
-        arity = _ARITY[upper]
-        if first and upper != "M":
-            break               # path data must begin with a moveto
-        first = False
-
-        if upper == "A":
-            nums, ok = _scan_arcs(args_text)
-        else:
-            nums, ok, end = _scan_numbers(args_text)
-            if not ok and nums and args_text[end:end + 1] in ("e", "E") and \
-                    args_text[end - 1] not in " \t\r\n\f,":
-                # "1e" is a broken number, not "1" followed by junk (as browsers read it)
-                nums.pop()
-        if arity == 0:
-            nums_ok = not nums
-            count = 0
-        else:
-            count = len(nums) // arity
-            nums_ok = count > 0 and count * arity == len(nums)
-
-        if upper == "Z":
-            if subpath_open:
-                verbs.append(CLOSE)
-                origin.append(command_index)
-                command_index += 1
-            cx, cy = sx, sy
-            subpath_open = False
-            prev_kind = ""
-            if not (ok and nums_ok):
-                break
-            continue
-
-        if (upper == "L" and count > 0) or (upper == "M" and count > 1):
-            # polylines dominate map data: handle a whole run of points at once
-            start = 0
-            if upper == "M":
-                x, y = nums[0], nums[1]
-                if relative:
-                    x += cx
-                    y += cy
-                verbs.append(MOVE)
-                pts += (x, y)
-                origin.append(command_index)
-                sx, sy = cx, cy = x, y
-                subpath_open = True
-                command_index += 1
-                start = 1
-            elif not subpath_open:
-                verbs.append(MOVE)
-                pts += (cx, cy)
-                origin.append(command_index)
-                subpath_open = True
-            run = count - start
-            if relative:
-                xy = [0.0] * (2 * run)
-                xy[0::2] = list(accumulate(nums[2 * start:2 * count:2], initial=cx))[1:]
-                xy[1::2] = list(accumulate(nums[2 * start + 1:2 * count:2], initial=cy))[1:]
+@njit(cache=True)
+def _number(buf, pos, end):
+    """The SVG number starting at pos (``[+-]?(\\d+\\.?\\d*|\\.\\d+)([eE][+-]?\\d+)?``, longest
+    match) → (end of it or -1 when there is none, its value, whether the value is exact)."""
+    i = pos
+    neg = False
+    if i < end and (buf[i] == _PLUS or buf[i] == _MINUS):
+        neg = buf[i] == _MINUS
+        i += 1
+    mant = 0
+    sig = 0                     # significant digits taken into mant
+    scale = 0                   # decimal exponent of mant's last digit
+    digits = 0
+    while i < end and _ZERO <= buf[i] <= _NINE:
+        d = buf[i] - _ZERO
+        if sig < 19 and (mant or d):
+            mant = mant * 10 + d
+            sig += 1
+        elif sig >= 19:
+            scale += 1          # digits beyond 19: too many for the fast path anyway
+            sig += 1
+        digits += 1
+        i += 1
+    if i < end and buf[i] == _DOT:
+        i += 1
+        while i < end and _ZERO <= buf[i] <= _NINE:
+            d = buf[i] - _ZERO
+            if sig < 19 and (mant or d):
+                mant = mant * 10 + d
+                sig += 1
+                scale -= 1
+            elif sig < 19:
+                scale -= 1      # a leading zero of the fraction
             else:
-                xy = nums[2 * start:2 * count]
-            pts += xy
-            verbs += bytes((LINE,)) * run
-            origin.extend(range(command_index, command_index + run))
-            command_index += run
-            cx, cy = xy[-2], xy[-1]
-            prev_kind = ""
-            if not (ok and nums_ok):
-                break
-            continue
-
-        for i in range(0, count * arity, arity):
-            if upper == "M":
-                x, y = nums[i], nums[i + 1]
-                if relative:
-                    x += cx
-                    y += cy
-                if i == 0:
-                    verbs.append(MOVE)
-                    pts += (x, y)
-                    origin.append(command_index)
-                    sx, sy = x, y
-                    subpath_open = True
-                else:           # extra pairs after a moveto are implicit linetos
-                    verbs.append(LINE)
-                    pts += (x, y)
-                    origin.append(command_index)
-                cx, cy = x, y
-                prev_kind = ""
-                command_index += 1
-                continue
-            if not subpath_open:
-                # a drawing command right after closepath starts a subpath at its start point
-                verbs.append(MOVE)
-                pts += (cx, cy)
-                origin.append(command_index)
-                subpath_open = True
-            if upper == "L":
-                x, y = nums[i], nums[i + 1]
-                if relative:
-                    x += cx
-                    y += cy
-                verbs.append(LINE)
-                pts += (x, y)
-                prev_kind = ""
-            elif upper == "H":
-                x = nums[i] + cx if relative else nums[i]
-                y = cy
-                verbs.append(LINE)
-                pts += (x, y)
-                prev_kind = ""
-            elif upper == "V":
-                x = cx
-                y = nums[i] + cy if relative else nums[i]
-                verbs.append(LINE)
-                pts += (x, y)
-                prev_kind = ""
-            elif upper == "C" or upper == "S":
-                if upper == "C":
-                    x1, y1, x2, y2, x, y = nums[i:i + 6]
-                    if relative:
-                        x1 += cx
-                        y1 += cy
-                else:
-                    x2, y2, x, y = nums[i:i + 4]
-                    if prev_kind == "C":
-                        x1, y1 = 2 * cx - rx, 2 * cy - ry
-                    else:
-                        x1, y1 = cx, cy
-                if relative:
-                    x2 += cx
-                    y2 += cy
-                    x += cx
-                    y += cy
-                verbs.append(CUBIC)
-                pts += (x1, y1, x2, y2, x, y)
-                rx, ry = x2, y2
-                prev_kind = "C"
-            elif upper == "Q" or upper == "T":
-                if upper == "Q":
-                    x1, y1, x, y = nums[i:i + 4]
-                    if relative:
-                        x1 += cx
-                        y1 += cy
-                else:
-                    x, y = nums[i:i + 2]
-                    if prev_kind == "Q":
-                        x1, y1 = 2 * cx - rx, 2 * cy - ry
-                    else:
-                        x1, y1 = cx, cy
-                if relative:
-                    x += cx
-                    y += cy
-                verbs.append(QUAD)
-                pts += (x1, y1, x, y)
-                rx, ry = x1, y1
-                prev_kind = "Q"
-            else:               # A
-                arx, ary, rotation, large, sweep, x, y = nums[i:i + 7]
-                if relative:
-                    x += cx
-                    y += cy
-                pieces = arc_to_cubics(cx, cy, arx, ary, rotation, large != 0.0, sweep != 0.0,
-                                       x, y)
-                if pieces is None:
-                    verbs.append(LINE)
-                    pts += (x, y)
-                    origin.append(command_index)
-                for (x1, y1), (x2, y2), (x3, y3) in pieces or ():
-                    verbs.append(CUBIC)
-                    pts += (x1, y1, x2, y2, x3, y3)
-                    origin.append(command_index)
-                cx, cy = x, y
-                prev_kind = ""
-                command_index += 1
-                continue
-            origin.append(command_index)
-            cx, cy = x, y
-            command_index += 1
-        if not (ok and nums_ok):
-            break
-    return _finish(verbs, pts, origin)
+                sig += 1
+            digits += 1
+            i += 1
+    if digits == 0:
+        return -1, 0.0, True
+    if i < end and (buf[i] == _E_LOWER or buf[i] == _E_UPPER):
+        j = i + 1
+        eneg = False
+        if j < end and (buf[j] == _PLUS or buf[j] == _MINUS):
+            eneg = buf[j] == _MINUS
+            j += 1
+        if j < end and _ZERO <= buf[j] <= _NINE:
+            ex = 0
+            while j < end and _ZERO <= buf[j] <= _NINE:
+                if ex < 100000:
+                    ex = ex * 10 + (buf[j] - _ZERO)
+                j += 1
+            scale += -ex if eneg else ex
+            i = j
+    if mant == 0 and sig == 0:
+        value = 0.0
+        exact = True
+    elif sig <= 15 and mant <= _MAX_EXACT and -22 <= scale <= 22:
+        value = mant * _POW10[scale] if scale >= 0 else mant / _POW10[-scale]
+        exact = True
+    else:
+        value = 0.0
+        exact = False
+    return i, -value if neg else value, exact
 
 
-def _finish(verbs, pts, origin):
-    return (Path._of_arrays(np.frombuffer(verbs, dtype=np.uint8),
-                            np.array(pts, dtype=np.float64).reshape(-1, 2)),
-            origin)
-
-
-def _scan_arcs(text: str):
-    """Arguments of an arc command: (numbers, whether the whole text was valid).
-
-    Flags are single characters '0'/'1' and need no separator ("a10 10 0 1100 10" is valid),
-    so arcs cannot use the plain number regex.
-    """
-    nums: list[float] = []
-    pos = 0
-    end = len(text)
-    # leading wsp only (no comma) before the first argument
-    while pos < end and text[pos] in " \t\r\n\f":
+@njit(cache=True)
+def _skip_wsp(buf, pos, end):
+    while pos < end and _is_wsp(buf[pos]):
         pos += 1
-    field = 0
-    while True:
-        matcher = _ARG_FLAG if field in (3, 4) else _ARG_NUMBER
-        m = matcher.match(text, pos)
-        if m is None or (not nums and m.start(1) != pos):
-            break
-        nums.append(float(m.group(1)))
-        pos = m.end()
-        field = (field + 1) % 7
-    rest = text[pos:]
-    ok = not rest.strip(" \t\r\n\f")
-    # a partial arc before the error is dropped by the caller (count * arity)
-    return nums, ok
+    return pos
 
 
-def _scan_numbers(text: str):
-    """The numbers of one command's arguments, whether the whole text is valid (numbers with
-    optional separators, white space around; no leading or trailing comma), and where valid
-    input ends. Each number is matched once, greedily: linear time. (One regex for the whole
-    argument list backtracks exponentially on a long digit run followed by junk, because
-    adjacent numbers may split the run anywhere.)"""
-    if _PLAIN_ARGS.fullmatch(text):
-        # Over these characters float() accepts exactly one SVG number per token; commas
-        # are valid when each lies between numbers (no empty piece around one).
-        if "," not in text or all(p.strip(" \t\r\n\f") for p in text.split(",")):
-            try:
-                return list(map(float, text.replace(",", " ").split())), True, len(text)
-            except ValueError:
-                pass            # "-1-2", ".5.5", "1e": the scanner below sorts them out
-    nums = []
-    pos = _LEADING_WSP.match(text).end()
-    m = _NUMBER_RE.match(text, pos)
-    while m:
-        nums.append(float(m.group(m.lastindex or 0)))
-        pos = m.end()
-        m = _ARG_NUMBER.match(text, pos)
-    ok = _LEADING_WSP.match(text, pos).end() == len(text)
-    return nums, ok, pos
+@njit(cache=True)
+def _skip_sep(buf, pos, end):
+    """comma-wsp (optional): wsp*, at most one comma, wsp*."""
+    pos = _skip_wsp(buf, pos, end)
+    if pos < end and buf[pos] == _COMMA:
+        pos = _skip_wsp(buf, pos + 1, end)
+    return pos
 
 
-def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
-    """An elliptical arc as cubic Bézier pieces ``[(c1, c2, end), ...]`` of at most 90° each.
-
-    Returns None when the arc is a straight line (a zero radius), and [] when the endpoints
-    coincide (SVG omits such an arc).
-    """
+@njit(cache=True)
+def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
+    """Writes an elliptical arc's cubic pieces (≤ 90° each: three points per piece) into pts
+    from npts on → new npts; -1 when the arc is a straight line (a zero radius), npts when
+    the endpoints coincide (SVG omits such an arc)."""
     if x1 == x2 and y1 == y2:
-        return []
-    if not all(map(math.isfinite, (x1, y1, rx, ry, phi_deg, x2, y2))):
-        return None  # an infinite coordinate (1e999): no arc to speak of, a straight line
+        return npts
+    if not (math.isfinite(x1) and math.isfinite(y1) and math.isfinite(rx)
+            and math.isfinite(ry) and math.isfinite(phi_deg) and math.isfinite(x2)
+            and math.isfinite(y2)):
+        return -1   # an infinite coordinate (1e999): no arc to speak of, a straight line
     rx = abs(rx)
     ry = abs(ry)
     if rx == 0.0 or ry == 0.0:
-        return None
+        return -1
     phi = math.radians(phi_deg % 360.0)
     cos_phi = math.cos(phi)
     sin_phi = math.sin(phi)
@@ -343,9 +180,11 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     y1p = -sin_phi * dx2 + cos_phi * dy2
     # Radii beyond 1e±150 of the half-chord would underflow or overflow when squared below:
     # such an arc is, to any precision we draw, its chord (as a zero radius is by the spec).
-    half = max(abs(x1p), abs(y1p))
+    half = abs(x1p)
+    if abs(y1p) > half:
+        half = abs(y1p)
     if half == 0.0 or not 1e-150 < min(rx, ry) / half or max(rx, ry) / half > 1e150:
-        return None
+        return -1
     # F.6.6: scale radii up when no ellipse reaches both endpoints
     lam = (x1p * x1p) / (rx * rx) + (y1p * y1p) / (ry * ry)
     if lam > 1.0:
@@ -356,7 +195,9 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     rx2, ry2 = rx * rx, ry * ry
     num = rx2 * ry2 - rx2 * y1p * y1p - ry2 * x1p * x1p
     den = rx2 * y1p * y1p + ry2 * x1p * x1p
-    coef = math.sqrt(max(num, 0.0) / den) if den > 0 else 0.0
+    if 0.0 > num:
+        num = 0.0
+    coef = math.sqrt(num / den) if den > 0 else 0.0
     if large_arc == sweep:
         coef = -coef
     cxp = coef * rx * y1p / ry
@@ -377,23 +218,396 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     delta = dtheta / n
     # handle length of a cubic approximating a unit circular arc of angle delta
     t = 4.0 / 3.0 * math.tan(delta / 4.0)
-    pieces = []
-    a = theta1
-    cos_a, sin_a = math.cos(a), math.sin(a)
+    cos_a, sin_a = math.cos(theta1), math.sin(theta1)
     for i in range(n):
         b = theta1 + (i + 1) * delta
         cos_b, sin_b = math.cos(b), math.sin(b)
         # unit-circle control points, then scale by radii, rotate by phi, translate
-        unit = ((cos_a - t * sin_a, sin_a + t * cos_a),
-                (cos_b + t * sin_b, sin_b - t * cos_b),
-                (cos_b, sin_b))
-        piece = []
-        for ex, ey in unit:
+        for k in range(3):
+            if k == 0:
+                ex, ey = cos_a - t * sin_a, sin_a + t * cos_a
+            elif k == 1:
+                ex, ey = cos_b + t * sin_b, sin_b - t * cos_b
+            else:
+                ex, ey = cos_b, sin_b
             ex *= rx
             ey *= ry
-            piece.append((cos_phi * ex - sin_phi * ey + cx, sin_phi * ex + cos_phi * ey + cy))
-        if i == n - 1:
-            piece[2] = (x2, y2)  # land exactly on the requested endpoint
-        pieces.append(tuple(piece))
+            pts[npts] = cos_phi * ex - sin_phi * ey + cx
+            pts[npts + 1] = sin_phi * ex + cos_phi * ey + cy
+            npts += 2
         cos_a, sin_a = cos_b, sin_b
-    return pieces
+    pts[npts - 2] = x2      # land exactly on the requested endpoint
+    pts[npts - 1] = y2
+    return npts
+
+
+@njit(cache=True)
+def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, npts):
+    """Reads the path data in buf[pos:n], appending to verbs, origin (the command index of
+    every verb) and pts (flat x, y) from nv and npts on → (nv, npts, numbers read, status).
+
+    mode _CONVERT converts numbers here and stops with status _NOT_EXACT at one it cannot;
+    _SPANS writes where each number is into ``spans`` (start, end pairs; flags are not
+    numbers here) and nothing else; _GIVEN takes the k-th number's value from ``given``.
+    The control flow depends on how many numbers there are, never on their values, so the
+    three modes see the same numbers. ``nums`` is scratch of at least n - pos + 1 floats;
+    verbs and origin need room for n - pos + 2 more entries, pts for 3 (n - pos) + 32 (an
+    arc adds ≤ 24 coordinates and needs ≥ 9 bytes; anything else ≤ 2 per byte).
+    Mirrors SVG 2 9.3.9 and 9.5.4 (see the module doc).
+    """
+    k = 0                       # numbers read so far (indexes given and spans)
+    status = 0
+    geometry = mode != _SPANS
+    pos = _skip_wsp(buf, pos, n)
+    if pos < n and _command(buf[pos]) < 0:
+        pos = n                 # junk before the first command: an empty path
+    cx = cy = sx = sy = rx = ry = 0.0
+    prev_kind = 0               # _C after C/S, _Q after Q/T, -1 otherwise
+    subpath_open = False
+    command_index = 0
+    first = True
+    while pos < n:
+        code = _command(buf[pos])
+        upper = code & 15
+        relative = code >= 16
+        a0 = pos + 1
+        a1 = a0
+        while a1 < n and _command(buf[a1]) < 0:
+            a1 += 1
+        pos = a1
+        if first and upper != _M:
+            break               # path data must begin with a moveto
+        first = False
+        # -- the arguments: numbers, or for arcs numbers and single-digit flags ----------
+        count = 0
+        p = _skip_wsp(buf, a0, a1)
+        if upper == _A:
+            field = 0
+            while True:
+                q = p if count == 0 else _skip_sep(buf, p, a1)
+                if field == 3 or field == 4:
+                    if q < a1 and (buf[q] == _ZERO or buf[q] == _ONE):
+                        nums[count] = 1.0 if buf[q] == _ONE else 0.0
+                        e = q + 1
+                    else:
+                        break
+                else:
+                    e, v, exact = _number(buf, q, a1)
+                    if e < 0:
+                        break
+                    if mode == _GIVEN:
+                        v = given[k]
+                    elif mode == _SPANS:
+                        spans[2 * k] = q
+                        spans[2 * k + 1] = e
+                    elif not exact:
+                        status = _NOT_EXACT
+                        break
+                    nums[count] = v
+                    k += 1
+                count += 1
+                p = e
+                field = (field + 1) % 7
+            if status:
+                break
+            ok = _skip_wsp(buf, p, a1) == a1
+        else:
+            q = p
+            while True:
+                e, v, exact = _number(buf, q, a1)
+                if e < 0:
+                    break
+                if mode == _GIVEN:
+                    v = given[k]
+                elif mode == _SPANS:
+                    spans[2 * k] = q
+                    spans[2 * k + 1] = e
+                elif not exact:
+                    status = _NOT_EXACT
+                    break
+                nums[count] = v
+                k += 1
+                count += 1
+                p = e
+                q = _skip_sep(buf, p, a1)
+            if status:
+                break
+            ok = _skip_wsp(buf, p, a1) == a1
+            if not ok and count and (buf[p] == _E_LOWER or buf[p] == _E_UPPER):
+                count -= 1      # "1e" is a broken number, not "1" followed by junk
+        arity = _ARITY[upper]
+        if arity == 0:
+            nums_ok = count == 0
+            reps = 0
+        else:
+            reps = count // arity
+            nums_ok = reps > 0 and reps * arity == count
+        if not geometry:
+            if not (ok and nums_ok):
+                break
+            continue
+        if upper == _Z:
+            if subpath_open:
+                verbs[nv] = CLOSE
+                origin[nv] = command_index
+                nv += 1
+                command_index += 1
+            cx, cy = sx, sy
+            subpath_open = False
+            prev_kind = -1
+            if not (ok and nums_ok):
+                break
+            continue
+        for r in range(reps):
+            i = r * arity
+            if upper == _M:
+                x, y = nums[i], nums[i + 1]
+                if relative:
+                    x += cx
+                    y += cy
+                verbs[nv] = MOVE if r == 0 else LINE   # extra pairs are implicit linetos
+                origin[nv] = command_index
+                nv += 1
+                pts[npts] = x
+                pts[npts + 1] = y
+                npts += 2
+                if r == 0:
+                    sx, sy = x, y
+                    subpath_open = True
+                cx, cy = x, y
+                prev_kind = -1
+                command_index += 1
+                continue
+            if not subpath_open:
+                # a drawing command right after closepath starts a subpath at its start point
+                verbs[nv] = MOVE
+                origin[nv] = command_index
+                nv += 1
+                pts[npts] = cx
+                pts[npts + 1] = cy
+                npts += 2
+                subpath_open = True
+            if upper == _L or upper == _H or upper == _V:
+                if upper == _L:
+                    x, y = nums[i], nums[i + 1]
+                    if relative:
+                        x += cx
+                        y += cy
+                elif upper == _H:
+                    x = nums[i] + cx if relative else nums[i]
+                    y = cy
+                else:
+                    x = cx
+                    y = nums[i] + cy if relative else nums[i]
+                verbs[nv] = LINE
+                pts[npts] = x
+                pts[npts + 1] = y
+                npts += 2
+                prev_kind = -1
+            elif upper == _C or upper == _S:
+                if upper == _C:
+                    x1, y1 = nums[i], nums[i + 1]
+                    x2, y2, x, y = nums[i + 2], nums[i + 3], nums[i + 4], nums[i + 5]
+                    if relative:
+                        x1 += cx
+                        y1 += cy
+                else:
+                    x2, y2, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
+                    if prev_kind == _C:
+                        x1, y1 = 2 * cx - rx, 2 * cy - ry
+                    else:
+                        x1, y1 = cx, cy
+                if relative:
+                    x2 += cx
+                    y2 += cy
+                    x += cx
+                    y += cy
+                verbs[nv] = CUBIC
+                pts[npts] = x1
+                pts[npts + 1] = y1
+                pts[npts + 2] = x2
+                pts[npts + 3] = y2
+                pts[npts + 4] = x
+                pts[npts + 5] = y
+                npts += 6
+                rx, ry = x2, y2
+                prev_kind = _C
+            elif upper == _Q or upper == _T:
+                if upper == _Q:
+                    x1, y1, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
+                    if relative:
+                        x1 += cx
+                        y1 += cy
+                else:
+                    x, y = nums[i], nums[i + 1]
+                    if prev_kind == _Q:
+                        x1, y1 = 2 * cx - rx, 2 * cy - ry
+                    else:
+                        x1, y1 = cx, cy
+                if relative:
+                    x += cx
+                    y += cy
+                verbs[nv] = QUAD
+                pts[npts] = x1
+                pts[npts + 1] = y1
+                pts[npts + 2] = x
+                pts[npts + 3] = y
+                npts += 4
+                rx, ry = x1, y1
+                prev_kind = _Q
+            else:               # A
+                x, y = nums[i + 5], nums[i + 6]
+                if relative:
+                    x += cx
+                    y += cy
+                start = npts
+                end = _arc(pts, npts, cx, cy, nums[i], nums[i + 1], nums[i + 2],
+                           nums[i + 3] != 0.0, nums[i + 4] != 0.0, x, y)
+                if end < 0:
+                    verbs[nv] = LINE
+                    origin[nv] = command_index
+                    nv += 1
+                    pts[npts] = x
+                    pts[npts + 1] = y
+                    npts += 2
+                else:
+                    for _ in range((end - start) // 6):
+                        verbs[nv] = CUBIC
+                        origin[nv] = command_index
+                        nv += 1
+                    npts = end
+                cx, cy = x, y
+                prev_kind = -1
+                command_index += 1
+                continue
+            origin[nv] = command_index
+            nv += 1
+            cx, cy = x, y
+            command_index += 1
+        if not (ok and nums_ok):
+            break
+    return nv, npts, k, status
+
+
+@njit(cache=True)
+def _parse_batch(buf, starts, mode, given, spans):
+    """The path data buf[starts[i]:starts[i + 1]] of several paths → (verbs, flat points,
+    command indices, where each path's verbs and coordinates start (n + 1 each), status of
+    each path, numbers read in each); a path with status _NOT_EXACT is left empty here.
+    Modes _SPANS and _GIVEN (see _parse_into) are for one path at a time.
+
+    The only entry point: numba optimises a kernel together with everything it calls, so
+    each further entry would compile the parser again."""
+    count = len(starts) - 1
+    longest = 0
+    for i in range(count):
+        longest = max(longest, starts[i + 1] - starts[i])
+    nums = np.empty(longest + 1, np.float64)
+    vcap = len(buf) + 2 * count + 2
+    verbs = np.empty(vcap, np.uint8)
+    origin = np.empty(vcap, np.int64)
+    pcap = 2 * len(buf) + 32
+    pts = np.empty(pcap, np.float64)
+    vstart = np.empty(count + 1, np.int64)
+    pstart = np.empty(count + 1, np.int64)
+    status = np.zeros(count, np.int64)
+    numbers = np.zeros(count, np.int64)
+    nv = npts = 0
+    for i in range(count):
+        a, b = starts[i], starts[i + 1]
+        need = npts + 3 * (b - a) + 32
+        if need > pcap:                 # only arcs write more than 2 coordinates a byte
+            pcap = max(need, 2 * pcap)
+            grown = np.empty(pcap, np.float64)
+            grown[:npts] = pts[:npts]
+            pts = grown
+        vstart[i] = nv
+        pstart[i] = npts
+        nv2, npts2, numbers[i], st = _parse_into(buf, a, b, mode, given, spans, verbs, origin,
+                                                 pts, nums, nv, npts)
+        if st:
+            status[i] = st
+        else:
+            nv, npts = nv2, npts2
+    vstart[count] = nv
+    pstart[count] = npts
+    return (verbs[:nv].copy(), pts[:npts].copy(), origin[:nv].copy(), vstart, pstart, status,
+            numbers)
+
+
+_NO_NUMBERS = np.empty(0, np.float64)
+_NO_SPANS = np.empty(0, np.int64)
+
+
+def parse_path_data(d: str) -> Path:
+    """The path described by an SVG ``d`` attribute (empty Path for an empty or invalid one)."""
+    return _parse(d)[0]
+
+
+def parse_path_data_with_commands(d: str):
+    """Like :func:`parse_path_data`, plus, for every recorded verb, the index of the path
+    command (counting implicit repetitions as their own commands) it came from.
+
+    An arc becomes several cubics; this tells which verbs belong to one command. (SVG markers
+    do not use it: resvg places mid markers between an arc's pieces too.)
+    """
+    return _parse(d)
+
+
+def _parse(d: str):
+    """→ (Path, command index of every verb)."""
+    return PathBatch([d]).get(0)
+
+
+def _parse_exactly(text: str):
+    """_parse for data with numbers the kernel cannot convert exactly: the kernel finds them,
+    Python's float converts them, the kernel reads the path with those values."""
+    buf = np.frombuffer(text.encode("utf-8", "replace"), np.uint8)
+    starts = np.array([0, len(buf)], np.int64)
+    spans = np.empty(2 * len(buf) + 2, np.int64)
+    count = _parse_batch(buf, starts, _SPANS, _NO_NUMBERS, spans)[6][0]
+    raw = buf.tobytes()
+    given = np.array([float(raw[a:b]) for a, b in spans[:2 * count].reshape(-1, 2).tolist()],
+                     np.float64)
+    verbs, pts, origin = _parse_batch(buf, starts, _GIVEN, given, _NO_SPANS)[:3]
+    return Path._of_arrays(verbs, pts.reshape(-1, 2)), origin
+
+
+class PathBatch:
+    """The path data of many elements, read in one kernel call (a call per path would cost
+    more than reading it: maps have tens of thousands of short paths)."""
+
+    def __init__(self, texts):
+        raw = [t.encode("utf-8", "replace") for t in texts]
+        starts = np.zeros(len(raw) + 1, np.int64)
+        np.cumsum([len(r) for r in raw], out=starts[1:])
+        buf = np.frombuffer(b"".join(raw), np.uint8)
+        verbs, pts, origin, vstart, pstart, status, _ = _parse_batch(
+            buf, starts, _CONVERT, _NO_NUMBERS, _NO_SPANS)
+        self.texts = texts
+        self.verbs, self.points, self.origin = verbs, pts.reshape(-1, 2), origin
+        self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
+        self.status = status.tolist()
+
+    def get(self, i):
+        """(Path, command index of every verb) of the i-th text."""
+        if self.status[i]:
+            return _parse_exactly(self.texts[i])
+        v0, v1 = self.vstart[i], self.vstart[i + 1]
+        return (Path._of_arrays(self.verbs[v0:v1], self.points[self.pstart[i]:self.pstart[i + 1]]),
+                self.origin[v0:v1])
+
+
+def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
+    """An elliptical arc as cubic Bézier pieces ``[(c1, c2, end), ...]`` of at most 90° each.
+
+    Returns None when the arc is a straight line (a zero radius), and [] when the endpoints
+    coincide (SVG omits such an arc).
+    """
+    pts = np.empty(24)
+    end = _arc(pts, 0, float(x1), float(y1), float(rx), float(ry), float(phi_deg),
+               bool(large_arc), bool(sweep), float(x2), float(y2))
+    if end < 0:
+        return None
+    xy = pts[:end].reshape(-1, 3, 2).tolist()
+    return [tuple(tuple(p) for p in piece) for piece in xy]

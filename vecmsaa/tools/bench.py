@@ -489,6 +489,131 @@ def memory_rows(sizes, mode="approx", samples=16):
     return rows
 
 
+# -- against resvg on real files (issue 11's goals) -------------------------------------------
+def _child(cmd):
+    """Run a process to the end → (wall s, peak RSS MB) from its own resource usage."""
+    t = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.perf_counter() - t
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    if proc.returncode:
+        raise subprocess.CalledProcessError(proc.returncode, cmd)
+    return wall, usage.ru_maxrss / 1024
+
+
+def _best_child(cmd, repeat):
+    runs = [_child(cmd) for _ in range(repeat)]
+    return min(w for w, _ in runs), max(m for _, m in runs)
+
+
+_WARM_SNIPPET = r"""
+import json, sys, time
+from vecmsaa.api import render_svg_png
+path, width, repeat = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+render_svg_png(path, width=width)
+best = 1e9
+for _ in range(repeat):
+    t = time.perf_counter()
+    render_svg_png(path, width=width)
+    best = min(best, time.perf_counter() - t)
+print(json.dumps({"warm_s": best}))
+"""
+
+
+def versus_rows(paths, repeat=3, large=8192, small=2048, batch_size=800, log=print):
+    """Rows for each SVG file: whole process at ``large`` and ``small`` px (wall time, min of
+    ``repeat``, and peak RSS) for ``vecmsaa render`` and resvg, alternating; vecmsaa warm in
+    one process (file → PNG bytes at ``small``, min of ``repeat`` after a warm-up) against
+    resvg's whole process; and the files as one batch at ``batch_size`` with ``--jobs 1`` and
+    ``--jobs 2``. Default mode (approx, 8 samples), warm JIT caches."""
+    resvg = resvg_binary()
+    vec = [sys.executable, "-m", "vecmsaa.cli", "render"]
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "o.png")
+        for path in paths:
+            name = os.path.splitext(os.path.basename(path))[0]
+            row = dict(scene=name)
+            for size in (large, small):
+                try:
+                    row[f"vecmsaa_{size}_s"], row[f"vecmsaa_{size}_mb"] = _best_child(
+                        vec + [path, "-o", out, "-w", str(size)], repeat)
+                    if resvg:
+                        row[f"resvg_{size}_s"], row[f"resvg_{size}_mb"] = _best_child(
+                            [resvg, "-w", str(size), path, out], repeat)
+                except (subprocess.CalledProcessError, OSError) as exc:
+                    log(f"  {name} at {size} px failed: {exc}")
+            res = subprocess.run([sys.executable, "-c", _WARM_SNIPPET, path, str(small),
+                                  str(repeat)], capture_output=True, text=True)
+            if res.returncode == 0:
+                row[f"warm_{small}_s"] = json.loads(res.stdout.strip().splitlines()[-1])["warm_s"]
+            for key, base in ((f"vecmsaa_{large}_s", f"resvg_{large}_s"),
+                              (f"vecmsaa_{large}_mb", f"resvg_{large}_mb"),
+                              (f"vecmsaa_{small}_s", f"resvg_{small}_s"),
+                              (f"warm_{small}_s", f"resvg_{small}_s")):
+                if row.get(key) and row.get(base):
+                    row[key.replace("_s", "").replace("_mb", "_mem") + "_ratio"] = \
+                        row[key] / row[base]
+            rows.append(row)
+            log(f"{name}: " + ", ".join(f"{k} {v:.3g}" for k, v in row.items()
+                                        if isinstance(v, float)))
+        batch = {}
+        for jobs in (1, 2):
+            out_dir = os.path.join(tmp, f"jobs{jobs}")
+            try:
+                batch[jobs] = _best_child(vec + list(paths) + ["--out-dir", out_dir, "-w",
+                                                               str(batch_size), "--jobs",
+                                                               str(jobs)], repeat)[0]
+            except (subprocess.CalledProcessError, OSError) as exc:
+                log(f"  batch with --jobs {jobs} failed: {exc}")
+    return dict(rows=rows, large=large, small=small, repeat=repeat, batch_size=batch_size,
+                batch_jobs1_s=batch.get(1), batch_jobs2_s=batch.get(2), resvg=bool(resvg))
+
+
+def write_versus(out_dir, result):
+    """versus.md and versus.json in ``out_dir``."""
+    os.makedirs(out_dir, exist_ok=True)
+    with open(os.path.join(out_dir, "versus.json"), "w") as f:
+        json.dump(result, f, indent=1)
+    big, small = result["large"], result["small"]
+    rows = list(result["rows"])
+    total = {"scene": "**total**"}
+    for key in (f"vecmsaa_{small}_s", f"resvg_{small}_s", f"warm_{small}_s",
+                f"vecmsaa_{big}_s", f"resvg_{big}_s"):
+        vals = [r.get(key) for r in rows]
+        if all(v is not None for v in vals):
+            total[key] = sum(vals)
+    if total.get(f"resvg_{small}_s"):
+        total[f"warm_{small}_ratio"] = total[f"warm_{small}_s"] / total[f"resvg_{small}_s"]
+    rows.append(total)
+    lines = ["# vecmsaa against resvg", "",
+             f"{machine()}; {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}. Whole "
+             f"process: `vecmsaa render FILE -o out.png -w N` and `resvg -w N FILE out.png`, "
+             f"min wall time of {result['repeat']}, peak RSS (MB) of the process; warm: "
+             f"file → PNG bytes in one process (`render_svg_png`), min of "
+             f"{result['repeat']} after a warm-up. Approx, 8 samples, warm JIT caches.", "",
+             md_table(rows, [("file", "scene"),
+                             (f"vecmsaa {big} (s)", f"vecmsaa_{big}_s"),
+                             (f"resvg {big} (s)", f"resvg_{big}_s"),
+                             ("ratio", f"vecmsaa_{big}_ratio"),
+                             (f"vecmsaa {big} (MB)", f"vecmsaa_{big}_mb"),
+                             (f"resvg {big} (MB)", f"resvg_{big}_mb"),
+                             ("ratio", f"vecmsaa_{big}_mem_ratio"),
+                             (f"vecmsaa {small} (s)", f"vecmsaa_{small}_s"),
+                             (f"resvg {small} (s)", f"resvg_{small}_s"),
+                             ("ratio", f"vecmsaa_{small}_ratio"),
+                             (f"warm {small} (s)", f"warm_{small}_s"),
+                             ("warm / resvg", f"warm_{small}_ratio")]), ""]
+    if result.get("batch_jobs1_s") and result.get("batch_jobs2_s"):
+        lines += [f"Batch of the {len(result['rows'])} files at {result['batch_size']} px: "
+                  f"`--jobs 1` {result['batch_jobs1_s']:.2f} s, `--jobs 2` "
+                  f"{result['batch_jobs2_s']:.2f} s "
+                  f"(ratio {result['batch_jobs2_s'] / result['batch_jobs1_s']:.2f}).", ""]
+    with open(os.path.join(out_dir, "versus.md"), "w") as f:
+        f.write("\n".join(lines))
+
+
 # -- reports ----------------------------------------------------------------------------------
 def summary(rows):
     """Per (renderer, mode, samples, pattern): total time over scenes and mean errors."""

@@ -1,0 +1,41 @@
+"""One line on stderr when numba compiles kernels: the first run after installing (or after
+a change to the code) compiles what it uses, once, into numba's cache; later runs load it.
+
+Registered as a listener on numba's compile event, which fires only on a cache miss, so a run
+with a filled cache prints nothing and pays nothing.
+"""
+from __future__ import annotations
+
+import sys
+
+#: first-run compile of everything `render`, `font` and `demo` use from an empty cache on
+#: 2 cores: ≈ 40 s for demo and ≈ 37 s more for a stroked SVG (issue 11), plus the path-data
+#: kernel (docs/bench.md, "First run")
+COMPILE_SECONDS = "60–90"
+
+
+def install(stream=None):
+    """Announce compiles on ``stream`` (default: stderr when it is a terminal — scripts that
+    read stderr, such as a one-line error check, see only what they did before)."""
+    if stream is None:
+        if not sys.stderr.isatty():
+            return None
+        stream = sys.stderr
+    from numba.core import event
+
+    class Notice(event.Listener):
+        said = False
+
+        def on_start(self, ev):
+            if not self.said:
+                self.said = True
+                print(f"vecmsaa: compiling the numba kernels this command uses, once (about "
+                      f"{COMPILE_SECONDS} s for everything render, font and demo use); later "
+                      f"runs load them from the cache", file=stream, flush=True)
+
+        def on_end(self, ev):
+            pass
+
+    listener = Notice()
+    event.register("numba:compile", listener)
+    return listener
