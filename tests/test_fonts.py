@@ -16,14 +16,15 @@ from vecmsaa.fonts import (FontError, layout_line, line_fills, load_face, parse_
 from vecmsaa.fonts.db import FontDatabase, best_match, parse_family_list, FaceInfo
 from vecmsaa.fonts.shape import bidi_runs
 from vecmsaa.scene.path import CUBIC, QUAD
+from vecmsaa.tools.suite import suite_from_environment
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
 CFF = os.path.join(FIXTURES, "NotoSans-Subset-CFF.otf")
 VAR = os.path.join(FIXTURES, "RobotoFlex-Subset.ttf")
 TTC = os.path.join(FIXTURES, "Collection.ttc")
-SUITE_FONTS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite",
-                           "fonts")
+SUITE_FONTS = os.path.join(suite_from_environment(os.path.join(
+    os.path.dirname(__file__), "..", "..", "shared", "resvg-suite")), "fonts")
 needs_suite = pytest.mark.skipif(not os.path.isdir(SUITE_FONTS),
                                  reason="../shared/resvg-suite/fonts not present")
 

@@ -11,10 +11,12 @@ import numpy as np
 import pytest
 
 from vecmsaa.api import render_svg_array
+from vecmsaa.tools.suite import suite_from_environment
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
-SUITE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite")
+SUITE = suite_from_environment(os.path.join(os.path.dirname(__file__), "..", "..", "shared",
+                                            "resvg-suite"))
 FONTS = dict(use_fonts_dir=FIXTURES, skip_system_fonts=True, font_family="Noto Sans")
 
 
