@@ -132,6 +132,27 @@ def test_transform_list_applies_right_to_left():
     assert (a * 1 + c * 1 + e, b * 1 + d * 1 + f) == pytest.approx((12, 2))
 
 
+@pytest.mark.parametrize("css, svg", [
+    # CSS Transforms: units on angles and lengths, the single-axis functions, skew(x, y)
+    ("rotate(45deg)", "rotate(45)"), ("rotate(0.125turn)", "rotate(45)"),
+    ("rotate(50grad)", "rotate(45)"), (f"rotate({math.pi / 4}rad)", "rotate(45)"),
+    ("translate(10px, 2in)", "translate(10 192)"), ("translateX(5px)", "translate(5 0)"),
+    ("translateY(1pc)", "translate(0 16)"), ("scaleX(2)", "scale(2 1)"),
+    ("scaleY(50%)", "scale(1 0.5)"), ("skew(30deg)", "skewX(30)"),
+    ("skew(10deg, 20deg)", "matrix(1 0.36397023 0.17632698 1 0 0)"),
+    ("translate(10-5)", "translate(10, -5)"),   # SVG: no separator needed before a sign
+])
+def test_css_transform_syntax(css, svg):
+    assert parse_transform(css) == pytest.approx(parse_transform(svg), abs=1e-7)
+
+
+@pytest.mark.parametrize("text", ["rotate(45) invalid", "rotate(10 5)", "translate(10%)",
+                                  "translate(1 2 3)", "scale(2px)", "skewX(1 2)", "foo(1)",
+                                  "matrix(1 0 0 1 0)", "rotate(45em)"])
+def test_malformed_transforms(text):
+    assert parse_transform(text) is None
+
+
 def test_rotate_about_a_point():
     m = parse_transform("rotate(90, 10, 10)")
     a, b, c, d, e, f = m

@@ -50,7 +50,6 @@ MAX_IMAGE_NESTING = 4
 MAX_NESTED_REFERENCES = 4096
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
-_TRANSFORM_UNITS = re.compile(r"(?<=[\d.])(px|deg)\b")
 
 
 @dataclass
@@ -239,7 +238,7 @@ class Builder:
         text = el.specified.get("transform")
         if not text or text == "none":
             return IDENTITY
-        m = parse_transform(_TRANSFORM_UNITS.sub("", text))
+        m = parse_transform(text)
         if m is None:
             return IDENTITY
         origin = el.specified.get("transform-origin")
