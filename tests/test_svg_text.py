@@ -120,6 +120,22 @@ def test_text_on_a_straight_path_is_plain_text():
     assert np.allclose(ink_box(on_path), ink_box(plain), atol=1)
 
 
+@pytest.mark.parametrize("tag", ["path", "line"])
+def test_text_path_uses_the_referenced_shapes_transform(tag):
+    """SVG 2: the referenced shape's transform is a supplemental transformation of the path in
+    the text's user space (the glyphs are not scaled): the same as its coordinates mapped."""
+    shape = {"path": '<path id="p" d="M 20 140 H 380" transform="scale(0.5)"/>',
+             "line": '<line id="p" x1="20" y1="140" x2="380" y2="140" transform="scale(0.5)"/>'}
+    mapped = '<path id="p" d="M 10 70 H 190"/>'
+    text = '<text><textPath href="#p">Hxg</textPath></text>'
+    got = alpha(render(f"<defs>{shape[tag]}</defs>{text}"))
+    want = alpha(render(f"<defs>{mapped}</defs>{text}"))
+    assert got.sum() == pytest.approx(want.sum(), rel=0.01)
+    assert np.allclose(ink_box(got), ink_box(want), atol=1)
+    singular = alpha(render(f'<defs>{shape[tag].replace("scale(0.5)", "scale(0)")}</defs>{text}'))
+    assert singular.sum() == 0
+
+
 def test_underline_follows_the_post_table():
     post = read_table("post")
     position, thickness = struct.unpack(">hh", post[8:12])

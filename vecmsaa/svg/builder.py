@@ -811,14 +811,19 @@ class TextContext:
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
 
     def path_of(self, element):
-        if element.tag == "path":
-            return self._builder.path_data(element)
+        """A shape's outline in the referencing text's user space: its own ``transform`` is
+        "a supplemental transformation" there (SVG 2 textPath); singular → None."""
         style = self._builder.doc.document_style(element)
-        p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
+        if element.tag == "path":
+            p = self._builder.path_data(element)
+        else:
+            p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
         if p is None:
             return None
         m = self._builder.element_transform(element, style, self._ctx)
-        return p.transformed(m) if m not in (None, IDENTITY) else p
+        if m is None:
+            return None
+        return p.transformed(m) if m != IDENTITY else p
 
     def wrap(self, element, style, nodes):
         return self._builder.wrap(element, style, self._ctx, nodes)
