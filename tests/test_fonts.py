@@ -10,20 +10,23 @@ import struct
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from vecmsaa.fonts import (FontError, layout_line, line_fills, load_face, parse_features,
                            parse_variations, shape_text)
 from vecmsaa.fonts.db import FontDatabase, best_match, parse_family_list, FaceInfo
-from vecmsaa.fonts.shape import bidi_runs
+from vecmsaa.fonts.shape import bidi_runs, visual_runs
 from vecmsaa.scene.path import CUBIC, QUAD
+from vecmsaa.tools.suite import suite_from_environment
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
 CFF = os.path.join(FIXTURES, "NotoSans-Subset-CFF.otf")
 VAR = os.path.join(FIXTURES, "RobotoFlex-Subset.ttf")
 TTC = os.path.join(FIXTURES, "Collection.ttc")
-SUITE_FONTS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite",
-                           "fonts")
+SUITE_FONTS = os.path.join(suite_from_environment(os.path.join(
+    os.path.dirname(__file__), "..", "..", "shared", "resvg-suite")), "fonts")
 needs_suite = pytest.mark.skipif(not os.path.isdir(SUITE_FONTS),
                                  reason="../shared/resvg-suite/fonts not present")
 
@@ -154,6 +157,42 @@ def test_bidi_runs_split_and_order():
     text = "abc \u05d0\u05d1\u05d2 def"
     assert bidi_runs(text) == [(0, 4, "ltr"), (4, 7, "rtl"), (7, 11, "ltr")]
     assert bidi_runs("\u05d0\u05d1 abc", "rtl") == [(0, 3, "rtl"), (3, 6, "ltr")]
+
+
+# Independent truth for the bidi algorithm: python-bidi's Rust extension (the unicode-bidi
+# crate) reorders a line for display; ours (its pure-Python UAX #9) gives levels and runs.
+# Bracket pairs (rule N0, which the pure-Python module predates) are left out of the alphabet.
+BIDI_ALPHABET = (list("abcXYZ") + list("\u05d0\u05d1\u05d2\u05d3") + list("\u0645\u0631\u062d\u0628")
+                 + list("0123") + list("\u0660\u0661\u0662") + list("  ,.-+%:/")
+                 + ["\u064e", "\u05b8"])
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.text(alphabet=st.sampled_from(BIDI_ALPHABET), min_size=1, max_size=16),
+       st.sampled_from(["ltr", "rtl"]))
+def test_visual_runs_match_an_independent_uax9(text, base):
+    import bidi
+    ours = "".join(text[s:e] if d == "ltr" else text[s:e][::-1]
+                   for s, e, d in visual_runs(text, base))
+    assert ours == bidi.get_display(text, base_dir="L" if base == "ltr" else "R")
+
+
+@needs_suite
+@pytest.mark.parametrize("text, inner", [
+    ("\u0645\u0631\u062d\u0628\u0627 2024 \u0639\u0627\u0644\u0645", "2024"),  # issue 12
+    ("\u0645\u0631\u062d\u0628\u0627 SVG2 \u0639\u0627\u0644\u0645", "SVG2"),
+])
+def test_numbers_and_latin_inside_arabic_keep_their_order(text, inner):
+    """UAX #9 W2/W7, I1, L2: the digits (and a Latin word ending in a digit) inside a
+    right-to-left paragraph are one left-to-right run, placed between the Arabic words."""
+    face = load_face(os.path.join(SUITE_FONTS, "NotoSans-Regular.ttf"))
+    start = text.index(inner)
+    runs = shape_text(face, text)
+    ltr = [r for r in runs if r.direction == "ltr"]
+    assert [(r.start, r.end) for r in ltr] == [(start, start + len(inner))]
+    assert list(ltr[0].clusters) == list(range(start, start + len(inner)))
+    # visually: the last Arabic word, then the run, then the first word
+    assert [r.start for r in runs] == [start + len(inner), start, 0]
 
 
 @needs_suite

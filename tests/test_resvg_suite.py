@@ -1,8 +1,10 @@
 """The resvg test suite as a ratchet: every test named in resvg_passing.txt must keep passing.
 
-The suite lives in ../shared/resvg-suite (skipped when absent). Tests are rendered with the
-default mode at their reference PNG's size and compared with the project criterion, in worker
-processes. After an improvement, regenerate the list (it only ever grows by intent)::
+The suite (the ``crates/resvg/tests`` folder of the resvg repository) is found at
+$VECMSAA_RESVG_SUITE, else ../shared/resvg-suite; the tests skip when it is absent. Tests are
+rendered with the default mode at their reference PNG's size and compared with the project
+criterion, in worker processes; a test with an exact reference (``exact-refs/``) passes when it
+matches either. After an improvement, regenerate the list (it only ever grows by intent)::
 
     vecmsaa suite ../shared/resvg-suite --jobs 2 --write-passing tests/resvg_passing.txt
 """
@@ -11,8 +13,10 @@ from pathlib import Path
 
 import pytest
 
+from vecmsaa.tools.suite import suite_from_environment
+
 HERE = Path(__file__).resolve().parent
-SUITE = HERE.parent.parent / "shared" / "resvg-suite"
+SUITE = Path(suite_from_environment(HERE.parent.parent / "shared" / "resvg-suite"))
 PASSING = HERE / "resvg_passing.txt"
 
 
@@ -26,7 +30,7 @@ def listed_tests():
 @pytest.fixture(scope="module")
 def suite_results():
     if not (SUITE / "tests").is_dir():
-        pytest.skip("../shared/resvg-suite is not present")
+        pytest.skip(f"the resvg suite is not present at {SUITE}")
     from vecmsaa.tools.suite import run_suite
 
     names = [n for n in listed_tests() if (SUITE / "tests" / (n + ".svg")).exists()]
@@ -41,6 +45,6 @@ def test_ratchet_list_is_sorted_and_unique():
 
 
 def test_listed_resvg_tests_still_pass(suite_results):
-    failed = {n: detail for n, (ok, detail) in suite_results.items() if not ok}
+    failed = {n: r.detail for n, r in suite_results.items() if not r.passed}
     assert not failed, "previously passing resvg tests now fail:\n" + "\n".join(
         f"  {n}: {d}" for n, d in sorted(failed.items()))

@@ -48,6 +48,69 @@ def test_current_color_keyword():
     assert parse_color("currentColor") == "currentColor"
 
 
+# CSS Color 4 against independent implementations: the standard library's colorsys for the
+# sRGB cylinders, ColorAide (a CSS Color 4 implementation) for the wide spaces and their gamut
+# mapping to sRGB (its minde-chroma fit is the specification's §13.2 algorithm).
+@pytest.mark.parametrize("h, s, light", [(0, 100, 50), (75, 40, 30), (200, 100, 85),
+                                         (330, 10, 60), (-30, 60, 40), (725, 80, 50)])
+def test_hsl_matches_colorsys(h, s, light):
+    import colorsys
+    expected = colorsys.hls_to_rgb((h % 360) / 360, light / 100, s / 100)
+    for text in (f"hsl({h}, {s}%, {light}%)", f"hsl({h}deg {s}% {light}%)",
+                 f"hsl({h / 360}turn {s} {light} / 1)", f"hsla({h * math.pi / 180}rad,{s}%,{light}%,1)"):
+        assert parse_color(text) == pytest.approx((*expected, 1), abs=1e-9), text
+
+
+@pytest.mark.parametrize("text", [
+    "hwb(120 30% 20%)", "hwb(0 0% 0%)", "hwb(250 60% 60%)", "hwb(90deg 0 100 / 0.5)",
+    "lab(54.29 80.82 69.88)", "lab(50% 40 -20)", "lab(50 200 0)", "lab(120 0 0)",
+    "lch(80 150 200)", "lch(40% 30 90deg / 25%)", "oklab(0.627955 0.224863 0.125846)",
+    "oklab(40% -0.3 0.3)", "oklch(0.7 0.4 30)", "oklch(60% 50% 0.5turn)", "oklch(1.2 0.1 0)",
+    "color(display-p3 1 0 0)", "color(display-p3 0.2 0.6 0.4 / 0.8)", "color(a98-rgb 0.5 0.1 0.9)",
+    "color(prophoto-rgb 0.3 0.7 0.2)", "color(rec2020 0 1 0)", "color(srgb-linear 0.2 0.5 1)",
+    "color(srgb 50% 20% 80%)", "color(xyz-d50 0.3 0.4 0.2)", "color(xyz-d65 0.2 0.1 0.5)",
+    "color(xyz 0.9505 1 1.089)",
+])
+def test_wide_gamut_colours_match_coloraide(text):
+    coloraide = pytest.importorskip("coloraide")
+    c = coloraide.Color(text)
+    expected = c.convert("srgb").fit("srgb", method="minde-chroma").coords()
+    got = parse_color(text)
+    assert got[:3] == pytest.approx(expected, abs=1e-5)   # a fiftieth of an 8-bit level
+    assert got[3] == pytest.approx(c.alpha(), abs=1e-9)
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("rgb(0 127.5 0)", (0, 0.5, 0, 1)),            # modern syntax, fractions allowed
+    ("rgb(100% 127.5 0% / 0.5)", (1, 0.5, 0, 0.5)),  # numbers and percentages mixed
+    ("rgb(none 255 none)", (0, 1, 0, 1)),           # none is zero
+    ("rgba(255 0 0 / -1)", (1, 0, 0, 0)),           # alpha clamped to [0, 1]
+    ("rgb(0 0 0 / 150%)", (0, 0, 0, 1)),
+    ("hsl(120 200% 25%)", (0, 0.5, 0, 1)),          # saturation clamped
+    ("RGB(255, 0, 0)", (1, 0, 0, 1)),
+    ("CanvasText", (0, 0, 0, 1)),                   # system colours
+    ("Canvas", (1, 1, 1, 1)),
+])
+def test_css4_colour_syntax(text, expected):
+    assert parse_color(text) == pytest.approx(expected, abs=1e-9)
+
+
+def test_deprecated_system_colours_map_as_css_color_4_says():
+    # §6.3: each CSS 2 system colour computes to the named CSS 4 one
+    for old, new in (("WindowText", "CanvasText"), ("Window", "Canvas"), ("Menu", "Canvas"),
+                     ("ThreeDFace", "ButtonFace"), ("InactiveCaptionText", "GrayText"),
+                     ("ActiveBorder", "ButtonBorder")):
+        assert parse_color(old) == parse_color(new)
+
+
+@pytest.mark.parametrize("text", ["hwb(120, 30%, 20%)", "lab(50, 10, 10)", "rgb(1 2 3 4 5)",
+                                  "rgb(1, 2 3)", "rgb(1 2 3 /)", "rgb(1, none, 3)",
+                                  "color(foo 1 2 3)", "color(srgb 1 2)", "hsl(10% 50% 50%)",
+                                  "lch(50 10 10%)", "notafunction(1 2 3)"])
+def test_invalid_css4_colours(text):
+    assert parse_color(text) is None
+
+
 # -- units and transforms -----------------------------------------------------------------------
 def test_lengths():
     assert split_length(" 12.5mm ") == (12.5, "mm")
@@ -67,6 +130,27 @@ def test_transform_list_applies_right_to_left():
     m = parse_transform("translate(10) scale(2)")
     a, b, c, d, e, f = m
     assert (a * 1 + c * 1 + e, b * 1 + d * 1 + f) == pytest.approx((12, 2))
+
+
+@pytest.mark.parametrize("css, svg", [
+    # CSS Transforms: units on angles and lengths, the single-axis functions, skew(x, y)
+    ("rotate(45deg)", "rotate(45)"), ("rotate(0.125turn)", "rotate(45)"),
+    ("rotate(50grad)", "rotate(45)"), (f"rotate({math.pi / 4}rad)", "rotate(45)"),
+    ("translate(10px, 2in)", "translate(10 192)"), ("translateX(5px)", "translate(5 0)"),
+    ("translateY(1pc)", "translate(0 16)"), ("scaleX(2)", "scale(2 1)"),
+    ("scaleY(50%)", "scale(1 0.5)"), ("skew(30deg)", "skewX(30)"),
+    ("skew(10deg, 20deg)", "matrix(1 0.36397023 0.17632698 1 0 0)"),
+    ("translate(10-5)", "translate(10, -5)"),   # SVG: no separator needed before a sign
+])
+def test_css_transform_syntax(css, svg):
+    assert parse_transform(css) == pytest.approx(parse_transform(svg), abs=1e-7)
+
+
+@pytest.mark.parametrize("text", ["rotate(45) invalid", "rotate(10 5)", "translate(10%)",
+                                  "translate(1 2 3)", "scale(2px)", "skewX(1 2)", "foo(1)",
+                                  "matrix(1 0 0 1 0)", "rotate(45em)"])
+def test_malformed_transforms(text):
+    assert parse_transform(text) is None
 
 
 def test_rotate_about_a_point():

@@ -500,3 +500,78 @@ def test_transform_on_the_root_applies_outside_the_viewbox():
     s = scene('<rect width="10" height="10"/>',
               'width="100" height="100" viewBox="0 0 50 50" transform="translate(20 0)"')
     assert path_bounds(only_fill(s).path) == pytest.approx((20, 0, 40, 20))
+
+
+def _conical_truth(px, py, fx, fy, fr, cx, cy, r):
+    """The two-point conical gradient as the canvas specification defines it, by brute force:
+    the largest ω whose circle (centre f + ω(c − f), radius fr + ω(r − fr) ≥ 0) passes through
+    the point, found as the last sign change of |p − centre(ω)| − radius(ω) on a fine grid of
+    ω (descending); NaN where no circle passes."""
+    omega = np.linspace(8.0, -8.0, 160001)
+    ox, oy = fx + omega * (cx - fx), fy + omega * (cy - fy)
+    radius = fr + omega * (r - fr)
+    out = np.full(px.shape, np.nan)
+    for i, (x, y) in enumerate(zip(px.ravel(), py.ravel())):
+        g = np.hypot(x - ox, y - oy) - radius
+        ok = radius >= 0
+        cross = np.nonzero(ok[:-1] & ok[1:] & (np.sign(g[:-1]) != np.sign(g[1:])))[0]
+        if len(cross):
+            j = cross[0]
+            out.ravel()[i] = omega[j] - g[j] * (omega[j + 1] - omega[j]) / (g[j + 1] - g[j])
+    return out
+
+
+@pytest.mark.parametrize("focal", [
+    'fx="20" fy="20" fr="12"',     # fr > r, concentric: circles shrink outwards
+    'fx="14" fy="20" fr="10"',     # fr = r, focal off centre: a band
+    'fx="28" fy="22" fr="15"',     # fr > r, focal circle containing the end circle
+    'fx="34" fy="20" fr="2"',      # focal point outside the end circle: a cone
+])
+def test_radial_gradient_with_any_focal_circle_is_the_canvas_two_point_conical(focal):
+    from vecmsaa.api import render_svg_array
+    svg = (f'<svg {NS} width="40" height="40"><radialGradient id="g" gradientUnits="userSpaceOnUse"'
+           f' cx="20" cy="20" r="10" {focal}><stop offset="0" stop-color="black"/>'
+           '<stop offset="1" stop-color="white"/></radialGradient>'
+           '<rect width="40" height="40" fill="url(#g)"/></svg>')
+    got = render_svg_array(svg, mode="analytic").astype(float)
+    attrs = dict(kv.split("=") for kv in focal.split())
+    fx, fy, fr = (float(attrs[k].strip('"')) for k in ("fx", "fy", "fr"))
+    yy, xx = np.mgrid[0:40, 0:40] + 0.5
+    t = _conical_truth(xx, yy, fx, fy, fr, 20, 20, 10)
+    painted = ~np.isnan(t)
+    assert painted.any()
+    # nothing where no circle passes; elsewhere grey = clamp(t) (pad), 8-bit and ramp steps
+    assert (got[~painted][:, 3] == 0).all()
+    expected = np.clip(t[painted], 0, 1) * 255
+    # pixels next to the edge of the painted region depend on sub-pixel position: skip them
+    inner = painted & np.roll(painted, 1, 0) & np.roll(painted, -1, 0) & \
+        np.roll(painted, 1, 1) & np.roll(painted, -1, 1)
+    assert np.abs(got[inner][:, 0] - np.clip(t[inner], 0, 1) * 255).max() <= 2
+    assert (got[inner][:, 3] == 255).all()
+    assert expected.size == painted.sum()
+
+
+@pytest.mark.parametrize("server", [
+    '<linearGradient id="p" gradientTransform="{t}"><stop offset="0" stop-color="red"/>'
+    '<stop offset="1" stop-color="blue"/></linearGradient>',
+    '<radialGradient id="p" gradientTransform="{t}"><stop offset="0" stop-color="red"/>'
+    '<stop offset="1" stop-color="blue"/></radialGradient>',
+    '<pattern id="p" width="0.5" height="0.5" patternTransform="{t}">'
+    '<rect width="5" height="10" fill="blue"/></pattern>',
+])
+def test_paint_server_transforms_invalid_or_singular(server):
+    """A malformed transform list is an error in the attribute, which is then ignored (the
+    identity); a singular one maps the paint onto a line, which paints nothing (CSS
+    Transforms: a non-invertible matrix is not rendered)."""
+    from vecmsaa.api import render_svg_array
+
+    def render(t):
+        return render_svg_array(f'<svg {NS} width="20" height="20">{server.format(t=t)}'
+                                '<rect width="20" height="20" fill="url(#p)"/></svg>',
+                                mode="analytic")
+    plain = render("")
+    assert plain[..., 3].max() == 255
+    for bad in ("rotate(45) nonsense", "scale(2 2 2)", "translate(5%)"):
+        assert np.array_equal(render(bad), plain), bad
+    for singular in ("scale(0)", "scale(1 0)", "matrix(1 2 2 4 0 0)"):
+        assert render(singular)[..., 3].max() == 0, singular

@@ -11,10 +11,12 @@ import numpy as np
 import pytest
 
 from vecmsaa.api import render_svg_array
+from vecmsaa.tools.suite import suite_from_environment
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
 TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
-SUITE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite")
+SUITE = suite_from_environment(os.path.join(os.path.dirname(__file__), "..", "..", "shared",
+                                            "resvg-suite"))
 FONTS = dict(use_fonts_dir=FIXTURES, skip_system_fonts=True, font_family="Noto Sans")
 
 
@@ -116,6 +118,22 @@ def test_text_on_a_straight_path_is_plain_text():
     # this scale), so compare ink and its box, not pixels.
     assert on_path.sum() == pytest.approx(plain.sum(), rel=0.01)
     assert np.allclose(ink_box(on_path), ink_box(plain), atol=1)
+
+
+@pytest.mark.parametrize("tag", ["path", "line"])
+def test_text_path_uses_the_referenced_shapes_transform(tag):
+    """SVG 2: the referenced shape's transform is a supplemental transformation of the path in
+    the text's user space (the glyphs are not scaled): the same as its coordinates mapped."""
+    shape = {"path": '<path id="p" d="M 20 140 H 380" transform="scale(0.5)"/>',
+             "line": '<line id="p" x1="20" y1="140" x2="380" y2="140" transform="scale(0.5)"/>'}
+    mapped = '<path id="p" d="M 10 70 H 190"/>'
+    text = '<text><textPath href="#p">Hxg</textPath></text>'
+    got = alpha(render(f"<defs>{shape[tag]}</defs>{text}"))
+    want = alpha(render(f"<defs>{mapped}</defs>{text}"))
+    assert got.sum() == pytest.approx(want.sum(), rel=0.01)
+    assert np.allclose(ink_box(got), ink_box(want), atol=1)
+    singular = alpha(render(f'<defs>{shape[tag].replace("scale(0.5)", "scale(0)")}</defs>{text}'))
+    assert singular.sum() == 0
 
 
 def test_underline_follows_the_post_table():

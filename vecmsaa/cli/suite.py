@@ -2,8 +2,12 @@
 
 Each ``tests/<category>/<feature>/<name>.svg`` is rendered at its reference PNG's size with the
 suite's fonts (``fonts/``, generic families mapped as resvg does), compared with the project's
-criterion (:mod:`vecmsaa.tools.compare`), and counted per category and feature. Failures get a diff
-image (reference | difference | rendered, as golden checks draw it) in ``--out``.
+criterion (:mod:`vecmsaa.tools.compare`), and counted per category and feature. The suite is the
+``crates/resvg/tests`` folder of the resvg repository; DIR defaults to $VECMSAA_RESVG_SUITE. A
+test whose reference keeps resvg's antialiasing fringe may have an exact reference in
+``exact-refs/`` beside ``tests/``; it passes when it matches either, and counts are printed both
+ways (plain, with exact refs). Failures get a labelled diff image (reference | difference |
+render) in ``--out``.
 
 ``--write-passing FILE`` writes the names of the passing tests: that is how
 ``tests/resvg_passing.txt``, the ratchet list of ``tests/test_resvg_suite.py``, is regenerated::
@@ -19,7 +23,9 @@ import sys
 def add_parser(subparsers):
     p = subparsers.add_parser("suite", help="run the resvg test suite against its reference PNGs",
                               description=__doc__.split("\n\n")[0])
-    p.add_argument("dir", help="the resvg suite folder (with tests/ and fonts/)")
+    p.add_argument("dir", nargs="?",
+                   help="the resvg suite folder (with tests/ and fonts/); "
+                        "default: $VECMSAA_RESVG_SUITE")
     p.add_argument("--out", help="folder for diff images of failing tests")
     from .options import add_coverage_options
     add_coverage_options(p)
@@ -32,18 +38,25 @@ def add_parser(subparsers):
     p.add_argument("--category", action="append", default=[],
                    help="only these categories (repeatable)")
     p.add_argument("--features", action="store_true", help="print pass rates per feature too")
-    p.add_argument("--failures", action="store_true", help="list failing tests")
+    p.add_argument("--failures", action="store_true",
+                   help="list failing tests, and those that pass only against an exact reference")
     p.add_argument("--write-passing", metavar="FILE",
-                   help="write the names of passing tests (the ratchet list)")
+                   help="write the names of passing tests, exact references counted "
+                        "(the ratchet list)")
     return p
 
 
 def run(args) -> int:
-    from vecmsaa.tools.suite import collect, run_suite, summarize, tests_root
+    from vecmsaa.tools.suite import (SUITE_ENV, collect, run_suite, suite_from_environment,
+                                     summarize, tests_root)
 
-    suite_dir, tests_dir = tests_root(args.dir)
+    folder = args.dir or suite_from_environment()
+    if not folder:
+        print(f"vecmsaa suite: give the suite folder or set {SUITE_ENV}", file=sys.stderr)
+        return 2
+    suite_dir, tests_dir = tests_root(folder)
     if not os.path.isdir(tests_dir):
-        print(f"vecmsaa suite: no tests folder in {args.dir}", file=sys.stderr)
+        print(f"vecmsaa suite: no tests folder in {folder}", file=sys.stderr)
         return 2
     names = collect(tests_dir, args.category, args.only)
     if not names:
@@ -66,12 +79,12 @@ def run(args) -> int:
             return 2
     if args.failures:
         for name in sorted(results):
-            ok, detail = results[name]
-            if not ok:
-                print(f"FAIL {name}: {detail}")
+            r = results[name]
+            if not r.plain:
+                print(f"{'EXACT' if r.exact else 'FAIL'} {name}: {r.detail}")
     print(summarize(results, args.features))
     if args.write_passing:
-        passing = sorted(n for n, (ok, _) in results.items() if ok)
+        passing = sorted(n for n, r in results.items() if r.passed)
         from vecmsaa.output.png import write_bytes_atomic
         write_bytes_atomic(("\n".join(passing) + "\n").encode(), args.write_passing)
     return 0

@@ -1,11 +1,13 @@
 """Text shaping with HarfBuzz (uharfbuzz), split into bidi runs.
 
 HarfBuzz does kerning, ligatures, mark positioning and complex scripts for one run of one
-direction. Mixed-direction text is cut into runs first by a simple bidi pass (strong types from
-``unicodedata``; neutrals join the run before them, or the paragraph direction between runs of
-different direction); runs come back in visual order, each already in visual order inside.
-That is not the full Unicode bidi algorithm (no explicit embeddings, no number rules), but it
-draws ordinary mixed Latin/Arabic/Hebrew lines right.
+direction. Mixed-direction text is cut into runs by the Unicode bidirectional algorithm (UAX #9,
+python-bidi's implementation of rules X1–X9, W1–W7, N1–N2, I1–I2 and L1): the runs are the
+stretches of one resolved embedding level, odd levels right to left, reordered for display by
+rule L2 (from the highest level down to the lowest odd one, every stretch at that level or
+above is reversed). So digits and neutrals inside right-to-left text keep their order
+("مرحبا 2024 عالم" shows 2024), and a Latin word with digits inside Arabic stays whole.
+HarfBuzz mirrors brackets in right-to-left runs (L4).
 """
 from __future__ import annotations
 
@@ -14,8 +16,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-RTL_TYPES = frozenset(("R", "AL"))
-LTR_TYPES = frozenset(("L",))
+#: bidi classes that can make any character's level differ from an LTR paragraph's 0
+_NOT_PLAIN_LTR = frozenset(("R", "AL", "AN", "RLE", "RLO", "LRE", "LRO", "RLI", "LRI", "FSI",
+                            "PDF", "PDI"))
 
 
 @dataclass
@@ -68,66 +71,88 @@ def parse_features(text) -> dict:
     return out
 
 
-def char_direction(ch: str) -> str | None:
-    t = unicodedata.bidirectional(ch)
-    if t in RTL_TYPES:
-        return "rtl"
-    if t in LTR_TYPES:
-        return "ltr"
-    return None
-
-
 def paragraph_direction(text: str, default: str = "ltr") -> str:
     """Direction of the first strong character (Unicode rule P2), else ``default``."""
     for ch in text:
-        d = char_direction(ch)
-        if d:
-            return d
+        t = unicodedata.bidirectional(ch)
+        if t in ("R", "AL"):
+            return "rtl"
+        if t == "L":
+            return "ltr"
     return default
 
 
-def bidi_runs(text: str, base: str = "ltr"):
-    """[(start, end, direction)] in logical order. Neutrals between two runs of the same
-    direction join them; between different directions they take the paragraph direction."""
-    if not text:
-        return []
-    dirs = [char_direction(c) for c in text]
-    n = len(text)
-    # Resolve neutrals: same strong type on both sides → that type; otherwise the base.
-    resolved = list(dirs)
-    i = 0
-    while i < n:
-        if resolved[i] is None:
-            j = i
-            while j < n and dirs[j] is None:
-                j += 1
-            before = next((dirs[k] for k in range(i - 1, -1, -1) if dirs[k]), base)
-            after = dirs[j] if j < n else base
-            fill = before if before == after else base
-            for k in range(i, j):
-                resolved[k] = fill
-            i = j
-        else:
-            i += 1
-    # Combining marks always follow their base character's run.
-    for k in range(1, n):
-        if unicodedata.category(text[k]).startswith("M"):
-            resolved[k] = resolved[k - 1]
+def bidi_levels(text: str, base: str = "ltr") -> list[int]:
+    """The resolved embedding level of every character (UAX #9 up to rule L1), for a paragraph
+    of direction ``base``. Explicit formatting characters, which rule X9 removes, take the
+    level of the character before them."""
+    base_level = 1 if base == "rtl" else 0
+    if base_level == 0 and not any(unicodedata.bidirectional(c) in _NOT_PLAIN_LTR
+                                   for c in text):
+        return [0] * len(text)
+    # Imported here: python-bidi's pure-Python algorithm module costs ~0.15 s to import
+    # (mostly the inspect module), which left-to-right text never needs.
+    from bidi import algorithm as uax9
+
+    storage = uax9.get_empty_storage()
+    storage["base_level"] = base_level
+    storage["base_dir"] = "R" if base_level else "L"
+    uax9.get_embedding_levels(text, storage)
+    chars = list(storage["chars"])          # one entry per character (no UCS-2 surrogates)
+    uax9.explicit_embed_and_overrides(storage)
+    uax9.resolve_weak_types(storage, False)
+    uax9.resolve_neutral_types(storage, False)
+    uax9.resolve_implicit_levels(storage, False)
+    uax9.reorder_resolved_levels(storage, False)     # L1 (and an L2 we do not use)
+    kept = {id(c) for c in storage["chars"]}
+    levels = []
+    for c in chars:
+        levels.append(c["level"] if id(c) in kept or not levels else levels[-1])
+    return levels
+
+
+def level_runs(text: str, base: str = "ltr"):
+    """[(start, end, level)] in logical order: the stretches of one resolved level."""
+    levels = bidi_levels(text, base)
     runs = []
     start = 0
-    for k in range(1, n + 1):
-        if k == n or resolved[k] != resolved[start]:
-            runs.append((start, k, resolved[start]))
+    for k in range(1, len(text) + 1):
+        if k == len(text) or levels[k] != levels[start]:
+            runs.append((start, k, levels[start]))
             start = k
     return runs
 
 
-def visual_order(runs, base: str):
-    """Reorder logical runs for display (two embedding levels: the base and the other)."""
-    if base == "rtl":
-        # In an RTL paragraph LTR runs stay LTR inside, but the run sequence is reversed.
-        return list(reversed(runs))
-    return list(runs)
+def _direction(level):
+    return "rtl" if level % 2 else "ltr"
+
+
+def bidi_runs(text: str, base: str = "ltr"):
+    """[(start, end, direction)] in logical order."""
+    return [(s, e, _direction(lv)) for s, e, lv in level_runs(text, base)]
+
+
+def visual_runs(text: str, base: str = "ltr"):
+    """[(start, end, direction)] in display order, left to right (rule L2 on whole runs; each
+    right-to-left run is reversed inside by its shaping)."""
+    runs = level_runs(text, base)
+    if not runs:
+        return []
+    levels = [lv for _, _, lv in runs]
+    lowest_odd = min((lv for lv in levels if lv % 2), default=None)
+    if lowest_odd is not None:
+        for level in range(max(levels), lowest_odd - 1, -1):
+            i = 0
+            while i < len(runs):
+                if runs[i][2] >= level:
+                    j = i
+                    while j < len(runs) and runs[j][2] >= level:
+                        j += 1
+                    runs[i:j] = runs[i:j][::-1]
+                    i = j
+                else:
+                    i += 1
+    return [(s, e, _direction(lv)) for s, e, lv in runs]
 
 
 def shape_run(face, text: str, start: int, end: int, *, location=(), features=None,
@@ -169,10 +194,9 @@ def shape_text(face, text: str, *, location=(), features=None, direction=None, s
     location = face.clamp_location(location) if not isinstance(location, tuple) else location
     if direction:
         # A forced direction shapes the whole line as one run, as hb-view does.
-        runs, base = [(0, len(text), direction)], direction
+        runs = [(0, len(text), direction)]
     else:
-        base = paragraph_direction(text)
-        runs = bidi_runs(text, base)
+        runs = visual_runs(text, paragraph_direction(text))
     return [shape_run(face, text, s, e, location=location, features=features, direction=d,
                       script=script, language=language)
-            for s, e, d in visual_order(runs, base)]
+            for s, e, d in runs]

@@ -158,6 +158,8 @@ def shade(kind, f, lut, tex, x, y):
             if b == 0.0:
                 return 0.0, 0.0, 0.0, 0.0
             t = c / (2.0 * b)
+            if fr + t * dr < 0.0:   # only circles of radius >= 0 paint
+                return 0.0, 0.0, 0.0, 0.0
         else:
             disc = b * b - a * c
             if disc < 0.0:

@@ -53,7 +53,6 @@ MAX_IMAGE_NESTING = 4
 MAX_NESTED_REFERENCES = 4096
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
-_TRANSFORM_UNITS = re.compile(r"(?<=[\d.])(px|deg)\b")
 
 
 @dataclass
@@ -248,7 +247,7 @@ class Builder:
         text = el.specified.get("transform")
         if not text or text == "none":
             return IDENTITY
-        m = parse_transform(_TRANSFORM_UNITS.sub("", text))
+        m = parse_transform(text)
         if m is None:
             return IDENTITY
         origin = el.specified.get("transform-origin")
@@ -824,14 +823,19 @@ class TextContext:
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
 
     def path_of(self, element):
-        if element.tag == "path":
-            return self._builder.path_data(element)
+        """A shape's outline in the referencing text's user space: its own ``transform`` is
+        "a supplemental transformation" there (SVG 2 textPath); singular → None."""
         style = self._builder.doc.document_style(element)
-        p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
+        if element.tag == "path":
+            p = self._builder.path_data(element)
+        else:
+            p = shape_path(element, self._builder.length_getter(element, style, self._ctx))
         if p is None:
             return None
         m = self._builder.element_transform(element, style, self._ctx)
-        return p.transformed(m) if m not in (None, IDENTITY) else p
+        if m is None:
+            return None
+        return p.transformed(m) if m != IDENTITY else p
 
     def wrap(self, element, style, nodes):
         return self._builder.wrap(element, style, self._ctx, nodes)

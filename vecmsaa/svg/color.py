@@ -1,11 +1,18 @@
-"""CSS colour values: named colours, hex forms, rgb()/rgba(), hsl()/hsla(), transparent.
+"""CSS colour values (CSS Color 4): named and system colours, hex forms, rgb()/rgba(),
+hsl()/hsla(), hwb(), lab(), lch(), oklab(), oklch(), color() in the predefined RGB and XYZ
+spaces, ``transparent``.
 
-:func:`parse_color` returns straight RGBA floats in [0, 1], ``"currentColor"`` for the keyword
-(resolved by the caller, who knows the ``color`` property), or ``None`` when the text is not a
-colour.
+:func:`parse_color` returns straight sRGB RGBA floats in [0, 1], ``"currentColor"`` for the
+keyword (resolved by the caller, who knows the ``color`` property), or ``None`` when the text is
+not a colour. rgb(), hsl() and hwb() channels are clamped to their ranges when parsed (CSS Color
+4 §5.1, §7, §8); colours given in a wider space (lab, lch, oklab, oklch, color()) are brought into
+sRGB with the CSS gamut-mapping algorithm (§13.2: chroma reduced in OKLCh until clipping is
+within a just-noticeable difference). Both syntaxes are read: the legacy one with commas, and the
+modern one with spaces, an optional ``/ alpha`` and the ``none`` keyword (= 0).
 """
 from __future__ import annotations
 
+import math
 import re
 
 NAMED = {
@@ -65,51 +72,340 @@ NAMED = {
     "yellow": (255, 255, 0), "yellowgreen": (154, 205, 50),
 }
 
-_FUNC = re.compile(r"^(rgba?|hsla?)\(\s*(.*?)\s*\)$", re.I | re.S)
-_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?(%|deg|rad|grad|turn)?$")
+#: CSS Color 4 §6.2 system colours, with the values of a light default theme
+SYSTEM = {
+    "canvas": (255, 255, 255), "canvastext": (0, 0, 0), "linktext": (0, 0, 238),
+    "visitedtext": (85, 26, 139), "activetext": (255, 0, 0), "buttonface": (240, 240, 240),
+    "buttontext": (0, 0, 0), "buttonborder": (118, 118, 118), "field": (255, 255, 255),
+    "fieldtext": (0, 0, 0), "highlight": (0, 120, 215), "highlighttext": (255, 255, 255),
+    "selecteditem": (0, 120, 215), "selecteditemtext": (255, 255, 255), "mark": (255, 255, 0),
+    "marktext": (0, 0, 0), "graytext": (109, 109, 109), "accentcolor": (0, 120, 215),
+    "accentcolortext": (255, 255, 255),
+}
+#: §6.3 deprecated CSS 2 system colours and the system colour each now means
+for _old, _new in {
+        "activeborder": "buttonborder", "activecaption": "canvas", "appworkspace": "canvas",
+        "background": "canvas", "buttonhighlight": "buttonface", "buttonshadow": "buttonface",
+        "captiontext": "canvastext", "inactiveborder": "buttonborder",
+        "inactivecaption": "canvas", "inactivecaptiontext": "graytext",
+        "infobackground": "canvas", "infotext": "canvastext", "menu": "canvas",
+        "menutext": "canvastext", "scrollbar": "canvas", "threeddarkshadow": "buttonborder",
+        "threedface": "buttonface", "threedhighlight": "buttonborder",
+        "threedlightshadow": "buttonborder", "threedshadow": "buttonborder", "window": "canvas",
+        "windowframe": "buttonborder", "windowtext": "canvastext"}.items():
+    SYSTEM[_old] = SYSTEM[_new]
+
+_FUNC = re.compile(r"^([a-z]+)\(\s*(.*?)\s*\)$", re.I | re.S)
+_NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?(%|deg|rad|grad|turn)?$", re.I)
+_HUE_UNITS = {"": 1.0, "deg": 1.0, "grad": 0.9, "rad": 180 / math.pi, "turn": 360.0}
+NONE = "none"
 
 
-def _clamp(v):
-    return min(1.0, max(0.0, v))
+def _clamp(v, lo=0.0, hi=1.0):
+    return min(hi, max(lo, v))
 
 
-def _args(text):
-    """Split function arguments written with commas or spaces (and an optional ``/ alpha``)."""
-    parts = [p.strip() for p in (text.split(",") if "," in text
-                                 else text.replace("/", " ").split())]
-    return [p for p in parts if p]
+def _split(text, max_channels=3):
+    """Function arguments → (channel tokens, alpha token or None, legacy comma syntax)."""
+    if "," in text:
+        parts = [p.strip() for p in text.split(",")]
+        if "/" in text or any(not p or len(p.split()) != 1 for p in parts) or len(parts) > 4:
+            return None
+        return parts[:3], (parts[3] if len(parts) == 4 else None), True
+    channels, slash, alpha = text.partition("/")
+    channels = channels.split()
+    alpha = alpha.split()
+    if slash and len(alpha) != 1:
+        return None
+    if not slash and len(channels) == max_channels + 1:
+        alpha = [channels.pop()]   # "rgb(0 0 255 0.5)": the alpha without its slash, as resvg reads it
+    return channels, (alpha[0] if alpha else None), False
 
 
-def _number(token):
+def _number(token, legacy=False):
+    """(value, unit) of a number, percentage or angle; ``none`` is (0, "") in modern syntax."""
+    if token.lower() == NONE and not legacy:
+        return 0.0, ""
     m = _NUMBER.match(token)
     if not m:
         return None
-    value = float(token[:len(token) - len(m.group(3) or "")])
-    return value, (m.group(3) or "").lower()
+    unit = (m.group(3) or "").lower()
+    return float(token[:len(token) - len(unit)]), unit
 
 
-def _alpha(token):
-    parsed = _number(token)
-    if parsed is None:
+def _scaled(token, percent_of, legacy=False):
+    """A channel that is a number or a percentage of ``percent_of``."""
+    parsed = _number(token, legacy)
+    if parsed is None or parsed[1] not in ("", "%"):
         return None
     v, unit = parsed
-    return _clamp(v / 100 if unit == "%" else v)
+    return v * percent_of / 100 if unit == "%" else v
 
 
-def _hsl_to_rgb(h, s, l):
-    # CSS Color 3 algorithm
-    def hue(m1, m2, t):
-        t %= 1.0
-        if t * 6 < 1:
-            return m1 + (m2 - m1) * t * 6
-        if t * 2 < 1:
-            return m2
-        if t * 3 < 2:
-            return m1 + (m2 - m1) * (2 / 3 - t) * 6
-        return m1
-    m2 = l * (s + 1) if l <= 0.5 else l + s - l * s
-    m1 = l * 2 - m2
-    return hue(m1, m2, h + 1 / 3), hue(m1, m2, h), hue(m1, m2, h - 1 / 3)
+def _hue(token, legacy=False):
+    parsed = _number(token, legacy)
+    if parsed is None or parsed[1] == "%":
+        return None
+    return parsed[0] * _HUE_UNITS[parsed[1]]
+
+
+def _hue_to_rgb(h):
+    """The fully saturated sRGB colour of hue ``h`` degrees (hsl(h 100% 50%))."""
+    return _hsl_to_rgb(h, 1.0, 0.5)
+
+
+def _hsl_to_rgb(h, s, light):
+    """CSS Color 4 §7.1: hsl → sRGB, ``h`` in degrees, ``s`` and ``light`` in [0, 1]."""
+    h = (h % 360) / 30
+
+    def f(n):
+        k = (n + h) % 12
+        a = s * min(light, 1 - light)
+        return light - a * max(-1.0, min(k - 3, 9 - k, 1.0))
+    return f(0), f(8), f(4)
+
+
+def _hwb_to_rgb(h, white, black):
+    """CSS Color 4 §8.1: whiteness and blackness that add up to 1 or more give a grey."""
+    if white + black >= 1:
+        grey = white / (white + black)
+        return grey, grey, grey
+    return tuple(c * (1 - white - black) + white for c in _hue_to_rgb(h))
+
+
+# -- colour spaces (CSS Color 4 §10, conversions as in its sample code §18) ---------------------
+def _inv3(m):
+    (a, b, c), (d, e, f), (g, h, i) = m
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    return [[(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det],
+            [(f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det],
+            [(d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det]]
+
+
+def _mul(m, v):
+    return [m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
+            m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
+            m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2]]
+
+
+def _matmul(a, b):
+    return [[sum(a[r][k] * b[k][c] for k in range(3)) for c in range(3)] for r in range(3)]
+
+
+def _white(x, y):
+    return [x / y, 1.0, (1 - x - y) / y]
+
+
+D65 = _white(0.3127, 0.3290)
+D50 = _white(0.3457, 0.3585)
+
+
+def _rgb_to_xyz(primaries, white):
+    """Linear RGB → XYZ matrix from the primaries' chromaticities and the white point."""
+    cols = [[x / y, 1.0, (1 - x - y) / y] for x, y in primaries]
+    p = [[cols[c][r] for c in range(3)] for r in range(3)]
+    s = _mul(_inv3(p), white)
+    return [[p[r][c] * s[c] for c in range(3)] for r in range(3)]
+
+
+def _bradford(src, dst):
+    """Chromatic adaptation between white points (the Bradford cone response)."""
+    cone = [[0.8951, 0.2664, -0.1614], [-0.7502, 1.7135, 0.0367], [0.0389, -0.0685, 1.0296]]
+    s, d = _mul(cone, src), _mul(cone, dst)
+    scale = [[d[i] / s[i] if i == j else 0.0 for j in range(3)] for i in range(3)]
+    return _matmul(_inv3(cone), _matmul(scale, cone))
+
+
+def _srgb_decode(c):
+    a = abs(c)
+    return c / 12.92 if a <= 0.04045 else math.copysign(((a + 0.055) / 1.055) ** 2.4, c)
+
+
+def _srgb_encode(c):
+    a = abs(c)
+    return 12.92 * c if a <= 0.0031308 else math.copysign(1.055 * a ** (1 / 2.4) - 0.055, c)
+
+
+def _gamma(g):
+    return lambda c: math.copysign(abs(c) ** g, c)
+
+
+def _prophoto_decode(c):
+    return c / 16 if abs(c) <= 16 / 512 else math.copysign(abs(c) ** 1.8, c)
+
+
+_REC_A, _REC_B = 1.09929682680944, 0.018053968510807
+
+
+def _rec2020_decode(c):
+    a = abs(c)
+    if a < _REC_B * 4.5:
+        return c / 4.5
+    return math.copysign(((a + _REC_A - 1) / _REC_A) ** (1 / 0.45), c)
+
+
+def _identity(c):
+    return c
+
+
+_SRGB_PRIMARIES = ((0.64, 0.33), (0.30, 0.60), (0.15, 0.06))
+SRGB_TO_XYZ = _rgb_to_xyz(_SRGB_PRIMARIES, D65)
+XYZ_TO_SRGB = _inv3(SRGB_TO_XYZ)
+D50_TO_D65 = _bradford(D50, D65)
+#: color() spaces: (transfer function to linear light, linear → XYZ D65 matrix)
+SPACES = {
+    "srgb": (_srgb_decode, SRGB_TO_XYZ),
+    "srgb-linear": (_identity, SRGB_TO_XYZ),
+    "display-p3": (_srgb_decode, _rgb_to_xyz(((0.680, 0.320), (0.265, 0.690), (0.150, 0.060)),
+                                             D65)),
+    "a98-rgb": (_gamma(563 / 256), _rgb_to_xyz(((0.64, 0.33), (0.21, 0.71), (0.15, 0.06)), D65)),
+    "prophoto-rgb": (_prophoto_decode, _matmul(D50_TO_D65, _rgb_to_xyz(
+        ((0.734699, 0.265301), (0.159597, 0.840403), (0.036598, 0.000105)), D50))),
+    "rec2020": (_rec2020_decode, _rgb_to_xyz(((0.708, 0.292), (0.170, 0.797), (0.131, 0.046)),
+                                             D65)),
+    "xyz": (_identity, [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]),
+    "xyz-d65": (_identity, [[1.0, 0, 0], [0, 1.0, 0], [0, 0, 1.0]]),
+    "xyz-d50": (_identity, D50_TO_D65),
+}
+# OKLab (Ottosson 2020, as in CSS Color 4 §9.2): linear sRGB → LMS, then cube roots → Lab
+_OK_M1 = [[0.4122214708, 0.5363325363, 0.0514459929], [0.2119034982, 0.6806995451, 0.1073969566],
+          [0.0883024619, 0.2817188376, 0.6299787005]]
+_OK_M2 = [[0.2104542553, 0.7936177850, -0.0040720468],
+          [1.9779984951, -2.4285922050, 0.4505937099],
+          [0.0259040371, 0.7827717662, -0.8086757660]]
+_OK_M1_INV, _OK_M2_INV = _inv3(_OK_M1), _inv3(_OK_M2)
+
+
+def _lab_to_linear_srgb(L, a, b):
+    """CIE Lab (D50, L in 0..100) → linear sRGB (CSS Color 4 §9.3)."""
+    kappa, eps = 24389 / 27, 216 / 24389
+    fy = (L + 16) / 116
+    fx, fz = a / 500 + fy, fy - b / 200
+    x = fx ** 3 if fx ** 3 > eps else (116 * fx - 16) / kappa
+    y = fy ** 3 if L > kappa * eps else L / kappa
+    z = fz ** 3 if fz ** 3 > eps else (116 * fz - 16) / kappa
+    xyz50 = [x * D50[0], y * D50[1], z * D50[2]]
+    return _mul(XYZ_TO_SRGB, _mul(D50_TO_D65, xyz50))
+
+
+def _oklab_to_linear_srgb(L, a, b):
+    lms = [c ** 3 for c in _mul(_OK_M2_INV, [L, a, b])]
+    return _mul(_OK_M1_INV, lms)
+
+
+def _linear_srgb_to_oklab(rgb):
+    return _mul(_OK_M2, [math.copysign(abs(c) ** (1 / 3), c) for c in _mul(_OK_M1, rgb)])
+
+
+def _gamut_map(linear):
+    """Linear sRGB, possibly out of gamut → sRGB in [0, 1]^3 by CSS Color 4 §13.2.2: hold
+    OKLCh lightness and hue, reduce chroma by bisection until clipping the colour moves it less
+    than a just-noticeable difference (ΔEOK 0.02)."""
+    encode = _srgb_encode
+    srgb = [encode(c) for c in linear]
+    if all(-1e-6 <= c <= 1 + 1e-6 for c in srgb):
+        return [_clamp(c) for c in srgb]
+    L, a, b = _linear_srgb_to_oklab(linear)
+    if L >= 1:
+        return [1.0, 1.0, 1.0]
+    if L <= 0:
+        return [0.0, 0.0, 0.0]
+    chroma, hue = math.hypot(a, b), math.atan2(b, a)
+    jnd, epsilon = 0.02, 0.0001
+
+    def at(c):
+        return _oklab_to_linear_srgb(L, c * math.cos(hue), c * math.sin(hue))
+
+    def clipped_and_error(lin):
+        clip = [_clamp(encode(v)) for v in lin]
+        back = _linear_srgb_to_oklab([_srgb_decode(v) for v in clip])
+        return clip, math.dist(back, _linear_srgb_to_oklab(lin))
+
+    clip, error = clipped_and_error(linear)
+    if error < jnd:
+        return clip
+    lo, hi, lo_in_gamut = 0.0, chroma, True
+    while hi - lo > epsilon:
+        mid = (lo + hi) / 2
+        current = at(mid)
+        if lo_in_gamut and all(-1e-6 <= encode(v) <= 1 + 1e-6 for v in current):
+            lo = mid
+            continue
+        clip, error = clipped_and_error(current)
+        if error < jnd:
+            if jnd - error < epsilon:
+                return clip
+            lo_in_gamut = False
+            lo = mid
+        else:
+            hi = mid
+    return clip
+
+
+def _alpha(token, legacy=False):
+    value = _scaled(token, 1.0, legacy)
+    return None if value is None else _clamp(value)
+
+
+def _function(func, body):
+    """sRGB RGB floats of a colour function's channels, or None."""
+    split = _split(body, 4 if func == "color" else 3)
+    if split is None:
+        return None
+    channels, alpha_token, legacy = split
+    if func == "color":
+        if legacy or len(channels) != 4 or channels[0].lower() not in SPACES:
+            return None
+        decode, to_xyz = SPACES[channels[0].lower()]
+        values = [_scaled(t, 1.0) for t in channels[1:]]
+        if None in values:
+            return None
+        rgb = _gamut_map(_mul(XYZ_TO_SRGB, _mul(to_xyz, [decode(v) for v in values])))
+    elif len(channels) != 3:
+        return None
+    elif func in ("rgb", "rgba"):
+        values = [_scaled(t, 255.0, legacy) for t in channels]
+        if None in values:
+            return None
+        rgb = [_clamp(v / 255) for v in values]
+    elif func in ("hsl", "hsla", "hwb"):
+        if legacy and func == "hwb":
+            return None
+        h = _hue(channels[0], legacy)
+        s, light = (_scaled(t, 100.0, legacy) for t in channels[1:])
+        if None in (h, s, light):
+            return None
+        if func == "hwb":
+            rgb = _hwb_to_rgb(h, _clamp(s / 100), _clamp(light / 100))
+        else:
+            rgb = _hsl_to_rgb(h, _clamp(s / 100), _clamp(light / 100))
+    elif func in ("lab", "lch", "oklab", "oklch") and not legacy:
+        ok = func.startswith("ok")
+        L = _scaled(channels[0], 1.0 if ok else 100.0)
+        if func.endswith("lab"):
+            a, b = (_scaled(t, 0.4 if ok else 125.0) for t in channels[1:])
+        else:
+            c, h = _scaled(channels[1], 0.4 if ok else 150.0), _hue(channels[2])
+            if None in (c, h):
+                return None
+            c = max(c, 0.0)
+            a, b = c * math.cos(math.radians(h)), c * math.sin(math.radians(h))
+        if None in (L, a, b):
+            return None
+        L = _clamp(L, 0.0, 1.0 if ok else 100.0)
+        rgb = _gamut_map((_oklab_to_linear_srgb if ok else _lab_to_linear_srgb)(L, a, b))
+    else:
+        return None
+    alpha = 1.0
+    if alpha_token is not None:
+        # resvg (svgtypes) rejects a percentage alpha in the comma-separated rgb form, so
+        # rgba(0, 127, 0, 50%) is an invalid colour there; the CSS 4 form "/ 50%" is kept.
+        if legacy and func.startswith("rgb") and alpha_token.endswith("%"):
+            return None
+        alpha = _alpha(alpha_token, legacy)
+        if alpha is None:
+            return None
+    return (*(float(c) for c in rgb), alpha)
 
 
 def parse_color(text: str):
@@ -122,8 +418,9 @@ def parse_color(text: str):
         return "currentColor"
     if low == "transparent":
         return (0.0, 0.0, 0.0, 0.0)
-    if low in NAMED:
-        r, g, b = NAMED[low]
+    named = NAMED.get(low) or SYSTEM.get(low)
+    if named:
+        r, g, b = named
         return (r / 255, g / 255, b / 255, 1.0)
     if s[0] == "#":
         h = s[1:]
@@ -136,33 +433,4 @@ def parse_color(text: str):
     m = _FUNC.match(s)
     if not m:
         return None
-    func = m.group(1).lower()
-    args = _args(m.group(2))
-    if len(args) not in (3, 4):
-        return None
-    alpha = 1.0
-    if len(args) == 4:
-        # resvg (svgtypes) rejects a percentage alpha in the comma-separated form, so
-        # rgba(0, 127, 0, 50%) is an invalid colour there; the CSS 4 form "/ 50%" is kept.
-        if "," in m.group(2) and args[3].endswith("%"):
-            return None
-        alpha = _alpha(args[3])
-        if alpha is None:
-            return None
-    if func.startswith("rgb"):
-        out = []
-        for tok in args[:3]:
-            parsed = _number(tok)
-            if parsed is None or parsed[1] not in ("", "%"):
-                return None
-            v, unit = parsed
-            out.append(_clamp(v / 100 if unit == "%" else v / 255))
-        return (*out, alpha)
-    parsed = [_number(t) for t in args[:3]]
-    if any(p is None for p in parsed):
-        return None
-    (h, hu), (sat, _), (light, _) = parsed
-    h = {"": h, "deg": h, "rad": h * 57.29577951308232, "grad": h * 0.9,
-         "turn": h * 360}.get(hu, h)
-    r, g, b = _hsl_to_rgb((h % 360) / 360, _clamp(sat / 100), _clamp(light / 100))
-    return (r, g, b, alpha)
+    return _function(m.group(1).lower(), m.group(2))

@@ -166,10 +166,14 @@ def gradient(builder, el, ctx, bbox):
     same = [e for e in chain if e.tag == el.tag]
     fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
     fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
-    fr = attr("fr", "xy", "0%")
-    fr = max(fr, 0.0)
-    if r <= 0 or fr >= r:
+    fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
+    if r <= 0:
+        # SVG: "a value of zero will cause the area to be painted as a single color using the
+        # color and opacity of the last gradient stop"
         return Solid(tuple(stops[-1, 1:]))
+    # Any focal circle, also one as large as or larger than the end circle (fr >= r) or lying
+    # outside it, is the two-point conical gradient of SVG 2 / canvas: the shader takes the
+    # largest t whose interpolated circle passes through the pixel and has a radius >= 0.
     return RadialGradient(cx, cy, r, fx, fy, stops, fr, spread, to_paint)
 
 

@@ -68,43 +68,88 @@ def to_px(value, unit, font_size=16.0, reference=0.0, dpi=96.0):
     return px * (dpi / 96.0) if unit in PHYSICAL_UNITS else px
 
 
+_TRANSFORM_FN = re.compile(r"\s*,?\s*([a-zA-Z]+)\s*\(([^)]*)\)\s*,?")
+# numbers may follow each other without a separator where SVG's grammar allows it ("10-5")
+_TRANSFORM_ARG = re.compile(rf"\s*({NUMBER_RE})([a-zA-Z%]*)\s*(?:,|(?=[\s+\-.])|$)")
+#: angle units of CSS Values 4, in degrees
+ANGLE_DEG = {"": 1.0, "deg": 1.0, "grad": 0.9, "rad": 180 / math.pi, "turn": 360.0}
+#: (minimum, maximum) argument counts and each argument's kind: a(ngle), l(ength), n(umber)
+_TRANSFORM_ARGS = {"matrix": (6, 6, "nnnnnn"), "translate": (1, 2, "ll"), "translateX": (1, 1, "l"),
+                   "translateY": (1, 1, "l"), "scale": (1, 2, "nn"), "scaleX": (1, 1, "n"),
+                   "scaleY": (1, 1, "n"), "rotate": (1, 3, "all"), "skew": (1, 2, "aa"),
+                   "skewX": (1, 1, "a"), "skewY": (1, 1, "a")}
+
+
+def _transform_args(name, text):
+    """The arguments of one transform function as floats (angles in degrees, lengths in px),
+    or None when their number, kind or units are wrong."""
+    lo, hi, kinds = _TRANSFORM_ARGS[name]
+    out = []
+    pos = 0
+    text = text.strip()
+    while pos < len(text):
+        m = _TRANSFORM_ARG.match(text, pos)
+        if not m or len(out) == hi:
+            return None
+        value, unit = float(m.group(1)), m.group(2).lower()
+        kind = kinds[len(out)]
+        if kind == "a" and unit in ANGLE_DEG:
+            value *= ANGLE_DEG[unit]
+        elif kind == "l" and unit in UNIT_PX:
+            value *= UNIT_PX[unit]
+        elif kind == "n" and unit in ("", "%"):
+            value = value / 100 if unit == "%" else value
+        else:
+            return None
+        out.append(value)
+        pos = m.end()
+    if not lo <= len(out) <= hi or (name == "rotate" and len(out) == 2):
+        return None
+    return out
+
+
 def parse_transform(text):
-    """An SVG transform list → affine matrix; None when the text is malformed."""
+    """A transform list → affine matrix; None when the text is malformed.
+
+    SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
+    translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
+    scale factors as percentages) are both read."""
     m = IDENTITY
     if text is None:
         return IDENTITY
     s = text.strip()
     pos = 0
-    pattern = re.compile(r"\s*,?\s*([a-zA-Z]+)\s*\(([^)]*)\)\s*,?")
     while pos < len(s):
-        mt = pattern.match(s, pos)
-        if not mt:
+        mt = _TRANSFORM_FN.match(s, pos)
+        if not mt or mt.group(1) not in _TRANSFORM_ARGS:
             return None
-        name, args = mt.group(1), mt.group(2)
-        nums = parse_numbers(args)
-        if re.sub(rf"{NUMBER_RE}|[\s,]", "", args) or not all(map(math.isfinite, nums)):
+        name = mt.group(1)
+        nums = _transform_args(name, mt.group(2))
+        if nums is None or not all(map(math.isfinite, nums)):
             return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
         n = len(nums)
-        if name == "matrix" and n == 6:
+        if name == "matrix":
             t = tuple(nums)
-        elif name == "translate" and n in (1, 2):
-            t = (1, 0, 0, 1, nums[0], nums[1] if n == 2 else 0.0)
-        elif name == "scale" and n in (1, 2):
-            t = (nums[0], 0, 0, nums[1] if n == 2 else nums[0], 0, 0)
-        elif name == "rotate" and n in (1, 3):
+        elif name.startswith("translate"):
+            tx, ty = (nums[0], nums[1] if n == 2 else 0.0) if name == "translate" else (
+                (nums[0], 0.0) if name == "translateX" else (0.0, nums[0]))
+            t = (1, 0, 0, 1, tx, ty)
+        elif name.startswith("scale"):
+            sx, sy = (nums[0], nums[1] if n == 2 else nums[0]) if name == "scale" else (
+                (nums[0], 1.0) if name == "scaleX" else (1.0, nums[0]))
+            t = (sx, 0, 0, sy, 0, 0)
+        elif name == "rotate":
             a = math.radians(nums[0])
             c, sn = math.cos(a), math.sin(a)
             t = (c, sn, -sn, c, 0, 0)
             if n == 3:
                 cx, cy = nums[1], nums[2]
                 t = compose(compose((1, 0, 0, 1, cx, cy), t), (1, 0, 0, 1, -cx, -cy))
-        elif name == "skewX" and n == 1:
-            t = (1, 0, math.tan(math.radians(nums[0])), 1, 0, 0)
-        elif name == "skewY" and n == 1:
-            t = (1, math.tan(math.radians(nums[0])), 0, 1, 0, 0)
         else:
-            return None
+            ax = nums[0] if name in ("skew", "skewX") else 0.0
+            ay = nums[0] if name == "skewY" else (nums[1] if name == "skew" and n == 2 else 0.0)
+            t = (1, math.tan(math.radians(ay)), math.tan(math.radians(ax)), 1, 0, 0)
         m = compose(m, tuple(float(x) for x in t))
     return m
 

@@ -12,7 +12,7 @@ import math
 from bisect import bisect_right
 from dataclasses import dataclass
 
-from ...fonts.shape import bidi_runs, shape_run
+from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, collapse_white_space, collect_chars, content_elements
@@ -61,7 +61,8 @@ class Cluster:
 
 
 def shape_chunk(chars, faces, specs, start, end):
-    """Clusters of chars[start:end] in visual order (LTR paragraph, bidi runs reversed).
+    """Clusters of chars[start:end] in visual order: the Unicode bidi algorithm's runs for a
+    left-to-right paragraph (resvg's, whatever the ``direction`` property says), reordered.
 
     As resvg does, each bidi run is shaped whole with every face (and font settings) that
     its characters use, and each cluster is taken from the shaping by its own character's
@@ -69,7 +70,7 @@ def shape_chunk(chars, faces, specs, start, end):
     """
     text = "".join(c.ch for c in chars)
     clusters = []
-    for s, e, d in bidi_runs(text[start:end], "ltr"):
+    for s, e, d in visual_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
         keys = {}
         for k in range(s, e):
