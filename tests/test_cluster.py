@@ -164,7 +164,7 @@ def test_suite_on_the_cluster_gives_the_local_results(shared_dir, scheduler):
         ref = _reference(str(suite), name)
         actual = render_test(str(suite / "tests" / f"{name}.svg"), ref.shape[1], ref.shape[0],
                              **suite_options(str(suite)))
-        local[name] = judge(name, actual, ref, None)[1:]
+        local[name] = judge(name, actual, ref, None, str(suite))[1]
     remote = run_suite(str(suite), names, scheduler=scheduler)
     assert remote == local
 

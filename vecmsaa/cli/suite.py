@@ -62,9 +62,9 @@ def run(args) -> int:
     if not names:
         print("vecmsaa suite: no tests selected", file=sys.stderr)
         return 2
-    from .progress import Progress
-
     from vecmsaa.tools.cluster import ClusterError
+
+    from .progress import Progress
 
     with Progress(len(names), "suite") as bar:
         def progress(done, total):
