@@ -5,11 +5,14 @@ Every input is small and generated here; each test states the independent truth 
 """
 from __future__ import annotations
 
+import subprocess
+import sys
 import warnings
 
 import numpy as np
 import pytest
 from fontTools.fontBuilder import FontBuilder
+from fontTools.misc.psCharStrings import T2CharString
 from fontTools.pens.ttGlyphPen import TTGlyphPen
 from fontTools.ttLib import TTFont
 from fontTools.ttLib.tables._g_l_y_f import Glyph, GlyphComponent
@@ -106,6 +109,88 @@ def test_text_with_a_broken_glyph_draws_the_rest(tmp_path, self_reference):
     want = render_svg_array(text("A  A"), **fonts)
     assert (want[..., 3] > 0).any()
     assert np.array_equal(got, want)
+
+
+def test_command_line_reports_a_broken_glyph_in_one_line(tmp_path):
+    font = hostile_font(tmp_path / "h.ttf", self_reference=True)
+    out = tmp_path / "o.png"
+    run = subprocess.run([sys.executable, "-m", "vecmsaa.cli", "font", str(font), "--text", "AB",
+                          "-o", str(out)], capture_output=True, text=True)
+    assert run.returncode == 0 and out.exists()
+    lines = run.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("vecmsaa font: warning: broken glyph 'B'")
+    quiet = subprocess.run([sys.executable, "-m", "vecmsaa.cli", "font", str(font), "--text", "AB",
+                            "-q", "-o", str(out)], capture_output=True, text=True)
+    assert quiet.returncode == 0 and quiet.stderr == ""
+
+
+def _truncate_table(path, tag: bytes, length: int):
+    """The font file with table ``tag``'s directory length cut to ``length`` bytes."""
+    raw = bytearray(path.read_bytes())
+    for i in range(int.from_bytes(raw[4:6], "big")):
+        entry = 12 + 16 * i
+        if raw[entry:entry + 4] == tag:
+            raw[entry + 12:entry + 16] = length.to_bytes(4, "big")
+    path.write_bytes(bytes(raw))
+    return path
+
+
+def test_corrupt_metrics_draw_empty_with_one_warning(tmp_path):
+    font = _truncate_table(hostile_font(tmp_path / "h.ttf"), b"hmtx", 2)
+    face = load_face(font)
+    with pytest.warns(FontWarning, match="hmtx") as caught:
+        assert face.advance(face.glyph_for_char("A")) == 0.0
+        assert len(face.outline(face.glyph_for_char("A"))[1]) == 0
+        assert len(face.outline(face.glyph_for_char("B"))[1]) == 0
+    assert all("hmtx" in str(w.message) for w in caught)     # the same cause, not a later one
+    for what in (["--glyphs"], ["--text", "AB"]):
+        run = subprocess.run([sys.executable, "-m", "vecmsaa.cli", "font", str(font), *what,
+                              "-o", str(tmp_path / "o.png")], capture_output=True, text=True)
+        assert run.returncode == 0, run.stderr
+        assert "Traceback" not in run.stderr and "hmtx" in run.stderr
+
+
+def cff_fan_out_font(path, levels):
+    """A CFF font whose glyph 'B' calls global subroutine levels-1, each subroutine k calling
+    k-1 twice and subroutine 0 drawing one line: 2^(levels-1) lines; 'A' is a square."""
+    fb = FontBuilder(1000, isTTF=False)
+    order = [".notdef", "A", "B"]
+    fb.setupGlyphOrder(order)
+    fb.setupCharacterMap({ord("A"): "A", ord("B"): "B"})
+    square = [100, 0, "rmoveto", 0, 700, "rlineto", 400, 0, "rlineto", 0, -700, "rlineto",
+              "endchar"]
+    fb.setupCFF("Hostile-Regular", {"FullName": "Hostile"},
+                {n: T2CharString(program=list(square)) for n in order}, {})
+    fb.setupHorizontalMetrics({n: (600, 0) for n in order})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    fb.setupNameTable({"familyName": "Hostile", "styleName": "Regular"})
+    fb.setupOS2()
+    fb.setupPost()
+    cff = fb.font["CFF "].cff
+    charstrings, subrs = cff.topDictIndex[0].CharStrings, cff.GlobalSubrs
+    bias = 107                                   # Type 2 subroutine bias below 1240 subrs
+
+    def program(tokens):
+        return T2CharString(program=tokens, private=charstrings["A"].private, globalSubrs=subrs)
+
+    subrs.append(program([1, 1, "rlineto", "return"]))
+    for k in range(1, levels):
+        subrs.append(program([k - 1 - bias, "callgsubr", k - 1 - bias, "callgsubr", "return"]))
+    charstrings["B"] = program([100, 0, "rmoveto", levels - 1 - bias, "callgsubr", "endchar"])
+    fb.font.recalcBBoxes = False                 # the bounds would run the fan-out
+    fb.save(str(path))
+    return path
+
+
+def test_cff_subroutine_fan_out_is_bounded(tmp_path):
+    small = load_face(cff_fan_out_font(tmp_path / "small.otf", levels=10))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(small.outline(small.glyph_for_char("B"))[1]) == 1 + 2 ** 9   # every line
+    bomb = load_face(cff_fan_out_font(tmp_path / "bomb.otf", levels=60))        # 2^59 lines
+    with pytest.warns(FontWarning, match="subroutines"):
+        assert len(bomb.outline(bomb.glyph_for_char("B"))[1]) == 0
+    assert len(bomb.outline(bomb.glyph_for_char("A"))[1]) == 4
 
 
 def test_collection_claiming_two_billion_faces_is_refused_at_once(tmp_path):

@@ -22,27 +22,32 @@ class RenderWarning(UserWarning):
     """Something in the input was skipped or replaced; the image is still made."""
 
 
-_sinks: list = []   # the innermost listener last; each is a list of messages
+#: the innermost listener last; each is (its list of messages, {message: warning class})
+_sinks: list = []
 
 
-def warn(message: str) -> None:
-    """Report one problem (one line, without the file name: the listener adds it)."""
+def warn(message: str, category: type = RenderWarning) -> None:
+    """Report one problem (one line, without the file name: the listener adds it).
+    ``category``: the :class:`RenderWarning` subclass Python callers see (e.g. FontWarning)."""
     if _sinks:
-        sink = _sinks[-1]
-        if message not in sink:
+        sink, categories = _sinks[-1]
+        if message not in categories:
             sink.append(message)
+            categories[message] = category
     else:
-        warnings.warn(message, RenderWarning, stacklevel=_outside_level())
+        warnings.warn(message, category, stacklevel=_outside_level())
 
 
 @contextlib.contextmanager
-def collecting(sink: list):
-    """Within the block, warnings are appended to ``sink`` (each message once)."""
-    _sinks.append(sink)
+def collecting(sink: list, categories: dict | None = None):
+    """Within the block, warnings are appended to ``sink`` (each message once) and their
+    classes recorded in ``categories``."""
+    entry = (sink, {} if categories is None else categories)
+    _sinks.append(entry)
     try:
         yield sink
     finally:
-        _sinks.remove(sink)
+        _sinks.remove(entry)
 
 
 @contextlib.contextmanager
@@ -53,10 +58,11 @@ def as_python_warnings():
         yield
         return
     found: list = []
-    with collecting(found):
+    categories: dict = {}
+    with collecting(found, categories):
         yield
     for message in found:
-        warnings.warn(message, RenderWarning, stacklevel=_outside_level())
+        warnings.warn(message, categories[message], stacklevel=_outside_level())
 
 
 def _outside_level() -> int:

@@ -40,6 +40,7 @@ def add_parser(subparsers):
                    help="background colour (CSS), 'transparent' allowed [default: white]")
     p.add_argument("--margin", type=float, default=None, metavar="PX",
                    help="margin around a --text line [default: size/8, at least 2]")
+    p.add_argument("-q", "--quiet", action="store_true", help="no warnings")
     p.add_argument("--page", type=int, default=1, metavar="N",
                    help="page of --glyphs (1-based) [default: 1]")
     p.add_argument("--per-page", type=int, default=256, metavar="N",
@@ -85,7 +86,7 @@ def _sizes(text: str) -> list:
 
 
 def run(args) -> int:
-    from vecmsaa.fonts import FontError, load_face, parse_features, parse_variations
+    from vecmsaa.fonts import parse_features, parse_variations
 
     try:
         foreground = _color(args.foreground, "--foreground")
@@ -100,13 +101,26 @@ def run(args) -> int:
         sizes = _sizes(args.waterfall) if args.waterfall else None
     except ValueError as exc:
         return _fail(str(exc), 2)   # option values: a usage error
+    from vecmsaa import diagnostics
+
+    found: list = []
+    with diagnostics.collecting(found):   # broken glyphs: one line each, after the render
+        status = _render(args, location, features, foreground, background, sizes)
+    for message in [] if args.quiet else found:
+        print(f"vecmsaa font: warning: {message}", file=sys.stderr)
+    return status
+
+
+def _render(args, location, features, foreground, background, sizes) -> int:
+    from vecmsaa import diagnostics
+    from vecmsaa.fonts import FontError, load_face
+
     try:
         face = load_face(args.font, args.face_index)
         for tag in location:
             if tag not in face.axes:
                 have = ", ".join(face.axes) or "none"
-                print(f"vecmsaa font: warning: font has no axis {tag!r} (axes: {have})",
-                      file=sys.stderr)
+                diagnostics.warn(f"font has no axis {tag!r} (axes: {have})")
         scene = build_scene(face, args, location, features, foreground, background, sizes)
     except (FontError, ValueError) as exc:
         return _fail(str(exc))

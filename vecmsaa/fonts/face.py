@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import math
 import os
-import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from fontTools.misc.psCharStrings import T2OutlineExtractor
 
+from .. import diagnostics
+from ..diagnostics import RenderWarning
 from ..scene.path import Path
 
 
@@ -23,8 +25,10 @@ class FontError(Exception):
     """A font file that cannot be read or has nothing vecmsaa can draw."""
 
 
-class FontWarning(UserWarning):
-    """A part of a usable font is broken (one glyph, a variation): it is drawn empty."""
+class FontWarning(RenderWarning):
+    """A part of a usable font is broken (one glyph, a variation): it is drawn empty.
+    Reported through :mod:`vecmsaa.diagnostics`, so the command line prints it as one line
+    naming the input, like every other warning."""
 
 
 #: Bounds on one TrueType composite glyph: how deep components nest and how many simple-glyph
@@ -32,6 +36,11 @@ class FontWarning(UserWarning):
 #: copies); a hostile font doubling its copies per level would otherwise draw 2^depth contours.
 MAX_COMPONENT_DEPTH = 16
 MAX_COMPONENT_COPIES = 4096
+#: Bounds on one CFF/CFF2 glyph program: bytes of charstring run, subroutines included, and
+#: how deep subroutine calls nest (Type 2 allows 10). Real glyphs run a few kilobytes; a
+#: hostile font whose subroutines each call the next twice would run 2^depth of them.
+MAX_CHARSTRING_BYTES = 1 << 18
+MAX_SUBR_DEPTH = 64
 #: A collection (.ttc/.otc) holding more faces than this is refused; real ones hold < 100.
 MAX_COLLECTION_FACES = 1024
 
@@ -270,10 +279,13 @@ class Face:
         if gs is None:
             try:
                 gs = self.ttfont.getGlyphSet(location=dict(location) if location else None)
-            except Exception as exc:  # corrupt glyf/CFF/gvar tables load here
-                raise FontError(f"broken outlines in {self.path}: "
-                                f"{type(exc).__name__}: {exc}") from None
+            except Exception as exc:  # corrupt glyf/CFF/gvar/hmtx tables load here
+                # kept, so later calls raise the same error rather than whatever fontTools'
+                # half-read table does next
+                gs = FontError(f"broken outlines in {self.path}: {type(exc).__name__}: {exc}")
             self._glyph_sets[location] = gs
+        if isinstance(gs, FontError):
+            raise gs
         return gs
 
     def outline(self, gid: int, location: tuple = ()):
@@ -292,15 +304,28 @@ class Face:
             path = Path(glyphSet=gs)
             if name in gs:
                 self._check_components(name)
+                self._bound_charstring(gs, name)
                 gs[name].draw(path)
             hit = (path.verbs, path.points)
         except Exception as exc:
-            why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
-            warnings.warn(f"broken glyph {name!r} in {self.path} drawn empty: {why}",
-                          FontWarning, stacklevel=2)
+            if self._glyph_sets.get(location) is exc:     # the whole face: one line for all
+                diagnostics.warn(f"{exc}; its glyphs are drawn empty", FontWarning)
+            else:
+                why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
+                diagnostics.warn(f"broken glyph {name!r} in {self.path} drawn empty: {why}",
+                                 FontWarning)
             hit = empty_outline()
         self._outlines[key] = hit
         return hit
+
+    @staticmethod
+    def _bound_charstring(gs, name):
+        """Make a CFF/CFF2 glyph's program stop with FontError past MAX_CHARSTRING_BYTES or
+        MAX_SUBR_DEPTH (fontTools' interpreter has no bound); glyf glyph sets are left as
+        they are."""
+        charstrings = getattr(gs, "charStrings", None)
+        if charstrings is not None:
+            charstrings[name].outlineExtractor = _BoundedT2Extractor
 
     def _check_components(self, name):
         """Raise FontError when a TrueType composite nests deeper than MAX_COMPONENT_DEPTH,
@@ -341,7 +366,8 @@ class Face:
             raise FontError(f"missing component {exc}") from None
 
     def advance(self, gid: int, location: tuple = ()) -> float:
-        """Horizontal advance in font units (including variations)."""
+        """Horizontal advance in font units (including variations); 0 with a
+        :class:`FontWarning` where the metrics are broken, as a broken glyph draws empty."""
         name = self.glyph_order[gid] if 0 <= gid < self.num_glyphs else ".notdef"
         try:
             if not self.has_outlines:
@@ -349,8 +375,11 @@ class Face:
             gs = self.glyph_set(location)
             return float(gs[name].width) if name in gs else 0.0
         except Exception as exc:
-            raise FontError(f"broken metrics for {name!r} in {self.path}: "
-                            f"{type(exc).__name__}: {exc}") from None
+            why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
+            diagnostics.warn(f"{why}; advances taken as 0" if isinstance(exc, FontError) else
+                             f"broken metrics in {self.path}: {why}; advances taken as 0",
+                             FontWarning)
+            return 0.0
 
     # -- HarfBuzz --------------------------------------------------------------------------
     def hb_font(self, location: tuple = ()):
@@ -370,6 +399,18 @@ class Face:
 
     def __repr__(self):
         return f"Face({self.full_name!r}, {os.path.basename(self.path)}#{self.index})"
+
+
+class _BoundedT2Extractor(T2OutlineExtractor):
+    """fontTools' Type 2 outline interpreter, counting the bytes each glyph runs."""
+
+    def execute(self, charString):
+        self._run = getattr(self, "_run", 0) + len(charString.bytecode or charString.program
+                                                    or ())
+        if self._run > MAX_CHARSTRING_BYTES or self.subrLevel >= MAX_SUBR_DEPTH:
+            raise FontError(f"glyph program runs past {MAX_CHARSTRING_BYTES} bytes or "
+                            f"{MAX_SUBR_DEPTH} nested subroutines")
+        super().execute(charString)
 
 
 @lru_cache(maxsize=64)
