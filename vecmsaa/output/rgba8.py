@@ -24,6 +24,13 @@ def unpremultiply_to_rgba8(img, out):
     for y in range(img.shape[0]):
         for x in range(img.shape[1]):
             a = _unit(img[y, x, 3])
+            if a >= 1.0:
+                # opaque (most pixels): dividing by 1 changes nothing
+                out[y, x, 3] = 255
+                for c in range(3):
+                    v = _unit(img[y, x, c])
+                    out[y, x, c] = np.uint8(min(np.float32(np.float32(v * scale) + half), scale))
+                continue
             out[y, x, 3] = np.uint8(np.float32(a * scale) + half)
             if a > 0.0:
                 d = max(a, tiny)
