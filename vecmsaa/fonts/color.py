@@ -1,5 +1,6 @@
-"""Colour glyphs: COLR v0 layers become fills with CPAL palette colours; sbix and CBDT bitmap
-glyphs become image fills.
+"""Colour glyphs: COLR v0 layers become fills with CPAL palette colours; COLR v1 paint graphs
+become fills, gradients and layers (vecmsaa.fonts.colrv1); sbix and CBDT bitmap glyphs become
+image fills. A glyph with several representations is drawn from its bitmap, else from COLR.
 
 A COLR v0 glyph is a stack of ordinary outline glyphs, each filled with a palette entry (or with
 the text's own paint for entry 0xFFFF). Glyphs without colour layers are gathered into one fill
@@ -12,6 +13,7 @@ import numpy as np
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY
 from ..scene.nodes import Fill, Solid
+from .colrv1 import colr_v1_glyphs, colr_v1_nodes
 
 FOREGROUND = 0xFFFF
 
@@ -36,16 +38,13 @@ def colr_layers(face) -> dict:
 
 
 def undrawn_color_formats(face) -> tuple:
-    """The colour glyph formats of a face that are not drawn in colour (COLRv1, SVG)."""
+    """The colour glyph formats of a face that are not drawn in colour: SVG documents, when
+    the face has no COLR or bitmap glyphs to draw instead."""
     kinds = getattr(face, "_undrawn_color", None)
     if kinds is None:
         t = face.ttfont
-        kinds = []
-        if "COLR" in t and getattr(t["COLR"], "version", 0) >= 1:
-            kinds.append("COLRv1")
-        if "SVG " in t:
-            kinds.append("SVG")
-        kinds = face._undrawn_color = tuple(kinds)
+        drawn = "COLR" in t or has_bitmaps(face)
+        kinds = face._undrawn_color = ("SVG",) if "SVG " in t and not drawn else ()
     return kinds
 
 
@@ -57,14 +56,16 @@ def palette_color(face, index: int):
 
 
 def is_color_glyph(face, gid) -> bool:
-    """Whether a glyph draws its own colours (COLR v0 layers or an sbix/CBDT bitmap)."""
-    return int(gid) in colr_layers(face) or (has_bitmaps(face) and
-                                             bitmap_glyph(face, int(gid)) is not None)
+    """Whether a glyph draws its own colours (COLR layers or paints, an sbix/CBDT bitmap)."""
+    gid = int(gid)
+    return (gid in colr_layers(face) or gid in colr_v1_glyphs(face)
+            or (has_bitmaps(face) and bitmap_glyph(face, gid) is not None))
 
 
 def color_glyph_fills(face, location, gid, matrix, paint, to_device=IDENTITY) -> list:
-    """Fills of one colour glyph placed by ``matrix`` (font units → user space; ``to_device``
-    then maps user space to device pixels)."""
+    """Scene nodes (fills, and layers for COLR v1 clips and composites) of one colour glyph
+    placed by ``matrix`` (font units → user space; ``to_device`` then maps user space to
+    device pixels)."""
     from ..scene.transform import compose
     from .layout import glyphs_path
 
@@ -76,6 +77,8 @@ def color_glyph_fills(face, location, gid, matrix, paint, to_device=IDENTITY) ->
         fill = bitmap_fill(face, int(gid), origin, scale * face.units_per_em, to_device)
         if fill is not None:
             return [fill]
+    if int(gid) in colr_v1_glyphs(face):
+        return colr_v1_nodes(face, location, gid, matrix, paint, to_device)
     fills = []
     for layer_gid, color_index in colr_layers(face).get(int(gid), []):
         path = glyphs_path(face, location, [layer_gid], [matrix])
@@ -96,7 +99,7 @@ def color_fills(face, location, gids, matrices, paint) -> list:
         warn(f"font '{face.family}': {kind} colour glyphs are drawn as plain outlines")
     gids = np.asarray(gids)
     matrices = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
-    if not colr_layers(face) and not has_bitmaps(face):
+    if not colr_layers(face) and not colr_v1_glyphs(face) and not has_bitmaps(face):
         path = glyphs_path(face, location, gids, matrices)
         return [] if path.is_empty() else [Fill(path, paint)]
     colored = np.array([is_color_glyph(face, g) for g in gids], dtype=bool)

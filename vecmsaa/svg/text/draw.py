@@ -74,13 +74,8 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
 
 
 def _no_antialias(nodes):
-    stack = list(nodes)
-    while stack:
-        n = stack.pop()
-        if isinstance(n, Fill):
-            n.antialias = False
-        else:
-            stack.extend(getattr(n, "children", []))
+    for fill in _fills_of(nodes):
+        fill.antialias = False
 
 
 def _glyph_path(glyphs):
@@ -112,11 +107,22 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
     ref = ctx.resolve_paint(style, "fill", bbox)
     paint = ref.paint if ref is not None else Solid()
     for g in special:
-        for fill in color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint,
-                                      ctx.transform):
-            if ctx.in_clip or ctx.geometry_only:
-                fill = Fill(fill.path, Solid((0.0, 0.0, 0.0, 1.0)))
-            out.append(fill)
+        nodes = color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint, ctx.transform)
+        if ctx.in_clip or ctx.geometry_only:
+            # in a clip path a colour glyph counts by its shape: every fill, opaque
+            nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)]
+        out.extend(nodes)
+    return out
+
+
+def _fills_of(nodes):
+    stack, out = list(reversed(nodes)), []
+    while stack:
+        n = stack.pop()
+        if isinstance(n, Fill):
+            out.append(n)
+        else:
+            stack.extend(reversed(n.children))
     return out
 
 
