@@ -219,3 +219,20 @@ def test_matches_resvg_reference(name):
                            monospace_family="Noto Mono", font_family="Noto Serif")
     cmp = compare_images(out, ref)
     assert cmp.passed(), cmp.describe()
+
+
+def _partial_pixels(img):
+    a = img[..., 3]
+    return int(((a > 0) & (a < 255)).sum())
+
+
+def test_text_antialiasing_follows_text_rendering_of_the_text_element_only():
+    # shape-rendering applies to shapes, not to text (SVG 1.1 property index); text-rendering
+    # optimizeSpeed on <text> draws it aliased, on a tspan it is ignored (as resvg)
+    smooth = _partial_pixels(render('<text x="10" y="70">Text</text>'))
+    assert smooth > 50
+    assert _partial_pixels(render('<text x="10" y="70" shape-rendering="crispEdges">Text</text>')) == smooth
+    assert _partial_pixels(render('<text x="10" y="70"><tspan text-rendering="optimizeSpeed">Text'
+                                  '</tspan></text>')) == smooth
+    assert _partial_pixels(render('<text x="10" y="70" text-rendering="optimizeSpeed">Text'
+                                  '</text>')) == 0

@@ -59,10 +59,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
             continue
         path = _glyph_path(glyphs)
-        nodes = _color_or_plain(glyphs, path, style, ctx, bbox)
-        if (style.get("text-rendering") or "auto").strip() == "optimizeSpeed":
-            _no_antialias(nodes)     # resvg draws such text aliased, like crispEdges
-        nodes_by_el.setdefault(key, []).extend(nodes)
+        nodes_by_el.setdefault(key, []).extend(_color_or_plain(glyphs, path, style, ctx, bbox))
     out = []
     for kind in ("underline", "overline"):
         for deco_style, path in decorations.get(kind, []):
@@ -70,12 +67,13 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     out.extend(_wrap_tree(text_el, nodes_by_el, ctx, styles, top=True))
     for deco_style, path in decorations.get("line-through", []):
         out.extend(ctx.draw(path, deco_style, bbox))
+    # Antialiasing of text, decorations included, is the <text> element's text-rendering
+    # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
+    # tspan do not apply (as resvg)
+    antialias = (ctx.style.get("text-rendering") or "auto").strip() != "optimizeSpeed"
+    for fill in _fills_of(out):
+        fill.antialias = antialias
     return out
-
-
-def _no_antialias(nodes):
-    for fill in _fills_of(nodes):
-        fill.antialias = False
 
 
 def _glyph_path(glyphs):
