@@ -11,6 +11,7 @@ from ...scene.nodes import Fill, Solid
 from ...scene.path import Path, rect_path
 from ...scene.transform import compose
 from .content import TEXT_CONTENT
+from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 
 def text_bbox(clusters):
     """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
@@ -92,25 +93,32 @@ def _glyph_path(glyphs):
 
 
 def _color_or_plain(glyphs, path, style, ctx, bbox):
-    """Colour glyphs (COLR layers, sbix/CBDT bitmaps) draw their own colours; everything else
-    is the outline path filled and stroked through ctx.draw."""
-    special = [g for g in glyphs if is_color_glyph(g.face, g.gid)]
+    """Colour glyphs (COLR, sbix/CBDT bitmaps, else SVG documents) draw their own colours;
+    everything else is the outline path filled and stroked through ctx.draw."""
+    special = [g for g in glyphs if is_color_glyph(g.face, g.gid) or has_svg_glyph(g.face, g.gid)]
     if not special:
         return ctx.draw(path, style, bbox) if not path.is_empty() else []
-    plain = [g for g in glyphs if not is_color_glyph(g.face, g.gid)]
+    ref = ctx.resolve_paint(style, "fill", bbox)
+    paint = ref.paint if ref is not None else Solid()
+    colored, plain = [], [g for g in glyphs if not (is_color_glyph(g.face, g.gid)
+                                                    or has_svg_glyph(g.face, g.gid))]
+    for g in special:
+        if is_color_glyph(g.face, g.gid):
+            nodes = color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint, ctx.transform)
+        else:
+            nodes = svg_glyph_nodes(g.face, g.gid, g.matrix, ctx.transform)
+            if nodes is None:                  # an unreadable SVG glyph: its outline
+                plain.append(g)
+                continue
+        if ctx.in_clip or ctx.geometry_only:
+            # in a clip path a colour glyph counts by its shape: every fill, opaque
+            nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)]
+        colored.extend(nodes)
     out = []
     plain_path = _glyph_path(plain) if plain else None
     if plain_path is not None and not plain_path.is_empty():
         out.extend(ctx.draw(plain_path, style, bbox))
-    ref = ctx.resolve_paint(style, "fill", bbox)
-    paint = ref.paint if ref is not None else Solid()
-    for g in special:
-        nodes = color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint, ctx.transform)
-        if ctx.in_clip or ctx.geometry_only:
-            # in a clip path a colour glyph counts by its shape: every fill, opaque
-            nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)]
-        out.extend(nodes)
-    return out
+    return out + colored
 
 
 def _fills_of(nodes):
