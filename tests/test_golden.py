@@ -604,7 +604,7 @@ def test_junit_and_json_results_parse_back(tree, tmp_path, capsys):
     assert doc["format"] == 1 and doc["passed"] is False
     assert doc["counts"] == {"total": 4, "pass": 1, "differs": 1, "missing": 1, "error": 1}
     assert doc["tolerance"] == {"threshold": 48, "flat_threshold": 8, "max_fraction": 0.002}
-    assert doc["accept"] == accept and doc["render_options"]["samples"] == 8
+    assert doc["accept"] == accept and doc["render_options"]["samples"] is None
     by_svg = {r["svg"]: r for r in doc["results"]}
     wide = by_svg["icons/wide.svg"]
     assert (wide["status"], wide["off_pixels"], wide["total_pixels"],

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, BinaryIO, Sequence, Union
 import numpy as np
 
 from . import diagnostics
-from .raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES
+from .raster.modes import DEFAULT_MODE, samples_for
 from .scene.bounds import path_bounds, union
 from .scene.nodes import Group, Scene
 from .scene.transform import IDENTITY, compose
@@ -286,7 +286,7 @@ def query_bounds(source, dpi=96, resources_dir=None, **options) -> list:
 
 def render_svg_array(source: Source, width: float | None = None, height: float | None = None,
                      zoom: float | None = None, dpi: float = 96, background: Background = None,
-                     mode: str = DEFAULT_MODE, samples: int = DEFAULT_SAMPLES,
+                     mode: str = DEFAULT_MODE, samples: int | None = None,
                      resources_dir: str | os.PathLike | None = None, *,
                      keep_aspect: bool = False, size_limit: bool = True,
                      export_id: str | None = None, export_area_drawing: bool = False,
@@ -299,7 +299,8 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
                      size_limit=size_limit, export_id=export_id, **options)
-    rgba = render_scene_rgba8(scene, mode=mode, samples=samples, threads=threads)
+    rgba = render_scene_rgba8(scene, mode=mode, threads=threads,
+                              samples=samples_for(samples, scene.width, scene.height))
     if export_area_drawing and export_id is None:
         rgba = crop_to_drawing(rgba, scene)
     return rgba
@@ -307,7 +308,7 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
 
 def render_svg_png(source: Source, width: float | None = None, height: float | None = None,
                    zoom: float | None = None, dpi: float = 96, background: Background = None,
-                   mode: str = DEFAULT_MODE, samples: int = DEFAULT_SAMPLES,
+                   mode: str = DEFAULT_MODE, samples: int | None = None,
                    resources_dir: str | os.PathLike | None = None, *,
                    keep_aspect: bool = False, size_limit: bool = True,
                    export_id: str | None = None, export_area_drawing: bool = False,
@@ -325,7 +326,8 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
                      size_limit=size_limit, export_id=export_id, **options)
-    return render_scene_png(scene, mode=mode, samples=samples, threads=threads)
+    return render_scene_png(scene, mode=mode, threads=threads,
+                            samples=samples_for(samples, scene.width, scene.height))
 
 
 def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:
@@ -343,7 +345,7 @@ def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:
 
 def render_svg(source: Source, width: float | None = None, height: float | None = None,
                zoom: float | None = None, dpi: float = 96, background: Background = None,
-               mode: str = DEFAULT_MODE, samples: int = DEFAULT_SAMPLES,
+               mode: str = DEFAULT_MODE, samples: int | None = None,
                resources_dir: str | os.PathLike | None = None, **options) -> Image.Image:
     """Render an SVG document to a PIL RGBA image.
 
@@ -352,7 +354,7 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
     with ``keep_aspect=True``), ``zoom`` (ignored with a width or height), ``dpi`` for
     physical units; ``size_limit=False`` lifts the 32768 px / 2^28 pixel cap.
     ``background``: a CSS colour or an RGB(A) tuple. ``mode``/``samples``: coverage (see
-    docs/modes.md). ``resources_dir``: an extra folder images and CSS may come from.
+    docs/modes.md; without ``samples``, 16 for outputs of at most 128 x 128 pixels, else 8). ``resources_dir``: an extra folder images and CSS may come from.
     ``export_id``: only that element, cropped to its bounds; ``export_area_drawing=True``:
     the image cropped to the drawing's bounds.
     Document options: ``stylesheet`` (CSS text), ``languages`` (for systemLanguage, default

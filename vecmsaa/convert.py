@@ -16,7 +16,7 @@ from typing import BinaryIO, Union
 
 import numpy as np
 
-from .raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES
+from .raster.modes import DEFAULT_MODE, coverage
 from .svg import SvgError
 
 PathOrFile = Union[str, os.PathLike, BinaryIO]
@@ -55,7 +55,7 @@ def svg2image(fmt: str, bytestring: bytes | str | None = None, *, url=None, file
               background_color: str | None = None, negate_colors: bool = False,
               invert_images: bool = False, output_width: float | None = None,
               output_height: float | None = None, mode: str = DEFAULT_MODE,
-              samples: int = DEFAULT_SAMPLES, **options) -> bytes | None:
+              samples: int | None = None, **options) -> bytes | None:
     """Render an SVG to the bytes of ``fmt`` (png, webp, jpeg, tiff); see the module doc.
     ``options`` are those of :func:`vecmsaa.render_svg` (fonts, languages, stylesheet...)."""
     from .api import render_svg_array
@@ -123,19 +123,20 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
                 margin: float | None = None, face_index: int = 0,
                 variations: str | dict | None = None, features: str | dict | None = None,
                 language: str | None = None, script: str | None = None,
-                direction: str | None = None, mode: str = DEFAULT_MODE,
-                samples: int = DEFAULT_SAMPLES):
+                direction: str | None = None, mode: str | None = None,
+                samples: int | None = None):
     """One line of ``text`` in ``font`` at ``size`` px per em, as a PIL RGBA image tight
     around the line box plus ``margin`` (what ``vecmsaa font FONT --text`` draws).
 
     ``variations`` (``"wght=700"`` or a dict) and ``features`` (``"liga=0,ss01"`` or a dict)
     as in :mod:`vecmsaa.fonts`; ``direction`` one of ltr, rtl, ttb, btt (default: from the
-    text). Colours are CSS colours; ``background="transparent"`` is allowed. Raises
+    text). ``mode``/``samples`` as for ``vecmsaa font`` (default: exact-area coverage unless
+    shapes overlap, docs/fonts.md). Colours are CSS colours; ``background="transparent"`` is allowed. Raises
     :class:`vecmsaa.fonts.FontError` for an unusable font, ValueError for a bad option."""
     from PIL import Image
 
     from .fonts import load_face, parse_features, parse_variations
-    from .fonts.sheets import line_scene
+    from .fonts.sheets import analytic_is_exact, line_scene
     from .raster.render import render_scene_rgba8
     from .svg.color import parse_color
 
@@ -154,5 +155,7 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
                        direction=direction, script=script, language=language,
                        foreground=color(foreground, "foreground"),
                        background=color(background, "background"))
-    rgba = render_scene_rgba8(scene, mode=mode, samples=samples)
+    rgba = render_scene_rgba8(scene, **coverage(
+        mode, samples, scene.width, scene.height,
+        analytic_exact=mode is None and analytic_is_exact(scene, face)))
     return Image.fromarray(np.ascontiguousarray(rgba), "RGBA")

@@ -48,7 +48,8 @@ def add_parser(subparsers):
     p.add_argument("--columns", type=int, default=16, metavar="N",
                    help="columns of the --glyphs grid [default: 16]")
     from .options import add_coverage_options
-    add_coverage_options(p, with_defaults=True)
+    add_coverage_options(p, default_mode="analytic where no two shapes overlap, else approx; "
+                                          "docs/fonts.md")
     p.set_defaults(func=run)
     return p
 
@@ -128,10 +129,14 @@ def _render(args, location, features, foreground, background, sizes) -> int:
         from vecmsaa.raster.render import render_scene_rgba8
     except ImportError as exc:
         return _fail(f"renderer not available: {exc}")
+    from vecmsaa.fonts.sheets import analytic_is_exact
     from vecmsaa.output.png import write_png
+    from vecmsaa.raster.modes import coverage
 
     try:
-        image = render_scene_rgba8(scene, mode=args.mode, samples=args.samples)
+        image = render_scene_rgba8(scene, **coverage(
+            args.mode, args.samples, scene.width, scene.height,
+            analytic_exact=args.mode is None and analytic_is_exact(scene, face)))
     except ValueError as exc:     # e.g. a sample count the mode has no pattern for
         return _fail(str(exc))
     try:

@@ -21,18 +21,22 @@ def sample_count(text: str) -> int:
         f"(or a square >= 256 for the reference mode): {text!r}")
 
 
-def add_coverage_options(parser, with_defaults: bool = False) -> None:
-    """--mode and --samples. Without defaults they stay None, meaning 'the renderer's default'
-    (or, for golden checks, 'what the manifest recorded')."""
-    from ..raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
+def add_coverage_options(parser, default_mode: str | None = None) -> None:
+    """--mode and --samples. Both stay None when not given, meaning 'the renderer's default'
+    (or, for golden checks, 'what the manifest recorded'); ``default_mode`` is the mode the
+    command uses then, for the help text (the renderer's default when None)."""
+    from ..raster.modes import (DEFAULT_MODE, DEFAULT_SAMPLES, MODES, SMALL_OUTPUT_PIXELS,
+                                SMALL_OUTPUT_SAMPLES)
 
-    parser.add_argument("--mode", choices=MODES, default=DEFAULT_MODE if with_defaults else None,
-                        help=f"coverage mode: {', '.join(MODES)} (default {DEFAULT_MODE}; "
-                             "see docs/modes.md)")
+    side = int(SMALL_OUTPUT_PIXELS ** 0.5)
+    parser.add_argument("--mode", choices=MODES,
+                        help=f"coverage mode: {', '.join(MODES)} (default "
+                             f"{default_mode or DEFAULT_MODE}; see docs/modes.md)")
     parser.add_argument("--samples", type=sample_count,
-                        default=DEFAULT_SAMPLES if with_defaults else None,
-                        help=f"samples per pixel: 1, 2, 4, 8, 16 (default {DEFAULT_SAMPLES}); "
-                             "the reference mode takes 256 or a larger square")
+                        help=f"samples per pixel: 1, 2, 4, 8, 16 (default "
+                             f"{SMALL_OUTPUT_SAMPLES} for outputs of at most {side}x{side} "
+                             f"pixels, {DEFAULT_SAMPLES} for larger ones); the reference mode "
+                             "takes 256 or a larger square")
 
 
 def job_count(text: str) -> int:

@@ -10,3 +10,30 @@ EXACT_MODES = ("analytic", "reference")
 MODES = MSAA_MODES + EXACT_MODES
 DEFAULT_MODE = "approx"
 DEFAULT_SAMPLES = 8
+#: outputs of at most this many pixels (128 x 128, or any shape of that area) default to
+#: SMALL_OUTPUT_SAMPLES: at icon sizes one pixel is a visible part of the image (at 16 px one
+#: pixel off fails an icon by the suite's criterion) and 8 samples quantise a pixel's coverage
+#: to 1/8, which fails 10% of real icons at 16 px, 16 samples none (docs/modes.md); the cost
+#: per pixel roughly doubles, which below 16384 pixels is a fraction of a millisecond.
+SMALL_OUTPUT_PIXELS = 128 * 128
+SMALL_OUTPUT_SAMPLES = 16
+
+
+def default_samples(width: int, height: int) -> int:
+    """The sample count used when none is asked for, by the output's pixel count."""
+    return SMALL_OUTPUT_SAMPLES if width * height <= SMALL_OUTPUT_PIXELS else DEFAULT_SAMPLES
+
+
+def samples_for(samples: int | None, width: int, height: int) -> int:
+    """``samples`` when given, else the default for a width x height output."""
+    return default_samples(width, height) if samples is None else samples
+
+
+def coverage(mode: str | None, samples: int | None, width: int, height: int,
+             analytic_exact: bool = False) -> dict:
+    """``mode`` and ``samples`` for a width x height output: the given ones, else ``analytic``
+    where the caller knows exact area per path is exact (no two shapes overlap, as on most font
+    sheets: docs/fonts.md) and DEFAULT_MODE elsewhere, with :func:`samples_for`'s count."""
+    if mode is None:
+        mode = "analytic" if analytic_exact else DEFAULT_MODE
+    return dict(mode=mode, samples=samples_for(samples, width, height))

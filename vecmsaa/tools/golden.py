@@ -29,7 +29,7 @@ from urllib.parse import quote
 import numpy as np
 
 from .. import __version__
-from ..raster.modes import DEFAULT_MODE, DEFAULT_SAMPLES, MODES
+from ..raster.modes import DEFAULT_MODE, MODES
 from .compare import (FLAT_THRESHOLD, MAX_FRACTION, NEAR_COLOR, OFF_COLOR, THRESHOLD, Comparison,
                       compare_images, write_triptych)
 from ..output.png import encode_png, write_bytes_atomic
@@ -39,7 +39,9 @@ MANIFEST_FORMAT = 1
 #: render options a manifest records, with the values used when an option is not given
 DEFAULT_RENDER_OPTIONS = {
     "width": None, "height": None, "zoom": None, "dpi": 96,
-    "mode": DEFAULT_MODE, "samples": DEFAULT_SAMPLES, "background": None,
+    # samples None: the renderer's default for the output's size (16 up to 128 x 128 pixels,
+    # else 8), so goldens made at the default keep being checked at the default
+    "mode": DEFAULT_MODE, "samples": None, "background": None,
     "resources_dir": None,
     # fonts (see vecmsaa.fonts.db): what text renders with must not depend on the machine
     "use_fonts_dir": None, "skip_system_fonts": False, "font_family": None,
@@ -121,7 +123,7 @@ def render_options(**given) -> dict:
         "zoom": lambda v: v is None or number(v),
         "dpi": number,
         "mode": lambda v: v in MODES,
-        "samples": lambda v: positive(v, int),
+        "samples": lambda v: v is None or positive(v, int),
         "skip_system_fonts": lambda v: isinstance(v, bool),
     }
     bad = [f"{name}={value!r}" for name, value in options.items()
