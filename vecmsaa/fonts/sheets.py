@@ -14,7 +14,7 @@ import numpy as np
 
 from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
-from .color import color_fills, colr_layers, has_bitmaps
+from .color import color_fills
 from .face import FontError
 from .layout import LineLayout, layout_line, placement, run_placements
 
@@ -262,19 +262,21 @@ def _fmt(size) -> str:
 #: scanlines per pixel row on which :func:`shapes_overlap` counts windings, and the chords per
 #: curve it flattens to (at 10-48 px a glyph's curve is a few pixels long)
 OVERLAP_ROWS = 4
+#: tables of colour glyphs (layers, paints, bitmaps, SVG documents)
+COLOR_TABLES = ("COLR", "sbix", "CBDT", "SVG ")
 OVERLAP_CHORDS = 8
 
 
 def analytic_is_exact(scene: Scene, face) -> bool:
     """Whether exact-area coverage per path (the ``analytic`` mode, what FreeType computes:
     0.1-0.4% worst per-glyph ink at 10-16 px against 7-28% with 8 samples, docs/fonts.md) is
-    exact for this sheet: opaque solid fills, no colour glyphs, and no point covered twice.
+    exact for this sheet: opaque solid fills, no colour glyph tables, and no point covered twice.
     Where glyphs overlap (joined scripts, stacked marks, overlapping contours of variable
     fonts) exact area per path over-counts the pixels both edges cross (+2-3% ink at 10 px,
     pixels off by up to 0.35), and where fills overlap or colour layers meet it conflates;
     there the MSAA modes are exact per sample."""
     fills = scene.fills()
-    return not (colr_layers(face) or has_bitmaps(face) or any(
+    return not (any(tag in face.ttfont for tag in COLOR_TABLES) or any(
         not isinstance(f.paint, Solid) or f.rule != "nonzero" or f.opacity != 1.0
         or not f.antialias for f in fills) or shapes_overlap([f.path for f in fills]))
 
