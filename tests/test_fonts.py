@@ -159,12 +159,27 @@ def test_bidi_runs_split_and_order():
     assert bidi_runs("\u05d0\u05d1 abc", "rtl") == [(0, 3, "rtl"), (3, 6, "ltr")]
 
 
-# Independent truth for the bidi algorithm: python-bidi's Rust extension (the unicode-bidi
-# crate) reorders a line for display; ours (its pure-Python UAX #9) gives levels and runs.
-# Bracket pairs (rule N0, which the pure-Python module predates) are left out of the alphabet.
+# python-bidi's Rust extension (the unicode-bidi crate) reorders a line for display; ours takes
+# the crate's levels and does rules L1 and L2 itself (runs, then their order): the two agree.
 BIDI_ALPHABET = (list("abcXYZ") + list("\u05d0\u05d1\u05d2\u05d3") + list("\u0645\u0631\u062d\u0628")
                  + list("0123") + list("\u0660\u0661\u0662") + list("  ,.-+%:/")
-                 + ["\u064e", "\u05b8"])
+                 + ["\u064e", "\u05b8"] + list("()[]") + ["\u2066", "\u2067", "\u2068", "\u2069"])
+
+
+@pytest.mark.parametrize("text, base, levels", [
+    # UAX #9 N0, the specification's first example (R = Hebrew, L = Latin): the brackets
+    # around "CD[&ef]!" take the paragraph's direction, "[&ef]"'s the embedding's
+    ("\u05d0\u05d1(\u05d2\u05d3[&ef]!)gh", "rtl", [1, 1, 1, 1, 1, 1, 1, 2, 2, 1, 1, 1, 2, 2]),
+    # UAX #9 N0 example 3: "book(s)" inside right-to-left text keeps its parentheses
+    ("\u05d0 book(s)", "rtl", [1, 1, 2, 2, 2, 2, 2, 2, 2]),
+    # X5a-X6a: an RLI ... PDI isolate is resolved alone and its marks sit at the outer level
+    ("a\u2067\u05d0 b\u2069c", "ltr", [0, 0, 1, 1, 2, 0, 0]),
+    # L1: whitespace at the end of the line goes back to the paragraph level
+    ("abc \u05d0\u05d1 ", "ltr", [0, 0, 0, 0, 1, 1, 0]),
+])
+def test_bidi_levels_follow_uax9(text, base, levels):
+    from vecmsaa.fonts.shape import bidi_levels
+    assert bidi_levels(text, base) == levels
 
 
 @settings(max_examples=400, deadline=None)

@@ -2,6 +2,8 @@
 id ``glyph<gid>`` is drawn in font units with y down and the origin at the glyph origin. A
 font built here with fontTools holds three such glyphs; at 100 px per em on a baseline at
 y = 100, font unit (x, y) is device pixel (x / 10, 100 + y / 10)."""
+import os
+
 import numpy as np
 import pytest
 from fontTools.fontBuilder import FontBuilder
@@ -88,3 +90,23 @@ def test_clip_path_of_svg_glyph_text_is_its_shape(svg_font):
     img = render_svg_array(svg, use_fonts_dir=str(svg_font), skip_system_fonts=True)
     assert (img[:, :49] == [255, 0, 0, 255]).all()
     assert img[:, 51:, 3].max() == 0
+
+
+SUITE_FONTS = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "resvg-suite",
+                           "fonts")
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE_FONTS, "TwitterColorEmoji.subset.ttf")),
+                    reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("family", ["Twitter Color Emoji", "Noto Sans, Twitter Color Emoji"])
+def test_emoji_zwj_sequence_is_one_colour_glyph(family):
+    # UTS #51: a supported ZWJ sequence shows as one glyph; the font's GSUB ligates
+    # white flag + VS16 + ZWJ + rainbow into the rainbow flag (one em wide, in colour)
+    svg = (f'<svg {SVG} width="100" height="40"><text x="10" y="30" font-size="20" '
+           f'font-family="{family}">\U0001F3F3\uFE0F\u200D\U0001F308</text></svg>')
+    img = render_svg_array(svg, use_fonts_dir=SUITE_FONTS, skip_system_fonts=True)
+    xs = np.nonzero(img[..., 3].max(axis=0) > 0)[0]
+    assert xs.min() >= 10 and xs.max() < 31                # one 20 px em
+    ink = img[img[..., 3] == 255][:, :3].astype(int)
+    hues = {tuple(c) for c in ink if c.max() - c.min() > 100}
+    assert len(hues) >= 5                                  # the rainbow's stripes

@@ -1,9 +1,10 @@
 """Text shaping with HarfBuzz (uharfbuzz), split into bidi runs.
 
 HarfBuzz does kerning, ligatures, mark positioning and complex scripts for one run of one
-direction. Mixed-direction text is cut into runs by the Unicode bidirectional algorithm (UAX #9,
-python-bidi's implementation of rules X1–X9, W1–W7, N1–N2, I1–I2 and L1): the runs are the
-stretches of one resolved embedding level, odd levels right to left, reordered for display by
+direction. Mixed-direction text is cut into runs by the Unicode bidirectional algorithm (UAX #9
+in full, isolates and bracket pairs included, by python-bidi's Rust unicode-bidi crate, as
+resvg uses it; rule L1 here): the runs are the stretches of one resolved embedding level, odd
+levels right to left, reordered for display by
 rule L2 (from the highest level down to the lowest odd one, every stretch at that level or
 above is reversed). So digits and neutrals inside right-to-left text keep their order
 ("مرحبا 2024 عالم" shows 2024), and a Latin word with digits inside Arabic stays whole.
@@ -11,10 +12,12 @@ HarfBuzz mirrors brackets in right-to-left runs (L4).
 """
 from __future__ import annotations
 
+import re
 import unicodedata
 from dataclasses import dataclass
 
 import numpy as np
+from bidi import get_display
 
 #: bidi classes that can make any character's level differ from an LTR paragraph's 0
 _NOT_PLAIN_LTR = frozenset(("R", "AL", "AN", "RLE", "RLO", "LRE", "LRO", "RLI", "LRI", "FSI",
@@ -83,31 +86,49 @@ def paragraph_direction(text: str, default: str = "ltr") -> str:
 
 
 def bidi_levels(text: str, base: str = "ltr") -> list[int]:
-    """The resolved embedding level of every character (UAX #9 up to rule L1), for a paragraph
-    of direction ``base``. Explicit formatting characters, which rule X9 removes, take the
-    level of the character before them."""
+    """The resolved embedding level of every character for a paragraph of direction
+    ``base``: UAX #9 in full (explicit embeddings and isolates, weak and neutral types,
+    bracket pairs N0) by python-bidi's Rust extension, the unicode-bidi crate, whose
+    ``debug`` output lists the levels; then rule L1 here. Characters that rule X9 removes
+    take the level of the character before them (as the crate assigns them)."""
     base_level = 1 if base == "rtl" else 0
     if base_level == 0 and not any(unicodedata.bidirectional(c) in _NOT_PLAIN_LTR
                                    for c in text):
         return [0] * len(text)
-    # Imported here: python-bidi's pure-Python algorithm module costs ~0.15 s to import
-    # (mostly the inspect module), which left-to-right text never needs.
-    from bidi import algorithm as uax9
+    info = get_display(text, base_dir="R" if base_level else "L", debug=True)
+    levels = _crate_levels(info, text)
+    # L1: segment and paragraph separators, and whitespace and isolate marks before them or
+    # at the end of the line, go back to the paragraph level
+    trailing = True
+    for k in range(len(text) - 1, -1, -1):
+        t = unicodedata.bidirectional(text[k])
+        if t in ("S", "B"):
+            levels[k] = base_level
+            trailing = True
+        elif trailing and t in _L1_WHITESPACE:
+            levels[k] = base_level
+        else:
+            trailing = False
+    return levels
 
-    storage = uax9.get_empty_storage()
-    storage["base_level"] = base_level
-    storage["base_dir"] = "R" if base_level else "L"
-    uax9.get_embedding_levels(text, storage)
-    chars = list(storage["chars"])          # one entry per character (no UCS-2 surrogates)
-    uax9.explicit_embed_and_overrides(storage)
-    uax9.resolve_weak_types(storage, False)
-    uax9.resolve_neutral_types(storage, False)
-    uax9.resolve_implicit_levels(storage, False)
-    uax9.reorder_resolved_levels(storage, False)     # L1 (and an L2 we do not use)
-    kept = {id(c) for c in storage["chars"]}
-    levels = []
-    for c in chars:
-        levels.append(c["level"] if id(c) in kept or not levels else levels[-1])
+
+#: whitespace and formatting characters that rule L1 resets with a following separator (the
+#: X9-removed ones count, as the crate reports them with the previous character's level)
+_L1_WHITESPACE = frozenset(("WS", "FSI", "LRI", "RLI", "PDI", "BN", "LRE", "RLE", "LRO", "RLO",
+                            "PDF"))
+
+
+def _crate_levels(info: str, text: str) -> list[int]:
+    """Per-character levels from the crate's ``BidiInfo`` debug text (one level per UTF-8
+    byte: each character takes its first byte's)."""
+    block = re.search(r"\blevels:\s*\[(.*?)\]", info, re.S)
+    per_byte = [int(v) for v in re.findall(r"Level\(\s*(\d+)", block.group(1))] if block else []
+    if len(per_byte) != len(text.encode("utf-8")):
+        raise RuntimeError("python-bidi's debug output changed: cannot read bidi levels")
+    levels, i = [], 0
+    for ch in text:
+        levels.append(per_byte[i])
+        i += len(ch.encode("utf-8"))
     return levels
 
 
