@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 from vecmsaa.fonts import load_face
-from vecmsaa.tools.compare import OFF_COLOR, PANEL_GAP
+from vecmsaa.tools.compare import LESS_INK_COLOR, PANEL_GAP
 from vecmsaa.tools.font_reference import compare_glyph, error_image, freetype_glyph, outline_area
 from vecmsaa.scene.path import Path
 
@@ -154,5 +154,11 @@ def test_error_image_shows_freetype_difference_and_ours():
     y, x = np.argwhere(c.freetype > 0.999)[0]
     assert tuple(img[y * zoom, x * zoom, :3]) == (0, 0, 0)
     c.ours[y, x] = 0.0
+    # a blank pixel where FreeType has ink: less ink, drawn in full; one beyond FreeType's
+    # outline with ink: more ink
+    y2, x2 = np.argwhere(c.freetype == 0)[0]
+    c.ours[y2, x2] = 0.5
     img = error_image(c)
-    assert tuple(img[y * zoom, w * zoom + PANEL_GAP + x * zoom, :3]) == OFF_COLOR
+    assert tuple(img[y * zoom, w * zoom + PANEL_GAP + x * zoom, :3]) == LESS_INK_COLOR
+    more = img[y2 * zoom, w * zoom + PANEL_GAP + x2 * zoom, :3].astype(int)
+    assert more[0] > 200 and more[2] < 100               # red: more ink than FreeType

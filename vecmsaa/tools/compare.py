@@ -110,6 +110,10 @@ MIN_PANEL = 128                        # small images are enlarged (nearest) up 
 MAX_ZOOM = 16
 OFF_COLOR = (230, 0, 0)                # pixels off
 NEAR_COLOR = (0, 90, 255)              # pixels that differ but are not off
+#: the signed map (``signed=True``): where the actual image has more ink (is darker over
+#: white) than the expected one, and where it has less
+MORE_INK_COLOR = (230, 0, 0)
+LESS_INK_COLOR = (0, 60, 255)
 
 
 def _zoom_for(*images) -> int:
@@ -130,32 +134,47 @@ def _over_checkerboard(rgba: np.ndarray, zoom: int) -> np.ndarray:
     return rgb.astype(np.uint8)
 
 
+def _luma_over_white(rgba) -> np.ndarray:
+    """(H, W) luma (0-255) of a straight RGBA image composited over white."""
+    p = premultiplied_u8(rgba).astype(np.int32)
+    return ((p[..., :3] + (255 - p[..., 3:4])) @ np.array([77, 150, 29])) >> 8
+
+
 def heat_map(expected: np.ndarray, actual: np.ndarray, threshold: int,
-             flat_threshold: int | None = None) -> np.ndarray:
+             flat_threshold: int | None = None, signed: bool = False) -> np.ndarray:
     """Opaque RGB (H, W, 3): the expected image faded to light grey for orientation; pixels
     that differ but are not off in blue, stronger as they differ more; off pixels (beyond the
     threshold, or away from edges beyond ``flat_threshold``: those the criterion counts) in
-    red."""
-    e = premultiplied_u8(expected).astype(np.int32)
+    red. ``signed`` colours by the direction instead (coverage errors, as the font reference
+    shows them): MORE_INK_COLOR where the actual image is darker over white, LESS_INK_COLOR
+    where it is lighter, stronger as they differ more and full for off pixels."""
+    luma = _luma_over_white(expected)
+    out = np.repeat((191 + luma // 4)[..., None], 3, axis=-1)   # squeezed into 191..255
     diff = channel_difference(actual, expected).astype(np.int32)
-    # Luma of the expected image over white, squeezed into 191..255.
-    over_white = e[..., :3] + (255 - e[..., 3:4])
-    luma = (over_white @ np.array([77, 150, 29])) >> 8
-    out = np.repeat((191 + luma // 4)[..., None], 3, axis=-1)
+    off = compare_images(actual, expected, threshold, flat_threshold).off_map
     near = (diff > 0) & (diff <= threshold)
-    strength = (64 + 191 * diff[near] // max(threshold, 1))[:, None]
-    out[near] = (out[near] * (255 - strength) + np.array(NEAR_COLOR) * strength) // 255
-    out[compare_images(actual, expected, threshold, flat_threshold).off_map] = OFF_COLOR
+    strength = np.zeros_like(diff)
+    strength[near] = 64 + 191 * diff[near] // max(threshold, 1)
+    strength[off] = 255
+    if signed:
+        more = _luma_over_white(actual) < luma
+        target = np.where(more[..., None], np.array(MORE_INK_COLOR), np.array(LESS_INK_COLOR))
+        out = (out * (255 - strength[..., None]) + target * strength[..., None]) // 255
+        return out.astype(np.uint8)
+    out[near] = (out[near] * (255 - strength[near][:, None])
+                 + np.array(NEAR_COLOR) * strength[near][:, None]) // 255
+    out[off] = OFF_COLOR
     return out.astype(np.uint8)
 
 
 def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
-             threshold: int = THRESHOLD, flat_threshold: int | None = None) -> np.ndarray:
+             threshold: int = THRESHOLD, flat_threshold: int | None = None,
+             signed: bool = False) -> np.ndarray:
     """expected | difference heat map | actual, side by side, as straight RGBA uint8.
 
-    A missing image (no golden, failed render) leaves its panel empty; the heat map needs both
-    images at the same size and is empty otherwise. Small images are enlarged so single pixels
-    stay visible."""
+    A missing image (no golden, failed render) leaves its panel empty; the heat map (signed:
+    more and less ink, see :func:`heat_map`) needs both images at the same size and is empty
+    otherwise. Small images are enlarged so single pixels stay visible."""
     zoom = _zoom_for(expected, actual)
     panels = [None, None, None]
     if expected is not None:
@@ -163,7 +182,8 @@ def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
     if actual is not None:
         panels[2] = _over_checkerboard(actual, zoom)
     if expected is not None and actual is not None and expected.shape == actual.shape:
-        panels[1] = heat_map(expected, actual, threshold, flat_threshold).repeat(zoom, 0).repeat(zoom, 1)
+        panels[1] = heat_map(expected, actual, threshold, flat_threshold,
+                             signed).repeat(zoom, 0).repeat(zoom, 1)
     shown = [p for p in panels if p is not None]
     height = max(p.shape[0] for p in shown)
     width = max(p.shape[1] for p in shown)
@@ -179,6 +199,6 @@ def triptych(expected: np.ndarray | None, actual: np.ndarray | None,
 
 
 def write_triptych(path, expected, actual, threshold: int = THRESHOLD,
-                   flat_threshold: int | None = None) -> None:
-    write_bytes_atomic(encode_png(triptych(expected, actual, threshold, flat_threshold)), path,
-                       make_folders=True)
+                   flat_threshold: int | None = None, signed: bool = False) -> None:
+    write_bytes_atomic(encode_png(triptych(expected, actual, threshold, flat_threshold, signed)),
+                       path, make_folders=True)

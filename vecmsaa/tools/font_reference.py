@@ -202,9 +202,10 @@ def coverage_rgba(coverage: np.ndarray) -> np.ndarray:
 
 
 def error_image(comparison: GlyphComparison) -> np.ndarray:
-    """FreeType | difference | vecmsaa, as golden checks draw a difference
-    (:func:`vecmsaa.tools.compare.triptych`)."""
-    return triptych(coverage_rgba(comparison.freetype), coverage_rgba(comparison.ours))
+    """FreeType | difference | vecmsaa (:func:`vecmsaa.tools.compare.triptych`), the
+    difference signed: red where vecmsaa has more ink, blue where it has less."""
+    return triptych(coverage_rgba(comparison.freetype), coverage_rgba(comparison.ours),
+                    signed=True)
 
 
 def ink_table(face, sizes, text=None, *, mode="analytic", samples=8, location=(),
@@ -257,7 +258,7 @@ def write_error_maps(face, text, sizes, folder, mode="analytic", samples=8):
             if not c.freetype.size:
                 continue
             path = os.path.join(folder, f"{mode}-{size}px-U{ord(ch):04X}.png")
-            write_triptych(path, coverage_rgba(c.freetype), coverage_rgba(c.ours))
+            write_triptych(path, coverage_rgba(c.freetype), coverage_rgba(c.ours), signed=True)
             paths.append(path)
     return paths
 
@@ -278,7 +279,8 @@ def main(argv=None) -> int:
     p.add_argument("--direct", action="store_true",
                    help="compare with FreeType at the size itself (no oversampled reference)")
     p.add_argument("--maps", metavar="DIR",
-                   help="also write error images (FreeType | difference | vecmsaa) here")
+                   help="also write error images (FreeType | difference | vecmsaa; red: more "
+                        "ink than FreeType, blue: less) here")
     args = p.parse_args(argv)
     face = load_face(args.font)
     sizes = [float(s) for s in args.sizes.split(",")]
