@@ -89,6 +89,9 @@ class RenderOptions:
             self.table = np.zeros((1, 1), dtype=np.uint64)
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
         self.kernel_mode = MODE_IDS.get(mode, MODE_PERSAMPLE)
+        #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
+        #: change, so off only to test that
+        self.occlude = True
         #: counted by the approx mode over a render: curve pixels, those where the half-plane
         #: did not decide every sample, and the samples evaluated there (scan.scan_lenses)
         self.lens_stats = np.zeros(3, dtype=np.int64)
@@ -249,7 +252,7 @@ class Raster:
             return
         render_msaa(target, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
                     b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                    o.table, o.a2c_bits, self.scratch)
+                    o.table, o.a2c_bits, o.occlude, self.scratch)
 
 
 class FillBatch:

@@ -506,6 +506,100 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
     return npool
 
 
+@njit(cache=True)
+def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount, fb, cplx,
+                      slot_of, slot_pixel, pool, npool, wrun, occ, nxt):
+    """sweep_rows for an opaque solid fill of a run drawn front to back (render_msaa): it
+    paints only the samples that no fill in front of it covers — occ[r, px], the mask of the
+    pixel's samples already painted by the run — and adds them to occ. An opaque sample takes
+    the paint's colour whatever was under it, so each sample ends as the back-to-front
+    sweep_rows leaves it, bit for bit. A pixel whose mask is full links past itself in nxt (a
+    union-find of the next pixel not full), so spans jump over covered pixels."""
+    n = wrun.shape[0]
+    full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
+    cr, cg, cb, ca = f[0], f[1], f[2], f[3]
+    one = np.uint64(1)
+    for r in range(r0, r1 + 1):
+        cnt = dcount[r]
+        if cnt == 0:
+            continue
+        _sort_prefix(dlist[r], cnt)
+        wrun[:] = 0.0
+        prev = -1
+        for i in range(cnt + 1):
+            px = dlist[r, i] if i < cnt else W
+            if px > prev + 1 and coverage_of(wrun[0], rule) > 0.0:
+                x = prev + 1
+                while True:
+                    # the first pixel from x on that is not fully covered (path halving)
+                    while nxt[r, x] != x:
+                        nxt[r, x] = nxt[r, nxt[r, x]]
+                        x = nxt[r, x]
+                    if x >= px:
+                        break
+                    m = occ[r, x]
+                    if m == 0:
+                        cplx[r, x] = -1
+                        fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
+                    else:
+                        # partly covered: a split pixel; its other samples take the paint
+                        slot = cplx[r, x]
+                        for s in range(n):
+                            if not ((m >> np.uint64(s)) & one):
+                                pool[slot, s, 0], pool[slot, s, 1] = cr, cg
+                                pool[slot, s, 2], pool[slot, s, 3] = cb, ca
+                    occ[r, x] = full
+                    nxt[r, x] = x + 1
+                    x += 1
+            if i == cnt:
+                break
+            dirty[r, px] = 0
+            bits = np.uint64(0)
+            for s in range(n):
+                wrun[s] += delta[r, px, s]
+                delta[r, px, s] = 0.0
+                if coverage_of(wrun[s] + local[r, px, s], rule) > 0.0:
+                    bits |= one << np.uint64(s)
+                local[r, px, s] = 0.0
+            if not aa:
+                # crispEdges: one sample decides for the whole pixel
+                bits = full if bits & one else np.uint64(0)
+            prev = px
+            m = occ[r, px]
+            new = bits & ~m
+            if new == 0:
+                continue
+            if new == full:
+                cplx[r, px] = -1
+                fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = cr, cg, cb, ca
+            else:
+                # a one-colour pixel splits into samples (as in sweep_rows)
+                if cplx[r, px] < 0:
+                    slot = slot_of[r, px]
+                    if slot < 0:
+                        slot = npool
+                        npool += 1
+                        slot_of[r, px] = slot
+                        slot_pixel[slot] = r * W + px
+                    for s in range(n):
+                        pool[slot, s, 0] = fb[r, px, 0]
+                        pool[slot, s, 1] = fb[r, px, 1]
+                        pool[slot, s, 2] = fb[r, px, 2]
+                        pool[slot, s, 3] = fb[r, px, 3]
+                    cplx[r, px] = slot
+                slot = cplx[r, px]
+                for s in range(n):
+                    if (new >> np.uint64(s)) & one:
+                        pool[slot, s, 0], pool[slot, s, 1] = cr, cg
+                        pool[slot, s, 2], pool[slot, s, 3] = cb, ca
+            m |= new
+            occ[r, px] = m
+            if m == full:
+                nxt[r, px] = px + 1
+        dcount[r] = 0
+    return npool
+
+
 def msaa_scratch(strip_rows, W, n, lens_stats=None):
     """render_msaa's per-strip buffers, allocated once per image and reused by every call:
     the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels).
@@ -522,47 +616,96 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.full((strip_rows, W), -1, dtype=np.int64),           # slot_of
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
             np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
-            np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats)
+            np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats,
+            # runs of opaque fills: samples covered so far, and the next pixel not full
+            np.zeros((strip_rows, W), dtype=np.uint64),             # occ
+            np.tile(np.arange(W + 1, dtype=np.int32), (strip_rows, 1)))   # nxt
 
 
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
-                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, scratch):
+                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, occlude, scratch):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
     device rows y0 .. y0 + H - 1) in place, strip by strip with the ``msaa_scratch`` buffers.
 
     sx, sy: sample positions inside the pixel (0..1); weights: resolve filter weight per
     sample (sums to 1). path_box: (P, 4) float bounds (x0, y0, x1, y1) per fill.
+
+    ``occlude``: runs of consecutive opaque solid fills are drawn front to back
+    (sweep_rows_behind), each painting only the samples the fills in front of it left
+    uncovered, and a fill whose box is fully covered in the strip is not scanned at all; the
+    pixels are the same as drawn back to front (sample masks need a coverage that is 0 or 1:
+    not the alpha mode, and at most 64 samples).
     """
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
     P = edge_off.shape[0] - 1
-    delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats = scratch
+    (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats, occ,
+     nxt) = scratch
     strip_rows = delta.shape[0]
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    occlude = occlude and mode != MODE_ALPHA and n <= 64
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
         npool = 0
-        for p in range(P):
-            if path_box[p, 3] < sy0 or path_box[p, 1] >= sy0 + rows:
-                continue
-            if path_box[p, 0] >= W:
-                continue
-            scan_edges(edges, edge_off[p], edge_off[p + 1], sy0, rows, W, sx, sy, delta, dirty,
-                       dlist, dcount)
-            if prim_off[p + 1] > prim_off[p]:
-                scan_lenses(prims, prim_off[p], prim_off[p + 1], sy0, rows, W, sx, sy, mode,
-                            table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats)
-            # rows outside the fill's box have no deltas and nothing dirty
-            r_first = max(0, _floor_int(path_box[p, 1]) - sy0)
-            r_last = min(rows - 1, _floor_int(path_box[p, 3]) - sy0)
-            npool = sweep_rows(r_first, r_last, sy0, W, rules[p], aa[p], paint_kind[p],
-                               paint_f[p], lut, tex, delta, local, dirty, dlist, dcount, fb,
-                               cplx, slot_of, slot_pixel, pool, npool, wrun, cov)
+        p = 0
+        while p < P:
+            # a run of opaque solid fills p .. q - 1 (q = p + 1: one fill drawn as usual)
+            q = p
+            while occlude and q < P and paint_kind[q] == 0 and paint_f[q, 3] >= 1.0:
+                q += 1
+            run = q - p > 1
+            if not run:
+                q = p + 1
+            # the run's pixel box in the strip, reset when the run ends
+            ra, rz, xa, xz = rows, -1, W, -1
+            for i in range(q - p):
+                k = q - 1 - i if run else p + i
+                if path_box[k, 3] < sy0 or path_box[k, 1] >= sy0 + rows:
+                    continue
+                if path_box[k, 0] >= W or path_box[k, 2] < 0.0:
+                    continue
+                # rows outside the fill's box have no deltas and nothing dirty
+                r_first = max(0, _floor_int(path_box[k, 1]) - sy0)
+                r_last = min(rows - 1, _floor_int(path_box[k, 3]) - sy0)
+                if run:
+                    x_first = max(0, _floor_int(path_box[k, 0]))
+                    x_last = min(W - 1, _floor_int(path_box[k, 2]))
+                    hidden = True
+                    for r in range(r_first, r_last + 1):
+                        x = x_first
+                        while nxt[r, x] != x:
+                            nxt[r, x] = nxt[r, nxt[r, x]]
+                            x = nxt[r, x]
+                        if x <= x_last:
+                            hidden = False
+                            break
+                    if hidden:
+                        continue
+                    ra, rz = min(ra, r_first), max(rz, r_last)
+                    xa, xz = min(xa, x_first), max(xz, x_last)
+                scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
+                           dirty, dlist, dcount)
+                if prim_off[k + 1] > prim_off[k]:
+                    scan_lenses(prims, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy, mode,
+                                table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats)
+                if run:
+                    npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
+                                              delta, local, dirty, dlist, dcount, fb, cplx,
+                                              slot_of, slot_pixel, pool, npool, wrun, occ, nxt)
+                else:
+                    npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
+                                       paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
+                                       fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov)
+            for r in range(ra, rz + 1):
+                for x in range(xa, xz + 1):
+                    occ[r, x] = 0
+                    nxt[r, x] = x
+            p = q
         # resolve: split pixels average their samples (resolve filter weights); one-colour
         # pixels are already in the target
         for slot in range(npool):
