@@ -354,3 +354,14 @@ def test_blur_pulls_in_content_beyond_the_image_edge():
     want = 1 - 0.5 * (1 + math.erf(0.5 / 2 / math.sqrt(2)))
     assert abs(img[20, 0, 3] / 255 - want) < 0.05
     assert img[20, 8, 3] < 3
+
+
+def test_device_rect_rounds_as_tiny_skia_in_f32():
+    from vecmsaa.svg.filters import device_rect
+    # the corners are mapped in f32: 49.6 and 149.6 scaled by 1.5 are 74.399994 and
+    # 224.40001, so the width is a hair over 150 and ceils to 151
+    scale = (1.5, 0.0, 0.0, 1.5, 0.0, 0.0)
+    assert device_rect(49.6, 0.0, 100.0, 10.0, scale) == (74, 0, 225, 15)
+    # exact f32 values keep the exact width
+    assert device_rect(10.0, 0.0, 100.0, 10.0, scale) == (15, 0, 165, 15)
+    assert device_rect(0.0, 0.0, 1e39, 1.0, scale) is None          # beyond f32

@@ -13,6 +13,8 @@ is not drawn. A value that does not parse is ignored (the element is drawn unfil
 from __future__ import annotations
 
 import math
+
+import numpy as np
 import re
 from dataclasses import replace
 
@@ -81,17 +83,24 @@ def parse_filter_value(value):
 
 # -- geometry ------------------------------------------------------------------------------
 def device_rect(x, y, w, h, m):
-    """Integer device bounding box (x0, y0, x1, y1) of a user rectangle, as tiny-skia's
-    ``to_int_rect`` rounds it (corner floored, size ceiled)."""
-    a, b, c, d, e, f = m
-    xs = [a * px + c * py + e for px, py in ((x, y), (x + w, y), (x, y + h), (x + w, y + h))]
-    ys = [b * px + d * py + f for px, py in ((x, y), (x + w, y), (x, y + h), (x + w, y + h))]
+    """Integer device bounding box (x0, y0, x1, y1) of a user rectangle, as resvg computes it:
+    in f32 (tiny-skia's ``Rect`` keeps left, top, right, bottom and maps the corners), then
+    ``to_int_rect`` (corner floored, size ceiled). The f32 rounding matters: a width that is
+    whole over a fractional left edge comes out a hair wider, so one pixel wider."""
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):     # huge values: refused below
+        x, y = f(x), f(y)
+        right, bottom = f(x + f(w)), f(y + f(h))
+        a, b, c, d, e, ff = (f(v) for v in m)
+        corners = ((x, y), (right, y), (x, bottom), (right, bottom))
+        xs = [float(f(f(a * px) + f(c * py)) + e) for px, py in corners]
+        ys = [float(f(f(b * px) + f(d * py)) + ff) for px, py in corners]
     if not all(math.isfinite(v) for v in xs + ys):
         return None
-    x0, y0 = math.floor(min(xs)), math.floor(min(ys))
-    x1 = x0 + max(1, math.ceil(max(xs) - min(xs)))
-    y1 = y0 + max(1, math.ceil(max(ys) - min(ys)))
-    return (x0, y0, x1, y1)
+    left, top = min(xs), min(ys)
+    x0, y0 = math.floor(left), math.floor(top)
+    return (x0, y0, x0 + max(1, math.ceil(max(xs) - left)),
+            y0 + max(1, math.ceil(max(ys) - top)))
 
 
 def _href_chain(el, doc):
