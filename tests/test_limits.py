@@ -362,3 +362,40 @@ def test_nested_references_within_the_limit_render():
     doc = (f'<svg {SVG} width="10" height="10">{masks}<mask id="k3"><rect width="10" '
            f'height="10" fill="white"/></mask><rect width="10" height="10" mask="url(#k0)"/></svg>')
     assert (render_svg_array(doc)[..., 3] == 255).all()
+
+
+# -- filters ----------------------------------------------------------------------------------
+def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
+    """Elements each with a filter over the whole canvas, rendered in bands (a small band
+    budget, two threads): keeping every filtered layer until its last band would hold one
+    canvas per element. Thirty must cost at most a few canvases more than one, and give the
+    one-band image."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 300
+    canvas = size * size * 16                     # one float32 RGBA canvas
+
+    def scene(count):
+        rects = "".join(f'<rect x="{(i * 37) % 280}" y="{(i * 53) % 280}" width="20" '
+                        f'height="20" filter="url(#f)"/>' for i in range(count))
+        return load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                        f'y="0" width="{size}" height="{size}" filterUnits="userSpaceOnUse">'
+                        f'<feGaussianBlur stdDeviation="2"/></filter>{rects}</svg>')
+
+    def banded_peak(s):
+        render_scene_rgba8(s, threads=2, band_budget=canvas // 8)      # kernels loaded
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(s, threads=2, band_budget=canvas // 8)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+
+    many = scene(30)
+    image, peak = banded_peak(many)
+    assert np.array_equal(image, render_scene_rgba8(many, threads=1, band_budget=64 * canvas))
+    extra = (peak - banded_peak(scene(1))[1]) / canvas
+    assert extra < 4, f"{extra:.1f} canvases more for 30 filtered elements than for one"

@@ -189,6 +189,10 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
         # at least two bands a thread, so that a thread with a light band is not left idle
         share = -(-H // (2 * threads))
         band_rows = max(strip_rows, min(band_rows, -(-share // strip_rows) * strip_rows))
+    if band_rows < H and held_filtered_pixels(items, W, H) > W * H:
+        # band by band, each filtered layer is kept from the first band that needs it to its
+        # last; when those would outweigh the whole image, one band holds one at a time
+        band_rows = H
     starts = range(0, H, band_rows)
     threads = min(threads, len(starts))
     background = premultiplied(scene.background)
@@ -220,6 +224,24 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     with ThreadPoolExecutor(threads) as pool:
         for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
             future.result()
+
+
+def held_filtered_pixels(items, W: int, H: int) -> int:
+    """Pixels of filtered content inside the W×H image that drawing ``items`` band by band
+    may hold at once (every filtered layer, in layers, clips and masks included)."""
+    total = 0
+    for item in items:
+        if not isinstance(item, Layer):
+            continue
+        if item.filters:
+            regions = [f.region for f in item.filters]
+            w = min(W, max(r[2] for r in regions)) - max(0, min(r[0] for r in regions))
+            h = min(H, max(r[3] for r in regions)) - max(0, min(r[1] for r in regions))
+            total += max(0, w) * max(0, h)
+        else:
+            total += held_filtered_pixels(item.items, W, H)
+        total += held_filtered_pixels([p for p in (item.clip, item.mask) if p], W, H)
+    return total
 
 
 def band_layout(W: int, samples: int, band_budget: int) -> tuple[int, int]:
@@ -408,11 +430,16 @@ def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> Non
 
 
 def draw_filtered(layer: Layer, img: np.ndarray, y0: int, raster: Raster) -> None:
-    """Copy the rows of ``img`` (device rows from y0) that the layer's filtered content covers."""
+    """Copy the rows of ``img`` (device rows from y0) that the layer's filtered content covers.
+    The band holding the content's last row lets go of it, so a document of many filtered
+    elements holds one filtered buffer at a time, not all of them. (With bands on threads a
+    band above it may still be on its way; it then filters again, to the same pixels.)"""
     with layer.filtering:
         if layer.filtered is None:
             layer.filtered = render_filtered(layer, raster)
-    (x0, fy0, x1, fy1), pixels = layer.filtered
+        (x0, fy0, x1, fy1), pixels = layer.filtered
+        if y0 + img.shape[0] >= fy1:
+            layer.filtered = None
     a, b = max(y0, fy0), min(y0 + img.shape[0], fy1)
     c, d = max(x0, 0), min(x1, img.shape[1])
     if a < b and c < d:
@@ -457,7 +484,14 @@ def render_filtered(layer: Layer, raster: Raster):
                 return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
             out[fy0:fy1, fx0:fx1] = apply_filter(part, f, (fx0, fy0), draw_content)
         pixels = out
-    return (x0, y0, x1, y1), pixels
+    # only the part inside the image is ever copied out: keep that (a blur's region reaches
+    # far beyond the image)
+    cx0, cy0, cx1, cy1 = max(x0, 0), max(y0, 0), min(x1, W), min(y1, H)
+    if cx1 <= cx0 or cy1 <= cy0:
+        return (0, 0, 0, 0), None
+    if (cx0, cy0, cx1, cy1) != (x0, y0, x1, y1):
+        pixels = pixels[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0].copy()
+    return (cx0, cy0, cx1, cy1), pixels
 
 
 def _clip_and_mask(layer: Layer, shape, y0: int, raster: Raster):
