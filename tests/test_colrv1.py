@@ -206,3 +206,31 @@ def test_a_glyph_referencing_itself_draws_the_rest(colr_font, recwarn):
     assert_close(img[INNER], np.array(GREEN, float))
     assert not [w for w in recwarn if issubclass(w.category, RenderWarning)
                 and "COLR" in str(w.message)]
+
+
+def test_exponential_paint_graph_is_cut_with_a_warning(tmp_path):
+    # glyph Lk draws L(k-1) twice: 2^25 paints if expanded (nesting within MAX_DEPTH)
+    levels = 25
+    names = [f"L{k}" for k in range(levels + 1)]
+    order = [".notdef", "sq"] + names
+    glyphs = {n: TTGlyphPen(None).glyph() for n in order}
+    glyphs["sq"] = _square(0, 0, 1000, 1000)
+    paints = {"L0": _fill("sq", _solid(4))}
+    for k in range(1, levels + 1):
+        ref = {"Format": PaintFormat.PaintColrGlyph, "Glyph": f"L{k - 1}"}
+        paints[f"L{k}"] = {"Format": PaintFormat.PaintColrLayers, "Layers": [ref, ref]}
+    fb = FontBuilder(1000, isTTF=True)
+    fb.setupGlyphOrder(order)
+    fb.setupCharacterMap({ord("A"): f"L{levels}"})
+    fb.setupGlyf(glyphs)
+    fb.setupHorizontalMetrics({n: (1000, 0) for n in order})
+    fb.setupHorizontalHeader(ascent=1000, descent=0)
+    fb.setupNameTable({"familyName": "ColrTest", "styleName": "Regular"})
+    fb.setupOS2()
+    fb.setupPost()
+    fb.font["COLR"] = buildCOLR(paints, version=1)
+    fb.font["CPAL"] = buildCPAL([PALETTE])
+    fb.save(str(tmp_path / "deep.ttf"))
+    with pytest.warns(RenderWarning, match="more than"):
+        img = draw(tmp_path, "A")
+    assert_close(img[INNER], np.array(GREEN, float))       # what was drawn is the square

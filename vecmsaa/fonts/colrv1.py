@@ -37,6 +37,9 @@ from ..scene.transform import compose, invert
 FOREGROUND = 0xFFFF
 #: PaintColrGlyph / PaintColrLayers nesting beyond this draws nothing (hostile fonts)
 MAX_DEPTH = 64
+#: paints visited for one glyph: a graph reusing its paints can expand exponentially (each
+#: level drawing the one below twice); beyond this the rest is not drawn, with a warning
+MAX_PAINTS = 20000
 #: a sweep gradient's image is at most this many pixels (coarser beyond)
 MAX_SWEEP_PIXELS = 1 << 22
 
@@ -92,6 +95,7 @@ class _Painter:
         self.palette = face.ttfont["CPAL"].palettes[0]
         clips = getattr(self.colr, "ClipList", None)
         self.clips = getattr(clips, "clips", None) or {}
+        self.budget = MAX_PAINTS
 
     # -- graph -----------------------------------------------------------------------------
     def base_glyph(self, name, root, m, active) -> list:
@@ -108,6 +112,12 @@ class _Painter:
 
     def nodes(self, p, m, active) -> list:
         """Scene nodes of paint ``p`` with font units mapped to device pixels by ``m``."""
+        self.budget -= 1
+        if self.budget < 0:
+            if self.budget == -1:
+                warn(f"font '{self.face.family}': a COLRv1 glyph has more than {MAX_PAINTS} "
+                     "paints: the rest is not drawn")
+            return []
         fmt = p.Format
         if fmt == 1:                                   # PaintColrLayers
             if len(active) >= MAX_DEPTH or self.colr.LayerList is None:
