@@ -73,7 +73,9 @@ FOREGROUND = {"Format": PaintFormat.PaintColrLayers, "Layers": [
 SELF_REFERENCE = {"Format": PaintFormat.PaintColrLayers, "Layers": [
     _fill("sq", _solid(4)), {"Format": PaintFormat.PaintColrGlyph, "Glyph": "selfref"}]}
 
-BASES = {"A": ("linear", LINEAR_SKEWED), "B": ("sweep", SWEEP), "C": ("rotated", ROTATED),
+V0_GLYPH = [("sq", 1), ("small", 0)]       # COLR v0 layers: blue square, red inner square
+
+BASES = {"L": ("v0", V0_GLYPH), "A": ("linear", LINEAR_SKEWED), "B": ("sweep", SWEEP), "C": ("rotated", ROTATED),
          "D": ("radial", RADIAL), "E": ("repeat", REPEAT), "F": ("srcin", SRC_IN),
          "G": ("destout", DEST_OUT), "H": ("multiply", MULTIPLY), "I": ("clipped", CLIPPED),
          "J": ("fg", FOREGROUND), "K": ("selfref", SELF_REFERENCE)}
@@ -99,7 +101,8 @@ def colr_font(tmp_path_factory):
     fb.setupNameTable({"familyName": "ColrTest", "styleName": "Regular"})
     fb.setupOS2()
     fb.setupPost()
-    fb.font["COLR"] = buildCOLR({n: p for n, p in BASES.values()}, version=1,
+    # version chosen by fontTools: 1, with the layer list glyph as a version 0 record
+    fb.font["COLR"] = buildCOLR({n: p for n, p in BASES.values()},
                                 clipBoxes={"clipped": (0, 0, 500, 1000)})
     fb.font["CPAL"] = buildCPAL([PALETTE])
     fb.save(str(folder / "colr.ttf"))
@@ -234,3 +237,12 @@ def test_exponential_paint_graph_is_cut_with_a_warning(tmp_path):
     with pytest.warns(RenderWarning, match="more than"):
         img = draw(tmp_path, "A")
     assert_close(img[INNER], np.array(GREEN, float))       # what was drawn is the square
+
+
+def test_version_0_records_of_a_version_1_table(colr_font):
+    x, y = font_coords()
+    inside = (np.abs(x - 500) < 240) & (np.abs(y - 500) < 240)
+    ring = (np.abs(x - 500) > 260) & (np.abs(x - 500) < 480) & (np.abs(y - 500) < 480)
+    img = draw(colr_font, "L")
+    assert_close(img[inside], np.array(RED, float))
+    assert_close(img[ring], np.array(BLUE, float))

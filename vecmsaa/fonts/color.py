@@ -19,7 +19,8 @@ FOREGROUND = 0xFFFF
 
 
 def colr_layers(face) -> dict:
-    """gid → [(layer gid, palette index)] for COLR v0 glyphs; cached on the face."""
+    """gid → [(layer gid, palette index)] for COLR v0 glyphs (of a version 0 table, or the
+    version 0 records of a version 1 table); cached on the face."""
     layers = getattr(face, "_colr_layers", None)
     if layers is None:
         layers = {}
@@ -28,6 +29,17 @@ def colr_layers(face) -> dict:
             try:
                 colr = t["COLR"]
                 ids = face.glyph_ids
+                if getattr(colr, "version", 0) >= 1:
+                    # a version 1 table keeps its version 0 records raw (fontTools only
+                    # builds ColorLayers for version 0)
+                    table = colr.table
+                    recs = table.LayerRecordArray.LayerRecord if table.LayerRecordArray else []
+                    for base in (table.BaseGlyphRecordArray.BaseGlyphRecord
+                                 if table.BaseGlyphRecordArray else []):
+                        if base.BaseGlyph in ids:
+                            layers[ids[base.BaseGlyph]] = [
+                                (ids.get(r.LayerGlyph, 0), r.PaletteIndex) for r in
+                                recs[base.FirstLayerIndex:base.FirstLayerIndex + base.NumLayers]]
                 for name, recs in (getattr(colr, "ColorLayers", None) or {}).items():
                     if name in ids:
                         layers[ids[name]] = [(ids.get(r.name, 0), r.colorID) for r in recs]
