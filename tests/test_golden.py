@@ -123,6 +123,16 @@ def test_update_output_is_byte_identical_across_runs_and_processes(tree, tmp_pat
     assert (first / "plain.png").read_bytes() == expected
 
 
+def test_update_shows_a_progress_bar_on_a_terminal_only(tree, capsys, monkeypatch):
+    svgs, goldens = tree
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    status, out, err = cli(capsys, "golden", "update", svgs, "--goldens", goldens)
+    assert status == 0 and "2 written" in out
+    assert "golden update" in err and "2/2" in err          # one step per SVG
+    status, out, err = cli(capsys, "golden", "update", svgs, "--goldens", goldens, "-q")
+    assert status == 0 and "golden update" not in err
+
+
 def test_update_reports_svgs_that_fail_to_render(tree, capsys):
     svgs, goldens = tree
     write(svgs / "broken.svg", "<svg")

@@ -117,6 +117,8 @@ def add_parser(subparsers) -> None:
                     "the render options in GOLDEN_DIR/vecmsaa-golden.json. Without any render "
                     "option, the options already recorded there are kept (defaults if none).")
     _common(update)
+    update.add_argument("-q", "--quiet", action="store_true",
+                        help="no progress bar (failures and the summary are still printed)")
     from vecmsaa.cli.render import FONT_FLAGS
 
     render = update.add_argument_group(
@@ -210,9 +212,15 @@ def _update(args, golden) -> int:
         print("using the render options recorded in the manifest", file=sys.stderr)
     else:
         options = golden.render_options()
-    result = golden.update_goldens(args.svg_dir, args.goldens, options,
-                                   progress=lambda line: print(line, flush=True),
-                                   jobs=args.jobs, scheduler=args.scheduler)
+    from .progress import Progress
+
+    def progress(svg, failure):
+        if failure:
+            bar.write(f"ERROR {svg}: {failure}", file=sys.stdout)
+        bar.advance(svg)
+    with Progress(len(golden.find_svgs(args.svg_dir)), "golden update", args.quiet) as bar:
+        result = golden.update_goldens(args.svg_dir, args.goldens, options, progress=progress,
+                                       jobs=args.jobs, scheduler=args.scheduler)
     print(f"golden update: {len(result.written)} written, {len(result.unchanged)} unchanged, "
           f"{len(result.errors)} failed to render")
     return 1 if result.errors else 0

@@ -257,12 +257,12 @@ class UpdateResult:
 
 def update_goldens(svg_dir, golden_dir, options: dict,
                    render: Renderer | None = None,
-                   progress: Callable[[str], None] | None = None, jobs: int = 1,
+                   progress: Callable[[str, str | None], None] | None = None, jobs: int = 1,
                    scheduler: str | None = None) -> UpdateResult:
     """Render every SVG under ``svg_dir`` into ``golden_dir`` and record ``options`` in the
     manifest. SVGs that fail to render get no golden and are listed in ``errors``. ``jobs`` > 1
     renders in that many processes, ``scheduler`` on that Dask cluster (vecmsaa.tools.cluster);
-    the files written are the same."""
+    the files written are the same. ``progress(svg path, failure or None)`` after each SVG."""
     options = render_options(**options)
     svgs = find_svgs(svg_dir)
     if Path(golden_dir).exists() and not Path(golden_dir).is_dir():
@@ -273,10 +273,10 @@ def update_goldens(svg_dir, golden_dir, options: dict,
     goldens = []
     results = _updates(svg_dir, golden_dir, svgs, options, render, jobs, scheduler)
     for rel, (changed, failure) in zip(svgs, results):
+        if progress:
+            progress(Path(svg_dir, rel).as_posix(), failure)
         if failure:
             result.errors.append((rel, failure))
-            if progress:
-                progress(f"ERROR {Path(svg_dir, rel).as_posix()}: {failure}")
             continue
         goldens.append(golden_name(rel))
         (result.written if changed else result.unchanged).append(golden_name(rel))
