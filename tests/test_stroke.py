@@ -477,6 +477,38 @@ def test_dashes_follow_curves():
     assert np.array_equal(got[~near], on[~near])
 
 
+@pytest.mark.parametrize("d", [
+    "M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z",                 # a circle (cubics)
+    "M 10 80 Q 50 -40 90 80 C 60 60 40 100 10 80 Z",                      # quadratic + cubic
+])
+def test_dash_ends_at_exact_arc_lengths(d):
+    """Every dash starts and ends where the path has run the pattern's lengths, measured on
+    a brute-force polyline of 200 000 points per curve (independent of the dasher)."""
+    from vecmsaa.geometry import stroke
+
+    path = parse_path_data(d)
+    (segs, closed), = stroke._subpaths(path)
+    pts = np.concatenate([_bezier(np.array(seg), np.linspace(0, 1, 200_001))[:-1]
+                          for seg in segs] + [np.array(segs[-1][-1:])])
+    run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    pattern, offset = [9.0, 4.5, 2.5, 4.5], 3.0
+    ends = []
+    for dash in stroke._dash_subpath(segs, False, pattern, offset, 0.25):
+        ends += [dash[0][0], dash[-1][-1]]
+    # where the pattern switches on and off along the path
+    expected, s, k = [], -offset, 0
+    while s < run[-1]:
+        for v in (s, s + pattern[k]) if k % 2 == 0 else ():
+            if 0 < v < run[-1]:
+                expected.append((np.interp(v, run, pts[:, 0]), np.interp(v, run, pts[:, 1])))
+        s += pattern[k]
+        k = (k + 1) % len(pattern)
+    got = np.array([e for e in ends if 1e-9 < np.hypot(*(np.array(e) - pts[0]))
+                    and np.hypot(*(np.array(e) - pts[-1])) > 1e-9])
+    assert len(got) == len(expected)
+    assert np.abs(got - np.array(expected)).max() < 1e-4    # tolerance / 4096 = 6e-5
+
+
 def test_dash_through_start_of_closed_subpath_is_joined():
     # perimeter 40, dashes [0, 10], [15, 25], [30, 40]: the last and the first are one dash
     # turning the corner at (0, 0), so that corner gets the miter, not two butt ends

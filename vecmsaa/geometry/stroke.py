@@ -27,11 +27,12 @@ Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offse
 from __future__ import annotations
 
 import math
-from bisect import bisect_left
 
 import numpy as np
 
 from . import stroke_kernels as kernels
+from .arclength import as_cubic, cubic_exact_param_at, cubic_length
+from .arclength import cubic_derivative as _cubic_deriv
 from ..scene.path import CLOSE, CUBIC, LINE, MOVE, VERB_POINTS, Path
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
@@ -55,14 +56,6 @@ def _cubic_point(c, t):
     u = 1.0 - t
     a, b, cc, d = u * u * u, 3 * u * u * t, 3 * u * t * t, t * t * t
     return a * x0 + b * x1 + cc * x2 + d * x3, a * y0 + b * y1 + cc * y2 + d * y3
-
-
-def _cubic_deriv(c, t):
-    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = c
-    u = 1.0 - t
-    a, b, d = 3 * u * u, 6 * u * t, 3 * t * t
-    return (a * (x1 - x0) + b * (x2 - x1) + d * (x3 - x2),
-            a * (y1 - y0) + b * (y2 - y1) + d * (y3 - y2))
 
 
 def _cubic_deriv2(c, t):
@@ -592,49 +585,30 @@ def dash_coverage(pattern, path: Path, width: float, cap: str, device_scale: flo
     return min(1.0, covered / period)
 
 
-_GAUSS_X = (-0.906179845938664, -0.5384693101056831, 0.0, 0.5384693101056831, 0.906179845938664)
-_GAUSS_W = (0.23692688505618908, 0.47862867049936647, 0.5688888888888889, 0.47862867049936647,
-            0.23692688505618908)
+#: how exactly a dash end is placed along a curve, as a fraction of the flattening tolerance
+DASH_ACCURACY = 1 / 4096
 
 
 class _Measured:
-    """A segment with a table of cumulative arc length against parameter."""
+    """A segment measured by geometry/arclength.py: where it is after an arc length."""
 
     def __init__(self, seg, tol):
-        if len(seg) == 3:
-            p0, p1, p2 = seg
-            seg = (p0, (p0[0] + 2 / 3 * (p1[0] - p0[0]), p0[1] + 2 / 3 * (p1[1] - p0[1])),
-                   (p2[0] + 2 / 3 * (p1[0] - p2[0]), p2[1] + 2 / 3 * (p1[1] - p2[1])), p2)
+        if len(seg) == 3:            # quadratic: raised exactly
+            seg = tuple((float(x), float(y)) for x, y in as_cubic(seg[0], seg[1:]))
         self.seg = seg
         if len(seg) == 2:
-            self.ts = [0.0, 1.0]
-            self.lengths = [0.0, math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1])]
+            self.length = math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1])
         else:
-            poly = math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1]) + \
-                math.hypot(seg[2][0] - seg[1][0], seg[2][1] - seg[1][1]) + \
-                math.hypot(seg[3][0] - seg[2][0], seg[3][1] - seg[2][1])
-            n = int(min(256, max(4, math.sqrt(poly / max(tol, 1e-9)) * 2)))
-            self.ts = [i / n for i in range(n + 1)]
-            self.lengths = [0.0]
-            for i in range(n):
-                a, b = self.ts[i], self.ts[i + 1]
-                s = 0.0
-                for x, w in zip(_GAUSS_X, _GAUSS_W):
-                    dx, dy = _cubic_deriv(seg, (a + b) / 2 + (b - a) / 2 * x)
-                    s += w * math.hypot(dx, dy)
-                self.lengths.append(self.lengths[-1] + s * (b - a) / 2)
-        self.length = self.lengths[-1]
+            self.length = cubic_length(seg)
+            self.accuracy = tol * DASH_ACCURACY
 
     def t_at(self, s):
-        """Parameter at arc length s (linear within the table's intervals)."""
+        """Parameter at arc length s."""
         if len(self.seg) == 2:
             return s / self.length if self.length > 0 else 0.0
-        ls = self.lengths
-        i = bisect_left(ls, s)
-        i = min(max(i, 1), len(ls) - 1)
-        span = ls[i] - ls[i - 1]
-        f = (s - ls[i - 1]) / span if span > 0 else 0.0
-        return self.ts[i - 1] + f * (self.ts[i] - self.ts[i - 1])
+        if self.length <= 0:
+            return 0.0
+        return cubic_exact_param_at(self.seg, self.length, s, self.accuracy)
 
     def part(self, s0, s1):
         t0, t1 = self.t_at(s0), self.t_at(s1)
