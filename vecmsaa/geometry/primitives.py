@@ -58,7 +58,9 @@ def _grow(arr, n):
     if n < arr.shape[0]:
         return arr
     new = np.empty((arr.shape[0] * 2 + 16, arr.shape[1]), dtype=arr.dtype)
-    new[:n] = arr[:n]
+    for i in range(n):      # (a loop: a slice assignment compiles to far more code)
+        for j in range(arr.shape[1]):
+            new[i, j] = arr[i, j]
     return new
 
 
@@ -182,7 +184,8 @@ def _set_chord(prim, x0, y0, x1, y1, sx, sy):
 
 
 @njit(cache=True)
-def _set_frame_common(prim, ctrl, nctrl):
+def _set_frame_common(prim, ctrl):
+    nctrl = ctrl.shape[0]
     x0 = ctrl[0, 0]
     y0 = ctrl[0, 1]
     bx0, by0, bx1, by1 = x0, y0, x0, y0
@@ -228,7 +231,8 @@ def _emit_quad_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2):
         return edges, ne, prims, nc
     prims = _grow(prims, nc)
     prim = prims[nc]
-    prim[:] = 0.0
+    for j in range(PRIM_FIELDS):
+        prim[j] = 0.0
     prim[P_KIND] = KIND_QUAD
     prim[P_SIGMA] = 1.0
     prim[P_OX], prim[P_OY], prim[P_INVS] = x0, y0, inv
@@ -241,7 +245,7 @@ def _emit_quad_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2):
     ctrl[0, 0], ctrl[0, 1] = x0, y0
     ctrl[1, 0], ctrl[1, 1] = x1, y1
     ctrl[2, 0], ctrl[2, 1] = x2, y2
-    _set_frame_common(prim, ctrl, 3)
+    _set_frame_common(prim, ctrl)
     mx, my = _quad_point(x0, y0, x1, y1, x2, y2, 0.5)
     _set_chord(prim, x0, y0, x2, y2, 0.5 * (mx + 0.5 * (x0 + x2)), 0.5 * (my + 0.5 * (y0 + y2)))
     return edges, ne, prims, nc + 1
@@ -294,9 +298,13 @@ def classify_cubic(X):
     Returns (kind, klm, split parameters) where kind is 0 serpentine, 1 loop, 2 cusp,
     3 cusp at infinity, 4 quadratic, 5 line/point; klm is (4, 3) at the control points and
     the split parameters are inflections (serpentine, cusp) or the double point (loop).
+    Powers are products: the same bits as numba's ``**`` (by squaring), without compiling it.
     """
-    b = np.ones((4, 3))
-    b[:, :2] = X
+    b = np.empty((4, 3))
+    for i in range(4):
+        b[i, 0] = X[i, 0]
+        b[i, 1] = X[i, 1]
+        b[i, 2] = 1.0
     a1 = b[0, 0] * (b[3, 1] * b[2, 2] - b[3, 2] * b[2, 1]) - b[0, 1] * (b[3, 0] * b[2, 2] - b[3, 2] * b[2, 0]) + b[0, 2] * (b[3, 0] * b[2, 1] - b[3, 1] * b[2, 0])
     a2 = b[1, 0] * (b[0, 1] * b[3, 2] - b[0, 2] * b[3, 1]) - b[1, 1] * (b[0, 0] * b[3, 2] - b[0, 2] * b[3, 0]) + b[1, 2] * (b[0, 0] * b[3, 1] - b[0, 1] * b[3, 0])
     a3 = b[2, 0] * (b[1, 1] * b[0, 2] - b[1, 2] * b[0, 1]) - b[2, 1] * (b[1, 0] * b[0, 2] - b[1, 2] * b[0, 0]) + b[2, 2] * (b[1, 0] * b[0, 1] - b[1, 1] * b[0, 0])
@@ -306,7 +314,8 @@ def classify_cubic(X):
     dn = math.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
     klm = np.zeros((4, 3))
     splits = np.empty(2)
-    splits[:] = -1.0
+    splits[0] = -1.0
+    splits[1] = -1.0
     eps = 1e-9
     if dn < eps:
         return 5, klm, splits
@@ -320,16 +329,16 @@ def classify_cubic(X):
             sq = math.sqrt(max(0.0, 3.0 * disc))
             ls, lt = 3.0 * d2 - sq, 6.0 * d1
             ms, mt = 3.0 * d2 + sq, 6.0 * d1
-            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls ** 3, ms ** 3
+            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ls, ms * ms * ms
             klm[1, 0] = (3.0 * ls * ms - ls * mt - lt * ms) / 3.0
             klm[1, 1] = ls * ls * (ls - lt)
             klm[1, 2] = ms * ms * (ms - mt)
             klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
-            klm[2, 1] = (lt - ls) ** 2 * ls
-            klm[2, 2] = (mt - ms) ** 2 * ms
+            klm[2, 1] = (lt - ls) * (lt - ls) * ls
+            klm[2, 2] = (mt - ms) * (mt - ms) * ms
             klm[3, 0] = (lt - ls) * (mt - ms)
-            klm[3, 1] = -(lt - ls) ** 3
-            klm[3, 2] = -(mt - ms) ** 3
+            klm[3, 1] = -((lt - ls) * (lt - ls) * (lt - ls))
+            klm[3, 2] = -((mt - ms) * (mt - ms) * (mt - ms))
         else:
             kind = 1
             sq = math.sqrt(-disc)
@@ -343,17 +352,17 @@ def classify_cubic(X):
             klm[2, 1] = (lt - ls) * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
             klm[2, 2] = (mt - ms) * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
             klm[3, 0] = (lt - ls) * (mt - ms)
-            klm[3, 1] = -(lt - ls) ** 2 * (mt - ms)
-            klm[3, 2] = -(lt - ls) * (mt - ms) ** 2
+            klm[3, 1] = -((lt - ls) * (lt - ls)) * (mt - ms)
+            klm[3, 2] = -(lt - ls) * ((mt - ms) * (mt - ms))
         splits[0] = ls / lt
         splits[1] = ms / mt
         return kind, klm, splits
     if abs(d2) > eps:
         ls, lt = d3, 3.0 * d2
-        klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls ** 3, 1.0
+        klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls * ls * ls, 1.0
         klm[1, 0], klm[1, 1], klm[1, 2] = ls - lt / 3.0, ls * ls * (ls - lt), 1.0
-        klm[2, 0], klm[2, 1], klm[2, 2] = ls - 2.0 * lt / 3.0, (ls - lt) ** 2 * ls, 1.0
-        klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) ** 3, 1.0
+        klm[2, 0], klm[2, 1], klm[2, 2] = ls - 2.0 * lt / 3.0, (ls - lt) * (ls - lt) * ls, 1.0
+        klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) * (ls - lt) * (ls - lt), 1.0
         splits[0] = ls / lt
         return 3, klm, splits
     if abs(d3) > eps:
@@ -384,8 +393,9 @@ def _turn_exceeds(c, max_turn_cos):
 
 
 @njit(cache=True)
-def _tangent_plane(prim, off, px, py, dx, dy, ix, iy):
-    """Half-plane through (px, py) along (dx, dy), oriented so (ix, iy) is inside."""
+def _tangent_plane(plane, px, py, dx, dy, ix, iy):
+    """Half-plane through (px, py) along (dx, dy), oriented so (ix, iy) is inside, into
+    plane[0:3] (a view: an offset argument would be a literal, compiled once per value)."""
     ln = math.hypot(dx, dy)
     if ln == 0.0:
         return
@@ -393,9 +403,9 @@ def _tangent_plane(prim, off, px, py, dx, dy, ix, iy):
     c = -(a * px + b * py)
     if a * ix + b * iy + c < 0:
         a, b, c = -a, -b, -c
-    prim[off] = a
-    prim[off + 1] = b
-    prim[off + 2] = c - 1e-9 * (abs(c) + 1.0)
+    plane[0] = a
+    plane[1] = b
+    plane[2] = c - 1e-9 * (abs(c) + 1.0)
 
 
 @njit(cache=True, inline="always")
@@ -436,11 +446,19 @@ def _linearisation_bound(prim, x, y, rho):
 
 
 @njit(cache=True)
+def _implicit(prim, x, y):
+    """_eval_implicit as a call, for the batch builder: each inlined copy costs compile time,
+    and here it runs once or twice per curve piece, not per sample."""
+    return _eval_implicit(prim, x, y)
+
+
+@njit(cache=True)
 def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""
     prims = _grow(prims, nc)
     prim = prims[nc]
-    prim[:] = 0.0
+    for j in range(PRIM_FIELDS):
+        prim[j] = 0.0
     prim[P_KIND] = KIND_CUBIC
     prim[P_OX], prim[P_OY], prim[P_INVS] = ox, oy, inv
     for j in range(3):
@@ -453,16 +471,16 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     # sign between them, or the frame is numerically unusable (caller falls back to quads).
     qx = 0.5 * (mx + 0.5 * (c[0, 0] + c[3, 0]))
     qy = 0.5 * (my + 0.5 * (c[0, 1] + c[3, 1]))
-    f, gx, gy = _eval_implicit(prim, qx, qy)
-    f_out, gx2, gy2 = _eval_implicit(prim, 2.0 * mx - qx, 2.0 * my - qy)
+    f, gx, gy = _implicit(prim, qx, qy)
+    f_out, gx2, gy2 = _implicit(prim, 2.0 * mx - qx, 2.0 * my - qy)
     if not (math.isfinite(f) and math.isfinite(f_out)) or f == 0.0 or (f < 0) == (f_out < 0):
         return edges, ne, prims, nc, False
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
-    _set_frame_common(prim, c, 4)
+    _set_frame_common(prim, c)
     _set_chord(prim, c[0, 0], c[0, 1], c[3, 0], c[3, 1], qx, qy)
     t0x, t0y, t1x, t1y = _end_tangents(c)
-    _tangent_plane(prim, P_T1, c[0, 0], c[0, 1], t0x, t0y, qx, qy)
-    _tangent_plane(prim, P_T2, c[3, 0], c[3, 1], t1x, t1y, qx, qy)
+    _tangent_plane(prim[P_T1:P_T1 + 3], c[0, 0], c[0, 1], t0x, t0y, qx, qy)
+    _tangent_plane(prim[P_T2:P_T2 + 3], c[3, 0], c[3, 1], t1x, t1y, qx, qy)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
     return edges, ne, prims, nc + 1, True
 
@@ -476,23 +494,41 @@ def _affine_fit(X, V):
     points give NaN, which the caller's residual test rejects."""
     xm = 0.25 * (X[0, 0] + X[1, 0] + X[2, 0] + X[3, 0])
     ym = 0.25 * (X[0, 1] + X[1, 1] + X[2, 1] + X[3, 1])
-    xc = X[:, 0] - xm
-    yc = X[:, 1] - ym
-    M = np.full((3, 3), np.nan)
-    n1 = math.sqrt(np.sum(xc * xc))
+    # scalar loops over the 4 rows, not array expressions: those cost seconds of compile time
+    xc = np.empty(4)
+    yc = np.empty(4)
+    n1 = 0.0
+    for i in range(4):
+        xc[i] = X[i, 0] - xm
+        yc[i] = X[i, 1] - ym
+        n1 += xc[i] * xc[i]
+    M = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            M[i, j] = np.nan
+    n1 = math.sqrt(n1)
     if n1 == 0.0:
         return M
-    q1 = xc / n1
-    beta = np.sum(q1 * yc)
-    y2 = yc - beta * q1
-    n2 = math.sqrt(np.sum(y2 * y2))
+    q1 = np.empty(4)
+    beta = 0.0
+    for i in range(4):
+        q1[i] = xc[i] / n1
+        beta += q1[i] * yc[i]
+    y2 = np.empty(4)
+    n2 = 0.0
+    for i in range(4):
+        y2[i] = yc[i] - beta * q1[i]
+        n2 += y2[i] * y2[i]
+    n2 = math.sqrt(n2)
     if n2 == 0.0:
         return M
-    q2 = y2 / n2
     for j in range(3):
         vm = 0.25 * (V[0, j] + V[1, j] + V[2, j] + V[3, j])
-        c1 = np.sum(q1 * V[:, j])
-        c2 = np.sum(q2 * V[:, j])
+        c1 = 0.0
+        c2 = 0.0
+        for i in range(4):
+            c1 += q1[i] * V[i, j]
+            c2 += (y2[i] / n2) * V[i, j]
         M[1, j] = c2 / n2
         M[0, j] = c1 / n1 - c2 * beta / (n1 * n2)
         M[2, j] = vm - M[0, j] * xm - M[1, j] * ym
@@ -528,14 +564,12 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
         return _emit_quad(edges, ne, prims, nc, c[0, 0], c[0, 1], qx, qy, c[3, 0], c[3, 1],
                           max_sagitta)
     # k, l, m are affine in the frame: solve [X Y 1] · M = klm (4 equations, 3 unknowns each)
-    A = np.ones((4, 3))
-    A[:, :2] = X
     M = _affine_fit(X, klm)
     resid = 0.0
     scale = 0.0
     for i in range(4):
         for j in range(3):
-            r = A[i, 0] * M[0, j] + A[i, 1] * M[1, j] + M[2, j] - klm[i, j]
+            r = X[i, 0] * M[0, j] + X[i, 1] * M[1, j] + M[2, j] - klm[i, j]
             resid = max(resid, abs(r))
             scale = max(scale, abs(klm[i, j]))
     if not (resid <= 1e-7 * max(scale, 1e-300)):
@@ -545,8 +579,10 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     nts = 0
     ts[nts] = 0.0
     nts += 1
-    sp = np.sort(splits)
-    for t in sp:
+    s0, s1 = splits[0], splits[1]
+    if s1 < s0:     # (np.sort would put a NaN last; a NaN is never taken here either way)
+        s0, s1 = s1, s0
+    for t in (s0, s1):
         if 1e-6 < t < 1.0 - 1e-6 and t - ts[nts - 1] > 1e-6:
             ts[nts] = t
             nts += 1
@@ -597,8 +633,10 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
     prims = np.empty((max(16, points.shape[0] // 2), PRIM_FIELDS))
     edge_off = np.zeros(npaths + 1, dtype=np.int64)
     prim_off = np.zeros(npaths + 1, dtype=np.int64)
-    ne = 0
-    nc = 0
+    # not the literal 0: numba would compile every helper called with it once more, for
+    # Literal[int](0) (a second specialisation of the whole batch builder)
+    ne = np.int64(0)
+    nc = np.int64(0)
     c = np.empty((4, 2))
     for p in range(npaths):
         pi = pt_off[p]

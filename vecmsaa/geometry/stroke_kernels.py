@@ -281,13 +281,13 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
         verbs[cnt[0]] = MOVE
         cnt[0] += 1
         _point(pts, cnt, rp[rc[1] - 1, 0], rp[rc[1] - 1, 1])
-        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, 1)
+        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(1))
         verbs[cnt[0]] = CLOSE
         cnt[0] += 1
         verbs[cnt[0]] = MOVE
         cnt[0] += 1
         _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
-        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, 1)
+        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(1))
         _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
         verbs[cnt[0]] = CLOSE
         cnt[0] += 1
@@ -298,9 +298,9 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
     _line(lv, lp, lc, px - dy * hw, py + dx * hw)
     verbs[cnt[0]] = MOVE
     cnt[0] += 1
-    _emit_side_forward(verbs, pts, cnt, rv, rp, rc, 0)
+    _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(0))
     cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol)
-    _emit_side_backward(verbs, pts, cnt, lv, lp, lc, 0)
+    _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(0))
     cap_items(verbs, pts, cnt, q[0, 0], q[0, 1], -dirs[0, 0], -dirs[0, 1], hw, cap,
               tol)
     verbs[cnt[0]] = CLOSE
@@ -367,7 +367,9 @@ def _grow_points(a, need):
     if need <= a.shape[0]:
         return a
     b = np.empty((max(need, 2 * a.shape[0]), 2))
-    b[:a.shape[0]] = a
+    for i in range(a.shape[0]):     # (a loop: a slice assignment costs seconds of compile time)
+        b[i, 0] = a[i, 0]
+        b[i, 1] = a[i, 1]
     return b
 
 
@@ -376,7 +378,8 @@ def _grow_ints(a, need):
     if need <= a.shape[0]:
         return a
     b = np.empty(max(need, 2 * a.shape[0]), np.int64)
-    b[:a.shape[0]] = a
+    for i in range(a.shape[0]):
+        b[i] = a[i]
     return b
 
 

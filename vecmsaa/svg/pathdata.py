@@ -512,14 +512,16 @@ def _parse_batch(buf, starts, mode, given, spans):
     pstart = np.empty(count + 1, np.int64)
     status = np.zeros(count, np.int64)
     numbers = np.zeros(count, np.int64)
-    nv = npts = 0
+    # not the literal 0, which numba would compile _parse_into for once more
+    nv = npts = np.int64(0)
     for i in range(count):
         a, b = starts[i], starts[i + 1]
         need = npts + 3 * (b - a) + 32
         if need > pcap:                 # only arcs write more than 2 coordinates a byte
             pcap = max(need, 2 * pcap)
             grown = np.empty(pcap, np.float64)
-            grown[:npts] = pts[:npts]
+            for j in range(npts):   # (a loop: a slice assignment costs seconds of compile time)
+                grown[j] = pts[j]
             pts = grown
         vstart[i] = nv
         pstart[i] = npts
