@@ -40,11 +40,16 @@ def invert(m):
 
 def apply(m, pts):
     """Transform an (N, 2) array of points."""
-    return _apply(np.asarray(pts, dtype=np.float64), *m)
+    a, b, c, d, e, f = m
+    # one specialisation: C-contiguous float64 points, float coefficients
+    return _apply(np.ascontiguousarray(pts, dtype=np.float64), float(a), float(b), float(c),
+                  float(d), float(e), float(f))
 
 
 # Compiled because most paths are short: numpy's per-call overhead was most of the cost.
-@njit("f8[:, :](f8[:, :], f8, f8, f8, f8, f8, f8)", cache=True)
+# Lazily (no signature in the decorator): an explicit signature loads the kernel, and with it
+# numba's typing and lowering registries (≈ 0.7 s), when this module is imported.
+@njit(cache=True)
 def _apply(pts, a, b, c, d, e, f):
     out = np.empty((pts.shape[0], 2))
     for i in range(pts.shape[0]):
