@@ -122,3 +122,21 @@ def test_cli_prints_one_line_per_warning_naming_the_file(tmp_path, capfd):
     assert len(err) >= 4 and all(line.startswith(f"vecmsaa: warning: {path}: ") for line in err)
     assert main(args + ["--quiet"]) == 0
     assert capfd.readouterr().err == ""
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_progress_reports_every_row_once_and_changes_nothing(threads):
+    from vecmsaa.api import render_svg_array, render_svg_png
+    from vecmsaa.raster.render import BAND_BUDGET
+
+    width, height = 1000, 3000
+    assert width * height * 16 > 2 * BAND_BUDGET                     # several bands
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}">'
+           '<circle cx="500" cy="1500" r="480" fill="teal"/></svg>')
+    for render in (render_svg_png, render_svg_array):
+        calls = []
+        got = render(svg, threads=threads, progress=lambda done, rows: calls.append((done, rows)))
+        done = sorted(d for d, _ in calls)      # threads may report out of order
+        assert len(calls) > 1 and {rows for _, rows in calls} == {height}
+        assert done[-1] == height and len(set(done)) == len(done)
+        assert np.array_equal(np.asarray(got), np.asarray(render(svg, threads=threads)))

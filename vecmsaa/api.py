@@ -290,16 +290,16 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
                      resources_dir: str | os.PathLike | None = None, *,
                      keep_aspect: bool = False, size_limit: bool = True,
                      export_id: str | None = None, export_area_drawing: bool = False,
-                     threads: int | None = None, **options) -> np.ndarray:
+                     threads: int | None = None, progress=None, **options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA; see :func:`render_svg`.
     ``threads``: bands rendered at once (None: every available core; the image does not
-    depend on it)."""
+    depend on it). ``progress(rows done, rows)``: called after each band is drawn."""
     from .raster.render import render_scene_rgba8
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
                      size_limit=size_limit, export_id=export_id, **options)
-    rgba = render_scene_rgba8(scene, mode=mode, threads=threads,
+    rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
                               samples=samples_for(samples, scene.width, scene.height))
     if export_area_drawing and export_id is None:
         rgba = crop_to_drawing(rgba, scene)
@@ -312,21 +312,21 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
                    resources_dir: str | os.PathLike | None = None, *,
                    keep_aspect: bool = False, size_limit: bool = True,
                    export_id: str | None = None, export_area_drawing: bool = False,
-                   threads: int | None = None, **options) -> bytes:
+                   threads: int | None = None, progress=None, **options) -> bytes:
     """Render to PNG bytes, the same as ``encode_png(render_svg_array(...))``, without holding
-    the whole image: bands are encoded as they are rendered."""
+    the whole image: bands are encoded as they are rendered (``progress`` as there)."""
     if export_area_drawing and export_id is None:
         from .output.png import encode_png
         return encode_png(render_svg_array(
             source, width, height, zoom, dpi, background, mode, samples, resources_dir,
             keep_aspect=keep_aspect, size_limit=size_limit, export_area_drawing=True,
-            threads=threads, **options))
+            threads=threads, progress=progress, **options))
     from .raster.render import render_scene_png
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                      background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
                      size_limit=size_limit, export_id=export_id, **options)
-    return render_scene_png(scene, mode=mode, threads=threads,
+    return render_scene_png(scene, mode=mode, threads=threads, progress=progress,
                             samples=samples_for(samples, scene.width, scene.height))
 
 

@@ -49,26 +49,35 @@ class Progress:
 
 @contextlib.contextmanager
 def single_render(name: str, quiet: bool = False):
-    """Within the block, a render of ``name``: after SINGLE_RENDER_DELAY seconds a bar with
-    the elapsed time appears on a terminal (the renderer does not report its progress, so
-    the bar counts time, not work), and goes when the block ends."""
+    """Within the block, a render of ``name``; yields ``report(rows done, rows)`` for the
+    renderer's ``progress``. After SINGLE_RENDER_DELAY seconds a bar appears on a terminal:
+    the elapsed time while the drawing is read and prepared, then the image rows drawn; it
+    goes when the block ends."""
+    state = {"done": 0, "rows": 0}
+
+    def report(done: int, rows: int) -> None:
+        state["done"], state["rows"] = done, rows
     if not _on_terminal(quiet):
-        yield
+        yield report
         return
-    done = threading.Event()
+    finished = threading.Event()
 
     def show():
-        if done.wait(SINGLE_RENDER_DELAY):
+        if finished.wait(SINGLE_RENDER_DELAY):
             return
         from tqdm import tqdm
         with tqdm(desc=f"rendering {name}", total=None, file=sys.stderr, leave=False,
-                  bar_format="{desc}: {elapsed}") as bar:
-            while not done.wait(0.25):
+                  unit="row", bar_format="{desc}: {elapsed}") as bar:
+            while not finished.wait(0.25):
+                if state["rows"] and bar.total is None:   # the bands have begun
+                    bar.total, bar.bar_format = state["rows"], None
+                if bar.total is not None:
+                    bar.n = state["done"]
                 bar.refresh()
     thread = threading.Thread(target=show, daemon=True)
     thread.start()
     try:
-        yield
+        yield report
     finally:
-        done.set()
+        finished.set()
         thread.join()

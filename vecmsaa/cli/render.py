@@ -304,8 +304,8 @@ def _run(args) -> int:
             raise UsageError(f"cannot tell the image format of {dst}: end it in .png, .webp, "
                              ".jpg, .tif or give --format")
         from .progress import single_render
-        with single_render(inputs[0], args.quiet):
-            err, found = render_one((inputs[0], dst, fmt, opts))
+        with single_render(inputs[0], args.quiet) as report:
+            err, found = render_one((inputs[0], dst, fmt, dict(opts, progress=report)))
         print_warnings(inputs[0], found, args.quiet)
         if err:
             print(f"vecmsaa render: {inputs[0]}: {err}", file=sys.stderr)

@@ -128,24 +128,27 @@ def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDG
 
 def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
                        filter: str = "box", pattern: str = "d3d",
-                       band_budget: int = BAND_BUDGET, threads: int = 1) -> np.ndarray:
+                       band_budget: int = BAND_BUDGET, threads: int = 1,
+                       progress=None) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA: ``to_rgba8(render_scene(...))``
-    exactly, without ever holding the whole image in float (band by band)."""
+    exactly, without ever holding the whole image in float (band by band).
+    ``progress(rows done, rows)`` after each band, from the thread that drew it."""
     opts = RenderOptions(mode, samples, filter, pattern)
     out = np.empty((scene.height, scene.width, 4), dtype=np.uint8)
 
     def convert(y0, band):
         unpremultiply_to_rgba8(band, out[y0:y0 + band.shape[0]])
-    render_bands(scene, opts, convert, band_budget, threads)
+    render_bands(scene, opts, reporting(convert, progress, scene.height), band_budget, threads)
     return out
 
 
 def render_scene_png(scene: Scene, mode: str = "approx", samples: int = 8,
                      filter: str = "box", pattern: str = "d3d",
-                     band_budget: int = BAND_BUDGET, threads: int = 1) -> bytes:
+                     band_budget: int = BAND_BUDGET, threads: int = 1, progress=None) -> bytes:
     """PNG bytes of the image: ``encode_png(render_scene_rgba8(...))`` exactly, band by band,
     each band converted and its PNG rows deflated by the thread that rendered it, so neither
-    the float nor the 8-bit image is ever whole (at 8192² that is 256 MB less)."""
+    the float nor the 8-bit image is ever whole (at 8192² that is 256 MB less).
+    ``progress`` as for :func:`render_scene_rgba8`."""
     opts = RenderOptions(mode, samples, filter, pattern)
     stream = PngStream(scene.width, scene.height)
     per_thread = threading.local()
@@ -157,8 +160,24 @@ def render_scene_png(scene: Scene, mode: str = "approx", samples: int = 8,
         rgba8 = rgba8[:band.shape[0]]
         unpremultiply_to_rgba8(band, rgba8)
         stream.write_rows(y0, rgba8)
-    render_bands(scene, opts, encode, band_budget, threads)
+    render_bands(scene, opts, reporting(encode, progress, scene.height), band_budget, threads)
     return stream.finish()
+
+
+def reporting(consume, progress, rows: int):
+    """``consume``, then ``progress(rows done so far, rows)`` after each band (or ``consume``
+    itself without ``progress``)."""
+    if progress is None:
+        return consume
+    lock, done = threading.Lock(), [0]
+
+    def consume_and_report(y0, band):
+        consume(y0, band)
+        with lock:
+            done[0] += band.shape[0]
+            so_far = done[0]
+        progress(so_far, rows)
+    return consume_and_report
 
 
 def available_cores() -> int:
