@@ -15,6 +15,7 @@ from __future__ import annotations
 import functools
 import re
 
+from ..diagnostics import warn
 from . import SvgError
 from .units import split_length, to_px
 
@@ -56,6 +57,19 @@ CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
 
 #: properties that may be given as presentation attributes
 PRESENTATION = PROPERTIES - CSS_ONLY
+
+#: properties parsed but not applied, with the values that need no warning (their initial
+#: values: the drawing is then what the property asks for)
+UNSUPPORTED_PROPERTIES = {
+    "inline-size": {"0", "auto"},                       # SVG 2 text wrapping
+    "text-overflow": {"clip"},
+    "white-space": {"normal"},                          # xml:space is applied
+    "font-variant-ligatures": {"normal"},
+    "font-variant-numeric": {"normal"},
+    "font-variant-position": {"normal"},
+    "font-variant-east-asian": {"normal"},
+}
+_NO_WARNING = {"inherit", "initial", "unset", "revert"}
 
 #: properties whose value passes from parent to child when not specified
 INHERITED = {
@@ -507,6 +521,10 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
                 for pname, pval in _expand_shorthand(name, value):
                     (important if imp else spec)[pname] = pval
         spec.update(important)
+        for name in UNSUPPORTED_PROPERTIES.keys() & spec.keys():
+            value = spec[name].strip().lower()
+            if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
+                warn(f"{name}: {value[:40]} is not supported: ignored")
         el.specified = spec
         el.text = node.text or ""
         el.tail = node.tail or ""
