@@ -196,9 +196,9 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
 
 
 @njit(cache=True)
-def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount):
+def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount, hidden):
     """Winding deltas of the straight edges e0..e1 (one fill) on the sample rows of strip
-    [sy0, sy0 + rows). Written out in one loop nest: an array handed to a helper costs a
+    [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows). Written out in one loop nest: an array handed to a helper costs a
     reference count per call, here per edge and per marked pixel."""
     n = sx.shape[0]
     for e in range(e0, e1):
@@ -209,7 +209,7 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
             # no crossing, but samples above and below it differ: the pixels it touches are
             # dirty
             r = _floor_int(y0) - sy0
-            if 0 <= r < rows:
+            if 0 <= r < rows and not hidden[r]:
                 lo_i = _pixel_index(min(x0, x1), W)
                 hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
                 for px in range(lo_i, hi_i + 1):
@@ -228,6 +228,8 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
             continue
         dxdy = (xb - xt) / (yb - yt)
         for r in range(r_lo, r_hi + 1):
+            if hidden[r]:
+                continue
             py = sy0 + r
             for s in range(n):
                 ys = py + sy[s]
@@ -258,9 +260,9 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount)
 
 @njit(cache=True)
 def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi, lens_stats):
+                dlist, dcount, lo, hi, lens_stats, hidden):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
-    mode. Written out in one loop nest: an array handed to a helper costs a reference count
+    mode, except in the rows where ``hidden`` is set. Written out in one loop nest: an array handed to a helper costs a reference count
     per call, here per primitive and per touched pixel. ``lens_stats`` counts the curve pixels of
     the approx mode (0), those where it evaluated samples (1) and those samples (2)."""
     n = sx.shape[0]
@@ -286,6 +288,8 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         wsign = prim[P_WSIGN]
         cubic = prim[P_KIND] == KIND_CUBIC
         for r in range(r_lo, r_hi + 1):
+            if hidden[r]:
+                continue
             py = sy0 + r
             xa, xz = _band_x_range(prim, py, py + 1.0)
             if not (xa <= xz):
@@ -612,8 +616,8 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             # one-colour pixels live in the target itself; only split pixels have pool
             # slots, and only those are reset and resolved (untouched and fully covered
             # pixels cost nothing)
-            np.full((strip_rows, W), -1, dtype=np.int64),           # cplx
-            np.full((strip_rows, W), -1, dtype=np.int64),           # slot_of
+            np.full((strip_rows, W), -1, dtype=np.int32),           # cplx
+            np.full((strip_rows, W), -1, dtype=np.int32),           # slot_of
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
             np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
             np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats,
@@ -633,7 +637,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
 
     ``occlude``: runs of consecutive opaque solid fills are drawn front to back
     (sweep_rows_behind), each painting only the samples the fills in front of it left
-    uncovered, and a fill whose box is fully covered in the strip is not scanned at all; the
+    uncovered, and the rows of a fill's box that they cover whole are not scanned; the
     pixels are the same as drawn back to front (sample masks need a coverage that is 0 or 1:
     not the alpha mode, and at most 64 samples).
     """
@@ -647,6 +651,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    hidden = np.zeros(strip_rows, dtype=np.bool_)
     occlude = occlude and mode != MODE_ALPHA and n <= 64
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
@@ -675,28 +680,31 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 if run:
                     x_first = max(0, _floor_int(path_box[k, 0]))
                     x_last = min(W - 1, _floor_int(path_box[k, 2]))
-                    hidden = True
+                    # rows where the fills in front cover the whole box are not scanned
+                    shown = 0
                     for r in range(r_first, r_last + 1):
                         x = x_first
                         while nxt[r, x] != x:
                             nxt[r, x] = nxt[r, nxt[r, x]]
                             x = nxt[r, x]
-                        if x <= x_last:
-                            hidden = False
-                            break
-                    if hidden:
+                        hidden[r] = x > x_last
+                        shown += x <= x_last
+                    if shown == 0:
+                        hidden[r_first:r_last + 1] = False
                         continue
                     ra, rz = min(ra, r_first), max(rz, r_last)
                     xa, xz = min(xa, x_first), max(xz, x_last)
                 scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
-                           dirty, dlist, dcount)
+                           dirty, dlist, dcount, hidden)
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy, mode,
-                                table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats)
+                                table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats,
+                                hidden)
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
                                               slot_of, slot_pixel, pool, npool, wrun, occ, nxt)
+                    hidden[r_first:r_last + 1] = False
                 else:
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                        paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
