@@ -236,3 +236,37 @@ def test_text_antialiasing_follows_text_rendering_of_the_text_element_only():
                                   '</tspan></text>')) == smooth
     assert _partial_pixels(render('<text x="10" y="70" text-rendering="optimizeSpeed">Text'
                                   '</text>')) == 0
+
+
+def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path):
+    """writing-mode tb: an upright (CJK) glyph sits with its default vertical origin
+    (OpenType: half the advance across, the ascender up; HarfBuzz's default too) on the pen
+    position, the pen moving down the column by the advance."""
+    from fontTools.fontBuilder import FontBuilder
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+
+    pen = TTGlyphPen(None)
+    for x, y in ((100, -100), (100, 800), (900, 800), (900, -100)):
+        (pen.moveTo if x == 100 and y == -100 else pen.lineTo)((x, y))
+    pen.closePath()
+    fb = FontBuilder(1000, isTTF=True)
+    fb.setupGlyphOrder([".notdef", "sun"])
+    fb.setupCharacterMap({0x65E5: "sun"})
+    fb.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "sun": pen.glyph()})
+    fb.setupHorizontalMetrics({".notdef": (1000, 0), "sun": (1000, 100)})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    fb.setupNameTable({"familyName": "Upright", "styleName": "Regular"})
+    fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200)
+    fb.setupPost()
+    fb.save(str(tmp_path / "upright.ttf"))
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="240">'
+           '<text x="100" y="20" font-size="100" font-family="Upright" writing-mode="tb">'
+           '\u65e5\u65e5</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True))
+    # glyph point (gx, gy) → (100 + (gx - 500) / 10, pen + (800 - gy) / 10), pens 20 and 120
+    cols = np.nonzero(a.max(axis=0) > 0.5)[0]
+    rows = np.nonzero(a.max(axis=1) > 0.5)[0]
+    assert (cols.min(), cols.max() + 1) == (60, 140)
+    gaps = np.nonzero(np.diff(rows) > 1)[0]
+    assert len(gaps) == 1
+    assert (rows.min(), rows[gaps[0]] + 1, rows[gaps[0] + 1], rows.max() + 1) == (20, 110, 120, 210)

@@ -181,10 +181,10 @@ def apply_writing_mode(clusters, chars):
     others keep the rotated line, centred on the column."""
     for c in clusters:
         if _is_upright(ord(chars[c.char].ch)):
-            h = c.ascent - c.descent
-            dy = c.width - h
-            m = compose(translate(c.width / 2, 0.0), rotate_at(-90.0, 0.0, 0.0))
-            c.path_ts = compose(m, translate(-c.width / 2, -dy))
+            # turned back about the middle of its em box's height, then moved down by
+            # that half: the top of the em box (the ascender) meets the pen position
+            mid = (c.ascent + c.descent) / 2
+            c.path_ts = compose(translate(0.0, mid), rotate_at(-90.0, c.width / 2, -mid))
             c.ascent, c.descent = c.width / 2, -c.width / 2
         else:
             # Rotated characters sit on the central baseline (measured against resvg 0.48)
