@@ -30,6 +30,11 @@ def add_parser(subparsers):
                    help="only the rows against resvg on the given SVG files: whole process at "
                         "8192 and 2048 px with peak memory, warm in one process at 2048 px, "
                         "the files as a batch with --jobs 1 and 2 (writes versus.md/json)")
+    p.add_argument("--sequence", action="store_true",
+                   help="only the temporal-stability study: slow pans, zooms and rotations "
+                        "of Figure 1, thin lines and small text in every mode, flicker against "
+                        "the reference and a moving edge's crawl (writes sequence.md/json/png "
+                        "and an animated WebP per case)")
     return p
 
 
@@ -49,6 +54,12 @@ def run(args) -> int:
 
     def log(text):
         print(text, file=sys.stderr, flush=True)
+    if args.sequence:
+        from vecmsaa.tools.sequence import study
+        study(args.out_dir, log=log)
+        log(f"bench: results in {args.out_dir}/ (sequence.md, sequence.json, sequence.png, "
+            "*.webp)")
+        return 0
     if args.versus_resvg:
         from vecmsaa.cli.render import expand_inputs
         from vecmsaa.tools.bench import versus_rows, write_versus
