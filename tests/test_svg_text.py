@@ -238,10 +238,9 @@ def test_text_antialiasing_follows_text_rendering_of_the_text_element_only():
                                   '</text>')) == 0
 
 
-def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path):
-    """writing-mode tb: an upright (CJK) glyph sits with its default vertical origin
-    (OpenType: half the advance across, the ascender up; HarfBuzz's default too) on the pen
-    position, the pen moving down the column by the advance."""
+def _square_cjk_font(path, family, underline=(-100, 50)):
+    """A font whose only glyph, U+65E5, is a square from (100, -100) to (900, 800) font units
+    (1000 per em, ascender 800, descender -200), with the given post underline metrics."""
     from fontTools.fontBuilder import FontBuilder
     from fontTools.pens.ttGlyphPen import TTGlyphPen
 
@@ -255,10 +254,17 @@ def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path)
     fb.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "sun": pen.glyph()})
     fb.setupHorizontalMetrics({".notdef": (1000, 0), "sun": (1000, 100)})
     fb.setupHorizontalHeader(ascent=800, descent=-200)
-    fb.setupNameTable({"familyName": "Upright", "styleName": "Regular"})
+    fb.setupNameTable({"familyName": family, "styleName": "Regular"})
     fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200)
-    fb.setupPost()
-    fb.save(str(tmp_path / "upright.ttf"))
+    fb.setupPost(underlinePosition=underline[0], underlineThickness=underline[1])
+    fb.save(str(path))
+
+
+def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path):
+    """writing-mode tb: an upright (CJK) glyph sits with its default vertical origin
+    (OpenType: half the advance across, the ascender up; HarfBuzz's default too) on the pen
+    position, the pen moving down the column by the advance."""
+    _square_cjk_font(tmp_path / "upright.ttf", "Upright")
     svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="240">'
            '<text x="100" y="20" font-size="100" font-family="Upright" writing-mode="tb">'
            '\u65e5\u65e5</text></svg>')
@@ -270,3 +276,24 @@ def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path)
     gaps = np.nonzero(np.diff(rows) > 1)[0]
     assert len(gaps) == 1
     assert (rows.min(), rows[gaps[0]] + 1, rows[gaps[0] + 1], rows.max() + 1) == (20, 110, 120, 210)
+
+
+def test_underline_is_sized_by_the_spans_font_not_a_fallback(tmp_path):
+    """A text span's decoration takes its metrics from the span's font (CSS Text Decoration:
+    the element's first available font), here the post table of "Main", even though the
+    span's first character is drawn by a fallback face with other metrics."""
+    _square_cjk_font(tmp_path / "fallback.ttf", "Fallback", underline=(-600, 300))
+    import shutil
+    shutil.copy(TTF, tmp_path / "main.ttf")
+    from fontTools.ttLib import TTFont
+    post = TTFont(TTF)["post"]
+    upem = TTFont(TTF)["head"].unitsPerEm
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="300" height="200">'
+           '<text x="10" y="100" font-size="100" font-family="Noto Sans, Fallback" '
+           'text-decoration="underline">\u65e5H</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True))
+    # left of the square (x = 20 to 100) only the underline has ink
+    rows = np.nonzero(a[:, 11:19].max(axis=1) > 0.5)[0]
+    centre = 100 - post.underlinePosition * 100 / upem
+    half = post.underlineThickness * 100 / upem / 2
+    assert abs(rows.min() - (centre - half)) <= 1 and abs(rows.max() + 1 - (centre + half)) <= 1

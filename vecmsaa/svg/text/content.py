@@ -38,6 +38,7 @@ class Char:
     rotate: float = 0.0
     text_path: object = None   # the enclosing <textPath> element
     new_chunk: bool = False
+    primary_face: object = None   # its family list's best match, before any fallback
 
 
 def _space_preserved(el, inherited):

@@ -191,8 +191,11 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
                 run[1] += c.advance
             prev_el = el
         for c0, width, decl in runs:
-            m = c0.face.metrics
-            scale = c0.size / c0.face.units_per_em
+            # the span's own font (its family list's best match), even where a character
+            # fell back to another face, as resvg measures decorations
+            face = chars[c0.char].primary_face or c0.face
+            m = face.metrics
+            scale = c0.size / face.units_per_em
             if vertical:
                 half = (m.ascender - m.descender) * scale / 2
                 dy = {"underline": half, "overline": -half}.get(kind, 0.0)

@@ -235,7 +235,8 @@ def warn_font_fallback(db, spec, info):
 
 
 def assign_faces(chars, specs, db):
-    """Face for every character: the family list's best match, else a fallback face."""
+    """Face for every character: the family list's best match, else a fallback face. Each
+    character's ``primary_face`` is set to the best match (text decorations use its metrics)."""
     faces = []
     primary = {}
     loaded = {}
@@ -249,7 +250,7 @@ def assign_faces(chars, specs, db):
             warn_font_fallback(db, spec, info)
         if info not in loaded:
             loaded[info] = _load(info)
-        face = loaded[info]
+        face = c.primary_face = loaded[info]
         if face is not None and not face.has_char(c.ch) and not _is_control(c.ch):
             alt = db.fallback_for_char(c.ch, list(spec.families), spec.weight, spec.style,
                                        spec.stretch, exclude=(info,))
