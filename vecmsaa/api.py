@@ -93,6 +93,8 @@ def output_size(doc_w, doc_h, width=None, height=None, zoom=None, keep_aspect=Fa
     for name, v in (("width", width), ("height", height), ("zoom", zoom)):
         if v is not None and not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise SvgError(f"{name} must be a positive number, got {v!r}")
+    if not (math.isfinite(doc_w) and math.isfinite(doc_h)):
+        raise SvgError("the document's size is not a finite number")
     iw = max(1, _round_half_up(doc_w))
     ih = max(1, _round_half_up(doc_h))
     ceil = lambda v: max(1, math.ceil(v - 1e-9))   # noqa: E731

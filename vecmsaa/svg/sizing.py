@@ -2,6 +2,8 @@
 space to that size (:func:`open_svg`, for the API and for SVG images alike)."""
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 from ..scene.nodes import Group, Scene
@@ -84,7 +86,9 @@ def drawing_extent(builder, viewport):
     box = None
     for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
                                                            viewport))).fills():
-        box = union(box, path_bounds(f.path))
+        b = path_bounds(f.path)
+        if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
+            box = union(box, b)
     if box is None or box[2] <= 0 or box[3] <= 0:
         return 100.0, 100.0
     return box[2], box[3]
