@@ -110,3 +110,4 @@ def test_nothing_is_dropped_when_nothing_changed(tmp_path):
     before = {s: _entries(pkg, s) for s in ("caller", "callee", "other")}
     ensure_fresh_cache(pkg)
     assert {s: _entries(pkg, s) for s in ("caller", "callee", "other")} == before
+

@@ -8,10 +8,9 @@ from __future__ import annotations
 
 import sys
 
-#: first-run compile of everything `render`, `font` and `demo` use from an empty cache on
-#: 2 cores: ≈ 40 s for demo and ≈ 37 s more for a stroked SVG (issue 11), plus the path-data
-#: kernel (docs/bench.md, "First run")
-COMPILE_SECONDS = "60–90"
+#: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
+#: 95 s of CPU on a busy 2-core machine, less on a quiet one (docs/bench.md, "First run")
+COMPILE_SECONDS = "60–100"
 
 
 def install(stream=None):
