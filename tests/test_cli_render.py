@@ -369,3 +369,35 @@ def test_jobs_means_the_same_everywhere(capsys):
     with pytest.raises(SystemExit) as exit_:
         parser.parse_args(["render", "x.svg", "-j", "-1"])
     assert exit_.value.code == 2
+
+
+@pytest.mark.parametrize("flags, covered", [
+    # a vertical edge 0.3 px into column 10: the samples left of it, by the patterns' tables
+    ([], 5 / 16),                         # D3D 16: x offsets -5, -4, -6, -8, -7 (1/16 px)
+    (["--pattern", "grid"], 4 / 16),      # 4 x 4 grid: the first column, at 1/8
+])
+def test_pattern_flag_picks_where_the_samples_lie(tmp_path, flags, covered):
+    svg = tmp_path / "edge.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="4">'
+                   '<rect width="10.3" height="4"/></svg>')
+    assert run(svg, "-o", tmp_path / "o.png", "--samples", 16, "--mode", "persample",
+               *flags) == 0
+    alpha = np.asarray(image(tmp_path / "o.png"))[..., 3]
+    assert (alpha[:, 10] == round(covered * 255)).all()
+    assert (alpha[:, :10] == 255).all() and (alpha[:, 11:] == 0).all()
+
+
+def test_filter_flag_weighs_samples_by_the_tent(tmp_path):
+    # tent weights (1 - |dx|)(1 - |dy|) over the D3D 16 offsets: the covered ones' share
+    from vecmsaa.raster.sample_patterns import D3D_PATTERNS
+
+    offsets = np.asarray(D3D_PATTERNS[16]) / 16.0
+    w = (1 - abs(offsets[:, 0])) * (1 - abs(offsets[:, 1]))
+    covered = w[offsets[:, 0] + 0.5 < 0.3].sum() / w.sum()
+    svg = tmp_path / "edge.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="4">'
+                   '<rect width="10.3" height="4"/></svg>')
+    assert run(svg, "-o", tmp_path / "o.png", "--samples", 16, "--mode", "persample",
+               "--filter", "tent") == 0
+    alpha = np.asarray(image(tmp_path / "o.png"))[..., 3].astype(int)
+    assert (abs(alpha[:, 10] - covered * 255) <= 0.5 + 1e-9).all()

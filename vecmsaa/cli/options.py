@@ -39,6 +39,19 @@ def add_coverage_options(parser, default_mode: str | None = None) -> None:
                              "takes 256 or a larger square")
 
 
+def add_sampling_options(parser) -> None:
+    """--pattern and --filter: where the samples of a pixel lie and how they are weighed."""
+    from ..raster.modes import FILTERS, PATTERN_NAMES
+
+    parser.add_argument("--pattern", choices=PATTERN_NAMES,
+                        help="sample pattern of the multisample modes: d3d (the Direct3D 10.1 "
+                             "standard patterns, every sample on its own row; default) or grid "
+                             "(an ordered grid)")
+    parser.add_argument("--filter", choices=FILTERS,
+                        help="resolve filter: box (every sample weighs the same; default) or "
+                             "tent (samples weigh less towards the pixel's edges)")
+
+
 def job_count(text: str) -> int:
     """Worker processes; 0 means one per core."""
     try:

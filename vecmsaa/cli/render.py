@@ -18,7 +18,7 @@ from __future__ import annotations
 import os
 import sys
 
-from .options import add_coverage_options, add_jobs_option  # argparse only: cheap
+from .options import add_coverage_options, add_jobs_option, add_sampling_options  # argparse only
 
 DESCRIPTION = ("Render SVG files to PNG, WebP, JPEG or TIFF: 'vecmsaa render in.svg out.png', "
                "'-o OUT', '-c' for standard output, or several files and folders with "
@@ -85,6 +85,7 @@ def add_parser(subparsers):
     look = p.add_argument_group("rendering")
     look.add_argument("-b", "--background", "--background-color", metavar="COLOR", help="background colour (any CSS colour)")
     add_coverage_options(look)
+    add_sampling_options(look)
     look.add_argument("--shape-rendering", choices=SHAPE_RENDERING,
                       help="default shape-rendering (crispEdges: no antialiasing)")
     look.add_argument("--text-rendering", choices=TEXT_RENDERING,
@@ -131,6 +132,9 @@ def render_options(args) -> dict:
         opts["mode"] = args.mode
     if args.samples:
         opts["samples"] = args.samples
+    for dest in ("pattern", "filter"):
+        if getattr(args, dest):
+            opts[dest] = getattr(args, dest)
     for dest in ("font_size", "shape_rendering", "text_rendering", "image_rendering",
                  "export_id"):
         if getattr(args, dest) is not None:

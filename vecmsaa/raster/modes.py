@@ -9,6 +9,11 @@ MASK_TABLE_MODES = MSAA_MODES[1:]
 EXACT_MODES = ("analytic", "reference")
 MODES = MSAA_MODES + EXACT_MODES
 DEFAULT_MODE = "approx"
+#: sample patterns of the multisample modes (raster/sample_patterns.py): the Direct3D 10.1
+#: standard patterns and an ordered grid
+PATTERN_NAMES = ("d3d", "grid")
+#: resolve filters: the box (each sample weighs the same) and a tent within the pixel
+FILTERS = ("box", "tent")
 DEFAULT_SAMPLES = 8
 #: outputs of at most this many pixels (128 x 128, or any shape of that area) default to
 #: SMALL_OUTPUT_SAMPLES: at icon sizes one pixel is a visible part of the image (at 16 px one

@@ -24,9 +24,9 @@ from .blend import blend_premultiplied
 from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter
-from .modes import EXACT_MODES, MASK_TABLE_MODES, MODES
+from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from .sample_patterns import PATTERNS, a2c_order, mask_table, pattern_offsets, stratified_pattern
+from .sample_patterns import a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
 from ..scene.color import linear_rgb_image
@@ -45,8 +45,6 @@ BAND_BUDGET = 1 << 24
 #: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
 #: filter region (within the image) is larger is not drawn
 MAX_FILTER_PIXELS = 1 << 24
-FILTERS = ("box", "tent")
-PATTERN_NAMES = tuple(PATTERNS)
 
 
 class RenderOptions:

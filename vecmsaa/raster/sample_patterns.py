@@ -77,7 +77,7 @@ def grid_pattern(samples: int) -> np.ndarray:
     return np.array([(x, y) for y in ys for x in xs], dtype=np.float64)
 
 
-PATTERNS = {"d3d": standard_pattern, "grid": grid_pattern}
+PATTERNS = {"d3d": standard_pattern, "grid": grid_pattern}     # by modes.PATTERN_NAMES
 
 
 def pattern_offsets(name: str, samples: int) -> np.ndarray:

@@ -33,10 +33,9 @@ import time
 
 import numpy as np
 
-from ..raster.modes import MSAA_MODES
+from ..raster.modes import MSAA_MODES, PATTERN_NAMES
 
 SAMPLE_COUNTS = (1, 2, 4, 8, 16)
-PATTERNS = ("d3d", "grid")
 QUICK_SAMPLES = (1, 4, 16)
 #: longer side of the images the errors are measured on (the reference costs 256 spp)
 ERROR_SIZE = 128
@@ -250,7 +249,7 @@ def configs(quick):
     samples = QUICK_SAMPLES if quick else SAMPLE_COUNTS
     out = [("none", 1, "d3d")]
     for mode in MSAA_MODES[1:]:
-        for pattern in PATTERNS:
+        for pattern in PATTERN_NAMES:
             for n in samples:
                 out.append((mode, n, pattern))
     out.append(("analytic", 1, "-"))

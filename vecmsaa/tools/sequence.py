@@ -29,7 +29,7 @@ import sys
 
 import numpy as np
 
-from ..raster.modes import MSAA_MODES
+from ..raster.modes import MSAA_MODES, PATTERN_NAMES
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..scene.path import Path
 from ..scene.transform import compose, rotate_at, translate
@@ -138,7 +138,7 @@ def crawl(mode: str, samples: int, pattern: str = "d3d", size: int = 64,
 
 # -- the whole study ------------------------------------------------------------------------------
 def study(out_dir: str, size: int = SIZE, count: int = FRAMES, samples=(8, 16),
-          patterns=("d3d", "grid"), log=print) -> list[dict]:
+          patterns=PATTERN_NAMES, log=print) -> list[dict]:
     """Every scene x motion x mode x samples x pattern; writes the files named above and
     returns the rows."""
     os.makedirs(out_dir, exist_ok=True)
