@@ -24,8 +24,8 @@ def test_exact_edge_columns_match_brute_force_area():
 def test_exact_area_does_not_crawl_and_one_sample_does():
     analytic = crawl("analytic", 8, size=32, count=8)
     none = crawl("none", 8, size=32, count=8)
-    assert analytic[0] < 1e-3 and analytic[1] < 1e-3
-    assert none[0] > 0.1                                # a one-sample staircase
+    assert max(abs(v) for v in analytic) < 1e-3
+    assert none[1] > 0.1                                # a one-sample staircase
 
 
 def test_rooks_pattern_crawls_less_than_the_ordered_grid_on_a_near_horizontal_edge():
@@ -35,7 +35,9 @@ def test_rooks_pattern_crawls_less_than_the_ordered_grid_on_a_near_horizontal_ed
     # by 4 samples every fourth frame (RTR3 §5.6)
     rooks = crawl("persample", 16, "d3d", size=32, count=16)
     grid = crawl("persample", 16, "grid", size=32, count=16)
-    assert rooks[0] < grid[0] and rooks[1] < grid[1] / 4
+    assert rooks[1] < grid[1] and rooks[2] < grid[2] / 4
+    # ...and the D3D 16 offsets average (-1/32, -1/32) px: the image sits 1/32 px off
+    assert rooks[0] == pytest.approx(-1 / 32, abs=1e-6)
 
 
 def test_flicker_is_zero_for_a_still_sequence_and_falls_with_more_samples():

@@ -11,8 +11,9 @@ where the jumps fall. Three measures, each against ground truth:
   either, and the 99th percentile;
 - **crawl**: a straight edge 1/16 off horizontal moving down by one pixel over the sequence;
   per column the edge's position is the column's coverage sum, and its exact value is the area
-  of the half-plane inside the column, computed in closed form; the RMS of the difference over
-  columns and frames, in pixels;
+  of the half-plane inside the column, computed in closed form; the difference's mean over
+  columns and frames (**offset**: the whole image shifted) and its RMS about that mean, in
+  pixels;
 - **jitter**: the same difference's frame-to-frame change (a steady offset does not crawl).
 
 ``python -m vecmsaa.tools.sequence -o OUT`` (or ``vecmsaa bench --sequence -o OUT``) writes
@@ -129,14 +130,29 @@ def exact_edge_columns(size: int, count: int) -> np.ndarray:
 
 
 def crawl(mode: str, samples: int, pattern: str = "d3d", size: int = 64,
-          count: int = FRAMES) -> tuple[float, float]:
-    """(RMS edge position error, RMS frame-to-frame change of that error), in pixels."""
+          count: int = FRAMES) -> tuple[float, float, float]:
+    """(offset, crawl, jitter) of the moving edge, in pixels: the mean of its position error
+    (a pattern whose samples are not centred on the pixel shifts the whole image, e.g. the
+    D3D 16 pattern by 1/32 px), the RMS of the error about that mean, and the RMS of its
+    frame-to-frame change."""
     alpha = render_frames(edge_frames(size, count), mode, samples, pattern)[..., 3]
     err = alpha.sum(axis=1) - exact_edge_columns(size, count)
-    return float(np.sqrt((err ** 2).mean())), float(np.sqrt((np.diff(err, axis=0) ** 2).mean()))
+    offset = float(err.mean())
+    return (offset, float(np.sqrt(((err - offset) ** 2).mean())),
+            float(np.sqrt((np.diff(err, axis=0) ** 2).mean())))
 
 
 # -- the whole study ------------------------------------------------------------------------------
+def configurations(samples, patterns):
+    """(mode, samples, pattern) compared: every multisample mode at each count and pattern;
+    ``none`` (one sample at the centre) and ``analytic`` once, with samples 0."""
+    for mode in SEQUENCE_MODES:
+        if mode in ("none", "analytic"):
+            yield mode, 0, "d3d"
+            continue
+        for n in samples:
+            for pattern in patterns:
+                yield mode, n, pattern
 def study(out_dir: str, size: int = SIZE, count: int = FRAMES, samples=(8, 16),
           patterns=PATTERN_NAMES, log=print) -> list[dict]:
     """Every scene x motion x mode x samples x pattern; writes the files named above and
@@ -149,24 +165,19 @@ def study(out_dir: str, size: int = SIZE, count: int = FRAMES, samples=(8, 16),
                       for k in range(count)]
             reference = render_frames(frames, "reference", 256)
             shown = {"reference": reference}
-            for mode in SEQUENCE_MODES:
-                for n in (samples if mode != "analytic" else (0,)):
-                    for pattern in (patterns if mode != "analytic" else ("d3d",)):
-                        seq = render_frames(frames, mode, n or 8, pattern)
-                        mean, p99 = flicker(seq, reference)
-                        rows.append(dict(scene=scene_name, motion=motion_name, mode=mode,
-                                         samples=n, pattern=pattern, flicker=mean,
-                                         flicker_p99=p99))
-                        if pattern == "d3d" and n in (0, samples[0]):
-                            shown[mode] = seq
+            for mode, n, pattern in configurations(samples, patterns):
+                seq = render_frames(frames, mode, n or 8, pattern)
+                mean, p99 = flicker(seq, reference)
+                rows.append(dict(scene=scene_name, motion=motion_name, mode=mode, samples=n,
+                                 pattern=pattern, flicker=mean, flicker_p99=p99))
+                if pattern == "d3d" and n in (0, samples[0]):
+                    shown[mode] = seq
             log(f"  {scene_name} {motion_name}: done")
             write_webp(os.path.join(out_dir, f"{scene_name}-{motion_name}.webp"), shown)
-    for mode in SEQUENCE_MODES:
-        for n in (samples if mode != "analytic" else (0,)):
-            for pattern in (patterns if mode != "analytic" else ("d3d",)):
-                position, jitter = crawl(mode, n or 8, pattern, count=count)
-                rows.append(dict(scene="edge", motion="crawl", mode=mode, samples=n,
-                                 pattern=pattern, crawl=position, jitter=jitter))
+    for mode, n, pattern in configurations(samples, patterns):
+        offset, position, jitter = crawl(mode, n or 8, pattern, count=count)
+        rows.append(dict(scene="edge", motion="crawl", mode=mode, samples=n, pattern=pattern,
+                         offset=offset, crawl=position, jitter=jitter))
     with open(os.path.join(out_dir, "sequence.json"), "w") as f:
         json.dump(rows, f, indent=1)
     with open(os.path.join(out_dir, "sequence.md"), "w") as f:
@@ -179,7 +190,7 @@ def table(rows) -> str:
     """Markdown: flicker per mode (columns) and case (rows), then the edge's crawl."""
     keys = sorted({(r["mode"], r["samples"], r["pattern"]) for r in rows},
                   key=lambda k: (SEQUENCE_MODES.index(k[0]), k[1], k[2]))
-    label = {k: (k[0] if k[0] == "analytic" else f"{k[0]} {k[1]} {k[2]}") for k in keys}
+    label = {k: (k[0] if not k[1] else f"{k[0]} {k[1]} {k[2]}") for k in keys}
     cases = sorted({(r["scene"], r["motion"]) for r in rows if "flicker" in r})
     lines = ["Flicker: mean |Δframe − Δreference| over changing pixels, 8-bit levels "
              "(99th percentile in brackets)", "",
@@ -192,13 +203,14 @@ def table(rows) -> str:
             r = by.get(case + k)
             cells.append(f"{r['flicker']:.2f} ({r['flicker_p99']:.0f})" if r else "")
         lines.append(f"| {case[0]} {case[1]} | " + " | ".join(cells) + " |")
-    lines += ["", "Edge crawl: RMS error of a moving edge's position per column, and of its "
-              "frame-to-frame change (jitter), in pixels", "",
-              "| mode | crawl | jitter |", "|---|---|---|"]
+    lines += ["", "A moving edge's position per column against its exact coverage, in pixels: "
+              "mean (offset), RMS about the mean (crawl), RMS frame-to-frame change (jitter)",
+              "", "| mode | offset | crawl | jitter |", "|---|---|---|---|"]
     for k in keys:
         r = by.get(("edge", "crawl") + k)
         if r:
-            lines.append(f"| {label[k]} | {r['crawl']:.4f} | {r['jitter']:.4f} |")
+            lines.append(f"| {label[k]} | {r['offset']:+.4f} | {r['crawl']:.4f} | "
+                         f"{r['jitter']:.4f} |")
     return "\n".join(lines) + "\n"
 
 
