@@ -480,12 +480,17 @@ def _dash_polylines(src, starts, closed, pattern, offset):
             # the dashes after the first move down into its place
             f0, f1 = ostarts[first_dash], ostarts[first_dash + 1]
             m = f1 - f0
-            first = out[f0:f1].copy()
+            # (loops: slice assignments cost seconds of compile time)
+            first = np.empty((m, 2))
+            for i in range(m):
+                first[i, 0], first[i, 1] = out[f0 + i, 0], out[f0 + i, 1]
             no -= 1
             out = _grow_points(out, no + m)
-            out[no:no + m] = first
+            for i in range(m):
+                out[no + i, 0], out[no + i, 1] = first[i, 0], first[i, 1]
             no += m
-            out[f0:no - m] = out[f1:no].copy()
+            for i in range(f0, no - m):     # down by m = f1 - f0, front to back
+                out[i, 0], out[i, 1] = out[i + m, 0], out[i + m, 1]
             no -= m
             for d in range(first_dash + 1, nd):
                 ostarts[d - 1] = ostarts[d] - m
