@@ -155,9 +155,12 @@ def glyph_grid_scene(face, label_face, *, page=1, columns=16, per_page=256, glyp
             batch.add_line(line, (cx[i] + (cell_w - line.advance) / 2,
                                   y0 + k * 1.2 * label_size), LABEL_GRAY)
     grid_w = columns * cell_w if len(gids) >= columns else len(gids) * cell_w
-    rules = [(margin + c * cell_w, margin, 0.5, rows * cell_h)
-             for c in range(int(round(grid_w / cell_w)) + 1)]
-    rules += [(margin, margin + r * cell_h, grid_w, 0.5) for r in range(rows + 1)]
+    # vertical rules whole, horizontal ones between them: no pixel is covered twice, so
+    # exact-area coverage stays exact on the grid (analytic_is_exact)
+    n_cols = int(round(grid_w / cell_w))
+    rules = [(margin + c * cell_w, margin, 0.5, rows * cell_h + 0.5) for c in range(n_cols + 1)]
+    rules += [(margin + c * cell_w + 0.5, margin + r * cell_h, cell_w - 0.5, 0.5)
+              for r in range(rows + 1) for c in range(n_cols)]
     fills = _rules(rules, RULE_GRAY) + batch.fills()
     return _scene(grid_w + 2 * margin + 0.5, rows * cell_h + 2 * margin + 0.5, fills,
                   background)
