@@ -32,3 +32,18 @@ def test_calling_compiled_code_says_nothing():
     finally:
         event.unregister("numba:compile", listener)
     assert stream.getvalue() == ""
+
+
+def test_an_in_process_command_leaves_no_listener(monkeypatch, tmp_path, capsys):
+    # a command run in-process on a "terminal" (tests do this) announces on that stderr only
+    # while it runs: a later compile must not write to the stream it no longer owns
+    import sys
+
+    from vecmsaa.cli.main import main
+
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4"/>')
+    before = list(event._registered["numba:compile"])
+    assert main(["render", str(svg), "-o", str(tmp_path / "a.png")]) == 0
+    assert list(event._registered["numba:compile"]) == before

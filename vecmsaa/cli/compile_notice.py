@@ -6,6 +6,7 @@ with a filled cache prints nothing and pays nothing.
 """
 from __future__ import annotations
 
+import contextlib
 import sys
 
 #: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
@@ -28,9 +29,12 @@ def install(stream=None):
         def on_start(self, ev):
             if not self.said:
                 self.said = True
-                print(f"vecmsaa: compiling the numba kernels this command uses, once (about "
-                      f"{COMPILE_SECONDS} s for everything render, font and demo use); later "
-                      f"runs load them from the cache", file=stream, flush=True)
+                try:
+                    print(f"vecmsaa: compiling the numba kernels this command uses, once "
+                          f"(about {COMPILE_SECONDS} s for everything render, font and demo "
+                          f"use); later runs load them from the cache", file=stream, flush=True)
+                except (OSError, ValueError):    # a closed or broken stream: not worth a failure
+                    pass
 
         def on_end(self, ev):
             pass
@@ -38,3 +42,17 @@ def install(stream=None):
     listener = Notice()
     event.register("numba:compile", listener)
     return listener
+
+
+@contextlib.contextmanager
+def announcing(stream=None):
+    """Within the block, compiles are announced as :func:`install` does; afterwards they are
+    not (a command run in-process, as tests do, leaves no listener on a stream it no longer
+    owns)."""
+    listener = install(stream)
+    try:
+        yield listener
+    finally:
+        if listener is not None:
+            from numba.core import event
+            event.unregister("numba:compile", listener)

@@ -7,6 +7,7 @@ Each command module exposes ``add_parser(subparsers)`` (cheap: argparse only) an
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import sys
 
@@ -57,12 +58,15 @@ def main(argv=None) -> int:
     if not getattr(args, "command", None):
         parser.print_help()
         return 2
-    if args.command in COMPILING:
-        from .compile_notice import install
-        install()
     module = importlib.import_module(f"vecmsaa.cli.{args.command}")
+    if args.command in COMPILING:
+        from .compile_notice import announcing
+        notice = announcing()
+    else:
+        notice = contextlib.nullcontext()
     try:
-        return int(module.run(args) or 0)
+        with notice:
+            return int(module.run(args) or 0)
     except KeyboardInterrupt:
         print("vecmsaa: interrupted", file=sys.stderr)
         return 130
