@@ -320,12 +320,16 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     alpha[..., 3] = source[..., 3]
     sources = {SOURCE_GRAPHIC: _Result(source, False, full),
                SOURCE_ALPHA: _Result(alpha, False, full)}
-    results: list[_Result] = []
+    results: list[_Result | None] = []
+    # the last primitive reading each result: after it the result is let go, so a chain of
+    # thousands of primitives holds a few images, not one per primitive
+    last = len(flt.primitives) - 1
+    last_read = {i: k for k, prim in enumerate(flt.primitives) for i in prim.inputs if i >= 0}
 
     def get(i):
         return sources[i] if i < 0 else results[i]
 
-    for prim in flt.primitives:
+    for k, prim in enumerate(flt.primitives):
         x0, y0, x1, y1 = prim.subregion
         rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
         inputs = [get(i) for i in prim.inputs]
@@ -343,7 +347,12 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
             if rect[2] > rect[0] and rect[3] > rect[1]:
                 clipped[rect[1]:rect[3], rect[0]:rect[2]] = img[rect[1]:rect[3], rect[0]:rect[2]]
             img = clipped
-        results.append(_Result(img.astype(np.float32, copy=False), linear, rect))
+        results.append(_Result(img.astype(np.float32, copy=False), linear, rect)
+                       if k == last or k in last_read else None)
+        inputs = None
+        for i in prim.inputs:
+            if i >= 0 and last_read[i] == k and i != last:
+                results[i] = None
     if not results:
         return np.zeros_like(source)
     return results[-1].in_space(False)
