@@ -297,15 +297,22 @@ def sliding_extreme(a: np.ndarray, c: int, axis: int, pick, fill) -> np.ndarray:
 
 # -- the filter graph -----------------------------------------------------------------------
 class _Result:
-    __slots__ = ("img", "linear", "rect")
+    """A primitive's (or a source's) image, its colour space and its subregion. The image in
+    the other space is converted once and kept: every primitive of a chain reading
+    SourceGraphic in linearRGB would otherwise convert it again (primitives never write to
+    their inputs)."""
+    __slots__ = ("img", "linear", "rect", "_other")
 
     def __init__(self, img, linear, rect):
         self.img, self.linear, self.rect = img, linear, rect
+        self._other = None
 
     def in_space(self, linear: bool) -> np.ndarray:
         if self.linear == linear:
             return self.img
-        return convert_space(self.img, linear)
+        if self._other is None:
+            self._other = convert_space(self.img, linear)
+        return self._other
 
 
 def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None) -> np.ndarray:
