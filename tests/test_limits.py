@@ -426,3 +426,24 @@ def test_a_long_filter_chain_holds_a_few_results_not_one_per_primitive():
             tracemalloc.stop()
     extra = (peak(60) - peak(2)) / canvas
     assert extra < 3, f"{extra:.1f} canvases more for 60 primitives than for 2"
+
+
+def test_nested_style_elements_read_their_own_text_only():
+    """A fuzzer's find: 12,902 unclosed <style>s nest, and each one's descendants' text made
+    the CSS quadratic (2 GB). A style element's CSS is its child text content (HTML/CSSOM)."""
+    import tracemalloc
+
+    from vecmsaa.svg.document import load_document
+
+    count = 1000
+    nested = '<style>#r { fill: blue }' * count + '</style>' * count
+    tracemalloc.start()
+    try:
+        doc = load_document(f'<svg {SVG} width="10" height="10">{nested}'
+                            f'<rect id="r" width="10" height="10"/></svg>'.encode())
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert doc.ids["r"].specified["fill"] == "blue"
+    # the old reading: 1000 * 1001 / 2 copies of the 24-character rule, 12 MB of CSS text
+    assert peak < 8_000_000, f"{peak / 1e6:.1f} MB"

@@ -464,7 +464,10 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
             kind = (node.get("type") or "text/css").strip()
             if kind not in ("", "text/css"):
                 continue
-            sheets.add("".join(node.itertext()))
+            # its child text content (HTML/CSSOM), not its descendants' text: elements nested
+            # in <style> are not CSS, and thousands of nested <style>s would otherwise read
+            # the same text over and over (quadratic in memory)
+            sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
 
     matches = {}
     if sheets.count:
