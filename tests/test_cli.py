@@ -51,3 +51,10 @@ def test_help_lists_every_command():
     proc = vecmsaa("--help")
     for command in ("render", "font", "golden", "demo", "suite", "bench"):
         assert command in proc.stdout
+
+
+def test_bench_versus_resvg_expands_folders_and_needs_svgs(tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    proc = vecmsaa("bench", "--versus-resvg", empty, "-o", tmp_path / "out")
+    assert proc.returncode == 2 and "needs SVG files" in proc.stderr

@@ -61,9 +61,12 @@ def run(args) -> int:
             "*.webp)")
         return 0
     if args.versus_resvg:
-        from vecmsaa.cli.render import expand_inputs
+        import os
+
+        from vecmsaa.cli.render import svg_files
         from vecmsaa.tools.bench import versus_rows, write_versus
-        paths = expand_inputs(args.inputs)
+        paths = [p for item in args.inputs
+                 for p in (svg_files(item) if os.path.isdir(item) else [item])]
         if not paths:
             print("vecmsaa bench: --versus-resvg needs SVG files or folders", file=sys.stderr)
             return 2
