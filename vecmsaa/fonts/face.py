@@ -311,9 +311,8 @@ class Face:
             if self._glyph_sets.get(location) is exc:     # the whole face: one line for all
                 diagnostics.warn(f"{exc}; its glyphs are drawn empty", FontWarning)
             else:
-                why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
-                diagnostics.warn(f"broken glyph {name!r} in {self.path} drawn empty: {why}",
-                                 FontWarning)
+                diagnostics.warn(f"broken glyph {name!r} in {self.path} drawn empty: "
+                                 f"{_reason(exc)}", FontWarning)
             hit = empty_outline()
         self._outlines[key] = hit
         return hit
@@ -375,10 +374,8 @@ class Face:
             gs = self.glyph_set(location)
             return float(gs[name].width) if name in gs else 0.0
         except Exception as exc:
-            why = str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
-            diagnostics.warn(f"{why}; advances taken as 0" if isinstance(exc, FontError) else
-                             f"broken metrics in {self.path}: {why}; advances taken as 0",
-                             FontWarning)
+            where = "" if isinstance(exc, FontError) else f"broken metrics in {self.path}: "
+            diagnostics.warn(f"{where}{_reason(exc)}; advances taken as 0", FontWarning)
             return 0.0
 
     # -- HarfBuzz --------------------------------------------------------------------------
@@ -401,12 +398,20 @@ class Face:
         return f"Face({self.full_name!r}, {os.path.basename(self.path)}#{self.index})"
 
 
+def _reason(exc: Exception) -> str:
+    """Why a glyph or metric could not be read: a FontError's own words, else the exception."""
+    return str(exc) if isinstance(exc, FontError) else f"{type(exc).__name__}: {exc}"
+
+
 class _BoundedT2Extractor(T2OutlineExtractor):
     """fontTools' Type 2 outline interpreter, counting the bytes each glyph runs."""
 
+    def reset(self):
+        super().reset()
+        self._run = 0
+
     def execute(self, charString):
-        self._run = getattr(self, "_run", 0) + len(charString.bytecode or charString.program
-                                                    or ())
+        self._run += len(charString.bytecode or charString.program or ())
         if self._run > MAX_CHARSTRING_BYTES or self.subrLevel >= MAX_SUBR_DEPTH:
             raise FontError(f"glyph program runs past {MAX_CHARSTRING_BYTES} bytes or "
                             f"{MAX_SUBR_DEPTH} nested subroutines")

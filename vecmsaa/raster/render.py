@@ -251,10 +251,8 @@ def held_filtered_pixels(items, W: int, H: int) -> int:
         if not isinstance(item, Layer):
             continue
         if item.filters:
-            regions = [f.region for f in item.filters]
-            w = min(W, max(r[2] for r in regions)) - max(0, min(r[0] for r in regions))
-            h = min(H, max(r[3] for r in regions)) - max(0, min(r[1] for r in regions))
-            total += max(0, w) * max(0, h)
+            x0, y0, x1, y1 = filter_box(item)
+            total += max(0, min(W, x1) - max(0, x0)) * max(0, min(H, y1) - max(0, y0))
         else:
             total += held_filtered_pixels(item.items, W, H)
         total += held_filtered_pixels([p for p in (item.clip, item.mask) if p], W, H)
@@ -365,6 +363,13 @@ class Layer:
         self.rows = rows
 
 
+def filter_box(layer: "Layer") -> tuple:
+    """(x0, y0, x1, y1): the device box of the union of a filtered layer's filter regions."""
+    regions = [f.region for f in layer.filters]
+    return (min(r[0] for r in regions), min(r[1] for r in regions),
+            max(r[2] for r in regions), max(r[3] for r in regions))
+
+
 def _union(ranges):
     ranges = [r for r in ranges if r is not None]
     if not ranges:
@@ -469,9 +474,7 @@ def render_filtered(layer: Layer, raster: Raster):
     up to two image sizes beyond the image's edges takes part (a blur pulls it in); a region
     too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
     W, H = raster.width, raster.height
-    regions = [f.region for f in layer.filters]
-    box = (min(r[0] for r in regions), min(r[1] for r in regions),
-           max(r[2] for r in regions), max(r[3] for r in regions))
+    box = filter_box(layer)
     for limit in ((-2 * W, -2 * H, 3 * W, 3 * H), (0, 0, W, H)):
         x0, y0 = max(box[0], limit[0]), max(box[1], limit[1])
         x1, y1 = min(box[2], limit[2]), min(box[3], limit[3])

@@ -119,14 +119,10 @@ def edge_frames(size: int, count: int) -> list[Scene]:
 def exact_edge_columns(size: int, count: int) -> np.ndarray:
     """(T, W): per frame and pixel column, the exact area of the half-plane inside the
     column's [0, size] rows (the line y = y0 + slope·x stays inside them)."""
-    x = np.arange(size + 1, dtype=np.float64)
-    out = np.empty((count, size))
-    for k in range(count):
-        y0 = size / 2 + k / count
-        # area below the line over the column [x, x+1]: size - mean height of the line
-        mid = y0 + EDGE_SLOPE * (x[:-1] + 0.5)
-        out[k] = size - mid
-    return out
+    # area below the line over the column [x, x+1]: size - the line's height at x + 1/2
+    centres = np.arange(size, dtype=np.float64) + 0.5
+    y0 = size / 2 + np.arange(count)[:, None] / count
+    return size - (y0 + EDGE_SLOPE * centres)
 
 
 def crawl(mode: str, samples: int, pattern: str = "d3d", size: int = 64,
@@ -237,7 +233,7 @@ def write_plot(path: str, rows) -> None:
 
     cases = sorted({(r["scene"], r["motion"]) for r in rows if "flicker" in r})
     first = min(r["samples"] for r in rows if r["samples"])
-    bars = [m for m in SEQUENCE_MODES]
+    bars = SEQUENCE_MODES
     value = {(r["scene"], r["motion"], r["mode"]): r["flicker"] for r in rows
              if "flicker" in r and r["pattern"] == "d3d" and r["samples"] in (0, first)}
     top = max(value.values()) or 1.0
