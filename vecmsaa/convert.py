@@ -136,7 +136,7 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
     from PIL import Image
 
     from .fonts import load_face, parse_features, parse_variations
-    from .fonts.sheets import analytic_is_exact, line_scene
+    from .fonts.sheets import exact_area_sheet, line_scene
     from .raster.render import render_scene_rgba8
     from .svg.color import parse_color
 
@@ -155,7 +155,7 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
                        direction=direction, script=script, language=language,
                        foreground=color(foreground, "foreground"),
                        background=color(background, "background"))
-    rgba = render_scene_rgba8(scene, **coverage(
-        mode, samples, scene.width, scene.height,
-        analytic_exact=mode is None and analytic_is_exact(scene, face)))
+    exact = exact_area_sheet(scene, face) if mode is None else None
+    rgba = render_scene_rgba8(scene if exact is None else exact, **coverage(
+        mode, samples, scene.width, scene.height, analytic_exact=exact is not None))
     return Image.fromarray(np.ascontiguousarray(rgba), "RGBA")

@@ -129,14 +129,15 @@ def _render(args, location, features, foreground, background, sizes) -> int:
         from vecmsaa.raster.render import render_scene_rgba8
     except ImportError as exc:
         return _fail(f"renderer not available: {exc}")
-    from vecmsaa.fonts.sheets import analytic_is_exact
+    from vecmsaa.fonts.sheets import exact_area_sheet
     from vecmsaa.output.png import write_png
     from vecmsaa.raster.modes import coverage
 
+    exact = exact_area_sheet(scene, face) if args.mode is None else None
     try:
-        image = render_scene_rgba8(scene, **coverage(
+        image = render_scene_rgba8(scene if exact is None else exact, **coverage(
             args.mode, args.samples, scene.width, scene.height,
-            analytic_exact=args.mode is None and analytic_is_exact(scene, face)))
+            analytic_exact=exact is not None))
     except ValueError as exc:     # e.g. a sample count the mode has no pattern for
         return _fail(str(exc))
     try:

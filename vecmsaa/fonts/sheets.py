@@ -155,12 +155,10 @@ def glyph_grid_scene(face, label_face, *, page=1, columns=16, per_page=256, glyp
             batch.add_line(line, (cx[i] + (cell_w - line.advance) / 2,
                                   y0 + k * 1.2 * label_size), LABEL_GRAY)
     grid_w = columns * cell_w if len(gids) >= columns else len(gids) * cell_w
-    # vertical rules whole, horizontal ones between them: no pixel is covered twice, so
-    # exact-area coverage stays exact on the grid (analytic_is_exact)
+    # the rules cross, and exact_area_sheet unites them
     n_cols = int(round(grid_w / cell_w))
     rules = [(margin + c * cell_w, margin, 0.5, rows * cell_h + 0.5) for c in range(n_cols + 1)]
-    rules += [(margin + c * cell_w + 0.5, margin + r * cell_h, cell_w - 0.5, 0.5)
-              for r in range(rows + 1) for c in range(n_cols)]
+    rules += [(margin, margin + r * cell_h, grid_w + 0.5, 0.5) for r in range(rows + 1)]
     fills = _rules(rules, RULE_GRAY) + batch.fills()
     return _scene(grid_w + 2 * margin + 0.5, rows * cell_h + 2 * margin + 0.5, fills,
                   background)
@@ -262,50 +260,138 @@ def _fmt(size) -> str:
 
 # --- the default coverage mode of a sheet ------------------------------------------------------
 
-#: scanlines per pixel row on which :func:`shapes_overlap` counts windings, and the chords per
-#: curve it flattens to (at 10-48 px a glyph's curve is a few pixels long)
+#: scanlines per pixel row on which :func:`fills_overlap` finds covered intervals, and the chords
+#: per curve it flattens to (at 10-48 px a glyph's curve is a few pixels long)
 OVERLAP_ROWS = 4
+OVERLAP_CHORDS = 8
 #: tables of colour glyphs (layers, paints, bitmaps, SVG documents)
 COLOR_TABLES = ("COLR", "sbix", "CBDT", "SVG ")
-OVERLAP_CHORDS = 8
 
 
-def analytic_is_exact(scene: Scene, face) -> bool:
-    """Whether exact-area coverage per path (the ``analytic`` mode, what FreeType computes:
-    0.1-0.4% worst per-glyph ink at 10-16 px against 7-28% with 8 samples, docs/fonts.md) is
-    exact for this sheet: opaque solid fills, no colour glyph tables, and no point covered twice.
-    Where glyphs overlap (joined scripts, stacked marks, overlapping contours of variable
-    fonts) exact area per path over-counts the pixels both edges cross (+2-3% ink at 10 px,
-    pixels off by up to 0.35), and where fills overlap or colour layers meet it conflates;
-    there the MSAA modes are exact per sample."""
+def exact_area_sheet(scene: Scene, face) -> Scene | None:
+    """The sheet redrawn so that exact-area coverage per path (the ``analytic`` mode, what
+    FreeType computes: 0.1-0.4% worst per-glyph ink at 10-16 px against 7-28% with 8 samples,
+    docs/fonts.md) is exact for it, or None where it cannot be.
+
+    Exact area per path is exact only where no point is covered twice. Within a fill (joined
+    scripts, stacked marks, composite glyphs, overlapping contours of variable fonts)
+    signed-area accumulation counts the pixels both edges cross twice, so each fill's outline
+    is replaced by its union (skia-pathops, the overlap removal fontTools uses). Between fills
+    (a glyph over a guide line) and in colour glyphs per-pixel compositing conflates: there,
+    and for translucent, gradient or aliased fills, None, and the MSAA modes are exact per
+    sample."""
     fills = scene.fills()
-    return not (any(tag in face.ttfont for tag in COLOR_TABLES) or any(
-        not isinstance(f.paint, Solid) or f.rule != "nonzero" or f.opacity != 1.0
-        or not f.antialias for f in fills) or shapes_overlap([f.path for f in fills]))
+    if any(tag in face.ttfont for tag in COLOR_TABLES) or any(
+            not isinstance(f.paint, Solid) or f.opacity != 1.0 or not f.antialias
+            for f in fills):
+        return None
+    united = [_union(f.path, f.rule) for f in fills]
+    if any(p is None for p in united) or fills_overlap(united):
+        return None
+    return Scene(scene.width, scene.height,
+                 Group([Fill(p, f.paint) for f, p in zip(fills, united)]), scene.background)
 
 
-def shapes_overlap(paths) -> bool:
-    """Whether some point is covered twice: by two contours of one path (nonzero winding
-    beyond ±1, or windings of both signs) or by two of the paths. Windings are counted on
-    OVERLAP_ROWS scanlines per pixel of the outlines flattened into OVERLAP_CHORDS chords per
-    curve, so overlaps thinner than a quarter pixel may go unseen. Shapes that only touch
-    (abutting glyphs, a shared edge) do not overlap."""
-    rows, xs, dirs = [], [], []
+def _union(path: Path, rule: str) -> Path | None:
+    """The outline covering what ``path`` covers under ``rule``, with no point covered twice;
+    None where Skia's path ops give up (degenerate input). Contours are united in clusters
+    whose boxes meet: Skia's simplify grows faster than linearly with a path's size (a whole
+    256-glyph grid in one call takes 20 s, glyph by glyph 0.4 s)."""
+    import pathops      # here, not at the top: 50 ms of import only font sheets need
+
+    v, p = path.verbs, path.points
+    if not len(v):
+        return path
+    count = np.asarray(VERB_POINTS)[v]
+    first_point = np.append(np.cumsum(count) - count, len(p))
+    starts = np.append(np.flatnonzero(v == MOVE), len(v))
+    fill_type = pathops.FillType.WINDING if rule == "nonzero" else pathops.FillType.EVEN_ODD
+    out = Path()
+    for group in _clusters(p, first_point[starts]):
+        sk = pathops.Path(fillType=fill_type)
+        for c in group:
+            _add_contour(sk, v[starts[c]:starts[c + 1]].tolist(),
+                         p[first_point[starts[c]]:first_point[starts[c + 1]]].tolist())
+        try:
+            sk.simplify(fix_winding=True, keep_starting_points=False)
+        except pathops.PathOpsError:
+            return None
+        sk.draw(out)
+    return out
+
+
+def _add_contour(sk, verbs, pts):
+    """One contour into a skia-pathops Path, by its own calls (a pen costs 3x as much)."""
+    i = 0
+    for verb in verbs:
+        if verb == MOVE or verb == LINE:
+            (sk.moveTo if verb == MOVE else sk.lineTo)(*pts[i])
+            i += 1
+        elif verb == QUAD:
+            sk.quadTo(*pts[i], *pts[i + 1])
+            i += 2
+        elif verb == CUBIC:
+            sk.cubicTo(*pts[i], *pts[i + 1], *pts[i + 2])
+            i += 3
+        else:
+            sk.close()
+
+
+def _clusters(points, bounds) -> list:
+    """Contours (points[bounds[k]:bounds[k + 1]]) in groups whose bounding boxes meet,
+    directly or through others: candidate pairs from a sort in x, then union-find."""
+    lo = np.minimum.reduceat(points[:bounds[-1]], bounds[:-1])
+    hi = np.maximum.reduceat(points[:bounds[-1]], bounds[:-1])
+    order = np.argsort(lo[:, 0], kind="stable")
+    lo, hi = lo[order], hi[order]
+    # contour i meets those after it in x order up to the first that starts right of it
+    reach = np.searchsorted(lo[:, 0], hi[:, 0], side="right")
+    n = np.maximum(reach - np.arange(len(lo)) - 1, 0)
+    i = np.repeat(np.arange(len(lo)), n)
+    j = i + 1 + np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+    meet = (lo[j, 1] <= hi[i, 1]) & (lo[i, 1] <= hi[j, 1]) & (lo[j, 0] <= hi[i, 0])
+    parent = list(range(len(lo)))
+
+    def root(k):
+        while parent[k] != k:
+            parent[k] = parent[parent[k]]
+            k = parent[k]
+        return k
+
+    for a, b in zip(i[meet].tolist(), j[meet].tolist()):
+        parent[root(a)] = root(b)
+    groups = {}
+    for k in range(len(lo)):
+        groups.setdefault(root(k), []).append(int(order[k]))
+    return list(groups.values())
+
+
+def fills_overlap(paths) -> bool:
+    """Whether some point is covered by two of the paths (each covering where its nonzero
+    winding is not zero). Covered intervals are found on OVERLAP_ROWS scanlines per pixel of
+    the outlines flattened into OVERLAP_CHORDS chords per curve, so overlaps thinner than a
+    quarter pixel may go unseen. Paths that only touch (abutting glyphs, a shared edge) do not
+    overlap."""
+    rows, xs, steps = [], [], []
     for path in paths:
         r, x, d = _crossings(path)
         if not len(r):
             continue
-        # orient each path so that its covered intervals are entered with +1
-        sign = -np.sign(np.sum(d * x)) or 1.0
-        rows.append(r)
-        xs.append(x)
-        dirs.append(d * sign)
-    if not rows:
+        order = np.lexsort((x, r))
+        r, x = r[order], x[order]
+        winding = np.cumsum(d[order])         # every row sums to zero (closed contours)
+        before = np.concatenate(([0.0], winding[:-1]))
+        # +1 where the path's covered interval begins, -1 where it ends
+        step = (winding != 0).astype(np.float64) - (before != 0)
+        keep = step != 0
+        rows.append(r[keep])
+        xs.append(x[keep])
+        steps.append(step[keep])
+    if len(rows) < 2:
         return False
-    r, x, d = np.concatenate(rows), np.concatenate(xs), np.concatenate(dirs)
-    order = np.lexsort((d, x, r))        # at one x, exits (-1) before entries: touching is fine
-    winding = np.cumsum(d[order])        # every row sums to zero (closed contours)
-    return bool(winding.max() > 1 or winding.min() < 0)
+    r, x, d = np.concatenate(rows), np.concatenate(xs), np.concatenate(steps)
+    order = np.lexsort((d, x, r))        # at one x, ends (-1) before beginnings: touching is fine
+    return bool(np.cumsum(d[order]).max() > 1)
 
 
 def _crossings(path: Path):
