@@ -296,3 +296,30 @@ def test_a_batch_reads_every_path_as_alone():
         assert got_origin.tolist() == origin.tolist()
     # the long number came through Python's float, not the fast path
     assert batch.get(2)[0].points[0].tolist() == [1.23456789012345678, 2.0]
+
+
+def test_paths_of_a_batch_transform_as_alone():
+    # transformed one by one at first, then from the whole batch at once once a matrix has
+    # been asked for often: the points must be a*x + c*y + e, b*x + d*y + f either way
+    from vecmsaa.scene.path import SharedPoints
+    from vecmsaa.svg.pathdata import PathBatch
+    rng = np.random.default_rng(7)
+    texts = ["M " + " ".join(f"{x:.3f},{y:.3f}" for x, y in rng.uniform(-50, 50, (n, 2)))
+             for n in rng.integers(1, 40, 300)] + [""]
+    batch = PathBatch(texts)
+    assert len(batch.points.points) < 300 * SharedPoints.CALL_COST   # it does switch
+    m = (0.5, 0.25, -0.75, 2.0, 3.0, -4.0)
+    a, b, c, d, e, f = m
+    for rep in range(2):
+        for i, text in enumerate(texts):
+            p = batch.get(i)[0]
+            got = p.transformed(m)
+            x, y = p.points[:, 0], p.points[:, 1]
+            want = np.stack([a * x + c * y + e, b * x + d * y + f], axis=1)
+            assert got.points.tobytes() == want.tobytes()
+            assert got.verbs.tobytes() == p.verbs.tobytes()
+    assert m in batch.points._all
+    # drawing into a path detaches it from the batch
+    p = batch.get(0)[0]
+    p.lineTo((1.0, 2.0))
+    assert p.transformed(m).points[-1].tolist() == [a + 2 * c + e, b + 2 * d + f]

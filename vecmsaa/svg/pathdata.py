@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path, SharedPoints
 
 # byte codes
 _PLUS, _MINUS, _DOT, _COMMA, _ZERO, _ONE, _NINE = 43, 45, 46, 44, 48, 49, 57
@@ -587,7 +587,8 @@ class PathBatch:
         verbs, pts, origin, vstart, pstart, status, _ = _parse_batch(
             buf, starts, _CONVERT, _NO_NUMBERS, _NO_SPANS)
         self.texts = texts
-        self.verbs, self.points, self.origin = verbs, pts.reshape(-1, 2), origin
+        self.verbs, self.origin = verbs, origin
+        self.points = SharedPoints(pts.reshape(-1, 2))
         self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
         self.status = status.tolist()
 
@@ -596,8 +597,8 @@ class PathBatch:
         if self.status[i]:
             return _parse_exactly(self.texts[i])
         v0, v1 = self.vstart[i], self.vstart[i + 1]
-        return (Path._of_arrays(self.verbs[v0:v1], self.points[self.pstart[i]:self.pstart[i + 1]]),
-                self.origin[v0:v1])
+        return (Path._of_shared(self.verbs[v0:v1], self.points, self.pstart[i],
+                                self.pstart[i + 1]), self.origin[v0:v1])
 
 
 def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
