@@ -4,7 +4,7 @@ import math
 import pytest
 
 from vecmsaa.svg import SvgError
-from vecmsaa.svg.color import parse_color
+from vecmsaa.svg.color import parse_color, parse_svg_color
 from vecmsaa.svg.document import load_document
 from vecmsaa.svg.units import parse_transform, split_length, to_px, viewbox_transform
 
@@ -109,6 +109,39 @@ def test_deprecated_system_colours_map_as_css_color_4_says():
                                   "lch(50 10 10%)", "notafunction(1 2 3)"])
 def test_invalid_css4_colours(text):
     assert parse_color(text) is None
+
+
+# Colours inside documents follow resvg's reading (svgtypes): 8-bit channels, rounded half away
+# from zero and saturated; the first rgb() channel decides whether the others are percentages.
+@pytest.mark.parametrize("text, expected", [
+    ("rgb(0, 127, 0)", (0, 127, 0, 255)),
+    ("rgb(0 127 0)", (0, 127, 0, 255)),
+    ("rgb(0 127 0 0.5)", (0, 127, 0, 128)),          # an alpha after spaces
+    ("rgb(0.5, 127.5, 254.49)", (1, 128, 254, 255)),
+    ("rgb(-10%, 50%, 120%)", (0, 128, 255, 255)),
+    ("rgb(50%, 0.2, 0)", (128, 51, 0, 255)),          # after a percentage: 0.2 of 255
+    ("rgba(0, 127, 0, -1)", (0, 127, 0, 0)),
+    ("rgba(0, 127, 0, 2)", (0, 127, 0, 255)),
+    ("rgb(1e2, 0, 0)", (100, 0, 0, 255)),
+    ("hsl(120, 100%, 25%)", (0, 128, 0, 255)),        # 127.5 rounds up
+    ("hsl(-120, 100%, 50%)", (0, 0, 255, 255)),
+    ("hsl(480, 100%, 50%)", (0, 255, 0, 255)),
+    ("hsla(120, 200%, 25%, 0.5)", (0, 128, 0, 128)),  # saturation clamped
+    ("#0f08", (0, 255, 0, 136)), (" Red ", (255, 0, 0, 255)), ("transparent", (0, 0, 0, 0)),
+])
+def test_document_colours_read_as_resvg(text, expected):
+    got = parse_svg_color(text)
+    assert tuple(round(c * 255, 6) for c in got) == expected
+
+
+@pytest.mark.parametrize("text", [
+    "rgb(127, 50%, 0)",           # a percentage after a number
+    "rgba(0, 127, 0, 50%)", "rgb(0 127 0 / 0.5)", "hsla(120, 100%, 25%, 50%)",
+    "hsl(120deg, 100%, 25%)", "hwb(120 0% 50%)", "lab(50 20 30)", "Canvas", "CurrentColor",
+    "rgb (0, 0, 0)", "red icc-color(x, 1)", "#12", "", "rgb(0, 0)",
+])
+def test_document_colours_resvg_rejects(text):
+    assert parse_svg_color(text) is None
 
 
 # -- units and transforms -----------------------------------------------------------------------

@@ -167,9 +167,33 @@ def test_solid_paints_opacity_and_current_color():
     assert f.paint.color == (0, 0, 1, 1) and f.opacity == 0.5 and f.rule == "evenodd"
 
 
-def test_invalid_fill_falls_back_to_inherited():
-    s = scene('<g fill="green"><rect width="1" height="1" fill="#ff"/></g>')
+def test_invalid_paint_is_black_fill_and_no_stroke_as_in_resvg():
+    # usvg: a fill that does not parse falls back to black, a stroke to none; the parent's
+    # paint is not inherited
+    s = scene('<g fill="green" stroke="green"><rect width="1" height="1" fill="#ff" '
+              'stroke="rgb(1, 2%, 3)"/></g>')
+    assert only_fill(s).paint.color == (0, 0, 0, 1)
+    s = scene('<g fill="green"><rect width="1" height="1" fill="url(#a) hwb(0 0% 0%)"/></g>')
+    assert only_fill(s).paint.color == (0, 0, 0, 1)
+    s = scene('<g fill="green"><rect width="1" height="1" fill="inherit"/></g>')
     assert only_fill(s).paint.color == pytest.approx((0, 128 / 255, 0, 1))
+
+
+def test_dasharray_keeps_the_lengths_before_the_first_bad_one():
+    # svgtypes' length list: "4 2 x 9" is [4, 2]; "3, oops" is [3] (odd: 3 3); "none" or
+    # a leading error is an empty list (solid); a negative length makes it solid too
+    def dashes(value):
+        s = scene(f'<path d="M0 5H100" stroke="black" stroke-dasharray="{value}"/>')
+        return len(s.fills())
+    one = scene('<path d="M0 5H100" stroke="black"/>').fills()
+    assert dashes("none") == dashes("x 4") == dashes("4 -1 2") == len(one)
+    from vecmsaa.scene.path import MOVE
+    def pieces(value):
+        s = scene(f'<path d="M0 5H100" stroke="black" stroke-dasharray="{value}"/>')
+        return int((s.fills()[0].path.verbs == MOVE).sum())
+    assert pieces("4 2 x 9") == pieces("4,2") == pieces("4 2") == 17   # period 6 over 100
+    assert pieces("3, oops") == pieces("3") == 17                      # period 6: 3 on, 3 off
+    assert pieces("10%") == pieces("10") == 5   # % of the viewport diagonal / sqrt 2 (100)
 
 
 def test_missing_paint_server_uses_fallback():
@@ -279,6 +303,19 @@ def test_clip_path_object_bounding_box_units():
               '<rect x="20" y="20" width="40" height="60" clip-path="url(#c)"/>')
     (g,) = s.root.children
     assert path_bounds(g.clip.children[0].path) == pytest.approx((20, 20, 40, 50))
+
+
+@pytest.mark.parametrize("attr, drawn", [
+    ('clip-path="url(#r)"', False), ('mask="url(#r)"', False),     # another kind of element
+    ('clip-path="url(#missing)"', True), ('mask="url(#missing)"', True),
+    ('clip-path="url(#c)"', True), ('mask="url(#m)"', True)])
+def test_clip_and_mask_references_to_other_elements_hide_the_element(attr, drawn):
+    # usvg converts the reference as a clipPath / mask: another element fails, and so does
+    # the element using it; a missing one is no reference at all
+    s = scene('<clipPath id="c"><rect width="9" height="9" clip-path="url(#c)"/></clipPath>'
+              '<mask id="m"><rect width="9" height="9" fill="white" mask="url(#m)"/></mask>'
+              f'<defs><rect id="r" width="5" height="5"/></defs><rect width="20" height="20" {attr}/>')
+    assert bool(s.fills()) == drawn
 
 
 def test_mask_region_and_kind():
@@ -551,6 +588,25 @@ def test_radial_gradient_with_any_focal_circle_is_the_canvas_two_point_conical(f
     assert expected.size == painted.sum()
 
 
+@pytest.mark.parametrize("spread, inside, outside", [
+    ("pad", (255, 0, 0, 255), (0, 0, 255, 255)), ("repeat", (0, 0, 0, 0), (0, 0, 0, 0)),
+    ("reflect", (0, 0, 0, 0), (0, 0, 0, 0))])
+def test_radial_gradient_between_equal_circles_is_tiny_skias_limit(spread, inside, outside):
+    # canvas paints nothing between two equal circles; tiny-skia (resvg) paints the limit of a
+    # ring growing thin with pad (first stop inside, last outside) and nothing otherwise
+    from vecmsaa.api import render_svg_array
+    svg = (f'<svg {NS} width="40" height="40"><radialGradient id="g" gradientUnits="userSpaceOnUse"'
+           f' cx="20" cy="20" r="10" fr="10" spreadMethod="{spread}">'
+           '<stop offset="0" stop-color="red"/><stop offset="0.5" stop-color="lime"/>'
+           '<stop offset="1" stop-color="blue"/></radialGradient>'
+           '<rect width="40" height="40" fill="url(#g)"/></svg>')
+    got = render_svg_array(svg)
+    for x in (20, 27):
+        assert tuple(got[20, x]) == inside
+    for x, y in ((32, 20), (0, 0)):
+        assert tuple(got[y, x]) == outside
+
+
 @pytest.mark.parametrize("server", [
     '<linearGradient id="p" gradientTransform="{t}"><stop offset="0" stop-color="red"/>'
     '<stop offset="1" stop-color="blue"/></linearGradient>',
@@ -561,8 +617,9 @@ def test_radial_gradient_with_any_focal_circle_is_the_canvas_two_point_conical(f
 ])
 def test_paint_server_transforms_invalid_or_singular(server):
     """A malformed transform list is an error in the attribute, which is then ignored (the
-    identity); a singular one maps the paint onto a line, which paints nothing (CSS
-    Transforms: a non-invertible matrix is not rendered)."""
+    identity). Of singular ones, resvg ignores those with a zero-length row (usvg reads them
+    as the identity: its transforms must have a non-zero scale on both axes); the others map
+    the paint onto a line, which paints nothing (tiny-skia's shaders need an inverse)."""
     from vecmsaa.api import render_svg_array
 
     def render(t):
@@ -571,7 +628,8 @@ def test_paint_server_transforms_invalid_or_singular(server):
                                 mode="analytic")
     plain = render("")
     assert plain[..., 3].max() == 255
-    for bad in ("rotate(45) nonsense", "scale(2 2 2)", "translate(5%)"):
+    for bad in ("rotate(45) nonsense", "scale(2 2 2)", "translate(5%)", "scale(0)",
+                "scale(1 0)", "matrix(0 1 0 1 0 0)", "scale(1e-9 1)"):
         assert np.array_equal(render(bad), plain), bad
-    for singular in ("scale(0)", "scale(1 0)", "matrix(1 2 2 4 0 0)"):
+    for singular in ("matrix(1 2 2 4 0 0)", "matrix(1 1 1 1 5 5)"):
         assert render(singular)[..., 3].max() == 0, singular

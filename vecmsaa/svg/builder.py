@@ -17,9 +17,9 @@ from ..diagnostics import warn
 from ..scene.transform import IDENTITY, compose, translate
 from ..scene.path import LINE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
-from ..geometry.stroke import dash_coverage, stroke_path
+from ..geometry.stroke import dash_coverage, dash_pattern, stroke_path
 from . import SvgError
-from .color import parse_color
+from .color import parse_svg_color as parse_color
 from .document import Document, Element, Style
 from .filters import element_filters
 from ..scene.bounds import path_bounds, union
@@ -27,8 +27,8 @@ from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import shape_path
-from .units import (mean_scale, parse_aspect, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, to_px, viewbox_transform)
+from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, to_px, viewbox_transform)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -180,7 +180,9 @@ class Builder:
         parsed = split_length(value) if value is not None else None
         if parsed is None:
             return default
-        v, unit = parsed
+        return self.length_px(*parsed, axis, style, viewport)
+
+    def length_px(self, v, unit, axis, style, viewport):
         if unit == "%":
             w, h = viewport
             ref = w if axis == "x" else h if axis == "y" else math.sqrt((w * w + h * h) / 2)
@@ -569,22 +571,10 @@ class Builder:
         limit = parse_number(style.get("stroke-miterlimit"), 4.0)
         if limit < 1:
             limit = 4.0     # an invalid value: the initial one applies
-        dashes = None
-        raw = style.get("stroke-dasharray").strip()
-        if raw and raw != "none":
-            vals = []
-            for tok in re.split(r"[\s,]+", raw):
-                if not tok:
-                    continue
-                v = self.length(tok, "xy", style, viewport)
-                if v is None or v < 0:
-                    vals = None
-                    break
-                vals.append(v)
-            if vals and sum(vals) > 0:
-                if len(vals) % 2:
-                    vals = vals * 2
-                dashes = vals
+        # the lengths up to the first that does not parse, as in resvg; a negative one or a
+        # zero sum draws a solid stroke (geometry.stroke.dash_pattern)
+        dashes = dash_pattern([self.length_px(v, unit, "xy", style, viewport)
+                               for v, unit in parse_length_list(style.get("stroke-dasharray"))])
         offset = self.length(style.get("stroke-dashoffset"), "xy", style, viewport, 0.0)
         return width, join, cap, limit, dashes, offset or 0.0
 
@@ -635,8 +625,8 @@ class Builder:
 
     # -- paints ----------------------------------------------------------------------------
     def paint_value(self, style, name):
-        """The specified paint, skipping invalid declarations (they do not override); resolved
-        up the ancestors without recursion and cached on each style passed."""
+        """The specified paint, resolved up the ancestors without recursion and cached on each
+        style passed. An invalid value paints as resvg paints it: a fill black, a stroke none."""
         key = ("paint", name)
         passed = []
         while True:
@@ -645,8 +635,8 @@ class Builder:
                 break
             passed.append(style)
             v = style.specified.get(name)
-            if v is not None and v != "inherit" and valid_paint(v):
-                value = v.strip()
+            if v is not None and v != "inherit":
+                value = v.strip() if valid_paint(v) else "black" if name == "fill" else "none"
                 break
             if style.parent is None:
                 from .document import INITIAL
@@ -716,9 +706,8 @@ class Builder:
         while s is not None:
             v = s.specified.get("color")
             if v is not None and v != "inherit":
-                c = parse_color(v)
-                if c is not None and c != "currentColor":
-                    return c
+                c = parse_color(v)      # invalid: black, as in resvg
+                return c if isinstance(c, tuple) else (0.0, 0.0, 0.0, 1.0)
             s = s.parent
         return (0.0, 0.0, 0.0, 1.0)
 

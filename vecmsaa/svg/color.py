@@ -408,6 +408,131 @@ def _function(func, body):
     return (*(float(c) for c in rgb), alpha)
 
 
+# -- colours in SVG documents, as resvg reads them ----------------------------------------------
+# resvg (svgtypes) reads an SVG 1.1 colour grammar: names (with ``transparent``), hex forms and
+# rgb()/rgba()/hsl()/hsla() with commas or spaces between the channels. The first rgb() channel
+# decides its kind: after a percentage the others are numbers or percentages (a number n counts
+# as n × 255), after a number they must be numbers. Channels round and clamp to 8 bits; the
+# alpha is a number. CSS Color 4's other forms (a ``/`` alpha, a percentage alpha, angle units,
+# hwb(), lab(), color(), system colours) are invalid there: an invalid fill paints black, an
+# invalid stroke none. Documents are read this way so that they render as resvg renders them;
+# parse_color above reads the full CSS Color 4 syntax for colours given as options.
+_SVG_NUMBER = re.compile(r"[ \t\n\r]*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE](?![mx])[+-]?\d+)?)")
+_SVG_SPACES = re.compile(r"[ \t\n\r]*")
+_SVG_IDENT = re.compile(r"[0-9A-Za-z_-]*")
+
+
+def _byte(v):
+    """A channel in [0, 1] as svgtypes stores it: rounded half away from zero, saturated."""
+    return min(255, max(0, math.floor(v + 0.5))) / 255
+
+
+class _SvgColorReader:
+    """svgtypes' colour stream: numbers, spaces and optional commas between list items."""
+
+    def __init__(self, text):
+        self.text, self.pos = text, 0
+
+    def spaces(self):
+        self.pos = _SVG_SPACES.match(self.text, self.pos).end()
+
+    def number(self):
+        m = _SVG_NUMBER.match(self.text, self.pos)
+        if m is None:
+            raise ValueError
+        self.pos = m.end()
+        return float(m.group(1))
+
+    def percent(self):
+        if self.text.startswith("%", self.pos):
+            self.pos += 1
+            return True
+        return False
+
+    def separator(self):
+        self.spaces()
+        if self.text.startswith(",", self.pos):
+            self.pos += 1
+
+    def list_number(self, percent_allowed=False):
+        if self.pos >= len(self.text):
+            raise ValueError
+        n = self.number()
+        if percent_allowed and self.percent():
+            n /= 100
+        self.separator()
+        return n
+
+    def expect(self, char):
+        if not self.text.startswith(char, self.pos):
+            raise ValueError
+        self.pos += 1
+
+    def alpha(self):
+        self.spaces()
+        if self.text.startswith(")", self.pos):
+            return 1.0
+        return _byte(self.list_number() * 255)
+
+    def color(self):
+        self.spaces()
+        if self.text.startswith("#", self.pos):
+            m = re.compile(r"[0-9A-Fa-f]*").match(self.text, self.pos + 1)
+            self.pos = m.end()
+            h = m.group()
+            if len(h) not in (3, 4, 6, 8):
+                raise ValueError
+            if len(h) in (3, 4):
+                h = "".join(c * 2 for c in h)
+            vals = [int(h[i:i + 2], 16) / 255 for i in range(0, len(h), 2)]
+            return tuple(vals) if len(vals) == 4 else (*vals, 1.0)
+        m = _SVG_IDENT.match(self.text, self.pos)
+        self.pos = m.end()
+        name = m.group().lower()
+        if name in ("rgb", "rgba"):
+            self.expect("(")
+            first = self.number()
+            if self.percent():
+                self.separator()
+                rgb = [_byte(first / 100 * 255)]
+                rgb += [_byte(self.list_number(True) * 255) for _ in range(2)]
+            else:
+                self.separator()
+                rgb = [_byte(first)] + [_byte(self.list_number()) for _ in range(2)]
+        elif name in ("hsl", "hsla"):
+            self.expect("(")
+            hue = self.list_number() % 360
+            s, light = (_clamp(self.list_number(True)) for _ in range(2))
+            rgb = [_byte(c * 255) for c in _hsl_to_rgb(hue, s, light)]
+        elif name in NAMED or name == "transparent":
+            self.spaces()
+            if name == "transparent":
+                return (0.0, 0.0, 0.0, 0.0)
+            return (*(c / 255 for c in NAMED[name]), 1.0)
+        else:
+            raise ValueError
+        alpha = self.alpha()
+        self.spaces()
+        self.expect(")")
+        return (*rgb, alpha)
+
+
+def parse_svg_color(text: str):
+    """A colour in an SVG document (fill, stroke, stop-color, flood-color, lighting-color,
+    color, CSS filter functions), read as resvg reads it (see above): (r, g, b, a) floats, the
+    string "currentColor" (the keyword, case-sensitive as in resvg), or None when invalid."""
+    s = text.strip()
+    if s == "currentColor":
+        return "currentColor"
+    reader = _SvgColorReader(s)
+    try:
+        color = reader.color()
+    except ValueError:
+        return None
+    reader.spaces()
+    return color if reader.pos == len(s) and s else None
+
+
 def parse_color(text: str):
     """Parse a CSS colour. Returns (r, g, b, a) floats, the string "currentColor", or None."""
     s = text.strip()

@@ -22,7 +22,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
                            GaussianBlur, Group, Image, Lighting, Merge, Morphology, Offset,
                            Primitive, Tile, Turbulence)
-from .color import parse_color
+from .color import parse_svg_color as parse_color
 from .document import Element
 from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity, row_scale,
                     split_length)

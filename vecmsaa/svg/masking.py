@@ -1,8 +1,9 @@
 """clipPath and mask → the ``clip`` / ``mask`` of a scene Group.
 
-References to missing elements, to elements of the wrong kind, and recursive references are
-ignored (as in resvg and browsers). With objectBoundingBox units an element without a usable
-bounding box is not drawn at all.
+References to missing elements and recursive references are ignored (as in resvg and
+browsers); an element whose clip-path or mask references an element of another kind is not
+drawn (as in resvg: usvg's clip path and mask conversions fail, and the element with them).
+With objectBoundingBox units an element without a usable bounding box is not drawn at all.
 """
 from __future__ import annotations
 
@@ -21,6 +22,8 @@ CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "pa
 
 
 def _target(builder, value, tag):
+    """The referenced ``tag`` element; None for no usable reference, False for an element of
+    another kind (the referencing element is not drawn)."""
     from .builder import parse_url
 
     url = parse_url(value or "")
@@ -29,8 +32,10 @@ def _target(builder, value, tag):
     el = builder.doc.lookup(url[0]) if url[0].startswith("#") else None
     if el is None:
         warn(f"unresolved url({url[0]}) in {tag.replace('P', '-p')}")
-    if el is None or el.tag != tag:
+    if el is None:
         return None
+    if el.tag != tag:
+        return False
     if any(r is el for r in builder.ref_stack):
         return None   # recursion: the inner reference is dropped
     return el
@@ -45,8 +50,8 @@ def clip_path(builder, value, ctx, bbox_fn):
     from .builder import bbox_matrix
 
     el = _target(builder, value, "clipPath")
-    if el is None:
-        return None
+    if not el:
+        return el
     style = builder.doc.document_style(el)
     m = builder.element_transform(el, style, ctx)
     if m is None:
@@ -84,8 +89,8 @@ def masks(builder, value, ctx, bbox_fn):
     from .builder import bbox_matrix
 
     el = _target(builder, value, "mask")
-    if el is None:
-        return []
+    if not el:
+        return [] if el is None else False
     style = builder.doc.document_style(el)
     units_obb = (el.get("maskUnits") or "objectBoundingBox").strip() != "userSpaceOnUse"
     content_obb = (el.get("maskContentUnits") or "").strip() == "objectBoundingBox"

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
-from .color import parse_color
+from .color import parse_svg_color as parse_color
 from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
                     parse_transform, parse_viewbox, split_length, viewbox_transform)
 
@@ -102,11 +102,20 @@ def _coord(builder, value, axis, obb, style, viewport, default):
     return builder.length(value, axis, style, viewport)
 
 
+#: tiny-skia's tolerance for equal gradient circles (centres and radii, user units)
+DEGENERATE = 1 / (1 << 15)
+#: tiny-skia's "nearly zero" for a transform's scale (f32::EPSILON)
+ZERO_SCALE = 2.0 ** -23
+
+
 def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
-    """gradientTransform/patternTransform with transform-origin."""
+    """gradientTransform/patternTransform with transform-origin. A malformed list is ignored;
+    so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
+    along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
+    matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing."""
     text = inherited_attr(chain, attr)
     m = parse_transform(text) if text else IDENTITY
-    if m is None:
+    if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
@@ -171,6 +180,16 @@ def gradient(builder, el, ctx, bbox):
         # SVG: "a value of zero will cause the area to be painted as a single color using the
         # color and opacity of the last gradient stop"
         return Solid(tuple(stops[-1, 1:]))
+    if (math.hypot(cx - fx, cy - fy) <= DEGENERATE and abs(r - fr) <= DEGENERATE):
+        # Equal circles: canvas paints nothing. tiny-skia (so resvg) paints, with pad, the
+        # limit of a ring growing thin: the first stop's colour inside, the last one outside;
+        # with reflect or repeat nothing.
+        if spread != "pad":
+            return None
+        first, last = list(stops[0, 1:]), list(stops[-1, 1:])
+        ring = separate_equal_offsets([[0.0, *first], [1.0, *first], [1.0, *last]])
+        return RadialGradient(cx, cy, r, cx, cy, np.asarray(ring, dtype=np.float64), 0.0,
+                              spread, to_paint)
     # Any focal circle, also one as large as or larger than the end circle (fr >= r) or lying
     # outside it, is the two-point conical gradient of SVG 2 / canvas: the shader takes the
     # largest t whose interpolated circle passes through the pixel and has a radius >= 0.

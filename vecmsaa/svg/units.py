@@ -18,6 +18,22 @@ UNIT_PX = {"": 1.0, "px": 1.0, "pt": 4 / 3, "pc": 16.0, "mm": 96 / 25.4, "cm": 9
            "in": 96.0}
 
 
+_LIST_LENGTH = re.compile(rf"[ \t\n\r]*({NUMBER_RE})(%|em|ex|px|in|cm|mm|pt|pc)?[ \t\n\r]*,?")
+
+
+def parse_length_list(text) -> list[tuple[float, str]]:
+    """A list of lengths separated by spaces and/or one comma, as resvg (svgtypes) reads it:
+    the lengths before the first one that does not parse (``none`` is an empty list)."""
+    out, pos, text = [], 0, text or ""
+    while pos < len(text):
+        m = _LIST_LENGTH.match(text, pos)
+        if m is None:
+            break
+        out.append((float(m.group(1)), m.group(2) or ""))
+        pos = m.end()
+    return out
+
+
 def parse_number(text, default=None):
     if text is None:
         return default
