@@ -390,21 +390,64 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                     dcount[r] += 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sort_prefix(a, cnt):
-    """Sort a[:cnt] in place. A row's dirty list is short (a few edge crossings): insertion
-    sort, no call and no allocation (numba's quicksort allocates its partition stack);
-    long lists (horizontal edges) still get the O(n log n) sort."""
-    if cnt > 64:
-        a[:cnt].sort()
+    """Sort a[:cnt] in place, by hand: numba's sort is a further 2.5 s of first-run compile
+    (its quicksort kernels) and allocates its partition stack. A row's dirty list is short (a
+    few edge crossings): insertion sort; long lists (horizontal edges) get a heapsort. One
+    compiled kernel for both sweeps, called once per row."""
+    if cnt <= 64:
+        for i in range(1, cnt):
+            v = a[i]
+            j = i - 1
+            while j >= 0 and a[j] > v:
+                a[j + 1] = a[j]
+                j -= 1
+            a[j + 1] = v
         return
-    for i in range(1, cnt):
-        v = a[i]
-        j = i - 1
-        while j >= 0 and a[j] > v:
-            a[j + 1] = a[j]
-            j -= 1
-        a[j + 1] = v
+    # heapsort: sift each of a[:cnt] into a max-heap, then move the root to the end
+    end = cnt
+    start = cnt // 2
+    while end > 1:
+        if start > 0:
+            start -= 1
+            root = start
+        else:
+            end -= 1
+            a[0], a[end] = a[end], a[0]
+            root = 0
+        v = a[root]
+        while True:
+            child = 2 * root + 1
+            if child >= end:
+                break
+            if child + 1 < end and a[child + 1] > a[child]:
+                child += 1
+            if a[child] <= v:
+                break
+            a[root] = a[child]
+            root = child
+        a[root] = v
+
+
+@njit(cache=True)
+def _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool):
+    """A one-colour pixel splits into samples: its colour at every sample of its pool slot. A
+    pixel keeps its slot once it has one (slot_pixel records whose slot it is), so the pool
+    holds at most one slot per pixel of the strip. Returns the pool's new count."""
+    slot = slot_of[r, px]
+    if slot < 0:
+        slot = npool
+        npool += 1
+        slot_of[r, px] = slot
+        slot_pixel[slot] = r * W + px
+    for s in range(pool.shape[1]):
+        pool[slot, s, 0] = fb[r, px, 0]
+        pool[slot, s, 1] = fb[r, px, 1]
+        pool[slot, s, 2] = fb[r, px, 2]
+        pool[slot, s, 3] = fb[r, px, 3]
+    cplx[r, px] = slot
+    return npool
 
 
 @njit(cache=True)
@@ -481,21 +524,9 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 continue
             if not solid:
                 cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
-            # per-sample coverage: a one-colour pixel splits into samples. A pixel keeps its
-            # pool slot once it has one; slot_pixel records whose slot it is.
+            # per-sample coverage: a one-colour pixel splits into samples
             if cplx[r, px] < 0:
-                slot = slot_of[r, px]
-                if slot < 0:
-                    slot = npool
-                    npool += 1
-                    slot_of[r, px] = slot
-                    slot_pixel[slot] = r * W + px
-                for s in range(n):
-                    pool[slot, s, 0] = fb[r, px, 0]
-                    pool[slot, s, 1] = fb[r, px, 1]
-                    pool[slot, s, 2] = fb[r, px, 2]
-                    pool[slot, s, 3] = fb[r, px, 3]
-                cplx[r, px] = slot
+                npool = _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool)
             slot = cplx[r, px]
             for s in range(n):
                 cs = cov[s]
@@ -577,20 +608,8 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                 cplx[r, px] = -1
                 fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = cr, cg, cb, ca
             else:
-                # a one-colour pixel splits into samples (as in sweep_rows)
                 if cplx[r, px] < 0:
-                    slot = slot_of[r, px]
-                    if slot < 0:
-                        slot = npool
-                        npool += 1
-                        slot_of[r, px] = slot
-                        slot_pixel[slot] = r * W + px
-                    for s in range(n):
-                        pool[slot, s, 0] = fb[r, px, 0]
-                        pool[slot, s, 1] = fb[r, px, 1]
-                        pool[slot, s, 2] = fb[r, px, 2]
-                        pool[slot, s, 3] = fb[r, px, 3]
-                    cplx[r, px] = slot
+                    npool = _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool)
                 slot = cplx[r, px]
                 for s in range(n):
                     if (new >> np.uint64(s)) & one:
@@ -656,7 +675,9 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
-        npool = 0
+        # np.int64, not the literal 0: a Literal[int](0) argument compiles sweep_rows and
+        # sweep_rows_behind a second time (~7 s of first-run compile)
+        npool = np.int64(0)
         p = 0
         while p < P:
             # a run of opaque solid fills p .. q - 1 (q = p + 1: one fill drawn as usual)
