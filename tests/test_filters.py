@@ -120,6 +120,17 @@ def test_component_transfer_table_discrete_gamma():
     assert np.allclose(F.transfer(c, ("gamma", (2.0, 2.0, 0.1))), 2 * c * c + 0.1)
 
 
+def test_table_values_that_do_not_parse_are_the_identity():
+    # usvg reads tableValues as a number list or not at all (an empty table: identity)
+    from vecmsaa.svg.filters import transfer_function
+    from vecmsaa.svg.document import load_document
+    doc = load_document(b'<svg xmlns="http://www.w3.org/2000/svg"><feFuncR id="a" '
+                        b'type="table" tableValues="1 x 0"/><feFuncR id="b" type="discrete" '
+                        b'tableValues="1, 0.5 0"/></svg>')
+    assert transfer_function(doc.lookup("#a")) == ("table", ())
+    assert transfer_function(doc.lookup("#b")) == ("discrete", (1.0, 0.5, 0.0))
+
+
 def test_morphology_dilate_grows_a_pixel_by_the_radius():
     img = np.zeros((9, 9, 4), dtype=np.float32)
     img[4, 4] = 1.0

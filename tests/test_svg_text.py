@@ -99,6 +99,12 @@ def test_x_list_places_each_character():
     assert right[0] + 100 - left[0] == pytest.approx(100, abs=1)
 
 
+def test_x_list_stops_at_the_first_bad_length():
+    # resvg's length lists: "10 oops 110" is [10]; the second H follows the first
+    listed = render('<text x="10 oops 110" y="70">HH</text>')
+    assert np.array_equal(listed, render('<text x="10" y="70">HH</text>'))
+
+
 def test_dy_and_rotate():
     base = ink_box(alpha(render('<text x="10" y="60">H</text>')))
     down = ink_box(alpha(render('<text x="10" y="60" dy="15">H</text>')))
@@ -132,8 +138,19 @@ def test_text_path_uses_the_referenced_shapes_transform(tag):
     want = alpha(render(f"<defs>{mapped}</defs>{text}"))
     assert got.sum() == pytest.approx(want.sum(), rel=0.01)
     assert np.allclose(ink_box(got), ink_box(want), atol=1)
-    singular = alpha(render(f'<defs>{shape[tag].replace("scale(0.5)", "scale(0)")}</defs>{text}'))
-    assert singular.sum() == 0
+
+
+def test_text_path_transform_origin_and_singular_transform():
+    # the referenced path's transform-origin applies (usvg's resolve_transform); a singular
+    # transform is read as the identity, so the text follows the untransformed path
+    text = '<text><textPath href="#p">Hxg</textPath></text>'
+    mapped = alpha(render(f'<defs><path id="p" d="M 10 70 H 190"/></defs>{text}'))
+    origin = alpha(render('<defs><path id="p" d="M 10 70 H 100" transform="scale(2)" '
+                          f'transform-origin="10 70"/></defs>{text}'))
+    singular = alpha(render('<defs><path id="p" d="M 10 70 H 190" transform="scale(0)"/>'
+                            f'</defs>{text}'))
+    assert np.allclose(ink_box(origin), ink_box(mapped), atol=1)
+    assert np.array_equal(singular, mapped)
 
 
 def test_underline_follows_the_post_table():
@@ -182,6 +199,21 @@ def test_font_shorthand_sets_and_resets_longhands():
     shorthand = render('<g style="font-size: 90px; font-kerning: none; font-family: Nope">'
                        '<text x="10" y="70" style="font: 30px \'Noto Sans\'">AVA</text></g>')
     assert np.array_equal(explicit, shorthand)
+
+
+@pytest.mark.parametrize("outer, inner, expected", [
+    ("400", "bolder", 700), ("100", "bolder", 200), ("600", "bolder", 700),
+    ("900", "bolder", 900), ("400", "lighter", 200), ("500", "lighter", 400),
+    ("700", "lighter", 600), ("100", "lighter", 100), ("bold", "650", 700),
+    ("300", "1500", 300), ("normal", "bold", 700), ("200", "inherit", 200)])
+def test_font_weight_computes_as_in_resvg(outer, inner, expected):
+    # usvg's resolve_font_weight: bolder/lighter step by 100 (400 by 300 and 200), clamped
+    # to 100..900; values other than the keywords and the multiples of 100 are ignored
+    from vecmsaa.svg.document import load_document
+    from vecmsaa.svg.text.font_match import _weight
+    doc = load_document(f'<svg xmlns="http://www.w3.org/2000/svg"><g font-weight="{outer}">'
+                        f'<text id="t" font-weight="{inner}">A</text></g></svg>'.encode())
+    assert _weight(doc.document_style(doc.lookup("#t"))) == expected
 
 
 def test_font_kerning_none_only_from_css():

@@ -813,7 +813,8 @@ class TextContext:
 
     def path_of(self, element):
         """A shape's outline in the referencing text's user space: its own ``transform`` is
-        "a supplemental transformation" there (SVG 2 textPath); singular → None."""
+        "a supplemental transformation" there (SVG 2 textPath); a singular one is ignored, as
+        usvg reads it (the identity)."""
         style = self._builder.doc.document_style(element)
         if element.tag == "path":
             p = self._builder.path_data(element)
@@ -822,9 +823,7 @@ class TextContext:
         if p is None:
             return None
         m = self._builder.element_transform(element, style, self._ctx)
-        if m is None:
-            return None
-        return p.transformed(m) if m != IDENTITY else p
+        return p.transformed(m) if m not in (None, IDENTITY) else p
 
     def wrap(self, element, style, nodes):
         return self._builder.wrap(element, style, self._ctx, nodes)

@@ -525,7 +525,10 @@ def convolve_effect(fe):
 def transfer_function(node):
     kind = (node.get("type") or "").strip()
     if kind in ("table", "discrete"):
-        return kind, tuple(parse_numbers(node.get("tableValues") or ""))
+        # a list that does not parse throughout is no list (the identity), as in resvg
+        tokens = re.split(r"[\s,]+", (node.get("tableValues") or "").strip())
+        values = tuple(parse_number(t) for t in tokens if t)
+        return kind, () if None in values else values
     if kind == "linear":
         return kind, (parse_number(node.get("slope"), 1.0),
                       parse_number(node.get("intercept"), 0.0))

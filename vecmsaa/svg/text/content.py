@@ -13,6 +13,7 @@ import re
 from dataclasses import dataclass
 
 from ..builder import conditions_pass
+from ..units import parse_length_list
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
 #: tref may take the characters of SVG elements only
@@ -198,12 +199,10 @@ def apply_positions(text_el, chars, ctx, styles):
             continue
         style = styles.get(id(el), ctx.style)
         if el.tag != "textPath":
+            # a list's lengths before the first that does not parse, as resvg reads it
             for name, axis in (("x", "x"), ("y", "y"), ("dx", "x"), ("dy", "y")):
-                vals = _numbers(el.get(name))
-                for k, tok in zip(idx, vals):
-                    v = ctx.length(tok, axis, style)
-                    if v is not None:
-                        setattr(chars[k], name, v)
+                for k, (v, unit) in zip(idx, parse_length_list(el.get(name))):
+                    setattr(chars[k], name, ctx.length(f"{v!r}{unit}", axis, style))
         rot = []
         for tok in _numbers(el.get("rotate")):
             try:

@@ -16,7 +16,7 @@ from ...fonts import FontError
 from ...fonts.db import FontDatabase, database_from_options, parse_family_list
 from .content import TEXT_CONTENT
 
-WEIGHTS = {"normal": 400, "bold": 700}
+WEIGHTS = {"normal": 400, "bold": 700, **{str(w): w for w in range(100, 1000, 100)}}
 STRETCHES = {"ultra-condensed": 50.0, "extra-condensed": 62.5, "condensed": 75.0,
              "semi-condensed": 87.5, "normal": 100.0, "semi-expanded": 112.5,
              "expanded": 125.0, "extra-expanded": 150.0, "ultra-expanded": 200.0}
@@ -104,22 +104,18 @@ class FontSpec:
 
 
 def _weight(style):
-    """Computed font-weight, resolving bolder/lighter against the parent (CSS Fonts 3)."""
+    """Computed font-weight as resvg computes it (usvg's resolve_font_weight): the keywords
+    and the nine multiples of 100; ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100
+    away (200 from 400), within 100..900; any other value (650, 1500) keeps the parent's."""
     v = (style.specified.get("font-weight") or "").strip()
     parent = _weight(style.parent) if style.parent is not None else 400
-    if not v or v == "inherit":
-        return parent
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
-        return 400 if parent < 350 else 700 if parent < 550 else 900
+        return min(900, parent + (300 if parent == 400 else 100))
     if v == "lighter":
-        return 100 if parent < 550 else 400 if parent < 750 else 700
-    try:
-        w = float(v)
-    except ValueError:
-        return parent
-    return int(w) if 1 <= w <= 1000 else parent
+        return max(100, parent - (200 if parent == 400 else 100))
+    return parent
 
 
 def _stretch(style):
