@@ -319,6 +319,41 @@ def test_xlink_href_and_href():
     assert d.ids["u"].href() == "a" and d.ids["v"].href() == "b"
 
 
+def test_the_tree_is_elementtrees_less_foreign_elements():
+    # Elements come straight from expat's events; the truth here is the standard library's
+    # ElementTree with the rules applied by hand: foreign subtrees dropped with their tails,
+    # comments and processing instructions invisible, xlink:href as href, xml:* kept.
+    import xml.etree.ElementTree as ET
+    xlink = "http://www.w3.org/1999/xlink"
+    data = (f'<svg {SVG} xmlns:xlink="{xlink}" xmlns:f="urn:f"><text id="t" xml:space="preserve">'
+            'a<!-- c -->b<?pi x?>c<tspan>d</tspan> e <![CDATA[<&>]]><f:x>in<tspan/></f:x>gone'
+            '<tspan id="s"/>f</text><f:y/><use xlink:href="#t" href="#s" fill=" red "/>'
+            '<g><rect/><f:z/><rect/></g></svg>').encode()
+
+    def expected(node, index):
+        ns, _, tag = node.tag[1:].partition("}")
+        attrs = {}
+        for k, v in node.attrib.items():
+            if k == f"{{{xlink}}}href":
+                attrs.setdefault("href", v)
+            elif k.startswith("{http://www.w3.org/XML/1998/namespace}"):
+                attrs["xml:" + k.partition("}")[2]] = v
+            else:
+                attrs[k] = v
+        kids = [c for c in node if c.tag.startswith("{http://www.w3.org/2000/svg}")]
+        return (tag, index, attrs, node.text or "", [expected(c, i) for i, c in enumerate(kids)])
+
+    def got(el):
+        return (el.tag, el.index, el.attrs, el.text, [got(c) for c in el.children])
+
+    d = load_document(data)
+    assert got(d.root) == expected(ET.fromstring(data), 0)
+    text = d.ids["t"]
+    assert [c.tail for c in text.children] == [" e <&>", "f"]   # the foreign one's "gone" too
+    assert d.root.children[1].specified == {"fill": "red"}
+    assert d.paths == [] and d.size == 8 and d.has_use
+
+
 # -- XML safety ---------------------------------------------------------------------------------
 def test_malformed_xml():
     with pytest.raises(SvgError) as err:
@@ -346,6 +381,16 @@ def test_external_entities_are_rejected(tmp_path):
            f'<svg xmlns="http://www.w3.org/2000/svg"><text>&x;</text></svg>').encode()
     with pytest.raises(SvgError):
         load_document(xxe)
+
+
+def test_entity_declarations_reaching_the_parser_are_forbidden():
+    # the entity pass before parsing takes simple ones out; the parser itself refuses any
+    from vecmsaa.svg.document import Document, _TreeReader
+    for decl in ('<!ENTITY a "b">', '<!ENTITY a SYSTEM "file:///etc/passwd">',
+                 '<!ENTITY a SYSTEM "x" NDATA n>'):
+        with pytest.raises(SvgError, match="forbidden XML construct: EntitiesForbidden"):
+            _TreeReader(Document(None, {}), mirror=False).read(
+                f'<!DOCTYPE svg [{decl}]><svg {SVG}/>'.encode())
 
 
 def test_simple_internal_entities_are_expanded_once():

@@ -488,7 +488,7 @@ class Builder:
         """The Path of a <path> element. The document's path data is read in one go when
         the first one is asked for."""
         if self._path_index is None:
-            elements = [e for e in iter_elements(self.doc.root) if e.tag == "path"]
+            elements = self.doc.paths
             self._path_index = {e: i for i, e in enumerate(elements)}
             self._path_batch = PathBatch([e.get("d") or "" for e in elements])
         i = self._path_index.get(el)
@@ -507,8 +507,7 @@ class Builder:
             return []
         return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE)
 
-    def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None,
-                  fill_rule=None) -> list:
+    def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None) -> list:
         """Fill, stroke and markers of a user-space path with a computed style.
 
         In a clip path only the fill outline is produced (black, clip-rule); when collecting
@@ -523,8 +522,12 @@ class Builder:
             x0, y0, x1, y1 = box
             return [Fill(rect_path(x0, y0, x1 - x0, y1 - y0).transformed(ctx.transform))]
         # a lone line segment encloses nothing
-        fillable = not (len(path.verbs) == 2 and path.verbs[1] == LINE)
-        antialias = style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed")
+        verbs = path.verbs
+        fillable = not (len(verbs) == 2 and verbs[1] == LINE)
+        try:
+            antialias, order, rule = style.cache["draw-plan"]
+        except KeyError:
+            antialias, order, rule = style.cache["draw-plan"] = self._draw_plan(style)
         if ctx.clip:
             rule = style.get("clip-rule").strip()
             return [Fill(path.transformed(ctx.transform), Solid((0, 0, 0, 1)),
@@ -532,21 +535,26 @@ class Builder:
                          antialias=antialias)]
         if bbox is None:
             bbox = LazyBounds(path)
-        order = paint_order(style.get("paint-order"))
         out = []
         for item in order:
             if item == "fill" and fillable:
                 ref = self.resolve_paint(style, "fill", ctx, bbox)
                 if ref is not None:
-                    rule = fill_rule or style.get("fill-rule").strip()
                     out.append(Fill(path.transformed(ctx.transform), ref.paint,
-                                    rule="evenodd" if rule == "evenodd" else "nonzero",
-                                    opacity=ref.opacity, antialias=antialias))
+                                    "evenodd" if rule == "evenodd" else "nonzero",
+                                    ref.opacity, antialias))
             elif item == "stroke":
                 out.extend(self.stroke(path, style, ctx, bbox, antialias))
             elif item == "markers" and markers:
                 out.extend(self.markers(path, style, ctx))
         return out
+
+    @staticmethod
+    def _draw_plan(style):
+        """What draw_path reads of a style on every shape: (antialias, paint order, fill-rule);
+        kept with the (shared) style."""
+        return (style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed"),
+                paint_order(style.get("paint-order")), style.get("fill-rule").strip())
 
     def stroke_params(self, style, ctx):
         """(width, join, cap, miterlimit, dashes, offset) in user units, None for no stroke.
@@ -833,6 +841,8 @@ class TextContext:
 def expanded_size(doc) -> int:
     """How many elements the document has once every <use> is instantiated (capped just above
     MAX_NODES), computed without instantiating anything."""
+    if not doc.has_use:
+        return min(doc.size, MAX_NODES + 1)
     memo = {}
     active = set()
 

@@ -1,12 +1,13 @@
 """Safe XML parsing, the CSS cascade and computed styles.
 
-The XML is parsed with defusedxml: no external entities, no network, no DTD processing. Documents
-that declare *internal* text entities in their DTD subset (``<!ENTITY name "value">``, common in
-files exported by old editors) are accepted through one bounded, non-recursive substitution pass
-before parsing: entity values may not reference other entities and the expanded document is
-capped, so there is no "billion laughs" amplification and nothing is read from outside.
+The XML is parsed by expat with defusedxml's guards: no entity declarations, no external
+entities, no network, no DTD processing. Documents that declare *internal* text entities in
+their DTD subset (``<!ENTITY name "value">``, common in files exported by old editors) are
+accepted through one bounded, non-recursive substitution pass before parsing: entity values may
+not reference other entities and the expanded document is capped, so there is no "billion
+laughs" amplification and nothing is read from outside.
 
-The tree is converted into :class:`Element` objects carrying the *specified* style of each
+expat's events become :class:`Element` objects carrying the *specified* style of each
 element (presentation attributes < CSS rules by specificity and order < ``style=""`` <
 ``!important``). :class:`Style` resolves inheritance and ``inherit`` on top of that.
 """
@@ -297,17 +298,11 @@ def _decode_to_utf8(data: bytes) -> bytes:
     return _ENCODING_DECL.sub(rb"\1", text.encode("utf-8"), count=1)
 
 
-def parse_xml(data: bytes):
-    """Bytes → xml.etree root element, safely. Raises SvgError with a one-line message."""
-    import xml.etree.ElementTree as ET
-
-    import defusedxml
-    from defusedxml.ElementTree import fromstring
-
+def _prepare(data: bytes) -> bytes:
+    """The document's bytes ready for expat: bounded, gunzipped, internal entities expanded."""
     if len(data) > MAX_DOCUMENT_BYTES:
         raise SvgError("document too large")
     if data[:2] == b"\x1f\x8b":
-        import gzip
         import zlib
         try:
             d = zlib.decompressobj(16 + zlib.MAX_WBITS)
@@ -316,27 +311,190 @@ def parse_xml(data: bytes):
             raise SvgError(f"bad svgz data: {exc}") from exc
         if len(data) > MAX_DOCUMENT_BYTES:
             raise SvgError("document too large")
-        del gzip
     if b"<!ENTITY" in data:
         data = _expand_internal_entities(_decode_to_utf8(data))
-    try:
-        root = fromstring(data, forbid_dtd=False, forbid_entities=True, forbid_external=True)
-    except ET.ParseError as exc:
-        raise SvgError(f"malformed XML: {exc}") from None
-    except defusedxml.DefusedXmlException as exc:
-        raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
-    except (ValueError, UnicodeError, LookupError) as exc:   # LookupError: unknown encoding
-        raise SvgError(f"malformed XML: {exc}") from None
-    return root
+    return data
 
 
-@functools.lru_cache(maxsize=1024)
-def _local(name):
-    if name.startswith("{"):
-        ns, _, local = name[1:].partition("}")
-        return ns, local
-    return "", name
+def _et_name(name):
+    """An expat name ("uri}local") as ElementTree spells it ("{uri}local")."""
+    return "{" + name if "}" in name else name
 
+
+#: a <style> element (any prefix): the document needs the CSS cascade's element tree
+_STYLE_ELEMENT = re.compile(rb"<(?:[^\s<>/!?:]+:)?style[\s/>]")
+
+
+class _TreeReader:
+    """expat events straight into the :class:`Element` tree (no ElementTree in between: on
+    map data building it and converting it cost three times expat's own parse).
+
+    The tree is what ElementTree's tree converted element by element would be: elements
+    outside the root's namespace are skipped with their subtree and their tail text,
+    comments and processing instructions leave no trace in the text around them. The
+    guards are defusedxml's (no entity declarations, no external entities), with its
+    exceptions. With ``mirror`` the ElementTree tree is built as well, for CSS selector
+    matching, and each element's specified style is left to :meth:`specify`."""
+
+    def __init__(self, doc, mirror: bool):
+        self.doc = doc
+        self.mirror = None
+        self.pending = []          # (Element, its ElementTree twin, spec, style attribute)
+        self.warnings = []         # unsupported values, warned about once the tree is read
+        self.error = None          # the first limit exceeded, in document order
+        self.bad_root = False
+        self.root = None
+        self._mirror = mirror
+
+    def read(self, data: bytes) -> Element | None:
+        """The root Element (None when the root is not <svg> or a limit was exceeded: see
+        ``bad_root`` and ``error``). Raises SvgError for malformed or forbidden XML."""
+        from xml.parsers import expat
+
+        from defusedxml import DefusedXmlException
+        from defusedxml.common import EntitiesForbidden, ExternalReferenceForbidden
+
+        parser = expat.ParserCreate(None, "}")
+        parser.buffer_text = True
+        parser.ordered_attributes = True
+        doc = self.doc
+        ids = doc.ids
+        paths = doc.paths
+        stack = []                 # open elements, None for skipped ones
+        chunks = []                # character data since the last tag
+        last = [None, False]       # where it goes: the element, and whether as its tail
+        default_ns = None
+        count = 0
+        tb = None
+        if self._mirror:
+            import xml.etree.ElementTree as ET
+            tb = ET.TreeBuilder()
+
+        def flush():
+            text = "".join(chunks)
+            chunks.clear()
+            el = last[0]
+            if el is not None:
+                if last[1]:
+                    el.tail = text
+                else:
+                    el.text = text
+
+        def start(name, attr_list):
+            nonlocal default_ns, count
+            if chunks:
+                flush()
+            if tb is not None:
+                node = tb.start(_et_name(name), {_et_name(attr_list[i]): attr_list[i + 1]
+                                                 for i in range(0, len(attr_list), 2)})
+            if stack and stack[-1] is None or self.error is not None:
+                stack.append(None)
+                last[0] = None
+                return
+            ns, sep, tag = name.partition("}")
+            if not sep:
+                ns, tag = "", name
+            if not stack:
+                if tag != "svg" or ns not in (SVG_NS, ""):
+                    self.bad_root = True
+                    stack.append(None)
+                    last[0] = None
+                    return
+                default_ns = ns
+            count += 1
+            if count > MAX_ELEMENTS:
+                self.error = "too many elements"
+            elif len(stack) > MAX_DEPTH:
+                self.error = f"elements nest deeper than {MAX_DEPTH} levels"
+            if self.error is not None or ns != default_ns:
+                stack.append(None)   # foreign element: skipped with its subtree
+                last[0] = None
+                return
+            attrs = {}
+            style_attr = None
+            spec = {}         # presentation attributes (none is a shorthand: marker is CSS only)
+            for i in range(0, len(attr_list), 2):
+                key = attr_list[i]
+                value = attr_list[i + 1]
+                if "}" in key:
+                    ans, _, aname = key.partition("}")
+                    if ans == XLINK_NS and aname == "href":
+                        attrs.setdefault("href", value)
+                    elif ans == XML_NS:
+                        attrs["xml:" + aname] = value
+                    continue
+                attrs[key] = value      # a plain href overrides xlink:href
+                if key == "style":
+                    style_attr = value
+                elif key in PRESENTATION:
+                    spec[key] = value.strip()
+            parent = stack[-1] if stack else None
+            el = Element(tag, attrs, parent, len(parent.children) if parent else 0)
+            el.source = doc
+            doc.size += 1
+            if tag == "path":
+                paths.append(el)
+            elif tag == "use":
+                doc.has_use = True
+            if tb is not None:
+                self.pending.append((el, node, spec, style_attr))
+            else:
+                el.specified = _specified(spec, None, style_attr, self.warnings)
+            ident = attrs.get("id")
+            if ident is not None and ident not in ids:
+                ids[ident] = el
+            if parent is not None:
+                parent.children.append(el)
+            else:
+                self.root = el
+            stack.append(el)
+            last[0] = el
+            last[1] = False
+
+        def end(name):
+            if chunks:
+                flush()
+            if tb is not None:
+                tb.end(_et_name(name))
+            last[0] = stack.pop()
+            last[1] = True
+
+        def characters(text):
+            chunks.append(text)
+            if tb is not None:
+                tb.data(text)
+
+        def default(text):
+            if text[:1] == "&":   # an entity no DTD declares (ElementTree's message)
+                err = expat.error(f"undefined entity {text}: line {parser.ErrorLineNumber}, "
+                                  f"column {parser.ErrorColumnNumber}")
+                err.code = 11       # XML_ERROR_UNDEFINED_ENTITY
+                raise err
+
+        def no_entities(name, *args):     # declared or unparsed: (..., base, ids, notation)
+            raise EntitiesForbidden(name, None, *args[-4:])
+
+        def no_external(context, base, sysid, pubid):
+            raise ExternalReferenceForbidden(context, base, sysid, pubid)
+
+        parser.StartElementHandler = start
+        parser.EndElementHandler = end
+        parser.CharacterDataHandler = characters
+        parser.DefaultHandlerExpand = default
+        parser.EntityDeclHandler = no_entities
+        parser.UnparsedEntityDeclHandler = no_entities
+        parser.ExternalEntityRefHandler = no_external
+        try:
+            parser.Parse(data, True)
+        except expat.error as exc:
+            raise SvgError(f"malformed XML: {exc}") from None
+        except DefusedXmlException as exc:
+            raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
+        except (ValueError, UnicodeError, LookupError) as exc:   # LookupError: unknown encoding
+            raise SvgError(f"malformed XML: {exc}") from None
+        if tb is not None:
+            self.mirror = tb.close()
+        return self.root
 
 # -- CSS ------------------------------------------------------------------------------------------
 def _declarations(tokens_or_text):
@@ -410,6 +568,9 @@ class Document:
         self.base_dir = base_dir
         self.languages = ("en",)   # the user's, for systemLanguage
         self._doc_styles = {}
+        self.paths = []             # the <path> elements in document order
+        self.size = 0               # how many elements the tree has
+        self.has_use = False        # whether any <use> instantiates content
 
     def lookup(self, ref):
         """Element for an id, ``#id``, ``url(#id)`` or None."""
@@ -434,82 +595,12 @@ class Document:
         return style
 
 
-def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
-                  root_defaults=None, languages=("en",)) -> Document:
-    """Parse SVG bytes into a Document.
-
-    ``stylesheet`` is CSS applied before the document's own ``<style>`` sheets (resvg's
-    ``--stylesheet``); ``root_defaults`` are property values the root element gets where it
-    specifies none (``--font-size``, ``--shape-rendering``...: inherited, so they act as new
-    initial values); ``languages`` are the user's languages for ``systemLanguage``.
-    ``load_text`` is accepted for existing callers and unused: CSS ``@import`` is not followed,
-    as in resvg."""
-    import cssselect2
-
-    xml_root = parse_xml(data)
-    ns, tag = _local(xml_root.tag)
-    if tag != "svg" or ns not in (SVG_NS, ""):
-        raise SvgError("the root element is not <svg>")
-    default_ns = ns
-
-    sheets = Stylesheets()
-    if stylesheet:
-        sheets.add(stylesheet)
-    # <style> elements anywhere apply to the whole document (even those after their use).
-    for node in xml_root.iter():
-        if not isinstance(node.tag, str):
-            continue
-        nns, ntag = _local(node.tag)
-        if ntag == "style" and nns == default_ns:
-            kind = (node.get("type") or "text/css").strip()
-            if kind not in ("", "text/css"):
-                continue
-            # its child text content (HTML/CSSOM), not its descendants' text: elements nested
-            # in <style> are not CSS, and thousands of nested <style>s would otherwise read
-            # the same text over and over (quadratic in memory)
-            sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
-
-    matches = {}
-    if sheets.count:
-        wrapper = cssselect2.ElementWrapper.from_xml_root(xml_root)
-        for w in wrapper.iter_subtree():
-            found = sheets.matcher.match(w)
-            if found:
-                matches[id(w.etree_element)] = found
-
-    ids = {}
-    count = 0
-
-    def convert(node, parent, index, depth):
-        nonlocal count
-        count += 1
-        if count > MAX_ELEMENTS:
-            raise SvgError("too many elements")
-        if depth > MAX_DEPTH:
-            raise SvgError(f"elements nest deeper than {MAX_DEPTH} levels")
-        nns, ntag = _local(node.tag)
-        if nns != default_ns:
-            return None   # foreign element: skipped with its subtree
-        attrs = {}
-        style_attr = None
-        spec = {}         # presentation attributes (none is a shorthand: marker is CSS only)
-        for key, value in node.attrib.items():
-            if key[0] == "{":
-                ans, aname = _local(key)
-                if ans == XLINK_NS and aname == "href":
-                    attrs.setdefault("href", value)
-                elif ans == XML_NS:
-                    attrs["xml:" + aname] = value
-                continue
-            attrs[key] = value      # a plain href overrides xlink:href
-            if key == "style":
-                style_attr = value
-            elif key in PRESENTATION:
-                spec[key] = value.strip()
-        el = Element(ntag, attrs, parent, index)
-        el.source = doc
+def _specified(spec, found, style_attr, warnings):
+    """An element's specified style: its presentation attributes ``spec`` (updated in place)
+    under the CSS rules that match it (``found``: cssselect2 matches), its ``style``
+    attribute, then the ``!important`` declarations. Unsupported values go to ``warnings``."""
+    if found or style_attr:
         important = {}
-        found = matches.get(id(node))
         for match in sorted(found, key=lambda m: (m[0], m[1])) if found else ():
             _order, decls = match[3]
             for name, value, imp in decls:
@@ -524,33 +615,70 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
                 for pname, pval in _expand_shorthand(name, value):
                     (important if imp else spec)[pname] = pval
         spec.update(important)
-        for name in UNSUPPORTED_PROPERTIES.keys() & spec.keys():
-            value = spec[name].strip().lower()
+    for name, value in spec.items():
+        if name in UNSUPPORTED_PROPERTIES:
+            value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
-                warn(f"{name}: {value[:40]} is not supported: ignored")
-        el.specified = spec
-        el.text = node.text or ""
-        el.tail = node.tail or ""
-        if el.id is not None and el.id not in ids:
-            ids[el.id] = el
-        i = 0
-        for child in node:
-            if not isinstance(child.tag, str):
-                # comments and processing instructions: keep their tail text for <text>
-                if el.children:
-                    el.children[-1].tail += child.tail or ""
-                else:
-                    el.text += child.tail or ""
-                continue
-            c = convert(child, el, i, depth + 1)
-            if c is not None:
-                el.children.append(c)
-                i += 1
-        return el
+                warnings.append(f"{name}: {value[:40]} is not supported: ignored")
+    return spec
 
-    doc = Document(None, ids, base_dir)
+
+def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
+                  root_defaults=None, languages=("en",)) -> Document:
+    """Parse SVG bytes into a Document.
+
+    ``stylesheet`` is CSS applied before the document's own ``<style>`` sheets (resvg's
+    ``--stylesheet``); ``root_defaults`` are property values the root element gets where it
+    specifies none (``--font-size``, ``--shape-rendering``...: inherited, so they act as new
+    initial values); ``languages`` are the user's languages for ``systemLanguage``.
+    ``load_text`` is accepted for existing callers and unused: CSS ``@import`` is not followed,
+    as in resvg."""
+    data = _prepare(data)
+    doc = Document(None, {}, base_dir)
     doc.languages = tuple(x.strip().lower() for x in languages)
-    doc.root = convert(xml_root, None, 0, 0)
+    # Only a document with CSS needs the ElementTree tree (cssselect2 matches on it).
+    reader = _TreeReader(doc, mirror=bool(stylesheet) or _STYLE_ELEMENT.search(data) is not None)
+    doc.root = reader.read(data)
+    if reader.bad_root:
+        raise SvgError("the root element is not <svg>")
+    if reader.mirror is not None:
+        _cascade(reader, stylesheet)
+    for message in reader.warnings:
+        warn(message)
+    if reader.error is not None:
+        raise SvgError(reader.error)
     for name, value in (root_defaults or {}).items():
         doc.root.specified.setdefault(name, value)
     return doc
+
+
+def _cascade(reader, stylesheet):
+    """The specified styles of a document with CSS: its rules matched on the ElementTree
+    mirror of the tree."""
+    import cssselect2
+
+    xml_root = reader.mirror
+    default_ns = xml_root.tag[1:].partition("}")[0] if xml_root.tag[0] == "{" else ""
+    sheets = Stylesheets()
+    if stylesheet:
+        sheets.add(stylesheet)
+    # <style> elements anywhere apply to the whole document (even those after their use).
+    for node in xml_root.iter():
+        nns, _, ntag = node.tag[1:].partition("}") if node.tag[0] == "{" else ("", "", node.tag)
+        if ntag == "style" and nns == default_ns:
+            kind = (node.get("type") or "text/css").strip()
+            if kind not in ("", "text/css"):
+                continue
+            # its child text content (HTML/CSSOM), not its descendants' text: elements nested
+            # in <style> are not CSS, and thousands of nested <style>s would otherwise read
+            # the same text over and over (quadratic in memory)
+            sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
+    matches = {}
+    if sheets.count:
+        wrapper = cssselect2.ElementWrapper.from_xml_root(xml_root)
+        for w in wrapper.iter_subtree():
+            found = sheets.matcher.match(w)
+            if found:
+                matches[id(w.etree_element)] = found
+    for el, node, spec, style_attr in reader.pending:
+        el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings)
