@@ -388,6 +388,20 @@ def test_mid_markers_go_between_the_pieces_of_an_arc():
     assert ((x0 + x1) / 2, (y0 + y1) / 2) == pytest.approx((50, 20))
 
 
+@pytest.mark.parametrize("d, mids", [
+    ("M 40 60 A 40 30 20 1 1 150 120", 1),   # radii scaled up: a half turn, a hair over 180°
+    ("M 10 60 A 40 40 0 1 1 50 20", 2),      # three quarters
+    ("M 10 60 A 40 40 0 0 1 40 32", 0),      # under a quarter
+])
+def test_arc_pieces_are_usvgs_quarter_turns(d, mids):
+    # usvg cuts an arc as kurbo does: ceil(3.999999 * sweep / 360°) pieces for radii under
+    # ~367 units, so float noise past a multiple of 90° adds no piece (and no mid marker)
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse" overflow="visible"><rect width="2" height="2"/>'
+              f'</marker><path d="{d}" fill="none" marker-mid="url(#m)"/>')
+    assert len(s.fills()) == mids
+
+
 def test_text_without_text_module_is_skipped_cleanly():
     s = scene('<text x="10" y="10">hi</text><rect width="1" height="1"/>')
     assert len(s.fills()) >= 1
@@ -491,6 +505,18 @@ def test_skewed_pattern_tile_resolution_uses_row_norms_as_resvg():
               '</pattern><rect width="100" height="100" fill="url(#p)"/>')
     p = only_fill(s).paint
     assert (p.height, p.width) == (10, 28)
+
+
+@pytest.mark.parametrize("element, pattern, smooth", [
+    ("", "", False), ("", "scale(2)", False), ('transform="rotate(-30)"', "rotate(30)", True),
+    ('transform="rotate(-30)"', "", True), ("", "skewX(10)", True)])
+def test_pattern_tiles_are_filtered_where_resvg_filters_them(element, pattern, smooth):
+    # resvg composes transforms in f32: rotations that cancel leave a skew of ~1e-8, and its
+    # pattern shader then filters the tile (bicubic) instead of taking texels (nearest)
+    s = scene(f'<pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse" '
+              f'patternTransform="{pattern}"><rect width="5" height="5"/></pattern>'
+              f'<rect width="80" height="80" fill="url(#p)" {element}/>')
+    assert only_fill(s).paint.smooth == smooth
 
 
 def test_tiny_pattern_tiles_keep_their_period():

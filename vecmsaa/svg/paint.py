@@ -279,9 +279,11 @@ def pattern(builder, el, ctx, bbox):
     except ValueError:
         return None
     # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
-    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering.
-    a, b, c, d = tile_to_device[:4]
-    axis_aligned = abs(b) < 1e-9 and abs(c) < 1e-9
+    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering. So
+    # do tiles whose rotations cancel (an element's rotate(-30), the pattern's rotate(30)):
+    # resvg composes them in f32, is left with a skew of ~1e-8, and filters (bicubic).
+    axis_aligned = all(abs(m[1]) < 1e-9 and abs(m[2]) < 1e-9
+                       for m in (tile_to_device, ctx.transform, pattern_m))
     return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
 
 

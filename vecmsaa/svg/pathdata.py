@@ -157,7 +157,8 @@ def _skip_sep(buf, pos, end):
 
 @njit(cache=True)
 def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
-    """Writes an elliptical arc's cubic pieces (≤ 90° each: three points per piece) into pts
+    """Writes an elliptical arc's cubic pieces (≤ 90° each, as usvg cuts them: three points
+    per piece) into pts
     from npts on → new npts; -1 when the arc is a straight line (a zero radius), npts when
     the endpoints coincide (SVG omits such an arc)."""
     if x1 == x2 and y1 == y2:
@@ -214,7 +215,11 @@ def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
         dtheta -= 2 * math.pi
     elif sweep and dtheta < 0:
         dtheta += 2 * math.pi
-    n = max(1, int(math.ceil(abs(dtheta) / (math.pi / 2) - 1e-9)))
+    # as many pieces as usvg cuts (kurbo's Arc::append_iter at usvg's tolerance of 0.1; mid
+    # markers go between them): 90° each, so a half turn a hair over 180° is still two. usvg
+    # cuts more for radii over ~367 units; here at most four (the buffers hold four a command)
+    n_err = max((1.1163 * max(rx, ry) / 0.1) ** (1.0 / 6.0), 3.999999)
+    n = max(1, min(4, int(math.ceil(n_err * abs(dtheta) / (2.0 * math.pi)))))
     delta = dtheta / n
     # handle length of a cubic approximating a unit circular arc of angle delta
     t = 4.0 / 3.0 * math.tan(delta / 4.0)
