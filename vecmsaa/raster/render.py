@@ -37,8 +37,10 @@ from .shaders import PaintTable
 EXACT_TOLERANCE = 1.0 / 256.0
 #: a curve piece bulges at most this far from its chord (pixels); keeps lenses thin
 MAX_SAGITTA = 1.0
-#: elements (rows x width x samples) of one strip's per-sample buffers
-STRIP_BUDGET = 1 << 22
+#: elements (rows x width x samples) of one strip's per-sample buffers (16 rows at 8192 px, 8
+#: samples). 4 M elements (64 rows) held 32 MB of winding deltas per thread more and was no
+#: faster: at 8192 px the peak RSS of alexandria-port 313 -> 242 MB, city-3 391 -> 314 MB
+STRIP_BUDGET = 1 << 20
 #: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
 #: level is rendered band by band so the whole image never exists in float
 BAND_BUDGET = 1 << 24
