@@ -240,6 +240,20 @@ def test_hairline_stroke_is_drawn_one_pixel_wide_and_faded():
     assert f.opacity == pytest.approx(0.25)
 
 
+def test_miterlimit_below_one_is_one_as_in_resvg():
+    # SVG calls it an error (the initial 4 would apply); usvg clamps it to 1, which bevels
+    # every corner
+    from vecmsaa.api import render_svg_array
+
+    def render(attrs):
+        return render_svg_array(f'<svg {NS} width="40" height="40"><path d="M5 30 L20 10 L35 30" '
+                                f'fill="none" stroke="black" stroke-width="6" {attrs}/></svg>')
+    bevel = render('stroke-linejoin="bevel"')
+    assert np.array_equal(render('stroke-miterlimit="0.5"'), bevel)
+    assert np.array_equal(render('stroke-miterlimit="-3"'), bevel)
+    assert not np.array_equal(render('stroke-miterlimit="abc"'), bevel)   # the initial 4
+
+
 def test_paint_order():
     s = scene('<rect width="10" height="10" fill="red" stroke="blue" paint-order="stroke"/>')
     stroke, fill = s.fills()

@@ -576,9 +576,8 @@ class Builder:
         cap = style.get("stroke-linecap").strip()
         if cap not in ("butt", "round", "square"):
             cap = "butt"
-        limit = parse_number(style.get("stroke-miterlimit"), 4.0)
-        if limit < 1:
-            limit = 4.0     # an invalid value: the initial one applies
+        # a number below 1 is an error in SVG; resvg (so its references) clamps it to 1
+        limit = max(1.0, parse_number(style.get("stroke-miterlimit"), 4.0))
         # the lengths up to the first that does not parse, as in resvg; a negative one or a
         # zero sum draws a solid stroke (geometry.stroke.dash_pattern)
         dashes = dash_pattern([self.length_px(v, unit, "xy", style, viewport)
