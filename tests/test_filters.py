@@ -376,3 +376,71 @@ def test_device_rect_rounds_as_tiny_skia_in_f32():
     # exact f32 values keep the exact width
     assert device_rect(10.0, 0.0, 100.0, 10.0, scale) == (15, 0, 165, 15)
     assert device_rect(0.0, 0.0, 1e39, 1.0, scale) is None          # beyond f32
+
+
+#: filters whose result is transparent wherever their input is (computed on the content's box
+#: grown by their reach) and ones that are not (computed on the whole region)
+CROPPED_FILTERS = {
+    "small blur": '<feGaussianBlur stdDeviation="1.3"/>',
+    "box blur": '<feGaussianBlur stdDeviation="6 2.5"/>',
+    "offset": '<feOffset dx="-7" dy="5"/>',
+    "dilate": '<feMorphology operator="dilate" radius="3 1.5"/>',
+    "erode": '<feMorphology operator="erode" radius="1"/>',
+    "drop shadow": '<feDropShadow dx="6" dy="-4" stdDeviation="2.5" flood-color="navy"/>',
+    "chain": '<feGaussianBlur stdDeviation="3" result="b"/><feOffset in="b" dx="9" dy="9" '
+             'result="o"/><feMerge><feMergeNode in="o"/><feMergeNode in="SourceGraphic"/>'
+             '</feMerge>',
+    "matrix": '<feColorMatrix type="matrix" values="0 1 0 0 0  1 0 0 0 0  0 0 1 0 0  '
+              '0 0 0 0.5 0"/>',
+    "transfer": '<feComponentTransfer><feFuncA type="table" tableValues="0 0.3 1"/>'
+                '</feComponentTransfer>',
+}
+WHOLE_REGION_FILTERS = {
+    "flood": '<feFlood flood-color="gold" flood-opacity="0.5"/>',
+    "lifted alpha": '<feColorMatrix type="matrix" values="1 0 0 0 0  0 1 0 0 0  '
+                    '0 0 1 0 0  0 0 0 1 0.2"/>',
+    "arithmetic k4": '<feComposite in2="SourceGraphic" operator="arithmetic" k2="0.5" '
+                     'k4="0.1"/>',
+    "gamma offset": '<feComponentTransfer><feFuncA type="gamma" offset="0.3"/>'
+                    '</feComponentTransfer>',
+}
+
+
+def _filtered_doc(primitives: str) -> str:
+    """Small shapes, each filtered, in a filter region as large as the canvas (and beyond)."""
+    return ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">'
+            '<filter id="f" filterUnits="userSpaceOnUse" x="-40" y="-30" width="180" '
+            f'height="150">{primitives}</filter>'
+            '<g filter="url(#f)"><rect x="20.3" y="14.6" width="11" height="7.5" fill="teal"/>'
+            '<circle cx="70" cy="60" r="6.4" fill="orange" fill-opacity="0.7"/></g>'
+            '<rect x="1.5" y="68" width="8" height="9" fill="crimson" filter="url(#f)"/>'
+            '<g filter="url(#f)" opacity="0.6"><path d="M 60 10 Q 90 12 80 30" stroke="purple"'
+            ' stroke-width="3" fill="none" filter="url(#f)"/></g></svg>')
+
+
+@pytest.mark.parametrize("name", list(CROPPED_FILTERS) + list(WHOLE_REGION_FILTERS))
+def test_filters_on_the_content_box_give_the_region_s_pixels(name, monkeypatch):
+    """The same bytes as computing every filter on its whole region (transparent_reach
+    forced to None), for filters near the canvas edge, nested, and between shapes."""
+    import vecmsaa.raster.render as render
+
+    primitives = {**CROPPED_FILTERS, **WHOLE_REGION_FILTERS}[name]
+    assert (F.transparent_reach(_one_filter(primitives)) is None) == (
+        name in WHOLE_REGION_FILTERS)
+    doc = _filtered_doc(primitives)
+    cropped = render_svg_array(doc)
+    monkeypatch.setattr(render, "transparent_reach", lambda flt: None)
+    assert np.array_equal(cropped, render_svg_array(doc))
+
+
+def _one_filter(primitives: str):
+    from vecmsaa.api import load_svg
+
+    scene = load_svg(_filtered_doc(primitives))
+    stack = [scene.root]
+    while stack:
+        node = stack.pop()
+        if getattr(node, "filters", None):
+            return node.filters[0]
+        stack.extend(getattr(node, "children", []))
+    raise AssertionError("no filtered group")

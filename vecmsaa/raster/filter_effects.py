@@ -365,6 +365,61 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     return results[-1].in_space(False)
 
 
+def transparent_reach(flt: Filter) -> int | None:
+    """How many pixels beyond its input's non-transparent pixels the filter's result can
+    reach, or None where it can draw on transparent input (flood, feImage, feTile,
+    turbulence, lighting, displacement, convolution, an arithmetic composite with k4 > 0, a
+    colour function lifting alpha 0). Where it is a number, the filter computed on the
+    content's box grown by it gives the same pixels as on the whole filter region."""
+    reach = {SOURCE_GRAPHIC: 0, SOURCE_ALPHA: 0}
+    for k, prim in enumerate(flt.primitives):
+        own = _own_reach(prim.effect)
+        if own is None:
+            return None
+        reach[k] = own + max((reach[i] for i in prim.inputs), default=0)
+    return reach[len(flt.primitives) - 1] if flt.primitives else 0
+
+
+def _own_reach(e) -> int | None:
+    """How far one primitive moves colour from its inputs' non-transparent pixels (None: it
+    can draw where they are all transparent)."""
+    if isinstance(e, (Merge, Blend)):
+        return 0
+    if isinstance(e, Composite):
+        return 0 if e.operator != "arithmetic" or e.k[3] <= 0 else None
+    if isinstance(e, Offset):
+        return max(abs(int(e.dx)), abs(int(e.dy)))
+    if isinstance(e, GaussianBlur):
+        return _blur_reach(e.sx, e.sy)
+    if isinstance(e, DropShadow):
+        return _blur_reach(e.sx, e.sy) + max(abs(int(e.dx)), abs(int(e.dy)))
+    if isinstance(e, Morphology):
+        if e.operator == "erode" or not (e.rx > 0 and e.ry > 0):
+            return 0
+        return int(math.ceil(max(e.rx, e.ry)))
+    if isinstance(e, (ColorMatrix, ComponentTransfer)):
+        zero = np.zeros((1, 1, 4), dtype=np.float32)
+        with np.errstate(all="ignore"):
+            out = color_matrix(zero, e.matrix) if isinstance(e, ColorMatrix) \
+                else component_transfer(zero, e.funcs)
+        return 0 if np.nan_to_num(out, nan=0.0, posinf=1.0).max() == 0 else None
+    return None
+
+
+def _blur_reach(sx: float, sy: float) -> int:
+    """The half-width, in pixels, of what gaussian_blur spreads a pixel over."""
+    sx = sx if sx >= 0.05 else 0.0
+    sy = sy if sy >= 0.05 else 0.0
+
+    def axis(s):
+        if s <= 0:
+            return 0
+        if max(sx, sy) >= BOX_BLUR_SIGMA:
+            return sum((size - 1) // 2 for size in box_sizes(s))
+        return len(gaussian_kernel(s)) // 2
+    return max(axis(sx), axis(sy))
+
+
 def run_primitive(prim, inputs, shape, origin=(0, 0)):
     """(result, is linearRGB) of one primitive; ``origin``: device pixel of the image's
     top-left corner."""

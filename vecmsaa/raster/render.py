@@ -14,6 +14,7 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+import math
 import os
 import threading
 from dataclasses import replace
@@ -23,7 +24,7 @@ import numpy as np
 from .blend import blend_premultiplied
 from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
-from .filter_effects import apply_filter
+from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .sample_patterns import a2c_order, mask_table, pattern_offsets, stratified_pattern
@@ -441,33 +442,43 @@ def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
 
 
 def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> None:
-    img = np.zeros_like(target)
+    """Composite the layer onto ``target`` (device rows from y0). A filtered layer touches only
+    the box its filtered pixels cover: outside it the layer is transparent, which composites
+    (in every blend mode) to the target unchanged."""
+    h, w = target.shape[:2]
     if layer.filters:
-        draw_filtered(layer, img, y0, raster)
+        part = filtered_part(layer, y0, h, w, raster)
+        if part is None:
+            return
+        (a, b, c, d), img = part
     else:
+        (a, b, c, d), img = (0, h, 0, w), np.zeros_like(target)
         draw_items(layer.items, img, y0, raster)
     for factor in _clip_and_mask(layer, target.shape, y0, raster):
-        img *= factor[..., None]
+        img *= factor[a:b, c:d, None]
     if layer.opacity < 1.0:
         img *= np.float32(layer.opacity)
-    composite(img, target, layer.blend)
+    composite(img, target[a:b, c:d], layer.blend)
 
 
-def draw_filtered(layer: Layer, img: np.ndarray, y0: int, raster: Raster) -> None:
-    """Copy the rows of ``img`` (device rows from y0) that the layer's filtered content covers.
-    The band holding the content's last row lets go of it, so a document of many filtered
-    elements holds one filtered buffer at a time, not all of them. (With bands on threads a
-    band above it may still be on its way; it then filters again, to the same pixels.)"""
+def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
+    """((a, b, c, d), pixels): a copy of the layer's filtered pixels in rows a..b - 1 and
+    columns c..d - 1 of the band of ``h`` x ``w`` pixels from device row y0, or None where
+    they miss it. The band holding the filtered box's last row lets go of it, so a document
+    of many filtered elements holds one filtered buffer at a time, not all of them. (With
+    bands on threads a band above it may still be on its way; it then filters again, to the
+    same pixels.)"""
     with layer.filtering:
         if layer.filtered is None:
             layer.filtered = render_filtered(layer, raster)
         (x0, fy0, x1, fy1), pixels = layer.filtered
-        if y0 + img.shape[0] >= fy1:
+        if y0 + h >= fy1:
             layer.filtered = None
-    a, b = max(y0, fy0), min(y0 + img.shape[0], fy1)
-    c, d = max(x0, 0), min(x1, img.shape[1])
-    if a < b and c < d:
-        img[a - y0:b - y0, c:d] = pixels[a - fy0:b - fy0, c - x0:d - x0]
+    a, b = max(y0, fy0), min(y0 + h, fy1)
+    c, d = max(x0, 0), min(x1, w)
+    if pixels is None or a >= b or c >= d:
+        return None
+    return (a - y0, b - y0, c, d), pixels[a - fy0:b - fy0, c - x0:d - x0].copy()
 
 
 def render_filtered(layer: Layer, raster: Raster):
@@ -477,6 +488,20 @@ def render_filtered(layer: Layer, raster: Raster):
     too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
     W, H = raster.width, raster.height
     box = filter_box(layer)
+    # where the filters keep transparent pixels transparent, only the content's box grown by
+    # their reach can come out non-transparent: compute there, not in the whole region (an
+    # element with a full-canvas drop shadow costs its own size, not the canvas's)
+    reaches = [transparent_reach(f) for f in layer.filters]
+    if None not in reaches:
+        content = content_box(layer.group)
+        if content is None:
+            return (0, 0, 0, 0), None
+        if all(math.isfinite(v) for v in content):
+            grow = sum(reaches)
+            box = (max(box[0], math.floor(content[0]) - 1 - grow),
+                   max(box[1], math.floor(content[1]) - 1 - grow),
+                   min(box[2], math.ceil(content[2]) + 1 + grow),
+                   min(box[3], math.ceil(content[3]) + 1 + grow))
     for limit in ((-2 * W, -2 * H, 3 * W, 3 * H), (0, 0, W, H)):
         x0, y0 = max(box[0], limit[0]), max(box[1], limit[1])
         x1, y1 = min(box[2], limit[2]), min(box[3], limit[3])
@@ -514,6 +539,30 @@ def render_filtered(layer: Layer, raster: Raster):
     if (cx0, cy0, cx1, cy1) != (x0, y0, x1, y1):
         pixels = pixels[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0].copy()
     return (cx0, cy0, cx1, cy1), pixels
+
+
+def content_box(group: Group):
+    """(x0, y0, x1, y1) device coordinates outside which nothing of ``group``'s children draws
+    (their fills' points, control points included, and nested filtered layers' filter
+    regions), or None if they hold nothing."""
+    lo, hi = [math.inf, math.inf], [-math.inf, -math.inf]
+    stack = list(group.children)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Fill):
+            p = node.path.points
+            if len(p):
+                lo = np.fmin(lo, p.min(axis=0))
+                hi = np.fmax(hi, p.max(axis=0))
+        elif node.filters:
+            for f in node.filters:
+                lo = np.minimum(lo, f.region[:2])
+                hi = np.maximum(hi, f.region[2:])
+        else:
+            stack.extend(node.children)
+    if not lo[0] <= hi[0]:
+        return None
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 
 
 def _clip_and_mask(layer: Layer, shape, y0: int, raster: Raster):
