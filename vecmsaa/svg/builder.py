@@ -219,7 +219,9 @@ class Builder:
             return []
         c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m))
         tag = el.tag
-        if tag == "switch":
+        if tag in SHAPES:
+            nodes = self.shape(el, c, style)
+        elif tag == "switch":
             nodes = []
             for child in el.children:
                 if child.tag in RENDERED and conditions_pass(child):
@@ -231,8 +233,6 @@ class Builder:
             nodes = self.nested_svg(el, c, style)
         elif tag == "use":
             nodes = self.use(el, c, style)
-        elif tag in SHAPES:
-            nodes = self.shape(el, c, style)
         elif tag == "image":
             nodes = self.image(el, c, style)
         elif tag == "text":
@@ -494,7 +494,7 @@ class Builder:
         i = self._path_index.get(el)
         if i is None:
             return parse_path_data(el.get("d") or "")
-        return self._path_batch.get(i)[0]
+        return self._path_batch.path(i)
 
     def shape(self, el, ctx, style):
         if el.tag == "path":
@@ -525,9 +525,9 @@ class Builder:
         verbs = path.verbs
         fillable = not (len(verbs) == 2 and verbs[1] == LINE)
         try:
-            antialias, order, rule = style.cache["draw-plan"]
+            antialias, order, rule, marked = style.cache["draw-plan"]
         except KeyError:
-            antialias, order, rule = style.cache["draw-plan"] = self._draw_plan(style)
+            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
         if ctx.clip:
             rule = style.get("clip-rule").strip()
             return [Fill(path.transformed(ctx.transform), Solid((0, 0, 0, 1)),
@@ -545,16 +545,17 @@ class Builder:
                                     ref.opacity, antialias))
             elif item == "stroke":
                 out.extend(self.stroke(path, style, ctx, bbox, antialias))
-            elif item == "markers" and markers:
+            elif item == "markers" and markers and marked:
                 out.extend(self.markers(path, style, ctx))
         return out
 
     @staticmethod
     def _draw_plan(style):
-        """What draw_path reads of a style on every shape: (antialias, paint order, fill-rule);
-        kept with the (shared) style."""
+        """What draw_path reads of a style on every shape: (antialias, paint order, fill-rule,
+        whether it names markers); kept with the (shared) style."""
         return (style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed"),
-                paint_order(style.get("paint-order")), style.get("fill-rule").strip())
+                paint_order(style.get("paint-order")), style.get("fill-rule").strip(),
+                any(style.get(f"marker-{kind}") != "none" for kind in ("start", "mid", "end")))
 
     def stroke_params(self, style, ctx):
         """(width, join, cap, miterlimit, dashes, offset) in user units, None for no stroke.

@@ -602,8 +602,14 @@ class PathBatch:
         if self.status[i]:
             return _parse_exactly(self.texts[i])
         v0, v1 = self.vstart[i], self.vstart[i + 1]
-        return (Path._of_shared(self.verbs[v0:v1], self.points, self.pstart[i],
-                                self.pstart[i + 1]), self.origin[v0:v1])
+        return self.path(i), self.origin[v0:v1]
+
+    def path(self, i) -> Path:
+        """The Path of the i-th text."""
+        if self.status[i]:
+            return _parse_exactly(self.texts[i])[0]
+        return Path._of_shared(self.verbs[self.vstart[i]:self.vstart[i + 1]], self.points,
+                               self.pstart[i], self.pstart[i + 1])
 
 
 def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
