@@ -117,7 +117,7 @@ class Element:
     __slots__ = ("tag", "attrs", "specified", "children", "parent", "text", "tail", "index",
                  "source")
 
-    def __init__(self, tag, attrs, parent, index):
+    def __init__(self, tag, attrs, parent, index, source=None):
         self.tag = tag
         self.attrs = attrs
         self.specified = {}
@@ -126,7 +126,7 @@ class Element:
         self.text = ""
         self.tail = ""
         self.index = index
-        self.source = None     # the Document this element belongs to
+        self.source = source   # the Document this element belongs to
 
     def get(self, name, default=None):
         return self.attrs.get(name, default)
@@ -364,7 +364,10 @@ class _TreeReader:
         chunks = []                # character data since the last tag
         last = [None, False]       # where it goes: the element, and whether as its tail
         default_ns = None
-        count = 0
+        count = 0                  # elements visited (the foreign ones included)
+        size = 0                   # and made
+        error = None
+        names = {}                 # expat name -> (namespace, local name)
         tb = None
         if self._mirror:
             import xml.etree.ElementTree as ET
@@ -381,19 +384,23 @@ class _TreeReader:
                     el.text = text
 
         def start(name, attr_list):
-            nonlocal default_ns, count
+            nonlocal default_ns, count, size, error
             if chunks:
                 flush()
             if tb is not None:
                 node = tb.start(_et_name(name), {_et_name(attr_list[i]): attr_list[i + 1]
                                                  for i in range(0, len(attr_list), 2)})
-            if stack and stack[-1] is None or self.error is not None:
+            if stack and stack[-1] is None or error is not None:
                 stack.append(None)
                 last[0] = None
                 return
-            ns, sep, tag = name.partition("}")
-            if not sep:
-                ns, tag = "", name
+            try:
+                ns, tag = names[name]
+            except KeyError:
+                ns, sep, tag = name.partition("}")
+                if not sep:
+                    ns, tag = "", name
+                names[name] = ns, tag
             if not stack:
                 if tag != "svg" or ns not in (SVG_NS, ""):
                     self.bad_root = True
@@ -403,10 +410,10 @@ class _TreeReader:
                 default_ns = ns
             count += 1
             if count > MAX_ELEMENTS:
-                self.error = "too many elements"
+                error = "too many elements"
             elif len(stack) > MAX_DEPTH:
-                self.error = f"elements nest deeper than {MAX_DEPTH} levels"
-            if self.error is not None or ns != default_ns:
+                error = f"elements nest deeper than {MAX_DEPTH} levels"
+            if error is not None or ns != default_ns:
                 stack.append(None)   # foreign element: skipped with its subtree
                 last[0] = None
                 return
@@ -429,17 +436,18 @@ class _TreeReader:
                 elif key in PRESENTATION:
                     spec[key] = value.strip()
             parent = stack[-1] if stack else None
-            el = Element(tag, attrs, parent, len(parent.children) if parent else 0)
-            el.source = doc
-            doc.size += 1
+            el = Element(tag, attrs, parent, len(parent.children) if parent else 0, doc)
+            size += 1
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
                 doc.has_use = True
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
-            else:
+            elif spec or style_attr:
                 el.specified = _specified(spec, None, style_attr, self.warnings)
+            else:
+                el.specified = spec
             ident = attrs.get("id")
             if ident is not None and ident not in ids:
                 ids[ident] = el
@@ -492,6 +500,8 @@ class _TreeReader:
             raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
         except (ValueError, UnicodeError, LookupError) as exc:   # LookupError: unknown encoding
             raise SvgError(f"malformed XML: {exc}") from None
+        self.error = error
+        doc.size = size
         if tb is not None:
             self.mirror = tb.close()
         return self.root
