@@ -1,4 +1,5 @@
 """Command-line behaviour shared by all commands: errors, output files."""
+import json
 import os
 import stat
 import subprocess
@@ -58,3 +59,24 @@ def test_bench_versus_resvg_expands_folders_and_needs_svgs(tmp_path):
     empty.mkdir()
     proc = vecmsaa("bench", "--versus-resvg", empty, "-o", tmp_path / "out")
     assert proc.returncode == 2 and "needs SVG files" in proc.stderr
+
+
+def test_bench_icons_writes_the_small_size_table(tmp_path):
+    """The small-size rows: a disc icon passes at the default (16 samples up to 128 px) and
+    with exact area against 1024-sample ground truth at every size; an empty folder is a
+    usage error."""
+    icons = tmp_path / "icons"
+    icons.mkdir()
+    (icons / "disc.svg").write_text('<svg xmlns="http://www.w3.org/2000/svg" width="16" '
+                                    'height="16"><circle cx="8.3" cy="7.8" r="5.4"/></svg>')
+    proc = vecmsaa("bench", "--icons", icons, "-o", tmp_path / "out")
+    assert proc.returncode == 0, proc.stderr
+    rows = {(r["config"], r["size"]): r
+        for r in json.loads((tmp_path / "out" / "icons.json").read_text())}
+    assert {size for _, size in rows} == {16, 24, 32}
+    assert all(rows[("default", s)]["pass"] == 1.0 for s in (16, 24, 32))
+    assert rows[("analytic", 16)]["pass"] == 1.0
+    assert "| default |" in (tmp_path / "out" / "icons.md").read_text()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    assert vecmsaa("bench", "--icons", empty, "-o", tmp_path / "o2").returncode == 2

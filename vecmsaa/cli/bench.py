@@ -35,6 +35,11 @@ def add_parser(subparsers):
                         "of Figure 1, thin lines and small text in every mode, flicker against "
                         "the reference and a moving edge's crawl (writes sequence.md/json/png "
                         "and an animated WebP per case)")
+    p.add_argument("--icons", action="store_true",
+                   help="only the small-size study on the given icon folders or files: "
+                        "each rendered at 16, 24 and 32 px in the default and every mode "
+                        "against 1024-sample ground truth, pass rates by the suite's criterion "
+                        "and edge error (writes icons.md/json)")
     return p
 
 
@@ -59,6 +64,15 @@ def run(args) -> int:
         study(args.out_dir, log=log)
         log(f"bench: results in {args.out_dir}/ (sequence.md, sequence.json, sequence.png, "
             "*.webp)")
+        return 0
+    if args.icons:
+        from vecmsaa.tools.icons import icon_paths, write_study
+        paths = icon_paths(args.inputs)
+        if not paths:
+            print("vecmsaa bench: --icons needs SVG files or folders", file=sys.stderr)
+            return 2
+        write_study(args.out_dir, paths, log=log)
+        log(f"bench: results in {args.out_dir}/ (icons.md, icons.json)")
         return 0
     if args.versus_resvg:
         import os

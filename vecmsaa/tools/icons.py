@@ -13,6 +13,7 @@ desktop theme's symbolic icons)::
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from pathlib import Path
@@ -113,6 +114,18 @@ def table(result, sizes) -> str:
                 f"{x['fallback']:.1%} at {size} px ({x['evaluations']:.2f} samples/pixel)"
                 for x, size in zip(r, sizes)))
     return "\n".join(lines)
+
+
+def write_study(out_dir, paths, sizes=(16, 24, 32), configs=CONFIGS, log=None) -> dict:
+    """measure() the icons and write icons.md (the table) and icons.json into ``out_dir``."""
+    result = measure(paths, sizes, configs, log=log)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    n = max(r["icons"] for r in result.values()) if result else 0
+    (out / "icons.md").write_text(f"{n} icons\n\n{table(result, sizes)}\n")
+    (out / "icons.json").write_text(json.dumps(
+        [{"config": label, "size": size, **r} for (label, size), r in result.items()], indent=1))
+    return result
 
 
 def icon_paths(folders):
