@@ -10,7 +10,7 @@ import pytest
 
 from vecmsaa.api import render_svg_array
 from vecmsaa.fonts import load_face
-from vecmsaa.fonts.sheets import exact_area_sheet, fills_overlap, line_scene
+from vecmsaa.fonts.sheets import exact_area_sheet, line_scene
 from vecmsaa.raster.modes import coverage, default_samples
 from vecmsaa.raster.render import render_scene_rgba8
 from vecmsaa.scene.nodes import Fill, Group, Scene
@@ -104,18 +104,6 @@ def _path(*rects, reverse=()):
     return path
 
 
-def test_fills_overlap_between_paths_only():
-    assert not fills_overlap([_path((1, 1, 4, 4))])
-    assert not fills_overlap([_path((1, 1, 4, 4), (4.3, 1.5, 4, 4))])    # one path overlapping
-    assert not fills_overlap([_path((1, 1, 4, 4)), _path((6, 1, 4, 4))])  # apart
-    assert not fills_overlap([_path((1, 1, 4, 4)), _path((5, 1, 4, 4))])  # a shared edge
-    assert not fills_overlap([_path((1, 1, 8, 8), (3, 3, 2, 2), reverse=(1,)),
-                              _path((3.5, 3.5, 1, 1))])                   # inside the hole
-    assert fills_overlap([_path((1, 1, 8, 8), (3, 3, 2, 2), reverse=(1,)),
-                          _path((2, 2, 1, 1))])                           # on the ring
-    assert fills_overlap([_path((1, 1, 4, 4)), _path((4.3, 1.5, 4, 4))])   # two paths
-
-
 def _truth(rects, reverse=(), w=12, h=8):
     """Brute-force nonzero coverage of the rectangles (those in ``reverse`` wound the other
     way), x 255."""
@@ -183,13 +171,28 @@ def test_font_default_is_exact_where_glyphs_overlap(font, text):
     assert worst < 0.03 and off == 0 and abs(ink) < 0.003
 
 
-def test_font_default_is_msaa_where_fills_overlap():
+def test_specimen_is_exact_area_with_guide_lines_under_glyphs():
     """A specimen's guide lines run under its glyphs: two fills cover those pixels, and per-
-    pixel compositing of exact areas conflates there, so the sheet keeps the MSAA default."""
+    pixel compositing of exact areas is off only where a line's edge and a glyph's edge cross
+    one pixel. Against 256-sample ground truth in every channel: at most 16/255 (8 samples
+    are off by 71/255 on such sheets)."""
     from vecmsaa.fonts.sheets import specimen_scene
 
     face = load_face(os.path.join(FIXTURES, "NotoSans-Subset.ttf"))
-    assert exact_area_sheet(specimen_scene(face, face), face) is None
+    scene = specimen_scene(face, face)
+    truth = render_scene_rgba8(scene, mode="reference", samples=256).astype(float)
+    united = render_scene_rgba8(exact_area_sheet(scene, face), mode="analytic").astype(float)
+    assert np.abs(united - truth).max() <= 16
+
+
+def test_colour_fonts_keep_the_msaa_default():
+    """Colour glyph layers abut one another: exact area per layer would seam them."""
+    path = os.path.join(SUITE_FONTS, "NotoColorEmojiCOLR.subset.ttf")
+    if not os.path.exists(path):
+        pytest.skip("../shared is not present")
+    face = load_face(path)
+    text = "".join(chr(c) for c in sorted(face.ttfont.getBestCmap())[:3])
+    assert exact_area_sheet(line_scene(face, text, 16), face) is None
 
 
 def test_goldens_made_at_the_default_follow_the_size_default(tmp_path):

@@ -130,8 +130,8 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
 
     ``variations`` (``"wght=700"`` or a dict) and ``features`` (``"liga=0,ss01"`` or a dict)
     as in :mod:`vecmsaa.fonts`; ``direction`` one of ltr, rtl, ttb, btt (default: from the
-    text). ``mode``/``samples`` as for ``vecmsaa font`` (default: exact-area coverage unless
-    shapes overlap, docs/fonts.md). Colours are CSS colours; ``background="transparent"`` is allowed. Raises
+    text). ``mode``/``samples`` as for ``vecmsaa font`` (default: exact-area coverage of the
+    outline with its overlaps united, approx for colour fonts; docs/fonts.md). Colours are CSS colours; ``background="transparent"`` is allowed. Raises
     :class:`vecmsaa.fonts.FontError` for an unusable font, ValueError for a bad option."""
     from PIL import Image
 

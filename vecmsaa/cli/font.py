@@ -48,8 +48,8 @@ def add_parser(subparsers):
     p.add_argument("--columns", type=int, default=16, metavar="N",
                    help="columns of the --glyphs grid [default: 16]")
     from .options import add_coverage_options
-    add_coverage_options(p, default_mode="analytic where no two shapes overlap "
-                                          "(docs/fonts.md), else approx")
+    add_coverage_options(p, default_mode="analytic on the outlines with their overlaps "
+                                          "united, approx for colour fonts (docs/fonts.md)")
     p.set_defaults(func=run)
     return p
 
