@@ -12,6 +12,7 @@ from vecmsaa.scene.path import Path
 from vecmsaa.raster.sample_patterns import mask_table, standard_pattern
 from vecmsaa.output.png import encode_png
 from vecmsaa.raster.modes import MODES
+from vecmsaa.raster import render as render_module
 from vecmsaa.raster.render import (RenderOptions, render_float, render_scene, render_scene_png,
                                    render_scene_rgba8)
 from vecmsaa.output.rgba8 import to_rgba8
@@ -418,9 +419,10 @@ FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">
 
 
 @pytest.mark.parametrize("source", ["layered", "filtered", "Ghostscript_Tiger", "alexandria-city-1"])
-def test_threads_and_bands_give_the_same_bytes(source, request):
-    """Bands rendered on 1, 2 or 3 threads with several band budgets: the same image, byte for
-    byte (each thread has its own kernel buffers; a filtered layer is filtered once)."""
+def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
+    """Bands rendered on 1, 2 or 3 threads with several band budgets, and kernel strips
+    smaller than the bands: the same image, byte for byte (each thread has its own kernel
+    buffers; a filtered layer is filtered once)."""
     from vecmsaa.api import load_svg
     if source == "layered":
         scene = layered_scene(61)
@@ -438,6 +440,12 @@ def test_threads_and_bands_give_the_same_bytes(source, request):
             budget = band_rows * scene.width * 16
             assert np.array_equal(render_scene_rgba8(scene, threads=threads,
                                                      band_budget=budget), one), (threads, band_rows)
+    # kernel strips of 1-3 rows (16 or 8 samples) in bands of 63-64 rows: strip boundaries
+    # inside every band
+    monkeypatch.setattr(render_module, "STRIP_BUDGET", 3 * scene.width * 8)
+    assert np.array_equal(render_scene_rgba8(scene, threads=2,
+                                             band_budget=64 * scene.width * 16), one)
+    monkeypatch.undo()
     # PNG rows deflated as bands arrive: the bytes of the whole image's encoding
     png = encode_png(one)
     assert render_scene_png(scene) == png
