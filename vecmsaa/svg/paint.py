@@ -7,6 +7,7 @@ which the raster renders and repeats.
 """
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -109,11 +110,12 @@ ZERO_SCALE = 2.0 ** -23
 
 
 def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
-    """gradientTransform/patternTransform with transform-origin. A malformed list is ignored;
+    """gradientTransform/patternTransform with transform-origin, from the element itself (as
+    in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
     matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing."""
-    text = inherited_attr(chain, attr)
+    text = chain[0].get(attr)    # not inherited through href: usvg reads the element's own
     m = parse_transform(text) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
@@ -160,8 +162,9 @@ def gradient(builder, el, ctx, bbox):
     vp = ctx.viewport
 
     def attr(name, axis, default):
-        # coordinates inherit only from gradients of the same kind
-        same = [e for e in chain if e.tag == el.tag]
+        # coordinates inherit only from gradients of the same kind, up to the first of
+        # another kind (usvg stops there)
+        same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
         return _coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
     if el.tag == "linearGradient":
@@ -172,7 +175,7 @@ def gradient(builder, el, ctx, bbox):
         return LinearGradient(x1, y1, x2, y2, stops, spread, to_paint)
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
     r = attr("r", "xy", "50%")
-    same = [e for e in chain if e.tag == el.tag]
+    same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
     fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
     fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
     fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
