@@ -309,6 +309,21 @@ def test_feimage_draws_an_element_at_the_subregion_corner():
     assert img[17, 17, 3] == 0 and img[5, 5, 3] == 0
 
 
+def test_feimage_drops_rotation_and_skew_as_resvg():
+    # resvg draws a feImage element at the filtered element's device scale only (tiny-skia's
+    # row norms), from the subregion's whole-pixel corner: under rotate(45) the 10 x 10
+    # square stays axis-aligned, 10 px wide, its corner at the rotated region's device box
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="20" '
+                 'height="20"><feImage href="#g"/></filter>'
+                 '<defs><rect id="g" width="10" height="10" fill="#00ff00"/></defs>'
+                 '<rect width="20" height="20" fill="red" filter="url(#f)" '
+                 'transform="translate(20 5) rotate(45)"/>')
+    ys, xs = np.nonzero(img[..., 3] > 128)
+    # the region's corners (0,0) (20,0) (0,20) (20,20) map to x 5.9 .. 34.1, y 5 .. 33.3
+    assert (xs.min(), ys.min(), xs.max(), ys.max()) == (5, 5, 14, 14)
+    assert (img[5:15, 5:15, 1] == 255).all()
+
+
 def test_flood_subregion_in_bounding_box_units():
     img = render('<filter id="f" primitiveUnits="objectBoundingBox">'
                  '<feFlood flood-color="#0000ff" x="0.5" width="0.5"/></filter>'

@@ -406,10 +406,10 @@ class PrimitiveResolver:
                           (fe.get("type") or "").strip() == "fractalNoise", (sx, sy, e, f))
 
     def image(self, fe):
-        """feImage content as a scene Group in device pixels, or None. An element is drawn in
-        the filtered element's user space moved to the subregion's corner, without its own
-        filter (as resvg); a file or data URL is fitted into the subregion."""
-        from ..scene.transform import compose, translate
+        """feImage content as a scene Group in device pixels, or None. An element is drawn as
+        resvg draws it: at the device scale of the filtered element's user space (the row
+        norms: rotation and skew are dropped), from the device subregion's whole-pixel
+        corner, without its own filter; a file or data URL is fitted into the subregion."""
         from .image import image_nodes
 
         b = self.builder
@@ -422,7 +422,9 @@ class PrimitiveResolver:
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
                 return None
-            ctx = replace(self.ctx, transform=compose(self.ctx.transform, translate(x, y)))
+            sub = self.subregion(fe)
+            sx, sy = row_scale(self.ctx.transform)
+            ctx = replace(self.ctx, transform=(sx, 0.0, 0.0, sy, float(sub[0]), float(sub[1])))
             parent = target.parent if target.parent is not None else target
             b.enter_reference(target)
             try:
