@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from truth import distance_to_outline, segments, winding_at
 from vecmsaa.api import load_svg
+from vecmsaa.geometry.primitives import QUAD_FALLBACK_TOL
 from vecmsaa.raster.render import RenderOptions, render_float
 from vecmsaa.raster.sample_patterns import standard_pattern
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
@@ -74,13 +75,14 @@ def per_sample_composite(fills, offsets, background):
                     if (w != 0) if f.rule == "nonzero" else (w % 2 == 1):
                         r, g, b, a = f.paint.color
                         c = np.array([r * a, g * a, b * a, a]) + c * (1 - a)
-                    if distance_to_outline(sg, x, y, 400) < 1e-3:
+                    if distance_to_outline(sg, x, y, 400) < QUAD_FALLBACK_TOL:
                         near[py, px] = True
                 img[py, px] += c / len(offsets)
     return img, near
 
 
-@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=10, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(layered_fills(), st.sampled_from(["persample", "approx"]))
 def test_front_to_back_equals_the_per_sample_compositor(fills, mode):
     background = (0.3, 0.3, 0.8, 1.0)   # opaque: premultiplied is the same
@@ -88,7 +90,8 @@ def test_front_to_back_equals_the_per_sample_compositor(fills, mode):
                        RenderOptions(mode, 8))
     want, near = per_sample_composite(fills, standard_pattern(8), background)
     bad = np.abs(got - want).max(axis=2) > 1e-5
-    # only a sample on an outline itself may go either way
+    # only a sample on an outline may go either way: within the tolerance to which the
+    # geometry approximates curves (a degenerate cubic as quadratics, QUAD_FALLBACK_TOL)
     assert not (bad & ~near).any(), np.argwhere(bad & ~near)[:5]
 
 
