@@ -218,6 +218,29 @@ def test_cusp_cubic():
     check_distance_property(parse_path_data("M 0 0 C 100 60 0 60 100 0"), 10, 0.05, rng)
 
 
+@pytest.mark.parametrize("scale", [1e-3, 1e6])
+def test_distance_property_curves_tiny_and_huge(scale):
+    # the compiled curve stroker's tests (flatness, offset error, curvature against the half
+    # width) are all relative to the tolerance, so a scaled drawing strokes the same
+    rng = np.random.default_rng(3)
+    d = "M 10 10 C 90 10 10 90 90 90 L 95 20 Q 50 -30 20 40 Z M 0 0 C 100 100 0 100 100 0"
+    src = parse_path_data(d).transformed((scale, 0, 0, scale, 0, 0))
+    for w in (2.0, 30.0):
+        check_distance_property(src, w * scale, 0.05 * scale, rng, n=1500)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.floats(-1e300, 1e300), st.floats(-1e300, 1e300),
+       st.sampled_from([1.0, 1e-9, 1e9, 1e-160, 1e150]))
+def test_kernel_hypot_is_cpythons(x, y, scale):
+    # the curve kernels measure with CPython's correctly rounded hypot (libm's is off by
+    # an ulp at times, which the offset fits magnify)
+    from vecmsaa.geometry.stroke_kernels import _hypot
+
+    assert _hypot(x, y * scale) == math.hypot(x, y * scale)
+    assert _hypot(x * 1e-12, y) == math.hypot(x * 1e-12, y)
+
+
 coordinate = st.floats(-100, 100, allow_nan=False).map(lambda v: round(v, 2))
 
 
@@ -365,18 +388,16 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
     dashes walked by the pure-Python dash walker."""
     from vecmsaa.geometry import stroke
 
-    out = stroke._Out()
     pattern = dash_pattern(dashes)
+    parts = []
     for segs, closed in stroke._subpaths(path):
-        parts = [(segs, closed)] if pattern is None else \
-            [(d, False) for d in stroke._dash_subpath(segs, closed, pattern, offset, tol)]
-        for part, part_closed in parts:
-            if isinstance(part, tuple):          # a zero-length dash
-                stroke._emit_dot(out, part[0], w / 2, cap, tol, part[1])
-            else:
-                stroke._stroke_pieces(out, part, part_closed, w / 2, tol, join, cap,
-                                      max(1.0, miterlimit))
-    return out.path()
+        if pattern is None:
+            parts.append((segs, closed))
+        else:
+            parts += [d if isinstance(d, tuple) else (d, False)
+                      for d in stroke._dash_subpath(segs, closed, pattern, offset, tol)]
+    return Path.from_arrays(*stroke._segments_outline(
+        stroke._segment_arrays(parts), w / 2, tol, join, cap, max(1.0, miterlimit), general=True))
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])

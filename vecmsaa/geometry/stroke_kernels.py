@@ -13,7 +13,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE
+from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
 CAP_CODES = {"butt": 0, "round": 1, "square": 2}
@@ -364,12 +364,23 @@ def _line_subpaths(verbs, points):
 
 @njit(cache=True)
 def _grow_points(a, need):
+    """a with room for need rows (points, or the rows of any float table)."""
     if need <= a.shape[0]:
         return a
-    b = np.empty((max(need, 2 * a.shape[0]), 2))
-    for i in range(a.shape[0]):     # (a loop: a slice assignment costs seconds of compile time)
-        b[i, 0] = a[i, 0]
-        b[i, 1] = a[i, 1]
+    b = np.empty((max(need, 2 * a.shape[0]), a.shape[1]))
+    for i in range(a.shape[0]):     # (loops: a slice assignment costs seconds of compile time)
+        for j in range(a.shape[1]):
+            b[i, j] = a[i, j]
+    return b
+
+
+@njit(cache=True)
+def _grow_verbs(a, need):
+    if need <= a.shape[0]:
+        return a
+    b = np.empty(max(need, 2 * a.shape[0]), np.uint8)
+    for i in range(a.shape[0]):
+        b[i] = a[i]
     return b
 
 
@@ -550,3 +561,595 @@ def stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset)
     dash_pts, dash_starts, dots = _dash_polylines(src, starts, closed, pattern, offset)
     return _stroke_polylines(dash_pts, dash_starts, np.zeros(len(dash_starts), np.bool_), dots,
                              hw, tol, join, cap, miterlimit)
+
+
+# -- curves ---------------------------------------------------------------------------------
+# Subpaths as the curve stroker takes them (stroke_segments): per segment its number of
+# control points (2 a line, 3 a quadratic, 4 a cubic) and a row of 8 coordinates x0, y0, x1,
+# y1, ...; per subpath the index of its first segment and a kind: open, closed (its closing
+# line included), or a dot (a zero-length dash: its point and direction in its one row).
+SUB_OPEN, SUB_CLOSED, SUB_DOT = 0, 1, 2
+
+_MAX_DEPTH = 12          # curve subdivision depth: 4096 pieces at most per segment
+
+# A piece of a segment is a row of the piece table: source end points, unit tangents at both
+# ends, the control points of its right and left offsets (4 each, a line's 2) and err: how far
+# the source may be from the true segment (a chord's flatness; 0 where it is exact).
+_PS, _PE, _PT0, _PT1, _PR, _PL, _PERR = 0, 2, 4, 6, 8, 16, 24
+_PIECE_COLS = 25
+# what a join adds to either side at most: outer items (a line and two quarter cubics, or a
+# line and _MAX_ARC_CHORDS chords), the line to the next offset; or the inner detour
+_JOIN_SIDE_VERBS = 2 + _MAX_ARC_CHORDS
+_JOIN_SIDE_PTS = 8
+
+
+_DBL_MIN = 2.2250738585072014e-308      # the smallest normal double
+
+
+@njit(cache=True, inline="always")
+def _square(x):
+    """x·x exactly, as (hi, lo) (Dekker's product of Veltkamp halves)."""
+    t = x * 134217729.0
+    hi = t - (t - x)
+    lo = x - hi
+    p = hi * hi
+    q = hi * lo + lo * hi
+    z = p + q
+    return z, p - z + q + lo * lo
+
+
+@njit(cache=True)
+def _hypot(x, y):
+    """math.hypot as CPython computes it (the square root of an exactly summed sum of squares,
+    corrected by one step): libm's hypot, which numba calls, differs in the last bit now and
+    then, and the offsets' fits and flatness tests magnify that; so the curve stroker keeps
+    the outlines it drew in Python, bit for bit (subnormal lengths aside)."""
+    x, y = abs(x), abs(y)
+    m = 0.0
+    if x > m:
+        m = x
+    if y > m:
+        m = y
+    if math.isinf(m):
+        return m
+    if math.isnan(x) or math.isnan(y):
+        return math.nan
+    if m == 0.0:
+        return m
+    factor = 1.0
+    e = math.frexp(m)[1]
+    if e < -1023:           # subnormal: scaled up first
+        x, y, m, factor = x / _DBL_MIN, y / _DBL_MIN, m / _DBL_MIN, _DBL_MIN
+        e = math.frexp(m)[1]
+    scale = math.ldexp(1.0, -e)
+    csum, frac1, frac2 = 1.0, 0.0, 0.0
+    for v in (x * scale, y * scale):
+        hi, lo = _square(v)
+        s = csum + hi
+        frac2 += (csum - s) + hi
+        csum = s
+        frac1 += lo
+    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
+    hi, lo = _square(h)
+    s = csum - hi
+    frac2 += (csum - s) - hi
+    csum = s
+    frac1 -= lo
+    v = csum - 1.0 + (frac1 + frac2)
+    h += v / (2.0 * h)
+    return factor * (h / scale)
+
+
+@njit(cache=True)
+def _unit(dx, dy):
+    """(ok, ux, uy): the direction of (dx, dy); not ok for a zero or non-finite length."""
+    n = _hypot(dx, dy)
+    if n == 0.0 or not math.isfinite(n):
+        return False, 0.0, 0.0
+    return True, dx / n, dy / n
+
+
+@njit(cache=True)
+def _cubic_at(c, t):
+    """Point at t of the cubic c (a row x0, y0, ..., x3, y3)."""
+    u = 1.0 - t
+    a, b, cc, d = u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t
+    return (a * c[0] + b * c[2] + cc * c[4] + d * c[6],
+            a * c[1] + b * c[3] + cc * c[5] + d * c[7])
+
+
+@njit(cache=True)
+def _cubic_velocity(c, t):
+    v = 1.0 - t
+    p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
+    return (p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
+            p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
+
+
+@njit(cache=True)
+def _curvature(c, t):
+    """Signed curvature at t (inf where the speed vanishes)."""
+    dx, dy = _cubic_velocity(c, t)
+    sp2 = dx * dx + dy * dy
+    if sp2 < 1e-24:
+        return math.inf
+    u = 1.0 - t
+    ex = 6.0 * (u * (c[4] - 2.0 * c[2] + c[0]) + t * (c[6] - 2.0 * c[4] + c[2]))
+    ey = 6.0 * (u * (c[5] - 2.0 * c[3] + c[1]) + t * (c[7] - 2.0 * c[5] + c[3]))
+    return (dx * ey - dy * ex) / (sp2 * math.sqrt(sp2))
+
+
+@njit(cache=True)
+def _offset_at(c, t, off):
+    """(ok, x, y): the true offset's point at t (off: signed distance along the left normal)."""
+    dx, dy = _cubic_velocity(c, t)
+    ok, ux, uy = _unit(dx, dy)
+    if not ok:
+        return False, 0.0, 0.0
+    x, y = _cubic_at(c, t)
+    return True, x - uy * off, y + ux * off
+
+
+@njit(cache=True)
+def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
+    """Write into fit the cubic approximating the offset of c by off: end points and tangents
+    exact, handle lengths chosen so the midpoints agree."""
+    q0x, q0y = c[0] - t0y * off, c[1] + t0x * off
+    q3x, q3y = c[6] - t1y * off, c[7] + t1x * off
+    ok, mx, my = _offset_at(c, 0.5, off)
+    det = t1x * t0y - t0x * t1y             # det of [t0, -t1]
+    a = b = 0.0
+    solved = False
+    if ok and abs(det) > 1e-9:
+        # solve a·t0 − b·t1 = 8/3·(m − (q0 + q3)/2)
+        rx = 8.0 / 3.0 * (mx - (q0x + q3x) / 2.0)
+        ry = 8.0 / 3.0 * (my - (q0y + q3y) / 2.0)
+        a = (rx * (-t1y) - ry * (-t1x)) / det
+        b = (t0x * ry - t0y * rx) / det
+        solved = not (a < 0.0 or b < 0.0)
+    if not solved:
+        # parallel end tangents: scale the source handles by the offset's speed ratio
+        k0 = _curvature(c, 0.0)
+        k1 = _curvature(c, 1.0)
+        a = b = 0.0
+        if math.isfinite(k0):
+            s = 1.0 - off * k0
+            a = _hypot(c[2] - c[0], c[3] - c[1]) * (s if s > 0.0 else 0.0)
+        if math.isfinite(k1):
+            s = 1.0 - off * k1
+            b = _hypot(c[6] - c[4], c[7] - c[5]) * (s if s > 0.0 else 0.0)
+    fit[0], fit[1] = q0x, q0y
+    fit[2], fit[3] = q0x + a * t0x, q0y + a * t0y
+    fit[4], fit[5] = q3x - b * t1x, q3y - b * t1y
+    fit[6], fit[7] = q3x, q3y
+
+
+@njit(cache=True)
+def _offset_error(c, fit, off):
+    """Distance of the fitted offset from the true one at the quarter points."""
+    err = 0.0
+    for t in (0.25, 0.75):
+        ok, tx, ty = _offset_at(c, t, off)
+        if not ok:
+            return math.inf
+        x, y = _cubic_at(fit, t)
+        e = _hypot(x - tx, y - ty)
+        if e > err:
+            err = e
+    return err
+
+
+@njit(cache=True)
+def _cubic_tangents(c):
+    """(ok, start direction, end direction) of the cubic c; not ok for zero length."""
+    ok0 = ok1 = False
+    sx = sy = ex = ey = 0.0
+    for i in range(1, 4):
+        ok0, sx, sy = _unit(c[2 * i] - c[0], c[2 * i + 1] - c[1])
+        if ok0:
+            break
+    for i in range(2, -1, -1):
+        ok1, ex, ey = _unit(c[6] - c[2 * i], c[7] - c[2 * i + 1])
+        if ok1:
+            break
+    return ok0 and ok1, sx, sy, ex, ey
+
+
+@njit(cache=True)
+def _flatness(c):
+    """An upper bound of the cubic's distance from its chord: the control points' distance
+    from the chord segment (not its line: a curve can overshoot along the chord)."""
+    x0, y0 = c[0], c[1]
+    dx, dy = c[6] - x0, c[7] - y0
+    l2 = dx * dx + dy * dy
+    worst = 0.0
+    for i in range(1, 3):
+        x, y = c[2 * i], c[2 * i + 1]
+        t = ((x - x0) * dx + (y - y0) * dy) / l2 if l2 > 0 else 0.0
+        t = t if t > 0.0 else 0.0
+        t = t if t < 1.0 else 1.0
+        e = _hypot(x - x0 - t * dx, y - y0 - t * dy)
+        if e > worst:
+            worst = e
+    return worst
+
+
+@njit(cache=True)
+def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
+    """Append the piece of the line p0 → p1 (direction d); returns the grown table."""
+    tab = _grow_points(tab, n + 1)
+    kinds = _grow_ints(kinds, n + 1)
+    nx, ny = -dy * hw, dx * hw
+    r = tab[n]
+    r[0], r[1], r[2], r[3] = x0, y0, x1, y1
+    r[4], r[5], r[6], r[7] = dx, dy, dx, dy
+    r[8], r[9], r[10], r[11] = x0 - nx, y0 - ny, x1 - nx, y1 - ny
+    r[16], r[17], r[18], r[19] = x0 + nx, y0 + ny, x1 + nx, y1 + ny
+    r[24] = err
+    kinds[n] = 2
+    return tab, kinds, n + 1
+
+
+@njit(cache=True)
+def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
+    """Append the pieces of the cubic in stack[0]: offset cubics where they fit within tol,
+    else halves (depth first, the first half first), down to pieces flat within tol / 2,
+    which become their chords. Stroked with round joins between them (the stroker's rule
+    inside a curve), chords are within tol / 2 of the curve's stroke: the round-joined
+    stroke of a polyline is its Minkowski sum with the pen disc. That is also how bends
+    tighter than the half width are handled, where the offset folds back on itself. The
+    joins' and caps' arcs may lie inside the disc by their own tolerance, which adds to the
+    chord's: they get what the chord leaves (see _shape_tol). stack rows: 8 coordinates and
+    the depth; cur: scratch for one cubic."""
+    right = np.empty(8)
+    left = np.empty(8)
+    stack[0, 8] = 0.0
+    top = 1
+    while top > 0:
+        top -= 1
+        for j in range(8):
+            cur[j] = stack[top, j]
+        depth = int(stack[top, 8])
+        ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
+        if not ok:
+            continue
+        # a piece turning by more than 90° is split so the midpoint fit stays well posed
+        fits = t0x * t1x + t0y * t1y >= 0.0
+        if fits:
+            # a bend tighter than hw on a side makes that side's offset fold back
+            for t in (0.0, 0.5, 1.0):
+                k = _curvature(cur, t)
+                if not math.isfinite(k) or hw * abs(k) >= 1.0:
+                    fits = False
+                    break
+        if fits:
+            _fit_offset(cur, t0x, t0y, t1x, t1y, -hw, right)
+            fits = not _offset_error(cur, right, -hw) > tol
+        if fits:
+            _fit_offset(cur, t0x, t0y, t1x, t1y, hw, left)
+            fits = not _offset_error(cur, left, hw) > tol
+        if fits:
+            tab = _grow_points(tab, n + 1)
+            kinds = _grow_ints(kinds, n + 1)
+            r = tab[n]
+            r[0], r[1], r[2], r[3] = cur[0], cur[1], cur[6], cur[7]
+            r[4], r[5], r[6], r[7] = t0x, t0y, t1x, t1y
+            for j in range(8):
+                r[_PR + j] = right[j]
+                r[_PL + j] = left[j]
+            r[_PERR] = 0.0
+            kinds[n] = 4
+            n += 1
+            continue
+        flat = _flatness(cur)
+        if depth < _MAX_DEPTH and flat > tol / 2.0:
+            # the second half below the first, which is popped next
+            a, b = stack[top + 1], stack[top]
+            x0, y0, x1, y1, x2, y2, x3, y3 = (cur[0], cur[1], cur[2], cur[3], cur[4], cur[5],
+                                              cur[6], cur[7])
+            ax, ay = x0 + (x1 - x0) * 0.5, y0 + (y1 - y0) * 0.5
+            bx, by = x1 + (x2 - x1) * 0.5, y1 + (y2 - y1) * 0.5
+            cx, cy = x2 + (x3 - x2) * 0.5, y2 + (y3 - y2) * 0.5
+            dx, dy = ax + (bx - ax) * 0.5, ay + (by - ay) * 0.5
+            ex, ey = bx + (cx - bx) * 0.5, by + (cy - by) * 0.5
+            fx, fy = dx + (ex - dx) * 0.5, dy + (ey - dy) * 0.5
+            a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7] = x0, y0, ax, ay, dx, dy, fx, fy
+            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7] = fx, fy, ex, ey, cx, cy, x3, y3
+            a[8] = b[8] = depth + 1.0
+            top += 2
+            continue
+        ok, dx, dy = _unit(cur[6] - cur[0], cur[7] - cur[1])
+        if ok:
+            tab, kinds, n = _line_piece(tab, kinds, n, cur[0], cur[1], cur[6], cur[7], dx, dy,
+                                        hw, flat)
+            continue
+        # a closed loop too small to matter (or depth exhausted): two chords via its midpoint
+        mx, my = _cubic_at(cur, 0.5)
+        ok, dx, dy = _unit(mx - cur[0], my - cur[1])
+        if ok:
+            tab, kinds, n = _line_piece(tab, kinds, n, cur[0], cur[1], mx, my, dx, dy, hw,
+                                        flat)
+        ok, dx, dy = _unit(cur[6] - mx, cur[7] - my)
+        if ok:
+            tab, kinds, n = _line_piece(tab, kinds, n, mx, my, cur[6], cur[7], dx, dy, hw,
+                                        flat)
+    return tab, kinds, n
+
+
+@njit(cache=True)
+def _shape_tol(tab, a, b, tol):
+    """Tolerance left for a join or cap at the ends of pieces a and b: a chord's own error f
+    moves the stroke around it by up to f, so the shape gets tol − f (at least tol / 2,
+    chords being flat within that unless subdivision ran out of depth)."""
+    e = tab[a, _PERR]
+    if tab[b, _PERR] > e:
+        e = tab[b, _PERR]
+    half = tol / 2.0
+    return tol - (half if half < e else e)
+
+
+@njit(cache=True)
+def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
+    """The offsets (columns col...) of pieces lo..hi-1 along one side, joined by straight
+    lines where consecutive offsets do not quite meet; the side is at the first one's start."""
+    for j in range(lo, hi):
+        r = tab[j]
+        if j > lo and (sp[sc[1] - 1, 0] != r[col] or sp[sc[1] - 1, 1] != r[col + 1]):
+            _line(sv, sp, sc, r[col], r[col + 1])
+        if kinds[j] == 2:
+            _line(sv, sp, sc, r[col + 2], r[col + 3])
+        else:
+            sv[sc[0]] = CUBIC
+            sc[0] += 1
+            _point(sp, sc, r[col + 2], r[col + 3])
+            _point(sp, sc, r[col + 4], r[col + 5])
+            _point(sp, sc, r[col + 6], r[col + 7])
+
+
+@njit(cache=True)
+def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw,
+                join, miterlimit, dot, tol, o1x, o1y, i1x, i1y):
+    """Extend the outer side (side: +1 left, −1 right) by the join shape to its next offset's
+    start o1, the inner side through p to its next start i1. tv, tp, tc: scratch."""
+    tc[0] = 0
+    tc[1] = 0
+    outer_join_items(tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw, join, miterlimit, dot,
+                     tol)
+    first_pts = 3 if tv[0] == CUBIC else 1
+    e = first_pts - 1
+    v0 = p0 = 0
+    if tp[e, 0] == op[oc[1] - 1, 0] and tp[e, 1] == op[oc[1] - 1, 1]:
+        v0, p0 = 1, first_pts       # the side already ends at the offset's end
+    for i in range(v0, tc[0]):
+        ov[oc[0]] = tv[i]
+        oc[0] += 1
+    for i in range(p0, tc[1]):
+        _point(op, oc, tp[i, 0], tp[i, 1])
+    if op[oc[1] - 1, 0] != o1x or op[oc[1] - 1, 1] != o1y:
+        _line(ov, op, oc, o1x, o1y)
+    _line(iv, ip, ic, px, py)
+    _line(iv, ip, ic, i1x, i1y)
+
+
+@njit(cache=True)
+def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, cap,
+                   miterlimit):
+    """The general stroker for segments lo..hi-1 of one subpath: they become pieces (lines,
+    offset cubics, chords) grouped into runs with continuous tangents, joined inline; one
+    contour when open, two loops when closed, as in _stroke_polyline. Returns the grown
+    output buffers."""
+    tab = np.empty((16, _PIECE_COLS))
+    pk = np.empty(16, np.int64)
+    stack = np.empty((_MAX_DEPTH + 2, 9))
+    cur = np.empty(8)
+    run_lo = np.empty(8, np.int64)      # first piece of each run, then the piece count
+    run_join = np.empty(8, np.int64)    # join before each run (kinks inside curves: round)
+    n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
+    nruns = 0
+    for s in range(lo, hi):
+        first = n
+        seg = segs[s]
+        if kinds[s] == 2:
+            ok, dx, dy = _unit(seg[2] - seg[0], seg[3] - seg[1])
+            if ok:
+                tab, pk, n = _line_piece(tab, pk, n, seg[0], seg[1], seg[2], seg[3], dx, dy,
+                                         hw, 0.0)
+        else:
+            if kinds[s] == 3:       # quadratic → the identical cubic
+                stack[0, 0], stack[0, 1] = seg[0], seg[1]
+                stack[0, 2] = seg[0] + 2.0 / 3.0 * (seg[2] - seg[0])
+                stack[0, 3] = seg[1] + 2.0 / 3.0 * (seg[3] - seg[1])
+                stack[0, 4] = seg[4] + 2.0 / 3.0 * (seg[2] - seg[4])
+                stack[0, 5] = seg[5] + 2.0 / 3.0 * (seg[3] - seg[5])
+                stack[0, 6], stack[0, 7] = seg[4], seg[5]
+            else:
+                for j in range(8):
+                    stack[0, j] = seg[j]
+            tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
+        for j in range(first, n):
+            if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
+                    tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
+                continue            # on with the run
+            run_lo = _grow_ints(run_lo, nruns + 2)
+            run_join = _grow_ints(run_join, nruns + 1)
+            run_lo[nruns] = j
+            run_join[nruns] = join if j == first else _ROUND
+            nruns += 1
+    if nruns == 0:
+        verbs = _grow_verbs(verbs, cnt[0] + _DOT_VERBS)
+        pts = _grow_points(pts, cnt[1] + _DOT_PTS)
+        dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], 1.0, 0.0, hw, cap, tol)
+        return verbs, pts
+    run_lo[nruns] = n
+    # One chain along both sides, joins and caps inline: as chains this equals the sum of the
+    # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
+    # explained in _stroke_polyline, so the nonzero fill is their union.
+    side_verbs = 2 * n + _JOIN_SIDE_VERBS * (nruns + 1) + 4
+    side_pts = 4 * n + _JOIN_SIDE_PTS * (nruns + 1) + 4
+    rv = np.empty(side_verbs, np.uint8)
+    lv = np.empty(side_verbs, np.uint8)
+    rp = np.empty((side_pts, 2))
+    lp = np.empty((side_pts, 2))
+    rc = np.zeros(2, np.int64)
+    lc = np.zeros(2, np.int64)
+    tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
+    tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
+    tc = np.zeros(2, np.int64)
+    _point(rp, rc, tab[0, _PR], tab[0, _PR + 1])
+    _point(lp, lc, tab[0, _PL], tab[0, _PL + 1])
+    # (np.int64: an int literal argument would compile a specialisation of its own)
+    _append_side(rv, rp, rc, tab, pk, np.int64(0), run_lo[1], np.int64(_PR))
+    _append_side(lv, lp, lc, tab, pk, np.int64(0), run_lo[1], np.int64(_PL))
+    for i in range(1, nruns + 1 if closed else nruns):
+        a = run_lo[i % nruns]
+        prev = run_lo[i] - 1
+        d0x, d0y = tab[prev, _PT1], tab[prev, _PT1 + 1]
+        d1x, d1y = tab[a, _PT0], tab[a, _PT0 + 1]
+        px, py = tab[a, _PS], tab[a, _PS + 1]
+        r1x, r1y = tab[a, _PR], tab[a, _PR + 1]
+        l1x, l1y = tab[a, _PL], tab[a, _PL + 1]
+        cross = d0x * d1y - d0y * d1x
+        dot = d0x * d1x + d0y * d1y
+        if dot > SMOOTH_COS:
+            _line(rv, rp, rc, r1x, r1y)
+            _line(lv, lp, lc, l1x, l1y)
+        else:
+            jn = run_join[i] if i < nruns else join
+            jtol = _shape_tol(tab, prev, a, tol)
+            if cross > 0:       # turning left: left side inner
+                _turn_sides(rv, rp, rc, lv, lp, lc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
+                            -1.0, hw, jn, miterlimit, dot, jtol, r1x, r1y, l1x, l1y)
+            else:
+                _turn_sides(lv, lp, lc, rv, rp, rc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
+                            1.0, hw, jn, miterlimit, dot, jtol, l1x, l1y, r1x, r1y)
+        if i < nruns:
+            _append_side(rv, rp, rc, tab, pk, a, run_lo[i + 1], np.int64(_PR))
+            _append_side(lv, lp, lc, tab, pk, a, run_lo[i + 1], np.int64(_PL))
+    verbs = _grow_verbs(verbs, cnt[0] + rc[0] + lc[0] + 2 * _CAP_VERBS + 4)
+    pts = _grow_points(pts, cnt[1] + rc[1] + lc[1] + 2 * _CAP_PTS + 4)
+    if closed:
+        # the sides start where the first run starts; the closing join ended there too
+        verbs[cnt[0]] = MOVE
+        cnt[0] += 1
+        _point(pts, cnt, rp[rc[1] - 1, 0], rp[rc[1] - 1, 1])
+        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(1))
+        verbs[cnt[0]] = CLOSE
+        cnt[0] += 1
+        verbs[cnt[0]] = MOVE
+        cnt[0] += 1
+        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
+        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(1))
+        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
+        verbs[cnt[0]] = CLOSE
+        cnt[0] += 1
+        return verbs, pts
+    last = n - 1
+    verbs[cnt[0]] = MOVE
+    cnt[0] += 1
+    _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(0))
+    cap_items(verbs, pts, cnt, tab[last, _PE], tab[last, _PE + 1], tab[last, _PT1],
+              tab[last, _PT1 + 1], hw, cap, _shape_tol(tab, last, last, tol))
+    _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(0))
+    cap_items(verbs, pts, cnt, tab[0, _PS], tab[0, _PS + 1], -tab[0, _PT0], -tab[0, _PT0 + 1],
+              hw, cap, _shape_tol(tab, np.int64(0), np.int64(0), tol))
+    verbs[cnt[0]] = CLOSE
+    cnt[0] += 1
+    return verbs, pts
+
+
+@njit(cache=True)
+def path_segments(verbs, points):
+    """A path's subpaths as stroke_segments takes them (kinds, segments, subpath starts,
+    subpath kinds), the closing lines made explicit. Subpaths with a moveto alone are dropped
+    (they are not stroked); others are kept even if all their segments have zero length
+    (round and square caps draw them as dots)."""
+    kinds = np.empty(len(verbs), np.int64)
+    segs = np.zeros((len(verbs), 8))
+    subs = np.empty(len(verbs) + 1, np.int64)
+    flags = np.empty(len(verbs), np.int64)
+    ns = nsub = first = ip = 0
+    drawn = have_start = False
+    sx = sy = cx = cy = 0.0
+    for v in verbs:
+        if v == MOVE:
+            if drawn:
+                subs[nsub] = first
+                flags[nsub] = SUB_OPEN
+                nsub += 1
+            first = ns
+            sx, sy = points[ip, 0], points[ip, 1]
+            cx, cy = sx, sy
+            ip += 1
+            drawn = False
+            have_start = True
+        elif v == CLOSE:
+            if have_start:
+                kinds[ns] = 2
+                segs[ns, 0], segs[ns, 1], segs[ns, 2], segs[ns, 3] = cx, cy, sx, sy
+                ns += 1
+                subs[nsub] = first
+                flags[nsub] = SUB_CLOSED
+                nsub += 1
+                cx, cy = sx, sy
+            ns = first = ns if have_start else first
+            drawn = False
+        else:
+            k = 3 if v == CUBIC else (2 if v == QUAD else 1)
+            kinds[ns] = k + 1
+            segs[ns, 0], segs[ns, 1] = cx, cy
+            for j in range(k):
+                segs[ns, 2 + 2 * j] = points[ip + j, 0]
+                segs[ns, 3 + 2 * j] = points[ip + j, 1]
+            cx, cy = points[ip + k - 1, 0], points[ip + k - 1, 1]
+            ip += k
+            ns += 1
+            drawn = True
+    if drawn:
+        subs[nsub] = first
+        flags[nsub] = SUB_OPEN
+        nsub += 1
+        first = ns
+    subs[nsub] = first
+    return kinds[:first], segs[:first], subs[:nsub + 1], flags[:nsub]
+
+
+@njit(cache=True)
+def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, general):
+    """Outline (verbs, points) of subpaths of segments (see path_segments). Subpaths of lines
+    only go to _stroke_polyline unless general (tests compare the two strokers)."""
+    verbs = np.empty(64, np.uint8)
+    pts = np.empty((64, 2))
+    cnt = np.zeros(2, np.int64)
+    for k in range(len(flags)):
+        lo, hi = subs[k], subs[k + 1]
+        if flags[k] == SUB_DOT:
+            verbs = _grow_verbs(verbs, cnt[0] + _DOT_VERBS)
+            pts = _grow_points(pts, cnt[1] + _DOT_PTS)
+            dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], segs[lo, 2], segs[lo, 3],
+                        hw, cap, tol)
+            continue
+        closed = flags[k] == SUB_CLOSED
+        lines = not general
+        for s in range(lo, hi):
+            lines = lines and kinds[s] == 2
+        if not lines:
+            verbs, pts = _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol,
+                                        join, cap, miterlimit)
+            continue
+        m = hi - lo + 1
+        src = np.empty((m, 2))
+        for s in range(lo, hi):
+            src[s - lo, 0], src[s - lo, 1] = segs[s, 0], segs[s, 1]
+        src[m - 1, 0], src[m - 1, 1] = segs[hi - 1, 2], segs[hi - 1, 3]
+        verbs = _grow_verbs(verbs, cnt[0] + 2 * (_SIDE_VERBS_PER_VERTEX * m + 2) +
+                            2 * _CAP_VERBS + 4 + _DOT_VERBS)
+        pts = _grow_points(pts, cnt[1] + 2 * (_SIDE_PTS_PER_VERTEX * m + 2) + 2 * _CAP_PTS +
+                           4 + _DOT_PTS + 1)
+        side_pts = _SIDE_PTS_PER_VERTEX * m + 4
+        _stroke_polyline(verbs, pts, cnt, src, np.int64(0), m, closed, hw, tol, join, cap,
+                         miterlimit, np.empty((m, 2)), np.empty((m, 2)), np.empty(m),
+                         np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
+                         np.empty((side_pts, 2)),
+                         np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
+                         np.empty((side_pts, 2)))
+    return verbs[:cnt[0]], pts[:cnt[1]]
