@@ -224,3 +224,23 @@ def test_glyph_grid_is_exact_area():
     worst, off, ink = _against_reference(
         glyph_grid_scene(face, face, glyph_size=16, per_page=64, background=(0, 0, 0, 0)), face)
     assert off == 0 and abs(ink) < 0.002
+
+
+def test_stacked_copies_are_not_united():
+    """64 copies of one contour on top of each other (composite fan-out fonts, marks without
+    mark-to-mark offsets) would take Skia's simplify over a minute: the sheet keeps the MSAA
+    default instead, which is exact per sample there."""
+    face = load_face(os.path.join(FIXTURES, "NotoSans-Subset.ttf"))
+    stacked = Path()
+    for _ in range(64):
+        stacked.moveTo((1.0, 1.0))
+        stacked.qCurveTo((4.0, 7.0), (7.0, 1.0))
+        stacked.closePath()
+    scene = Scene(8, 8, Group([Fill(stacked)]), (0.0, 0.0, 0.0, 0.0))
+    assert exact_area_sheet(scene, face) is None
+    two = Path()
+    for dx in (0.0, 0.3):
+        two.moveTo((1.0 + dx, 1.0))
+        two.qCurveTo((4.0 + dx, 7.0), (7.0 + dx, 1.0))
+        two.closePath()
+    assert exact_area_sheet(Scene(8, 8, Group([Fill(two)]), (0.0, 0.0, 0.0, 0.0)), face)

@@ -288,10 +288,18 @@ def exact_area_sheet(scene: Scene, face) -> Scene | None:
                  Group([Fill(p, f.paint) for f, p in zip(fills, united)]), scene.background)
 
 
+#: contours stacked on one box (to 1/16 px), and contours in one cluster, beyond which a fill
+#: is not united (the sheet keeps approx): Skia's simplify takes 2.4 s for 32 coincident
+#: copies of one curved contour and 80 s for 64 (stacked combining marks, composite fan-out)
+MAX_STACKED_CONTOURS = 4
+MAX_CLUSTER_CONTOURS = 2048
+
+
 def _union(path: Path, rule: str) -> Path | None:
     """The outline covering what ``path`` covers under ``rule``, with no point covered twice;
-    None where Skia's path ops give up (degenerate input). Contours are united in clusters
-    whose boxes meet: Skia's simplify grows faster than linearly with a path's size (a whole
+    None where Skia's path ops give up (degenerate input) or would take too long (contours
+    stacked on one another, MAX_STACKED_CONTOURS). Contours are united in clusters whose
+    boxes meet: Skia's simplify grows faster than linearly with a path's size (a whole
     256-glyph grid in one call takes 20 s, glyph by glyph 0.4 s)."""
     import pathops      # here, not at the top: 50 ms of import only font sheets need
 
@@ -302,8 +310,11 @@ def _union(path: Path, rule: str) -> Path | None:
     first_point = np.append(np.cumsum(count) - count, len(p))
     starts = np.append(np.flatnonzero(v == MOVE), len(v))
     fill_type = pathops.FillType.WINDING if rule == "nonzero" else pathops.FillType.EVEN_ODD
+    groups = _clusters(p, first_point[starts])
+    if groups is None or max(map(len, groups)) > MAX_CLUSTER_CONTOURS:
+        return None
     out = Path()
-    for group in _clusters(p, first_point[starts]):
+    for group in groups:
         sk = pathops.Path(fillType=fill_type)
         for c in group:
             _add_contour(sk, v[starts[c]:starts[c + 1]].tolist(),
@@ -333,11 +344,15 @@ def _add_contour(sk, verbs, pts):
             sk.close()
 
 
-def _clusters(points, bounds) -> list:
+def _clusters(points, bounds) -> list | None:
     """Contours (points[bounds[k]:bounds[k + 1]]) in groups whose bounding boxes meet,
-    directly or through others: candidate pairs from a sort in x, then union-find."""
+    directly or through others: candidate pairs from a sort in x, then union-find. None
+    where more than MAX_STACKED_CONTOURS share one box."""
     lo = np.minimum.reduceat(points[:bounds[-1]], bounds[:-1])
     hi = np.maximum.reduceat(points[:bounds[-1]], bounds[:-1])
+    boxes = np.round(np.concatenate([lo, hi], axis=1) * 16)
+    if np.unique(boxes, axis=0, return_counts=True)[1].max() > MAX_STACKED_CONTOURS:
+        return None
     order = np.argsort(lo[:, 0], kind="stable")
     lo, hi = lo[order], hi[order]
     # contour i meets those after it in x order up to the first that starts right of it
