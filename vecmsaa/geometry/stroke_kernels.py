@@ -192,6 +192,25 @@ def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
 
 
 @njit(cache=True)
+def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
+    """A closed subpath's stroke as two loops, each started at its side's last point (where
+    the closing join ended): the right side forward, the left side backward."""
+    verbs[cnt[0]] = MOVE
+    cnt[0] += 1
+    _point(pts, cnt, rp[rc[1] - 1, 0], rp[rc[1] - 1, 1])
+    _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(1))
+    verbs[cnt[0]] = CLOSE
+    cnt[0] += 1
+    verbs[cnt[0]] = MOVE
+    cnt[0] += 1
+    _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
+    _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(1))
+    _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
+    verbs[cnt[0]] = CLOSE
+    cnt[0] += 1
+
+
+@njit(cache=True)
 def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, miterlimit,
                      q, dirs, lens, rv, rp, lv, lp):
     """One subpath of straight lines, src[lo:hi] (a closed one without its closing point
@@ -277,20 +296,8 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
                 _line(rv, rp, rc, px + d1y * hw, py - d1x * hw)
     if closed:
         # the sides start at vertex 0's butt points, on the first segment's offsets: start
-        # the loops at the closing join's last point instead. Right forward, left backward.
-        verbs[cnt[0]] = MOVE
-        cnt[0] += 1
-        _point(pts, cnt, rp[rc[1] - 1, 0], rp[rc[1] - 1, 1])
-        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(1))
-        verbs[cnt[0]] = CLOSE
-        cnt[0] += 1
-        verbs[cnt[0]] = MOVE
-        cnt[0] += 1
-        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
-        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(1))
-        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
-        verbs[cnt[0]] = CLOSE
-        cnt[0] += 1
+        # the loops at the closing join's last point instead
+        _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc)
         return
     dx, dy = dirs[nseg - 1, 0], dirs[nseg - 1, 1]
     px, py = q[n - 1, 0], q[n - 1, 1]
@@ -1029,19 +1036,7 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
     pts = _grow_points(pts, cnt[1] + rc[1] + lc[1] + 2 * _CAP_PTS + 4)
     if closed:
         # the sides start where the first run starts; the closing join ended there too
-        verbs[cnt[0]] = MOVE
-        cnt[0] += 1
-        _point(pts, cnt, rp[rc[1] - 1, 0], rp[rc[1] - 1, 1])
-        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(1))
-        verbs[cnt[0]] = CLOSE
-        cnt[0] += 1
-        verbs[cnt[0]] = MOVE
-        cnt[0] += 1
-        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
-        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(1))
-        _point(pts, cnt, lp[lc[1] - 1, 0], lp[lc[1] - 1, 1])
-        verbs[cnt[0]] = CLOSE
-        cnt[0] += 1
+        _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc)
         return verbs, pts
     last = n - 1
     verbs[cnt[0]] = MOVE
