@@ -382,20 +382,11 @@ def _grow_points(a, need):
 
 
 @njit(cache=True)
-def _grow_verbs(a, need):
+def _grow(a, need):
+    """a (verbs, or any 1-D array) with room for need entries, of its own dtype."""
     if need <= a.shape[0]:
         return a
-    b = np.empty(max(need, 2 * a.shape[0]), np.uint8)
-    for i in range(a.shape[0]):
-        b[i] = a[i]
-    return b
-
-
-@njit(cache=True)
-def _grow_ints(a, need):
-    if need <= a.shape[0]:
-        return a
-    b = np.empty(max(need, 2 * a.shape[0]), np.int64)
+    b = np.empty(max(need, 2 * a.shape[0]), a.dtype)
     for i in range(a.shape[0]):
         b[i] = a[i]
     return b
@@ -482,7 +473,7 @@ def _dash_polylines(src, starts, closed, pattern, offset):
                     if no > begin:
                         out[no, 0], out[no, 1] = ex, ey
                         no += 1
-                        ostarts = _grow_ints(ostarts, nd + 2)
+                        ostarts = _grow(ostarts, nd + 2)
                         ostarts[nd] = begin
                         nd += 1
                         last_is_dot = False
@@ -513,7 +504,7 @@ def _dash_polylines(src, starts, closed, pattern, offset):
             for d in range(first_dash + 1, nd):
                 ostarts[d - 1] = ostarts[d] - m
             nd -= 1
-    ostarts = _grow_ints(ostarts, nd + 1)
+    ostarts = _grow(ostarts, nd + 1)
     ostarts[nd] = no
     return out[:no], ostarts[:nd + 1], dots[:2 * ndot]
 
@@ -785,7 +776,7 @@ def _flatness(c):
 def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
     """Append the piece of the line p0 → p1 (direction d); returns the grown table."""
     tab = _grow_points(tab, n + 1)
-    kinds = _grow_ints(kinds, n + 1)
+    kinds = _grow(kinds, n + 1)
     nx, ny = -dy * hw, dx * hw
     r = tab[n]
     r[0], r[1], r[2], r[3] = x0, y0, x1, y1
@@ -837,7 +828,7 @@ def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
             fits = not _offset_error(cur, left, hw) > tol
         if fits:
             tab = _grow_points(tab, n + 1)
-            kinds = _grow_ints(kinds, n + 1)
+            kinds = _grow(kinds, n + 1)
             r = tab[n]
             r[0], r[1], r[2], r[3] = cur[0], cur[1], cur[6], cur[7]
             r[4], r[5], r[6], r[7] = t0x, t0y, t1x, t1y
@@ -977,13 +968,13 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
             if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
                     tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
                 continue            # on with the run
-            run_lo = _grow_ints(run_lo, nruns + 2)
-            run_join = _grow_ints(run_join, nruns + 1)
+            run_lo = _grow(run_lo, nruns + 2)
+            run_join = _grow(run_join, nruns + 1)
             run_lo[nruns] = j
             run_join[nruns] = join if j == first else _ROUND
             nruns += 1
     if nruns == 0:
-        verbs = _grow_verbs(verbs, cnt[0] + _DOT_VERBS)
+        verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
         pts = _grow_points(pts, cnt[1] + _DOT_PTS)
         dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], 1.0, 0.0, hw, cap, tol)
         return verbs, pts
@@ -1032,7 +1023,7 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
         if i < nruns:
             _append_side(rv, rp, rc, tab, pk, a, run_lo[i + 1], np.int64(_PR))
             _append_side(lv, lp, lc, tab, pk, a, run_lo[i + 1], np.int64(_PL))
-    verbs = _grow_verbs(verbs, cnt[0] + rc[0] + lc[0] + 2 * _CAP_VERBS + 4)
+    verbs = _grow(verbs, cnt[0] + rc[0] + lc[0] + 2 * _CAP_VERBS + 4)
     pts = _grow_points(pts, cnt[1] + rc[1] + lc[1] + 2 * _CAP_PTS + 4)
     if closed:
         # the sides start where the first run starts; the closing join ended there too
@@ -1118,7 +1109,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
     for k in range(len(flags)):
         lo, hi = subs[k], subs[k + 1]
         if flags[k] == SUB_DOT:
-            verbs = _grow_verbs(verbs, cnt[0] + _DOT_VERBS)
+            verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
             pts = _grow_points(pts, cnt[1] + _DOT_PTS)
             dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], segs[lo, 2], segs[lo, 3],
                         hw, cap, tol)
@@ -1136,7 +1127,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         for s in range(lo, hi):
             src[s - lo, 0], src[s - lo, 1] = segs[s, 0], segs[s, 1]
         src[m - 1, 0], src[m - 1, 1] = segs[hi - 1, 2], segs[hi - 1, 3]
-        verbs = _grow_verbs(verbs, cnt[0] + 2 * (_SIDE_VERBS_PER_VERTEX * m + 2) +
+        verbs = _grow(verbs, cnt[0] + 2 * (_SIDE_VERBS_PER_VERTEX * m + 2) +
                             2 * _CAP_VERBS + 4 + _DOT_VERBS)
         pts = _grow_points(pts, cnt[1] + 2 * (_SIDE_PTS_PER_VERTEX * m + 2) + 2 * _CAP_PTS +
                            4 + _DOT_PTS + 1)
