@@ -30,6 +30,7 @@ from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .sample_patterns import a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
+from ..scene import bounds
 from ..scene.color import linear_rgb_image
 from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, translated
 from .shaders import PaintTable
@@ -545,24 +546,18 @@ def content_box(group: Group):
     """(x0, y0, x1, y1) device coordinates outside which nothing of ``group``'s children draws
     (their fills' points, control points included, and nested filtered layers' filter
     regions), or None if they hold nothing."""
-    lo, hi = [math.inf, math.inf], [-math.inf, -math.inf]
+    box = None
     stack = list(group.children)
     while stack:
         node = stack.pop()
         if isinstance(node, Fill):
-            p = node.path.points
-            if len(p):
-                lo = np.fmin(lo, p.min(axis=0))
-                hi = np.fmax(hi, p.max(axis=0))
+            box = bounds.union(box, node.path.bounds())
         elif node.filters:
             for f in node.filters:
-                lo = np.minimum(lo, f.region[:2])
-                hi = np.maximum(hi, f.region[2:])
+                box = bounds.union(box, f.region)
         else:
             stack.extend(node.children)
-    if not lo[0] <= hi[0]:
-        return None
-    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
+    return box
 
 
 def _clip_and_mask(layer: Layer, shape, y0: int, raster: Raster):
