@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, BinaryIO, Sequence, Union
 import numpy as np
 
 from . import diagnostics
-from .raster.modes import DEFAULT_MODE, samples_for
+from .raster.modes import DEFAULT_MODE, coverage, samples_for
 from .scene.bounds import path_bounds, union
 from .scene.nodes import Group, Scene
 from .scene.transform import IDENTITY, compose
@@ -381,3 +381,16 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
                            background=background, mode=mode, samples=samples,
                            resources_dir=resources_dir, **options)
     return Image.fromarray(np.ascontiguousarray(arr), "RGBA")
+
+
+def render_sheet(scene, face, mode: str | None = None, samples: int | None = None) -> np.ndarray:
+    """A font sheet's (H, W, 4) straight RGBA8 pixels. Without ``mode``: exact-area coverage
+    of its outlines with their overlaps united where that is exact
+    (:func:`vecmsaa.fonts.sheets.exact_area_sheet`), the MSAA default elsewhere; ``samples``
+    as for ``vecmsaa render``."""
+    from .fonts.sheets import exact_area_sheet
+    from .raster.render import render_scene_rgba8
+
+    exact = exact_area_sheet(scene, face) if mode is None else None
+    return render_scene_rgba8(scene if exact is None else exact, **coverage(
+        mode, samples, scene.width, scene.height, analytic_exact=exact is not None))

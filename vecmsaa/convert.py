@@ -16,7 +16,7 @@ from typing import BinaryIO, Union
 
 import numpy as np
 
-from .raster.modes import DEFAULT_MODE, coverage
+from .raster.modes import DEFAULT_MODE
 from .svg import SvgError
 
 PathOrFile = Union[str, os.PathLike, BinaryIO]
@@ -136,8 +136,7 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
     from PIL import Image
 
     from .fonts import load_face, parse_features, parse_variations
-    from .fonts.sheets import exact_area_sheet, line_scene
-    from .raster.render import render_scene_rgba8
+    from .fonts.sheets import line_scene
     from .svg.color import parse_color
 
     def color(value, what):
@@ -155,7 +154,8 @@ def render_text(font: str | os.PathLike, text: str, size: float = 48.0, *,
                        direction=direction, script=script, language=language,
                        foreground=color(foreground, "foreground"),
                        background=color(background, "background"))
-    exact = exact_area_sheet(scene, face) if mode is None else None
-    rgba = render_scene_rgba8(scene if exact is None else exact, **coverage(
-        mode, samples, scene.width, scene.height, analytic_exact=exact is not None))
+    from .api import render_sheet
+
+    rgba = render_sheet(scene, face, mode, samples)
     return Image.fromarray(np.ascontiguousarray(rgba), "RGBA")
+

@@ -125,19 +125,13 @@ def _render(args, location, features, foreground, background, sizes) -> int:
         scene = build_scene(face, args, location, features, foreground, background, sizes)
     except (FontError, ValueError) as exc:
         return _fail(str(exc))
-    try:
-        from vecmsaa.raster.render import render_scene_rgba8
-    except ImportError as exc:
-        return _fail(f"renderer not available: {exc}")
-    from vecmsaa.fonts.sheets import exact_area_sheet
+    from vecmsaa.api import render_sheet
     from vecmsaa.output.png import write_png
-    from vecmsaa.raster.modes import coverage
 
-    exact = exact_area_sheet(scene, face) if args.mode is None else None
     try:
-        image = render_scene_rgba8(scene if exact is None else exact, **coverage(
-            args.mode, args.samples, scene.width, scene.height,
-            analytic_exact=exact is not None))
+        image = render_sheet(scene, face, args.mode, args.samples)
+    except ImportError as exc:    # the raster's compiled dependencies
+        return _fail(f"renderer not available: {exc}")
     except ValueError as exc:     # e.g. a sample count the mode has no pattern for
         return _fail(str(exc))
     try:
