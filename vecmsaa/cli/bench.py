@@ -66,8 +66,8 @@ def run(args) -> int:
             "*.webp)")
         return 0
     if args.icons:
-        from vecmsaa.tools.icons import icon_paths, write_study
-        paths = icon_paths(args.inputs)
+        from vecmsaa.tools.icons import write_study
+        paths = _svg_inputs(args.inputs)
         if not paths:
             print("vecmsaa bench: --icons needs SVG files or folders", file=sys.stderr)
             return 2
@@ -75,12 +75,8 @@ def run(args) -> int:
         log(f"bench: results in {args.out_dir}/ (icons.md, icons.json)")
         return 0
     if args.versus_resvg:
-        import os
-
-        from vecmsaa.cli.render import svg_files
         from vecmsaa.tools.bench import versus_rows, write_versus
-        paths = [p for item in args.inputs
-                 for p in (svg_files(item) if os.path.isdir(item) else [item])]
+        paths = _svg_inputs(args.inputs)
         if not paths:
             print("vecmsaa bench: --versus-resvg needs SVG files or folders", file=sys.stderr)
             return 2
@@ -93,3 +89,11 @@ def run(args) -> int:
     log(f"bench: {result['bench_s']:.1f} s; results in {args.out_dir}/ (table.md, results.csv, "
         f"results.json, pareto.png)")
     return 0
+
+
+def _svg_inputs(inputs) -> list:
+    """The SVG files given, folders expanded to the SVG files under them."""
+    import os
+
+    from vecmsaa.cli.render import svg_files
+    return [p for item in inputs for p in (svg_files(item) if os.path.isdir(item) else [item])]

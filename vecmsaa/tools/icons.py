@@ -116,13 +116,18 @@ def table(result, sizes) -> str:
     return "\n".join(lines)
 
 
+def report(result, sizes) -> str:
+    """How many icons, then the table."""
+    n = max(r["icons"] for r in result.values()) if result else 0
+    return f"{n} icons\n\n{table(result, sizes)}"
+
+
 def write_study(out_dir, paths, sizes=(16, 24, 32), configs=CONFIGS, log=None) -> dict:
     """measure() the icons and write icons.md (the table) and icons.json into ``out_dir``."""
     result = measure(paths, sizes, configs, log=log)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    n = max(r["icons"] for r in result.values()) if result else 0
-    (out / "icons.md").write_text(f"{n} icons\n\n{table(result, sizes)}\n")
+    (out / "icons.md").write_text(report(result, sizes) + "\n")
     (out / "icons.json").write_text(json.dumps(
         [{"config": label, "size": size, **r} for (label, size), r in result.items()], indent=1))
     return result
@@ -154,9 +159,7 @@ def main(argv=None) -> int:
         return 1
     configs = [c for c in CONFIGS if not args.configs or c[0] in args.configs]
     result = measure(paths, tuple(args.sizes), configs, log=lambda m: print(m, file=sys.stderr))
-    n = max(r["icons"] for r in result.values()) if result else 0
-    print(f"{n} icons")
-    print(table(result, args.sizes))
+    print(report(result, args.sizes))
     return 0
 
 
