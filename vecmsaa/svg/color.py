@@ -422,6 +422,19 @@ _SVG_SPACES = re.compile(r"[ \t\n\r]*")
 _SVG_IDENT = re.compile(r"[0-9A-Za-z_-]*")
 
 
+_HEX_DIGITS = re.compile(r"[0-9A-Fa-f]*")
+
+
+def _hex_color(h: str):
+    """#RGB, #RGBA, #RRGGBB or #RRGGBBAA (the digits after the #) as floats, else None."""
+    if len(h) not in (3, 4, 6, 8):
+        return None
+    if len(h) in (3, 4):
+        h = "".join(c * 2 for c in h)
+    vals = [int(h[i:i + 2], 16) / 255 for i in range(0, len(h), 2)]
+    return tuple(vals) if len(vals) == 4 else (*vals, 1.0)
+
+
 def _byte(v):
     """A channel in [0, 1] as svgtypes stores it: rounded half away from zero, saturated."""
     return min(255, max(0, math.floor(v + 0.5))) / 255
@@ -477,15 +490,12 @@ class _SvgColorReader:
     def color(self):
         self.spaces()
         if self.text.startswith("#", self.pos):
-            m = re.compile(r"[0-9A-Fa-f]*").match(self.text, self.pos + 1)
+            m = _HEX_DIGITS.match(self.text, self.pos + 1)
             self.pos = m.end()
-            h = m.group()
-            if len(h) not in (3, 4, 6, 8):
+            color = _hex_color(m.group())
+            if color is None:
                 raise ValueError
-            if len(h) in (3, 4):
-                h = "".join(c * 2 for c in h)
-            vals = [int(h[i:i + 2], 16) / 255 for i in range(0, len(h), 2)]
-            return tuple(vals) if len(vals) == 4 else (*vals, 1.0)
+            return color
         m = _SVG_IDENT.match(self.text, self.pos)
         self.pos = m.end()
         name = m.group().lower()
@@ -548,13 +558,7 @@ def parse_color(text: str):
         r, g, b = named
         return (r / 255, g / 255, b / 255, 1.0)
     if s[0] == "#":
-        h = s[1:]
-        if not re.fullmatch(r"[0-9a-fA-F]+", h) or len(h) not in (3, 4, 6, 8):
-            return None
-        if len(h) in (3, 4):
-            h = "".join(c * 2 for c in h)
-        vals = [int(h[i:i + 2], 16) / 255 for i in range(0, len(h), 2)]
-        return tuple(vals) if len(vals) == 4 else (*vals, 1.0)
+        return _hex_color(s[1:]) if _HEX_DIGITS.fullmatch(s[1:]) else None
     m = _FUNC.match(s)
     if not m:
         return None
