@@ -5,9 +5,12 @@ tools. Imports nothing, so the command line offers the choices without loading t
 MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
 #: the multisample modes whose curve coverage goes through the half-plane mask table
 MASK_TABLE_MODES = MSAA_MODES[1:]
+#: the alpha mode with the saturating (anti-correlated) blend, fills drawn front to back
+#: (seed 002; docs/modes.md): no seam where fills abut, wrong where they overlap
+SATURATE_MODES = ("alpha-sat",)
 #: exact area (tiny-skia style) and the 256-sample conflation-free ground truth
 EXACT_MODES = ("analytic", "reference")
-MODES = MSAA_MODES + EXACT_MODES
+MODES = MSAA_MODES + SATURATE_MODES + EXACT_MODES
 DEFAULT_MODE = "approx"
 #: sample patterns of the multisample modes (raster/sample_patterns.py): the Direct3D 10.1
 #: standard patterns and an ordered grid

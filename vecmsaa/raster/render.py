@@ -6,6 +6,8 @@ Coverage modes (see docs/modes.md):
 - ``none``: one sample at the pixel centre, aliased.
 - ``alpha``: Loop–Blinn distance alpha, α = clamp(½ − d), blended on the lens samples.
 - ``a2c``: the same α as a sample mask of round(α·n) samples (alpha-to-coverage).
+- ``alpha-sat``: ``alpha``'s α, each batch of fills drawn front to back with the saturating
+  blend i = min(A_f, 1 − A_fb) (seed 002's anti-correlated blend), then composited over.
 - ``persample``: the implicit function at every sample.
 - ``approx``: one evaluation per pixel and a half-plane coverage-mask look-up (default).
 - ``analytic``: exact area per path, composited per pixel (tiny-skia style).
@@ -25,7 +27,7 @@ from .blend import blend_premultiplied
 from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter, transparent_reach
-from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES
+from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from .sample_patterns import a2c_order, mask_table, pattern_offsets, stratified_pattern
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
@@ -91,6 +93,11 @@ class RenderOptions:
             self.table = np.zeros((1, 1), dtype=np.uint64)
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
         self.kernel_mode = MODE_IDS.get(mode, MODE_PERSAMPLE)
+        #: alpha-sat: alpha's coverage, each batch drawn front to back with the saturating
+        #: blend into a transparent buffer that is then composited over the target
+        self.saturate = mode in SATURATE_MODES
+        if self.saturate:
+            self.kernel_mode = MODE_IDS["alpha"]
         #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
         #: change, so off only to test that
         self.occlude = True
@@ -291,9 +298,12 @@ class Raster:
             render_analytic(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
                             b.params, b.lut, b.tex, self.scratch)
             return
-        render_msaa(target, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
+        out = np.zeros_like(target) if o.saturate else target
+        render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
                     b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                    o.table, o.a2c_bits, o.occlude, self.scratch)
+                    o.table, o.a2c_bits, o.occlude, o.saturate, self.scratch)
+        if o.saturate:
+            composite(out, target)
 
 
 class FillBatch:

@@ -161,12 +161,23 @@ def _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local):
 
 
 @njit(cache=True, inline="always")
-def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
-    """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row."""
+def saturated(sa, da):
+    """The share of a source of alpha ``sa`` that the saturating (anti-correlated) blend adds
+    over a destination of alpha ``da``: i = min(A_f, 1 - A_fb), as a factor of the source
+    (seed 002). Abutting fills drawn front to back then fill a pixel exactly once."""
+    if sa <= 0.0:
+        return 0.0
+    return max(0.0, min(1.0, (1.0 - da) / sa))
+
+
+@njit(cache=True, inline="always")
+def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat):
+    """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row
+    (``sat``: the saturating blend, fills drawn front to back, instead)."""
     cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
     k = 1.0 - sa
-    if kind == 0 and sa >= 1.0:
+    if kind == 0 and sa >= 1.0 and not sat:
         # opaque solid span: every sample becomes the colour (the common case of big areas)
         for px in range(q0, q1):
             cplx[r, px] = -1
@@ -179,16 +190,30 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c):
             k = 1.0 - sa
         slot = cplx[r, px]
         if slot < 0:
+            if sat:
+                t = saturated(sa, fb[r, px, 3])
+                fb[r, px, 0] += sr * t
+                fb[r, px, 1] += sg * t
+                fb[r, px, 2] += sb * t
+                fb[r, px, 3] += sa * t
+                continue
             fb[r, px, 0] = sr + fb[r, px, 0] * k
             fb[r, px, 1] = sg + fb[r, px, 1] * k
             fb[r, px, 2] = sb + fb[r, px, 2] * k
             fb[r, px, 3] = sa + fb[r, px, 3] * k
-        elif sa >= 1.0:
+        elif sa >= 1.0 and not sat:
             # opaque full cover: the pixel is one colour again
             cplx[r, px] = -1
             fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
         else:
             for s in range(pool.shape[1]):
+                if sat:
+                    t = saturated(sa, pool[slot, s, 3])
+                    pool[slot, s, 0] += sr * t
+                    pool[slot, s, 1] += sg * t
+                    pool[slot, s, 2] += sb * t
+                    pool[slot, s, 3] += sa * t
+                    continue
                 pool[slot, s, 0] = sr + pool[slot, s, 0] * k
                 pool[slot, s, 1] = sg + pool[slot, s, 1] * k
                 pool[slot, s, 2] = sb + pool[slot, s, 2] * k
@@ -463,12 +488,13 @@ def _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool):
 
 @njit(cache=True)
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
-               dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov):
+               dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov, sat):
     """Per row r0..r1 of the strip: turn the winding deltas into coverage and composite the
     fill's paint (one call per fill). The per-pixel work is written out in this loop nest:
     every array handed to a helper, even an inlined one, costs an atomic reference count
     increment and decrement per call, which per dirty pixel was a third of the kernel time.
-    Spans (fewer) still go through _blend_span."""
+    Spans (fewer) still go through _blend_span. ``sat``: the saturating blend (fills drawn
+    front to back) instead of source-over."""
     n = wrun.shape[0]
     solid = kind == 0
     for r in range(r0, r1 + 1):
@@ -485,7 +511,7 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
             if px > prev + 1:
                 c = coverage_of(wrun[0], rule)
                 if c > 0.0:
-                    _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c)
+                    _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c, sat)
             if i == cnt:
                 break
             dirty[r, px] = 0
@@ -512,11 +538,26 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                     pr, pg, pb, pa = f[0], f[1], f[2], f[3]
                 sr, sg, sb, sa = pr * cu, pg * cu, pb * cu, pa * cu
                 k = 1.0 - sa
-                if kind == 0 and sa >= 1.0:
+                if kind == 0 and sa >= 1.0 and not sat:
                     cplx[r, px] = -1
                     fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
                     continue
                 slot = cplx[r, px]
+                if sat:
+                    if slot < 0:
+                        t = saturated(sa, fb[r, px, 3])
+                        fb[r, px, 0] += sr * t
+                        fb[r, px, 1] += sg * t
+                        fb[r, px, 2] += sb * t
+                        fb[r, px, 3] += sa * t
+                    else:
+                        for s in range(n):
+                            t = saturated(sa, pool[slot, s, 3])
+                            pool[slot, s, 0] += sr * t
+                            pool[slot, s, 1] += sg * t
+                            pool[slot, s, 2] += sb * t
+                            pool[slot, s, 3] += sa * t
+                    continue
                 if slot < 0:
                     fb[r, px, 0] = sr + fb[r, px, 0] * k
                     fb[r, px, 1] = sg + fb[r, px, 1] * k
@@ -542,6 +583,13 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
             for s in range(n):
                 cs = cov[s]
                 if cs <= 0.0:
+                    continue
+                if sat:
+                    t = cs * saturated(ca * cs, pool[slot, s, 3])
+                    pool[slot, s, 0] += cr * t
+                    pool[slot, s, 1] += cg * t
+                    pool[slot, s, 2] += cb * t
+                    pool[slot, s, 3] += ca * t
                     continue
                 k = 1.0 - ca * cs
                 pool[slot, s, 0] = cr * cs + pool[slot, s, 0] * k
@@ -658,7 +706,8 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
 
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
-                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, occlude, scratch):
+                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, occlude, saturate,
+                scratch):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
     device rows y0 .. y0 + H - 1) in place, strip by strip with the ``msaa_scratch`` buffers.
 
@@ -670,6 +719,10 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     uncovered, and the rows of a fill's box that they cover whole are not scanned; the
     pixels are the same as drawn back to front (sample masks need a coverage that is 0 or 1:
     not the alpha mode, and at most 64 samples).
+
+    ``saturate``: the fills are drawn front to back (last fill first) with the saturating blend
+    i = min(A_f, 1 - A_fb) instead of source-over (the ``alpha-sat`` mode): ``target`` must
+    start transparent, and the caller composites it over what lies behind.
     """
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
@@ -682,7 +735,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
-    occlude = occlude and mode != MODE_ALPHA and n <= 64
+    occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
@@ -702,6 +755,8 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             ra, rz, xa, xz = rows, -1, W, -1
             for i in range(q - p):
                 k = q - 1 - i if run else p + i
+                if saturate:
+                    k = P - 1 - k
                 if path_box[k, 3] < sy0 or path_box[k, 1] >= sy0 + rows:
                     continue
                 if path_box[k, 0] >= W or path_box[k, 2] < 0.0:
@@ -740,7 +795,8 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 else:
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                        paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
-                                       fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov)
+                                       fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov,
+                                       saturate)
             for r in range(ra, rz + 1):
                 for x in range(xa, xz + 1):
                     occ[r, x] = 0
