@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from vecmsaa.scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
+from vecmsaa.scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, VERB_POINTS
 
 
 def segments(path):
@@ -35,6 +35,15 @@ def segments(path):
         elif v == CUBIC:
             out.append(("cubic", np.array([cur, p[0], p[1], p[2]])))
             cur = p[2]
+        elif v == CONIC:
+            # stored as (b1, point at t = ½, b2): that point is (1 − λ)·chord midpoint + λ·b1
+            # with λ = w / (1 + w); rows b0, w·b1, b2 and the weights (1, w, 1) in column 2
+            c = 0.5 * (cur + p[2])
+            d = p[0] - c
+            lam = float(np.dot(p[1] - c, d) / np.dot(d, d))
+            w = lam / (1 - lam)
+            out.append(("conic", np.array([[*cur, 1.0], [*(w * p[0]), w], [*p[2], 1.0]])))
+            cur = p[2]
         elif v == CLOSE:
             out.append(("line", np.array([cur, start])))
             cur = start
@@ -45,10 +54,11 @@ def segments(path):
 
 
 def _power_coeffs(kind, c):
-    """Polynomial coefficients (highest first) of x(t) and y(t)."""
+    """Polynomial coefficients (highest first) of x(t) and y(t); for conics of the
+    homogeneous x(t)·d(t), y(t)·d(t) and d(t) (three columns)."""
     if kind == "line":
         return np.array([c[1] - c[0], c[0]])
-    if kind == "quad":
+    if kind in ("quad", "conic"):
         return np.array([c[0] - 2 * c[1] + c[2], 2 * (c[1] - c[0]), c[0]])
     return np.array([-c[0] + 3 * c[1] - 3 * c[2] + c[3], 3 * c[0] - 6 * c[1] + 3 * c[2],
                      3 * (c[1] - c[0]), c[0]])
@@ -59,8 +69,12 @@ def winding_at(segs, x, y):
     w = 0
     for kind, c in segs:
         coef = _power_coeffs(kind, c)
+        ox, oy = x, y
+        if kind == "conic":     # crossings of y·d(t) = y(t)·d(t); d > 0, so signs carry over
+            coef = coef[:, :2] - np.outer(coef[:, 2], [x, y])
+            ox = oy = 0.0
         cy = coef[:, 1].copy()
-        cy[-1] -= y
+        cy[-1] -= oy
         cy = np.trim_zeros(cy, "f")
         if len(cy) <= 1:
             continue
@@ -73,7 +87,7 @@ def winding_at(segs, x, y):
             if t < 0 or t >= 1:
                 continue
             xt = np.polyval(coef[:, 0], t)
-            if xt <= x:
+            if xt <= ox:
                 dy = np.polyval(deriv, t)
                 if dy != 0:
                     w += 1 if dy > 0 else -1
@@ -90,6 +104,9 @@ def distance_to_outline(segs, x, y, samples=400):
         tt = np.array([0.0, 1.0]) if kind == "line" else t
         px = np.polyval(coef[:, 0], tt)
         py = np.polyval(coef[:, 1], tt)
+        if kind == "conic":
+            d = np.polyval(coef[:, 2], tt)
+            px, py = px / d, py / d
         ax, ay, bx, by = px[:-1], py[:-1], px[1:], py[1:]
         dx, dy = bx - ax, by - ay
         den = dx * dx + dy * dy
@@ -138,4 +155,48 @@ def polygon_pixel_coverage(poly, width, height):
                 if not p:
                     break
             cov[py, px] = abs(_area(p)) if p else 0.0
+    return cov
+
+
+def _disc_band_area(r, x0, x1, y0, y1):
+    """Exact area of the disc of radius r about the origin within [x0, x1] × [y0, y1]: the
+    height of the disc's section at X is min(y1, s) − max(y0, −s) with s = √(r² − X²), and
+    between the breakpoints (where s meets ±y0, ±y1 or 0) each bound is a constant or ±s,
+    whose integral is (X·s + r²·asin(X/r)) / 2."""
+    a, b = max(x0, -r), min(x1, r)
+    if a >= b:
+        return 0.0
+    cuts = {a, b}
+    for y in (y0, y1):
+        if abs(y) < r:
+            h = (r * r - y * y) ** 0.5
+            cuts.update(x for x in (-h, h) if a < x < b)
+    cuts = sorted(cuts)
+
+    def S(x):       # ∫ √(r² − X²) dX
+        x = min(max(x, -r), r)
+        return 0.5 * (x * (r * r - x * x) ** 0.5 + r * r * np.arcsin(x / r))
+
+    area = 0.0
+    for u, v in zip(cuts, cuts[1:]):
+        m = 0.5 * (u + v)
+        s = (r * r - m * m) ** 0.5
+        if min(y1, s) <= max(y0, -s):
+            continue
+        ints = S(v) - S(u)
+        top = ints if s < y1 else y1 * (v - u)
+        bottom = -ints if -s > y0 else y0 * (v - u)
+        area += top - bottom
+    return area
+
+
+def ellipse_pixel_coverage(cx, cy, rx, ry, width, height):
+    """Exact coverage of each pixel by the axis-aligned ellipse (x−cx)²/rx² + (y−cy)²/ry² ≤ 1
+    (the disc of radius rx with y scaled by rx/ry, whose areas scale by ry/rx)."""
+    cov = np.zeros((height, width))
+    k = rx / ry
+    for py in range(height):
+        for px in range(width):
+            cov[py, px] = _disc_band_area(rx, px - cx, px + 1 - cx, (py - cy) * k,
+                                          (py + 1 - cy) * k) / k
     return cov

@@ -128,7 +128,7 @@ class PathWalker:
     def __init__(self, path: Path, scale: float = 1.0):
         self.accuracy = 0.5 / max(scale, 1.0)
         self.cubics = []
-        v, p = path.verbs, path.points
+        v, p = path.without_conics()._freeze()
         i = 0
         cur = start = None
         for verb in v:

@@ -9,8 +9,11 @@ curve. A sample's winding number is
 and a sample is inside a lens when it is on the lens side of the chord (tested with exactly the
 arithmetic the scan converter uses for that chord, so the two never disagree), on the inner side
 of the piece's end tangents (cubics only), and on the inner side of the curve according to the
-Loop–Blinn implicit function: u² − v for quadratics, k³ − l·m for cubics, with (u, v) and
-(k, l, m) affine in pixel coordinates.
+Loop–Blinn implicit function: k² − l·m for quadratics and conics, k³ − l·m for cubics, with
+(k, l, m) affine in pixel coordinates. A conic (rational quadratic with weight w, the exact form
+of an elliptical arc) has k = τ1 / 2w, l = τ0, m = τ2 in the barycentric coordinates τ of its
+control triangle: its points have τ ∝ ((1 − t)², 2w·t(1 − t), t²), so τ1² = 4w²·τ0·τ2 exactly
+on the curve; w = 1 is the parabola, where this is the usual u² − v (m = 1 for plain quads).
 
 Cubics are classified as in Loop & Blinn (serpentine, loop, cusp, cusp at infinity, quadratic,
 line), split at inflections and at the double point of a loop, and further until each piece
@@ -26,10 +29,10 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 
 # -- curve primitive record layout (float64 row) ----------------------------------------------
-P_KIND = 0          # 0 quadratic (f = k² − l), 1 cubic (f = k³ − l·m)
+P_KIND = 0          # 0 quadratic or conic (f = k² − l·m), 1 cubic (f = k³ − l·m)
 P_SIGMA = 1         # inside the lens ⟺ sigma · f < 0
 P_WSIGN = 2         # winding added to samples inside the lens
 P_OX, P_OY, P_INVS = 3, 4, 5   # f is evaluated at X = (x − ox)·invs, Y = (y − oy)·invs
@@ -241,6 +244,7 @@ def _emit_quad_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2):
     prim[P_K + 1] = (X1 - 0.5 * X2) / det
     prim[P_L] = -Y1 / det
     prim[P_L + 1] = X1 / det
+    prim[P_M + 2] = 1.0
     ctrl = np.empty((3, 2))
     ctrl[0, 0], ctrl[0, 1] = x0, y0
     ctrl[1, 0], ctrl[1, 1] = x1, y1
@@ -273,6 +277,105 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
         cy = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
         edges, ne, prims, nc = _emit_quad_piece(edges, ne, prims, nc, ax, ay, cx, cy, bx, by)
     return edges, ne, prims, nc
+
+
+@njit(cache=True)
+def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
+    """Chord edge plus lens primitive for one conic piece (k² − l·m, lens where f < 0)."""
+    edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
+    s = max(math.hypot(x1 - x0, y1 - y0), math.hypot(x2 - x0, y2 - y0))
+    if s == 0.0:
+        return edges, ne, prims, nc
+    inv = 1.0 / s
+    X1, Y1 = (x1 - x0) * inv, (y1 - y0) * inv
+    X2, Y2 = (x2 - x0) * inv, (y2 - y0) * inv
+    det = X1 * Y2 - X2 * Y1
+    if abs(det) < 1e-12:
+        return edges, ne, prims, nc
+    prims = _grow(prims, nc)
+    prim = prims[nc]
+    for j in range(PRIM_FIELDS):
+        prim[j] = 0.0
+    prim[P_KIND] = KIND_QUAD
+    prim[P_SIGMA] = 1.0
+    prim[P_OX], prim[P_OY], prim[P_INVS] = x0, y0, inv
+    # barycentric coordinates in the frame (b0 at the origin): τ1 = (X·Y2 − Y·X2) / det,
+    # τ2 = (X1·Y − Y1·X) / det, τ0 = 1 − τ1 − τ2; k = τ1 / 2w, l = τ0, m = τ2
+    h = 0.5 / (w * det)
+    prim[P_K] = Y2 * h
+    prim[P_K + 1] = -X2 * h
+    prim[P_L] = (Y1 - Y2) / det
+    prim[P_L + 1] = (X2 - X1) / det
+    prim[P_L + 2] = 1.0
+    prim[P_M] = -Y1 / det
+    prim[P_M + 1] = X1 / det
+    ctrl = np.empty((3, 2))
+    ctrl[0, 0], ctrl[0, 1] = x0, y0
+    ctrl[1, 0], ctrl[1, 1] = x1, y1
+    ctrl[2, 0], ctrl[2, 1] = x2, y2
+    _set_frame_common(prim, ctrl)
+    # inside: half-way between the curve's midpoint and the chord's
+    lam = 0.5 * w / (1.0 + w)
+    cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
+    _set_chord(prim, x0, y0, x2, y2, cx + lam * (x1 - cx), cy + lam * (y1 - cy))
+    return edges, ne, prims, nc + 1
+
+
+@njit(cache=True)
+def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten):
+    """A conic halved until each piece bulges at most ``tol`` from its chord, then each piece
+    as its chord (``flatten``: the exact-area modes) or as chord plus lens. A piece's bulge is
+    exactly dist(b1, chord) · w / (1 + w), at t = ½; halving gives weight √((1 + w) / 2).
+    At most 2¹² pieces (absurd coordinates keep thicker lenses, which are still exact)."""
+    stack = np.empty((32, 7))
+    top = 0
+    st = stack[0]
+    st[0], st[1], st[2], st[3], st[4], st[5], st[6] = x0, y0, x1, y1, x2, y2, w
+    depth = np.zeros(32, np.int64)
+    while top >= 0:
+        st = stack[top]
+        ax, ay, bx, by, ex, ey, wt = st[0], st[1], st[2], st[3], st[4], st[5], st[6]
+        d = depth[top]
+        top -= 1
+        bulge = _dist_to_line(bx, by, ax, ay, ex, ey) * wt / (1.0 + wt)
+        if not math.isfinite(bulge):
+            continue
+        if bulge < LINE_EPS or (flatten and bulge <= tol):
+            edges, ne = _push_edge(edges, ne, ax, ay, ex, ey)
+            continue
+        if bulge > tol and d < 12:
+            # de Casteljau on (b0, w·b1, b2) at ½, renormalised to end weights 1
+            s = 1.0 / (1.0 + wt)
+            qx, qy = (ax + wt * bx) * s, (ay + wt * by) * s
+            rx, ry = (ex + wt * bx) * s, (ey + wt * by) * s
+            mx, my = 0.5 * (qx + rx), 0.5 * (qy + ry)
+            w2 = math.sqrt(0.5 * (1.0 + wt))
+            top += 1
+            st = stack[top]
+            st[0], st[1], st[2], st[3], st[4], st[5], st[6] = mx, my, rx, ry, ex, ey, w2
+            depth[top] = d + 1
+            top += 1
+            st = stack[top]
+            st[0], st[1], st[2], st[3], st[4], st[5], st[6] = ax, ay, qx, qy, mx, my, w2
+            depth[top] = d + 1
+            continue
+        if flatten:
+            edges, ne = _push_edge(edges, ne, ax, ay, ex, ey)
+        else:
+            edges, ne, prims, nc = _emit_conic_piece(edges, ne, prims, nc, ax, ay, bx, by,
+                                                     ex, ey, wt)
+    return edges, ne, prims, nc
+
+
+@njit(cache=True)
+def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
+    """scene.path.conic_weight for one conic (its point at t = ½ is (mx, my))."""
+    cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
+    dx, dy = x1 - cx, y1 - cy
+    dd = dx * dx + dy * dy
+    lam = ((mx - cx) * dx + (my - cy) * dy) / dd if dd > 0 else 0.0
+    lam = min(max(lam, 1e-12), 0.5)
+    return lam / (1.0 - lam)
 
 
 @njit(cache=True)
@@ -416,12 +519,12 @@ def _eval_implicit(prim, x, y):
     Y = (y - prim[P_OY]) * inv
     k = prim[P_K] * X + prim[P_K + 1] * Y + prim[P_K + 2]
     l = prim[P_L] * X + prim[P_L + 1] * Y + prim[P_L + 2]
+    m = prim[P_M] * X + prim[P_M + 1] * Y + prim[P_M + 2]
     if prim[P_KIND] == KIND_QUAD:
-        f = k * k - l
-        gx = 2.0 * k * prim[P_K] - prim[P_L]
-        gy = 2.0 * k * prim[P_K + 1] - prim[P_L + 1]
+        f = k * k - l * m
+        gx = 2.0 * k * prim[P_K] - l * prim[P_M] - m * prim[P_L]
+        gy = 2.0 * k * prim[P_K + 1] - l * prim[P_M + 1] - m * prim[P_L + 1]
     else:
-        m = prim[P_M] * X + prim[P_M + 1] * Y + prim[P_M + 2]
         f = k * k * k - l * m
         gx = 3.0 * k * k * prim[P_K] - l * prim[P_M] - m * prim[P_L]
         gy = 3.0 * k * k * prim[P_K + 1] - l * prim[P_M + 1] - m * prim[P_L + 1]
@@ -432,16 +535,16 @@ def _eval_implicit(prim, x, y):
 def _linearisation_bound(prim, x, y, rho):
     """Bound on |f(p + δ) − f(p) − ∇f(p)·δ| over all |δ| ≤ rho (pixels): how far the implicit
     function can depart from its tangent plane at p within that disc. With k, l, m affine and
-    α, β, γ their changes (|α| ≤ A = ‖∇k‖ρ, ...): quadratics f = k² − l leave α² ≤ A², cubics
-    f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
+    α, β, γ their changes (|α| ≤ A = ‖∇k‖ρ, ...): quadratics f = k² − l·m leave α² − βγ ≤
+    A² + BC (C = 0 for plain quads), cubics f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
     s = rho * prim[P_INVS]
     a = math.hypot(prim[P_K], prim[P_K + 1]) * s
-    if prim[P_KIND] == KIND_QUAD:
-        return a * a
-    inv = prim[P_INVS]
-    k = (prim[P_K] * (x - prim[P_OX]) + prim[P_K + 1] * (y - prim[P_OY])) * inv + prim[P_K + 2]
     b = math.hypot(prim[P_L], prim[P_L + 1]) * s
     c = math.hypot(prim[P_M], prim[P_M + 1]) * s
+    if prim[P_KIND] == KIND_QUAD:
+        return a * a + b * c
+    inv = prim[P_INVS]
+    k = (prim[P_K] * (x - prim[P_OX]) + prim[P_K + 1] * (y - prim[P_OY])) * inv + prim[P_K + 2]
     return 3.0 * abs(k) * a * a + a * a * a + b * c
 
 
@@ -676,6 +779,18 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
                 else:
                     edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta)
                 cx, cy = c[3, 0], c[3, 1]
+                pi += 3
+            elif v == CONIC:
+                x1, y1 = points[pi, 0], points[pi, 1]
+                x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
+                w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2, y2)
+                # (a quarter of the tolerance: chords cut inside, all of them, and at the full
+                # tolerance the area lost is twice what today's cubics' excess area is)
+                flatten = flatten_tol > 0
+                edges, ne, prims, nc = _conic_pieces(
+                    edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w,
+                    0.25 * flatten_tol if flatten else max_sagitta, flatten)
+                cx, cy = x2, y2
                 pi += 3
             elif v == CLOSE:
                 if open_:

@@ -182,6 +182,7 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     all zeros draw solid); ``dash_offset`` shifts the pattern's start (negative allowed).
     """
     hw = width / 2.0
+    path = path.without_conics()    # the offsetter takes Béziers (arcs stroke as cubics)
     if not (hw > 0 and math.isfinite(hw)):
         return Path.from_arrays(np.empty(0, np.uint8), np.empty((0, 2)))
     miterlimit = max(1.0, miterlimit)

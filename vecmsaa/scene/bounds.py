@@ -37,7 +37,7 @@ def _cubic_extrema(p0, p1, p2, p3):
 
 def path_bounds(path, matrix=None):
     """Tight bounds (x0, y0, x1, y1) of a path, optionally after a transform; None if empty."""
-    verbs, pts = path.verbs, path.points
+    verbs, pts = path.without_conics()._freeze()    # (a conic's cubic: within 3e-4 of it)
     if len(pts) == 0:
         return None
     if matrix is not None:

@@ -1,9 +1,16 @@
 """Outlines: one path type for every source, filled through the fontTools pen protocol.
 
 A :class:`Path` is a pen (``moveTo``, ``lineTo``, ``qCurveTo``, ``curveTo``, ``closePath``,
-``endPath``) that records flat arrays: ``verbs`` (one byte per segment) and ``points`` (float64,
-N x 2). SVG paths, glyph outlines and stroke outlines all arrive here, so everything after this
-module sees one representation.
+``endPath``, and ``conicTo`` beside the protocol) that records flat arrays: ``verbs`` (one byte
+per segment) and ``points`` (float64, N x 2). SVG paths, glyph outlines and stroke outlines all
+arrive here, so everything after this module sees one representation.
+
+A CONIC is a rational quadratic Bézier (b0, b1, b2) with weight w on b1, the exact form of an
+elliptical arc (w = cos(θ/2) for an arc of θ ≤ 90°). It is stored as three points: b1, the
+curve's point at t = ½ and b2. The weight is in where that midpoint lies on the line from the
+chord's midpoint to b1 (:func:`conic_weight`), a ratio that affine maps keep, so transforming
+the points transforms the conic and nothing else needs to know. Consumers that take only
+lines and Béziers (strokes, dashes, markers, pens) use :meth:`Path.without_conics`.
 """
 from __future__ import annotations
 
@@ -12,9 +19,9 @@ from fontTools.pens.basePen import BasePen
 
 from .transform import IDENTITY, apply
 
-MOVE, LINE, QUAD, CUBIC, CLOSE = 0, 1, 2, 3, 4
+MOVE, LINE, QUAD, CUBIC, CLOSE, CONIC = 0, 1, 2, 3, 4, 5
 #: how many points each verb consumes
-VERB_POINTS = (1, 1, 2, 3, 0)
+VERB_POINTS = (1, 1, 2, 3, 0, 3)
 
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
@@ -58,6 +65,17 @@ class Path(BasePen):
         self._implicit_move()
         self._verbs.append(CUBIC)
         self._pts.extend((pt1, pt2, pt3))
+
+    def conicTo(self, pt1, pt2, w):
+        """A rational quadratic from the current point through control pt1 (weight w > 0) to
+        pt2 (Skia's conicTo)."""
+        self._implicit_move()
+        (x0, y0), (x1, y1), (x2, y2) = self._getCurrentPoint(), pt1, pt2
+        k = w / (1.0 + w)
+        mid = ((1.0 - k) * 0.5 * (x0 + x2) + k * x1, (1.0 - k) * 0.5 * (y0 + y2) + k * y1)
+        self._verbs.append(CONIC)
+        self._pts.extend((pt1, mid, pt2))
+        self._BasePen__currentPoint = pt2
 
     def _closePath(self):
         self._thaw()
@@ -176,9 +194,28 @@ class Path(BasePen):
         return (float(p[:, 0].min()), float(p[:, 1].min()),
                 float(p[:, 0].max()), float(p[:, 1].max()))
 
-    def draw(self, pen):
-        """Replay into another pen (fontTools protocol)."""
+    def without_conics(self) -> "Path":
+        """This path with every conic replaced by the cubic that approximates it (the same one
+        the arc code made before conics: handles at 4w / (3(1 + w)) of the way to b1, which is
+        4/3 tan(θ/4) for a circular arc of θ), for consumers that take only Béziers."""
         v, p = self._freeze()
+        if CONIC not in v.tobytes():
+            return self
+        ends = np.cumsum(np.asarray(VERB_POINTS)[v])
+        at = ends[v == CONIC] - 3           # index of b1 of every conic
+        b0, b1, mid, b2 = p[at - 1], p[at], p[at + 1], p[at + 2]
+        w = conic_weight(b0, b1, mid, b2)[:, None]
+        k = 4.0 * w / (3.0 * (1.0 + w))
+        q = p.copy()
+        q[at] = b0 + k * (b1 - b0)
+        q[at + 1] = b2 + k * (b1 - b2)
+        cv = v.copy()
+        cv[v == CONIC] = CUBIC
+        return Path._of_arrays(cv, q)
+
+    def draw(self, pen):
+        """Replay into another pen (fontTools protocol; conics arrive as cubics)."""
+        v, p = self.without_conics()._freeze()
         i = 0
         open_ = False
         for verb in v:
@@ -244,6 +281,20 @@ class SharedPoints:
                     self.points[start:end]
             done = self._all[m] = apply(m, self.points)
         return done[start:end]
+
+
+def conic_weight(b0, b1, mid, b2):
+    """The weights of conics (b0, b1, b2) given their points at t = ½ ((n, 2) arrays each).
+
+    The midpoint is (1 − λ)·c + λ·b1 with c the chord's midpoint and λ = w / (1 + w); λ is a
+    ratio of lengths on one line, which affine maps keep. Clamped to (0, 1]: an arc of ≤ 90°
+    has w ≥ cos 45°, and rounding must not turn a tiny arc's w ≈ 1 into a hyperbola."""
+    c = 0.5 * (b0 + b2)
+    d = b1 - c
+    dd = (d * d).sum(axis=-1)
+    lam = np.divide(((mid - c) * d).sum(axis=-1), dd, out=np.zeros_like(dd), where=dd > 0)
+    lam = np.clip(lam, 1e-12, 0.5)
+    return lam / (1.0 - lam)
 
 
 def rect_path(x, y, w, h) -> Path:

@@ -144,6 +144,7 @@ def marker_vertices(path: Path, commands=None):
     incoming direction from the closing segment and its last vertex its outgoing direction
     from the first segment.
     """
+    path = path.without_conics()    # (one cubic per conic: commands still line up)
     verbs = path.verbs.tolist()
     pts = path.points.tolist()
     # group into segments: (start, ctrl..., end) with zero-length check

@@ -2,7 +2,7 @@
 
 The grammar is SVG 2's (section 9.3.9, BNF in SVG 1.1 F.6 / 8.3.9). Error handling follows
 SVG 2 9.5.4: the path is rendered up to the last complete segment before the first error.
-Arcs become cubic Béziers (at most 90° each) through the endpoint → centre conversion of
+Arcs become conics (exact rational quadratics, at most 90° each) through the endpoint → centre conversion of
 SVG 1.1 appendix F.6.5 with the radii correction of F.6.6.
 
 Speed matters (OSM maps carry megabytes of path data, tens of thousands of paths), so one
@@ -20,7 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, Path, SharedPoints
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, Path, SharedPoints
 
 # byte codes
 _PLUS, _MINUS, _DOT, _COMMA, _ZERO, _ONE, _NINE = 43, 45, 46, 44, 48, 49, 57
@@ -157,8 +157,8 @@ def _skip_sep(buf, pos, end):
 
 @njit(cache=True)
 def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
-    """Writes an elliptical arc's cubic pieces (≤ 90° each, as usvg cuts them: three points
-    per piece) into pts
+    """Writes an elliptical arc's conic pieces (≤ 90° each, as usvg cuts them: three points
+    per piece, as scene.path stores a CONIC) into pts
     from npts on → new npts; -1 when the arc is a straight line (a zero radius), npts when
     the endpoints coincide (SVG omits such an arc)."""
     if x1 == x2 and y1 == y2:
@@ -221,26 +221,26 @@ def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     n_err = max((1.1163 * max(rx, ry) / 0.1) ** (1.0 / 6.0), 3.999999)
     n = max(1, min(4, int(math.ceil(n_err * abs(dtheta) / (2.0 * math.pi)))))
     delta = dtheta / n
-    # handle length of a cubic approximating a unit circular arc of angle delta
-    t = 4.0 / 3.0 * math.tan(delta / 4.0)
-    cos_a, sin_a = math.cos(theta1), math.sin(theta1)
+    # each piece is a conic (control point, point at t = ½, end; see scene.path): on the unit
+    # circle the control point is the mid-angle direction over cos(delta/2), the weight
+    sec = 1.0 / math.cos(delta / 2.0)
     for i in range(n):
+        m = theta1 + (i + 0.5) * delta
         b = theta1 + (i + 1) * delta
-        cos_b, sin_b = math.cos(b), math.sin(b)
-        # unit-circle control points, then scale by radii, rotate by phi, translate
+        cos_m, sin_m = math.cos(m), math.sin(m)
         for k in range(3):
             if k == 0:
-                ex, ey = cos_a - t * sin_a, sin_a + t * cos_a
+                ex, ey = cos_m * sec, sin_m * sec
             elif k == 1:
-                ex, ey = cos_b + t * sin_b, sin_b - t * cos_b
+                ex, ey = cos_m, sin_m
             else:
-                ex, ey = cos_b, sin_b
+                ex, ey = math.cos(b), math.sin(b)
+            # scale by radii, rotate by phi, translate
             ex *= rx
             ey *= ry
             pts[npts] = cos_phi * ex - sin_phi * ey + cx
             pts[npts + 1] = sin_phi * ex + cos_phi * ey + cy
             npts += 2
-        cos_a, sin_a = cos_b, sin_b
     pts[npts - 2] = x2      # land exactly on the requested endpoint
     pts[npts - 1] = y2
     return npts
@@ -477,7 +477,7 @@ def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, n
                     npts += 2
                 else:
                     for _ in range((end - start) // 6):
-                        verbs[nv] = CUBIC
+                        verbs[nv] = CONIC
                         origin[nv] = command_index
                         nv += 1
                     npts = end
@@ -623,5 +623,7 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
                bool(large_arc), bool(sweep), float(x2), float(y2))
     if end < 0:
         return None
-    xy = pts[:end].reshape(-1, 3, 2).tolist()
+    conics = Path.from_lists([MOVE] + [CONIC] * (end // 6),
+                             [(float(x1), float(y1))] + list(map(tuple, pts[:end].reshape(-1, 2).tolist())))
+    xy = conics.without_conics().points[1:].reshape(-1, 3, 2).tolist()
     return [tuple(tuple(p) for p in piece) for piece in xy]

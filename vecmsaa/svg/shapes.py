@@ -4,18 +4,19 @@ from __future__ import annotations
 from ..scene.path import Path, rect_path
 from .units import parse_numbers
 
-#: control-point distance of a cubic quarter circle, 4/3 (sqrt(2) - 1)
-KAPPA = 0.5522847498307936
+#: the weight of a quarter-ellipse conic, cos 45°
+QUARTER_W = 0.7071067811865476
 
 
 def ellipse_path(cx, cy, rx, ry) -> Path:
-    k = KAPPA
+    """Four exact quarter-ellipse conics (control points at the bounding box's corners)."""
+    w = QUARTER_W
     p = Path()
     p.moveTo((cx + rx, cy))
-    p.curveTo((cx + rx, cy + ry * k), (cx + rx * k, cy + ry), (cx, cy + ry))
-    p.curveTo((cx - rx * k, cy + ry), (cx - rx, cy + ry * k), (cx - rx, cy))
-    p.curveTo((cx - rx, cy - ry * k), (cx - rx * k, cy - ry), (cx, cy - ry))
-    p.curveTo((cx + rx * k, cy - ry), (cx + rx, cy - ry * k), (cx + rx, cy))
+    p.conicTo((cx + rx, cy + ry), (cx, cy + ry), w)
+    p.conicTo((cx - rx, cy + ry), (cx - rx, cy), w)
+    p.conicTo((cx - rx, cy - ry), (cx, cy - ry), w)
+    p.conicTo((cx + rx, cy - ry), (cx + rx, cy), w)
     p.closePath()
     return p
 
@@ -24,16 +25,16 @@ def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
     if rx <= 0 or ry <= 0:
         return rect_path(x, y, w, h)
     p = Path()
-    k = KAPPA
+    k = QUARTER_W
     p.moveTo((x + rx, y))
     p.lineTo((x + w - rx, y))
-    p.curveTo((x + w - rx + rx * k, y), (x + w, y + ry - ry * k), (x + w, y + ry))
+    p.conicTo((x + w, y), (x + w, y + ry), k)
     p.lineTo((x + w, y + h - ry))
-    p.curveTo((x + w, y + h - ry + ry * k), (x + w - rx + rx * k, y + h), (x + w - rx, y + h))
+    p.conicTo((x + w, y + h), (x + w - rx, y + h), k)
     p.lineTo((x + rx, y + h))
-    p.curveTo((x + rx - rx * k, y + h), (x, y + h - ry + ry * k), (x, y + h - ry))
+    p.conicTo((x, y + h), (x, y + h - ry), k)
     p.lineTo((x, y + ry))
-    p.curveTo((x, y + ry - ry * k), (x + rx - rx * k, y), (x + rx, y))
+    p.conicTo((x, y), (x + rx, y), k)
     p.closePath()
     return p
 
