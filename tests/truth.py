@@ -158,45 +158,10 @@ def polygon_pixel_coverage(poly, width, height):
     return cov
 
 
-def _disc_band_area(r, x0, x1, y0, y1):
-    """Exact area of the disc of radius r about the origin within [x0, x1] × [y0, y1]: the
-    height of the disc's section at X is min(y1, s) − max(y0, −s) with s = √(r² − X²), and
-    between the breakpoints (where s meets ±y0, ±y1 or 0) each bound is a constant or ±s,
-    whose integral is (X·s + r²·asin(X/r)) / 2."""
-    a, b = max(x0, -r), min(x1, r)
-    if a >= b:
-        return 0.0
-    cuts = {a, b}
-    for y in (y0, y1):
-        if abs(y) < r:
-            h = (r * r - y * y) ** 0.5
-            cuts.update(x for x in (-h, h) if a < x < b)
-    cuts = sorted(cuts)
-
-    def S(x):       # ∫ √(r² − X²) dX
-        x = min(max(x, -r), r)
-        return 0.5 * (x * (r * r - x * x) ** 0.5 + r * r * np.arcsin(x / r))
-
-    area = 0.0
-    for u, v in zip(cuts, cuts[1:]):
-        m = 0.5 * (u + v)
-        s = (r * r - m * m) ** 0.5
-        if min(y1, s) <= max(y0, -s):
-            continue
-        ints = S(v) - S(u)
-        top = ints if s < y1 else y1 * (v - u)
-        bottom = -ints if -s > y0 else y0 * (v - u)
-        area += top - bottom
-    return area
-
 
 def ellipse_pixel_coverage(cx, cy, rx, ry, width, height):
-    """Exact coverage of each pixel by the axis-aligned ellipse (x−cx)²/rx² + (y−cy)²/ry² ≤ 1
-    (the disc of radius rx with y scaled by rx/ry, whose areas scale by ry/rx)."""
-    cov = np.zeros((height, width))
-    k = rx / ry
-    for py in range(height):
-        for px in range(width):
-            cov[py, px] = _disc_band_area(rx, px - cx, px + 1 - cx, (py - cy) * k,
-                                          (py + 1 - cy) * k) / k
-    return cov
+    """Exact coverage of each pixel by the axis-aligned ellipse (x−cx)²/rx² + (y−cy)²/ry² ≤ 1,
+    in closed form (vecmsaa.tools.conics, which the bench measures with; outside the raster
+    path, and checked against the ellipse's area and a brute-force count in test_conics)."""
+    from vecmsaa.tools.conics import exact_coverage
+    return exact_coverage(cx, cy, rx, ry, width, height)

@@ -35,6 +35,11 @@ def add_parser(subparsers):
                         "of Figure 1, thin lines and small text in every mode, flicker against "
                         "the reference and a moving edge's crawl (writes sequence.md/json/png "
                         "and an animated WebP per case)")
+    p.add_argument("--conics", action="store_true",
+                   help="only the exact-conics study: circles and ellipses from 8 to 8192 px "
+                        "across as conics and as the cubics arcs used to be, in the MSAA and "
+                        "exact-area modes, against the exact shape, and their time "
+                        "(writes conics.md/json)")
     p.add_argument("--icons", action="store_true",
                    help="only the small-size study on the given icon folders or files: "
                         "each rendered at 16, 24 and 32 px in the default and every mode "
@@ -64,6 +69,11 @@ def run(args) -> int:
         study(args.out_dir, log=log)
         log(f"bench: results in {args.out_dir}/ (sequence.md, sequence.json, sequence.png, "
             "*.webp)")
+        return 0
+    if args.conics:
+        from vecmsaa.tools.conics import study
+        study(args.out_dir, size=args.size or 1024, repeat=args.repeat or 3, log=log)
+        log(f"bench: results in {args.out_dir}/ (conics.md, conics.json)")
         return 0
     if args.icons:
         from vecmsaa.tools.icons import write_study

@@ -784,12 +784,10 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
                 x1, y1 = points[pi, 0], points[pi, 1]
                 x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
                 w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2, y2)
-                # (a quarter of the tolerance: chords cut inside, all of them, and at the full
-                # tolerance the area lost is twice what today's cubics' excess area is)
                 flatten = flatten_tol > 0
                 edges, ne, prims, nc = _conic_pieces(
                     edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w,
-                    0.25 * flatten_tol if flatten else max_sagitta, flatten)
+                    flatten_tol if flatten else max_sagitta, flatten)
                 cx, cy = x2, y2
                 pi += 3
             elif v == CLOSE:
