@@ -293,7 +293,8 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
                      keep_aspect: bool = False, size_limit: bool = True,
                      export_id: str | None = None, export_area_drawing: bool = False,
                      threads: int | None = None, progress=None,
-                     pattern: str = "d3d", filter: str = "box", **options) -> np.ndarray:
+                     pattern: str = "d3d", filter: str = "box",
+                     color_samples: int | None = None, **options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA; see :func:`render_svg`.
     ``threads``: bands rendered at once (None: every available core; the image does not
     depend on it). ``progress(rows done, rows)``: called after each band is drawn."""
@@ -304,7 +305,7 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
                      size_limit=size_limit, export_id=export_id, **options)
     rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
                               samples=samples_for(samples, scene.width, scene.height),
-                              pattern=pattern, filter=filter)
+                              pattern=pattern, filter=filter, color_samples=color_samples)
     if export_area_drawing and export_id is None:
         rgba = crop_to_drawing(rgba, scene)
     return rgba
@@ -317,7 +318,8 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
                    keep_aspect: bool = False, size_limit: bool = True,
                    export_id: str | None = None, export_area_drawing: bool = False,
                    threads: int | None = None, progress=None,
-                   pattern: str = "d3d", filter: str = "box", **options) -> bytes:
+                   pattern: str = "d3d", filter: str = "box",
+                   color_samples: int | None = None, **options) -> bytes:
     """Render to PNG bytes, the same as ``encode_png(render_svg_array(...))``, without holding
     the whole image: bands are encoded as they are rendered (``progress`` as there)."""
     if export_area_drawing and export_id is None:
@@ -325,7 +327,8 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
         return encode_png(render_svg_array(
             source, width, height, zoom, dpi, background, mode, samples, resources_dir,
             keep_aspect=keep_aspect, size_limit=size_limit, export_area_drawing=True,
-            threads=threads, progress=progress, pattern=pattern, filter=filter, **options))
+            threads=threads, progress=progress, pattern=pattern, filter=filter,
+            color_samples=color_samples, **options))
     from .raster.render import render_scene_png
 
     scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
@@ -333,7 +336,7 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
                      size_limit=size_limit, export_id=export_id, **options)
     return render_scene_png(scene, mode=mode, threads=threads, progress=progress,
                             samples=samples_for(samples, scene.width, scene.height),
-                            pattern=pattern, filter=filter)
+                            pattern=pattern, filter=filter, color_samples=color_samples)
 
 
 def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:
@@ -362,8 +365,9 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
     ``background``: a CSS colour or an RGB(A) tuple. ``mode``/``samples``: coverage (see
     docs/modes.md; without ``samples``, 16 for outputs of at most 128 x 128 pixels, else 8).
     ``pattern`` (``d3d`` or ``grid``) and ``filter`` (``box`` or ``tent``): where a pixel's
-    samples lie and how they are weighed. ``resources_dir``: an extra folder images and CSS
-    may come from.
+    samples lie and how they are weighed. ``color_samples``: CSAA, at most that many colours
+    stored per pixel over the ``samples`` coverage samples. ``resources_dir``: an extra folder
+    images and CSS may come from.
     ``export_id``: only that element, cropped to its bounds; ``export_area_drawing=True``:
     the image cropped to the drawing's bounds.
     Document options: ``stylesheet`` (CSS text), ``languages`` (for systemLanguage, default

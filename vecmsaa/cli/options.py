@@ -50,6 +50,10 @@ def add_sampling_options(parser) -> None:
     parser.add_argument("--filter", choices=FILTERS,
                         help="resolve filter: box (every sample weighs the same; default) or "
                              "tent (samples weigh less towards the pixel's edges)")
+    parser.add_argument("--color-samples", type=int, metavar="K",
+                        help="CSAA: store at most K colours per pixel over the --samples "
+                             "coverage samples (e.g. --samples 16 --color-samples 4; default: "
+                             "one colour per sample; docs/modes.md)")
 
 
 def job_count(text: str) -> int:

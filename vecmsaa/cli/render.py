@@ -132,7 +132,7 @@ def render_options(args) -> dict:
         opts["mode"] = args.mode
     if args.samples:
         opts["samples"] = args.samples
-    for dest in ("pattern", "filter"):
+    for dest in ("pattern", "filter", "color_samples"):
         if getattr(args, dest):
             opts[dest] = getattr(args, dest)
     for dest in ("font_size", "shape_rendering", "text_rendering", "image_rendering",

@@ -57,7 +57,7 @@ class RenderOptions:
     """Everything the raster stage needs besides the scene."""
 
     def __init__(self, mode: str = "approx", samples: int = 8, filter: str = "box",
-                 pattern: str = "d3d"):
+                 pattern: str = "d3d", color_samples: int | None = None):
         if mode not in MODES:
             raise ValueError(f"unknown mode {mode!r}; choose from {', '.join(MODES)}")
         if filter not in FILTERS:
@@ -96,6 +96,14 @@ class RenderOptions:
         #: alpha-sat: alpha's coverage, each batch drawn front to back with the saturating
         #: blend into a transparent buffer that is then composited over the target
         self.saturate = mode in SATURATE_MODES
+        #: CSAA: colours stored per pixel, fewer than the coverage samples (None: one each)
+        if color_samples is not None:
+            if mode in EXACT_MODES:
+                raise ValueError(f"color samples need a multisample mode, not {mode}")
+            if not 1 <= color_samples <= self.samples:
+                raise ValueError(f"color samples must be 1..{self.samples} (the coverage "
+                                 f"samples): {color_samples}")
+        self.color_samples = self.samples if color_samples is None else color_samples
         if self.saturate:
             self.kernel_mode = MODE_IDS["alpha"]
         #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
@@ -116,16 +124,18 @@ def premultiplied(color) -> np.ndarray:
 
 def render_scene(scene: Scene, mode: str = "approx", samples: int = 8,
                  filter: str = "box", pattern: str = "d3d",
-                 band_budget: int = BAND_BUDGET, threads: int = 1) -> np.ndarray:
+                 band_budget: int = BAND_BUDGET, threads: int = 1,
+                 color_samples: int | None = None) -> np.ndarray:
     """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1].
 
     ``samples`` per pixel for the MSAA modes (1, 2, 4, 8, 16; ``none`` always uses 1, the
     ``reference`` mode 256 or a larger square), ``pattern`` their positions (``d3d``: the
     Direct3D 10.1 standard patterns, ``grid``: an ordered grid), ``filter`` the resolve filter
     (``box`` or ``tent``). ``band_budget``: bytes of one band's buffers; ``threads``: bands
-    rendered at once (None: every available core). The result depends on neither."""
-    return render_float(scene, RenderOptions(mode, samples, filter, pattern), band_budget,
-                        threads)
+    rendered at once (None: every available core). The result depends on neither.
+    ``color_samples``: CSAA, colours stored per pixel (fewer than ``samples``; docs/modes.md)."""
+    return render_float(scene, RenderOptions(mode, samples, filter, pattern, color_samples),
+                        band_budget, threads)
 
 
 def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDGET,
@@ -138,11 +148,11 @@ def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDG
 def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
                        filter: str = "box", pattern: str = "d3d",
                        band_budget: int = BAND_BUDGET, threads: int = 1,
-                       progress=None) -> np.ndarray:
+                       progress=None, color_samples: int | None = None) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA: ``to_rgba8(render_scene(...))``
     exactly, without ever holding the whole image in float (band by band).
     ``progress(rows done, rows)`` after each band, from the thread that drew it."""
-    opts = RenderOptions(mode, samples, filter, pattern)
+    opts = RenderOptions(mode, samples, filter, pattern, color_samples)
     out = np.empty((scene.height, scene.width, 4), dtype=np.uint8)
 
     def convert(y0, band):
@@ -153,12 +163,13 @@ def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
 
 def render_scene_png(scene: Scene, mode: str = "approx", samples: int = 8,
                      filter: str = "box", pattern: str = "d3d",
-                     band_budget: int = BAND_BUDGET, threads: int = 1, progress=None) -> bytes:
+                     band_budget: int = BAND_BUDGET, threads: int = 1, progress=None,
+                     color_samples: int | None = None) -> bytes:
     """PNG bytes of the image: ``encode_png(render_scene_rgba8(...))`` exactly, band by band,
     each band converted and its PNG rows deflated by the thread that rendered it, so neither
     the float nor the 8-bit image is ever whole (at 8192² that is 256 MB less).
     ``progress`` as for :func:`render_scene_rgba8`."""
-    opts = RenderOptions(mode, samples, filter, pattern)
+    opts = RenderOptions(mode, samples, filter, pattern, color_samples)
     stream = PngStream(scene.width, scene.height)
     per_thread = threading.local()
 
@@ -301,7 +312,7 @@ class Raster:
         out = np.zeros_like(target) if o.saturate else target
         render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
                     b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                    o.table, o.a2c_bits, o.occlude, o.saturate, self.scratch)
+                    o.table, o.a2c_bits, o.occlude, o.saturate, o.color_samples, self.scratch)
         if o.saturate:
             composite(out, target)
 
