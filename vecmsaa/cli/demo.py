@@ -14,7 +14,7 @@ def add_parser(sub):
     p.add_argument("-o", "--output", default="demo.png", help="output PNG (default demo.png; - for stdout)")
     p.add_argument("--samples", type=int, default=8, choices=(2, 4, 8, 16),
                    help="samples per pixel for the MSAA modes (default 8)")
-    p.add_argument("--size", type=int, default=40, help="scene size in pixels (default 40)")
+    p.add_argument("--size", type=int, default=36, help="scene size in pixels (default 36)")
     p.add_argument("--zoom", type=int, default=3,
                    help="pixel magnification (default 3: a sheet about 900 px wide)")
     return p
