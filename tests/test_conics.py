@@ -169,3 +169,16 @@ def test_rounded_rect_corners_wind_like_the_exact_rounded_rect():
         qy = min(max(y, 6.0), 10.0)
         inside = 1 <= x <= 21 and 2 <= y <= 14 and ((x - qx) / 6) ** 2 + ((y - qy) / 4) ** 2 <= 1
         assert abs(winding_at(segs, x, y)) == int(inside)
+
+
+@pytest.mark.parametrize("mode", ["alpha", "a2c", "none", "persample", "approx"])
+def test_every_mode_is_closer_to_a_large_ellipse_with_conics(mode):
+    cx, cy, rx, ry, w, h = BIG
+    ry = rx / 2
+    cy = 12.0 + ry * math.sin(math.pi / 8)
+    truth = ellipse_pixel_coverage(cx, cy, rx, ry, w, h)
+    edge = (truth > 0) & (truth < 1)
+    conic = ellipse_path(cx, cy, rx, ry)
+    e_conic = np.abs(_render(conic, w, h, mode) - truth)[edge].mean()
+    e_cubic = np.abs(_render(conic.without_conics(), w, h, mode) - truth)[edge].mean()
+    assert e_conic < 0.6 * e_cubic

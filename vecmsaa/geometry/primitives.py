@@ -8,7 +8,7 @@ curve. A sample's winding number is
 
 and a sample is inside a lens when it is on the lens side of the chord (tested with exactly the
 arithmetic the scan converter uses for that chord, so the two never disagree), on the inner side
-of the piece's end tangents (cubics only), and on the inner side of the curve according to the
+of the piece's end tangents (cubics and conics), and on the inner side of the curve according to the
 Loop–Blinn implicit function: k² − l·m for quadratics and conics, k³ − l·m for cubics, with
 (k, l, m) affine in pixel coordinates. A conic (rational quadratic with weight w, the exact form
 of an elliptical arc) has k = τ1 / 2w, l = τ0, m = τ2 in the barycentric coordinates τ of its
@@ -39,7 +39,7 @@ P_OX, P_OY, P_INVS = 3, 4, 5   # f is evaluated at X = (x − ox)·invs, Y = (y 
 P_K, P_L, P_M = 6, 9, 12       # (a, b, c) of k, l, m = a·X + b·Y + c
 P_CHORD = 15        # x_top, y_top, x_bot, y_bot (sorted by y, exactly as the edge is scanned)
 P_RIGHT = 19        # 1: lens at x ≥ x_chord(y) (horizontal chord: at y ≥ y_chord); 0: other side
-P_T1, P_T2 = 20, 23  # tangent half-planes a·x + b·y + c ≥ 0 (cubics); (0, 0, 1) = no constraint
+P_T1, P_T2 = 20, 23  # tangent half-planes a·x + b·y + c ≥ 0 (cubics, conics); (0, 0, 1) = none
 P_BBOX = 26         # x0, y0, x1, y1
 P_CTRL = 30         # up to 4 control points (x, y), for the per-row x-range of the lens
 P_NCTRL = 38
@@ -317,7 +317,13 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     # inside: half-way between the curve's midpoint and the chord's
     lam = 0.5 * w / (1.0 + w)
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
-    _set_chord(prim, x0, y0, x2, y2, cx + lam * (x1 - cx), cy + lam * (y1 - cy))
+    qx, qy = cx + lam * (x1 - cx), cy + lam * (y1 - cy)
+    _set_chord(prim, x0, y0, x2, y2, qx, qy)
+    # the end tangents (b0 → b1, b1 → b2) close the control triangle around the lens: the
+    # one-evaluation modes (alpha, a2c) then give no coverage beyond the lens's ends, where the
+    # whole ellipse's distance says "near the curve"
+    _tangent_plane(prim[P_T1:P_T1 + 3], x0, y0, x1 - x0, y1 - y0, qx, qy)
+    _tangent_plane(prim[P_T2:P_T2 + 3], x2, y2, x2 - x1, y2 - y1, qx, qy)
     return edges, ne, prims, nc + 1
 
 

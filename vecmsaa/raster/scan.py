@@ -25,8 +25,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_KIND, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
-                                   P_T2, P_WSIGN, KIND_CUBIC, _eval_implicit,
+from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
+                                   P_T2, P_WSIGN, _eval_implicit,
                                    _linearisation_bound)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade
@@ -322,7 +322,9 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
         sigma = prim[P_SIGMA]
         wsign = prim[P_WSIGN]
-        cubic = prim[P_KIND] == KIND_CUBIC
+        # end tangents bound cubic and conic lenses (plain quads have none: (0, 0, 1))
+        tangents = (prim[P_T1] != 0.0 or prim[P_T1 + 1] != 0.0 or prim[P_T2] != 0.0
+                    or prim[P_T2 + 1] != 0.0)
         for r in range(r_lo, r_hi + 1):
             if hidden[r]:
                 continue
@@ -349,7 +351,7 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                         lo[s], hi[s] = int(t), BIG
                     else:
                         lo[s], hi[s] = -BIG, int(t) - 1
-                if cubic:
+                if tangents:
                     _clip_half_plane(lo, hi, s, prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2], sx[s], ys)
                     _clip_half_plane(lo, hi, s, prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2], sx[s], ys)
                 max_lo = max(max_lo, lo[s])

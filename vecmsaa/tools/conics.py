@@ -28,7 +28,8 @@ from ..scene.nodes import Fill, Group, Scene, Solid
 from ..svg.shapes import ellipse_path
 
 RADII = (4.0, 16.0, 64.0, 256.0, 1024.0, 4096.0)
-MODES = (("persample", 16), ("approx", 16), ("approx", 4), ("analytic", 1))
+MODES = (("persample", 16), ("approx", 16), ("approx", 4), ("alpha", 16), ("a2c", 16),
+         ("analytic", 1))
 WINDOW = 48
 
 
@@ -161,23 +162,23 @@ def time_rows(size=1024, repeat=3, log=print):
 
 
 def markdown(result) -> str:
-    out = ["# Exact conics against cubic arcs", "",
-           "Made by `vecmsaa bench --conics -o DIR` (vecmsaa/tools/conics.py). Errors on edge "
-           "pixels against the exact ellipse: *samples* is the fraction of their samples on the "
-           "wrong side (MSAA modes), *mean*/*max* the coverage error against the exact area of "
-           "ellipse ∩ pixel. Shapes wider than the 48 px window are measured on a window at "
-           "22.5° on their edge.", "",
-           "| case | mode | samples conic | samples cubic | mean conic | mean cubic "
-           "| max conic | max cubic |", "|---|---|---:|---:|---:|---:|---:|---:|"]
-    for r in result["errors"]:
-        s = (f"{r['conic_samples']:.4f} | {r['cubic_samples']:.4f}" if "conic_samples" in r
-             else "– | –")
-        out.append(f"| {r['case']} | {r['mode']}/{r['samples']} | {s} | {r['conic_mean']:.5f} "
-                   f"| {r['cubic_mean']:.5f} | {r['conic_max']:.4f} | {r['cubic_max']:.4f} |")
-    out += ["", f"Time: {result['time_size']} px canvas of 400 translucent circles and "
-            "ellipses, best of 3 (ms).", "", "| mode | conic | cubic |", "|---|---:|---:|"]
+    """One row per shape: the sample error of persample/16 (approx/16 is the same) and the
+    mean coverage error of the others, conic / cubic; then the times."""
+    by = {(r["case"], r["mode"], r["samples"]): r for r in result["errors"]}
+    names = list(dict.fromkeys(r["case"] for r in result["errors"]))
+    cov_modes = [(m, n) for m, n in MODES if m != "persample"]
+    out = ["| shape | persample/16: samples wrong | "
+           + " | ".join(f"{m}/{n}: coverage" for m, n in cov_modes) + " |",
+           "|---|" + "---:|" * (1 + len(cov_modes))]
+    for name in names:
+        p = by[(name, "persample", 16)]
+        cells = [f"{p['conic_samples']:.4f} / {p['cubic_samples']:.4f}"]
+        cells += [f"{by[(name, m, n)]['conic_mean']:.4f} / {by[(name, m, n)]['cubic_mean']:.4f}"
+                  for m, n in cov_modes]
+        out.append(f"| {name} | " + " | ".join(cells) + " |")
+    out += ["", "| mode | conic (ms) | cubic (ms) |", "|---|---:|---:|"]
     for r in result["times"]:
-        out.append(f"| {r['mode']}/{r['samples']} | {r['conic_ms']:.1f} | {r['cubic_ms']:.1f} |")
+        out.append(f"| {r['mode']}/{r['samples']} | {r['conic_ms']:.0f} | {r['cubic_ms']:.0f} |")
     return "\n".join(out) + "\n"
 
 
