@@ -7,8 +7,9 @@ resources/). Where ``exact-refs/<test>.png`` exists beside ``tests/`` it holds t
 truth of a test whose reference keeps resvg's antialiasing fringe (a red shape "should be covered"
 by an identical one: resvg's own render with the covered element removed). A few more tests
 whose references carry one of resvg's artifacts (dashes placed by an approximate arc length)
-have an exact reference computed from their geometry (:mod:`vecmsaa.tools.suite_truth`). A test
-with an exact reference passes when it matches its reference *or* its exact reference, and both
+have an exact reference computed from their geometry (:mod:`vecmsaa.tools.suite_truth`), and
+tests whose references carry resvg's per-pixel compositing artifacts one rendered by resvg at 8x
+resolution and box-filtered (``vecmsaa/data/exact-refs``). A test with an exact reference passes when it matches its reference *or* its exact reference, and both
 counts are reported."""
 from __future__ import annotations
 
@@ -26,6 +27,10 @@ TEST_TIMEOUT = 180
 #: names the suite folder for ``vecmsaa suite`` without an argument and for the test suite
 SUITE_ENV = "VECMSAA_RESVG_SUITE"
 EXACT_REFS = "exact-refs"
+#: resvg's renders at 8x resolution, box-filtered, of tests whose references carry its per-pixel
+#: compositing artifacts (written by tools/make_exact_refs.py, which says how they are chosen)
+SUPERSAMPLED_REFS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                 "data", "exact-refs")
 
 
 def suite_from_environment(default=None):
@@ -164,13 +169,19 @@ def judge(name, actual, ref, out_dir, suite_dir):
 
 def exact_reference(suite_dir, name, width, height):
     """The exact reference of a test: ``exact-refs/<name>.png`` beside the suite's tests, else
-    the one computed from the test's geometry (:mod:`vecmsaa.tools.suite_truth`), else None."""
+    the one computed from the test's geometry (:mod:`vecmsaa.tools.suite_truth`), else the
+    supersampled resvg render in SUPERSAMPLED_REFS, else None."""
     path = os.path.join(suite_dir, EXACT_REFS, name + ".png")
     if os.path.exists(path):
         return _read_rgba(path)
     from .suite_truth import exact_reference as computed
 
-    return computed(name, width, height)
+    exact = computed(name, width, height)
+    if exact is None:
+        path = os.path.join(SUPERSAMPLED_REFS, name + ".png")
+        if os.path.exists(path):
+            exact = _read_rgba(path)
+    return exact
 
 
 LABEL_HEIGHT = 16
