@@ -293,7 +293,7 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
                      keep_aspect: bool = False, size_limit: bool = True,
                      export_id: str | None = None, export_area_drawing: bool = False,
                      threads: int | None = None, progress=None,
-                     pattern: str = "d3d", filter: str = "box",
+                     pattern: str = "d3d", filter: str | None = None,
                      color_samples: int | None = None, **options) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA; see :func:`render_svg`.
     ``threads``: bands rendered at once (None: every available core; the image does not
@@ -318,7 +318,7 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
                    keep_aspect: bool = False, size_limit: bool = True,
                    export_id: str | None = None, export_area_drawing: bool = False,
                    threads: int | None = None, progress=None,
-                   pattern: str = "d3d", filter: str = "box",
+                   pattern: str = "d3d", filter: str | None = None,
                    color_samples: int | None = None, **options) -> bytes:
     """Render to PNG bytes, the same as ``encode_png(render_svg_array(...))``, without holding
     the whole image: bands are encoded as they are rendered (``progress`` as there)."""
@@ -364,8 +364,10 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
     physical units; ``size_limit=False`` lifts the 32768 px / 2^28 pixel cap.
     ``background``: a CSS colour or an RGB(A) tuple. ``mode``/``samples``: coverage (see
     docs/modes.md; without ``samples``, 16 for outputs of at most 128 x 128 pixels, else 8).
-    ``pattern`` (``d3d`` or ``grid``) and ``filter`` (``box`` or ``tent``): where a pixel's
-    samples lie and how they are weighed. ``color_samples``: CSAA, at most that many colours
+    ``pattern`` (``d3d``, ``grid``, ``rgss``, ``rooks``, ``jittered``, ``poisson``,
+    ``quincunx``, ``flipquad``, ``interleaved``) and ``filter`` (``box``, ``tent``, ``tent1``,
+    ``gaussian``, ``mitchell``; None: the pattern's own): where a pixel's samples lie and how
+    they are weighed (docs/modes.md). ``color_samples``: CSAA, at most that many colours
     stored per pixel over the ``samples`` coverage samples. ``resources_dir``: an extra folder
     images and CSS may come from.
     ``export_id``: only that element, cropped to its bounds; ``export_area_drawing=True``:

@@ -44,12 +44,19 @@ def add_sampling_options(parser) -> None:
     from ..raster.modes import FILTERS, PATTERN_NAMES
 
     parser.add_argument("--pattern", choices=PATTERN_NAMES,
-                        help="sample pattern of the multisample modes: d3d (the Direct3D 10.1 "
-                             "standard patterns, every sample on its own row; default) or grid "
-                             "(an ordered grid)")
+                        help="sample pattern of the multisample modes (docs/modes.md): d3d (the "
+                             "Direct3D 10.1 standard patterns; default), grid (ordered), rgss "
+                             "(rotated grid, 4 samples), rooks (N-rooks), jittered, poisson "
+                             "(Poisson disk), quincunx (centre and shared corners, 2 stored "
+                             "samples), flipquad (shared edge samples, 2 stored) or interleaved "
+                             "(a 4x4 tile of pixels, each with its own pattern); the last three "
+                             "render once per stored sample and class, so cost more")
     parser.add_argument("--filter", choices=FILTERS,
-                        help="resolve filter: box (every sample weighs the same; default) or "
-                             "tent (samples weigh less towards the pixel's edges)")
+                        help="resolve filter: box (every sample weighs the same; the default, "
+                             "tent for quincunx), tent (samples weigh less towards the pixel's "
+                             "edges), or, weighing the neighbouring pixels' samples too, tent1 "
+                             "(tent of radius 1 px), gaussian (sigma 0.5 px, radius 1.5) or "
+                             "mitchell (Mitchell-Netravali B = C = 1/3, radius 2)")
     parser.add_argument("--color-samples", type=int, metavar="K",
                         help="CSAA: store at most K colours per pixel over the --samples "
                              "coverage samples (e.g. --samples 16 --color-samples 4; default: "

@@ -12,11 +12,14 @@ SATURATE_MODES = ("alpha-sat",)
 EXACT_MODES = ("analytic", "reference")
 MODES = MSAA_MODES + SATURATE_MODES + EXACT_MODES
 DEFAULT_MODE = "approx"
-#: sample patterns of the multisample modes (raster/sample_patterns.py): the Direct3D 10.1
-#: standard patterns and an ordered grid
-PATTERN_NAMES = ("d3d", "grid")
-#: resolve filters: the box (each sample weighs the same) and a tent within the pixel
-FILTERS = ("box", "tent")
+#: sample patterns of the multisample modes (raster/sample_patterns.py, docs/modes.md): the
+#: Direct3D 10.1 standard patterns, ordered grid, rotated grid, N-rooks, jittered, Poisson disk,
+#: quincunx, FLIPQUAD and interleaved sampling
+PATTERN_NAMES = ("d3d", "grid", "rgss", "rooks", "jittered", "poisson", "quincunx", "flipquad",
+                 "interleaved")
+#: resolve filters (raster/resolve.py): the box and the tent within the pixel, and the tent of
+#: radius 1 px, Gaussian and Mitchell–Netravali, which weigh the neighbouring pixels' samples
+FILTERS = ("box", "tent", "tent1", "gaussian", "mitchell")
 DEFAULT_SAMPLES = 8
 #: outputs of at most this many pixels (128 x 128, or any shape of that area) default to
 #: SMALL_OUTPUT_SAMPLES: at icon sizes one pixel is a visible part of the image (at 16 px one

@@ -16,6 +16,7 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+import copy
 import math
 import os
 import threading
@@ -29,7 +30,9 @@ from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from .sample_patterns import a2c_order, mask_table, pattern_offsets, stratified_pattern
+from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights, sample_classes
+from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
+                              stratified_pattern)
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
 from ..scene import bounds
@@ -54,44 +57,29 @@ MAX_FILTER_PIXELS = 1 << 24
 
 
 class RenderOptions:
-    """Everything the raster stage needs besides the scene."""
+    """Everything the raster stage needs besides the scene. ``filter`` None: the pattern's own
+    (``tent`` for quincunx, else ``box``)."""
 
-    def __init__(self, mode: str = "approx", samples: int = 8, filter: str = "box",
+    def __init__(self, mode: str = "approx", samples: int = 8, filter: str | None = None,
                  pattern: str = "d3d", color_samples: int | None = None):
         if mode not in MODES:
             raise ValueError(f"unknown mode {mode!r}; choose from {', '.join(MODES)}")
-        if filter not in FILTERS:
-            raise ValueError(f"unknown filter {filter!r}; choose from {', '.join(FILTERS)}")
         self.mode = mode
-        self.filter = filter
         if mode == "none":
             samples = 1
         if mode == "reference":
             # 256 samples unless more are asked for (a square number: 1024 = 32 x 32)
             side = max(16, int(round(np.sqrt(samples)))) if samples > 16 else 16
-            offsets = stratified_pattern(side)
-        elif mode == "analytic":
-            offsets = np.zeros((1, 2))
+            pat = SamplePattern("stratified", stratified_pattern(side))
+        elif mode in ("analytic", "none"):
+            pat = SamplePattern("centre", np.zeros((1, 2)))
         else:
-            offsets = pattern_offsets(pattern, samples)
-        self.samples = len(offsets)
-        self.sx = np.ascontiguousarray(offsets[:, 0] + 0.5)
-        self.sy = np.ascontiguousarray(offsets[:, 1] + 0.5)
-        if filter == "tent":
-            w = (1.0 - np.abs(offsets[:, 0])) * (1.0 - np.abs(offsets[:, 1]))
-        else:
-            w = np.ones(len(offsets))
-        self.weights = (w / w.sum()).astype(np.float32)
-        if mode in MASK_TABLE_MODES:
-            self.table = mask_table(samples, pattern)
-            order = a2c_order(samples, pattern)
-            bits = np.zeros(samples + 1, dtype=np.uint64)
-            for k in range(1, samples + 1):
-                bits[k] = bits[k - 1] | (np.uint64(1) << np.uint64(order[k - 1]))
-            self.a2c_bits = bits
-        else:
-            self.table = np.zeros((1, 1), dtype=np.uint64)
-            self.a2c_bits = np.zeros(2, dtype=np.uint64)
+            pat = sample_pattern(pattern, samples)
+        filter = pat.filter if filter is None else filter
+        if filter not in FILTERS:
+            raise ValueError(f"unknown filter {filter!r}; choose from {', '.join(FILTERS)}")
+        self.filter = filter
+        self.pattern = pat.name
         self.kernel_mode = MODE_IDS.get(mode, MODE_PERSAMPLE)
         #: alpha-sat: alpha's coverage, each batch drawn front to back with the saturating
         #: blend into a transparent buffer that is then composited over the target
@@ -100,10 +88,10 @@ class RenderOptions:
         if color_samples is not None:
             if mode in EXACT_MODES:
                 raise ValueError(f"color samples need a multisample mode, not {mode}")
-            if not 1 <= color_samples <= self.samples:
-                raise ValueError(f"color samples must be 1..{self.samples} (the coverage "
+            if not 1 <= color_samples <= pat.samples:
+                raise ValueError(f"color samples must be 1..{pat.samples} (the coverage "
                                  f"samples): {color_samples}")
-        self.color_samples = self.samples if color_samples is None else color_samples
+        self.color_samples = pat.samples if color_samples is None else color_samples
         if self.saturate:
             self.kernel_mode = MODE_IDS["alpha"]
         #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
@@ -115,6 +103,56 @@ class RenderOptions:
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
         self.tiles = {}
+        #: the options pattern tiles render with (a sample render's are its parent's)
+        self.parent = self
+        #: where the kernels cannot resolve a pixel alone (raster/resolve.py): the weights
+        #: of resolve_band and the one-sample options of every (sample, tile class), else None
+        self.resolve = None
+        if pat.per_pixel and RADIUS[filter] <= 0.5:
+            offsets = pat.offsets[0]
+            self._use_offsets(offsets, filter_weight(filter, offsets[:, 0], offsets[:, 1]))
+            return
+        if mode == "analytic":
+            raise ValueError(f"the analytic mode has no samples for the {filter} filter")
+        if mode == "a2c" and pat.samples > 1:
+            # its dither mask couples a pixel's samples: it has no one-sample images
+            raise ValueError(f"a2c takes a pattern of a pixel's own samples and the box or "
+                             f"tent filter, not {pat.name} with {filter}")
+        if self.color_samples < pat.samples:
+            raise ValueError(f"color samples need a pixel's own samples and the box or tent "
+                             f"filter, not {pat.name} with {filter}")
+        self.samples = pat.samples
+        self.resolve = resolve_weights(pat, filter)
+        self.tile = pat.tile
+        self.sample_opts = [[self._one_sample(pat.offsets[c, s]) for c in range(len(pat.offsets))]
+                            for s in range(pat.samples)]
+
+    def _use_offsets(self, offsets: np.ndarray, weights: np.ndarray) -> None:
+        """The kernels' sample positions (0..1 in the pixel), resolve weights, mask table and
+        alpha-to-coverage masks for these offsets from the pixel centre."""
+        n = len(offsets)
+        self.samples = n
+        self.sx = np.ascontiguousarray(offsets[:, 0] + 0.5)
+        self.sy = np.ascontiguousarray(offsets[:, 1] + 0.5)
+        self.weights = (weights / weights.sum()).astype(np.float32)
+        if self.mode in MASK_TABLE_MODES:
+            self.table = offsets_mask_table(offsets)
+            order = a2c_order(offsets)
+            bits = np.zeros(n + 1, dtype=np.uint64)
+            for k in range(1, n + 1):
+                bits[k] = bits[k - 1] | (np.uint64(1) << np.uint64(order[k - 1]))
+            self.a2c_bits = bits
+        else:
+            self.table = np.zeros((1, 1), dtype=np.uint64)
+            self.a2c_bits = np.zeros(2, dtype=np.uint64)
+
+    def _one_sample(self, offset) -> "RenderOptions":
+        """These options with the one sample at ``offset`` per pixel: a sample image's."""
+        one = copy.copy(self)
+        one.resolve = None
+        one.color_samples = 1
+        one._use_offsets(np.asarray(offset, dtype=np.float64).reshape(1, 2), np.ones(1))
+        return one
 
 
 def premultiplied(color) -> np.ndarray:
@@ -123,16 +161,16 @@ def premultiplied(color) -> np.ndarray:
 
 
 def render_scene(scene: Scene, mode: str = "approx", samples: int = 8,
-                 filter: str = "box", pattern: str = "d3d",
+                 filter: str | None = None, pattern: str = "d3d",
                  band_budget: int = BAND_BUDGET, threads: int = 1,
                  color_samples: int | None = None) -> np.ndarray:
     """Render to an (H, W, 4) float32 array of premultiplied RGBA in [0, 1].
 
     ``samples`` per pixel for the MSAA modes (1, 2, 4, 8, 16; ``none`` always uses 1, the
-    ``reference`` mode 256 or a larger square), ``pattern`` their positions (``d3d``: the
-    Direct3D 10.1 standard patterns, ``grid``: an ordered grid), ``filter`` the resolve filter
-    (``box`` or ``tent``). ``band_budget``: bytes of one band's buffers; ``threads``: bands
-    rendered at once (None: every available core). The result depends on neither.
+    ``reference`` mode 256 or a larger square), ``pattern`` their positions (modes.PATTERN_NAMES:
+    docs/modes.md), ``filter`` the resolve filter (modes.FILTERS; None: the pattern's own).
+    ``band_budget``: bytes of one band's buffers; ``threads``: bands rendered at once (None:
+    every available core). The result depends on neither.
     ``color_samples``: CSAA, colours stored per pixel (fewer than ``samples``; docs/modes.md)."""
     return render_float(scene, RenderOptions(mode, samples, filter, pattern, color_samples),
                         band_budget, threads)
@@ -146,7 +184,7 @@ def render_float(scene: Scene, opts: RenderOptions, band_budget: int = BAND_BUDG
 
 
 def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
-                       filter: str = "box", pattern: str = "d3d",
+                       filter: str | None = None, pattern: str = "d3d",
                        band_budget: int = BAND_BUDGET, threads: int = 1,
                        progress=None, color_samples: int | None = None) -> np.ndarray:
     """Render to an (H, W, 4) uint8 array of straight RGBA: ``to_rgba8(render_scene(...))``
@@ -162,7 +200,7 @@ def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
 
 
 def render_scene_png(scene: Scene, mode: str = "approx", samples: int = 8,
-                     filter: str = "box", pattern: str = "d3d",
+                     filter: str | None = None, pattern: str = "d3d",
                      band_budget: int = BAND_BUDGET, threads: int = 1, progress=None,
                      color_samples: int | None = None) -> bytes:
     """PNG bytes of the image: ``encode_png(render_scene_rgba8(...))`` exactly, band by band,
@@ -220,6 +258,9 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     where the band begins or on the other bands, so the image is the same for any number of
     threads (the kernels release the GIL)."""
     H, W = scene.height, scene.width
+    if opts.resolve is not None:
+        draw_sampled_bands(scene, opts, consume, band_budget, threads, target)
+        return
     items = prepare_items(scene.root, opts)
     threads = available_cores() if threads is None else max(1, int(threads))
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
@@ -233,7 +274,6 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
         # last; when those would outweigh the whole image, one band holds one at a time
         band_rows = H
     starts = range(0, H, band_rows)
-    threads = min(threads, len(starts))
     background = premultiplied(scene.background)
 
     def draw_bands(next_start):
@@ -249,6 +289,12 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
             band[1:] = band[0]
             draw_items(items, band, y0, raster)
             consume(y0, band)
+    run_bands(draw_bands, starts, threads)
+
+
+def run_bands(draw_bands, starts, threads: int) -> None:
+    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts."""
+    threads = min(threads, len(starts))
     if threads == 1:
         todo = iter(starts)
         draw_bands(lambda: next(todo, None))
@@ -263,6 +309,47 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     with ThreadPoolExecutor(threads) as pool:
         for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
             future.result()
+
+
+def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int,
+                       threads: int | None, target: np.ndarray | None) -> None:
+    """render_bands where a pixel needs its neighbours' samples (raster/resolve.py): per band,
+    one render per stored sample and tile class, each with that one sample per pixel, over the
+    band grown by the filter's apron on every side (the scene moved R pixels right, so columns
+    -R.. are drawn too), then the weighted sum of those sample images."""
+    H, W = scene.height, scene.width
+    R = (opts.resolve.shape[1] - 1) // 2
+    WR = W + 2 * R
+    items = prepare_items(translated(scene.root, R, 0), opts)
+    threads = available_cores() if threads is None else max(1, int(threads))
+    band_rows, strip_rows = band_layout(WR, 1, band_budget)
+    band_rows = max(1, min(band_rows, H))
+    if threads > 1:
+        band_rows = max(1, min(band_rows, -(-H // (2 * threads))))
+    starts = range(0, H, band_rows)
+    background = premultiplied(scene.background)
+
+    def draw_bands(next_start):
+        rasters = [[Raster(o, WR, H, strip_rows) for o in per_class]
+                   for per_class in opts.sample_opts]
+        for y0 in iter(next_start, None):
+            rows = min(band_rows, H - y0)
+            band = np.empty((rows, W, 4), np.float32) if target is None else target[y0:y0 + rows]
+            acc = np.zeros((rows, W, 4))
+            image = np.empty((rows + 2 * R, WR, 4), np.float32)
+            part = np.empty_like(image) if len(rasters[0]) > 1 else image
+            cls = sample_classes(opts.tile, y0 - R, -R, rows + 2 * R, WR)
+            for s, per_class in enumerate(rasters):
+                for c, raster in enumerate(per_class):
+                    part[0] = background
+                    part[1:] = part[0]
+                    draw_items(items, part, y0 - R, raster)
+                    if part is not image:
+                        image[cls == c] = part[cls == c]
+                accumulate(acc, y0, opts.resolve, opts.tile, s, image)
+            finish(acc, band)
+            consume(y0, band)
+    run_bands(draw_bands, starts, threads)
 
 
 def held_filtered_pixels(items, W: int, H: int) -> int:
@@ -347,6 +434,7 @@ class FillBatch:
 def pattern_tile(paint: PatternPaint, opts: RenderOptions) -> ImagePaint:
     """A pattern as the repeating image of its tile, rendered with the render's own options
     once per content group (shapes sharing a pattern share its content)."""
+    opts = opts.parent      # a sample image's pattern tiles are the whole render's
     key = (id(paint.content), paint.width, paint.height, paint.linear_rgb)
     hit = opts.tiles.get(key)
     if hit is None:
@@ -364,7 +452,8 @@ class Layer:
     or alpha is) that multiply it, opacity and blend mode. ``rows``: the device y range where
     it can be non-zero — inside its content (or its filter region), its clip and its mask — or
     None. A filtered layer is rendered and filtered whole, once, the first time a band needs it
-    (``filtered``: (x0, y0, x1, y1) device rect and its pixels)."""
+    (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
+    sample images of raster/resolve.py each have their own)."""
 
     def __init__(self, group: Group, opts: RenderOptions):
         # a filtered layer's content is prepared when it is filtered (moved to its region)
@@ -376,7 +465,7 @@ class Layer:
         self.opacity = group.opacity
         self.blend = group.blend
         self.filters = group.filters
-        self.filtered = None
+        self.filtered = {}
         self.filtering = threading.Lock()   # bands on threads: one of them filters
         if self.filters:
             rows = _union([(f.region[1], f.region[3]) for f in self.filters])
@@ -491,11 +580,12 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     bands on threads a band above it may still be on its way; it then filters again, to the
     same pixels.)"""
     with layer.filtering:
-        if layer.filtered is None:
-            layer.filtered = render_filtered(layer, raster)
-        (x0, fy0, x1, fy1), pixels = layer.filtered
+        key = id(raster.opts)
+        if key not in layer.filtered:
+            layer.filtered[key] = render_filtered(layer, raster)
+        (x0, fy0, x1, fy1), pixels = layer.filtered[key]
         if y0 + h >= fy1:
-            layer.filtered = None
+            del layer.filtered[key]
     a, b = max(y0, fy0), min(y0 + h, fy1)
     c, d = max(x0, 0), min(x1, w)
     if pixels is None or a >= b or c >= d:
