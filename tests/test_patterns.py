@@ -307,3 +307,23 @@ def test_impossible_combinations_are_refused():
     with pytest.raises(ValueError, match="pattern"):
         render_scene(scene, pattern="hexagonal")
     assert set(FILTERS) == set(RADIUS)
+
+
+def test_bench_scenes_have_the_edges_they_are_named_for():
+    """The bench's slanted bands: near-horizontal edges in one scene, near-vertical in the
+    other, and there FLIPQUAD's and quincunx's 2 stored samples (4 and 3 distinct rows resolved)
+    beat the 2-sample ordered grid's single row."""
+    from vecmsaa.tools.accuracy import edge_error, ground_truth
+    from vecmsaa.tools.patterns import pattern_configs, slanted_bands
+    assert {name for n, name in pattern_configs((2, 4, 8, 16))} == set(PATTERN_NAMES)
+    flat = slanted_bands(48)
+    for fill in flat.root.children:
+        pts = fill.path.points
+        slope = abs((pts[1, 1] - pts[0, 1]) / (pts[1, 0] - pts[0, 0]))
+        assert math.tan(math.radians(0.9)) < slope < math.tan(math.radians(10.1))
+    assert np.allclose(slanted_bands(48, vertical=True).root.children[0].path.points[:, ::-1],
+                       flat.root.children[0].path.points)
+    truth = ground_truth(flat)
+    grid = edge_error(render_scene(flat, samples=2, pattern="grid"), truth)
+    for name in ("flipquad", "quincunx"):
+        assert edge_error(render_scene(flat, pattern=name), truth) < 0.7 * grid

@@ -1,8 +1,8 @@
 """``vecmsaa bench``: run time against error for every coverage mode, sample count and pattern.
 
 Renders built-in synthetic scenes plus any SVG files or folders given, in every MSAA mode x
-samples (1, 2, 4, 8, 16) x pattern (d3d, grid), timing at --size and measuring the error against
-the reference mode at a small size; writes table.md, results.csv, results.json and pareto.png.
+samples (1, 2, 4, 8, 16) x pattern (d3d, grid; every pattern: --patterns), timing at --size and
+measuring the error against the reference mode at a small size; writes table.md, results.csv, results.json and pareto.png.
 """
 from __future__ import annotations
 
@@ -45,6 +45,11 @@ def add_parser(subparsers):
                         "colours against plain 4x and 16x MSAA on Figure 1, random scenes and "
                         "fans of 8 colours a pixel (the failure case): error, time, bytes per "
                         "split pixel (writes csaa.md/json)")
+    p.add_argument("--patterns", action="store_true",
+                   help="only the sample-pattern and filter study: every pattern at equal "
+                        "stored samples on Figure 1, random scenes and near-horizontal and "
+                        "near-vertical edges, and every resolve filter against the reference "
+                        "filtered the same way, with time (writes patterns.md/json)")
     p.add_argument("--icons", action="store_true",
                    help="only the small-size study on the given icon folders or files: "
                         "each rendered at 16, 24 and 32 px in the default and every mode "
@@ -84,6 +89,12 @@ def run(args) -> int:
         from vecmsaa.tools.csaa import write_study
         print(write_study(args.out_dir, quick=args.quick, repeat=args.repeat, log=log))
         log(f"bench: results in {args.out_dir}/ (csaa.md, csaa.json)")
+        return 0
+    if args.patterns:
+        from vecmsaa.tools.patterns import write_study
+        print(write_study(args.out_dir, quick=args.quick, repeat=args.repeat, size=args.size,
+                          log=log))
+        log(f"bench: results in {args.out_dir}/ (patterns.md, patterns.json)")
         return 0
     if args.icons:
         from vecmsaa.tools.icons import write_study

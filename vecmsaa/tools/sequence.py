@@ -140,14 +140,18 @@ def crawl(mode: str, samples: int, pattern: str = "d3d", size: int = 64,
 
 # -- the whole study ------------------------------------------------------------------------------
 def configurations(samples, patterns):
-    """(mode, samples, pattern) compared: every multisample mode at each count and pattern;
+    """(mode, samples, pattern) compared: every multisample mode at each count and pattern
+    (a pattern of one sample count at that count, once; a2c only with a pixel's own samples);
     ``none`` (one sample at the centre) and ``analytic`` once, with samples 0."""
+    from ..raster.sample_patterns import FIXED_SAMPLES, sample_pattern
     for mode in SEQUENCE_MODES:
         if mode in ("none", "analytic"):
             yield mode, 0, "d3d"
             continue
-        for n in samples:
-            for pattern in patterns:
+        for pattern in patterns:
+            for n in sorted({FIXED_SAMPLES.get(pattern, n) for n in samples}):
+                if mode == "a2c" and not sample_pattern(pattern, n).per_pixel:
+                    continue
                 yield mode, n, pattern
 def study(out_dir: str, size: int = SIZE, count: int = FRAMES, samples=(8, 16),
           patterns=PATTERN_NAMES, log=print) -> list[dict]:
