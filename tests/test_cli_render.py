@@ -401,3 +401,37 @@ def test_filter_flag_weighs_samples_by_the_tent(tmp_path):
                "--filter", "tent") == 0
     alpha = np.asarray(image(tmp_path / "o.png"))[..., 3].astype(int)
     assert (abs(alpha[:, 10] - covered * 255) <= 0.5 + 1e-9).all()
+
+
+def test_shared_pattern_and_wide_filter_flags(tmp_path, capsys):
+    # a vertical edge 0.3 px into column 10, the rectangle reaching far above and below
+    svg = tmp_path / "edge.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="4">'
+                   '<rect y="-20" width="10.3" height="40"/></svg>')
+    # quincunx: pixel 10's centre (10.5) is out, its left corners (x = 10) in: 2 x 1/8
+    assert run(svg, "-o", tmp_path / "q.png", "--mode", "persample", "--pattern",
+               "quincunx") == 0
+    alpha = np.asarray(image(tmp_path / "q.png"))[..., 3].astype(int)
+    assert (alpha[:, 10] == 64).all() and (alpha[:, 9] == 255).all() and (alpha[:, 11] == 0).all()
+    # the 2 x 2 grid and the tent of radius 1: samples at x = 9.75, 10.25 (in), 10.75, 11.25
+    # weigh 1/4, 3/4, 3/4, 1/4 in pixel 10, so it is half covered (the box: 1/2 too, but
+    # from 10.25 alone); pixel 9's reach (8.75 .. 10.25) is all in, pixel 11's all out
+    assert run(svg, "-o", tmp_path / "t.png", "--mode", "persample", "--pattern", "grid",
+               "--samples", 4, "--filter", "tent1") == 0
+    alpha = np.asarray(image(tmp_path / "t.png"))[..., 3].astype(int)
+    assert (abs(alpha[:, 10] - 127.5) <= 0.5).all()
+    assert (alpha[:, 9] == 255).all() and (alpha[:, 11] == 0).all()
+    # Mitchell-Netravali: pixel 10 from the 1-D weights of x = 8.75 .. 12.25 (radius 2)
+    xs = np.arange(8.75, 12.3, 0.5)
+    d = np.abs(xs - 10.5)
+    w = np.where(d < 1, (7 * d ** 3 - 12 * d ** 2 + 16 / 3) / 6,
+                 np.where(d < 2, (-7 / 3 * d ** 3 + 12 * d ** 2 - 20 * d + 32 / 3) / 6, 0))
+    want = w[xs < 10.3].sum() / w.sum()
+    assert run(svg, "-o", tmp_path / "m.png", "--mode", "persample", "--pattern", "grid",
+               "--samples", 4, "--filter", "mitchell") == 0
+    alpha = np.asarray(image(tmp_path / "m.png"))[..., 3].astype(int)
+    assert (abs(alpha[:, 10] - want * 255) <= 0.5 + 1e-9).all(), (alpha[:, 10], want * 255)
+    capsys.readouterr()
+    assert run(svg, "-o", tmp_path / "x.png", "--mode", "a2c", "--pattern", "flipquad") != 0
+    err = capsys.readouterr().err.strip()
+    assert "a2c" in err and len(err.splitlines()) == 1

@@ -96,12 +96,13 @@ def accumulate(acc: np.ndarray, y0: int, weights: np.ndarray, tile, s: int, imag
     into ``acc`` ((rows, W, 4) float64, device rows y0..) with the resolve weights."""
     rows, W = acc.shape[:2]
     R = (weights.shape[1] - 1) // 2
-    cls = sample_classes(tile, y0, 0, rows, W)
+    # one class: a scalar weight per offset (no per-pixel weight map to build)
+    cls = sample_classes(tile, y0, 0, rows, W)[..., None] if len(weights) > 1 else 0
     for dy in range(2 * R + 1):
         for dx in range(2 * R + 1):
             w = weights[:, dy, dx, s]
             if w.any():
-                acc += w[cls][..., None] * image[dy:dy + rows, dx:dx + W]
+                acc += w[cls] * image[dy:dy + rows, dx:dx + W]
 
 
 def finish(acc: np.ndarray, out: np.ndarray) -> None:
