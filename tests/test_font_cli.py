@@ -136,3 +136,19 @@ def test_unsupported_option_values_fail_cleanly(tmp_path):
         main(["font", TTF, "--text", "x", "--mode", "approx", "--samples", "3", "-o", str(out)])
     assert exc.value.code == 2
     assert not out.exists()
+
+
+def test_pattern_and_filter_ask_for_samples(tmp_path):
+    """--pattern/--filter draw the sheet with samples (the MSAA default mode) at those positions
+    and weights: the same as the MSAA mode asked for with them, unlike the exact-area default."""
+    outs = {}
+    for name, flags in (("default", []), ("approx", ["--mode", "approx"]),
+                        ("flags", ["--pattern", "quincunx", "--filter", "gaussian"]),
+                        ("both", ["--mode", "approx", "--pattern", "quincunx",
+                                  "--filter", "gaussian"])):
+        out = tmp_path / f"{name}.png"
+        assert main(["font", TTF, "--text", "Ag", "--size", "24", *flags, "-o", str(out)]) == 0
+        outs[name] = np.asarray(Image.open(out))
+    assert np.array_equal(outs["flags"], outs["both"])
+    assert not np.array_equal(outs["flags"], outs["approx"])
+    assert not np.array_equal(outs["flags"], outs["default"])

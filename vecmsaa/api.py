@@ -389,14 +389,17 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
     return Image.fromarray(np.ascontiguousarray(arr), "RGBA")
 
 
-def render_sheet(scene, face, mode: str | None = None, samples: int | None = None) -> np.ndarray:
-    """A font sheet's (H, W, 4) straight RGBA8 pixels. Without ``mode``: exact-area coverage
-    of its outlines with their overlaps united where that is exact
-    (:func:`vecmsaa.fonts.sheets.exact_area_sheet`), the MSAA default elsewhere; ``samples``
-    as for ``vecmsaa render``."""
+def render_sheet(scene, face, mode: str | None = None, samples: int | None = None,
+                 pattern: str | None = None, filter: str | None = None) -> np.ndarray:
+    """A font sheet's (H, W, 4) straight RGBA8 pixels. Without ``mode`` (nor ``pattern`` or
+    ``filter``, which ask for samples): exact-area coverage of its outlines with their overlaps
+    united where that is exact (:func:`vecmsaa.fonts.sheets.exact_area_sheet`), the MSAA default
+    elsewhere; ``samples``, ``pattern``, ``filter`` as for ``vecmsaa render``."""
     from .fonts.sheets import exact_area_sheet
     from .raster.render import render_scene_rgba8
 
-    exact = exact_area_sheet(scene, face) if mode is None else None
-    return render_scene_rgba8(scene if exact is None else exact, **coverage(
-        mode, samples, scene.width, scene.height, analytic_exact=exact is not None))
+    sampled = mode is not None or pattern is not None or filter is not None
+    exact = exact_area_sheet(scene, face) if not sampled else None
+    return render_scene_rgba8(scene if exact is None else exact, pattern=pattern or "d3d",
+                              filter=filter, **coverage(mode, samples, scene.width, scene.height,
+                                                        analytic_exact=exact is not None))

@@ -47,9 +47,11 @@ def add_parser(subparsers):
                    help="glyphs per --glyphs page [default: 256]")
     p.add_argument("--columns", type=int, default=16, metavar="N",
                    help="columns of the --glyphs grid [default: 16]")
-    from .options import add_coverage_options
+    from .options import add_coverage_options, add_sampling_options
     add_coverage_options(p, default_mode="analytic on the outlines with their overlaps "
                                           "united, approx for colour fonts (docs/fonts.md)")
+    # a pattern or filter asks for samples: the multisample default mode then
+    add_sampling_options(p)
     p.set_defaults(func=run)
     return p
 
@@ -129,7 +131,7 @@ def _render(args, location, features, foreground, background, sizes) -> int:
     from vecmsaa.output.png import write_png
 
     try:
-        image = render_sheet(scene, face, args.mode, args.samples)
+        image = render_sheet(scene, face, args.mode, args.samples, args.pattern, args.filter)
     except ImportError as exc:    # the raster's compiled dependencies
         return _fail(f"renderer not available: {exc}")
     except ValueError as exc:     # e.g. a sample count the mode has no pattern for
