@@ -13,7 +13,7 @@ Loop–Blinn implicit function: k² − l·m for quadratics and conics, k³ − 
 (k, l, m) affine in pixel coordinates. A conic (rational quadratic with weight w, the exact form
 of an elliptical arc) has k = τ1 / 2w, l = τ0, m = τ2 in the barycentric coordinates τ of its
 control triangle: its points have τ ∝ ((1 − t)², 2w·t(1 − t), t²), so τ1² = 4w²·τ0·τ2 exactly
-on the curve; w = 1 is the parabola, where this is the usual u² − v (m = 1 for plain quads).
+on the curve; w = 1 is the parabola (a plain quadratic: the same code, the same lens).
 
 Cubics are classified as in Loop & Blinn (serpentine, loop, cusp, cusp at infinity, quadratic,
 line), split at inflections and at the double point of a loop, and further until each piece
@@ -220,42 +220,6 @@ def _set_frame_common(prim, ctrl):
 
 
 @njit(cache=True)
-def _emit_quad_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2):
-    """Chord edge plus lens primitive for one quadratic piece (u² − v, lens where f < 0)."""
-    edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
-    s = max(math.hypot(x1 - x0, y1 - y0), math.hypot(x2 - x0, y2 - y0))
-    if s == 0.0:
-        return edges, ne, prims, nc
-    inv = 1.0 / s
-    X1, Y1 = (x1 - x0) * inv, (y1 - y0) * inv
-    X2, Y2 = (x2 - x0) * inv, (y2 - y0) * inv
-    det = X1 * Y2 - X2 * Y1
-    if abs(det) < 1e-12:
-        return edges, ne, prims, nc
-    prims = _grow(prims, nc)
-    prim = prims[nc]
-    for j in range(PRIM_FIELDS):
-        prim[j] = 0.0
-    prim[P_KIND] = KIND_QUAD
-    prim[P_SIGMA] = 1.0
-    prim[P_OX], prim[P_OY], prim[P_INVS] = x0, y0, inv
-    # (u, v) = (0, 0), (1/2, 0), (1, 1) at b0, b1, b2; b0 is the frame origin so c = 0.
-    prim[P_K] = (0.5 * Y2 - Y1) / det
-    prim[P_K + 1] = (X1 - 0.5 * X2) / det
-    prim[P_L] = -Y1 / det
-    prim[P_L + 1] = X1 / det
-    prim[P_M + 2] = 1.0
-    ctrl = np.empty((3, 2))
-    ctrl[0, 0], ctrl[0, 1] = x0, y0
-    ctrl[1, 0], ctrl[1, 1] = x1, y1
-    ctrl[2, 0], ctrl[2, 1] = x2, y2
-    _set_frame_common(prim, ctrl)
-    mx, my = _quad_point(x0, y0, x1, y1, x2, y2, 0.5)
-    _set_chord(prim, x0, y0, x2, y2, 0.5 * (mx + 0.5 * (x0 + x2)), 0.5 * (my + 0.5 * (y0 + y2)))
-    return edges, ne, prims, nc + 1
-
-
-@njit(cache=True)
 def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
     dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     if dev < LINE_EPS or not (math.isfinite(dev)):
@@ -275,7 +239,8 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
         mt_a, mt_b = 1.0 - ta, 1.0 - tb
         cx = mt_a * mt_b * x0 + (mt_a * tb + ta * mt_b) * x1 + ta * tb * x2
         cy = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
-        edges, ne, prims, nc = _emit_quad_piece(edges, ne, prims, nc, ax, ay, cx, cy, bx, by)
+        # a quadratic is the conic of weight 1
+        edges, ne, prims, nc = _emit_conic_piece(edges, ne, prims, nc, ax, ay, cx, cy, bx, by, 1.0)
     return edges, ne, prims, nc
 
 
@@ -542,7 +507,7 @@ def _linearisation_bound(prim, x, y, rho):
     """Bound on |f(p + δ) − f(p) − ∇f(p)·δ| over all |δ| ≤ rho (pixels): how far the implicit
     function can depart from its tangent plane at p within that disc. With k, l, m affine and
     α, β, γ their changes (|α| ≤ A = ‖∇k‖ρ, ...): quadratics f = k² − l·m leave α² − βγ ≤
-    A² + BC (C = 0 for plain quads), cubics f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
+    A² + BC, cubics f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
     s = rho * prim[P_INVS]
     a = math.hypot(prim[P_K], prim[P_K + 1]) * s
     b = math.hypot(prim[P_L], prim[P_L + 1]) * s
