@@ -335,7 +335,7 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
             band = np.empty((rows, W, 4), np.float32) if target is None else target[y0:y0 + rows]
-            acc = np.zeros((rows, W, 4))
+            acc = np.zeros((rows, W, 4), np.float32)
             image = np.empty((rows + 2 * R, WR, 4), np.float32)
             part = np.empty_like(image) if len(rasters[0]) > 1 else image
             cls = sample_classes(opts.tile, y0 - R, -R, rows + 2 * R, WR)

@@ -92,17 +92,37 @@ def sample_classes(tile, y0: int, x0: int, rows: int, cols: int) -> np.ndarray:
 
 
 def accumulate(acc: np.ndarray, y0: int, weights: np.ndarray, tile, s: int, image) -> None:
-    """Add sample image ``s`` ((rows + 2R, W + 2R, 4), device rows y0 - R.. and columns -R..)
-    into ``acc`` ((rows, W, 4) float64, device rows y0..) with the resolve weights."""
+    """Add sample image ``s`` ((rows + 2R, W + 2R, 4) float32, device rows y0 - R.. and columns
+    -R..) into ``acc`` ((rows, W, 4) float32, device rows y0..) with the resolve weights."""
     rows, W = acc.shape[:2]
     R = (weights.shape[1] - 1) // 2
-    # one class: a scalar weight per offset (no per-pixel weight map to build)
-    cls = sample_classes(tile, y0, 0, rows, W)[..., None] if len(weights) > 1 else 0
+    term = np.empty((image.shape[0], W, 4), np.float32)     # products land here, not in temporaries
+    if len(weights) == 1:
+        w = weights[0, :, :, s]
+        a, b = w.sum(axis=1), w.sum(axis=0)
+        if R > 0 and a.sum() > 0 and np.allclose(np.outer(a, b) / a.sum(), w, rtol=0, atol=1e-12):
+            # one class and a separable filter: a pass along x, then one along y (2(2R + 1)
+            # products, not (2R + 1)²)
+            b = b / a.sum()
+            along_x = np.zeros_like(term)
+            for dx in np.flatnonzero(b):
+                np.multiply(image[:, dx:dx + W], np.float32(b[dx]), out=term)
+                along_x += term
+            for dy in np.flatnonzero(a):
+                np.multiply(along_x[dy:dy + rows], np.float32(a[dy]), out=term[:rows])
+                acc += term[:rows]
+            return
+        for dy, dx in zip(*np.nonzero(w)):
+            np.multiply(image[dy:dy + rows, dx:dx + W], np.float32(w[dy, dx]), out=term[:rows])
+            acc += term[:rows]
+        return
+    cls = sample_classes(tile, y0, 0, rows, W)[..., None]
     for dy in range(2 * R + 1):
         for dx in range(2 * R + 1):
-            w = weights[:, dy, dx, s]
+            w = weights[:, dy, dx, s].astype(np.float32)
             if w.any():
-                acc += w[cls] * image[dy:dy + rows, dx:dx + W]
+                np.multiply(image[dy:dy + rows, dx:dx + W], w[cls], out=term[:rows])
+                acc += term[:rows]
 
 
 def finish(acc: np.ndarray, out: np.ndarray) -> None:
