@@ -279,7 +279,7 @@ def run_svg(data: bytes, folder=None):
 def run_pathdata(text: str):
     import numpy as np
 
-    from vecmsaa.scene.path import Path
+    from vecmsaa.scene.path import VERB_POINTS, Path
     from vecmsaa.raster.render import render_scene
     from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
     from vecmsaa.svg.pathdata import parse_path_data
@@ -287,7 +287,7 @@ def run_pathdata(text: str):
     path = parse_path_data(text)
     assert isinstance(path, Path)
     v, p = path.verbs, path.points
-    assert len(p) == sum((1, 1, 2, 3, 0)[x] for x in v), "verbs and points disagree"
+    assert len(p) == sum(VERB_POINTS[x] for x in v), "verbs and points disagree"
     if len(v) and np.isfinite(p).all():
         render_scene(Scene(16, 16, Group([Fill(path.transformed((0.1, 0, 0, 0.1, 0, 0)),
                                                Solid())])), mode="approx", samples=4)
