@@ -90,3 +90,13 @@ def test_color_samples_must_fit_the_coverage_samples():
         RenderOptions("approx", 4, color_samples=8)
     with pytest.raises(ValueError):
         RenderOptions("analytic", 8, color_samples=4)
+
+
+def test_same_pixels_for_any_band_size_and_thread_count():
+    """The colour table is per pixel, so bands and threads cannot change it."""
+    scene = fan_scene(24, wedges=8, fans=2)
+    whole = render_scene(scene, mode="approx", samples=16, color_samples=2)
+    for rows in (1, 5):
+        budget = rows * scene.width * 16
+        assert np.array_equal(render_scene(scene, mode="approx", samples=16, color_samples=2,
+                                           band_budget=budget, threads=2), whole)
