@@ -436,3 +436,18 @@ def test_properties_parsed_but_not_applied_warn_once_unless_initial():
         warnings.simplefilter("error")           # initial values draw what they ask for
         doc('<text style="inline-size: auto; white-space: normal; text-overflow: inherit">a'
             '</text>')
+
+
+def test_pattern_cycles_are_broken_where_usvg_breaks_them():
+    # usvg (svgtree fix_recursive_patterns): for pattern P in document order and a paint
+    # url(#Q) inside it, the first element inside Q painting url(#P) loses that paint; a paint
+    # of P inside P goes. resvg 0.44 draws the suite's recursive-on-child test so.
+    doc = load_document(b"""<svg xmlns="http://www.w3.org/2000/svg">
+      <pattern id="a" width="4" height="4"><rect id="ra" width="4" height="4" fill="url(#b)"
+        stroke="url(#a)"/></pattern>
+      <pattern id="b" width="4" height="4"><rect id="rb" width="4" height="4" fill="url(#a)"
+        stroke="green"/></pattern>
+      <rect width="8" height="8" fill="url(#a)"/></svg>""")
+    ra, rb = doc.ids["ra"].specified, doc.ids["rb"].specified
+    assert ra["fill"] == "url(#b)" and ra["stroke"] == "none"
+    assert rb["fill"] == "none" and rb["stroke"] == "green"

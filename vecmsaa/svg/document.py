@@ -659,7 +659,56 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
         raise SvgError(reader.error)
     for name, value in (root_defaults or {}).items():
         doc.root.specified.setdefault(name, value)
+    _break_pattern_cycles(doc)
     return doc
+
+
+_URL_ID = re.compile(r"""^\s*url\(\s*["']?#([^"')\s]+)["']?\s*\)""")
+
+
+def _descendants(el):
+    """``el`` and every element below it, in document order (without recursion)."""
+    stack = [el]
+    while stack:
+        node = stack.pop()
+        yield node
+        stack.extend(reversed(node.children))
+
+
+def _break_pattern_cycles(doc):
+    """A fill or stroke that would make a pattern contain itself becomes ``none``, chosen as
+    usvg chooses it (SVG leaves a circular reference an error without saying what is drawn):
+    for each pattern P in document order, each element E inside P with a paint url(#Q): if Q is
+    P, E's paint goes; otherwise the first element inside Q painting with url(#P) loses that
+    paint. Fills first, then strokes. The build's own guard (paint.pattern) still stops any
+    cycle this leaves, e.g. through ancestors' inherited paints."""
+    patterns = [el for el in doc.ids.values() if el.tag == "pattern"]
+    if not patterns:
+        return
+
+    def link(el, name):
+        value = el.specified.get(name) if el.specified else None
+        m = _URL_ID.match(value) if value else None
+        return m.group(1) if m else None
+
+    for name in ("fill", "stroke"):
+        for pat in patterns:
+            pid = pat.attrs.get("id")
+            for node in _descendants(pat):
+                while True:
+                    target = link(node, name)
+                    if target is None:
+                        break
+                    if target == pid:
+                        node.specified[name] = "none"
+                        continue
+                    linked = doc.ids.get(target)
+                    hit = None
+                    if linked is not None:
+                        hit = next((n for n in _descendants(linked) if link(n, name) == pid), None)
+                    if hit is None:
+                        break
+                    hit.specified[name] = "none"
 
 
 def _cascade(reader, stylesheet):
