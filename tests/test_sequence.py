@@ -51,3 +51,14 @@ def test_flicker_is_zero_for_a_still_sequence_and_falls_with_more_samples():
     one = flicker(render_frames(frames, "none", 1), reference)[0]
     sixteen = flicker(render_frames(frames, "persample", 16), reference)[0]
     assert sixteen < one / 2
+
+
+def test_shared_samples_crawl_like_more_samples_than_they_store():
+    """Quincunx and FLIPQUAD store 2 samples but resolve 5 and 4 on 3 and 4 distinct rows: a
+    near-horizontal edge crawls less than with the 2-sample ordered grid (1 row), and they see
+    the edge's continuation beyond the image (no offset from the border columns)."""
+    grid = crawl("persample", 2, "grid", size=32, count=16)
+    for pattern in ("quincunx", "flipquad"):
+        shared = crawl("persample", 2, pattern, size=32, count=16)
+        assert shared[1] < 0.6 * grid[1], (pattern, shared, grid)
+        assert abs(shared[0]) < 0.02

@@ -101,15 +101,17 @@ EDGE_SLOPE = 1.0 / 16
 
 
 def edge_frames(size: int, count: int) -> list[Scene]:
-    """A black half-plane y > y0 + slope·x on white, y0 going from size/2 to size/2 + 1."""
+    """A black half-plane y > y0 + slope·x on white, y0 going from size/2 to size/2 + 1. It
+    reaches 2 px beyond the image on the left, right and bottom: patterns with samples on the
+    pixel's edges (quincunx, FLIPQUAD) and wide filters see that far."""
     out = []
     for k in range(count):
         y0 = size / 2 + k / count
         p = Path()
-        p.moveTo((0.0, y0))
-        p.lineTo((float(size), y0 + EDGE_SLOPE * size))
-        p.lineTo((float(size), float(size) + 1))
-        p.lineTo((0.0, float(size) + 1))
+        p.moveTo((-2.0, y0 - 2 * EDGE_SLOPE))
+        p.lineTo((size + 2.0, y0 + EDGE_SLOPE * (size + 2)))
+        p.lineTo((size + 2.0, size + 2.0))
+        p.lineTo((-2.0, size + 2.0))
         p.closePath()
         out.append(Scene(size, size, Group([Fill(p, Solid((0, 0, 0, 1)))]),
                          background=(0, 0, 0, 0)))
