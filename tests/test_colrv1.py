@@ -3,7 +3,6 @@ version 1): each glyph of a font built here with fontTools is one paint graph ov
 1000-unit square, drawn at 100 px per em so that font unit (x, y) is device pixel
 (x / 10, 100 - y / 10); the expected colour of every pixel is computed from the spec's
 definition of the paint, not from the renderer."""
-import math
 
 import numpy as np
 import pytest

@@ -2,11 +2,10 @@
 import math
 
 import numpy as np
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.geometry.primitives import (P_KIND, PRIM_FIELDS, _eval_implicit, build_batch,
+from vecmsaa.geometry.primitives import (P_KIND, _eval_implicit, build_batch,
                                          classify_cubic, KIND_CUBIC)
 from vecmsaa.scene.path import Path
 

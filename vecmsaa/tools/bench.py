@@ -750,7 +750,7 @@ def write_reports(out_dir, result):
     plot(summ, os.path.join(out_dir, "pareto.png"),
          f"vecmsaa bench: {len(result['scenes'])} scenes at {result['size']} px "
          f"(errors at {result['error_size']} px)")
-    lines = [f"# vecmsaa bench", "",
+    lines = ["# vecmsaa bench", "",
              f"{result['machine']}; {result['when']}; scenes: {', '.join(result['scenes'])}; "
              f"timing size {result['size']} px (longer side), median of {result['repeat']} "
              f"after a warm-up; errors at {result['error_size']} px against the reference "
