@@ -329,3 +329,24 @@ def test_underline_is_sized_by_the_spans_font_not_a_fallback(tmp_path):
     centre = 100 - post.underlinePosition * 100 / upem
     half = post.underlineThickness * 100 / upem / 2
     assert abs(rows.min() - (centre - half)) <= 1 and abs(rows.max() + 1 - (centre + half)) <= 1
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "Amiri-Regular.ttf")),
+                    reason="needs the suite's Amiri font")
+def test_an_absolute_position_breaks_arabic_joining_like_separate_texts():
+    # Every character with its own x starts a text chunk, and a chunk is shaped on its own
+    # (as resvg does): x="20 70 120" on three behs draws what three <text>s of one beh draw,
+    # isolated forms, not the initial/medial/final forms of the joined word.
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                width=200, mode="analytic")
+
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Amiri" font-size="40">{body}</svg>').encode()
+        return render_svg_array(svg, **opts)
+
+    chunks = draw('<text x="20 70 120" y="60">\u0628\u0628\u0628</text>')
+    separate = draw("".join(f'<text x="{x}" y="60">\u0628</text>' for x in (20, 70, 120)))
+    joined = draw('<text x="20" y="60">\u0628\u0628\u0628</text>')
+    assert np.array_equal(chunks, separate)
+    assert not np.array_equal(chunks[..., 3] > 0, joined[..., 3] > 0)

@@ -177,15 +177,17 @@ def visual_runs(text: str, base: str = "ltr"):
 
 
 def shape_run(face, text: str, start: int, end: int, *, location=(), features=None,
-              direction="ltr", script=None, language=None) -> ShapedRun:
-    """Shape text[start:end] as one run (context outside the range is given to HarfBuzz)."""
+              direction="ltr", script=None, language=None, context=None) -> ShapedRun:
+    """Shape text[start:end] as one run; text[lo:hi] around it, ``context`` = (lo, hi) (default
+    the whole text), is given to HarfBuzz as context."""
     import uharfbuzz as hb
 
     buf = hb.Buffer()
     buf.cluster_level = hb.BufferClusterLevel.MONOTONE_CHARACTERS
-    # Give HarfBuzz the whole string as context so that joining (Arabic) sees neighbours.
-    codepoints = [ord(c) for c in text]
-    buf.add_codepoints(codepoints, start, end - start)
+    # Give HarfBuzz the context so that joining (Arabic) sees neighbours.
+    lo, hi = context if context is not None else (0, len(text))
+    codepoints = [ord(c) for c in text[lo:hi]]
+    buf.add_codepoints(codepoints, start - lo, end - start)
     buf.guess_segment_properties()
     buf.direction = direction
     if script:
@@ -197,7 +199,7 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
     positions = buf.glyph_positions
     n = len(infos)
     gids = np.fromiter((i.codepoint for i in infos), np.int64, n)
-    clusters = np.fromiter((i.cluster for i in infos), np.int64, n)
+    clusters = np.fromiter((i.cluster for i in infos), np.int64, n) + lo
     pos = np.array([(p.x_advance, p.y_advance, p.x_offset, p.y_offset) for p in positions],
                    dtype=np.float64).reshape(-1, 4)
     return ShapedRun(face, location, gids, clusters, pos[:, :2].copy(), pos[:, 2:].copy(),

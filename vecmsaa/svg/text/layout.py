@@ -69,6 +69,7 @@ def shape_chunk(chars, faces, specs, start, end):
     face: kerning and joining across tspans of different fonts come from the run's context.
     """
     text = "".join(c.ch for c in chars)
+    chunk = (start, end)
     clusters = []
     for s, e, d in visual_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
@@ -78,7 +79,7 @@ def shape_chunk(chars, faces, specs, start, end):
                 keys.setdefault((id(faces[k]), specs[k].features, specs[k].variations), k)
         if not keys:
             continue
-        shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k)
+        shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k, chunk)
                   for key, k in keys.items()}
         base_key = next(iter(keys))
         index = {key: _ClusterIndex(got) for key, got in shaped.items()}
@@ -125,13 +126,14 @@ class _ClusterIndex:
         return self.starts[i] if i < len(self.starts) else end
 
 
-def _shape_clusters(chars, faces, specs, text, s, e, direction, k):
-    """text[s:e] shaped with the face and settings of character k, as clusters."""
+def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
+    """text[s:e] shaped with the face and settings of character k, as clusters; ``context``
+    (the chunk) is what HarfBuzz sees around the run."""
     face = faces[k]
     spec = specs[k]
     loc = face_location(face, spec)
     run = shape_run(face, text, s, e, location=loc, features=dict(spec.features),
-                    direction=direction)
+                    direction=direction, context=context)
     out = []
     current = None
     pen = 0.0
