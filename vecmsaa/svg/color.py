@@ -436,8 +436,9 @@ def _hex_color(h: str):
 
 
 def _byte(v):
-    """A channel in [0, 1] as svgtypes stores it: rounded half away from zero, saturated."""
-    return min(255, max(0, math.floor(v + 0.5))) / 255
+    """A channel in [0, 1] as svgtypes stores it: rounded half away from zero, saturated.
+    Saturated before rounding: a number like 1e999 reads as infinity, which floor refuses."""
+    return math.floor(min(255.0, max(0.0, v + 0.5))) / 255
 
 
 class _SvgColorReader:
