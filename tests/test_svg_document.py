@@ -452,3 +452,11 @@ def test_pattern_cycles_are_broken_where_usvg_breaks_them():
     ra, rb = doc.ids["ra"].specified, doc.ids["rb"].specified
     assert ra["fill"] == "url(#b)" and ra["stroke"] == "none"
     assert rb["fill"] == "none" and rb["stroke"] == "green"
+
+
+def test_overflowing_colour_channels_clamp_instead_of_raising():
+    # 1e999 reads as infinity; CSS Color 4 clamps out-of-range channels (the fuzzer found
+    # an OverflowError here)
+    assert parse_svg_color("rgb(1e999, 0, -1e999)") == (1.0, 0.0, 0.0, 1.0)
+    assert parse_svg_color("rgb(0%, 1e999%, 0%)") == (0.0, 1.0, 0.0, 1.0)
+    assert parse_svg_color("hsla(0, 0%, 0%, -1e999)")[3] == 0.0
