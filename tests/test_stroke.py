@@ -414,6 +414,8 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
          cap="butt", w=2.0, miterlimit=4.0, dashes=[8.0, 4.0], offset=2.0, seed=0)
 @example(subpaths=[[(17, 15), (21, 3), (20, 6)]], closed=[False, False, False], join="miter",
          cap="butt", w=0.4, miterlimit=1.0, dashes=None, offset=0.0, seed=0)   # a U-turn
+@example(subpaths=[[(0, 0), (6, 4)]], closed=[True, False, False], join="miter", cap="round",
+         w=2.0, miterlimit=4.0, dashes=[0.0, 0.0, 0.5], offset=0.0, seed=0)   # a dot at the start
 def test_compiled_polylines_fill_as_the_general_stroker(subpaths, closed, join, cap, w,
                                                         miterlimit, dashes, offset, seed):
     # the compiled polyline stroker (inline joins, shortcuts at inner corners, dashes walked

@@ -334,7 +334,7 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
         pos += length
         k = (k + 1) % len(pattern)
     if closed and first_at_start and last_at_end and len(dashes) > 1 and \
-            isinstance(dashes[-1], list):
+            isinstance(dashes[-1], list) and isinstance(dashes[0], list):
         dashes[0] = dashes.pop() + dashes[0]
     return dashes
 
