@@ -59,6 +59,10 @@ def test_exact_reference_counts_as_a_pass(mini_suite, tmp_path):
     table = summarize(results)
     shapes = next(line for line in table.splitlines() if line.startswith("shapes"))
     assert "1/3" in shapes and "2/3" in shapes
+    # a pass against one of vecmsaa's own truths counts in the third column only
+    own = dict(results, **{"shapes/rect/fringe": fringe._replace(own_truth=True)})
+    shapes = next(line for line in summarize(own).splitlines() if line.startswith("shapes"))
+    assert shapes.split()[1:6:2] == ["1/3", "1/3", "2/3"]
 
 
 def test_cli_reads_the_suite_from_the_environment(mini_suite, tmp_path):

@@ -81,7 +81,8 @@ def run(args) -> int:
         for name in sorted(results):
             r = results[name]
             if not r.plain:
-                print(f"{'EXACT' if r.exact else 'FAIL'} {name}: {r.detail}")
+                tag = ("TRUTH" if r.own_truth else "EXACT") if r.exact else "FAIL"
+                print(f"{tag} {name}: {r.detail}")
     print(summarize(results, args.features))
     if args.write_passing:
         passing = sorted(n for n, r in results.items() if r.passed)

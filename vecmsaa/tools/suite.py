@@ -65,10 +65,13 @@ def collect(tests_dir, categories=(), only=()):
 
 class Result(NamedTuple):
     """One test's outcome: ``plain`` = matches resvg's reference; ``exact`` = matches the exact
-    reference (False when there is none)."""
+    reference (False when there is none); ``own_truth``: that exact reference is one of
+    vecmsaa's (computed from geometry or a supersampled resvg render), not the suite's
+    ``exact-refs/``, so the summary can count the suite's criterion apart."""
     plain: bool
     exact: bool
     detail: str
+    own_truth: bool = False
 
     @property
     def passed(self) -> bool:
@@ -152,7 +155,7 @@ def judge(name, actual, ref, out_dir, suite_dir):
     cmp = compare_images(actual, ref)
     if cmp.passed():
         return name, Result(True, False, cmp.describe())
-    exact = exact_reference(suite_dir, name, ref.shape[1], ref.shape[0])
+    exact, own = exact_reference(suite_dir, name, ref.shape[1], ref.shape[0])
     if exact is None:
         if out_dir:
             _write_diff(actual, ref, "reference", os.path.join(out_dir, name + ".png"))
@@ -160,7 +163,8 @@ def judge(name, actual, ref, out_dir, suite_dir):
     exact_cmp = compare_images(actual, exact)
     if exact_cmp.passed():
         return name, Result(False, True, f"passes against its exact reference "
-                                         f"({exact_cmp.describe()}); reference: {cmp.describe()}")
+                                         f"({exact_cmp.describe()}); reference: {cmp.describe()}",
+                            own)
     if out_dir:
         _write_diff(actual, exact, "exact reference", os.path.join(out_dir, name + ".png"))
     return name, Result(False, False, f"exact reference: {exact_cmp.describe()}; "
@@ -168,12 +172,13 @@ def judge(name, actual, ref, out_dir, suite_dir):
 
 
 def exact_reference(suite_dir, name, width, height):
-    """The exact reference of a test: ``exact-refs/<name>.png`` beside the suite's tests, else
-    the one computed from the test's geometry (:mod:`vecmsaa.tools.suite_truth`), else the
-    supersampled resvg render in SUPERSAMPLED_REFS, else None."""
+    """(image, own) for the exact reference of a test: ``exact-refs/<name>.png`` beside the
+    suite's tests (own False), else the one computed from the test's geometry
+    (:mod:`vecmsaa.tools.suite_truth`), else the supersampled resvg render in
+    SUPERSAMPLED_REFS (own True); (None, False) when there is none."""
     path = os.path.join(suite_dir, EXACT_REFS, name + ".png")
     if os.path.exists(path):
-        return _read_rgba(path)
+        return _read_rgba(path), False
     from .suite_truth import exact_reference as computed
 
     exact = computed(name, width, height)
@@ -181,7 +186,7 @@ def exact_reference(suite_dir, name, width, height):
         path = os.path.join(SUPERSAMPLED_REFS, name + ".png")
         if os.path.exists(path):
             exact = _read_rgba(path)
-    return exact
+    return exact, exact is not None
 
 
 LABEL_HEIGHT = 16
@@ -249,25 +254,27 @@ def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, p
 
 
 def summarize(results, features=False):
-    """Pass counts per category (and feature): against the references alone, then counting a
-    match with an exact reference as a pass."""
+    """Pass counts per category (and feature): against the references alone; counting a match
+    with the suite's own ``exact-refs/`` as a pass (the suite's criterion); and counting a
+    match with vecmsaa's exact references too (computed truths, supersampled renders)."""
     from collections import defaultdict
 
-    counts = defaultdict(lambda: [0, 0, 0])     # plain passes, passes with exact refs, tests
+    counts = defaultdict(lambda: [0, 0, 0, 0])  # plain, suite exact refs, all exact refs, tests
     for name, r in results.items():
         parts = name.split("/")
         for key in ("", parts[0], "/".join(parts[:2]) if features else None):
             if key is not None:
                 c = counts[key]
                 c[0] += r.plain
-                c[1] += r.passed
-                c[2] += 1
+                c[1] += r.passed and not r.own_truth
+                c[2] += r.passed
+                c[3] += 1
 
     def row(label, key):
-        p, e, n = counts[key]
-        return f"{label:<32} {p:4d}/{n:<4d} {100 * p / n:6.1f}%   {e:4d}/{n:<4d} {100 * e / n:6.1f}%"
+        *passes, n = counts[key]
+        return f"{label:<32}" + "".join(f" {p:4d}/{n:<4d} {100 * p / n:6.1f}%  " for p in passes)
 
-    lines = [f"{'':<32} {'plain':>16}   {'with exact refs':>16}"]
+    lines = [f"{'':<32} {'plain':>16}   {'+ exact-refs/':>16}   {'+ own truths':>16}"]
     for cat in sorted(k for k in counts if k and "/" not in k):
         lines.append(row(cat, cat))
         for f in sorted(k for k in counts if k.split("/")[0] == cat and "/" in k):
