@@ -868,15 +868,6 @@ def expanded_size(doc) -> int:
     return size(doc.root)
 
 
-def iter_elements(root):
-    """Every element of a tree, depth first (without recursion: trees may be deep)."""
-    stack = [root]
-    while stack:
-        el = stack.pop()
-        yield el
-        stack.extend(reversed(el.children))
-
-
 def contains(ancestor, el):
     """Whether ``el`` is ``ancestor`` or inside it."""
     node = el
