@@ -56,6 +56,13 @@ BAND_BUDGET = 1 << 24
 MAX_FILTER_PIXELS = 1 << 24
 
 
+#: the mask table argument of the modes without one: read-only like the cached tables
+#: (sample_patterns._mask_table), since numba compiles a kernel once more for each
+#: array-writeability it is passed (scan_lenses and render_msaa: ~8 s of first-run compile)
+NO_MASK_TABLE = np.zeros((1, 1), dtype=np.uint64)
+NO_MASK_TABLE.flags.writeable = False
+
+
 class RenderOptions:
     """Everything the raster stage needs besides the scene. ``filter`` None: the pattern's own
     (``tent`` for quincunx, else ``box``)."""
@@ -143,7 +150,7 @@ class RenderOptions:
                 bits[k] = bits[k - 1] | (np.uint64(1) << np.uint64(order[k - 1]))
             self.a2c_bits = bits
         else:
-            self.table = np.zeros((1, 1), dtype=np.uint64)
+            self.table = NO_MASK_TABLE
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
 
     def _one_sample(self, offset) -> "RenderOptions":
