@@ -13,8 +13,10 @@ from PIL import Image
 
 from vecmsaa.tools.suite import run_suite, summarize
 
+# the missing image draws nothing and warns, as many suite tests do on purpose
 GREEN_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
-             '<rect width="20" height="20" fill="#008000"/></svg>')
+             '<rect width="20" height="20" fill="#008000"/><image href="missing.png" width="5" '
+             'height="5"/></svg>')
 
 
 def solid(rgb, size=20):
@@ -74,6 +76,10 @@ def test_cli_reads_the_suite_from_the_environment(mini_suite, tmp_path):
     assert run.returncode == 0, run.stderr
     assert "EXACT shapes/rect/fringe" in run.stdout
     assert "FAIL shapes/rect/wrong" in run.stdout
+    # the renders' warnings are not printed, but a failure's detail ends with them
+    assert "missing.png" not in run.stderr
+    fail = next(line for line in run.stdout.splitlines() if line.startswith("FAIL"))
+    assert "warnings:" in fail and "missing.png" in fail
     assert passing.read_text().split() == ["shapes/rect/fringe", "shapes/rect/good"]
 
 

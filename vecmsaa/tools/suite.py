@@ -121,8 +121,12 @@ def _reference(suite_dir, name):
 
 
 def run_one(job):
-    """Render and compare one test → (name, Result). Runs in worker processes."""
+    """Render and compare one test → (name, Result). Runs in worker processes. The render's
+    warnings (many tests exercise missing files and bad values on purpose) are not printed;
+    a failure's detail ends with them, where they may say why."""
     import signal
+
+    from vecmsaa import diagnostics
 
     name, suite_dir, out_dir, mode, samples = job
     svg = os.path.join(suite_dir, "tests", name + ".svg")
@@ -131,8 +135,10 @@ def run_one(job):
     old = signal.signal(signal.SIGPROF, _alarm) if hasattr(signal, "SIGPROF") else None
     if old is not None:
         signal.setitimer(signal.ITIMER_PROF, TEST_TIMEOUT)
+    found = []
     try:
-        actual = render_test(svg, w, h, **suite_options(suite_dir, mode, samples))
+        with diagnostics.collecting(found):
+            actual = render_test(svg, w, h, **suite_options(suite_dir, mode, samples))
     except _Timeout:
         return name, Result(False, False, "timeout")
     except Exception as exc:   # any failure of one test is a result, not a crash of the run
@@ -141,7 +147,10 @@ def run_one(job):
         if old is not None:
             signal.setitimer(signal.ITIMER_PROF, 0)
             signal.signal(signal.SIGPROF, old)
-    return judge(name, actual, ref, out_dir, suite_dir)
+    name, result = judge(name, actual, ref, out_dir, suite_dir)
+    if found and not result.passed:
+        result = result._replace(detail=f"{result.detail}; warnings: {'; '.join(found[:3])}")
+    return name, result
 
 
 def judge(name, actual, ref, out_dir, suite_dir):
