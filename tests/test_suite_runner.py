@@ -89,3 +89,25 @@ def test_cli_without_a_suite_says_so(tmp_path):
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 2
     assert "VECMSAA_RESVG_SUITE" in run.stderr and len(run.stderr.strip().splitlines()) == 1
+
+
+def test_cli_sampling_options(mini_suite):
+    env = dict(os.environ, VECMSAA_RESVG_SUITE=str(mini_suite))
+    cmd = [sys.executable, "-m", "vecmsaa.cli", "suite", "-j", "1"]
+    # a combination no test can render: one line, exit 2, no test run
+    bad = subprocess.run(cmd + ["--mode", "a2c", "--pattern", "quincunx"], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.count("\n") == 1 and "a2c" in bad.stderr
+    # an opaque square filling the canvas is green with any pattern of a pixel's own samples
+    run = subprocess.run(cmd + ["--pattern", "rooks", "--samples", "16"], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    shapes = next(line for line in run.stdout.splitlines() if line.startswith("shapes"))
+    assert shapes.split()[1:6:2] == ["1/3", "2/3", "2/3"]
+    # and a wide filter reaches past the canvas's edge, where nothing is drawn: the border
+    # pixels are part transparent, so even 'good' fails against its opaque reference
+    wide = subprocess.run(cmd + ["--filter", "tent1"], env=env, capture_output=True, text=True,
+                          timeout=600)
+    shapes = next(line for line in wide.stdout.splitlines() if line.startswith("shapes"))
+    assert shapes.split()[1] == "0/3"

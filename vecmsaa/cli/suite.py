@@ -27,8 +27,9 @@ def add_parser(subparsers):
                    help="the resvg suite folder (with tests/ and fonts/); "
                         "default: $VECMSAA_RESVG_SUITE")
     p.add_argument("--out", help="folder for diff images of failing tests")
-    from .options import add_coverage_options
+    from .options import add_coverage_options, add_sampling_options
     add_coverage_options(p)
+    add_sampling_options(p)
     from .options import add_jobs_option
     add_jobs_option(p, default=0)
     from vecmsaa.tools.cluster import add_scheduler_option
@@ -54,6 +55,14 @@ def run(args) -> int:
     if not folder:
         print(f"vecmsaa suite: give the suite folder or set {SUITE_ENV}", file=sys.stderr)
         return 2
+    coverage = dict(mode=args.mode, samples=args.samples, pattern=args.pattern,
+                    filter=args.filter, color_samples=args.color_samples)
+    from vecmsaa.raster.render import RenderOptions
+    try:    # a combination no test can render is one error, not a failure of every test
+        RenderOptions(**{k: v for k, v in coverage.items() if v is not None})
+    except ValueError as exc:
+        print(f"vecmsaa suite: {exc}", file=sys.stderr)
+        return 2
     suite_dir, tests_dir = tests_root(folder)
     if not os.path.isdir(tests_dir):
         print(f"vecmsaa suite: no tests folder in {folder}", file=sys.stderr)
@@ -72,8 +81,8 @@ def run(args) -> int:
                 print(f"{done}/{total}", file=sys.stderr, flush=True)
             bar.advance()
         try:
-            results = run_suite(suite_dir, names, args.jobs, args.out, args.mode, args.samples,
-                                progress, args.scheduler)
+            results = run_suite(suite_dir, names, args.jobs, args.out, coverage, progress,
+                                args.scheduler)
         except ClusterError as exc:
             print(f"vecmsaa suite: {exc}", file=sys.stderr)
             return 2

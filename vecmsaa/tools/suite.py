@@ -86,14 +86,13 @@ def _alarm(signum, frame):
     raise _Timeout()
 
 
-def suite_options(suite_dir, mode=None, samples=None) -> dict:
-    """Render options of every test: the suite's fonts and resources, and the coverage."""
+def suite_options(suite_dir, coverage=None) -> dict:
+    """Render options of every test: the suite's fonts and resources, and the coverage options
+    given (``mode``, ``samples``, ``pattern``, ``filter``, ``color_samples``; None: the
+    renderer's default)."""
     kwargs = dict(SUITE_FONTS, use_fonts_dir=os.path.join(suite_dir, "fonts"),
                   skip_system_fonts=True, resources_dir=os.path.join(suite_dir, "resources"))
-    if mode:
-        kwargs["mode"] = mode
-    if samples:
-        kwargs["samples"] = samples
+    kwargs.update({k: v for k, v in (coverage or {}).items() if v is not None})
     return kwargs
 
 
@@ -128,7 +127,7 @@ def run_one(job):
 
     from vecmsaa import diagnostics
 
-    name, suite_dir, out_dir, mode, samples = job
+    name, suite_dir, out_dir, coverage = job
     svg = os.path.join(suite_dir, "tests", name + ".svg")
     ref = _reference(suite_dir, name)
     h, w = ref.shape[:2]
@@ -138,7 +137,7 @@ def run_one(job):
     found = []
     try:
         with diagnostics.collecting(found):
-            actual = render_test(svg, w, h, **suite_options(suite_dir, mode, samples))
+            actual = render_test(svg, w, h, **suite_options(suite_dir, coverage))
     except _Timeout:
         return name, Result(False, False, "timeout")
     except Exception as exc:   # any failure of one test is a result, not a crash of the run
@@ -219,11 +218,12 @@ def _write_diff(actual, ref, ref_label, path):
     write_bytes_atomic(encode_png(image), path, make_folders=True)
 
 
-def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, progress=None,
+def run_suite(suite_dir, names, jobs=1, out_dir=None, coverage=None, progress=None,
               scheduler=None):
-    """Run tests by name; returns {name: Result}. With ``scheduler`` the renders run on that
-    Dask cluster (vecmsaa.tools.cluster; no per-test timeout there), the comparisons here."""
-    jobs_list = [(n, suite_dir, out_dir, mode, samples) for n in names]
+    """Run tests by name; returns {name: Result}. ``coverage``: render options as
+    :func:`suite_options` takes them. With ``scheduler`` the renders run on that Dask cluster
+    (vecmsaa.tools.cluster; no per-test timeout there), the comparisons here."""
+    jobs_list = [(n, suite_dir, out_dir, coverage) for n in names]
     results = {}
     if scheduler:
         from PIL import Image
@@ -234,7 +234,7 @@ def run_suite(suite_dir, names, jobs=1, out_dir=None, mode=None, samples=None, p
             with Image.open(os.path.join(suite_dir, "tests", name + ".png")) as im:
                 w, h = im.size
             return (os.path.join(suite_dir, "tests", name + ".svg"),
-                    dict(suite_options(suite_dir, mode, samples), width=w, height=h))
+                    dict(suite_options(suite_dir, coverage), width=w, height=h))
 
         with Cluster(scheduler) as cluster:
             renders = cluster.render_arrays((item(n) for n in names), render_test)
