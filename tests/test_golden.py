@@ -79,10 +79,29 @@ def test_update_writes_one_png_per_svg_and_records_the_options(tree, capsys):
         "background": "#ffffff", "resources_dir": None, "use_fonts_dir": None,
         "skip_system_fonts": False, "font_family": None, "serif_family": None,
         "sans_serif_family": None, "cursive_family": None, "fantasy_family": None,
-        "monospace_family": None}
+        "monospace_family": None, "pattern": "d3d", "filter": None, "color_samples": None}
     assert manifest["goldens"] == ["icons/wide.png", "plain.png"]
     assert manifest["vecmsaa_version"]
     assert "2 written" in out
+
+
+def test_sampling_options_are_recorded_and_checked_with(tree, capsys):
+    svgs, goldens = tree
+    status, _, _ = cli(capsys, "golden", "update", svgs, "--goldens", goldens,
+                       "--pattern", "grid", "--filter", "tent1")
+    assert status == 0
+    expected = render_svg_array(svgs / "plain.svg", pattern="grid", filter="tent1")
+    assert np.array_equal(golden.read_png_rgba(goldens / "plain.png"), expected)
+    recorded = golden.read_manifest(goldens)["render_options"]
+    assert (recorded["pattern"], recorded["filter"]) == ("grid", "tent1")
+    assert cli(capsys, "golden", "check", svgs, "--goldens", goldens)[0] == 0
+    # a manifest from before these options existed means the defaults
+    path = goldens / golden.MANIFEST_NAME
+    doc = json.loads(path.read_text())
+    for name in ("pattern", "filter", "color_samples"):
+        del doc["render_options"][name]
+    path.write_text(json.dumps(doc))
+    assert golden.read_manifest(goldens)["render_options"]["pattern"] == "d3d"
 
 
 def test_update_without_render_options_keeps_the_recorded_ones(tree, capsys):
@@ -397,6 +416,8 @@ def test_orphaned_golden_is_noted_but_not_a_failure(tree, capsys):
     (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "best"], "invalid choice"),
     (["update", "{svgs}", "--goldens", "{goldens}", "-w", "0"], "must be a positive number"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--samples", "32"], "must be one of"),
+    (["update", "{svgs}", "--goldens", "{goldens}", "--mode", "a2c", "--pattern", "quincunx"],
+     "a2c takes"),
     (["update", "{tmp}/nothing", "--goldens", "{goldens}"], "not a directory"),
     (["update", "{svgs}", "--goldens", "{goldens}", "--use-fonts-dir", "{tmp}/none"],
      "--use-fonts-dir"),
@@ -420,7 +441,9 @@ def test_usage_and_input_errors_exit_2(tree, tmp_path, capsys, args, message):
                                      '{"format": 1, "render_options": {"mode": "fast"}}',
                                      '{"format": 1, "render_options": {"width": -3}}',
                                      '{"format": 1, "render_options": {"dpi": "96"}}',
-                                     '{"format": 1, "render_options": {"font_family": 3}}'])
+                                     '{"format": 1, "render_options": {"font_family": 3}}',
+                                     '{"format": 1, "render_options": {"pattern": "best"}}',
+                                     '{"format": 1, "render_options": {"color_samples": 0}}'])
 def test_unreadable_manifest_exits_2(tree, capsys, content):
     svgs, goldens = tree
     cli(capsys, "golden", "update", svgs, "--goldens", goldens)

@@ -128,8 +128,9 @@ def add_parser(subparsers) -> None:
     render.add_argument("-h", "--height", type=_size, help="output height in pixels")
     render.add_argument("-z", "--zoom", type=_positive_float, help="scale factor")
     render.add_argument("--dpi", type=_positive_float, help="resolution for mm, in, pt (96)")
-    from .options import add_coverage_options
+    from .options import add_coverage_options, add_sampling_options
     add_coverage_options(render)
+    add_sampling_options(render)
     render.add_argument("--background", type=_color, metavar="COLOR",
                         help="CSS background colour (default: transparent)")
     render.add_argument("--resources-dir", metavar="DIR",

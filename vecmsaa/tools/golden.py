@@ -29,7 +29,7 @@ from urllib.parse import quote
 import numpy as np
 
 from .. import __version__
-from ..raster.modes import DEFAULT_MODE, MODES
+from ..raster.modes import DEFAULT_MODE, FILTERS, MODES, PATTERN_NAMES
 from .compare import (FLAT_THRESHOLD, MAX_FRACTION, NEAR_COLOR, OFF_COLOR, THRESHOLD, Comparison,
                       compare_images, write_triptych)
 from ..output.png import encode_png, write_bytes_atomic
@@ -42,6 +42,9 @@ DEFAULT_RENDER_OPTIONS = {
     # samples None: the renderer's default for the output's size (16 up to 128 x 128 pixels,
     # else 8), so goldens made at the default keep being checked at the default
     "mode": DEFAULT_MODE, "samples": None, "background": None,
+    # where a pixel's samples lie, how they are weighed (None: the pattern's own), CSAA colours
+    # (None: one per sample); manifests written before these existed mean these defaults
+    "pattern": "d3d", "filter": None, "color_samples": None,
     "resources_dir": None,
     # fonts (see vecmsaa.fonts.db): what text renders with must not depend on the machine
     "use_fonts_dir": None, "skip_system_fonts": False, "font_family": None,
@@ -124,12 +127,22 @@ def render_options(**given) -> dict:
         "dpi": number,
         "mode": lambda v: v in MODES,
         "samples": lambda v: v is None or positive(v, int),
+        "pattern": lambda v: v in PATTERN_NAMES,
+        "filter": lambda v: v is None or v in FILTERS,
+        "color_samples": lambda v: v is None or positive(v, int),
         "skip_system_fonts": lambda v: isinstance(v, bool),
     }
     bad = [f"{name}={value!r}" for name, value in options.items()
            if not checks.get(name, text_or_none)(value)]
     if bad:
         raise GoldenError(f"invalid render option(s): {', '.join(bad)}")
+    from ..raster.render import RenderOptions
+    coverage = {k: options[k] for k in ("mode", "samples", "pattern", "filter", "color_samples")
+                if options[k] is not None}
+    try:    # a combination no SVG can render with (a2c with a shared pattern, say)
+        RenderOptions(**coverage)
+    except ValueError as exc:
+        raise GoldenError(f"invalid render options: {exc}") from None
     return options
 
 
