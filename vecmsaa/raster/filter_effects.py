@@ -17,7 +17,7 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from numba import njit
+from ..jit import njit
 
 from .blend import blend_premultiplied, premultiply, unpremultiply
 from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,

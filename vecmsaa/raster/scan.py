@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import njit
 
 from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
                                    P_T2, P_WSIGN, _eval_implicit,
@@ -130,21 +130,23 @@ def _band_x_range(prim, y_lo, y_hi):
 
 
 @njit(cache=True, inline="always")
-def _clip_half_plane(lo, hi, s, a, b, c, sxs, ys):
-    """Narrow the pixel range [lo[s], hi[s]] to samples with a·x + b·y + c ≥ 0."""
+def _clip_half_plane(lo, hi, a, b, c, sxs, ys):
+    """The pixel range [lo, hi] of a sample narrowed to a·x + b·y + c ≥ 0. Scalars in and
+    out: an array argument costs a reference count per call, here per sample and row."""
     if a == 0.0 and b == 0.0:
-        return
+        return lo, hi
     v = -(c + b * ys)
     if a > 0.0:
         t = math.ceil(v / a - sxs)
-        if t > lo[s]:
-            lo[s] = int(max(min(t, BIG), -BIG))
+        if t > lo:
+            lo = int(max(min(t, BIG), -BIG))
     elif a < 0.0:
         t = math.floor(v / a - sxs)
-        if t < hi[s]:
-            hi[s] = int(max(min(t, BIG), -BIG))
+        if t < hi:
+            hi = int(max(min(t, BIG), -BIG))
     elif v > 0.0:
-        lo[s] = BIG
+        lo = BIG
+    return lo, hi
 
 
 @njit(cache=True, inline="always")
@@ -323,8 +325,9 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         sigma = prim[P_SIGMA]
         wsign = prim[P_WSIGN]
         # end tangents bound cubic and conic lenses (plain quads have none: (0, 0, 1))
-        tangents = (prim[P_T1] != 0.0 or prim[P_T1 + 1] != 0.0 or prim[P_T2] != 0.0
-                    or prim[P_T2 + 1] != 0.0)
+        t1a, t1b, t1c = prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2]
+        t2a, t2b, t2c = prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2]
+        tangents = t1a != 0.0 or t1b != 0.0 or t2a != 0.0 or t2b != 0.0
         for r in range(r_lo, r_hi + 1):
             if hidden[r]:
                 continue
@@ -352,8 +355,8 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                     else:
                         lo[s], hi[s] = -BIG, int(t) - 1
                 if tangents:
-                    _clip_half_plane(lo, hi, s, prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2], sx[s], ys)
-                    _clip_half_plane(lo, hi, s, prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2], sx[s], ys)
+                    lo_s, hi_s = _clip_half_plane(lo[s], hi[s], t1a, t1b, t1c, sx[s], ys)
+                    lo[s], hi[s] = _clip_half_plane(lo_s, hi_s, t2a, t2b, t2c, sx[s], ys)
                 max_lo = max(max_lo, lo[s])
                 min_hi = min(min_hi, hi[s])
             for px in range(pxa, pxz + 1):

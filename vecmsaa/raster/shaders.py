@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import njit
 
 from ..scene.nodes import ImagePaint, LinearGradient, RadialGradient, Solid
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import njit
 
 IDENTITY = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
 

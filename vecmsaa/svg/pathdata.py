@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ..jit import njit
 
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, Path, SharedPoints
 
