@@ -27,7 +27,7 @@ from ..jit import njit
 
 from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
                                    P_T2, P_WSIGN, _eval_implicit,
-                                   _linearisation_bound)
+                                   _linearisation_bound, _linearisation_norms)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade
 
@@ -324,6 +324,7 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
         sigma = prim[P_SIGMA]
         wsign = prim[P_WSIGN]
+        la, lb, lc = _linearisation_norms(prim, rho)
         # end tangents bound cubic and conic lenses (plain quads have none: (0, 0, 1))
         t1a, t1b, t1c = prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2]
         t2a, t2b, t2c = prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2]
@@ -396,8 +397,8 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                                 # the half-plane decides the samples farther from it than the
                                 # curve can depart from its tangent in the pixel plus the
                                 # table's quantisation; the rest are evaluated
-                                margin = (_linearisation_bound(prim, px + 0.5, py + 0.5, rho) / g
-                                          + quantum)
+                                margin = (_linearisation_bound(prim, px + 0.5, py + 0.5, la, lb, lc)
+                                          / g + quantum)
                                 if margin < DMAX:
                                     nx, ny = sigma * gx / g, sigma * gy / g
                                     bits = mask_lookup(table, nx, ny, dist + margin, full) & region
@@ -698,20 +699,30 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                         x = nxt[r, x]
                     if x >= px:
                         break
-                    m = occ[r, x]
-                    if m == 0:
-                        cplx[r, x] = -1
-                        fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
-                    else:
-                        # partly covered: a split pixel; its other samples take the paint
-                        slot = cplx[r, x]
-                        for s in range(n):
-                            if not ((m >> np.uint64(s)) & one):
-                                pool[slot, s, 0], pool[slot, s, 1] = cr, cg
-                                pool[slot, s, 2], pool[slot, s, 3] = cb, ca
-                    occ[r, x] = full
-                    nxt[r, x] = x + 1
-                    x += 1
+                    # paint the pixels from x up to the next full one (or the span's end)
+                    start = x
+                    while x < px and nxt[r, x] == x:
+                        m = occ[r, x]
+                        if m == 0:
+                            cplx[r, x] = -1
+                            fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
+                        else:
+                            # partly covered: a split pixel; its other samples take the paint
+                            slot = cplx[r, x]
+                            for s in range(n):
+                                if not ((m >> np.uint64(s)) & one):
+                                    pool[slot, s, 0], pool[slot, s, 1] = cr, cg
+                                    pool[slot, s, 2], pool[slot, s, 3] = cb, ca
+                        occ[r, x] = full
+                        x += 1
+                    # ... and link them all to the first pixel beyond that is not full: a later
+                    # fill crossing them jumps there at once (linked one to the next, each
+                    # walk would step through them again)
+                    root = x
+                    while nxt[r, root] != root:
+                        root = nxt[r, root]
+                    for t in range(start, x):
+                        nxt[r, t] = root
             if i == cnt:
                 break
             dirty[r, px] = 0
