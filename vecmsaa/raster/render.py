@@ -24,7 +24,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .blend import blend_premultiplied
+from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter, transparent_reach
@@ -560,9 +560,10 @@ def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
 
 
 def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> None:
-    """Composite the layer onto ``target`` (device rows from y0). A filtered layer touches only
-    the box its filtered pixels cover: outside it the layer is transparent, which composites
-    (in every blend mode) to the target unchanged."""
+    """Composite the layer onto ``target`` (device rows from y0). Only the box where the layer
+    can be non-transparent is drawn and composited — the rows of its content (``rows``) and,
+    for a filtered layer, the box its filtered pixels cover: outside it the layer is
+    transparent, which composites (in every blend mode) to the target unchanged."""
     h, w = target.shape[:2]
     if layer.filters:
         part = filtered_part(layer, y0, h, w, raster)
@@ -570,13 +571,32 @@ def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> Non
             return
         (a, b, c, d), img = part
     else:
-        (a, b, c, d), img = (0, h, 0, w), np.zeros_like(target)
-        draw_items(layer.items, img, y0, raster)
-    for factor in _clip_and_mask(layer, target.shape, y0, raster):
-        img *= factor[a:b, c:d, None]
+        # device rows floor(rows[0]) .. floor(rows[1]) can hold content (draw_items' test)
+        a = max(0, math.floor(layer.rows[0]) - y0)
+        b = min(h, math.floor(layer.rows[1]) - y0 + 1)
+        if a >= b:
+            return
+        c, d = 0, w
+        img = np.zeros((b - a, w, 4), dtype=np.float32)
+        draw_items(layer.items, img, y0 + a, raster)
+    factor = None
+    for part in _clip_and_mask(layer, (b - a, w, 4), y0 + a, raster):
+        factor = part if factor is None else factor * part
+    if factor is not None and (c, d) != (0, w):
+        factor = np.ascontiguousarray(factor[:, c:d])
+    if layer.blend == "normal":
+        over_scaled(img, target, a, c, NO_FACTOR if factor is None else factor,
+                    factor is not None, layer.opacity)
+        return
+    if factor is not None:
+        img *= factor[..., None]
     if layer.opacity < 1.0:
         img *= np.float32(layer.opacity)
     composite(img, target[a:b, c:d], layer.blend)
+
+
+#: over_scaled's factor when a layer has neither clip nor mask (one signature for both cases)
+NO_FACTOR = np.ones((1, 1), dtype=np.float32)
 
 
 def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
