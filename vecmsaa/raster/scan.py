@@ -1024,6 +1024,8 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
                                     edges[e, 3], xmin_row, xmax_row)
             kind = paint_kind[p]
             f = paint_f[p]
+            # a solid paint is its colour: no shade call (and its reference counts) per pixel
+            fr, fg, fb_, fa = f[0], f[1], f[2], f[3]
             for r in range(rows):
                 if xmax_row[r] < 0:
                     continue
@@ -1043,7 +1045,10 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
                         c = 1.0 if c >= 0.5 else 0.0
                     if c <= 1e-7:
                         continue
-                    cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
+                    if kind == 0:
+                        cr, cg, cb, ca = fr, fg, fb_, fa
+                    else:
+                        cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
                     k = 1.0 - ca * c
                     ty = sy0 - y0 + r
                     target[ty, x, 0] = cr * c + target[ty, x, 0] * k
