@@ -30,6 +30,7 @@ from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
+from ..scene.path import CLOSE, MOVE
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights, sample_classes
 from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
                               stratified_pattern)
@@ -432,9 +433,7 @@ class FillBatch:
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
         table = PaintTable()
-        for f in fills:
-            paint = pattern_tile(f.paint, opts) if isinstance(f.paint, PatternPaint) else f.paint
-            table.add(paint, f.opacity)
+        table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
 
 
@@ -505,44 +504,55 @@ def _intersection(a, b):
 
 
 def prepare_items(group: Group, opts: RenderOptions) -> list:
-    """The group's content as FillBatch and Layer items in paint order."""
+    """The group's content as FillBatch and Layer items in paint order: fills and layer
+    groups in paint order, plain groups flattened away (walked with a stack of iterators, not
+    generators: map data yields tens of thousands of fills through them)."""
     items = []
     batch: list[Fill] = []
-    for node in _walk(group):
-        if isinstance(node, Fill):
-            batch.append(node)
-            continue
-        items.extend(_fill_batches(batch, opts))
-        batch = []
-        items.append(Layer(node, opts))
+    stack = [iter(group.children)]
+    while stack:
+        for node in stack[-1]:
+            if isinstance(node, Group):
+                if node.needs_layer():
+                    items.extend(_fill_batches(batch, opts))
+                    batch = []
+                    items.append(Layer(node, opts))
+                else:
+                    stack.append(iter(node.children))
+                    break
+            else:
+                batch.append(node)
+        else:
+            stack.pop()
     items.extend(_fill_batches(batch, opts))
     return items
 
 
+_NOT_DRAWING = np.zeros(256, np.bool_)
+_NOT_DRAWING[[MOVE, CLOSE]] = True
+
+
 def _fill_batches(fills, opts: RenderOptions) -> list:
-    """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or []."""
-    fills = [f for f in fills if not f.path.is_empty() and f.opacity > 0]
+    """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
+    Emptiness and finiteness are found on the batch's arrays, per path from running sums."""
+    fills = [f for f in fills if f.opacity > 0]
     if not fills:
         return []
     arrays = batch_arrays([f.path for f in fills])
-    if not np.isfinite(arrays[1]).all():
-        fills = [f for f in fills if np.isfinite(f.path.points).all()]
+    verbs, pts, voff, poff = arrays
+    drawing = np.zeros(len(verbs) + 1, np.int64)
+    np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
+    keep = drawing[voff[1:]] > drawing[voff[:-1]]
+    if not np.isfinite(pts).all():
+        bad = np.zeros(len(pts) + 1, np.int64)
+        np.cumsum(~np.isfinite(pts).all(axis=1), out=bad[1:])
+        keep &= bad[poff[1:]] == bad[poff[:-1]]
+    if not keep.all():
+        fills = [f for f, k in zip(fills, keep.tolist()) if k]
         if not fills:
             return []
         arrays = batch_arrays([f.path for f in fills])
     return [FillBatch(fills, *arrays, opts)]
-
-
-def _walk(group: Group):
-    """Fills and layer groups in paint order; plain groups are flattened away."""
-    for node in group.children:
-        if isinstance(node, Group):
-            if node.needs_layer():
-                yield node
-            else:
-                yield from _walk(node)
-        else:
-            yield node
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:

@@ -11,7 +11,7 @@ import math
 import numpy as np
 from ..jit import njit
 
-from ..scene.nodes import ImagePaint, LinearGradient, RadialGradient, Solid
+from ..scene.nodes import ImagePaint, LinearGradient, PatternPaint, RadialGradient, Solid
 
 KIND_SOLID, KIND_LINEAR, KIND_RADIAL, KIND_IMAGE = 0, 1, 2, 3
 SPREADS = {"pad": 0, "reflect": 1, "repeat": 2}
@@ -45,15 +45,37 @@ def gradient_lut(stops: np.ndarray, opacity: float) -> np.ndarray:
 
 
 class PaintTable:
-    """Packs the paints of a batch of fills into flat arrays for the kernels."""
+    """Packs the paints of a batch of fills into flat arrays for the kernels.
+
+    Fills sharing a solid paint object and opacity share one parameter row (map data paints
+    thousands of fills with the one Solid of their style): each fill's row is an index into
+    the distinct rows, expanded once in :meth:`arrays`."""
 
     def __init__(self):
-        self.kinds: list[int] = []
-        self.params: list[np.ndarray] = []
+        self.row_kinds: list[int] = []         # the kind of each distinct row
+        self.params: list[np.ndarray] = []     # the distinct parameter rows
+        self.rows: list[int] = []              # each fill's row in params
+        self._solid_rows: dict = {}            # (id(paint), opacity) -> row
+        self._solids: list = []                # those paints (alive while their ids are keys)
         self.luts: list[np.ndarray] = []
         self.lut_size = 0
         self.images: list[np.ndarray] = []
         self.image_size = 0
+
+    def add_fills(self, fills, pattern_tile) -> None:
+        """add() the paint and opacity of each fill; ``pattern_tile`` turns a PatternPaint
+        into the ImagePaint of its tile."""
+        rows, solid_rows = self.rows, self._solid_rows
+        for f in fills:
+            paint = f.paint
+            if type(paint) is Solid:
+                row = solid_rows.get((id(paint), f.opacity))
+                if row is not None:
+                    rows.append(row)
+                    continue
+            elif isinstance(paint, PatternPaint):
+                paint = pattern_tile(paint)
+            self.add(paint, f.opacity)
 
     def add(self, paint, opacity: float = 1.0) -> None:
         f = np.zeros(PAINT_FIELDS)
@@ -63,6 +85,8 @@ class PaintTable:
             r, g, b, a = paint.color
             a = a * opacity
             f[F_COLOR:F_COLOR + 4] = (r * a, g * a, b * a, a)
+            self._solid_rows[(id(paint), opacity)] = len(self.params)
+            self._solids.append(paint)
         else:
             try:
                 f[F_MAT:F_MAT + 6] = paint.to_paint
@@ -91,12 +115,16 @@ class PaintTable:
                 self.image_size += img.size
             else:
                 raise TypeError(f"unknown paint {paint!r}")
-        self.kinds.append(kind)
+        self.rows.append(len(self.params))
+        self.row_kinds.append(kind)
         self.params.append(f)
 
     def arrays(self):
-        kinds = np.asarray(self.kinds, dtype=np.int64)
+        kinds = np.asarray(self.row_kinds, dtype=np.int64)
         params = np.asarray(self.params, dtype=np.float64).reshape(-1, PAINT_FIELDS)
+        if len(params) != len(self.rows):     # rows shared: expand them to one per fill
+            rows = np.asarray(self.rows, dtype=np.int64)
+            kinds, params = kinds[rows], params[rows]
         lut = np.concatenate(self.luts) if self.luts else np.zeros((1, 4), np.float32)
         tex = np.concatenate(self.images) if self.images else np.zeros(4, np.float32)
         return kinds, params, lut, tex
