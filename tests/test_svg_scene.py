@@ -240,6 +240,68 @@ def test_hairline_stroke_is_drawn_one_pixel_wide_and_faded():
     assert f.opacity == pytest.approx(0.25)
 
 
+@pytest.mark.parametrize("attrs", [
+    'stroke-width="3" stroke-linejoin="round" stroke-linecap="square"',
+    'stroke-width="3" stroke-linejoin="bevel" stroke-miterlimit="0.5" stroke-dashoffset="2"',
+    'stroke-width="0.2" stroke-linejoin="miter-clip"',     # a hairline: 1 px, faded
+    'stroke-width="2" shape-rendering="crispEdges" stroke-linecap="round"',
+])
+def test_many_strokes_of_one_style_are_the_geometry_strokers_outlines(attrs):
+    """Shapes sharing a style are stroked from a plan kept with the style (lines straight to
+    the compiled stroker): each outline is what geometry.stroke.stroke_path makes of the
+    same path, width and tolerance, mapped to the device."""
+    from vecmsaa.geometry.stroke import stroke_path
+    from vecmsaa.svg.pathdata import parse_path_data
+
+    paths = ["M10 10 L40 12 L30 35", "M5 5 h20 v20 h-20 z M30 30 l5 5", "M50 50 L50 50",
+             "M10 40 C20 30 30 50 40 40", "M60 10 l10 0 M80 10 l0 10 z"]
+    body = "".join(f'<path d="{d}"/>' for d in paths)
+    s = scene(f'<g transform="rotate(30) scale(1.5 1.25)" fill="none" stroke="black" '
+              f'{attrs}>{body}</g>', 'width="100" height="100"', width=160)
+    fills = s.fills()
+    m = (1.6, 0.0, 0.0, 1.6, 0.0, 0.0)
+    from vecmsaa.scene.transform import compose
+    import math
+    c, sn = math.cos(math.radians(30)), math.sin(math.radians(30))
+    m = compose(m, compose((c, sn, -sn, c, 0.0, 0.0), (1.5, 0.0, 0.0, 1.25, 0.0, 0.0)))
+    scale = math.sqrt(abs(m[0] * m[3] - m[1] * m[2]))
+    width = float(attrs.split('"')[1])
+    fade = width * scale if width * scale < 1 and "crispEdges" not in attrs else None
+    stroke_width = width / fade if fade else width
+    join = attrs.split('linejoin="')[1].split('"')[0] if "linejoin" in attrs else "miter"
+    cap = attrs.split('linecap="')[1].split('"')[0] if "linecap" in attrs else "butt"
+    expected = []
+    for d in paths:
+        outline = stroke_path(parse_path_data(d), stroke_width, join=join, cap=cap,
+                              miterlimit=1.0 if "miterlimit" in attrs else 4.0,
+                              tolerance=0.25 / scale)
+        if not outline.is_empty():
+            expected.append(outline.transformed(m))
+    assert len(fills) == len(expected)
+    for f, e in zip(fills, expected):
+        assert f.path.verbs.tolist() == e.verbs.tolist()
+        np.testing.assert_allclose(f.path.points, e.points, rtol=1e-12, atol=1e-9)
+        assert f.opacity == pytest.approx(fade or 1.0)
+
+
+def test_fills_sharing_a_paint_share_a_paint_row():
+    """A batch's paint table: one row per fill, fills of one Solid and opacity alike."""
+    from vecmsaa.raster.render import prepare_items
+    from vecmsaa.raster.shaders import KIND_LINEAR, KIND_SOLID
+
+    s = scene('<linearGradient id="g"><stop stop-color="red"/><stop offset="1"/></linearGradient>'
+              '<g fill="#f00"><rect width="5" height="5"/><rect x="10" width="5" height="5"/>'
+              '<rect x="20" width="5" height="5" fill-opacity="0.5"/>'
+              '<rect x="30" width="5" height="5" fill="url(#g)"/>'
+              '<rect x="40" width="5" height="5"/></g>')
+    (batch,) = prepare_items(s.root, RenderOptions("approx", 8))
+    assert batch.kinds.tolist() == [KIND_SOLID] * 3 + [KIND_LINEAR, KIND_SOLID]
+    red = [1.0, 0.0, 0.0, 1.0]
+    assert batch.params[:, :4].tolist() == [red, red, [0.5, 0.0, 0.0, 0.5],
+                                           batch.params[3, :4].tolist(), red]
+    assert batch.params[[0, 1, 2, 4], 18].tolist() == [1.0, 1.0, 0.5, 1.0]
+
+
 def test_miterlimit_below_one_is_one_as_in_resvg():
     # SVG calls it an error (the initial 4 would apply); usvg clamps it to 1, which bevels
     # every corner

@@ -34,6 +34,18 @@ class Path(BasePen):
     single lines, quadratics and cubics.
     """
 
+    # The state of a path made from arrays, as class attributes: such a path (tens of
+    # thousands on map data) then sets only ``_arrays`` (and ``_shared``) of its own.
+    glyphSet = None
+    skipMissingComponents = True
+    reverseFlipped = False
+    _BasePen__currentPoint = None
+    _verbs = None
+    _pts = None
+    _arrays = None
+    _open = False
+    _shared = None
+
     def __init__(self, glyphSet=None):
         super().__init__(glyphSet)
         # Recorded as Python lists while drawing (cheap appends) and as arrays once read;
@@ -157,7 +169,6 @@ class Path(BasePen):
         """from_arrays for arrays already in the stored form (contiguous uint8 verbs, float64
         points of shape (N, 2)): the conversions cost a third of a short path's wrapping."""
         path = cls.__new__(cls)
-        path.__dict__.update(_ARRAY_STATE)
         path._arrays = (v, p)
         return path
 
@@ -309,5 +320,3 @@ def rect_path(x, y, w, h) -> Path:
 
 #: the attributes of a fresh Path (Path._blank copies them; the lists are replaced there)
 _BLANK_STATE = vars(Path())
-#: and of one made from arrays (no lists; its pen state is set when it is thawed)
-_ARRAY_STATE = dict(_BLANK_STATE, _verbs=None, _pts=None)

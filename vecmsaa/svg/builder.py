@@ -13,10 +13,13 @@ import math
 import re
 from dataclasses import dataclass, field, replace
 
+import numpy as np
+
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY, compose, translate
-from ..scene.path import LINE, Path, rect_path
+from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
+from ..geometry import stroke_kernels
 from ..geometry.stroke import dash_coverage, dash_pattern, stroke_path
 from . import SvgError
 from .color import parse_svg_color as parse_color
@@ -51,6 +54,11 @@ MAX_IMAGE_NESTING = 4
 #: Clip paths, masks, markers and feImage targets built inside another one: fan-out multiplies
 #: (a mask whose content uses two masks, 14 deep, is 2^14 layers), so these count per document.
 MAX_NESTED_REFERENCES = 4096
+
+#: the verbs of a path of lines only, and the dash pattern of a solid stroke, as
+#: geometry.stroke.stroke_path has them
+_LINE_VERBS = bytes((MOVE, LINE, CLOSE))
+_SOLID = np.empty(0)
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
 
@@ -590,10 +598,64 @@ class Builder:
         ref = self.resolve_paint(style, "stroke", ctx, bbox)
         if ref is None:
             return []
+        key = ("stroke-plan", ctx.transform, ctx.viewport, self.options.dpi, antialias)
+        try:
+            plan = style.cache[key]
+        except KeyError:
+            plan = style.cache[key] = self._stroke_plan(style, ctx, antialias)
+        if plan is None:
+            return []
+        if plan[0] is None:
+            return self._general_stroke(path, style, ctx, ref, antialias)
+        # a solid, scaling stroke: everything but the path follows from style and transform
+        codes, stroke_width, tolerance, fade = plan
+        opacity = ref.opacity
+        if fade is not None:
+            opacity *= fade
+        v, p = path._freeze()
+        if not v.tobytes().translate(None, _LINE_VERBS):
+            # lines only: stroke_path's own dispatch, without its per-call conversions
+            join, cap, limit, offset = codes
+            ov, op = stroke_kernels.stroke_lines(v, p, stroke_width / 2.0, tolerance, join,
+                                                 cap, limit, _SOLID, offset)
+            outline = Path._of_arrays(ov, op)
+        else:
+            _, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
+            outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
+                                  dashes=dashes, dash_offset=offset, tolerance=tolerance)
+        if outline is None or outline.is_empty():
+            return []
+        return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
+                     antialias=antialias)]
+
+    def _stroke_plan(self, style, ctx, antialias):
+        """What stroke() needs of a style under one transform: None for no stroke; (None,)
+        for strokes that depend on the path (non-scaling, dashed); else ((join code, cap code,
+        miterlimit, dash offset), stroke width, tolerance, opacity factor or None)."""
         params = self.stroke_params(style, ctx)
         if params is None:
-            return []
+            return None
         width, join, cap, limit, dashes, offset = params
+        if style.get("vector-effect").strip() == "non-scaling-stroke" or dashes:
+            return (None,)
+        scale = mean_scale(ctx.transform)
+        device_width = width * scale
+        stroke_width = width
+        fade = None
+        if 0 < device_width < 1 and antialias:
+            # Wire antialiasing: a hairline drawn 1 px wide, faded by its true width.
+            fade = device_width
+            stroke_width = width / device_width
+        tolerance = 0.25 / max(scale, 1e-9)
+        hw = stroke_width / 2.0
+        if not (hw > 0 and math.isfinite(hw)):
+            return None       # stroke_path draws nothing
+        codes = (stroke_kernels.JOIN_CODES.get(join, 0), stroke_kernels.CAP_CODES.get(cap, 0),
+                 float(max(1.0, limit)), float(offset))
+        return codes, stroke_width, tolerance, fade
+
+    def _general_stroke(self, path, style, ctx, ref, antialias):
+        width, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
         non_scaling = style.get("vector-effect").strip() == "non-scaling-stroke"
         opacity = ref.opacity
         if non_scaling:
