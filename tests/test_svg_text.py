@@ -350,3 +350,86 @@ def test_an_absolute_position_breaks_arabic_joining_like_separate_texts():
     joined = draw('<text x="20" y="60">\u0628\u0628\u0628</text>')
     assert np.array_equal(chunks, separate)
     assert not np.array_equal(chunks[..., 3] > 0, joined[..., 3] > 0)
+
+
+# -- font-variant-* (CSS Fonts 4 §6): each keyword is the OpenType feature the spec names ----
+
+@pytest.mark.parametrize("prop, value, settings", [
+    ("font-variant-numeric", "diagonal-fractions", '"frac" 1'),
+    ("font-variant-numeric", "slashed-zero", '"zero" 1'),
+    ("font-variant-numeric", "oldstyle-nums tabular-nums", '"onum" 1, "tnum" 1'),
+    ("font-variant-position", "super", '"sups" 1'),
+    ("font-variant-caps", "all-small-caps", '"c2sc" 1, "smcp" 1'),
+    ("font-variant", "small-caps diagonal-fractions", '"smcp" 1, "frac" 1'),
+])
+def test_font_variant_keywords_are_their_opentype_features(prop, value, settings):
+    text = "Ab 1/2 0"
+    plain = render(f'<text x="5" y="70">{text}</text>', width=260)
+    variant = render(f'<text x="5" y="70" style="{prop}: {value}">{text}</text>', width=260)
+    features = render(f'<text x="5" y="70" style=\'font-feature-settings: {settings}\'>'
+                      f'{text}</text>', width=260)
+    assert np.array_equal(variant, features)
+    assert not np.array_equal(variant, plain)
+
+
+def test_font_feature_settings_override_font_variant():
+    # §7.2: features from font-variant first, then font-feature-settings
+    text = "1/2"
+    plain = render(f'<text x="5" y="70">{text}</text>')
+    both = render(f'<text x="5" y="70" style=\'font-variant-numeric: diagonal-fractions; '
+                  f'font-feature-settings: "frac" 0\'>{text}</text>')
+    assert np.array_equal(both, plain)
+
+
+def test_font_variant_longhand_inherits_and_invalid_value_is_ignored():
+    text = "1/2"
+    frac = render(f'<text x="5" y="70" style="font-variant-numeric: diagonal-fractions">'
+                  f'{text}</text>')
+    inherited = render(f'<g style="font-variant-numeric: diagonal-fractions"><text x="5" '
+                       f'y="70"><tspan style="font-variant-numeric: fractions">{text}</tspan>'
+                       f'</text></g>')
+    assert np.array_equal(inherited, frac)
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+def test_font_variant_ligatures_none_turns_ligatures_off():
+    # Noto Serif has an "fi" ligature (liga); none = liga, clig, dlig, hlig and calt off
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True)
+
+    def text(style):
+        return render_svg_array(
+            '<svg xmlns="http://www.w3.org/2000/svg" width="200" height="80" '
+            f'font-family="Noto Serif" font-size="40"><text x="5" y="60" style=\'{style}\'>'
+            'office</text></svg>', mode="analytic", **opts)
+
+    plain, none = text(""), text("font-variant-ligatures: none")
+    off = text('font-feature-settings: "liga" 0, "clig" 0, "dlig" 0, "hlig" 0, "calt" 0')
+    assert np.array_equal(none, off)
+    assert not np.array_equal(none, plain)
+    assert np.array_equal(text("font-variant-ligatures: no-common-ligatures"),
+                          text('font-feature-settings: "liga" 0, "clig" 0'))
+
+
+# -- font-family (CSS Fonts 4 §2.1): an unquoted name is a sequence of identifiers ----------
+
+@pytest.mark.parametrize("value, valid", [
+    ("Noto Sans", True), ("'Mplus 1p'", True), ('"Mplus 1p", serif', True),
+    ("Mplus 1p", False), ("Noto Sans,", False), (", serif", False), ("inherit serif", False),
+    ("-my-font", True), ("--x", True), ("Font\\ 1p", True), ("'a, b', c", True),
+    ("'unclosed", False), ("Noto 'Sans'", False),
+])
+def test_font_family_list_validity(value, valid):
+    from vecmsaa.svg.text.font_match import valid_family_list
+    assert valid_family_list(value) is valid
+
+
+def test_invalid_font_family_is_ignored_and_the_parents_applies():
+    roboto = render('<text x="5" y="70" font-family="Roboto Flex">Hoe</text>')
+    noto = render('<text x="5" y="70" font-family="Noto Sans">Hoe</text>')
+    assert not np.array_equal(roboto, noto)
+    inherited = render('<g font-family="Roboto Flex"><text x="5" y="70" '
+                       'font-family="Noto Sans 1p">Hoe</text></g>')
+    assert np.array_equal(inherited, roboto)
+    quoted = render('<g font-family="Noto Sans"><text x="5" y="70" '
+                    'font-family="\'Roboto Flex\', \'Mplus 1p\'">Hoe</text></g>')
+    assert np.array_equal(quoted, roboto)

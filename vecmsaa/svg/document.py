@@ -65,10 +65,6 @@ UNSUPPORTED_PROPERTIES = {
     "inline-size": {"0", "auto"},                       # SVG 2 text wrapping
     "text-overflow": {"clip"},
     "white-space": {"normal"},                          # xml:space is applied
-    "font-variant-ligatures": {"normal"},
-    "font-variant-numeric": {"normal"},
-    "font-variant-position": {"normal"},
-    "font-variant-east-asian": {"normal"},
 }
 _NO_WARNING = {"inherit", "initial", "unset", "revert"}
 

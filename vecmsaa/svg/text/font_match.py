@@ -159,8 +159,9 @@ def _quoted_settings(text, default_value):
 def font_spec(style, ctx, chain=()) -> FontSpec:
     """Font settings of a text content element; ``chain`` is it and its ancestors, innermost
     last (the SVG 1.1 ``kerning`` attribute is looked up along it)."""
-    families = parse_family_list(style.get("font-family") or "serif")
-    features = {}
+    families = _family_list(style)
+    # CSS Fonts 4 §7.2: the font-variant features first, font-feature-settings over them.
+    features, small_caps = variant_features(style)
     for tag, value in _quoted_settings(style.get("font-feature-settings"), 1):
         features[tag] = int(value)
     # font-kerning comes from CSS only (the cascade ignores the attribute, as resvg does).
@@ -173,11 +174,6 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
             if kerning.strip() in ("0", "0px"):
                 features["kern"] = 0
             break
-    variant = (style.get("font-variant") or "normal").strip()
-    caps = (style.get("font-variant-caps") or "normal").strip()
-    small_caps = variant == "small-caps" or caps == "small-caps"
-    if small_caps:
-        features["smcp"] = 1
     variations = dict(_quoted_settings(style.get("font-variation-settings"), 1))
     size = style.font_size()
     letter = _spacing(style.get("letter-spacing"), ctx, style)
@@ -189,6 +185,170 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
     return FontSpec(tuple(families), _weight(style), _font_style(style), _stretch(style), size,
                     tuple(sorted(features.items())), tuple(sorted(variations.items())), letter,
                     word, small_caps)
+
+
+#: CSS Fonts 4 §6.4–6.10: font-variant-* keywords → the OpenType features they turn on (1)
+#: or off (0)
+VARIANT_KEYWORDS = {
+    "font-variant-ligatures": {
+        "common-ligatures": {"liga": 1, "clig": 1}, "no-common-ligatures": {"liga": 0, "clig": 0},
+        "discretionary-ligatures": {"dlig": 1}, "no-discretionary-ligatures": {"dlig": 0},
+        "historical-ligatures": {"hlig": 1}, "no-historical-ligatures": {"hlig": 0},
+        "contextual": {"calt": 1}, "no-contextual": {"calt": 0},
+    },
+    "font-variant-caps": {
+        "small-caps": {"smcp": 1}, "all-small-caps": {"c2sc": 1, "smcp": 1},
+        "petite-caps": {"pcap": 1}, "all-petite-caps": {"c2pc": 1, "pcap": 1},
+        "unicase": {"unic": 1}, "titling-caps": {"titl": 1},
+    },
+    "font-variant-numeric": {
+        "lining-nums": {"lnum": 1}, "oldstyle-nums": {"onum": 1},
+        "proportional-nums": {"pnum": 1}, "tabular-nums": {"tnum": 1},
+        "diagonal-fractions": {"frac": 1}, "stacked-fractions": {"afrc": 1},
+        "ordinal": {"ordn": 1}, "slashed-zero": {"zero": 1},
+    },
+    "font-variant-position": {"sub": {"subs": 1}, "super": {"sups": 1}},
+    "font-variant-east-asian": {
+        "jis78": {"jp78": 1}, "jis83": {"jp83": 1}, "jis90": {"jp90": 1},
+        "jis04": {"jp04": 1}, "simplified": {"smpl": 1}, "traditional": {"trad": 1},
+        "full-width": {"fwid": 1}, "proportional-width": {"pwid": 1}, "ruby": {"ruby": 1},
+    },
+}
+#: ``font-variant-ligatures: none``
+NO_LIGATURES = {"liga": 0, "clig": 0, "dlig": 0, "hlig": 0, "calt": 0}
+
+
+def _variant_value(prop, value):
+    """Features of one font-variant-* value, or None when it is not valid (CSS: an invalid
+    declaration is ignored). Each keyword group may appear once."""
+    words = value.lower().split()
+    if words == ["normal"]:
+        return {}
+    if words == ["none"] and prop == "font-variant-ligatures":
+        return dict(NO_LIGATURES)
+    table = VARIANT_KEYWORDS[prop]
+    out = {}
+    for w in words:
+        f = table.get(w)
+        if f is None or any(tag in out for tag in f):
+            return None
+        out.update(f)
+    return out
+
+
+def _variant_shorthand(value):
+    """``font-variant`` (CSS Fonts 4 §6.11): normal, none, or keywords of the longhands (and
+    ``position`` and ``caps``) → features, or None when invalid."""
+    words = value.lower().split()
+    if words == ["normal"]:
+        return {}
+    if words == ["none"]:
+        return dict(NO_LIGATURES)
+    out = {}
+    for w in words:
+        for table in VARIANT_KEYWORDS.values():
+            if w in table:
+                f = table[w]
+                break
+        else:
+            return None
+        if any(tag in out for tag in f):
+            return None
+        out.update(f)
+    return out
+
+
+def variant_features(style):
+    """(OpenType features the font-variant properties ask for, small caps on?). The shorthand
+    sets every longhand; a longhand given on the same element or below overrides its part."""
+    features = {}
+    chain = []
+    s = style
+    while s is not None:
+        chain.append(s)
+        s = s.parent
+    # walk from the root down so that a descendant's declaration overrides its ancestors'
+    parts = {}
+    for s in reversed(chain):
+        spec = s.specified
+        short = spec.get("font-variant")
+        if short is not None and short.strip() not in ("inherit", ""):
+            f = _variant_shorthand(short.strip())
+            if f is not None:
+                # the shorthand resets every longhand, then sets those it names
+                parts = {prop: {t: v for t, v in f.items() if t in _tags(prop)}
+                         for prop in VARIANT_KEYWORDS}
+                if f == NO_LIGATURES:
+                    parts["font-variant-ligatures"] = dict(NO_LIGATURES)
+        for prop in VARIANT_KEYWORDS:
+            v = spec.get(prop)
+            if v is None or v.strip() in ("inherit", ""):
+                continue
+            f = _variant_value(prop, v.strip())
+            if f is not None:
+                parts[prop] = f
+    for f in parts.values():
+        features.update(f)
+    return features, features.get("smcp") == 1
+
+
+def _tags(prop):
+    return {t for f in VARIANT_KEYWORDS[prop].values() for t in f} | (
+        set(NO_LIGATURES) if prop == "font-variant-ligatures" else set())
+
+
+#: CSS-wide keywords, which no unquoted family name may be
+_CSS_WIDE = {"initial", "inherit", "unset", "default", "revert", "revert-layer"}
+_IDENT = re.compile(r"-?(?:[A-Za-z_\u0080-\U0010ffff]|\\.)(?:[A-Za-z0-9_\-\u0080-\U0010ffff]|\\.)*"
+                    r"|--(?:[A-Za-z0-9_\-\u0080-\U0010ffff]|\\.)*")
+
+
+def valid_family_list(text):
+    """Whether a font-family value is valid CSS (CSS Fonts 4 §2.1): a comma-separated list
+    of quoted strings and unquoted names, an unquoted name being one or more identifiers
+    (``Mplus 1p`` is not one: ``1p`` is no identifier; ``'Mplus 1p'`` is)."""
+    for item in re.split(r",", _mask_strings(text)):
+        item = item.strip()
+        if not item:
+            return False
+        if item[0] in "\"'":
+            if not re.fullmatch(r"(\"[^\"]*\"|'[^']*')", item):
+                return False
+            continue
+        words = re.split(r"(?<!\\)\s+", item)
+        if any(not _IDENT.fullmatch(w) or w.lower() in _CSS_WIDE for w in words):
+            return False
+    return True
+
+
+def _mask_strings(text):
+    """The text with commas inside quoted strings replaced (so that splitting at commas
+    keeps strings whole)."""
+    out, quote = [], None
+    for ch in text:
+        if quote:
+            out.append("\0" if ch == "," else ch)
+            if ch == quote:
+                quote = None
+        else:
+            if ch in "\"'":
+                quote = ch
+            out.append(ch)
+    return "".join(out)
+
+
+def _family_list(style):
+    """The computed font-family list: an invalid value (CSS) is ignored, so the nearest
+    ancestor's valid value applies, else the initial ``serif``."""
+    s = style
+    while s is not None:
+        v = s.specified.get("font-family")
+        if v is not None and v.strip() != "inherit":
+            if valid_family_list(v.strip()):
+                return parse_family_list(v)
+            warn(f"font-family: {v.strip()[:40]} is not a valid family list: ignored")
+        s = s.parent
+    return parse_family_list("serif")
 
 
 def _spacing(value, ctx, style):
