@@ -80,3 +80,17 @@ def test_bench_icons_writes_the_small_size_table(tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()
     assert vecmsaa("bench", "--icons", empty, "-o", tmp_path / "o2").returncode == 2
+
+
+def test_render_imports_no_other_commands_modules(tmp_path):
+    """A render builds its own parser only: the other commands' parsers import what their help
+    quotes (golden: vecmsaa.tools.compare), and --scheduler needs no cluster module."""
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4">'
+                   '<rect width="2" height="2"/></svg>')
+    code = ("import sys; from vecmsaa.cli.main import main; "
+            f"rc = main(['render', {str(svg)!r}, '-o', {str(tmp_path / 'a.png')!r}]); "
+            "print(rc, sorted(m for m in sys.modules if m.startswith('vecmsaa.tools')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.split(None, 1)
+    assert out == ["0", "[]\n"]

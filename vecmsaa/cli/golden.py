@@ -89,7 +89,7 @@ def _common(parser: argparse.ArgumentParser) -> None:
                              "(SVG_DIR/a/b.svg has the golden GOLDEN_DIR/a/b.png)")
     from .options import add_jobs_option
     add_jobs_option(parser)
-    from vecmsaa.tools.cluster import add_scheduler_option
+    from .options import add_scheduler_option
     add_scheduler_option(parser)
 
 

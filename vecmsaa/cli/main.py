@@ -16,7 +16,10 @@ COMMANDS = ("render", "font", "golden", "bench", "demo", "suite")
 COMPILING = set(COMMANDS)
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser; with ``only``, a command's name, the parser of that command
+    alone (what a run of it needs: the other commands' parsers import what their help texts
+    quote, e.g. golden's tolerances from vecmsaa.tools.compare)."""
     from vecmsaa import __version__
 
     parser = argparse.ArgumentParser(
@@ -26,7 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
     version = f"vecmsaa {__version__}"
     parser.add_argument("-V", "--version", action="version", version=version)
     sub = _WithVersion(parser.add_subparsers(dest="command", metavar="COMMAND"), version)
-    for name in COMMANDS:
+    for name in COMMANDS if only is None else (only,):
         try:
             module = importlib.import_module(f"vecmsaa.cli.{name}")
         except ModuleNotFoundError as exc:
@@ -53,7 +56,11 @@ class _WithVersion:
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else list(argv)
+    # the first word not an option names the command (the top level has no option taking a
+    # value); an unknown or missing one gets the whole parser and its message
+    first = next((w for w in words if not w.startswith("-")), None)
+    parser = build_parser(first if first in COMMANDS else None)
     args = parser.parse_args(argv)
     if not getattr(args, "command", None):
         parser.print_help()

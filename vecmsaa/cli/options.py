@@ -77,6 +77,13 @@ def job_count(text: str) -> int:
     return value
 
 
+def add_scheduler_option(parser) -> None:
+    """--scheduler (the cluster module is imported only when a batch runs on one)."""
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="render on the Dask cluster of this scheduler, e.g. "
+                             "tcp://HOST:8786 (needs vecmsaa[dask]; docs/cluster.md)")
+
+
 def add_jobs_option(parser, default: int = 1) -> None:
     """``-j/--jobs N``, the same in every batch command: N worker processes, 0 = one per core.
     A worker that dies (killed, out of memory) fails only the file it had."""

@@ -18,7 +18,8 @@ from __future__ import annotations
 import os
 import sys
 
-from .options import add_coverage_options, add_jobs_option, add_sampling_options  # argparse only
+from .options import (add_coverage_options, add_jobs_option,  # argparse only
+                      add_sampling_options, add_scheduler_option)
 
 DESCRIPTION = ("Render SVG files to PNG, WebP, JPEG or TIFF: 'vecmsaa render in.svg out.png', "
                "'-o OUT', '-c' for standard output, or several files and folders with "
@@ -114,7 +115,6 @@ def add_parser(subparsers):
     other.add_argument("--threads", type=int, metavar="N",
                        help="threads rendering one image (default: every core, or 1 in each "
                             "--jobs worker); the image does not depend on it")
-    from vecmsaa.tools.cluster import add_scheduler_option
     add_scheduler_option(other)
     other.add_argument("--query-all", action="store_true",
                        help="print id,x,y,width,height of every element with an id (in "

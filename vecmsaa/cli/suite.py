@@ -32,7 +32,7 @@ def add_parser(subparsers):
     add_sampling_options(p)
     from .options import add_jobs_option
     add_jobs_option(p, default=0)
-    from vecmsaa.tools.cluster import add_scheduler_option
+    from .options import add_scheduler_option
     add_scheduler_option(p)
     p.add_argument("--only", action="append", default=[], metavar="TEXT",
                    help="only tests whose name contains TEXT (repeatable)")

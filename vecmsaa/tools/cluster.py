@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 from typing import Callable, Iterable, Iterator
 
-# numpy, distributed and the renderer are imported where used: every command's parser imports
-# this module for add_scheduler_option, and numpy alone would add about 0.1 s to each start.
+# numpy, distributed and the renderer are imported where used (a batch that runs on a cluster
+# imports this module; the --scheduler option itself is vecmsaa.cli.options').
 
 CONNECT_TIMEOUT = 10          # seconds to reach the scheduler
 WORKER_WAIT = 60              # seconds to wait for the first worker
@@ -51,12 +51,6 @@ class ClusterError(Exception):
 class WorkerDied(RuntimeError):
     """The worker rendering a file died (crash, killed for memory) more often than the
     scheduler retries."""
-
-
-def add_scheduler_option(parser) -> None:
-    parser.add_argument("--scheduler", metavar="ADDRESS",
-                        help="render on the Dask cluster of this scheduler, e.g. "
-                             "tcp://HOST:8786 (needs vecmsaa[dask]; docs/cluster.md)")
 
 
 # --- what goes to a worker -----------------------------------------------------------------------
