@@ -752,3 +752,14 @@ def test_paint_server_transforms_invalid_or_singular(server):
         assert np.array_equal(render(bad), plain), bad
     for singular in ("matrix(1 2 2 4 0 0)", "matrix(1 1 1 1 5 5)"):
         assert render(singular)[..., 3].max() == 0, singular
+
+
+@pytest.mark.parametrize("width, drawn", [("50px", True), (" 50px ", True), ("5e1", True),
+                                          ("50 px", False), ("50p x", False), ("px", False)])
+def test_a_length_is_a_number_with_its_unit_attached(width, drawn):
+    # CSS Values: a <dimension> is one token, so "50 px" is no length (the rect's width is then
+    # invalid and nothing is drawn); white space around the value is allowed
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                           f'<rect width="{width}" height="50"/></svg>')
+    assert bool(img[..., 3].sum() > 0) is drawn

@@ -8,7 +8,8 @@ import re
 from ..scene.transform import IDENTITY, compose
 
 NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
-_LENGTH = re.compile(rf"^\s*({NUMBER_RE})\s*(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)
+#: a CSS <length>: the unit follows the number directly ("50 px" is two tokens, no length)
+_LENGTH = re.compile(rf"^\s*({NUMBER_RE})(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)
 _NUMBERS = re.compile(NUMBER_RE)
 
 #: units whose size in px follows the output resolution (``dpi``; CSS fixes them at 96 dpi)
