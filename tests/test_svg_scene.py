@@ -1,5 +1,7 @@
 """SVG front end: the resolved scene (geometry in device pixels, paints, groups), checked
 against hand-computed values."""
+import math
+
 import numpy as np
 import pytest
 
@@ -763,3 +765,18 @@ def test_a_length_is_a_number_with_its_unit_attached(width, drawn):
     img = render_svg_array('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
                            f'<rect width="{width}" height="50"/></svg>')
     assert bool(img[..., 3].sum() > 0) is drawn
+
+
+@pytest.mark.parametrize("d, cap, area", [
+    ("M 50 50 Z", "round", math.pi * 100), ("M 50 50 z", "square", 400.0),
+    ("M 50 50 Z", "butt", 0.0), ("M 30 30 z m 20 20 z", "square", 800.0),
+    ("M 30 30", "round", 0.0)])
+def test_moveto_closepath_is_a_zero_length_subpath(d, cap, area):
+    # SVG 2 painting §13.5.2: a zero-length subpath is stroked with round or square caps (a
+    # disc or a square of the stroke width about the point), not with butt caps; a lone
+    # moveto is not stroked. "M x y Z" closes with a zero-length segment: it is such a subpath
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+                           f'<path d="{d}" stroke="green" stroke-width="20" '
+                           f'stroke-linecap="{cap}"/></svg>', mode="analytic")
+    assert img[..., 3].sum() / 255 == pytest.approx(area, abs=0.5)

@@ -59,6 +59,23 @@ MAX_NESTED_REFERENCES = 4096
 #: geometry.stroke.stroke_path has them
 _LINE_VERBS = bytes((MOVE, LINE, CLOSE))
 _SOLID = np.empty(0)
+_CLOSE_BYTE = bytes((CLOSE,))
+
+
+def _zero_length_closes(path):
+    """A path of moveto-closepath pairs only, each as a moveto and a zero-length lineto (the
+    stroker's dot) followed by the close."""
+    verbs, pts = [], []
+    pi = 0
+    for v in path.verbs.tolist():
+        if v == MOVE:
+            verbs.append(MOVE)
+            pts.append(path.points[pi])
+            pi += 1
+        elif v == CLOSE and verbs and verbs[-1] == MOVE:
+            verbs += [LINE, CLOSE]
+            pts.append(pts[-1])
+    return Path.from_arrays(np.array(verbs, np.uint8), np.array(pts, np.float64).reshape(-1, 2))
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
 
@@ -509,8 +526,17 @@ class Builder:
             path = self.path_data(el)
         else:
             path = shape_path(el, self.length_getter(el, style, ctx))
-        if path is None or path.is_empty():
+        if path is None:
             return []
+        if path.is_empty():
+            # "M x y Z" is a zero-length subpath, not a lone moveto: SVG 2 strokes it as a dot
+            # with round and square caps (as tiny-skia does)
+            if not (_CLOSE_BYTE in path.verbs.tobytes() and style.get("stroke-linecap").strip()
+                    in ("round", "square") and style.get("stroke").strip() != "none"):
+                return []
+            if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
+                return []
+            return self.draw_path(_zero_length_closes(path), style, ctx)
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
         return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE)
