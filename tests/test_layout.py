@@ -23,11 +23,13 @@ ALLOWED = {
     # the package itself: the version, the numba cache check, the public names on demand
     "vecmsaa": {"api", "convert", "svg"},
     "jitcache": set(),
+    "jit": set(),
     "diagnostics": set(),
 }
 #: what every module may import: the package's own __init__ (the version), the numba cache
-#: check it runs, and the warnings channel (diagnostics.warn: imports nothing)
-SHARED = {"vecmsaa", "jitcache", "diagnostics"}
+#: check it runs, numba's njit with cached kernels loaded lean (jit), and the warnings channel
+#: (diagnostics.warn: imports nothing)
+SHARED = {"vecmsaa", "jitcache", "jit", "diagnostics"}
 
 
 def module_name(path: Path) -> str:
