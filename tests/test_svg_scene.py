@@ -294,14 +294,15 @@ def test_fills_sharing_a_paint_share_a_paint_row():
     s = scene('<linearGradient id="g"><stop stop-color="red"/><stop offset="1"/></linearGradient>'
               '<g fill="#f00"><rect width="5" height="5"/><rect x="10" width="5" height="5"/>'
               '<rect x="20" width="5" height="5" fill-opacity="0.5"/>'
-              '<rect x="30" width="5" height="5" fill="url(#g)"/>'
-              '<rect x="40" width="5" height="5"/></g>')
+              '<rect x="30" width="5" height="5"/>'
+              '<rect x="40" width="5" height="5" fill="url(#g)"/>'
+              '<rect x="50" width="5" height="5"/></g>')
     (batch,) = prepare_items(s.root, RenderOptions("approx", 8))
-    assert batch.kinds.tolist() == [KIND_SOLID] * 3 + [KIND_LINEAR, KIND_SOLID]
-    red = [1.0, 0.0, 0.0, 1.0]
-    assert batch.params[:, :4].tolist() == [red, red, [0.5, 0.0, 0.0, 0.5],
-                                           batch.params[3, :4].tolist(), red]
-    assert batch.params[[0, 1, 2, 4], 18].tolist() == [1.0, 1.0, 0.5, 1.0]
+    assert batch.kinds.tolist() == [KIND_SOLID] * 4 + [KIND_LINEAR, KIND_SOLID]
+    red, half = [1.0, 0.0, 0.0, 1.0], [0.5, 0.0, 0.0, 0.5]
+    assert batch.params[:, :4].tolist() == [red, red, half, red,
+                                           batch.params[4, :4].tolist(), red]
+    assert batch.params[[0, 1, 2, 3, 5], 18].tolist() == [1.0, 1.0, 0.5, 1.0, 1.0]
 
 
 def test_miterlimit_below_one_is_one_as_in_resvg():
@@ -780,3 +781,37 @@ def test_moveto_closepath_is_a_zero_length_subpath(d, cap, area):
                            f'<path d="{d}" stroke="green" stroke-width="20" '
                            f'stroke-linecap="{cap}"/></svg>', mode="analytic")
     assert img[..., 3].sum() / 255 == pytest.approx(area, abs=0.5)
+
+
+@pytest.mark.parametrize("group", [
+    'fill="red" stroke="blue" stroke-width="2" stroke-linecap="square"',
+    'fill="none" stroke="#0f0" stroke-width="0.3" stroke-linejoin="round" opacity="0.5"',
+    'paint-order="stroke" stroke="black" stroke-dasharray="3 1" fill-rule="evenodd"',
+    'transform="scale(0.5)" stroke="red" stroke-opacity="0.5" shape-rendering="crispEdges"',
+    'fill="url(#g)" stroke="currentColor" color="blue" marker-mid="url(#m)"',
+])
+def test_runs_of_plain_paths_draw_as_each_path_alone(group):
+    """Sibling paths that specify nothing (map data) are built as a run with their shared
+    style's decisions made once: the same fills, in the same order, as the same paths each
+    specifying a value that changes nothing (stroke-miterlimit, its initial value), which
+    are built one element at a time."""
+    paths = ["M10 10 L40 12 L30 35 Z", "", "M5 5 L25 5", "M10 40 C20 30 30 50 40 40",
+             "M60 10 l10 0 M80 10 l0 10 z", "M50 50", "M20 70 Z", "M0 0 h90 v90 h-90 z"]
+    defs = ('<defs><linearGradient id="g"><stop stop-color="red"/><stop offset="1"/>'
+            '</linearGradient><marker id="m" markerWidth="4" markerHeight="4">'
+            '<rect width="2" height="2"/></marker></defs>')
+
+    def build(extra):
+        body = "".join(f'<path d="{d}"{extra}/>' for d in paths)
+        return scene(f'{defs}<g {group}>{body}<path d="M1 1 L9 9" systemLanguage="xx"/>'
+                     f'{body}</g>', 'width="100" height="100"', width=150).fills()
+
+    run, alone = build(""), build(' stroke-miterlimit="4"')
+    assert len(run) == len(alone) > 0
+    for a, b in zip(run, alone):
+        assert a.path.verbs.tolist() == b.path.verbs.tolist()
+        assert a.path.points.tolist() == b.path.points.tolist()
+        assert (a.rule, a.opacity, a.antialias) == (b.rule, b.opacity, b.antialias)
+        assert type(a.paint) is type(b.paint)
+        if isinstance(a.paint, Solid):
+            assert a.paint.color == b.paint.color

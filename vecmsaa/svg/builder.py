@@ -16,7 +16,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..diagnostics import warn
-from ..scene.transform import IDENTITY, compose, translate
+from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
@@ -76,6 +76,10 @@ def _zero_length_closes(path):
             verbs += [LINE, CLOSE]
             pts.append(pts[-1])
     return Path.from_arrays(np.array(verbs, np.uint8), np.array(pts, np.float64).reshape(-1, 2))
+
+
+#: the verbs that draw nothing (Path.is_empty)
+_NOT_DRAWING = bytes((MOVE, CLOSE))
 
 _URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
 
@@ -222,9 +226,118 @@ class Builder:
     # -- traversal -------------------------------------------------------------------------
     def children(self, el, ctx, style) -> list:
         out = []
+        if ctx.geometry or ctx.clip or self.nodes_by_id is not None:
+            for child in el.children:
+                out.extend(self.element(child, ctx, style))
+            return out
+        run = []        # consecutive plain <path> children (see _path_run)
         for child in el.children:
+            if child.tag == "path" and not child.specified and _unconditional(child):
+                run.append(child)
+                continue
+            if run:
+                self._path_run(run, ctx, style, out)
+                run = []
             out.extend(self.element(child, ctx, style))
+        if run:
+            self._path_run(run, ctx, style, out)
         return out
+
+    def _path_run(self, run, ctx, parent_style, out) -> None:
+        """Append the nodes of sibling <path> elements that specify no style (no presentation
+        attribute, style or CSS rule: so no transform, clip, mask, filter or opacity of their
+        own) and no condition: what element() makes of each, with what depends on their one
+        shared style decided once. Map data is runs of thousands of these. Paints that depend
+        on the element (paint servers, context paints) and markers go through element()."""
+        style = parent_style.child(run[0])      # the same Style for all: their key is ()
+        try:
+            plan = style.cache["run-plan"]
+        except KeyError:                        # (nothing in it depends on ctx)
+            plan = style.cache["run-plan"] = self._run_plan(style, ctx)
+        if plan is None:
+            for el in run:
+                out.extend(self.element(el, ctx, parent_style))
+            return
+        self.nodes_made += len(run)
+        if self.nodes_made > MAX_NODES:
+            raise SvgError("document expands to too many elements")
+        if plan is False:                       # display: none or invisible
+            return
+        antialias, order, rule, fill_ref, stroke_ref = plan
+        transform = ctx.transform
+        path_data = self.path_data
+        # a solid, scaling stroke of lines is stroked here (as stroke() would) and the outlines
+        # mapped to the device together, after the run: _apply maps each point alone, so one
+        # call on all of them gives each outline the points a call of its own would
+        lines_plan = None
+        if stroke_ref is not None:
+            plan = self._cached_stroke_plan(style, ctx, antialias)
+            if plan is not None and plan[0] is not None:
+                lines_plan = plan
+                (join, cap, limit, offset), stroke_width, tolerance, fade = plan
+                half = stroke_width / 2.0
+                stroke_opacity = stroke_ref.opacity
+                if fade is not None:
+                    stroke_opacity *= fade
+        pending = []                            # (index in out, outline verbs, points)
+        for el in run:
+            path = path_data(el)
+            verbs, points = path._freeze()
+            if not verbs.tobytes().translate(None, _NOT_DRAWING):
+                if _CLOSE_BYTE in verbs.tobytes():   # "M x y Z": shape() may stroke a dot
+                    out.extend(self.shape(el, ctx, style))
+                continue                        # empty: shape() draws nothing
+            for item in order:
+                if item == "fill":
+                    if not (len(verbs) == 2 and verbs[1] == LINE):
+                        out.append(Fill(path.transformed(transform), fill_ref.paint, rule,
+                                        fill_ref.opacity, antialias))
+                elif lines_plan is not None and not verbs.tobytes().translate(None, _LINE_VERBS):
+                    ov, op = stroke_kernels.stroke_lines(verbs, points, half, tolerance, join,
+                                                         cap, limit, _SOLID, offset)
+                    if ov.tobytes().translate(None, _NOT_DRAWING):
+                        pending.append((len(out), ov, op))
+                        out.append(None)
+                else:
+                    out.extend(self.stroke(path, style, ctx, None, antialias))
+        if pending:
+            if transform == IDENTITY:
+                mapped = [op for _, _, op in pending]
+            else:
+                ends = np.cumsum([len(op) for _, _, op in pending])
+                mapped = np.split(apply(transform, np.concatenate([op for _, _, op in pending])),
+                                  ends[:-1])
+            paint = stroke_ref.paint
+            for (i, ov, _), op in zip(pending, mapped):
+                out[i] = Fill(Path._of_arrays(ov, op), paint, opacity=stroke_opacity,
+                              antialias=antialias)
+
+    def _run_plan(self, style, ctx):
+        """For _path_run: False when nothing is drawn, None when the elements must go through
+        element() one by one, else (antialias, paint order, fill rule, fill PaintRef or
+        None)."""
+        if style.get("display").strip() == "none":
+            return False
+        if style.get("visibility").strip() in ("hidden", "collapse"):
+            return False
+        for which in ("fill", "stroke"):
+            value = self.paint_value(style, which)
+            if value in ("context-fill", "context-stroke") or parse_url(value) is not None:
+                return None                     # depends on the element
+        try:
+            antialias, order, rule, marked = style.cache["draw-plan"]
+        except KeyError:
+            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
+        if marked:
+            return None
+        if not self._plain_wrap(style):
+            return None
+        fill_ref = self.resolve_paint(style, "fill", ctx, None)
+        stroke_ref = self.resolve_paint(style, "stroke", ctx, None)
+        order = tuple(item for item in order if (item == "fill" and fill_ref is not None)
+                      or (item == "stroke" and stroke_ref is not None))
+        return (antialias, order, "evenodd" if rule == "evenodd" else "nonzero", fill_ref,
+                stroke_ref)
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if el.tag not in RENDERED:
@@ -384,6 +497,19 @@ class Builder:
         group.blend = blend
         group.isolate = isolate
         return [group]
+
+    def _plain_wrap(self, style):
+        """Whether wrap() leaves the nodes of an element of this style as they are, for an
+        element without clip-path, mask or filter of its own (_path_run's): opacity 1, normal
+        blending, no isolation."""
+        if style.cache.get("plain-wrap"):
+            return True
+        if (parse_opacity(style.get("opacity")) < 1
+                or (style.get("mix-blend-mode") or "normal").strip() != "normal"
+                or style.get("isolation").strip() == "isolate"):
+            return False
+        style.cache["plain-wrap"] = True        # what wrap() itself would conclude
+        return True
 
     def object_bbox(self, el, ctx, style):
         """Object bounding box of an element in its own user space (after its transform)."""
@@ -624,11 +750,7 @@ class Builder:
         ref = self.resolve_paint(style, "stroke", ctx, bbox)
         if ref is None:
             return []
-        key = ("stroke-plan", ctx.transform, ctx.viewport, self.options.dpi, antialias)
-        try:
-            plan = style.cache[key]
-        except KeyError:
-            plan = style.cache[key] = self._stroke_plan(style, ctx, antialias)
+        plan = self._cached_stroke_plan(style, ctx, antialias)
         if plan is None:
             return []
         if plan[0] is None:
@@ -653,6 +775,14 @@ class Builder:
             return []
         return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
                      antialias=antialias)]
+
+    def _cached_stroke_plan(self, style, ctx, antialias):
+        key = ("stroke-plan", ctx.transform, ctx.viewport, self.options.dpi, antialias)
+        try:
+            return style.cache[key]
+        except KeyError:
+            plan = style.cache[key] = self._stroke_plan(style, ctx, antialias)
+            return plan
 
     def _stroke_plan(self, style, ctx, antialias):
         """What stroke() needs of a style under one transform: None for no stroke; (None,)
@@ -954,6 +1084,12 @@ def expanded_size(doc) -> int:
         memo[key] = min(total, MAX_NODES + 1)
         return memo[key]
     return size(doc.root)
+
+
+def _unconditional(el):
+    """No conditional processing attribute (conditions_pass holds without looking)."""
+    attrs = el.attrs
+    return "systemLanguage" not in attrs and "requiredExtensions" not in attrs
 
 
 def contains(ancestor, el):
