@@ -66,13 +66,21 @@ class PaintTable:
         """add() the paint and opacity of each fill; ``pattern_tile`` turns a PatternPaint
         into the ImagePaint of its tile."""
         rows, solid_rows = self.rows, self._solid_rows
+        last = last_opacity = row = None      # (neighbours mostly share their paint)
         for f in fills:
             paint = f.paint
             if type(paint) is Solid:
-                row = solid_rows.get((id(paint), f.opacity))
-                if row is not None:
+                if paint is last and f.opacity == last_opacity:
                     rows.append(row)
                     continue
+                row = solid_rows.get((id(paint), f.opacity))
+                if row is None:
+                    self.add(paint, f.opacity)
+                    row = rows[-1]
+                else:
+                    rows.append(row)
+                last, last_opacity = paint, f.opacity
+                continue
             elif isinstance(paint, PatternPaint):
                 paint = pattern_tile(paint)
             self.add(paint, f.opacity)

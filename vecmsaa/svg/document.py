@@ -352,7 +352,7 @@ class _TreeReader:
 
         parser = expat.ParserCreate(None, "}")
         parser.buffer_text = True
-        parser.ordered_attributes = True
+        parser.ordered_attributes = False   # a dict in document order, built by expat
         doc = self.doc
         ids = doc.ids
         paths = doc.paths
@@ -379,13 +379,12 @@ class _TreeReader:
                 else:
                     el.text = text
 
-        def start(name, attr_list):
+        def start(name, attr):
             nonlocal default_ns, count, size, error
             if chunks:
                 flush()
             if tb is not None:
-                node = tb.start(_et_name(name), {_et_name(attr_list[i]): attr_list[i + 1]
-                                                 for i in range(0, len(attr_list), 2)})
+                node = tb.start(_et_name(name), {_et_name(k): v for k, v in attr.items()})
             if stack and stack[-1] is None or error is not None:
                 stack.append(None)
                 last[0] = None
@@ -413,24 +412,30 @@ class _TreeReader:
                 stack.append(None)   # foreign element: skipped with its subtree
                 last[0] = None
                 return
-            attrs = {}
-            style_attr = None
-            spec = {}         # presentation attributes (none is a shorthand: marker is CSS only)
-            for i in range(0, len(attr_list), 2):
-                key = attr_list[i]
-                value = attr_list[i + 1]
-                if "}" in key:
-                    ans, _, aname = key.partition("}")
-                    if ans == XLINK_NS and aname == "href":
-                        attrs.setdefault("href", value)
-                    elif ans == XML_NS:
-                        attrs["xml:" + aname] = value
-                    continue
-                attrs[key] = value      # a plain href overrides xlink:href
-                if key == "style":
-                    style_attr = value
-                elif key in PRESENTATION:
-                    spec[key] = value.strip()
+            # presentation attributes (none is a shorthand: marker is CSS only)
+            if "}" not in "".join(attr):
+                # no namespaced attribute (map data: d and id): expat's dict as it is
+                attrs = attr
+                style_attr = attr.get("style")
+                spec = {} if PRESENTATION.isdisjoint(attr) else \
+                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
+            else:
+                attrs = {}
+                style_attr = None
+                spec = {}
+                for key, value in attr.items():
+                    if "}" in key:
+                        ans, _, aname = key.partition("}")
+                        if ans == XLINK_NS and aname == "href":
+                            attrs.setdefault("href", value)
+                        elif ans == XML_NS:
+                            attrs["xml:" + aname] = value
+                        continue
+                    attrs[key] = value      # a plain href overrides xlink:href
+                    if key == "style":
+                        style_attr = value
+                    elif key in PRESENTATION:
+                        spec[key] = value.strip()
             parent = stack[-1] if stack else None
             el = Element(tag, attrs, parent, len(parent.children) if parent else 0, doc)
             size += 1
@@ -643,7 +648,9 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     doc = Document(None, {}, base_dir)
     doc.languages = tuple(x.strip().lower() for x in languages)
     # Only a document with CSS needs the ElementTree tree (cssselect2 matches on it).
-    reader = _TreeReader(doc, mirror=bool(stylesheet) or _STYLE_ELEMENT.search(data) is not None)
+    # (the substring test first: a regular expression search of a map costs milliseconds)
+    has_css = b"style" in data and _STYLE_ELEMENT.search(data) is not None
+    reader = _TreeReader(doc, mirror=bool(stylesheet) or has_css)
     doc.root = reader.read(data)
     if reader.bad_root:
         raise SvgError("the root element is not <svg>")

@@ -585,10 +585,15 @@ class PathBatch:
     more than reading it: maps have tens of thousands of short paths)."""
 
     def __init__(self, texts):
-        raw = [t.encode("utf-8", "replace") for t in texts]
-        starts = np.zeros(len(raw) + 1, np.int64)
-        np.cumsum([len(r) for r in raw], out=starts[1:])
-        buf = np.frombuffer(b"".join(raw), np.uint8)
+        joined = "".join(texts)
+        starts = np.zeros(len(texts) + 1, np.int64)
+        if joined.isascii():        # (path data nearly always is: a character is a byte)
+            np.cumsum(np.fromiter(map(len, texts), np.int64, len(texts)), out=starts[1:])
+            buf = np.frombuffer(joined.encode("ascii"), np.uint8)
+        else:
+            raw = [t.encode("utf-8", "replace") for t in texts]
+            np.cumsum([len(r) for r in raw], out=starts[1:])
+            buf = np.frombuffer(b"".join(raw), np.uint8)
         verbs, pts, origin, vstart, pstart, status, _ = _parse_batch(
             buf, starts, _CONVERT, _NO_NUMBERS, _NO_SPANS)
         self.texts = texts
