@@ -56,7 +56,7 @@ MAX_PIECES = 4096
 
 
 # -- growable output buffers --------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _grow(arr, n):
     if n < arr.shape[0]:
         return arr
@@ -67,7 +67,7 @@ def _grow(arr, n):
     return new
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _push_edge(edges, ne, x0, y0, x1, y1):
     if y0 == y1 and x0 == x1:
         return edges, ne
@@ -81,14 +81,14 @@ def _push_edge(edges, ne, x0, y0, x1, y1):
 
 
 # -- Bézier helpers -----------------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _quad_point(x0, y0, x1, y1, x2, y2, t):
     mt = 1.0 - t
     return (mt * mt * x0 + 2 * mt * t * x1 + t * t * x2,
             mt * mt * y0 + 2 * mt * t * y1 + t * t * y2)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_point(c, t):
     mt = 1.0 - t
     a, b, cc, d = mt * mt * mt, 3 * mt * mt * t, 3 * mt * t * t, t * t * t
@@ -96,16 +96,24 @@ def _cubic_point(c, t):
             a * c[0, 1] + b * c[1, 1] + cc * c[2, 1] + d * c[3, 1])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_sub(c, ta, tb):
     """Control points of the cubic restricted to [ta, tb] (blossoming)."""
     out = np.empty((4, 2))
     for k in range(2):
         p0, p1, p2, p3 = c[0, k], c[1, k], c[2, k], c[3, k]
-        out[0, k] = _blossom(p0, p1, p2, p3, ta, ta, ta)
-        out[1, k] = _blossom(p0, p1, p2, p3, ta, ta, tb)
-        out[2, k] = _blossom(p0, p1, p2, p3, ta, tb, tb)
-        out[3, k] = _blossom(p0, p1, p2, p3, tb, tb, tb)
+        for r in range(4):
+            # the polar form at (u, v, w) = (ta, ta, ta), (ta, ta, tb), (ta, tb, tb), (tb, tb, tb):
+            # de Casteljau with three parameters
+            u = ta if r < 3 else tb
+            v = ta if r < 2 else tb
+            w = ta if r < 1 else tb
+            a0 = p0 + (p1 - p0) * u
+            a1 = p1 + (p2 - p1) * u
+            a2 = p2 + (p3 - p2) * u
+            b0 = a0 + (a1 - a0) * v
+            b1 = a1 + (a2 - a1) * v
+            out[r, k] = b0 + (b1 - b0) * w
     # the ends must be bit-identical to the parent's so pieces join without cracks
     if ta == 0.0:
         out[0, 0], out[0, 1] = c[0, 0], c[0, 1]
@@ -114,18 +122,7 @@ def _cubic_sub(c, ta, tb):
     return out
 
 
-@njit(cache=True)
-def _blossom(p0, p1, p2, p3, u, v, w):
-    """de Casteljau with three parameters (the polar form of the cubic)."""
-    a0 = p0 + (p1 - p0) * u
-    a1 = p1 + (p2 - p1) * u
-    a2 = p2 + (p3 - p2) * u
-    b0 = a0 + (a1 - a0) * v
-    b1 = a1 + (a2 - a1) * v
-    return b0 + (b1 - b0) * w
-
-
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _dist_to_line(px, py, ax, ay, bx, by):
     dx, dy = bx - ax, by - ay
     ln = math.hypot(dx, dy)
@@ -135,7 +132,7 @@ def _dist_to_line(px, py, ax, ay, bx, by):
 
 
 # -- flattening (analytic / reference modes) ----------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
     dd = math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     n = int(math.ceil(math.sqrt(dd / (4.0 * tol)))) if dd > 0 else 1
@@ -150,7 +147,7 @@ def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
     return edges, ne
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _flatten_cubic(edges, ne, c, tol):
     m = max(math.hypot(c[0, 0] - 2 * c[1, 0] + c[2, 0], c[0, 1] - 2 * c[1, 1] + c[2, 1]),
             math.hypot(c[1, 0] - 2 * c[2, 0] + c[3, 0], c[1, 1] - 2 * c[2, 1] + c[3, 1]))
@@ -167,27 +164,13 @@ def _flatten_cubic(edges, ne, c, tol):
 
 
 # -- curve primitives -----------------------------------------------------------------------------
-@njit(cache=True)
-def _set_chord(prim, x0, y0, x1, y1, sx, sy):
-    """Store the chord sorted by y (as the scan converter sees it) and which side the lens
-    lies on, judged from the point (sx, sy) known to be inside the lens."""
-    if y0 < y1 or (y0 == y1 and x0 <= x1):
-        xt, yt, xb, yb = x0, y0, x1, y1
-    else:
-        xt, yt, xb, yb = x1, y1, x0, y0
-    prim[P_CHORD] = xt
-    prim[P_CHORD + 1] = yt
-    prim[P_CHORD + 2] = xb
-    prim[P_CHORD + 3] = yb
-    if yt == yb:
-        prim[P_RIGHT] = 1.0 if sy >= yt else 0.0
-    else:
-        dxdy = (xb - xt) / (yb - yt)
-        prim[P_RIGHT] = 1.0 if sx >= xt + (sy - yt) * dxdy else 0.0
-
-
-@njit(cache=True)
-def _set_frame_common(prim, ctrl):
+@njit(cache=True, no_cpython_wrapper=True)
+def _set_lens(prim, ctrl, sx, sy, t0x, t0y, t1x, t1y):
+    """Everything of a lens primitive but its implicit function: control points, bounding
+    box, winding sign, the chord (first to last control point) sorted by y (as the scan
+    converter sees it) with the side the lens lies on, judged from the point (sx, sy) known to
+    be inside the lens, and the tangent half-planes through the ends along t0 and t1 (left at
+    (0, 0, 1), none, for a zero tangent)."""
     nctrl = ctrl.shape[0]
     x0 = ctrl[0, 0]
     y0 = ctrl[0, 1]
@@ -211,15 +194,41 @@ def _set_frame_common(prim, ctrl):
         j = (i + 1) % nctrl
         area += ctrl[i, 0] * ctrl[j, 1] - ctrl[j, 0] * ctrl[i, 1]
     prim[P_WSIGN] = -1.0 if area > 0 else 1.0
-    prim[P_T1] = 0.0
-    prim[P_T1 + 1] = 0.0
-    prim[P_T1 + 2] = 1.0
-    prim[P_T2] = 0.0
-    prim[P_T2 + 1] = 0.0
-    prim[P_T2 + 2] = 1.0
+    # the chord
+    x1, y1 = ctrl[nctrl - 1, 0], ctrl[nctrl - 1, 1]
+    if y0 < y1 or (y0 == y1 and x0 <= x1):
+        xt, yt, xb, yb = x0, y0, x1, y1
+    else:
+        xt, yt, xb, yb = x1, y1, x0, y0
+    prim[P_CHORD] = xt
+    prim[P_CHORD + 1] = yt
+    prim[P_CHORD + 2] = xb
+    prim[P_CHORD + 3] = yb
+    if yt == yb:
+        prim[P_RIGHT] = 1.0 if sy >= yt else 0.0
+    else:
+        dxdy = (xb - xt) / (yb - yt)
+        prim[P_RIGHT] = 1.0 if sx >= xt + (sy - yt) * dxdy else 0.0
+    # the tangent half-planes a·x + b·y + c ≥ 0, oriented so (sx, sy) is inside
+    for e in range(2):
+        base = P_T1 if e == 0 else P_T2
+        px, py, dx, dy = (x0, y0, t0x, t0y) if e == 0 else (x1, y1, t1x, t1y)
+        prim[base] = 0.0
+        prim[base + 1] = 0.0
+        prim[base + 2] = 1.0
+        ln = math.hypot(dx, dy)
+        if ln == 0.0:
+            continue
+        a, b = -dy / ln, dx / ln
+        c = -(a * px + b * py)
+        if a * sx + b * sy + c < 0:
+            a, b, c = -a, -b, -c
+        prim[base] = a
+        prim[base + 1] = b
+        prim[base + 2] = c - 1e-9 * (abs(c) + 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
     dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     if dev < LINE_EPS or not (math.isfinite(dev)):
@@ -244,7 +253,7 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
     return edges, ne, prims, nc
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     """Chord edge plus lens primitive for one conic piece (k² − l·m, lens where f < 0)."""
     edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
@@ -278,21 +287,18 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     ctrl[0, 0], ctrl[0, 1] = x0, y0
     ctrl[1, 0], ctrl[1, 1] = x1, y1
     ctrl[2, 0], ctrl[2, 1] = x2, y2
-    _set_frame_common(prim, ctrl)
     # inside: half-way between the curve's midpoint and the chord's
     lam = 0.5 * w / (1.0 + w)
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
     qx, qy = cx + lam * (x1 - cx), cy + lam * (y1 - cy)
-    _set_chord(prim, x0, y0, x2, y2, qx, qy)
     # the end tangents (b0 → b1, b1 → b2) close the control triangle around the lens: the
     # one-evaluation modes (alpha, a2c) then give no coverage beyond the lens's ends, where the
     # whole ellipse's distance says "near the curve"
-    _tangent_plane(prim[P_T1:P_T1 + 3], x0, y0, x1 - x0, y1 - y0, qx, qy)
-    _tangent_plane(prim[P_T2:P_T2 + 3], x2, y2, x2 - x1, y2 - y1, qx, qy)
+    _set_lens(prim, ctrl, qx, qy, x1 - x0, y1 - y0, x2 - x1, y2 - y1)
     return edges, ne, prims, nc + 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten):
     """A conic halved until each piece bulges at most ``tol`` from its chord, then each piece
     as its chord (``flatten``: the exact-area modes) or as chord plus lens. A piece's bulge is
@@ -338,7 +344,7 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten)
     return edges, ne, prims, nc
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
     """scene.path.conic_weight for one conic (its point at t = ½ is (mx, my))."""
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
@@ -349,7 +355,7 @@ def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
     return lam / (1.0 - lam)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
     """Fallback: approximate a cubic by quadratics within QUAD_FALLBACK_TOL."""
     err = math.sqrt(3.0) / 36.0 * math.hypot(c[3, 0] - 3 * c[2, 0] + 3 * c[1, 0] - c[0, 0],
@@ -365,6 +371,44 @@ def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
     return edges, ne, prims, nc
 
 
+@njit(cache=True, no_cpython_wrapper=True)
+def _klm_serpentine(klm, ls, lt, ms, mt):
+    """klm at the control points of a serpentine or cusp with roots ls/lt, ms/mt."""
+    klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ls, ms * ms * ms
+    klm[1, 0] = (3.0 * ls * ms - ls * mt - lt * ms) / 3.0
+    klm[1, 1] = ls * ls * (ls - lt)
+    klm[1, 2] = ms * ms * (ms - mt)
+    klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
+    klm[2, 1] = (lt - ls) * (lt - ls) * ls
+    klm[2, 2] = (mt - ms) * (mt - ms) * ms
+    klm[3, 0] = (lt - ls) * (mt - ms)
+    klm[3, 1] = -((lt - ls) * (lt - ls) * (lt - ls))
+    klm[3, 2] = -((mt - ms) * (mt - ms) * (mt - ms))
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _klm_loop(klm, ls, lt, ms, mt):
+    """klm at the control points of a loop with double point parameters ls/lt, ms/mt."""
+    klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ms, ls * ms * ms
+    klm[1, 0] = (-ls * mt - lt * ms + 3.0 * ls * ms) / 3.0
+    klm[1, 1] = -ls * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
+    klm[1, 2] = -ms * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
+    klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
+    klm[2, 1] = (lt - ls) * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
+    klm[2, 2] = (mt - ms) * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
+    klm[3, 0] = (lt - ls) * (mt - ms)
+    klm[3, 1] = -((lt - ls) * (lt - ls)) * (mt - ms)
+    klm[3, 2] = -(lt - ls) * ((mt - ms) * (mt - ms))
+
+
+@njit(cache=True, no_cpython_wrapper=True)
+def _klm_cusp_at_infinity(klm, ls, lt):
+    klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls * ls * ls, 1.0
+    klm[1, 0], klm[1, 1], klm[1, 2] = ls - lt / 3.0, ls * ls * (ls - lt), 1.0
+    klm[2, 0], klm[2, 1], klm[2, 2] = ls - 2.0 * lt / 3.0, (ls - lt) * (ls - lt) * ls, 1.0
+    klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) * (ls - lt) * (ls - lt), 1.0
+
+
 @njit(cache=True)
 def classify_cubic(X):
     """Loop–Blinn classification of a cubic given in a normalised frame (4 x 2 array).
@@ -373,15 +417,15 @@ def classify_cubic(X):
     3 cusp at infinity, 4 quadratic, 5 line/point; klm is (4, 3) at the control points and
     the split parameters are inflections (serpentine, cusp) or the double point (loop).
     Powers are products: the same bits as numba's ``**`` (by squaring), without compiling it.
+    (Scalars and small helpers: one long straight-line kernel compiles in superlinear time.)
     """
-    b = np.empty((4, 3))
-    for i in range(4):
-        b[i, 0] = X[i, 0]
-        b[i, 1] = X[i, 1]
-        b[i, 2] = 1.0
-    a1 = b[0, 0] * (b[3, 1] * b[2, 2] - b[3, 2] * b[2, 1]) - b[0, 1] * (b[3, 0] * b[2, 2] - b[3, 2] * b[2, 0]) + b[0, 2] * (b[3, 0] * b[2, 1] - b[3, 1] * b[2, 0])
-    a2 = b[1, 0] * (b[0, 1] * b[3, 2] - b[0, 2] * b[3, 1]) - b[1, 1] * (b[0, 0] * b[3, 2] - b[0, 2] * b[3, 0]) + b[1, 2] * (b[0, 0] * b[3, 1] - b[0, 1] * b[3, 0])
-    a3 = b[2, 0] * (b[1, 1] * b[0, 2] - b[1, 2] * b[0, 1]) - b[2, 1] * (b[1, 0] * b[0, 2] - b[1, 2] * b[0, 0]) + b[2, 2] * (b[1, 0] * b[0, 1] - b[1, 1] * b[0, 0])
+    x0, y0, x1, y1 = X[0, 0], X[0, 1], X[1, 0], X[1, 1]
+    x2, y2, x3, y3 = X[2, 0], X[2, 1], X[3, 0], X[3, 1]
+    # the determinants of Loop & Blinn with homogeneous coordinates (x, y, 1), the products
+    # with 1 left out (exact)
+    a1 = x0 * (y3 - y2) - y0 * (x3 - x2) + (x3 * y2 - y3 * x2)
+    a2 = x1 * (y0 - y3) - y1 * (x0 - x3) + (x0 * y3 - y0 * x3)
+    a3 = x2 * (y1 - y0) - y2 * (x1 - x0) + (x1 * y0 - y1 * x0)
     d1 = a1 - 2.0 * a2 + 3.0 * a3
     d2 = -a2 + 3.0 * a3
     d3 = 3.0 * a3
@@ -403,40 +447,19 @@ def classify_cubic(X):
             sq = math.sqrt(max(0.0, 3.0 * disc))
             ls, lt = 3.0 * d2 - sq, 6.0 * d1
             ms, mt = 3.0 * d2 + sq, 6.0 * d1
-            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ls, ms * ms * ms
-            klm[1, 0] = (3.0 * ls * ms - ls * mt - lt * ms) / 3.0
-            klm[1, 1] = ls * ls * (ls - lt)
-            klm[1, 2] = ms * ms * (ms - mt)
-            klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
-            klm[2, 1] = (lt - ls) * (lt - ls) * ls
-            klm[2, 2] = (mt - ms) * (mt - ms) * ms
-            klm[3, 0] = (lt - ls) * (mt - ms)
-            klm[3, 1] = -((lt - ls) * (lt - ls) * (lt - ls))
-            klm[3, 2] = -((mt - ms) * (mt - ms) * (mt - ms))
+            _klm_serpentine(klm, ls, lt, ms, mt)
         else:
             kind = 1
             sq = math.sqrt(-disc)
             ls, lt = d2 - sq, 2.0 * d1
             ms, mt = d2 + sq, 2.0 * d1
-            klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ms, ls * ms * ms
-            klm[1, 0] = (-ls * mt - lt * ms + 3.0 * ls * ms) / 3.0
-            klm[1, 1] = -ls * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
-            klm[1, 2] = -ms * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
-            klm[2, 0] = (lt * (mt - 2.0 * ms) + ls * (3.0 * ms - 2.0 * mt)) / 3.0
-            klm[2, 1] = (lt - ls) * (ls * (2.0 * mt - 3.0 * ms) + lt * ms) / 3.0
-            klm[2, 2] = (mt - ms) * (ls * (mt - 3.0 * ms) + 2.0 * lt * ms) / 3.0
-            klm[3, 0] = (lt - ls) * (mt - ms)
-            klm[3, 1] = -((lt - ls) * (lt - ls)) * (mt - ms)
-            klm[3, 2] = -(lt - ls) * ((mt - ms) * (mt - ms))
+            _klm_loop(klm, ls, lt, ms, mt)
         splits[0] = ls / lt
         splits[1] = ms / mt
         return kind, klm, splits
     if abs(d2) > eps:
         ls, lt = d3, 3.0 * d2
-        klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls * ls * ls, 1.0
-        klm[1, 0], klm[1, 1], klm[1, 2] = ls - lt / 3.0, ls * ls * (ls - lt), 1.0
-        klm[2, 0], klm[2, 1], klm[2, 2] = ls - 2.0 * lt / 3.0, (ls - lt) * (ls - lt) * ls, 1.0
-        klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) * (ls - lt) * (ls - lt), 1.0
+        _klm_cusp_at_infinity(klm, ls, lt)
         splits[0] = ls / lt
         return 3, klm, splits
     if abs(d3) > eps:
@@ -444,7 +467,7 @@ def classify_cubic(X):
     return 5, klm, splits
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _end_tangents(c):
     """Directions of a cubic at its ends; a control point on its end point defers to the next."""
     t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
@@ -454,32 +477,6 @@ def _end_tangents(c):
     if t1x == 0.0 and t1y == 0.0:
         t1x, t1y = c[3, 0] - c[1, 0], c[3, 1] - c[1, 1]
     return t0x, t0y, t1x, t1y
-
-
-@njit(cache=True)
-def _turn_exceeds(c, max_turn_cos):
-    """Does the piece turn by more than acos(max_turn_cos) between its end tangents?"""
-    t0x, t0y, t1x, t1y = _end_tangents(c)
-    n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
-    if n0 == 0.0 or n1 == 0.0:
-        return True
-    return (t0x * t1x + t0y * t1y) / (n0 * n1) < max_turn_cos
-
-
-@njit(cache=True)
-def _tangent_plane(plane, px, py, dx, dy, ix, iy):
-    """Half-plane through (px, py) along (dx, dy), oriented so (ix, iy) is inside, into
-    plane[0:3] (a view: an offset argument would be a literal, compiled once per value)."""
-    ln = math.hypot(dx, dy)
-    if ln == 0.0:
-        return
-    a, b = -dy / ln, dx / ln
-    c = -(a * px + b * py)
-    if a * ix + b * iy + c < 0:
-        a, b, c = -a, -b, -c
-    plane[0] = a
-    plane[1] = b
-    plane[2] = c - 1e-9 * (abs(c) + 1.0)
 
 
 @njit(cache=True, inline="always")
@@ -525,14 +522,23 @@ def _linearisation_bound(prim, x, y, a, b, c):
     return 3.0 * abs(k) * a * a + a * a * a + b * c
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _implicit(prim, x, y):
-    """_eval_implicit as a call, for the batch builder: each inlined copy costs compile time,
-    and here it runs once or twice per curve piece, not per sample."""
-    return _eval_implicit(prim, x, y)
+    """f of _eval_implicit (the same arithmetic) for the batch builder, which needs no
+    gradient: an inlined copy of _eval_implicit costs compile time, and here it runs once or
+    twice per curve piece, not per sample."""
+    inv = prim[P_INVS]
+    X = (x - prim[P_OX]) * inv
+    Y = (y - prim[P_OY]) * inv
+    k = prim[P_K] * X + prim[P_K + 1] * Y + prim[P_K + 2]
+    l = prim[P_L] * X + prim[P_L + 1] * Y + prim[P_L + 2]
+    m = prim[P_M] * X + prim[P_M + 1] * Y + prim[P_M + 2]
+    if prim[P_KIND] == KIND_QUAD:
+        return k * k - l * m
+    return k * k * k - l * m
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""
     prims = _grow(prims, nc)
@@ -551,21 +557,18 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     # sign between them, or the frame is numerically unusable (caller falls back to quads).
     qx = 0.5 * (mx + 0.5 * (c[0, 0] + c[3, 0]))
     qy = 0.5 * (my + 0.5 * (c[0, 1] + c[3, 1]))
-    f, gx, gy = _implicit(prim, qx, qy)
-    f_out, gx2, gy2 = _implicit(prim, 2.0 * mx - qx, 2.0 * my - qy)
+    f = _implicit(prim, qx, qy)
+    f_out = _implicit(prim, 2.0 * mx - qx, 2.0 * my - qy)
     if not (math.isfinite(f) and math.isfinite(f_out)) or f == 0.0 or (f < 0) == (f_out < 0):
         return edges, ne, prims, nc, False
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
-    _set_frame_common(prim, c)
-    _set_chord(prim, c[0, 0], c[0, 1], c[3, 0], c[3, 1], qx, qy)
     t0x, t0y, t1x, t1y = _end_tangents(c)
-    _tangent_plane(prim[P_T1:P_T1 + 3], c[0, 0], c[0, 1], t0x, t0y, qx, qy)
-    _tangent_plane(prim[P_T2:P_T2 + 3], c[3, 0], c[3, 1], t1x, t1y, qx, qy)
+    _set_lens(prim, c, qx, qy, t0x, t0y, t1x, t1y)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
     return edges, ne, prims, nc + 1, True
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _affine_fit(X, V):
     """Least-squares M (3, 3) with [x y 1] · M ≈ V for the 4 points X (4, 2) and values V (4, 3).
 
@@ -615,7 +618,7 @@ def _affine_fit(X, V):
     return M
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     # bulge of the control polygon over the chord; degenerate → chord or nothing
     dev = max(_dist_to_line(c[1, 0], c[1, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]),
@@ -680,7 +683,13 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
             sub = _cubic_sub(c, ta, tb)
             bulge = max(_dist_to_line(sub[1, 0], sub[1, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]),
                         _dist_to_line(sub[2, 0], sub[2, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]))
-            split = (0.75 * bulge > max_sagitta or _turn_exceeds(sub, max_turn_cos))
+            split = 0.75 * bulge > max_sagitta
+            if not split:
+                # does the piece turn by more than acos(max_turn_cos) between its end tangents?
+                t0x, t0y, t1x, t1y = _end_tangents(sub)
+                n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
+                split = n0 == 0.0 or n1 == 0.0 or \
+                    (t0x * t1x + t0y * t1y) / (n0 * n1) < max_turn_cos
             if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
                 edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
                 continue

@@ -34,21 +34,25 @@ _DOT_PTS = 13
 _DOT_VERBS = 2 + _MAX_ARC_CHORDS
 
 
-@njit(cache=True, inline="always")
+# (calls, not inline="always": an inlined copy is ~80 IR statements and ~15 ms of compile time
+# at each of the ~55 call sites; LLVM inlines the calls anyway)
+@njit(cache=True, no_cpython_wrapper=True)
 def _point(pts, cnt, x, y):
     pts[cnt[1], 0] = x
     pts[cnt[1], 1] = y
     cnt[1] += 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True, no_cpython_wrapper=True)
 def _line(verbs, pts, cnt, x, y):
     verbs[cnt[0]] = LINE
     cnt[0] += 1
-    _point(pts, cnt, x, y)
+    pts[cnt[1], 0] = x
+    pts[cnt[1], 1] = y
+    cnt[1] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
     """The circular arc from angle a0 to a1 (radians): chords when a few lie within tol of it
     (thin strokes: lines are cheaper to raster than curves), else cubics of ≤ 90° each."""
@@ -78,7 +82,7 @@ def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
         ca, sa = cb, sb
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """From the right offset to the left offset at an end p with outward direction d."""
     nx, ny = -dy * hw, dx * hw          # left normal of the outward direction
@@ -93,7 +97,7 @@ def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
         _line(verbs, pts, cnt, px + nx, py + ny)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """A zero-length subpath or dash: a disc for round caps, a square along d for square caps,
     nothing for butt caps."""
@@ -117,7 +121,7 @@ def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     cnt[0] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join, miterlimit,
                      dot, tol):
     """Items along the outer side (side: +1 left, -1 right) of a turn at p, after the incoming
@@ -170,7 +174,7 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
     _line(verbs, pts, cnt, bx, by)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_side_forward(verbs, pts, cnt, sv, sp, scnt, first_point):
     """The side's verbs with their points, from point first_point on."""
     for i in range(scnt[0]):
@@ -180,7 +184,7 @@ def _emit_side_forward(verbs, pts, cnt, sv, sp, scnt, first_point):
         _point(pts, cnt, sp[i, 0], sp[i, 1])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
     """The side traversed backwards, after its last point: reversed verbs, and the points
     reversed (a cubic's controls swap places) down to point last_point."""
@@ -191,7 +195,7 @@ def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
         _point(pts, cnt, sp[i, 0], sp[i, 1])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
     """A closed subpath's stroke as two loops, each started at its side's last point (where
     the closing join ended): the right side forward, the left side backward."""
@@ -210,7 +214,7 @@ def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
     cnt[0] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, miterlimit,
                      q, dirs, lens, rv, rp, lv, lp):
     """One subpath of straight lines, src[lo:hi] (a closed one without its closing point
@@ -314,7 +318,7 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
     cnt[0] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _line_subpaths(verbs, points):
     """Subpaths of a path of lines as polylines: (points, start offsets, closed flags). A
     closed subpath ends with its start point again (the closing line made explicit); a moveto
@@ -369,7 +373,7 @@ def _line_subpaths(verbs, points):
     return out[:sub], starts[:ns + 1], closed[:ns]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _grow_points(a, need):
     """a with room for need rows (points, or the rows of any float table)."""
     if need <= a.shape[0]:
@@ -381,7 +385,7 @@ def _grow_points(a, need):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _grow(a, need):
     """a (verbs, or any 1-D array) with room for need entries, of its own dtype."""
     if need <= a.shape[0]:
@@ -392,7 +396,7 @@ def _grow(a, need):
     return b
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _dash_polylines(src, starts, closed, pattern, offset):
     """Dashes of polylines: (dash points, dash start offsets, dots, dot directions). A dash
     is an open polyline; a zero-length dash is a dot with the direction it lies on. On a
@@ -509,7 +513,7 @@ def _dash_polylines(src, starts, closed, pattern, offset):
     return out[:no], ostarts[:nd + 1], dots[:2 * ndot]
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit):
     """Outline (verbs, points) of polylines src[starts[i]:starts[i + 1]] and of dots
     (point, direction pairs). Empty polylines are skipped."""
@@ -638,7 +642,7 @@ def _hypot(x, y):
     return factor * (h / scale)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _unit(dx, dy):
     """(ok, ux, uy): the direction of (dx, dy); not ok for a zero or non-finite length."""
     n = _hypot(dx, dy)
@@ -647,7 +651,7 @@ def _unit(dx, dy):
     return True, dx / n, dy / n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_at(c, t):
     """Point at t of the cubic c (a row x0, y0, ..., x3, y3)."""
     u = 1.0 - t
@@ -656,7 +660,7 @@ def _cubic_at(c, t):
             a * c[1] + b * c[3] + cc * c[5] + d * c[7])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_velocity(c, t):
     v = 1.0 - t
     p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
@@ -664,7 +668,7 @@ def _cubic_velocity(c, t):
             p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _curvature(c, t):
     """Signed curvature at t (inf where the speed vanishes)."""
     dx, dy = _cubic_velocity(c, t)
@@ -677,7 +681,7 @@ def _curvature(c, t):
     return (dx * ey - dy * ex) / (sp2 * math.sqrt(sp2))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _offset_at(c, t, off):
     """(ok, x, y): the true offset's point at t (off: signed distance along the left normal)."""
     dx, dy = _cubic_velocity(c, t)
@@ -688,7 +692,7 @@ def _offset_at(c, t, off):
     return True, x - uy * off, y + ux * off
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
     """Write into fit the cubic approximating the offset of c by off: end points and tangents
     exact, handle lengths chosen so the midpoints agree."""
@@ -722,7 +726,7 @@ def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
     fit[6], fit[7] = q3x, q3y
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _offset_error(c, fit, off):
     """Distance of the fitted offset from the true one at the quarter points."""
     err = 0.0
@@ -737,7 +741,7 @@ def _offset_error(c, fit, off):
     return err
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_tangents(c):
     """(ok, start direction, end direction) of the cubic c; not ok for zero length."""
     ok0 = ok1 = False
@@ -753,7 +757,7 @@ def _cubic_tangents(c):
     return ok0 and ok1, sx, sy, ex, ey
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _flatness(c):
     """An upper bound of the cubic's distance from its chord: the control points' distance
     from the chord segment (not its line: a curve can overshoot along the chord)."""
@@ -772,7 +776,7 @@ def _flatness(c):
     return worst
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
     """Append the piece of the line p0 → p1 (direction d); returns the grown table."""
     tab = _grow_points(tab, n + 1)
@@ -788,7 +792,7 @@ def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
     return tab, kinds, n + 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
     """Append the pieces of the cubic in stack[0]: offset cubics where they fit within tol,
     else halves (depth first, the first half first), down to pieces flat within tol / 2,
@@ -874,7 +878,7 @@ def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
     return tab, kinds, n
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _shape_tol(tab, a, b, tol):
     """Tolerance left for a join or cap at the ends of pieces a and b: a chord's own error f
     moves the stroke around it by up to f, so the shape gets tol − f (at least tol / 2,
@@ -886,7 +890,7 @@ def _shape_tol(tab, a, b, tol):
     return tol - (half if half < e else e)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
     """The offsets (columns col...) of pieces lo..hi-1 along one side, joined by straight
     lines where consecutive offsets do not quite meet; the side is at the first one's start."""
@@ -904,7 +908,7 @@ def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
             _point(sp, sc, r[col + 6], r[col + 7])
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw,
                 join, miterlimit, dot, tol, o1x, o1y, i1x, i1y):
     """Extend the outer side (side: +1 left, −1 right) by the join shape to its next offset's
@@ -929,7 +933,7 @@ def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, 
     _line(iv, ip, ic, i1x, i1y)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, cap,
                    miterlimit):
     """The general stroker for segments lo..hi-1 of one subpath: they become pieces (lines,
@@ -937,15 +941,13 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
     contour when open, two loops when closed, as in _stroke_polyline. Returns the grown
     output buffers."""
     tab = np.empty((16, _PIECE_COLS))
-    pk = np.empty(16, np.int64)
+    pk = np.empty(16, np.uint8)
     stack = np.empty((_MAX_DEPTH + 2, 9))
     cur = np.empty(8)
-    run_lo = np.empty(8, np.int64)      # first piece of each run, then the piece count
-    run_join = np.empty(8, np.int64)    # join before each run (kinks inside curves: round)
+    firsts = np.empty(hi - lo + 1, np.int64)    # each segment's first piece, then n
     n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
-    nruns = 0
     for s in range(lo, hi):
-        first = n
+        firsts[s - lo] = n
         seg = segs[s]
         if kinds[s] == 2:
             ok, dx, dy = _unit(seg[2] - seg[0], seg[3] - seg[1])
@@ -964,21 +966,25 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
                 for j in range(8):
                     stack[0, j] = seg[j]
             tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
-        for j in range(first, n):
+    firsts[hi - lo] = n
+    run_lo = np.empty(n + 1, np.int64)
+    run_join = np.empty(n + 1, np.int64)
+    nruns = 0
+    for s in range(hi - lo):
+        first = firsts[s]
+        for j in range(first, firsts[s + 1]):
             if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
                     tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
                 continue            # on with the run
-            run_lo = _grow(run_lo, nruns + 2)
-            run_join = _grow(run_join, nruns + 1)
             run_lo[nruns] = j
             run_join[nruns] = join if j == first else _ROUND
             nruns += 1
+    run_lo[nruns] = n
     if nruns == 0:
         verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
         pts = _grow_points(pts, cnt[1] + _DOT_PTS)
         dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], 1.0, 0.0, hw, cap, tol)
         return verbs, pts
-    run_lo[nruns] = n
     # One chain along both sides, joins and caps inline: as chains this equals the sum of the
     # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
     # explained in _stroke_polyline, so the nonzero fill is their union.
