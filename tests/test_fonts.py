@@ -299,3 +299,33 @@ def test_collection_faces():
     assert second.family == "Roboto Flex" and "wght" in second.axes
     with pytest.raises(FontError):
         load_face(TTC, 2)
+
+
+def _font_with_names(tmp_path, names):
+    """The fixture font with its name table's family records replaced by ``names``
+    ({name ID: string})."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(os.path.join(FIXTURES, "NotoSans-Subset.ttf"))
+    table = font["name"]
+    table.names = [r for r in table.names if r.nameID not in (1, 16, 21)]
+    for nid, text in names.items():
+        table.setName(text, nid, 3, 1, 0x409)
+    path = tmp_path / "named.ttf"
+    font.save(path)
+    return str(path)
+
+
+@pytest.mark.parametrize("names, answers, not_answers", [
+    ({1: "Face Blk", 16: "Face"}, ["Face"], ["Face Blk"]),     # typographic family wins
+    ({1: "Face Blk"}, ["Face Blk"], ["Face"]),                  # else the legacy family
+    ({1: "Face Blk", 16: "Face", 21: "Face WWS"}, ["Face"], ["Face WWS"]),
+])
+def test_a_face_answers_to_its_typographic_family(tmp_path, names, answers, not_answers):
+    # OpenType name table: ID 16 is the family of the whole weight/width range, ID 1 the
+    # legacy four-style family, used when there is no ID 16
+    db = FontDatabase()
+    db.load_file(_font_with_names(tmp_path, names))
+    for family in answers:
+        assert db.query([family]) is not None
+    for family in not_answers:
+        assert db.query([family]) is None

@@ -65,16 +65,7 @@ def read_face_infos(path) -> list:
         try:
             font = TTFont(path, fontNumber=index, lazy=True)
             name = font["name"]
-            families = []
-            for nid in (16, 1, 21):
-                for rec in name.names:
-                    if rec.nameID == nid:
-                        try:
-                            s = rec.toUnicode()
-                        except UnicodeDecodeError:
-                            continue
-                        if s and s not in families:
-                            families.append(s)
+            families = _family_names(name)
             os2 = font["OS/2"] if "OS/2" in font else None
             sub = (name.getDebugName(17) or name.getDebugName(2) or "").lower()
             weight = int(os2.usWeightClass) if os2 is not None else (
@@ -236,6 +227,27 @@ class FontDatabase:
         same = [f for f in candidates if f.style == style]
         pool = same or candidates
         return best_match(pool, weight, style, stretch) if len(pool) > 1 else pool[0]
+
+
+def _family_names(name) -> list:
+    """The family names a face answers to: its typographic family (name ID 16) when it has
+    one, else its family name (ID 1), in every language the table gives. OpenType: ID 16 is
+    the family of the whole weight and width range; ID 1 is the legacy family of at most four
+    styles (NotoSans-Black.ttf: 16 "Noto Sans", 1 "Noto Sans Blk"), which fontdb, and so resvg,
+    does not match either: such faces are chosen by font-weight and font-stretch."""
+    for nid in (16, 1):
+        families = []
+        for rec in name.names:
+            if rec.nameID == nid:
+                try:
+                    s = rec.toUnicode()
+                except UnicodeDecodeError:
+                    continue
+                if s and s not in families:
+                    families.append(s)
+        if families:
+            return families
+    return []
 
 
 def _has_cp(info: FaceInfo, cp: int) -> bool:
