@@ -280,25 +280,51 @@ class Builder:
                 if fade is not None:
                     stroke_opacity *= fade
         pending = []                            # (index in out, outline verbs, points)
+        # the paths' verbs and points straight from the document's path batch (the Paths
+        # path_data would make are needed only for strokes that are not lines)
+        path_data(run[0])                       # (reads the path data, the first time)
+        batch, index = self._path_batch, self._path_index
+        vstart, pstart, status = batch.vstart, batch.pstart, batch.status
+        all_verbs, shared, drawing = batch.verbs, batch.points, batch.drawing()
+        identity = transform == IDENTITY
         for el in run:
-            path = path_data(el)
-            verbs, points = path._freeze()
-            if not verbs.tobytes().translate(None, _NOT_DRAWING):
+            i = index.get(el)
+            if i is None or status[i]:
+                path = path_data(el)
+                verbs, points = path._freeze()
+                empty = not verbs.tobytes().translate(None, _NOT_DRAWING)
+            else:
+                path = None
+                verbs = all_verbs[vstart[i]:vstart[i + 1]]
+                empty = not drawing[i]
+            if empty:
                 if _CLOSE_BYTE in verbs.tobytes():   # "M x y Z": shape() may stroke a dot
                     out.extend(self.shape(el, ctx, style))
                 continue                        # empty: shape() draws nothing
+            if path is None:
+                p0, p1 = pstart[i], pstart[i + 1]
             for item in order:
                 if item == "fill":
                     if not (len(verbs) == 2 and verbs[1] == LINE):
-                        out.append(Fill(path.transformed(transform), fill_ref.paint, rule,
-                                        fill_ref.opacity, antialias))
+                        if path is not None:
+                            device = path.transformed(transform)
+                        elif identity:          # (what Path.transformed returns)
+                            device = Path._of_shared(verbs, shared, p0, p1)
+                        else:
+                            device = Path._of_arrays(verbs, shared.transformed(transform, p0,
+                                                                                p1))
+                        out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
+                                        antialias))
                 elif lines_plan is not None and not verbs.tobytes().translate(None, _LINE_VERBS):
-                    ov, op = stroke_kernels.stroke_lines(verbs, points, half, tolerance, join,
-                                                         cap, limit, _SOLID, offset)
+                    ov, op = stroke_kernels.stroke_lines(
+                        verbs, points if path is not None else shared.points[p0:p1], half,
+                        tolerance, join, cap, limit, _SOLID, offset)
                     if ov.tobytes().translate(None, _NOT_DRAWING):
                         pending.append((len(out), ov, op))
                         out.append(None)
                 else:
+                    if path is None:
+                        path = Path._of_shared(verbs, shared, p0, p1)
                     out.extend(self.stroke(path, style, ctx, None, antialias))
         if pending:
             if transform == IDENTITY:
@@ -641,7 +667,7 @@ class Builder:
         if self._path_index is None:
             elements = self.doc.paths
             self._path_index = {e: i for i, e in enumerate(elements)}
-            self._path_batch = PathBatch([e.get("d") or "" for e in elements])
+            self._path_batch = PathBatch([e.attrs.get("d") or "" for e in elements])
         i = self._path_index.get(el)
         if i is None:
             return parse_path_data(el.get("d") or "")

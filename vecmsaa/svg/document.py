@@ -370,7 +370,7 @@ class _TreeReader:
             tb = ET.TreeBuilder()
 
         def flush():
-            text = "".join(chunks)
+            text = chunks[0] if len(chunks) == 1 else "".join(chunks)
             chunks.clear()
             el = last[0]
             if el is not None:
@@ -443,6 +443,8 @@ class _TreeReader:
                 paths.append(el)
             elif tag == "use":
                 doc.has_use = True
+            elif tag == "pattern":
+                doc.has_pattern = True
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
             elif spec or style_attr:
@@ -582,6 +584,7 @@ class Document:
         self.paths = []             # the <path> elements in document order
         self.size = 0               # how many elements the tree has
         self.has_use = False        # whether any <use> instantiates content
+        self.has_pattern = False    # whether there is any <pattern> element
 
     def lookup(self, ref):
         """Element for an id, ``#id``, ``url(#id)`` or None."""
@@ -685,6 +688,8 @@ def _break_pattern_cycles(doc):
     P, E's paint goes; otherwise the first element inside Q painting with url(#P) loses that
     paint. Fills first, then strokes. The build's own guard (paint.pattern) still stops any
     cycle this leaves, e.g. through ancestors' inherited paints."""
+    if not doc.has_pattern:
+        return
     patterns = [el for el in doc.ids.values() if el.tag == "pattern"]
     if not patterns:
         return

@@ -601,6 +601,16 @@ class PathBatch:
         self.points = SharedPoints(pts.reshape(-1, 2))
         self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
         self.status = status.tolist()
+        self._drawing = None
+
+    def drawing(self) -> list:
+        """Per path whether it has a verb besides MOVE and CLOSE (is not Path.is_empty)."""
+        if self._drawing is None:
+            counts = np.zeros(len(self.verbs) + 1, np.int64)
+            np.cumsum((self.verbs != MOVE) & (self.verbs != CLOSE), out=counts[1:])
+            at = np.asarray(self.vstart, np.int64)
+            self._drawing = (counts[at[1:]] > counts[at[:-1]]).tolist()
+        return self._drawing
 
     def get(self, i):
         """(Path, command index of every verb) of the i-th text."""
