@@ -9,6 +9,7 @@ effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import re
 from dataclasses import dataclass, field, replace
@@ -330,9 +331,9 @@ class Builder:
             if transform == IDENTITY:
                 mapped = [op for _, _, op in pending]
             else:
-                ends = np.cumsum([len(op) for _, _, op in pending])
-                mapped = np.split(apply(transform, np.concatenate([op for _, _, op in pending])),
-                                  ends[:-1])
+                points = apply(transform, np.concatenate([op for _, _, op in pending]))
+                ends = list(itertools.accumulate(len(op) for _, _, op in pending))
+                mapped = [points[a:b] for a, b in zip([0] + ends, ends)]
             paint = stroke_ref.paint
             for (i, ov, _), op in zip(pending, mapped):
                 out[i] = Fill(Path._of_arrays(ov, op), paint, opacity=stroke_opacity,
