@@ -459,3 +459,22 @@ def _one_filter(primitives: str):
             return node.filters[0]
         stack.extend(getattr(node, "children", []))
     raise AssertionError("no filtered group")
+
+
+def _svg(body, size=200):
+    return render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" width="{size}" '
+                            f'height="{size}">{body}</svg>', mode="analytic")
+
+
+def test_tile_repeats_the_subregion_of_an_offset_of_the_source_graphic():
+    # feTile (Filter Effects 1 §15.23) fills its subregion with copies of its input's
+    # subregion, one copy where it is: here feOffset's own x/y/width/height on SourceGraphic
+    grad = ('<linearGradient id="g"><stop offset="0" stop-color="red"/>'
+            '<stop offset="1" stop-color="blue"/></linearGradient>')
+    source = _svg(f'{grad}<rect width="200" height="200" fill="url(#g)"/>')
+    tiled = _svg(f'{grad}<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="200" '
+                 'height="200"><feOffset x="20" y="20" width="40" height="40"/><feTile/></filter>'
+                 '<rect width="200" height="200" fill="url(#g)" filter="url(#f)"/>')
+    tile = source[20:60, 20:60]
+    ys, xs = (np.arange(200) - 20) % 40, (np.arange(200) - 20) % 40
+    assert np.abs(tiled.astype(int) - tile[ys][:, xs].astype(int)).max() <= 1

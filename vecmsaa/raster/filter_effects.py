@@ -349,7 +349,11 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
             if not _keeps_finite(prim.effect):
                 img = np.nan_to_num(img, nan=0.0, posinf=1.0, neginf=0.0)
         if isinstance(prim.effect, Offset):
-            rect = inputs[0].rect          # resvg: feOffset keeps its input's subregion
+            # resvg: feOffset's image is not confined to a subregion; the subregion it passes
+            # on (to feTile, which repeats it) is its input's when that is a result, its own
+            # when it reads SourceGraphic or SourceAlpha
+            if prim.inputs and prim.inputs[0] >= 0:
+                rect = inputs[0].rect
         elif rect != full:
             clipped = np.zeros_like(img)
             if rect[2] > rect[0] and rect[3] > rect[1]:
