@@ -79,6 +79,8 @@ def _zero_length_closes(path):
     return Path.from_arrays(np.array(verbs, np.uint8), np.array(pts, np.float64).reshape(-1, 2))
 
 
+#: stroke outline points of a path run mapped to the device together (at most)
+PENDING_POINTS = 1 << 15
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
@@ -281,6 +283,7 @@ class Builder:
                 if fade is not None:
                     stroke_opacity *= fade
         pending = []                            # (index in out, outline verbs, points)
+        pending_points = 0
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
         path_data(run[0])                       # (reads the path data, the first time)
@@ -323,21 +326,32 @@ class Builder:
                     if ov.tobytes().translate(None, _NOT_DRAWING):
                         pending.append((len(out), ov, op))
                         out.append(None)
+                        pending_points += len(op)
+                        if pending_points > PENDING_POINTS:     # (the kernel's buffers
+                            pending_points = 0                  # are held till then)
+                            self._place_outlines(pending, out, transform, stroke_ref.paint,
+                                                 stroke_opacity, antialias)
                 else:
                     if path is None:
                         path = Path._of_shared(verbs, shared, p0, p1)
                     out.extend(self.stroke(path, style, ctx, None, antialias))
         if pending:
-            if transform == IDENTITY:
-                mapped = [op for _, _, op in pending]
-            else:
-                points = apply(transform, np.concatenate([op for _, _, op in pending]))
-                ends = list(itertools.accumulate(len(op) for _, _, op in pending))
-                mapped = [points[a:b] for a, b in zip([0] + ends, ends)]
-            paint = stroke_ref.paint
-            for (i, ov, _), op in zip(pending, mapped):
-                out[i] = Fill(Path._of_arrays(ov, op), paint, opacity=stroke_opacity,
-                              antialias=antialias)
+            self._place_outlines(pending, out, transform, stroke_ref.paint, stroke_opacity,
+                                 antialias)
+
+    @staticmethod
+    def _place_outlines(pending, out, transform, paint, opacity, antialias):
+        """The Fills of a run's stroke outlines (pending: (index in out, verbs, user-space
+        points)), their points mapped to the device in one call."""
+        if transform == IDENTITY:
+            mapped = [op for _, _, op in pending]
+        else:
+            points = apply(transform, np.concatenate([op for _, _, op in pending]))
+            ends = list(itertools.accumulate(len(op) for _, _, op in pending))
+            mapped = [points[a:b] for a, b in zip([0] + ends, ends)]
+        for (i, ov, _), op in zip(pending, mapped):
+            out[i] = Fill(Path._of_arrays(ov, op), paint, opacity=opacity, antialias=antialias)
+        pending.clear()
 
     def _run_plan(self, style, ctx):
         """For _path_run: False when nothing is drawn, None when the elements must go through
