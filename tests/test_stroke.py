@@ -9,7 +9,8 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from vecmsaa.scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
+from vecmsaa.scene.path import (CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path,
+                               conic_weight)
 from vecmsaa.svg.markers import auto_angle, marker_vertices
 from vecmsaa.geometry.stroke import dash_pattern, stroke_path
 from vecmsaa.svg.pathdata import parse_path_data, parse_path_data_with_commands
@@ -24,6 +25,15 @@ def _bezier(ctrl, ts):
     while pts.shape[1] > 1:
         pts = pts[:, :-1] + (pts[:, 1:] - pts[:, :-1]) * t
     return pts[:, 0]
+
+
+def _conic(b0, b1, mid, b2, ts):
+    """Points of the rational quadratic (b0, b1, b2) whose point at t = ½ is mid (the weight
+    on b1 as scene.path stores it)."""
+    w = float(conic_weight(b0[None], b1[None], mid[None], b2[None])[0])
+    t = ts[:, None]
+    a, b, c = (1 - t) ** 2, 2 * w * t * (1 - t), t ** 2
+    return (a * b0 + b * b1 + c * b2) / (a + b + c)
 
 
 def contours(path, per_curve=64):
@@ -51,6 +61,8 @@ def _polylines(path, per_curve):
             cur.append(p[0])
         elif v in (QUAD, CUBIC):
             cur.extend(_bezier(np.vstack([cur[-1][None], p]), ts))
+        elif v == CONIC:
+            cur.extend(_conic(np.asarray(cur[-1]), p[0], p[1], p[2], ts))
         elif v == CLOSE:
             out[-1][1] = True
     return [(np.asarray(c), closed) for c, closed in out if len(c) > 1]
@@ -500,18 +512,23 @@ def test_dashes_follow_curves():
     assert np.array_equal(got[~near], on[~near])
 
 
-@pytest.mark.parametrize("d", [
-    "M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z",                 # a circle (cubics)
-    "M 10 80 Q 50 -40 90 80 C 60 60 40 100 10 80 Z",                      # quadratic + cubic
+@pytest.mark.parametrize("d, cubics", [
+    ("M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z", False),     # a circle (conics)
+    ("M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z", True),      # its cubics
+    ("M 10 80 Q 50 -40 90 80 C 60 60 40 100 10 80 Z", False),         # quadratic + cubic
 ])
-def test_dash_ends_at_exact_arc_lengths(d):
+def test_dash_ends_at_exact_arc_lengths(d, cubics):
     """Every dash starts and ends where the path has run the pattern's lengths, measured on
     a brute-force polyline of 200 000 points per curve (independent of the dasher)."""
     from vecmsaa.geometry import stroke
 
     path = parse_path_data(d)
+    if cubics:
+        path = path.without_conics()
     (segs, closed), = stroke._subpaths(path)
-    pts = np.concatenate([_bezier(np.array(seg), np.linspace(0, 1, 200_001))[:-1]
+    ts = np.linspace(0, 1, 200_001)
+    pts = np.concatenate([(_conic(*np.array(seg), ts) if isinstance(seg, stroke._Conic)
+                           else _bezier(np.array(seg), ts))[:-1]
                           for seg in segs] + [np.array(segs[-1][-1:])])
     run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     pattern, offset = [9.0, 4.5, 2.5, 4.5], 3.0

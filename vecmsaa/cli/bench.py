@@ -37,9 +37,9 @@ def add_parser(subparsers):
                         "and an animated WebP per case)")
     p.add_argument("--conics", action="store_true",
                    help="only the exact-conics study: circles and ellipses from 8 to 8192 px "
-                        "across as conics and as the cubics arcs used to be, in the MSAA and "
-                        "exact-area modes, against the exact shape, and their time "
-                        "(writes conics.md/json)")
+                        "across, and stroked circles, as conics and as the cubics arcs used to "
+                        "be, in the MSAA and exact-area modes, against the exact shape (the "
+                        "ring for a stroke), and their time (writes conics.md/json)")
     p.add_argument("--csaa", action="store_true",
                    help="only the CSAA study: 16 coverage samples with 8, 4 and 2 stored "
                         "colours against plain 4x and 16x MSAA on Figure 1, random scenes and "

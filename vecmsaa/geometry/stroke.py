@@ -11,6 +11,13 @@ turn, the caps). On the outer side a wedge and the butt lines collapse into the 
 the inner side into the detour offset corner → vertex → next offset corner. Winding numbers add
 over chains, every piece winds +1 over itself, so the fill is their union.
 
+Circular arcs (conics whose control triangle is isosceles with the weight of a circle: SVG
+arcs, circles, rounded corners under a similarity) are offset exactly: the offset of an arc
+of radius r by ±w/2 is the concentric arc of radius r ± w/2, the same conic scaled about the
+centre; their dashes are cut at exact arc lengths (r·angle). Elliptical arcs, and arcs no
+wider than the stroke's half width (whose inner offset folds), are stroked as the cubics of
+Path.without_conics, like every other curve:
+
 Offsets of curves are cubic Béziers fitted to the true offset (exact end points and tangents, the
 midpoint matched), subdivided until within ``tolerance`` at the quarter points; where the offset
 folds (bends tighter than half the width) or will not fit, pieces are split until flat within
@@ -33,7 +40,7 @@ import numpy as np
 from . import stroke_kernels as kernels
 from .arclength import as_cubic, cubic_exact_param_at, cubic_length
 from .arclength import cubic_derivative as _cubic_deriv
-from ..scene.path import CLOSE, LINE, MOVE, VERB_POINTS, Path
+from ..scene.path import CLOSE, CONIC, LINE, MOVE, VERB_POINTS, Path, conic_weight
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
@@ -113,7 +120,7 @@ def _segment_arrays(parts):
         if isinstance(first, list):
             flags.append(kernels.SUB_CLOSED if second else kernels.SUB_OPEN)
             for seg in first:
-                kinds.append(len(seg))
+                kinds.append(5 if isinstance(seg, _Conic) else len(seg))
                 row = [c for p in seg for c in p]
                 rows.append(row + [0.0] * (8 - len(row)))
         else:
@@ -131,6 +138,60 @@ def _segments_outline(segments, hw, tol, join, cap, miterlimit, general=False):
     return kernels.stroke_segments(*segments, float(hw), float(tol),
                                    kernels.JOIN_CODES.get(join, 0),
                                    kernels.CAP_CODES.get(cap, 0), float(miterlimit), general)
+
+
+# -- circular arcs --------------------------------------------------------------------------
+
+CIRCLE_RTOL = kernels.CIRCLE_RTOL     # (how exactly a conic must be a circular arc)
+
+
+def circular_conics(b0, b1, mid, b2):
+    """For conics (b0, b1, b2) with their points at t = ½ ((n, 2) arrays each): which are
+    circular arcs, with their centres (n, 2) and radii. A conic is a circular arc when its
+    control triangle is isosceles (|b0 b1| = |b1 b2|) and its weight is cos φ, φ the angle
+    between the chord and either tangent (the half angle of the arc)."""
+    d0, d1 = b1 - b0, b2 - b1
+    l0, l1 = np.hypot(*d0.T), np.hypot(*d1.T)
+    e = 0.5 * (b0 + b2) - b1                    # from b1 to the chord's midpoint
+    e2 = (e * e).sum(-1)
+    half = np.hypot(*(0.5 * (b2 - b0)).T)       # half the chord
+    scale = np.maximum(l0, l1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        centre = b1 + e * (l0 * l1 / e2)[:, None]
+        radius = 0.5 * (np.hypot(*(b0 - centre).T) + np.hypot(*(b2 - centre).T))
+        cos_phi = half / l0
+        ok = (l0 > 0) & (l1 > 0) & (e2 > 0) & (np.abs(l0 - l1) <= CIRCLE_RTOL * scale) & \
+            (np.abs(conic_weight(b0, b1, mid, b2) - cos_phi) <= CIRCLE_RTOL) & \
+            np.isfinite(radius)
+    return ok, centre, radius
+
+
+def exact_conics(path: Path, hw: float) -> Path:
+    """``path`` with the conics that are circular arcs of radius above hw kept (their offsets
+    by ±hw are conics again) and every other conic replaced by Path.without_conics's cubic."""
+    v, p = path._freeze()
+    if CONIC not in v.tobytes():
+        return path
+    ends = np.cumsum(np.asarray(VERB_POINTS)[v])
+    conics = np.flatnonzero(v == CONIC)
+    at = ends[conics] - 3           # index of b1 of every conic
+    ok, _, radius = circular_conics(p[at - 1], p[at], p[at + 1], p[at + 2])
+    keep = ok & (radius > hw)
+    if keep.all():
+        return path
+    cubic = path.without_conics()
+    if not keep.any():
+        return cubic
+    cv, q = cubic.verbs.copy(), cubic.points.copy()
+    cv[conics[keep]] = CONIC
+    for k in (0, 1):
+        q[at[keep] + k] = p[at[keep] + k]
+    return Path._of_arrays(cv, q)
+
+
+class _Conic(tuple):
+    """A conic segment as the dasher takes it: (b0, b1, point at t = ½, b2), a circular arc."""
+    __slots__ = ()
 
 
 # -- subpaths of a Path ----------------------------------------------------------------------
@@ -161,7 +222,7 @@ def _subpaths(path):
             segs, drawn = [], False
         else:
             ctrl = (cur, *pts[i:i + n])
-            segs.append(ctrl)
+            segs.append(_Conic(ctrl) if v == CONIC else ctrl)
             drawn = True
             cur = ctrl[-1]
         i += n
@@ -182,7 +243,6 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     all zeros draw solid); ``dash_offset`` shifts the pattern's start (negative allowed).
     """
     hw = width / 2.0
-    path = path.without_conics()    # the offsetter takes Béziers (arcs stroke as cubics)
     if not (hw > 0 and math.isfinite(hw)):
         return Path.from_arrays(np.empty(0, np.uint8), np.empty((0, 2)))
     miterlimit = max(1.0, miterlimit)
@@ -197,9 +257,11 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
         segments = kernels.path_segments(np.ascontiguousarray(verbs, dtype=np.uint8),
                                          np.ascontiguousarray(path.points, dtype=np.float64))
     else:
+        # (the kernels keep circular arcs exact and stroke other conics as their cubics; the
+        # dasher measures the arcs here)
         segments = _segment_arrays(
             dash if isinstance(dash, tuple) else (dash, False)
-            for segs, closed in _subpaths(path)
+            for segs, closed in _subpaths(exact_conics(path, hw))
             for dash in _dash_subpath(segs, closed, pattern, dash_offset, tolerance))
     return Path._of_arrays(*_segments_outline(segments, hw, tolerance, join, cap, miterlimit))
 
@@ -281,11 +343,56 @@ class _Measured:
         return _unit(*_cubic_deriv(seg, self.t_at(s))) or (segment_tangents(seg) or ((1.0, 0.0),))[0]
 
 
+class _MeasuredArc:
+    """A circular conic measured exactly: its length is r·θ (θ the angle it spans) and the
+    part between two arc lengths is the conic of that sub-arc (from the centre, the radius and
+    the angles; the original end points where a part reaches an end)."""
+
+    def __init__(self, seg):
+        self.seg = seg
+        b0, b1, mid, b2 = (np.array([q], np.float64) for q in seg)
+        _, centre, radius = circular_conics(b0, b1, mid, b2)
+        self.cx, self.cy = float(centre[0, 0]), float(centre[0, 1])
+        self.r = float(radius[0])
+        (x0, y0), (x1, y1), _, (x2, y2) = seg
+        # the half angle φ: between the chord and the tangent at b0
+        half = math.hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0))
+        rise = math.hypot(0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1)
+        self.angle = 2.0 * math.atan2(rise, half)
+        self.length = self.r * self.angle
+        self.a0 = math.atan2(y0 - self.cy, x0 - self.cx)
+        # turning towards increasing angles (y down: the centre on the tangent's left) or not
+        self.sense = 1.0 if (x1 - x0) * (y0 - self.cy) - (y1 - y0) * (x0 - self.cx) < 0 else -1.0
+
+    def _at(self, a):
+        b = self.a0 + self.sense * a
+        return self.cx + self.r * math.cos(b), self.cy + self.r * math.sin(b)
+
+    def part(self, s0, s1):
+        a0 = min(max(s0 / self.r, 0.0), self.angle)
+        a1 = min(max(s1 / self.r, 0.0), self.angle)
+        p0 = self.seg[0] if a0 <= 0.0 else self._at(a0)
+        p1 = self.seg[3] if a1 >= self.angle else self._at(a1)
+        if a0 <= 0.0 and a1 >= self.angle:
+            return self.seg
+        half = 0.5 * (a1 - a0)
+        if self.r * (1.0 - math.cos(half)) <= 1e-9 * self.r:    # flat to rounding: a line
+            return (p0, p1)
+        mid = self._at(a0 + half)
+        k = 1.0 / math.cos(half)
+        b1 = (self.cx + k * (mid[0] - self.cx), self.cy + k * (mid[1] - self.cy))
+        return _Conic((p0, b1, mid, p1))
+
+    def direction(self, s):
+        b = self.a0 + self.sense * min(max(s / self.r, 0.0), self.angle)
+        return (-self.sense * math.sin(b), self.sense * math.cos(b))
+
+
 def _dash_subpath(segs, closed, pattern, offset, tol):
     """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes.
     On a closed subpath a dash running through the start point is one dash (as in Skia, and so
     in browsers and resvg), joined there rather than capped twice."""
-    measured = [_Measured(s, tol) for s in segs]
+    measured = [_MeasuredArc(s) if isinstance(s, _Conic) else _Measured(s, tol) for s in segs]
     total = sum(m.length for m in measured)
     period = sum(pattern)
     # position within the pattern at the subpath's start

@@ -13,7 +13,8 @@ import math
 import numpy as np
 from ..jit import njit
 
-from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
+from .primitives import _conic_weight
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
 CAP_CODES = {"butt": 0, "round": 1, "square": 2}
@@ -21,6 +22,9 @@ _MITER, _MITER_CLIP, _ROUND, _BEVEL = 0, 1, 2, 3
 _BUTT, _ROUND_CAP, _SQUARE = 0, 1, 2
 
 SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
+#: how exactly a conic must be a circular arc to be stroked as one (relative to its size: the
+#: curve is then within ~1e-9 of its radius of the circle)
+CIRCLE_RTOL = 1e-9
 _MAX_DASH_STEPS = 1_000_000                # pattern intervals walked per subpath at most
 
 _MAX_ARC_CHORDS = 4     # an arc needing more chords within the tolerance is drawn as cubics
@@ -187,12 +191,28 @@ def _emit_side_forward(verbs, pts, cnt, sv, sp, scnt, first_point):
 @njit(cache=True, no_cpython_wrapper=True)
 def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
     """The side traversed backwards, after its last point: reversed verbs, and the points
-    reversed (a cubic's controls swap places) down to point last_point."""
+    reversed (a cubic's controls swap places) down to point last_point. A conic, stored as
+    (b1, point at t = ½, b2), reversed is (b1, the same midpoint, b0): its first two points
+    swap back."""
+    v0, p0 = cnt[0], cnt[1]
+    conics = False
     for i in range(scnt[0] - 1, -1, -1):
         verbs[cnt[0]] = sv[i]
         cnt[0] += 1
+        conics = conics or sv[i] == CONIC
     for i in range(scnt[1] - 2, last_point - 1, -1):
         _point(pts, cnt, sp[i, 0], sp[i, 1])
+    if conics:
+        p = p0
+        for i in range(v0, cnt[0]):
+            if verbs[i] == LINE:
+                p += 1
+                continue
+            if verbs[i] == CONIC:
+                x, y = pts[p, 0], pts[p, 1]
+                pts[p, 0], pts[p, 1] = pts[p + 1, 0], pts[p + 1, 1]
+                pts[p + 1, 0], pts[p + 1, 1] = x, y
+            p += 3
 
 
 @njit(cache=True, no_cpython_wrapper=True)
@@ -879,6 +899,62 @@ def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
 
 
 @njit(cache=True, no_cpython_wrapper=True)
+def _circle_piece(tab, kinds, n, seg, hw):
+    """Append the piece of a conic segment (seg: b0, b1, its point at t = ½, b2) that is a
+    circular arc of radius above hw: its offsets are the concentric arcs of radius r ± hw,
+    conics with the segment's weight whose points are the segment's scaled about the centre
+    (an affine map), so the stroke's outline is exact. Returns (tab, kinds, n, ok); nothing is
+    appended (not ok) where the conic is no circular arc (stroke.circular_conics's test: an
+    isosceles control triangle, weight cos φ for the half angle φ), is degenerate, or the inner
+    offset would fold (r ≤ hw)."""
+    x0, y0, x1, y1, xm, ym, x2, y2 = seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6], \
+        seg[7]
+    l0 = _hypot(x1 - x0, y1 - y0)
+    l1 = _hypot(x2 - x1, y2 - y1)
+    if not (l0 > 0.0 and l1 > 0.0 and abs(l0 - l1) <= CIRCLE_RTOL * max(l0, l1)):
+        return tab, kinds, n, False
+    ok0, t0x, t0y = _unit(x1 - x0, y1 - y0)
+    ok1, t1x, t1y = _unit(x2 - x1, y2 - y1)
+    if not (ok0 and ok1):
+        return tab, kinds, n, False
+    if not abs(_conic_weight(x0, y0, x1, y1, xm, ym, x2, y2) -
+               _hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0)) / l0) <= CIRCLE_RTOL:
+        return tab, kinds, n, False
+    # the centre: on the line from b1 through the chord's midpoint m, at |b1 b0|·|b1 b2| / |b1 m|
+    # over |b1 m| (right angles at b0 and b2 in the isosceles control triangle)
+    ex, ey = 0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1
+    e2 = ex * ex + ey * ey
+    if not e2 > 0.0:
+        return tab, kinds, n, False
+    k = l0 * l1 / e2
+    cx, cy = x1 + ex * k, y1 + ey * k
+    r = 0.5 * (_hypot(x0 - cx, y0 - cy) + _hypot(x2 - cx, y2 - cy))
+    if not (math.isfinite(r) and r > hw):
+        return tab, kinds, n, False
+    # the centre on the left of the start direction: the left offset is the inner arc
+    inner_left = (cx - x0) * -t0y + (cy - y0) * t0x > 0.0
+    sl = (r - hw) / r if inner_left else (r + hw) / r
+    sr = (r + hw) / r if inner_left else (r - hw) / r
+    tab = _grow_points(tab, n + 1)
+    kinds = _grow(kinds, n + 1)
+    row = tab[n]
+    row[0], row[1], row[2], row[3] = x0, y0, x2, y2
+    row[4], row[5], row[6], row[7] = t0x, t0y, t1x, t1y
+    # ends exactly as a line's offsets (they meet the joins), the controls scaled
+    row[_PR], row[_PR + 1] = x0 + t0y * hw, y0 - t0x * hw
+    row[_PR + 2], row[_PR + 3] = cx + sr * (x1 - cx), cy + sr * (y1 - cy)
+    row[_PR + 4], row[_PR + 5] = cx + sr * (xm - cx), cy + sr * (ym - cy)
+    row[_PR + 6], row[_PR + 7] = x2 + t1y * hw, y2 - t1x * hw
+    row[_PL], row[_PL + 1] = x0 - t0y * hw, y0 + t0x * hw
+    row[_PL + 2], row[_PL + 3] = cx + sl * (x1 - cx), cy + sl * (y1 - cy)
+    row[_PL + 4], row[_PL + 5] = cx + sl * (xm - cx), cy + sl * (ym - cy)
+    row[_PL + 6], row[_PL + 7] = x2 - t1y * hw, y2 + t1x * hw
+    row[_PERR] = 0.0
+    kinds[n] = 5
+    return tab, kinds, n + 1, True
+
+
+@njit(cache=True, no_cpython_wrapper=True)
 def _shape_tol(tab, a, b, tol):
     """Tolerance left for a join or cap at the ends of pieces a and b: a chord's own error f
     moves the stroke around it by up to f, so the shape gets tol − f (at least tol / 2,
@@ -901,7 +977,7 @@ def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
         if kinds[j] == 2:
             _line(sv, sp, sc, r[col + 2], r[col + 3])
         else:
-            sv[sc[0]] = CUBIC
+            sv[sc[0]] = CUBIC if kinds[j] == 4 else CONIC   # (a conic: b1, midpoint, b2)
             sc[0] += 1
             _point(sp, sc, r[col + 2], r[col + 3])
             _point(sp, sc, r[col + 4], r[col + 5])
@@ -955,7 +1031,21 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
                 tab, pk, n = _line_piece(tab, pk, n, seg[0], seg[1], seg[2], seg[3], dx, dy,
                                          hw, 0.0)
         else:
-            if kinds[s] == 3:       # quadratic → the identical cubic
+            if kinds[s] == 5:       # a circular arc: exact offsets
+                tab, pk, n, ok = _circle_piece(tab, pk, n, seg, hw)
+                if ok:
+                    continue
+                # else the cubic Path.without_conics makes of it (handles at 4w / (3(1 + w)),
+                # the same arithmetic: the same bits)
+                w = _conic_weight(seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6], seg[7])
+                kk = 4.0 * w / (3.0 * (1.0 + w))
+                stack[0, 0], stack[0, 1] = seg[0], seg[1]
+                stack[0, 2] = seg[0] + kk * (seg[2] - seg[0])
+                stack[0, 3] = seg[1] + kk * (seg[3] - seg[1])
+                stack[0, 4] = seg[6] + kk * (seg[2] - seg[6])
+                stack[0, 5] = seg[7] + kk * (seg[3] - seg[7])
+                stack[0, 6], stack[0, 7] = seg[6], seg[7]
+            elif kinds[s] == 3:     # quadratic → the identical cubic
                 stack[0, 0], stack[0, 1] = seg[0], seg[1]
                 stack[0, 2] = seg[0] + 2.0 / 3.0 * (seg[2] - seg[0])
                 stack[0, 3] = seg[1] + 2.0 / 3.0 * (seg[3] - seg[1])
@@ -1086,8 +1176,8 @@ def path_segments(verbs, points):
             ns = first = ns if have_start else first
             drawn = False
         else:
-            k = 3 if v == CUBIC else (2 if v == QUAD else 1)
-            kinds[ns] = k + 1
+            k = 3 if v == CUBIC or v == CONIC else (2 if v == QUAD else 1)
+            kinds[ns] = 5 if v == CONIC else k + 1     # (a conic: b0, b1, midpoint, b2)
             segs[ns, 0], segs[ns, 1] = cx, cy
             for j in range(k):
                 segs[ns, 2 + 2 * j] = points[ip + j, 0]

@@ -12,6 +12,11 @@ exact-area mode, against the exact shape:
 
 Big shapes are measured in a window on their edge at 22.5° from an axis, where a cubic quarter
 strays most from the ellipse (2.7e-4 of the radius).
+
+*Stroked circles* ("ring" rows): the circle stroked with width w, conic (its outline: two
+concentric circles, exact) against the stroke of its cubics (offset cubics fitted within the
+stroker's 0.25 px tolerance); the truth is the ring between the discs of radius r ± w/2 (its
+samples, and its area in each pixel as the difference of the two discs').
 """
 from __future__ import annotations
 
@@ -22,12 +27,15 @@ import time
 
 import numpy as np
 
+from ..geometry.stroke import stroke_path
 from ..raster.render import render_scene
 from ..raster.sample_patterns import pattern_offsets
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..svg.shapes import ellipse_path
 
 RADII = (4.0, 16.0, 64.0, 256.0, 1024.0, 4096.0)
+#: (radius, stroke width) of the stroked circles
+RINGS = ((8.0, 2.0), (64.0, 1.0), (64.0, 8.0), (1024.0, 4.0), (4096.0, 2.0))
 MODES = (("persample", 16), ("approx", 16), ("approx", 4), ("alpha", 16), ("a2c", 16),
          ("analytic", 1))
 WINDOW = 48
@@ -68,27 +76,44 @@ def exact_coverage(cx, cy, rx, ry, w, h):
                       for px in range(w)] for py in range(h)])
 
 
-def sample_truth(cx, cy, rx, ry, w, h, samples):
-    """(h, w, n) booleans: each sample inside the ellipse."""
+def sample_truth(cx, cy, rx, ry, w, h, samples, hw=0.0):
+    """(h, w, n) booleans: each sample inside the ellipse (hw > 0: a circle's ring of
+    half width hw, between the discs of radius rx ± hw)."""
     off = pattern_offsets("d3d", samples)
     ys, xs = np.mgrid[0:h, 0:w]
+    if hw > 0:
+        out = []
+        for ox, oy in off:
+            d2 = (xs + 0.5 + ox - cx) ** 2 + (ys + 0.5 + oy - cy) ** 2
+            out.append((d2 < (rx + hw) ** 2) & ~(d2 < (rx - hw) ** 2))
+        return np.stack(out, axis=-1)
     return np.stack([(((xs + 0.5 + ox - cx) / rx) ** 2 + ((ys + 0.5 + oy - cy) / ry) ** 2) < 1.0
                      for ox, oy in off], axis=-1)
 
 
 def cases():
-    """(name, cx, cy, rx, ry, w, h): whole small shapes, windows on big ones' edges."""
+    """(name, cx, cy, rx, ry, w, h, hw): whole small shapes, windows on big ones' edges;
+    hw > 0 for a stroked circle (stroke width 2·hw)."""
     out = []
     for r in RADII:
         for shape, ry in (("circle", r), ("ellipse", r / 2)):
             rx = r
             if 2 * rx + 4 <= WINDOW:
                 w = h = int(2 * rx + 4)
-                out.append((f"{shape} r={r:g}", w / 2 + 0.3, h / 2 - 0.2, rx, ry, w, h))
+                out.append((f"{shape} r={r:g}", w / 2 + 0.3, h / 2 - 0.2, rx, ry, w, h, 0.0))
             else:
                 a = math.pi / 8
                 out.append((f"{shape} r={r:g}", WINDOW / 2 - rx * math.cos(a) + 0.3,
-                            WINDOW / 2 + ry * math.sin(a) - 0.2, rx, ry, WINDOW, WINDOW))
+                            WINDOW / 2 + ry * math.sin(a) - 0.2, rx, ry, WINDOW, WINDOW, 0.0))
+    for r, sw in RINGS:
+        name = f"ring r={r:g} w={sw:g}"
+        if 2 * (r + sw) + 4 <= WINDOW:
+            w = h = int(2 * (r + sw) + 4)
+            out.append((name, w / 2 + 0.3, h / 2 - 0.2, r, r, w, h, sw / 2))
+        else:
+            a = math.pi / 8
+            out.append((name, WINDOW / 2 - r * math.cos(a) + 0.3,
+                        WINDOW / 2 + r * math.sin(a) - 0.2, r, r, WINDOW, WINDOW, sw / 2))
     return out
 
 
@@ -98,10 +123,10 @@ def _render(path, w, h, mode, samples):
     return img[..., 3].astype(np.float64)
 
 
-def _sample_error(path, cx, cy, rx, ry, w, h, samples, mode):
+def _sample_error(path, cx, cy, rx, ry, w, h, samples, mode, hw=0.0):
     """Fraction of the edge pixels' samples decided wrongly, from the resolved coverage (box
     filter: coverage × n is the count inside; a wrong count is at least that many errors)."""
-    truth = sample_truth(cx, cy, rx, ry, w, h, samples)
+    truth = sample_truth(cx, cy, rx, ry, w, h, samples, hw)
     inside = truth.sum(-1)
     edge = (inside > 0) & (inside < samples)
     got = np.rint(_render(path, w, h, mode, samples) * samples)
@@ -110,20 +135,27 @@ def _sample_error(path, cx, cy, rx, ry, w, h, samples, mode):
 
 def error_rows(log=print):
     rows = []
-    for name, cx, cy, rx, ry, w, h in cases():
-        exact = exact_coverage(cx, cy, rx, ry, w, h)
-        edge = (exact > 1e-9) & (exact < 1 - 1e-9)
+    for name, cx, cy, rx, ry, w, h, hw in cases():
         conic = ellipse_path(cx, cy, rx, ry)
+        if hw > 0:      # the ring between two discs; the paths are the strokes' outlines
+            exact = exact_coverage(cx, cy, rx + hw, rx + hw, w, h) - \
+                exact_coverage(cx, cy, rx - hw, rx - hw, w, h)
+            paths = (("conic", stroke_path(conic, 2 * hw)),
+                     ("cubic", stroke_path(conic.without_conics(), 2 * hw)))
+        else:
+            exact = exact_coverage(cx, cy, rx, ry, w, h)
+            paths = (("conic", conic), ("cubic", conic.without_conics()))
+        edge = (exact > 1e-9) & (exact < 1 - 1e-9)
         for mode, samples in MODES:
             row = {"case": name, "mode": mode, "samples": samples}
-            for kind, path in (("conic", conic), ("cubic", conic.without_conics())):
+            for kind, path in paths:
                 cov = _render(path, w, h, mode, samples)
                 err = np.abs(cov - exact)[edge]
                 row[f"{kind}_max"] = float(err.max())
                 row[f"{kind}_mean"] = float(err.mean())
                 if mode != "analytic":
                     row[f"{kind}_samples"] = _sample_error(path, cx, cy, rx, ry, w, h, samples,
-                                                           mode)
+                                                           mode, hw)
             rows.append(row)
             log(f"conics: {name} {mode}/{samples}: mean error conic {row['conic_mean']:.5f} "
                 f"cubic {row['cubic_mean']:.5f}")
