@@ -154,3 +154,28 @@ def test_a_fill_hidden_under_opaque_fills_is_not_scanned():
     opts = RenderOptions("approx", 8)
     render_float(Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1)))])), opts)
     assert opts.lens_stats[0] > 0
+
+
+def test_run_numbers_restart_without_changing_a_pixel():
+    # runs stamp what they cover with their number; when the numbers run out the stamps are
+    # cleared and numbering restarts. Stale stamps equal to the restarted numbers are planted:
+    # kept, they would hide samples
+    from vecmsaa.raster import scan
+    from vecmsaa.raster.render import Raster, band_layout, draw_items, prepare_items
+    scene = load_svg(STROKES_SVG.encode(), width=120)
+    opts = RenderOptions("approx", 8)
+    items = prepare_items(scene.root, opts)
+    W, H = scene.width, scene.height
+
+    def draw(first_run, planted):
+        raster = Raster(opts, W, H, band_layout(W, 8, 1 << 24)[1])
+        stamp, runs = raster.scratch[-3], raster.scratch[-1]
+        stamp[:] = planted
+        runs[0] = first_run
+        img = np.zeros((H, W, 4), np.float32)
+        draw_items(items, img, 0, raster)
+        return img, runs[0]
+    fresh, _ = draw(0, 0)
+    restarted, last = draw(scan.RUN_LIMIT - 1, 2 * 1 + 1)
+    assert last < scan.RUN_LIMIT - 1
+    assert np.array_equal(fresh, restarted)

@@ -36,6 +36,8 @@ MODE_IDS = {"none": MODE_NONE, "alpha": MODE_ALPHA, "a2c": MODE_A2C,
             "persample": MODE_PERSAMPLE, "approx": MODE_APPROX}
 RULE_NONZERO, RULE_EVENODD = 0, 1
 BIG = 1 << 40
+#: run numbers stamp int32 (2·run + 1): past this the stamps are cleared and numbering restarts
+RUN_LIMIT = (1 << 30) - 1
 
 
 @njit(cache=True, inline="always")
@@ -674,15 +676,21 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
 
 @njit(cache=True)
 def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount, fb, cplx,
-                      slot_of, slot_pixel, pool, npool, wrun, occ, nxt):
+                      slot_of, slot_pixel, pool, npool, wrun, occ, stamp, nxt, run):
     """sweep_rows for an opaque solid fill of a run drawn front to back (render_msaa): it
-    paints only the samples that no fill in front of it covers — occ[r, px], the mask of the
-    pixel's samples already painted by the run — and adds them to occ. An opaque sample takes
-    the paint's colour whatever was under it, so each sample ends as the back-to-front
-    sweep_rows leaves it, bit for bit. A pixel whose mask is full links past itself in nxt (a
-    union-find of the next pixel not full), so spans jump over covered pixels."""
+    paints only the samples that no fill in front of it covers and records the ones it
+    paints. An opaque sample takes the paint's colour whatever was under it, so each sample
+    ends as the back-to-front sweep_rows leaves it, bit for bit.
+
+    What the run has covered is stamped with its number ``run``, so nothing is reset when a
+    run ends: stamp[r, x] == 2·run + 1 means the pixel is full — nxt[r, x] then links to a
+    later pixel, a union-find of the next pixel not full, so spans jump over covered ones —
+    and stamp[r, x] == 2·run means its samples in the mask occ[r, x] are painted; any other
+    stamp means nothing of the run is there yet."""
     n = wrun.shape[0]
     full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
+    full_id = 2 * run + 1
+    part_id = 2 * run
     cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     one = np.uint64(1)
     for r in range(r0, r1 + 1):
@@ -697,33 +705,36 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
             if px > prev + 1 and coverage_of(wrun[0], rule) > 0.0:
                 x = prev + 1
                 while True:
-                    # the first pixel from x on that is not fully covered (path halving)
-                    while nxt[r, x] != x:
-                        nxt[r, x] = nxt[r, nxt[r, x]]
-                        x = nxt[r, x]
+                    # the first pixel from x on that is not full (path halving); column W is
+                    # never full
+                    while stamp[r, x] == full_id:
+                        y = nxt[r, x]
+                        if stamp[r, y] == full_id:
+                            nxt[r, x] = nxt[r, y]
+                        x = nxt[r, x] if stamp[r, y] == full_id else y
                     if x >= px:
                         break
                     # paint the pixels from x up to the next full one (or the span's end)
                     start = x
-                    while x < px and nxt[r, x] == x:
-                        m = occ[r, x]
-                        if m == 0:
-                            cplx[r, x] = -1
-                            fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
-                        else:
+                    while x < px and stamp[r, x] != full_id:
+                        if stamp[r, x] == part_id:
                             # partly covered: a split pixel; its other samples take the paint
+                            m = occ[r, x]
                             slot = cplx[r, x]
                             for s in range(n):
                                 if not ((m >> np.uint64(s)) & one):
                                     pool[slot, s, 0], pool[slot, s, 1] = cr, cg
                                     pool[slot, s, 2], pool[slot, s, 3] = cb, ca
-                        occ[r, x] = full
+                        else:
+                            cplx[r, x] = -1
+                            fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
+                        stamp[r, x] = full_id
                         x += 1
                     # ... and link them all to the first pixel beyond that is not full: a later
                     # fill crossing them jumps there at once (linked one to the next, each
                     # walk would step through them again)
                     root = x
-                    while nxt[r, root] != root:
+                    while stamp[r, root] == full_id:
                         root = nxt[r, root]
                     for t in range(start, x):
                         nxt[r, t] = root
@@ -741,7 +752,10 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                 # crispEdges: one sample decides for the whole pixel
                 bits = full if bits & one else np.uint64(0)
             prev = px
-            m = occ[r, px]
+            st = stamp[r, px]
+            if st == full_id:
+                continue
+            m = occ[r, px] if st == part_id else np.uint64(0)
             new = bits & ~m
             if new == 0:
                 continue
@@ -757,9 +771,12 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                         pool[slot, s, 0], pool[slot, s, 1] = cr, cg
                         pool[slot, s, 2], pool[slot, s, 3] = cb, ca
             m |= new
-            occ[r, px] = m
             if m == full:
+                stamp[r, px] = full_id
                 nxt[r, px] = px + 1
+            else:
+                occ[r, px] = m
+                stamp[r, px] = part_id
         dcount[r] = 0
     return npool
 
@@ -781,9 +798,12 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
             np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
             np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats,
-            # runs of opaque fills: samples covered so far, and the next pixel not full
+            # runs of opaque fills (sweep_rows_behind): samples painted so far, whose they
+            # are (the run's number), the next pixel not full, and the last run's number
             np.zeros((strip_rows, W), dtype=np.uint64),             # occ
-            np.tile(np.arange(W + 1, dtype=np.int32), (strip_rows, 1)))   # nxt
+            np.zeros((strip_rows, W + 1), dtype=np.int32),          # stamp
+            np.zeros((strip_rows, W + 1), dtype=np.int32),          # nxt
+            np.zeros(1, dtype=np.int64))                            # runs
 
 
 @njit(cache=True, nogil=True)   # bands render on threads
@@ -814,7 +834,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     n = sx.shape[0]
     P = edge_off.shape[0] - 1
     (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats, occ,
-     nxt) = scratch
+     stamp, nxt, runs) = scratch
     strip_rows = delta.shape[0]
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
@@ -839,8 +859,15 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             run = q - p > 1
             if not run:
                 q = p + 1
-            # the run's pixel box in the strip, reset when the run ends
-            ra, rz, xa, xz = rows, -1, W, -1
+            else:
+                # the run's number stamps what it covers (sweep_rows_behind): a new number
+                # starts it with nothing covered, no buffer to reset
+                if runs[0] >= RUN_LIMIT:
+                    stamp[:] = 0
+                    runs[0] = 0
+                runs[0] += 1
+            run_id = runs[0]
+            full_id = 2 * run_id + 1
             for i in range(q - p):
                 k = q - 1 - i if run else p + i
                 if saturate:
@@ -859,16 +886,13 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                     shown = 0
                     for r in range(r_first, r_last + 1):
                         x = x_first
-                        while nxt[r, x] != x:
-                            nxt[r, x] = nxt[r, nxt[r, x]]
+                        while stamp[r, x] == full_id and x <= x_last:
                             x = nxt[r, x]
                         hidden[r] = x > x_last
                         shown += x <= x_last
                     if shown == 0:
                         hidden[r_first:r_last + 1] = False
                         continue
-                    ra, rz = min(ra, r_first), max(rz, r_last)
-                    xa, xz = min(xa, x_first), max(xz, x_last)
                 scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
                            dirty, dlist, dcount, hidden)
                 if prim_off[k + 1] > prim_off[k]:
@@ -878,17 +902,14 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
-                                              slot_of, slot_pixel, pool, npool, wrun, occ, nxt)
+                                              slot_of, slot_pixel, pool, npool, wrun, occ,
+                                              stamp, nxt, run_id)
                     hidden[r_first:r_last + 1] = False
                 else:
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                        paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
                                        fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov,
                                        saturate, slots, uniq, ids)
-            for r in range(ra, rz + 1):
-                for x in range(xa, xz + 1):
-                    occ[r, x] = 0
-                    nxt[r, x] = x
             p = q
         # resolve: split pixels average their samples (resolve filter weights); one-colour
         # pixels are already in the target
