@@ -815,3 +815,30 @@ def test_runs_of_plain_paths_draw_as_each_path_alone(group):
         assert type(a.paint) is type(b.paint)
         if isinstance(a.paint, Solid):
             assert a.paint.color == b.paint.color
+
+
+@pytest.mark.parametrize("effect, defs", [
+    ('clip-path="url(#c)"', '<clipPath id="c"><circle cx="50" cy="50" r="50"/></clipPath>'),
+    ('mask="url(#m)"', '<mask id="m" maskUnits="userSpaceOnUse" x="0" y="0" width="200" '
+                       'height="200"><circle cx="50" cy="50" r="50" fill="white"/></mask>'),
+    ('filter="url(#f)"', '<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="60" '
+                         'height="60"><feOffset dx="5"/></filter>'),
+    ('clip-path="url(#o)"', '<clipPath id="o" clipPathUnits="objectBoundingBox">'
+                            '<circle cx="0.5" cy="0.5" r="0.5"/></clipPath>'),
+])
+def test_use_x_y_is_part_of_its_transform_for_clip_mask_and_filter(effect, defs):
+    # SVG 2 §5.6.2: x and y are an additional translation appended to the use element's
+    # transform, so its clip-path, mask and filter live in the translated user space: the
+    # same drawing as a <g transform="translate(x y)"> holding the content
+    from vecmsaa.api import render_svg_array
+
+    def draw(body):
+        return render_svg_array('<svg xmlns="http://www.w3.org/2000/svg" width="200" '
+                                f'height="200"><defs>{defs}<rect id="r" width="100" '
+                                f'height="100" fill="green"/></defs>{body}</svg>',
+                                mode="analytic")
+
+    use = draw(f'<use href="#r" x="50" y="30" transform="rotate(5)" {effect}/>')
+    group = draw(f'<g transform="rotate(5) translate(50 30)" {effect}><rect width="100" '
+                 'height="100" fill="green"/></g>')
+    assert np.abs(use.astype(int) - group.astype(int)).max() <= 1

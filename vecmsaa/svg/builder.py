@@ -411,7 +411,10 @@ class Builder:
         elif tag == "svg":
             nodes = self.nested_svg(el, c, style)
         elif tag == "use":
-            nodes = self.use(el, c, style)
+            # x and y are a translation appended to the use element's transform (SVG 2
+            # §5.6.2): its clip-path, mask and filter are in the translated user space
+            c = self.use_translated(el, style, c)
+            nodes = self.use(el, c, style, translated=True)
         elif tag == "image":
             nodes = self.image(el, c, style)
         elif tag == "text":
@@ -563,7 +566,7 @@ class Builder:
         elif tag == "svg":
             nodes = self.nested_svg(el, g, style)
         elif tag == "use":
-            nodes = self.use(el, g, style)
+            nodes = self.use(el, g, style, translated=True)   # x, y are part of its transform
         elif tag == "image":
             nodes = self.image(el, g, style)
         elif tag == "text":
@@ -609,7 +612,16 @@ class Builder:
             return nodes
         return [Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))]
 
-    def use(self, el, ctx, style):
+    def use_translated(self, el, style, ctx):
+        """ctx with the <use> element's x/y translation appended to its transform."""
+        get = self.length_getter(el, style, ctx)
+        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
+        if x == 0.0 and y == 0.0:
+            return ctx
+        return replace(ctx, transform=compose(ctx.transform, translate(x, y)))
+
+    def use(self, el, ctx, style, translated=False):
+        """The instantiated content of a <use>; ``translated``: ctx already holds its x/y."""
         ref = el.get("href")
         if ref is None:
             return []
@@ -622,9 +634,9 @@ class Builder:
         if contains(target, el):
             return []
         get = self.length_getter(el, style, ctx)
-        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
-        c = replace(ctx, transform=compose(ctx.transform, translate(x, y)),
-                    use_stack=ctx.use_stack + (id(target),))
+        if not translated:
+            ctx = self.use_translated(el, style, ctx)
+        c = replace(ctx, use_stack=ctx.use_stack + (id(target),))
         if not ctx.geometry:
             def bbox_fn():
                 return self.object_bbox(el, ctx, style)
