@@ -10,8 +10,9 @@ import contextlib
 import sys
 
 #: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
-#: 95 s of CPU on a busy 2-core machine, less on a quiet one (docs/bench.md, "First run")
-COMPILE_SECONDS = "60–100"
+#: 29–30 s of CPU on the shared 2-core machine (3 Dec 2026, docs/bench.md, "First run"); more
+#: when it is busy
+COMPILE_SECONDS = "30–45"
 
 
 def install(stream=None):
