@@ -842,3 +842,30 @@ def test_use_x_y_is_part_of_its_transform_for_clip_mask_and_filter(effect, defs)
     group = draw(f'<g transform="rotate(5) translate(50 30)" {effect}><rect width="100" '
                  'height="100" fill="green"/></g>')
     assert np.abs(use.astype(int) - group.astype(int)).max() <= 1
+
+
+@pytest.mark.parametrize("effect, defs", [
+    ('clip-path="url(#c)"', '<clipPath id="c"><circle cx="40" cy="40" r="30"/></clipPath>'),
+    ('mask="url(#m)"', '<mask id="m" maskUnits="userSpaceOnUse" x="0" y="0" width="80" '
+                       'height="80"><circle cx="40" cy="40" r="30" fill="white"/></mask>'),
+    ('filter="url(#f)"', '<filter id="f"><feOffset dx="5"/></filter>'),
+    ('clip-path="url(#o)"', '<clipPath id="o" clipPathUnits="objectBoundingBox">'
+                            '<circle cx="0.5" cy="0.5" r="0.5"/></clipPath>'),
+    ('style="mix-blend-mode: multiply"', ''),
+])
+def test_nested_svg_effects_apply_in_its_viewport_coordinates(effect, defs):
+    # as on the root <svg> (whose clip-path, mask and filter are in the viewBox's
+    # coordinates) and as browsers and resvg draw them: a nested <svg> (overflow visible, so
+    # no viewport clip) draws as a <g> with its viewport transform carrying the same effect
+    from vecmsaa.api import render_svg_array
+
+    def draw(body):
+        return render_svg_array('<svg xmlns="http://www.w3.org/2000/svg" width="200" '
+                                f'height="200"><defs>{defs}</defs><rect width="200" height="90" '
+                                f'fill="rgb(200,100,50)"/>{body}</svg>', mode="analytic")
+
+    content = '<rect x="10" width="60" height="70" fill="rgb(50,150,250)"/>'
+    nested = draw(f'<svg x="20" y="30" width="160" height="160" viewBox="0 0 80 80" '
+                  f'overflow="visible" {effect}>{content}</svg>')
+    group = draw(f'<g transform="translate(20 30) scale(2)" {effect}>{content}</g>')
+    assert np.abs(nested.astype(int) - group.astype(int)).max() <= 1

@@ -409,7 +409,10 @@ class Builder:
         elif tag in CONTAINERS:
             nodes = self.children(el, c, style)
         elif tag == "svg":
-            nodes = self.nested_svg(el, c, style)
+            nodes = self.nested_svg(el, c, style, effects=True)
+            if self.nodes_by_id is not None and el.id is not None:
+                self.nodes_by_id.setdefault(el.id, nodes)
+            return nodes
         elif tag == "use":
             # x and y are a translation appended to the use element's transform (SVG 2
             # §5.6.2): its clip-path, mask and filter are in the translated user space
@@ -564,7 +567,9 @@ class Builder:
         elif tag in CONTAINERS:
             nodes = self.children(el, g, style)
         elif tag == "svg":
-            nodes = self.nested_svg(el, g, style)
+            # in the inner coordinate system its clip-path, mask and filter are applied in
+            nodes = self.children(el, replace(g, viewport=self._svg_viewport(el, style, ctx)),
+                                  style)
         elif tag == "use":
             nodes = self.use(el, g, style, translated=True)   # x, y are part of its transform
         elif tag == "image":
@@ -587,7 +592,11 @@ class Builder:
                                               else "visible")
         return v.strip() in ("hidden", "scroll")
 
-    def nested_svg(self, el, ctx, style, size_override=None):
+    def nested_svg(self, el, ctx, style, size_override=None, effects=False):
+        """The content of a nested <svg> under its viewport transform (x/y, viewBox) and
+        viewport clip. ``effects``: with its clip-path, mask, filter and opacity applied in
+        that inner coordinate system, where the root <svg> has them too (and browsers and
+        resvg put them on a nested one)."""
         get = self.length_getter(el, style, ctx)
         x, y = get("x", "x", 0.0), get("y", "y", 0.0)
         w = get("width", "x", ctx.viewport[0])
@@ -608,9 +617,20 @@ class Builder:
             viewport = (w, h)
         inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
         nodes = self.children(el, inner, style)
-        if not nodes or ctx.geometry or ctx.clip or not self.overflow_hidden(el, style):
-            return nodes
-        return [Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))]
+        if effects:
+            nodes = self.wrap(el, style, inner, nodes)
+        if nodes and not (ctx.geometry or ctx.clip) and self.overflow_hidden(el, style):
+            # the viewport clips the filtered result too (a filter region may reach past it)
+            nodes = [Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))]
+        return nodes
+
+    def _svg_viewport(self, el, style, ctx):
+        """The viewport a nested <svg> gives its content: its viewBox size, else its own."""
+        vb = parse_viewbox(el.get("viewBox"))
+        if vb is not None:
+            return (vb[2], vb[3])
+        get = self.length_getter(el, style, ctx)
+        return (get("width", "x", ctx.viewport[0]), get("height", "y", ctx.viewport[1]))
 
     def use_translated(self, el, style, ctx):
         """ctx with the <use> element's x/y translation appended to its transform."""
@@ -654,8 +674,7 @@ class Builder:
             tstyle = style.child(target)
             if tstyle.get("display").strip() == "none":
                 return []
-            nodes = self.nested_svg(target, c, tstyle, size_override=(w, h))
-            return self.wrap(target, tstyle, c, nodes)
+            return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True)
         return self.element(target, c, style)
 
     def symbol(self, sym, use_el, ctx, use_style):
