@@ -423,10 +423,8 @@ class FillBatch:
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         starts = poff[:-1]
         box = np.empty((len(fills), 4))
-        box[:, 0] = np.minimum.reduceat(pts[:, 0], starts) - QUAD_FALLBACK_TOL
-        box[:, 1] = np.minimum.reduceat(pts[:, 1], starts) - QUAD_FALLBACK_TOL
-        box[:, 2] = np.maximum.reduceat(pts[:, 0], starts) + QUAD_FALLBACK_TOL
-        box[:, 3] = np.maximum.reduceat(pts[:, 1], starts) + QUAD_FALLBACK_TOL
+        box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
+        box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
         self.box = box
         self.rows = (box[:, 1].min(), box[:, 3].max())
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
