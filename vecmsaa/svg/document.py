@@ -382,7 +382,14 @@ class _TreeReader:
         def start(name, attr):
             nonlocal default_ns, count, size, error
             if chunks:
-                flush()
+                text = chunks[0] if len(chunks) == 1 else "".join(chunks)
+                chunks.clear()
+                el = last[0]
+                if el is not None:
+                    if last[1]:
+                        el.tail = text
+                    else:
+                        el.text = text
             if tb is not None:
                 node = tb.start(_et_name(name), {_et_name(k): v for k, v in attr.items()})
             if stack and stack[-1] is None or error is not None:
@@ -452,8 +459,8 @@ class _TreeReader:
             else:
                 el.specified = spec
             ident = attrs.get("id")
-            if ident is not None and ident not in ids:
-                ids[ident] = el
+            if ident is not None:
+                ids.setdefault(ident, el)       # the first element with an id keeps it
             if parent is not None:
                 parent.children.append(el)
             else:
@@ -465,15 +472,16 @@ class _TreeReader:
         def end(name):
             if chunks:
                 flush()
-            if tb is not None:
-                tb.end(_et_name(name))
             last[0] = stack.pop()
             last[1] = True
 
-        def characters(text):
+        def end_mirrored(name):
+            tb.end(_et_name(name))
+            end(name)
+
+        def characters_mirrored(text):
             chunks.append(text)
-            if tb is not None:
-                tb.data(text)
+            tb.data(text)
 
         def default(text):
             if text[:1] == "&":   # an entity no DTD declares (ElementTree's message)
@@ -489,8 +497,9 @@ class _TreeReader:
             raise ExternalReferenceForbidden(context, base, sysid, pubid)
 
         parser.StartElementHandler = start
-        parser.EndElementHandler = end
-        parser.CharacterDataHandler = characters
+        # without the mirror, no Python frame per end tag test and per text run
+        parser.EndElementHandler = end if tb is None else end_mirrored
+        parser.CharacterDataHandler = chunks.append if tb is None else characters_mirrored
         parser.DefaultHandlerExpand = default
         parser.EntityDeclHandler = no_entities
         parser.UnparsedEntityDeclHandler = no_entities
