@@ -56,7 +56,7 @@ MAX_PIECES = 4096
 
 
 # -- growable output buffers --------------------------------------------------------------------
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _grow(arr, n):
     if n < arr.shape[0]:
         return arr
@@ -70,7 +70,7 @@ def _grow(arr, n):
     return new
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _push_edge(edges, ne, x0, y0, x1, y1):
     if y0 == y1 and x0 == x1:
         return edges, ne
@@ -84,14 +84,14 @@ def _push_edge(edges, ne, x0, y0, x1, y1):
 
 
 # -- Bézier helpers -----------------------------------------------------------------------------
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _quad_point(x0, y0, x1, y1, x2, y2, t):
     mt = 1.0 - t
     return (mt * mt * x0 + 2 * mt * t * x1 + t * t * x2,
             mt * mt * y0 + 2 * mt * t * y1 + t * t * y2)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_point(c, t):
     mt = 1.0 - t
     a, b, cc, d = mt * mt * mt, 3 * mt * mt * t, 3 * mt * t * t, t * t * t
@@ -99,7 +99,7 @@ def _cubic_point(c, t):
             a * c[0, 1] + b * c[1, 1] + cc * c[2, 1] + d * c[3, 1])
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_sub(c, ta, tb):
     """Control points of the cubic restricted to [ta, tb] (blossoming)."""
     out = np.empty((4, 2))
@@ -125,7 +125,7 @@ def _cubic_sub(c, ta, tb):
     return out
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _dist_to_line(px, py, ax, ay, bx, by):
     dx, dy = bx - ax, by - ay
     ln = math.hypot(dx, dy)
@@ -135,7 +135,7 @@ def _dist_to_line(px, py, ax, ay, bx, by):
 
 
 # -- flattening (analytic / reference modes) ----------------------------------------------------
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
     dd = math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     n = int(math.ceil(math.sqrt(dd / (4.0 * tol)))) if dd > 0 else 1
@@ -150,7 +150,7 @@ def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
     return edges, ne
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _flatten_cubic(edges, ne, c, tol):
     m = max(math.hypot(c[0, 0] - 2 * c[1, 0] + c[2, 0], c[0, 1] - 2 * c[1, 1] + c[2, 1]),
             math.hypot(c[1, 0] - 2 * c[2, 0] + c[3, 0], c[1, 1] - 2 * c[2, 1] + c[3, 1]))
@@ -167,7 +167,7 @@ def _flatten_cubic(edges, ne, c, tol):
 
 
 # -- curve primitives -----------------------------------------------------------------------------
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _set_lens(prim, ctrl, sx, sy, t0x, t0y, t1x, t1y):
     """Everything of a lens primitive but its implicit function: control points, bounding
     box, winding sign, the chord (first to last control point) sorted by y (as the scan
@@ -231,7 +231,7 @@ def _set_lens(prim, ctrl, sx, sy, t0x, t0y, t1x, t1y):
         prim[base + 2] = c - 1e-9 * (abs(c) + 1.0)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
     dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     if dev < LINE_EPS or not (math.isfinite(dev)):
@@ -256,7 +256,7 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
     return edges, ne, prims, nc
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     """Chord edge plus lens primitive for one conic piece (k² − l·m, lens where f < 0)."""
     edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
@@ -301,7 +301,7 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     return edges, ne, prims, nc + 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten):
     """A conic halved until each piece bulges at most ``tol`` from its chord, then each piece
     as its chord (``flatten``: the exact-area modes) or as chord plus lens. A piece's bulge is
@@ -347,7 +347,7 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten)
     return edges, ne, prims, nc
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
     """scene.path.conic_weight for one conic (its point at t = ½ is (mx, my))."""
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
@@ -358,7 +358,7 @@ def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
     return lam / (1.0 - lam)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
     """Fallback: approximate a cubic by quadratics within QUAD_FALLBACK_TOL."""
     err = math.sqrt(3.0) / 36.0 * math.hypot(c[3, 0] - 3 * c[2, 0] + 3 * c[1, 0] - c[0, 0],
@@ -374,7 +374,7 @@ def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
     return edges, ne, prims, nc
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _klm_serpentine(klm, ls, lt, ms, mt):
     """klm at the control points of a serpentine or cusp with roots ls/lt, ms/mt."""
     klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ls, ms * ms * ms
@@ -389,7 +389,7 @@ def _klm_serpentine(klm, ls, lt, ms, mt):
     klm[3, 2] = -((mt - ms) * (mt - ms) * (mt - ms))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _klm_loop(klm, ls, lt, ms, mt):
     """klm at the control points of a loop with double point parameters ls/lt, ms/mt."""
     klm[0, 0], klm[0, 1], klm[0, 2] = ls * ms, ls * ls * ms, ls * ms * ms
@@ -404,7 +404,7 @@ def _klm_loop(klm, ls, lt, ms, mt):
     klm[3, 2] = -(lt - ls) * ((mt - ms) * (mt - ms))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _klm_cusp_at_infinity(klm, ls, lt):
     klm[0, 0], klm[0, 1], klm[0, 2] = ls, ls * ls * ls, 1.0
     klm[1, 0], klm[1, 1], klm[1, 2] = ls - lt / 3.0, ls * ls * (ls - lt), 1.0
@@ -470,7 +470,7 @@ def classify_cubic(X):
     return 5, klm, splits
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _end_tangents(c):
     """Directions of a cubic at its ends; a control point on its end point defers to the next."""
     t0x, t0y = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1]
@@ -525,7 +525,7 @@ def _linearisation_bound(prim, x, y, a, b, c):
     return 3.0 * abs(k) * a * a + a * a * a + b * c
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _implicit(prim, x, y):
     """f of _eval_implicit (the same arithmetic) for the batch builder, which needs no
     gradient: an inlined copy of _eval_implicit costs compile time, and here it runs once or
@@ -541,7 +541,7 @@ def _implicit(prim, x, y):
     return k * k * k - l * m
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""
     prims = _grow(prims, nc)
@@ -571,7 +571,7 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     return edges, ne, prims, nc + 1, True
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _affine_fit(X, V):
     """Least-squares M (3, 3) with [x y 1] · M ≈ V for the 4 points X (4, 2) and values V (4, 3).
 
@@ -621,7 +621,7 @@ def _affine_fit(X, V):
     return M
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     # bulge of the control polygon over the chord; degenerate → chord or nothing
     dev = max(_dist_to_line(c[1, 0], c[1, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]),

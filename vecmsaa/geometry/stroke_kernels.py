@@ -40,14 +40,14 @@ _DOT_VERBS = 2 + _MAX_ARC_CHORDS
 
 # (calls, not inline="always": an inlined copy is ~80 IR statements and ~15 ms of compile time
 # at each of the ~55 call sites; LLVM inlines the calls anyway)
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _point(pts, cnt, x, y):
     pts[cnt[1], 0] = x
     pts[cnt[1], 1] = y
     cnt[1] += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _line(verbs, pts, cnt, x, y):
     verbs[cnt[0]] = LINE
     cnt[0] += 1
@@ -56,7 +56,7 @@ def _line(verbs, pts, cnt, x, y):
     cnt[1] += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
     """The circular arc from angle a0 to a1 (radians): chords when a few lie within tol of it
     (thin strokes: lines are cheaper to raster than curves), else cubics of ≤ 90° each."""
@@ -86,7 +86,7 @@ def _arc(verbs, pts, cnt, cx, cy, r, a0, a1, tol):
         ca, sa = cb, sb
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """From the right offset to the left offset at an end p with outward direction d."""
     nx, ny = -dy * hw, dx * hw          # left normal of the outward direction
@@ -101,7 +101,7 @@ def cap_items(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
         _line(verbs, pts, cnt, px + nx, py + ny)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     """A zero-length subpath or dash: a disc for round caps, a square along d for square caps,
     nothing for butt caps."""
@@ -125,7 +125,7 @@ def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
     cnt[0] += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join, miterlimit,
                      dot, tol):
     """Items along the outer side (side: +1 left, -1 right) of a turn at p, after the incoming
@@ -178,7 +178,7 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
     _line(verbs, pts, cnt, bx, by)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_side_forward(verbs, pts, cnt, sv, sp, scnt, first_point):
     """The side's verbs with their points, from point first_point on."""
     for i in range(scnt[0]):
@@ -188,7 +188,7 @@ def _emit_side_forward(verbs, pts, cnt, sv, sp, scnt, first_point):
         _point(pts, cnt, sp[i, 0], sp[i, 1])
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
     """The side traversed backwards, after its last point: reversed verbs, and the points
     reversed (a cubic's controls swap places) down to point last_point. A conic, stored as
@@ -215,7 +215,7 @@ def _emit_side_backward(verbs, pts, cnt, sv, sp, scnt, last_point):
             p += 3
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
     """A closed subpath's stroke as two loops, each started at its side's last point (where
     the closing join ended): the right side forward, the left side backward."""
@@ -234,7 +234,7 @@ def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
     cnt[0] += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, miterlimit,
                      q, dirs, lens, rv, rp, lv, lp):
     """One subpath of straight lines, src[lo:hi] (a closed one without its closing point
@@ -338,7 +338,7 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
     cnt[0] += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _line_subpaths(verbs, points):
     """Subpaths of a path of lines as polylines: (points, start offsets, closed flags). A
     closed subpath ends with its start point again (the closing line made explicit); a moveto
@@ -393,7 +393,7 @@ def _line_subpaths(verbs, points):
     return out[:sub], starts[:ns + 1], closed[:ns]
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _grow_points(a, need):
     """a with room for need rows (points, or the rows of any float table)."""
     if need <= a.shape[0]:
@@ -408,7 +408,7 @@ def _grow_points(a, need):
     return b
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _grow(a, need):
     """a (verbs, or any 1-D array) with room for need entries, of its own dtype."""
     if need <= a.shape[0]:
@@ -419,7 +419,7 @@ def _grow(a, need):
     return b
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _dash_polylines(src, starts, closed, pattern, offset):
     """Dashes of polylines: (dash points, dash start offsets, dots, dot directions). A dash
     is an open polyline; a zero-length dash is a dot with the direction it lies on. On a
@@ -536,7 +536,7 @@ def _dash_polylines(src, starts, closed, pattern, offset):
     return out[:no], ostarts[:nd + 1], dots[:2 * ndot]
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit):
     """Outline (verbs, points) of polylines src[starts[i]:starts[i + 1]] and of dots
     (point, direction pairs). Empty polylines are skipped."""
@@ -665,7 +665,7 @@ def _hypot(x, y):
     return factor * (h / scale)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _unit(dx, dy):
     """(ok, ux, uy): the direction of (dx, dy); not ok for a zero or non-finite length."""
     n = _hypot(dx, dy)
@@ -674,7 +674,7 @@ def _unit(dx, dy):
     return True, dx / n, dy / n
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_at(c, t):
     """Point at t of the cubic c (a row x0, y0, ..., x3, y3)."""
     u = 1.0 - t
@@ -683,7 +683,7 @@ def _cubic_at(c, t):
             a * c[1] + b * c[3] + cc * c[5] + d * c[7])
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_velocity(c, t):
     v = 1.0 - t
     p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
@@ -691,7 +691,7 @@ def _cubic_velocity(c, t):
             p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _curvature(c, t):
     """Signed curvature at t (inf where the speed vanishes)."""
     dx, dy = _cubic_velocity(c, t)
@@ -704,7 +704,7 @@ def _curvature(c, t):
     return (dx * ey - dy * ex) / (sp2 * math.sqrt(sp2))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _offset_at(c, t, off):
     """(ok, x, y): the true offset's point at t (off: signed distance along the left normal)."""
     dx, dy = _cubic_velocity(c, t)
@@ -715,7 +715,7 @@ def _offset_at(c, t, off):
     return True, x - uy * off, y + ux * off
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
     """Write into fit the cubic approximating the offset of c by off: end points and tangents
     exact, handle lengths chosen so the midpoints agree."""
@@ -749,7 +749,7 @@ def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
     fit[6], fit[7] = q3x, q3y
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _offset_error(c, fit, off):
     """Distance of the fitted offset from the true one at the quarter points."""
     err = 0.0
@@ -764,7 +764,7 @@ def _offset_error(c, fit, off):
     return err
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_tangents(c):
     """(ok, start direction, end direction) of the cubic c; not ok for zero length."""
     ok0 = ok1 = False
@@ -780,7 +780,7 @@ def _cubic_tangents(c):
     return ok0 and ok1, sx, sy, ex, ey
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _flatness(c):
     """An upper bound of the cubic's distance from its chord: the control points' distance
     from the chord segment (not its line: a curve can overshoot along the chord)."""
@@ -799,7 +799,7 @@ def _flatness(c):
     return worst
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
     """Append the piece of the line p0 → p1 (direction d); returns the grown table."""
     tab = _grow_points(tab, n + 1)
@@ -815,7 +815,7 @@ def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
     return tab, kinds, n + 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
     """Append the pieces of the cubic in stack[0]: offset cubics where they fit within tol,
     else halves (depth first, the first half first), down to pieces flat within tol / 2,
@@ -901,7 +901,7 @@ def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
     return tab, kinds, n
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _circle_piece(tab, kinds, n, seg, hw):
     """Append the piece of a conic segment (seg: b0, b1, its point at t = ½, b2) that is a
     circular arc of radius above hw: its offsets are the concentric arcs of radius r ± hw,
@@ -957,7 +957,7 @@ def _circle_piece(tab, kinds, n, seg, hw):
     return tab, kinds, n + 1, True
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _shape_tol(tab, a, b, tol):
     """Tolerance left for a join or cap at the ends of pieces a and b: a chord's own error f
     moves the stroke around it by up to f, so the shape gets tol − f (at least tol / 2,
@@ -969,7 +969,7 @@ def _shape_tol(tab, a, b, tol):
     return tol - (half if half < e else e)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
     """The offsets (columns col...) of pieces lo..hi-1 along one side, joined by straight
     lines where consecutive offsets do not quite meet; the side is at the first one's start."""
@@ -987,7 +987,7 @@ def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
             _point(sp, sc, r[col + 6], r[col + 7])
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw,
                 join, miterlimit, dot, tol, o1x, o1y, i1x, i1y):
     """Extend the outer side (side: +1 left, −1 right) by the join shape to its next offset's
@@ -1012,7 +1012,7 @@ def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, 
     _line(iv, ip, ic, i1x, i1y)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, cap,
                    miterlimit):
     """The general stroker for segments lo..hi-1 of one subpath: they become pieces (lines,
