@@ -944,14 +944,22 @@ def _circle_piece(tab, kinds, n, seg, hw):
     row[0], row[1], row[2], row[3] = x0, y0, x2, y2
     row[4], row[5], row[6], row[7] = t0x, t0y, t1x, t1y
     # ends exactly as a line's offsets (they meet the joins), the controls scaled
-    row[_PR], row[_PR + 1] = x0 + t0y * hw, y0 - t0x * hw
-    row[_PR + 2], row[_PR + 3] = cx + sr * (x1 - cx), cy + sr * (y1 - cy)
-    row[_PR + 4], row[_PR + 5] = cx + sr * (xm - cx), cy + sr * (ym - cy)
-    row[_PR + 6], row[_PR + 7] = x2 + t1y * hw, y2 - t1x * hw
-    row[_PL], row[_PL + 1] = x0 - t0y * hw, y0 + t0x * hw
-    row[_PL + 2], row[_PL + 3] = cx + sl * (x1 - cx), cy + sl * (y1 - cy)
-    row[_PL + 4], row[_PL + 5] = cx + sl * (xm - cx), cy + sl * (ym - cy)
-    row[_PL + 6], row[_PL + 7] = x2 - t1y * hw, y2 + t1x * hw
+    row[_PR] = x0 + t0y * hw
+    row[_PR + 1] = y0 - t0x * hw
+    row[_PR + 2] = cx + sr * (x1 - cx)
+    row[_PR + 3] = cy + sr * (y1 - cy)
+    row[_PR + 4] = cx + sr * (xm - cx)
+    row[_PR + 5] = cy + sr * (ym - cy)
+    row[_PR + 6] = x2 + t1y * hw
+    row[_PR + 7] = y2 - t1x * hw
+    row[_PL] = x0 - t0y * hw
+    row[_PL + 1] = y0 + t0x * hw
+    row[_PL + 2] = cx + sl * (x1 - cx)
+    row[_PL + 3] = cy + sl * (y1 - cy)
+    row[_PL + 4] = cx + sl * (xm - cx)
+    row[_PL + 5] = cy + sl * (ym - cy)
+    row[_PL + 6] = x2 - t1y * hw
+    row[_PL + 7] = y2 + t1x * hw
     row[_PERR] = 0.0
     kinds[n] = 5
     return tab, kinds, n + 1, True
