@@ -31,6 +31,11 @@ from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade
 
+# The per-fill kernels use numpy's error model: a float division by zero gives inf or NaN
+# (which the scan arithmetic treats as off the image) instead of raising. With no raise
+# paths numba's reference-count pruning removes the atomic incref/decref of every array
+# argument on every call (once per fill and strip: 5% of a city map's render).
+
 MODE_NONE, MODE_ALPHA, MODE_A2C, MODE_PERSAMPLE, MODE_APPROX = 0, 1, 2, 3, 4
 MODE_IDS = {"none": MODE_NONE, "alpha": MODE_ALPHA, "a2c": MODE_A2C,
             "persample": MODE_PERSAMPLE, "approx": MODE_APPROX}
@@ -224,7 +229,7 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat):
                 pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount, hidden):
     """Winding deltas of the straight edges e0..e1 (one fill) on the sample rows of strip
     [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows). Written out in one loop nest: an array handed to a helper costs a
@@ -298,7 +303,7 @@ def _lens_alpha(dist, bx0, by0, bx1, by1, px, py):
     return min(1.0, max(0.0, 0.5 - dist), ox * oy)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
                 dlist, dcount, lo, hi, lens_stats, hidden):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
@@ -438,7 +443,7 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                     dcount[r] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sort_prefix(a, cnt):
     """Sort a[:cnt] in place, by hand: numba's sort is a further 2.5 s of first-run compile
     (its quicksort kernels) and allocates its partition stack. A row's dirty list is short (a
@@ -478,7 +483,7 @@ def _sort_prefix(a, cnt):
         a[root] = v
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool):
     """A one-colour pixel splits into samples: its colour at every sample of its pool slot. A
     pixel keeps its slot once it has one (slot_pixel records whose slot it is), so the pool
@@ -498,7 +503,7 @@ def _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool):
     return npool
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def limit_colours(pool, slot, slots, uniq, ids):
     """CSAA's colour table: a split pixel keeps at most ``slots`` distinct colours over its
     coverage samples (each sample an index into the table). While it has more, the colour held
@@ -554,7 +559,7 @@ def limit_colours(pool, slot, slots, uniq, ids):
             pool[slot, s, ch] = uniq[ids[s], ch]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
                dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov, sat, slots,
                uniq, ids):
@@ -674,7 +679,7 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
     return npool
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount, fb, cplx,
                       slot_of, slot_pixel, pool, npool, wrun, occ, stamp, nxt, run):
     """sweep_rows for an opaque solid fill of a run drawn front to back (render_msaa): it
