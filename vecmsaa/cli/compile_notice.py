@@ -10,7 +10,7 @@ import contextlib
 import sys
 
 #: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
-#: 29–30 s of CPU on the shared 2-core machine (3 Dec 2026, docs/bench.md, "First run"); more
+#: 27–28 s of CPU on the shared 2-core machine (3 Dec 2026, docs/bench.md, "First run"); more
 #: when it is busy
 COMPILE_SECONDS = "30–45"
 
