@@ -444,21 +444,21 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
 
 
 @njit(cache=True, error_model="numpy")
-def _sort_prefix(a, cnt):
-    """Sort a[:cnt] in place, by hand: numba's sort is a further 2.5 s of first-run compile
+def _sort_row(a, r, cnt):
+    """Sort a[r, :cnt] in place, by hand: numba's sort is a further 2.5 s of first-run compile
     (its quicksort kernels) and allocates its partition stack. A row's dirty list is short (a
     few edge crossings): insertion sort; long lists (horizontal edges) get a heapsort. One
     compiled kernel for both sweeps, called once per row."""
     if cnt <= 64:
         for i in range(1, cnt):
-            v = a[i]
+            v = a[r, i]
             j = i - 1
-            while j >= 0 and a[j] > v:
-                a[j + 1] = a[j]
+            while j >= 0 and a[r, j] > v:
+                a[r, j + 1] = a[r, j]
                 j -= 1
-            a[j + 1] = v
+            a[r, j + 1] = v
         return
-    # heapsort: sift each of a[:cnt] into a max-heap, then move the root to the end
+    # heapsort: sift each of a[r, :cnt] into a max-heap, then move the root to the end
     end = cnt
     start = cnt // 2
     while end > 1:
@@ -467,20 +467,20 @@ def _sort_prefix(a, cnt):
             root = start
         else:
             end -= 1
-            a[0], a[end] = a[end], a[0]
+            a[r, 0], a[r, end] = a[r, end], a[r, 0]
             root = 0
-        v = a[root]
+        v = a[r, root]
         while True:
             child = 2 * root + 1
             if child >= end:
                 break
-            if child + 1 < end and a[child + 1] > a[child]:
+            if child + 1 < end and a[r, child + 1] > a[r, child]:
                 child += 1
-            if a[child] <= v:
+            if a[r, child] <= v:
                 break
-            a[root] = a[child]
+            a[r, root] = a[r, child]
             root = child
-        a[root] = v
+        a[r, root] = v
 
 
 @njit(cache=True, error_model="numpy")
@@ -577,7 +577,7 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
         if cnt == 0:
             continue
         py = sy0 + r
-        _sort_prefix(dlist[r], cnt)
+        _sort_row(dlist, r, cnt)
         wrun[:] = 0.0
         cr, cg, cb, ca = f[0], f[1], f[2], f[3]
         prev = -1
@@ -702,7 +702,7 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
         cnt = dcount[r]
         if cnt == 0:
             continue
-        _sort_prefix(dlist[r], cnt)
+        _sort_row(dlist, r, cnt)
         wrun[:] = 0.0
         prev = -1
         for i in range(cnt + 1):
