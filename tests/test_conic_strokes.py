@@ -177,3 +177,24 @@ def test_dashes_on_a_circle_end_at_exact_arc_lengths(pattern, offset):
     got.sort()
     assert len(got) == len(expected)
     assert np.abs(np.array(got) - np.array(expected)).max() < 1e-9 * total
+
+
+def test_dots_on_a_circle_sit_at_exact_arc_lengths():
+    """Zero-length dashes with square caps are squares centred on the circle at arc lengths
+    k·period, turned along its tangent there (their sides parallel and normal to it)."""
+    r, hw, cx, cy, period = 30.0, 1.0, 50.0, 50.0, 7.0
+    circle = parse_path_data(f"M {cx + r} {cy} A {r} {r} 0 0 1 {cx - r} {cy} "
+                             f"A {r} {r} 0 0 1 {cx + r} {cy} Z")
+    out = stroke_path(circle, 2 * hw, cap="square", dashes=[0, period])
+    v, p = out.verbs, out.points
+    assert set(v.tolist()) == {MOVE, LINE, CLOSE}
+    squares = p.reshape(-1, 4, 2)           # MOVE + 3 LINEs + CLOSE each
+    n = int(2 * math.pi * r // period) + 1
+    assert len(squares) == n
+    for k, sq in enumerate(squares):
+        a = k * period / r
+        centre = sq.mean(0)
+        assert centre == pytest.approx((cx + r * math.cos(a), cy + r * math.sin(a)), abs=1e-9)
+        side = sq[1] - sq[0]
+        tangent = (-math.sin(a), math.cos(a))
+        assert abs(side[0] * tangent[1] - side[1] * tangent[0]) < 1e-9     # along it
