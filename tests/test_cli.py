@@ -94,3 +94,23 @@ def test_render_imports_no_other_commands_modules(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.split(None, 1)
     assert out == ["0", "[]\n"]
+
+
+def test_the_command_ends_without_teardown_but_runs_atexit_and_flushes(tmp_path):
+    """console() (the vecmsaa script, python -m vecmsaa.cli) skips the interpreter's teardown:
+    atexit handlers still run, standard output is complete, the exit status is main()'s."""
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="4" height="4">'
+                   '<rect width="2" height="2"/></svg>')
+    marker = tmp_path / "atexit-ran"
+    code = ("import atexit, sys; "
+            f"atexit.register(lambda: open({str(marker)!r}, 'w').close()); "
+            "sys.argv = ['vecmsaa'] + sys.argv[1:]; "
+            "from vecmsaa.cli.main import console; console()")
+    png = subprocess.run([sys.executable, "-c", code, "render", str(svg), "-c"],
+                         capture_output=True, check=True).stdout
+    assert png.startswith(b"\x89PNG") and png.endswith(b"IEND\xaeB`\x82")
+    assert marker.exists()
+    failed = subprocess.run([sys.executable, "-c", code, "render", str(tmp_path / "none.svg"),
+                             "-o", str(tmp_path / "x.png")], capture_output=True, text=True)
+    assert failed.returncode == 1 and failed.stderr.count("\n") == 1
