@@ -1021,6 +1021,32 @@ def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, 
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _as_cubic(stack, seg, kind):
+    """Write into stack[0] the cubic of a segment row: a cubic itself (kind 4), a quadratic
+    raised exactly (3), or a conic (5) as the cubic Path.without_conics makes of it (handles at
+    4w / (3(1 + w)) of the way to b1, the same arithmetic: the same bits)."""
+    if kind == 5:
+        w = _conic_weight(seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6], seg[7])
+        kk = 4.0 * w / (3.0 * (1.0 + w))
+        stack[0, 0], stack[0, 1] = seg[0], seg[1]
+        stack[0, 2] = seg[0] + kk * (seg[2] - seg[0])
+        stack[0, 3] = seg[1] + kk * (seg[3] - seg[1])
+        stack[0, 4] = seg[6] + kk * (seg[2] - seg[6])
+        stack[0, 5] = seg[7] + kk * (seg[3] - seg[7])
+        stack[0, 6], stack[0, 7] = seg[6], seg[7]
+    elif kind == 3:
+        stack[0, 0], stack[0, 1] = seg[0], seg[1]
+        stack[0, 2] = seg[0] + 2.0 / 3.0 * (seg[2] - seg[0])
+        stack[0, 3] = seg[1] + 2.0 / 3.0 * (seg[3] - seg[1])
+        stack[0, 4] = seg[4] + 2.0 / 3.0 * (seg[2] - seg[4])
+        stack[0, 5] = seg[5] + 2.0 / 3.0 * (seg[3] - seg[5])
+        stack[0, 6], stack[0, 7] = seg[4], seg[5]
+    else:
+        for j in range(8):
+            stack[0, j] = seg[j]
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, cap,
                    miterlimit):
     """The general stroker for segments lo..hi-1 of one subpath: they become pieces (lines,
@@ -1046,26 +1072,7 @@ def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, 
                 tab, pk, n, ok = _circle_piece(tab, pk, n, seg, hw)
                 if ok:
                     continue
-                # else the cubic Path.without_conics makes of it (handles at 4w / (3(1 + w)),
-                # the same arithmetic: the same bits)
-                w = _conic_weight(seg[0], seg[1], seg[2], seg[3], seg[4], seg[5], seg[6], seg[7])
-                kk = 4.0 * w / (3.0 * (1.0 + w))
-                stack[0, 0], stack[0, 1] = seg[0], seg[1]
-                stack[0, 2] = seg[0] + kk * (seg[2] - seg[0])
-                stack[0, 3] = seg[1] + kk * (seg[3] - seg[1])
-                stack[0, 4] = seg[6] + kk * (seg[2] - seg[6])
-                stack[0, 5] = seg[7] + kk * (seg[3] - seg[7])
-                stack[0, 6], stack[0, 7] = seg[6], seg[7]
-            elif kinds[s] == 3:     # quadratic → the identical cubic
-                stack[0, 0], stack[0, 1] = seg[0], seg[1]
-                stack[0, 2] = seg[0] + 2.0 / 3.0 * (seg[2] - seg[0])
-                stack[0, 3] = seg[1] + 2.0 / 3.0 * (seg[3] - seg[1])
-                stack[0, 4] = seg[4] + 2.0 / 3.0 * (seg[2] - seg[4])
-                stack[0, 5] = seg[5] + 2.0 / 3.0 * (seg[3] - seg[5])
-                stack[0, 6], stack[0, 7] = seg[4], seg[5]
-            else:
-                for j in range(8):
-                    stack[0, j] = seg[j]
+            _as_cubic(stack, seg, kinds[s])
             tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
     firsts[hi - lo] = n
     run_lo = np.empty(n + 1, np.int64)
