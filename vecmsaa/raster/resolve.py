@@ -20,6 +20,8 @@ import math
 
 import numpy as np
 
+from ..jit import njit
+
 #: support radius (pixels) of each filter of modes.FILTERS
 RADIUS = {"box": 0.5, "tent": 0.5, "tent1": 1.0, "gaussian": 1.5, "mitchell": 2.0}
 #: the Gaussian's standard deviation (pixels), cut at RADIUS and lowered to reach 0 there
@@ -103,26 +105,64 @@ def accumulate(acc: np.ndarray, y0: int, weights: np.ndarray, tile, s: int, imag
         if R > 0 and a.sum() > 0 and np.allclose(np.outer(a, b) / a.sum(), w, rtol=0, atol=1e-12):
             # one class and a separable filter: a pass along x, then one along y (2(2R + 1)
             # products, not (2R + 1)²)
-            b = b / a.sum()
-            along_x = np.zeros_like(term)
-            for dx in np.flatnonzero(b):
-                np.multiply(image[:, dx:dx + W], np.float32(b[dx]), out=term)
-                along_x += term
-            for dy in np.flatnonzero(a):
-                np.multiply(along_x[dy:dy + rows], np.float32(a[dy]), out=term[:rows])
-                acc += term[:rows]
+            add_separable(acc, np.ascontiguousarray(image), (b / a.sum()).astype(np.float32),
+                          a.astype(np.float32), term)
             return
         for dy, dx in zip(*np.nonzero(w)):
             np.multiply(image[dy:dy + rows, dx:dx + W], np.float32(w[dy, dx]), out=term[:rows])
             acc += term[:rows]
         return
-    cls = sample_classes(tile, y0, 0, rows, W)[..., None]
-    for dy in range(2 * R + 1):
-        for dx in range(2 * R + 1):
-            w = weights[:, dy, dx, s].astype(np.float32)
-            if w.any():
-                np.multiply(image[dy:dy + rows, dx:dx + W], w[cls], out=term[:rows])
-                acc += term[:rows]
+    cls = sample_classes(tile, y0, 0, rows, W).astype(np.int64)
+    taps = weights[:, :, :, s].astype(np.float32)
+    used = taps.any(axis=0).astype(np.bool_)
+    add_by_class(acc, np.ascontiguousarray(image), taps, used, cls)
+
+
+@njit(cache=True, nogil=True)   # bands resolve on threads
+def add_separable(acc, image, bx, ay, along_x):
+    """acc[y, x] += Σ_dy ay[dy] · (Σ_dx bx[dx] · image[y + dy, x + dx]): a pass along x into
+    ``along_x`` (the image's rows, acc's width), then one along y, each over the non-zero taps
+    in order and rounded to float32 at every step as numpy's multiply-and-add passes were, in
+    one sweep instead of two numpy passes (and a temporary) per tap. Rows are walked as flat
+    runs of floats, which vectorise (indexing [y, x, c] does not)."""
+    rows, n = acc.shape[0], 4 * acc.shape[1]
+    for y in range(image.shape[0]):
+        src = image[y].reshape(-1)
+        out = along_x[y].reshape(-1)
+        out[:] = 0.0
+        for dx in range(bx.shape[0]):
+            w = bx[dx]
+            if w == 0.0:
+                continue
+            o = 4 * dx
+            for i in range(n):
+                out[i] += src[o + i] * w
+    for y in range(rows):
+        out = acc[y].reshape(-1)
+        for dy in range(ay.shape[0]):
+            w = ay[dy]
+            if w == 0.0:
+                continue
+            src = along_x[y + dy].reshape(-1)
+            for i in range(n):
+                out[i] += src[i] * w
+
+
+@njit(cache=True, nogil=True)   # bands resolve on threads
+def add_by_class(acc, image, taps, used, cls):
+    """acc[y, x] += Σ taps[cls[y, x], dy, dx] · image[y + dy, x + dx] over the taps some class
+    uses (``used``), in (dy, dx) order, float32 at every step as the numpy passes per tap were:
+    the weights of the pixel's own tile class, without a per-tap array of them."""
+    rows, W = acc.shape[0], acc.shape[1]
+    for y in range(rows):
+        for x in range(W):
+            k = cls[y, x]
+            for dy in range(taps.shape[1]):
+                for dx in range(taps.shape[2]):
+                    if used[dy, dx]:
+                        w = taps[k, dy, dx]
+                        for c in range(4):
+                            acc[y, x, c] += image[y + dy, x + dx, c] * w
 
 
 def finish(acc: np.ndarray, out: np.ndarray) -> None:
