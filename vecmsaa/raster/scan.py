@@ -484,26 +484,6 @@ def _sort_row(a, r, cnt):
 
 
 @njit(cache=True, error_model="numpy")
-def _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool):
-    """A one-colour pixel splits into samples: its colour at every sample of its pool slot. A
-    pixel keeps its slot once it has one (slot_pixel records whose slot it is), so the pool
-    holds at most one slot per pixel of the strip. Returns the pool's new count."""
-    slot = slot_of[r, px]
-    if slot < 0:
-        slot = npool
-        npool += 1
-        slot_of[r, px] = slot
-        slot_pixel[slot] = r * W + px
-    for s in range(pool.shape[1]):
-        pool[slot, s, 0] = fb[r, px, 0]
-        pool[slot, s, 1] = fb[r, px, 1]
-        pool[slot, s, 2] = fb[r, px, 2]
-        pool[slot, s, 3] = fb[r, px, 3]
-    cplx[r, px] = slot
-    return npool
-
-
-@njit(cache=True, error_model="numpy")
 def limit_colours(pool, slot, slots, uniq, ids):
     """CSAA's colour table: a split pixel keeps at most ``slots`` distinct colours over its
     coverage samples (each sample an index into the table). While it has more, the colour held
@@ -653,7 +633,19 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
             # per-sample coverage: a one-colour pixel splits into samples
             if cplx[r, px] < 0:
-                npool = _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool)
+                # split (written out: as a call, its five arrays cost ten reference counts per
+                # split pixel): the pixel's colour at every sample of its pool slot; a pixel keeps
+                # its slot once it has one (slot_pixel records whose it is)
+                slot = slot_of[r, px]
+                if slot < 0:
+                    slot = npool
+                    npool += 1
+                    slot_of[r, px] = slot
+                    slot_pixel[slot] = r * W + px
+                for s in range(n):
+                    pool[slot, s, 0], pool[slot, s, 1] = fb[r, px, 0], fb[r, px, 1]
+                    pool[slot, s, 2], pool[slot, s, 3] = fb[r, px, 2], fb[r, px, 3]
+                cplx[r, px] = slot
             slot = cplx[r, px]
             for s in range(n):
                 cs = cov[s]
@@ -769,7 +761,19 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                 fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = cr, cg, cb, ca
             else:
                 if cplx[r, px] < 0:
-                    npool = _split_pixel(fb, cplx, slot_of, slot_pixel, pool, r, px, W, npool)
+                    # split (written out: as a call, its five arrays cost ten reference counts per
+                    # split pixel): the pixel's colour at every sample of its pool slot; a pixel keeps
+                    # its slot once it has one (slot_pixel records whose it is)
+                    slot = slot_of[r, px]
+                    if slot < 0:
+                        slot = npool
+                        npool += 1
+                        slot_of[r, px] = slot
+                        slot_pixel[slot] = r * W + px
+                    for s in range(n):
+                        pool[slot, s, 0], pool[slot, s, 1] = fb[r, px, 0], fb[r, px, 1]
+                        pool[slot, s, 2], pool[slot, s, 3] = fb[r, px, 2], fb[r, px, 3]
+                    cplx[r, px] = slot
                 slot = cplx[r, px]
                 for s in range(n):
                     if (new >> np.uint64(s)) & one:
