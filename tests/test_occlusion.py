@@ -169,7 +169,7 @@ def test_run_numbers_restart_without_changing_a_pixel():
 
     def draw(first_run, planted):
         raster = Raster(opts, W, H, band_layout(W, 8, 1 << 24)[1])
-        stamp, runs = raster.scratch[-3], raster.scratch[-1]
+        stamp, runs = raster.scratch[11], raster.scratch[13]
         stamp[:] = planted
         runs[0] = first_run
         img = np.zeros((H, W, 4), np.float32)

@@ -29,7 +29,7 @@ from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_
                                    P_T2, P_WSIGN, _eval_implicit,
                                    _linearisation_bound, _linearisation_norms)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
-from .shaders import shade
+from .shaders import shade, shade_span
 
 # The per-fill kernels use numpy's error model: a float division by zero gives inf or NaN
 # (which the scan arithmetic treats as off the image) instead of raising. With no raise
@@ -180,9 +180,10 @@ def saturated(sa, da):
 
 
 @njit(cache=True, inline="always")
-def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat):
+def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span):
     """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row
-    (``sat``: the saturating blend, fills drawn front to back, instead)."""
+    (``sat``: the saturating blend, fills drawn front to back, instead); a paint that is not
+    solid is shaded for the whole span into ``span`` first."""
     cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
     k = 1.0 - sa
@@ -192,9 +193,11 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat):
             cplx[r, px] = -1
             fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
         return
+    if kind != 0:
+        shade_span(kind, f, lut, tex, q0, q1, py + 0.5, span)
     for px in range(q0, q1):
         if kind != 0:
-            cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+            cr, cg, cb, ca = span[px - q0, 0], span[px - q0, 1], span[px - q0, 2], span[px - q0, 3]
             sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
             k = 1.0 - sa
         slot = cplx[r, px]
@@ -542,7 +545,7 @@ def limit_colours(pool, slot, slots, uniq, ids):
 @njit(cache=True, error_model="numpy")
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
                dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov, sat, slots,
-               uniq, ids):
+               uniq, ids, span):
     """Per row r0..r1 of the strip: turn the winding deltas into coverage and composite the
     fill's paint (one call per fill). The per-pixel work is written out in this loop nest:
     every array handed to a helper, even an inlined one, costs an atomic reference count
@@ -566,7 +569,8 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
             if px > prev + 1:
                 c = coverage_of(wrun[0], rule)
                 if c > 0.0:
-                    _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c, sat)
+                    _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c, sat,
+                                span)
             if i == cnt:
                 break
             dirty[r, px] = 0
@@ -812,7 +816,8 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.zeros((strip_rows, W), dtype=np.uint64),             # occ
             np.zeros((strip_rows, W + 1), dtype=np.int32),          # stamp
             np.zeros((strip_rows, W + 1), dtype=np.int32),          # nxt
-            np.zeros(1, dtype=np.int64))                            # runs
+            np.zeros(1, dtype=np.int64),                            # runs
+            np.empty((W + 1, 4), dtype=np.float64))                 # span: a span's paint
 
 
 @njit(cache=True, nogil=True)   # bands render on threads
@@ -843,7 +848,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     n = sx.shape[0]
     P = edge_off.shape[0] - 1
     (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats, occ,
-     stamp, nxt, runs) = scratch
+     stamp, nxt, runs, span) = scratch
     strip_rows = delta.shape[0]
     wrun = np.zeros(n, dtype=np.float32)
     cov = np.zeros(n, dtype=np.float32)
@@ -918,7 +923,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                        paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
                                        fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov,
-                                       saturate, slots, uniq, ids)
+                                       saturate, slots, uniq, ids, span)
             p = q
         # resolve: split pixels average their samples (resolve filter weights); one-colour
         # pixels are already in the target

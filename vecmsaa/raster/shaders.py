@@ -138,25 +138,62 @@ class PaintTable:
         return kinds, params, lut, tex
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _spread(t, mode):
     if mode == 0:
-        return t  # pad: _lut_color picks the end colours outside [0, 1]
+        return t  # pad: _lut_index picks the end colours outside [0, 1]
     if mode == 2:
         return t - math.floor(t)
     t = abs(t) % 2.0
     return 2.0 - t if t > 1.0 else t
 
 
-@njit(cache=True)
-def _lut_color(lut, base, t):
+@njit(cache=True, inline="always")
+def _lut_index(t):
+    """Row of a gradient's colour table for t (after the spread): the end colours' rows
+    LUT_SIZE and LUT_SIZE + 1 beyond [0, 1]. Scalars only, so inlining costs nothing."""
     if t <= 0.0:
-        i = LUT_SIZE if t < 0.0 else 0
-    elif t >= 1.0:
-        i = LUT_SIZE + 1 if t > 1.0 else LUT_SIZE - 1
-    else:
-        i = min(LUT_SIZE - 1, int(t * LUT_SIZE))
-    return lut[base + i, 0], lut[base + i, 1], lut[base + i, 2], lut[base + i, 3]
+        return LUT_SIZE if t < 0.0 else 0
+    if t >= 1.0:
+        return LUT_SIZE + 1 if t > 1.0 else LUT_SIZE - 1
+    return min(LUT_SIZE - 1, int(t * LUT_SIZE))
+
+
+@njit(cache=True, inline="always")
+def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, x, y):
+    """(t, paints) of a gradient at device (x, y): m the device → gradient matrix (f[4:10]),
+    a the gradient's geometry (f[10:16]: linear x1 y1 x2 y2, radial cx cy r fx fy fr);
+    paints False where a radial gradient draws nothing. Scalars only."""
+    gx = m0 * x + m2 * y + m4
+    gy = m1 * x + m3 * y + m5
+    if kind == 1:
+        dx, dy = a2 - a0, a3 - a1
+        den = dx * dx + dy * dy
+        return (0.0 if den == 0.0 else ((gx - a0) * dx + (gy - a1) * dy) / den), True
+    cx, cy, r, fx, fy, fr = a0, a1, a2, a3, a4, a5
+    cdx, cdy, dr = cx - fx, cy - fy, r - fr
+    pdx, pdy = gx - fx, gy - fy
+    a = cdx * cdx + cdy * cdy - dr * dr
+    b = pdx * cdx + pdy * cdy + fr * dr
+    c = pdx * pdx + pdy * pdy - fr * fr
+    if abs(a) < 1e-12 * max(1.0, r * r):
+        if b == 0.0:
+            return 0.0, False
+        t = c / (2.0 * b)
+        # only circles of radius >= 0 paint
+        return t, not (fr + t * dr < 0.0)
+    disc = b * b - a * c
+    if disc < 0.0:
+        return 0.0, False
+    sq = math.sqrt(disc)
+    t1 = (b + sq) / a
+    t2 = (b - sq) / a
+    t = max(t1, t2)
+    if fr + t * dr < 0.0:
+        t = min(t1, t2)
+        if fr + t * dr < 0.0:
+            return 0.0, False
+    return t, True
 
 
 @njit(cache=True)
@@ -172,43 +209,44 @@ def _texel(tex, base, h, w, ix, iy, repeat):
 
 
 @njit(cache=True)
+def shade_span(kind, f, lut, tex, x0, x1, y, out):
+    """The colours of paint (kind, f) at the centres x + 0.5 of pixels x0 .. x1 - 1 of a row
+    (device y) into out[0 .. x1 - x0), as shade gives them: one call for a span instead of
+    one per pixel, and the gradients' loop passes no array to a helper (a call costs its
+    arrays' reference counts: most of a gradient's time on large spans)."""
+    if kind == 1 or kind == 2:
+        base, spread = int(f[17]), int(f[16])
+        m0, m1, m2, m3, m4, m5 = f[4], f[5], f[6], f[7], f[8], f[9]
+        a0, a1, a2, a3, a4, a5 = f[10], f[11], f[12], f[13], f[14], f[15]
+        for x in range(x0, x1):
+            t, paints = _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5,
+                                    x + 0.5, y)
+            if not paints:
+                out[x - x0, 0] = out[x - x0, 1] = out[x - x0, 2] = out[x - x0, 3] = 0.0
+                continue
+            i = base + _lut_index(_spread(t, spread))
+            out[x - x0, 0], out[x - x0, 1] = lut[i, 0], lut[i, 1]
+            out[x - x0, 2], out[x - x0, 3] = lut[i, 2], lut[i, 3]
+        return
+    for x in range(x0, x1):
+        r, g, b, a = shade(kind, f, lut, tex, x + 0.5, y)
+        out[x - x0, 0], out[x - x0, 1], out[x - x0, 2], out[x - x0, 3] = r, g, b, a
+
+
+@njit(cache=True)
 def shade(kind, f, lut, tex, x, y):
     """Premultiplied colour of paint (kind, f) at device point (x, y)."""
     if kind == 0:
         return f[0], f[1], f[2], f[3]
+    if kind == 1 or kind == 2:
+        t, paints = _gradient_t(kind, f[4], f[5], f[6], f[7], f[8], f[9], f[10], f[11], f[12],
+                                f[13], f[14], f[15], x, y)
+        if not paints:
+            return 0.0, 0.0, 0.0, 0.0
+        i = int(f[17]) + _lut_index(_spread(t, int(f[16])))
+        return lut[i, 0], lut[i, 1], lut[i, 2], lut[i, 3]
     gx = f[4] * x + f[6] * y + f[8]
     gy = f[5] * x + f[7] * y + f[9]
-    if kind == 1:
-        dx, dy = f[12] - f[10], f[13] - f[11]
-        den = dx * dx + dy * dy
-        t = 0.0 if den == 0.0 else ((gx - f[10]) * dx + (gy - f[11]) * dy) / den
-        return _lut_color(lut, int(f[17]), _spread(t, int(f[16])))
-    if kind == 2:
-        cx, cy, r, fx, fy, fr = f[10], f[11], f[12], f[13], f[14], f[15]
-        cdx, cdy, dr = cx - fx, cy - fy, r - fr
-        pdx, pdy = gx - fx, gy - fy
-        a = cdx * cdx + cdy * cdy - dr * dr
-        b = pdx * cdx + pdy * cdy + fr * dr
-        c = pdx * pdx + pdy * pdy - fr * fr
-        if abs(a) < 1e-12 * max(1.0, r * r):
-            if b == 0.0:
-                return 0.0, 0.0, 0.0, 0.0
-            t = c / (2.0 * b)
-            if fr + t * dr < 0.0:   # only circles of radius >= 0 paint
-                return 0.0, 0.0, 0.0, 0.0
-        else:
-            disc = b * b - a * c
-            if disc < 0.0:
-                return 0.0, 0.0, 0.0, 0.0
-            sq = math.sqrt(disc)
-            t1 = (b + sq) / a
-            t2 = (b - sq) / a
-            t = max(t1, t2)
-            if fr + t * dr < 0.0:
-                t = min(t1, t2)
-                if fr + t * dr < 0.0:
-                    return 0.0, 0.0, 0.0, 0.0
-        return _lut_color(lut, int(f[17]), _spread(t, int(f[16])))
     # image
     # the image's own fill bounds it; a pixel centre just outside (partly covered edge pixel)
     # takes the edge texel (_texel clamps), as resvg does
