@@ -196,16 +196,24 @@ def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, x, y):
     return t, True
 
 
-@njit(cache=True)
-def _texel(tex, base, h, w, ix, iy, repeat):
+@njit(cache=True, inline="always")
+def _texel_offset(base, h, w, ix, iy, repeat):
+    """Index in the flat texture of texel (ix, iy) of an image of h × w texels from ``base``:
+    wrapped when the image repeats, else clamped to its edge. Scalars only."""
     if repeat:
         ix = ix % w
         iy = iy % h
     else:
         ix = min(w - 1, max(0, ix))
         iy = min(h - 1, max(0, iy))
-    o = base + (iy * w + ix) * 4
-    return tex[o], tex[o + 1], tex[o + 2], tex[o + 3]
+    return base + (iy * w + ix) * 4
+
+
+@njit(cache=True, inline="always")
+def _bilinear(c00, c10, c01, c11, fu, fv, op):
+    """One channel of the bilinear blend of four texels, times the image's opacity."""
+    w00, w10, w01, w11 = (1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv
+    return (c00 * w00 + c10 * w10 + c01 * w01 + c11 * w11) * op
 
 
 @njit(cache=True)
@@ -228,9 +236,31 @@ def shade_span(kind, f, lut, tex, x0, x1, y, out):
             out[x - x0, 0], out[x - x0, 1] = lut[i, 0], lut[i, 1]
             out[x - x0, 2], out[x - x0, 3] = lut[i, 2], lut[i, 3]
         return
+    # an image: shade's image part with the texture read here, not through a helper
+    m0, m1, m2, m3, m4, m5 = f[4], f[5], f[6], f[7], f[8], f[9]
+    base, h, w = int(f[10]), int(f[11]), int(f[12])
+    repeat = f[13] != 0.0
+    smooth = f[14] != 0.0
+    op = f[18]
     for x in range(x0, x1):
-        r, g, b, a = shade(kind, f, lut, tex, x + 0.5, y)
-        out[x - x0, 0], out[x - x0, 1], out[x - x0, 2], out[x - x0, 3] = r, g, b, a
+        gx = m0 * (x + 0.5) + m2 * y + m4
+        gy = m1 * (x + 0.5) + m3 * y + m5
+        j = x - x0
+        if not smooth:
+            o = _texel_offset(base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
+            out[j, 0], out[j, 1] = tex[o] * op, tex[o + 1] * op
+            out[j, 2], out[j, 3] = tex[o + 2] * op, tex[o + 3] * op
+            continue
+        u, v = gx - 0.5, gy - 0.5
+        ix, iy = int(math.floor(u)), int(math.floor(v))
+        fu, fv = u - ix, v - iy
+        o00 = _texel_offset(base, h, w, ix, iy, repeat)
+        o10 = _texel_offset(base, h, w, ix + 1, iy, repeat)
+        o01 = _texel_offset(base, h, w, ix, iy + 1, repeat)
+        o11 = _texel_offset(base, h, w, ix + 1, iy + 1, repeat)
+        for c in range(4):
+            out[j, c] = _bilinear(tex[o00 + c], tex[o10 + c], tex[o01 + c], tex[o11 + c], fu, fv,
+                                  op)
 
 
 @njit(cache=True)
@@ -249,22 +279,21 @@ def shade(kind, f, lut, tex, x, y):
     gy = f[5] * x + f[7] * y + f[9]
     # image
     # the image's own fill bounds it; a pixel centre just outside (partly covered edge pixel)
-    # takes the edge texel (_texel clamps), as resvg does
+    # takes the edge texel (_texel_offset clamps), as resvg does
     base, h, w = int(f[10]), int(f[11]), int(f[12])
     repeat = f[13] != 0.0
     op = f[18]
     if f[14] == 0.0:
-        r_, g_, b_, a_ = _texel(tex, base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
-        return r_ * op, g_ * op, b_ * op, a_ * op
+        o = _texel_offset(base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
+        return tex[o] * op, tex[o + 1] * op, tex[o + 2] * op, tex[o + 3] * op
     u, v = gx - 0.5, gy - 0.5
     x0, y0 = int(math.floor(u)), int(math.floor(v))
     fu, fv = u - x0, v - y0
-    r00, g00, b00, a00 = _texel(tex, base, h, w, x0, y0, repeat)
-    r10, g10, b10, a10 = _texel(tex, base, h, w, x0 + 1, y0, repeat)
-    r01, g01, b01, a01 = _texel(tex, base, h, w, x0, y0 + 1, repeat)
-    r11, g11, b11, a11 = _texel(tex, base, h, w, x0 + 1, y0 + 1, repeat)
-    w00, w10, w01, w11 = (1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv
-    return ((r00 * w00 + r10 * w10 + r01 * w01 + r11 * w11) * op,
-            (g00 * w00 + g10 * w10 + g01 * w01 + g11 * w11) * op,
-            (b00 * w00 + b10 * w10 + b01 * w01 + b11 * w11) * op,
-            (a00 * w00 + a10 * w10 + a01 * w01 + a11 * w11) * op)
+    o00 = _texel_offset(base, h, w, x0, y0, repeat)
+    o10 = _texel_offset(base, h, w, x0 + 1, y0, repeat)
+    o01 = _texel_offset(base, h, w, x0, y0 + 1, repeat)
+    o11 = _texel_offset(base, h, w, x0 + 1, y0 + 1, repeat)
+    return (_bilinear(tex[o00], tex[o10], tex[o01], tex[o11], fu, fv, op),
+            _bilinear(tex[o00 + 1], tex[o10 + 1], tex[o01 + 1], tex[o11 + 1], fu, fv, op),
+            _bilinear(tex[o00 + 2], tex[o10 + 2], tex[o01 + 2], tex[o11 + 2], fu, fv, op),
+            _bilinear(tex[o00 + 3], tex[o10 + 3], tex[o01 + 3], tex[o11 + 3], fu, fv, op))
