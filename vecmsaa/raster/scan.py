@@ -180,10 +180,11 @@ def saturated(sa, da):
 
 
 @njit(cache=True, inline="always")
-def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span):
+def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span, s0, s1):
     """Source-over of the paint × coverage c onto every sample of pixels q0..q1-1 of a row
-    (``sat``: the saturating blend, fills drawn front to back, instead); a paint that is not
-    solid is shaded for the whole span into ``span`` first."""
+    (``sat``: the saturating blend, fills drawn front to back, instead). A paint that is not
+    solid is read from ``span``, which holds the row's pixels s0..s1-1 shaded (sweep_rows),
+    or is shaded into it for the span when the span lies outside them."""
     cr, cg, cb, ca = f[0], f[1], f[2], f[3]
     sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
     k = 1.0 - sa
@@ -193,11 +194,13 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span):
             cplx[r, px] = -1
             fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = sr, sg, sb, sa
         return
-    if kind != 0:
+    if kind != 0 and not (s0 <= q0 and q1 <= s1):
         shade_span(kind, f, lut, tex, q0, q1, py + 0.5, span)
+        s0 = q0
     for px in range(q0, q1):
         if kind != 0:
-            cr, cg, cb, ca = span[px - q0, 0], span[px - q0, 1], span[px - q0, 2], span[px - q0, 3]
+            j = px - s0
+            cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
             sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
             k = 1.0 - sa
         slot = cplx[r, px]
@@ -563,6 +566,11 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
         _sort_row(dlist, r, cnt)
         wrun[:] = 0.0
         cr, cg, cb, ca = f[0], f[1], f[2], f[3]
+        # a paint that is not solid: the row shaded once from its first dirty pixel to its
+        # last, for the dirty pixels and the spans between them (one call, not one a pixel)
+        s0, s1 = dlist[r, 0], dlist[r, cnt - 1] + 1
+        if not solid:
+            shade_span(kind, f, lut, tex, s0, s1, py + 0.5, span)
         prev = -1
         for i in range(cnt + 1):
             px = dlist[r, i] if i < cnt else W
@@ -570,7 +578,7 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 c = coverage_of(wrun[0], rule)
                 if c > 0.0:
                     _blend_span(fb, cplx, pool, r, prev + 1, px, py, kind, f, lut, tex, c, sat,
-                                span)
+                                span, s0, s1)
             if i == cnt:
                 break
             dirty[r, px] = 0
@@ -592,7 +600,8 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 # _blend_span of the one pixel, coverage cov[0]
                 cu = cov[0]
                 if kind != 0:
-                    pr, pg, pb, pa = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+                    j = px - s0
+                    pr, pg, pb, pa = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
                 else:
                     pr, pg, pb, pa = f[0], f[1], f[2], f[3]
                 sr, sg, sb, sa = pr * cu, pg * cu, pb * cu, pa * cu
@@ -634,7 +643,8 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                         pool[slot, s, 3] = sa + pool[slot, s, 3] * k
                 continue
             if not solid:
-                cr, cg, cb, ca = shade(kind, f, lut, tex, px + 0.5, py + 0.5)
+                j = px - s0
+                cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
             # per-sample coverage: a one-colour pixel splits into samples
             if cplx[r, px] < 0:
                 # split (written out: as a call, its five arrays cost ten reference counts per
