@@ -428,6 +428,10 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
          cap="butt", w=0.4, miterlimit=1.0, dashes=None, offset=0.0, seed=0)   # a U-turn
 @example(subpaths=[[(0, 0), (6, 4)]], closed=[True, False, False], join="miter", cap="round",
          w=2.0, miterlimit=4.0, dashes=[0.0, 0.0, 0.5], offset=0.0, seed=0)   # a dot at the start
+@example(subpaths=[[(21, 16), (21, 11), (21, 0), (20, 24), (0, 24), (15, 12)],
+                   [(0, 24), (20, 0), (0, 0), (0, 24), (0, 0)]], closed=[True, True, False],
+         join="miter", cap="round", w=7.0, miterlimit=1.0, dashes=[0.5, 0.0, 0.0],
+         offset=-4.658218353121597e-19, seed=96)    # offset % period rounds to the period
 def test_compiled_polylines_fill_as_the_general_stroker(subpaths, closed, join, cap, w,
                                                         miterlimit, dashes, offset, seed):
     # the compiled polyline stroker (inline joins, shortcuts at inner corners, dashes walked

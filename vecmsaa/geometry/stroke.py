@@ -397,6 +397,8 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
     period = sum(pattern)
     # position within the pattern at the subpath's start
     phase = offset % period
+    if phase >= period:     # (a tiny negative offset rounds to the period: as the kernels do)
+        phase -= period
     k = 0
     # intervals are half open, except that a zero-length dash right at the phase is drawn
     while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
