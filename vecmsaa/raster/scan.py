@@ -1049,7 +1049,8 @@ def analytic_scratch(strip_rows, W):
     (the kernel leaves the accumulator zero)."""
     return (np.zeros((strip_rows, W + 3), dtype=np.float64),       # acc
             np.empty(strip_rows, dtype=np.int64),                   # xmin_row
-            np.empty(strip_rows, dtype=np.int64))                   # xmax_row
+            np.empty(strip_rows, dtype=np.int64),                   # xmax_row
+            np.empty((W + 3, 4), dtype=np.float64))                 # span: a row's paint
 
 
 @njit(cache=True, nogil=True)   # bands render on threads
@@ -1059,7 +1060,7 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
     ``target`` holds the device rows y0 .. y0 + H - 1."""
     H, W = target.shape[0], target.shape[1]
     P = edge_off.shape[0] - 1
-    acc, xmin_row, xmax_row = scratch
+    acc, xmin_row, xmax_row, span = scratch
     strip_rows = acc.shape[0]
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
@@ -1080,6 +1081,10 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
                     continue
                 a = 0.0
                 x_end = min(W + 2, xmax_row[r])
+                # a paint that is not solid: the columns of the row's edges shaded at once
+                s0, s1 = xmin_row[r], min(W, x_end)
+                if kind != 0 and s1 > s0:
+                    shade_span(kind, f, lut, tex, s0, s1, sy0 + r + 0.5, span)
                 # a path running off the right border keeps its cover up to the last column
                 for x in range(xmin_row[r], W + 3):
                     a += acc[r, x]
@@ -1096,6 +1101,9 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
                         continue
                     if kind == 0:
                         cr, cg, cb, ca = fr, fg, fb_, fa
+                    elif x < s1:
+                        j = x - s0
+                        cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
                     else:
                         cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
                     k = 1.0 - ca * c
