@@ -11,7 +11,6 @@ Kernels compiled more than once (one specialisation per distinct argument types,
 from __future__ import annotations
 
 import collections
-import runpy
 import shlex
 import sys
 import time
@@ -66,12 +65,13 @@ def main(argv=None) -> int:
     saved = sys.argv
     try:
         for command in commands:
-            # each command as `python -m vecmsaa.cli ...` would run it, in this process
+            # each command as `vecmsaa ...` would run it, in this process (cli.main.main: the
+            # console entry point ends the process with os._exit after one command)
             sys.argv = ["vecmsaa", *shlex.split(command)]
             t0 = time.process_time()
+            from vecmsaa.cli.main import main as cli_main
             try:
-                runpy.run_module("vecmsaa.cli", run_name="__main__")
-                status = 0
+                status = cli_main()
             except SystemExit as exc:
                 status = exc.code
             print(f"{time.process_time() - t0:8.1f} s CPU  vecmsaa {command}"
