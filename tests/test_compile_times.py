@@ -1,4 +1,4 @@
-"""The compile-time report of vecmsaa/tools/compile_times.py (docs/bench.md, first run)."""
+"""The compile-time report of vecmsaa/cli/compile_times.py (docs/bench.md, first run)."""
 import time
 
 
@@ -6,7 +6,7 @@ def test_compile_times_subtracts_nested_compiles_and_lists_respecialisations():
     from numba import njit
     from numba.core import event
 
-    from vecmsaa.tools.compile_times import CompileTimes
+    from vecmsaa.cli.compile_times import CompileTimes
 
     @njit
     def inner(x, n):

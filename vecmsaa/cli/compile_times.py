@@ -1,7 +1,7 @@
 """Where first-run compile time goes: CPU seconds per numba kernel, compiles of the kernels it
 calls subtracted, over ``vecmsaa`` commands run one after another in one process.
 
-    NUMBA_CACHE_DIR=$(mktemp -d) python -m vecmsaa.tools.compile_times \\
+    NUMBA_CACHE_DIR=$(mktemp -d) python -m vecmsaa.cli.compile_times \\
         "render drawing.svg -o out.png" "font Font.ttf -o font.png" "demo -o demo.png"
 
 An empty ``NUMBA_CACHE_DIR`` makes every kernel compile without touching the project's cache.
