@@ -432,6 +432,9 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
                    [(0, 24), (20, 0), (0, 0), (0, 24), (0, 0)]], closed=[True, True, False],
          join="miter", cap="round", w=7.0, miterlimit=1.0, dashes=[0.5, 0.0, 0.0],
          offset=-4.658218353121597e-19, seed=96)    # offset % period rounds to the period
+@example(subpaths=[[(0, 0)], [(0, 0), (0, 1), (1, 2)]], closed=[False, True, False],
+         join="miter", cap="butt", w=0.4, miterlimit=1.0, dashes=[0.0, 0.0, 0.5], offset=0.0,
+         seed=0)   # a dot at the start, then the dash the last one runs on into
 def test_compiled_polylines_fill_as_the_general_stroker(subpaths, closed, join, cap, w,
                                                         miterlimit, dashes, offset, seed):
     # the compiled polyline stroker (inline joins, shortcuts at inner corners, dashes walked

@@ -442,9 +442,12 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
                     last_at_end = b >= total
         pos += length
         k = (k + 1) % len(pattern)
-    if closed and first_at_start and last_at_end and len(dashes) > 1 and \
-            isinstance(dashes[-1], list) and isinstance(dashes[0], list):
-        dashes[0] = dashes.pop() + dashes[0]
+    if closed and first_at_start and last_at_end and isinstance(dashes[-1], list):
+        # the last dash runs on into the first one of segments (a zero-length dash, a dot,
+        # may come before it at the start: the compiled dasher merges past it too)
+        first = next(i for i, d in enumerate(dashes) if isinstance(d, list))
+        if first < len(dashes) - 1:
+            dashes[first] = dashes.pop() + dashes[first]
     return dashes
 
 
