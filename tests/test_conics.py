@@ -14,7 +14,7 @@ from truth import ellipse_pixel_coverage, segments, winding_at
 from vecmsaa.raster.render import EXACT_TOLERANCE, render_scene
 from vecmsaa.raster.sample_patterns import pattern_offsets
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
-from vecmsaa.scene.path import CONIC, CUBIC, Path, conic_weight
+from vecmsaa.scene.path import CONIC, CUBIC, conic_weight
 from vecmsaa.svg.pathdata import parse_path_data
 from vecmsaa.svg.shapes import ellipse_path, rounded_rect_path
 
