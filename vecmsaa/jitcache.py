@@ -1,7 +1,7 @@
 """Keep numba's on-disk kernel cache consistent with the sources, one source file at a time.
 
 numba invalidates a cached kernel only when *its own* file changes; a kernel that calls one
-from another module (render_msaa → shade), or reads another module's constants (the path
+from another module (render_msaa → shade_span), or reads another module's constants (the path
 verbs), keeps stale machine code after that module is edited. So every kernel file is stamped
 with a hash of its own source and of every package module it imports, directly or through
 others, and when that hash changes the file's cache entries (``__pycache__/<stem>.*.nbi`` and

@@ -29,7 +29,7 @@ from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_
                                    P_T2, P_WSIGN, _eval_implicit,
                                    _linearisation_bound, _linearisation_norms)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
-from .shaders import shade, shade_span
+from .shaders import shade_span
 
 # The per-fill kernels use numpy's error model: a float division by zero gives inf or NaN
 # (which the scan arithmetic treats as off the image) instead of raising. With no raise
@@ -1061,6 +1061,7 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
     H, W = target.shape[0], target.shape[1]
     P = edge_off.shape[0] - 1
     acc, xmin_row, xmax_row, span = scratch
+    tail = span[W + 2:]
     strip_rows = acc.shape[0]
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
@@ -1105,7 +1106,10 @@ def render_analytic(target, y0, edges, edge_off, path_box, rules, aa, paint_kind
                         j = x - s0
                         cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
                     else:
-                        cr, cg, cb, ca = shade(kind, f, lut, tex, x + 0.5, sy0 + r + 0.5)
+                        # past the shaded columns (a path running off the right border): the
+                        # row's last slot of the buffer, one pixel
+                        shade_span(kind, f, lut, tex, x, x + 1, sy0 + r + 0.5, tail)
+                        cr, cg, cb, ca = tail[0, 0], tail[0, 1], tail[0, 2], tail[0, 3]
                     k = 1.0 - ca * c
                     ty = sy0 - y0 + r
                     target[ty, x, 0] = cr * c + target[ty, x, 0] * k

@@ -219,9 +219,14 @@ def _bilinear(c00, c10, c01, c11, fu, fv, op):
 @njit(cache=True)
 def shade_span(kind, f, lut, tex, x0, x1, y, out):
     """The colours of paint (kind, f) at the centres x + 0.5 of pixels x0 .. x1 - 1 of a row
-    (device y) into out[0 .. x1 - x0), as shade gives them: one call for a span instead of
-    one per pixel, and the gradients' loop passes no array to a helper (a call costs its
-    arrays' reference counts: most of a gradient's time on large spans)."""
+    (device y) into out[0 .. x1 - x0), premultiplied: one call for a span instead of one per
+    pixel, and its loops pass no array to a helper (a call costs its arrays' reference counts:
+    most of a gradient's time on large spans). The one shader: the kernels call it for spans,
+    rows and single pixels alike."""
+    if kind == 0:
+        for x in range(x0, x1):
+            out[x - x0, 0], out[x - x0, 1], out[x - x0, 2], out[x - x0, 3] = f[0], f[1], f[2], f[3]
+        return
     if kind == 1 or kind == 2:
         base, spread = int(f[17]), int(f[16])
         m0, m1, m2, m3, m4, m5 = f[4], f[5], f[6], f[7], f[8], f[9]
@@ -236,7 +241,8 @@ def shade_span(kind, f, lut, tex, x0, x1, y, out):
             out[x - x0, 0], out[x - x0, 1] = lut[i, 0], lut[i, 1]
             out[x - x0, 2], out[x - x0, 3] = lut[i, 2], lut[i, 3]
         return
-    # an image: shade's image part with the texture read here, not through a helper
+    # an image: nearest texel, or bilinear between four (the image's own fill bounds it; a pixel
+    # centre just outside, a partly covered edge pixel, takes the edge texel, as resvg does)
     m0, m1, m2, m3, m4, m5 = f[4], f[5], f[6], f[7], f[8], f[9]
     base, h, w = int(f[10]), int(f[11]), int(f[12])
     repeat = f[13] != 0.0
@@ -261,39 +267,3 @@ def shade_span(kind, f, lut, tex, x0, x1, y, out):
         for c in range(4):
             out[j, c] = _bilinear(tex[o00 + c], tex[o10 + c], tex[o01 + c], tex[o11 + c], fu, fv,
                                   op)
-
-
-@njit(cache=True)
-def shade(kind, f, lut, tex, x, y):
-    """Premultiplied colour of paint (kind, f) at device point (x, y)."""
-    if kind == 0:
-        return f[0], f[1], f[2], f[3]
-    if kind == 1 or kind == 2:
-        t, paints = _gradient_t(kind, f[4], f[5], f[6], f[7], f[8], f[9], f[10], f[11], f[12],
-                                f[13], f[14], f[15], x, y)
-        if not paints:
-            return 0.0, 0.0, 0.0, 0.0
-        i = int(f[17]) + _lut_index(_spread(t, int(f[16])))
-        return lut[i, 0], lut[i, 1], lut[i, 2], lut[i, 3]
-    gx = f[4] * x + f[6] * y + f[8]
-    gy = f[5] * x + f[7] * y + f[9]
-    # image
-    # the image's own fill bounds it; a pixel centre just outside (partly covered edge pixel)
-    # takes the edge texel (_texel_offset clamps), as resvg does
-    base, h, w = int(f[10]), int(f[11]), int(f[12])
-    repeat = f[13] != 0.0
-    op = f[18]
-    if f[14] == 0.0:
-        o = _texel_offset(base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
-        return tex[o] * op, tex[o + 1] * op, tex[o + 2] * op, tex[o + 3] * op
-    u, v = gx - 0.5, gy - 0.5
-    x0, y0 = int(math.floor(u)), int(math.floor(v))
-    fu, fv = u - x0, v - y0
-    o00 = _texel_offset(base, h, w, x0, y0, repeat)
-    o10 = _texel_offset(base, h, w, x0 + 1, y0, repeat)
-    o01 = _texel_offset(base, h, w, x0, y0 + 1, repeat)
-    o11 = _texel_offset(base, h, w, x0 + 1, y0 + 1, repeat)
-    return (_bilinear(tex[o00], tex[o10], tex[o01], tex[o11], fu, fv, op),
-            _bilinear(tex[o00 + 1], tex[o10 + 1], tex[o01 + 1], tex[o11 + 1], fu, fv, op),
-            _bilinear(tex[o00 + 2], tex[o10 + 2], tex[o01 + 2], tex[o11 + 2], fu, fv, op),
-            _bilinear(tex[o00 + 3], tex[o10 + 3], tex[o01 + 3], tex[o11 + 3], fu, fv, op))
