@@ -29,8 +29,8 @@ from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
 from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
-from ..geometry.primitives import QUAD_FALLBACK_TOL, build_batch
-from ..scene.path import CLOSE, MOVE, Path
+from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
+from ..scene.path import CLOSE, MOVE
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights, sample_classes
 from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
                               stratified_pattern)
@@ -536,7 +536,7 @@ def _fill_batches(fills, opts: RenderOptions) -> list:
     fills = [f for f in fills if f.opacity > 0]
     if not fills:
         return []
-    arrays = _fill_arrays(fills)
+    arrays = batch_arrays([f.path for f in fills])
     verbs, pts, voff, poff = arrays
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
@@ -549,24 +549,8 @@ def _fill_batches(fills, opts: RenderOptions) -> list:
         fills = [f for f, k in zip(fills, keep.tolist()) if k]
         if not fills:
             return []
-        arrays = _fill_arrays(fills)
+        arrays = batch_arrays([f.path for f in fills])
     return [FillBatch(fills, *arrays, opts)]
-
-
-def _fill_arrays(fills):
-    """geometry.primitives.batch_arrays of the fills' paths, from their stored arrays (no
-    property calls, no copies of the concatenations: they are fresh arrays already)."""
-    arrays = [Path._freeze(f.path) for f in fills]
-    n = len(arrays)
-    verbs = [a[0] for a in arrays]
-    pts = [a[1] for a in arrays]
-    voff = np.zeros(n + 1, np.int64)
-    poff = np.zeros(n + 1, np.int64)
-    np.cumsum(np.fromiter(map(len, verbs), np.int64, n), out=voff[1:])
-    np.cumsum(np.fromiter(map(len, pts), np.int64, n), out=poff[1:])
-    all_verbs = np.concatenate(verbs).astype(np.uint8, copy=False)
-    all_pts = np.concatenate(pts).reshape(-1, 2).astype(np.float64, copy=False)
-    return all_verbs, all_pts, voff, poff
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
