@@ -154,6 +154,23 @@ def resolve_bbox(bbox):
     return bbox.get() if isinstance(bbox, LazyBounds) else bbox
 
 
+
+def _hairline(width, scale, antialias):
+    """(width to stroke, opacity factor or None). Wire antialiasing: a stroke thinner than a
+    device pixel is drawn 1 px wide and faded by its true width."""
+    device_width = width * scale
+    if 0 < device_width < 1 and antialias:
+        return width / device_width, device_width
+    return width, None
+
+
+def _stroke_fills(outline, ctx, ref, opacity, antialias):
+    """The fill of a stroke outline in user space, mapped to the device, or none."""
+    if outline is None or outline.is_empty():
+        return []
+    return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
+                 antialias=antialias)]
+
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
 
@@ -843,10 +860,7 @@ class Builder:
             _, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
             outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
                                   dashes=dashes, dash_offset=offset, tolerance=tolerance)
-        if outline is None or outline.is_empty():
-            return []
-        return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
-                     antialias=antialias)]
+        return _stroke_fills(outline, ctx, ref, opacity, antialias)
 
     def _cached_stroke_plan(self, style, ctx, antialias):
         key = ("stroke-plan", ctx.transform, ctx.viewport, self.options.dpi, antialias)
@@ -867,13 +881,7 @@ class Builder:
         if style.get("vector-effect").strip() == "non-scaling-stroke" or dashes:
             return (None,)
         scale = mean_scale(ctx.transform)
-        device_width = width * scale
-        stroke_width = width
-        fade = None
-        if 0 < device_width < 1 and antialias:
-            # Wire antialiasing: a hairline drawn 1 px wide, faded by its true width.
-            fade = device_width
-            stroke_width = width / device_width
+        stroke_width, fade = _hairline(width, scale, antialias)
         tolerance = 0.25 / max(scale, 1e-9)
         hw = stroke_width / 2.0
         if not (hw > 0 and math.isfinite(hw)):
@@ -896,9 +904,9 @@ class Builder:
                 coverage = dash_coverage(dashes, device_path, dev_width, cap, 1.0)
                 if coverage is not None:
                     opacity, dashes = opacity * coverage, None
-            if 0 < dev_width < 1 and antialias:
-                opacity *= dev_width
-                dev_width = 1.0
+            dev_width, fade = _hairline(dev_width, 1.0, antialias)
+            if fade is not None:
+                opacity *= fade
             outline = stroke_path(device_path, dev_width, join=join, cap=cap, miterlimit=limit,
                                   dashes=dashes, dash_offset=offset, tolerance=0.25)
             return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
@@ -907,19 +915,13 @@ class Builder:
             coverage = dash_coverage(dashes, path, width, cap, scale)
             if coverage is not None:
                 opacity, dashes = opacity * coverage, None
-        device_width = width * scale
-        stroke_width = width
-        if 0 < device_width < 1 and antialias:
-            # Wire antialiasing: a hairline drawn 1 px wide, faded by its true width.
-            opacity *= device_width
-            stroke_width = width / device_width
+        stroke_width, fade = _hairline(width, scale, antialias)
+        if fade is not None:
+            opacity *= fade
         tolerance = 0.25 / max(scale, 1e-9)
         outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance)
-        if outline is None or outline.is_empty():
-            return []
-        return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
-                     antialias=antialias)]
+        return _stroke_fills(outline, ctx, ref, opacity, antialias)
 
     # -- paints ----------------------------------------------------------------------------
     def paint_value(self, style, name):
