@@ -382,14 +382,7 @@ class _TreeReader:
         def start(name, attr):
             nonlocal default_ns, count, size, error
             if chunks:
-                text = chunks[0] if len(chunks) == 1 else "".join(chunks)
-                chunks.clear()
-                el = last[0]
-                if el is not None:
-                    if last[1]:
-                        el.tail = text
-                    else:
-                        el.text = text
+                flush()
             if tb is not None:
                 node = tb.start(_et_name(name), {_et_name(k): v for k, v in attr.items()})
             if stack and stack[-1] is None or error is not None:
