@@ -106,8 +106,6 @@ def blend_premultiplied(src: np.ndarray, dst: np.ndarray, mode: str) -> np.ndarr
     return out.astype(dst.dtype)
 
 
-
-
 @njit(cache=True, nogil=True)   # bands composite on threads
 def over_scaled(src, dst, oy, ox, factor, use_factor, opacity):
     """Source-over of a layer in place: dst[y + oy, x + ox] = s + dst[y + oy, x + ox]·(1 − s_a),

@@ -721,8 +721,9 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                     while stamp[r, x] == full_id:
                         y = nxt[r, x]
                         if stamp[r, y] == full_id:
-                            nxt[r, x] = nxt[r, y]
-                        x = nxt[r, x] if stamp[r, y] == full_id else y
+                            y = nxt[r, y]
+                            nxt[r, x] = y
+                        x = y
                     if x >= px:
                         break
                     # paint the pixels from x up to the next full one (or the span's end)
@@ -806,7 +807,8 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
 
 def msaa_scratch(strip_rows, W, n, lens_stats=None):
     """render_msaa's per-strip buffers, allocated once per image and reused by every call:
-    the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels).
+    the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels),
+    but for the occlusion stamps, which hold the numbers of past runs (no later run's).
     ``lens_stats``: where scan_lenses counts (3 int64), e.g. shared by a whole render."""
     return (np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # delta
             np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # local
