@@ -27,6 +27,7 @@ import numpy as np
 from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import unpremultiply_to_rgba8
+from .csaa import csaa_scratch, render_csaa
 from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
@@ -395,6 +396,9 @@ class Raster:
         self.width, self.height = width, height
         if opts.mode == "analytic":
             self.scratch = analytic_scratch(strip_rows, width)
+        elif opts.color_samples < opts.samples:
+            self.scratch = csaa_scratch(strip_rows, width, opts.samples, opts.color_samples,
+                                        opts.lens_stats)
         else:
             self.scratch = msaa_scratch(strip_rows, width, opts.samples, opts.lens_stats)
 
@@ -405,9 +409,15 @@ class Raster:
                             b.params, b.lut, b.tex, self.scratch)
             return
         out = np.zeros_like(target) if o.saturate else target
-        render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
-                    b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                    o.table, o.a2c_bits, o.occlude, o.saturate, o.color_samples, self.scratch)
+        if o.color_samples < o.samples:
+            render_csaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
+                        b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
+                        o.table, o.a2c_bits, o.saturate, self.scratch)
+        else:
+            render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
+                        b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
+                        o.kernel_mode, o.table, o.a2c_bits, o.occlude, o.saturate,
+                        o.color_samples, self.scratch)
         if o.saturate:
             composite(out, target)
 
