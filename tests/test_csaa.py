@@ -1,13 +1,13 @@
 """CSAA (``color_samples``): n coverage samples, at most K stored colours per pixel. Truth: plain
 n-sample MSAA where no pixel needs more than K colours, and a brute-force per-sample model of
-the documented table (raster.scan.limit_colours) on the failure case, from exact point-in-
-triangle tests at the pattern's samples."""
+the documented table (raster.csaa) on the failure case, from exact point-in-triangle tests at
+the pattern's samples; and the storage a split pixel is given, from the buffers' sizes."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from vecmsaa.raster.render import RenderOptions, render_scene
+from vecmsaa.raster.render import Raster, RenderOptions, render_scene
 from vecmsaa.tools.accuracy import figure1_scene
 from vecmsaa.tools.csaa import fan_scene
 
@@ -100,3 +100,17 @@ def test_same_pixels_for_any_band_size_and_thread_count():
         budget = rows * scene.width * 16
         assert np.array_equal(render_scene(scene, mode="approx", samples=16, color_samples=2,
                                            band_budget=budget, threads=2), whole)
+
+
+@pytest.mark.parametrize("n, k", [(16, 1), (16, 2), (16, 4), (16, 8), (8, 2), (4, 3)])
+def test_a_split_pixel_stores_k_colours_and_n_indices(n, k):
+    """The raster's per-pixel sample storage, the arrays with a slot for every pixel of a strip
+    (the pool of split pixels): n float32 RGBA colours a pixel for plain MSAA, K colours and an
+    index byte per coverage sample for CSAA."""
+    rows, width = 3, 10
+
+    def pool_bytes(opts):
+        return sum(a.nbytes for a in Raster(opts, width, 50, rows).scratch
+                   if a.ndim > 1 and a.shape[0] == rows * width)
+    assert pool_bytes(RenderOptions("approx", n)) == rows * width * 16 * n
+    assert pool_bytes(RenderOptions("approx", n, color_samples=k)) == rows * width * (16 * k + n)

@@ -3,11 +3,10 @@ pixel against plain K- and n-sample MSAA, on Figure 1, random scenes and the fai
 seed names (a pixel needing more distinct colours than slots), with error, time and the storage
 a split pixel needs.
 
-Storage per split pixel (the framebuffer's compressed form keeps one colour for the others):
-plain n-sample MSAA stores n colours (16 bytes each, float32 RGBA); CSAA stores K colours plus
-a ceil(log2 K)-bit table index per coverage sample. The renderer *emulates* the table on its
-n-colour pool (raster.scan.limit_colours), so its own memory is plain MSAA's; the column is the
-storage the scheme needs, the time is the emulation's.
+Storage per split pixel (the framebuffer's compressed form keeps one colour for the others),
+read from the sizes of the raster's buffers: plain n-sample MSAA stores n colours (16 bytes each,
+float32 RGBA); CSAA (raster/csaa.py) stores K colours plus a one-byte table index per coverage
+sample.
 """
 from __future__ import annotations
 
@@ -16,7 +15,7 @@ import time
 
 import numpy as np
 
-from ..raster.render import render_scene
+from ..raster.render import Raster, RenderOptions, render_scene
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..scene.path import Path
 from .accuracy import edge_error, edge_mask, figure1_scene, ground_truth, random_scene
@@ -56,10 +55,11 @@ def fan_scene(size: int = 48, wedges: int = 8, fans: int = 3) -> Scene:
 
 
 def storage_bytes(samples: int, slots: int | None) -> int:
-    """Bytes one split pixel needs: n float32 RGBA colours, or K colours and n table indices."""
-    if slots is None or slots >= samples:
-        return 16 * samples
-    return 16 * slots + math.ceil(samples * max(1, math.ceil(math.log2(slots))) / 8)
+    """Bytes the raster allocates for one split pixel's samples: the arrays of its buffers with a
+    slot per pixel (n colours, or K colours and n table indices), for a strip of 1 × 2 pixels."""
+    opts = RenderOptions("approx", samples, color_samples=slots)
+    return sum(a.nbytes for a in Raster(opts, 2, 1, 1).scratch
+               if a.ndim > 1 and a.shape[0] == 2) // 2
 
 
 def _timed(scene, mode, samples, slots, repeat):
