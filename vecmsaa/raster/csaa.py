@@ -42,34 +42,6 @@ def csaa_scratch(strip_rows: int, W: int, n: int, slots: int, lens_stats=None) -
 
 
 @njit(cache=True, error_model="numpy")
-def _blend_table(colours, slot, m, sr, sg, sb, sa, sat):
-    """Source-over (``sat``: the saturating blend) of one premultiplied colour onto each of a
-    table's m entries: a uniform cover of a split pixel."""
-    k = 1.0 - sa
-    for j in range(m):
-        if sat:
-            t = saturated(sa, colours[slot, j, 3])
-            colours[slot, j, 0] += sr * t
-            colours[slot, j, 1] += sg * t
-            colours[slot, j, 2] += sb * t
-            colours[slot, j, 3] += sa * t
-        else:
-            colours[slot, j, 0] = sr + colours[slot, j, 0] * k
-            colours[slot, j, 1] = sg + colours[slot, j, 1] * k
-            colours[slot, j, 2] = sb + colours[slot, j, 2] * k
-            colours[slot, j, 3] = sa + colours[slot, j, 3] * k
-
-
-@njit(cache=True, error_model="numpy")
-def _entries(index, slot, n):
-    """Length of a pixel's table: its entries are in order of first use, so the last index + 1."""
-    m = 0
-    for s in range(n):
-        m = max(m, index[slot, s] + 1)
-    return m
-
-
-@njit(cache=True, error_model="numpy")
 def _partial(colours, index, slot, cov, cr, cg, cb, ca, sat, fresh, uniq, counts):
     """A partial cover of a split pixel: every sample's colour blended from its table entry at
     its own coverage, then the table rebuilt from them (distinct colours in sample order; while
@@ -134,48 +106,13 @@ def _partial(colours, index, slot, cov, cr, cg, cb, ca, sat, fresh, uniq, counts
 
 
 @njit(cache=True, error_model="numpy")
-def _cover(fb, cplx, colours, index, r, q0, q1, kind, f, span, s0, s1, c, sat, lut, tex, py):
-    """The paint × coverage c onto every sample of pixels q0..q1-1 of a row: one-colour pixels
-    in the target, split ones through their tables (scan._blend_span's arithmetic). A paint that
-    is not solid is read from ``span`` (the row's pixels s0..s1-1), or shaded into it when the
-    pixels lie outside those (the last span of a row: nothing is read after it)."""
-    n = index.shape[1]
-    if kind != 0 and not (s0 <= q0 and q1 <= s1):
-        shade_span(kind, f, lut, tex, q0, q1, py + 0.5, span)
-        s0 = q0
-    for x in range(q0, q1):
-        if kind != 0:
-            cr, cg, cb, ca = span[x - s0, 0], span[x - s0, 1], span[x - s0, 2], span[x - s0, 3]
-        else:
-            cr, cg, cb, ca = f[0], f[1], f[2], f[3]
-        sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
-        slot = cplx[r, x]
-        if sa >= 1.0 and not sat:
-            # opaque full cover: the pixel is one colour again
-            cplx[r, x] = -1
-            fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = sr, sg, sb, sa
-        elif slot >= 0:
-            _blend_table(colours, slot, _entries(index, slot, n), sr, sg, sb, sa, sat)
-        elif sat:
-            t = saturated(sa, fb[r, x, 3])
-            fb[r, x, 0] += sr * t
-            fb[r, x, 1] += sg * t
-            fb[r, x, 2] += sb * t
-            fb[r, x, 3] += sa * t
-        else:
-            k = 1.0 - sa
-            fb[r, x, 0] = sr + fb[r, x, 0] * k
-            fb[r, x, 1] = sg + fb[r, x, 1] * k
-            fb[r, x, 2] = sb + fb[r, x, 2] * k
-            fb[r, x, 3] = sa + fb[r, x, 3] * k
-
-
-@njit(cache=True, error_model="numpy")
 def sweep_csaa(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
                fb, cplx, slot_of, slot_pixel, colours, index, npool, wrun, cov, sat, fresh,
                uniq, counts, span):
     """scan.sweep_rows with colour tables: per row r0..r1, windings to coverage, the fill's
-    paint composited onto the one-colour pixels in the target and the tables of split ones."""
+    paint composited onto the one-colour pixels in the target and the tables of split ones
+    (scan._blend_span's arithmetic). Written out in one loop nest, as sweep_rows is: an array
+    handed to a helper costs a reference count per call, here per pixel."""
     n = wrun.shape[0]
     for r in range(r0, r1 + 1):
         cnt = dcount[r]
@@ -191,30 +128,79 @@ def sweep_csaa(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
         prev = -1
         for i in range(cnt + 1):
             px = dlist[r, i] if i < cnt else W
-            if px > prev + 1:
-                c = coverage_of(wrun[0], rule)
-                if c > 0.0:
-                    _cover(fb, cplx, colours, index, r, prev + 1, px, kind, f, span, s0, s1, c,
-                           sat, lut, tex, py)
+            # part 0: the clean pixels before px, one coverage; part 1: px, if its samples
+            # have one coverage
+            q0, q1 = prev + 1, px
+            c = coverage_of(wrun[0], rule) if q1 > q0 else 0.0
+            uniform = True
+            for part in range(2):
+                if part == 1:
+                    if i == cnt:
+                        break
+                    dirty[r, px] = 0
+                    for s in range(n):
+                        wrun[s] += delta[r, px, s]
+                        delta[r, px, s] = 0.0
+                        cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
+                        local[r, px, s] = 0.0
+                        if cov[s] != cov[0]:
+                            uniform = False
+                    # crispEdges: one sample decides for the whole pixel
+                    uniform = uniform or not aa
+                    prev = px
+                    if not uniform:
+                        break
+                    q0, q1, c = px, px + 1, cov[0]
+                if c <= 0.0:
+                    continue
+                if kind != 0 and not (s0 <= q0 and q1 <= s1):
+                    # past the shaded pixels (the row's last span: nothing is read after it)
+                    shade_span(kind, f, lut, tex, q0, q1, py + 0.5, span)
+                    s0, s1 = q0, q1
+                for x in range(q0, q1):
+                    if kind != 0:
+                        j = x - s0
+                        cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
+                    else:
+                        cr, cg, cb, ca = f[0], f[1], f[2], f[3]
+                    sr, sg, sb, sa = cr * c, cg * c, cb * c, ca * c
+                    k = 1.0 - sa
+                    slot = cplx[r, x]
+                    if sa >= 1.0 and not sat:
+                        # opaque full cover: the pixel is one colour again
+                        cplx[r, x] = -1
+                        fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = sr, sg, sb, sa
+                    elif slot >= 0:
+                        # every entry of the table (in order of first use: the last index + 1)
+                        m = 0
+                        for s in range(n):
+                            m = max(m, index[slot, s] + 1)
+                        for j in range(m):
+                            if sat:
+                                t = saturated(sa, colours[slot, j, 3])
+                                colours[slot, j, 0] += sr * t
+                                colours[slot, j, 1] += sg * t
+                                colours[slot, j, 2] += sb * t
+                                colours[slot, j, 3] += sa * t
+                            else:
+                                colours[slot, j, 0] = sr + colours[slot, j, 0] * k
+                                colours[slot, j, 1] = sg + colours[slot, j, 1] * k
+                                colours[slot, j, 2] = sb + colours[slot, j, 2] * k
+                                colours[slot, j, 3] = sa + colours[slot, j, 3] * k
+                    elif sat:
+                        t = saturated(sa, fb[r, x, 3])
+                        fb[r, x, 0] += sr * t
+                        fb[r, x, 1] += sg * t
+                        fb[r, x, 2] += sb * t
+                        fb[r, x, 3] += sa * t
+                    else:
+                        fb[r, x, 0] = sr + fb[r, x, 0] * k
+                        fb[r, x, 1] = sg + fb[r, x, 1] * k
+                        fb[r, x, 2] = sb + fb[r, x, 2] * k
+                        fb[r, x, 3] = sa + fb[r, x, 3] * k
             if i == cnt:
                 break
-            dirty[r, px] = 0
-            uniform = True
-            for s in range(n):
-                wrun[s] += delta[r, px, s]
-                delta[r, px, s] = 0.0
-                cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
-                local[r, px, s] = 0.0
-                if cov[s] != cov[0]:
-                    uniform = False
-            if not aa:
-                # crispEdges: one sample decides for the whole pixel
-                uniform = True
-            prev = px
             if uniform:
-                if cov[0] > 0.0:
-                    _cover(fb, cplx, colours, index, r, px, px + 1, kind, f, span, s0, s1,
-                           cov[0], sat, lut, tex, py)
                 continue
             # per-sample coverage: a one-colour pixel becomes a table of one entry; a pixel
             # keeps its slot once it has one (slot_pixel records whose it is)
