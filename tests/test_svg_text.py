@@ -433,3 +433,34 @@ def test_invalid_font_family_is_ignored_and_the_parents_applies():
     quoted = render('<g font-family="Noto Sans"><text x="5" y="70" '
                     'font-family="\'Roboto Flex\', \'Mplus 1p\'">Hoe</text></g>')
     assert np.array_equal(quoted, roboto)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "NotoSansDevanagari-Regular.ttf")),
+                    reason="needs the suite's Noto Sans Devanagari font")
+def test_a_cluster_advances_by_all_its_glyphs():
+    # Devanagari's i-matra is drawn before its consonant: HarfBuzz gives one cluster of two
+    # glyphs that both advance (pre-base matra, then na). The pen moves past both: the next
+    # character starts where HarfBuzz's advances sum to, as a <text> placed there draws it.
+    hb = pytest.importorskip("uharfbuzz")
+    path = os.path.join(SUITE, "fonts", "NotoSansDevanagari-Regular.ttf")
+    face = hb.Face(open(path, "rb").read())
+    buf = hb.Buffer()
+    buf.add_str("\u0928\u093f")
+    buf.guess_segment_properties()
+    hb.shape(hb.Font(face), buf, {})
+    assert len(buf.glyph_positions) == 2 and all(p.x_advance > 0 for p in buf.glyph_positions)
+    advance = sum(p.x_advance for p in buf.glyph_positions) * 40 / face.upem
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                width=200, mode="analytic")
+
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Sans Devanagari" font-size="40">{body}</svg>').encode()
+        return render_svg_array(svg, **opts)[..., 0].astype(int)   # red: ka's coverage
+
+    together = draw('<text x="20" y="60">\u0928\u093f<tspan fill="red">\u0915</tspan></text>')
+    apart = draw(f'<text x="20" y="60">\u0928\u093f</text><text x="{20 + advance}" y="60" '
+                 'fill="red">\u0915</text>')
+    assert together.max() == 255
+    assert np.abs(together - apart).max() <= 2

@@ -48,7 +48,7 @@ class Cluster:
     glyphs: list
     face: object
     size: float
-    width: float              # widest glyph advance
+    width: float              # the sum of its glyphs' advances
     advance: float            # width plus spacing
     ascent: float = 0.0       # user units, y up
     descent: float = 0.0
@@ -149,10 +149,8 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
             pen = 0.0
         current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
                                     -float(off[1]) * scale, scale))
-        width = float(adv[0]) * scale
-        pen += width
-        current.width = max(current.width, width)
-        current.advance = current.width
+        pen += float(adv[0]) * scale
+        current.width = current.advance = pen
     return out
 
 
