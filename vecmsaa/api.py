@@ -12,6 +12,7 @@ errors are :class:`vecmsaa.svg.SvgError` (a ValueError) with a one-line message.
 """
 from __future__ import annotations
 
+import contextlib
 import gc
 import math
 import os
@@ -151,16 +152,22 @@ def load_svg(source: Source, width: float | None = None, height: float | None = 
 
     ``options`` are the document options (DOCUMENT_OPTIONS) and the font options
     (FONT_OPTIONS); see :func:`render_svg` for all of them."""
-    # The cyclic garbage collector is paused meanwhile: the build allocates hundreds of
-    # thousands of objects that all stay alive, and the collections they trigger (a quarter
-    # of the time on map data) would find nothing to free.
+    with collector_paused(), diagnostics.as_python_warnings():
+        loaded = _Loaded(source, dpi, resources_dir, options)
+        return loaded.scene(width, height, zoom, background, keep_aspect, size_limit,
+                            export_id)
+
+
+@contextlib.contextmanager
+def collector_paused():
+    """Python's cyclic garbage collector paused (and restored as it was): a document's build
+    allocates hundreds of thousands of objects that all stay alive until its render ends, and
+    the collections they trigger (a quarter of the front end's time on map data; during the
+    render, full passes over the live scene) would find nothing to free."""
     collecting = gc.isenabled()
     gc.disable()
     try:
-        with diagnostics.as_python_warnings():
-            loaded = _Loaded(source, dpi, resources_dir, options)
-            return loaded.scene(width, height, zoom, background, keep_aspect, size_limit,
-                                export_id)
+        yield
     finally:
         if collecting:
             gc.enable()
@@ -300,12 +307,14 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
     depend on it). ``progress(rows done, rows)``: called after each band is drawn."""
     from .raster.render import render_scene_rgba8
 
-    scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
-                     background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
-                     size_limit=size_limit, export_id=export_id, **options)
-    rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
-                              samples=samples_for(samples, scene.width, scene.height),
-                              pattern=pattern, filter=filter, color_samples=color_samples)
+    with collector_paused():
+        scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
+                         background=background, resources_dir=resources_dir,
+                         keep_aspect=keep_aspect, size_limit=size_limit, export_id=export_id,
+                         **options)
+        rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
+                                  samples=samples_for(samples, scene.width, scene.height),
+                                  pattern=pattern, filter=filter, color_samples=color_samples)
     if export_area_drawing and export_id is None:
         rgba = crop_to_drawing(rgba, scene)
     return rgba
@@ -331,12 +340,14 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
             color_samples=color_samples, **options))
     from .raster.render import render_scene_png
 
-    scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
-                     background=background, resources_dir=resources_dir, keep_aspect=keep_aspect,
-                     size_limit=size_limit, export_id=export_id, **options)
-    return render_scene_png(scene, mode=mode, threads=threads, progress=progress,
-                            samples=samples_for(samples, scene.width, scene.height),
-                            pattern=pattern, filter=filter, color_samples=color_samples)
+    with collector_paused():
+        scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
+                         background=background, resources_dir=resources_dir,
+                         keep_aspect=keep_aspect, size_limit=size_limit, export_id=export_id,
+                         **options)
+        return render_scene_png(scene, mode=mode, threads=threads, progress=progress,
+                                samples=samples_for(samples, scene.width, scene.height),
+                                pattern=pattern, filter=filter, color_samples=color_samples)
 
 
 def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:

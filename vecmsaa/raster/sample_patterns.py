@@ -261,7 +261,9 @@ def _mask_table(key: bytes, samples: int) -> np.ndarray:
     for ai in range(ANGLE_BINS):
         n = _diamond_to_vector((ai + 0.5) / ANGLE_BINS * 4.0)
         n = n / np.hypot(*n)
-        proj = offs @ n                                   # <x_s, n>
+        # <x_s, n> written out: a matrix product calls OpenBLAS, whose threads then spin for
+        # a while on the other cores, where the render's bands are drawn
+        proj = offs[:, 0] * n[0] + offs[:, 1] * n[1]
         inside = proj[None, :] + dists[:, None] < 0       # (DIST_BINS, n)
         table[ai] = (inside.astype(np.uint64) * weights[None, :]).sum(axis=1).astype(np.uint64)
     table.flags.writeable = False
