@@ -324,6 +324,30 @@ def test_feimage_drops_rotation_and_skew_as_resvg():
     assert (img[5:15, 5:15, 1] == 255).all()
 
 
+def test_feimage_file_drops_rotation_and_skew_like_an_element():
+    # An image file (a data: URL) is drawn as a referenced element is: fitted into the
+    # subregion at the device scale, from the subregion's whole-pixel device corner
+    # (resvg 0.48 draws the rotated case so, where a user-space image would turn with it)
+    import base64
+    import io
+
+    from PIL import Image
+
+    buf = io.BytesIO()
+    Image.new("RGBA", (2, 2), (0, 255, 0, 255)).save(buf, "PNG")
+    url = "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode()
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="20" '
+                 f'height="20"><feImage href="{url}" width="10" height="10" '
+                 'preserveAspectRatio="none"/></filter>'
+                 '<rect width="20" height="20" fill="red" filter="url(#f)" '
+                 'transform="translate(20 5) rotate(45)"/>')
+    ys, xs = np.nonzero(img[..., 3] > 128)
+    # the subregion (0, 0, 10, 10) maps to x 12.9 .. 27.1, y 5 .. 19.1: corner (12, 5), and
+    # the image is 10 x 10 px there, axis-aligned
+    assert (xs.min(), ys.min(), xs.max(), ys.max()) == (12, 5, 21, 14)
+    assert (img[6:14, 13:21, 1] == 255).all() and not img[..., 0].any()
+
+
 def test_flood_subregion_in_bounding_box_units():
     img = render('<filter id="f" primitiveUnits="objectBoundingBox">'
                  '<feFlood flood-color="#0000ff" x="0.5" width="0.5"/></filter>'

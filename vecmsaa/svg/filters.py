@@ -409,7 +409,8 @@ class PrimitiveResolver:
         """feImage content as a scene Group in device pixels, or None. An element is drawn as
         resvg draws it: at the device scale of the filtered element's user space (the row
         norms: rotation and skew are dropped), from the device subregion's whole-pixel
-        corner, without its own filter; a file or data URL is fitted into the subregion."""
+        corner, without its own filter; a file or data URL is fitted into the subregion at that
+        scale and corner too."""
         from .image import image_nodes
 
         b = self.builder
@@ -418,12 +419,12 @@ class PrimitiveResolver:
             return None
         style = b.doc.document_style(fe)
         x, y, w, h = self.user_subregion(fe)
+        sub = self.subregion(fe)
+        sx, sy = row_scale(self.ctx.transform)
         if href.startswith("#"):
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
                 return None
-            sub = self.subregion(fe)
-            sx, sy = row_scale(self.ctx.transform)
             ctx = replace(self.ctx, transform=(sx, 0.0, 0.0, sy, float(sub[0]), float(sub[1])))
             parent = target.parent if target.parent is not None else target
             b.enter_reference(target)
@@ -435,7 +436,10 @@ class PrimitiveResolver:
         attrs = {"x": str(x), "y": str(y), "width": str(w), "height": str(h), "href": href}
         if fe.get("preserveAspectRatio") is not None:
             attrs["preserveAspectRatio"] = fe.get("preserveAspectRatio")
-        nodes = image_nodes(b, Element("image", attrs, fe.parent, 0), self.ctx, style)
+        # the subregion's user-space corner at its device corner, as for an element
+        ctx = replace(self.ctx, transform=(sx, 0.0, 0.0, sy, float(sub[0]) - sx * x,
+                                           float(sub[1]) - sy * y))
+        nodes = image_nodes(b, Element("image", attrs, fe.parent, 0), ctx, style)
         return Group(children=nodes) if nodes else None
 
 
