@@ -435,6 +435,36 @@ def test_invalid_font_family_is_ignored_and_the_parents_applies():
     assert np.array_equal(quoted, roboto)
 
 
+# -- font-feature-settings / font-variation-settings (CSS Fonts 4 §7.2, §7.3) ---------------
+
+@pytest.mark.parametrize("value, variations, expected", [
+    ('"wght" 700', True, [("wght", 700.0)]), ("'wdth' 75.5, 'wght' 300", True,
+                                              [("wdth", 75.5), ("wght", 300.0)]),
+    ('"wght"', True, None), ('"wght" on', True, None), ('"wgh" 700', True, None),
+    ('"wght" 700,', True, None), ("normal", True, []),
+    ('"liga"', False, [("liga", 1)]), ('"liga" off, "kern" on', False, [("liga", 0), ("kern", 1)]),
+    ('"liga" 2', False, [("liga", 2)]), ('"liga" 1.5', False, None), ('"liga" -1', False, None),
+    ("liga 0", False, None), ('"liga" 0 "kern" 0', False, None),
+])
+def test_settings_follow_the_css_grammar(value, variations, expected):
+    from vecmsaa.svg.text.font_match import _quoted_settings
+    assert _quoted_settings(value, variations) == expected
+
+
+def test_invalid_variation_settings_are_ignored_and_the_parents_apply():
+    # "wght" without a number is no <opentype-tag> <number> pair: the declaration is
+    # ignored, so the text takes the parent's settings (resvg 0.48 draws it so too)
+    def text(inner, outer="normal"):
+        return render(f'<g style=\'font-variation-settings: {outer}\'><text x="5" y="70" '
+                      f'font-family="Roboto Flex" style=\'font-variation-settings: {inner}\'>'
+                      'Hoe</text></g>')
+
+    heavy = text('"wght" 900')
+    assert not np.array_equal(heavy, text('"wght" 100'))
+    assert np.array_equal(text('"wght"', outer='"wght" 900'), heavy)
+    assert np.array_equal(text('"wght" 900, "wdth"'), text("normal"))
+
+
 @pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
                                                     "NotoSansDevanagari-Regular.ttf")),
                     reason="needs the suite's Noto Sans Devanagari font")

@@ -7,6 +7,7 @@ fall back to other faces, combining marks stay with their base's face.
 """
 from __future__ import annotations
 
+import math
 import re
 import unicodedata
 from dataclasses import dataclass
@@ -135,25 +136,49 @@ def _font_style(style):
     return v[0] if v and v[0] in ("italic", "oblique") else "normal"
 
 
-def _quoted_settings(text, default_value):
-    """``"liga" 0, 'wght' 700`` → [(tag, value)]."""
+def _quoted_settings(text, variations=False):
+    """``"liga" 0, 'wght' 700`` → [(tag, value)] by CSS Fonts 4's grammar (§7.2
+    font-feature-settings: a tag, then an integer >= 0, ``on`` or ``off``, or nothing for 1;
+    §7.3 font-variation-settings: a tag and a number), [] for ``normal``, None when the value
+    is invalid (an invalid declaration is ignored as a whole)."""
+    text = (text or "").strip()
+    if text == "normal":
+        return []
     out = []
-    for item in (text or "").split(","):
-        m = re.match(r"""\s*["']([^"']{4})["']\s*(\S*)\s*$""", item)
+    for item in text.split(","):
+        m = re.match(r"""\s*(["'])([\x20-\x7e]{4})\1\s*(\S*)\s*$""", item)
         if not m:
-            continue
-        val = m.group(2)
-        if val in ("", "on"):
-            value = default_value
-        elif val == "off":
-            value = 0
-        else:
+            return None
+        val = m.group(3)
+        if variations:
             try:
                 value = float(val)
             except ValueError:
-                continue
-        out.append((m.group(1), value))
+                return None
+            if not math.isfinite(value):
+                return None
+        elif val in ("", "on", "off"):
+            value = 0 if val == "off" else 1
+        elif val.isdigit():
+            value = int(val)
+        else:
+            return None
+        out.append((m.group(2), value))
     return out
+
+
+def _settings(style, name):
+    """The computed font-feature-settings or font-variation-settings: the nearest valid
+    declaration up the ancestors (an invalid one is ignored), else normal."""
+    s = style
+    while s is not None:
+        v = s.specified.get(name)
+        if v is not None and v.strip() != "inherit":
+            got = _quoted_settings(v, name == "font-variation-settings")
+            if got is not None:
+                return got
+        s = s.parent
+    return []
 
 
 def font_spec(style, ctx, chain=()) -> FontSpec:
@@ -162,8 +187,8 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
     families = _family_list(style)
     # CSS Fonts 4 §7.2: the font-variant features first, font-feature-settings over them.
     features, small_caps = variant_features(style)
-    for tag, value in _quoted_settings(style.get("font-feature-settings"), 1):
-        features[tag] = int(value)
+    for tag, value in _settings(style, "font-feature-settings"):
+        features[tag] = value
     # font-kerning comes from CSS only (the cascade ignores the attribute, as resvg does).
     if (style.get("font-kerning") or "auto").strip() == "none":
         features["kern"] = 0
@@ -174,7 +199,7 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
             if kerning.strip() in ("0", "0px"):
                 features["kern"] = 0
             break
-    variations = dict(_quoted_settings(style.get("font-variation-settings"), 1))
+    variations = dict(_settings(style, "font-variation-settings"))
     size = style.font_size()
     letter = _spacing(style.get("letter-spacing"), ctx, style)
     word = _spacing(style.get("word-spacing"), ctx, style)
