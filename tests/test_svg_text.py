@@ -494,3 +494,26 @@ def test_a_cluster_advances_by_all_its_glyphs():
                  'fill="red">\u0915</text>')
     assert together.max() == 255
     assert np.abs(together - apart).max() <= 2
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "NotoSans-Regular.ttf")),
+                    reason="needs the suite's Noto Sans")
+def test_a_base_and_its_combining_marks_are_one_typographic_character():
+    # SVG 2 positions, rotates and spaces typographic characters (grapheme clusters): q with
+    # two combining marks (no precomposed glyph) turns about the base's origin as the whole
+    # text turned by a transform would, and letter-spacing comes after the marks only
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                width=200, mode="analytic")
+
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Sans" font-size="40">{body}</svg>').encode()
+        return render_svg_array(svg, **opts)[..., 3].astype(int)
+
+    q = "q\u0301\u0323"
+    rotated = draw(f'<text x="60" y="60" rotate="40">{q}</text>')
+    turned = draw(f'<text x="60" y="60" transform="rotate(40 60 60)">{q}</text>')
+    assert rotated.max() == 255 and np.abs(rotated - turned).max() <= 2
+    spaced = draw(f'<text x="20" y="60" letter-spacing="15">{q}x</text>')
+    moved = draw(f'<text x="20" y="60">{q}<tspan dx="15">x</tspan></text>')
+    assert np.abs(spaced - moved).max() <= 2

@@ -9,6 +9,7 @@ cluster transforms along the line (dx/dy, rotate, text-anchor, baseline shifts) 
 from __future__ import annotations
 
 import math
+import unicodedata
 from bisect import bisect_right
 from dataclasses import dataclass
 
@@ -151,7 +152,43 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
                                     -float(off[1]) * scale, scale))
         pen += float(adv[0]) * scale
         current.width = current.advance = pen
-    return out
+    return _merge_extenders(out, text, direction == "rtl")
+
+
+def _extends(ch):
+    """Characters that extend a grapheme cluster (UAX #29 Extend, ZWJ, emoji modifiers):
+    combining marks, joiners, variation selectors, tags."""
+    cp = ord(ch)
+    return (unicodedata.category(ch) in ("Mn", "Me", "Mc") or cp in (0x200C, 0x200D)
+            or 0xFE00 <= cp <= 0xFE0F or 0x1F3FB <= cp <= 0x1F3FF or 0xE0020 <= cp <= 0xE007F
+            or 0xE0100 <= cp <= 0xE01EF)
+
+
+def _merge_extenders(clusters, text, rtl):
+    """One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
+    rotates and spaces): HarfBuzz's character-level clusters give a combining mark HarfBuzz
+    did not merge with its base its own cluster, which rotated about its own origin and got
+    letter-spacing between it and its base. The glyphs are in visual order, so in a
+    right-to-left run a mark's cluster comes before its base's."""
+    if not any(_extends(text[c.char]) for c in clusters):
+        return clusters
+    out = []
+    order = reversed(clusters) if rtl else clusters
+    for c in order:
+        if out and _extends(text[c.char]) and c.face is out[-1].face:
+            base = out[-1]
+            if rtl:   # c's glyphs come first (to the left): base's move right past them
+                for g in base.glyphs:
+                    g.dx += c.width
+                base.glyphs[:0] = c.glyphs
+            else:
+                for g in c.glyphs:
+                    g.dx += base.width
+                base.glyphs.extend(c.glyphs)
+            base.width = base.advance = base.width + c.width
+            continue
+        out.append(c)
+    return out[::-1] if rtl else out
 
 
 def _spacing_allowed(ch):
