@@ -517,3 +517,35 @@ def test_a_base_and_its_combining_marks_are_one_typographic_character():
     spaced = draw(f'<text x="20" y="60" letter-spacing="15">{q}x</text>')
     moved = draw(f'<text x="20" y="60">{q}<tspan dx="15">x</tspan></text>')
     assert np.abs(spaced - moved).max() <= 2
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "TwitterColorEmoji.subset.ttf")),
+                    reason="needs the suite's Twitter Color Emoji")
+def test_letter_spacing_keeps_zwj_sequences_joined():
+    # letter-spacing turns optional ligatures off (CSS Text 3 §8.2), but a zero width joiner
+    # asks for the joined form (Unicode §23.2): the rainbow flag (white flag, VS16, ZWJ,
+    # rainbow; a 'liga' ligature in this font) stays one glyph, one grapheme, unspaced
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                width=200)
+
+    def draw(style):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               'font-family="Twitter Color Emoji" font-size="40">'
+               f'<text x="20" y="70" {style}>\U0001F3F3\uFE0F\u200D\U0001F308</text></svg>')
+        return render_svg_array(svg.encode(), **opts)
+
+    hb = pytest.importorskip("uharfbuzz")
+    font = hb.Font(hb.Face(open(os.path.join(SUITE, "fonts", "TwitterColorEmoji.subset.ttf"),
+                                "rb").read()))
+    glyphs = []
+    for liga in (1, 0):
+        buf = hb.Buffer()
+        buf.add_str("\U0001F3F3\uFE0F\u200D\U0001F308")
+        buf.guess_segment_properties()
+        hb.shape(font, buf, {"liga": liga})
+        glyphs.append(len([i for i in buf.glyph_infos if i.codepoint]))
+    assert glyphs[0] == 1 and glyphs[1] > 1      # the font joins the sequence with liga
+    plain = draw("")
+    assert plain[..., 3].any()
+    assert np.array_equal(draw('letter-spacing="10"'), plain)

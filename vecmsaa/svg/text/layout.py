@@ -133,7 +133,8 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     face = faces[k]
     spec = specs[k]
     loc = face_location(face, spec)
-    run = shape_run(face, text, s, e, location=loc, features=dict(spec.features),
+    run = shape_run(face, text, s, e, location=loc,
+                    features=_joined_ligatures(dict(spec.features), text, s, e, context[0]),
                     direction=direction, context=context)
     out = []
     current = None
@@ -153,6 +154,28 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
         pen += float(adv[0]) * scale
         current.width = current.advance = pen
     return _merge_extenders(out, text, direction == "rtl")
+
+
+def _joined_ligatures(features, text, s, e, lo):
+    """Ligatures turned off (letter-spacing does so, CSS Text 3 §8.2) stay on across a zero
+    width joiner, which asks for the joined form (Unicode §23.2): emoji ZWJ sequences are
+    ligatures. HarfBuzz takes a feature on cluster ranges; clusters count from ``lo``."""
+    off = [t for t in ("liga", "clig") if features.get(t) == 0]
+    if not off or "\u200d" not in text[s:e]:
+        return features
+    ranges = []
+    for j in range(s + 1, e - 1):
+        if text[j] == "\u200d":
+            a, b = j - 1, j + 2
+            while a > s and _extends(text[a]):
+                a -= 1
+            while b < e and _extends(text[b]):
+                b += 1
+            ranges.append((a - lo, b - lo, 1))
+    if ranges:
+        for t in off:
+            features[t] = [(0, e - lo, 0)] + ranges
+    return features
 
 
 def _extends(ch):
