@@ -473,6 +473,26 @@ def test_markers_are_placed_on_vertices():
     assert np.asarray(centres).ravel() == pytest.approx([10, 10, 50, 10, 50, 50])
 
 
+@pytest.mark.parametrize("d, centres", [
+    ("M 20 30 Z", [20, 30, 20, 30]),                   # a zero-length closed subpath
+    ("M 20 30 Z M 60 70 Z", [20, 30, 60, 70, 60, 70]),  # the first close adds no mid
+    ("M 20 30", []), ("M 20 30 M 60 70", []),           # lone movetos have no segment
+])
+def test_markers_on_zero_length_closed_subpaths(d, centres):
+    # SVG 2: "M x y Z" is a subpath with a (zero-length) closing segment, so its vertex takes
+    # the start and end markers; a lone moveto is no segment (resvg 0.48 draws them so)
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse" overflow="visible">'
+              '<rect width="2" height="2"/></marker>'
+              f'<path d="{d}" fill="none" marker-start="url(#m)" marker-mid="url(#m)" '
+              'marker-end="url(#m)"/>')
+    got = []
+    for f in s.fills():
+        x0, y0, x1, y1 = path_bounds(f.path)
+        got += [(x0 + x1) / 2, (y0 + y1) / 2]
+    assert got == pytest.approx(centres)
+
+
 def test_mid_markers_go_between_the_pieces_of_an_arc():
     # resvg: a semicircle is two 90° cubics, and the joint at its top gets a mid marker
     s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '

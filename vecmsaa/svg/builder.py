@@ -745,13 +745,21 @@ class Builder:
             return []
         if path.is_empty():
             # "M x y Z" is a zero-length subpath, not a lone moveto: SVG 2 strokes it as a dot
-            # with round and square caps (as tiny-skia does)
-            if not (_CLOSE_BYTE in path.verbs.tobytes() and style.get("stroke-linecap").strip()
-                    in ("round", "square") and style.get("stroke").strip() != "none"):
+            # with round and square caps (as tiny-skia does), and its vertices take markers
+            # (a start and an end marker; resvg too)
+            if _CLOSE_BYTE not in path.verbs.tobytes():
                 return []
             if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
                 return []
-            return self.draw_path(_zero_length_closes(path), style, ctx)
+            dot = (style.get("stroke-linecap").strip() in ("round", "square")
+                   and style.get("stroke").strip() != "none")
+            out = self.draw_path(_zero_length_closes(path), style, ctx) if dot else []
+            if el.tag in MARKABLE and not (ctx.geometry or ctx.clip):
+                marks = self.markers(path, style, ctx)
+                order = paint_order(style.get("paint-order"))
+                out = marks + out if order.index("markers") < order.index("stroke") \
+                    else out + marks
+            return out
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
         return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE)
