@@ -549,3 +549,13 @@ def test_letter_spacing_keeps_zwj_sequences_joined():
     plain = draw("")
     assert plain[..., 3].any()
     assert np.array_equal(draw('letter-spacing="10"'), plain)
+
+
+@pytest.mark.parametrize("size", ["0", "-20"])
+def test_a_span_of_zero_or_negative_size_draws_nothing_and_takes_no_room(size):
+    # SVG: a font-size of 0 draws nothing; a negative one is an error, drawn (as in resvg)
+    # as nothing: the text around the span closes up, as if the span were not there
+    ref = render('<text x="5" y="70">H<tspan fill="red">H</tspan></text>')
+    got = render(f'<text x="5" y="70">H<tspan font-size="{size}">HH</tspan>'
+                 '<tspan fill="red">H</tspan></text>')
+    assert np.array_equal(got, ref)

@@ -92,11 +92,10 @@ def shape_chunk(chars, faces, specs, start, end):
             end = base.end(cl, e)
             picked = []
             for k in range(cl.char, end):
-                if k in covered:
-                    continue
                 face = faces[k]
-                key = (id(face), specs[k].features, specs[k].variations) \
-                    if face is not None else base_key
+                if k in covered or face is None:   # None: a zero or negative size
+                    continue
+                key = (id(face), specs[k].features, specs[k].variations)
                 own = index.get(key, base)
                 pick = own.first.get(k)
                 if pick is None:
