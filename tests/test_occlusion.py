@@ -156,6 +156,30 @@ def test_a_fill_hidden_under_opaque_fills_is_not_scanned():
     assert opts.lens_stats[0] > 0
 
 
+def test_curve_pixels_under_opaque_fills_are_not_evaluated():
+    # a disc whose right half lies under an opaque rectangle: no row of its box is covered
+    # whole, yet the curve pixels under the rectangle are skipped (a lens's winding stays in
+    # its pixel), and the image is the one drawn back to front
+    disc = Path()
+    disc.moveTo((12.0, 7.0))
+    disc.curveTo((12.0, 12.0), (2.0, 12.0), (2.0, 7.0))
+    disc.curveTo((2.0, 2.0), (12.0, 2.0), (12.0, 7.0))
+    disc.closePath()
+    cover = Fill(rect_path(7, 0, SIZE - 7, SIZE), Solid((0, 1, 0, 1)))
+    alone, covered = RenderOptions("approx", 8), RenderOptions("approx", 8)
+    render_float(Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1)))])), alone)
+    render_float(Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1))), cover])), covered)
+    assert 0 < covered.lens_stats[0] < alone.lens_stats[0]
+    # the curve pixels left of the rectangle's edge (x < 7) are all still evaluated
+    left = RenderOptions("approx", 8)
+    half = Fill(rect_path(0, 0, 7, SIZE), Solid((0, 1, 0, 1)))
+    render_float(Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1))), half])), left)
+    assert covered.lens_stats[0] + left.lens_stats[0] >= alone.lens_stats[0]
+    back_to_front, front_to_back = _both(
+        Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1))), cover])), "approx")
+    assert np.array_equal(back_to_front, front_to_back)
+
+
 def test_run_numbers_restart_without_changing_a_pixel():
     # runs stamp what they cover with their number; when the numbers run out the stamps are
     # cleared and numbering restarts. Stale stamps equal to the restarted numbers are planted:

@@ -63,21 +63,33 @@ def crossing_x(xt, yt, dxdy, ys):
 
 
 @njit(cache=True, inline="always")
-def mask_lookup(table, nx, ny, dist, full):
-    """Samples inside the half-plane <x, n> + dist < 0 (unit n, pixel-centre origin), from
-    the precomputed (pseudo-angle, distance) table: the paper's look-up texture."""
-    if dist <= -DMAX:
-        return full
-    if dist >= DMAX:
-        return np.uint64(0)
+def mask_angle(nx, ny):
+    """The table's angle bin of the unit normal (nx, ny): its pseudo-angle (diamond angle)."""
     if ny >= 0:
         da = ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
     else:
         da = 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
-    ai = int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
+    return int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
+
+
+@njit(cache=True, inline="always")
+def mask_at(table, ai, dist, full):
+    """mask_lookup in the angle bin ``ai``: a pixel asks twice with one normal (mask_angle
+    once)."""
+    if dist <= -DMAX:
+        return full
+    if dist >= DMAX:
+        return np.uint64(0)
     di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
     di = min(DIST_BINS - 1, max(0, di))
     return table[ai, di]
+
+
+@njit(cache=True, inline="always")
+def mask_lookup(table, nx, ny, dist, full):
+    """Samples inside the half-plane <x, n> + dist < 0 (unit n, pixel-centre origin), from
+    the precomputed (pseudo-angle, distance) table: the paper's look-up texture."""
+    return mask_at(table, mask_angle(nx, ny), dist, full)
 
 
 @njit(cache=True, inline="always")
@@ -311,9 +323,11 @@ def _lens_alpha(dist, bx0, by0, bx1, by1, px, py):
 
 @njit(cache=True, error_model="numpy")
 def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi, lens_stats, hidden):
+                dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
-    mode, except in the rows where ``hidden`` is set. Written out in one loop nest: an array handed to a helper costs a reference count
+    mode, except in the rows where ``hidden`` is set and at the pixels stamped ``full_id``
+    (covered whole by the fills in front of this one in its occlusion run: a lens's winding
+    stays in its pixel, so nothing of it can show there; -1 for a fill drawn on its own). Written out in one loop nest: an array handed to a helper costs a reference count
     per call, here per primitive and per touched pixel. ``lens_stats`` counts the curve pixels of
     the approx mode (0), those where it evaluated samples (1) and those samples (2)."""
     n = sx.shape[0]
@@ -374,6 +388,8 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                 max_lo = max(max_lo, lo[s])
                 min_hi = min(min_hi, hi[s])
             for px in range(pxa, pxz + 1):
+                if stamp[r, px] == full_id:
+                    continue
                 if px >= max_lo and px <= min_hi:
                     region = full
                 else:
@@ -417,9 +433,9 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
                                 margin = (_linearisation_bound(prim, px + 0.5, py + 0.5, la, lb, lc)
                                           / g + quantum)
                                 if margin < DMAX:
-                                    nx, ny = sigma * gx / g, sigma * gy / g
-                                    bits = mask_lookup(table, nx, ny, dist + margin, full) & region
-                                    unsure = (mask_lookup(table, nx, ny, dist - margin, full)
+                                    ai = mask_angle(sigma * gx / g, sigma * gy / g)
+                                    bits = mask_at(table, ai, dist + margin, full) & region
+                                    unsure = (mask_at(table, ai, dist - margin, full)
                                               & region & ~bits)
                                 else:
                                     bits = np.uint64(0)
@@ -924,7 +940,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy, mode,
                                 table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats,
-                                hidden)
+                                hidden, stamp, full_id if run else -1)
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
