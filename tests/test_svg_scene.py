@@ -889,3 +889,20 @@ def test_nested_svg_effects_apply_in_its_viewport_coordinates(effect, defs):
                   f'overflow="visible" {effect}>{content}</svg>')
     group = draw(f'<g transform="translate(20 30) scale(2)" {effect}>{content}</g>')
     assert np.abs(nested.astype(int) - group.astype(int)).max() <= 1
+
+
+def test_context_paints_take_the_paint_not_its_opacity():
+    # SVG 2 §13.3: context-fill is the context element's fill *paint*; how opaque it is comes
+    # from the element's own fill-opacity. In <use> that is inherited from the <use> (0.3
+    # once, not 0.3 x 0.3); marker content inherits from the marker, not the path (opaque).
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100"><defs><rect id="r" width="40" height="40" '
+        'fill="context-fill"/><marker id="m" markerWidth="10" markerHeight="10" refX="5" '
+        'refY="5" markerUnits="userSpaceOnUse"><rect width="10" height="10" '
+        'fill="context-stroke"/></marker></defs>'
+        '<use href="#r" fill="#00ff00" fill-opacity="0.3"/>'
+        '<path d="M 50 80 L 70 80 L 90 80" fill="none" stroke="#0000ff" stroke-opacity="0.2" '
+        'stroke-width="2" marker-mid="url(#m)"/></svg>')
+    assert abs(int(img[20, 20, 3]) - round(0.3 * 255)) <= 1 and img[20, 20, 1] == 255
+    assert tuple(img[76, 70]) == (0, 0, 255, 255)

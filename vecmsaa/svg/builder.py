@@ -113,7 +113,6 @@ class ContextPaint:
     style: object
     ctx: object
     bbox_fn: object
-    opacity: float
 
 
 @dataclass
@@ -977,11 +976,9 @@ class Builder:
             got = ctx.context_fill if value == "context-fill" else ctx.context_stroke
             if got is None:
                 return None
-            ref = self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(),
-                                        got.opacity)
-            if ref is None:
-                return None
-            return PaintRef(ref.paint, ref.opacity * opacity)
+            # the context element's paint only: opacity is the element's own fill-opacity
+            # or stroke-opacity (SVG 2 §13.3, as resvg)
+            return self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(), opacity)
         url = parse_url(value)
         if url is not None:
             ref, fallback = url
@@ -1025,8 +1022,7 @@ class Builder:
         value = self.paint_value(style, which)
         if value in ("context-fill", "context-stroke"):
             return ctx.context_fill if value == "context-fill" else ctx.context_stroke
-        return ContextPaint(value, style, ctx, bbox_fn,
-                            parse_opacity(style.get(f"{which}-opacity")))
+        return ContextPaint(value, style, ctx, bbox_fn)
 
     # -- markers ---------------------------------------------------------------------------
     def markers(self, path, style, ctx):
