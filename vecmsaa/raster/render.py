@@ -417,7 +417,7 @@ class Raster:
             render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
                         o.kernel_mode, o.table, o.a2c_bits, o.occlude, o.saturate,
-                        o.color_samples, self.scratch)
+                        self.scratch)
         if o.saturate:
             composite(out, target)
 

@@ -506,72 +506,14 @@ def _sort_row(a, r, cnt):
 
 
 @njit(cache=True, error_model="numpy")
-def limit_colours(pool, slot, slots, uniq, ids):
-    """CSAA's colour table: a split pixel keeps at most ``slots`` distinct colours over its
-    coverage samples (each sample an index into the table). While it has more, the colour held
-    by the fewest samples (of those, the one appearing first in sample order) is dropped and
-    its samples take the nearest remaining colour (RGBA distance; ties: first appearing): the
-    pixel's error is bounded by the dropped samples' weight times that distance. With at most
-    ``slots`` colours nothing changes, so CSAA is n-sample MSAA exactly there. uniq (n, 5): colour and sample count per
-    table entry; ids (n): each sample's entry."""
-    n = pool.shape[1]
-    m = 0
-    for s in range(n):
-        j = 0
-        while j < m and not (uniq[j, 0] == pool[slot, s, 0] and uniq[j, 1] == pool[slot, s, 1]
-                             and uniq[j, 2] == pool[slot, s, 2]
-                             and uniq[j, 3] == pool[slot, s, 3]):
-            j += 1
-        if j == m:
-            for ch in range(4):
-                uniq[m, ch] = pool[slot, s, ch]
-            uniq[m, 4] = 0.0
-            m += 1
-        uniq[j, 4] += 1.0
-        ids[s] = j
-    if m <= slots:
-        return
-    while m > slots:
-        u = 0
-        for j in range(1, m):
-            if uniq[j, 4] < uniq[u, 4]:
-                u = j
-        v, best = -1, np.inf
-        for j in range(m):
-            if j != u:
-                d = 0.0
-                for ch in range(4):
-                    d += (uniq[j, ch] - uniq[u, ch]) ** 2
-                if d < best:
-                    v, best = j, d
-        uniq[v, 4] += uniq[u, 4]
-        # entry u goes: its samples join v, the later entries move up one (the table stays in
-        # order of first appearance, which the ties above rely on)
-        for s in range(n):
-            if ids[s] == u:
-                ids[s] = v
-            if ids[s] > u:
-                ids[s] -= 1
-        for j in range(u, m - 1):
-            for ch in range(5):
-                uniq[j, ch] = uniq[j + 1, ch]
-        m -= 1
-    for s in range(n):
-        for ch in range(4):
-            pool[slot, s, ch] = uniq[ids[s], ch]
-
-
-@njit(cache=True, error_model="numpy")
 def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist,
-               dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov, sat, slots,
-               uniq, ids, span):
+               dcount, fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov, sat, span):
     """Per row r0..r1 of the strip: turn the winding deltas into coverage and composite the
     fill's paint (one call per fill). The per-pixel work is written out in this loop nest:
     every array handed to a helper, even an inlined one, costs an atomic reference count
     increment and decrement per call, which per dirty pixel was a third of the kernel time.
     Spans (fewer) still go through _blend_span. ``sat``: the saturating blend (fills drawn
-    front to back) instead of source-over. ``slots`` < n: CSAA, at most that many colours per
-    pixel (limit_colours; uniq, ids its buffers)."""
+    front to back) instead of source-over."""
     n = wrun.shape[0]
     solid = kind == 0
     for r in range(r0, r1 + 1):
@@ -693,10 +635,6 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 pool[slot, s, 1] = cg * cs + pool[slot, s, 1] * k
                 pool[slot, s, 2] = cb * cs + pool[slot, s, 2] * k
                 pool[slot, s, 3] = ca * cs + pool[slot, s, 3] * k
-            # a partial cover is the only step that adds a colour to a pixel (a uniform one
-            # maps each colour to one colour)
-            if slots < n:
-                limit_colours(pool, slot, slots, uniq, ids)
         dcount[r] = 0
     return npool
 
@@ -851,7 +789,7 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
                 paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, occlude, saturate,
-                slots, scratch):
+                scratch):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
     device rows y0 .. y0 + H - 1) in place, strip by strip with the ``msaa_scratch`` buffers.
 
@@ -867,10 +805,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     ``saturate``: the fills are drawn front to back (last fill first) with the saturating blend
     i = min(A_f, 1 - A_fb) instead of source-over (the ``alpha-sat`` mode): ``target`` must
     start transparent, and the caller composites it over what lies behind.
-
-    ``slots`` < n: coverage-sample antialiasing (CSAA), n coverage samples but at most
-    ``slots`` stored colours per pixel (limit_colours); fills are drawn in order (no
-    occlusion runs: which colour a full table drops depends on the order).
+    CSAA (fewer stored colours than samples) is raster/csaa.py's render_csaa.
     """
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
@@ -883,9 +818,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
-    occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate and slots >= n
-    uniq = np.zeros((n, 5), dtype=np.float32)
-    ids = np.zeros(n, dtype=np.int64)
+    occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
@@ -951,7 +884,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                        paint_f[k], lut, tex, delta, local, dirty, dlist, dcount,
                                        fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov,
-                                       saturate, slots, uniq, ids, span)
+                                       saturate, span)
             p = q
         # resolve: split pixels average their samples (resolve filter weights); one-colour
         # pixels are already in the target
