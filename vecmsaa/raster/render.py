@@ -26,7 +26,7 @@ import numpy as np
 
 from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
-from ..output.rgba8 import unpremultiply_to_rgba8
+from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
@@ -202,9 +202,10 @@ def render_scene_rgba8(scene: Scene, mode: str = "approx", samples: int = 8,
     opts = RenderOptions(mode, samples, filter, pattern, color_samples)
     out = np.empty((scene.height, scene.width, 4), dtype=np.uint8)
 
-    def convert(y0, band):
-        unpremultiply_to_rgba8(band, out[y0:y0 + band.shape[0]])
-    render_bands(scene, opts, reporting(convert, progress, scene.height), band_budget, threads)
+    def convert(y0, band, refill=NO_REFILL):
+        unpremultiply_to_rgba8(band, out[y0:y0 + band.shape[0]], refill)
+    render_bands(scene, opts, reporting(convert, progress, scene.height), band_budget, threads,
+                 refills=True)
     return out
 
 
@@ -220,14 +221,15 @@ def render_scene_png(scene: Scene, mode: str = "approx", samples: int = 8,
     stream = PngStream(scene.width, scene.height)
     per_thread = threading.local()
 
-    def encode(y0, band):
+    def encode(y0, band, refill=NO_REFILL):
         rgba8 = getattr(per_thread, "rgba8", None)
         if rgba8 is None or rgba8.shape[0] < band.shape[0]:
             rgba8 = per_thread.rgba8 = np.empty((band.shape[0], band.shape[1], 4), np.uint8)
         rgba8 = rgba8[:band.shape[0]]
-        unpremultiply_to_rgba8(band, rgba8)
+        unpremultiply_to_rgba8(band, rgba8, refill)
         stream.write_rows(y0, rgba8)
-    render_bands(scene, opts, reporting(encode, progress, scene.height), band_budget, threads)
+    render_bands(scene, opts, reporting(encode, progress, scene.height), band_budget, threads,
+                 refills=True)
     return stream.finish()
 
 
@@ -238,8 +240,8 @@ def reporting(consume, progress, rows: int):
         return consume
     lock, done = threading.Lock(), [0]
 
-    def consume_and_report(y0, band):
-        consume(y0, band)
+    def consume_and_report(y0, band, *refill):
+        consume(y0, band, *refill)
         with lock:
             done[0] += band.shape[0]
             so_far = done[0]
@@ -256,10 +258,13 @@ def available_cores() -> int:
 
 
 def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = BAND_BUDGET,
-                 threads: int | None = 1, target: np.ndarray | None = None) -> None:
+                 threads: int | None = 1, target: np.ndarray | None = None,
+                 refills: bool = False) -> None:
     """Render the scene band by band and call ``consume(y0, band)`` with each band, the
     premultiplied float32 rows y0 .. y0 + len(band) - 1, valid only during the call. Geometry
     is built once for all bands. With ``target`` the bands are its rows (the whole image).
+    ``refills``: ``consume(y0, band, refill)`` leaves every pixel of the band set to the
+    colour ``refill`` (the next band's background; unpremultiply_to_rgba8 does it as it reads).
 
     ``threads`` > 1 (None: every available core) renders that many bands at once, each thread
     with its own kernel buffers; ``consume`` is then called from those threads, in no
@@ -285,19 +290,27 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     starts = range(0, H, band_rows)
     background = premultiplied(scene.background)
 
+    refill = np.asarray(background, dtype=np.float32) if refills and target is None else None
+
     def draw_bands(next_start):
         raster = Raster(opts, W, H, strip_rows)
         buffer = np.empty((band_rows, W, 4), dtype=np.float32) if target is None else None
+        filled = 0          # rows of the buffer that hold the background already
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
             band = buffer[:rows] if target is None else target[y0:y0 + rows]
-            # one row from the colour, the others copied from it: broadcasting the 4 values
-            # over the whole band runs numpy's copy loop per pixel (a quarter of the tiger's
-            # render time at 8192 px)
-            band[0] = background
-            band[1:] = band[0]
+            if filled < rows:
+                # one row from the colour, the others copied from it: broadcasting the 4
+                # values over the whole band runs numpy's copy loop per pixel (a quarter of
+                # the tiger's render time at 8192 px)
+                band[0] = background
+                band[1:] = band[0]
             draw_items(items, band, y0, raster)
-            consume(y0, band)
+            if refill is None:
+                consume(y0, band)
+            else:
+                consume(y0, band, refill)
+                filled = rows
     run_bands(draw_bands, starts, threads)
 
 
