@@ -32,7 +32,7 @@ from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, MOVE
-from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights, sample_classes
+from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
                               stratified_pattern)
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
@@ -121,6 +121,16 @@ class RenderOptions:
             offsets = pat.offsets[0]
             self._use_offsets(offsets, filter_weight(filter, offsets[:, 0], offsets[:, 1]))
             return
+        self.samples = pat.samples
+        self.tile = pat.tile
+        if not pat.shared and RADIUS[filter] <= 0.5:
+            # a tile of patterns of the pixel's own samples (interleaved): one render per tile
+            # class, resolved by the kernels as for any pattern, and each pixel taken from its
+            # class's image (one "sample image" per class, of weight 1)
+            self.resolve = np.ones((len(pat.offsets), 1, 1, 1))
+            self.sample_opts = [[self._with_offsets(o, filter_weight(filter, o[:, 0], o[:, 1]))
+                                 for o in pat.offsets]]
+            return
         if mode == "analytic":
             raise ValueError(f"the analytic mode has no samples for the {filter} filter")
         if mode == "a2c" and pat.samples > 1:
@@ -130,9 +140,7 @@ class RenderOptions:
         if self.color_samples < pat.samples:
             raise ValueError(f"color samples need a pixel's own samples and the box or tent "
                              f"filter, not {pat.name} with {filter}")
-        self.samples = pat.samples
         self.resolve = resolve_weights(pat, filter)
-        self.tile = pat.tile
         self.sample_opts = [[self._one_sample(pat.offsets[c, s]) for c in range(len(pat.offsets))]
                             for s in range(pat.samples)]
 
@@ -157,10 +165,15 @@ class RenderOptions:
 
     def _one_sample(self, offset) -> "RenderOptions":
         """These options with the one sample at ``offset`` per pixel: a sample image's."""
+        one = self._with_offsets(np.asarray(offset, dtype=np.float64).reshape(1, 2), np.ones(1))
+        one.color_samples = 1
+        return one
+
+    def _with_offsets(self, offsets: np.ndarray, weights: np.ndarray) -> "RenderOptions":
+        """These options with these samples per pixel, resolved by the kernels."""
         one = copy.copy(self)
         one.resolve = None
-        one.color_samples = 1
-        one._use_offsets(np.asarray(offset, dtype=np.float64).reshape(1, 2), np.ones(1))
+        one._use_offsets(offsets, weights)
         return one
 
 
@@ -344,15 +357,18 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
     WR = W + 2 * R
     items = prepare_items(translated(scene.root, R, 0), opts)
     threads = available_cores() if threads is None else max(1, int(threads))
-    band_rows, strip_rows = band_layout(WR, 1, band_budget)
+    band_rows, strip_rows = band_layout(WR, opts.sample_opts[0][0].samples, band_budget)
     band_rows = max(1, min(band_rows, H))
     if threads > 1:
         band_rows = max(1, min(band_rows, -(-H // (2 * threads))))
     starts = range(0, H, band_rows)
     background = premultiplied(scene.background)
+    tw, th = opts.tile
 
     def draw_bands(next_start):
-        rasters = [[Raster(o, WR, H, strip_rows) for o in per_class]
+        # one set of kernel buffers for all: the kernels leave them clean
+        first = Raster(opts.sample_opts[0][0], WR, H, strip_rows)
+        rasters = [[Raster(o, WR, H, strip_rows, first.scratch) for o in per_class]
                    for per_class in opts.sample_opts]
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
@@ -360,14 +376,17 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
             acc = np.zeros((rows, W, 4), np.float32)
             image = np.empty((rows + 2 * R, WR, 4), np.float32)
             part = np.empty_like(image) if len(rasters[0]) > 1 else image
-            cls = sample_classes(opts.tile, y0 - R, -R, rows + 2 * R, WR)
             for s, per_class in enumerate(rasters):
                 for c, raster in enumerate(per_class):
                     part[0] = background
                     part[1:] = part[0]
                     draw_items(items, part, y0 - R, raster)
                     if part is not image:
-                        image[cls == c] = part[cls == c]
+                        # the pixels of tile class c (resolve.sample_classes): every th-th row
+                        # and tw-th column, from the band's first device row y0 - R and column -R
+                        cy, cx = divmod(c, tw)
+                        iy, ix = (cy - (y0 - R)) % th, (cx + R) % tw
+                        image[iy::th, ix::tw] = part[iy::th, ix::tw]
                 accumulate(acc, y0, opts.resolve, opts.tile, s, image)
             finish(acc, band)
             consume(y0, band)
@@ -404,10 +423,14 @@ class Raster:
     """The raster kernels and their strip buffers for one image width: allocated once, reused
     by every band and batch (the kernels leave them clean), so no band pays for fresh pages."""
 
-    def __init__(self, opts: RenderOptions, width: int, height: int, strip_rows: int):
+    def __init__(self, opts: RenderOptions, width: int, height: int, strip_rows: int,
+                 scratch=None):
         self.opts = opts
         self.width, self.height = width, height
-        if opts.mode == "analytic":
+        if scratch is not None:
+            # another Raster's buffers (same width, strips and sample count), used in turn
+            self.scratch = scratch
+        elif opts.mode == "analytic":
             self.scratch = analytic_scratch(strip_rows, width)
         elif opts.color_samples < opts.samples:
             self.scratch = csaa_scratch(strip_rows, width, opts.samples, opts.color_samples,
