@@ -213,6 +213,17 @@ def test_msaa_equals_point_in_shape_at_the_pattern_positions(name, n, mode):
     assert np.abs(got - want).max() < 1e-5
 
 
+def test_interleaved_tiles_render_per_class_in_every_multisample_mode():
+    """The interleaved tile is a pattern of the pixel's own samples per tile class, so a2c and
+    CSAA take it too (one render per class): straight edges are point-sampled there."""
+    size, n = 16, 4
+    want = brute_force(QUAD, "interleaved", n, size)
+    for opts in (dict(mode="a2c"), dict(mode="approx", color_samples=2)):
+        got = render_scene(scene_of(polygon_path(QUAD), size), samples=n, pattern="interleaved",
+                           **opts)[..., 3]
+        assert np.abs(got - want).max() < 1e-5, opts
+
+
 @pytest.mark.parametrize("name", ["d3d", "quincunx", "flipquad", "interleaved"])
 def test_curves_are_point_sampled_at_the_pattern_positions(name):
     """A quadratic and a cubic outline (root-finding winding numbers as the truth)."""
