@@ -177,8 +177,9 @@ class SamplePattern:
     of -0.5 lies on the pixel's top or left edge); pixel (x, y) uses class
     (y mod th) * tw + (x mod tw) of a ``tile`` of (tw, th) pixels. ``per_pixel``: one class
     and every sample strictly inside its pixel, so a pixel's samples are its own and the
-    kernels resolve them; otherwise samples are shared with or differ between neighbours and
-    raster/resolve.py resolves them. ``shared``: samples on the pixel's edges or corners are
+    kernels resolve them; a tile of such classes (interleaved) is rendered once per class,
+    each resolved by the kernels, when the filter stays in the pixel; otherwise samples are
+    shared with or differ between neighbours and raster/resolve.py resolves them. ``shared``: samples on the pixel's edges or corners are
     also the neighbours' (quincunx, FLIPQUAD); elsewhere an offset of -0.5 (D3D 16 has two) is
     this pixel's alone. ``filter``: the resolve filter the pattern is defined with."""
 
