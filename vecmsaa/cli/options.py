@@ -50,7 +50,8 @@ def add_sampling_options(parser) -> None:
                              "(Poisson disk), quincunx (centre and shared corners, 2 stored "
                              "samples), flipquad (shared edge samples, 2 stored) or interleaved "
                              "(a 4x4 tile of pixels, each with its own pattern); the last three "
-                             "render once per stored sample and class, so cost more")
+                             "render once per stored sample and class (interleaved: once per "
+                             "class), so cost more")
     parser.add_argument("--filter", choices=FILTERS,
                         help="resolve filter: box (every sample weighs the same; the default, "
                              "tent for quincunx), tent (samples weigh less towards the pixel's "
