@@ -42,38 +42,51 @@ def csaa_scratch(strip_rows: int, W: int, n: int, slots: int, lens_stats=None) -
 
 
 @njit(cache=True, error_model="numpy")
-def _partial(colours, index, slot, cov, cr, cg, cb, ca, sat, fresh, uniq, counts):
+def _partial(colours, index, slot, cov, cr, cg, cb, ca, sat, fresh, uniq, counts, key_entry):
     """A partial cover of a split pixel: every sample's colour blended from its table entry at
     its own coverage, then the table rebuilt from them (distinct colours in sample order; while
-    more than K, the one on fewest samples joins its nearest)."""
+    more than K, the one on fewest samples joins its nearest). Where every coverage is 0 or 1
+    (all but the alpha modes) samples of one entry and coverage share one colour, which is
+    blended and looked up once (``key_entry``: its new entry, by 2 · entry + covered)."""
     n = index.shape[1]
     K = colours.shape[1]
+    binary = True
     for s in range(n):
-        j = index[slot, s]
-        r, g, b, a = colours[slot, j, 0], colours[slot, j, 1], colours[slot, j, 2], colours[slot, j, 3]
-        cs = cov[s]
-        if cs > 0.0:
-            if sat:
-                t = cs * saturated(ca * cs, a)
-                r, g, b, a = r + cr * t, g + cg * t, b + cb * t, a + ca * t
-            else:
-                k = 1.0 - ca * cs
-                r, g, b, a = cr * cs + r * k, cg * cs + g * k, cb * cs + b * k, ca * cs + a * k
-        # float32 here, as a stored sample: equal colours are found by exact comparison
-        fresh[s, 0], fresh[s, 1], fresh[s, 2], fresh[s, 3] = r, g, b, a
+        if cov[s] != 0.0 and cov[s] != 1.0:
+            binary = False
+    if binary:
+        key_entry[:] = -1
     m = 0
     for s in range(n):
-        j = 0
-        while j < m and not (uniq[j, 0] == fresh[s, 0] and uniq[j, 1] == fresh[s, 1]
-                             and uniq[j, 2] == fresh[s, 2] and uniq[j, 3] == fresh[s, 3]):
-            j += 1
-        if j == m:
-            for ch in range(4):
-                uniq[m, ch] = fresh[s, ch]
-            counts[m] = 0
-            m += 1
-        counts[j] += 1
-        index[slot, s] = j
+        j = index[slot, s]
+        cs = cov[s]
+        key = 2 * j + (1 if cs > 0.0 else 0)
+        if binary and key_entry[key] >= 0:
+            u = key_entry[key]
+        else:
+            r, g, b, a = colours[slot, j, 0], colours[slot, j, 1], colours[slot, j, 2], colours[slot, j, 3]
+            if cs > 0.0:
+                if sat:
+                    t = cs * saturated(ca * cs, a)
+                    r, g, b, a = r + cr * t, g + cg * t, b + cb * t, a + ca * t
+                else:
+                    k = 1.0 - ca * cs
+                    r, g, b, a = cr * cs + r * k, cg * cs + g * k, cb * cs + b * k, ca * cs + a * k
+            # float32 here, as a stored sample: equal colours are found by exact comparison
+            fresh[s, 0], fresh[s, 1], fresh[s, 2], fresh[s, 3] = r, g, b, a
+            u = 0
+            while u < m and not (uniq[u, 0] == fresh[s, 0] and uniq[u, 1] == fresh[s, 1]
+                                 and uniq[u, 2] == fresh[s, 2] and uniq[u, 3] == fresh[s, 3]):
+                u += 1
+            if u == m:
+                for ch in range(4):
+                    uniq[m, ch] = fresh[s, ch]
+                counts[m] = 0
+                m += 1
+            if binary:
+                key_entry[key] = u
+        counts[u] += 1
+        index[slot, s] = u
     while m > K:
         u = 0
         for j in range(1, m):
@@ -108,7 +121,7 @@ def _partial(colours, index, slot, cov, cr, cg, cb, ca, sat, fresh, uniq, counts
 @njit(cache=True, error_model="numpy")
 def sweep_csaa(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty, dlist, dcount,
                fb, cplx, slot_of, slot_pixel, colours, index, npool, wrun, cov, sat, fresh,
-               uniq, counts, span):
+               uniq, counts, key_entry, span):
     """scan.sweep_rows with colour tables: per row r0..r1, windings to coverage, the fill's
     paint composited onto the one-colour pixels in the target and the tables of split ones
     (scan._blend_span's arithmetic). Written out in one loop nest, as sweep_rows is: an array
@@ -220,7 +233,8 @@ def sweep_csaa(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                 cr, cg, cb, ca = span[j, 0], span[j, 1], span[j, 2], span[j, 3]
             else:
                 cr, cg, cb, ca = f[0], f[1], f[2], f[3]
-            _partial(colours, index, cplx[r, px], cov, cr, cg, cb, ca, sat, fresh, uniq, counts)
+            _partial(colours, index, cplx[r, px], cov, cr, cg, cb, ca, sat, fresh, uniq, counts,
+                     key_entry)
         dcount[r] = 0
     return npool
 
@@ -247,6 +261,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     fresh = np.zeros((n, 4), dtype=np.float32)
     uniq = np.zeros((n, 4), dtype=np.float32)
     counts = np.zeros(n, dtype=np.int64)
+    key_entry = np.zeros(2 * colours.shape[1], dtype=np.int64)
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
@@ -268,7 +283,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             npool = sweep_csaa(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                paint_f[k], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,
                                slot_of, slot_pixel, colours, index, npool, wrun, cov, saturate,
-                               fresh, uniq, counts, span)
+                               fresh, uniq, counts, key_entry, span)
         for slot in range(npool):
             r = slot_pixel[slot] // W
             px = slot_pixel[slot] - r * W
