@@ -517,6 +517,9 @@ def test_a_base_and_its_combining_marks_are_one_typographic_character():
     spaced = draw(f'<text x="20" y="60" letter-spacing="15">{q}x</text>')
     moved = draw(f'<text x="20" y="60">{q}<tspan dx="15">x</tspan></text>')
     assert np.abs(spaced - moved).max() <= 2
+    # marks in a span of another size are drawn at their base's size, with it (as resvg)
+    split = draw(f'<text x="60" y="60">q<tspan font-size="20">{q[1:]}</tspan></text>')
+    assert np.array_equal(split, draw(f'<text x="60" y="60">{q}</text>'))
 
 
 @pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",

@@ -135,11 +135,24 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     run = shape_run(face, text, s, e, location=loc,
                     features=_joined_ligatures(dict(spec.features), text, s, e, context[0]),
                     direction=direction, context=context)
+    # One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
+    # rotates, spaces and sizes): HarfBuzz's character-level clusters leave a combining mark
+    # it did not merge with its base on its own, which then turned about its own origin, got
+    # letter-spacing between it and its base, and kept its own font size. Its glyphs join
+    # the cluster of the character it extends.
+    owner = {}
+    base = None
+    for i in range(s, e):
+        if base is not None and _extends(text[i]):
+            owner[i] = base
+        else:
+            base = i
     out = []
     current = None
     pen = 0.0
     for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
         cl = int(cl)
+        cl = owner.get(cl, cl)
         size = specs[cl].size
         scale = size / face.units_per_em
         if current is None or current.char != cl:
@@ -152,7 +165,7 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
                                     -float(off[1]) * scale, scale))
         pen += float(adv[0]) * scale
         current.width = current.advance = pen
-    return _merge_extenders(out, text, direction == "rtl")
+    return out
 
 
 def _joined_ligatures(features, text, s, e, lo):
@@ -184,33 +197,6 @@ def _extends(ch):
     return (unicodedata.category(ch) in ("Mn", "Me", "Mc") or cp in (0x200C, 0x200D)
             or 0xFE00 <= cp <= 0xFE0F or 0x1F3FB <= cp <= 0x1F3FF or 0xE0020 <= cp <= 0xE007F
             or 0xE0100 <= cp <= 0xE01EF)
-
-
-def _merge_extenders(clusters, text, rtl):
-    """One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
-    rotates and spaces): HarfBuzz's character-level clusters give a combining mark HarfBuzz
-    did not merge with its base its own cluster, which rotated about its own origin and got
-    letter-spacing between it and its base. The glyphs are in visual order, so in a
-    right-to-left run a mark's cluster comes before its base's."""
-    if not any(_extends(text[c.char]) for c in clusters):
-        return clusters
-    out = []
-    order = reversed(clusters) if rtl else clusters
-    for c in order:
-        if out and _extends(text[c.char]) and c.face is out[-1].face:
-            base = out[-1]
-            if rtl:   # c's glyphs come first (to the left): base's move right past them
-                for g in base.glyphs:
-                    g.dx += c.width
-                base.glyphs[:0] = c.glyphs
-            else:
-                for g in c.glyphs:
-                    g.dx += base.width
-                base.glyphs.extend(c.glyphs)
-            base.width = base.advance = base.width + c.width
-            continue
-        out.append(c)
-    return out[::-1] if rtl else out
 
 
 def _spacing_allowed(ch):
