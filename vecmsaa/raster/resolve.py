@@ -7,12 +7,13 @@ neighbours (quincunx, FLIPQUAD: the support is then the closed pixel); ``tent1``
 and ``mitchell`` reach into the neighbouring pixels.
 
 With a pattern whose samples are the pixel's own (SamplePattern.per_pixel) and a filter within
-the pixel, the kernels resolve each pixel from its samples (scan.render_msaa). Otherwise a pixel
-needs its neighbours' samples: the band is rendered once per stored sample (and per class of
-the pattern's tile), each render with that one sample per pixel, into *sample images* with a
-margin of ``apron`` pixels on every side; the pixel is then the weighted sum of the sample
-images around it (:func:`accumulate`). A sample image's pixels do not depend on where the band
-begins, so neither does the result.
+the pixel, the kernels resolve each pixel from its samples (scan.render_msaa); a tile of such
+patterns (interleaved) with such a filter is one such render per class of the tile, each
+pixel taken from its class's render. Otherwise a pixel needs its neighbours' samples: the band
+is rendered once per stored sample (and per class of the pattern's tile), each render with
+that one sample per pixel, into *sample images* with a margin of ``apron`` pixels on every
+side; the pixel is then the weighted sum of the sample images around it (:func:`accumulate`).
+A sample image's pixels do not depend on where the band begins, so neither does the result.
 """
 from __future__ import annotations
 
