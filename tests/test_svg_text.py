@@ -562,3 +562,26 @@ def test_a_span_of_zero_or_negative_size_draws_nothing_and_takes_no_room(size):
     got = render(f'<text x="5" y="70">H<tspan font-size="{size}">HH</tspan>'
                  '<tspan fill="red">H</tspan></text>')
     assert np.array_equal(got, ref)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "NotoSansDevanagari-Regular.ttf")),
+                    reason="needs the suite's Noto Sans Devanagari font")
+def test_a_cluster_on_a_path_sits_at_the_middle_of_its_widest_glyph():
+    # resvg places a cluster on a path at the middle of its widest glyph (the pen still moves
+    # by all its glyphs): ni (pre-base matra 259 + na 555 units at 40 px: widest 22.2, all
+    # 32.6) on a path that turns down at arc length 14 has its middle, 11.1, on the first,
+    # horizontal leg, so it is drawn as the same text on a straight line
+    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
+                width=200, mode="analytic")
+
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200" '
+               f'font-family="Noto Sans Devanagari" font-size="40">{body}</svg>').encode()
+        return render_svg_array(svg, **opts)[..., 3].astype(int)
+
+    on_path = draw('<defs><path id="p" d="M 20 60 L 34 60 L 34 190"/></defs>'
+                   '<text><textPath href="#p">\u0928\u093f</textPath></text>')
+    straight = draw('<text x="20" y="60">\u0928\u093f</text>')
+    # (the path's arc-length walk rounds positions a little: edge pixels differ by a few %)
+    assert straight.max() == 255 and np.abs(on_path - straight).max() <= 32

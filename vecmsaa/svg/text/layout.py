@@ -59,6 +59,7 @@ class Cluster:
     frame: tuple = IDENTITY     # cluster transform in user units (without path_ts)
     visible: bool = True
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
+    widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
 
 
 def shape_chunk(chars, faces, specs, start, end):
@@ -163,8 +164,10 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
             pen = 0.0
         current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
                                     -float(off[1]) * scale, scale))
-        pen += float(adv[0]) * scale
+        width = float(adv[0]) * scale
+        pen += width
         current.width = current.advance = pen
+        current.widest = max(current.widest, width)
     return out
 
 
@@ -276,6 +279,7 @@ def apply_length_adjust(clusters, chars, text_length, on_path):
                 if on_path:
                     clusters[i].advance *= factor
                     clusters[i].width *= factor
+                    clusters[i].widest *= factor
         else:
             factor = (target - width) / (len(idx) - 1) if len(idx) > 1 else 0.0
             for i in idx:

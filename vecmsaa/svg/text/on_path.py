@@ -45,7 +45,9 @@ def position_on_path(clusters, chars, text_path, start, ctx, styles, shifts):
     for c in clusters:
         ch = chars[c.char]
         advance += ch.dx
-        hw = c.width / 2
+        # placed and turned at the middle of its widest glyph (as resvg, whose cluster width
+        # is that glyph's; the pen moves by the whole advance)
+        hw = c.widest / 2
         at = walker.at(advance + hw)
         advance += c.advance
         dy += ch.dy
