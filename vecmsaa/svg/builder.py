@@ -977,7 +977,7 @@ class Builder:
             if got is None:
                 return None
             # the context element's paint only: opacity is the element's own fill-opacity
-            # or stroke-opacity (SVG 2 §13.3, as resvg)
+            # or stroke-opacity (SVG 2 "Specifying paint", as resvg)
             return self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(), opacity)
         url = parse_url(value)
         if url is not None:
