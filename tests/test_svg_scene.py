@@ -893,8 +893,9 @@ def test_nested_svg_effects_apply_in_its_viewport_coordinates(effect, defs):
 
 def test_context_paints_take_the_paint_not_its_opacity():
     # SVG 2 "Specifying paint": context-fill is the context element's fill *paint*; how
-    # opaque it is comes from the element's own fill-opacity. In <use> that is inherited from the <use> (0.3
-    # once, not 0.3 x 0.3); marker content inherits from the marker, not the path (opaque).
+    # opaque it is comes from the element's own fill-opacity. In <use> that is inherited
+    # from the <use> (0.3 once, not 0.3 x 0.3); marker content inherits from the marker, not
+    # the path (opaque).
     from vecmsaa.api import render_svg_array
     img = render_svg_array(
         f'<svg {NS} width="100" height="100"><defs><rect id="r" width="40" height="40" '
