@@ -39,12 +39,12 @@ _CONVERT, _SPANS, _GIVEN = 0, 1, 2
 _NOT_EXACT = 1              # status: some number needs Python's float
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _is_wsp(c):
     return c == 32 or c == 9 or c == 10 or c == 13 or c == 12
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _command(c):
     """Code of a command letter (0–9, see _LETTERS), + 16 when relative; -1 for any other byte."""
     rel = 0
@@ -74,7 +74,7 @@ def _command(c):
     return -1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _number(buf, pos, end):
     """The SVG number starting at pos (``[+-]?(\\d+\\.?\\d*|\\.\\d+)([eE][+-]?\\d+)?``, longest
     match) → (end of it or -1 when there is none, its value, whether the value is exact)."""
@@ -139,14 +139,14 @@ def _number(buf, pos, end):
     return i, -value if neg else value, exact
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _skip_wsp(buf, pos, end):
     while pos < end and _is_wsp(buf[pos]):
         pos += 1
     return pos
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _skip_sep(buf, pos, end):
     """comma-wsp (optional): wsp*, at most one comma, wsp*."""
     pos = _skip_wsp(buf, pos, end)
@@ -155,7 +155,7 @@ def _skip_sep(buf, pos, end):
     return pos
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     """Writes an elliptical arc's conic pieces (≤ 90° each, as usvg cuts them: three points
     per piece, as scene.path stores a CONIC) into pts
@@ -246,7 +246,7 @@ def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     return npts
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, npts):
     """Reads the path data in buf[pos:n], appending to verbs, origin (the command index of
     every verb) and pts (flat x, y) from nv and npts on → (nv, npts, numbers read, status).
@@ -538,8 +538,9 @@ def _parse_batch(buf, starts, mode, given, spans):
             nv, npts = nv2, npts2
     vstart[count] = nv
     pstart[count] = npts
-    return (verbs[:nv].copy(), pts[:npts].copy(), origin[:nv].copy(), vstart, pstart, status,
-            numbers)
+    # whole buffers: the caller cuts them to vstart[-1] and pstart[-1] (numpy's copies cost
+    # no compile time)
+    return verbs, pts, origin, vstart, pstart, status, numbers
 
 
 _NO_NUMBERS = np.empty(0, np.float64)
@@ -576,8 +577,9 @@ def _parse_exactly(text: str):
     raw = buf.tobytes()
     given = np.array([float(raw[a:b]) for a, b in spans[:2 * count].reshape(-1, 2).tolist()],
                      np.float64)
-    verbs, pts, origin = _parse_batch(buf, starts, _GIVEN, given, _NO_SPANS)[:3]
-    return Path._of_arrays(verbs, pts.reshape(-1, 2)), origin
+    verbs, pts, origin, vstart, pstart = _parse_batch(buf, starts, _GIVEN, given, _NO_SPANS)[:5]
+    nv, npts = vstart[-1], pstart[-1]
+    return Path._of_arrays(verbs[:nv].copy(), pts[:npts].reshape(-1, 2).copy()), origin[:nv].copy()
 
 
 class PathBatch:
@@ -596,9 +598,10 @@ class PathBatch:
             buf = np.frombuffer(b"".join(raw), np.uint8)
         verbs, pts, origin, vstart, pstart, status, _ = _parse_batch(
             buf, starts, _CONVERT, _NO_NUMBERS, _NO_SPANS)
+        nv, npts = vstart[-1], pstart[-1]
         self.texts = texts
-        self.verbs, self.origin = verbs, origin
-        self.points = SharedPoints(pts.reshape(-1, 2))
+        self.verbs, self.origin = verbs[:nv].copy(), origin[:nv].copy()
+        self.points = SharedPoints(pts[:npts].reshape(-1, 2).copy())
         self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
         self.status = status.tolist()
         self._drawing = None
@@ -633,12 +636,15 @@ def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     Returns None when the arc is a straight line (a zero radius), and [] when the endpoints
     coincide (SVG omits such an arc).
     """
-    pts = np.empty(24)
-    end = _arc(pts, 0, float(x1), float(y1), float(rx), float(ry), float(phi_deg),
-               bool(large_arc), bool(sweep), float(x2), float(y2))
-    if end < 0:
+    x1, y1, rx, ry, phi_deg, x2, y2 = map(float, (x1, y1, rx, ry, phi_deg, x2, y2))
+    if x1 == x2 and y1 == y2:
+        return []
+    if not all(map(math.isfinite, (x1, y1, rx, ry, phi_deg, x2, y2))):
         return None
-    conics = Path.from_lists([MOVE] + [CONIC] * (end // 6),
-                             [(float(x1), float(y1))] + list(map(tuple, pts[:end].reshape(-1, 2).tolist())))
-    xy = conics.without_conics().points[1:].reshape(-1, 3, 2).tolist()
+    # read as path data (repr round-trips every double), which runs the kernel's _arc
+    flags = f"{int(bool(large_arc))} {int(bool(sweep))}"
+    path = parse_path_data(f"M {x1!r} {y1!r} A {rx!r} {ry!r} {phi_deg!r} {flags} {x2!r} {y2!r}")
+    if path.verbs[-1] != CONIC:
+        return None
+    xy = path.without_conics().points[1:].reshape(-1, 3, 2).tolist()
     return [tuple(tuple(p) for p in piece) for piece in xy]
