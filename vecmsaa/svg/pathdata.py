@@ -246,51 +246,82 @@ def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     return npts
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, npts):
-    """Reads the path data in buf[pos:n], appending to verbs, origin (the command index of
-    every verb) and pts (flat x, y) from nv and npts on → (nv, npts, numbers read, status).
+@njit(cache=True)
+def _parse_batch(buf, starts, mode, given, spans):
+    """The path data buf[starts[i]:starts[i + 1]] of several paths → (verbs, flat points,
+    command indices: whole buffers, to be cut at the ends of the last path; where each path's
+    verbs and coordinates start (n + 1 each), status of each path, numbers read in each); a
+    path with status _NOT_EXACT is left empty here. Modes _SPANS and _GIVEN are for one path
+    at a time.
 
-    mode _CONVERT converts numbers here and stops with status _NOT_EXACT at one it cannot;
-    _SPANS writes where each number is into ``spans`` (start, end pairs; flags are not
-    numbers here) and nothing else; _GIVEN takes the k-th number's value from ``given``.
-    The control flow depends on how many numbers there are, never on their values, so the
-    three modes see the same numbers. ``nums`` is scratch of at least n - pos + 1 floats;
-    verbs and origin need room for n - pos + 2 more entries, pts for 3 (n - pos) + 32 (an
-    arc adds ≤ 24 coordinates and needs ≥ 9 bytes; anything else ≤ 2 per byte).
-    Mirrors SVG 2 9.3.9 and 9.5.4 (see the module doc).
-    """
-    k = 0                       # numbers read so far (indexes given and spans)
-    status = 0
-    geometry = mode != _SPANS
-    pos = _skip_wsp(buf, pos, n)
-    if pos < n and _command(buf[pos]) < 0:
-        pos = n                 # junk before the first command: an empty path
-    cx = cy = sx = sy = rx = ry = 0.0
-    prev_kind = 0               # _C after C/S, _Q after Q/T, -1 otherwise
-    subpath_open = False
-    command_index = 0
-    first = True
-    while pos < n:
-        code = _command(buf[pos])
-        upper = code & 15
-        relative = code >= 16
-        a0 = pos + 1
-        a1 = a0
-        while a1 < n and _command(buf[a1]) < 0:
-            a1 += 1
-        pos = a1
-        if first and upper != _M:
-            break               # path data must begin with a moveto
-        first = False
-        # -- the arguments: numbers, or for arcs numbers and single-digit flags ----------
-        count = 0
-        p = _skip_wsp(buf, a0, a1)
-        if upper == _A:
-            field = 0
+    Each path's data is read as SVG 2 9.3.9 and 9.5.4 say (see the module doc). mode
+    _CONVERT converts numbers here and stops with status _NOT_EXACT at one it cannot; _SPANS
+    writes where each number is into ``spans`` (start, end pairs; flags are not numbers here)
+    and nothing else; _GIVEN takes the k-th number's value from ``given``. The control flow
+    depends on how many numbers there are, never on their values, so the three modes see the
+    same numbers.
+
+    One kernel, the only entry point: numba optimises a kernel together with everything it
+    calls, so each level of calls or further entry would compile the parser again."""
+    npaths = len(starts) - 1
+    longest = 0
+    for i in range(npaths):
+        longest = max(longest, starts[i + 1] - starts[i])
+    nums = np.empty(longest + 1, np.float64)     # a command's numbers
+    # verbs and origin get ≤ 1 entry a byte and 2 a path; pts ≤ 2 coordinates a byte but
+    # for arcs (≤ 24 coordinates a command of ≥ 9 bytes): grown below when 3 a byte + 32 might
+    # not fit
+    vcap = len(buf) + 2 * npaths + 2
+    verbs = np.empty(vcap, np.uint8)
+    origin = np.empty(vcap, np.int64)
+    pcap = 2 * len(buf) + 32
+    pts = np.empty(pcap, np.float64)
+    vstart = np.empty(npaths + 1, np.int64)
+    pstart = np.empty(npaths + 1, np.int64)
+    path_status = np.zeros(npaths, np.int64)
+    numbers = np.zeros(npaths, np.int64)
+    nv = npts = np.int64(0)      # (not the literal 0: _arc would be compiled for it too)
+    for path in range(npaths):
+        pos, n = starts[path], starts[path + 1]
+        need = npts + 3 * (n - pos) + 32
+        if need > pcap:                 # only arcs write more than 2 coordinates a byte
+            pcap = max(need, 2 * pcap)
+            grown = np.empty(pcap, np.float64)
+            for j in range(npts):   # (a loop: a slice assignment costs seconds of compile time)
+                grown[j] = pts[j]
+            pts = grown
+        vstart[path] = nv
+        pstart[path] = npts
+        k = 0                       # numbers read so far (indexes given and spans)
+        status = 0
+        geometry = mode != _SPANS
+        pos = _skip_wsp(buf, pos, n)
+        if pos < n and _command(buf[pos]) < 0:
+            pos = n                 # junk before the first command: an empty path
+        cx = cy = sx = sy = rx = ry = 0.0
+        prev_kind = 0               # _C after C/S, _Q after Q/T, -1 otherwise
+        subpath_open = False
+        command_index = 0
+        first = True
+        while pos < n:
+            code = _command(buf[pos])
+            upper = code & 15
+            relative = code >= 16
+            a0 = pos + 1
+            a1 = a0
+            while a1 < n and _command(buf[a1]) < 0:
+                a1 += 1
+            pos = a1
+            if first and upper != _M:
+                break               # path data must begin with a moveto
+            first = False
+            # -- the arguments: numbers, or for arcs numbers and single-digit flags ----------
+            count = 0
+            p = _skip_wsp(buf, a0, a1)
+            field = 0                   # an arc's fields 3 and 4 are flags
             while True:
                 q = p if count == 0 else _skip_sep(buf, p, a1)
-                if field == 3 or field == 4:
+                if upper == _A and (field == 3 or field == 4):
                     if q < a1 and (buf[q] == _ZERO or buf[q] == _ONE):
                         nums[count] = 1.0 if buf[q] == _ONE else 0.0
                         e = q + 1
@@ -316,231 +347,166 @@ def _parse_into(buf, pos, n, mode, given, spans, verbs, origin, pts, nums, nv, n
             if status:
                 break
             ok = _skip_wsp(buf, p, a1) == a1
-        else:
-            q = p
-            while True:
-                e, v, exact = _number(buf, q, a1)
-                if e < 0:
-                    break
-                if mode == _GIVEN:
-                    v = given[k]
-                elif mode == _SPANS:
-                    spans[2 * k] = q
-                    spans[2 * k + 1] = e
-                elif not exact:
-                    status = _NOT_EXACT
-                    break
-                nums[count] = v
-                k += 1
-                count += 1
-                p = e
-                q = _skip_sep(buf, p, a1)
-            if status:
-                break
-            ok = _skip_wsp(buf, p, a1) == a1
-            if not ok and count and (buf[p] == _E_LOWER or buf[p] == _E_UPPER):
+            if upper != _A and not ok and count and (buf[p] == _E_LOWER or buf[p] == _E_UPPER):
                 count -= 1      # "1e" is a broken number, not "1" followed by junk
-        arity = _ARITY[upper]
-        if arity == 0:
-            nums_ok = count == 0
-            reps = 0
-        else:
-            reps = count // arity
-            nums_ok = reps > 0 and reps * arity == count
-        if not geometry:
-            if not (ok and nums_ok):
-                break
-            continue
-        if upper == _Z:
-            if subpath_open:
-                verbs[nv] = CLOSE
-                origin[nv] = command_index
-                nv += 1
-                command_index += 1
-            cx, cy = sx, sy
-            subpath_open = False
-            prev_kind = -1
-            if not (ok and nums_ok):
-                break
-            continue
-        for r in range(reps):
-            i = r * arity
-            if upper == _M:
-                x, y = nums[i], nums[i + 1]
-                if relative:
-                    x += cx
-                    y += cy
-                verbs[nv] = MOVE if r == 0 else LINE   # extra pairs are implicit linetos
-                origin[nv] = command_index
-                nv += 1
-                pts[npts] = x
-                pts[npts + 1] = y
-                npts += 2
-                if r == 0:
-                    sx, sy = x, y
-                    subpath_open = True
-                cx, cy = x, y
-                prev_kind = -1
-                command_index += 1
+            arity = _ARITY[upper]
+            if arity == 0:
+                nums_ok = count == 0
+                reps = 0
+            else:
+                reps = count // arity
+                nums_ok = reps > 0 and reps * arity == count
+            if not geometry:
+                if not (ok and nums_ok):
+                    break
                 continue
-            if not subpath_open:
-                # a drawing command right after closepath starts a subpath at its start point
-                verbs[nv] = MOVE
-                origin[nv] = command_index
-                nv += 1
-                pts[npts] = cx
-                pts[npts + 1] = cy
-                npts += 2
-                subpath_open = True
-            if upper == _L or upper == _H or upper == _V:
-                if upper == _L:
+            if upper == _Z:
+                if subpath_open:
+                    verbs[nv] = CLOSE
+                    origin[nv] = command_index
+                    nv += 1
+                    command_index += 1
+                cx, cy = sx, sy
+                subpath_open = False
+                prev_kind = -1
+                if not (ok and nums_ok):
+                    break
+                continue
+            for r in range(reps):
+                i = r * arity
+                if upper == _M:
                     x, y = nums[i], nums[i + 1]
                     if relative:
                         x += cx
                         y += cy
-                elif upper == _H:
-                    x = nums[i] + cx if relative else nums[i]
-                    y = cy
-                else:
-                    x = cx
-                    y = nums[i] + cy if relative else nums[i]
-                verbs[nv] = LINE
-                pts[npts] = x
-                pts[npts + 1] = y
-                npts += 2
-                prev_kind = -1
-            elif upper == _C or upper == _S:
-                if upper == _C:
-                    x1, y1 = nums[i], nums[i + 1]
-                    x2, y2, x, y = nums[i + 2], nums[i + 3], nums[i + 4], nums[i + 5]
-                    if relative:
-                        x1 += cx
-                        y1 += cy
-                else:
-                    x2, y2, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
-                    if prev_kind == _C:
-                        x1, y1 = 2 * cx - rx, 2 * cy - ry
-                    else:
-                        x1, y1 = cx, cy
-                if relative:
-                    x2 += cx
-                    y2 += cy
-                    x += cx
-                    y += cy
-                verbs[nv] = CUBIC
-                pts[npts] = x1
-                pts[npts + 1] = y1
-                pts[npts + 2] = x2
-                pts[npts + 3] = y2
-                pts[npts + 4] = x
-                pts[npts + 5] = y
-                npts += 6
-                rx, ry = x2, y2
-                prev_kind = _C
-            elif upper == _Q or upper == _T:
-                if upper == _Q:
-                    x1, y1, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
-                    if relative:
-                        x1 += cx
-                        y1 += cy
-                else:
-                    x, y = nums[i], nums[i + 1]
-                    if prev_kind == _Q:
-                        x1, y1 = 2 * cx - rx, 2 * cy - ry
-                    else:
-                        x1, y1 = cx, cy
-                if relative:
-                    x += cx
-                    y += cy
-                verbs[nv] = QUAD
-                pts[npts] = x1
-                pts[npts + 1] = y1
-                pts[npts + 2] = x
-                pts[npts + 3] = y
-                npts += 4
-                rx, ry = x1, y1
-                prev_kind = _Q
-            else:               # A
-                x, y = nums[i + 5], nums[i + 6]
-                if relative:
-                    x += cx
-                    y += cy
-                start = npts
-                end = _arc(pts, npts, cx, cy, nums[i], nums[i + 1], nums[i + 2],
-                           nums[i + 3] != 0.0, nums[i + 4] != 0.0, x, y)
-                if end < 0:
-                    verbs[nv] = LINE
+                    verbs[nv] = MOVE if r == 0 else LINE   # extra pairs are implicit linetos
                     origin[nv] = command_index
                     nv += 1
                     pts[npts] = x
                     pts[npts + 1] = y
                     npts += 2
-                else:
-                    for _ in range((end - start) // 6):
-                        verbs[nv] = CONIC
+                    if r == 0:
+                        sx, sy = x, y
+                        subpath_open = True
+                    cx, cy = x, y
+                    prev_kind = -1
+                    command_index += 1
+                    continue
+                if not subpath_open:
+                    # a drawing command right after closepath starts a subpath at its start point
+                    verbs[nv] = MOVE
+                    origin[nv] = command_index
+                    nv += 1
+                    pts[npts] = cx
+                    pts[npts + 1] = cy
+                    npts += 2
+                    subpath_open = True
+                if upper == _L or upper == _H or upper == _V:
+                    if upper == _L:
+                        x, y = nums[i], nums[i + 1]
+                        if relative:
+                            x += cx
+                            y += cy
+                    elif upper == _H:
+                        x = nums[i] + cx if relative else nums[i]
+                        y = cy
+                    else:
+                        x = cx
+                        y = nums[i] + cy if relative else nums[i]
+                    verbs[nv] = LINE
+                    pts[npts] = x
+                    pts[npts + 1] = y
+                    npts += 2
+                    prev_kind = -1
+                elif upper == _C or upper == _S:
+                    if upper == _C:
+                        x1, y1 = nums[i], nums[i + 1]
+                        x2, y2, x, y = nums[i + 2], nums[i + 3], nums[i + 4], nums[i + 5]
+                        if relative:
+                            x1 += cx
+                            y1 += cy
+                    else:
+                        x2, y2, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
+                        if prev_kind == _C:
+                            x1, y1 = 2 * cx - rx, 2 * cy - ry
+                        else:
+                            x1, y1 = cx, cy
+                    if relative:
+                        x2 += cx
+                        y2 += cy
+                        x += cx
+                        y += cy
+                    verbs[nv] = CUBIC
+                    pts[npts] = x1
+                    pts[npts + 1] = y1
+                    pts[npts + 2] = x2
+                    pts[npts + 3] = y2
+                    pts[npts + 4] = x
+                    pts[npts + 5] = y
+                    npts += 6
+                    rx, ry = x2, y2
+                    prev_kind = _C
+                elif upper == _Q or upper == _T:
+                    if upper == _Q:
+                        x1, y1, x, y = nums[i], nums[i + 1], nums[i + 2], nums[i + 3]
+                        if relative:
+                            x1 += cx
+                            y1 += cy
+                    else:
+                        x, y = nums[i], nums[i + 1]
+                        if prev_kind == _Q:
+                            x1, y1 = 2 * cx - rx, 2 * cy - ry
+                        else:
+                            x1, y1 = cx, cy
+                    if relative:
+                        x += cx
+                        y += cy
+                    verbs[nv] = QUAD
+                    pts[npts] = x1
+                    pts[npts + 1] = y1
+                    pts[npts + 2] = x
+                    pts[npts + 3] = y
+                    npts += 4
+                    rx, ry = x1, y1
+                    prev_kind = _Q
+                else:               # A
+                    x, y = nums[i + 5], nums[i + 6]
+                    if relative:
+                        x += cx
+                        y += cy
+                    start = npts
+                    end = _arc(pts, npts, cx, cy, nums[i], nums[i + 1], nums[i + 2],
+                               nums[i + 3] != 0.0, nums[i + 4] != 0.0, x, y)
+                    if end < 0:
+                        verbs[nv] = LINE
                         origin[nv] = command_index
                         nv += 1
-                    npts = end
+                        pts[npts] = x
+                        pts[npts + 1] = y
+                        npts += 2
+                    else:
+                        for _ in range((end - start) // 6):
+                            verbs[nv] = CONIC
+                            origin[nv] = command_index
+                            nv += 1
+                        npts = end
+                    cx, cy = x, y
+                    prev_kind = -1
+                    command_index += 1
+                    continue
+                origin[nv] = command_index
+                nv += 1
                 cx, cy = x, y
-                prev_kind = -1
                 command_index += 1
-                continue
-            origin[nv] = command_index
-            nv += 1
-            cx, cy = x, y
-            command_index += 1
-        if not (ok and nums_ok):
-            break
-    return nv, npts, k, status
-
-
-@njit(cache=True)
-def _parse_batch(buf, starts, mode, given, spans):
-    """The path data buf[starts[i]:starts[i + 1]] of several paths → (verbs, flat points,
-    command indices, where each path's verbs and coordinates start (n + 1 each), status of
-    each path, numbers read in each); a path with status _NOT_EXACT is left empty here.
-    Modes _SPANS and _GIVEN (see _parse_into) are for one path at a time.
-
-    The only entry point: numba optimises a kernel together with everything it calls, so
-    each further entry would compile the parser again."""
-    count = len(starts) - 1
-    longest = 0
-    for i in range(count):
-        longest = max(longest, starts[i + 1] - starts[i])
-    nums = np.empty(longest + 1, np.float64)
-    vcap = len(buf) + 2 * count + 2
-    verbs = np.empty(vcap, np.uint8)
-    origin = np.empty(vcap, np.int64)
-    pcap = 2 * len(buf) + 32
-    pts = np.empty(pcap, np.float64)
-    vstart = np.empty(count + 1, np.int64)
-    pstart = np.empty(count + 1, np.int64)
-    status = np.zeros(count, np.int64)
-    numbers = np.zeros(count, np.int64)
-    # not the literal 0, which numba would compile _parse_into for once more
-    nv = npts = np.int64(0)
-    for i in range(count):
-        a, b = starts[i], starts[i + 1]
-        need = npts + 3 * (b - a) + 32
-        if need > pcap:                 # only arcs write more than 2 coordinates a byte
-            pcap = max(need, 2 * pcap)
-            grown = np.empty(pcap, np.float64)
-            for j in range(npts):   # (a loop: a slice assignment costs seconds of compile time)
-                grown[j] = pts[j]
-            pts = grown
-        vstart[i] = nv
-        pstart[i] = npts
-        nv2, npts2, numbers[i], st = _parse_into(buf, a, b, mode, given, spans, verbs, origin,
-                                                 pts, nums, nv, npts)
-        if st:
-            status[i] = st
-        else:
-            nv, npts = nv2, npts2
-    vstart[count] = nv
-    pstart[count] = npts
-    # whole buffers: the caller cuts them to vstart[-1] and pstart[-1] (numpy's copies cost
-    # no compile time)
-    return verbs, pts, origin, vstart, pstart, status, numbers
+            if not (ok and nums_ok):
+                break
+        numbers[path] = k
+        if status:
+            path_status[path] = status
+            nv, npts = vstart[path], pstart[path]    # (the path is left empty)
+    vstart[npaths] = nv
+    pstart[npaths] = npts
+    return verbs, pts, origin, vstart, pstart, path_status, numbers
 
 
 _NO_NUMBERS = np.empty(0, np.float64)
