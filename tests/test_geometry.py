@@ -5,9 +5,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from numba import njit
+
 from vecmsaa.geometry.primitives import (P_KIND, _eval_implicit, build_batch,
-                                         classify_cubic, KIND_CUBIC)
+                                         classify_cubic as _classify_cubic, KIND_CUBIC)
 from vecmsaa.scene.path import Path
+
+# (the kernel has no CPython wrapper: only the batch builder calls it)
+classify_cubic = njit(lambda X: _classify_cubic(X))
 
 SERPENTINE, LOOP, CUSP, CUSP_AT_INFINITY, QUADRATIC, LINE = range(6)
 

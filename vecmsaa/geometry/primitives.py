@@ -412,7 +412,7 @@ def _klm_cusp_at_infinity(klm, ls, lt):
     klm[3, 0], klm[3, 1], klm[3, 2] = ls - lt, (ls - lt) * (ls - lt) * (ls - lt), 1.0
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def classify_cubic(X):
     """Loop–Blinn classification of a cubic given in a normalised frame (4 x 2 array).
 

@@ -623,7 +623,7 @@ def _square(x):
     return z, p - z + q + lo * lo
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _hypot(x, y):
     """math.hypot as CPython computes it (the square root of an exactly summed sum of squares,
     corrected by one step): libm's hypot, which numba calls, differs in the last bit now and
