@@ -1046,117 +1046,6 @@ def _as_cubic(stack, seg, kind):
             stack[0, j] = seg[j]
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol, join, cap,
-                   miterlimit):
-    """The general stroker for segments lo..hi-1 of one subpath: they become pieces (lines,
-    offset cubics, chords) grouped into runs with continuous tangents, joined inline; one
-    contour when open, two loops when closed, as in _stroke_polyline. Returns the grown
-    output buffers."""
-    tab = np.empty((16, _PIECE_COLS))
-    pk = np.empty(16, np.uint8)
-    stack = np.empty((_MAX_DEPTH + 2, 9))
-    cur = np.empty(8)
-    firsts = np.empty(hi - lo + 1, np.int64)    # each segment's first piece, then n
-    n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
-    for s in range(lo, hi):
-        firsts[s - lo] = n
-        seg = segs[s]
-        if kinds[s] == 2:
-            ok, dx, dy = _unit(seg[2] - seg[0], seg[3] - seg[1])
-            if ok:
-                tab, pk, n = _line_piece(tab, pk, n, seg[0], seg[1], seg[2], seg[3], dx, dy,
-                                         hw, 0.0)
-        else:
-            if kinds[s] == 5:       # a circular arc: exact offsets
-                tab, pk, n, ok = _circle_piece(tab, pk, n, seg, hw)
-                if ok:
-                    continue
-            _as_cubic(stack, seg, kinds[s])
-            tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
-    firsts[hi - lo] = n
-    run_lo = np.empty(n + 1, np.int64)
-    run_join = np.empty(n + 1, np.int64)
-    nruns = 0
-    for s in range(hi - lo):
-        first = firsts[s]
-        for j in range(first, firsts[s + 1]):
-            if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
-                    tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
-                continue            # on with the run
-            run_lo[nruns] = j
-            run_join[nruns] = join if j == first else _ROUND
-            nruns += 1
-    run_lo[nruns] = n
-    if nruns == 0:
-        verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
-        pts = _grow_points(pts, cnt[1] + _DOT_PTS)
-        dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], 1.0, 0.0, hw, cap, tol)
-        return verbs, pts
-    # One chain along both sides, joins and caps inline: as chains this equals the sum of the
-    # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
-    # explained in _stroke_polyline, so the nonzero fill is their union.
-    side_verbs = 2 * n + _JOIN_SIDE_VERBS * (nruns + 1) + 4
-    side_pts = 4 * n + _JOIN_SIDE_PTS * (nruns + 1) + 4
-    rv = np.empty(side_verbs, np.uint8)
-    lv = np.empty(side_verbs, np.uint8)
-    rp = np.empty((side_pts, 2))
-    lp = np.empty((side_pts, 2))
-    rc = np.zeros(2, np.int64)
-    lc = np.zeros(2, np.int64)
-    tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
-    tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
-    tc = np.zeros(2, np.int64)
-    _point(rp, rc, tab[0, _PR], tab[0, _PR + 1])
-    _point(lp, lc, tab[0, _PL], tab[0, _PL + 1])
-    # (np.int64: an int literal argument would compile a specialisation of its own)
-    _append_side(rv, rp, rc, tab, pk, np.int64(0), run_lo[1], np.int64(_PR))
-    _append_side(lv, lp, lc, tab, pk, np.int64(0), run_lo[1], np.int64(_PL))
-    for i in range(1, nruns + 1 if closed else nruns):
-        a = run_lo[i % nruns]
-        prev = run_lo[i] - 1
-        d0x, d0y = tab[prev, _PT1], tab[prev, _PT1 + 1]
-        d1x, d1y = tab[a, _PT0], tab[a, _PT0 + 1]
-        px, py = tab[a, _PS], tab[a, _PS + 1]
-        r1x, r1y = tab[a, _PR], tab[a, _PR + 1]
-        l1x, l1y = tab[a, _PL], tab[a, _PL + 1]
-        cross = d0x * d1y - d0y * d1x
-        dot = d0x * d1x + d0y * d1y
-        if dot > SMOOTH_COS:
-            _line(rv, rp, rc, r1x, r1y)
-            _line(lv, lp, lc, l1x, l1y)
-        else:
-            jn = run_join[i] if i < nruns else join
-            jtol = _shape_tol(tab, prev, a, tol)
-            if cross > 0:       # turning left: left side inner
-                _turn_sides(rv, rp, rc, lv, lp, lc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
-                            -1.0, hw, jn, miterlimit, dot, jtol, r1x, r1y, l1x, l1y)
-            else:
-                _turn_sides(lv, lp, lc, rv, rp, rc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
-                            1.0, hw, jn, miterlimit, dot, jtol, l1x, l1y, r1x, r1y)
-        if i < nruns:
-            _append_side(rv, rp, rc, tab, pk, a, run_lo[i + 1], np.int64(_PR))
-            _append_side(lv, lp, lc, tab, pk, a, run_lo[i + 1], np.int64(_PL))
-    verbs = _grow(verbs, cnt[0] + rc[0] + lc[0] + 2 * _CAP_VERBS + 4)
-    pts = _grow_points(pts, cnt[1] + rc[1] + lc[1] + 2 * _CAP_PTS + 4)
-    if closed:
-        # the sides start where the first run starts; the closing join ended there too
-        _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc)
-        return verbs, pts
-    last = n - 1
-    verbs[cnt[0]] = MOVE
-    cnt[0] += 1
-    _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(0))
-    cap_items(verbs, pts, cnt, tab[last, _PE], tab[last, _PE + 1], tab[last, _PT1],
-              tab[last, _PT1 + 1], hw, cap, _shape_tol(tab, last, last, tol))
-    _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(0))
-    cap_items(verbs, pts, cnt, tab[0, _PS], tab[0, _PS + 1], -tab[0, _PT0], -tab[0, _PT0 + 1],
-              hw, cap, _shape_tol(tab, np.int64(0), np.int64(0), tol))
-    verbs[cnt[0]] = CLOSE
-    cnt[0] += 1
-    return verbs, pts
-
-
 @njit(cache=True)
 def path_segments(verbs, points):
     """A path's subpaths as stroke_segments takes them (kinds, segments, subpath starts,
@@ -1216,7 +1105,13 @@ def path_segments(verbs, points):
 @njit(cache=True)
 def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, general):
     """Outline (verbs, points) of subpaths of segments (see path_segments). Subpaths of lines
-    only go to _stroke_polyline unless general (tests compare the two strokers)."""
+    only go to _stroke_polyline unless general (tests compare the two strokers); the others to
+    the general stroker, written out below rather than a kernel of its own: each call level
+    is linked, optimised and compiled to machine code again in its caller.
+
+    The general stroker takes the segments lo..hi-1 of one subpath: they become pieces (lines,
+    offset cubics, chords) grouped into runs with continuous tangents, joined inline; one
+    contour when open, two loops when closed, as in _stroke_polyline."""
     verbs = np.empty(64, np.uint8)
     pts = np.empty((64, 2))
     cnt = np.zeros(2, np.int64)
@@ -1232,24 +1127,123 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         lines = not general
         for s in range(lo, hi):
             lines = lines and kinds[s] == 2
-        if not lines:
-            verbs, pts = _stroke_pieces(verbs, pts, cnt, kinds, segs, lo, hi, closed, hw, tol,
-                                        join, cap, miterlimit)
+        if lines:
+            m = hi - lo + 1
+            src = np.empty((m, 2))
+            for s in range(lo, hi):
+                src[s - lo, 0], src[s - lo, 1] = segs[s, 0], segs[s, 1]
+            src[m - 1, 0], src[m - 1, 1] = segs[hi - 1, 2], segs[hi - 1, 3]
+            verbs = _grow(verbs, cnt[0] + 2 * (_SIDE_VERBS_PER_VERTEX * m + 2) +
+                                2 * _CAP_VERBS + 4 + _DOT_VERBS)
+            pts = _grow_points(pts, cnt[1] + 2 * (_SIDE_PTS_PER_VERTEX * m + 2) + 2 * _CAP_PTS +
+                               4 + _DOT_PTS + 1)
+            side_pts = _SIDE_PTS_PER_VERTEX * m + 4
+            _stroke_polyline(verbs, pts, cnt, src, np.int64(0), m, closed, hw, tol, join, cap,
+                             miterlimit, np.empty((m, 2)), np.empty((m, 2)), np.empty(m),
+                             np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
+                             np.empty((side_pts, 2)),
+                             np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
+                             np.empty((side_pts, 2)))
             continue
-        m = hi - lo + 1
-        src = np.empty((m, 2))
+        tab = np.empty((16, _PIECE_COLS))
+        pk = np.empty(16, np.uint8)
+        stack = np.empty((_MAX_DEPTH + 2, 9))
+        cur = np.empty(8)
+        firsts = np.empty(hi - lo + 1, np.int64)    # each segment's first piece, then n
+        n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
         for s in range(lo, hi):
-            src[s - lo, 0], src[s - lo, 1] = segs[s, 0], segs[s, 1]
-        src[m - 1, 0], src[m - 1, 1] = segs[hi - 1, 2], segs[hi - 1, 3]
-        verbs = _grow(verbs, cnt[0] + 2 * (_SIDE_VERBS_PER_VERTEX * m + 2) +
-                            2 * _CAP_VERBS + 4 + _DOT_VERBS)
-        pts = _grow_points(pts, cnt[1] + 2 * (_SIDE_PTS_PER_VERTEX * m + 2) + 2 * _CAP_PTS +
-                           4 + _DOT_PTS + 1)
-        side_pts = _SIDE_PTS_PER_VERTEX * m + 4
-        _stroke_polyline(verbs, pts, cnt, src, np.int64(0), m, closed, hw, tol, join, cap,
-                         miterlimit, np.empty((m, 2)), np.empty((m, 2)), np.empty(m),
-                         np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
-                         np.empty((side_pts, 2)),
-                         np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
-                         np.empty((side_pts, 2)))
+            firsts[s - lo] = n
+            seg = segs[s]
+            if kinds[s] == 2:
+                ok, dx, dy = _unit(seg[2] - seg[0], seg[3] - seg[1])
+                if ok:
+                    tab, pk, n = _line_piece(tab, pk, n, seg[0], seg[1], seg[2], seg[3], dx, dy,
+                                             hw, 0.0)
+            else:
+                if kinds[s] == 5:       # a circular arc: exact offsets
+                    tab, pk, n, ok = _circle_piece(tab, pk, n, seg, hw)
+                    if ok:
+                        continue
+                _as_cubic(stack, seg, kinds[s])
+                tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
+        firsts[hi - lo] = n
+        run_lo = np.empty(n + 1, np.int64)
+        run_join = np.empty(n + 1, np.int64)
+        nruns = 0
+        for s in range(hi - lo):
+            first = firsts[s]
+            for j in range(first, firsts[s + 1]):
+                if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
+                        tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
+                    continue            # on with the run
+                run_lo[nruns] = j
+                run_join[nruns] = join if j == first else _ROUND
+                nruns += 1
+        run_lo[nruns] = n
+        if nruns == 0:
+            verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
+            pts = _grow_points(pts, cnt[1] + _DOT_PTS)
+            dot_contour(verbs, pts, cnt, segs[lo, 0], segs[lo, 1], 1.0, 0.0, hw, cap, tol)
+            continue
+        # One chain along both sides, joins and caps inline: as chains this equals the sum of the
+        # separate positive pieces (a contour per run closed by butt lines, a wedge per join), as
+        # explained in _stroke_polyline, so the nonzero fill is their union.
+        side_verbs = 2 * n + _JOIN_SIDE_VERBS * (nruns + 1) + 4
+        side_pts = 4 * n + _JOIN_SIDE_PTS * (nruns + 1) + 4
+        rv = np.empty(side_verbs, np.uint8)
+        lv = np.empty(side_verbs, np.uint8)
+        rp = np.empty((side_pts, 2))
+        lp = np.empty((side_pts, 2))
+        rc = np.zeros(2, np.int64)
+        lc = np.zeros(2, np.int64)
+        tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
+        tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
+        tc = np.zeros(2, np.int64)
+        _point(rp, rc, tab[0, _PR], tab[0, _PR + 1])
+        _point(lp, lc, tab[0, _PL], tab[0, _PL + 1])
+        # (np.int64: an int literal argument would compile a specialisation of its own)
+        _append_side(rv, rp, rc, tab, pk, np.int64(0), run_lo[1], np.int64(_PR))
+        _append_side(lv, lp, lc, tab, pk, np.int64(0), run_lo[1], np.int64(_PL))
+        for i in range(1, nruns + 1 if closed else nruns):
+            a = run_lo[i % nruns]
+            prev = run_lo[i] - 1
+            d0x, d0y = tab[prev, _PT1], tab[prev, _PT1 + 1]
+            d1x, d1y = tab[a, _PT0], tab[a, _PT0 + 1]
+            px, py = tab[a, _PS], tab[a, _PS + 1]
+            r1x, r1y = tab[a, _PR], tab[a, _PR + 1]
+            l1x, l1y = tab[a, _PL], tab[a, _PL + 1]
+            cross = d0x * d1y - d0y * d1x
+            dot = d0x * d1x + d0y * d1y
+            if dot > SMOOTH_COS:
+                _line(rv, rp, rc, r1x, r1y)
+                _line(lv, lp, lc, l1x, l1y)
+            else:
+                jn = run_join[i] if i < nruns else join
+                jtol = _shape_tol(tab, prev, a, tol)
+                if cross > 0:       # turning left: left side inner
+                    _turn_sides(rv, rp, rc, lv, lp, lc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
+                                -1.0, hw, jn, miterlimit, dot, jtol, r1x, r1y, l1x, l1y)
+                else:
+                    _turn_sides(lv, lp, lc, rv, rp, rc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
+                                1.0, hw, jn, miterlimit, dot, jtol, l1x, l1y, r1x, r1y)
+            if i < nruns:
+                _append_side(rv, rp, rc, tab, pk, a, run_lo[i + 1], np.int64(_PR))
+                _append_side(lv, lp, lc, tab, pk, a, run_lo[i + 1], np.int64(_PL))
+        verbs = _grow(verbs, cnt[0] + rc[0] + lc[0] + 2 * _CAP_VERBS + 4)
+        pts = _grow_points(pts, cnt[1] + rc[1] + lc[1] + 2 * _CAP_PTS + 4)
+        if closed:
+            # the sides start where the first run starts; the closing join ended there too
+            _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc)
+            continue
+        last = n - 1
+        verbs[cnt[0]] = MOVE
+        cnt[0] += 1
+        _emit_side_forward(verbs, pts, cnt, rv, rp, rc, np.int64(0))
+        cap_items(verbs, pts, cnt, tab[last, _PE], tab[last, _PE + 1], tab[last, _PT1],
+                  tab[last, _PT1 + 1], hw, cap, _shape_tol(tab, last, last, tol))
+        _emit_side_backward(verbs, pts, cnt, lv, lp, lc, np.int64(0))
+        cap_items(verbs, pts, cnt, tab[0, _PS], tab[0, _PS + 1], -tab[0, _PT0], -tab[0, _PT0 + 1],
+                  hw, cap, _shape_tol(tab, np.int64(0), np.int64(0), tol))
+        verbs[cnt[0]] = CLOSE
+        cnt[0] += 1
     return verbs[:cnt[0]], pts[:cnt[1]]
