@@ -816,92 +816,6 @@ def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _cubic_pieces(tab, kinds, n, stack, cur, hw, tol):
-    """Append the pieces of the cubic in stack[0]: offset cubics where they fit within tol,
-    else halves (depth first, the first half first), down to pieces flat within tol / 2,
-    which become their chords. Stroked with round joins between them (the stroker's rule
-    inside a curve), chords are within tol / 2 of the curve's stroke: the round-joined
-    stroke of a polyline is its Minkowski sum with the pen disc. That is also how bends
-    tighter than the half width are handled, where the offset folds back on itself. The
-    joins' and caps' arcs may lie inside the disc by their own tolerance, which adds to the
-    chord's: they get what the chord leaves (see _shape_tol). stack rows: 8 coordinates and
-    the depth; cur: scratch for one cubic."""
-    right = np.empty(8)
-    left = np.empty(8)
-    stack[0, 8] = 0.0
-    top = 1
-    while top > 0:
-        top -= 1
-        for j in range(8):
-            cur[j] = stack[top, j]
-        depth = int(stack[top, 8])
-        ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
-        if not ok:
-            continue
-        # a piece turning by more than 90° is split so the midpoint fit stays well posed
-        fits = t0x * t1x + t0y * t1y >= 0.0
-        if fits:
-            # a bend tighter than hw on a side makes that side's offset fold back
-            for t in (0.0, 0.5, 1.0):
-                k = _curvature(cur, t)
-                if not math.isfinite(k) or hw * abs(k) >= 1.0:
-                    fits = False
-                    break
-        if fits:
-            _fit_offset(cur, t0x, t0y, t1x, t1y, -hw, right)
-            fits = not _offset_error(cur, right, -hw) > tol
-        if fits:
-            _fit_offset(cur, t0x, t0y, t1x, t1y, hw, left)
-            fits = not _offset_error(cur, left, hw) > tol
-        if fits:
-            tab = _grow_points(tab, n + 1)
-            kinds = _grow(kinds, n + 1)
-            r = tab[n]
-            r[0], r[1], r[2], r[3] = cur[0], cur[1], cur[6], cur[7]
-            r[4], r[5], r[6], r[7] = t0x, t0y, t1x, t1y
-            for j in range(8):
-                r[_PR + j] = right[j]
-                r[_PL + j] = left[j]
-            r[_PERR] = 0.0
-            kinds[n] = 4
-            n += 1
-            continue
-        flat = _flatness(cur)
-        if depth < _MAX_DEPTH and flat > tol / 2.0:
-            # the second half below the first, which is popped next
-            a, b = stack[top + 1], stack[top]
-            x0, y0, x1, y1, x2, y2, x3, y3 = (cur[0], cur[1], cur[2], cur[3], cur[4], cur[5],
-                                              cur[6], cur[7])
-            ax, ay = x0 + (x1 - x0) * 0.5, y0 + (y1 - y0) * 0.5
-            bx, by = x1 + (x2 - x1) * 0.5, y1 + (y2 - y1) * 0.5
-            cx, cy = x2 + (x3 - x2) * 0.5, y2 + (y3 - y2) * 0.5
-            dx, dy = ax + (bx - ax) * 0.5, ay + (by - ay) * 0.5
-            ex, ey = bx + (cx - bx) * 0.5, by + (cy - by) * 0.5
-            fx, fy = dx + (ex - dx) * 0.5, dy + (ey - dy) * 0.5
-            a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7] = x0, y0, ax, ay, dx, dy, fx, fy
-            b[0], b[1], b[2], b[3], b[4], b[5], b[6], b[7] = fx, fy, ex, ey, cx, cy, x3, y3
-            a[8] = b[8] = depth + 1.0
-            top += 2
-            continue
-        ok, dx, dy = _unit(cur[6] - cur[0], cur[7] - cur[1])
-        if ok:
-            tab, kinds, n = _line_piece(tab, kinds, n, cur[0], cur[1], cur[6], cur[7], dx, dy,
-                                        hw, flat)
-            continue
-        # a closed loop too small to matter (or depth exhausted): two chords via its midpoint
-        mx, my = _cubic_at(cur, 0.5)
-        ok, dx, dy = _unit(mx - cur[0], my - cur[1])
-        if ok:
-            tab, kinds, n = _line_piece(tab, kinds, n, cur[0], cur[1], mx, my, dx, dy, hw,
-                                        flat)
-        ok, dx, dy = _unit(cur[6] - mx, cur[7] - my)
-        if ok:
-            tab, kinds, n = _line_piece(tab, kinds, n, mx, my, cur[6], cur[7], dx, dy, hw,
-                                        flat)
-    return tab, kinds, n
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _circle_piece(tab, kinds, n, seg, hw):
     """Append the piece of a conic segment (seg: b0, b1, its point at t = ½, b2) that is a
     circular arc of radius above hw: its offsets are the concentric arcs of radius r ± hw,
@@ -1165,7 +1079,93 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                     if ok:
                         continue
                 _as_cubic(stack, seg, kinds[s])
-                tab, pk, n = _cubic_pieces(tab, pk, n, stack, cur, hw, tol)
+                # The cubic in stack[0] becomes pieces (written out here, not a kernel of its
+                # own: each call level is linked, optimised and compiled again in its caller):
+                # offset cubics where they fit within tol, else halves (depth first, the first
+                # half first), down to pieces flat within tol / 2, which become their chords.
+                # Stroked with round joins between them (the stroker's rule inside a curve),
+                # chords are within tol / 2 of the curve's stroke: the round-joined stroke of a
+                # polyline is its Minkowski sum with the pen disc. That is also how bends
+                # tighter than the half width are handled, where the offset folds back on
+                # itself. The joins' and caps' arcs may lie inside the disc by their own
+                # tolerance, which adds to the chord's: they get what the chord leaves (see
+                # _shape_tol). stack rows: 8 coordinates and the depth; cur: one cubic.
+                right = np.empty(8)
+                left = np.empty(8)
+                stack[0, 8] = 0.0
+                top = 1
+                while top > 0:
+                    top -= 1
+                    for j in range(8):
+                        cur[j] = stack[top, j]
+                    depth = int(stack[top, 8])
+                    ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
+                    if not ok:
+                        continue
+                    # a piece turning by more than 90° is split so the midpoint fit stays well
+                    # posed
+                    fits = t0x * t1x + t0y * t1y >= 0.0
+                    if fits:
+                        # a bend tighter than hw on a side makes that side's offset fold back
+                        for t in (0.0, 0.5, 1.0):
+                            kc = _curvature(cur, t)
+                            if not math.isfinite(kc) or hw * abs(kc) >= 1.0:
+                                fits = False
+                                break
+                    if fits:
+                        _fit_offset(cur, t0x, t0y, t1x, t1y, -hw, right)
+                        fits = not _offset_error(cur, right, -hw) > tol
+                    if fits:
+                        _fit_offset(cur, t0x, t0y, t1x, t1y, hw, left)
+                        fits = not _offset_error(cur, left, hw) > tol
+                    if fits:
+                        tab = _grow_points(tab, n + 1)
+                        pk = _grow(pk, n + 1)
+                        row = tab[n]
+                        row[0], row[1], row[2], row[3] = cur[0], cur[1], cur[6], cur[7]
+                        row[4], row[5], row[6], row[7] = t0x, t0y, t1x, t1y
+                        for j in range(8):
+                            row[_PR + j] = right[j]
+                            row[_PL + j] = left[j]
+                        row[_PERR] = 0.0
+                        pk[n] = 4
+                        n += 1
+                        continue
+                    flat = _flatness(cur)
+                    if depth < _MAX_DEPTH and flat > tol / 2.0:
+                        # the second half below the first, which is popped next
+                        sa, sb = stack[top + 1], stack[top]
+                        x0, y0, x1, y1, x2, y2, x3, y3 = (cur[0], cur[1], cur[2], cur[3],
+                                                          cur[4], cur[5], cur[6], cur[7])
+                        ax, ay = x0 + (x1 - x0) * 0.5, y0 + (y1 - y0) * 0.5
+                        bx, by = x1 + (x2 - x1) * 0.5, y1 + (y2 - y1) * 0.5
+                        cx, cy = x2 + (x3 - x2) * 0.5, y2 + (y3 - y2) * 0.5
+                        dx, dy = ax + (bx - ax) * 0.5, ay + (by - ay) * 0.5
+                        ex, ey = bx + (cx - bx) * 0.5, by + (cy - by) * 0.5
+                        fx, fy = dx + (ex - dx) * 0.5, dy + (ey - dy) * 0.5
+                        sa[0], sa[1], sa[2], sa[3] = x0, y0, ax, ay
+                        sa[4], sa[5], sa[6], sa[7] = dx, dy, fx, fy
+                        sb[0], sb[1], sb[2], sb[3] = fx, fy, ex, ey
+                        sb[4], sb[5], sb[6], sb[7] = cx, cy, x3, y3
+                        sa[8] = sb[8] = depth + 1.0
+                        top += 2
+                        continue
+                    ok, dx, dy = _unit(cur[6] - cur[0], cur[7] - cur[1])
+                    if ok:
+                        tab, pk, n = _line_piece(tab, pk, n, cur[0], cur[1], cur[6], cur[7], dx,
+                                                 dy, hw, flat)
+                        continue
+                    # a closed loop too small to matter (or depth exhausted): two chords via its
+                    # midpoint
+                    mx, my = _cubic_at(cur, 0.5)
+                    ok, dx, dy = _unit(mx - cur[0], my - cur[1])
+                    if ok:
+                        tab, pk, n = _line_piece(tab, pk, n, cur[0], cur[1], mx, my, dx, dy,
+                                                 hw, flat)
+                    ok, dx, dy = _unit(cur[6] - mx, cur[7] - my)
+                    if ok:
+                        tab, pk, n = _line_piece(tab, pk, n, mx, my, cur[6], cur[7], dx, dy,
+                                                 hw, flat)
         firsts[hi - lo] = n
         run_lo = np.empty(n + 1, np.int64)
         run_join = np.empty(n + 1, np.int64)
