@@ -39,39 +39,17 @@ _CONVERT, _SPANS, _GIVEN = 0, 1, 2
 _NOT_EXACT = 1              # status: some number needs Python's float
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _is_wsp(c):
-    return c == 32 or c == 9 or c == 10 or c == 13 or c == 12
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _command(c):
+def _command_code(c):
     """Code of a command letter (0–9, see _LETTERS), + 16 when relative; -1 for any other byte."""
-    rel = 0
-    if 97 <= c <= 122:
-        rel = 16
-        c -= 32
-    if c == 77:
-        return _M + rel
-    if c == 76:
-        return _L + rel
-    if c == 72:
-        return _H + rel
-    if c == 86:
-        return _V + rel
-    if c == 67:
-        return _C + rel
-    if c == 83:
-        return _S + rel
-    if c == 81:
-        return _Q + rel
-    if c == 84:
-        return _T + rel
-    if c == 65:
-        return _A + rel
-    if c == 90:
-        return _Z + rel
-    return -1
+    upper = c - 32 if 97 <= c <= 122 else c
+    code = _LETTERS.find(bytes([upper])) if 65 <= upper <= 90 else -1
+    return code + 16 if code >= 0 and upper != c else code
+
+
+#: the command code (_command_code) of every byte, and whether it is white space: table
+#: lookups in the kernel (numba bakes global arrays in as constants), not chains of tests
+_COMMAND = np.array([_command_code(c) for c in range(256)], np.int64)
+_WSP = np.array([c in b" \t\n\r\f" for c in range(256)], np.bool_)
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -141,7 +119,7 @@ def _number(buf, pos, end):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _skip_wsp(buf, pos, end):
-    while pos < end and _is_wsp(buf[pos]):
+    while pos < end and _WSP[buf[pos]]:
         pos += 1
     return pos
 
@@ -296,7 +274,7 @@ def _parse_batch(buf, starts, mode, given, spans):
         status = 0
         geometry = mode != _SPANS
         pos = _skip_wsp(buf, pos, n)
-        if pos < n and _command(buf[pos]) < 0:
+        if pos < n and _COMMAND[buf[pos]] < 0:
             pos = n                 # junk before the first command: an empty path
         cx = cy = sx = sy = rx = ry = 0.0
         prev_kind = 0               # _C after C/S, _Q after Q/T, -1 otherwise
@@ -304,12 +282,12 @@ def _parse_batch(buf, starts, mode, given, spans):
         command_index = 0
         first = True
         while pos < n:
-            code = _command(buf[pos])
+            code = _COMMAND[buf[pos]]
             upper = code & 15
             relative = code >= 16
             a0 = pos + 1
             a1 = a0
-            while a1 < n and _command(buf[a1]) < 0:
+            while a1 < n and _COMMAND[buf[a1]] < 0:
                 a1 += 1
             pos = a1
             if first and upper != _M:
