@@ -10,9 +10,9 @@ import contextlib
 import sys
 
 #: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
-#: 27–28 s of CPU on the shared 2-core machine (3 Dec 2026, docs/bench.md, "First run"); more
-#: when it is busy
-COMPILE_SECONDS = "30–45"
+#: 26.5–28.2 s of CPU on the shared 2-core machine at load ≈ 2, 73–79 s at load 3–6.5 (3 Dec
+#: 2026, docs/bench.md, "First run")
+COMPILE_SECONDS = "30"
 
 
 def install(stream=None):
@@ -32,8 +32,9 @@ def install(stream=None):
                 self.said = True
                 try:
                     print(f"vecmsaa: compiling the numba kernels this command uses, once "
-                          f"(about {COMPILE_SECONDS} s for everything render, font and demo "
-                          f"use); later runs load them from the cache", file=stream, flush=True)
+                          f"(about {COMPILE_SECONDS} s of CPU for everything render, font and "
+                          f"demo use, more on a busy machine); later runs load them from the "
+                          f"cache", file=stream, flush=True)
                 except (OSError, ValueError):    # a closed or broken stream: not worth a failure
                     pass
 
