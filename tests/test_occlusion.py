@@ -135,14 +135,20 @@ def test_front_to_back_gives_the_same_pixels_on_real_drawings(name):
     assert np.array_equal(back_to_front, front_to_back)
 
 
-def test_a_fill_hidden_under_opaque_fills_is_not_scanned():
-    # a curved shape under two opaque rectangles that together cover its box: its curve
-    # pixels are never visited (the approx mode counts them)
+def _disc():
+    """A curved blob of two cubics inside x, y in [2, 12]."""
     disc = Path()
     disc.moveTo((12.0, 7.0))
     disc.curveTo((12.0, 12.0), (2.0, 12.0), (2.0, 7.0))
     disc.curveTo((2.0, 2.0), (12.0, 2.0), (12.0, 7.0))
     disc.closePath()
+    return disc
+
+
+def test_a_fill_hidden_under_opaque_fills_is_not_scanned():
+    # a curved shape under two opaque rectangles that together cover its box: its curve
+    # pixels are never visited (the approx mode counts them)
+    disc = _disc()
     cover = [Fill(rect_path(0, 0, 7, SIZE), Solid((1, 0, 0, 1))),
              Fill(rect_path(7, 0, SIZE - 7, SIZE), Solid((0, 1, 0, 1)))]
     counts = []
@@ -160,11 +166,7 @@ def test_curve_pixels_under_opaque_fills_are_not_evaluated():
     # a disc whose right half lies under an opaque rectangle: no row of its box is covered
     # whole, yet the curve pixels under the rectangle are skipped (a lens's winding stays in
     # its pixel), and the image is the one drawn back to front
-    disc = Path()
-    disc.moveTo((12.0, 7.0))
-    disc.curveTo((12.0, 12.0), (2.0, 12.0), (2.0, 7.0))
-    disc.curveTo((2.0, 2.0), (12.0, 2.0), (12.0, 7.0))
-    disc.closePath()
+    disc = _disc()
     cover = Fill(rect_path(7, 0, SIZE - 7, SIZE), Solid((0, 1, 0, 1)))
     alone, covered = RenderOptions("approx", 8), RenderOptions("approx", 8)
     render_float(Scene(SIZE, SIZE, Group([Fill(disc, Solid((0, 0, 1, 1)))])), alone)
