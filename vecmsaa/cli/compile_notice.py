@@ -10,9 +10,9 @@ import contextlib
 import sys
 
 #: first-run compile of everything `render`, `font` and `demo` use from an empty cache:
-#: 26.5–28.2 s of CPU on the shared 2-core machine at load ≈ 2, 73–79 s at load 3–6.5 (3 Dec
-#: 2026, docs/bench.md, "First run")
-COMPILE_SECONDS = "30"
+#: 26.5–28.2 s of CPU on a 2-core Intel Xeon machine, 63.9 s on a quiet 2-core AMD EPYC one
+#: (73–79 s there at load 3–6.5), 3 Dec 2026 (docs/bench.md, "First run")
+COMPILE_SECONDS = "30–65"
 
 
 def install(stream=None):
