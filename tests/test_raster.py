@@ -347,6 +347,25 @@ def _quad(a, b, c, d):
     return p
 
 
+def test_rgba8_is_the_straight_colour_rounded_half_up():
+    """to_rgba8 against the definition in numpy float32: clamp to [0, 1] (NaN as 0), divide
+    by alpha, scale by 255, round half up; transparent pixels are 0 in every channel."""
+    rng = np.random.default_rng(7)
+    special = np.array([np.nan, -np.inf, np.inf, 0.0, -0.0, 1e-13, 1e-11, 1.0, 1 - 2 ** -24,
+                        1 + 2 ** -23, 0.5, 2.0, -1.0, 0.5 / 255, 254.5 / 255], np.float32)
+    img = np.where(rng.random((60, 70, 4)) < 0.5, rng.choice(special, (60, 70, 4)),
+                   rng.random((60, 70, 4)) * 1.4 - 0.2).astype(np.float32)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        img[:20, :, :3] *= img[:20, :, 3:]      # premultiplied as renders are
+        c = np.clip(np.nan_to_num(img, nan=0.0), 0, 1).astype(np.float32)
+        a = c[..., 3:]
+        straight = np.where(a > 0, c[..., :3] / np.maximum(a, np.float32(1e-12)), 0)
+        want = np.floor(np.minimum(np.concatenate([straight, a], axis=2).astype(np.float32)
+                                   * np.float32(255) + np.float32(0.5), 255))
+    want[(a <= 0)[..., 0]] = 0
+    assert np.array_equal(to_rgba8(img), want.astype(np.uint8))
+
+
 def test_paint_is_evaluated_once_per_pixel_at_its_centre():
     from vecmsaa.scene.path import rect_path
     from vecmsaa.scene.nodes import LinearGradient

@@ -5,16 +5,6 @@ import numpy as np
 from ..jit import njit
 
 
-@njit(cache=True, inline="always")
-def _unit(v):
-    """v clamped to [0, 1] as float32, NaN → 0."""
-    if v > 1.0:
-        return np.float32(1.0)
-    if v > 0.0:
-        return np.float32(v)
-    return np.float32(0.0)
-
-
 @njit(cache=True, nogil=True)   # bands convert on threads
 def unpremultiply_to_rgba8(img, out, refill):
     """Premultiplied float32 RGBA (clamped to [0, 1]) → straight uint8 RGBA in ``out`` (same
@@ -23,33 +13,37 @@ def unpremultiply_to_rgba8(img, out, refill):
 
     ``refill``: 4 float32 (a premultiplied colour) written over each pixel of ``img`` once it
     is read — the next band's background, set while the band is in the cache rather than in a
-    pass of its own over memory — or an empty array to leave ``img`` as it is."""
+    pass of its own over memory — or an empty array to leave ``img`` as it is.
+
+    Branch-free (selects, no jumps: a band's pixels alternate between opaque, transparent and
+    edge, and the jumps of one branch each were mispredicted: 1.6x slower). An opaque pixel
+    needs no case of its own: its channels divided by an alpha of exactly 1 are themselves."""
     tiny, scale, half = np.float32(1e-12), np.float32(255.0), np.float32(0.5)
+    zero, one, none = np.float32(0.0), np.float32(1.0), np.uint8(0)
     again = refill.shape[0] == 4
     for y in range(img.shape[0]):
+        row, orow = img[y], out[y]
         for x in range(img.shape[1]):
-            r, g, b, a = _unit(img[y, x, 0]), _unit(img[y, x, 1]), _unit(img[y, x, 2]), \
-                _unit(img[y, x, 3])
-            if again:
-                img[y, x, 0], img[y, x, 1] = refill[0], refill[1]
-                img[y, x, 2], img[y, x, 3] = refill[2], refill[3]
-            if a >= 1.0:
-                # opaque (most pixels): dividing by 1 changes nothing
-                out[y, x, 0] = np.uint8(min(np.float32(np.float32(r * scale) + half), scale))
-                out[y, x, 1] = np.uint8(min(np.float32(np.float32(g * scale) + half), scale))
-                out[y, x, 2] = np.uint8(min(np.float32(np.float32(b * scale) + half), scale))
-                out[y, x, 3] = 255
-            elif a > 0.0:
-                d = max(a, tiny)
-                out[y, x, 0] = np.uint8(min(np.float32(np.float32(np.float32(r / d) * scale)
-                                                      + half), scale))
-                out[y, x, 1] = np.uint8(min(np.float32(np.float32(np.float32(g / d) * scale)
-                                                      + half), scale))
-                out[y, x, 2] = np.uint8(min(np.float32(np.float32(np.float32(b / d) * scale)
-                                                      + half), scale))
-                out[y, x, 3] = np.uint8(np.float32(a * scale) + half)
-            else:
-                out[y, x, 0] = out[y, x, 1] = out[y, x, 2] = out[y, x, 3] = 0
+            r, g, b, a = row[x, 0], row[x, 1], row[x, 2], row[x, 3]
+            # clamped to [0, 1] in this order, so that NaN becomes 0
+            r, g = (r if r > zero else zero), (g if g > zero else zero)
+            b, a = (b if b > zero else zero), (a if a > zero else zero)
+            r, g = (r if r < one else one), (g if g < one else one)
+            b, a = (b if b < one else one), (a if a < one else one)
+            d = a if a > tiny else tiny
+            shown = a > zero
+            vr = min(np.float32(np.float32(r / d) * scale) + half, scale)
+            vg = min(np.float32(np.float32(g / d) * scale) + half, scale)
+            vb = min(np.float32(np.float32(b / d) * scale) + half, scale)
+            va = np.float32(a * scale) + half
+            orow[x, 0] = np.uint8(np.int32(vr)) if shown else none
+            orow[x, 1] = np.uint8(np.int32(vg)) if shown else none
+            orow[x, 2] = np.uint8(np.int32(vb)) if shown else none
+            orow[x, 3] = np.uint8(np.int32(va)) if shown else none
+        if again:
+            for x in range(img.shape[1]):
+                row[x, 0], row[x, 1] = refill[0], refill[1]
+                row[x, 2], row[x, 3] = refill[2], refill[3]
 
 
 #: the ``refill`` of unpremultiply_to_rgba8 that leaves its image alone
