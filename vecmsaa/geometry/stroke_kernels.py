@@ -575,8 +575,8 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     return verbs[:cnt[0]], pts[:cnt[1]]
 
 
-@njit(cache=True)
-def stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset):
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset):
     """Outline (verbs, points) of a path of lines only; pattern is the effective dash array
     (empty for a solid stroke)."""
     src, starts, closed = _line_subpaths(verbs, points)
@@ -586,6 +586,62 @@ def stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset)
     dash_pts, dash_starts, dots = _dash_polylines(src, starts, closed, pattern, offset)
     return _stroke_polylines(dash_pts, dash_starts, np.zeros(len(dash_starts), np.bool_), dots,
                              hw, tol, join, cap, miterlimit)
+
+
+@njit(cache=True)
+def stroke_lines_batch(verbs, points, vstart, pstart, which, hw, tol, join, cap, miterlimit,
+                       pattern, offset):
+    """The outlines of many paths of lines only, in one call (map data strokes thousands of
+    short paths with one style: a call each cost more than the stroking). Path i is
+    verbs[vstart[i]:vstart[i + 1]] with points[pstart[i]:pstart[i + 1]]; the paths stroked
+    are which[0], which[1], ... Returns (verbs, points, verb offsets, point offsets): outline
+    k is verbs[vo[k]:vo[k + 1]] with points[po[k]:po[k + 1]], and has no verbs when it draws
+    nothing (only moves and closes)."""
+    n = len(which)
+    vo = np.empty(n + 1, np.int64)
+    po = np.empty(n + 1, np.int64)
+    vo[0] = po[0] = 0
+    total = 16
+    for k in range(n):
+        total += pstart[which[k] + 1] - pstart[which[k]]
+    out_v = np.empty(4 * total, np.uint8)
+    out_p = np.empty((4 * total, 2))
+    nv = npt = 0
+    for k in range(n):
+        i = which[k]
+        v, p = _stroke_lines(verbs[vstart[i]:vstart[i + 1]], points[pstart[i]:pstart[i + 1]],
+                             hw, tol, join, cap, miterlimit, pattern, offset)
+        drawn = False
+        for j in range(len(v)):
+            if v[j] != MOVE and v[j] != CLOSE:
+                drawn = True
+                break
+        if drawn:
+            out_v = _grow(out_v, nv + len(v))
+            out_p = _grow_points(out_p, npt + len(p))
+            for j in range(len(v)):
+                out_v[nv + j] = v[j]
+            for j in range(len(p)):
+                out_p[npt + j, 0] = p[j, 0]
+                out_p[npt + j, 1] = p[j, 1]
+            nv += len(v)
+            npt += len(p)
+        vo[k + 1] = nv
+        po[k + 1] = npt
+    return out_v[:nv], out_p[:npt], vo, po
+
+
+_ONE = np.zeros(1, np.int64)
+
+
+def stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset):
+    """Outline (verbs, points) of one path of lines only (contiguous uint8 verbs, float64
+    (N, 2) points); pattern is the effective dash array (empty for a solid stroke). Empty
+    arrays when the outline draws nothing."""
+    ov, op, _, _ = stroke_lines_batch(verbs, points, np.array([0, len(verbs)], np.int64),
+                                      np.array([0, len(points)], np.int64), _ONE, hw, tol,
+                                      join, cap, miterlimit, pattern, offset)
+    return ov, op
 
 
 # -- curves ---------------------------------------------------------------------------------

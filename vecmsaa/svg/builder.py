@@ -9,7 +9,6 @@ effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
 from __future__ import annotations
 
 import functools
-import itertools
 import math
 import re
 from dataclasses import dataclass, field, replace
@@ -79,8 +78,6 @@ def _zero_length_closes(path):
     return Path.from_arrays(np.array(verbs, np.uint8), np.array(pts, np.float64).reshape(-1, 2))
 
 
-#: stroke outline points of a path run mapped to the device together (at most)
-PENDING_POINTS = 1 << 15
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
@@ -298,8 +295,7 @@ class Builder:
                 stroke_opacity = stroke_ref.opacity
                 if fade is not None:
                     stroke_opacity *= fade
-        pending = []                            # (index in out, outline verbs, points)
-        pending_points = 0
+        pending = []                            # (index in out, path's index in the batch)
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
         path_data(run[0])                       # (reads the path data, the first time)
@@ -335,39 +331,43 @@ class Builder:
                                                                                 p1))
                         out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
                                         antialias))
-                elif lines_plan is not None and not verbs.tobytes().translate(None, _LINE_VERBS):
-                    ov, op = stroke_kernels.stroke_lines(
-                        verbs, points if path is not None else shared.points[p0:p1], half,
-                        tolerance, join, cap, limit, _SOLID, offset)
-                    if ov.tobytes().translate(None, _NOT_DRAWING):
-                        pending.append((len(out), ov, op))
-                        out.append(None)
-                        pending_points += len(op)
-                        if pending_points > PENDING_POINTS:     # (the kernel's buffers
-                            pending_points = 0                  # are held till then)
-                            self._place_outlines(pending, out, transform, stroke_ref.paint,
-                                                 stroke_opacity, antialias)
+                elif (lines_plan is not None and path is None
+                      and not verbs.tobytes().translate(None, _LINE_VERBS)):
+                    pending.append((len(out), i))   # stroked after the loop, all together
+                    out.append(None)
                 else:
                     if path is None:
                         path = Path._of_shared(verbs, shared, p0, p1)
                     out.extend(self.stroke(path, style, ctx, None, antialias))
         if pending:
-            self._place_outlines(pending, out, transform, stroke_ref.paint, stroke_opacity,
-                                 antialias)
+            self._place_outlines(pending, out, batch, lines_plan[0], half, tolerance, transform,
+                                 stroke_ref.paint, stroke_opacity, antialias)
 
     @staticmethod
-    def _place_outlines(pending, out, transform, paint, opacity, antialias):
-        """The Fills of a run's stroke outlines (pending: (index in out, verbs, user-space
-        points)), their points mapped to the device in one call."""
-        if transform == IDENTITY:
-            mapped = [op for _, _, op in pending]
-        else:
-            points = apply(transform, np.concatenate([op for _, _, op in pending]))
-            ends = list(itertools.accumulate(len(op) for _, _, op in pending))
-            mapped = [points[a:b] for a, b in zip([0] + ends, ends)]
-        for (i, ov, _), op in zip(pending, mapped):
-            out[i] = Fill(Path._of_arrays(ov, op), paint, opacity=opacity, antialias=antialias)
-        pending.clear()
+    def _place_outlines(pending, out, batch, codes, half, tolerance, transform, paint,
+                        opacity, antialias):
+        """The Fills of a run's stroke outlines (pending: (index in out, path's index in the
+        batch)), stroked in one kernel call and mapped to the device in one more; the places
+        of outlines that draw nothing are removed from out."""
+        join, cap, limit, offset = codes
+        which = np.fromiter((i for _, i in pending), np.int64, len(pending))
+        ov, op, vo, po = stroke_kernels.stroke_lines_batch(
+            batch.verbs, batch.points.points, np.asarray(batch.vstart, np.int64),
+            np.asarray(batch.pstart, np.int64), which, half, tolerance, join, cap, limit,
+            _SOLID, offset)
+        if transform != IDENTITY and len(op):
+            op = apply(transform, op)
+        vo, po = vo.tolist(), po.tolist()
+        empty = False
+        for k, (at, _) in enumerate(pending):
+            v0, v1 = vo[k], vo[k + 1]
+            if v1 > v0:
+                out[at] = Fill(Path._of_arrays(ov[v0:v1], op[po[k]:po[k + 1]]), paint,
+                               opacity=opacity, antialias=antialias)
+            else:
+                empty = True
+        if empty:
+            out[:] = [node for node in out if node is not None]
 
     def _run_plan(self, style, ctx):
         """For _path_run: False when nothing is drawn, None when the elements must go through
