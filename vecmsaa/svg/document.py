@@ -113,10 +113,10 @@ class Element:
     __slots__ = ("tag", "attrs", "specified", "children", "parent", "text", "tail", "index",
                  "source")
 
-    def __init__(self, tag, attrs, parent, index, source=None):
+    def __init__(self, tag, attrs, parent, index, source=None, specified=None):
         self.tag = tag
         self.attrs = attrs
-        self.specified = {}
+        self.specified = {} if specified is None else specified
         self.children = []
         self.parent = parent
         self.text = ""
@@ -364,6 +364,8 @@ class _TreeReader:
         size = 0                   # and made
         error = None
         names = {}                 # expat name -> (namespace, local name)
+        own = {}                   # expat name -> local name, of the root's namespace
+        quiet = set()              # attribute names seen that are no property, style or ns
         tb = None
         if self._mirror:
             import xml.etree.ElementTree as ET
@@ -379,9 +381,50 @@ class _TreeReader:
                 else:
                     el.text = text
 
-        def start(name, attr):
-            nonlocal default_ns, count, size, error
+        def start_plain(name, attr):
+            """start() without the mirror, for the common case in one go: an element of the
+            root's namespace inside it, none of whose attributes has a namespace, within the
+            limits (map data: tens of thousands of <path d="...">)."""
+            nonlocal count, size
             if chunks:
+                flush()
+            parent = stack[-1] if stack else None
+            tag = own.get(name)
+            if (parent is None or tag is None or error is not None or count >= MAX_ELEMENTS
+                    or len(stack) > MAX_DEPTH):
+                return start(name, attr, False)
+            if quiet.issuperset(attr):
+                spec = {}
+            else:
+                if "}" in "".join(attr):
+                    return start(name, attr, False)
+                quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
+                style_attr = attr.get("style")
+                spec = {} if PRESENTATION.isdisjoint(attr) else \
+                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
+                if spec or style_attr:
+                    spec = _specified(spec, None, style_attr, self.warnings)
+            count += 1
+            siblings = parent.children
+            el = Element(tag, attr, parent, len(siblings), doc, spec)
+            size += 1
+            if tag == "path":
+                paths.append(el)
+            elif tag == "use":
+                doc.has_use = True
+            elif tag == "pattern":
+                doc.has_pattern = True
+            ident = attr.get("id")
+            if ident is not None:
+                ids.setdefault(ident, el)       # the first element with an id keeps it
+            siblings.append(el)
+            stack.append(el)
+            last[0] = el
+            last[1] = False
+
+        def start(name, attr, pending_text=True):
+            nonlocal default_ns, count, size, error
+            if pending_text and chunks:
                 flush()
             if tb is not None:
                 node = tb.start(_et_name(name), {_et_name(k): v for k, v in attr.items()})
@@ -412,6 +455,7 @@ class _TreeReader:
                 stack.append(None)   # foreign element: skipped with its subtree
                 last[0] = None
                 return
+            own[name] = tag
             # presentation attributes (none is a shorthand: marker is CSS only)
             if "}" not in "".join(attr):
                 # no namespaced attribute (map data: d and id): expat's dict as it is
@@ -489,7 +533,7 @@ class _TreeReader:
         def no_external(context, base, sysid, pubid):
             raise ExternalReferenceForbidden(context, base, sysid, pubid)
 
-        parser.StartElementHandler = start
+        parser.StartElementHandler = start if tb is not None else start_plain
         # without the mirror, no Python frame per end tag test and per text run
         parser.EndElementHandler = end if tb is None else end_mirrored
         parser.CharacterDataHandler = chunks.append if tb is None else characters_mirrored
