@@ -204,6 +204,24 @@ def test_missing_paint_server_uses_fallback():
     assert only_fill(s).paint.color == (0, 0, 1, 1)
 
 
+@pytest.mark.parametrize("fill, color", [
+    ("url(#g) lime", (0, 1, 0, 1)), ("url(#nope) lime", (0, 1, 0, 1)),
+    ("url(#nope) none", None), ("url(#nope)", None),
+    # SVG 2 <paint>: <url> [none | <color>]? -- a second url or a context paint is no
+    # fallback, so the value is invalid, and an invalid fill paints black (as in resvg)
+    ("url(#nope) url(#g)", (0, 0, 0, 1)), ("url(#g) url(#g)", (0, 0, 0, 1)),
+    ("url(#nope) context-fill", (0, 0, 0, 1)),
+])
+def test_paint_fallback_grammar(fill, color):
+    s = scene('<linearGradient id="g"/>'
+              f'<g fill="blue"><rect width="1" height="1" fill="{fill}"/></g>')
+    fills = s.fills()
+    if color is None:
+        assert fills == []
+    else:
+        assert only_fill(s).paint.color == pytest.approx(color)
+
+
 def test_group_opacity_makes_a_layer():
     s = scene('<g opacity="0.5"><rect width="1" height="1"/><rect width="2" height="2"/></g>'
               '<g><rect width="3" height="3"/></g>')
@@ -761,12 +779,14 @@ def test_paint_server_transforms_invalid_or_singular(server):
     """A malformed transform list is an error in the attribute, which is then ignored (the
     identity). Of singular ones, resvg ignores those with a zero-length row (usvg reads them
     as the identity: its transforms must have a non-zero scale on both axes); the others map
-    the paint onto a line, which paints nothing (tiny-skia's shaders need an inverse)."""
+    the paint onto a line, which paints nothing (tiny-skia's shaders need an inverse), and
+    not the fallback: the reference is to a valid paint server (SVG 2 falls back for
+    references that are none), and CSS Transforms draws nothing through a singular matrix."""
     from vecmsaa.api import render_svg_array
 
-    def render(t):
+    def render(t, fallback=""):
         return render_svg_array(f'<svg {NS} width="20" height="20">{server.format(t=t)}'
-                                '<rect width="20" height="20" fill="url(#p)"/></svg>',
+                                f'<rect width="20" height="20" fill="url(#p){fallback}"/></svg>',
                                 mode="analytic")
     plain = render("")
     assert plain[..., 3].max() == 255
@@ -775,6 +795,8 @@ def test_paint_server_transforms_invalid_or_singular(server):
         assert np.array_equal(render(bad), plain), bad
     for singular in ("matrix(1 2 2 4 0 0)", "matrix(1 1 1 1 5 5)"):
         assert render(singular)[..., 3].max() == 0, singular
+        assert render(singular, " lime")[..., 3].max() == 0, singular
+    assert np.array_equal(render("", " lime"), plain)
 
 
 @pytest.mark.parametrize("width, drawn", [("50px", True), (" 50px ", True), ("5e1", True),

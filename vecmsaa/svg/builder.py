@@ -991,8 +991,10 @@ class Builder:
                 if fallback and target is None:
                     return self.paint_from_value(fallback, style, ctx, bbox, opacity)
                 return None
-            from .paint import paint_server
+            from .paint import NO_PAINT, paint_server
             paint = paint_server(self, target, ctx, resolve_bbox(bbox), style)
+            if paint is NO_PAINT:
+                return None
             if paint is None:
                 # no stops, or objectBoundingBox units on an empty box: the fallback applies
                 if fallback:
@@ -1215,8 +1217,10 @@ def valid_paint(value):
     v = value.strip()
     if v in ("none", "context-fill", "context-stroke"):
         return True
-    if parse_url(v) is not None:
-        fallback = parse_url(v)[1]
-        return not fallback or valid_paint(fallback)
+    url = parse_url(v)
+    if url is not None:
+        # <url> [none | <color>]?: a second url or a context paint is no fallback
+        fallback = url[1]
+        return not fallback or fallback == "none" or parse_color(fallback) is not None
     return parse_color(v) is not None
 

@@ -19,6 +19,11 @@ from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse
                     parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
+#: what a paint server with a singular transform (element, gradientTransform, patternTransform)
+#: paints: nothing, and not its fallback either: it is a valid paint server (SVG 2 uses the
+#: fallback for references that are not one), and CSS Transforms draws nothing through a
+#: non-invertible matrix; resvg does the same
+NO_PAINT = "no paint"
 MAX_TILE_PIXELS = 2048 * 2048
 MAX_TILE_SIDE = 8192
 
@@ -114,7 +119,7 @@ def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
     in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
-    matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing."""
+    matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing (NO_PAINT)."""
     text = chain[0].get(attr)    # not inherited through href: usvg reads the element's own
     m = parse_transform(text) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
@@ -128,7 +133,8 @@ def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
 
 
 def paint_server(builder, el, ctx, bbox, user_style):
-    """A paint for a paint-server element, Solid for degenerate gradients, None for none."""
+    """A paint for a paint-server element, Solid for degenerate gradients, None where the
+    fallback applies (no stops, an empty box), NO_PAINT where nothing is painted."""
     if el.tag in GRADIENT_TAGS:
         return gradient(builder, el, ctx, bbox)
     if el.tag == "pattern":
@@ -155,7 +161,7 @@ def gradient(builder, el, ctx, bbox):
     try:
         to_paint = invert(m)
     except ValueError:
-        return None
+        return NO_PAINT
     spread = inherited_attr(chain, "spreadMethod", "pad").strip()
     if spread not in ("pad", "reflect", "repeat"):
         spread = "pad"
@@ -280,7 +286,7 @@ def pattern(builder, el, ctx, bbox):
     try:
         to_paint = invert(tile_to_device)
     except ValueError:
-        return None
+        return NO_PAINT
     # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
     # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering. So
     # do tiles whose rotations cancel (an element's rotate(-30), the pattern's rotate(30)):
