@@ -585,3 +585,21 @@ def test_a_cluster_on_a_path_sits_at_the_middle_of_its_widest_glyph():
     straight = draw('<text x="20" y="60">\u0928\u093f</text>')
     # (the path's arc-length walk rounds positions a little: edge pixels differ by a few %)
     assert straight.max() == 255 and np.abs(on_path - straight).max() <= 32
+
+
+@pytest.mark.parametrize("value", ["before-edge", "after-edge", "top", "nonsense"])
+def test_dominant_baseline_ignores_values_it_does_not_take(value):
+    # before-edge and after-edge are alignment-baseline values (SVG 1.1 and CSS Inline 3 list
+    # dominant-baseline's without them): an invalid declaration is ignored, so the value is
+    # inherited -- the parent's hanging here, the initial auto at the root
+    plain = render('<text x="10" y="60">Hxg</text>')
+    hanging = render('<text x="10" y="60" dominant-baseline="hanging">Hxg</text>')
+    assert not np.array_equal(plain, hanging)
+    assert np.array_equal(render(f'<text x="10" y="60" dominant-baseline="{value}">Hxg</text>'),
+                          plain)
+    assert np.array_equal(render(f'<g dominant-baseline="hanging"><text x="10" y="60" '
+                                 f'dominant-baseline="{value}">Hxg</text></g>'), hanging)
+    # as an alignment-baseline, before-edge moves the text
+    if value == "before-edge":
+        assert not np.array_equal(render('<text x="10" y="60"><tspan alignment-baseline='
+                                         '"before-edge">Hxg</tspan></text>'), plain)

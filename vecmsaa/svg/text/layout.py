@@ -358,12 +358,21 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     return shift - total
 
 
+#: dominant-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom);
+#: before-edge and after-edge are alignment-baseline values only
+DOMINANT_BASELINES = frozenset((
+    "auto", "use-script", "no-change", "reset-size", "ideographic", "alphabetic", "hanging",
+    "mathematical", "central", "middle", "text-after-edge", "text-before-edge", "text-top",
+    "text-bottom"))
+
+
 def _dominant_baseline(style):
-    """dominant-baseline, with SVG 1.1's no-change/reset-size taking the parent's value."""
+    """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
+    value; an invalid value is ignored, so the parent's applies too (as in resvg)."""
     s = style
     while s is not None:
-        v = (s.get("dominant-baseline") or "auto").strip()
-        if v not in ("no-change", "reset-size"):
+        v = (s.specified.get("dominant-baseline") or "inherit").strip()
+        if v in DOMINANT_BASELINES and v not in ("no-change", "reset-size"):
             return v
         s = s.parent
     return "auto"
