@@ -19,7 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..jit import njit
-from .scan import _floor_int, _sort_row, coverage_of, saturated, scan_edges, scan_lenses
+from .scan import (_floor_int, _sort_row, coverage_of, prim_rows, saturated, scan_edges,
+                   scan_lenses)
 from .shaders import shade_span
 
 
@@ -256,6 +257,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
+    prim_y = prim_rows(prims)
     # no occlusion runs here: no pixel carries the stamp -1 that scan_lenses skips
     stamp = np.zeros((strip_rows, W + 1), dtype=np.int32)
     fresh = np.zeros((n, 4), dtype=np.float32)
@@ -277,9 +279,9 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta, dirty,
                        dlist, dcount, hidden)
             if prim_off[k + 1] > prim_off[k]:
-                scan_lenses(prims, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy, mode,
-                            table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats,
-                            hidden, stamp, -1)
+                scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
+                            mode, table, a2c_bits, local, dirty, dlist, dcount, lo, hi,
+                            lens_stats, hidden, stamp, -1)
             npool = sweep_csaa(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                paint_f[k], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,
                                slot_of, slot_pixel, colours, index, npool, wrun, cov, saturate,

@@ -322,8 +322,17 @@ def _lens_alpha(dist, bx0, by0, bx1, by1, px, py):
 
 
 @njit(cache=True, error_model="numpy")
-def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
+def prim_rows(prims):
+    """(N, 2) y0, y1 of each primitive's box, contiguous: scan_lenses's strip test."""
+    out = np.empty((prims.shape[0], 2))
+    for c in range(prims.shape[0]):
+        out[c, 0], out[c, 1] = prims[c, P_BBOX + 1], prims[c, P_BBOX + 3]
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
+                dirty, dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
     mode, except in the rows where ``hidden`` is set and at the pixels stamped ``full_id``
     (covered whole by the fills in front of this one in its occlusion run: a lens's winding
@@ -336,6 +345,8 @@ def scan_lenses(prims, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, loca
         rho = max(rho, math.hypot(sx[s] - 0.5, sy[s] - 0.5))
     quantum = mask_error(rho)
     for c in range(c0, c1):
+        if prim_y[c, 1] < sy0 or prim_y[c, 0] >= sy0 + rows:
+            continue
         prim = prims[c]
         bx0, by0, bx1, by1 = prim[P_BBOX], prim[P_BBOX + 1], prim[P_BBOX + 2], prim[P_BBOX + 3]
         if bx0 >= W or bx1 < -1.0:
@@ -818,6 +829,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
+    prim_y = prim_rows(prims)
     occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
@@ -871,9 +883,9 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
                            dirty, dlist, dcount, hidden)
                 if prim_off[k + 1] > prim_off[k]:
-                    scan_lenses(prims, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy, mode,
-                                table, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats,
-                                hidden, stamp, full_id if run else -1)
+                    scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx,
+                                sy, mode, table, a2c_bits, local, dirty, dlist, dcount, lo, hi,
+                                lens_stats, hidden, stamp, full_id if run else -1)
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
