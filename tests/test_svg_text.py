@@ -603,3 +603,25 @@ def test_dominant_baseline_ignores_values_it_does_not_take(value):
     if value == "before-edge":
         assert not np.array_equal(render('<text x="10" y="60"><tspan alignment-baseline='
                                          '"before-edge">Hxg</tspan></text>'), plain)
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("family, text", [("Noto Color Emoji", "&#x1F600;"),
+                                          ("CFF Outlines and SBIX", "A")])
+def test_a_bitmap_glyph_has_no_geometry_in_a_clip_path(family, text):
+    # a clip path takes its children's raw geometry; a bitmap glyph (CBDT, sbix) is an image
+    # and clips nothing, even where the font also has an outline for it (the sbix font's "A")
+    fonts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True)
+    glyph = f'<text x="10" y="80" font-size="60" font-family="{family}">{text}</text>'
+
+    def draw(body):
+        return render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" width="100" '
+                                f'height="100">{body}</svg>', mode="analytic", **fonts)
+    drawn = draw(glyph)
+    assert drawn[..., 3].sum() > 0 and drawn[..., :3].std() > 10    # it draws in colour
+    box = '<rect width="20" height="20"/>'
+    clipped = draw(f'<clipPath id="c">{glyph}{box}</clipPath>'
+                   '<rect width="100" height="100" fill="green" clip-path="url(#c)"/>')
+    only_box = draw(f'<clipPath id="c">{box}</clipPath>'
+                    '<rect width="100" height="100" fill="green" clip-path="url(#c)"/>')
+    assert np.array_equal(clipped, only_box)

@@ -7,7 +7,7 @@ import numpy as np
 
 from ...fonts.color import color_glyph_fills, is_color_glyph
 from ...fonts.layout import glyphs_arrays
-from ...scene.nodes import Fill, Solid
+from ...scene.nodes import Fill, ImagePaint, Solid
 from ...scene.path import Path, rect_path
 from ...scene.transform import compose
 from .content import TEXT_CONTENT
@@ -110,9 +110,12 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
             if nodes is None:                  # an unreadable SVG glyph: its outline
                 plain.append(g)
                 continue
-        if ctx.in_clip or ctx.geometry_only:
-            # in a clip path a colour glyph counts by its shape: every fill, opaque
-            nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)]
+        if ctx.in_clip:
+            # in a clip path a colour glyph counts by its shape: every fill, opaque; a bitmap
+            # glyph (sbix, CBDT) is an image, which has no geometry to clip with (as in
+            # resvg, also where the font has an outline for it)
+            nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)
+                     if not isinstance(f.paint, ImagePaint)]
         colored.extend(nodes)
     out = []
     plain_path = _glyph_path(plain) if plain else None
