@@ -293,6 +293,14 @@ class SharedPoints:
             done = self._all[m] = apply(m, self.points)
         return done[start:end]
 
+    def all_transformed(self, m, calls):
+        """``apply(m, self.points)`` when transforming ``calls`` more paths by m one by one
+        would cost at least that (as transformed() counts), else None."""
+        done = self._all.get(m)
+        if done is None and self._spent.get(m, 0) + calls * self.CALL_COST >= len(self.points):
+            done = self._all[m] = apply(m, self.points)
+        return done
+
 
 def conic_weight(b0, b1, mid, b2):
     """The weights of conics (b0, b1, b2) given their points at t = ½ ((n, 2) arrays each).

@@ -303,6 +303,8 @@ class Builder:
         vstart, pstart, status = batch.vstart, batch.pstart, batch.status
         all_verbs, shared, drawing = batch.verbs, batch.points, batch.drawing()
         identity = transform == IDENTITY
+        # the run's fills transformed together (a lookup by matrix per path costs more)
+        moved = None if identity else shared.all_transformed(transform, len(run))
         for el in run:
             i = index.get(el)
             if i is None or status[i]:
@@ -326,6 +328,8 @@ class Builder:
                             device = path.transformed(transform)
                         elif identity:          # (what Path.transformed returns)
                             device = Path._of_shared(verbs, shared, p0, p1)
+                        elif moved is not None:
+                            device = Path._of_arrays(verbs, moved[p0:p1])
                         else:
                             device = Path._of_arrays(verbs, shared.transformed(transform, p0,
                                                                                 p1))
@@ -359,11 +363,12 @@ class Builder:
             op = apply(transform, op)
         vo, po = vo.tolist(), po.tolist()
         empty = False
+        of_arrays = Path._of_arrays
         for k, (at, _) in enumerate(pending):
             v0, v1 = vo[k], vo[k + 1]
             if v1 > v0:
-                out[at] = Fill(Path._of_arrays(ov[v0:v1], op[po[k]:po[k + 1]]), paint,
-                               opacity=opacity, antialias=antialias)
+                out[at] = Fill(of_arrays(ov[v0:v1], op[po[k]:po[k + 1]]), paint, "nonzero",
+                               opacity, antialias)
             else:
                 empty = True
         if empty:

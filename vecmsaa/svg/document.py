@@ -117,7 +117,7 @@ class Element:
         self.tag = tag
         self.attrs = attrs
         self.specified = {} if specified is None else specified
-        self.children = []
+        self.children = ()         # a list from the first child on (most have none)
         self.parent = parent
         self.text = ""
         self.tail = ""
@@ -417,7 +417,10 @@ class _TreeReader:
             ident = attr.get("id")
             if ident is not None:
                 ids.setdefault(ident, el)       # the first element with an id keeps it
-            siblings.append(el)
+            if siblings:
+                siblings.append(el)
+            else:
+                parent.children = [el]
             stack.append(el)
             last[0] = el
             last[1] = False
@@ -499,7 +502,10 @@ class _TreeReader:
             if ident is not None:
                 ids.setdefault(ident, el)       # the first element with an id keeps it
             if parent is not None:
-                parent.children.append(el)
+                if parent.children:
+                    parent.children.append(el)
+                else:
+                    parent.children = [el]
             else:
                 self.root = el
             stack.append(el)
