@@ -607,6 +607,17 @@ def test_pattern_tile_and_period():
     assert tile.rgba[10, 5, 3] == pytest.approx(1) and tile.rgba[10, 35, 3] == 0
 
 
+@pytest.mark.parametrize("angle", [0, -46, 30, 90, 180])
+def test_pattern_tile_size_does_not_depend_on_float_noise(angle):
+    # resvg makes a tile whole pixels, rounding halves up (f32 round); a rotation's row norm is
+    # 1 up to float noise, which must not round a 12.5 px tile down to 12 under some angles
+    s = scene(f'<pattern id="p" width="12.5" height="7.5" patternUnits="userSpaceOnUse" '
+              f'patternTransform="rotate({angle} 11 9)"><rect width="10" height="10"/></pattern>'
+              '<rect width="100" height="100" fill="url(#p)"/>')
+    p = only_fill(s).paint
+    assert (p.width, p.height) == (13, 8)
+
+
 def test_pattern_tile_shared_between_shapes_and_rendered_once():
     s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="10" height="10">'
               '<circle cx="5" cy="5" r="4"/></pattern>'

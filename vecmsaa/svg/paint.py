@@ -237,18 +237,18 @@ def pattern(builder, el, ctx, bbox):
     sx, sy = row_scale(full)
     if sx <= 0 or sy <= 0:
         return None
-    tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
+    tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
     # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
     # 1e12) would otherwise become a 1-pixel sliver of millions of rows
     if tw > MAX_TILE_SIDE:
         sx *= MAX_TILE_SIDE / tw
     if th > MAX_TILE_SIDE:
         sy *= MAX_TILE_SIDE / th
-    tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
+    tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
     if tw * th > MAX_TILE_PIXELS:
         f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
         sx, sy = sx * f, sy * f
-        tw, th = max(1, math.floor(w * sx + 0.5)), max(1, math.floor(h * sy + 0.5))
+        tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
     # Like resvg, the tile is a whole number of pixels at the device scale, so the period
     # drifts by under half a pixel per tile. Tiles under two pixels, where that error would
     # dominate, get their scale adjusted instead so the period stays exact.
@@ -294,6 +294,13 @@ def pattern(builder, el, ctx, bbox):
     axis_aligned = all(abs(m[1]) < 1e-9 and abs(m[2]) < 1e-9
                        for m in (tile_to_device, ctx.transform, pattern_m))
     return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
+
+
+def _tile_pixels(size):
+    """A tile side in whole pixels as resvg rounds it (f32 round: halves away from zero). The
+    scale comes from a composed matrix, whose float noise must not turn a half into less
+    (a 12.5-unit tile under rotate(-46) is 12.4999999... px here, exactly 12.5 in f32)."""
+    return max(1, math.floor(size + 0.5 + 1e-9 * max(1.0, size)))
 
 
 def _tile_content(builder, el, source, tile_ctx):
