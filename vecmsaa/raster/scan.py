@@ -255,6 +255,10 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount,
     n = sx.shape[0]
     for e in range(e0, e1):
         x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
+        # most of a fill's edges lie above or below the strip: rejected before the row
+        # arithmetic (the rows they would give are empty; a NaN goes on to it, as before)
+        if (y0 < sy0 and y1 < sy0) or (y0 >= sy0 + rows and y1 >= sy0 + rows):
+            continue
         if min(x0, x1) >= W:
             continue
         if y0 == y1:
