@@ -502,3 +502,27 @@ def test_tile_repeats_the_subregion_of_an_offset_of_the_source_graphic():
     tile = source[20:60, 20:60]
     ys, xs = (np.arange(200) - 20) % 40, (np.arange(200) - 20) % 40
     assert np.abs(tiled.astype(int) - tile[ys][:, xs].astype(int)).max() <= 1
+
+
+@pytest.mark.parametrize("angle", [30, 44, 45, 46, 90, 135])
+def test_offset_under_rotation_steps_by_resvgs_f32_scale(angle):
+    # resvg scales dx/dy by tiny-skia's get_scale (row norms, computed in f32) and shifts by
+    # whole pixels, truncating; the truth is that f32 arithmetic on the f32 matrix entries
+    from vecmsaa.api import load_svg
+    from vecmsaa.scene.nodes import Offset
+
+    scene = load_svg(f'<svg {NS} width="100" height="100"><filter id="f"><feOffset dx="6" '
+                     f'dy="-7"/></filter><rect x="30" y="30" width="20" height="20" '
+                     f'transform="rotate({angle} 50 50)" filter="url(#f)"/></svg>')
+    stack, effects = [scene.root], []
+    while stack:
+        node = stack.pop()
+        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
+        stack.extend(getattr(node, "children", []))
+    (offset,) = [e for e in effects if isinstance(e, Offset)]
+    a = np.float32(math.cos(math.radians(angle)))
+    c = np.float32(-math.sin(math.radians(angle)))
+    norm = np.sqrt(a * a + c * c)                    # both rows alike for a rotation
+    assert (int(offset.dx), int(offset.dy)) == (int(np.float32(6) * norm),
+                                                int(np.float32(-7) * norm))
+    F.offset(np.zeros((8, 8, 4), np.float32), offset.dx, offset.dy)   # it runs on them
