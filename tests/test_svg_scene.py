@@ -607,15 +607,21 @@ def test_pattern_tile_and_period():
     assert tile.rgba[10, 5, 3] == pytest.approx(1) and tile.rgba[10, 35, 3] == 0
 
 
-@pytest.mark.parametrize("angle", [0, -46, 30, 90, 180])
-def test_pattern_tile_size_does_not_depend_on_float_noise(angle):
-    # resvg makes a tile whole pixels, rounding halves up (f32 round); a rotation's row norm is
-    # 1 up to float noise, which must not round a 12.5 px tile down to 12 under some angles
+@pytest.mark.parametrize("angle", [0, -46, 45, 30, 90, 180])
+def test_pattern_tile_size_in_whole_pixels_as_resvg_computes_it(angle):
+    # resvg makes a tile whole pixels: its side times the row norm of the transform (tiny-skia's
+    # get_scale), in f32, rounded half up; a rotation's norm is 1 or just below it in f32 by
+    # angle, and a 12.5 px side becomes 13 or 12 with it (f64 noise must not decide instead)
     s = scene(f'<pattern id="p" width="12.5" height="7.5" patternUnits="userSpaceOnUse" '
               f'patternTransform="rotate({angle} 11 9)"><rect width="10" height="10"/></pattern>'
               '<rect width="100" height="100" fill="url(#p)"/>')
     p = only_fill(s).paint
-    assert (p.width, p.height) == (13, 8)
+    a = np.float32(math.cos(math.radians(angle)))
+    c = np.float32(-math.sin(math.radians(angle)))
+    norm = np.sqrt(a * a + c * c)
+    want = [math.floor(float(np.float32(side) * norm) + 0.5) for side in (12.5, 7.5)]
+    assert [p.width, p.height] == want
+    assert want[0] in (12, 13) and want[1] in (7, 8)
 
 
 def test_pattern_tile_shared_between_shapes_and_rendered_once():

@@ -24,7 +24,8 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity, split_length)
+from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity,
+                    row_scale_f32, split_length)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -162,7 +163,7 @@ class PrimitiveResolver:
         self.builder, self.el, self.ctx = builder, el, ctx
         self.region = region                  # user-space x, y, w, h
         self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
-        sx, sy = device_scale(ctx.transform)
+        sx, sy = row_scale_f32(ctx.transform)
         if obb_box is not None:
             sx *= obb_box[2] - obb_box[0]
             sy *= obb_box[3] - obb_box[1]
@@ -398,7 +399,7 @@ class PrimitiveResolver:
         octaves = parse_number(fe.get("numOctaves"), 1.0)
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
-        sx, sy = device_scale(self.ctx.transform)
+        sx, sy = row_scale_f32(self.ctx.transform)
         # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
         return Turbulence(fx, fy, max(0, min(int(round(octaves)), MAX_OCTAVES)), int(seed),
                           (fe.get("stitchTiles") or "") == "stitch",
@@ -419,7 +420,7 @@ class PrimitiveResolver:
         style = b.doc.document_style(fe)
         x, y, w, h = self.user_subregion(fe)
         sub = self.subregion(fe)
-        sx, sy = device_scale(self.ctx.transform)
+        sx, sy = row_scale_f32(self.ctx.transform)
         if href.startswith("#"):
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
@@ -558,20 +559,10 @@ def _amount(args, default=1.0):
     return parsed[0] / 100 if parsed[1] == "%" else parsed[0]
 
 
-def device_scale(m):
-    """The transform's x and y scale that filter lengths are multiplied by, as resvg computes
-    it: tiny-skia's get_scale, the row norms, in f32. Whole-pixel steps (feOffset truncates)
-    then fall where resvg's do: under rotate(46) the norm is 1 in f32 (6 px stay 6, where
-    f64's 0.9999999999999999 made 5), under rotate(45) 0.99999994 (6 px become 5, in resvg
-    too)."""
-    a, b, c, d = (np.float32(v) for v in m[:4])
-    return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
-
-
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
-    sx, sy = device_scale(ctx.transform)
+    sx, sy = row_scale_f32(ctx.transform)
     linear = False                      # filter functions work in sRGB
     if name == "blur":
         std = _css_length(builder, args or "0", style, ctx)

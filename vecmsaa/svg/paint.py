@@ -15,8 +15,8 @@ import numpy as np
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_svg_color as parse_color
-from .units import (row_scale, parse_aspect, parse_fraction, parse_number, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, viewbox_transform)
+from .units import (row_scale, row_scale_f32, parse_aspect, parse_fraction, parse_number,
+                    parse_opacity, parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 #: what a paint server with a singular transform (element, gradientTransform, patternTransform)
@@ -232,23 +232,23 @@ def pattern(builder, el, ctx, bbox):
         return None
     pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx, bbox, False)
     full = compose(ctx.transform, pattern_m)
-    # The tile's resolution as resvg picks it (row norms), so a skewed pattern's content is
-    # laid out at the same scale as in resvg.
-    sx, sy = row_scale(full)
+    # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
+    # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
+    sx, sy = row_scale_f32(full)
     if sx <= 0 or sy <= 0:
         return None
-    tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
+    tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
     # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
     # 1e12) would otherwise become a 1-pixel sliver of millions of rows
     if tw > MAX_TILE_SIDE:
         sx *= MAX_TILE_SIDE / tw
     if th > MAX_TILE_SIDE:
         sy *= MAX_TILE_SIDE / th
-    tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
+    tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
     if tw * th > MAX_TILE_PIXELS:
         f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
         sx, sy = sx * f, sy * f
-        tw, th = _tile_pixels(w * sx), _tile_pixels(h * sy)
+        tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
     # Like resvg, the tile is a whole number of pixels at the device scale, so the period
     # drifts by under half a pixel per tile. Tiles under two pixels, where that error would
     # dominate, get their scale adjusted instead so the period stays exact.
@@ -296,11 +296,11 @@ def pattern(builder, el, ctx, bbox):
     return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
 
 
-def _tile_pixels(size):
-    """A tile side in whole pixels as resvg rounds it (f32 round: halves away from zero). The
-    scale comes from a composed matrix, whose float noise must not turn a half into less
-    (a 12.5-unit tile under rotate(-46) is 12.4999999... px here, exactly 12.5 in f32)."""
-    return max(1, math.floor(size + 0.5 + 1e-9 * max(1.0, size)))
+def _tile_pixels(length, scale):
+    """A tile side in whole pixels as resvg computes it: length × scale in f32, rounded
+    (halves away from zero). A 12.5-unit tile is 13 px under rotate(-46) (norm 1 in f32) and
+    12 under rotate(45) (0.99999994)."""
+    return max(1, math.floor(float(np.float32(length) * np.float32(scale)) + 0.5))
 
 
 def _tile_content(builder, el, source, tile_ctx):

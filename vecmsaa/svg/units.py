@@ -189,6 +189,16 @@ def row_scale(m):
     return math.hypot(a, c), math.hypot(b, d)
 
 
+def row_scale_f32(m):
+    """:func:`row_scale` as resvg computes it, in f32 from the f32 matrix entries: where
+    resvg steps in whole pixels (pattern tiles, feOffset) the step then falls where its
+    does (a rotation's norm is 1 or 0.99999994 by angle, not 0.9999999999999999 or 1)."""
+    import numpy as np
+
+    a, b, c, d = (np.float32(v) for v in m[:4])
+    return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
+
+
 def mean_scale(m):
     """The factor by which the matrix scales lengths on average (sqrt of |det|)."""
     a, b, c, d, _, _ = m
