@@ -575,19 +575,6 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     return verbs[:cnt[0]], pts[:cnt[1]]
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _stroke_lines(verbs, points, hw, tol, join, cap, miterlimit, pattern, offset):
-    """Outline (verbs, points) of a path of lines only; pattern is the effective dash array
-    (empty for a solid stroke)."""
-    src, starts, closed = _line_subpaths(verbs, points)
-    if len(pattern) == 0:
-        return _stroke_polylines(src, starts, closed, np.empty((0, 2)), hw, tol, join, cap,
-                                 miterlimit)
-    dash_pts, dash_starts, dots = _dash_polylines(src, starts, closed, pattern, offset)
-    return _stroke_polylines(dash_pts, dash_starts, np.zeros(len(dash_starts), np.bool_), dots,
-                             hw, tol, join, cap, miterlimit)
-
-
 @njit(cache=True)
 def stroke_lines_batch(verbs, points, vstart, pstart, which, hw, tol, join, cap, miterlimit,
                        pattern, offset):
@@ -607,10 +594,20 @@ def stroke_lines_batch(verbs, points, vstart, pstart, which, hw, tol, join, cap,
     out_v = np.empty(4 * total, np.uint8)
     out_p = np.empty((4 * total, 2))
     nv = npt = 0
+    no_dots = np.empty((0, 2))
     for k in range(n):
         i = which[k]
-        v, p = _stroke_lines(verbs[vstart[i]:vstart[i + 1]], points[pstart[i]:pstart[i + 1]],
-                             hw, tol, join, cap, miterlimit, pattern, offset)
+        # (written out here, not in a helper: each call level compiles what it calls again)
+        src, starts, closed = _line_subpaths(verbs[vstart[i]:vstart[i + 1]],
+                                             points[pstart[i]:pstart[i + 1]])
+        if len(pattern) == 0:
+            v, p = _stroke_polylines(src, starts, closed, no_dots, hw, tol, join, cap,
+                                     miterlimit)
+        else:
+            dash_pts, dash_starts, dots = _dash_polylines(src, starts, closed, pattern, offset)
+            v, p = _stroke_polylines(dash_pts, dash_starts,
+                                     np.zeros(len(dash_starts), np.bool_), dots, hw, tol, join,
+                                     cap, miterlimit)
         drawn = False
         for j in range(len(v)):
             if v[j] != MOVE and v[j] != CLOSE:
