@@ -116,3 +116,18 @@ def test_cli_error_leaves_no_file(tmp_path):
     lines = r.stderr.decode().strip().splitlines()
     assert len(lines) == 1 and "broken.svg" in lines[0]
     assert not out.exists() and os.listdir(tmp_path) == ["broken.svg"]
+
+
+@pytest.mark.parametrize("attrs, size", [
+    ('', (90, 80)), ('width="200"', (90, 80)), ('height="150"', (90, 80)),
+    ('width="50%" height="300"', (90, 80)), ('width="abc" height="300"', (90, 80)),
+    ('width="300" height="150"', (300, 150)), ('width="200" viewBox="0 0 100 50"', (200, 100)),
+])
+def test_intrinsic_size_without_a_viewbox_needs_both_lengths(attrs, size):
+    # SVG gives a document no size when a width or height is missing or a percentage (of
+    # nothing) and no viewBox gives the ratio: the drawing's right and bottom edges are taken
+    # instead (as resvg), here a rect to x = 90 and a circle to y = 80
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}><rect x="10" '
+                           'y="10" width="80" height="40"/><circle cx="50" cy="50" r="30"/></svg>')
+    assert img.shape[1::-1] == size

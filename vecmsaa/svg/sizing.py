@@ -19,7 +19,9 @@ def document_size(doc: Document, dpi: float = 96.0):
     the viewport size percentages of the root's children refer to.
 
     A zero or negative width or height comes back as is (SVG: rendering is disabled); a
-    document with neither size nor viewBox gets None for both (its drawing's extent decides).
+    document without a viewBox whose width or height is missing or a percentage (of nothing:
+    SVG leaves the size undefined) gets None for both, and its drawing's extent decides, as
+    in resvg.
     """
     root = doc.root
     vb = parse_viewbox(root.get("viewBox"))
@@ -35,7 +37,11 @@ def document_size(doc: Document, dpi: float = 96.0):
         v, unit = parsed
         return to_px(v, unit, style.font_size(), dpi=dpi)
 
-    if vb is None and root.get("width") is None and root.get("height") is None:
+    def absolute(name):
+        parsed = split_length(root.get(name)) if root.get(name) is not None else None
+        return parsed is not None and parsed[1] != "%"
+
+    if vb is None and not (absolute("width") and absolute("height")):
         return None, None, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
     width = dimension("width", vb[2] if vb else 100.0)
     height = dimension("height", vb[3] if vb else 100.0)
