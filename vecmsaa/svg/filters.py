@@ -266,14 +266,16 @@ class PrimitiveResolver:
             return GaussianBlur(s[0], s[1]), (inp,)
         if tag == "feOffset":
             sx, sy = self.scale
-            return Offset(self.number(fe, "dx", 0.0) * sx, self.number(fe, "dy", 0.0) * sy), (inp,)
+            return Offset(f32_product(self.number(fe, "dx", 0.0), sx),
+                          f32_product(self.number(fe, "dy", 0.0), sy)), (inp,)
         if tag == "feDropShadow":
             s = self.pair(fe, "stdDeviation", (2.0,))
             if s is None or s[0] < 0 or s[1] < 0:
                 s = (0.0, 0.0)
             sx, sy = self.scale
-            return DropShadow(s[0], s[1], self.number(fe, "dx", 2.0) * sx,
-                              self.number(fe, "dy", 2.0) * sy, self.flood_color(style)), (inp,)
+            return DropShadow(s[0], s[1], f32_product(self.number(fe, "dx", 2.0), sx),
+                              f32_product(self.number(fe, "dy", 2.0), sy),
+                              self.flood_color(style)), (inp,)
         if tag == "feMerge":
             inputs = [self.input(node) for node in fe.children if node.tag == "feMergeNode"]
             return Merge(), tuple(inputs)
@@ -559,6 +561,13 @@ def _amount(args, default=1.0):
     return parsed[0] / 100 if parsed[1] == "%" else parsed[0]
 
 
+def f32_product(length, scale):
+    """A length in device pixels where resvg shifts by whole ones (feOffset, drop shadows:
+    truncated): the product in f32 as resvg takes it, so -10 x 1.3 is -13 (f32 rounds the
+    product to 13.0), not f64's -12.9999995 that truncates to -12."""
+    return float(np.float32(length) * np.float32(scale))
+
+
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
@@ -665,4 +674,5 @@ def _drop_shadow(builder, args, style, ctx, sx, sy):
     dx, dy, std = (lengths + [0.0, 0.0, 0.0])[:3]
     if color is None or color == "currentColor":
         color = builder.current_color(style)
-    return DropShadow(std * sx, std * sy, dx * sx, dy * sy, tuple(color))
+    return DropShadow(std * sx, std * sy, f32_product(dx, sx), f32_product(dy, sy),
+                      tuple(color))
