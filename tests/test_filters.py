@@ -548,3 +548,20 @@ def test_offset_under_rotation_steps_by_resvgs_f32_scale(angle):
     assert (int(offset.dx), int(offset.dy)) == (int(np.float32(6) * norm),
                                                 int(np.float32(-7) * norm))
     F.offset(np.zeros((8, 8, 4), np.float32), offset.dx, offset.dy)   # it runs on them
+
+
+def test_a_pixel_whose_alpha_rounds_to_zero_in_8_bits_has_no_colour():
+    # luminanceToAlpha of a blur's far tail: at alpha 0.001 (0 in 8 bits, where resvg and
+    # browsers filter) there is no colour to take the luminance of; at 0.01 (3/255) there is
+    # gold, luminance 0.2125 + 0.7154 * 0.843 = 0.816 in straight sRGB values
+    lum = (0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0.2125, 0.7154, 0.0721, 0, 0)
+    img = np.zeros((1, 2, 4), np.float32)
+    for x, a in enumerate((0.001, 0.01)):
+        img[0, x] = (1.0 * a, 0.843 * a, 0.0, a)
+    out = F.color_matrix(img, lum)
+    assert out[0, 0, 3] == 0
+    assert out[0, 1, 3] == pytest.approx(0.2125 + 0.7154 * 0.843, abs=1e-4)
+    transfer = F.component_transfer(img, [("identity", ()), ("identity", ()), ("identity", ()),
+                                          ("linear", (0.0, 1.0))])
+    assert tuple(transfer[0, 0]) == (0, 0, 0, 1)                 # opaque black: no colour
+    assert transfer[0, 1, :3] == pytest.approx((1.0, 0.843, 0.0), abs=1e-4)

@@ -210,10 +210,21 @@ def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0
     return over(i1, i2)
 
 
+#: below this alpha a pixel has no colour to unpremultiply: it rounds to transparent in 8 bits,
+#: where resvg (and browsers) compute filters, so a blur's far tail does not become, say, an
+#: opaque luminanceToAlpha rim; float colour there is noise amplified by 1/alpha
+COLORLESS_ALPHA = 0.5 / 255
+
+
+def _straight(img: np.ndarray) -> np.ndarray:
+    """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0."""
+    return unpremultiply(np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img))
+
+
 def color_matrix(img: np.ndarray, matrix) -> np.ndarray:
     """The 4 x 5 matrix applied to straight RGBA (and 1), results clamped to [0, 1]."""
     m = np.asarray(matrix, dtype=np.float32).reshape(4, 5)
-    straight = unpremultiply(img)
+    straight = _straight(img)
     out = straight @ m[:, :4].T + m[:, 4]
     return premultiply(np.clip(out, 0.0, 1.0).astype(np.float32))
 
@@ -242,7 +253,7 @@ def transfer(c: np.ndarray, func) -> np.ndarray:
 
 
 def component_transfer(img: np.ndarray, funcs) -> np.ndarray:
-    straight = unpremultiply(img)
+    straight = _straight(img)
     for ch, func in enumerate(funcs):
         straight[..., ch] = transfer(straight[..., ch], func)
     return premultiply(np.clip(straight, 0.0, 1.0).astype(np.float32))
