@@ -3,6 +3,7 @@ compiles a kernel again for every distinct set of argument types (a writable aga
 read-only array, a literal against an int64), and each extra compile is seconds of a user's
 first run (docs/bench.md, "First run"). Checked in a fresh process, where only renders have
 called the kernels; cached loads count as compiles here too."""
+import os
 import subprocess
 import sys
 
@@ -25,8 +26,10 @@ for name in ("render_msaa", "scan_lenses", "scan_edges", "sweep_rows", "sweep_ro
 
 
 def test_scan_kernels_compile_once_for_every_mode():
+    # numba's JIT (the compiled kernels of aot.py have one entry per manifest line)
+    env = dict(os.environ, VECMSAA_JIT="1")
     run = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True,
-                         timeout=900)
+                         timeout=900, env=env)
     assert run.returncode == 0, run.stderr[-2000:]
     counts = dict(line.split() for line in run.stdout.split("\n") if line.strip())
     assert counts and all(n in ("0", "1") for n in counts.values()), counts

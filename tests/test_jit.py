@@ -1,6 +1,12 @@
-"""vecmsaa/jit.py: cached kernels load without numba's typing and lowering registries."""
+"""vecmsaa/jit.py and aot.py: kernels from the compiled module without numba, numba's JIT for
+what the module lacks, and cached JIT kernels loaded without numba's registries."""
+import inspect
+import os
 import subprocess
 import sys
+
+import numpy as np
+import pytest
 
 SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="30">'
        '<circle cx="20" cy="15" r="12" fill="teal"/></svg>')
@@ -10,16 +16,108 @@ import sys
 from vecmsaa.api import render_svg_array
 img = render_svg_array({SVG!r}.encode())
 assert img[15, 20, 3] == 255 and img[0, 0, 3] == 0
-print("numba.np.linalg" in sys.modules, "numba.typed.typeddict" in sys.modules)
+import vecmsaa.jit
+print(vecmsaa.jit.AOT, "numba" in sys.modules, "numba.np.linalg" in sys.modules,
+      "numba.typed.typeddict" in sys.modules)
+"""
+
+# a drawing that reaches most kernels (fills and strokes with curves, dashes, text, a
+# gradient, a blur, a mask) in several coverage modes, and the tiger where ../shared is
+INLINE = """<svg xmlns="http://www.w3.org/2000/svg" width="64" height="48" viewBox="0 0 64 48">
+  <defs><linearGradient id="g"><stop offset="0" stop-color="gold"/><stop offset="1" stop-color="navy"/></linearGradient>
+  <filter id="b"><feGaussianBlur stdDeviation="1.5"/></filter>
+  <mask id="m"><circle cx="40" cy="24" r="14" fill="white"/></mask></defs>
+  <path d="M4 40 C 10 2, 30 2, 36 40 Z" fill="url(#g)" stroke="black" stroke-width="1.5"
+        stroke-dasharray="3 1.5" stroke-linejoin="round"/>
+  <rect x="30" y="8" width="30" height="30" fill="crimson" opacity="0.6" filter="url(#b)" mask="url(#m)"/>
+  <text x="6" y="46" font-size="9" font-family="sans-serif">Aa</text>
+</svg>"""
+
+COMPARE = f"""
+import sys
+import numpy as np
+from vecmsaa.api import render_svg_array
+svg = {INLINE!r}.encode()
+out = [render_svg_array(svg, width=160, mode=m) for m in
+       ("approx", "persample", "alpha", "analytic", "none", "a2c")]
+tiger = "{os.path.join(os.path.dirname(__file__), '..', '..', 'shared', 'corpus', 'Ghostscript_Tiger.svg')}"
+import os.path
+if os.path.exists(tiger):
+    out.append(render_svg_array(tiger, width=300))
+np.save(sys.argv[1], np.concatenate([a.ravel() for a in out]))
+import vecmsaa.jit
+print(vecmsaa.jit.AOT)
 """
 
 
-def test_a_render_from_the_cache_loads_no_numba_registry():
-    import vecmsaa.jit
-    assert vecmsaa.jit.REGISTRIES_DEFERRED
+def _run(script, *args, jit):
+    env = dict(os.environ)
+    env.pop("VECMSAA_JIT", None)
+    if jit:
+        env["VECMSAA_JIT"] = "1"
+    return subprocess.run([sys.executable, "-c", script, *args], check=True,
+                          capture_output=True, text=True, env=env, timeout=1200).stdout.split()
+
+
+def test_a_render_with_the_compiled_kernels_imports_no_numba():
+    assert _run(RENDER, jit=False) == ["True", "False", "False", "False"]
+
+
+def test_a_render_from_numbas_cache_loads_no_numba_registry():
     # the first process may compile (the compiler installs every registry); the second loads
     # its kernels from the cache, and a refresh would import both modules
-    subprocess.run([sys.executable, "-c", RENDER], check=True, capture_output=True)
-    out = subprocess.run([sys.executable, "-c", RENDER], check=True, capture_output=True,
-                         text=True).stdout.split()
-    assert out == ["False", "False"]
+    _run(RENDER, jit=True)
+    assert _run(RENDER, jit=True) == ["False", "True", "False", "False"]
+
+
+def test_the_compiled_kernels_draw_the_bytes_numbas_jit_draws(tmp_path):
+    aot, jit = tmp_path / "aot.npy", tmp_path / "jit.npy"
+    assert _run(COMPARE, str(aot), jit=False) == ["True"]
+    assert _run(COMPARE, str(jit), jit=True) == ["False"]
+    a, b = np.load(aot), np.load(jit)
+    assert a.shape == b.shape and a.any()
+    assert np.array_equal(a, b)
+
+
+def test_arguments_the_module_lacks_go_to_numba_and_give_the_same_answer():
+    from vecmsaa import jit
+    from vecmsaa.scene import transform
+    kernel = transform._apply
+    if not jit.AOT:
+        pytest.skip("numba's JIT for every kernel here")
+    pts = np.array([[1.0, 2.0], [3.0, -4.0], [0.5, 0.25]])
+    # a strided view: no manifest entry takes it (layout 'A')
+    view = np.repeat(pts, 2, axis=0)[::2]
+    assert jit.arg_key(view) not in {k[0] for k in kernel.entries}
+    a, b, c, d, e, f = 2.0, 0.5, -1.0, 3.0, 10.0, -7.0
+    expected = np.stack([a * pts[:, 0] + c * pts[:, 1] + e, b * pts[:, 0] + d * pts[:, 1] + f], 1)
+    assert np.allclose(kernel(view, a, b, c, d, e, f), expected)
+
+
+def test_every_manifest_line_names_a_kernel_with_that_many_parameters():
+    import importlib
+
+    from vecmsaa import aot
+    lines = [ln for ln in aot.MANIFEST.read_text().splitlines() if ln and not ln.startswith("#")]
+    assert lines
+    for line in lines:
+        name, args, _ = line.split("|")
+        module, qualname = name.split(":")
+        kernel = getattr(importlib.import_module(module), qualname)
+        depth, count = 0, 1 if args else 0
+        for ch in args:
+            depth += ch in "(["
+            depth -= ch in ")]"
+            count += ch == "," and depth == 0
+        assert count == len(inspect.signature(kernel.py_func).parameters), line
+
+
+def test_the_module_name_changes_with_any_kernel_source():
+    from vecmsaa import aot
+    from vecmsaa.jitcache import ensure_fresh_cache
+    stamps = dict(ensure_fresh_cache())
+    before = aot.key(stamps)
+    assert aot.key(dict(stamps)) == before
+    name = sorted(stamps)[0]
+    stamps[name] = "0" * 64
+    assert aot.key(stamps) != before

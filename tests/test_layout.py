@@ -23,13 +23,15 @@ ALLOWED = {
     # the package itself: the version, the numba cache check, the public names on demand
     "vecmsaa": {"api", "convert", "svg"},
     "jitcache": set(),
-    "jit": set(),
+    # the compiled kernels' module (built and loaded for jit, which every kernel module uses)
+    "aot": {"jitcache"},
+    "jit": {"aot", "jitcache"},
     "diagnostics": set(),
 }
 #: what every module may import: the package's own __init__ (the version), the numba cache
-#: check it runs, numba's njit with cached kernels loaded lean (jit), and the warnings channel
-#: (diagnostics.warn: imports nothing)
-SHARED = {"vecmsaa", "jitcache", "jit", "diagnostics"}
+#: check it runs, njit (jit: the compiled kernels' module of aot, or numba's JIT), and the
+#: warnings channel (diagnostics.warn: imports nothing)
+SHARED = {"vecmsaa", "jitcache", "jit", "aot", "diagnostics"}
 
 
 def module_name(path: Path) -> str:

@@ -1,22 +1,149 @@
-"""numba's ``njit`` for every kernel module, with cached kernels loaded without numba's compiler.
+"""``njit`` for every kernel module: the kernel compiled ahead of time when there is one
+(``vecmsaa/aot.py``; no numba in the process), numba's JIT function otherwise.
 
-Loading a kernel from numba's on-disk cache begins with ``target_context.refresh()``, which
-imports and installs every typing and lowering registry numba has (linalg, random, typed
-containers, jitclass… ≈ 0.2 s, and scipy where it is installed) although the cached machine code
-needs none of them: it needs the runtime (NRT) initialised, and the C math symbols, which the
-context installs when it is created. Every ``vecmsaa`` process that renders pays this once,
-which is a third of the single-file start-up. So the cache is read after initialising the
-runtime alone; a kernel that is not in the cache is compiled as usual, and numba's compiler
-refreshes the registries itself before it compiles (``compiler.compile_extra``).
+``AOT`` says which: with the compiled module, ``njit`` makes a :class:`Kernel` that calls the
+module's entry for its arguments' types, and numba's JIT (imported then) for types the module
+lacks. ``VECMSAA_JIT=1`` chooses numba's JIT for every kernel, as the module's own build does.
 
-If numba's caching internals are not what this expects, nothing is changed.
+In JIT mode, loading a kernel from numba's on-disk cache begins with
+``target_context.refresh()``, which imports and installs every typing and lowering registry
+numba has (linalg, random, typed containers, jitclass… ≈ 0.2 s, and scipy where it is
+installed) although the cached machine code needs none of them: it needs the runtime (NRT)
+initialised, and the C math symbols, which the context installs when it is created. So the
+cache is read after initialising the runtime alone; a kernel that is not in the cache is
+compiled as usual, and numba's compiler refreshes the registries itself before it compiles
+(``compiler.compile_extra``). If numba's caching internals are not what this expects, nothing
+is changed.
 """
 from __future__ import annotations
 
-from numba import njit  # noqa: F401  (re-exported: kernel modules import njit from here)
-from numba.core import caching
+import os
 
-__all__ = ["njit", "REGISTRIES_DEFERRED"]
+__all__ = ["njit", "AOT", "REGISTRIES_DEFERRED"]
+
+
+def _load_aot():
+    if os.environ.get("VECMSAA_JIT", "") not in ("", "0"):
+        return None
+    from . import aot
+    from .jitcache import ensure_fresh_cache
+    try:
+        return aot.ensure(ensure_fresh_cache())
+    except (OSError, ValueError, ImportError):
+        return None
+
+
+_loaded = _load_aot()
+#: whether kernels come from the compiled module (False: numba's JIT for all)
+AOT = _loaded is not None
+_module, _index = _loaded if AOT else (None, {})
+
+
+def _keys():
+    import numpy as np
+    scalars = {bool: "bool", int: "int64", float: "float64", complex: "complex128",
+               type(None): "none"}
+    for t in (np.bool_, np.int8, np.int16, np.int32, np.int64, np.uint8, np.uint16, np.uint32,
+              np.uint64, np.float32, np.float64, np.complex64, np.complex128):
+        scalars[t] = np.dtype(t).name
+    # numpy's flag bits → numba's layout, "r" for read-only; None when unaligned
+    c, f, aligned, writeable = 0x1, 0x2, 0x100, 0x400
+    layouts = [None] * (c | f | aligned | writeable) + [None]
+    for bits in range(len(layouts)):
+        if bits & aligned and not bits & ~(c | f | aligned | writeable):
+            layouts[bits] = ("C" if bits & c else "F" if bits & f else "A") + \
+                ("" if bits & writeable else "r")
+    return scalars, np.ndarray, layouts, c | f | aligned | writeable
+
+
+_SCALARS, _NDARRAY, _LAYOUTS, _FLAG_MASK = _keys() if AOT else ({}, None, [], 0)
+
+
+def arg_key(value):
+    """What numba's typeof would say of ``value``, as far as the compiled entries need it:
+    arrays by dtype (its type number: byte order is not checked, the package makes only
+    native arrays), dimensions, layout and write access; None for anything else (an
+    unaligned array, an object): such a call goes to numba's JIT."""
+    k = _SCALARS.get(type(value))
+    if k is not None:
+        return k
+    if type(value) is _NDARRAY:
+        layout = _LAYOUTS[value.flags.num & _FLAG_MASK]
+        return None if layout is None else (value.dtype.num, value.ndim, layout)
+    if type(value) is tuple:
+        return ("T", *map(arg_key, value))
+    return None
+
+
+def _call_key(args, scalar=_SCALARS.get, ndarray=_NDARRAY, layouts=_LAYOUTS, mask=_FLAG_MASK):
+    """arg_key of every argument, written out for the common cases (scalars, arrays): this
+    runs on every call (≈ 0.3 µs an array argument, where a call of arg_key costs as much)."""
+    return tuple([k if (k := scalar(type(a))) is not None else
+                  (a.dtype.num, a.ndim, layouts[a.flags.num & mask]) if type(a) is ndarray else
+                  arg_key(a) for a in args])
+
+
+def _hashable(k):
+    return tuple(_hashable(x) for x in k) if isinstance(k, list) else k
+
+
+class Kernel:
+    """A kernel of the compiled module: one entry per argument types in the manifest; other
+    argument types (or keyword arguments) go to numba's JIT, compiled from the same function.
+
+    The key is computed in Python (≈ 1 µs a call; numba's dispatcher does the same in C)."""
+
+    def __init__(self, func, options):
+        self.py_func = func
+        self.options = options
+        self.__name__ = func.__name__
+        self.__qualname__ = func.__qualname__
+        self.__module__ = func.__module__
+        self.__doc__ = func.__doc__
+        self.__wrapped__ = func
+        entries = _index.get(f"{func.__module__}:{func.__qualname__}", ())
+        self.entries = {tuple(_hashable(k) for k in keys): getattr(_module, symbol)
+                        for symbol, keys in entries}
+        self.nargs = func.__code__.co_argcount
+        self._dispatcher = None
+
+    def __call__(self, *args, **kws):
+        if kws or len(args) != self.nargs:
+            args = self._bind(args, kws)
+        entry = self.entries.get(_call_key(args))
+        if entry is None:
+            return self.dispatcher(*args)
+        return entry(*args)
+
+    def _bind(self, args, kws):
+        import inspect
+        bound = inspect.signature(self.py_func).bind(*args, **kws)
+        bound.apply_defaults()
+        return bound.args
+
+    @property
+    def dispatcher(self):
+        """numba's JIT function for this kernel (imports numba on first use)."""
+        if self._dispatcher is None:
+            from numba import njit as numba_njit
+            _defer_registries()
+            self._dispatcher = numba_njit(**self.options)(self.py_func)
+        return self._dispatcher
+
+    @property
+    def _numba_type_(self):
+        # numba's typeof for a Kernel named inside a JIT-compiled function: its dispatcher
+        from numba.core import types
+        return types.Dispatcher(self.dispatcher)
+
+    def __repr__(self):
+        return f"<vecmsaa kernel {self.__module__}.{self.__qualname__}>"
+
+
+def _aot_njit(*args, **options):
+    if args and callable(args[0]):
+        return Kernel(args[0], options)
+    return lambda func: Kernel(func, options)
 
 
 def _load_overload(self, sig, target_context):
@@ -27,6 +154,7 @@ def _load_overload(self, sig, target_context):
 
 
 def _defer_registries() -> bool:
+    from numba.core import caching
     cache = caching.Cache
     if not (hasattr(cache, "_load_overload") and hasattr(cache, "_guard_against_spurious_io_errors")):
         return False
@@ -34,5 +162,10 @@ def _defer_registries() -> bool:
     return True
 
 
-#: whether cached kernels load without numba's registries (False: numba's internals changed)
-REGISTRIES_DEFERRED = _defer_registries()
+if AOT:
+    njit = _aot_njit
+    #: whether cached kernels load without numba's registries (False: numba's internals changed)
+    REGISTRIES_DEFERRED = True
+else:
+    from numba import njit  # noqa: F401  (re-exported: kernel modules import njit from here)
+    REGISTRIES_DEFERRED = _defer_registries()

@@ -89,7 +89,15 @@ def drop_entries(source: Path) -> None:
             f.unlink(missing_ok=True)
 
 
-def ensure_fresh_cache(package: Path = PACKAGE) -> None:
+_stamps: dict[str, str] | None = None
+
+
+def ensure_fresh_cache(package: Path = PACKAGE) -> dict[str, str]:
+    """Drop the cache entries that sources changed since; return the current stamps (the
+    compiled kernels' module is named after them, see aot.py). Once per process."""
+    global _stamps
+    if _stamps is not None and package == PACKAGE:
+        return _stamps
     manifest = package / "__pycache__" / MANIFEST
     try:
         times = _file_times(package)
@@ -97,16 +105,23 @@ def ensure_fresh_cache(package: Path = PACKAGE) -> None:
             old = json.loads(manifest.read_text())
         except (OSError, ValueError):
             old = {}
-        if old.get("times") == times:
-            return
-        stamps = kernel_stamps(package)
-        old_stamps = old.get("stamps", {})
-        for rel, digest in stamps.items():
-            if old_stamps.get(rel) != digest:
-                drop_entries(package / rel)
-        manifest.parent.mkdir(exist_ok=True)
-        tmp = manifest.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(json.dumps({"times": times, "stamps": stamps}))
-        os.replace(tmp, manifest)
+        if old.get("times") == times and "stamps" in old:
+            stamps = old["stamps"]
+        else:
+            stamps = kernel_stamps(package)
+            old_stamps = old.get("stamps", {})
+            for rel, digest in stamps.items():
+                if old_stamps.get(rel) != digest:
+                    drop_entries(package / rel)
+            try:
+                manifest.parent.mkdir(exist_ok=True)
+                tmp = manifest.with_suffix(f".{os.getpid()}.tmp")
+                tmp.write_text(json.dumps({"times": times, "stamps": stamps}))
+                os.replace(tmp, manifest)
+            except OSError:
+                pass  # read-only install: numba keeps its cache elsewhere, nothing stale to drop
     except OSError:
-        pass  # read-only install: numba keeps its cache elsewhere, nothing stale to drop
+        stamps = kernel_stamps(package)
+    if package == PACKAGE:
+        _stamps = stamps
+    return stamps

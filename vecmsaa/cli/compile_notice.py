@@ -1,5 +1,6 @@
-"""One line on stderr when numba compiles kernels: the first run after installing (or after
-a change to the code) compiles what it uses, once, into numba's cache; later runs load it.
+"""One line on stderr when numba's JIT compiles kernels (``VECMSAA_JIT=1``, or where the compiled
+kernels of aot.py cannot be built): the first run after installing (or after a change to the
+code) compiles what it uses, once, into numba's cache; later runs load it.
 
 Registered as a listener on numba's compile event, which fires only on a cache miss, so a run
 with a filled cache prints nothing and pays nothing.
@@ -19,7 +20,9 @@ def install(stream=None):
     """Announce compiles on ``stream`` (default: stderr when it is a terminal — scripts that
     read stderr, such as a one-line error check, see only what they did before)."""
     if stream is None:
-        if not sys.stderr.isatty():
+        from .. import jit
+        if not sys.stderr.isatty() or jit.AOT:
+            # with the compiled kernels (aot.py announces its one build) numba is not imported
             return None
         stream = sys.stderr
     from numba.core import event

@@ -11,9 +11,14 @@ Kernels compiled more than once (one specialisation per distinct argument types,
 from __future__ import annotations
 
 import collections
+import os
 import shlex
 import sys
 import time
+
+# what this measures is numba's JIT, kernel by kernel (the compiled module of aot.py is built
+# from the same compiles: ``python -m vecmsaa.aot`` reports its total)
+os.environ["VECMSAA_JIT"] = "1"
 
 from numba.core import event
 

@@ -389,8 +389,9 @@ print(json.dumps(out))
 
 
 def jit_times(cold, modes=("approx", "analytic", "reference")):
-    """First-call time per mode in a fresh process: with an empty numba cache (``cold``:
-    compilation) or with the project's normal cache (loading compiled code)."""
+    """First-call time per mode in a fresh process: with empty caches (``cold``: the first run,
+    which builds the compiled kernels, or compiles with numba's JIT under VECMSAA_JIT=1) or
+    with the project's normal ones (loading compiled code)."""
     env = dict(os.environ)
     with tempfile.TemporaryDirectory() as tmp:
         if cold:
@@ -796,8 +797,8 @@ def write_reports(out_dir, result):
     jit = result.get("jit") or {}
     if jit:
         lines += ["## JIT (fresh process, Figure 1 at 32 px)", ""]
-        for label, key in (("cold: empty numba cache (compilation)", "cold"),
-                           ("warm: cache filled (loading compiled code)", "warm")):
+        for label, key in (("cold: empty caches (first run: compiling)", "cold"),
+                           ("warm: caches filled (loading compiled code)", "warm")):
             if key in jit:
                 parts = ", ".join(f"{k} {v:.2f} s" for k, v in jit[key].items()
                                   if isinstance(v, float))
