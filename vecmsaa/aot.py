@@ -240,22 +240,6 @@ def _memoise_unpickling():
     pythonapi.PythonAPI.unserialize = unserialize
 
 
-def _no_jit_machine_code():
-    """Callees reach the module as optimised IR: the machine code numba's JIT would make for
-    each of them (and save in its cache) is never run in this process, so it is not made.
-
-    numba compiles each kernel an entry calls with its JIT (the entry's module links their
-    IR in and makes its own machine code of everything). The JIT's execution engine still
-    makes code for what something asks the address of (the runtime's functions), lazily."""
-    from numba.core import caching, codegen
-
-    def finalize_without_code(self):
-        self._codegen._scan_and_fix_unresolved_refs(self._final_module)
-
-    codegen.JITCodeLibrary._finalize_specific = finalize_without_code
-    caching.Cache.save_overload = lambda self, sig, data: None
-
-
 def build(path: Path) -> None:
     t0 = time.process_time()
     import numba.pycc.compiler as pycc_compiler
@@ -295,7 +279,6 @@ def build(path: Path) -> None:
     pycc_compiler.compile_extra = compile_entry
     pycc_compiler.ModuleCompiler.write_native_object = timed_write_object
     _memoise_unpickling()
-    _no_jit_machine_code()
     name = path.name[: -len(SUFFIX)]
     cc = CC(name)
     cc.output_dir = str(path.parent)
