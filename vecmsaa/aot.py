@@ -200,6 +200,8 @@ def _entries():
         except (ImportError, AttributeError):
             continue
         argtypes = eval(f"({args},)" if args else "()", namespace)   # noqa: S307 (our own file)
+        if len(argtypes) != dispatcher.py_func.__code__.co_argcount:
+            continue        # a stale line (the kernel's parameters changed): numba's JIT for it
         out.append((name, dispatcher, typing.signature(eval(ret, namespace), *argtypes)))
     return out
 
