@@ -504,6 +504,18 @@ def test_tile_repeats_the_subregion_of_an_offset_of_the_source_graphic():
     assert np.abs(tiled.astype(int) - tile[ys][:, xs].astype(int)).max() <= 1
 
 
+def _only_offset(scene):
+    """The one feOffset effect of a scene's filters."""
+    from vecmsaa.scene.nodes import Offset
+    stack, effects = [scene.root], []
+    while stack:
+        node = stack.pop()
+        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
+        stack.extend(getattr(node, "children", []))
+    (offset,) = [e for e in effects if isinstance(e, Offset)]
+    return offset
+
+
 @pytest.mark.parametrize("transform, dx, dy, want", [
     ("scale(1.3)", 5, -10, (6, -13)), ("scale(1.3)", -9, 10, (-11, 13)),
     ("scale(0.7)", 10, -10, (7, -7)), ("scale(1.1)", 10, 20, (11, 22)),
@@ -512,17 +524,11 @@ def test_offset_in_device_pixels_is_resvgs_f32_product(transform, dx, dy, want):
     # resvg shifts by dx x scale truncated, both in f32: f32(1.3) x 10 rounds to 13.0 in f32
     # (f64 gives 12.9999995..., truncated to 12); f32(0.7) x 10 = 7.0 (f64: 6.99999988...)
     from vecmsaa.api import load_svg
-    from vecmsaa.scene.nodes import Offset
 
     scene = load_svg(f'<svg {NS} width="100" height="100"><filter id="f"><feOffset dx="{dx}" '
                      f'dy="{dy}"/></filter><rect x="30" y="30" width="20" height="20" '
                      f'transform="{transform}" filter="url(#f)"/></svg>')
-    stack, effects = [scene.root], []
-    while stack:
-        node = stack.pop()
-        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
-        stack.extend(getattr(node, "children", []))
-    (offset,) = [e for e in effects if isinstance(e, Offset)]
+    offset = _only_offset(scene)
     assert (int(offset.dx), int(offset.dy)) == want
 
 
@@ -531,17 +537,11 @@ def test_offset_under_rotation_steps_by_resvgs_f32_scale(angle):
     # resvg scales dx/dy by tiny-skia's get_scale (row norms, computed in f32) and shifts by
     # whole pixels, truncating; the truth is that f32 arithmetic on the f32 matrix entries
     from vecmsaa.api import load_svg
-    from vecmsaa.scene.nodes import Offset
 
     scene = load_svg(f'<svg {NS} width="100" height="100"><filter id="f"><feOffset dx="6" '
                      f'dy="-7"/></filter><rect x="30" y="30" width="20" height="20" '
                      f'transform="rotate({angle} 50 50)" filter="url(#f)"/></svg>')
-    stack, effects = [scene.root], []
-    while stack:
-        node = stack.pop()
-        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
-        stack.extend(getattr(node, "children", []))
-    (offset,) = [e for e in effects if isinstance(e, Offset)]
+    offset = _only_offset(scene)
     a = np.float32(math.cos(math.radians(angle)))
     c = np.float32(-math.sin(math.radians(angle)))
     norm = np.sqrt(a * a + c * c)                    # both rows alike for a rotation
