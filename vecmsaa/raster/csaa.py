@@ -258,7 +258,8 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
     prim_y = prim_rows(prims)
-    # no occlusion runs here: no pixel carries the stamp -1 that scan_lenses skips
+    # no occlusion runs here: no pixel carries the stamp -1 that scan_lenses skips (passed as
+    # an int64, as render_msaa passes its run's id: a literal -1 compiled scan_lenses again)
     stamp = np.zeros((strip_rows, W + 1), dtype=np.int32)
     fresh = np.zeros((n, 4), dtype=np.float32)
     uniq = np.zeros((n, 4), dtype=np.float32)
@@ -281,7 +282,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             if prim_off[k + 1] > prim_off[k]:
                 scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
                             mode, table, a2c_bits, local, dirty, dlist, dcount, lo, hi,
-                            lens_stats, hidden, stamp, -1)
+                            lens_stats, hidden, stamp, np.int64(-1))
             npool = sweep_csaa(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                paint_f[k], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,
                                slot_of, slot_pixel, colours, index, npool, wrun, cov, saturate,
