@@ -183,27 +183,31 @@ def _announce():
 # ---------------------------------------------------------------------------------------------
 # the build (in a child process with VECMSAA_JIT=1: kernels are numba dispatchers there)
 
-def _entries():
-    """(dispatcher, signature) for each manifest line whose kernel exists."""
+def manifest_entry(line: str):
+    """(kernel name, dispatcher, signature) of one manifest line; None for a stale line (its
+    kernel is gone, is no numba kernel any more, or takes another number of parameters):
+    that kernel runs on numba's JIT."""
     import importlib
 
     from numba.core import types, typing
+    name, args, ret = line.split("|")
+    module, qualname = name.split(":")
+    try:
+        dispatcher = getattr(importlib.import_module(module), qualname)
+    except (ImportError, AttributeError):
+        return None
+    py_func = getattr(dispatcher, "py_func", None)
     namespace = {**vars(types), "bool": types.boolean}
-    out = []
-    for line in MANIFEST.read_text().splitlines():
-        if not line.strip() or line.startswith("#"):
-            continue
-        name, args, ret = line.split("|")
-        module, qualname = name.split(":")
-        try:
-            dispatcher = getattr(importlib.import_module(module), qualname)
-        except (ImportError, AttributeError):
-            continue
-        argtypes = eval(f"({args},)" if args else "()", namespace)   # noqa: S307 (our own file)
-        if len(argtypes) != dispatcher.py_func.__code__.co_argcount:
-            continue        # a stale line (the kernel's parameters changed): numba's JIT for it
-        out.append((name, dispatcher, typing.signature(eval(ret, namespace), *argtypes)))
-    return out
+    argtypes = eval(f"({args},)" if args else "()", namespace)   # noqa: S307 (our own file)
+    if py_func is None or len(argtypes) != py_func.__code__.co_argcount:
+        return None
+    return name, dispatcher, typing.signature(eval(ret, namespace), *argtypes)
+
+
+def _entries():
+    """manifest_entry of each line of the manifest that is not stale."""
+    lines = [ln for ln in MANIFEST.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+    return [e for e in map(manifest_entry, lines) if e is not None]
 
 
 def _arg_key(ty):

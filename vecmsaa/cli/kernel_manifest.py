@@ -59,34 +59,6 @@ def install():
     numba_dispatcher.Dispatcher._compile_for_args = compile_for_args
 
 
-def _still_valid(line):
-    """A manifest line whose kernel still exists with the same number of parameters."""
-    import importlib
-    name, args, _ = line.split("|")
-    module, qualname = name.split(":")
-    try:
-        func = getattr(importlib.import_module(module), qualname)
-    except (ImportError, AttributeError):
-        return False
-    py_func = getattr(func, "py_func", None)
-    if py_func is None:
-        return False
-    nargs = len(inspect.signature(py_func).parameters)
-    return nargs == (_count_top_level(args) if args else 0)
-
-
-def _count_top_level(args):
-    depth, count = 0, 1
-    for ch in args:
-        if ch in "([":
-            depth += 1
-        elif ch in ")]":
-            depth -= 1
-        elif ch == "," and depth == 0:
-            count += 1
-    return count
-
-
 def write():
     """Merge what this process saw into the manifest file."""
     lines = set()
@@ -95,7 +67,8 @@ def write():
             lines = {ln.rstrip("\n") for ln in f if ln.strip() and not ln.startswith("#")}
     for entries in _seen.values():
         lines.update(entries)
-    lines = sorted(ln for ln in lines if _still_valid(ln))
+    from vecmsaa.aot import manifest_entry
+    lines = sorted(ln for ln in lines if manifest_entry(ln) is not None)
     tmp = MANIFEST + ".tmp"
     with open(tmp, "w") as f:
         f.write("# kernel|argument types|return type — written by vecmsaa.cli.kernel_manifest\n")
