@@ -625,3 +625,51 @@ def test_a_bitmap_glyph_has_no_geometry_in_a_clip_path(family, text):
     only_box = draw(f'<clipPath id="c">{box}</clipPath>'
                     '<rect width="100" height="100" fill="green" clip-path="url(#c)"/>')
     assert np.array_equal(clipped, only_box)
+
+
+# -- font fallback per text chunk (as resvg; CSS Fonts 4 §5.2 leaves the fallback face open) --
+
+def _suite_draw(body, width=200):
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+           f'{body}</svg>').encode()
+    return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                            skip_system_fonts=True, width=width, mode="analytic")
+
+
+needs_suite_fonts = pytest.mark.skipif(
+    not os.path.isfile(os.path.join(SUITE, "fonts", "MPLUS1p-Regular.ttf")),
+    reason="needs the suite's fonts")
+
+
+@needs_suite_fonts
+@pytest.mark.parametrize("text", ["Hello \u65e5\u672c", "\u65e5\u672c Hello", "Hi \u65e5 x"])
+def test_a_fallback_face_that_draws_the_whole_chunk_draws_all_of_it(text):
+    # Noto Sans has no CJK; the first face with U+65E5 (Mplus 1p) has Latin too, so it draws
+    # the whole chunk, spaces included: the text looks as if it named Mplus 1p (resvg 0.44
+    # draws these documents so, with no pixel off by the suite's criterion).
+    fallback = _suite_draw(f'<text x="10" y="50" font-family="Noto Sans">{text}</text>')
+    named = _suite_draw(f'<text x="10" y="50" font-family="\'Mplus 1p\'">{text}</text>')
+    assert np.array_equal(fallback, named)
+
+
+@needs_suite_fonts
+def test_fallback_is_chosen_per_text_chunk():
+    # An absolute position starts a chunk; the Latin chunk keeps Noto Sans.
+    chunks = _suite_draw('<text x="10" y="40" font-family="Noto Sans">Hello'
+                         '<tspan x="10" y="80">\u65e5\u672c</tspan></text>')
+    separate = _suite_draw('<text x="10" y="40" font-family="Noto Sans">Hello</text>'
+                           '<text x="10" y="80" font-family="\'Mplus 1p\'">\u65e5\u672c</text>')
+    assert np.array_equal(chunks, separate)
+
+
+@needs_suite_fonts
+def test_a_fallback_face_draws_only_what_the_font_lacks_when_it_cannot_draw_all():
+    # Amiri (the first face with beh) has no CJK and Mplus 1p no Arabic: neither draws the
+    # whole chunk, so 'A' stays in Noto Sans, as if alone.
+    mixed = _suite_draw('<text x="10" y="50" font-family="Noto Sans">A\u0628\u65e5</text>')
+    alone = _suite_draw('<text x="10" y="50" font-family="Noto Sans">A</text>')
+    _, _, x1, _ = ink_box(alpha(alone))
+    assert np.array_equal(mixed[:, :x1 + 1], alone[:, :x1 + 1])
+    assert alpha(mixed)[:, x1 + 2:].sum() > 50     # and the others are drawn
+
+

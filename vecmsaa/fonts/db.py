@@ -211,7 +211,11 @@ class FontDatabase:
 
     def fallback_for_char(self, char: str, families=(), weight=400, style="normal",
                           stretch=100.0, exclude=()):
-        """A face that has ``char``: the list's families first, then any face in the db."""
+        """A face that has ``char``: the list's families first (CSS Fonts 4 §5.2), then the
+        first face in database order that shares its style, weight or stretch with the face
+        the text asked for (``exclude[0]``, else the given ones), else any face that has it.
+        That is fontdb's order as resvg's fallback walks it; which face covers a character
+        no listed family has is the renderer's choice (CSS Fonts 4 §5.2 step 7)."""
         cp = ord(char)
         tried = set(exclude)
         for family in families:
@@ -220,13 +224,13 @@ class FontDatabase:
                 tried.add(info)
                 if _has_cp(info, cp):
                     return info
+        base = exclude[0] if exclude else None
+        if base is not None:
+            style, weight, stretch = base.style, base.weight, base.stretch
         candidates = [f for f in self.faces if f not in tried and _has_cp(f, cp)]
-        if not candidates:
-            return None
-        # Prefer faces whose style matches, in database order (as fontdb does).
-        same = [f for f in candidates if f.style == style]
-        pool = same or candidates
-        return best_match(pool, weight, style, stretch) if len(pool) > 1 else pool[0]
+        alike = [f for f in candidates
+                 if f.style == style or f.weight == weight or f.stretch == stretch]
+        return (alike or candidates or [None])[0]
 
 
 def _family_names(name) -> list:

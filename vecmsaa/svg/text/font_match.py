@@ -7,6 +7,7 @@ fall back to other faces, combining marks stay with their base's face.
 """
 from __future__ import annotations
 
+import itertools
 import math
 import re
 import unicodedata
@@ -415,35 +416,72 @@ def warn_font_fallback(db, spec, info):
         warn(f"font family {names} not found, using '{info.family}'")
 
 
-def assign_faces(chars, specs, db):
-    """Face for every character: the family list's best match, else a fallback face. Each
-    character's ``primary_face`` is set to the best match (text decorations use its metrics)."""
-    faces = []
-    primary = {}
-    loaded = {}
-    for c, spec in zip(chars, specs):
-        key = (spec.families, spec.weight, spec.style, spec.stretch)
-        info = primary.get(key)
-        if key not in primary:
-            info = db.query_or_default(list(spec.families), spec.weight, spec.style,
-                                       spec.stretch)
-            primary[key] = info
-            warn_font_fallback(db, spec, info)
+def assign_faces(chars, specs, db, bounds=None):
+    """Face for every character. Each character's ``primary_face`` is its family list's best
+    match (text decorations use its metrics). Faces are chosen per text chunk (``bounds``:
+    the chunks' first indices and the end) and per font of the chunk, as resvg chooses them
+    (SVG and CSS Fonts 4 §5 leave the fallback face to the renderer): where the font cannot
+    draw a character of the chunk, the fallback face for the first such character draws
+    every one it can; when it can draw the whole chunk it draws all of it, so a chunk of
+    Latin and CJK text under a Latin font is one CJK run; else the next missing character
+    picks the next face. Combining marks stay with their base character's face."""
+    primary, loaded, keys = {}, {}, []
+
+    def load(info):
         if info not in loaded:
             loaded[info] = _load(info)
-        face = c.primary_face = loaded[info]
-        if face is not None and not face.has_char(c.ch) and not _is_control(c.ch):
-            alt = db.fallback_for_char(c.ch, list(spec.families), spec.weight, spec.style,
-                                       spec.stretch, exclude=(info,))
-            if alt is not None:
-                face = _load(alt) or face
-        faces.append(face)
-    # Combining marks stay with their base character's face when that face has them.
+        return loaded[info]
+
+    for c, spec in zip(chars, specs):
+        key = (spec.families, spec.weight, spec.style, spec.stretch)
+        if key not in primary:
+            primary[key] = db.query_or_default(list(spec.families), spec.weight, spec.style,
+                                               spec.stretch)
+            warn_font_fallback(db, spec, primary[key])
+        c.primary_face = load(primary[key])
+        keys.append(key)
+    faces = [c.primary_face for c in chars]
+    bounds = bounds or [0, len(chars)]
+    for a, b in itertools.pairwise(bounds):
+        drawn = [i for i in range(a, b) if not _is_control(chars[i].ch)]
+        for key in dict.fromkeys(keys[a:b]):
+            spec = specs[keys.index(key, a)]
+            chosen = _chunk_faces(chars, range(a, b), drawn, primary[key], spec, db, load)
+            for i in range(a, b):
+                if keys[i] == key and i in chosen:
+                    faces[i] = chosen[i]
     for i in range(1, len(chars)):
         if unicodedata.category(chars[i].ch).startswith("M") and faces[i - 1] is not None \
                 and faces[i - 1].has_char(chars[i].ch):
             faces[i] = faces[i - 1]
     return faces
+
+
+def _chunk_faces(chars, chunk, drawn, info, spec, db, load):
+    """{index: face} for the characters of one chunk (indices ``chunk``; ``drawn``: those
+    that are not spaces or controls) when its font is ``info`` (see :func:`assign_faces`);
+    characters no face has are left out. A face that draws the whole chunk draws its spaces
+    too (their advances are that face's)."""
+    face = load(info)
+    if face is None:
+        return {}
+    got = {i: face for i in drawn if face.has_char(chars[i].ch)}
+    used = [info]
+    for i in drawn:
+        if i in got:
+            continue
+        alt = db.fallback_for_char(chars[i].ch, list(spec.families), spec.weight, spec.style,
+                                   spec.stretch, exclude=tuple(used))
+        if alt is None:
+            continue
+        used.append(alt)
+        other = load(alt)
+        if other is None:
+            continue
+        if all(other.has_char(chars[j].ch) for j in drawn):
+            return {j: other for j in chunk}
+        got.update((j, other) for j in drawn if j not in got and other.has_char(chars[j].ch))
+    return got
 
 
 def _is_control(ch):

@@ -410,7 +410,11 @@ def build_text(element, ctx):
         if s is None:
             s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, outer + c.chain)
         specs.append(s)
-    faces = assign_faces(chars, specs, db)
+    bounds = [i for i, c in enumerate(chars)
+              if i == 0 or c.x is not None or c.y is not None
+              or c.text_path is not chars[i - 1].text_path]
+    bounds.append(len(chars))
+    faces = assign_faces(chars, specs, db, bounds)
     # a zero, negative or non-finite size draws nothing
     faces = [f if math.isfinite(sp.size) and sp.size > 0 else None
              for f, sp in zip(faces, specs)]
@@ -436,10 +440,6 @@ def build_text(element, ctx):
                                                vertical) if face is not None else 0.0
         shifts.append(shift_cache[key])
 
-    bounds = [i for i, c in enumerate(chars)
-              if i == 0 or c.x is not None or c.y is not None
-              or c.text_path is not chars[i - 1].text_path]
-    bounds.append(len(chars))
     all_clusters = []
     last_x = last_y = 0.0
     for a, b in zip(bounds[:-1], bounds[1:]):
