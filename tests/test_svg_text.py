@@ -673,3 +673,32 @@ def test_a_fallback_face_draws_only_what_the_font_lacks_when_it_cannot_draw_all(
     assert alpha(mixed)[:, x1 + 2:].sum() > 50     # and the others are drawn
 
 
+
+# -- textLength over several text chunks ------------------------------------------------------
+
+def test_text_length_leaves_a_chunk_of_descendants_alone():
+    # The tspan's own x/y starts a chunk holding only the tspan's characters: it is laid out
+    # as a text of its own (as resvg does), and the first chunk still gets the length.
+    both = render('<text x="10" y="40" textLength="180" font-size="30">Text'
+                  '<tspan x="10" y="80">More</tspan></text>', width=200)
+    apart = render('<text x="10" y="40" textLength="180" font-size="30">Text</text>'
+                   '<text x="10" y="80" font-size="30">More</text>', width=200)
+    assert np.array_equal(both, apart)
+
+
+def test_text_length_applies_to_each_chunk_of_the_elements_own_characters():
+    # x="10 10" on the text splits its own characters into two chunks, each adjusted.
+    chunks = render('<text x="10 10" y="40 80" textLength="180" font-size="30">TMore</text>',
+                    width=200)
+    apart = render('<text x="10" y="40" textLength="180" font-size="30">T</text>'
+                   '<text x="10" y="80" textLength="180" font-size="30">More</text>', width=200)
+    assert np.array_equal(chunks, apart)
+
+
+def test_text_length_counts_the_characters_of_descendants_in_the_chunk():
+    # SVG 2 §11.5.3: the length is that of all the element's character data, a styled tspan's
+    # included: the same ink as the text without the tspan.
+    styled = render('<text x="10" y="60" textLength="180" font-size="30">Ab<tspan>cd</tspan>'
+                    '</text>', width=200)
+    plain = render('<text x="10" y="60" textLength="180" font-size="30">Abcd</text>', width=200)
+    assert np.array_equal(styled, plain)

@@ -261,11 +261,16 @@ def _is_upright(cp):
 
 
 def apply_length_adjust(clusters, chars, text_length, on_path):
-    """textLength on the elements of ``text_length`` ({element id: (length, adjust)})."""
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}), in one
+    chunk: an element's length is that of its characters in the chunk, descendants' included
+    (SVG 2 §11.5.3), in each chunk that holds characters of its own. A chunk whose characters
+    all belong to descendants (a ``tspan`` with its own ``x`` or ``y``) is not adjusted to the
+    ancestor's length: SVG does not define textLength over several chunks, and there resvg
+    adjusts only the element's own characters."""
     for el_id, (target, adjust) in text_length.items():
         idx = [i for i, c in enumerate(clusters)
                if any(id(e) == el_id for e in chars[c.char].chain)]
-        if not idx:
+        if not any(id(chars[clusters[i].char].el) == el_id for i in idx):
             continue
         width = sum(clusters[i].width for i in idx)
         if adjust == "spacingAndGlyphs":
