@@ -946,3 +946,41 @@ def test_context_paints_take_the_paint_not_its_opacity():
         'stroke-width="2" marker-mid="url(#m)"/></svg>')
     assert abs(int(img[20, 20, 3]) - round(0.3 * 255)) <= 1 and img[20, 20, 1] == 255
     assert tuple(img[76, 70]) == (0, 0, 255, 255)
+
+
+@pytest.mark.parametrize("mode, samples, pattern", [
+    ("approx", 8, "d3d"), ("approx", 16, "d3d"), ("persample", 4, "rgss"),
+    ("alpha", 8, "d3d"), ("persample", 16, "grid"), ("approx", 2, "d3d")])
+def test_crisp_edges_fills_the_pixels_whose_centre_is_inside(mode, samples, pattern):
+    # Aliased rendering samples each pixel at its centre: a pixel is fully in when its
+    # centre is inside the shape, else empty (point in polygon, computed here).
+    pts = [(3.3, 2.7), (45.6, 9.2), (14.1, 44.9)]
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="48" height="48">'
+           f'<path d="M{pts[0][0]} {pts[0][1]} L{pts[1][0]} {pts[1][1]} L{pts[2][0]} '
+           f'{pts[2][1]} Z" shape-rendering="crispEdges"/></svg>')
+    from vecmsaa.api import render_svg_array
+
+    got = render_svg_array(svg.encode(), mode=mode, samples=samples, pattern=pattern)[..., 3]
+    y, x = np.mgrid[0:48, 0:48] + 0.5
+    side = [(bx - ax) * (y - ay) - (by - ay) * (x - ax)
+            for (ax, ay), (bx, by) in zip(pts, pts[1:] + pts[:1])]
+    inside = (side[0] > 0) & (side[1] > 0) & (side[2] > 0)
+    # pixels whose centre is within 1/64 px of an edge may go either way
+    lengths = [math.dist(a, b) for a, b in zip(pts, pts[1:] + pts[:1])]
+    clear = np.min([np.abs(s) / n for s, n in zip(side, lengths)], axis=0) > 1 / 64
+    assert set(np.unique(got)) <= {0, 255}
+    assert np.array_equal((got == 255)[clear], inside[clear])
+
+
+def test_crisp_edges_on_pixel_centres_takes_the_right_and_bottom_ones():
+    # A centre exactly on an edge: out on the left and top, in on the right and bottom, as
+    # tiny-skia rounds an aliased edge (round(10.5) = 11 to round(20.5) = 21, end excluded).
+    from vecmsaa.api import render_svg_array
+
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="32" height="32">'
+           '<rect x="10.5" y="5.5" width="10" height="10" shape-rendering="crispEdges"/></svg>')
+    want = np.zeros((32, 32), bool)
+    want[6:16, 11:21] = True
+    for mode, samples in (("approx", 8), ("persample", 16), ("alpha", 4)):
+        got = render_svg_array(svg.encode(), mode=mode, samples=samples)[..., 3]
+        assert np.array_equal(got == 255, want) and set(np.unique(got)) <= {0, 255}

@@ -463,6 +463,7 @@ class FillBatch:
     ``rows``: the device y range its fills lie in."""
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions):
+        pts = _crisp_at_centres(fills, pts, poff, opts)
         self.edges, self.edge_off, self.prims, self.prim_off = build_batch(
             verbs, pts, voff, poff, opts.flatten_tol, MAX_SAGITTA)
         # per-fill bounds from the control points (a curve lies in its control hull, the
@@ -479,6 +480,28 @@ class FillBatch:
         table = PaintTable()
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
+
+
+#: see _crisp_at_centres
+CRISP_NUDGE = 1 / 256
+
+
+def _crisp_at_centres(fills, pts, poff, opts: RenderOptions):
+    """The points with each aliased fill (shape-rendering crispEdges) moved by the offset of
+    the first sample from the pixel centre: the sample kernels take an aliased pixel's
+    coverage from its first sample, and so decide it by whether its centre is inside, as
+    SVG's aliased rendering and resvg do (the analytic mode decides by half the area; the
+    patterns rendered once per sample, without ``sx``, share the batch between samples)."""
+    if opts.mode == "analytic" or not hasattr(opts, "sx") or all(f.antialias for f in fills):
+        return pts
+    # and a 1/256 px further, so that a centre on a left or top edge is out and one on a
+    # right or bottom edge in, as tiny-skia rounds an aliased edge (lines at n + 1/2 px)
+    shift = np.array([opts.sx[0] - 0.5, opts.sy[0] - 0.5]) + CRISP_NUDGE
+    pts = pts.copy()
+    for i, f in enumerate(fills):
+        if not f.antialias:
+            pts[poff[i]:poff[i + 1]] += shift
+    return pts
 
 
 def pattern_tile(paint: PatternPaint, opts: RenderOptions) -> ImagePaint:
