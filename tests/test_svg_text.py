@@ -702,3 +702,19 @@ def test_text_length_counts_the_characters_of_descendants_in_the_chunk():
                     '</text>', width=200)
     plain = render('<text x="10" y="60" textLength="180" font-size="30">Abcd</text>', width=200)
     assert np.array_equal(styled, plain)
+
+
+@needs_suite_fonts
+@pytest.mark.parametrize("attrs", ['baseline-shift="super"', 'dominant-baseline="central"'])
+def test_baselines_come_from_the_elements_font_not_a_fallback_face(attrs):
+    # CSS Inline 3: a box's baselines are its first available font's. The CJK character is
+    # drawn by a fallback face, yet moves exactly as a Latin one of the element's Noto Sans.
+    def moved(ch):
+        body = '<text x="10" y="70" font-family="Noto Sans" font-size="60">Hi {}</text>'
+        rows = []
+        for inner in (ch, f'<tspan {attrs}>{ch}</tspan>'):
+            a = alpha(_suite_draw(body.format(inner)))[:, 100:]
+            rows.append(np.nonzero(a.max(axis=1) > 0.5)[0].max())
+        return rows[1] - rows[0]
+    assert moved("\u65e5") == pytest.approx(moved("x"), abs=1)
+    assert moved("x") != 0

@@ -436,9 +436,12 @@ def build_text(element, ctx):
         if length is not None and length >= 0:
             text_length[id(el)] = (length, (el.get("lengthAdjust") or "spacing").strip())
     # baseline shift of every character (positive moves down)
+    # from the element's first available font (CSS Inline 3 §4), not a fallback face: a
+    # superscript CJK character in Latin text shifts as its Latin neighbours do (as resvg)
     shift_cache = {}
     shifts = []
     for c, spec, face in zip(chars, specs, faces):
+        face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
             shift_cache[key] = baseline_offset(styles[id(c.el)], face, spec, ctx.style,
