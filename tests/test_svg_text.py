@@ -718,3 +718,32 @@ def test_baselines_come_from_the_elements_font_not_a_fallback_face(attrs):
         return rows[1] - rows[0]
     assert moved("\u65e5") == pytest.approx(moved("x"), abs=1)
     assert moved("x") != 0
+
+
+@needs_suite_fonts
+def test_a_listed_family_draws_only_the_characters_the_first_lacks():
+    # CSS Fonts 4 §5.2: character by character through the family list; Yellowtail has no
+    # Cyrillic, so only "Жж" take Noto Sans and "Hi" stays in Yellowtail, as if alone.
+    mixed = _suite_draw('<text x="10" y="50" font-family="Yellowtail, Noto Sans">Hi Жж</text>')
+    alone = _suite_draw('<text x="10" y="50" font-family="Yellowtail">Hi</text>')
+    _, _, x1, _ = ink_box(alpha(alone))
+    assert np.array_equal(mixed[:, :x1 + 1], alone[:, :x1 + 1])
+
+
+@needs_suite_fonts
+def test_a_space_the_font_lacks_falls_back_like_any_character():
+    # The emoji subset has no U+0020: the space is Noto Sans's, the next family's, and
+    # advances by its hmtx width (read here from the font).
+    from fontTools.ttLib import TTFont
+
+    sans = TTFont(os.path.join(SUITE, "fonts", "NotoSans-Regular.ttf"))
+    space = sans["hmtx"][sans.getBestCmap()[32]][0] * 24 / sans["head"].unitsPerEm
+
+    def second_bee_left(text):
+        img = _suite_draw(f'<text x="10" y="50" font-family="Noto Color Emoji, Noto Sans">'
+                          f'{text}</text>', width=400)
+        cols = np.nonzero(alpha(img).max(axis=0) > 0.5)[0]
+        gaps = np.nonzero(np.diff(cols) > 1)[0]
+        return cols[gaps[-1] + 1] / 2            # 400 px for 200 units
+    moved = second_bee_left("\U0001f41d \U0001f41d") - second_bee_left("\U0001f41d\U0001f41d")
+    assert moved == pytest.approx(space, abs=0.5)

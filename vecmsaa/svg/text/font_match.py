@@ -418,13 +418,14 @@ def warn_font_fallback(db, spec, info):
 
 def assign_faces(chars, specs, db, bounds=None):
     """Face for every character. Each character's ``primary_face`` is its family list's best
-    match (text decorations use its metrics). Faces are chosen per text chunk (``bounds``:
-    the chunks' first indices and the end) and per font of the chunk, as resvg chooses them
-    (SVG and CSS Fonts 4 §5 leave the fallback face to the renderer): where the font cannot
-    draw a character of the chunk, the fallback face for the first such character draws
-    every one it can; when it can draw the whole chunk it draws all of it, so a chunk of
-    Latin and CJK text under a Latin font is one CJK run; else the next missing character
-    picks the next face. Combining marks stay with their base character's face."""
+    match (text decorations and baselines use its metrics). Faces are chosen per text chunk
+    (``bounds``: the chunks' first indices and the end) and per font of the chunk: a
+    character the font lacks takes the list's next family that has it (CSS Fonts 4 §5.2);
+    for one no listed family has, the fallback face is the renderer's choice, and vecmsaa
+    makes resvg's: the face for the first such character draws every one it can, and when
+    it can draw the whole chunk it draws all of it, so a chunk of Latin and CJK text under a
+    Latin font is one CJK run; else the next missing character picks the next face.
+    Combining marks stay with their base character's face."""
     primary, loaded, keys = {}, {}, []
 
     def load(info):
@@ -459,33 +460,47 @@ def assign_faces(chars, specs, db, bounds=None):
 
 def _chunk_faces(chars, chunk, drawn, info, spec, db, load):
     """{index: face} for the characters of one chunk (indices ``chunk``; ``drawn``: those
-    that are not spaces or controls) when its font is ``info`` (see :func:`assign_faces`);
-    characters no face has are left out. A face that draws the whole chunk draws its spaces
-    too (their advances are that face's)."""
+    that are not controls) when its font is ``info`` (see :func:`assign_faces`); characters
+    no face has are left out. A fallback face that draws the whole chunk draws its controls
+    too."""
     face = load(info)
     if face is None:
         return {}
-    got = {i: face for i in drawn if face.has_char(chars[i].ch)}
-    used = [info]
+    got = {i: face for i in drawn if _draws(face, chars[i].ch)}
+    listed = [f for f in (db.query([name], spec.weight, spec.style, spec.stretch)
+                          for name in spec.families) if f is not None and f is not info]
+    for i in drawn:
+        if i not in got:
+            for other in filter(None, map(load, listed)):
+                if _draws(other, chars[i].ch):
+                    got[i] = other
+                    break
+    used = [info, *listed]
     for i in drawn:
         if i in got:
             continue
-        alt = db.fallback_for_char(chars[i].ch, list(spec.families), spec.weight, spec.style,
-                                   spec.stretch, exclude=tuple(used))
+        alt = db.fallback_for_char(chars[i].ch, (), spec.weight, spec.style, spec.stretch,
+                                   exclude=tuple(used))
         if alt is None:
             continue
         used.append(alt)
         other = load(alt)
         if other is None:
             continue
-        if all(other.has_char(chars[j].ch) for j in drawn):
+        if all(_draws(other, chars[j].ch) for j in drawn):
             return {j: other for j in chunk}
-        got.update((j, other) for j in drawn if j not in got and other.has_char(chars[j].ch))
+        got.update((j, other) for j in drawn if j not in got and _draws(other, chars[j].ch))
     return got
 
 
+def _draws(face, ch):
+    """Whether a face draws a character: a space other than U+0020 it lacks is drawn as its
+    U+0020 (HarfBuzz's space fallback)."""
+    return face.has_char(ch) or (unicodedata.category(ch) == "Zs" and face.has_char(" "))
+
+
 def _is_control(ch):
-    return unicodedata.category(ch) in ("Cc", "Cf", "Zs") and ch != "\u00a0"
+    return unicodedata.category(ch) in ("Cc", "Cf")
 
 
 def _load(info):
