@@ -121,3 +121,17 @@ def test_the_module_name_changes_with_any_kernel_source():
     name = sorted(stamps)[0]
     stamps[name] = "0" * 64
     assert aot.key(stamps) != before
+
+
+def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
+    from vecmsaa import aot
+    from vecmsaa.jitcache import ensure_fresh_cache
+    _run(RENDER, jit=False)                 # builds the modules where they are missing
+    paths = aot.find(aot.key(ensure_fresh_cache()))
+    assert paths is not None and len(paths) == len(aot.parts()) == 2
+    module, index = aot.load(paths)
+    lines = [ln for ln in aot.MANIFEST.read_text().splitlines() if ln and not ln.startswith("#")]
+    symbols = [symbol for entries in index.values() for symbol, _ in entries]
+    assert len(symbols) == len(set(symbols)) == len(lines)
+    assert all(callable(getattr(module, s)) for s in symbols)
+    assert sorted(index) == sorted({ln.split("|")[0] for ln in lines})

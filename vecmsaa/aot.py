@@ -1,4 +1,4 @@
-"""The kernels compiled ahead of time into one extension module, loaded without numba.
+"""The kernels compiled ahead of time into extension modules, loaded without numba.
 
 Importing numba and loading its cached kernels is most of a short render's time: on a 2-core
 AMD EPYC, ``import numba`` takes 0.34 s over numpy's 0.15 s and the six or seven cached kernels
@@ -8,7 +8,7 @@ whole 10-pixel render takes 0.87 s. So the kernels Python calls — the entries 
 numba's ahead-of-time compiler (``numba.pycc``) into one extension module, and every later
 process imports that (≈ 1 ms) instead of numba.
 
-The module is built on first use (in a child process, ``python -m vecmsaa.aot``, one line on
+The module is built on first use (in child processes, ``python -m vecmsaa.aot``, one line on
 stderr), into ``__pycache__`` beside the package or the user's cache folder, under a name made
 from everything its machine code depends on: the kernel sources and what they import
 (jitcache's stamps), the manifest, numba, Python and the CPU. An edit to a kernel file makes a
@@ -16,6 +16,10 @@ new name, so a stale module is never loaded. Where it cannot be built (no C comp
 setuptools), or ``VECMSAA_JIT=1`` is set (kernel development: numba recompiles one file at a
 time), kernels are numba's JIT functions as before, and a call whose argument types the
 manifest lacks goes to numba's JIT too (see ``jit.Kernel``).
+
+The build is in two parts (raster; geometry and input), compiled at once in two processes,
+each into a module of its own: numba's compiler runs on one core, and the parts share no
+kernel, so on two cores the first run waits about half as long.
 """
 from __future__ import annotations
 
@@ -80,104 +84,169 @@ def cache_dirs() -> list[Path]:
     return dirs
 
 
-def module_name(k: str) -> str:
-    return f"vecmsaa_kernels_{k}"
+#: The build runs in parts, each a process of its own compiling at the same time (numba's
+#: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
+#: and the kernels it calls must share a part, or the callee is compiled in each: the raster
+#: stage and the RGBA8 conversion form one part, geometry, path data and transforms the other,
+#: and the two cost about the same (≈ 35 s CPU each, 4 Dec 2026).
+RASTER_PART = ("vecmsaa.raster.", "vecmsaa.output.")
 
 
-def find(k: str) -> Path | None:
+def part_of(kernel: str) -> int:
+    """The build part of a kernel (``module:qualname``)."""
+    return 0 if kernel.startswith(RASTER_PART) else 1
+
+
+def _manifest_lines() -> list[str]:
+    return [ln for ln in MANIFEST.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+
+
+def parts() -> list[int]:
+    """The parts the manifest has kernels in."""
+    return sorted({part_of(line.split("|")[0]) for line in _manifest_lines()})
+
+
+def module_name(k: str, part: int | None = None) -> str:
+    return f"vecmsaa_kernels_{k}" if part is None else f"vecmsaa_kernels_{k}_{part}"
+
+
+def find(k: str) -> list[Path] | None:
+    """Every part's module for key ``k``, in one of the cache folders; None if any is missing."""
     for d in cache_dirs():
-        p = d / (module_name(k) + SUFFIX)
-        if p.exists() and p.with_suffix(".json").exists():
-            return p
+        paths = [d / (module_name(k, p) + SUFFIX) for p in parts()]
+        if all(p.exists() and p.with_suffix(".json").exists() for p in paths):
+            return paths
     return None
 
 
-def load(path: Path):
-    """The extension module at ``path`` and its index: kernel → [(symbol, argument keys)]."""
+def load(paths: list[Path]):
+    """The parts' functions as one namespace, and their index: kernel → [(symbol, argument
+    keys)] (symbols are unique across the parts)."""
     import importlib.machinery
     import importlib.util
-    name = path.name[: -len(SUFFIX)]
-    loader = importlib.machinery.ExtensionFileLoader(name, str(path))
-    spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
-    module = importlib.util.module_from_spec(spec)
-    loader.exec_module(module)
-    with open(path.with_suffix(".json")) as f:
-        index = json.load(f)
-    return module, index
+    import types
+    functions, index = {}, {}
+    for path in paths:
+        name = path.name[: -len(SUFFIX)]
+        loader = importlib.machinery.ExtensionFileLoader(name, str(path))
+        spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
+        module = importlib.util.module_from_spec(spec)
+        loader.exec_module(module)
+        with open(path.with_suffix(".json")) as f:
+            for kernel, entries in json.load(f).items():
+                index.setdefault(kernel, []).extend(entries)
+                functions.update((symbol, getattr(module, symbol)) for symbol, _ in entries)
+    return types.SimpleNamespace(**functions), index
 
 
 def _failure_marker(k: str) -> Path:
     return cache_dirs()[-1] / f"{module_name(k)}.failed"
 
 
-def ensure(stamps: dict[str, str]):
-    """The module for these sources: found, or built now in a child process; None where it
-    cannot be built (the reason is kept beside the cache and said once on stderr)."""
-    k = key(stamps)
-    path = find(k)
-    if path is not None:
-        return load(path)
-    if _failure_marker(k).exists():
-        return None
+def _writable_cache_dir() -> Path | None:
     for d in cache_dirs():
         try:
             d.mkdir(parents=True, exist_ok=True)
             probe = d / f".probe.{os.getpid()}"
             probe.write_bytes(b"")
             probe.unlink()
+            return d
         except OSError:
             continue
-        path = d / (module_name(k) + SUFFIX)
-        break
-    else:
+    return None
+
+
+def ensure(stamps: dict[str, str]):
+    """The modules for these sources: found, or built now in child processes; None where
+    they cannot be built (the reason is kept beside the cache and said once on stderr)."""
+    k = key(stamps)
+    paths = find(k)
+    if paths is not None:
+        return load(paths)
+    if _failure_marker(k).exists():
         return None
+    d = _writable_cache_dir()
+    if d is None:
+        return None
+    paths = [d / (module_name(k, p) + SUFFIX) for p in parts()]
     import fcntl
-    with open(path.with_suffix(".lock"), "w") as lock:
+    with open(d / f"{module_name(k)}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)       # one build; others wait for it and load it
-        if not (path.exists() and path.with_suffix(".json").exists()):
+        if find(k) is None:
             _announce()
-            env = dict(os.environ, VECMSAA_JIT="1")
-            run = subprocess.run([sys.executable, "-m", "vecmsaa.aot", str(path)], env=env,
-                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-            if run.returncode != 0 or not path.exists():
-                reason = (run.stdout.strip().splitlines() or
-                          [f"the build process ended with status {run.returncode}"])[-1]
-                if run.returncode > 0:      # the build failed (not killed): do not retry it
+            failure = _build_parts(paths)
+            if failure is not None:
+                status, output = failure
+                reason = (output.strip().splitlines() or
+                          [f"the build process ended with status {status}"])[-1]
+                if status > 0:      # the build failed (not killed): do not retry it
                     try:
                         marker = _failure_marker(k)
                         marker.parent.mkdir(parents=True, exist_ok=True)
-                        marker.write_text(run.stdout)
+                        marker.write_text(output)
                     except OSError:
                         pass
                 print(f"vecmsaa: could not build the compiled kernels ({reason}); using numba's "
                       f"JIT", file=sys.stderr)
                 return None
-            if sys.stderr.isatty():
-                print(f"vecmsaa: {run.stdout.strip().splitlines()[-1]}", file=sys.stderr)
-            _remove_others(path)
-    return load(path)
+            _remove_others(d, module_name(k))
+    return load(paths)
 
 
-def _remove_others(path: Path) -> None:
-    """Delete the modules of earlier sources beside the new one (a process that has one
+def _build_parts(paths: list[Path]):
+    """Build every part at once (one after the other on a single core); None when all were
+    built, else (exit status, output) of the first that was not."""
+    import contextlib
+    import resource
+    import tempfile
+    env = dict(os.environ, VECMSAA_JIT="1")
+    parallel = (os.cpu_count() or 1) > 1
+    t0, cpu0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
+    failure = None
+    with contextlib.ExitStack() as files:
+        runs = []
+        for path in paths:
+            out = files.enter_context(tempfile.TemporaryFile(mode="w+"))
+            part = path.name[: -len(SUFFIX)].rpartition("_")[2]
+            proc = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", str(path), part],
+                                    env=env, stdout=out, stderr=subprocess.STDOUT, text=True)
+            if not parallel:
+                proc.wait()
+            runs.append((proc, out, path))
+        for proc, out, path in runs:
+            status = proc.wait()
+            if failure is None and (status != 0 or not path.exists()):
+                out.seek(0)
+                failure = (status, out.read())
+    if failure is None and sys.stderr.isatty():
+        cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
+        print(f"vecmsaa: compiled the kernels in {time.perf_counter() - t0:.0f} s ({cpu:.0f} s "
+              f"of CPU in {len(paths)} processes): {paths[0].parent}", file=sys.stderr)
+    return failure
+
+
+def _remove_others(folder: Path, name: str) -> None:
+    """Delete the modules of earlier sources beside the new ones (a process that has one
     loaded keeps it: the file is only unlinked)."""
-    for other in path.parent.glob("vecmsaa_kernels_*"):
-        if not other.name.startswith(path.name[: -len(SUFFIX)]):
+    for other in folder.glob("vecmsaa_kernels_*"):
+        if not other.name.startswith(name):
             try:
                 other.unlink()
             except OSError:
                 pass
 
 
-#: first-run build of every kernel in the manifest: 102.6 s of CPU on a 2-core AMD EPYC at load
-#: 4, 3 Dec 2026 (docs/bench.md, "Session 9: kernels compiled ahead of time")
-BUILD_SECONDS = "100"
+#: first-run build of every kernel in the manifest, the two parts at once: 36 and 39 s of CPU
+#: (plus ≈ 4 s each to start), 4 Dec 2026 on a 2-core Intel Xeon (docs/bench.md, "Session 10:
+#: the first run's build in two parts")
+BUILD_SECONDS = "40 s on two cores, 80 s of CPU"
 
 
 def _announce():
     if sys.stderr.isatty():
-        print(f"vecmsaa: compiling the kernels once (about {BUILD_SECONDS} s of CPU); later runs "
-              f"load them in a millisecond", file=sys.stderr, flush=True)
+        print(f"vecmsaa: compiling the kernels once (about {BUILD_SECONDS}); later runs load "
+              f"them in a millisecond", file=sys.stderr, flush=True)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -206,8 +275,7 @@ def manifest_entry(line: str):
 
 def _entries():
     """manifest_entry of each line of the manifest that is not stale."""
-    lines = [ln for ln in MANIFEST.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
-    return [e for e in map(manifest_entry, lines) if e is not None]
+    return [e for e in map(manifest_entry, _manifest_lines()) if e is not None]
 
 
 def _arg_key(ty):
@@ -259,11 +327,33 @@ def _memoise_unpickling():
     pythonapi.PythonAPI.unserialize = unserialize
 
 
-def build(path: Path) -> None:
+def _no_jit_machine_code():
+    """Compile the kernels the entries call without machine code for numba's JIT engine.
+
+    The module's machine code is made from the entries' LLVM IR, which links in their callees'
+    IR; the machine code numba's JIT makes for each callee (and its on-disk cache, which saves
+    that code) would be thrown away: ≈ 10 s of a 79 s build. So the build's dispatchers cache
+    nothing (none is then loaded from numba's cache either: a cached callee has machine code
+    but no IR to link), and a callee's library is optimised and linked as usual but never made
+    into machine code; its entry point is a placeholder that nothing in the build calls."""
+    from numba.core import codegen, dispatcher
+    dispatcher.Dispatcher.enable_caching = lambda self: None
+    codegen.JITCodeLibrary._finalize_specific = lambda self: None
+
+    def placeholder_pointer(self, name):
+        self._ensure_finalized()
+        return 1
+
+    codegen.JITCodeLibrary.get_pointer_to_function = placeholder_pointer
+
+
+def build(path: Path, part: int) -> None:
+    """Build the module of one part at ``path``."""
     t0 = time.process_time()
     import numba.pycc.compiler as pycc_compiler
     from numba.pycc import CC
 
+    _no_jit_machine_code()
     entries = _entries()
     options = {d.py_func: d.targetoptions for _, d, _ in entries}
     compile_extra = pycc_compiler.compile_extra
@@ -305,7 +395,9 @@ def build(path: Path) -> None:
     cc.target_cpu = "host"
     index: dict[str, list] = {}
     for i, (kernel, dispatcher, sig) in enumerate(entries):
-        symbol = f"k{i}"
+        if part_of(kernel) != part:
+            continue
+        symbol = f"k{i}"                # unique across the parts
         cc.export(symbol, sig)(dispatcher.py_func)
         index.setdefault(kernel, []).append([symbol, [_arg_key(t) for t in sig.args]])
     cc.compile()
@@ -315,11 +407,11 @@ def build(path: Path) -> None:
     os.replace(path.with_suffix(f".json.{os.getpid()}.tmp"), path.with_suffix(".json"))
     os.replace(tmp, path)
     total = time.process_time() - t0
-    print(f"built {len(entries)} kernels in {total:.1f} s CPU (typing, lowering and numba's "
+    print(f"built {sum(map(len, index.values()))} kernels in {total:.1f} s CPU (typing, lowering and numba's "
           f"optimisation of the entries and their callees {spent['entries']:.1f} s, the "
           f"module's machine code {spent['module'] - spent['entries']:.1f} s, C runtime and "
           f"link {total - spent['module']:.1f} s): {path}")
 
 
 if __name__ == "__main__":
-    build(Path(sys.argv[1]))
+    build(Path(sys.argv[1]), int(sys.argv[2]))
