@@ -18,8 +18,9 @@ time), kernels are numba's JIT functions as before, and a call whose argument ty
 manifest lacks goes to numba's JIT too (see ``jit.Kernel``).
 
 The build is in two parts (raster; geometry and input), compiled at once in two processes,
-each into a module of its own: numba's compiler runs on one core, and the parts share no
-kernel, so on two cores the first run waits about half as long.
+each into a module of its own: numba's compiler runs on one core, and the parts share
+three small kernels (scan.py's calls into geometry/primitives.py, compiled in both), so on two
+cores the first run waits about half as long.
 """
 from __future__ import annotations
 
@@ -86,7 +87,7 @@ def cache_dirs() -> list[Path]:
 
 #: The build runs in parts, each a process of its own compiling at the same time (numba's
 #: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
-#: and the kernels it calls must share a part, or the callee is compiled in each: the raster
+#: and the kernels it calls should share a part, or the callee is compiled in each: the raster
 #: stage and the RGBA8 conversion form one part, geometry, path data and transforms the other,
 #: and the two cost about the same (≈ 35 s CPU each, 4 Dec 2026).
 RASTER_PART = ("vecmsaa.raster.", "vecmsaa.output.")
