@@ -656,7 +656,7 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
 
 @njit(cache=True, error_model="numpy")
 def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount, fb, cplx,
-                      slot_of, slot_pixel, pool, npool, wrun, occ, stamp, nxt, run):
+                      slot_of, slot_pixel, pool, npool, wrun, occ, stamp, nxt, run, extent):
     """sweep_rows for an opaque solid fill of a run drawn front to back (render_msaa): it
     paints only the samples that no fill in front of it covers and records the ones it
     paints. An opaque sample takes the paint's colour whatever was under it, so each sample
@@ -666,7 +666,13 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
     run ends: stamp[r, x] == 2·run + 1 means the pixel is full — nxt[r, x] then links to a
     later pixel, a union-find of the next pixel not full, so spans jump over covered ones —
     and stamp[r, x] == 2·run means its samples in the mask occ[r, x] are painted; any other
-    stamp means nothing of the run is there yet."""
+    stamp means nothing of the run is there yet.
+
+    ``extent[r]`` = (run, lo, hi): the pixels lo..hi of row r hold all that run ``run`` has
+    stamped there (another number: nothing yet). A span's stretch outside them is painted by
+    plain loops (no stamp to test, one link for all: LLVM vectorises them), inside them by
+    the walk that skips full pixels; a fill's spans are mostly outside what the fills in front
+    of it cover (the flag's red field around its cross: 2.5x less time in this kernel)."""
     n = wrun.shape[0]
     full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
     full_id = 2 * run + 1
@@ -679,46 +685,68 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
             continue
         _sort_row(dlist, r, cnt)
         wrun[:] = 0.0
+        if extent[r, 0] != run:
+            extent[r, 0], extent[r, 1], extent[r, 2] = run, W + 1, -1
+        lo, hi = extent[r, 1], extent[r, 2]
         prev = -1
         for i in range(cnt + 1):
             px = dlist[r, i] if i < cnt else W
-            if px > prev + 1 and coverage_of(wrun[0], rule) > 0.0:
-                x = prev + 1
-                while True:
-                    # the first pixel from x on that is not full (path halving); column W is
-                    # never full
-                    while stamp[r, x] == full_id:
-                        y = nxt[r, x]
-                        if stamp[r, y] == full_id:
-                            y = nxt[r, y]
-                            nxt[r, x] = y
-                        x = y
-                    if x >= px:
-                        break
-                    # paint the pixels from x up to the next full one (or the span's end)
-                    start = x
-                    while x < px and stamp[r, x] != full_id:
-                        if stamp[r, x] == part_id:
-                            # partly covered: a split pixel; its other samples take the paint
-                            m = occ[r, x]
-                            slot = cplx[r, x]
-                            for s in range(n):
-                                if not ((m >> np.uint64(s)) & one):
-                                    pool[slot, s, 0], pool[slot, s, 1] = cr, cg
-                                    pool[slot, s, 2], pool[slot, s, 3] = cb, ca
-                        else:
-                            cplx[r, x] = -1
-                            fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
-                        stamp[r, x] = full_id
-                        x += 1
-                    # ... and link them all to the first pixel beyond that is not full: a later
-                    # fill crossing them jumps there at once (linked one to the next, each
-                    # walk would step through them again)
-                    root = x
+            x = prev + 1
+            while px > x and coverage_of(wrun[0], rule) > 0.0:
+                if x < lo or x > hi:
+                    # pixels x..e-1 hold nothing of the run: all painted, all full, all
+                    # linked to the first pixel from e on that is not full
+                    e = min(px, lo) if x < lo else px
+                    root = e
                     while stamp[r, root] == full_id:
                         root = nxt[r, root]
-                    for t in range(start, x):
+                    for t in range(x, e):
+                        fb[r, t, 0], fb[r, t, 1], fb[r, t, 2], fb[r, t, 3] = cr, cg, cb, ca
+                    for t in range(x, e):
+                        cplx[r, t] = -1
+                        stamp[r, t] = full_id
                         nxt[r, t] = root
+                    lo, hi = min(lo, x), max(hi, e - 1)
+                    x = e
+                    continue
+                # inside what the run has stamped: the first pixel from x on that is not
+                # full (path halving; column W is never full) ...
+                while stamp[r, x] == full_id:
+                    y = nxt[r, x]
+                    if stamp[r, y] == full_id:
+                        y = nxt[r, y]
+                        nxt[r, x] = y
+                    x = y
+                if x >= px:
+                    break
+                if x > hi:
+                    continue
+                # ... and the pixels from there up to the next full one (or the span's end,
+                # or the end of what the run has stamped)
+                end = min(px, hi + 1)
+                start = x
+                while x < end and stamp[r, x] != full_id:
+                    if stamp[r, x] == part_id:
+                        # partly covered: a split pixel; its other samples take the paint
+                        m = occ[r, x]
+                        slot = cplx[r, x]
+                        for s in range(n):
+                            if not ((m >> np.uint64(s)) & one):
+                                pool[slot, s, 0], pool[slot, s, 1] = cr, cg
+                                pool[slot, s, 2], pool[slot, s, 3] = cb, ca
+                    else:
+                        cplx[r, x] = -1
+                        fb[r, x, 0], fb[r, x, 1], fb[r, x, 2], fb[r, x, 3] = cr, cg, cb, ca
+                    stamp[r, x] = full_id
+                    x += 1
+                # ... and link them all to the first pixel beyond that is not full: a later
+                # fill crossing them jumps there at once (linked one to the next, each
+                # walk would step through them again)
+                root = x
+                while stamp[r, root] == full_id:
+                    root = nxt[r, root]
+                for t in range(start, x):
+                    nxt[r, t] = root
             if i == cnt:
                 break
             dirty[r, px] = 0
@@ -770,6 +798,8 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
             else:
                 occ[r, px] = m
                 stamp[r, px] = part_id
+            lo, hi = min(lo, px), max(hi, px)
+        extent[r, 1], extent[r, 2] = lo, hi
         dcount[r] = 0
     return npool
 
@@ -833,6 +863,8 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
+    # what each run has stamped in each row (sweep_rows_behind); run numbers start at 1
+    extent = np.zeros((strip_rows, 3), dtype=np.int64)
     prim_y = prim_rows(prims)
     occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
     for sy0 in range(y0, y0 + H, strip_rows):
@@ -894,7 +926,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
                                               slot_of, slot_pixel, pool, npool, wrun, occ,
-                                              stamp, nxt, run_id)
+                                              stamp, nxt, run_id, extent)
                     hidden[r_first:r_last + 1] = False
                 else:
                     npool = sweep_rows(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
