@@ -455,6 +455,26 @@ def test_bands_give_the_same_image_as_one_band(mode):
                                                  band_budget=budget), rgba8)
 
 
+def test_buffers_kept_from_another_render_give_the_same_image(monkeypatch):
+    """A render on the band and strip buffers an earlier render of another scene of the same
+    size gave back (render.KEEP_BYTES: occlusion stamps of its runs, pool slots, band
+    contents) is byte for byte the render on new buffers, on 1 and 2 threads."""
+    # runs of opaque fills (occlusion stamps) in both, layers in one
+    discs = [Fill(circle_path((30 + 9 * math.cos(k), 30 + 9 * math.sin(k)), 8 + k),
+                  Solid((0.1 * k, 0.4, 0.6, 1))) for k in range(6)]
+    scenes = (Scene(61, 61, Group([layered_scene(61).root, *discs[:3]])),
+              Scene(61, 61, Group(discs[::-1])))
+    monkeypatch.setattr(render_module, "KEEP_BYTES", 0)
+    render_module._kits.clear()
+    fresh = [render_scene_png(s, band_budget=7 * 61 * 16) for s in scenes]
+    assert not render_module._kits
+    monkeypatch.undo()
+    for threads in (1, 2, 1):
+        for s, png in zip(scenes + scenes, fresh + fresh):
+            assert render_scene_png(s, threads=threads, band_budget=7 * 61 * 16) == png
+            assert render_module._kits
+
+
 FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">'
                 '<filter id="f"><feGaussianBlur stdDeviation="3"/><feOffset dx="2" dy="3"/>'
                 '</filter><rect width="96" height="80" fill="#eee"/>'
