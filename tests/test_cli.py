@@ -96,6 +96,40 @@ def test_render_imports_no_other_commands_modules(tmp_path):
     assert out == ["0", "[]\n"]
 
 
+#: what a render of a document without those features never needs (each costs start-up)
+FEATURE_MODULES = ("vecmsaa.scene.effects", "vecmsaa.svg.filters", "vecmsaa.raster.filter_effects",
+                   "vecmsaa.svg.text", "vecmsaa.fonts", "vecmsaa.svg.masking", "vecmsaa.svg.paint",
+                   "vecmsaa.svg.image", "numba", "tinycss2", "cssselect2", "PIL", "uharfbuzz",
+                   "xml.etree")
+
+
+def _render_imports(tmp_path, body):
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">'
+                   + body + '</svg>')
+    code = ("import sys; from vecmsaa.cli.main import main; import vecmsaa.jit; "
+            f"rc = main(['render', {str(svg)!r}, '-o', {str(tmp_path / 'a.png')!r}]); "
+            f"print(rc, vecmsaa.jit.AOT, "
+            f"*sorted(m for m in sys.modules if m.startswith({FEATURE_MODULES!r})))")
+    env = {k: v for k, v in os.environ.items() if k != "VECMSAA_JIT"}
+    rc, aot, *modules = subprocess.run([sys.executable, "-c", code], capture_output=True,
+                                       text=True, check=True, env=env).stdout.split()
+    # (numba's JIT stands in where the compiled module could not be built)
+    return [rc] + [m for m in modules if aot == "True" or not m.startswith("numba")]
+
+
+def test_render_imports_no_module_of_a_feature_the_document_lacks(tmp_path):
+    """A fill, a stroke and a path: no filters, text, fonts, clip paths, masks, gradients,
+    images, CSS, numba (the compiled kernels run without it). A filter brings its modules in."""
+    plain = ('<rect width="5" height="5" fill="red"/><circle cx="5" cy="5" r="3" stroke="blue"'
+             ' fill="none"/><path d="M 1 1 Q 9 1 9 9" stroke="#000" stroke-dasharray="1 1"/>')
+    assert _render_imports(tmp_path, plain) == ["0"]
+    blurred = ('<filter id="f"><feGaussianBlur stdDeviation="1"/></filter>'
+               '<rect width="5" height="5" filter="url(#f)"/>')
+    assert set(_render_imports(tmp_path, blurred)) == {
+        "0", "vecmsaa.scene.effects", "vecmsaa.svg.filters", "vecmsaa.raster.filter_effects"}
+
+
 def test_the_command_ends_without_teardown_but_runs_atexit_and_flushes(tmp_path):
     """console() (the vecmsaa script, python -m vecmsaa.cli) skips the interpreter's teardown:
     atexit handlers still run, standard output is complete, the exit status is main()'s."""

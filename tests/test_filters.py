@@ -461,14 +461,12 @@ def _filtered_doc(primitives: str) -> str:
 def test_filters_on_the_content_box_give_the_region_s_pixels(name, monkeypatch):
     """The same bytes as computing every filter on its whole region (transparent_reach
     forced to None), for filters near the canvas edge, nested, and between shapes."""
-    import vecmsaa.raster.render as render
-
     primitives = {**CROPPED_FILTERS, **WHOLE_REGION_FILTERS}[name]
     assert (F.transparent_reach(_one_filter(primitives)) is None) == (
         name in WHOLE_REGION_FILTERS)
     doc = _filtered_doc(primitives)
     cropped = render_svg_array(doc)
-    monkeypatch.setattr(render, "transparent_reach", lambda flt: None)
+    monkeypatch.setattr(F, "transparent_reach", lambda flt: None)   # as render imports it
     assert np.array_equal(cropped, render_svg_array(doc))
 
 

@@ -10,6 +10,7 @@ lengths.
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -17,9 +18,13 @@ import numpy as np
 from ..scene.path import CLOSE, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path
 
 
-# Gauss–Legendre nodes and weights for arc lengths of cubic segments, mapped to [0, 1].
-_GL_NODES = tuple(((float(x) + 1) / 2, float(w) / 2)
-                  for x, w in zip(*np.polynomial.legendre.leggauss(24)))
+@functools.cache
+def _gl_nodes():
+    """Gauss–Legendre nodes and weights for arc lengths of cubic segments, mapped to [0, 1]
+    (on first use: numpy.polynomial and the eigenvalues cost start-up a render without dashes
+    or text on a path does not need)."""
+    return tuple(((float(x) + 1) / 2, float(w) / 2)
+                 for x, w in zip(*np.polynomial.legendre.leggauss(24)))
 
 
 def as_cubic(p0, pts) -> np.ndarray:
@@ -52,7 +57,7 @@ def cubic_length(c, t1: float = 1.0) -> float:
     bx, by = 3 * (x2 - x1), 3 * (y2 - y1)
     cx, cy = 3 * (x3 - x2), 3 * (y3 - y2)
     total = 0.0
-    for x, w in _GL_NODES:
+    for x, w in _gl_nodes():
         u = x * t1
         v = 1 - u
         p, q, r = v * v, 2 * u * v, u * u

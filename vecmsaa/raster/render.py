@@ -28,7 +28,6 @@ from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
-from .filter_effects import apply_filter, transparent_reach
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, MOVE
@@ -751,6 +750,10 @@ def render_filtered(layer: Layer, raster: Raster):
     through its filters in order, each taking the previous one's result. Like resvg, content
     up to two image sizes beyond the image's edges takes part (a blur pulls it in); a region
     too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
+    # (imported here: the effects and their scene classes cost start-up that a render without
+    # filters does not need)
+    from .filter_effects import apply_filter, transparent_reach
+
     W, H = raster.width, raster.height
     box = filter_box(layer)
     # where the filters keep transparent pixels transparent, only the content's box grown by

@@ -2,7 +2,9 @@
 
 Everything here is already resolved, as in usvg: geometry is in device pixels (y down, origin at
 the top-left corner of the output image), styles are plain values, paints carry the matrix that
-maps device pixels into paint space. A renderer needs nothing but this module to draw a scene.
+maps device pixels into paint space. A renderer needs nothing but this module (and
+:mod:`vecmsaa.scene.effects`, the filters, whose names this module hands out on first use) to
+draw a scene.
 """
 from __future__ import annotations
 
@@ -103,148 +105,6 @@ class Mask:
     kind: str = "luminance"      # luminance | alpha
 
 
-# -- filter primitives, one kind each (as usvg's filter::Kind); lengths in device pixels ------
-@dataclass(frozen=True)
-class Flood:
-    color: tuple                 # straight sRGB RGBA
-
-
-@dataclass(frozen=True)
-class GaussianBlur:
-    sx: float                    # standard deviations
-    sy: float
-
-
-@dataclass(frozen=True)
-class Offset:
-    dx: float                    # whole pixels (truncated, as resvg)
-    dy: float
-
-
-@dataclass(frozen=True)
-class DropShadow:
-    sx: float
-    sy: float
-    dx: float
-    dy: float
-    color: tuple
-
-
-@dataclass(frozen=True)
-class Merge:
-    """Its inputs drawn over each other in order."""
-
-
-@dataclass(frozen=True)
-class Composite:
-    operator: str                # over, in, out, atop, xor, lighter, arithmetic
-    k: tuple = (0.0, 0.0, 0.0, 0.0)
-
-
-@dataclass(frozen=True)
-class Blend:
-    mode: str                    # any CSS blend mode; in over in2
-
-
-@dataclass(frozen=True)
-class ColorMatrix:
-    matrix: tuple                # 4 x 5, row by row, on straight colour
-
-
-@dataclass(frozen=True)
-class ComponentTransfer:
-    funcs: tuple                 # four (type, values) for R, G, B, A
-
-
-@dataclass(frozen=True)
-class Tile:
-    """The region filled with the input's subregion, repeated."""
-
-
-@dataclass(frozen=True)
-class Image:
-    content: "Group"             # device pixels, rendered into the region by the raster
-
-
-@dataclass(frozen=True)
-class Morphology:
-    operator: str                # erode, dilate
-    rx: float
-    ry: float
-
-
-@dataclass(frozen=True)
-class Turbulence:
-    fx: float                    # base frequency
-    fy: float
-    octaves: int
-    seed: int
-    stitch: bool
-    fractal: bool
-    to_device: tuple             # (sx, sy, e, f): primitive units → device pixels
-
-
-@dataclass(frozen=True)
-class DisplacementMap:
-    sx: float                    # scale in device pixels
-    sy: float
-    x_channel: str               # R, G, B, A
-    y_channel: str
-
-
-@dataclass(frozen=True)
-class ConvolveMatrix:
-    kernel: tuple                # rows of columns
-    target: tuple                # (x, y)
-    divisor: float
-    bias: float
-    edge_mode: str               # duplicate, wrap, none
-    preserve_alpha: bool
-
-
-@dataclass(frozen=True)
-class Lighting:
-    """feDiffuseLighting, or feSpecularLighting when ``specular``. ``light``: ("distant",
-    azimuth, elevation), ("point", x, y, z) or ("spot", x, y, z, at x, at y, at z, exponent,
-    cone angle or None), positions in device pixels."""
-    specular: bool
-    surface_scale: float
-    constant: float
-    exponent: float
-    color: tuple
-    light: tuple
-
-
-Effect = Union[Flood, GaussianBlur, Offset, DropShadow, Merge, Composite, Blend, ColorMatrix,
-               ComponentTransfer, Tile, Image, Morphology, Turbulence, DisplacementMap,
-               ConvolveMatrix, Lighting]
-
-
-@dataclass
-class Primitive:
-    """One filter primitive, resolved to device pixels: ``effect`` is what it computes (one of
-    the kinds above; vecmsaa/raster/filter_effects.py computes them). ``inputs``:
-    SOURCE_GRAPHIC, SOURCE_ALPHA or the index of an earlier primitive; ``subregion``: (x0, y0,
-    x1, y1) device pixels its result is confined to; ``linear``: computed in linearRGB
-    (color-interpolation-filters) rather than sRGB."""
-    effect: Effect
-    inputs: tuple = ()
-    subregion: tuple = (0, 0, 0, 0)
-    linear: bool = True
-
-
-SOURCE_GRAPHIC = -1
-SOURCE_ALPHA = -2
-
-
-@dataclass
-class Filter:
-    """A filter effect: its primitives applied in order inside ``region`` ((x0, y0, x1, y1)
-    device pixels); the last primitive's result, cropped to the region, replaces the group."""
-    region: tuple
-    primitives: list = field(default_factory=list)
-
-
 @dataclass
 class Group:
     """Children drawn in order. A group with opacity < 1, a clip, a mask, a blend mode other
@@ -257,7 +117,7 @@ class Group:
     mask: Mask | None = None
     blend: str = "normal"        # any CSS mix-blend-mode
     isolate: bool = False
-    filters: list = field(default_factory=list)
+    filters: list = field(default_factory=list)    # scene.effects.Filter
 
     def needs_layer(self) -> bool:
         return (self.opacity < 1.0 or self.clip is not None or self.mask is not None
@@ -302,37 +162,28 @@ def translated(node: Node, dx: float, dy: float) -> Node:
         clip=None if node.clip is None else translated(node.clip, dx, dy),
         mask=None if node.mask is None else replace(node.mask,
                                                      content=translated(node.mask.content, dx, dy)),
-        filters=[_translated_filter(f, dx, dy) for f in node.filters])
+        filters=_translated_filters(node.filters, dx, dy))
 
 
-def shifted_light(light: tuple, dx: float, dy: float) -> tuple:
-    """A lighting primitive's light source moved by (dx, dy) pixels: a point light's position,
-    a spot light's position and target; a distant light has no position."""
-    if light[0] == "distant":
-        return light
-    light = list(light)
-    light[1] += dx
-    light[2] += dy
-    if light[0] == "spot":
-        light[4] += dx
-        light[5] += dy
-    return tuple(light)
+def _translated_filters(filters, dx, dy):
+    if not filters:
+        return []
+    from .effects import translated_filter
+    return [translated_filter(f, dx, dy) for f in filters]
 
 
-def _shift_rect(r, dx, dy):
-    return (r[0] + dx, r[1] + dy, r[2] + dx, r[3] + dy)
+#: the names of scene.effects, handed out from here on first use (see that module)
+_EFFECTS = frozenset((
+    "Flood", "GaussianBlur", "Offset", "DropShadow", "Merge", "Composite", "Blend",
+    "ColorMatrix", "ComponentTransfer", "Tile", "Image", "Morphology", "Turbulence",
+    "DisplacementMap", "ConvolveMatrix", "Lighting", "Effect", "Primitive", "Filter",
+    "SOURCE_GRAPHIC", "SOURCE_ALPHA", "shifted_light"))
 
 
-def _translated_filter(f: Filter, dx: int, dy: int) -> Filter:
-    prims = []
-    for p in f.primitives:
-        effect = p.effect
-        if isinstance(effect, Image):
-            effect = replace(effect, content=translated(effect.content, dx, dy))
-        elif isinstance(effect, Turbulence):
-            sx, sy, e, f_ = effect.to_device
-            effect = replace(effect, to_device=(sx, sy, e + dx, f_ + dy))
-        elif isinstance(effect, Lighting):
-            effect = replace(effect, light=shifted_light(effect.light, dx, dy))
-        prims.append(replace(p, effect=effect, subregion=_shift_rect(p.subregion, dx, dy)))
-    return Filter(region=_shift_rect(f.region, dx, dy), primitives=prims)
+def __getattr__(name):
+    if name in _EFFECTS:
+        from . import effects
+        value = getattr(effects, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -24,7 +24,6 @@ from ..geometry.stroke import dash_coverage, dash_pattern, stroke_path
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from .document import Document, Element, Style
-from .filters import element_filters
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
@@ -103,20 +102,24 @@ class Ctx:
     geometry: bool = False                # only object geometry (bounding boxes)
 
 
-@dataclass
 class ContextPaint:
-    """The fill or stroke of a context element (``<use>``, a shape with markers)."""
-    value: str
-    style: object
-    ctx: object
-    bbox_fn: object
+    """The fill or stroke of a context element (``<use>``, a shape with markers). (Plain
+    classes here and in PaintRef: a dataclass costs a millisecond of start-up to create.)"""
+    __slots__ = ("bbox_fn", "ctx", "style", "value")
+
+    def __init__(self, value: str, style, ctx, bbox_fn):
+        self.value, self.style, self.ctx, self.bbox_fn = value, style, ctx, bbox_fn
 
 
-@dataclass
 class PaintRef:
-    """A resolved paint for one shape: paint, its opacity, and whether it may be drawn."""
-    paint: object
-    opacity: float
+    """A resolved paint for one shape: the paint and its opacity."""
+    __slots__ = ("opacity", "paint")
+
+    def __init__(self, paint, opacity: float):
+        self.paint, self.opacity = paint, opacity
+
+    def __repr__(self):
+        return f"PaintRef({self.paint!r}, {self.opacity!r})"
 
 
 def parse_url(value):
@@ -543,7 +546,11 @@ class Builder:
             if not bbox_cache:
                 bbox_cache.append(self.object_bbox(el, ctx, style))
             return bbox_cache[0]
-        filters = element_filters(self, el, style, ctx, bbox) if has_filter else []
+        if has_filter:      # (imported here: filters and their scene classes cost start-up)
+            from .filters import element_filters
+            filters = element_filters(self, el, style, ctx, bbox)
+        else:
+            filters = []
         if filters is False or not (nodes or filters):
             return []
         group = Group(children=nodes, filters=filters)
