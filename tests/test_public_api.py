@@ -140,3 +140,33 @@ def test_progress_reports_every_row_once_and_changes_nothing(threads):
         assert len(calls) > 1 and {rows for _, rows in calls} == {height}
         assert done[-1] == height and len(set(done)) == len(done)
         assert np.array_equal(np.asarray(got), np.asarray(render(svg, threads=threads)))
+
+
+def test_a_render_leaves_the_collector_no_cycles_of_the_document_or_scene():
+    """load_svg and render_svg_png free the element tree, its styles and the scene by
+    reference counting (Document.release, the scene dropped before the collector resumes):
+    the collector's next pass finds none of them in a reference cycle."""
+    import gc
+
+    from vecmsaa.api import load_svg, render_svg_png
+    from vecmsaa.scene.nodes import Fill, Group
+    from vecmsaa.scene.path import Path
+    from vecmsaa.svg.document import Document, Element, Style
+
+    svg = (b'<svg xmlns="http://www.w3.org/2000/svg" width="40" height="30">'
+           b'<g fill="teal" stroke="navy"><path d="M 1 1 L 30 2 L 20 25 Z"/>'
+           b'<path d="M 5 5 L 9 9"/><g opacity="0.5"><rect id="r" width="9" height="7"/></g>'
+           b'<use href="#r" x="20" y="10"/></g><circle cx="30" cy="20" r="6" fill="gold"/>'
+           b'</svg>')
+    kinds = (Document, Element, Style, Fill, Group, Path)
+    for call in (lambda: load_svg(svg, width=80), lambda: render_svg_png(svg, width=80)):
+        gc.collect()
+        gc.set_debug(gc.DEBUG_SAVEALL)
+        try:
+            call()
+            gc.collect()
+            left = [type(o).__name__ for o in gc.garbage if isinstance(o, kinds)]
+        finally:
+            gc.set_debug(0)
+            gc.garbage.clear()
+        assert left == []

@@ -154,8 +154,13 @@ def load_svg(source: Source, width: float | None = None, height: float | None = 
     (FONT_OPTIONS); see :func:`render_svg` for all of them."""
     with collector_paused(), diagnostics.as_python_warnings():
         loaded = _Loaded(source, dpi, resources_dir, options)
-        return loaded.scene(width, height, zoom, background, keep_aspect, size_limit,
-                            export_id)
+        try:
+            scene = loaded.scene(width, height, zoom, background, keep_aspect, size_limit,
+                                 export_id)
+        finally:
+            loaded.builder.doc.release()    # (see collector_paused)
+        del loaded
+    return scene
 
 
 @contextlib.contextmanager
@@ -163,7 +168,10 @@ def collector_paused():
     """Python's cyclic garbage collector paused (and restored as it was): a document's build
     allocates hundreds of thousands of objects that all stay alive until its render ends, and
     the collections they trigger (a quarter of the front end's time on map data; during the
-    render, full passes over the live scene) would find nothing to free."""
+    render, full passes over the live scene) would find nothing to free. The pass when it
+    resumes walks whatever tracked objects are still alive or in reference cycles, so a render
+    drops its scene before (the scene holds no cycles) and load_svg the element tree's
+    cycles (Document.release)."""
     collecting = gc.isenabled()
     gc.disable()
     try:
@@ -315,8 +323,9 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
         rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
                                   samples=samples_for(samples, scene.width, scene.height),
                                   pattern=pattern, filter=filter, color_samples=color_samples)
-    if export_area_drawing and export_id is None:
-        rgba = crop_to_drawing(rgba, scene)
+        if export_area_drawing and export_id is None:
+            rgba = crop_to_drawing(rgba, scene)
+        del scene                           # (see collector_paused)
     return rgba
 
 
@@ -345,9 +354,11 @@ def render_svg_png(source: Source, width: float | None = None, height: float | N
                          background=background, resources_dir=resources_dir,
                          keep_aspect=keep_aspect, size_limit=size_limit, export_id=export_id,
                          **options)
-        return render_scene_png(scene, mode=mode, threads=threads, progress=progress,
-                                samples=samples_for(samples, scene.width, scene.height),
-                                pattern=pattern, filter=filter, color_samples=color_samples)
+        png = render_scene_png(scene, mode=mode, threads=threads, progress=progress,
+                               samples=samples_for(samples, scene.width, scene.height),
+                               pattern=pattern, filter=filter, color_samples=color_samples)
+        del scene                           # (see collector_paused)
+    return png
 
 
 def crop_to_drawing(rgba: np.ndarray, scene: Scene) -> np.ndarray:

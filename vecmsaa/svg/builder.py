@@ -1153,29 +1153,30 @@ def expanded_size(doc) -> int:
     MAX_NODES), computed without instantiating anything."""
     if not doc.has_use:
         return min(doc.size, MAX_NODES + 1)
-    memo = {}
-    active = set()
+    return _expanded_size(doc.root, doc, {}, set())
 
-    def size(el):
-        key = id(el)
-        if key in memo:
-            return memo[key]
-        if key in active:
-            return 0     # a cycle: cut when building, too
-        active.add(key)
-        total = 1
-        for child in el.children:
-            total += size(child)
-            if total > MAX_NODES:
-                break
-        if el.tag == "use":
-            target = doc.lookup(el.get("href") or "")
-            if target is not None:
-                total += size(target)
-        active.discard(key)
-        memo[key] = min(total, MAX_NODES + 1)
+
+def _expanded_size(el, doc, memo, active):
+    """expanded_size below ``el`` (a function of the module: a nested one calling itself
+    would be a reference cycle holding the document until the collector's next pass)."""
+    key = id(el)
+    if key in memo:
         return memo[key]
-    return size(doc.root)
+    if key in active:
+        return 0     # a cycle: cut when building, too
+    active.add(key)
+    total = 1
+    for child in el.children:
+        total += _expanded_size(child, doc, memo, active)
+        if total > MAX_NODES:
+            break
+    if el.tag == "use":
+        target = doc.lookup(el.get("href") or "")
+        if target is not None:
+            total += _expanded_size(target, doc, memo, active)
+    active.discard(key)
+    memo[key] = min(total, MAX_NODES + 1)
+    return memo[key]
 
 
 def _unconditional(el):

@@ -555,6 +555,11 @@ class _TreeReader:
             raise SvgError(f"forbidden XML construct: {type(exc).__name__}") from None
         except (ValueError, UnicodeError, LookupError) as exc:   # LookupError: unknown encoding
             raise SvgError(f"malformed XML: {exc}") from None
+        finally:
+            # the handlers' closures hold the parser (default() reads its position): without
+            # them the reader and its state go when unused, not at the collector's next pass
+            parser.StartElementHandler = parser.EndElementHandler = None
+            parser.CharacterDataHandler = parser.DefaultHandlerExpand = None
         self.error = error
         doc.size = size
         if tb is not None:
@@ -648,6 +653,25 @@ class Document:
         if ref.startswith("#"):
             ref = ref[1:]
         return self.ids.get(ref)
+
+    def release(self):
+        """Drop the reference cycles of the element tree (parent and children, elements and
+        this document) and of its computed styles, for a document that is done with: its
+        memory then goes when the last reference to it does, and the collector's next pass
+        (at the end of a render) does not walk tens of thousands of elements. The elements
+        keep their attributes and parents; the tree is no longer walkable from here."""
+        stack = [self.root] if self.root is not None else []
+        while stack:
+            el = stack.pop()
+            if el.children:
+                stack.extend(el.children)
+                el.children = ()
+        styles = list(self._doc_styles.values())
+        while styles:
+            style = styles.pop()
+            styles.extend(style._children.values())
+            style._children = {}
+        self.root, self.ids, self.paths, self._doc_styles = None, {}, [], {}
 
     def document_style(self, el: Element) -> Style:
         """Computed style from the element's document ancestors (for paint servers, clip paths,
