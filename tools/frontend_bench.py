@@ -4,6 +4,10 @@ after one warm-up, the garbage collector paused as load_svg pauses it.
 
     python tools/frontend_bench.py ../shared/corpus -w 2048 --repeat 9
 
+``--collector``: instead, the CPU time Python's cyclic garbage collector spends in
+``load_svg`` and in ``render_svg_png`` (``gc.callbacks``; the collector on, as a user has it),
+the median of --repeat calls, each after a full collection.
+
 Run it with PYTHONPATH=<another checkout> to time that tree the same way."""
 from __future__ import annotations
 
@@ -30,6 +34,8 @@ def main(argv=None):
     ap.add_argument("inputs", nargs="+", help="SVG files or folders")
     ap.add_argument("-w", "--width", type=int, default=2048)
     ap.add_argument("--repeat", type=int, default=9)
+    ap.add_argument("--collector", action="store_true",
+                    help="the garbage collector's time in load_svg and render_svg_png")
     args = ap.parse_args(argv)
     from vecmsaa.api import load_svg
     from vecmsaa.raster.render import RenderOptions, prepare_items
@@ -40,6 +46,8 @@ def main(argv=None):
             files += sorted(os.path.join(item, f) for f in os.listdir(item) if f.endswith(".svg"))
         else:
             files.append(item)
+    if args.collector:
+        return collector_times(files, args.width, args.repeat)
     print(f"| file | load_svg ms | prepare_items ms | sum ms |  ({args.width} px, CPU, "
           f"min of {args.repeat})")
     print("|---|---|---|---|")
@@ -53,6 +61,42 @@ def main(argv=None):
         print(f"| {os.path.basename(path)} | {load * 1e3:.1f} | {prep * 1e3:.1f} | "
               f"{(load + prep) * 1e3:.1f} |")
     print(f"| total | {total[0] * 1e3:.1f} | {total[1] * 1e3:.1f} | {sum(total) * 1e3:.1f} |")
+    return 0
+
+
+def collector_times(files, width, repeat):
+    import statistics
+
+    from vecmsaa.api import load_svg, render_svg_png
+
+    spent, start = [0.0], [0.0]
+
+    def timer(phase, info):
+        if phase == "start":
+            start[0] = time.process_time()
+        else:
+            spent[0] += time.process_time() - start[0]
+    print(f"| file | collector in load_svg ms | in render_svg_png ms |  ({width} px, CPU, "
+          f"median of {repeat})")
+    print("|---|---|---|")
+    gc.callbacks.append(timer)
+    try:
+        for path in files:
+            row = []
+            for call in (load_svg, render_svg_png):
+                call(path, width=width)
+                times = []
+                for _ in range(repeat):
+                    gc.collect()
+                    spent[0] = 0.0
+                    call(path, width=width)
+                    # (the pass a render leaves due runs at the next allocations)
+                    _ = [[] for _ in range(1000)]
+                    times.append(spent[0])
+                row.append(statistics.median(times))
+            print(f"| {os.path.basename(path)} | {row[0] * 1e3:.1f} | {row[1] * 1e3:.1f} |")
+    finally:
+        gc.callbacks.remove(timer)
     return 0
 
 
