@@ -27,7 +27,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import subprocess
 import sys
 import sysconfig
 import time
@@ -197,8 +196,10 @@ def ensure(stamps: dict[str, str]):
 def _build_parts(paths: list[Path]):
     """Build every part at once (one after the other on a single core); None when all were
     built, else (exit status, output) of the first that was not."""
+    # here, not at the top: every process imports this module, few build
     import contextlib
     import resource
+    import subprocess
     import tempfile
     env = dict(os.environ, VECMSAA_JIT="1")
     parallel = (os.cpu_count() or 1) > 1
