@@ -239,10 +239,10 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first-run build of every kernel in the manifest, the two parts at once: 36 and 39 s of CPU
-#: (plus ≈ 4 s each to start), 4 Dec 2026 on a 2-core Intel Xeon (docs/bench.md, "Session 10:
-#: the first run's build in two parts")
-BUILD_SECONDS = "40 s on two cores, 80 s of CPU"
+#: first run after `pip install .` (`vecmsaa demo`), the two parts at once: 46 s wall, 85 s of
+#: CPU, 4 Dec 2026 on a quiet 2-core Intel Xeon (docs/bench.md, "Session 10: the first run's
+#: build in two parts")
+BUILD_SECONDS = "45 s on two cores, 85 s of CPU"
 
 
 def _announce():
