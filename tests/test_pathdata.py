@@ -343,3 +343,24 @@ def test_paths_of_a_batch_transform_as_alone():
     p = batch.get(0)[0]
     p.lineTo((1.0, 2.0))
     assert p.transformed(m).points[-1].tolist() == [a + 2 * c + e, b + 2 * d + f]
+
+
+def test_a_run_of_stroked_paths_draws_what_each_path_draws_alone():
+    # sibling <path>s with no style of their own are built as a run (their polyline strokes
+    # in one kernel call, curves, arcs and "M x y Z" dots through the stroker one by one); a
+    # presentation attribute of its own sends each through the builder's general path
+    from vecmsaa.api import render_svg_array
+    paths = ["M 2 3 L 30 5 L 28 20", "M 5 25 C 10 5 25 40 35 30", "M 20 20 Z",
+             "M 3 35 L 12 38 Z", "M 30 10 Q 38 2 38 18", "M 8 8 A 4 4 0 0 1 16 12",
+             "M 36 36 L 37 37", "M 12 12 L 12 12"]
+
+    def doc(own):
+        body = "".join(f'<path d="{d}"{own}/>' for d in paths)
+        return (f'<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40"><g '
+                f'fill="none" stroke="#000" stroke-width="3" stroke-linecap="round">{body}'
+                f'</g></svg>').encode()
+
+    run = render_svg_array(doc(""), width=120)
+    alone = render_svg_array(doc(' stroke-linejoin="miter"'), width=120)
+    assert run[..., 3].any()
+    assert np.array_equal(run, alone)

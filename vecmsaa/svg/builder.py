@@ -187,6 +187,7 @@ class Builder:
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
+        self._path_curved = None       # per path of the batch: a verb besides M, L and Z
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -308,6 +309,9 @@ class Builder:
         identity = transform == IDENTITY
         # the run's fills transformed together (a lookup by matrix per path costs more)
         moved = None if identity else shared.all_transformed(transform, len(run))
+        # which of the batch's paths are lines only, from the batch's verbs at once (a stroked
+        # path needs no verb slice of its own then)
+        curved = self._batch_curved() if lines_plan is not None else None
         for el in run:
             i = index.get(el)
             if i is None or status[i]:
@@ -315,10 +319,11 @@ class Builder:
                 verbs, points = path._freeze()
                 empty = not verbs.tobytes().translate(None, _NOT_DRAWING)
             else:
-                path = None
-                verbs = all_verbs[vstart[i]:vstart[i + 1]]
+                path = verbs = None             # the verbs sliced where they are needed
                 empty = not drawing[i]
             if empty:
+                if verbs is None:
+                    verbs = all_verbs[vstart[i]:vstart[i + 1]]
                 if _CLOSE_BYTE in verbs.tobytes():   # "M x y Z": shape() may stroke a dot
                     out.extend(self.shape(el, ctx, style))
                 continue                        # empty: shape() draws nothing
@@ -326,6 +331,8 @@ class Builder:
                 p0, p1 = pstart[i], pstart[i + 1]
             for item in order:
                 if item == "fill":
+                    if verbs is None:
+                        verbs = all_verbs[vstart[i]:vstart[i + 1]]
                     if not (len(verbs) == 2 and verbs[1] == LINE):
                         if path is not None:
                             device = path.transformed(transform)
@@ -338,12 +345,13 @@ class Builder:
                                                                                 p1))
                         out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
                                         antialias))
-                elif (lines_plan is not None and path is None
-                      and not verbs.tobytes().translate(None, _LINE_VERBS)):
+                elif lines_plan is not None and path is None and not curved[i]:
                     pending.append((len(out), i))   # stroked after the loop, all together
                     out.append(None)
                 else:
                     if path is None:
+                        if verbs is None:
+                            verbs = all_verbs[vstart[i]:vstart[i + 1]]
                         path = Path._of_shared(verbs, shared, p0, p1)
                     out.extend(self.stroke(path, style, ctx, None, antialias))
         if pending:
@@ -367,11 +375,10 @@ class Builder:
         vo, po = vo.tolist(), po.tolist()
         empty = False
         of_arrays = Path._of_arrays
-        for k, (at, _) in enumerate(pending):
-            v0, v1 = vo[k], vo[k + 1]
+        for (at, _), v0, v1, p0, p1 in zip(pending, vo, vo[1:], po, po[1:]):
             if v1 > v0:
-                out[at] = Fill(of_arrays(ov[v0:v1], op[po[k]:po[k + 1]]), paint, "nonzero",
-                               opacity, antialias)
+                out[at] = Fill(of_arrays(ov[v0:v1], op[p0:p1]), paint, "nonzero", opacity,
+                               antialias)
             else:
                 empty = True
         if empty:
@@ -746,6 +753,18 @@ class Builder:
         if i is None:
             return parse_path_data(el.get("d") or "")
         return self._path_batch.path(i)
+
+    def _batch_curved(self) -> list:
+        """Per path of the document's path batch whether it has a verb besides MOVE, LINE and
+        CLOSE (a curve or an arc's cubics), from all its verbs at once: _path_run strokes the
+        others in one kernel call per run."""
+        if self._path_curved is None:
+            verbs = self._path_batch.verbs
+            counts = np.zeros(len(verbs) + 1, np.int64)
+            np.cumsum((verbs != MOVE) & (verbs != LINE) & (verbs != CLOSE), out=counts[1:])
+            at = np.asarray(self._path_batch.vstart, np.int64)
+            self._path_curved = (counts[at[1:]] > counts[at[:-1]]).tolist()
+        return self._path_curved
 
     def shape(self, el, ctx, style):
         if el.tag == "path":
