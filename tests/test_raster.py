@@ -510,6 +510,10 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     monkeypatch.setattr(render_module, "STRIP_BUDGET", 3 * scene.width * 8)
     assert np.array_equal(render_scene_rgba8(scene, threads=2,
                                              band_budget=64 * scene.width * 16), one)
+    # and one strip for the whole image (the strips' rows cap lifted)
+    monkeypatch.setattr(render_module, "STRIP_BUDGET", 1 << 20)
+    monkeypatch.setattr(render_module, "MSAA_STRIP_ROWS", 256)
+    assert np.array_equal(render_scene_rgba8(scene, threads=1), one)
     monkeypatch.undo()
     # PNG rows deflated as bands arrive: the bytes of the whole image's encoding
     png = encode_png(one)

@@ -4,6 +4,7 @@ shared with other work it moves less than wall time), the minimum and median of 
 
     python tools/raster_bench.py ../shared/corpus/*.svg -w 8192 --repeat 3
 
+``--strip-rows N`` sets render.MSAA_STRIP_ROWS (256: the rule before session 10's 16).
 ``--tree DIR`` times another checkout the same way (an editable install's import hook would
 win over PYTHONPATH). A/B: alternate the two trees, A B B A, and compare the minimums."""
 from __future__ import annotations
@@ -21,12 +22,17 @@ def main() -> None:
     ap.add_argument("-w", "--width", type=int, default=8192)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--tree", help="a checkout to import vecmsaa from")
+    ap.add_argument("--strip-rows", type=int, help="rows of a multisampled strip at most")
     args = ap.parse_args()
     if args.tree:
         sys.meta_path[:] = [f for f in sys.meta_path if "editable" not in repr(f).lower()]
         sys.path.insert(0, os.path.abspath(args.tree))
     from vecmsaa.api import collector_paused, load_svg
+    from vecmsaa.raster import render
     from vecmsaa.raster.render import render_scene_png
+
+    if args.strip_rows:
+        render.MSAA_STRIP_ROWS = args.strip_rows
 
     for path in args.files:
         with collector_paused():

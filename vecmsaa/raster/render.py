@@ -49,6 +49,12 @@ MAX_SAGITTA = 1.0
 #: samples). 4 M elements (64 rows) held 32 MB of winding deltas per thread more and was no
 #: faster: at 8192 px the peak RSS of alexandria-port 313 -> 242 MB, city-3 391 -> 314 MB
 STRIP_BUDGET = 1 << 20
+#: rows of a multisampled strip at most (fewer than STRIP_BUDGET gives below 8192 px): a fill's
+#: winding deltas, lens samples and occlusion stamps then stay in the caches from its scan to
+#: its sweep. 16 rows instead of 64 at 2048 px: the tiger 0.85-0.9 of the time, ASU, NASA and
+#: the maps 0.9-0.95 (docs/bench.md, session 10, raster (2)). Not the analytic mode: its cost
+#: per strip is per edge (16 rows made the tiger's 2048 px render 5x slower)
+MSAA_STRIP_ROWS = 16
 #: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
 #: level is rendered band by band so the whole image never exists in float
 BAND_BUDGET = 1 << 24
@@ -289,7 +295,7 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
         return
     items = prepare_items(scene.root, opts)
     threads = available_cores() if threads is None else max(1, int(threads))
-    band_rows, strip_rows = band_layout(W, opts.samples, band_budget)
+    band_rows, strip_rows = band_layout(W, opts.samples, band_budget, opts.mode == "analytic")
     band_rows = max(1, min(band_rows, H))
     if threads > 1 and band_rows > strip_rows:
         # at least two bands a thread, so that a thread with a light band is not left idle
@@ -457,10 +463,13 @@ def held_filtered_pixels(items, W: int, H: int) -> int:
     return total
 
 
-def band_layout(W: int, samples: int, band_budget: int) -> tuple[int, int]:
-    """(rows of a band, rows of a kernel strip) for an image W pixels wide. A band is a whole
-    number of strips, so no strip is cut short in the middle of the image."""
-    strip_rows = max(1, min(256, STRIP_BUDGET // max(1, W * samples)))
+def band_layout(W: int, samples: int, band_budget: int,
+                analytic: bool = False) -> tuple[int, int]:
+    """(rows of a band, rows of a kernel strip) for an image W pixels wide (``analytic``: for
+    the analytic mode's kernel). A band is a whole number of strips, so no strip is cut short
+    in the middle of the image."""
+    most = 256 if analytic else MSAA_STRIP_ROWS
+    strip_rows = max(1, min(most, STRIP_BUDGET // max(1, W * samples)))
     band_rows = max(1, band_budget // max(1, W * 16))     # float32 RGBA: 16 bytes a pixel
     if band_rows <= strip_rows:
         return band_rows, band_rows
@@ -781,7 +790,8 @@ def render_filtered(layer: Layer, raster: Raster):
         return (0, 0, 0, 0), None
     w, h = x1 - x0, y1 - y0
     moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
-    local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET)[1])
+    local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
+                                                     raster.opts.mode == "analytic")[1])
 
     def draw(group, top, rows):
         img = np.zeros((rows, w, 4), dtype=np.float32)
