@@ -345,17 +345,26 @@ _kits: dict = {}
 _kits_lock = threading.Lock()
 
 
+def _kits_kept(opts: RenderOptions) -> bool:
+    """Whether a render's buffers are kept: only the multisample kernels' (render_msaa's)."""
+    return opts.mode != "analytic" and opts.color_samples == opts.samples
+
+
+def _drop_other_kits(key) -> None:
+    """Forget the kept buffers of every other key (with _kits_lock held)."""
+    for other in [k for k in _kits if k != key]:
+        del _kits[other]
+
+
 def _take_kit(key, opts: RenderOptions, height: int):
     """(Raster, band buffer or None) for one thread of render_bands: the buffers a previous
-    render with the same key gave back (the kernels leave them clean), or new ones. Only the
-    multisample kernels' buffers (render_msaa's) are kept."""
-    W, strip_rows, samples, band_rows, own_buffer = key
-    kept = opts.mode != "analytic" and opts.color_samples == samples
+    render with the same key gave back (the kernels leave them clean), or new ones (see
+    _kits_kept)."""
+    W, strip_rows, _, band_rows, own_buffer = key
     with _kits_lock:
         # another size's buffers go now, not after this render has allocated its own
-        for other in [k for k in _kits if k != key]:
-            del _kits[other]
-        kits = _kits.get(key) if kept else None
+        _drop_other_kits(key)
+        kits = _kits.get(key) if _kits_kept(opts) else None
         kit = kits.pop() if kits else None
     if kit is None:
         raster = Raster(opts, W, height, strip_rows)
@@ -369,13 +378,11 @@ def _take_kit(key, opts: RenderOptions, height: int):
 
 def _keep_kit(key, raster: Raster, buffer) -> None:
     """Give back a thread's buffers for the next render (see KEEP_BYTES)."""
-    opts = raster.opts
-    if opts.mode == "analytic" or opts.color_samples != opts.samples:
+    if not _kits_kept(raster.opts):
         return
     size = sum(a.nbytes for a in raster.scratch) + (0 if buffer is None else buffer.nbytes)
     with _kits_lock:
-        for other in [k for k in _kits if k != key]:
-            del _kits[other]
+        _drop_other_kits(key)
         kits = _kits.get(key, [])
         if (len(kits) + 1) * size <= KEEP_BYTES:
             _kits[key] = kits + [(raster.scratch, buffer)]
