@@ -110,10 +110,15 @@ def module_name(k: str, part: int | None = None) -> str:
     return f"vecmsaa_kernels_{k}" if part is None else f"vecmsaa_kernels_{k}_{part}"
 
 
+def _module_paths(folder: Path, k: str) -> dict[int, Path]:
+    """Part → where its module for key ``k`` lives in ``folder``."""
+    return {p: folder / (module_name(k, p) + SUFFIX) for p in parts()}
+
+
 def find(k: str) -> list[Path] | None:
     """Every part's module for key ``k``, in one of the cache folders; None if any is missing."""
     for d in cache_dirs():
-        paths = [d / (module_name(k, p) + SUFFIX) for p in parts()]
+        paths = list(_module_paths(d, k).values())
         if all(p.exists() and p.with_suffix(".json").exists() for p in paths):
             return paths
     return None
@@ -168,13 +173,13 @@ def ensure(stamps: dict[str, str]):
     d = _writable_cache_dir()
     if d is None:
         return None
-    paths = [d / (module_name(k, p) + SUFFIX) for p in parts()]
+    builds = _module_paths(d, k)
     import fcntl
     with open(d / f"{module_name(k)}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)       # one build; others wait for it and load it
         if find(k) is None:
             _announce()
-            failure = _build_parts(paths)
+            failure = _build_parts(builds)
             if failure is not None:
                 status, output = failure
                 reason = (output.strip().splitlines() or
@@ -190,12 +195,12 @@ def ensure(stamps: dict[str, str]):
                       f"JIT", file=sys.stderr)
                 return None
             _remove_others(d, module_name(k))
-    return load(paths)
+    return load(list(builds.values()))
 
 
-def _build_parts(paths: list[Path]):
-    """Build every part at once (one after the other on a single core); None when all were
-    built, else (exit status, output) of the first that was not."""
+def _build_parts(builds: dict[int, Path]):
+    """Build every part (part → module path) at once (one after the other on a single core);
+    None when all were built, else (exit status, output) of the first that was not."""
     # here, not at the top: every process imports this module, few build
     import contextlib
     import resource
@@ -207,10 +212,9 @@ def _build_parts(paths: list[Path]):
     failure = None
     with contextlib.ExitStack() as files:
         runs = []
-        for path in paths:
+        for part, path in builds.items():
             out = files.enter_context(tempfile.TemporaryFile(mode="w+"))
-            part = path.name[: -len(SUFFIX)].rpartition("_")[2]
-            proc = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", str(path), part],
+            proc = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", str(path), str(part)],
                                     env=env, stdout=out, stderr=subprocess.STDOUT, text=True)
             if not parallel:
                 proc.wait()
@@ -224,7 +228,8 @@ def _build_parts(paths: list[Path]):
         cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
         print(f"vecmsaa: compiled the kernels in {time.perf_counter() - t0:.0f} s ({cpu:.0f} s "
-              f"of CPU in {len(paths)} processes): {paths[0].parent}", file=sys.stderr)
+              f"of CPU in {len(builds)} processes): {next(iter(builds.values())).parent}",
+              file=sys.stderr)
     return failure
 
 
@@ -239,8 +244,8 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first run after `pip install .` (`vecmsaa demo`), the two parts at once: 46 s wall, 85 s of
-#: CPU, 4 Dec 2026 on a quiet 2-core Intel Xeon (docs/bench.md, "Session 10: the first run's
+#: first run after `pip install .` (`vecmsaa demo`), the two parts at once: 45-49 s wall, 83-89
+#: s of CPU, 4 Dec 2026 on a 2-core Intel Xeon (docs/bench.md, "Session 10: the first run's
 #: build in two parts")
 BUILD_SECONDS = "45 s on two cores, 85 s of CPU"
 
@@ -409,8 +414,8 @@ def build(path: Path, part: int) -> None:
     os.replace(path.with_suffix(f".json.{os.getpid()}.tmp"), path.with_suffix(".json"))
     os.replace(tmp, path)
     total = time.process_time() - t0
-    print(f"built {sum(map(len, index.values()))} kernels in {total:.1f} s CPU (typing, lowering and numba's "
-          f"optimisation of the entries and their callees {spent['entries']:.1f} s, the "
+    print(f"built {sum(map(len, index.values()))} kernels in {total:.1f} s CPU (typing, "
+          f"lowering and numba's optimisation of the entries and their callees {spent['entries']:.1f} s, the "
           f"module's machine code {spent['module'] - spent['entries']:.1f} s, C runtime and "
           f"link {total - spent['module']:.1f} s): {path}")
 
