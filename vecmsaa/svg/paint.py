@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 
 import numpy as np
 
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_svg_color as parse_color
-from .units import (row_scale, row_scale_f32, parse_aspect, parse_fraction, parse_number,
+from .units import (NUMBER_RE, row_scale, row_scale_f32, parse_aspect, parse_fraction,
                     parse_opacity, parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
@@ -24,6 +25,7 @@ GRADIENT_TAGS = ("linearGradient", "radialGradient")
 #: fallback for references that are not one), and CSS Transforms draws nothing through a
 #: non-invertible matrix; resvg does the same
 NO_PAINT = "no paint"
+_OFFSET = re.compile(rf"({NUMBER_RE})(%?)")
 MAX_TILE_PIXELS = 2048 * 2048
 MAX_TILE_SIDE = 8192
 
@@ -63,12 +65,10 @@ def gradient_stops(builder, chain):
     last = 0.0
     for stop in stops:
         style = builder.doc.document_style(stop)
-        raw = (stop.get("offset") or "0").strip()
-        if raw.endswith("%"):
-            off = parse_number(raw[:-1], 0.0) / 100
-        else:
-            off = parse_number(raw, 0.0)
-        off = min(1.0, max(0.0, off))
+        # <number> | <percentage>; anything else ("50 %", "0.2px") is invalid: offset 0
+        m = _OFFSET.fullmatch((stop.get("offset") or "0").strip())
+        off = float(m.group(1)) / (100 if m.group(2) else 1) if m else 0.0
+        off = min(1.0, max(0.0, off)) if math.isfinite(off) else 0.0
         off = max(off, last)
         last = off
         color = parse_color(style.get("stop-color") or "black")
