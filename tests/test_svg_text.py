@@ -170,6 +170,24 @@ def test_underline_follows_the_post_table():
     assert rows.max() + 1 - rows.min() == pytest.approx(thickness * size / upem, abs=1)
 
 
+@pytest.mark.parametrize("order, centre_colour", [("normal", (0, 128, 0)),
+                                                   ("stroke", (255, 255, 0))])
+def test_paint_order_applies_to_text_decoration(order, centre_colour):
+    """SVG 2 text-decoration: the decoration is painted with the text's fill and stroke, in
+    the order its paint-order gives. An 8 px stroke covers the whole bar (under 8 px thick)
+    when painted over the fill; painted under it, the bar's middle is the fill."""
+    post = read_table("post")
+    position, thickness = struct.unpack(">hh", post[8:12])
+    upem = struct.unpack(">H", read_table("head")[18:20])[0]
+    assert thickness * 100 / upem < 8
+    img = render('<text x="10" y="100" font-size="100" text-decoration="underline" '
+                 f'fill="yellow" stroke="green" stroke-width="8" paint-order="{order}" '
+                 'kerning="0">H H</text>', width=300, height=150)
+    h, space = freetype_advance("H", 100), freetype_advance(" ", 100)
+    centre = int(100 - position * 100 / upem)
+    assert img[centre, int(10 + h + space / 2), :3] == pytest.approx(centre_colour, abs=1)
+
+
 def test_missing_character_falls_back_to_another_face():
     # Roboto Flex's test subset has no 'z'; the fixture folder's Noto Sans does.
     with_fallback = alpha(render('<text x="10" y="70" font-family="Roboto Flex">z</text>'))

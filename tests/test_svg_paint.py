@@ -1,0 +1,246 @@
+"""Paint servers and compositing against the specifications' formulas, computed here by hand
+(Compositing and Blending 1, SVG 2 paint servers, CSS Transforms 1): rendered pixels of flat
+regions, away from edges."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from vecmsaa.api import render_svg_array
+
+NS = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+def render(body, width=100, height=100):
+    return render_svg_array(f'<svg {NS} width="{width}" height="{height}">{body}</svg>'
+                            ).astype(np.float64)
+
+
+# -- mix-blend-mode: Compositing and Blending Level 1, section 10 ------------------------------
+def _soft_light(cb, cs):
+    if cs <= 0.5:
+        return cb - (1 - 2 * cs) * cb * (1 - cb)
+    d = ((16 * cb - 12) * cb + 4) * cb if cb <= 0.25 else cb ** 0.5
+    return cb + (2 * cs - 1) * (d - cb)
+
+
+def _hard_light(cb, cs):
+    return cb * 2 * cs if cs <= 0.5 else cb + (2 * cs - 1) - cb * (2 * cs - 1)
+
+
+SEPARABLE = {
+    "normal": lambda cb, cs: cs,
+    "multiply": lambda cb, cs: cb * cs,
+    "screen": lambda cb, cs: cb + cs - cb * cs,
+    "overlay": lambda cb, cs: _hard_light(cs, cb),
+    "darken": min,
+    "lighten": max,
+    "color-dodge": lambda cb, cs: 0.0 if cb == 0 else (1.0 if cs == 1 else min(1, cb / (1 - cs))),
+    "color-burn": lambda cb, cs: 1.0 if cb == 1 else (0.0 if cs == 0 else
+                                                       1 - min(1, (1 - cb) / cs)),
+    "hard-light": _hard_light,
+    "soft-light": _soft_light,
+    "difference": lambda cb, cs: abs(cb - cs),
+    "exclusion": lambda cb, cs: cb + cs - 2 * cb * cs,
+}
+
+
+def _lum(c):
+    return 0.3 * c[0] + 0.59 * c[1] + 0.11 * c[2]
+
+
+def _clip(c):
+    lum, n, x = _lum(c), min(c), max(c)
+    if n < 0:
+        c = [lum + (v - lum) * lum / (lum - n) for v in c]
+    if x > 1:
+        c = [lum + (v - lum) * (1 - lum) / (x - lum) for v in c]
+    return c
+
+
+def _set_lum(c, lum):
+    d = lum - _lum(c)
+    return _clip([v + d for v in c])
+
+
+def _set_sat(c, s):
+    mx, mn = max(c), min(c)
+    return [0.0 if mx == mn else (v - mn) * s / (mx - mn) for v in c]
+
+
+def _sat(c):
+    return max(c) - min(c)
+
+
+NON_SEPARABLE = {
+    "hue": lambda cb, cs: _set_lum(_set_sat(cs, _sat(cb)), _lum(cb)),
+    "saturation": lambda cb, cs: _set_lum(_set_sat(cb, _sat(cs)), _lum(cb)),
+    "color": lambda cb, cs: _set_lum(cs, _lum(cb)),
+    "luminosity": lambda cb, cs: _set_lum(cb, _lum(cs)),
+}
+
+
+def blended(mode, cb, cs, alpha):
+    """An opaque backdrop cb under a source cs of opacity alpha (section 5.1 with an opaque
+    backdrop: Cr = (1 - αs)·Cb + αs·B(Cb, Cs))."""
+    cb = [v / 255 for v in cb]
+    cs = [v / 255 for v in cs]
+    if mode in NON_SEPARABLE:
+        mix = NON_SEPARABLE[mode](cb, cs)
+    else:
+        mix = [SEPARABLE[mode](b, s) for b, s in zip(cb, cs)]
+    return [255 * ((1 - alpha) * b + alpha * m) for b, m in zip(cb, mix)]
+
+
+@pytest.mark.parametrize("mode", list(SEPARABLE) + list(NON_SEPARABLE))
+@pytest.mark.parametrize("cb, cs, alpha", [
+    ((200, 30, 120), (90, 60, 200), 1.0),
+    ((20, 180, 240), (240, 200, 10), 0.6),
+    ((128, 128, 128), (255, 64, 0), 1.0),
+])
+def test_blend_modes_follow_the_compositing_formulas(mode, cb, cs, alpha):
+    img = render(f'<rect width="100" height="100" fill="rgb{cb}"/>'
+                 f'<rect x="50" width="50" height="100" fill="rgb{cs}" fill-opacity="{alpha}" '
+                 f'style="mix-blend-mode: {mode}"/>')
+    assert img[50, 25, :3] == pytest.approx(cb, abs=1)           # the backdrop alone
+    assert img[50, 75, :3] == pytest.approx(blended(mode, cb, cs, alpha), abs=2)
+    assert img[50, 75, 3] == 255
+
+
+def test_isolated_group_blends_with_nothing_below_it():
+    # Compositing 1 section 3.2: an isolated group's backdrop is transparent, and a source
+    # over a transparent backdrop is the source whatever the mode.
+    body = ('<rect width="100" height="100" fill="rgb(200,30,120)"/>'
+            '<g style="isolation: {}"><rect width="100" height="100" fill="rgb(90,60,200)" '
+            'style="mix-blend-mode: difference"/></g>')
+    assert render(body.format("isolate"))[50, 50, :3] == pytest.approx((90, 60, 200), abs=1)
+    assert render(body.format("auto"))[50, 50, :3] == pytest.approx((110, 30, 80), abs=1)
+
+
+# -- gradients ---------------------------------------------------------------------------------
+def test_gradient_href_chain_takes_each_attribute_from_the_nearest_element():
+    # SVG 2 14.2: an attribute the element lacks comes from the referenced element, through
+    # the whole chain; stops come from the first element that has any. Here c takes y2 from
+    # b, spreadMethod and the stops from a: a vertical ramp over y in [0, 50], reflected.
+    img = render('<linearGradient id="a" x2="0" y2="1" spreadMethod="reflect">'
+                 '<stop offset="0" stop-color="black"/><stop offset="1" stop-color="white"/>'
+                 '</linearGradient><linearGradient id="b" href="#a" y2="0.5"/>'
+                 '<linearGradient id="c" href="#b"/>'
+                 '<rect width="100" height="100" fill="url(#c)"/>')
+    for y in (5, 20, 45, 55, 80, 95):
+        t = (y + 0.5) / 50
+        t = t if t <= 1 else 2 - t
+        assert img[y, 10, 0] == pytest.approx(255 * t, abs=2)
+        assert img[y, 90, 0] == pytest.approx(img[y, 10, 0], abs=1)
+
+
+@pytest.mark.parametrize("offsets, colour_at", [
+    # SVG 2 14.3.4: offsets clamp to [0, 1], and one below its predecessor takes the
+    # predecessor's value
+    (("-0.5", "0.5", "1.5"), lambda t: (255 * max(0, 1 - t / 0.5), 255 * min(1, t / 0.5), 0)
+     if t < 0.5 else (0, 255 * (1 - (t - 0.5) / 0.5), 255 * (t - 0.5) / 0.5)),
+    (("60%", "0.2", "1"), lambda t: (255, 0, 0) if t < 0.6 else
+     (0, 255 * (1 - (t - 0.6) / 0.4), 255 * (t - 0.6) / 0.4)),
+])
+def test_stop_offsets_are_clamped_and_never_decrease(offsets, colour_at):
+    a, b, c = offsets
+    img = render(f'<linearGradient id="g"><stop offset="{a}" stop-color="rgb(255,0,0)"/>'
+                 f'<stop offset="{b}" stop-color="rgb(0,255,0)"/>'
+                 f'<stop offset="{c}" stop-color="rgb(0,0,255)"/></linearGradient>'
+                 '<rect width="100" height="100" fill="url(#g)"/>')
+    for x in (10, 30, 45, 58, 70, 85, 97):
+        assert img[50, x, :3] == pytest.approx(colour_at((x + 0.5) / 100), abs=2), x
+
+
+@pytest.mark.parametrize("offset, value", [
+    ("50%", 0.5), ("+.5", 0.5), ("5e-1", 0.5), (" 0.5", 0.5), ("5E1%", 0.5),
+    # not a <number> or a <percentage>: invalid, so the initial value 0
+    ("50 %", 0.0), ("0.5px", 0.0), ("half", 0.0), ("0.5.", 0.0), ("", 0.0),
+])
+def test_stop_offset_is_a_number_or_a_percentage(offset, value):
+    img = render('<linearGradient id="g"><stop offset="0" stop-color="rgb(255,0,0)"/>'
+                 f'<stop offset="{offset}" stop-color="rgb(0,255,0)"/>'
+                 '<stop offset="1" stop-color="rgb(0,0,255)"/></linearGradient>'
+                 '<rect width="100" height="100" fill="url(#g)"/>')
+    t = 24.5 / 100
+    want = ((255 * (1 - t / value), 255 * t / value, 0) if value else
+            (0, 255 * (1 - t), 255 * t))
+    assert img[50, 24, :3] == pytest.approx(want, abs=2)
+
+
+def test_stop_color_current_color_is_the_stops_and_inherit_the_gradients():
+    # stop-color is not inherited: "inherit" takes the gradient element's value (its parent),
+    # not the painted element's; currentColor is the stop's own 'color', which inherits.
+    img = render('<linearGradient id="g" stop-color="rgb(0,0,255)" color="rgb(0,255,0)">'
+                 '<stop offset="0" stop-color="inherit"/>'
+                 '<stop offset="0.5" stop-color="inherit"/>'
+                 '<stop offset="0.5" stop-color="currentColor"/>'
+                 '<stop offset="1" stop-color="currentColor" color="rgb(255,0,0)"/>'
+                 '</linearGradient><g stop-color="black" color="black">'
+                 '<rect width="100" height="100" fill="url(#g)"/></g>')
+    assert img[50, 20, :3] == pytest.approx((0, 0, 255), abs=1)
+    u = (75.5 - 50) / 50                            # from the third stop to the fourth
+    assert img[50, 75, :3] == pytest.approx((255 * u, 255 * (1 - u), 0), abs=2)
+
+
+@pytest.mark.parametrize("units, equivalent", [
+    ("rotate(0.25turn)", "rotate(90)"), ("rotate(100grad)", "rotate(90)"),
+    ("skewX(0.5rad)", "skewX(28.64788976)"), ("translate(10px) scale(50%)",
+                                                "translate(10) scale(0.5)"),
+])
+def test_paint_transforms_take_css_units(units, equivalent):
+    # CSS Transforms 1 section 12: the transform presentation attributes (gradientTransform
+    # and patternTransform among them) accept the transform property's syntax too.
+    def draw(t):
+        return render(f'<linearGradient id="g" gradientTransform="{t}" spreadMethod="reflect">'
+                      '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
+                      '</linearGradient><pattern id="p" width="20" height="30" '
+                      f'patternUnits="userSpaceOnUse" patternTransform="{t}">'
+                      '<rect width="10" height="10" fill="green"/></pattern>'
+                      '<rect width="100" height="50" fill="url(#g)"/>'
+                      '<rect y="50" width="100" height="50" fill="url(#p)"/>')
+    assert np.array_equal(draw(units), draw(equivalent))
+    assert not np.array_equal(draw(units), draw(""))
+
+
+# -- patterns ----------------------------------------------------------------------------------
+@pytest.mark.parametrize("par, sx, sy, tx, ty", [
+    # viewBox 0 0 20 20 into a 60 x 40 tile (SVG 2 8.2, the viewBox-to-viewport transform)
+    ("xMinYMin meet", 2, 2, 0, 0),
+    ("xMaxYMax meet", 2, 2, 20, 0),
+    ("xMidYMid meet", 2, 2, 10, 0),
+    ("xMidYMid slice", 3, 3, 0, -10),
+    ("xMinYMax slice", 3, 3, 0, -20),
+    ("none", 3, 2, 0, 0),
+])
+def test_pattern_viewbox_maps_by_preserve_aspect_ratio(par, sx, sy, tx, ty):
+    # Content outside the viewBox but inside the tile shows (the tile is the clip), so a
+    # yellow frame around the viewBox shows where "meet" leaves room.
+    img = render('<pattern id="p" patternUnits="userSpaceOnUse" width="60" height="40" '
+                 f'viewBox="0 0 20 20" preserveAspectRatio="{par}">'
+                 '<rect x="-10" y="-10" width="40" height="40" fill="yellow"/>'
+                 '<rect width="10" height="10" fill="lime"/>'
+                 '<rect x="10" y="10" width="10" height="10" fill="blue"/></pattern>'
+                 '<rect width="120" height="80" fill="url(#p)"/>', 120, 80)
+    checked = 0
+    for py in range(80):
+        for px in range(120):
+            u = ((px % 60 + 0.5 - tx) / sx, (py % 40 + 0.5 - ty) / sy)
+            # skip pixels within a pixel of a region's edge in the tile
+            edges = [tx + sx * e for e in (-10, 0, 10, 20, 30)], [ty + sy * e for e in
+                                                                (-10, 0, 10, 20, 30)]
+            if (min(abs(px % 60 + 0.5 - e) for e in edges[0]) < 1.5 or
+                    min(abs(py % 40 + 0.5 - e) for e in edges[1]) < 1.5):
+                continue
+            if 0 <= u[0] < 10 and 0 <= u[1] < 10:
+                want = (0, 255, 0, 255)
+            elif 10 <= u[0] < 20 and 10 <= u[1] < 20:
+                want = (0, 0, 255, 255)
+            elif -10 <= u[0] < 30 and -10 <= u[1] < 30:
+                want = (255, 255, 0, 255)
+            else:
+                want = (0, 0, 0, 0)
+            got = img[py, px] if want[3] else img[py, px, 3:]
+            assert got == pytest.approx(want if want[3] else (0,), abs=1), (px, py)
+            checked += 1
+    assert checked > 3000
