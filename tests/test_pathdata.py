@@ -364,3 +364,35 @@ def test_a_run_of_stroked_paths_draws_what_each_path_draws_alone():
     alone = render_svg_array(doc(' stroke-linejoin="miter"'), width=120)
     assert run[..., 3].any()
     assert np.array_equal(run, alone)
+
+
+@pytest.mark.parametrize("paint", [
+    'fill="#08f"', 'fill="#08f" stroke="#000" stroke-width="2"',
+    'fill="#08f" stroke="#000" stroke-width="2" paint-order="stroke"',
+    'fill="none" stroke="#000" stroke-width="3"'])
+@pytest.mark.parametrize("width", [40, 120])
+def test_a_filled_run_of_paths_draws_what_each_path_draws_alone(paint, width):
+    # a run of sibling <path>s consecutive in the document's path data is built a stretch
+    # at a time; the paths among them that need deciding alone (nothing drawn, a dot, a
+    # lone line that fills nothing, a curve for the stroker, numbers read by Python's float)
+    # and runs whose paths are not consecutive (a path inside a path) go through the general
+    # code: the picture is that of each path built with a style of its own. At 40 px the
+    # paths are in device space as they are, at 120 px mapped.
+    from vecmsaa.api import render_svg_array
+    paths = ["M 2 3 L 30 5 L 28 20 Z", "M 5 25 C 10 5 25 40 35 30", "", "M 20 20 Z",
+             "M 3 35 L 12 38 L 9 30", "M 30 10 Q 38 2 38 18", "M 36 36 L 37 37",
+             "M 8 8 A 4 4 0 0 1 16 12 Z", "M 1.00000000000000000001 1 L 10 1 L 10 6",
+             "M 22 30 L 30 30 L 30 38 Z"]
+
+    def doc(own, inner=""):
+        body = "".join(f'<path d="{d}"{own}/>' for d in paths)
+        return (f'<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40"><g '
+                f'{paint}>{body}<path d="M 24 2 L 38 2 L 31 9 Z"{own}>{inner}</path>'
+                f'{body}</g></svg>').encode()
+
+    alone = render_svg_array(doc(' stroke-linejoin="miter"'), width=width)
+    assert alone[..., 3].any()
+    assert np.array_equal(render_svg_array(doc(""), width=width), alone)
+    # a path inside a path (not drawn): the run's paths are not consecutive in the batch
+    nested = render_svg_array(doc("", '<path d="M 0 0 L 40 40"/>'), width=width)
+    assert np.array_equal(nested, alone)

@@ -460,3 +460,16 @@ def test_overflowing_colour_channels_clamp_instead_of_raising():
     assert parse_svg_color("rgb(1e999, 0, -1e999)") == (1.0, 0.0, 0.0, 1.0)
     assert parse_svg_color("rgb(0%, 1e999%, 0%)") == (0.0, 1.0, 0.0, 1.0)
     assert parse_svg_color("hsla(0, 0%, 0%, -1e999)")[3] == 0.0
+
+
+def test_the_id_map_holds_the_first_element_in_document_order_with_each_id():
+    # made from the tree when first asked for; an element of another namespace is skipped
+    # with its subtree, so an id inside it names nothing
+    d = load_document(b'<svg xmlns="http://www.w3.org/2000/svg" xmlns:x="urn:x">'
+                      b'<g id="a"><rect id="b" width="1"/><x:y id="c"><rect id="d"/></x:y>'
+                      b'</g><circle id="b"/><rect id="c" height="2"/><path id="a"/></svg>')
+    assert d.ids["a"].tag == "g"
+    assert d.ids["b"].tag == "rect" and d.ids["b"].get("width") == "1"
+    assert d.ids["c"].tag == "rect" and d.ids["c"].get("height") == "2"
+    assert "d" not in d.ids
+    assert d.lookup("url(#b)") is d.ids["b"] and d.lookup("#zz") is None

@@ -9,6 +9,7 @@ effects (opacity, clip-path, mask, mix-blend-mode, isolation, filter) become
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 import re
 from dataclasses import dataclass, field, replace
@@ -188,6 +189,7 @@ class Builder:
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
         self._path_curved = None       # per path of the batch: a verb besides M, L and Z
+        self._path_odd = None          # per path of the batch: see _odd_in_run
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -252,7 +254,11 @@ class Builder:
             return out
         run = []        # consecutive plain <path> children (see _path_run)
         for child in el.children:
-            if child.tag == "path" and not child.specified and _unconditional(child):
+            # (no conditional processing attribute: conditions_pass holds without looking;
+            # tested here, not in a function: a call per path costs more than the test)
+            if (child.tag == "path" and not child.specified
+                    and "systemLanguage" not in child.attrs
+                    and "requiredExtensions" not in child.attrs):
                 run.append(child)
                 continue
             if run:
@@ -308,11 +314,14 @@ class Builder:
         all_verbs, shared, drawing = batch.verbs, batch.points, batch.drawing()
         identity = transform == IDENTITY
         # the run's fills transformed together (a lookup by matrix per path costs more)
-        moved = None if identity else shared.all_transformed(transform, len(run))
+        moved = None if identity or "fill" not in order else \
+            shared.all_transformed(transform, len(run))
         # which of the batch's paths are lines only, from the batch's verbs at once (a stroked
         # path needs no verb slice of its own then)
         curved = self._batch_curved() if lines_plan is not None else None
-        for el in run:
+
+        def one(el):
+            """The nodes of one path of the run, each decided on its own."""
             i = index.get(el)
             if i is None or status[i]:
                 path = path_data(el)
@@ -326,7 +335,7 @@ class Builder:
                     verbs = all_verbs[vstart[i]:vstart[i + 1]]
                 if _CLOSE_BYTE in verbs.tobytes():   # "M x y Z": shape() may stroke a dot
                     out.extend(self.shape(el, ctx, style))
-                continue                        # empty: shape() draws nothing
+                return                          # empty: shape() draws nothing
             if path is None:
                 p0, p1 = pstart[i], pstart[i + 1]
             for item in order:
@@ -354,6 +363,49 @@ class Builder:
                             verbs = all_verbs[vstart[i]:vstart[i + 1]]
                         path = Path._of_shared(verbs, shared, p0, p1)
                     out.extend(self.stroke(path, style, ctx, None, antialias))
+
+        # A run whose paths are consecutive in the batch (map data): the paths that one()
+        # would fill from the batch's points and queue for the lines stroke kernel, a
+        # stretch at a time without its tests per path; the others go through one()
+        n = len(run)
+        i0 = index.get(run[0])
+        filled, stroked = "fill" in order, "stroke" in order
+        if (i0 is not None and (not filled or identity or moved is not None)
+                and (not stroked or lines_plan is not None)
+                and self.doc.paths[i0:i0 + n] == run):
+            fill_paint = fill_ref.paint if filled else None
+            fill_opacity = fill_ref.opacity if filled else None
+            new_path = Path.__new__             # (Path._of_arrays written out: see below)
+            at = 0
+            for odd in self._odd_in_run(i0, n, filled, stroked) + [n]:
+                ia, ib = i0 + at, i0 + odd
+                if order == ("stroke",):
+                    base = len(out)
+                    out.extend(itertools.repeat(None, ib - ia))
+                    pending.extend(zip(range(base, base + ib - ia), range(ia, ib)))
+                else:
+                    for i, v0, v1, p0, p1 in zip(range(ia, ib), vstart[ia:ib],
+                                                 vstart[ia + 1:ib + 1], pstart[ia:ib],
+                                                 pstart[ia + 1:ib + 1]):
+                        for item in order:
+                            if item == "fill":
+                                device = new_path(Path)
+                                if identity:        # (Path._of_shared)
+                                    device._arrays = all_verbs[v0:v1], shared.points[p0:p1]
+                                    device._shared = shared, p0, p1
+                                else:
+                                    device._arrays = all_verbs[v0:v1], moved[p0:p1]
+                                out.append(Fill(device, fill_paint, rule, fill_opacity,
+                                                antialias))
+                            else:
+                                pending.append((len(out), i))
+                                out.append(None)
+                if odd < n:
+                    one(run[odd])
+                at = odd + 1
+        else:
+            for el in run:
+                one(el)
         if pending:
             self._place_outlines(pending, out, batch, lines_plan[0], half, tolerance, transform,
                                  stroke_ref.paint, stroke_opacity, antialias)
@@ -374,11 +426,14 @@ class Builder:
             op = apply(transform, op)
         vo, po = vo.tolist(), po.tolist()
         empty = False
-        of_arrays = Path._of_arrays
+        # Path._of_arrays written out: its call costs more than the Path (map data makes tens
+        # of thousands here)
+        new_path = Path.__new__
         for (at, _), v0, v1, p0, p1 in zip(pending, vo, vo[1:], po, po[1:]):
             if v1 > v0:
-                out[at] = Fill(of_arrays(ov[v0:v1], op[p0:p1]), paint, "nonzero", opacity,
-                               antialias)
+                path = new_path(Path)
+                path._arrays = ov[v0:v1], op[p0:p1]
+                out[at] = Fill(path, paint, "nonzero", opacity, antialias)
             else:
                 empty = True
         if empty:
@@ -747,7 +802,7 @@ class Builder:
         the first one is asked for."""
         if self._path_index is None:
             elements = self.doc.paths
-            self._path_index = {e: i for i, e in enumerate(elements)}
+            self._path_index = dict(zip(elements, range(len(elements))))
             self._path_batch = PathBatch([e.attrs.get("d") or "" for e in elements])
         i = self._path_index.get(el)
         if i is None:
@@ -765,6 +820,26 @@ class Builder:
             at = np.asarray(self._path_batch.vstart, np.int64)
             self._path_curved = (counts[at[1:]] > counts[at[:-1]]).tolist()
         return self._path_curved
+
+    def _odd_in_run(self, i0, n, filled, stroked) -> list:
+        """The positions in a run of the batch's paths i0 .. i0 + n - 1 of those _path_run
+        must hand to its one(): read with Python's float (status), drawing nothing, and when
+        filled "M L" (no fill), when stroked curved (not for the lines stroke kernel)."""
+        if self._path_odd is None:
+            batch = self._path_batch
+            verbs = batch.verbs
+            at = np.asarray(batch.vstart, np.int64)
+            two = at[1:] - at[:-1] == 2
+            two[two] = verbs[at[:-1][two] + 1] == LINE
+            self._path_odd = (np.array(batch.status, np.bool_)
+                              | ~np.array(batch.drawing(), np.bool_), two,
+                              np.array(self._batch_curved(), np.bool_))
+        odd, lone_line, curved = (flags[i0:i0 + n] for flags in self._path_odd)
+        if filled:
+            odd = odd | lone_line
+        if stroked:
+            odd = odd | curved
+        return np.flatnonzero(odd).tolist()
 
     def shape(self, el, ctx, style):
         if el.tag == "path":
@@ -1196,12 +1271,6 @@ def _expanded_size(el, doc, memo, active):
     active.discard(key)
     memo[key] = min(total, MAX_NODES + 1)
     return memo[key]
-
-
-def _unconditional(el):
-    """No conditional processing attribute (conditions_pass holds without looking)."""
-    attrs = el.attrs
-    return "systemLanguage" not in attrs and "requiredExtensions" not in attrs
 
 
 def contains(ancestor, el):

@@ -354,14 +354,13 @@ class _TreeReader:
         parser.buffer_text = True
         parser.ordered_attributes = False   # a dict in document order, built by expat
         doc = self.doc
-        ids = doc.ids
         paths = doc.paths
         stack = []                 # open elements, None for skipped ones
         chunks = []                # character data since the last tag
         last = [None, False]       # where it goes: the element, and whether as its tail
         default_ns = None
         count = 0                  # elements visited (the foreign ones included)
-        size = 0                   # and made
+        unmade = 0                 # of those, the ones skipped (made: count - unmade)
         error = None
         names = {}                 # expat name -> (namespace, local name)
         own = {}                   # expat name -> local name, of the root's namespace
@@ -384,14 +383,24 @@ class _TreeReader:
         def start_plain(name, attr):
             """start() without the mirror, for the common case in one go: an element of the
             root's namespace inside it, none of whose attributes has a namespace, within the
-            limits (map data: tens of thousands of <path d="...">)."""
-            nonlocal count, size
+            limits (map data: tens of thousands of <path d="...">; flush() written out, one
+            Python call less per element)."""
+            nonlocal count
             if chunks:
-                flush()
-            parent = stack[-1] if stack else None
+                text = chunks[0] if len(chunks) == 1 else "".join(chunks)
+                chunks.clear()
+                el = last[0]
+                if el is not None:
+                    if last[1]:
+                        el.tail = text
+                    else:
+                        el.text = text
             tag = own.get(name)
-            if (parent is None or tag is None or error is not None or count >= MAX_ELEMENTS
+            if (tag is None or not stack or error is not None or count >= MAX_ELEMENTS
                     or len(stack) > MAX_DEPTH):
+                return start(name, attr, False)
+            parent = stack[-1]
+            if parent is None:
                 return start(name, attr, False)
             if quiet.issuperset(attr):
                 spec = {}
@@ -407,16 +416,12 @@ class _TreeReader:
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
-            size += 1
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
                 doc.has_use = True
             elif tag == "pattern":
                 doc.has_pattern = True
-            ident = attr.get("id")
-            if ident is not None:
-                ids.setdefault(ident, el)       # the first element with an id keeps it
             if siblings:
                 siblings.append(el)
             else:
@@ -426,7 +431,7 @@ class _TreeReader:
             last[1] = False
 
         def start(name, attr, pending_text=True):
-            nonlocal default_ns, count, size, error
+            nonlocal default_ns, count, unmade, error
             if pending_text and chunks:
                 flush()
             if tb is not None:
@@ -455,6 +460,7 @@ class _TreeReader:
             elif len(stack) > MAX_DEPTH:
                 error = f"elements nest deeper than {MAX_DEPTH} levels"
             if error is not None or ns != default_ns:
+                unmade += 1
                 stack.append(None)   # foreign element: skipped with its subtree
                 last[0] = None
                 return
@@ -485,7 +491,6 @@ class _TreeReader:
                         spec[key] = value.strip()
             parent = stack[-1] if stack else None
             el = Element(tag, attrs, parent, len(parent.children) if parent else 0, doc)
-            size += 1
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
@@ -498,9 +503,6 @@ class _TreeReader:
                 el.specified = _specified(spec, None, style_attr, self.warnings)
             else:
                 el.specified = spec
-            ident = attrs.get("id")
-            if ident is not None:
-                ids.setdefault(ident, el)       # the first element with an id keeps it
             if parent is not None:
                 if parent.children:
                     parent.children.append(el)
@@ -561,7 +563,7 @@ class _TreeReader:
             parser.StartElementHandler = parser.EndElementHandler = None
             parser.CharacterDataHandler = parser.DefaultHandlerExpand = None
         self.error = error
-        doc.size = size
+        doc.size = count - unmade
         if tb is not None:
             self.mirror = tb.close()
         return self.root
@@ -632,9 +634,9 @@ class Stylesheets:
 class Document:
     """A parsed SVG document: the Element tree, an id map and the base folder for resources."""
 
-    def __init__(self, root: Element, ids: dict, base_dir=None):
+    def __init__(self, root: Element, ids: dict | None, base_dir=None):
         self.root = root
-        self.ids = ids
+        self._ids = ids             # None: made from the tree when first asked for
         self.base_dir = base_dir
         self.languages = ("en",)   # the user's, for systemLanguage
         self._doc_styles = {}
@@ -642,6 +644,18 @@ class Document:
         self.size = 0               # how many elements the tree has
         self.has_use = False        # whether any <use> instantiates content
         self.has_pattern = False    # whether there is any <pattern> element
+
+    @property
+    def ids(self) -> dict:
+        """{id: the first element in document order with it}, made when first asked for:
+        map data gives every path an id, and most documents look up none of them."""
+        if self._ids is None:
+            ids = self._ids = {}
+            for el in _descendants(self.root) if self.root is not None else ():
+                ident = el.attrs.get("id")
+                if ident is not None:
+                    ids.setdefault(ident, el)
+        return self._ids
 
     def lookup(self, ref):
         """Element for an id, ``#id``, ``url(#id)`` or None."""
@@ -671,7 +685,7 @@ class Document:
             style = styles.pop()
             styles.extend(style._children.values())
             style._children = {}
-        self.root, self.ids, self.paths, self._doc_styles = None, {}, [], {}
+        self.root, self._ids, self.paths, self._doc_styles = None, {}, [], {}
 
     def document_style(self, el: Element) -> Style:
         """Computed style from the element's document ancestors (for paint servers, clip paths,
@@ -724,7 +738,7 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     ``load_text`` is accepted for existing callers and unused: CSS ``@import`` is not followed,
     as in resvg."""
     data = _prepare(data)
-    doc = Document(None, {}, base_dir)
+    doc = Document(None, None, base_dir)
     doc.languages = tuple(x.strip().lower() for x in languages)
     # Only a document with CSS needs the ElementTree tree (cssselect2 matches on it).
     # (the substring test first: a regular expression search of a map costs milliseconds)
