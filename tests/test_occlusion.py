@@ -135,6 +135,30 @@ def test_front_to_back_gives_the_same_pixels_on_real_drawings(name):
     assert np.array_equal(back_to_front, front_to_back)
 
 
+def test_a_fill_behind_others_paints_around_them_in_every_row():
+    # fills in front stamp the middle of each row; the fill behind them has edges at both
+    # ends, so its spans run from its own pixels at the left end past theirs: every sample
+    # as the definition has it (the flag of Denmark's red field around its cross, and a third
+    # fill in front of part of the field with a gap to the cross)
+    cross = Path()
+    for i, (x, y) in enumerate([(0.3, 5.6), (5.2, 5.6), (5.2, 0.4), (7.7, 0.4), (7.7, 5.6),
+                                (13.6, 5.6), (13.6, 8.3), (7.7, 8.3), (7.7, 13.7), (5.2, 13.7),
+                                (5.2, 8.3), (0.3, 8.3)]):
+        (cross.moveTo if i == 0 else cross.lineTo)((x, y))
+    cross.closePath()
+    fills = [Fill(rect_path(0.2, 0.3, 13.5, 13.3), Solid((0.8, 0.1, 0.2, 1))),
+             Fill(rect_path(9.4, 1.3, 2.2, 11.1), Solid((0.1, 0.7, 0.2, 1))),
+             Fill(cross, Solid((1, 1, 1, 1)))]
+    background = (0.3, 0.3, 0.8, 1.0)
+    scene = Scene(SIZE, SIZE, Group(fills), background=background)
+    got = render_float(scene, RenderOptions("approx", 8))
+    want, near = per_sample_composite(fills, standard_pattern(8), background)
+    assert not near.all()
+    assert not ((np.abs(got - want).max(axis=2) > 1e-5) & ~near).any()
+    back_to_front, front_to_back = _both(scene, "approx")
+    assert np.array_equal(back_to_front, front_to_back)
+
+
 def _disc():
     """A curved blob of two cubics inside x, y in [2, 12]."""
     disc = Path()

@@ -687,7 +687,14 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
         wrun[:] = 0.0
         if extent[r, 0] != run:
             extent[r, 0], extent[r, 1], extent[r, 2] = run, W + 1, -1
+        # lo..hi: what the fills before this one stamped in the row; the tests below use
+        # that alone, since all this fill stamps is left of the cursor x (dirty pixels and
+        # spans go left to right). Its own stamps grow elo..ehi, the row's next extent:
+        # grown at once, a dirty pixel at the row's left end put the span from it up to
+        # the fills in front inside the extent, walked pixel by pixel (the flag: 28% of
+        # its pixels, the red field between its left edge and the cross)
         lo, hi = extent[r, 1], extent[r, 2]
+        elo, ehi = lo, hi
         prev = -1
         for i in range(cnt + 1):
             px = dlist[r, i] if i < cnt else W
@@ -708,7 +715,7 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                         cplx[r, t] = -1
                         stamp[r, t] = full_id
                         nxt[r, t] = root
-                    lo, hi = min(lo, x), max(hi, e - 1)
+                    elo, ehi = min(elo, x), max(ehi, e - 1)
                     x = e
                     continue
                 # inside what the run has stamped: the first pixel from x on that is not
@@ -800,8 +807,8 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
             else:
                 occ[r, px] = m
                 stamp[r, px] = part_id
-            lo, hi = min(lo, px), max(hi, px)
-        extent[r, 1], extent[r, 2] = lo, hi
+            elo, ehi = min(elo, px), max(ehi, px)
+        extent[r, 1], extent[r, 2] = elo, ehi
         dcount[r] = 0
     return npool
 
