@@ -244,3 +244,18 @@ def test_pattern_viewbox_maps_by_preserve_aspect_ratio(par, sx, sy, tx, ty):
             assert got == pytest.approx(want if want[3] else (0,), abs=1), (px, py)
             checked += 1
     assert checked > 3000
+
+
+def test_a_reference_to_an_id_given_twice_takes_the_first_element():
+    # URL fragments resolve to the first element in tree order with the id (SVG 2 linking,
+    # as in the DOM's getElementById)
+    img = render('<linearGradient id="g"><stop stop-color="rgb(0,128,0)"/></linearGradient>'
+                 '<linearGradient id="g"><stop stop-color="red"/></linearGradient>'
+                 '<pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse">'
+                 '<rect width="10" height="10" fill="blue"/></pattern>'
+                 '<pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse">'
+                 '<rect width="10" height="10" fill="red"/></pattern>'
+                 '<rect width="100" height="50" fill="url(#g)"/>'
+                 '<rect y="50" width="100" height="50" fill="url(#p)"/>')
+    assert img[25, 50, :3] == pytest.approx((0, 128, 0), abs=1)
+    assert img[75, 50, :3] == pytest.approx((0, 0, 255), abs=1)
