@@ -259,3 +259,15 @@ def test_a_reference_to_an_id_given_twice_takes_the_first_element():
                  '<rect y="50" width="100" height="50" fill="url(#p)"/>')
     assert img[25, 50, :3] == pytest.approx((0, 128, 0), abs=1)
     assert img[75, 50, :3] == pytest.approx((0, 0, 255), abs=1)
+
+
+def test_context_paint_keeps_its_colours_alpha():
+    # The context element's fill paint is the colour rgba(0, 0, 255, 0.4), alpha and all (CSS
+    # Color 4: the alpha is part of the <color>); its fill-opacity is not part of the paint.
+    img = render('<marker id="m" markerWidth="20" markerHeight="20" refX="10" refY="10" '
+                 'markerUnits="userSpaceOnUse"><rect width="20" height="20" '
+                 'fill="context-fill"/></marker>'
+                 '<path d="M 10 80 L 50 80 L 90 80" fill="rgba(0, 0, 255, 0.4)" '
+                 'fill-opacity="0.5" stroke="none" marker-mid="url(#m)"/>')
+    assert img[80, 50, 2] == 255
+    assert img[80, 50, 3] == pytest.approx(0.4 * 255, abs=1)
