@@ -153,7 +153,9 @@ def test_stop_offsets_are_clamped_and_never_decrease(offsets, colour_at):
 
 
 @pytest.mark.parametrize("offset, value", [
-    ("50%", 0.5), ("+.5", 0.5), ("5e-1", 0.5), (" 0.5", 0.5), ("5E1%", 0.5),
+    ("50%", 0.5), ("+.5", 0.5), ("5e-1", 0.5), ("5E1%", 0.5),
+    # attributes take CSS syntax (SVG 2), which allows whitespace around a value
+    (" 0.5", 0.5), ("0.5 ", 0.5), ("\t50%\n", 0.5),
     # not a <number> or a <percentage>: invalid, so the initial value 0
     ("50 %", 0.0), ("0.5px", 0.0), ("half", 0.0), ("0.5.", 0.0), ("", 0.0),
 ])
