@@ -123,15 +123,30 @@ def test_the_module_name_changes_with_any_kernel_source():
     assert aot.key(stamps) != before
 
 
+CSAA = f"""
+from vecmsaa.api import render_svg_array
+img = render_svg_array({SVG!r}.encode(), color_samples=2)
+assert img[15, 20, 3] == 255 and img[0, 0, 3] == 0
+import sys
+print("numba" in sys.modules)
+"""
+
+
 def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
     from vecmsaa import aot
     from vecmsaa.jitcache import ensure_fresh_cache
     _run(RENDER, jit=False)                 # builds the modules where they are missing
-    paths = aot.find(aot.key(ensure_fresh_cache()))
+    # the first CSAA render builds the lazy part (not numba's JIT: no numba in the process)
+    assert _run(CSAA, jit=False) == ["False"]
+    k = aot.key(ensure_fresh_cache())
+    paths, lazy = aot.find(k), aot.find(k, aot.parts(lazy=True))
     assert paths is not None and len(paths) == len(aot.parts()) == 2
-    module, index = aot.load(paths)
+    assert lazy is not None and len(lazy) == 1
+    module, index = aot.load(paths + lazy)
     lines = [ln for ln in aot.MANIFEST.read_text().splitlines() if ln and not ln.startswith("#")]
     symbols = [symbol for entries in index.values() for symbol, _ in entries]
     assert len(symbols) == len(set(symbols)) == len(lines)
     assert all(callable(getattr(module, s)) for s in symbols)
     assert sorted(index) == sorted({ln.split("|")[0] for ln in lines})
+    assert {aot.part_of(name) for name in aot.load(lazy)[1]} == {aot.LAZY_PART}
+

@@ -17,10 +17,14 @@ setuptools), or ``VECMSAA_JIT=1`` is set (kernel development: numba recompiles o
 time), kernels are numba's JIT functions as before, and a call whose argument types the
 manifest lacks goes to numba's JIT too (see ``jit.Kernel``).
 
-The build is in two parts (raster; geometry and input), compiled at once in two processes,
+The build is in two parts (raster and input; geometry), compiled at once in two processes,
 each into a module of its own: numba's compiler runs on one core, and the parts share
 three small kernels (scan.py's calls into geometry/primitives.py, compiled in both), so on two
-cores the first run waits about half as long.
+cores the first run waits about half as long. The CSAA mode's kernel, which no default
+command calls, is a third part, built the first time it is called. A build spends its time
+in numba (typing, lowering to LLVM IR: about two thirds) and in LLVM (one optimisation of
+each module as a whole, and its machine code); ``build`` keeps numba from doing the work
+twice (``_lean_callees``, ``_memoise_call_types``).
 """
 from __future__ import annotations
 
@@ -86,39 +90,49 @@ def cache_dirs() -> list[Path]:
 
 #: The build runs in parts, each a process of its own compiling at the same time (numba's
 #: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
-#: and the kernels it calls should share a part, or the callee is compiled in each: the raster
-#: stage and the RGBA8 conversion form one part, geometry, path data and transforms the other,
-#: and the two cost about the same (≈ 35 s CPU each, 4 Dec 2026).
-RASTER_PART = ("vecmsaa.raster.", "vecmsaa.output.")
+#: and the kernels it calls should share a part, or the callee is compiled in each: geometry
+#: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
+#: conversion, path data and transforms the other, and the two cost about the same.
+GEOMETRY_PART = ("vecmsaa.geometry.",)
+#: Kernels no default command calls (``render``, ``font`` and ``demo`` draw nothing in CSAA
+#: mode) are a part built on the first call of one of them, alone: numba would spend ≈ 10 s
+#: of CPU on them in every first run.
+LAZY_KERNELS = ("vecmsaa.raster.csaa:",)
+LAZY_PART = 2
 
 
 def part_of(kernel: str) -> int:
     """The build part of a kernel (``module:qualname``)."""
-    return 0 if kernel.startswith(RASTER_PART) else 1
+    if kernel.startswith(LAZY_KERNELS):
+        return LAZY_PART
+    return 1 if kernel.startswith(GEOMETRY_PART) else 0
 
 
 def _manifest_lines() -> list[str]:
     return [ln for ln in MANIFEST.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
 
 
-def parts() -> list[int]:
-    """The parts the manifest has kernels in."""
-    return sorted({part_of(line.split("|")[0]) for line in _manifest_lines()})
+def parts(lazy: bool = False) -> list[int]:
+    """The parts the manifest has kernels in: those built at once, or (``lazy``) on first use."""
+    every = {part_of(line.split("|")[0]) for line in _manifest_lines()}
+    return sorted(p for p in every if (p == LAZY_PART) == lazy)
 
 
 def module_name(k: str, part: int | None = None) -> str:
     return f"vecmsaa_kernels_{k}" if part is None else f"vecmsaa_kernels_{k}_{part}"
 
 
-def _module_paths(folder: Path, k: str) -> dict[int, Path]:
+def _module_paths(folder: Path, k: str, which: list[int]) -> dict[int, Path]:
     """Part → where its module for key ``k`` lives in ``folder``."""
-    return {p: folder / (module_name(k, p) + SUFFIX) for p in parts()}
+    return {p: folder / (module_name(k, p) + SUFFIX) for p in which}
 
 
-def find(k: str) -> list[Path] | None:
-    """Every part's module for key ``k``, in one of the cache folders; None if any is missing."""
+def find(k: str, which: list[int] | None = None) -> list[Path] | None:
+    """The modules for key ``k`` of the parts ``which`` (default: those built at once), in
+    one of the cache folders; None if any is missing."""
+    which = parts() if which is None else which
     for d in cache_dirs():
-        paths = list(_module_paths(d, k).values())
+        paths = list(_module_paths(d, k, which).values())
         if all(p.exists() and p.with_suffix(".json").exists() for p in paths):
             return paths
     return None
@@ -161,24 +175,46 @@ def _writable_cache_dir() -> Path | None:
     return None
 
 
+#: the key of this process's modules, once ensure has computed it (ensure_lazy builds for it)
+_current: dict[str, str] = {}
+
+
 def ensure(stamps: dict[str, str]):
     """The modules for these sources: found, or built now in child processes; None where
-    they cannot be built (the reason is kept beside the cache and said once on stderr)."""
-    k = key(stamps)
-    paths = find(k)
+    they cannot be built (the reason is kept beside the cache and said once on stderr). The
+    lazy part's module is loaded too where it was built before."""
+    k = _current["key"] = key(stamps)
+    paths = _ensure_parts(k, parts(), _announce)
+    if paths is None:
+        return None
+    return load(paths + (find(k, parts(lazy=True)) or []))
+
+
+def ensure_lazy():
+    """The lazy part's module for this process's key, built now if missing (as ``ensure``)."""
+    k = _current.get("key")
+    which = parts(lazy=True)
+    if k is None or not which:
+        return None
+    paths = _ensure_parts(k, which, _announce_lazy)
+    return None if paths is None else load(paths)
+
+
+def _ensure_parts(k: str, which: list[int], announce) -> list[Path] | None:
+    paths = find(k, which)
     if paths is not None:
-        return load(paths)
+        return paths
     if _failure_marker(k).exists():
         return None
     d = _writable_cache_dir()
     if d is None:
         return None
-    builds = _module_paths(d, k)
+    builds = _module_paths(d, k, which)
     import fcntl
     with open(d / f"{module_name(k)}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)       # one build; others wait for it and load it
-        if find(k) is None:
-            _announce()
+        if find(k, which) is None:
+            announce()
             failure = _build_parts(builds)
             if failure is not None:
                 status, output = failure
@@ -195,7 +231,7 @@ def ensure(stamps: dict[str, str]):
                       f"JIT", file=sys.stderr)
                 return None
             _remove_others(d, module_name(k))
-    return load(list(builds.values()))
+    return list(builds.values())
 
 
 def _build_parts(builds: dict[int, Path]):
@@ -250,10 +286,20 @@ def _remove_others(folder: Path, name: str) -> None:
 BUILD_SECONDS = "45 s on two cores, 85 s of CPU"
 
 
+#: the lazy part alone (CSAA), 4 Dec 2026 on the same machine
+LAZY_BUILD_SECONDS = "10 s"
+
+
 def _announce():
     if sys.stderr.isatty():
         print(f"vecmsaa: compiling the kernels once (about {BUILD_SECONDS}); later runs load "
               f"them in a millisecond", file=sys.stderr, flush=True)
+
+
+def _announce_lazy():
+    if sys.stderr.isatty():
+        print(f"vecmsaa: compiling the CSAA mode's kernels once (about {LAZY_BUILD_SECONDS})",
+              file=sys.stderr, flush=True)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -334,24 +380,72 @@ def _memoise_unpickling():
     pythonapi.PythonAPI.unserialize = unserialize
 
 
-def _no_jit_machine_code():
-    """Compile the kernels the entries call without machine code for numba's JIT engine.
+def _lean_callees():
+    """Compile the kernels the entries call as LLVM IR only: no optimisation, no machine code.
 
     The module's machine code is made from the entries' LLVM IR, which links in their callees'
-    IR; the machine code numba's JIT makes for each callee (and its on-disk cache, which saves
-    that code) would be thrown away: ≈ 10 s of a 79 s build. So the build's dispatchers cache
-    nothing (none is then loaded from numba's cache either: a cached callee has machine code
-    but no IR to link), and a callee's library is optimised and linked as usual but never made
-    into machine code; its entry point is a placeholder that nothing in the build calls."""
+    IR and is optimised once as a whole (LLVM's module pipeline simplifies each function
+    before it inlines it, as it does for a C compiler's unoptimised output). What numba does
+    for each callee besides would be thrown away: its function and module passes (each
+    callee's module again with its own callees linked in, so a kernel k call levels down
+    was optimised k times), its machine code for numba's JIT engine, and its on-disk cache,
+    which saves that code. So in the build (``JITCodeLibrary``: the callees'; the module's
+    own is an ``AOTCodeLibrary``) a callee's library is linked IR and never made into
+    machine code; its entry point is a placeholder nothing in the build calls, and the
+    dispatchers cache nothing (none is then loaded from numba's cache either: a cached callee
+    has machine code but no IR to link). On the stroke kernels: 18.9 → 15.4 s of CPU."""
     from numba.core import codegen, dispatcher
     dispatcher.Dispatcher.enable_caching = lambda self: None
-    codegen.JITCodeLibrary._finalize_specific = lambda self: None
+    library = codegen.JITCodeLibrary
+
+    def no_function_passes(self, ll_module):
+        ll_module.data_layout = self._codegen._data_layout
+
+    def ready_for_linking(self):
+        self._finalize_dynamic_globals()
+        self._verify_declare_only_symbols()
+        self._finalized = True
 
     def placeholder_pointer(self, name):
         self._ensure_finalized()
         return 1
 
-    codegen.JITCodeLibrary.get_pointer_to_function = placeholder_pointer
+    library._optimize_functions = no_function_passes
+    library._optimize_final_module = lambda self: None
+    library._finalize_final_module = ready_for_linking
+    library.get_pointer_to_function = placeholder_pointer
+    # a dispatcher's environment is stored into its JIT machine code, which is never made
+    codegen.JITCPUCodegen.set_env = lambda self, env_name, env: None
+
+
+def _memoise_call_types():
+    """Type each call of a numba function (an operator, ``min``, ``np.empty`` …) once per
+    argument types, not once per call site.
+
+    numba's typing tries the function's templates in order at every call site, building an
+    error for each template that does not match (``BaseFunction.get_call_type``); a
+    template's answer depends only on the argument types (the overloads' implementations
+    are already cached by them), so the build keeps each answer it got. On the stroke
+    kernels type inference took 2.9 → 1.2 s of CPU."""
+    from numba.core.types import functions
+    original = functions.BaseFunction.get_call_type
+    answers = {}
+
+    def get_call_type(self, context, args, kws):
+        # by identity: the answer's implementation is recorded on this very function type
+        key = (id(self), id(context), tuple(args), tuple(sorted(kws.items())))
+        try:
+            kept = answers.get(key)
+        except TypeError:           # an unhashable argument type: not kept
+            return original(self, context, args, kws)
+        if kept is not None and kept[0] is self and kept[1] is context:
+            return kept[2]
+        sig = original(self, context, args, kws)
+        if sig is not None:
+            answers[key] = (self, context, sig)
+        return sig
+
+    functions.BaseFunction.get_call_type = get_call_type
 
 
 def build(path: Path, part: int) -> None:
@@ -360,7 +454,8 @@ def build(path: Path, part: int) -> None:
     import numba.pycc.compiler as pycc_compiler
     from numba.pycc import CC
 
-    _no_jit_machine_code()
+    _lean_callees()
+    _memoise_call_types()
     entries = _entries()
     options = {d.py_func: d.targetoptions for _, d, _ in entries}
     compile_extra = pycc_compiler.compile_extra
@@ -400,6 +495,12 @@ def build(path: Path, part: int) -> None:
     cc.output_dir = str(path.parent)
     cc.output_file = path.name + f".{os.getpid()}.tmp"
     cc.target_cpu = "host"
+    # the C runtime pycc links into the module: no typed containers' (no kernel uses numba's
+    # typed dict, list or set: 1.2 s of gcc a part) and no debug information
+    if isinstance(getattr(cc, "_mixin_sources", None), list):
+        cc._mixin_sources = [s for s in cc._mixin_sources
+                             if not s.endswith(("dictobject.c", "listobject.c", "setobject.c"))]
+    cc._extra_cflags = {"posix": ["-g0"]}
     index: dict[str, list] = {}
     for i, (kernel, dispatcher, sig) in enumerate(entries):
         if part_of(kernel) != part:

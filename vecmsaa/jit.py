@@ -3,7 +3,8 @@
 
 ``AOT`` says which: with the compiled module, ``njit`` makes a :class:`Kernel` that calls the
 module's entry for its arguments' types, and numba's JIT (imported then) for types the module
-lacks. ``VECMSAA_JIT=1`` chooses numba's JIT for every kernel, as the module's own build does.
+lacks. A kernel of the part built on first use (aot.LAZY_KERNELS) loads that part, building
+it if need be, on its first call. ``VECMSAA_JIT=1`` chooses numba's JIT for every kernel, as the module's own build does.
 
 In JIT mode, loading a kernel from numba's on-disk cache begins with
 ``target_context.refresh()``, which imports and installs every typing and lowering registry
@@ -18,6 +19,7 @@ is changed.
 from __future__ import annotations
 
 import os
+import threading
 
 __all__ = ["njit", "AOT", "REGISTRIES_DEFERRED"]
 
@@ -94,9 +96,10 @@ class Kernel:
         self.__module__ = func.__module__
         self.__doc__ = func.__doc__
         self.__wrapped__ = func
-        entries = _index.get(f"{func.__module__}:{func.__qualname__}", ())
-        self.entries = {tuple(_hashable(k) for k in keys): getattr(_module, symbol)
-                        for symbol, keys in entries}
+        self.name = f"{func.__module__}:{func.__qualname__}"
+        self.entries = _entries_of(self.name)
+        # its entries are in the lazy part's module, which is loaded on the first call
+        self.lazy = not self.entries and _is_lazy(self.name)
         self.nargs = func.__code__.co_argcount
         self._dispatcher = None
 
@@ -105,8 +108,20 @@ class Kernel:
             args = self._bind(args, kws)
         entry = self.entries.get(_call_key(args))
         if entry is None:
-            return self.dispatcher(*args)
+            return self._call_missing(args)
         return entry(*args)
+
+    def _call_missing(self, args):
+        """A call the entries lack: the lazy part is loaded (built if need be) on the first
+        such call; other argument types go to numba's JIT."""
+        if self.lazy:
+            _load_lazy_part()       # another thread's call waits for it here
+            self.entries = _entries_of(self.name)
+            self.lazy = False
+            entry = self.entries.get(_call_key(args))
+            if entry is not None:
+                return entry(*args)
+        return self.dispatcher(*args)
 
     def _bind(self, args, kws):
         import inspect
@@ -131,6 +146,36 @@ class Kernel:
 
     def __repr__(self):
         return f"<vecmsaa kernel {self.__module__}.{self.__qualname__}>"
+
+
+def _entries_of(name):
+    return {tuple(_hashable(k) for k in keys): getattr(_module, symbol)
+            for symbol, keys in _index.get(name, ())}
+
+
+def _is_lazy(name):
+    from . import aot
+    return aot.part_of(name) == aot.LAZY_PART
+
+
+_lazy_lock = threading.Lock() if AOT else None
+
+
+def _load_lazy_part():
+    """Add the lazy part's entries to the module's (once; bands call kernels on threads)."""
+    from . import aot
+    with _lazy_lock:
+        if any(aot.part_of(name) == aot.LAZY_PART for name in _index):
+            return
+        try:
+            loaded = aot.ensure_lazy()
+        except (OSError, ValueError, ImportError):
+            loaded = None
+        if loaded is not None:
+            module, index = loaded
+            vars(_module).update(vars(module))
+            for name, entries in index.items():
+                _index.setdefault(name, []).extend(entries)
 
 
 def _aot_njit(*args, **options):
