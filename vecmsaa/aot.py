@@ -20,11 +20,11 @@ manifest lacks goes to numba's JIT too (see ``jit.Kernel``).
 The build is in two parts (raster and input; geometry), compiled at once in two processes,
 each into a module of its own: numba's compiler runs on one core, and the parts share
 three small kernels (scan.py's calls into geometry/primitives.py, compiled in both), so on two
-cores the first run waits about half as long. The CSAA mode's kernel, which no default
-command calls, is a third part, built the first time it is called. A build spends its time
-in numba (typing, lowering to LLVM IR: about two thirds) and in LLVM (one optimisation of
-each module as a whole, and its machine code); ``build`` keeps numba from doing the work
-twice (``_lean_callees``, ``_memoise_call_types``).
+cores the first run waits about half as long. The kernels no default command calls (the
+CSAA mode's; some only tests call) are a third part, built the first time one is called.
+A build spends its time in numba (typing, lowering to LLVM IR: about two thirds) and in
+LLVM (one optimisation of each module as a whole, and its machine code); ``build`` keeps
+numba from doing the work twice (``_lean_callees``, ``_memoise_call_types``).
 """
 from __future__ import annotations
 
@@ -94,10 +94,11 @@ def cache_dirs() -> list[Path]:
 #: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
 #: conversion, path data and transforms the other, and the two cost about the same.
 GEOMETRY_PART = ("vecmsaa.geometry.",)
-#: Kernels no default command calls (``render``, ``font`` and ``demo`` draw nothing in CSAA
-#: mode) are a part built on the first call of one of them, alone: numba would spend ≈ 10 s
-#: of CPU on them in every first run.
-LAZY_KERNELS = ("vecmsaa.raster.csaa:",)
+#: Kernels no default command calls are a part built on the first call of one of them, alone:
+#: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
+#: the curve and mask-table functions only tests call (≈ 1 s).
+LAZY_KERNELS = ("vecmsaa.raster.csaa:", "vecmsaa.raster.scan:mask_error",
+                "vecmsaa.raster.scan:mask_lookup", "vecmsaa.geometry.primitives:_eval_implicit")
 LAZY_PART = 2
 
 
