@@ -522,3 +522,40 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     assert np.array_equal(render_scene(scene, mode="analytic", threads=3, band_budget=
                                        7 * scene.width * 16),
                           render_scene(scene, mode="analytic"))
+
+
+LAYERS_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="120" height="60">'
+    '<clipPath id="c1"><circle cx="20" cy="30" r="10"/></clipPath>'
+    '<clipPath id="c2"><rect x="35" y="5" width="40" height="50"/></clipPath>'
+    '<mask id="m"><rect x="50" y="0" width="20" height="60" fill="#fff" fill-opacity="0.5"/>'
+    '</mask>'
+    '<rect width="120" height="60" fill="#888"/>'
+    '<g clip-path="url(#c1)"><rect x="5" y="5" width="40" height="50" fill="#f00"/></g>'
+    '<g clip-path="url(#c2)"><rect x="38" y="0" width="42" height="60" fill="#00f"/>'
+    '<g mask="url(#m)"><rect x="45" y="10" width="30" height="40" fill="#0f0"/></g></g>'
+    '<g opacity="0.5"><rect x="90" y="10" width="20" height="40" fill="#0a0"/></g></svg>')
+
+
+def test_layers_band_by_band_on_kept_buffers():
+    # layers, clips and masks are drawn on buffers kept from layer to layer and band to band,
+    # cleared only in the columns their content can reach: what the last one drew there
+    # (the red square, unclipped, reaches under the second group) must not show, at any
+    # band size or thread count
+    from vecmsaa.api import load_svg
+    scene = load_svg(LAYERS_SVG.encode(), width=240)
+    whole = render_scene(scene, band_budget=1 << 30)
+    grey = np.float32(0x88 / 255)
+    # device x 74-75 (user 37): inside the second clip, left of its content, outside the
+    # first clip: the background; device x 40 (user 20): the first clip's centre, red
+    assert np.array_equal(whole[60, 74:76], np.tile([grey, grey, grey, 1], (2, 1)))
+    assert np.array_equal(whole[60, 40], np.float32([1, 0, 0, 1]))
+    # the half-transparent group: its green at half opacity over the grey
+    g = np.float32(0xaa / 255) * np.float32(0.5)
+    want = np.float32([grey * np.float32(0.5), g + grey * np.float32(0.5),
+                       grey * np.float32(0.5), 1])
+    assert np.allclose(whole[60, 200], want, atol=1e-6)
+    for budget in (240 * 16 * 16, 240 * 16 * 7):
+        for threads in (1, 2):
+            assert np.array_equal(render_scene(scene, band_budget=budget, threads=threads),
+                                  whole), (budget, threads)
