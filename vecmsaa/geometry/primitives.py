@@ -795,14 +795,14 @@ def batch_arrays(paths):
     """Concatenate the verb/point arrays of several Paths for :func:`build_batch`: (verbs,
     points, verb offsets, point offsets). From each path's stored arrays, with no property
     call or copy per path (map data batches tens of thousands of paths)."""
-    arrays = [p._freeze() for p in paths]
+    # (the stored arrays where a path has them: a _freeze call per path costs more)
+    arrays = [p._arrays or p._freeze() for p in paths]
     n = len(arrays)
     verb_off = np.zeros(n + 1, dtype=np.int64)
     pt_off = np.zeros(n + 1, dtype=np.int64)
     if n == 0:
         return np.zeros(0, np.uint8), np.zeros((0, 2)), verb_off, pt_off
-    verbs = [a[0] for a in arrays]
-    pts = [a[1] for a in arrays]
+    verbs, pts = zip(*arrays)
     np.cumsum(np.fromiter(map(len, verbs), np.int64, n), out=verb_off[1:])
     np.cumsum(np.fromiter(map(len, pts), np.int64, n), out=pt_off[1:])
     all_verbs = np.concatenate(verbs).astype(np.uint8, copy=False)
