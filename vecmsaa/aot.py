@@ -281,14 +281,11 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first run after `pip install .` (`vecmsaa demo`), the two parts at once: 45-49 s wall, 83-89
-#: s of CPU, 4 Dec 2026 on a 2-core Intel Xeon (docs/bench.md, "Session 10: the first run's
-#: build in two parts")
-BUILD_SECONDS = "45 s on two cores, 85 s of CPU"
-
-
-#: the lazy part alone (CSAA), 4 Dec 2026 on the same machine
-LAZY_BUILD_SECONDS = "10 s"
+#: first run (`vecmsaa demo`), the two parts at once: 26 s wall, 49 s of CPU, 4 Dec 2026 on a
+#: 2-core Intel Xeon at load 0.3 (docs/bench.md, "Session 11: the first run's build without
+#: numba's repeated work"); the lazy part alone: 17 s of CPU
+BUILD_SECONDS = "25 s on two cores, 50 s of CPU"
+LAZY_BUILD_SECONDS = "15 s"
 
 
 def _announce():
