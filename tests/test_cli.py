@@ -61,6 +61,20 @@ def test_bench_versus_resvg_expands_folders_and_needs_svgs(tmp_path):
     assert proc.returncode == 2 and "needs SVG files" in proc.stderr
 
 
+def test_bench_times_processes_with_bytecode_caches(tmp_path, monkeypatch):
+    """The whole-process rows time what an installed command costs: a child Python started
+    with the bench's environment writes the bytecode cache of a module it imports, even where
+    PYTHONDONTWRITEBYTECODE is set around the bench."""
+    import subprocess
+    import sys
+    from vecmsaa.tools.bench import user_env
+    monkeypatch.setenv("PYTHONDONTWRITEBYTECODE", "1")
+    (tmp_path / "probe_mod.py").write_text("X = 1\n")
+    subprocess.run([sys.executable, "-c", "import probe_mod"], cwd=tmp_path, check=True,
+                   env=dict(user_env(), PYTHONPATH=str(tmp_path)))
+    assert list((tmp_path / "__pycache__").glob("probe_mod.*.pyc"))
+
+
 def test_bench_icons_writes_the_small_size_table(tmp_path):
     """The small-size rows: a disc icon passes at the default (16 samples up to 128 px) and
     with exact area against 1024-sample ground truth at every size; an empty folder is a

@@ -29,7 +29,8 @@ def add_parser(subparsers):
     p.add_argument("--versus-resvg", action="store_true",
                    help="only the rows against resvg on the given SVG files: whole process at "
                         "8192 and 2048 px with peak memory, warm in one process at 2048 px, "
-                        "the files as a batch with --jobs 1 and 2 (writes versus.md/json)")
+                        "the files as a batch with --jobs 1 and 2; vecmsaa's processes with "
+                        "Python's bytecode caches, as installed (writes versus.md/json)")
     p.add_argument("--sequence", action="store_true",
                    help="only the temporal-stability study: slow pans, zooms and rotations "
                         "of Figure 1, thin lines and small text in every mode, flicker against "
