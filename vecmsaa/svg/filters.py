@@ -99,8 +99,24 @@ def device_rect(x, y, w, h, m):
         return None
     left, top = min(xs), min(ys)
     x0, y0 = math.floor(left), math.floor(top)
-    return (x0, y0, x0 + max(1, math.ceil(max(xs) - left)),
-            y0 + max(1, math.ceil(max(ys) - top)))
+    # the size too is f32 (tiny-skia's width() is right - left): 140 - (-30.0000019) is 170 in
+    # f32, so 170 px from row -31, where the exact 170.0000019 would take 171
+    with np.errstate(over="ignore", invalid="ignore"):
+        width, height = f(f(max(xs)) - f(left)), f(f(max(ys)) - f(top))
+    if not (math.isfinite(width) and math.isfinite(height)):
+        return None
+    return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
+
+
+def bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh):
+    """x, y, width, height of a rectangle given in fractions of a bounding box, in f32 as usvg
+    maps it (``x * bbox.width + bbox.x``, ``width * bbox.width``): the default region's 1.2 is
+    1.2000000477 in f32, so 120% of 100 is 120.0000076 and the region's right edge
+    (-10 + 120.0000076) rounds past 110, one device pixel more than in exact arithmetic."""
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):
+        return (float(f(f(f(fx) * f(bw)) + f(bx))), float(f(f(f(fy) * f(bh)) + f(by))),
+                float(f(f(fw) * f(bw))), float(f(f(fh) * f(bh))))
 
 
 def _href_chain(el, doc):
@@ -132,7 +148,7 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
         fr = [parse_fraction(attr(n)) for n in ("x", "y", "width", "height")]
         fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
-        x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+        x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
     else:
         vw, vh = ctx.viewport
 
@@ -205,7 +221,7 @@ class PrimitiveResolver:
                               zip([parse_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
             if fe.tag in ("feFlood", "feImage"):
                 # usvg: fractions of the bounding box
-                x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+                x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
             else:
                 # usvg: the filter region scaled by the fractions (and x, y added as they are)
                 x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
