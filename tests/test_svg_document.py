@@ -241,6 +241,16 @@ def test_presentation_attributes_are_the_weakest():
     assert d.ids["r"].specified["fill"] == "green"
 
 
+def test_an_empty_declaration_is_dropped_and_what_it_would_override_applies():
+    # CSS Syntax: "fill:" has no value, which no property accepts: the declaration is
+    # invalid and dropped (the declarations after it still apply)
+    d = doc('<style>rect { stroke: blue } #r { stroke: /* none */ ; }</style>'
+            '<rect id="r" fill="green" style="fill: ; opacity: 0.5"/>')
+    r = d.ids["r"]
+    assert r.specified["fill"] == "green" and r.specified["opacity"] == "0.5"
+    assert r.specified["stroke"] == "blue"
+
+
 def test_non_presentation_attributes_ignore_css():
     d = doc('<style>#r { height: 160px }</style><rect id="r" width="10"/>')
     assert "height" not in d.ids["r"].specified and "height" not in d.ids["r"].attrs

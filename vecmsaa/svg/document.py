@@ -601,6 +601,10 @@ def _declarations(tokens_or_text):
         if d.type != "declaration":
             continue
         value = tinycss2.serialize(d.value).strip()
+        if not value:
+            # no property takes an empty value: CSS drops the declaration, and what it would
+            # have overridden (a presentation attribute, an earlier rule) applies
+            continue
         out.append((d.lower_name, value, bool(d.important)))
     return out
 
