@@ -98,6 +98,21 @@ def test_transform_origin():
     assert path_bounds(only_fill(s).path) == pytest.approx((-5, -5, 15, 15))
 
 
+@pytest.mark.parametrize("origin, point", [
+    ("center right", (100, 50)), ("right center", (100, 50)), ("top left", (0, 0)),
+    ("bottom", (50, 100)), ("left 20px", (0, 20)), ("LEFT TOP", (0, 0)),
+    ("20px 30px 10px", (20, 30)),
+    # not CSS Transforms 1's grammar: the initial value, 0 0 for SVG elements
+    ("foo", (0, 0)), ("top 20px", (0, 0)), ("20px left", (0, 0)), ("left right", (0, 0)),
+    ("1 2 3%", (0, 0)), ("1 2 3 4", (0, 0)), ("20px,30px", (0, 0))])
+def test_transform_origin_keywords_and_invalid_values(origin, point):
+    # scale(2) about (ox, oy) maps the 10x10 square at (ox, oy) to (ox, oy, ox + 20, oy + 20)
+    ox, oy = point
+    s = scene(f'<rect x="{ox}" y="{oy}" width="10" height="10" transform="scale(2)" '
+              f'transform-origin="{origin}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((ox, oy, ox + 20, oy + 20))
+
+
 def test_percentages_use_the_viewport():
     s = scene('<rect x="10%" y="10%" width="50%" height="25%"/>', 'viewBox="0 0 200 100"',
               width=200)
