@@ -88,6 +88,24 @@ def test_polygon_is_closed_polyline_is_not():
     assert pg.path.verbs[-1] == 4 and pl.path.verbs[-1] != 4
 
 
+@pytest.mark.parametrize("points, box", [
+    ("10px,10 90,10 90,90", None),                      # no number pair before the error
+    ("10,10 90,10 90,90 x 5 90", (10, 10, 90, 90)),     # the points before the error
+    ("10,,10 90,10 90,90", None), (",10 10 90 10 90 90", None),
+    ("10,10, 90,10, 90,90", (10, 10, 90, 90)), ("10-10 90 10 90 90", (10, -10, 90, 90)),
+    ("10 10 90 10 90 90 10", (10, 10, 90, 90)),         # an odd count drops the last
+    ("10 10 90 10 90 90 ; 10 90", (10, 10, 90, 90))])
+def test_polygon_points_stop_at_the_first_error(points, box):
+    # SVG 2 §10.6: the points grammar is numbers separated by comma-wsp; a list in error draws
+    # the points before the error, as path data in error does
+    s = scene(f'<polygon points="{points}"/>')
+    fills = list(s.fills())
+    if box is None:
+        assert not fills
+    else:
+        assert path_bounds(fills[0].path) == pytest.approx(box)
+
+
 def test_transforms_nest():
     s = scene('<g transform="translate(10 20)"><rect transform="scale(2)" width="5" height="5"/></g>')
     assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 20, 30))

@@ -49,6 +49,24 @@ def parse_numbers(text) -> list[float]:
     return [float(x) for x in _NUMBERS.findall(text or "")]
 
 
+_POINT = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
+
+
+def parse_points(text) -> list[float]:
+    """The numbers of a ``points`` list up to the first thing that is not one (SVG 2: a
+    polyline in error draws the points before the error, as path data does): ``10px,10 ...``
+    has none, ``10,,20`` one."""
+    out = []
+    pos, end = 0, len(text or "")
+    while pos < end:
+        m = _POINT.match(text, pos)
+        if m is None:
+            break
+        out.append(float(m.group(1)))
+        pos = m.end()
+    return out
+
+
 def split_length(text):
     """'12.5mm' → (12.5, 'mm'); None when not a length."""
     if text is None:
