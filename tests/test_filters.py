@@ -435,6 +435,32 @@ def test_bounding_box_region_is_mapped_in_f32_as_usvg_maps_it(y, height):
     rows = np.nonzero(img[:, 50, 3])[0]
     assert rows.min() == max(first, 0) and rows.max() == last
 
+
+@pytest.mark.parametrize("primitive", [
+    '<feColorMatrix type="saturate" values="0.2;"/>',
+    '<feColorMatrix type="matrix" values="0 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 0 0 1 0px"/>'])
+def test_number_lists_in_error_are_invalid(primitive):
+    # values is a list of numbers: with anything else in it the attribute is invalid, and a
+    # colour matrix without values is the identity
+    body = '<rect x="10" y="10" width="20" height="20" fill="#20c040" {}/>'
+    plain = render(body.format(""))
+    filtered = render(f'<filter id="f">{primitive}</filter>' + body.format('filter="url(#f)"'))
+    assert np.abs(filtered - plain).max() <= 1
+
+
+def test_a_radius_in_error_is_the_initial_radius():
+    body = ('<filter id="f"><feMorphology operator="dilate" radius="{}"/></filter>'
+            '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    invalid = render(body.format("0,,5"))
+    assert np.array_equal(invalid, render(body.format("0")))
+    assert not np.array_equal(invalid, render(body.format("0 5")))
+
+
+def test_a_kernel_matrix_in_error_makes_the_primitive_transparent():
+    img = render('<filter id="f"><feConvolveMatrix kernelMatrix="0 0 0 0 1 0 0 0 0 ;"/></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    assert not img[..., 3].any()
+
 #: filters whose result is transparent wherever their input is (computed on the content's box
 #: grown by their reach) and ones that are not (computed on the whole region)
 CROPPED_FILTERS = {

@@ -24,8 +24,8 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity,
-                    row_scale_f32, split_length)
+from .units import (parse_fraction, parse_number, parse_number_list, parse_number_prefix,
+                    parse_opacity, row_scale_f32, split_length)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -250,7 +250,7 @@ class PrimitiveResolver:
     def pair(self, fe, attr, default):
         """A one-or-two number attribute scaled to device pixels (x, y); None when invalid."""
         text = fe.get(attr)
-        nums = parse_numbers(text) if text is not None else list(default)
+        nums = parse_number_prefix(text) if text is not None else list(default)
         if len(nums) == 1:
             nums = nums * 2
         if len(nums) != 2:
@@ -353,7 +353,7 @@ class PrimitiveResolver:
         rx, ry = 1.0, 1.0
         text = fe.get("radius")
         if text is not None:
-            nums = parse_numbers(text)
+            nums = parse_number_list(text) or []
             rx, ry = (nums * 2)[:2] if len(nums) == 1 else nums if len(nums) == 2 else (0, 0)
             if rx == 0 and ry == 0:
                 rx = ry = 1.0
@@ -411,7 +411,7 @@ class PrimitiveResolver:
 
     def turbulence(self, fe):
         fx = fy = 0.0
-        nums = parse_numbers(fe.get("baseFrequency") or "")
+        nums = parse_number_list(fe.get("baseFrequency") or "") or []
         if len(nums) in (1, 2) and min(nums) >= 0:
             fx, fy = (nums * 2)[:2]
         octaves = parse_number(fe.get("numOctaves"), 1.0)
@@ -495,7 +495,9 @@ def color_matrix_of(fe):
     except that saturate and hueRotate without values mean 1 and 0)."""
     kind = (fe.get("type") or "matrix").strip()
     text = fe.get("values")
-    values = parse_numbers(text) if text is not None else None
+    values = parse_number_list(text) if text is not None else None
+    if values is None and text is not None:
+        return IDENTITY_MATRIX        # values that are no number list: usvg's identity
     if kind == "saturate":
         if values is None:
             return IDENTITY_MATRIX
@@ -516,13 +518,13 @@ def convolve_effect(fe):
     primitive (a kernel of the wrong size, a zero divisor, a target outside the kernel, a bad
     kernelUnitLength)."""
     cols = rows = 3
-    order = parse_numbers(fe.get("order") or "")
+    order = parse_number_list(fe.get("order") or "") or []
     if order:
         x = int(order[0])
         y = int(order[1]) if len(order) > 1 else x
         if x > 0 and y > 0:
             cols, rows = x, y
-    values = parse_numbers(fe.get("kernelMatrix") or "")
+    values = parse_number_list(fe.get("kernelMatrix") or "") or []
     if len(values) != cols * rows:
         return None
     total = round(sum(values), 6)
