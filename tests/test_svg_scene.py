@@ -1017,3 +1017,47 @@ def test_crisp_edges_on_pixel_centres_takes_the_right_and_bottom_ones():
     for mode, samples in (("approx", 8), ("persample", 16), ("alpha", 4)):
         got = render_svg_array(svg.encode(), mode=mode, samples=samples)[..., 3]
         assert np.array_equal(got == 255, want) and set(np.unique(got)) <= {0, 255}
+
+
+@pytest.mark.parametrize("value, ref", [
+    ("url(#a)", ("#a", "")), ("url( '#a b' )", ("#a b", "")), ('url("#a") none', ("#a", "none")),
+    ("url(#a);", ("#a", ";")),
+    # CSS Syntax: whitespace, quotes, parentheses or a backslash inside an unquoted url
+    # make a bad url, which is no url
+    ("url(# a)", None), ("url(#a b)", None), ("url(#a'b)", None), ("url(#a(b)", None)])
+def test_urls_are_read_as_css_reads_them(value, ref):
+    from vecmsaa.svg.builder import parse_url
+    assert parse_url(value) == ref
+
+
+@pytest.mark.parametrize("attr", ['clip-path="url(#c);"', 'clip-path="url(#c) x"',
+                                  'clip-path="url(#c)url(#c)"', 'mask="url(#m);"',
+                                  'mask="url(#m) x"', 'filter="url(f)"', 'filter="url(# f)"',
+                                  'filter="#f"'])
+def test_a_reference_property_in_error_is_ignored(attr):
+    # a clip-path, mask or filter value that is no single url is invalid, so not specified:
+    # the rect is drawn whole; a filter url to another document is not followed and Filter
+    # Effects 1 ignores a chain that references no filter
+    s = scene('<clipPath id="c"><rect width="5" height="5"/></clipPath>'
+              '<mask id="m"><rect width="5" height="5" fill="white"/></mask>'
+              '<filter id="f"><feOffset dx="20"/></filter>'
+              f'<rect id="r" width="50" height="50" {attr}/>')
+    fills = list(s.fills())
+    assert len(fills) == 1 and path_bounds(fills[0].path) == pytest.approx((0, 0, 50, 50))
+    groups, stack = [], [s.root]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Group):
+            groups.append(node)
+            stack.extend(node.children)
+    assert not any(g.clip is not None or g.mask is not None or g.filters for g in groups)
+
+
+def test_an_href_fragment_is_taken_as_written():
+    # '# r' is the fragment ' r', which no element has; a marker url without '#' names
+    # another document
+    s = scene('<defs><rect id="r" width="50" height="50"/></defs><use href="# r"/>'
+              '<marker id="k" markerWidth="10" markerHeight="10"><rect width="10" height="10"/>'
+              '</marker><path d="M10 10L50 50" stroke="black" marker-end="url(k)"/>')
+    fills = list(s.fills())
+    assert len(fills) == 1            # the path's stroke alone

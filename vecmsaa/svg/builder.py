@@ -81,7 +81,10 @@ def _zero_length_closes(path):
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
-_URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
+#: url(...) with a quoted string, or unquoted without whitespace, quotes, parentheses or
+#: backslashes (CSS Syntax: anything else in an unquoted url is a bad url, so invalid)
+_URL = re.compile(r"^\s*url\(\s*(?:'([^']*)'|\"([^\"]*)\"|([^\s'\"()\\]*))\s*\)\s*(.*)$",
+                  re.S)
 
 
 @dataclass
@@ -128,7 +131,8 @@ def parse_url(value):
     m = _URL.match(value or "")
     if not m:
         return None
-    return m.group(2).strip(), m.group(3).strip()
+    ref = next(g for g in m.groups()[:3] if g is not None)
+    return ref.strip(), m.group(4).strip()
 
 
 def bbox_matrix(bbox):

@@ -134,7 +134,8 @@ class Element:
     def href(self):
         """The fragment id of ``href``/``xlink:href`` (``#id`` only), or None."""
         value = (self.attrs.get("href") or "").strip()
-        return value[1:] if value.startswith("#") else None
+        # the fragment as written: '# r' names ' r', which no element is
+        return value[1:] if value.startswith("#") and value[1:2].strip() else None
 
     def ancestors(self):
         node = self.parent

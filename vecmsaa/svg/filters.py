@@ -50,8 +50,13 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     out, invalid = [], False
     for name, args in entries:
         if name == "url":
-            ref = args.strip().strip("'\"")
-            target = builder.doc.lookup(ref) if ref.startswith("#") else None
+            ref = _url_argument(args)
+            if ref is None or not ref.startswith("#"):
+                # a bad url (url(# f)) is no filter value; a url to another document is not
+                # followed, and Filter Effects 1 ignores a chain that references no filter
+                # (as resvg does for these; a missing #id is not drawn, as resvg draws it)
+                return []
+            target = builder.doc.lookup(ref)
             flt = (filter_element(builder, target, el, ctx, bbox_fn)
                    if target is not None and target.tag == "filter" else None)
             if flt is None:
@@ -67,6 +72,17 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     if not out and invalid:
         return False
     return out
+
+
+def _url_argument(args):
+    """The URL inside url(...): a quoted string, or unquoted text without whitespace, quotes,
+    parentheses or backslashes; None for a bad url."""
+    a = args.strip()
+    if len(a) >= 2 and a[0] == a[-1] and a[0] in "'\"":
+        return a[1:-1].strip()
+    if any(ch.isspace() or ch in "'\"()\\" for ch in a):
+        return None
+    return a
 
 
 def parse_filter_value(value):
