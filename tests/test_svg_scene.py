@@ -1061,3 +1061,16 @@ def test_an_href_fragment_is_taken_as_written():
               '</marker><path d="M10 10L50 50" stroke="black" marker-end="url(k)"/>')
     fills = list(s.fills())
     assert len(fills) == 1            # the path's stroke alone
+
+
+@pytest.mark.parametrize("size", ['width="100" height="12.5"', 'viewBox="0 0 100 12.5"',
+                                  'width="100" height="33.3"', 'width="99.5" height="49.5"'])
+def test_a_fractional_document_size_keeps_one_scale_on_both_axes(size):
+    # the output is whole pixels (100 x 12.5 at 200 px wide: 26 rows, as resvg rounds the
+    # size first), and the drawing keeps the one scale the width gives, 200 / 100 = 2 (or
+    # 200 / 100 for the 99.5 wide document rounded to 100): a 10-unit band is 20 rows, where
+    # stretching to the rows would make it 20.8 (100 x 12.5) or 19.8 (100 x 33.3)
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {NS} {size}><rect width="100" height="10"/></svg>', width=200)
+    column = img[:, 50, 3].astype(int)
+    assert column[:20].min() == 255 and column[20:].max() == 0
