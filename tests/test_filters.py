@@ -417,6 +417,50 @@ def test_device_rect_rounds_as_tiny_skia_in_f32():
     assert device_rect(0.0, 0.0, 1e39, 1.0, scale) is None          # beyond f32
 
 
+
+@pytest.mark.parametrize("y, height", [("-0.1", "1.2"), ("-0.3", "1.7"), ("0.25", "0.5")])
+def test_bounding_box_region_is_mapped_in_f32_as_usvg_maps_it(y, height):
+    # usvg maps a region of bounding-box fractions in f32 (y * bbox height + bbox y, height *
+    # bbox height), tiny-skia keeps top and bottom and takes the size as bottom - top in f32,
+    # floors the top and ceils the size. The truth, written out with numpy's float32:
+    f = np.float32
+    top = f(f(f(y) * f(100)) + f(0))
+    bottom = f(top + f(f(height) * f(100)))
+    first = math.floor(top)
+    last = first + math.ceil(f(bottom - top)) - 1
+    # 1.2 is 1.2000000477 in f32: 120% of 100 from -10 ends past 110, in row 110 (exactly:
+    # row 109); -0.3 is -30.0000019 and the size 170 in f32, so the last row is 138
+    img = render(f'<filter id="f" y="{y}" height="{height}"><feFlood flood-color="#00ff00"/>'
+                 '</filter><rect width="100" height="100" filter="url(#f)"/>', size=200)
+    rows = np.nonzero(img[:, 50, 3])[0]
+    assert rows.min() == max(first, 0) and rows.max() == last
+
+
+@pytest.mark.parametrize("primitive", [
+    '<feColorMatrix type="saturate" values="0.2;"/>',
+    '<feColorMatrix type="matrix" values="0 0 0 0 0 0 1 0 0 0 0 0 1 0 0 0 0 0 1 0px"/>'])
+def test_number_lists_in_error_are_invalid(primitive):
+    # values is a list of numbers: with anything else in it the attribute is invalid, and a
+    # colour matrix without values is the identity
+    body = '<rect x="10" y="10" width="20" height="20" fill="#20c040" {}/>'
+    plain = render(body.format(""))
+    filtered = render(f'<filter id="f">{primitive}</filter>' + body.format('filter="url(#f)"'))
+    assert np.abs(filtered - plain).max() <= 1
+
+
+def test_a_radius_in_error_is_the_initial_radius():
+    body = ('<filter id="f"><feMorphology operator="dilate" radius="{}"/></filter>'
+            '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    invalid = render(body.format("0,,5"))
+    assert np.array_equal(invalid, render(body.format("0")))
+    assert not np.array_equal(invalid, render(body.format("0 5")))
+
+
+def test_a_kernel_matrix_in_error_makes_the_primitive_transparent():
+    img = render('<filter id="f"><feConvolveMatrix kernelMatrix="0 0 0 0 1 0 0 0 0 ;"/></filter>'
+                 '<rect x="10" y="10" width="20" height="20" filter="url(#f)"/>')
+    assert not img[..., 3].any()
+
 #: filters whose result is transparent wherever their input is (computed on the content's box
 #: grown by their reach) and ones that are not (computed on the whole region)
 CROPPED_FILTERS = {

@@ -202,6 +202,25 @@ def test_skew_and_matrix():
     assert parse_transform("bogus(1)") is None
 
 
+@pytest.mark.parametrize("text, numbers", [
+    ("1 2 3", [1, 2, 3]), ("1,2, 3 ,4", [1, 2, 3, 4]), ("  1e1\n-.5 ", [10, -0.5]),
+    ("10-5", [10, -5]), ("1,", [1]), ("", []),
+    # anything but numbers separated by whitespace and one comma: no list
+    ("5px", None), ("5,,3", None), ("x5", None), ("0.5;", None), (",1", None), ("1 e", None)])
+def test_number_lists_follow_the_comma_wsp_grammar(text, numbers):
+    from vecmsaa.svg.units import parse_number_list
+    assert parse_number_list(text) == numbers
+
+
+@pytest.mark.parametrize("text, box", [
+    ("0 0 100 50", (0, 0, 100, 50)), ("0,0,100,50", (0, 0, 100, 50)),
+    ("0 0 100px 50", None), ("0 0 100,,50", None), ("x0 0 100 50", None),
+    ("0 0 100 50 5", None)])
+def test_viewbox_is_four_numbers(text, box):
+    from vecmsaa.svg.units import parse_viewbox
+    assert parse_viewbox(text) == box
+
+
 def test_viewbox_meet_and_slice():
     # 200 x 100 viewBox into a 100 x 100 viewport
     assert viewbox_transform((0, 0, 200, 100), ("xMidYMid", False), 100, 100) == \
@@ -239,6 +258,16 @@ def test_style_attribute_beats_css_and_important_beats_style_attribute():
 def test_presentation_attributes_are_the_weakest():
     d = doc('<style>rect { fill: green }</style><rect id="r" fill="red"/>')
     assert d.ids["r"].specified["fill"] == "green"
+
+
+def test_an_empty_declaration_is_dropped_and_what_it_would_override_applies():
+    # CSS Syntax: "fill:" has no value, which no property accepts: the declaration is
+    # invalid and dropped (the declarations after it still apply)
+    d = doc('<style>rect { stroke: blue } #r { stroke: /* none */ ; }</style>'
+            '<rect id="r" fill="green" style="fill: ; opacity: 0.5"/>')
+    r = d.ids["r"]
+    assert r.specified["fill"] == "green" and r.specified["opacity"] == "0.5"
+    assert r.specified["stroke"] == "blue"
 
 
 def test_non_presentation_attributes_ignore_css():

@@ -273,3 +273,30 @@ def test_context_paint_keeps_its_colours_alpha():
                  'fill-opacity="0.5" stroke="none" marker-mid="url(#m)"/>')
     assert img[80, 50, 2] == 255
     assert img[80, 50, 3] == pytest.approx(0.4 * 255, abs=1)
+
+
+@pytest.mark.parametrize("prop, child", [
+    ('stroke-width="1em"', 'stroke-width="inherit"'), ('stroke-width="2ex"', ''),
+    ('style="stroke-width: 1em"', ''), ('stroke-dasharray="1em"', 'stroke-width="10"')])
+def test_em_lengths_inherit_as_the_parents_absolute_length(prop, child):
+    # CSS Values 4 §6.1.1: em and ex are computed to absolute lengths where specified, and the
+    # computed value is what children inherit; the group's font size is 10 px, the line's 40:
+    # the stroke is 10 px wide (rows 45-54) and a dashed line is on for 10 px, off for 10 px
+    img = render(f'<g {prop} font-size="10"><line x1="0" y1="50" x2="100" y2="50" '
+                 f'stroke="black" font-size="40" {child}/></g>')
+    rows = np.nonzero(img[:, 5, 3] > 127)[0]
+    assert rows.min() == 45 and rows.max() == 54
+    cols = np.nonzero(img[50, :, 3] > 127)[0]
+    if "dasharray" in prop:
+        assert list(cols) == [x for x in range(100) if x % 20 < 10]
+    else:
+        assert len(cols) == 100
+
+
+def test_letter_spacing_in_em_inherits_as_the_parents_absolute_length():
+    # letter-spacing 0.5em on a group of font size 10 is 5 px in a text of font size 20:
+    # the same text as letter-spacing="5", not as letter-spacing="10"
+    text = '<text x="5" y="60" font-family="Noto Sans" font-size="20" {}>Ab cd</text>'
+    inherited = render(f'<g letter-spacing="0.5em" font-size="10">{text.format("")}</g>')
+    assert np.array_equal(inherited, render(text.format('letter-spacing="5"')))
+    assert not np.array_equal(inherited, render(text.format('letter-spacing="10"')))

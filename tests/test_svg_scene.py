@@ -88,6 +88,24 @@ def test_polygon_is_closed_polyline_is_not():
     assert pg.path.verbs[-1] == 4 and pl.path.verbs[-1] != 4
 
 
+@pytest.mark.parametrize("points, box", [
+    ("10px,10 90,10 90,90", None),                      # no number pair before the error
+    ("10,10 90,10 90,90 x 5 90", (10, 10, 90, 90)),     # the points before the error
+    ("10,,10 90,10 90,90", None), (",10 10 90 10 90 90", None),
+    ("10,10, 90,10, 90,90", (10, 10, 90, 90)), ("10-10 90 10 90 90", (10, -10, 90, 90)),
+    ("10 10 90 10 90 90 10", (10, 10, 90, 90)),         # an odd count drops the last
+    ("10 10 90 10 90 90 ; 10 90", (10, 10, 90, 90))])
+def test_polygon_points_stop_at_the_first_error(points, box):
+    # SVG 2 §10.6: the points grammar is numbers separated by comma-wsp; a list in error draws
+    # the points before the error, as path data in error does
+    s = scene(f'<polygon points="{points}"/>')
+    fills = list(s.fills())
+    if box is None:
+        assert not fills
+    else:
+        assert path_bounds(fills[0].path) == pytest.approx(box)
+
+
 def test_transforms_nest():
     s = scene('<g transform="translate(10 20)"><rect transform="scale(2)" width="5" height="5"/></g>')
     assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 20, 30))
@@ -96,6 +114,21 @@ def test_transforms_nest():
 def test_transform_origin():
     s = scene('<rect width="10" height="10" transform="scale(2)" transform-origin="5 5"/>')
     assert path_bounds(only_fill(s).path) == pytest.approx((-5, -5, 15, 15))
+
+
+@pytest.mark.parametrize("origin, point", [
+    ("center right", (100, 50)), ("right center", (100, 50)), ("top left", (0, 0)),
+    ("bottom", (50, 100)), ("left 20px", (0, 20)), ("LEFT TOP", (0, 0)),
+    ("20px 30px 10px", (20, 30)),
+    # not CSS Transforms 1's grammar: the initial value, 0 0 for SVG elements
+    ("foo", (0, 0)), ("top 20px", (0, 0)), ("20px left", (0, 0)), ("left right", (0, 0)),
+    ("1 2 3%", (0, 0)), ("1 2 3 4", (0, 0)), ("20px,30px", (0, 0))])
+def test_transform_origin_keywords_and_invalid_values(origin, point):
+    # scale(2) about (ox, oy) maps the 10x10 square at (ox, oy) to (ox, oy, ox + 20, oy + 20)
+    ox, oy = point
+    s = scene(f'<rect x="{ox}" y="{oy}" width="10" height="10" transform="scale(2)" '
+              f'transform-origin="{origin}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((ox, oy, ox + 20, oy + 20))
 
 
 def test_percentages_use_the_viewport():
@@ -984,3 +1017,60 @@ def test_crisp_edges_on_pixel_centres_takes_the_right_and_bottom_ones():
     for mode, samples in (("approx", 8), ("persample", 16), ("alpha", 4)):
         got = render_svg_array(svg.encode(), mode=mode, samples=samples)[..., 3]
         assert np.array_equal(got == 255, want) and set(np.unique(got)) <= {0, 255}
+
+
+@pytest.mark.parametrize("value, ref", [
+    ("url(#a)", ("#a", "")), ("url( '#a b' )", ("#a b", "")), ('url("#a") none', ("#a", "none")),
+    ("url(#a);", ("#a", ";")),
+    # CSS Syntax: whitespace, quotes, parentheses or a backslash inside an unquoted url
+    # make a bad url, which is no url
+    ("url(# a)", None), ("url(#a b)", None), ("url(#a'b)", None), ("url(#a(b)", None)])
+def test_urls_are_read_as_css_reads_them(value, ref):
+    from vecmsaa.svg.builder import parse_url
+    assert parse_url(value) == ref
+
+
+@pytest.mark.parametrize("attr", ['clip-path="url(#c);"', 'clip-path="url(#c) x"',
+                                  'clip-path="url(#c)url(#c)"', 'mask="url(#m);"',
+                                  'mask="url(#m) x"', 'filter="url(f)"', 'filter="url(# f)"',
+                                  'filter="#f"'])
+def test_a_reference_property_in_error_is_ignored(attr):
+    # a clip-path, mask or filter value that is no single url is invalid, so not specified:
+    # the rect is drawn whole; a filter url to another document is not followed and Filter
+    # Effects 1 ignores a chain that references no filter
+    s = scene('<clipPath id="c"><rect width="5" height="5"/></clipPath>'
+              '<mask id="m"><rect width="5" height="5" fill="white"/></mask>'
+              '<filter id="f"><feOffset dx="20"/></filter>'
+              f'<rect id="r" width="50" height="50" {attr}/>')
+    fills = list(s.fills())
+    assert len(fills) == 1 and path_bounds(fills[0].path) == pytest.approx((0, 0, 50, 50))
+    groups, stack = [], [s.root]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Group):
+            groups.append(node)
+            stack.extend(node.children)
+    assert not any(g.clip is not None or g.mask is not None or g.filters for g in groups)
+
+
+def test_an_href_fragment_is_taken_as_written():
+    # '# r' is the fragment ' r', which no element has; a marker url without '#' names
+    # another document
+    s = scene('<defs><rect id="r" width="50" height="50"/></defs><use href="# r"/>'
+              '<marker id="k" markerWidth="10" markerHeight="10"><rect width="10" height="10"/>'
+              '</marker><path d="M10 10L50 50" stroke="black" marker-end="url(k)"/>')
+    fills = list(s.fills())
+    assert len(fills) == 1            # the path's stroke alone
+
+
+@pytest.mark.parametrize("size", ['width="100" height="12.5"', 'viewBox="0 0 100 12.5"',
+                                  'width="100" height="33.3"', 'width="99.5" height="49.5"'])
+def test_a_fractional_document_size_keeps_one_scale_on_both_axes(size):
+    # the output is whole pixels (100 x 12.5 at 200 px wide: 26 rows, as resvg rounds the
+    # size first), and the drawing keeps the one scale the width gives, 200 / 100 = 2 (or
+    # 200 / 100 for the 99.5 wide document rounded to 100): a 10-unit band is 20 rows, where
+    # stretching to the rows would make it 20.8 (100 x 12.5) or 19.8 (100 x 33.3)
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {NS} {size}><rect width="100" height="10"/></svg>', width=200)
+    column = img[:, 50, 3].astype(int)
+    assert column[:20].min() == 255 and column[20:].max() == 0

@@ -765,3 +765,13 @@ def test_a_space_the_font_lacks_falls_back_like_any_character():
         return cols[gaps[-1] + 1] / 2            # 400 px for 200 units
     moved = second_bee_left("\U0001f41d \U0001f41d") - second_bee_left("\U0001f41d\U0001f41d")
     assert moved == pytest.approx(space, abs=0.5)
+
+
+@pytest.mark.parametrize("bad", ["20,,40", "20 x", "20;"])
+def test_a_rotate_list_in_error_rotates_nothing(bad):
+    # rotate is a list of numbers: with anything else in it the attribute is invalid
+    text = '<text x="10" y="60" font-size="40" {}>Abc</text>'
+    plain = render(text.format(""))
+    assert plain[..., 3].any()
+    assert np.array_equal(render(text.format(f'rotate="{bad}"')), plain)
+    assert not np.array_equal(render(text.format('rotate="20"')), plain)

@@ -81,7 +81,10 @@ def _zero_length_closes(path):
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
-_URL = re.compile(r"^\s*url\(\s*(['\"]?)(.*?)\1\s*\)\s*(.*)$", re.S)
+#: url(...) with a quoted string, or unquoted without whitespace, quotes, parentheses or
+#: backslashes (CSS Syntax: anything else in an unquoted url is a bad url, so invalid)
+_URL = re.compile(r"^\s*url\(\s*(?:'([^']*)'|\"([^\"]*)\"|([^\s'\"()\\]*))\s*\)\s*(.*)$",
+                  re.S)
 
 
 @dataclass
@@ -128,7 +131,8 @@ def parse_url(value):
     m = _URL.match(value or "")
     if not m:
         return None
-    return m.group(2).strip(), m.group(3).strip()
+    ref = next(g for g in m.groups()[:3] if g is not None)
+    return ref.strip(), m.group(4).strip()
 
 
 def bbox_matrix(bbox):
@@ -170,6 +174,43 @@ def _stroke_fills(outline, ctx, ref, opacity, antialias):
         return []
     return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
                  antialias=antialias)]
+
+_ORIGIN_X = {"left": "0%", "center": "50%", "right": "100%"}
+_ORIGIN_Y = {"top": "0%", "center": "50%", "bottom": "100%"}
+
+
+def _origin_values(text):
+    """The x and y of a ``transform-origin`` value as length or percentage texts, or None when
+    it is not CSS Transforms 1's grammar: one keyword or length-percentage; two, horizontal
+    then vertical, where keywords alone may come in either order (``top left``); a third, a
+    length (z, which a 2-D drawing does not use)."""
+    parts = text.strip().split()
+    if not 1 <= len(parts) <= 3:
+        return None
+    if len(parts) == 3:
+        z = split_length(parts.pop())
+        if z is None or z[1] == "%":
+            return None
+
+    def length(p):
+        return p if split_length(p) is not None else None
+    words = [p.lower() for p in parts]
+    if len(words) == 1:
+        w = words[0]
+        if w in ("top", "bottom"):
+            return "50%", _ORIGIN_Y[w]
+        x = _ORIGIN_X.get(w) or length(parts[0])
+        return None if x is None else (x, "50%")
+    a, b = words
+    if (a in _ORIGIN_Y and a != "center" and b in _ORIGIN_X) or (
+            a == "center" and b in ("left", "right")):
+        a, b = b, a                                  # 'top left', 'bottom center', 'center right'
+    x = _ORIGIN_X.get(a) or (None if a in _ORIGIN_Y else length(parts[0]))
+    y = _ORIGIN_Y.get(b) or (None if b in _ORIGIN_X else length(parts[1]))
+    if x is None or y is None:
+        return None
+    return x, y
+
 
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
@@ -536,22 +577,10 @@ class Builder:
     def transform_origin(self, text, style, viewport, units_box=None):
         """transform-origin → (x, y) in user units; ``units_box`` (w, h) replaces the viewport
         for percentages (and turns plain numbers into fractions) in objectBoundingBox units."""
-        keywords = {"left": ("x", 0), "center": (None, 50), "right": ("x", 100),
-                    "top": ("y", 0), "bottom": ("y", 100)}
-        parts = text.split()
-        x = y = None
-        vals = []
-        for p in parts[:2]:
-            if p in keywords:
-                axis, pct = keywords[p]
-                vals.append((axis, f"{pct}%"))
-            else:
-                vals.append((None, p))
-        if len(vals) == 1:
-            vals.append((None, "50%"))
-        # keywords may come in either order: 'top left'
-        if vals[0][0] == "y" or vals[1][0] == "x":
-            vals = [vals[1], vals[0]]
+        vals = _origin_values(text)
+        if vals is None:
+            # invalid: the initial value, which for SVG elements is 0 0 (SVG 2's UA style sheet)
+            return 0.0, 0.0
         box = units_box or viewport
 
         def resolve(v, axis):
@@ -564,9 +593,7 @@ class Builder:
                 return n * ref / 100
             return to_px(n, unit, style.font_size(), dpi=self.options.dpi) * \
                 (ref if units_box else 1)
-        x = resolve(vals[0][1], "x")
-        y = resolve(vals[1][1], "y")
-        return x, y
+        return resolve(vals[0], "x"), resolve(vals[1], "y")
 
     # -- structural wrapping ---------------------------------------------------------------
     def wrap(self, el, style, ctx, nodes) -> list:

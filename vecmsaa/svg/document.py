@@ -134,7 +134,8 @@ class Element:
     def href(self):
         """The fragment id of ``href``/``xlink:href`` (``#id`` only), or None."""
         value = (self.attrs.get("href") or "").strip()
-        return value[1:] if value.startswith("#") else None
+        # the fragment as written: '# r' names ' r', which no element is
+        return value[1:] if value.startswith("#") and value[1:2].strip() else None
 
     def ancestors(self):
         node = self.parent
@@ -144,6 +145,22 @@ class Element:
 
     def __repr__(self):
         return f"<{self.tag} id={self.id!r}>"
+
+
+#: inherited properties whose computed value is an absolute length: ``em`` and ``ex`` are
+#: resolved with the font size of the element that specifies them, and its children inherit
+#: that length (CSS Values 4 §6.1.1; ``<g stroke-width="1em" font-size="10">`` strokes a child
+#: of font-size 40 10 wide). Percentages stay percentages (of the viewport where used).
+FONT_RELATIVE_INHERITED = {"stroke-width", "stroke-dasharray", "stroke-dashoffset",
+                           "letter-spacing", "word-spacing"}
+_EM_LENGTH = re.compile(r"(?<![\w.])([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(em|ex)(?![\w%])",
+                        re.I)
+
+
+def _absolute_em(value: str, font_size: float) -> str:
+    """``value`` with its em and ex lengths written in px for ``font_size``."""
+    return _EM_LENGTH.sub(
+        lambda m: f"{to_px(float(m.group(1)), m.group(2).lower(), font_size)!r}px", value)
 
 
 class Style:
@@ -183,6 +200,8 @@ class Style:
             v = style.specified.get(name)
             if v is not None and v != "inherit":
                 value = v
+                if name in FONT_RELATIVE_INHERITED and _EM_LENGTH.search(v):
+                    value = _absolute_em(v, style.font_size())
                 passed.append(style)
                 break
             if style.parent is None or not (v == "inherit" or inherited):
@@ -583,6 +602,10 @@ def _declarations(tokens_or_text):
         if d.type != "declaration":
             continue
         value = tinycss2.serialize(d.value).strip()
+        if not value:
+            # no property takes an empty value: CSS drops the declaration, and what it would
+            # have overridden (a presentation attribute, an earlier rule) applies
+            continue
         out.append((d.lower_name, value, bool(d.important)))
     return out
 

@@ -24,8 +24,8 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .units import (parse_fraction, parse_number, parse_numbers, parse_opacity,
-                    row_scale_f32, split_length)
+from .units import (parse_fraction, parse_number, parse_number_list, parse_number_prefix,
+                    parse_opacity, row_scale_f32, split_length)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -50,8 +50,13 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     out, invalid = [], False
     for name, args in entries:
         if name == "url":
-            ref = args.strip().strip("'\"")
-            target = builder.doc.lookup(ref) if ref.startswith("#") else None
+            ref = _url_argument(args)
+            if ref is None or not ref.startswith("#"):
+                # a bad url (url(# f)) is no filter value; a url to another document is not
+                # followed, and Filter Effects 1 ignores a chain that references no filter
+                # (as resvg does for these; a missing #id is not drawn, as resvg draws it)
+                return []
+            target = builder.doc.lookup(ref)
             flt = (filter_element(builder, target, el, ctx, bbox_fn)
                    if target is not None and target.tag == "filter" else None)
             if flt is None:
@@ -67,6 +72,17 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     if not out and invalid:
         return False
     return out
+
+
+def _url_argument(args):
+    """The URL inside url(...): a quoted string, or unquoted text without whitespace, quotes,
+    parentheses or backslashes; None for a bad url."""
+    a = args.strip()
+    if len(a) >= 2 and a[0] == a[-1] and a[0] in "'\"":
+        return a[1:-1].strip()
+    if any(ch.isspace() or ch in "'\"()\\" for ch in a):
+        return None
+    return a
 
 
 def parse_filter_value(value):
@@ -99,8 +115,24 @@ def device_rect(x, y, w, h, m):
         return None
     left, top = min(xs), min(ys)
     x0, y0 = math.floor(left), math.floor(top)
-    return (x0, y0, x0 + max(1, math.ceil(max(xs) - left)),
-            y0 + max(1, math.ceil(max(ys) - top)))
+    # the size too is f32 (tiny-skia's width() is right - left): 140 - (-30.0000019) is 170 in
+    # f32, so 170 px from row -31, where the exact 170.0000019 would take 171
+    with np.errstate(over="ignore", invalid="ignore"):
+        width, height = f(f(max(xs)) - f(left)), f(f(max(ys)) - f(top))
+    if not (math.isfinite(width) and math.isfinite(height)):
+        return None
+    return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
+
+
+def bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh):
+    """x, y, width, height of a rectangle given in fractions of a bounding box, in f32 as usvg
+    maps it (``x * bbox.width + bbox.x``, ``width * bbox.width``): the default region's 1.2 is
+    1.2000000477 in f32, so 120% of 100 is 120.0000076 and the region's right edge
+    (-10 + 120.0000076) rounds past 110, one device pixel more than in exact arithmetic."""
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):
+        return (float(f(f(f(fx) * f(bw)) + f(bx))), float(f(f(f(fy) * f(bh)) + f(by))),
+                float(f(f(fw) * f(bw))), float(f(f(fh) * f(bh))))
 
 
 def _href_chain(el, doc):
@@ -132,7 +164,7 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
         fr = [parse_fraction(attr(n)) for n in ("x", "y", "width", "height")]
         fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
-        x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+        x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
     else:
         vw, vh = ctx.viewport
 
@@ -205,7 +237,7 @@ class PrimitiveResolver:
                               zip([parse_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
             if fe.tag in ("feFlood", "feImage"):
                 # usvg: fractions of the bounding box
-                x, y, w, h = bx + fx * bw, by + fy * bh, fw * bw, fh * bh
+                x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
             else:
                 # usvg: the filter region scaled by the fractions (and x, y added as they are)
                 x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
@@ -234,7 +266,7 @@ class PrimitiveResolver:
     def pair(self, fe, attr, default):
         """A one-or-two number attribute scaled to device pixels (x, y); None when invalid."""
         text = fe.get(attr)
-        nums = parse_numbers(text) if text is not None else list(default)
+        nums = parse_number_prefix(text) if text is not None else list(default)
         if len(nums) == 1:
             nums = nums * 2
         if len(nums) != 2:
@@ -337,7 +369,7 @@ class PrimitiveResolver:
         rx, ry = 1.0, 1.0
         text = fe.get("radius")
         if text is not None:
-            nums = parse_numbers(text)
+            nums = parse_number_list(text) or []
             rx, ry = (nums * 2)[:2] if len(nums) == 1 else nums if len(nums) == 2 else (0, 0)
             if rx == 0 and ry == 0:
                 rx = ry = 1.0
@@ -395,7 +427,7 @@ class PrimitiveResolver:
 
     def turbulence(self, fe):
         fx = fy = 0.0
-        nums = parse_numbers(fe.get("baseFrequency") or "")
+        nums = parse_number_list(fe.get("baseFrequency") or "") or []
         if len(nums) in (1, 2) and min(nums) >= 0:
             fx, fy = (nums * 2)[:2]
         octaves = parse_number(fe.get("numOctaves"), 1.0)
@@ -479,7 +511,9 @@ def color_matrix_of(fe):
     except that saturate and hueRotate without values mean 1 and 0)."""
     kind = (fe.get("type") or "matrix").strip()
     text = fe.get("values")
-    values = parse_numbers(text) if text is not None else None
+    values = parse_number_list(text) if text is not None else None
+    if values is None and text is not None:
+        return IDENTITY_MATRIX        # values that are no number list: usvg's identity
     if kind == "saturate":
         if values is None:
             return IDENTITY_MATRIX
@@ -500,13 +534,13 @@ def convolve_effect(fe):
     primitive (a kernel of the wrong size, a zero divisor, a target outside the kernel, a bad
     kernelUnitLength)."""
     cols = rows = 3
-    order = parse_numbers(fe.get("order") or "")
+    order = parse_number_list(fe.get("order") or "") or []
     if order:
         x = int(order[0])
         y = int(order[1]) if len(order) > 1 else x
         if x > 0 and y > 0:
             cols, rows = x, y
-    values = parse_numbers(fe.get("kernelMatrix") or "")
+    values = parse_number_list(fe.get("kernelMatrix") or "") or []
     if len(values) != cols * rows:
         return None
     total = round(sum(values), 6)

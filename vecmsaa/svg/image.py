@@ -183,6 +183,6 @@ def _load_svg(builder, data):
 
     options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
     try:
-        return open_svg(data, None, Resources(), options)
+        return open_svg(data, None, Resources(), options, whole_pixels=False)
     except SvgError:
         return None

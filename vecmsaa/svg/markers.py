@@ -58,9 +58,9 @@ def marker_targets(doc, style):
         if value == "none":
             continue
         url = parse_url(value or "none")
-        if url is None:
-            continue
-        el = doc.lookup(url[0])
+        if url is None or url[1]:
+            continue                    # not a url, or more after it: invalid
+        el = doc.lookup(url[0]) if url[0].startswith("#") else None   # url(k): another file
         if el is not None and el.tag == "marker":
             targets[kind] = el
     return targets

@@ -27,8 +27,8 @@ def _target(builder, value, tag):
     from .builder import parse_url
 
     url = parse_url(value or "")
-    if url is None:
-        return None
+    if url is None or url[1]:
+        return None                     # not a url, or more after it (url(#c);): invalid
     el = builder.doc.lookup(url[0]) if url[0].startswith("#") else None
     if el is None:
         warn(f"unresolved url({url[0]}) in {tag.replace('P', '-p')}")

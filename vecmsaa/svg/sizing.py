@@ -73,17 +73,30 @@ class SizedDocument:
 
 
 def open_svg(data: bytes, folder, resources: Resources, options: Options,
-             **document_options) -> SizedDocument:
+             whole_pixels: bool = True, **document_options) -> SizedDocument:
     """Parse SVG bytes and size the document; a document without width, height and viewBox
     takes its drawing's extent. ``document_options`` go to :func:`load_document` (user
     stylesheet, root defaults, languages). Raises SvgError (and RecursionError on absurd
-    nesting)."""
+    nesting).
+
+    ``whole_pixels``: a size given by width, height or viewBox is rounded to whole pixels,
+    and the drawing keeps its exact size inside (a 100 x 12.5 document is 100 x 13 with an
+    empty half row), as resvg sizes a rendering: an output 200 px wide is then scale 2 on
+    both axes, where stretching to 26 rows would scale y by 2.08. SVG images and glyphs keep
+    the exact size."""
     doc = load_document(data, folder, **document_options)
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:
         width, height = drawing_extent(builder, viewport)
+    elif whole_pixels and width > 0 and height > 0:
+        width, height = _whole(width), _whole(height)
     return SizedDocument(builder, width, height, root_m, viewport)
+
+
+def _whole(v: float) -> float:
+    """v rounded half up, at least 1 (as the output size is)."""
+    return float(max(1, math.floor(v + 0.5))) if math.isfinite(v) else v
 
 
 def drawing_extent(builder, viewport):

@@ -49,6 +49,59 @@ def parse_numbers(text) -> list[float]:
     return [float(x) for x in _NUMBERS.findall(text or "")]
 
 
+_LIST_ITEM = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
+
+
+def parse_number_list(text):
+    """A list of numbers separated by whitespace and at most one comma (SVG's comma-wsp; a
+    trailing comma is let pass, as resvg's svgtypes does), or None when anything else is
+    in it: ``5px``, ``5,,3``, ``x5`` and ``0.5;`` are no lists (the attribute is then
+    invalid, as in resvg)."""
+    if text is None:
+        return None
+    out = []
+    pos, end = 0, len(text)
+    while pos < end:
+        m = _LIST_ITEM.match(text, pos)
+        if m is None:
+            break
+        out.append(float(m.group(1)))
+        pos = m.end()
+    return out if not text[pos:].strip(" \t\n\r") else None
+
+
+def parse_number_prefix(text):
+    """The numbers of a list before the first thing that is not one (resvg reads
+    ``stdDeviation`` so: ``5px`` is 5, ``x5`` nothing)."""
+    out = []
+    pos, end = 0, len(text or "")
+    while pos < end:
+        m = _LIST_ITEM.match(text, pos)
+        if m is None:
+            break
+        out.append(float(m.group(1)))
+        pos = m.end()
+    return out
+
+
+_POINT = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
+
+
+def parse_points(text) -> list[float]:
+    """The numbers of a ``points`` list up to the first thing that is not one (SVG 2: a
+    polyline in error draws the points before the error, as path data does): ``10px,10 ...``
+    has none, ``10,,20`` one."""
+    out = []
+    pos, end = 0, len(text or "")
+    while pos < end:
+        m = _POINT.match(text, pos)
+        if m is None:
+            break
+        out.append(float(m.group(1)))
+        pos = m.end()
+    return out
+
+
 def split_length(text):
     """'12.5mm' → (12.5, 'mm'); None when not a length."""
     if text is None:
@@ -208,9 +261,9 @@ def mean_scale(m):
 def parse_viewbox(text):
     if not text:
         return None
-    nums = parse_numbers(text)
+    nums = parse_number_list(text)
     # a number that overflows to infinity makes the viewBox as invalid as a negative size
-    if len(nums) != 4 or not (0 < nums[2] < math.inf and 0 < nums[3] < math.inf) \
+    if nums is None or len(nums) != 4 or not (0 < nums[2] < math.inf and 0 < nums[3] < math.inf) \
             or not (math.isfinite(nums[0]) and math.isfinite(nums[1])):
         return None
     return tuple(nums)

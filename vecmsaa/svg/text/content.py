@@ -9,11 +9,10 @@ absolute ``x`` or ``y`` (or the first of a ``textPath``) starts a text chunk (:m
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 from ..builder import conditions_pass
-from ..units import parse_length_list
+from ..units import parse_length_list, parse_number_list
 
 TEXT_CONTENT = {"tspan", "tref", "textPath", "a"}
 #: tref may take the characters of SVG elements only
@@ -175,10 +174,6 @@ def collapse_white_space(nodes):
 
 
 # -- position attributes -------------------------------------------------------------------
-def _numbers(text):
-    return [t for t in re.split(r"[\s,]+", (text or "").strip()) if t]
-
-
 def apply_positions(text_el, chars, ctx, styles):
     """x/y/dx/dy/rotate lists, outer elements first so inner ones override."""
     order = []
@@ -203,14 +198,9 @@ def apply_positions(text_el, chars, ctx, styles):
             for name, axis in (("x", "x"), ("y", "y"), ("dx", "x"), ("dy", "y")):
                 for k, (v, unit) in zip(idx, parse_length_list(el.get(name))):
                     setattr(chars[k], name, ctx.length(f"{v!r}{unit}", axis, style))
-        rot = []
-        for tok in _numbers(el.get("rotate")):
-            try:
-                r = float(tok)
-            except ValueError:
-                rot = []
-                break
-            rot.append(r if math.isfinite(r) else 0.0)
+        # a list with anything but numbers in it (``10,,20``, ``10 x``) is invalid, as in resvg
+        rot = [r if math.isfinite(r) else 0.0
+               for r in parse_number_list(el.get("rotate") or "") or ()]
         if rot:
             for j, k in enumerate(idx):
                 chars[k].rotate = rot[min(j, len(rot) - 1)]

@@ -49,7 +49,8 @@ def _parsed(face, index):
             data = data.encode("utf-8") if isinstance(data, str) else bytes(data)
             if len(data) <= MAX_DOCUMENT:
                 # like an SVG image: data: URLs only, no files
-                cache[index] = open_svg(data, None, Resources(), Options(image_nesting=1))
+                cache[index] = open_svg(data, None, Resources(), Options(image_nesting=1),
+                                         whole_pixels=False)
         except Exception:     # a broken document: the glyph keeps its outline
             cache[index] = None
         if cache[index] is None:
