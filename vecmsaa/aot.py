@@ -94,8 +94,10 @@ def cache_dirs() -> list[Path]:
 #: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
 #: and the kernels it calls should share a part, or the callee is compiled in each: geometry
 #: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
-#: conversion, path data and transforms the other, and the two cost about the same.
-GEOMETRY_PART = ("vecmsaa.geometry.",)
+#: conversion, path data and filters the other; the transforms and the turbulence filter go
+#: with geometry so that the two cost about the same (the first run waits for the larger).
+GEOMETRY_PART = ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
+                 "vecmsaa.raster.filter_effects:_turbulence_pixels")
 #: Kernels no default command calls are a part built on the first call of one of them, alone:
 #: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
 #: the curve and mask-table functions only tests call (≈ 1 s).
@@ -493,11 +495,9 @@ def _prepare():
 RUNTIME_NAME = "vecmsaa_kernels"
 
 
-def build(path: Path, part: int, entries, spent, shared: Path) -> None:
-    """Build the module of one part at ``path``; pycc's C runtime is compiled into
-    ``shared`` by the first part that needs it, and linked into every part's module."""
-    import fcntl
-
+def _cc(name: str):
+    """numba.pycc's compiler of a module ``name``, with the C runtime it links in made the
+    same for every part (compiled once: ``_runtime``)."""
     from numba.pycc import CC
 
     class SharedRuntimeCC(CC):
@@ -505,12 +505,8 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
             return [(n, RUNTIME_NAME if n == "PYCC_MODULE_NAME" else v)
                     for n, v in super()._get_mixin_defines()]
 
-    t0, cpu0 = time.perf_counter(), time.process_time()
-    name = path.name[: -len(SUFFIX)]
     cc = SharedRuntimeCC(name)
     cc._init_function = f"pycc_init_{RUNTIME_NAME}"
-    cc.output_dir = str(path.parent)
-    cc.output_file = path.name + f".{os.getpid()}.tmp"
     cc.target_cpu = "host"
     # the C runtime pycc links into the module: no typed containers' (no kernel uses numba's
     # typed dict, list or set: 1.2 s of gcc a part), no debug information, and gcc's -O1,
@@ -520,6 +516,30 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
         cc._mixin_sources = [s for s in cc._mixin_sources
                              if not s.endswith(("dictobject.c", "listobject.c", "setobject.c"))]
     cc._extra_cflags = {"posix": ["-g0", "-O1"]}
+    return cc
+
+
+def _runtime(shared: Path) -> list[str]:
+    """The object files of pycc's C runtime in ``shared``, compiled by the first caller
+    (``python -m vecmsaa.aot --runtime``, started with the build, while numba is still being
+    imported); a later caller waits for them."""
+    import fcntl
+    with open(shared / "runtime.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = shared / "runtime.json"
+        if not done.exists():
+            objects = _cc(RUNTIME_NAME)._compile_mixins(str(shared / "runtime"))
+            done.write_text(json.dumps(objects))
+        return json.loads(done.read_text())
+
+
+def build(path: Path, part: int, entries, spent, shared: Path) -> None:
+    """Build the module of one part at ``path``, linking in pycc's C runtime from
+    ``shared``."""
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    cc = _cc(path.name[: -len(SUFFIX)])
+    cc.output_dir = str(path.parent)
+    cc.output_file = path.name + f".{os.getpid()}.tmp"
     index: dict[str, list] = {}
     for i, (kernel, dispatcher, sig) in enumerate(entries):
         if part_of(kernel) != part:
@@ -527,20 +547,12 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
         symbol = f"k{i}"                # unique across the parts
         cc.export(symbol, sig)(dispatcher.py_func)
         index.setdefault(kernel, []).append([symbol, [_arg_key(t) for t in sig.args]])
-    # CC.compile, with the runtime's objects compiled once (gcc: ≈ 2 s of CPU)
+    # CC.compile, with the runtime's objects compiled once for all parts
     build_dir = shared / f"part{part}"
     build_dir.mkdir()
     objects, exports = cc._compile_object_files(str(build_dir))
-    cpu1, t1 = time.process_time(), time.perf_counter()
-    with open(shared / "runtime.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        done = shared / "runtime.json"
-        if done.exists():
-            runtime = json.loads(done.read_text())
-        else:
-            runtime = cc._compile_mixins(str(shared / "runtime"))
-            done.write_text(json.dumps(runtime))
-    cc._toolchain.link_shared(str(path.parent / cc.output_file), objects + runtime,
+    t1 = time.perf_counter()
+    cc._toolchain.link_shared(str(path.parent / cc.output_file), objects + _runtime(shared),
                               cc._toolchain.get_python_libraries(),
                               cc._toolchain.get_python_library_dirs(),
                               export_symbols=exports, extra_ldflags=cc._get_extra_ldflags())
@@ -552,7 +564,7 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
     print(f"part {part}: {sum(map(len, index.values()))} kernels in "
           f"{time.process_time() - cpu0:.1f} s CPU (numba's typing and lowering of the entries "
           f"and their callees {spent['entries']:.1f} s, LLVM's optimisation and machine code "
-          f"{spent['module'] - spent['entries']:.1f} s), C runtime and link "
+          f"{spent['module'] - spent['entries']:.1f} s), link "
           f"{time.perf_counter() - t1:.1f} s wall, {time.perf_counter() - t0:.1f} s wall in "
           f"all: {path}", flush=True)
 
@@ -565,14 +577,17 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
     import signal
     import tempfile
     import traceback
-    t0 = time.process_time()
-    entries, spent = _prepare()
-    print(f"set-up {time.process_time() - t0:.1f} s CPU", flush=True)
+    import subprocess
     parallel = len(os.sched_getaffinity(0)) > 1 if hasattr(os, "sched_getaffinity") else \
         (os.cpu_count() or 1) > 1
     shared = Path(tempfile.mkdtemp(prefix="vecmsaa-build-"))
+    # gcc on the runtime, on the other core while this process imports numba
+    runtime = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", "--runtime", str(shared)])
     statuses = []
     try:
+        t0 = time.process_time()
+        entries, spent = _prepare()
+        print(f"set-up {time.process_time() - t0:.1f} s CPU", flush=True)
         children = []
         for path, part in jobs[1:]:
             pid = os.fork()
@@ -603,6 +618,7 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
             statuses.append(1 << 8)
         statuses += [os.waitpid(pid, 0)[1] for pid in children]
     finally:
+        runtime.wait()
         shutil.rmtree(shared, ignore_errors=True)
     killed = [os.WTERMSIG(s) for s in statuses if os.WIFSIGNALED(s)]
     if killed:      # a part killed is no failure of the build (it is tried again)
@@ -611,6 +627,8 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
     return 0 if not any(statuses) else 1
 
 
-if __name__ == "__main__":
+if __name__ == "__main__" and sys.argv[1:2] == ["--runtime"]:
+    _runtime(Path(sys.argv[2]))
+elif __name__ == "__main__":
     sys.exit(build_parts([(Path(sys.argv[i]), int(sys.argv[i + 1]))
                           for i in range(1, len(sys.argv), 2)]))
