@@ -275,11 +275,11 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first run (`vecmsaa demo`), the two parts at once: 26 s wall, 49 s of CPU, 4 Dec 2026 on a
-#: 2-core Intel Xeon at load 0.3 (docs/bench.md, "Session 11: the first run's build without
-#: numba's repeated work"); the lazy part alone: 17 s of CPU
-BUILD_SECONDS = "25 s on two cores, 50 s of CPU"
-LAZY_BUILD_SECONDS = "15 s"
+#: first run (`vecmsaa demo`), the two parts at once: 17.8-18.5 s wall, 34-36 s of CPU, 5 Dec
+#: 2026 on a 2-core AMD EPYC at load 2.5 (docs/bench.md, "Session 12, the first run"); the
+#: lazy part alone: 12.6 s of CPU
+BUILD_SECONDS = "18 s on two cores, 35 s of CPU"
+LAZY_BUILD_SECONDS = "13 s"
 
 
 def _announce():
