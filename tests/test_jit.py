@@ -1,5 +1,6 @@
 """vecmsaa/jit.py and aot.py: kernels from the compiled module without numba, numba's JIT for
 what the module lacks, and cached JIT kernels loaded without numba's registries."""
+import gc
 import inspect
 import os
 import subprocess
@@ -169,7 +170,9 @@ def test_the_build_runs_each_part_in_a_process_of_its_own_and_fails_when_one_fai
 
     monkeypatch.setattr(aot, "build", build)
     jobs = [(tmp_path / "a", 0), (tmp_path / "b", 1), (tmp_path / "c", 2)]
+    thresholds = gc.get_threshold()
     assert aot.build_parts(jobs) == 0
+    assert gc.get_threshold() == thresholds and gc.get_freeze_count() == 0
     written = [path.read_text().split(" ", 2) for path, _ in jobs]
     assert len({pid for pid, _, _ in written}) == 3
     assert len({folder for _, folder, _ in written}) == 1

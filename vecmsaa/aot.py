@@ -576,15 +576,15 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
     import gc
     import shutil
     import signal
+    import subprocess
     import tempfile
     import traceback
-    import subprocess
     parallel = len(os.sched_getaffinity(0)) > 1 if hasattr(os, "sched_getaffinity") else \
         (os.cpu_count() or 1) > 1
     shared = Path(tempfile.mkdtemp(prefix="vecmsaa-build-"))
     # gcc on the runtime, on the other core while this process imports numba
     runtime = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", "--runtime", str(shared)])
-    statuses = []
+    statuses, thresholds = [], gc.get_threshold()
     try:
         t0 = time.process_time()
         entries, spent = _prepare()
@@ -630,6 +630,8 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
     finally:
         runtime.wait()
         shutil.rmtree(shared, ignore_errors=True)
+        gc.set_threshold(*thresholds)       # as it was, for a caller in process (tests)
+        gc.unfreeze()
     killed = [os.WTERMSIG(s) for s in statuses if os.WIFSIGNALED(s)]
     if killed:      # a part killed is no failure of the build (it is tried again)
         signal.signal(killed[0], signal.SIG_DFL)
