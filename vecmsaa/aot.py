@@ -258,9 +258,9 @@ def _build_parts(builds: dict[int, Path]):
     if sys.stderr.isatty():
         cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
+        modules = f"{len(builds)} modules at once" if len(builds) > 1 else "1 module"
         print(f"vecmsaa: compiled the kernels in {time.perf_counter() - t0:.0f} s ({cpu:.0f} s "
-              f"of CPU, {len(builds)} module{'s at once' if len(builds) > 1 else ''}): {next(iter(builds.values())).parent}",
-              file=sys.stderr)
+              f"of CPU, {modules}): {next(iter(builds.values())).parent}", file=sys.stderr)
     return None
 
 
