@@ -1,5 +1,6 @@
 """vecmsaa/jit.py and aot.py: kernels from the compiled module without numba, numba's JIT for
 what the module lacks, and cached JIT kernels loaded without numba's registries."""
+import gc
 import inspect
 import os
 import subprocess
@@ -150,3 +151,34 @@ def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
     assert sorted(index) == sorted({ln.split("|")[0] for ln in lines})
     assert {aot.part_of(name) for name in aot.load(lazy)[1]} == {aot.LAZY_PART}
 
+
+
+def test_the_build_runs_each_part_in_a_process_of_its_own_and_fails_when_one_fails(
+        tmp_path, monkeypatch):
+    # the build's orchestration (aot.build_parts) with stand-ins for numba's part: one set-up,
+    # then a forked process per part, all sharing one folder for the C runtime, removed after
+    from vecmsaa import aot
+    monkeypatch.setattr(aot, "_prepare", lambda: ([], {}))
+
+    def build(path, part, entries, spent, folder):
+        if part == 9:
+            raise RuntimeError("this part cannot be built")
+        # pycc's C runtime, compiled once for all parts (by a process of its own)
+        objects = aot._runtime(folder)
+        assert objects and all(os.path.getsize(o) > 0 for o in objects)
+        path.write_text(f"{os.getpid()} {folder} {' '.join(objects)}")
+
+    monkeypatch.setattr(aot, "build", build)
+    jobs = [(tmp_path / "a", 0), (tmp_path / "b", 1), (tmp_path / "c", 2)]
+    thresholds = gc.get_threshold()
+    assert aot.build_parts(jobs) == 0
+    assert gc.get_threshold() == thresholds and gc.get_freeze_count() == 0
+    written = [path.read_text().split(" ", 2) for path, _ in jobs]
+    assert len({pid for pid, _, _ in written}) == 3
+    assert len({folder for _, folder, _ in written}) == 1
+    assert len({objects for _, _, objects in written}) == 1
+    assert not os.path.exists(written[0][1])
+    for failing in ([(tmp_path / "d", 0), (tmp_path / "e", 9)], [(tmp_path / "f", 9),
+                                                                  (tmp_path / "g", 0)]):
+        assert aot.build_parts(failing) == 1
+        assert all(path.exists() for path, part in failing if part != 9)

@@ -17,14 +17,16 @@ setuptools), or ``VECMSAA_JIT=1`` is set (kernel development: numba recompiles o
 time), kernels are numba's JIT functions as before, and a call whose argument types the
 manifest lacks goes to numba's JIT too (see ``jit.Kernel``).
 
-The build is in two parts (raster and input; geometry), compiled at once in two processes,
-each into a module of its own: numba's compiler runs on one core, and the parts share
-three small kernels (scan.py's calls into geometry/primitives.py, compiled in both), so on two
-cores the first run waits about half as long. The kernels no default command calls (the
-CSAA mode's; some only tests call) are a third part, built the first time one is called.
-A build spends its time in numba (typing, lowering to LLVM IR: about two thirds) and in
-LLVM (one optimisation of each module as a whole, and its machine code); ``build`` keeps
-numba from doing the work twice (``_lean_callees``, ``_memoise_call_types``).
+The build is in two parts (raster and input; geometry), compiled at once, each into a
+module of its own: numba's compiler runs on one core, so ``python -m vecmsaa.aot`` imports
+numba and the kernels once and forks a process per part (on two cores the first run waits
+about half as long); the parts share three small kernels (scan.py's calls into
+geometry/primitives.py, compiled in both) and pycc's C runtime, which gcc compiles once
+for both. The kernels no default command calls (the CSAA mode's; some only tests call)
+are a third part, built the first time one is called. A build spends its time in numba
+(typing, lowering to LLVM IR: about two thirds) and in LLVM (one optimisation of each
+module as a whole, and its machine code); ``build`` keeps numba from doing the work twice
+(``_lean_callees``, ``_memoise_call_types``).
 """
 from __future__ import annotations
 
@@ -92,8 +94,10 @@ def cache_dirs() -> list[Path]:
 #: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
 #: and the kernels it calls should share a part, or the callee is compiled in each: geometry
 #: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
-#: conversion, path data and transforms the other, and the two cost about the same.
-GEOMETRY_PART = ("vecmsaa.geometry.",)
+#: conversion, path data and filters the other; the transforms and the turbulence filter go
+#: with geometry so that the two cost about the same (the first run waits for the larger).
+GEOMETRY_PART = ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
+                 "vecmsaa.raster.filter_effects:_turbulence_pixels")
 #: Kernels no default command calls are a part built on the first call of one of them, alone:
 #: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
 #: the curve and mask-table functions only tests call (≈ 1 s).
@@ -236,38 +240,28 @@ def _ensure_parts(k: str, which: list[int], announce) -> list[Path] | None:
 
 
 def _build_parts(builds: dict[int, Path]):
-    """Build every part (part → module path) at once (one after the other on a single core);
-    None when all were built, else (exit status, output) of the first that was not."""
+    """Build every part (part → module path): one process (``python -m vecmsaa.aot``) that
+    forks into the parts; None when all were built, else (exit status, output)."""
     # here, not at the top: every process imports this module, few build
-    import contextlib
     import resource
     import subprocess
     import tempfile
     env = dict(os.environ, VECMSAA_JIT="1")
-    parallel = (os.cpu_count() or 1) > 1
     t0, cpu0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
-    failure = None
-    with contextlib.ExitStack() as files:
-        runs = []
-        for part, path in builds.items():
-            out = files.enter_context(tempfile.TemporaryFile(mode="w+"))
-            proc = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", str(path), str(part)],
-                                    env=env, stdout=out, stderr=subprocess.STDOUT, text=True)
-            if not parallel:
-                proc.wait()
-            runs.append((proc, out, path))
-        for proc, out, path in runs:
-            status = proc.wait()
-            if failure is None and (status != 0 or not path.exists()):
-                out.seek(0)
-                failure = (status, out.read())
-    if failure is None and sys.stderr.isatty():
+    with tempfile.TemporaryFile(mode="w+") as out:
+        args = [str(x) for part, path in builds.items() for x in (path, part)]
+        status = subprocess.run([sys.executable, "-m", "vecmsaa.aot", *args], env=env,
+                                stdout=out, stderr=subprocess.STDOUT, text=True).returncode
+        if status != 0 or not all(path.exists() for path in builds.values()):
+            out.seek(0)
+            return status, out.read()
+    if sys.stderr.isatty():
         cpu1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu = cpu1.ru_utime + cpu1.ru_stime - cpu0.ru_utime - cpu0.ru_stime
+        modules = f"{len(builds)} modules at once" if len(builds) > 1 else "1 module"
         print(f"vecmsaa: compiled the kernels in {time.perf_counter() - t0:.0f} s ({cpu:.0f} s "
-              f"of CPU in {len(builds)} processes): {next(iter(builds.values())).parent}",
-              file=sys.stderr)
-    return failure
+              f"of CPU, {modules}): {next(iter(builds.values())).parent}", file=sys.stderr)
+    return None
 
 
 def _remove_others(folder: Path, name: str) -> None:
@@ -281,11 +275,11 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first run (`vecmsaa demo`), the two parts at once: 26 s wall, 49 s of CPU, 4 Dec 2026 on a
-#: 2-core Intel Xeon at load 0.3 (docs/bench.md, "Session 11: the first run's build without
-#: numba's repeated work"); the lazy part alone: 17 s of CPU
-BUILD_SECONDS = "25 s on two cores, 50 s of CPU"
-LAZY_BUILD_SECONDS = "15 s"
+#: first run (`vecmsaa demo`), the two parts at once: 17.8-18.5 s wall, 34-36 s of CPU, 5 Dec
+#: 2026 on a 2-core AMD EPYC at load 2.5 (docs/bench.md, "Session 12, the first run"); the
+#: lazy part alone: 12.6 s of CPU
+BUILD_SECONDS = "18 s on two cores, 35 s of CPU"
+LAZY_BUILD_SECONDS = "13 s"
 
 
 def _announce():
@@ -409,6 +403,7 @@ def _lean_callees():
         return 1
 
     library._optimize_functions = no_function_passes
+    # nor the entries' own function passes: the module pipeline runs them all
     library._optimize_final_module = lambda self: None
     library._finalize_final_module = ready_for_linking
     library.get_pointer_to_function = placeholder_pointer
@@ -446,18 +441,20 @@ def _memoise_call_types():
     functions.BaseFunction.get_call_type = get_call_type
 
 
-def build(path: Path, part: int) -> None:
-    """Build the module of one part at ``path``."""
-    t0 = time.process_time()
+def _prepare():
+    """What every part's build needs, done once before the build forks into its parts:
+    numba imported with its registries installed, the kernel modules imported, the build's
+    changes to numba made (≈ 1.3 s of CPU a process); the manifest's entries and the
+    timings (entries: their numba compiles; module: the whole LLVM object)."""
     import numba.pycc.compiler as pycc_compiler
-    from numba.pycc import CC
+    from numba.core.registry import cpu_target
 
     _lean_callees()
     _memoise_call_types()
+    _memoise_unpickling()
     entries = _entries()
     options = {d.py_func: d.targetoptions for _, d, _ in entries}
     compile_extra = pycc_compiler.compile_extra
-
     spent = {"entries": 0.0, "module": 0.0}
 
     def compile_entry(typingctx, targetctx, func, args, return_type, flags, locals, **kws):
@@ -487,18 +484,62 @@ def build(path: Path, part: int) -> None:
 
     pycc_compiler.compile_extra = compile_entry
     pycc_compiler.ModuleCompiler.write_native_object = timed_write_object
-    _memoise_unpickling()
-    name = path.name[: -len(SUFFIX)]
-    cc = CC(name)
-    cc.output_dir = str(path.parent)
-    cc.output_file = path.name + f".{os.getpid()}.tmp"
+    # installed by the first compile otherwise, in each part
+    cpu_target.typing_context.refresh()
+    cpu_target.target_context.refresh()
+    return entries, spent
+
+
+#: the name pycc's C runtime is compiled for (its init function's), the same in every part:
+#: the runtime is compiled once for all of them
+RUNTIME_NAME = "vecmsaa_kernels"
+
+
+def _cc(name: str):
+    """numba.pycc's compiler of a module ``name``, with the C runtime it links in made the
+    same for every part (compiled once: ``_runtime``)."""
+    from numba.pycc import CC
+
+    class SharedRuntimeCC(CC):
+        def _get_mixin_defines(self):
+            return [(n, RUNTIME_NAME if n == "PYCC_MODULE_NAME" else v)
+                    for n, v in super()._get_mixin_defines()]
+
+    cc = SharedRuntimeCC(name)
+    cc._init_function = f"pycc_init_{RUNTIME_NAME}"
     cc.target_cpu = "host"
     # the C runtime pycc links into the module: no typed containers' (no kernel uses numba's
-    # typed dict, list or set: 1.2 s of gcc a part) and no debug information
+    # typed dict, list or set: 1.2 s of gcc a part), no debug information, and gcc's -O1,
+    # not Python's -O3 (1.7 → 1.0 s of gcc: it boxes arguments and allocates arrays, once a
+    # call, not per pixel)
     if isinstance(getattr(cc, "_mixin_sources", None), list):
         cc._mixin_sources = [s for s in cc._mixin_sources
                              if not s.endswith(("dictobject.c", "listobject.c", "setobject.c"))]
-    cc._extra_cflags = {"posix": ["-g0"]}
+    cc._extra_cflags = {"posix": ["-g0", "-O1"]}
+    return cc
+
+
+def _runtime(shared: Path) -> list[str]:
+    """The object files of pycc's C runtime in ``shared``, compiled by the first caller
+    (``python -m vecmsaa.aot --runtime``, started with the build, while numba is still being
+    imported); a later caller waits for them."""
+    import fcntl
+    with open(shared / "runtime.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = shared / "runtime.json"
+        if not done.exists():
+            objects = _cc(RUNTIME_NAME)._compile_mixins(str(shared / "runtime"))
+            done.write_text(json.dumps(objects))
+        return json.loads(done.read_text())
+
+
+def build(path: Path, part: int, entries, spent, shared: Path) -> None:
+    """Build the module of one part at ``path``, linking in pycc's C runtime from
+    ``shared``."""
+    t0, cpu0 = time.perf_counter(), time.process_time()
+    cc = _cc(path.name[: -len(SUFFIX)])
+    cc.output_dir = str(path.parent)
+    cc.output_file = path.name + f".{os.getpid()}.tmp"
     index: dict[str, list] = {}
     for i, (kernel, dispatcher, sig) in enumerate(entries):
         if part_of(kernel) != part:
@@ -506,18 +547,100 @@ def build(path: Path, part: int) -> None:
         symbol = f"k{i}"                # unique across the parts
         cc.export(symbol, sig)(dispatcher.py_func)
         index.setdefault(kernel, []).append([symbol, [_arg_key(t) for t in sig.args]])
-    cc.compile()
+    # CC.compile, with the runtime's objects compiled once for all parts
+    build_dir = shared / f"part{part}"
+    build_dir.mkdir()
+    objects, exports = cc._compile_object_files(str(build_dir))
+    t1 = time.perf_counter()
+    cc._toolchain.link_shared(str(path.parent / cc.output_file), objects + _runtime(shared),
+                              cc._toolchain.get_python_libraries(),
+                              cc._toolchain.get_python_library_dirs(),
+                              export_symbols=exports, extra_ldflags=cc._get_extra_ldflags())
     tmp = path.parent / cc.output_file
     with open(path.with_suffix(f".json.{os.getpid()}.tmp"), "w") as f:
         json.dump(index, f)
     os.replace(path.with_suffix(f".json.{os.getpid()}.tmp"), path.with_suffix(".json"))
     os.replace(tmp, path)
-    total = time.process_time() - t0
-    print(f"built {sum(map(len, index.values()))} kernels in {total:.1f} s CPU (typing, "
-          f"lowering and numba's optimisation of the entries and their callees {spent['entries']:.1f} s, the "
-          f"module's machine code {spent['module'] - spent['entries']:.1f} s, C runtime and "
-          f"link {total - spent['module']:.1f} s): {path}")
+    print(f"part {part}: {sum(map(len, index.values()))} kernels in "
+          f"{time.process_time() - cpu0:.1f} s CPU (numba's typing and lowering of the entries "
+          f"and their callees {spent['entries']:.1f} s, LLVM's optimisation and machine code "
+          f"{spent['module'] - spent['entries']:.1f} s), link "
+          f"{time.perf_counter() - t1:.1f} s wall, {time.perf_counter() - t0:.1f} s wall in "
+          f"all: {path}", flush=True)
 
 
-if __name__ == "__main__":
-    build(Path(sys.argv[1]), int(sys.argv[2]))
+def build_parts(jobs: list[tuple[Path, int]]) -> int:
+    """Build each (module path, part): the set-up once, then one process per part (forked,
+    so each starts from it), at once where there is more than one core. The exit status:
+    0 when every part was built."""
+    import gc
+    import shutil
+    import signal
+    import subprocess
+    import tempfile
+    import traceback
+    parallel = len(os.sched_getaffinity(0)) > 1 if hasattr(os, "sched_getaffinity") else \
+        (os.cpu_count() or 1) > 1
+    shared = Path(tempfile.mkdtemp(prefix="vecmsaa-build-"))
+    # gcc on the runtime, on the other core while this process imports numba
+    runtime = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", "--runtime", str(shared)])
+    statuses, thresholds = [], gc.get_threshold()
+    try:
+        t0 = time.process_time()
+        entries, spent = _prepare()
+        print(f"set-up {time.process_time() - t0:.1f} s CPU", flush=True)
+        # Python's cyclic garbage collector: numba's compiler allocates so much that the
+        # default thresholds run a collection every few milliseconds, each traversing numba's
+        # registries and typing tables (the set-up's objects; frozen here, which also spares
+        # their pages the copies a collection's writes would make in the forked parts). Part
+        # 0's build, alternated: 17.1, 17.2 s of CPU as before, 16.1, 16.1 frozen, 14.8, 15.0
+        # frozen and with these thresholds (peak memory 257 → 317 MB a part; with no
+        # collection at all 13.9, 14.7 s and 425 MB)
+        gc.freeze()
+        gc.set_threshold(50000, 20, 100)
+        children = []
+        for path, part in jobs[1:]:
+            pid = os.fork()
+            if pid == 0:
+                code = 1
+                try:
+                    build(path, part, entries, spent, shared)
+                    code = 0
+                except KeyboardInterrupt:
+                    code = -signal.SIGINT
+                except BaseException:
+                    traceback.print_exc()
+                finally:
+                    sys.stdout.flush()
+                    sys.stderr.flush()
+                    if code < 0:        # ended by the signal, as an unforked process would
+                        signal.signal(-code, signal.SIG_DFL)
+                        os.kill(os.getpid(), -code)
+                    os._exit(code)
+            children.append(pid)
+            if not parallel:
+                statuses.append(os.waitpid(pid, 0)[1])
+                children.pop()
+        try:
+            build(*jobs[0], entries, spent, shared)
+        except Exception:
+            traceback.print_exc()
+            statuses.append(1 << 8)
+        statuses += [os.waitpid(pid, 0)[1] for pid in children]
+    finally:
+        runtime.wait()
+        shutil.rmtree(shared, ignore_errors=True)
+        gc.set_threshold(*thresholds)       # as it was, for a caller in process (tests)
+        gc.unfreeze()
+    killed = [os.WTERMSIG(s) for s in statuses if os.WIFSIGNALED(s)]
+    if killed:      # a part killed is no failure of the build (it is tried again)
+        signal.signal(killed[0], signal.SIG_DFL)
+        os.kill(os.getpid(), killed[0])
+    return 0 if not any(statuses) else 1
+
+
+if __name__ == "__main__" and sys.argv[1:2] == ["--runtime"]:
+    _runtime(Path(sys.argv[2]))
+elif __name__ == "__main__":
+    sys.exit(build_parts([(Path(sys.argv[i]), int(sys.argv[i + 1]))
+                          for i in range(1, len(sys.argv), 2)]))
