@@ -559,3 +559,41 @@ def test_layers_band_by_band_on_kept_buffers():
         for threads in (1, 2):
             assert np.array_equal(render_scene(scene, band_budget=budget, threads=threads),
                                   whole), (budget, threads)
+
+
+@pytest.mark.parametrize("threads", [2, 3, 5, 40])
+def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatch):
+    """A batch's edges and lenses built in parts on a band pool's threads
+    (render.build_in_parts) and joined are those of the batch built at once: every array,
+    offsets included, equal. Paths of lines, quadratics, cubics (loops among them) and conics,
+    open and closed, one that draws nothing, and more threads than paths."""
+    from vecmsaa.geometry.primitives import batch_arrays, build_batch
+    rng = np.random.default_rng(7)
+    paths = []
+    for i in range(30):
+        path = Path()
+        path.moveTo(tuple(rng.uniform(0, 100, 2)))
+        for _ in range(int(rng.integers(0 if i == 4 else 1, 8))):
+            kind = rng.integers(4)
+            pts = [tuple(rng.uniform(0, 100, 2)) for _ in range(3)]
+            if kind == 0:
+                path.lineTo(pts[0])
+            elif kind == 1:
+                path.qCurveTo(pts[0], pts[1])
+            elif kind == 2:
+                path.curveTo(*pts)
+            else:
+                path.conicTo(pts[0], pts[1], float(rng.uniform(0.2, 3)))
+        if i % 3:
+            path.closePath()
+        paths.append(path)
+    arrays = batch_arrays(paths)
+    monkeypatch.setattr(render_module, "SPLIT_COST", 0)
+    for batch in (arrays, batch_arrays(paths[:2])):
+        for tol in (0.0, 0.25):
+            whole = build_batch(*batch, tol, render_module.MAX_SAGITTA)
+            with render_module.band_pool(threads) as pool:
+                parts = render_module.build_in_parts(*batch, tol, pool)
+            assert len(whole[2]) > 0 or tol > 0
+            for a, b in zip(parts, whole):
+                assert a.dtype == b.dtype and np.array_equal(a, b)

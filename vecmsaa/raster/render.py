@@ -16,6 +16,7 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+import contextlib
 import copy
 import math
 import os
@@ -30,7 +31,7 @@ from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from ..scene.path import CLOSE, MOVE
+from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
                               stratified_pattern)
@@ -293,8 +294,15 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     if opts.resolve is not None:
         draw_sampled_bands(scene, opts, consume, band_budget, threads, target)
         return
-    items = prepare_items(scene.root, opts)
     threads = available_cores() if threads is None else max(1, int(threads))
+    with band_pool(threads) as pool:
+        items = prepare_items(scene.root, opts, pool)
+        _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool)
+
+
+def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool):
+    """render_bands once the items are prepared (``pool``: the band threads' executor)."""
+    H, W = scene.height, scene.width
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget, opts.mode == "analytic")
     band_rows = max(1, min(band_rows, H))
     if threads > 1 and band_rows > strip_rows:
@@ -332,7 +340,7 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
                 filled = rows
         # only a thread that finished its bands gives its buffers back: clean
         _keep_kit(kit_key, raster, buffer)
-    run_bands(draw_bands, starts, threads)
+    run_bands(draw_bands, starts, threads, pool)
 
 
 #: bytes of band buffers and kernel strip buffers kept from one render to the next (each
@@ -388,23 +396,39 @@ def _keep_kit(key, raster: Raster, buffer) -> None:
             _kits[key] = kits + [(raster.scratch, buffer)]
 
 
-def run_bands(draw_bands, starts, threads: int) -> None:
-    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts."""
+@contextlib.contextmanager
+def band_pool(threads: int):
+    """An executor of ``threads`` threads for one render (None for one thread): the fill
+    batches' geometry is built on it (FillBatch), then the bands are drawn on it."""
+    if threads <= 1:
+        yield None
+        return
+    from concurrent.futures import ThreadPoolExecutor   # 20-60 ms: only threaded renders
+    with ThreadPoolExecutor(threads) as pool:
+        pool.threads = threads
+        yield pool
+
+
+def run_bands(draw_bands, starts, threads: int, pool=None) -> None:
+    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts (those of
+    ``pool``, a band_pool of at least as many, if given)."""
     threads = min(threads, len(starts))
     if threads == 1:
         todo = iter(starts)
         draw_bands(lambda: next(todo, None))
         return
-    from concurrent.futures import ThreadPoolExecutor   # 20-60 ms: only threaded renders
+    if pool is None:
+        with band_pool(threads) as pool:
+            run_bands(draw_bands, starts, threads, pool)
+        return
     todo = iter(starts)
     lock = threading.Lock()
 
     def next_start():
         with lock:
             return next(todo, None)
-    with ThreadPoolExecutor(threads) as pool:
-        for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
-            future.result()
+    for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
+        future.result()
 
 
 def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int,
@@ -554,10 +578,10 @@ class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
     ``rows``: the device y range its fills lie in."""
 
-    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions):
+    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None):
         pts = _crisp_at_centres(fills, pts, poff, opts)
-        self.edges, self.edge_off, self.prims, self.prim_off = build_batch(
-            verbs, pts, voff, poff, opts.flatten_tol, MAX_SAGITTA)
+        self.edges, self.edge_off, self.prims, self.prim_off = build_in_parts(
+            verbs, pts, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         starts = poff[:-1]
@@ -572,6 +596,49 @@ class FillBatch:
         table = PaintTable()
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
+
+
+#: build_batch's work per verb, roughly (a cubic: classified, split, a lens per piece), to
+#: split a batch into parts of about equal work
+_VERB_COST = np.ones(256, np.int64)
+_VERB_COST[[QUAD, CONIC]] = 8
+_VERB_COST[CUBIC] = 16
+#: verbs' cost below which a batch is built in one part (a part costs a task and a copy)
+SPLIT_COST = 4096
+
+
+def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
+    """build_batch of the batch, in parts of consecutive paths built at once on ``pool``'s
+    threads and this one (the kernel releases the GIL) when there is a pool and enough work,
+    and joined: a path's edges and primitives depend only on the path, so they are the same
+    bytes in one part or several."""
+    parts = 1 if pool is None else pool.threads
+    if parts > 1:
+        cost = np.zeros(len(verbs) + 1, np.int64)
+        np.cumsum(_VERB_COST[verbs], out=cost[1:])
+        total = int(cost[-1])
+        if total < SPLIT_COST:
+            parts = 1
+    if parts <= 1:
+        return build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA)
+    # path boundaries nearest each equal share of the cost
+    cuts = np.searchsorted(cost[voff], np.arange(1, parts) * (total / parts))
+    bounds = [0] + sorted(set(int(c) for c in cuts) - {0, len(voff) - 1}) + [len(voff) - 1]
+
+    def part(a, b):
+        return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA)
+    later = [pool.submit(part, a, b) for a, b in zip(bounds[1:-1], bounds[2:])]
+    built = [part(bounds[0], bounds[1])] + [f.result() for f in later]
+    edge_off = np.empty(len(voff), np.int64)
+    prim_off = np.empty(len(voff), np.int64)
+    edge_off[0] = prim_off[0] = 0
+    ne = nc = 0
+    for (a, b), (edges, eoff, prims, poff_) in zip(zip(bounds, bounds[1:]), built):
+        edge_off[a + 1:b + 1] = eoff[1:] + ne
+        prim_off[a + 1:b + 1] = poff_[1:] + nc
+        ne, nc = ne + len(edges), nc + len(prims)
+    return (np.concatenate([p[0] for p in built]), edge_off,
+            np.concatenate([p[2] for p in built]), prim_off)
 
 
 #: see _crisp_at_centres
@@ -620,12 +687,12 @@ class Layer:
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
     sample images of raster/resolve.py each have their own)."""
 
-    def __init__(self, group: Group, opts: RenderOptions):
+    def __init__(self, group: Group, opts: RenderOptions, pool=None):
         # a filtered layer's content is prepared when it is filtered (moved to its region)
         self.group = group if group.filters else None
-        self.items = [] if group.filters else prepare_items(group, opts)
-        self.clip = Layer(group.clip, opts) if group.clip is not None else None
-        self.mask = Layer(group.mask.content, opts) if group.mask is not None else None
+        self.items = [] if group.filters else prepare_items(group, opts, pool)
+        self.clip = Layer(group.clip, opts, pool) if group.clip is not None else None
+        self.mask = Layer(group.mask.content, opts, pool) if group.mask is not None else None
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
@@ -662,10 +729,11 @@ def _intersection(a, b):
     return max(a[0], b[0]), min(a[1], b[1])
 
 
-def prepare_items(group: Group, opts: RenderOptions) -> list:
+def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
     """The group's content as FillBatch and Layer items in paint order: fills and layer
     groups in paint order, plain groups flattened away (walked with a stack of iterators, not
-    generators: map data yields tens of thousands of fills through them)."""
+    generators: map data yields tens of thousands of fills through them). ``pool``: an
+    executor whose threads help build the batches' geometry (band_pool)."""
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -673,9 +741,9 @@ def prepare_items(group: Group, opts: RenderOptions) -> list:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
-                    items.extend(_fill_batches(batch, opts))
+                    items.extend(_fill_batches(batch, opts, pool))
                     batch = []
-                    items.append(Layer(node, opts))
+                    items.append(Layer(node, opts, pool))
                 else:
                     stack.append(iter(node.children))
                     break
@@ -683,7 +751,7 @@ def prepare_items(group: Group, opts: RenderOptions) -> list:
                 batch.append(node)
         else:
             stack.pop()
-    items.extend(_fill_batches(batch, opts))
+    items.extend(_fill_batches(batch, opts, pool))
     return items
 
 
@@ -691,7 +759,7 @@ _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
 
 
-def _fill_batches(fills, opts: RenderOptions) -> list:
+def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
     """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
     Emptiness and finiteness are found on the batch's arrays, per path from running sums."""
     fills = [f for f in fills if f.opacity > 0]
@@ -711,7 +779,7 @@ def _fill_batches(fills, opts: RenderOptions) -> list:
         if not fills:
             return []
         arrays = batch_arrays([f.path for f in fills])
-    return [FillBatch(fills, *arrays, opts)]
+    return [FillBatch(fills, *arrays, opts, pool)]
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
