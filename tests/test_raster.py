@@ -475,6 +475,25 @@ def test_buffers_kept_from_another_render_give_the_same_image(monkeypatch):
             assert render_module._kits
 
 
+def test_a_kept_band_buffer_takes_the_next_renders_background(monkeypatch):
+    """A band buffer given back by a render holds that render's background (its last band
+    refilled it); a render with another background on it is byte for byte the render on new
+    buffers, and so is one with the same background (which uses what the buffer holds)."""
+    discs = Group([Fill(circle_path((30 + 9 * math.cos(k), 30 + 9 * math.sin(k)), 8 + k),
+                        Solid((0.1 * k, 0.4, 0.6, 0.5 + 0.1 * k))) for k in range(6)])
+    scenes = [Scene(61, 61, discs, background=bg)
+              for bg in ((1, 1, 1, 0.5), (0, 0, 0, 0), (0.2, 0.4, 0.6, 1))]
+    monkeypatch.setattr(render_module, "KEEP_BYTES", 0)
+    render_module._kits.clear()
+    fresh = [render_scene_png(s, band_budget=7 * 61 * 16) for s in scenes]
+    monkeypatch.undo()
+    for threads in (1, 2):
+        for k in (0, 0, 1, 2, 2, 0, 1, 1):
+            assert render_scene_png(scenes[k], threads=threads, band_budget=7 * 61 * 16) == \
+                fresh[k]
+            assert render_module._kits
+
+
 FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">'
                 '<filter id="f"><feGaussianBlur stdDeviation="3"/><feOffset dx="2" dy="3"/>'
                 '</filter><rect width="96" height="80" fill="#eee"/>'

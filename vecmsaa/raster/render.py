@@ -59,6 +59,11 @@ MSAA_STRIP_ROWS = 16
 #: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
 #: level is rendered band by band so the whole image never exists in float
 BAND_BUDGET = 1 << 24
+#: bands a thread at least when bands are drawn on threads (see render_bands): a thread that
+#: draws the last heavy band leaves the other idle for its length (the tiger at 2048 px on two
+#: threads: bands of 512 rows took 26, 66, 41 and 18 ms, so one thread drew 84 ms and the
+#: other 67; of 256 rows, at most 29 ms each)
+BANDS_PER_THREAD = 4
 #: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
 #: filter region (within the image) is larger is not drawn
 MAX_FILTER_PIXELS = 1 << 24
@@ -306,8 +311,9 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget, opts.mode == "analytic")
     band_rows = max(1, min(band_rows, H))
     if threads > 1 and band_rows > strip_rows:
-        # at least two bands a thread, so that a thread with a light band is not left idle
-        share = -(-H // (2 * threads))
+        # at least BANDS_PER_THREAD bands a thread, so that a thread with a light band is not
+        # left idle
+        share = -(-H // (BANDS_PER_THREAD * threads))
         band_rows = max(strip_rows, min(band_rows, -(-share // strip_rows) * strip_rows))
     if band_rows < H and held_filtered_pixels(items, W, H) > W * H:
         # band by band, each filtered layer is kept from the first band that needs it to its
@@ -321,8 +327,9 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     kit_key = (W, strip_rows, opts.samples, band_rows, target is None)
 
     def draw_bands(next_start):
-        raster, buffer = _take_kit(kit_key, opts, H)
-        filled = 0          # rows of the buffer that hold the background already
+        # filled: rows of the buffer that hold the background already (a kept buffer's last
+        # band refilled them)
+        raster, buffer, filled = _take_kit(kit_key, opts, H, background)
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
             band = buffer[:rows] if target is None else target[y0:y0 + rows]
@@ -332,14 +339,15 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 # the tiger's render time at 8192 px)
                 band[0] = background
                 band[1:] = band[0]
+                filled = rows
             draw_items(items, band, y0, raster)
             if refill is None:
                 consume(y0, band)
+                filled = 0
             else:
                 consume(y0, band, refill)
-                filled = rows
         # only a thread that finished its bands gives its buffers back: clean
-        _keep_kit(kit_key, raster, buffer)
+        _keep_kit(kit_key, raster, buffer, filled, background)
     run_bands(draw_bands, starts, threads, pool)
 
 
@@ -364,10 +372,12 @@ def _drop_other_kits(key) -> None:
         del _kits[other]
 
 
-def _take_kit(key, opts: RenderOptions, height: int):
-    """(Raster, band buffer or None) for one thread of render_bands: the buffers a previous
-    render with the same key gave back (the kernels leave them clean), or new ones (see
-    _kits_kept)."""
+def _take_kit(key, opts: RenderOptions, height: int, background: np.ndarray):
+    """(Raster, band buffer or None, rows of it that hold ``background``) for one thread of
+    render_bands: the buffers a previous render with the same key gave back (the kernels
+    leave them clean; its last band refilled its rows with its background: the tiger's first
+    two bands at 2048 px spent 2 ms filling 16 MB with the colour they already held), or new
+    ones (see _kits_kept)."""
     W, strip_rows, _, band_rows, own_buffer = key
     with _kits_lock:
         # another size's buffers go now, not after this render has allocated its own
@@ -377,15 +387,16 @@ def _take_kit(key, opts: RenderOptions, height: int):
     if kit is None:
         raster = Raster(opts, W, height, strip_rows)
         buffer = np.empty((band_rows, W, 4), dtype=np.float32) if own_buffer else None
-        return raster, buffer
-    scratch, buffer = kit
+        return raster, buffer, 0
+    scratch, buffer, filled, colour = kit
     # scratch[9]: where scan_lenses counts, the options' own
-    return Raster(opts, W, height, strip_rows, scratch[:9] + (opts.lens_stats,) + scratch[10:]), \
-        buffer
+    return (Raster(opts, W, height, strip_rows, scratch[:9] + (opts.lens_stats,) + scratch[10:]),
+            buffer, filled if colour == background.tobytes() else 0)
 
 
-def _keep_kit(key, raster: Raster, buffer) -> None:
-    """Give back a thread's buffers for the next render (see KEEP_BYTES)."""
+def _keep_kit(key, raster: Raster, buffer, filled: int, colour: np.ndarray) -> None:
+    """Give back a thread's buffers for the next render (see KEEP_BYTES), its band buffer's
+    first ``filled`` rows holding ``colour``."""
     if not _kits_kept(raster.opts):
         return
     size = sum(a.nbytes for a in raster.scratch) + (0 if buffer is None else buffer.nbytes)
@@ -393,7 +404,7 @@ def _keep_kit(key, raster: Raster, buffer) -> None:
         _drop_other_kits(key)
         kits = _kits.get(key, [])
         if (len(kits) + 1) * size <= KEEP_BYTES:
-            _kits[key] = kits + [(raster.scratch, buffer)]
+            _kits[key] = kits + [(raster.scratch, buffer, filled, colour.tobytes())]
 
 
 @contextlib.contextmanager
@@ -605,14 +616,17 @@ _VERB_COST[[QUAD, CONIC]] = 8
 _VERB_COST[CUBIC] = 16
 #: verbs' cost below which a batch is built in one part (a part costs a task and a copy)
 SPLIT_COST = 4096
+#: parts of a batch a thread (see build_in_parts)
+PARTS_PER_THREAD = 4
 
 
 def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
-    """build_batch of the batch, in parts of consecutive paths built at once on ``pool``'s
-    threads and this one (the kernel releases the GIL) when there is a pool and enough work,
-    and joined: a path's edges and primitives depend only on the path, so they are the same
-    bytes in one part or several."""
-    parts = 1 if pool is None else pool.threads
+    """build_batch of the batch, in parts of consecutive paths built on ``pool``'s threads
+    (the kernel releases the GIL) when there is a pool and enough work, and joined: a path's
+    edges and primitives depend only on the path, so they are the same bytes in one part or
+    several. PARTS_PER_THREAD parts a thread, taken in turn, since the cost per verb is only
+    a guess (a cubic's pieces grow with its size)."""
+    parts = 1 if pool is None else pool.threads * PARTS_PER_THREAD
     if parts > 1:
         cost = np.zeros(len(verbs) + 1, np.int64)
         np.cumsum(_VERB_COST[verbs], out=cost[1:])
@@ -627,8 +641,7 @@ def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
 
     def part(a, b):
         return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA)
-    later = [pool.submit(part, a, b) for a, b in zip(bounds[1:-1], bounds[2:])]
-    built = [part(bounds[0], bounds[1])] + [f.result() for f in later]
+    built = list(pool.map(part, bounds[:-1], bounds[1:]))
     edge_off = np.empty(len(voff), np.int64)
     prim_off = np.empty(len(voff), np.int64)
     edge_off[0] = prim_off[0] = 0
