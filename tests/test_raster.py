@@ -612,7 +612,7 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
         for tol in (0.0, 0.25):
             whole = build_batch(*batch, tol, render_module.MAX_SAGITTA)
             with render_module.band_pool(threads) as pool:
-                parts = render_module.build_in_parts(*batch, tol, pool)
+                parts = render_module.build_in_parts(*batch, tol, pool)()
             assert len(whole[2]) > 0 or tol > 0
             for a, b in zip(parts, whole):
                 assert a.dtype == b.dtype and np.array_equal(a, b)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import functools
 import math
 import os
 import threading
@@ -591,8 +592,8 @@ class FillBatch:
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None):
         pts = _crisp_at_centres(fills, pts, poff, opts)
-        self.edges, self.edge_off, self.prims, self.prim_off = build_in_parts(
-            verbs, pts, voff, poff, opts.flatten_tol, pool)
+        # the geometry is built on the pool's threads while this one does the rest
+        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         starts = poff[:-1]
@@ -607,6 +608,7 @@ class FillBatch:
         table = PaintTable()
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
+        self.edges, self.edge_off, self.prims, self.prim_off = built()
 
 
 #: build_batch's work per verb, roughly (a cubic: classified, split, a lens per piece), to
@@ -621,9 +623,10 @@ PARTS_PER_THREAD = 4
 
 
 def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
-    """build_batch of the batch, in parts of consecutive paths built on ``pool``'s threads
-    (the kernel releases the GIL) when there is a pool and enough work, and joined: a path's
-    edges and primitives depend only on the path, so they are the same bytes in one part or
+    """A function giving build_batch of the batch. With a pool and enough work the batch is
+    built on the pool's threads (the kernel releases the GIL) from this call on, while this
+    thread goes on, in parts of consecutive paths that the function joins: a path's edges
+    and primitives depend only on the path, so they are the same bytes in one part or
     several. PARTS_PER_THREAD parts a thread, taken in turn, since the cost per verb is only
     a guess (a cubic's pieces grow with its size)."""
     parts = 1 if pool is None else pool.threads * PARTS_PER_THREAD
@@ -634,18 +637,24 @@ def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
         if total < SPLIT_COST:
             parts = 1
     if parts <= 1:
-        return build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA)
+        whole = build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA)
+        return lambda: whole
     # path boundaries nearest each equal share of the cost
     cuts = np.searchsorted(cost[voff], np.arange(1, parts) * (total / parts))
     bounds = [0] + sorted(set(int(c) for c in cuts) - {0, len(voff) - 1}) + [len(voff) - 1]
 
     def part(a, b):
         return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA)
-    built = list(pool.map(part, bounds[:-1], bounds[1:]))
-    edge_off = np.empty(len(voff), np.int64)
-    prim_off = np.empty(len(voff), np.int64)
-    edge_off[0] = prim_off[0] = 0
-    ne = nc = 0
+    futures = [pool.submit(part, a, b) for a, b in zip(bounds, bounds[1:])]
+    return functools.partial(_joined, bounds, futures)
+
+
+def _joined(bounds, futures):
+    """The parts of build_in_parts (paths bounds[i] .. bounds[i + 1] - 1) as one batch."""
+    built = [f.result() for f in futures]
+    edge_off = np.empty(bounds[-1] + 1, np.int64)
+    prim_off = np.empty(bounds[-1] + 1, np.int64)
+    edge_off[0] = prim_off[0] = ne = nc = 0
     for (a, b), (edges, eoff, prims, poff_) in zip(zip(bounds, bounds[1:]), built):
         edge_off[a + 1:b + 1] = eoff[1:] + ne
         prim_off[a + 1:b + 1] = poff_[1:] + nc
