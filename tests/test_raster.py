@@ -616,3 +616,19 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
             assert len(whole[2]) > 0 or tol > 0
             for a, b in zip(parts, whole):
                 assert a.dtype == b.dtype and np.array_equal(a, b)
+
+
+def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
+    """render.heaviest_first puts the band that most fills' edges reach first (the threads
+    take bands in that order; the image does not depend on it), and keeps the bands top down
+    where a filtered layer would be filtered again for a band above its last."""
+    from vecmsaa.api import load_svg
+    light = Fill(circle_path((30, 8), 5), Solid((1, 0, 0, 1)))
+    heavy = [Fill(circle_path((4 + 3 * k, 50), 1), Solid((0, 0, 1, 1))) for k in range(18)]
+    scene = Scene(61, 61, Group([light, *heavy]))
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    order = render_module.heaviest_first(items, range(0, 61, 16), 16)
+    assert sorted(order) == [0, 16, 32, 48] and order[0] == 48
+    filtered = load_svg(FILTERED_SVG)
+    items = render_module.prepare_items(filtered.root, RenderOptions())
+    assert list(render_module.heaviest_first(items, range(0, 80, 16), 16)) == [0, 16, 32, 48, 64]

@@ -321,6 +321,8 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
         # last; when those would outweigh the whole image, one band holds one at a time
         band_rows = H
     starts = range(0, H, band_rows)
+    if threads > 1 and len(starts) > threads:
+        starts = heaviest_first(items, starts, band_rows)
     background = premultiplied(scene.background)
 
     refill = np.asarray(background, dtype=np.float32) if refills and target is None else None
@@ -350,6 +352,39 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
         # only a thread that finished its bands gives its buffers back: clean
         _keep_kit(kit_key, raster, buffer, filled, background)
     run_bands(draw_bands, starts, threads, pool)
+
+
+def heaviest_first(items, starts, band_rows: int):
+    """The band starts in order of the edges and lenses that reach each band, most first (a
+    guess at their cost: each fill's spread evenly over the bands its box reaches; ties top
+    down), so that threads taking bands in turn do not end with one of them drawing a heavy
+    band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25, 24, 13, 9 and 5 ms
+    top down, and two threads ended 8 ms apart. Top down where a filtered layer takes part
+    (filtered_part lets go of its pixels after the band holding its last row, and a band
+    above drawn later would filter it again)."""
+    n = len(starts)
+    cost = np.zeros(n + 1)
+
+    def count(items):
+        for item in items:
+            if isinstance(item, FillBatch):
+                first = np.clip(np.floor(item.box[:, 1] / band_rows), 0, n).astype(np.int64)
+                last = np.clip(np.floor(item.box[:, 3] / band_rows), -1, n - 1).astype(np.int64)
+                keep = first <= last
+                first, last = first[keep], last[keep]
+                work = (np.diff(item.edge_off) + np.diff(item.prim_off))[keep]
+                share = work / (last - first + 1)
+                # + share on the bands first .. last: a difference array
+                cost[:] += np.bincount(first, share, minlength=n + 1)
+                cost[:] -= np.bincount(last + 1, share, minlength=n + 1)
+            elif item.filters:
+                return False
+            elif not count(item.items + [p for p in (item.clip, item.mask) if p is not None]):
+                return False
+        return True
+    if not count(items):
+        return starts
+    return [starts[i] for i in np.argsort(-np.cumsum(cost[:-1]), kind="stable")]
 
 
 #: bytes of band buffers and kernel strip buffers kept from one render to the next (each
