@@ -11,8 +11,16 @@ from vecmsaa.geometry.primitives import (P_KIND, _eval_implicit, build_batch,
                                          classify_cubic as _classify_cubic, KIND_CUBIC)
 from vecmsaa.scene.path import Path
 
-# (the kernel has no CPython wrapper: only the batch builder calls it)
-classify_cubic = njit(lambda X: _classify_cubic(X))
+
+
+@njit
+def classify_cubic(X):
+    """(kind, klm, splits) of the kernel, which has no CPython wrapper (only the batch builder
+    calls it) and writes klm and splits into arrays it is given."""
+    klm = np.empty((4, 3))
+    splits = np.empty(2)
+    kind = _classify_cubic(X, klm, splits)
+    return kind, klm, splits
 
 SERPENTINE, LOOP, CUSP, CUSP_AT_INFINITY, QUADRATIC, LINE = range(6)
 

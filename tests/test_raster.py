@@ -475,6 +475,25 @@ def test_buffers_kept_from_another_render_give_the_same_image(monkeypatch):
             assert render_module._kits
 
 
+def test_a_kept_band_buffer_takes_the_next_renders_background(monkeypatch):
+    """A band buffer given back by a render holds that render's background (its last band
+    refilled it); a render with another background on it is byte for byte the render on new
+    buffers, and so is one with the same background (which uses what the buffer holds)."""
+    discs = Group([Fill(circle_path((30 + 9 * math.cos(k), 30 + 9 * math.sin(k)), 8 + k),
+                        Solid((0.1 * k, 0.4, 0.6, 0.5 + 0.1 * k))) for k in range(6)])
+    scenes = [Scene(61, 61, discs, background=bg)
+              for bg in ((1, 1, 1, 0.5), (0, 0, 0, 0), (0.2, 0.4, 0.6, 1))]
+    monkeypatch.setattr(render_module, "KEEP_BYTES", 0)
+    render_module._kits.clear()
+    fresh = [render_scene_png(s, band_budget=7 * 61 * 16) for s in scenes]
+    monkeypatch.undo()
+    for threads in (1, 2):
+        for k in (0, 0, 1, 2, 2, 0, 1, 1):
+            assert render_scene_png(scenes[k], threads=threads, band_budget=7 * 61 * 16) == \
+                fresh[k]
+            assert render_module._kits
+
+
 FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">'
                 '<filter id="f"><feGaussianBlur stdDeviation="3"/><feOffset dx="2" dy="3"/>'
                 '</filter><rect width="96" height="80" fill="#eee"/>'
@@ -559,3 +578,57 @@ def test_layers_band_by_band_on_kept_buffers():
         for threads in (1, 2):
             assert np.array_equal(render_scene(scene, band_budget=budget, threads=threads),
                                   whole), (budget, threads)
+
+
+@pytest.mark.parametrize("threads", [2, 3, 5, 40])
+def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatch):
+    """A batch's edges and lenses built in parts on a band pool's threads
+    (render.build_in_parts) and joined are those of the batch built at once: every array,
+    offsets included, equal. Paths of lines, quadratics, cubics (loops among them) and conics,
+    open and closed, one that draws nothing, and more threads than paths."""
+    from vecmsaa.geometry.primitives import batch_arrays, build_batch
+    rng = np.random.default_rng(7)
+    paths = []
+    for i in range(30):
+        path = Path()
+        path.moveTo(tuple(rng.uniform(0, 100, 2)))
+        for _ in range(int(rng.integers(0 if i == 4 else 1, 8))):
+            kind = rng.integers(4)
+            pts = [tuple(rng.uniform(0, 100, 2)) for _ in range(3)]
+            if kind == 0:
+                path.lineTo(pts[0])
+            elif kind == 1:
+                path.qCurveTo(pts[0], pts[1])
+            elif kind == 2:
+                path.curveTo(*pts)
+            else:
+                path.conicTo(pts[0], pts[1], float(rng.uniform(0.2, 3)))
+        if i % 3:
+            path.closePath()
+        paths.append(path)
+    arrays = batch_arrays(paths)
+    monkeypatch.setattr(render_module, "SPLIT_COST", 0)
+    for batch in (arrays, batch_arrays(paths[:2])):
+        for tol in (0.0, 0.25):
+            whole = build_batch(*batch, tol, render_module.MAX_SAGITTA)
+            with render_module.band_pool(threads) as pool:
+                parts = render_module.build_in_parts(*batch, tol, pool)()
+            assert len(whole[2]) > 0 or tol > 0
+            for a, b in zip(parts, whole):
+                assert a.dtype == b.dtype and np.array_equal(a, b)
+
+
+def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
+    """render.heaviest_first puts the band that most fills' edges reach first (the threads
+    take bands in that order; the image does not depend on it), and keeps the bands top down
+    where a filtered layer would be filtered again for a band above its last."""
+    from vecmsaa.api import load_svg
+    light = Fill(circle_path((30, 8), 5), Solid((1, 0, 0, 1)))
+    heavy = [Fill(circle_path((4 + 3 * k, 50), 1), Solid((0, 0, 1, 1))) for k in range(18)]
+    scene = Scene(61, 61, Group([light, *heavy]))
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    order = render_module.heaviest_first(items, range(0, 61, 16), 16)
+    assert sorted(order) == [0, 16, 32, 48] and order[0] == 48
+    filtered = load_svg(FILTERED_SVG)
+    items = render_module.prepare_items(filtered.root, RenderOptions())
+    assert list(render_module.heaviest_first(items, range(0, 80, 16), 16)) == [0, 16, 32, 48, 64]

@@ -100,9 +100,9 @@ def _cubic_point(c, t):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _cubic_sub(c, ta, tb):
-    """Control points of the cubic restricted to [ta, tb] (blossoming)."""
-    out = np.empty((4, 2))
+def _cubic_sub(out, c, ta, tb):
+    """Control points of the cubic restricted to [ta, tb] (blossoming), into ``out`` (4 x 2,
+    not ``c``): one buffer for all of a cubic's pieces, not an allocation per piece."""
     for k in range(2):
         p0, p1, p2, p3 = c[0, k], c[1, k], c[2, k], c[3, k]
         for r in range(4):
@@ -122,7 +122,6 @@ def _cubic_sub(c, ta, tb):
         out[0, 0], out[0, 1] = c[0, 0], c[0, 1]
     if tb == 1.0:
         out[3, 0], out[3, 1] = c[3, 0], c[3, 1]
-    return out
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -132,6 +131,20 @@ def _dist_to_line(px, py, ax, ay, bx, by):
     if ln == 0.0:
         return math.hypot(px - ax, py - ay)
     return abs((px - ax) * dy - (py - ay) * dx) / ln
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _bulge(c):
+    """max(_dist_to_line(c[1], chord), _dist_to_line(c[2], chord)) for the chord c[0] → c[3],
+    the same arithmetic with the chord's length taken once (hypot is a tenth of the batch
+    builder's time)."""
+    ax, ay = c[0, 0], c[0, 1]
+    dx, dy = c[3, 0] - ax, c[3, 1] - ay
+    ln = math.hypot(dx, dy)
+    if ln == 0.0:
+        return max(math.hypot(c[1, 0] - ax, c[1, 1] - ay), math.hypot(c[2, 0] - ax, c[2, 1] - ay))
+    return max(abs((c[1, 0] - ax) * dy - (c[1, 1] - ay) * dx) / ln,
+               abs((c[2, 0] - ax) * dy - (c[2, 1] - ay) * dx) / ln)
 
 
 # -- flattening (analytic / reference modes) ----------------------------------------------------
@@ -168,23 +181,22 @@ def _flatten_cubic(edges, ne, c, tol):
 
 # -- curve primitives -----------------------------------------------------------------------------
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _set_lens(prim, ctrl, sx, sy, t0x, t0y, t1x, t1y):
-    """Everything of a lens primitive but its implicit function: control points, bounding
+def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y):
+    """Everything of a lens primitive but its implicit function and its ``nctrl`` control
+    points (the caller has stored them: no array of them per piece): bounding
     box, winding sign, the chord (first to last control point) sorted by y (as the scan
     converter sees it) with the side the lens lies on, judged from the point (sx, sy) known to
     be inside the lens, and the tangent half-planes through the ends along t0 and t1 (left at
     (0, 0, 1), none, for a zero tangent)."""
-    nctrl = ctrl.shape[0]
-    x0 = ctrl[0, 0]
-    y0 = ctrl[0, 1]
+    ctrl = prim[P_CTRL:P_CTRL + 2 * nctrl]
+    x0 = ctrl[0]
+    y0 = ctrl[1]
     bx0, by0, bx1, by1 = x0, y0, x0, y0
     for i in range(nctrl):
-        bx0 = min(bx0, ctrl[i, 0])
-        by0 = min(by0, ctrl[i, 1])
-        bx1 = max(bx1, ctrl[i, 0])
-        by1 = max(by1, ctrl[i, 1])
-        prim[P_CTRL + 2 * i] = ctrl[i, 0]
-        prim[P_CTRL + 2 * i + 1] = ctrl[i, 1]
+        bx0 = min(bx0, ctrl[2 * i])
+        by0 = min(by0, ctrl[2 * i + 1])
+        bx1 = max(bx1, ctrl[2 * i])
+        by1 = max(by1, ctrl[2 * i + 1])
     prim[P_NCTRL] = nctrl
     prim[P_BBOX] = bx0
     prim[P_BBOX + 1] = by0
@@ -195,10 +207,10 @@ def _set_lens(prim, ctrl, sx, sy, t0x, t0y, t1x, t1y):
     area = 0.0
     for i in range(nctrl):
         j = (i + 1) % nctrl
-        area += ctrl[i, 0] * ctrl[j, 1] - ctrl[j, 0] * ctrl[i, 1]
+        area += ctrl[2 * i] * ctrl[2 * j + 1] - ctrl[2 * j] * ctrl[2 * i + 1]
     prim[P_WSIGN] = -1.0 if area > 0 else 1.0
     # the chord
-    x1, y1 = ctrl[nctrl - 1, 0], ctrl[nctrl - 1, 1]
+    x1, y1 = ctrl[2 * nctrl - 2], ctrl[2 * nctrl - 1]
     if y0 < y1 or (y0 == y1 and x0 <= x1):
         xt, yt, xb, yb = x0, y0, x1, y1
     else:
@@ -286,10 +298,9 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     prim[P_L + 2] = 1.0
     prim[P_M] = -Y1 / det
     prim[P_M + 1] = X1 / det
-    ctrl = np.empty((3, 2))
-    ctrl[0, 0], ctrl[0, 1] = x0, y0
-    ctrl[1, 0], ctrl[1, 1] = x1, y1
-    ctrl[2, 0], ctrl[2, 1] = x2, y2
+    prim[P_CTRL], prim[P_CTRL + 1] = x0, y0
+    prim[P_CTRL + 2], prim[P_CTRL + 3] = x1, y1
+    prim[P_CTRL + 4], prim[P_CTRL + 5] = x2, y2
     # inside: half-way between the curve's midpoint and the chord's
     lam = 0.5 * w / (1.0 + w)
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
@@ -297,7 +308,7 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     # the end tangents (b0 → b1, b1 → b2) close the control triangle around the lens: the
     # one-evaluation modes (alpha, a2c) then give no coverage beyond the lens's ends, where the
     # whole ellipse's distance says "near the curve"
-    _set_lens(prim, ctrl, qx, qy, x1 - x0, y1 - y0, x2 - x1, y2 - y1)
+    _set_lens(prim, 3, qx, qy, x1 - x0, y1 - y0, x2 - x1, y2 - y1)
     return edges, ne, prims, nc + 1
 
 
@@ -365,8 +376,9 @@ def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
                                              c[3, 1] - 3 * c[2, 1] + 3 * c[1, 1] - c[0, 1])
     n = int(math.ceil((err / QUAD_FALLBACK_TOL) ** (1.0 / 3.0))) if err > 0 else 1
     n = max(1, min(n, MAX_PIECES))
+    s = np.empty((4, 2))
     for i in range(n):
-        s = _cubic_sub(c, i / n, (i + 1) / n)
+        _cubic_sub(s, c, i / n, (i + 1) / n)
         qx = (3.0 * (s[1, 0] + s[2, 0]) - s[0, 0] - s[3, 0]) * 0.25
         qy = (3.0 * (s[1, 1] + s[2, 1]) - s[0, 1] - s[3, 1]) * 0.25
         edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, s[0, 0], s[0, 1], qx, qy,
@@ -413,12 +425,12 @@ def _klm_cusp_at_infinity(klm, ls, lt):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def classify_cubic(X):
+def classify_cubic(X, klm, splits):
     """Loop–Blinn classification of a cubic given in a normalised frame (4 x 2 array).
 
-    Returns (kind, klm, split parameters) where kind is 0 serpentine, 1 loop, 2 cusp,
-    3 cusp at infinity, 4 quadratic, 5 line/point; klm is (4, 3) at the control points and
-    the split parameters are inflections (serpentine, cusp) or the double point (loop).
+    Returns the kind, 0 serpentine, 1 loop, 2 cusp, 3 cusp at infinity, 4 quadratic, 5
+    line/point, and sets ``klm`` (4, 3) at the control points and the 2 ``splits``
+    parameters, inflections (serpentine, cusp) or the double point (loop), or -1.
     Powers are products: the same bits as numba's ``**`` (by squaring), without compiling it.
     (Scalars and small helpers: one long straight-line kernel compiles in superlinear time.)
     """
@@ -433,13 +445,13 @@ def classify_cubic(X):
     d2 = -a2 + 3.0 * a3
     d3 = 3.0 * a3
     dn = math.sqrt(d1 * d1 + d2 * d2 + d3 * d3)
-    klm = np.zeros((4, 3))
-    splits = np.empty(2)
+    for i in range(4):
+        klm[i, 0] = klm[i, 1] = klm[i, 2] = 0.0
     splits[0] = -1.0
     splits[1] = -1.0
     eps = 1e-9
     if dn < eps:
-        return 5, klm, splits
+        return 5
     d1 /= dn
     d2 /= dn
     d3 /= dn
@@ -459,15 +471,15 @@ def classify_cubic(X):
             _klm_loop(klm, ls, lt, ms, mt)
         splits[0] = ls / lt
         splits[1] = ms / mt
-        return kind, klm, splits
+        return kind
     if abs(d2) > eps:
         ls, lt = d3, 3.0 * d2
         _klm_cusp_at_infinity(klm, ls, lt)
         splits[0] = ls / lt
-        return 3, klm, splits
+        return 3
     if abs(d3) > eps:
-        return 4, klm, splits
-    return 5, klm, splits
+        return 4
+    return 5
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -566,14 +578,18 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
         return edges, ne, prims, nc, False
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
     t0x, t0y, t1x, t1y = _end_tangents(c)
-    _set_lens(prim, c, qx, qy, t0x, t0y, t1x, t1y)
+    for i in range(4):
+        prim[P_CTRL + 2 * i] = c[i, 0]
+        prim[P_CTRL + 2 * i + 1] = c[i, 1]
+    _set_lens(prim, 4, qx, qy, t0x, t0y, t1x, t1y)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
     return edges, ne, prims, nc + 1, True
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _affine_fit(X, V):
-    """Least-squares M (3, 3) with [x y 1] · M ≈ V for the 4 points X (4, 2) and values V (4, 3).
+def _affine_fit(X, V, M, tmp):
+    """Least-squares M (3, 3, set here) with [x y 1] · M ≈ V for the 4 points X (4, 2) and
+    values V (4, 3); ``tmp``: (4, 4) scratch.
 
     Centred columns and Gram–Schmidt on the two that remain: as stable as a QR solve, and no
     np.linalg, whose first use makes numba import scipy (~0.1 s of every start-up). Collinear
@@ -581,33 +597,29 @@ def _affine_fit(X, V):
     xm = 0.25 * (X[0, 0] + X[1, 0] + X[2, 0] + X[3, 0])
     ym = 0.25 * (X[0, 1] + X[1, 1] + X[2, 1] + X[3, 1])
     # scalar loops over the 4 rows, not array expressions: those cost seconds of compile time
-    xc = np.empty(4)
-    yc = np.empty(4)
+    xc, yc, q1, y2 = tmp[0], tmp[1], tmp[2], tmp[3]
     n1 = 0.0
     for i in range(4):
         xc[i] = X[i, 0] - xm
         yc[i] = X[i, 1] - ym
         n1 += xc[i] * xc[i]
-    M = np.empty((3, 3))
     for i in range(3):
         for j in range(3):
             M[i, j] = np.nan
     n1 = math.sqrt(n1)
     if n1 == 0.0:
-        return M
-    q1 = np.empty(4)
+        return
     beta = 0.0
     for i in range(4):
         q1[i] = xc[i] / n1
         beta += q1[i] * yc[i]
-    y2 = np.empty(4)
     n2 = 0.0
     for i in range(4):
         y2[i] = yc[i] - beta * q1[i]
         n2 += y2[i] * y2[i]
     n2 = math.sqrt(n2)
     if n2 == 0.0:
-        return M
+        return
     for j in range(3):
         vm = 0.25 * (V[0, j] + V[1, j] + V[2, j] + V[3, j])
         c1 = 0.0
@@ -618,14 +630,15 @@ def _affine_fit(X, V):
         M[1, j] = c2 / n2
         M[0, j] = c1 / n1 - c2 * beta / (n1 * n2)
         M[2, j] = vm - M[0, j] * xm - M[1, j] * ym
-    return M
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
+def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
+    """Chords and lenses of a cubic. w1..w4: scratch, allocated once by build_batch for all of a
+    batch's cubics (eight small arrays allocated per cubic: 6.7 -> 5.8 ms of the tiger's batch
+    at 2048 px; rows of 2-d arrays, not reshaped slices of one: a reshape is a call)."""
     # bulge of the control polygon over the chord; degenerate → chord or nothing
-    dev = max(_dist_to_line(c[1, 0], c[1, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]),
-              _dist_to_line(c[2, 0], c[2, 1], c[0, 0], c[0, 1], c[3, 0], c[3, 1]))
+    dev = _bulge(c)
     if not math.isfinite(dev):
         return edges, ne, prims, nc
     if dev < LINE_EPS:
@@ -636,11 +649,14 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     for i in range(1, 4):
         s = max(s, math.hypot(c[i, 0] - ox, c[i, 1] - oy))
     inv = 1.0 / s
-    X = np.empty((4, 2))
+    splits, ts = w1[0:2], w1[2:6]
+    X, sub = w2[0:4], w2[4:8]
+    klm, M, stack = w3[0:4], w3[4:7], w3[7:71]
+    tmp = w4
     for i in range(4):
         X[i, 0] = (c[i, 0] - ox) * inv
         X[i, 1] = (c[i, 1] - oy) * inv
-    kind, klm, splits = classify_cubic(X)
+    kind = classify_cubic(X, klm, splits)
     if kind == 5:
         edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
         return edges, ne, prims, nc
@@ -650,7 +666,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
         return _emit_quad(edges, ne, prims, nc, c[0, 0], c[0, 1], qx, qy, c[3, 0], c[3, 1],
                           max_sagitta)
     # k, l, m are affine in the frame: solve [X Y 1] · M = klm (4 equations, 3 unknowns each)
-    M = _affine_fit(X, klm)
+    _affine_fit(X, klm, M, tmp)
     resid = 0.0
     scale = 0.0
     for i in range(4):
@@ -661,7 +677,6 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     if not (resid <= 1e-7 * max(scale, 1e-300)):
         return _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta)
     # parameter intervals: split at inflections / the double point inside (0, 1)
-    ts = np.empty(4)
     nts = 0
     ts[nts] = 0.0
     nts += 1
@@ -675,7 +690,6 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     ts[nts] = 1.0
     nts += 1
     # refine each interval until it turns ≤ 90° and bulges ≤ max_sagitta (explicit stack)
-    stack = np.empty((64, 3))
     max_turn_cos = 0.0  # cos 90°
     for iv in range(nts - 1):
         top = 0
@@ -683,9 +697,8 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
         while top >= 0:
             ta, tb, depth = stack[top, 0], stack[top, 1], stack[top, 2]
             top -= 1
-            sub = _cubic_sub(c, ta, tb)
-            bulge = max(_dist_to_line(sub[1, 0], sub[1, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]),
-                        _dist_to_line(sub[2, 0], sub[2, 1], sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1]))
+            _cubic_sub(sub, c, ta, tb)
+            bulge = _bulge(sub)
             split = 0.75 * bulge > max_sagitta
             if not split:
                 # does the piece turn by more than acos(max_turn_cos) between its end tangents?
@@ -711,7 +724,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta):
     return edges, ne, prims, nc
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)   # a batch is built in parts on threads (render.build_in_parts)
 def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
     """Straight edges and curve primitives for a batch of paths.
 
@@ -721,8 +734,19 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
     Returns (edges (E, 4), edge_off (P+1), prims (C, PRIM_FIELDS), prim_off (P+1)).
     """
     npaths = verb_off.shape[0] - 1
-    edges = np.empty((max(16, 2 * points.shape[0]), 4))
-    prims = np.empty((max(16, points.shape[0] // 2), PRIM_FIELDS))
+    # room for two edges a point and five lenses a curve, which a batch rarely outgrows at
+    # 2048 px (the tiger: 19.8k edges, 15.6k lenses from 15.8k points and 3.8k curves): each
+    # _grow copies everything so far into fresh pages, and pages never written cost no memory
+    n = 0
+    for p in range(npaths):
+        n += pt_off[p + 1] - pt_off[p]
+    curves = 0
+    for vi in range(verb_off[0], verb_off[npaths]):
+        v = verbs[vi]
+        if v == CUBIC or v == QUAD or v == CONIC:
+            curves += 1
+    edges = np.empty((max(16, 2 * n), 4))
+    prims = np.empty((max(16, 5 * curves), PRIM_FIELDS))
     edge_off = np.zeros(npaths + 1, dtype=np.int64)
     prim_off = np.zeros(npaths + 1, dtype=np.int64)
     # not the literal 0: numba would compile every helper called with it once more, for
@@ -730,6 +754,7 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
     ne = np.int64(0)
     nc = np.int64(0)
     c = np.empty((4, 2))
+    w1, w2, w3, w4 = np.empty(6), np.empty((8, 2)), np.empty((71, 3)), np.empty((4, 4))
     for p in range(npaths):
         pi = pt_off[p]
         sx = sy = cx = cy = 0.0
@@ -766,7 +791,8 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
                 if flatten_tol > 0:
                     edges, ne = _flatten_cubic(edges, ne, c, flatten_tol)
                 else:
-                    edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta)
+                    edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
+                                                       w1, w2, w3, w4)
                 cx, cy = c[3, 0], c[3, 1]
                 pi += 3
             elif v == CONIC:
@@ -788,7 +814,8 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
             edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
         edge_off[p + 1] = ne
         prim_off[p + 1] = nc
-    return edges[:ne].copy(), edge_off, prims[:nc].copy(), prim_off
+    # views, not copies: a copy is as many fresh pages again (the arrays live for one render)
+    return edges[:ne], edge_off, prims[:nc], prim_off
 
 
 def batch_arrays(paths):

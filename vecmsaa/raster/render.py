@@ -16,7 +16,9 @@ Coverage modes (see docs/modes.md):
 """
 from __future__ import annotations
 
+import contextlib
 import copy
+import functools
 import math
 import os
 import threading
@@ -30,7 +32,7 @@ from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from ..scene.path import CLOSE, MOVE
+from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
                               stratified_pattern)
@@ -58,6 +60,11 @@ MSAA_STRIP_ROWS = 16
 #: bytes of one band's float32 RGBA buffer (each layer, clip and mask adds one more); the top
 #: level is rendered band by band so the whole image never exists in float
 BAND_BUDGET = 1 << 24
+#: bands a thread at least when bands are drawn on threads (see render_bands): a thread that
+#: draws the last heavy band leaves the other idle for its length (the tiger at 2048 px on two
+#: threads: bands of 512 rows took 26, 66, 41 and 18 ms, so one thread drew 84 ms and the
+#: other 67; of 256 rows, at most 29 ms each)
+BANDS_PER_THREAD = 4
 #: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
 #: filter region (within the image) is larger is not drawn
 MAX_FILTER_PIXELS = 1 << 24
@@ -293,19 +300,29 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     if opts.resolve is not None:
         draw_sampled_bands(scene, opts, consume, band_budget, threads, target)
         return
-    items = prepare_items(scene.root, opts)
     threads = available_cores() if threads is None else max(1, int(threads))
+    with band_pool(threads) as pool:
+        items = prepare_items(scene.root, opts, pool)
+        _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool)
+
+
+def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool):
+    """render_bands once the items are prepared (``pool``: the band threads' executor)."""
+    H, W = scene.height, scene.width
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget, opts.mode == "analytic")
     band_rows = max(1, min(band_rows, H))
     if threads > 1 and band_rows > strip_rows:
-        # at least two bands a thread, so that a thread with a light band is not left idle
-        share = -(-H // (2 * threads))
+        # at least BANDS_PER_THREAD bands a thread, so that a thread with a light band is not
+        # left idle
+        share = -(-H // (BANDS_PER_THREAD * threads))
         band_rows = max(strip_rows, min(band_rows, -(-share // strip_rows) * strip_rows))
     if band_rows < H and held_filtered_pixels(items, W, H) > W * H:
         # band by band, each filtered layer is kept from the first band that needs it to its
         # last; when those would outweigh the whole image, one band holds one at a time
         band_rows = H
     starts = range(0, H, band_rows)
+    if threads > 1 and len(starts) > threads:
+        starts = heaviest_first(items, starts, band_rows)
     background = premultiplied(scene.background)
 
     refill = np.asarray(background, dtype=np.float32) if refills and target is None else None
@@ -313,8 +330,9 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     kit_key = (W, strip_rows, opts.samples, band_rows, target is None)
 
     def draw_bands(next_start):
-        raster, buffer = _take_kit(kit_key, opts, H)
-        filled = 0          # rows of the buffer that hold the background already
+        # filled: rows of the buffer that hold the background already (a kept buffer's last
+        # band refilled them)
+        raster, buffer, filled = _take_kit(kit_key, opts, H, background)
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
             band = buffer[:rows] if target is None else target[y0:y0 + rows]
@@ -324,15 +342,49 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
                 # the tiger's render time at 8192 px)
                 band[0] = background
                 band[1:] = band[0]
+                filled = rows
             draw_items(items, band, y0, raster)
             if refill is None:
                 consume(y0, band)
+                filled = 0
             else:
                 consume(y0, band, refill)
-                filled = rows
         # only a thread that finished its bands gives its buffers back: clean
-        _keep_kit(kit_key, raster, buffer)
-    run_bands(draw_bands, starts, threads)
+        _keep_kit(kit_key, raster, buffer, filled, background)
+    run_bands(draw_bands, starts, threads, pool)
+
+
+def heaviest_first(items, starts, band_rows: int):
+    """The band starts in order of the edges and lenses that reach each band, most first (a
+    guess at their cost: each fill's spread evenly over the bands its box reaches; ties top
+    down), so that threads taking bands in turn do not end with one of them drawing a heavy
+    band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25, 24, 13, 9 and 5 ms
+    top down, and two threads ended 8 ms apart. Top down where a filtered layer takes part
+    (filtered_part lets go of its pixels after the band holding its last row, and a band
+    above drawn later would filter it again)."""
+    n = len(starts)
+    cost = np.zeros(n + 1)
+
+    def count(items):
+        for item in items:
+            if isinstance(item, FillBatch):
+                first = np.clip(np.floor(item.box[:, 1] / band_rows), 0, n).astype(np.int64)
+                last = np.clip(np.floor(item.box[:, 3] / band_rows), -1, n - 1).astype(np.int64)
+                keep = first <= last
+                first, last = first[keep], last[keep]
+                work = (np.diff(item.edge_off) + np.diff(item.prim_off))[keep]
+                share = work / (last - first + 1)
+                # + share on the bands first .. last: a difference array
+                cost[:] += np.bincount(first, share, minlength=n + 1)
+                cost[:] -= np.bincount(last + 1, share, minlength=n + 1)
+            elif item.filters:
+                return False
+            elif not count(item.items + [p for p in (item.clip, item.mask) if p is not None]):
+                return False
+        return True
+    if not count(items):
+        return starts
+    return [starts[i] for i in np.argsort(-np.cumsum(cost[:-1]), kind="stable")]
 
 
 #: bytes of band buffers and kernel strip buffers kept from one render to the next (each
@@ -356,10 +408,12 @@ def _drop_other_kits(key) -> None:
         del _kits[other]
 
 
-def _take_kit(key, opts: RenderOptions, height: int):
-    """(Raster, band buffer or None) for one thread of render_bands: the buffers a previous
-    render with the same key gave back (the kernels leave them clean), or new ones (see
-    _kits_kept)."""
+def _take_kit(key, opts: RenderOptions, height: int, background: np.ndarray):
+    """(Raster, band buffer or None, rows of it that hold ``background``) for one thread of
+    render_bands: the buffers a previous render with the same key gave back (the kernels
+    leave them clean; its last band refilled its rows with its background: the tiger's first
+    two bands at 2048 px spent 2 ms filling 16 MB with the colour they already held), or new
+    ones (see _kits_kept)."""
     W, strip_rows, _, band_rows, own_buffer = key
     with _kits_lock:
         # another size's buffers go now, not after this render has allocated its own
@@ -369,15 +423,16 @@ def _take_kit(key, opts: RenderOptions, height: int):
     if kit is None:
         raster = Raster(opts, W, height, strip_rows)
         buffer = np.empty((band_rows, W, 4), dtype=np.float32) if own_buffer else None
-        return raster, buffer
-    scratch, buffer = kit
+        return raster, buffer, 0
+    scratch, buffer, filled, colour = kit
     # scratch[9]: where scan_lenses counts, the options' own
-    return Raster(opts, W, height, strip_rows, scratch[:9] + (opts.lens_stats,) + scratch[10:]), \
-        buffer
+    return (Raster(opts, W, height, strip_rows, scratch[:9] + (opts.lens_stats,) + scratch[10:]),
+            buffer, filled if colour == background.tobytes() else 0)
 
 
-def _keep_kit(key, raster: Raster, buffer) -> None:
-    """Give back a thread's buffers for the next render (see KEEP_BYTES)."""
+def _keep_kit(key, raster: Raster, buffer, filled: int, colour: np.ndarray) -> None:
+    """Give back a thread's buffers for the next render (see KEEP_BYTES), its band buffer's
+    first ``filled`` rows holding ``colour``."""
     if not _kits_kept(raster.opts):
         return
     size = sum(a.nbytes for a in raster.scratch) + (0 if buffer is None else buffer.nbytes)
@@ -385,26 +440,42 @@ def _keep_kit(key, raster: Raster, buffer) -> None:
         _drop_other_kits(key)
         kits = _kits.get(key, [])
         if (len(kits) + 1) * size <= KEEP_BYTES:
-            _kits[key] = kits + [(raster.scratch, buffer)]
+            _kits[key] = kits + [(raster.scratch, buffer, filled, colour.tobytes())]
 
 
-def run_bands(draw_bands, starts, threads: int) -> None:
-    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts."""
+@contextlib.contextmanager
+def band_pool(threads: int):
+    """An executor of ``threads`` threads for one render (None for one thread): the fill
+    batches' geometry is built on it (FillBatch), then the bands are drawn on it."""
+    if threads <= 1:
+        yield None
+        return
+    from concurrent.futures import ThreadPoolExecutor   # 20-60 ms: only threaded renders
+    with ThreadPoolExecutor(threads) as pool:
+        pool.threads = threads
+        yield pool
+
+
+def run_bands(draw_bands, starts, threads: int, pool=None) -> None:
+    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts (those of
+    ``pool``, a band_pool of at least as many, if given)."""
     threads = min(threads, len(starts))
     if threads == 1:
         todo = iter(starts)
         draw_bands(lambda: next(todo, None))
         return
-    from concurrent.futures import ThreadPoolExecutor   # 20-60 ms: only threaded renders
+    if pool is None:
+        with band_pool(threads) as pool:
+            run_bands(draw_bands, starts, threads, pool)
+        return
     todo = iter(starts)
     lock = threading.Lock()
 
     def next_start():
         with lock:
             return next(todo, None)
-    with ThreadPoolExecutor(threads) as pool:
-        for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
-            future.result()
+    for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
+        future.result()
 
 
 def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int,
@@ -554,10 +625,10 @@ class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
     ``rows``: the device y range its fills lie in."""
 
-    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions):
+    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None):
         pts = _crisp_at_centres(fills, pts, poff, opts)
-        self.edges, self.edge_off, self.prims, self.prim_off = build_batch(
-            verbs, pts, voff, poff, opts.flatten_tol, MAX_SAGITTA)
+        # the geometry is built on the pool's threads while this one does the rest
+        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         starts = poff[:-1]
@@ -572,6 +643,59 @@ class FillBatch:
         table = PaintTable()
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
+        self.edges, self.edge_off, self.prims, self.prim_off = built()
+
+
+#: build_batch's work per verb, roughly (a cubic: classified, split, a lens per piece), to
+#: split a batch into parts of about equal work
+_VERB_COST = np.ones(256, np.int64)
+_VERB_COST[[QUAD, CONIC]] = 8
+_VERB_COST[CUBIC] = 16
+#: verbs' cost below which a batch is built in one part (a part costs a task and a copy)
+SPLIT_COST = 4096
+#: parts of a batch a thread (see build_in_parts)
+PARTS_PER_THREAD = 4
+
+
+def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
+    """A function giving build_batch of the batch. With a pool and enough work the batch is
+    built on the pool's threads (the kernel releases the GIL) from this call on, while this
+    thread goes on, in parts of consecutive paths that the function joins: a path's edges
+    and primitives depend only on the path, so they are the same bytes in one part or
+    several. PARTS_PER_THREAD parts a thread, taken in turn, since the cost per verb is only
+    a guess (a cubic's pieces grow with its size)."""
+    parts = 1 if pool is None else pool.threads * PARTS_PER_THREAD
+    if parts > 1:
+        cost = np.zeros(len(verbs) + 1, np.int64)
+        np.cumsum(_VERB_COST[verbs], out=cost[1:])
+        total = int(cost[-1])
+        if total < SPLIT_COST:
+            parts = 1
+    if parts <= 1:
+        whole = build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA)
+        return lambda: whole
+    # path boundaries nearest each equal share of the cost
+    cuts = np.searchsorted(cost[voff], np.arange(1, parts) * (total / parts))
+    bounds = [0] + sorted(set(int(c) for c in cuts) - {0, len(voff) - 1}) + [len(voff) - 1]
+
+    def part(a, b):
+        return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA)
+    futures = [pool.submit(part, a, b) for a, b in zip(bounds, bounds[1:])]
+    return functools.partial(_joined, bounds, futures)
+
+
+def _joined(bounds, futures):
+    """The parts of build_in_parts (paths bounds[i] .. bounds[i + 1] - 1) as one batch."""
+    built = [f.result() for f in futures]
+    edge_off = np.empty(bounds[-1] + 1, np.int64)
+    prim_off = np.empty(bounds[-1] + 1, np.int64)
+    edge_off[0] = prim_off[0] = ne = nc = 0
+    for (a, b), (edges, eoff, prims, poff_) in zip(zip(bounds, bounds[1:]), built):
+        edge_off[a + 1:b + 1] = eoff[1:] + ne
+        prim_off[a + 1:b + 1] = poff_[1:] + nc
+        ne, nc = ne + len(edges), nc + len(prims)
+    return (np.concatenate([p[0] for p in built]), edge_off,
+            np.concatenate([p[2] for p in built]), prim_off)
 
 
 #: see _crisp_at_centres
@@ -620,12 +744,12 @@ class Layer:
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
     sample images of raster/resolve.py each have their own)."""
 
-    def __init__(self, group: Group, opts: RenderOptions):
+    def __init__(self, group: Group, opts: RenderOptions, pool=None):
         # a filtered layer's content is prepared when it is filtered (moved to its region)
         self.group = group if group.filters else None
-        self.items = [] if group.filters else prepare_items(group, opts)
-        self.clip = Layer(group.clip, opts) if group.clip is not None else None
-        self.mask = Layer(group.mask.content, opts) if group.mask is not None else None
+        self.items = [] if group.filters else prepare_items(group, opts, pool)
+        self.clip = Layer(group.clip, opts, pool) if group.clip is not None else None
+        self.mask = Layer(group.mask.content, opts, pool) if group.mask is not None else None
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
@@ -662,10 +786,11 @@ def _intersection(a, b):
     return max(a[0], b[0]), min(a[1], b[1])
 
 
-def prepare_items(group: Group, opts: RenderOptions) -> list:
+def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
     """The group's content as FillBatch and Layer items in paint order: fills and layer
     groups in paint order, plain groups flattened away (walked with a stack of iterators, not
-    generators: map data yields tens of thousands of fills through them)."""
+    generators: map data yields tens of thousands of fills through them). ``pool``: an
+    executor whose threads help build the batches' geometry (band_pool)."""
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -673,9 +798,9 @@ def prepare_items(group: Group, opts: RenderOptions) -> list:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
-                    items.extend(_fill_batches(batch, opts))
+                    items.extend(_fill_batches(batch, opts, pool))
                     batch = []
-                    items.append(Layer(node, opts))
+                    items.append(Layer(node, opts, pool))
                 else:
                     stack.append(iter(node.children))
                     break
@@ -683,7 +808,7 @@ def prepare_items(group: Group, opts: RenderOptions) -> list:
                 batch.append(node)
         else:
             stack.pop()
-    items.extend(_fill_batches(batch, opts))
+    items.extend(_fill_batches(batch, opts, pool))
     return items
 
 
@@ -691,7 +816,7 @@ _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
 
 
-def _fill_batches(fills, opts: RenderOptions) -> list:
+def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
     """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
     Emptiness and finiteness are found on the batch's arrays, per path from running sums."""
     fills = [f for f in fills if f.opacity > 0]
@@ -711,7 +836,7 @@ def _fill_batches(fills, opts: RenderOptions) -> list:
         if not fills:
             return []
         arrays = batch_arrays([f.path for f in fills])
-    return [FillBatch(fills, *arrays, opts)]
+    return [FillBatch(fills, *arrays, opts, pool)]
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
