@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..scene.path import Path, rect_path
-from .units import parse_points
+from .units import parse_number_prefix
 
 #: the weight of a quarter-ellipse conic, cos 45°
 QUARTER_W = 0.7071067811865476
@@ -86,7 +86,7 @@ def shape_path(el, length):
         p.endPath()
         return p
     if tag in ("polyline", "polygon"):
-        nums = parse_points(el.get("points", ""))
+        nums = parse_number_prefix(el.get("points", ""))
         if len(nums) % 2:
             nums = nums[:-1]
         if len(nums) < 4:

@@ -59,47 +59,29 @@ def parse_number_list(text):
     invalid, as in resvg)."""
     if text is None:
         return None
-    out = []
-    pos, end = 0, len(text)
-    while pos < end:
-        m = _LIST_ITEM.match(text, pos)
-        if m is None:
-            break
-        out.append(float(m.group(1)))
-        pos = m.end()
+    out, pos = _leading_numbers(text)
     return out if not text[pos:].strip(" \t\n\r") else None
 
 
-def parse_number_prefix(text):
-    """The numbers of a list before the first thing that is not one (resvg reads
-    ``stdDeviation`` so: ``5px`` is 5, ``x5`` nothing)."""
-    out = []
-    pos, end = 0, len(text or "")
-    while pos < end:
+def parse_number_prefix(text) -> list[float]:
+    """The numbers of a list before the first thing that is not one: a ``points`` list (SVG
+    2: a polyline in error draws the points before the error, as path data does: ``10px,10
+    ...`` has none, ``10,,20`` one) and ``stdDeviation`` as resvg reads it (``5px`` is 5,
+    ``x5`` nothing)."""
+    return _leading_numbers(text or "")[0]
+
+
+def _leading_numbers(text: str) -> tuple[list[float], int]:
+    """The list items (numbers and their separators) one after another from the start of
+    ``text``, and where the first thing that is not one begins."""
+    out, pos = [], 0
+    while pos < len(text):
         m = _LIST_ITEM.match(text, pos)
         if m is None:
             break
         out.append(float(m.group(1)))
         pos = m.end()
-    return out
-
-
-_POINT = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
-
-
-def parse_points(text) -> list[float]:
-    """The numbers of a ``points`` list up to the first thing that is not one (SVG 2: a
-    polyline in error draws the points before the error, as path data does): ``10px,10 ...``
-    has none, ``10,,20`` one."""
-    out = []
-    pos, end = 0, len(text or "")
-    while pos < end:
-        m = _POINT.match(text, pos)
-        if m is None:
-            break
-        out.append(float(m.group(1)))
-        pos = m.end()
-    return out
+    return out, pos
 
 
 def split_length(text):
