@@ -31,7 +31,8 @@ from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import shape_path
 from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, to_px, viewbox_transform)
+                    parse_transform, parse_viewbox, split_length, to_px, url_argument,
+                    viewbox_transform)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -81,10 +82,9 @@ def _zero_length_closes(path):
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
-#: url(...) with a quoted string, or unquoted without whitespace, quotes, parentheses or
-#: backslashes (CSS Syntax: anything else in an unquoted url is a bad url, so invalid)
-_URL = re.compile(r"^\s*url\(\s*(?:'([^']*)'|\"([^\"]*)\"|([^\s'\"()\\]*))\s*\)\s*(.*)$",
-                  re.S)
+#: url(...) and what follows it: the argument, a quoted string or text up to the first
+#: ')', is read by url_argument
+_URL = re.compile(r"^\s*url\(\s*('[^']*'|\"[^\"]*\"|[^)]*?)\s*\)\s*(.*)$", re.S)
 
 
 @dataclass
@@ -129,10 +129,8 @@ class PaintRef:
 def parse_url(value):
     """``url(#id) fallback`` → (ref, fallback text) or None."""
     m = _URL.match(value or "")
-    if not m:
-        return None
-    ref = next(g for g in m.groups()[:3] if g is not None)
-    return ref.strip(), m.group(4).strip()
+    ref = url_argument(m.group(1)) if m else None
+    return None if ref is None else (ref, m.group(2).strip())
 
 
 def bbox_matrix(bbox):

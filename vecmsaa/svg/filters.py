@@ -25,7 +25,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
 from .color import parse_svg_color as parse_color
 from .document import Element
 from .units import (parse_fraction, parse_number, parse_number_list, parse_number_prefix,
-                    parse_opacity, row_scale_f32, split_length)
+                    parse_opacity, row_scale_f32, split_length, url_argument)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -50,7 +50,7 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     out, invalid = [], False
     for name, args in entries:
         if name == "url":
-            ref = _url_argument(args)
+            ref = url_argument(args)
             if ref is None or not ref.startswith("#"):
                 # a bad url (url(# f)) is no filter value; a url to another document is not
                 # followed, and Filter Effects 1 ignores a chain that references no filter
@@ -72,17 +72,6 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     if not out and invalid:
         return False
     return out
-
-
-def _url_argument(args):
-    """The URL inside url(...): a quoted string, or unquoted text without whitespace, quotes,
-    parentheses or backslashes; None for a bad url."""
-    a = args.strip()
-    if len(a) >= 2 and a[0] == a[-1] and a[0] in "'\"":
-        return a[1:-1].strip()
-    if any(ch.isspace() or ch in "'\"()\\" for ch in a):
-        return None
-    return a
 
 
 def parse_filter_value(value):

@@ -84,6 +84,18 @@ def _leading_numbers(text: str) -> tuple[list[float], int]:
     return out, pos
 
 
+def url_argument(text):
+    """The URL inside url(...) (``text``, without the parentheses): a quoted string, or
+    unquoted text without whitespace, quotes, parentheses or backslashes (CSS Syntax: anything
+    else in an unquoted url is a bad url, so invalid); None for a bad url."""
+    a = text.strip()
+    if len(a) >= 2 and a[0] == a[-1] and a[0] in "'\"" and a[0] not in a[1:-1]:
+        return a[1:-1].strip()
+    if any(ch.isspace() or ch in "'\"()\\" for ch in a):
+        return None
+    return a
+
+
 def split_length(text):
     """'12.5mm' → (12.5, 'mm'); None when not a length."""
     if text is None:
