@@ -114,7 +114,7 @@ def test_render_imports_no_other_commands_modules(tmp_path):
 FEATURE_MODULES = ("vecmsaa.scene.effects", "vecmsaa.svg.filters", "vecmsaa.raster.filter_effects",
                    "vecmsaa.svg.text", "vecmsaa.fonts", "vecmsaa.svg.masking", "vecmsaa.svg.paint",
                    "vecmsaa.svg.image", "numba", "tinycss2", "cssselect2", "PIL", "uharfbuzz",
-                   "xml.etree")
+                   "xml.etree", "fontTools")
 
 
 def _render_imports(tmp_path, body):

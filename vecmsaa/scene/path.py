@@ -15,7 +15,6 @@ lines and Béziers (strokes, dashes, markers, pens) use :meth:`Path.without_coni
 from __future__ import annotations
 
 import numpy as np
-from fontTools.pens.basePen import BasePen
 
 from .transform import IDENTITY, apply
 
@@ -26,20 +25,21 @@ VERB_POINTS = (1, 1, 2, 3, 0, 3)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
 
-class Path(BasePen):
+class Path:
     """A pen that records an outline as flat verb and point arrays.
 
-    qCurveTo/curveTo with several off-curve points are decomposed by fontTools' BasePen
-    (TrueType implied on-curve points, super-Béziers), so the recorded segments are always
-    single lines, quadratics and cubics.
+    The pen protocol is fontTools' (``fontTools.pens.basePen.BasePen``), written out here for
+    its common calls so that a render without text does not import fontTools (≈ 8 ms of
+    every start); what only glyph outlines use — qCurveTo/curveTo with several off-curve
+    points (TrueType implied on-curve points, super-Béziers) and components — goes to
+    fontTools' own decomposition, imported then. The recorded segments are always single
+    lines, quadratics, cubics and conics.
     """
 
     # The state of a path made from arrays, as class attributes: such a path (tens of
     # thousands on map data) then sets only ``_arrays`` (and ``_shared``) of its own.
     glyphSet = None
-    skipMissingComponents = True
-    reverseFlipped = False
-    _BasePen__currentPoint = None
+    _current = None             # the pen's current point
     _verbs = None
     _pts = None
     _arrays = None
@@ -47,7 +47,7 @@ class Path(BasePen):
     _shared = None
 
     def __init__(self, glyphSet=None):
-        super().__init__(glyphSet)
+        self.glyphSet = glyphSet    # where addComponent finds component glyphs
         # Recorded as Python lists while drawing (cheap appends) and as arrays once read;
         # a path built from arrays keeps only those until someone draws into it again.
         self._verbs: list[int] | None = []
@@ -56,54 +56,88 @@ class Path(BasePen):
         self._open = False
         self._shared = None     # (SharedPoints, start, end) when the points are a slice of them
 
-    # -- BasePen segment hooks -------------------------------------------------------------
-    def _moveTo(self, pt):
+    # -- the pen protocol ------------------------------------------------------------------
+    def moveTo(self, pt):
         self._thaw()
         self._verbs.append(MOVE)
         self._pts.append(pt)
         self._open = True
+        self._current = pt
 
-    def _lineTo(self, pt):
+    def lineTo(self, pt):
         self._implicit_move()
         self._verbs.append(LINE)
         self._pts.append(pt)
+        self._current = pt
 
-    def _qCurveToOne(self, pt1, pt2):
-        self._implicit_move()
-        self._verbs.append(QUAD)
-        self._pts.extend((pt1, pt2))
+    def qCurveTo(self, *points):
+        if len(points) == 2 and points[1] is not None:
+            self._implicit_move()
+            self._verbs.append(QUAD)
+            self._pts.extend(points)
+            self._current = points[1]
+        elif len(points) == 1:
+            self.lineTo(points[0])
+        else:       # a string of off-curve points, or a contour of nothing else
+            from fontTools.pens.basePen import decomposeQuadraticSegment
+            if points[-1] is None:      # (its on-curve start is implied between last and first)
+                start = (0.5 * (points[-2][0] + points[0][0]), 0.5 * (points[-2][1] + points[0][1]))
+                self.moveTo(start)
+                points = points[:-1] + (start,)
+            for pt1, pt2 in decomposeQuadraticSegment(points):
+                self.qCurveTo(pt1, pt2)
 
-    def _curveToOne(self, pt1, pt2, pt3):
-        self._implicit_move()
-        self._verbs.append(CUBIC)
-        self._pts.extend((pt1, pt2, pt3))
+    def curveTo(self, *points):
+        if len(points) == 3:
+            self._implicit_move()
+            self._verbs.append(CUBIC)
+            self._pts.extend(points)
+            self._current = points[2]
+        elif len(points) > 3:       # a super-Bézier
+            from fontTools.pens.basePen import decomposeSuperBezierSegment
+            for pt1, pt2, pt3 in decomposeSuperBezierSegment(points):
+                self.curveTo(pt1, pt2, pt3)
+        else:
+            self.qCurveTo(*points)
 
     def conicTo(self, pt1, pt2, w):
         """A rational quadratic from the current point through control pt1 (weight w > 0) to
         pt2 (Skia's conicTo)."""
         self._implicit_move()
-        (x0, y0), (x1, y1), (x2, y2) = self._getCurrentPoint(), pt1, pt2
+        (x0, y0), (x1, y1), (x2, y2) = self._current, pt1, pt2
         k = w / (1.0 + w)
         mid = ((1.0 - k) * 0.5 * (x0 + x2) + k * x1, (1.0 - k) * 0.5 * (y0 + y2) + k * y1)
         self._verbs.append(CONIC)
         self._pts.extend((pt1, mid, pt2))
-        self._BasePen__currentPoint = pt2
+        self._current = pt2
 
-    def _closePath(self):
+    def closePath(self):
         self._thaw()
         if self._open:
             self._verbs.append(CLOSE)
         self._open = False
+        self._current = None
 
-    def _endPath(self):
+    def endPath(self):
         self._thaw()
         self._open = False
+        self._current = None
+
+    def addComponent(self, glyphName, transformation):
+        """Draw the component glyph from ``glyphSet`` transformed (a missing one is skipped,
+        as fontTools' pens do by default)."""
+        from fontTools.pens.transformPen import TransformPen
+        try:
+            glyph = self.glyphSet[glyphName]
+        except (KeyError, TypeError):
+            return
+        glyph.draw(TransformPen(self, transformation))
 
     def _implicit_move(self):
         self._thaw()
         if not self._open:
             # A drawing command after closePath starts at the last current point (SVG rule).
-            cur = self._getCurrentPoint() or (0.0, 0.0)
+            cur = self._current or (0.0, 0.0)
             self._verbs.append(MOVE)
             self._pts.append(cur)
             self._open = True
@@ -118,7 +152,7 @@ class Path(BasePen):
             self._pts = list(map(tuple, p.tolist()))
             self._open = bool(self._verbs) and self._verbs[-1] != CLOSE
             if self._pts:
-                self._BasePen__currentPoint = self._pts[-1]
+                self._current = self._pts[-1]
         self._arrays = None
         self._shared = None
 
@@ -155,7 +189,7 @@ class Path(BasePen):
         path._pts = pts
         path._open = bool(verbs) and verbs[-1] != CLOSE
         if pts:
-            path._BasePen__currentPoint = pts[-1]
+            path._current = pts[-1]
         return path
 
     @classmethod
@@ -259,7 +293,7 @@ class Path(BasePen):
         self._verbs.extend(v.tolist())
         self._pts.extend(map(tuple, p.tolist()))
         self._open = v[-1] != CLOSE
-        self._BasePen__currentPoint = tuple(p[-1].tolist()) if len(p) else None
+        self._current = tuple(p[-1].tolist()) if len(p) else None
 
     def __repr__(self):
         return f"Path({len(self)} segments)"
