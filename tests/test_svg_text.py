@@ -219,6 +219,49 @@ def test_font_shorthand_sets_and_resets_longhands():
     assert np.array_equal(explicit, shorthand)
 
 
+@pytest.mark.parametrize("markup", [
+    # the shorthand in style="" overrides presentation attributes (CSS cascade: they are
+    # author rules of specificity 0 before all others) ...
+    '<text x="10" y="70" font-size="12" font-family="Noto Mono" '
+    'style="font: 30px \'Noto Sans\'">AVA</text>',
+    # ... is inherited from a group as its longhands are ...
+    '<g style="font: 30px \'Noto Sans\'"><text x="10" y="70">AVA</text></g>',
+    # ... and a later longhand overrides it, an earlier one does not
+    '<text x="10" y="70" style="font-size: 12px; font: 30px Nope; font-family: \'Noto Sans\'">'
+    'AVA</text>',
+    # an invalid shorthand is dropped: what it would have overridden applies
+    '<text x="10" y="70" font-size="30" font-family="Noto Sans" style="font: Noto Mono">'
+    'AVA</text>',
+    '<g font-size="30" font-family="Noto Sans"><text x="10" y="70" style="font: inherit">'
+    'AVA</text></g>',
+])
+def test_font_shorthand_takes_its_place_in_the_cascade(markup):
+    explicit = render('<text x="10" y="70" font-size="30" font-family="Noto Sans">AVA</text>')
+    assert np.array_equal(explicit, render(markup))
+
+
+def test_font_shorthand_sets_stretch_and_weight_keywords():
+    from vecmsaa.svg.document import load_document
+    doc = load_document(b'<svg xmlns="http://www.w3.org/2000/svg"><text id="t" font-weight="100" '
+                        b'style="font: condensed bold 30px Roboto Flex">A</text></svg>')
+    s = doc.document_style(doc.lookup("#t"))
+    assert (s.get("font-stretch"), s.get("font-weight"), s.get("font-size"),
+            s.get("font-family"), s.get("font-style")) == ("condensed", "bold", "30px",
+                                                             "Roboto Flex", "normal")
+
+
+@pytest.mark.parametrize("value, style", [
+    # CSS Fonts 4 §2.8: font-style in the shorthand is normal | italic | oblique <angle>?
+    ("oblique 10deg 30px Noto Sans", "oblique 10deg"), ("oblique -0.1turn 30px Noto Sans",
+                                                        "oblique -0.1turn"),
+    ("oblique 30px Noto Sans", "oblique"), ("italic 10deg 30px Noto Sans", None),
+    ("10deg oblique 30px Noto Sans", None)])
+def test_font_shorthand_takes_an_oblique_angle(value, style):
+    from vecmsaa.svg.text.font_match import parse_font_shorthand
+    parsed = parse_font_shorthand(value)
+    assert (parsed["font-style"] if parsed else None) == style
+
+
 @pytest.mark.parametrize("outer, inner, expected", [
     ("400", "bolder", 700), ("100", "bolder", 200), ("600", "bolder", 700),
     ("900", "bolder", 900), ("400", "lighter", 200), ("500", "lighter", 400),

@@ -1,6 +1,7 @@
 """Font matching for text: CSS font properties → :class:`FontSpec` → a face per character.
 
-The ``font`` shorthand is spread into longhands; weight (with bolder/lighter), style, stretch,
+The ``font`` shorthand is read here (:func:`parse_font_shorthand`, which the cascade in
+:mod:`vecmsaa.svg.document` spreads into longhands); weight (with bolder/lighter), style, stretch,
 size, feature and variation settings, letter/word spacing and small caps make a FontSpec. The
 family list is matched in the font database (:mod:`vecmsaa.fonts.db`); characters the face lacks
 fall back to other faces, combining marks stay with their base's face.
@@ -33,12 +34,19 @@ FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": 
                "font-variation-settings": "normal"}
 
 
+_OBLIQUE_ANGLE = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)(deg|grad|rad|turn)$")
+
+
 def parse_font_shorthand(value):
     """CSS ``font`` → {longhand: value}, or None when it is not valid."""
     tokens = re.findall(r"""("[^"]*"|'[^']*'|[^\s"']+)""", value.strip())
     longhands = {}
     for i, tok in enumerate(tokens):
         low = tok.lower()
+        if longhands.get("font-style") == "oblique" and _OBLIQUE_ANGLE.match(low):
+            # CSS Fonts 4 §2.8: oblique takes an angle, here as in font-style
+            longhands["font-style"] = f"oblique {low}"
+            continue
         size = low.split("/")[0]
         if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
                                                   r"em|ex|%)?$", size):
@@ -72,23 +80,6 @@ def parse_font_shorthand(value):
             return None
     return None
 
-
-
-def expand_font_shorthand(text_el):
-    """Spread a ``font`` shorthand on <text> and its content elements into the longhands it
-    sets (a longhand the element specifies itself wins). The document leaves ``font`` to the
-    text module."""
-    stack = [text_el]
-    while stack:
-        el = stack.pop()
-        value = el.specified.get("font")
-        if value:
-            parsed = parse_font_shorthand(value)
-            if parsed:
-                for name, v in parsed.items():
-                    el.specified.setdefault(name, v)
-            del el.specified["font"]
-        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
 
 
 @dataclass(frozen=True)

@@ -16,10 +16,9 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, collapse_white_space, collect_chars, content_elements
+from .content import apply_positions, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import assign_faces, expand_font_shorthand, face_location, font_database, \
-    font_spec
+from .font_match import assign_faces, face_location, font_database, font_spec
 from .on_path import position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -397,10 +396,6 @@ def _os2(face, name, default):
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
     styles = {}
-    if any("font" in el.specified for el in content_elements(element)):
-        expand_font_shorthand(element)
-        ctx.style = ctx.style.parent.child(element) if ctx.style.parent is not None \
-            else ctx.style
     chars = collapse_white_space(collect_chars(element, ctx, styles))
     ctx.count_characters(len(chars))
     if not chars:
