@@ -818,3 +818,22 @@ def test_a_rotate_list_in_error_rotates_nothing(bad):
     assert plain[..., 3].any()
     assert np.array_equal(render(text.format(f'rotate="{bad}"')), plain)
     assert not np.array_equal(render(text.format('rotate="20"')), plain)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "RobotoFlex.subset.ttf")),
+                    reason="the suite's variable Roboto Flex is not present")
+@pytest.mark.parametrize("span", ['font-weight="900"', 'style="font-variation-settings: \'wght\' 900"',
+                                  'font-stretch="50%"'])
+def test_a_span_in_a_variable_font_is_drawn_at_its_own_location(span):
+    # A span's glyphs take its own variation location (weight, width, optical size), not
+    # that of the run's first character: 'HHH' at weight 900 (or width 50) after a thin 'I'
+    # has the ink of 'HHH' drawn alone so (the two alone differ by far more than 2%)
+    def ink(body):
+        return alpha(_suite_draw(f'<text x="10" y="70" font-family="Roboto Flex" '
+                                 f'font-size="40">{body}</text>', width=400)).sum()
+    thin_i = ink('<tspan font-weight="100">I</tspan>')
+    heavy = ink(f'<tspan {span}>HHH</tspan>')
+    light = ink('<tspan font-weight="100">HHH</tspan>')
+    both = ink(f'<tspan font-weight="100">I</tspan><tspan {span}>HHH</tspan>')
+    assert abs(heavy - light) > 0.1 * light
+    assert both - thin_i == pytest.approx(heavy, rel=0.02)

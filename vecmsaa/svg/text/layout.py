@@ -77,7 +77,7 @@ def shape_chunk(chars, faces, specs, start, end):
         keys = {}
         for k in range(s, e):
             if faces[k] is not None:
-                keys.setdefault((id(faces[k]), specs[k].features, specs[k].variations), k)
+                keys.setdefault(_shaping_key(faces[k], specs[k]), k)
         if not keys:
             continue
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k, chunk)
@@ -95,8 +95,7 @@ def shape_chunk(chars, faces, specs, start, end):
                 face = faces[k]
                 if k in covered or face is None:   # None: a zero or negative size
                     continue
-                key = (id(face), specs[k].features, specs[k].variations)
-                own = index.get(key, base)
+                own = index.get(_shaping_key(face, specs[k]), base)
                 pick = own.first.get(k)
                 if pick is None:
                     if k == cl.char:
@@ -107,6 +106,14 @@ def shape_chunk(chars, faces, specs, start, end):
                 covered.update(range(k, own.end(pick, e)))
             clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
+
+
+def _shaping_key(face, spec):
+    """What a character's shaping depends on besides the text: its face, feature settings
+    and variation location (with a font size that sets ``opsz``, CSS Fonts 4 §7.1
+    font-optical-sizing: a span of another size in a variable font is shaped and drawn at
+    its own optical size)."""
+    return id(face), spec.features, face_location(face, spec)
 
 
 class _ClusterIndex:
