@@ -484,6 +484,23 @@ def test_font_family_list_validity(value, valid):
     assert valid_family_list(value) is valid
 
 
+@pytest.mark.parametrize("value, names, found", [
+    ("sans-serif", ["sans-serif"], True), ("Sans-Serif", ["Sans-Serif"], True),
+    ("'sans-serif'", ['"sans-serif"'], False), ('"Sans-Serif"', ['"Sans-Serif"'], False),
+    ("Nope, 'monospace', serif", ["Nope", '"monospace"', "serif"], False),
+    ("'Noto Sans', serif", ["Noto Sans", "serif"], True)])
+def test_a_quoted_generic_name_is_a_family_name(value, names, found):
+    # CSS Fonts 4 §3.1: generic families are keywords; quoted, 'sans-serif' names a font
+    # called sans-serif (none here), and the next family or the default applies
+    from vecmsaa.fonts.db import database_from_options, parse_family_list
+    db = database_from_options(dict(use_fonts_dir=FIXTURES, skip_system_fonts=True,
+                                    sans_serif_family="Noto Sans",
+                                    monospace_family="Noto Sans"))
+    assert parse_family_list(value) == names
+    assert bool(db.family_faces(names[0])) is found
+    assert bool(db.family_faces("'Noto Sans'")) and not db.family_faces("'nope'")
+
+
 def test_invalid_font_family_is_ignored_and_the_parents_applies():
     roboto = render('<text x="5" y="70" font-family="Roboto Flex">Hoe</text>')
     noto = render('<text x="5" y="70" font-family="Noto Sans">Hoe</text>')
