@@ -683,6 +683,17 @@ def test_dominant_baseline_ignores_values_it_does_not_take(value):
                                          '"before-edge">Hxg</tspan></text>'), plain)
 
 
+@pytest.mark.parametrize("value", ["middle", "hanging", "central", "text-before-edge"])
+def test_a_nested_span_moves_with_the_span_that_sets_alignment_baseline(value):
+    # alignment-baseline aligns the span's whole box (SVG 1.1 §10.9.2): its characters in a
+    # nested span without the property sit where they would as the span's own characters
+    own = render(f'<text x="10" y="60">H<tspan alignment-baseline="{value}">xg</tspan></text>')
+    for inner in ('<tspan>xg</tspan>', '<tspan><tspan>x</tspan>g</tspan>'):
+        assert np.array_equal(render(f'<text x="10" y="60">H<tspan alignment-baseline='
+                                     f'"{value}">{inner}</tspan></text>'), own)
+    assert not np.array_equal(own, render('<text x="10" y="60">H<tspan>xg</tspan></text>'))
+
+
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
 @pytest.mark.parametrize("family, text", [("Noto Color Emoji", "&#x1F600;"),
                                           ("CFF Outlines and SBIX", "A")])

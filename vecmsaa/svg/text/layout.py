@@ -331,7 +331,7 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     m = face.metrics
     scale = spec.size / face.units_per_em
     shift = 0.0
-    align = (style.get("alignment-baseline") or "auto").strip()
+    align = _alignment_baseline(style, root_style)
     base = align if align not in ("auto", "baseline") else _dominant_baseline(style)
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
@@ -367,6 +367,22 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
                     total += to_px(parsed[0], parsed[1], fs)
         s = s.parent
     return shift - total
+
+
+def _alignment_baseline(style, root_style):
+    """alignment-baseline for the characters of an element: its own, else that of the nearest
+    enclosing text content element (up to <text>) that sets one. The property is not
+    inherited, but it aligns the element's whole box, so the characters of a nested span
+    without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4); one
+    level down this is also where resvg looks (the element, then its parent)."""
+    s = style
+    while s is not None:
+        if "alignment-baseline" in s.specified:
+            return (s.get("alignment-baseline") or "auto").strip()
+        if s is root_style:
+            break
+        s = s.parent
+    return "auto"
 
 
 #: dominant-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom);
