@@ -695,6 +695,31 @@ def test_a_nested_span_moves_with_the_span_that_sets_alignment_baseline(value):
 
 
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("prop, value", [("font-family", "Noto Mono"),
+                                         ("dominant-baseline", "hanging"),
+                                         ("font-variant", "small-caps")])
+def test_css_wide_initial_and_unset_on_text_properties(prop, value):
+    # CSS Cascade 4: initial is the property's initial value (serif, auto, normal), unset on
+    # an inherited property inherits
+    def draw(body):
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+               f'{body}</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
+                                mode="analytic")
+    plain = draw('<text x="10" y="60">Hxg ab</text>')
+    parent = draw(f'<g {prop}="{value}"><text x="10" y="60">Hxg ab</text></g>')
+    assert not np.array_equal(plain, parent)
+    for form in (f'{prop}="KW"', f'style="{prop}: KW"'):
+        initial = form.replace("KW", "initial")
+        unset = form.replace("KW", "unset")
+        assert np.array_equal(draw(f'<g {prop}="{value}"><text x="10" y="60" {initial}>'
+                                   f'Hxg ab</text></g>'), plain)
+        assert np.array_equal(draw(f'<g {prop}="{value}"><text x="10" y="60" {unset}>'
+                                   f'Hxg ab</text></g>'), parent)
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
 @pytest.mark.parametrize("family, text", [("Noto Color Emoji", "&#x1F600;"),
                                           ("CFF Outlines and SBIX", "A")])
 def test_a_bitmap_glyph_has_no_geometry_in_a_clip_path(family, text):

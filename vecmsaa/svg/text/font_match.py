@@ -289,7 +289,9 @@ def variant_features(style):
     for s in reversed(chain):
         spec = s.specified
         short = spec.get("font-variant")
-        if short is not None and short.strip() not in ("inherit", ""):
+        if short is not None and short.strip() == "initial":
+            short = "normal"        # CSS-wide keywords: initial is normal, unset inherits
+        if short is not None and short.strip() not in ("inherit", "unset", ""):
             f = _variant_shorthand(short.strip())
             if f is not None:
                 # the shorthand resets every longhand, then sets those it names
@@ -299,8 +301,10 @@ def variant_features(style):
                     parts["font-variant-ligatures"] = dict(NO_LIGATURES)
         for prop in VARIANT_KEYWORDS:
             v = spec.get(prop)
-            if v is None or v.strip() in ("inherit", ""):
+            if v is None or v.strip() in ("inherit", "unset", ""):
                 continue
+            if v.strip() == "initial":
+                v = "normal"
             f = _variant_value(prop, v.strip())
             if f is not None:
                 parts[prop] = f
@@ -356,11 +360,14 @@ def _mask_strings(text):
 
 def _family_list(style):
     """The computed font-family list: an invalid value (CSS) is ignored, so the nearest
-    ancestor's valid value applies, else the initial ``serif``."""
+    ancestor's valid value applies, else the initial ``serif``, which ``initial`` asks for
+    (``unset`` inherits, as ``inherit`` does)."""
     s = style
     while s is not None:
         v = s.specified.get("font-family")
-        if v is not None and v.strip() != "inherit":
+        if v is not None and v.strip() == "initial":
+            break
+        if v is not None and v.strip() not in ("inherit", "unset"):
             if valid_family_list(v.strip()):
                 return parse_family_list(v)
             warn(f"font-family: {v.strip()[:40]} is not a valid family list: ignored")

@@ -395,10 +395,13 @@ DOMINANT_BASELINES = frozenset((
 
 def _dominant_baseline(style):
     """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
-    value; an invalid value is ignored, so the parent's applies too (as in resvg)."""
+    value; an invalid value is ignored, so the parent's applies too (as in resvg); ``initial``
+    is auto (``unset``, on an inherited property, inherits)."""
     s = style
     while s is not None:
         v = (s.specified.get("dominant-baseline") or "inherit").strip()
+        if v == "initial":
+            return "auto"
         if v in DOMINANT_BASELINES and v not in ("no-change", "reset-size"):
             return v
         s = s.parent
