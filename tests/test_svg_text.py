@@ -250,6 +250,19 @@ def test_font_shorthand_sets_stretch_and_weight_keywords():
                                                              "Roboto Flex", "normal")
 
 
+@pytest.mark.parametrize("value, valid", [
+    # CSS Fonts 4 §2.8: [ style || variant || weight || stretch ]? size [/ line-height]? family;
+    # normal may stand for any of the four, each at most once
+    ("normal normal normal normal 24px a", True), ("italic bold small-caps condensed 24px a", True),
+    ("normal normal normal normal normal 24px a", False), ("bold bold 24px a", False),
+    ("bold 700 24px a", False), ("italic oblique 24px a", False),
+    ("condensed expanded 24px a", False), ("italic bold small-caps condensed normal 24px a", False),
+    ("24px a,", False), ("24px a, , b", False), ("24px 'a b', serif", True)])
+def test_font_shorthand_grammar(value, valid):
+    from vecmsaa.svg.text.font_match import parse_font_shorthand
+    assert (parse_font_shorthand(value) is not None) is valid
+
+
 @pytest.mark.parametrize("value, style", [
     # CSS Fonts 4 §2.8: font-style in the shorthand is normal | italic | oblique <angle>?
     ("oblique 10deg 30px Noto Sans", "oblique 10deg"), ("oblique -0.1turn 30px Noto Sans",

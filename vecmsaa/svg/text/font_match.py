@@ -38,9 +38,12 @@ _OBLIQUE_ANGLE = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)(deg|grad|rad|turn)$")
 
 
 def parse_font_shorthand(value):
-    """CSS ``font`` → {longhand: value}, or None when it is not valid."""
+    """CSS ``font`` → {longhand: value}, or None when it is not valid. Before the size come
+    at most one each of style, variant, weight and stretch in any order, ``normal`` standing
+    for any of them: four at most (CSS Fonts 4 §2.8); the family list must be valid."""
     tokens = re.findall(r"""("[^"]*"|'[^']*'|[^\s"']+)""", value.strip())
     longhands = {}
+    normals = 0
     for i, tok in enumerate(tokens):
         low = tok.lower()
         if longhands.get("font-style") == "oblique" and _OBLIQUE_ANGLE.match(low):
@@ -52,8 +55,12 @@ def parse_font_shorthand(value):
                                                   r"em|ex|%)?$", size):
             if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
                                                      "700", "800", "900"):
+                if "font-weight" in longhands:
+                    return None
                 longhands["font-weight"] = size
                 continue
+            if len(longhands) + normals > 4:
+                return None
             longhands["font-size"] = tok.split("/")[0]
             rest = tokens[i + 1:]
             # a line height may follow as "/1.2", "/ 1.2" or be glued: "12px/1.2"
@@ -64,20 +71,26 @@ def parse_font_shorthand(value):
             elif rest and rest[0].startswith("/"):
                 rest = rest[1:]
             family = " ".join(rest)
-            if not family:
+            if not family or not valid_family_list(family):
                 return None
             longhands["font-family"] = family
             return {**FONT_RESETS, **longhands}
+        if low == "normal":
+            normals += 1
+            continue
         if low in ("italic", "oblique"):
-            longhands["font-style"] = low
+            name = "font-style"
         elif low == "small-caps":
-            longhands["font-variant"] = low
+            name = "font-variant"
         elif low in ("bold", "bolder", "lighter"):
-            longhands["font-weight"] = low
+            name = "font-weight"
         elif low in STRETCHES:
-            longhands["font-stretch"] = low
-        elif low != "normal":
+            name = "font-stretch"
+        else:
             return None
+        if name in longhands:
+            return None
+        longhands[name] = low
     return None
 
 
