@@ -219,6 +219,62 @@ def test_font_shorthand_sets_and_resets_longhands():
     assert np.array_equal(explicit, shorthand)
 
 
+@pytest.mark.parametrize("markup", [
+    # the shorthand in style="" overrides presentation attributes (CSS cascade: they are
+    # author rules of specificity 0 before all others) ...
+    '<text x="10" y="70" font-size="12" font-family="Noto Mono" '
+    'style="font: 30px \'Noto Sans\'">AVA</text>',
+    # ... is inherited from a group as its longhands are ...
+    '<g style="font: 30px \'Noto Sans\'"><text x="10" y="70">AVA</text></g>',
+    # ... and a later longhand overrides it, an earlier one does not
+    '<text x="10" y="70" style="font-size: 12px; font: 30px Nope; font-family: \'Noto Sans\'">'
+    'AVA</text>',
+    # an invalid shorthand is dropped: what it would have overridden applies
+    '<text x="10" y="70" font-size="30" font-family="Noto Sans" style="font: Noto Mono">'
+    'AVA</text>',
+    '<g font-size="30" font-family="Noto Sans"><text x="10" y="70" style="font: inherit">'
+    'AVA</text></g>',
+])
+def test_font_shorthand_takes_its_place_in_the_cascade(markup):
+    explicit = render('<text x="10" y="70" font-size="30" font-family="Noto Sans">AVA</text>')
+    assert np.array_equal(explicit, render(markup))
+
+
+def test_font_shorthand_sets_stretch_and_weight_keywords():
+    from vecmsaa.svg.document import load_document
+    doc = load_document(b'<svg xmlns="http://www.w3.org/2000/svg"><text id="t" font-weight="100" '
+                        b'style="font: condensed bold 30px Roboto Flex">A</text></svg>')
+    s = doc.document_style(doc.lookup("#t"))
+    assert (s.get("font-stretch"), s.get("font-weight"), s.get("font-size"),
+            s.get("font-family"), s.get("font-style")) == ("condensed", "bold", "30px",
+                                                             "Roboto Flex", "normal")
+
+
+@pytest.mark.parametrize("value, valid", [
+    # CSS Fonts 4 §2.8: [ style || variant || weight || stretch ]? size [/ line-height]? family;
+    # normal may stand for any of the four, each at most once
+    ("normal normal normal normal 24px a", True), ("italic bold small-caps condensed 24px a", True),
+    ("normal normal normal normal normal 24px a", False), ("bold bold 24px a", False),
+    ("bold 700 24px a", False), ("italic oblique 24px a", False),
+    ("condensed expanded 24px a", False), ("italic bold small-caps condensed normal 24px a", False),
+    ("24px a,", False), ("24px a, , b", False), ("24px 'a b', serif", True)])
+def test_font_shorthand_grammar(value, valid):
+    from vecmsaa.svg.text.font_match import parse_font_shorthand
+    assert (parse_font_shorthand(value) is not None) is valid
+
+
+@pytest.mark.parametrize("value, style", [
+    # CSS Fonts 4 §2.8: font-style in the shorthand is normal | italic | oblique <angle>?
+    ("oblique 10deg 30px Noto Sans", "oblique 10deg"), ("oblique -0.1turn 30px Noto Sans",
+                                                        "oblique -0.1turn"),
+    ("oblique 30px Noto Sans", "oblique"), ("italic 10deg 30px Noto Sans", None),
+    ("10deg oblique 30px Noto Sans", None)])
+def test_font_shorthand_takes_an_oblique_angle(value, style):
+    from vecmsaa.svg.text.font_match import parse_font_shorthand
+    parsed = parse_font_shorthand(value)
+    assert (parsed["font-style"] if parsed else None) == style
+
+
 @pytest.mark.parametrize("outer, inner, expected", [
     ("400", "bolder", 700), ("100", "bolder", 200), ("600", "bolder", 700),
     ("900", "bolder", 900), ("400", "lighter", 200), ("500", "lighter", 400),
@@ -441,6 +497,23 @@ def test_font_family_list_validity(value, valid):
     assert valid_family_list(value) is valid
 
 
+@pytest.mark.parametrize("value, names, found", [
+    ("sans-serif", ["sans-serif"], True), ("Sans-Serif", ["Sans-Serif"], True),
+    ("'sans-serif'", ['"sans-serif"'], False), ('"Sans-Serif"', ['"Sans-Serif"'], False),
+    ("Nope, 'monospace', serif", ["Nope", '"monospace"', "serif"], False),
+    ("'Noto Sans', serif", ["Noto Sans", "serif"], True)])
+def test_a_quoted_generic_name_is_a_family_name(value, names, found):
+    # CSS Fonts 4 §3.1: generic families are keywords; quoted, 'sans-serif' names a font
+    # called sans-serif (none here), and the next family or the default applies
+    from vecmsaa.fonts.db import database_from_options, parse_family_list
+    db = database_from_options(dict(use_fonts_dir=FIXTURES, skip_system_fonts=True,
+                                    sans_serif_family="Noto Sans",
+                                    monospace_family="Noto Sans"))
+    assert parse_family_list(value) == names
+    assert bool(db.family_faces(names[0])) is found
+    assert bool(db.family_faces("'Noto Sans'")) and not db.family_faces("'nope'")
+
+
 def test_invalid_font_family_is_ignored_and_the_parents_applies():
     roboto = render('<text x="5" y="70" font-family="Roboto Flex">Hoe</text>')
     noto = render('<text x="5" y="70" font-family="Noto Sans">Hoe</text>')
@@ -623,6 +696,42 @@ def test_dominant_baseline_ignores_values_it_does_not_take(value):
                                          '"before-edge">Hxg</tspan></text>'), plain)
 
 
+@pytest.mark.parametrize("value", ["middle", "hanging", "central", "text-before-edge"])
+def test_a_nested_span_moves_with_the_span_that_sets_alignment_baseline(value):
+    # alignment-baseline aligns the span's whole box (SVG 1.1 §10.9.2): its characters in a
+    # nested span without the property sit where they would as the span's own characters
+    own = render(f'<text x="10" y="60">H<tspan alignment-baseline="{value}">xg</tspan></text>')
+    for inner in ('<tspan>xg</tspan>', '<tspan><tspan>x</tspan>g</tspan>'):
+        assert np.array_equal(render(f'<text x="10" y="60">H<tspan alignment-baseline='
+                                     f'"{value}">{inner}</tspan></text>'), own)
+    assert not np.array_equal(own, render('<text x="10" y="60">H<tspan>xg</tspan></text>'))
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("prop, value", [("font-family", "Noto Mono"),
+                                         ("dominant-baseline", "hanging"),
+                                         ("font-variant", "small-caps")])
+def test_css_wide_initial_and_unset_on_text_properties(prop, value):
+    # CSS Cascade 4: initial is the property's initial value (serif, auto, normal), unset on
+    # an inherited property inherits
+    def draw(body):
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+               f'{body}</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
+                                mode="analytic")
+    plain = draw('<text x="10" y="60">Hxg ab</text>')
+    parent = draw(f'<g {prop}="{value}"><text x="10" y="60">Hxg ab</text></g>')
+    assert not np.array_equal(plain, parent)
+    for form in (f'{prop}="KW"', f'style="{prop}: KW"'):
+        initial = form.replace("KW", "initial")
+        unset = form.replace("KW", "unset")
+        assert np.array_equal(draw(f'<g {prop}="{value}"><text x="10" y="60" {initial}>'
+                                   f'Hxg ab</text></g>'), plain)
+        assert np.array_equal(draw(f'<g {prop}="{value}"><text x="10" y="60" {unset}>'
+                                   f'Hxg ab</text></g>'), parent)
+
+
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
 @pytest.mark.parametrize("family, text", [("Noto Color Emoji", "&#x1F600;"),
                                           ("CFF Outlines and SBIX", "A")])
@@ -775,3 +884,22 @@ def test_a_rotate_list_in_error_rotates_nothing(bad):
     assert plain[..., 3].any()
     assert np.array_equal(render(text.format(f'rotate="{bad}"')), plain)
     assert not np.array_equal(render(text.format('rotate="20"')), plain)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "RobotoFlex.subset.ttf")),
+                    reason="the suite's variable Roboto Flex is not present")
+@pytest.mark.parametrize("span", ['font-weight="900"', 'style="font-variation-settings: \'wght\' 900"',
+                                  'font-stretch="50%"'])
+def test_a_span_in_a_variable_font_is_drawn_at_its_own_location(span):
+    # A span's glyphs take its own variation location (weight, width, optical size), not
+    # that of the run's first character: 'HHH' at weight 900 (or width 50) after a thin 'I'
+    # has the ink of 'HHH' drawn alone so (the two alone differ by far more than 2%)
+    def ink(body):
+        return alpha(_suite_draw(f'<text x="10" y="70" font-family="Roboto Flex" '
+                                 f'font-size="40">{body}</text>', width=400)).sum()
+    thin_i = ink('<tspan font-weight="100">I</tspan>')
+    heavy = ink(f'<tspan {span}>HHH</tspan>')
+    light = ink('<tspan font-weight="100">HHH</tspan>')
+    both = ink(f'<tspan font-weight="100">I</tspan><tspan {span}>HHH</tspan>')
+    assert abs(heavy - light) > 0.1 * light
+    assert both - thin_i == pytest.approx(heavy, rel=0.02)

@@ -179,8 +179,11 @@ class FontDatabase:
         return self._by_family
 
     def family_faces(self, family: str) -> list:
-        """Faces of a family name; a generic name resolves through its mapping."""
-        family = family.strip().strip("'\"").strip()
+        """Faces of a family name; a generic name resolves through its mapping, unless it is
+        quoted (then it is a family's name, CSS Fonts 4 §3.1)."""
+        family = family.strip()
+        if len(family) > 1 and family[0] == family[-1] and family[0] in "'\"":
+            return self._index().get(family[1:-1].strip().lower(), [])
         key = family.lower()
         if key in GENERIC_FAMILIES:
             for name in self.generics.get(key, []):
@@ -262,9 +265,16 @@ def _has_cp(info: FaceInfo, cp: int) -> bool:
 
 
 def parse_family_list(text: str) -> list:
-    """CSS font-family value → list of names (quotes removed, whitespace collapsed)."""
+    """CSS font-family value → list of names (quotes removed, whitespace collapsed). A quoted
+    name that spells a generic family keeps its double quotes: it names a family, not the
+    generic (CSS Fonts 4 §3.1: ``'serif'`` is a font called serif)."""
     out = []
-    cur, quote = [], None
+    cur, quote, quoted = [], None, False
+
+    def name():
+        n = " ".join("".join(cur).split())
+        return f'"{n}"' if quoted and n.lower() in GENERIC_FAMILIES else n
+
     for ch in text or "":
         if quote:
             if ch == quote:
@@ -273,12 +283,13 @@ def parse_family_list(text: str) -> list:
                 cur.append(ch)
         elif ch in "'\"":
             quote = ch
+            quoted = True
         elif ch == ",":
-            out.append(" ".join("".join(cur).split()))
-            cur = []
+            out.append(name())
+            cur, quoted = [], False
         else:
             cur.append(ch)
-    out.append(" ".join("".join(cur).split()))
+    out.append(name())
     return [f for f in out if f]
 
 

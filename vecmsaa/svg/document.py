@@ -618,9 +618,17 @@ def _style_attribute(text):
 
 
 def _expand_shorthand(name, value):
-    """``marker`` sets all three marker properties; ``font`` is left to the text module."""
+    """``marker`` sets all three marker properties; ``font`` sets the font longhands, in the
+    cascade as CSS expands any shorthand: over presentation attributes and earlier
+    declarations, under later ones, and inherited from a group like the longhands (CSS Fonts 4
+    §2.9); an invalid ``font`` is dropped."""
     if name == "marker":
         return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
+    if name == "font":
+        from .text.font_match import FONT_RESETS, parse_font_shorthand
+        if value.strip().lower() == "inherit":
+            return [(n, "inherit") for n in (*FONT_RESETS, "font-size", "font-family")]
+        return list((parse_font_shorthand(value) or {}).items())
     return [(name, value)]
 
 

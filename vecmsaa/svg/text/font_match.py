@@ -1,6 +1,7 @@
 """Font matching for text: CSS font properties → :class:`FontSpec` → a face per character.
 
-The ``font`` shorthand is spread into longhands; weight (with bolder/lighter), style, stretch,
+The ``font`` shorthand is read here (:func:`parse_font_shorthand`, which the cascade in
+:mod:`vecmsaa.svg.document` spreads into longhands); weight (with bolder/lighter), style, stretch,
 size, feature and variation settings, letter/word spacing and small caps make a FontSpec. The
 family list is matched in the font database (:mod:`vecmsaa.fonts.db`); characters the face lacks
 fall back to other faces, combining marks stay with their base's face.
@@ -33,19 +34,33 @@ FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": 
                "font-variation-settings": "normal"}
 
 
+_OBLIQUE_ANGLE = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)(deg|grad|rad|turn)$")
+
+
 def parse_font_shorthand(value):
-    """CSS ``font`` → {longhand: value}, or None when it is not valid."""
+    """CSS ``font`` → {longhand: value}, or None when it is not valid. Before the size come
+    at most one each of style, variant, weight and stretch in any order, ``normal`` standing
+    for any of them: four at most (CSS Fonts 4 §2.8); the family list must be valid."""
     tokens = re.findall(r"""("[^"]*"|'[^']*'|[^\s"']+)""", value.strip())
     longhands = {}
+    normals = 0
     for i, tok in enumerate(tokens):
         low = tok.lower()
+        if longhands.get("font-style") == "oblique" and _OBLIQUE_ANGLE.match(low):
+            # CSS Fonts 4 §2.8: oblique takes an angle, here as in font-style
+            longhands["font-style"] = f"oblique {low}"
+            continue
         size = low.split("/")[0]
         if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
                                                   r"em|ex|%)?$", size):
             if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
                                                      "700", "800", "900"):
+                if "font-weight" in longhands:
+                    return None
                 longhands["font-weight"] = size
                 continue
+            if len(longhands) + normals > 4:
+                return None
             longhands["font-size"] = tok.split("/")[0]
             rest = tokens[i + 1:]
             # a line height may follow as "/1.2", "/ 1.2" or be glued: "12px/1.2"
@@ -56,39 +71,28 @@ def parse_font_shorthand(value):
             elif rest and rest[0].startswith("/"):
                 rest = rest[1:]
             family = " ".join(rest)
-            if not family:
+            if not family or not valid_family_list(family):
                 return None
             longhands["font-family"] = family
             return {**FONT_RESETS, **longhands}
+        if low == "normal":
+            normals += 1
+            continue
         if low in ("italic", "oblique"):
-            longhands["font-style"] = low
+            name = "font-style"
         elif low == "small-caps":
-            longhands["font-variant"] = low
+            name = "font-variant"
         elif low in ("bold", "bolder", "lighter"):
-            longhands["font-weight"] = low
+            name = "font-weight"
         elif low in STRETCHES:
-            longhands["font-stretch"] = low
-        elif low != "normal":
+            name = "font-stretch"
+        else:
             return None
+        if name in longhands:
+            return None
+        longhands[name] = low
     return None
 
-
-
-def expand_font_shorthand(text_el):
-    """Spread a ``font`` shorthand on <text> and its content elements into the longhands it
-    sets (a longhand the element specifies itself wins). The document leaves ``font`` to the
-    text module."""
-    stack = [text_el]
-    while stack:
-        el = stack.pop()
-        value = el.specified.get("font")
-        if value:
-            parsed = parse_font_shorthand(value)
-            if parsed:
-                for name, v in parsed.items():
-                    el.specified.setdefault(name, v)
-            del el.specified["font"]
-        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
 
 
 @dataclass(frozen=True)
@@ -298,7 +302,9 @@ def variant_features(style):
     for s in reversed(chain):
         spec = s.specified
         short = spec.get("font-variant")
-        if short is not None and short.strip() not in ("inherit", ""):
+        if short is not None and short.strip() == "initial":
+            short = "normal"        # CSS-wide keywords: initial is normal, unset inherits
+        if short is not None and short.strip() not in ("inherit", "unset", ""):
             f = _variant_shorthand(short.strip())
             if f is not None:
                 # the shorthand resets every longhand, then sets those it names
@@ -308,8 +314,10 @@ def variant_features(style):
                     parts["font-variant-ligatures"] = dict(NO_LIGATURES)
         for prop in VARIANT_KEYWORDS:
             v = spec.get(prop)
-            if v is None or v.strip() in ("inherit", ""):
+            if v is None or v.strip() in ("inherit", "unset", ""):
                 continue
+            if v.strip() == "initial":
+                v = "normal"
             f = _variant_value(prop, v.strip())
             if f is not None:
                 parts[prop] = f
@@ -365,11 +373,14 @@ def _mask_strings(text):
 
 def _family_list(style):
     """The computed font-family list: an invalid value (CSS) is ignored, so the nearest
-    ancestor's valid value applies, else the initial ``serif``."""
+    ancestor's valid value applies, else the initial ``serif``, which ``initial`` asks for
+    (``unset`` inherits, as ``inherit`` does)."""
     s = style
     while s is not None:
         v = s.specified.get("font-family")
-        if v is not None and v.strip() != "inherit":
+        if v is not None and v.strip() == "initial":
+            break
+        if v is not None and v.strip() not in ("inherit", "unset"):
             if valid_family_list(v.strip()):
                 return parse_family_list(v)
             warn(f"font-family: {v.strip()[:40]} is not a valid family list: ignored")

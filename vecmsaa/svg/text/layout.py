@@ -16,10 +16,9 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, collapse_white_space, collect_chars, content_elements
+from .content import apply_positions, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import assign_faces, expand_font_shorthand, face_location, font_database, \
-    font_spec
+from .font_match import assign_faces, face_location, font_database, font_spec
 from .on_path import position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -78,7 +77,7 @@ def shape_chunk(chars, faces, specs, start, end):
         keys = {}
         for k in range(s, e):
             if faces[k] is not None:
-                keys.setdefault((id(faces[k]), specs[k].features, specs[k].variations), k)
+                keys.setdefault(_shaping_key(faces[k], specs[k]), k)
         if not keys:
             continue
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k, chunk)
@@ -96,8 +95,7 @@ def shape_chunk(chars, faces, specs, start, end):
                 face = faces[k]
                 if k in covered or face is None:   # None: a zero or negative size
                     continue
-                key = (id(face), specs[k].features, specs[k].variations)
-                own = index.get(key, base)
+                own = index.get(_shaping_key(face, specs[k]), base)
                 pick = own.first.get(k)
                 if pick is None:
                     if k == cl.char:
@@ -108,6 +106,14 @@ def shape_chunk(chars, faces, specs, start, end):
                 covered.update(range(k, own.end(pick, e)))
             clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
+
+
+def _shaping_key(face, spec):
+    """What a character's shaping depends on besides the text: its face, feature settings
+    and variation location (with a font size that sets ``opsz``, CSS Fonts 4 §7.1
+    font-optical-sizing: a span of another size in a variable font is shaped and drawn at
+    its own optical size)."""
+    return id(face), spec.features, face_location(face, spec)
 
 
 class _ClusterIndex:
@@ -325,7 +331,7 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     m = face.metrics
     scale = spec.size / face.units_per_em
     shift = 0.0
-    align = (style.get("alignment-baseline") or "auto").strip()
+    align = _alignment_baseline(style, root_style)
     base = align if align not in ("auto", "baseline") else _dominant_baseline(style)
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
@@ -363,6 +369,22 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     return shift - total
 
 
+def _alignment_baseline(style, root_style):
+    """alignment-baseline for the characters of an element: its own, else that of the nearest
+    enclosing text content element (up to <text>) that sets one. The property is not
+    inherited, but it aligns the element's whole box, so the characters of a nested span
+    without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4); one
+    level down this is also where resvg looks (the element, then its parent)."""
+    s = style
+    while s is not None:
+        if "alignment-baseline" in s.specified:
+            return (s.get("alignment-baseline") or "auto").strip()
+        if s is root_style:
+            break
+        s = s.parent
+    return "auto"
+
+
 #: dominant-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom);
 #: before-edge and after-edge are alignment-baseline values only
 DOMINANT_BASELINES = frozenset((
@@ -373,10 +395,13 @@ DOMINANT_BASELINES = frozenset((
 
 def _dominant_baseline(style):
     """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
-    value; an invalid value is ignored, so the parent's applies too (as in resvg)."""
+    value; an invalid value is ignored, so the parent's applies too (as in resvg); ``initial``
+    is auto (``unset``, on an inherited property, inherits)."""
     s = style
     while s is not None:
         v = (s.specified.get("dominant-baseline") or "inherit").strip()
+        if v == "initial":
+            return "auto"
         if v in DOMINANT_BASELINES and v not in ("no-change", "reset-size"):
             return v
         s = s.parent
@@ -397,10 +422,6 @@ def _os2(face, name, default):
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
     styles = {}
-    if any("font" in el.specified for el in content_elements(element)):
-        expand_font_shorthand(element)
-        ctx.style = ctx.style.parent.child(element) if ctx.style.parent is not None \
-            else ctx.style
     chars = collapse_white_space(collect_chars(element, ctx, styles))
     ctx.count_characters(len(chars))
     if not chars:
