@@ -249,6 +249,24 @@ def test_pattern_viewbox_maps_by_preserve_aspect_ratio(par, sx, sy, tx, ty):
 
 
 
+
+def test_an_arc_ending_where_it_starts_is_a_zero_length_segment():
+    # SVG omits the arc, but the subpath has a drawing command, so it is a zero-length
+    # subpath: a round cap is a disc of the stroke's radius (SVG 2 stroke-linecap), and the
+    # segment's end is a marker vertex, so the path has a start, two mids and an end
+    img = render('<path d="M30 30 A10 10 0 0 0 30 30" stroke="black" stroke-width="20" '
+                 'stroke-linecap="round"/>')
+    area = img[..., 3].sum() / 255
+    assert area == pytest.approx(np.pi * 10 ** 2, rel=0.01)
+    assert img[30, 30, 3] == 255 and img[30, 42, 3] == 0 and img[18, 30, 3] == 0
+    img = render('<marker id="m" markerWidth="4" markerHeight="4" refX="2" refY="2" '
+                 'markerUnits="userSpaceOnUse"><rect width="4" height="4" fill-opacity="0.5"/>'
+                 '</marker><path d="M10 50 L50 50 A5 5 0 0 0 50 50 L90 50" fill="none" '
+                 'marker-start="url(#m)" marker-mid="url(#m)" marker-end="url(#m)"/>')
+    # two half-transparent marks at the middle vertex: 1 - 0.5 * 0.5
+    assert img[49, 49, 3] == pytest.approx(0.75 * 255, abs=1)
+    assert img[49, 9, 3] == pytest.approx(0.5 * 255, abs=1)
+
 @pytest.mark.parametrize("x, y, w, h, cx, cy, r", [
     (4, -1, 7, 15, 5, 5, 4),           # a circle cut by the tile's right edge
     (0, 0, 9, 6, 4.5, 3, 2.7),
