@@ -229,9 +229,14 @@ def test_arc_radii_scaled_up_when_too_small():
             assert abs(abs(bezier_point(seg, t) - 5) - 5) < 5 * 3e-4
 
 
-def test_arc_zero_radius_is_line_and_coincident_endpoints_skipped():
+def test_arc_zero_radius_is_line_and_coincident_endpoints_a_zero_length_line():
     assert parse_path_data("M0 0 A 0 5 0 0 1 10 0").verbs.tolist() == [MOVE, LINE]
-    assert parse_path_data("M0 0 A 5 5 0 0 1 0 0 L 1 1").verbs.tolist() == [MOVE, LINE]
+    # SVG omits an arc that ends where it starts; its command still leaves a zero-length
+    # segment (for caps and markers), as a zero radius leaves the chord
+    path = parse_path_data("M0 0 A 5 5 0 0 1 0 0 L 1 1")
+    assert path.verbs.tolist() == [MOVE, LINE, LINE]
+    assert path.points.tolist() == [[0, 0], [0, 0], [1, 1]]
+    assert arc_to_cubics(3, 4, 5, 5, 0, False, True, 3, 4) is None
 
 
 def test_arc_pieces_share_one_command_index():

@@ -248,6 +248,58 @@ def test_pattern_viewbox_maps_by_preserve_aspect_ratio(par, sx, sy, tx, ty):
     assert checked > 3000
 
 
+
+
+def test_an_arc_ending_where_it_starts_is_a_zero_length_segment():
+    # SVG omits the arc, but the subpath has a drawing command, so it is a zero-length
+    # subpath: a round cap is a disc of the stroke's radius (SVG 2 stroke-linecap), and the
+    # segment's end is a marker vertex, so the path has a start, two mids and an end
+    img = render('<path d="M30 30 A10 10 0 0 0 30 30" stroke="black" stroke-width="20" '
+                 'stroke-linecap="round"/>')
+    area = img[..., 3].sum() / 255
+    assert area == pytest.approx(np.pi * 10 ** 2, rel=0.01)
+    assert img[30, 30, 3] == 255 and img[30, 42, 3] == 0 and img[18, 30, 3] == 0
+    img = render('<marker id="m" markerWidth="4" markerHeight="4" refX="2" refY="2" '
+                 'markerUnits="userSpaceOnUse"><rect width="4" height="4" fill-opacity="0.5"/>'
+                 '</marker><path d="M10 50 L50 50 A5 5 0 0 0 50 50 L90 50" fill="none" '
+                 'marker-start="url(#m)" marker-mid="url(#m)" marker-end="url(#m)"/>')
+    # two half-transparent marks at the middle vertex: 1 - 0.5 * 0.5
+    assert img[49, 49, 3] == pytest.approx(0.75 * 255, abs=1)
+    assert img[49, 9, 3] == pytest.approx(0.5 * 255, abs=1)
+
+@pytest.mark.parametrize("x, y, w, h, cx, cy, r", [
+    (4, -1, 7, 15, 5, 5, 4),           # a circle cut by the tile's right edge
+    (0, 0, 9, 6, 4.5, 3, 2.7),
+    (3, 2, 5, 5, 2.5, 2.5, 2.5),
+])
+def test_small_pattern_tiles_have_exact_coverage(x, y, w, h, cx, cy, r):
+    # Every pixel is a copy of one texel of the tile (whole-pixel tiles at scale 1, the tile's
+    # corner on a pixel corner), so each must be the area of the circle in that texel,
+    # computed here by supersampling the circle 64 x 64 per texel. A tile's texel error repeats
+    # in every copy, so the default 8 samples (1/8 = 32 levels per sample) would be far off.
+    img = render(f'<pattern id="p" patternUnits="userSpaceOnUse" x="{x}" y="{y}" '
+                 f'width="{w}" height="{h}"><circle cx="{cx}" cy="{cy}" r="{r}"/></pattern>'
+                 '<rect width="200" height="200" fill="url(#p)"/>', 200, 200)
+    n = 64
+    sy, sx = np.mgrid[0:h * n, 0:w * n]
+    inside = ((sx + 0.5) / n - cx) ** 2 + ((sy + 0.5) / n - cy) ** 2 <= r * r
+    texel = inside.reshape(h, n, w, n).mean(axis=(1, 3)) * 255
+    py, px = np.mgrid[0:200, 0:200]
+    want = texel[(py - y) % h, (px - x) % w]
+    assert np.abs(img[..., 3] - want).max() <= 8
+
+
+def test_only_small_tiles_of_the_multisample_modes_take_the_reference_mode():
+    from vecmsaa.raster.render import EXACT_TILE_PIXELS, RenderOptions, tile_options
+
+    opts = RenderOptions("approx", 8)
+    assert tile_options(opts, 7, 15).mode == "reference"
+    assert tile_options(opts, 7, 15) is tile_options(opts, 20, 20)   # made once per render
+    assert tile_options(opts, EXACT_TILE_PIXELS + 1, 1) is opts
+    for mode in ("none", "alpha", "analytic"):
+        own = RenderOptions(mode, 1 if mode != "alpha" else 8)
+        assert tile_options(own, 7, 15) is own
+
 def test_a_reference_to_an_id_given_twice_takes_the_first_element():
     # URL fragments resolve to the first element in tree order with the id (SVG 2 linking,
     # as in the DOM's getElementById)

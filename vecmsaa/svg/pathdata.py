@@ -137,10 +137,13 @@ def _skip_sep(buf, pos, end):
 def _arc(pts, npts, x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     """Writes an elliptical arc's conic pieces (≤ 90° each, as usvg cuts them: three points
     per piece, as scene.path stores a CONIC) into pts
-    from npts on → new npts; -1 when the arc is a straight line (a zero radius), npts when
-    the endpoints coincide (SVG omits such an arc)."""
+    from npts on → new npts; -1 when the arc is a straight line: a zero radius, or endpoints
+    that coincide. SVG omits the latter arc, but its command still makes the subpath more
+    than a moveto, so the zero-length line stands for it: round and square caps are drawn,
+    as browsers (Blink emits the line, Gecko caps the subpath) and resvg (kurbo counts it a
+    straight line) draw them, and a marker vertex is there."""
     if x1 == x2 and y1 == y2:
-        return npts
+        return -1
     if not (math.isfinite(x1) and math.isfinite(y1) and math.isfinite(rx)
             and math.isfinite(ry) and math.isfinite(phi_deg) and math.isfinite(x2)
             and math.isfinite(y2)):
@@ -577,12 +580,10 @@ class PathBatch:
 def arc_to_cubics(x1, y1, rx, ry, phi_deg, large_arc, sweep, x2, y2):
     """An elliptical arc as cubic Bézier pieces ``[(c1, c2, end), ...]`` of at most 90° each.
 
-    Returns None when the arc is a straight line (a zero radius), and [] when the endpoints
-    coincide (SVG omits such an arc).
+    Returns None when the arc is a straight line (a zero radius, or endpoints that coincide:
+    see _arc).
     """
     x1, y1, rx, ry, phi_deg, x2, y2 = map(float, (x1, y1, rx, ry, phi_deg, x2, y2))
-    if x1 == x2 and y1 == y2:
-        return []
     if not all(map(math.isfinite, (x1, y1, rx, ry, phi_deg, x2, y2))):
         return None
     # read as path data (repr round-trips every double), which runs the kernel's _arc
