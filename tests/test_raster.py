@@ -109,21 +109,6 @@ def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
     assert_matches_brute_force(path, "approx", samples, rule)
 
 
-def test_approx_evaluates_samples_only_near_a_curve_that_turns_within_the_pixel():
-    """Pixels where approx evaluates samples: few on a big circle (nearly straight per pixel),
-    many on a circle of one pixel's radius; the result is persample's either way."""
-    fractions = []
-    for size, r in ((512, 250.3), (16, 0.9)):
-        scene = Scene(size, size, Group([Fill(circle_path((size / 2 + 0.01, size / 2 + 0.02), r),
-                                              Solid((0, 0, 0, 1)))]))
-        opts = RenderOptions("approx", 8)
-        approx = render_float(scene, opts)
-        persample = render_scene(scene, mode="persample", samples=8)
-        assert np.array_equal(approx, persample)
-        fractions.append(opts.lens_stats[1] / opts.lens_stats[0])
-    assert fractions[0] < 0.25 and fractions[1] > 0.5, fractions
-
-
 def test_approx_margin_covers_the_mask_table_quantisation():
     rng = np.random.default_rng(3)
     for n in (8, 16):
