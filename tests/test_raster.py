@@ -617,3 +617,24 @@ def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
     filtered = load_svg(FILTERED_SVG)
     items = render_module.prepare_items(filtered.root, RenderOptions())
     assert list(render_module.heaviest_first(items, range(0, 80, 16), 16)) == [0, 16, 32, 48, 64]
+
+
+def _polyline_fill(points):
+    path = Path()
+    path.moveTo(points[0])
+    for p in points[1:]:
+        path.lineTo(p)
+    path.closePath()
+    return Fill(path, Solid((0, 0, 0, 1)))
+
+
+def test_a_band_under_a_wide_fill_weighs_more_than_its_edges_say():
+    """A band that a 2000 px wide rectangle covers (4 edges) comes before one holding a small
+    polygon of 30 edges: a fill's box area counts (the sweep paints its pixels), not its edges
+    alone."""
+    wide = _polyline_fill([(0.0, 770.0), (2000.0, 770.0), (2000.0, 1010.0), (0.0, 1010.0)])
+    ring = [(300 + 8 * math.cos(2 * math.pi * k / 30), 300 + 8 * math.sin(2 * math.pi * k / 30))
+            for k in range(30)]
+    scene = Scene(2000, 1200, Group([wide, _polyline_fill(ring)]))
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    assert render_module.heaviest_first(items, range(0, 1200, 256), 256)[:2] == [768, 256]

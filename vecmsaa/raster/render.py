@@ -345,14 +345,22 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     run_bands(draw_bands, starts, threads, pool)
 
 
+#: heaviest_first's cost of a pixel of a fill's box, against 1 for an edge or lens: with the
+#: edges alone the tiger's heaviest band at 2048 px came third, and scheduled as two threads
+#: take them, the bands' measured times (threads=1 CPU) ended the threads 1.4 ms later than in
+#: the order of those times, which this weight gives (and no other corpus file's order worse;
+#: docs/bench.md, session 13)
+AREA_COST = 1e-4
+
+
 def heaviest_first(items, starts, band_rows: int):
-    """The band starts in order of the edges and lenses that reach each band, most first (a
-    guess at their cost: each fill's spread evenly over the bands its box reaches; ties top
-    down), so that threads taking bands in turn do not end with one of them drawing a heavy
-    band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25, 24, 13, 9 and 5 ms
-    top down, and two threads ended 8 ms apart. Top down where a filtered layer takes part
-    (filtered_part lets go of its pixels after the band holding its last row, and a band
-    above drawn later would filter it again)."""
+    """The band starts in order of a guess at their cost, most first (ties top down): each
+    fill's edges and lenses spread evenly over the bands its box reaches, plus AREA_COST for
+    each pixel of its box in the band. So threads taking bands in turn do not end with one of
+    them drawing a heavy band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25,
+    24, 13, 9 and 5 ms top down, and two threads ended 8 ms apart. Top down where a filtered
+    layer takes part (filtered_part lets go of its pixels after the band holding its last
+    row, and a band above drawn later would filter it again)."""
     n = len(starts)
     cost = np.zeros(n + 1)
 
@@ -364,7 +372,8 @@ def heaviest_first(items, starts, band_rows: int):
                 keep = first <= last
                 first, last = first[keep], last[keep]
                 work = (np.diff(item.edge_off) + np.diff(item.prim_off))[keep]
-                share = work / (last - first + 1)
+                width = np.maximum(item.box[:, 2], 0.0) - np.maximum(item.box[:, 0], 0.0)
+                share = work / (last - first + 1) + AREA_COST * band_rows * width[keep]
                 # + share on the bands first .. last: a difference array
                 cost[:] += np.bincount(first, share, minlength=n + 1)
                 cost[:] -= np.bincount(last + 1, share, minlength=n + 1)
