@@ -128,7 +128,7 @@ def _band_x_range(prim, y_lo, y_hi):
     n = int(prim[P_NCTRL])
     xmin, xmax = np.inf, -np.inf
     for i in range(n):
-        j = (i + 1) % n
+        j = i + 1 if i + 1 < n else 0     # not (i + 1) % n: an integer division per edge
         ax, ay = prim[P_CTRL + 2 * i], prim[P_CTRL + 2 * i + 1]
         bx, by = prim[P_CTRL + 2 * j], prim[P_CTRL + 2 * j + 1]
         if ay > by:
