@@ -4,6 +4,7 @@ import gc
 import inspect
 import os
 import subprocess
+from pathlib import Path
 import sys
 
 import numpy as np
@@ -151,6 +152,34 @@ def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
     assert sorted(index) == sorted({ln.split("|")[0] for ln in lines})
     assert {aot.part_of(name) for name in aot.load(lazy)[1]} == {aot.LAZY_PART}
 
+
+
+def test_the_build_process_imports_this_package_whatever_the_working_folder(tmp_path,
+                                                                           monkeypatch):
+    # ``python -m vecmsaa.aot`` imports the vecmsaa of its working folder first: started in
+    # another checkout's folder, it built that checkout's kernels under this one's key
+    import subprocess
+    from vecmsaa import aot
+    other = tmp_path / "other-checkout"
+    (other / "vecmsaa").mkdir(parents=True)
+    (other / "vecmsaa" / "__init__.py").write_text("raise ImportError('the wrong vecmsaa')\n")
+    monkeypatch.chdir(other)
+    seen, real_run = {}, subprocess.run
+
+    def run(cmd, **kw):
+        # the real build's import, in the folder it would run in
+        seen.update(cmd=cmd)
+        found = real_run([sys.executable, "-c", "import vecmsaa.aot"], cwd=kw.get("cwd"),
+                         env=kw.get("env"), capture_output=True).returncode == 0
+        for i in range(3, len(cmd), 2):
+            Path(cmd[i]).write_text("built")
+        return subprocess.CompletedProcess(cmd, 0 if found else 1)
+
+    monkeypatch.setattr(subprocess, "run", run)
+    path = Path("module.so")        # relative to the caller's folder
+    assert aot._build_parts({0: path}) is None
+    assert (other / "module.so").read_text() == "built"
+    assert Path(seen["cmd"][3]).is_absolute()
 
 
 def test_the_build_runs_each_part_in_a_process_of_its_own_and_fails_when_one_fails(

@@ -109,21 +109,6 @@ def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
     assert_matches_brute_force(path, "approx", samples, rule)
 
 
-def test_approx_evaluates_samples_only_near_a_curve_that_turns_within_the_pixel():
-    """Pixels where approx evaluates samples: few on a big circle (nearly straight per pixel),
-    many on a circle of one pixel's radius; the result is persample's either way."""
-    fractions = []
-    for size, r in ((512, 250.3), (16, 0.9)):
-        scene = Scene(size, size, Group([Fill(circle_path((size / 2 + 0.01, size / 2 + 0.02), r),
-                                              Solid((0, 0, 0, 1)))]))
-        opts = RenderOptions("approx", 8)
-        approx = render_float(scene, opts)
-        persample = render_scene(scene, mode="persample", samples=8)
-        assert np.array_equal(approx, persample)
-        fractions.append(opts.lens_stats[1] / opts.lens_stats[0])
-    assert fractions[0] < 0.25 and fractions[1] > 0.5, fractions
-
-
 def test_approx_margin_covers_the_mask_table_quantisation():
     rng = np.random.default_rng(3)
     for n in (8, 16):
@@ -632,3 +617,24 @@ def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
     filtered = load_svg(FILTERED_SVG)
     items = render_module.prepare_items(filtered.root, RenderOptions())
     assert list(render_module.heaviest_first(items, range(0, 80, 16), 16)) == [0, 16, 32, 48, 64]
+
+
+def _polyline_fill(points):
+    path = Path()
+    path.moveTo(points[0])
+    for p in points[1:]:
+        path.lineTo(p)
+    path.closePath()
+    return Fill(path, Solid((0, 0, 0, 1)))
+
+
+def test_a_band_under_a_wide_fill_weighs_more_than_its_edges_say():
+    """A band that a 2000 px wide rectangle covers (4 edges) comes before one holding a small
+    polygon of 30 edges: a fill's box area counts (the sweep paints its pixels), not its edges
+    alone."""
+    wide = _polyline_fill([(0.0, 770.0), (2000.0, 770.0), (2000.0, 1010.0), (0.0, 1010.0)])
+    ring = [(300 + 8 * math.cos(2 * math.pi * k / 30), 300 + 8 * math.sin(2 * math.pi * k / 30))
+            for k in range(30)]
+    scene = Scene(2000, 1200, Group([wide, _polyline_fill(ring)]))
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    assert render_module.heaviest_first(items, range(0, 1200, 256), 256)[:2] == [768, 256]

@@ -249,9 +249,13 @@ def _build_parts(builds: dict[int, Path]):
     env = dict(os.environ, VECMSAA_JIT="1")
     t0, cpu0 = time.perf_counter(), resource.getrusage(resource.RUSAGE_CHILDREN)
     with tempfile.TemporaryFile(mode="w+") as out:
-        args = [str(x) for part, path in builds.items() for x in (path, part)]
+        args = [str(x) for part, path in builds.items() for x in (path.resolve(), part)]
+        # run in the folder holding this package: ``-m`` puts the working directory first on
+        # sys.path, and a build started in another checkout's folder compiled that checkout's
+        # kernels into this one's modules
         status = subprocess.run([sys.executable, "-m", "vecmsaa.aot", *args], env=env,
-                                stdout=out, stderr=subprocess.STDOUT, text=True).returncode
+                                cwd=PACKAGE.parent, stdout=out, stderr=subprocess.STDOUT,
+                                text=True).returncode
         if status != 0 or not all(path.exists() for path in builds.values()):
             out.seek(0)
             return status, out.read()

@@ -514,29 +514,6 @@ def _eval_implicit(prim, x, y):
     return f, gx * inv, gy * inv
 
 
-@njit(cache=True, inline="always")
-def _linearisation_norms(prim, rho):
-    """(A, B, C) = (‖∇k‖, ‖∇l‖, ‖∇m‖)·rho in pixels: how much k, l, m can change within a disc
-    of radius rho. Constant per primitive: computed once, not per pixel."""
-    s = rho * prim[P_INVS]
-    return (math.hypot(prim[P_K], prim[P_K + 1]) * s, math.hypot(prim[P_L], prim[P_L + 1]) * s,
-            math.hypot(prim[P_M], prim[P_M + 1]) * s)
-
-
-@njit(cache=True, inline="always")
-def _linearisation_bound(prim, x, y, a, b, c):
-    """Bound on |f(p + δ) − f(p) − ∇f(p)·δ| over all |δ| ≤ rho (pixels): how far the implicit
-    function can depart from its tangent plane at p within that disc, from the
-    _linearisation_norms (A, B, C) = (a, b, c) of that rho. With k, l, m affine and α, β, γ
-    their changes (|α| ≤ A, ...): quadratics f = k² − l·m leave α² − βγ ≤ A² + BC, cubics
-    f = k³ − l·m leave 3kα² + α³ − βγ ≤ 3|k|A² + A³ + BC."""
-    if prim[P_KIND] == KIND_QUAD:
-        return a * a + b * c
-    inv = prim[P_INVS]
-    k = (prim[P_K] * (x - prim[P_OX]) + prim[P_K + 1] * (y - prim[P_OY])) * inv + prim[P_K + 2]
-    return 3.0 * abs(k) * a * a + a * a * a + b * c
-
-
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _implicit(prim, x, y):
     """f of _eval_implicit (the same arithmetic) for the batch builder, which needs no

@@ -242,7 +242,7 @@ def sweep_csaa(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
 
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
-                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, saturate, scratch):
+                paint_f, lut, tex, sx, sy, weights, mode, a2c_bits, saturate, scratch):
     """scan.render_msaa with K colours per split pixel (the ``colours`` of ``csaa_scratch``):
     the fills of a batch in order (``saturate``: last first, the saturating blend, onto a
     transparent ``target``), then every split pixel resolved from its table."""
@@ -281,7 +281,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                        dlist, dcount, hidden)
             if prim_off[k + 1] > prim_off[k]:
                 scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
-                            mode, table, a2c_bits, local, dirty, dlist, dcount, lo, hi,
+                            mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
                             lens_stats, hidden, stamp, np.int64(-1))
             npool = sweep_csaa(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                paint_f[k], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,

@@ -3,8 +3,6 @@ tools. Imports nothing, so the command line offers the choices without loading t
 
 #: multisample modes: coverage from per-sample windings, curves by the mode's rule
 MSAA_MODES = ("none", "alpha", "a2c", "persample", "approx")
-#: the multisample modes whose curve coverage goes through the half-plane mask table
-MASK_TABLE_MODES = MSAA_MODES[1:]
 #: the alpha mode with the saturating (anti-correlated) blend, fills drawn front to back
 #: (seed 002; docs/modes.md): no seam where fills abut, wrong where they overlap
 SATURATE_MODES = ("alpha-sat",)

@@ -30,11 +30,11 @@ from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
-from .modes import EXACT_MODES, FILTERS, MASK_TABLE_MODES, MODES, SATURATE_MODES
+from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
-from .sample_patterns import (SamplePattern, a2c_order, offsets_mask_table, sample_pattern,
+from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
                               stratified_pattern)
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
                    msaa_scratch, render_analytic, render_msaa)
@@ -68,13 +68,6 @@ BANDS_PER_THREAD = 4
 #: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
 #: filter region (within the image) is larger is not drawn
 MAX_FILTER_PIXELS = 1 << 24
-
-
-#: the mask table argument of the modes without one: read-only like the cached tables
-#: (sample_patterns._mask_table), since numba compiles a kernel once more for each
-#: array-writeability it is passed (scan_lenses and render_msaa: ~8 s of first-run compile)
-NO_MASK_TABLE = np.zeros((1, 1), dtype=np.uint64)
-NO_MASK_TABLE.flags.writeable = False
 
 
 class RenderOptions:
@@ -118,8 +111,8 @@ class RenderOptions:
         #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
         #: change, so off only to test that
         self.occlude = True
-        #: counted by the approx mode over a render: curve pixels, those where the half-plane
-        #: did not decide every sample, and the samples evaluated there (scan.scan_lenses)
+        #: counted over a render by the modes that evaluate curves per sample: curve pixels,
+        #: those where samples were evaluated (all) and the samples (scan.scan_lenses)
         self.lens_stats = np.zeros(3, dtype=np.int64)
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
@@ -159,22 +152,20 @@ class RenderOptions:
                             for s in range(pat.samples)]
 
     def _use_offsets(self, offsets: np.ndarray, weights: np.ndarray) -> None:
-        """The kernels' sample positions (0..1 in the pixel), resolve weights, mask table and
+        """The kernels' sample positions (0..1 in the pixel), resolve weights and
         alpha-to-coverage masks for these offsets from the pixel centre."""
         n = len(offsets)
         self.samples = n
         self.sx = np.ascontiguousarray(offsets[:, 0] + 0.5)
         self.sy = np.ascontiguousarray(offsets[:, 1] + 0.5)
         self.weights = (weights / weights.sum()).astype(np.float32)
-        if self.mode in MASK_TABLE_MODES:
-            self.table = offsets_mask_table(offsets)
+        if self.mode == "a2c":
             order = a2c_order(offsets)
             bits = np.zeros(n + 1, dtype=np.uint64)
             for k in range(1, n + 1):
                 bits[k] = bits[k - 1] | (np.uint64(1) << np.uint64(order[k - 1]))
             self.a2c_bits = bits
         else:
-            self.table = NO_MASK_TABLE
             self.a2c_bits = np.zeros(2, dtype=np.uint64)
 
     def _one_sample(self, offset) -> "RenderOptions":
@@ -356,14 +347,22 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     run_bands(draw_bands, starts, threads, pool)
 
 
+#: heaviest_first's cost of a pixel of a fill's box, against 1 for an edge or lens: with the
+#: edges alone the tiger's heaviest band at 2048 px came third, and scheduled as two threads
+#: take them, the bands' measured times (threads=1 CPU) ended the threads 1.4 ms later than in
+#: the order of those times, which this weight gives (and no other corpus file's order worse;
+#: docs/bench.md, session 13)
+AREA_COST = 1e-4
+
+
 def heaviest_first(items, starts, band_rows: int):
-    """The band starts in order of the edges and lenses that reach each band, most first (a
-    guess at their cost: each fill's spread evenly over the bands its box reaches; ties top
-    down), so that threads taking bands in turn do not end with one of them drawing a heavy
-    band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25, 24, 13, 9 and 5 ms
-    top down, and two threads ended 8 ms apart. Top down where a filtered layer takes part
-    (filtered_part lets go of its pixels after the band holding its last row, and a band
-    above drawn later would filter it again)."""
+    """The band starts in order of a guess at their cost, most first (ties top down): each
+    fill's edges and lenses spread evenly over the bands its box reaches, plus AREA_COST for
+    each pixel of its box in the band. So threads taking bands in turn do not end with one of
+    them drawing a heavy band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25,
+    24, 13, 9 and 5 ms top down, and two threads ended 8 ms apart. Top down where a filtered
+    layer takes part (filtered_part lets go of its pixels after the band holding its last
+    row, and a band above drawn later would filter it again)."""
     n = len(starts)
     cost = np.zeros(n + 1)
 
@@ -375,7 +374,8 @@ def heaviest_first(items, starts, band_rows: int):
                 keep = first <= last
                 first, last = first[keep], last[keep]
                 work = (np.diff(item.edge_off) + np.diff(item.prim_off))[keep]
-                share = work / (last - first + 1)
+                width = np.maximum(item.box[:, 2], 0.0) - np.maximum(item.box[:, 0], 0.0)
+                share = work / (last - first + 1) + AREA_COST * band_rows * width[keep]
                 # + share on the bands first .. last: a difference array
                 cost[:] += np.bincount(first, share, minlength=n + 1)
                 cost[:] -= np.bincount(last + 1, share, minlength=n + 1)
@@ -613,12 +613,11 @@ class Raster:
         if o.color_samples < o.samples:
             render_csaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
                         b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                        o.table, o.a2c_bits, o.saturate, self.scratch)
+                        o.a2c_bits, o.saturate, self.scratch)
         else:
             render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                        o.kernel_mode, o.table, o.a2c_bits, o.occlude, o.saturate,
-                        self.scratch)
+                        o.kernel_mode, o.a2c_bits, o.occlude, o.saturate, self.scratch)
         if o.saturate:
             composite(out, target)
 

@@ -9,7 +9,7 @@ strip (bounded memory). Per fill and strip:
    *dirty* and listed per row.
 2. Curve primitives add their lens contribution to the samples of the pixels they touch, with
    the coverage mode deciding which samples: the implicit function at every sample
-   (``persample``), one evaluation plus a half-plane mask table (``approx``), a fractional alpha
+   (``persample`` and ``approx``), a fractional alpha
    (``alpha``) or an alpha-to-coverage mask (``a2c``).
 3. A sweep over the dirty pixels of each row turns windings into coverage (fill rule) and
    composites the paint — evaluated once per pixel — into the covered samples. Runs of clean
@@ -25,9 +25,9 @@ import math
 import numpy as np
 from ..jit import njit
 
-from ..geometry.primitives import (P_BBOX, P_CHORD, P_CTRL, P_NCTRL, P_RIGHT, P_SIGMA, P_T1,
-                                   P_T2, P_WSIGN, _eval_implicit,
-                                   _linearisation_bound, _linearisation_norms)
+from ..geometry.primitives import (KIND_QUAD, P_BBOX, P_CHORD, P_CTRL, P_INVS, P_K, P_KIND, P_L,
+                                   P_M, P_NCTRL, P_OX, P_OY, P_RIGHT, P_SIGMA, P_T1, P_T2,
+                                   P_WSIGN, _eval_implicit)
 from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade_span
 
@@ -128,7 +128,7 @@ def _band_x_range(prim, y_lo, y_hi):
     n = int(prim[P_NCTRL])
     xmin, xmax = np.inf, -np.inf
     for i in range(n):
-        j = (i + 1) % n
+        j = i + 1 if i + 1 < n else 0     # not (i + 1) % n: an integer division per edge
         ax, ay = prim[P_CTRL + 2 * i], prim[P_CTRL + 2 * i + 1]
         bx, by = prim[P_CTRL + 2 * j], prim[P_CTRL + 2 * j + 1]
         if ay > by:
@@ -166,19 +166,6 @@ def _clip_half_plane(lo, hi, a, b, c, sxs, ys):
     elif v > 0.0:
         lo = BIG
     return lo, hi
-
-
-@njit(cache=True, inline="always")
-def _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local):
-    """The implicit function at every sample of ``region``: the persample test."""
-    touched = False
-    for s in range(sx.shape[0]):
-        if (region >> np.uint64(s)) & np.uint64(1):
-            f, gx, gy = _eval_implicit(prim, px + sx[s], py + sy[s])
-            if sigma * f < 0.0:
-                local[r, px, s] += wsign
-                touched = True
-    return touched
 
 
 @njit(cache=True, inline="always")
@@ -335,19 +322,30 @@ def prim_rows(prims):
 
 
 @njit(cache=True, error_model="numpy")
-def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bits, local,
-                dirty, dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
+def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, local, dirty,
+                dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
     mode, except in the rows where ``hidden`` is set and at the pixels stamped ``full_id``
     (covered whole by the fills in front of this one in its occlusion run: a lens's winding
-    stays in its pixel, so nothing of it can show there; -1 for a fill drawn on its own). Written out in one loop nest: an array handed to a helper costs a reference count
-    per call, here per primitive and per touched pixel. ``lens_stats`` counts the curve pixels of
-    the approx mode (0), those where it evaluated samples (1) and those samples (2)."""
+    stays in its pixel, so nothing of it can show there; -1 for a fill drawn on its own).
+    Written out in one loop nest: an array handed to a helper costs a reference count per
+    call, here per primitive and per touched pixel.
+
+    The sample modes (approx, persample, none) evaluate the implicit function at each sample
+    on the lens side of the chord and tangents. That is what approx's half-plane table decided
+    too (docs/modes.md: its bounded error sent every sample it could not decide surely to this
+    same test), and cheaper than the one evaluation, gradient, table look-ups and undecided
+    samples it took per pixel (the tiger at 2048 px: 45% of its curve pixels left samples
+    undecided; docs/bench.md, session 13). alpha and a2c evaluate the distance at the pixel
+    centre. ``lens_stats`` counts the curve pixels of the sample modes (0), those where samples
+    were evaluated (1: all of them) and the samples evaluated (2)."""
     n = sx.shape[0]
-    rho = 0.0
-    for s in range(n):
-        rho = max(rho, math.hypot(sx[s] - 0.5, sy[s] - 0.5))
-    quantum = mask_error(rho)
+    by_sample = mode == MODE_APPROX or mode == MODE_PERSAMPLE or mode == MODE_NONE
+    # per sample, the row's terms of k, l and m (see _eval_implicit)
+    k_row = np.empty(n)
+    l_row = np.empty(n)
+    m_row = np.empty(n)
+    evaluated = 0
     for c in range(c0, c1):
         if prim_y[c, 1] < sy0 or prim_y[c, 0] >= sy0 + rows:
             continue
@@ -359,18 +357,24 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bi
         r_hi = min(_floor_int(by1) - sy0, rows - 1)
         if r_lo > r_hi:
             continue
-        full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
         xt, yt, xb, yb = prim[P_CHORD], prim[P_CHORD + 1], prim[P_CHORD + 2], prim[P_CHORD + 3]
         right = prim[P_RIGHT] != 0.0
         horizontal = yt == yb
         dxdy = 0.0 if horizontal else (xb - xt) / (yb - yt)
         sigma = prim[P_SIGMA]
         wsign = prim[P_WSIGN]
-        la, lb, lc = _linearisation_norms(prim, rho)
         # end tangents bound cubic and conic lenses (plain quads have none: (0, 0, 1))
         t1a, t1b, t1c = prim[P_T1], prim[P_T1 + 1], prim[P_T1 + 2]
         t2a, t2b, t2c = prim[P_T2], prim[P_T2 + 1], prim[P_T2 + 2]
         tangents = t1a != 0.0 or t1b != 0.0 or t2a != 0.0 or t2b != 0.0
+        # _eval_implicit's terms, the same arithmetic
+        ox, oy, inv = prim[P_OX], prim[P_OY], prim[P_INVS]
+        ka, kb, kc = prim[P_K], prim[P_K + 1], prim[P_K + 2]
+        la, lb, lc = prim[P_L], prim[P_L + 1], prim[P_L + 2]
+        ma, mb, mc = prim[P_M], prim[P_M + 1], prim[P_M + 2]
+        cubic = prim[P_KIND] != KIND_QUAD
+        w32 = np.float32(wsign)
+        full = np.uint64(0xFFFFFFFFFFFFFFFF) if n >= 64 else np.uint64((1 << n) - 1)
         for r in range(r_lo, r_hi + 1):
             if hidden[r]:
                 continue
@@ -384,6 +388,7 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bi
                 continue
             # per sample: the pixel range where it is on the lens side of chord and tangents
             max_lo, min_hi = -BIG, BIG
+            min_lo, max_hi = BIG, -BIG
             for s in range(n):
                 ys = py + sy[s]
                 if horizontal:
@@ -402,82 +407,81 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, table, a2c_bi
                     lo[s], hi[s] = _clip_half_plane(lo_s, hi_s, t2a, t2b, t2c, sx[s], ys)
                 max_lo = max(max_lo, lo[s])
                 min_hi = min(min_hi, hi[s])
+                min_lo = min(min_lo, lo[s])
+                max_hi = max(max_hi, hi[s])
+            # only the pixels where some sample is on the lens side
+            pxa = max(pxa, min_lo)
+            pxz = min(pxz, max_hi)
+            for s in range(n):
+                Y = (py + sy[s] - oy) * inv
+                k_row[s] = kb * Y
+                l_row[s] = lb * Y
+                m_row[s] = mb * Y
             for px in range(pxa, pxz + 1):
                 if stamp[r, px] == full_id:
                     continue
-                if px >= max_lo and px <= min_hi:
-                    region = full
-                else:
-                    region = np.uint64(0)
-                    for s in range(n):
-                        if lo[s] <= px and px <= hi[s]:
-                            region |= np.uint64(1) << np.uint64(s)
-                    if region == 0:
-                        continue
-                touched = False
-                if mode == MODE_PERSAMPLE or mode == MODE_NONE:
-                    touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign, local)
-                else:
+                if not by_sample:
+                    if px >= max_lo and px <= min_hi:
+                        region = full
+                    else:
+                        region = np.uint64(0)
+                        for s in range(n):
+                            if lo[s] <= px and px <= hi[s]:
+                                region |= np.uint64(1) << np.uint64(s)
+                        if region == 0:
+                            continue
                     f, gx, gy = _eval_implicit(prim, px + 0.5, py + 0.5)
-                    # |∇f| by sqrt where the squares can neither overflow nor underflow (glibc's
-                    # hypot, exact-rounded at every scale, was 2% of a render)
+                    # |∇f| by sqrt where the squares can neither overflow nor underflow
+                    # (glibc's hypot, exact-rounded at every scale, was 2% of a render)
                     g = math.sqrt(gx * gx + gy * gy)
                     if not (1e-150 < g < 1e150):
                         g = math.hypot(gx, gy)
-                    if not (g > 0.0) or not math.isfinite(f):
-                        # singular point (cusp, double point): evaluate per sample instead
-                        if mode == MODE_APPROX:
-                            lens_stats[0] += 1
-                            lens_stats[1] += 1
-                        touched = _lens_per_sample(prim, region, r, px, py, sx, sy, sigma, wsign,
-                                                   local)
-                    else:
-                        dist = sigma * f / g
+                    if g > 0.0 and math.isfinite(f):
+                        alpha = _lens_alpha(sigma * f / g, bx0, by0, bx1, by1, px, py)
                         if mode == MODE_ALPHA:
-                            alpha = _lens_alpha(dist, bx0, by0, bx1, by1, px, py)
-                            if alpha > 0.0:
-                                for s in range(n):
-                                    if (region >> np.uint64(s)) & np.uint64(1):
-                                        local[r, px, s] += wsign * alpha
-                                        touched = True
-                        else:
-                            if mode == MODE_APPROX:
-                                # the half-plane decides the samples farther from it than the
-                                # curve can depart from its tangent in the pixel plus the
-                                # table's quantisation; the rest are evaluated
-                                margin = (_linearisation_bound(prim, px + 0.5, py + 0.5, la, lb, lc)
-                                          / g + quantum)
-                                if margin < DMAX:
-                                    ai = mask_angle(sigma * gx / g, sigma * gy / g)
-                                    bits = mask_at(table, ai, dist + margin, full) & region
-                                    unsure = (mask_at(table, ai, dist - margin, full)
-                                              & region & ~bits)
-                                else:
-                                    bits = np.uint64(0)
-                                    unsure = region
-                                lens_stats[0] += 1
-                                if unsure != 0:
-                                    lens_stats[1] += 1
-                                    for s in range(n):
-                                        if (unsure >> np.uint64(s)) & np.uint64(1):
-                                            lens_stats[2] += 1
-                                            fs, gxs, gys = _eval_implicit(prim, px + sx[s],
-                                                                          py + sy[s])
-                                            if sigma * fs < 0.0:
-                                                bits |= np.uint64(1) << np.uint64(s)
-                            else:  # MODE_A2C
-                                alpha = _lens_alpha(dist, bx0, by0, bx1, by1, px, py)
-                                k = int(alpha * n + 0.5)
-                                bits = a2c_bits[k] & region
-                            if bits != 0:
-                                for s in range(n):
-                                    if (bits >> np.uint64(s)) & np.uint64(1):
-                                        local[r, px, s] += wsign
-                                touched = True
-                if touched and dirty[r, px] == 0:
+                            if not (alpha > 0.0):
+                                continue
+                            for s in range(n):
+                                if (region >> np.uint64(s)) & np.uint64(1):
+                                    local[r, px, s] += wsign * alpha
+                        else:  # MODE_A2C
+                            bits = a2c_bits[int(alpha * n + 0.5)] & region
+                            if bits == 0:
+                                continue
+                            for s in range(n):
+                                if (bits >> np.uint64(s)) & np.uint64(1):
+                                    local[r, px, s] += wsign
+                        if dirty[r, px] == 0:
+                            dirty[r, px] = 1
+                            dlist[r, dcount[r]] = px
+                            dcount[r] += 1
+                        continue
+                    # a singular point (cusp, double point): evaluated per sample instead
+                # the samples inside the lens, in registers first: only a pixel with some is
+                # read and written (the strip's lens buffer is not in the caches)
+                evaluated += 1
+                bits = np.uint64(0)
+                for s in range(n):
+                    X = (px + sx[s] - ox) * inv
+                    k = ka * X + k_row[s] + kc
+                    l = la * X + l_row[s] + lc
+                    m = ma * X + m_row[s] + mc
+                    kk = k * k
+                    f = (kk * k if cubic else kk) - l * m
+                    inside = (sigma * f < 0.0) & (lo[s] <= px) & (px <= hi[s])
+                    bits |= np.uint64(inside) << np.uint64(s)
+                if bits == 0:
+                    continue
+                for s in range(n):
+                    if (bits >> np.uint64(s)) & np.uint64(1):
+                        local[r, px, s] += w32
+                if dirty[r, px] == 0:
                     dirty[r, px] = 1
                     dlist[r, dcount[r]] = px
                     dcount[r] += 1
+    lens_stats[0] += evaluated
+    lens_stats[1] += evaluated
+    lens_stats[2] += evaluated * n
 
 
 @njit(cache=True, error_model="numpy")
@@ -842,8 +846,7 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
 
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
-                paint_f, lut, tex, sx, sy, weights, mode, table, a2c_bits, occlude, saturate,
-                scratch):
+                paint_f, lut, tex, sx, sy, weights, mode, a2c_bits, occlude, saturate, scratch):
     """Render a batch of fills onto ``target`` ((H, W, 4) float32 premultiplied, holding the
     device rows y0 .. y0 + H - 1) in place, strip by strip with the ``msaa_scratch`` buffers.
 
@@ -929,7 +932,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                            dirty, dlist, dcount, hidden)
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx,
-                                sy, mode, table, a2c_bits, local, dirty, dlist, dcount, lo, hi,
+                                sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
                                 lens_stats, hidden, stamp, full_id if run else -1)
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
