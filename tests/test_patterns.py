@@ -11,8 +11,7 @@ from truth import polygon_pixel_coverage, segments, winding_at
 from vecmsaa.raster.modes import FILTERS, PATTERN_NAMES
 from vecmsaa.raster.render import render_scene, render_scene_rgba8
 from vecmsaa.raster.resolve import RADIUS, filter_weight
-from vecmsaa.raster.sample_patterns import (FIXED_SAMPLES, offsets_mask_table, sample_pattern)
-from vecmsaa.raster.scan import mask_lookup
+from vecmsaa.raster.sample_patterns import FIXED_SAMPLES, sample_pattern
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
 from vecmsaa.scene.path import Path
 
@@ -243,21 +242,7 @@ def test_curves_are_point_sampled_at_the_pattern_positions(name):
     assert np.abs(got - want).max() < 1e-5
 
 
-@pytest.mark.parametrize("name,n", [(name, n) for name, n in ALL if n > 1])
-def test_mask_table_bits_equal_the_exact_half_plane(name, n):
-    rng = np.random.default_rng(2)
-    pat = sample_pattern(name, n)
-    for offs in pat.offsets[:2]:
-        table = offsets_mask_table(offs)
-        full = np.uint64((1 << len(offs)) - 1)
-        tol = 2 * math.pi / 512 * 0.75 + 1.5 / 128
-        for theta, d in zip(rng.uniform(0, 2 * math.pi, 400), rng.uniform(-0.8, 0.8, 400)):
-            nx, ny = math.cos(theta), math.sin(theta)
-            bits = int(mask_lookup(table, nx, ny, d, full))
-            for s, (ox, oy) in enumerate(offs):
-                side = ox * nx + oy * ny + d
-                if abs(side) > tol:
-                    assert bool(bits >> s & 1) == (side < 0), (s, side)
+
 
 
 @pytest.mark.parametrize("filt", ["tent1", "gaussian", "mitchell"])

@@ -10,14 +10,13 @@ from hypothesis import strategies as st
 from truth import distance_to_outline, polygon_pixel_coverage, segments, winding_at
 from vecmsaa.geometry.primitives import QUAD_FALLBACK_TOL
 from vecmsaa.scene.path import Path
-from vecmsaa.raster.sample_patterns import mask_table, standard_pattern
+from vecmsaa.raster.sample_patterns import standard_pattern
 from vecmsaa.output.png import encode_png
 from vecmsaa.raster.modes import MODES
 from vecmsaa.raster import render as render_module
 from vecmsaa.raster.render import (RenderOptions, render_float, render_scene, render_scene_png,
                                    render_scene_rgba8)
 from vecmsaa.output.rgba8 import to_rgba8
-from vecmsaa.raster.scan import mask_error, mask_lookup
 from vecmsaa.scene.nodes import Fill, Group, LinearGradient, Mask, Scene, Solid
 
 SIZE = 16
@@ -109,22 +108,6 @@ def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
     assert_matches_brute_force(path, "approx", samples, rule)
 
 
-def test_approx_margin_covers_the_mask_table_quantisation():
-    rng = np.random.default_rng(3)
-    for n in (8, 16):
-        offs = standard_pattern(n)
-        table = mask_table(n)
-        full = np.uint64((1 << n) - 1)
-        margin = mask_error(float(np.hypot(offs[:, 0], offs[:, 1]).max()))
-        for theta, d in zip(rng.uniform(0, 2 * math.pi, 20000), rng.uniform(-0.8, 0.8, 20000)):
-            nx, ny = math.cos(theta), math.sin(theta)
-            bits = int(mask_lookup(table, nx, ny, d, full))
-            for s, (ox, oy) in enumerate(offs):
-                side = ox * nx + oy * ny + d
-                if abs(side) > margin:
-                    assert bool(bits >> s & 1) == (side < 0), (n, s, side)
-
-
 @settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(closed_paths())
 def test_none_mode_samples_the_pixel_centre(path):
@@ -213,22 +196,6 @@ def test_degenerate_paths_draw_nothing_and_never_nan():
             a = alpha_of(path, mode)
             assert np.isfinite(a).all()
             assert a.sum() < 1e-3, mode
-
-
-@settings(max_examples=300, deadline=None)
-@given(st.floats(0, 2 * math.pi), st.floats(-0.8, 0.8), st.sampled_from([2, 4, 8, 16]))
-def test_approx_mask_agrees_with_the_exact_half_plane_mask(theta, d, n):
-    nx, ny = math.cos(theta), math.sin(theta)
-    offs = standard_pattern(n)
-    table = mask_table(n)
-    full = np.uint64((1 << n) - 1)
-    bits = int(mask_lookup(table, nx, ny, d, full))
-    # quantisation: 512 angle bins (≤ 2π/512·0.75 px of motion at the rim) and 128 distance bins
-    tol = 2 * math.pi / 512 * 0.75 + 1.5 / 128
-    for s, (ox, oy) in enumerate(offs):
-        side = ox * nx + oy * ny + d
-        if abs(side) > tol:
-            assert bool(bits >> s & 1) == (side < 0), (s, side)
 
 
 def test_d3d_standard_patterns():

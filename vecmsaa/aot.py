@@ -100,9 +100,8 @@ GEOMETRY_PART = ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
                  "vecmsaa.raster.filter_effects:_turbulence_pixels")
 #: Kernels no default command calls are a part built on the first call of one of them, alone:
 #: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
-#: the curve and mask-table functions only tests call (≈ 1 s).
-LAZY_KERNELS = ("vecmsaa.raster.csaa:", "vecmsaa.raster.scan:mask_error",
-                "vecmsaa.raster.scan:mask_lookup", "vecmsaa.geometry.primitives:_eval_implicit")
+#: the curve function only tests call.
+LAZY_KERNELS = ("vecmsaa.raster.csaa:", "vecmsaa.geometry.primitives:_eval_implicit")
 LAZY_PART = 2
 
 

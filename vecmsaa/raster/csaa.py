@@ -38,7 +38,7 @@ def csaa_scratch(strip_rows: int, W: int, n: int, slots: int, lens_stats=None) -
             np.empty(pixels, dtype=np.int64),                       # slot_pixel
             np.empty((pixels, slots, 4), dtype=np.float32),         # colours: K per table
             np.empty((pixels, n), dtype=np.uint8),                  # index: a sample's entry
-            np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats,
+            np.zeros(1, dtype=np.int64) if lens_stats is None else lens_stats,
             np.empty((W + 1, 4), dtype=np.float64))                 # span: a span's paint
 
 

@@ -9,7 +9,8 @@ Coverage modes (see docs/modes.md):
 - ``alpha-sat``: ``alpha``'s α, each batch of fills drawn front to back with the saturating
   blend i = min(A_f, 1 − A_fb) (seed 002's anti-correlated blend), then composited over.
 - ``persample``: the implicit function at every sample.
-- ``approx``: one evaluation per pixel and a half-plane coverage-mask look-up (default).
+- ``approx``: the implicit function at every sample, as ``persample`` (default; until
+  session 13 one evaluation per pixel and a half-plane coverage-mask look-up).
 - ``analytic``: exact area per path, composited per pixel (tiny-skia style).
 - ``reference``: 256 stratified samples per pixel on finely flattened outlines, composited per
   sample: conflation-free ground truth.
@@ -111,9 +112,8 @@ class RenderOptions:
         #: runs of opaque fills drawn front to back (scan.render_msaa); the pixels do not
         #: change, so off only to test that
         self.occlude = True
-        #: counted over a render by the modes that evaluate curves per sample: curve pixels,
-        #: those where samples were evaluated (all) and the samples (scan.scan_lenses)
-        self.lens_stats = np.zeros(3, dtype=np.int64)
+        #: curve pixels evaluated per sample over a render (scan.scan_lenses)
+        self.lens_stats = np.zeros(1, dtype=np.int64)
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
         self.tiles = {}

@@ -1,4 +1,4 @@
-"""Sample patterns and the half-plane coverage-mask table of the ``approx`` mode.
+"""Sample patterns.
 
 Patterns are sample offsets from the pixel centre in pixels (RTR3 §5.6 and docs/modes.md):
 the Direct3D 10.1 standard patterns (offsets in 1/16 pixel, Fig. 2 of Schwarz & Stamminger),
@@ -7,14 +7,10 @@ the same image every run), and three that a pixel does not own alone: quincunx a
 (samples on the pixel's corners or edges, shared with the neighbours) and interleaved sampling
 (a tile of pixels, each with its own pattern). The scan converter takes any positions in the
 pixel; samples that share a row (the grid) just share a scanline.
-
-The coverage-mask table answers "which samples lie in the half-plane <x, n> + d < 0" for a
-quantised (angle, distance) pair — the Hough parametrisation of the paper's look-up texture.
 """
 from __future__ import annotations
 
 import math
-from functools import lru_cache
 
 import numpy as np
 
@@ -32,12 +28,6 @@ D3D_PATTERNS = {
 
 #: samples per pixel of the conflation-free ``reference`` mode (a 16 x 16 stratified grid)
 REFERENCE_SIDE = 16
-
-#: table resolution: pseudo-angle bins over the full circle, distance bins over [-DMAX, DMAX]
-ANGLE_BINS = 512
-DIST_BINS = 128
-#: the largest distance of a pattern sample from the centre is below sqrt(2)/2
-DMAX = 0.75
 
 
 def standard_pattern(samples: int) -> np.ndarray:
@@ -226,42 +216,6 @@ def pattern_offsets(name: str, samples: int) -> np.ndarray:
     if offsets.shape[0] != 1:
         raise ValueError(f"pattern {name!r} differs between pixels")
     return offsets[0]
-
-
-def mask_table(samples: int, pattern: str = "d3d") -> np.ndarray:
-    """:func:`offsets_mask_table` of a pattern that is the same in every pixel."""
-    return offsets_mask_table(pattern_offsets(pattern, samples))
-
-
-def offsets_mask_table(offsets: np.ndarray) -> np.ndarray:
-    """(ANGLE_BINS, DIST_BINS) uint64: bit s set when sample s (offsets[s] from the pixel
-    centre) is inside <x, n> + d < 0 for the bin's centre direction n and centre distance d.
-    One table per set of sample positions."""
-    offsets = np.ascontiguousarray(offsets, dtype=np.float64)
-    return _mask_table(offsets.tobytes(), len(offsets))
-
-
-@lru_cache(maxsize=None)
-def _mask_table(key: bytes, samples: int) -> np.ndarray:
-    # every bin at once: a loop over the 512 directions was 11 ms of a process's 0.2 s start
-    offs = np.frombuffer(key).reshape(samples, 2)
-    dists = (np.arange(DIST_BINS) + 0.5) / DIST_BINS * 2 * DMAX - DMAX
-    # each bin's centre direction: the inverse of the pseudo-angle scan.mask_lookup uses (a
-    # cheap monotone stand-in for atan2 on [0, 4)), one formula per quarter
-    a = (np.arange(ANGLE_BINS) + 0.5) / ANGLE_BINS * 4.0
-    quarter = np.minimum(a.astype(np.int64), 3)
-    nx = np.choose(quarter, (1.0 - a, 1.0 - a, a - 3.0, a - 3.0))
-    ny = np.choose(quarter, (a, 2.0 - a, 2.0 - a, a - 4.0))
-    length = np.hypot(nx, ny)
-    nx, ny = nx / length, ny / length
-    # <x_s, n> written out: a matrix product calls OpenBLAS, whose threads then spin for
-    # a while on the other cores, where the render's bands are drawn
-    table = np.zeros((ANGLE_BINS, DIST_BINS), dtype=np.uint64)
-    for s in range(samples):
-        proj = offs[s, 0] * nx + offs[s, 1] * ny
-        table |= (proj[:, None] + dists[None, :] < 0).astype(np.uint64) << np.uint64(s)
-    table.flags.writeable = False
-    return table
 
 
 def a2c_order(offs: np.ndarray) -> np.ndarray:

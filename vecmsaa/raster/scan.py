@@ -28,7 +28,6 @@ from ..jit import njit
 from ..geometry.primitives import (KIND_QUAD, P_BBOX, P_CHORD, P_CTRL, P_INVS, P_K, P_KIND, P_L,
                                    P_M, P_NCTRL, P_OX, P_OY, P_RIGHT, P_SIGMA, P_T1, P_T2,
                                    P_WSIGN, _eval_implicit)
-from .sample_patterns import ANGLE_BINS, DIST_BINS, DMAX
 from .shaders import shade_span
 
 # The per-fill kernels use numpy's error model: a float division by zero gives inf or NaN
@@ -60,45 +59,6 @@ def crossing_x(xt, yt, dxdy, ys):
     """x where an edge (top point, slope dx/dy) crosses the scanline y = ys. The chord test of
     a curve primitive uses this same arithmetic, so both always agree on a sample's side."""
     return xt + (ys - yt) * dxdy
-
-
-@njit(cache=True, inline="always")
-def mask_angle(nx, ny):
-    """The table's angle bin of the unit normal (nx, ny): its pseudo-angle (diamond angle)."""
-    if ny >= 0:
-        da = ny / (nx + ny) if nx >= 0 else 1.0 - nx / (-nx + ny)
-    else:
-        da = 2.0 - ny / (-nx - ny) if nx < 0 else 3.0 + nx / (nx - ny)
-    return int(da * (ANGLE_BINS / 4.0)) % ANGLE_BINS
-
-
-@njit(cache=True, inline="always")
-def mask_at(table, ai, dist, full):
-    """mask_lookup in the angle bin ``ai``: a pixel asks twice with one normal (mask_angle
-    once)."""
-    if dist <= -DMAX:
-        return full
-    if dist >= DMAX:
-        return np.uint64(0)
-    di = int((dist + DMAX) * (DIST_BINS / (2.0 * DMAX)))
-    di = min(DIST_BINS - 1, max(0, di))
-    return table[ai, di]
-
-
-@njit(cache=True, inline="always")
-def mask_lookup(table, nx, ny, dist, full):
-    """Samples inside the half-plane <x, n> + dist < 0 (unit n, pixel-centre origin), from
-    the precomputed (pseudo-angle, distance) table: the paper's look-up texture."""
-    return mask_at(table, mask_angle(nx, ny), dist, full)
-
-
-@njit(cache=True, inline="always")
-def mask_error(rho):
-    """How far (pixels) a mask_lookup answer can put a sample at radius ≤ rho from the pixel
-    centre on the wrong side of the exact half-plane: half a distance bin, plus half an angle
-    bin (a pseudo-angle bin spans at most 2·4/ANGLE_BINS radians) turning the line by rho·Δθ,
-    plus float slack."""
-    return DMAX / DIST_BINS + rho * 4.0 / ANGLE_BINS + 1e-6
 
 
 @njit(cache=True, inline="always")
@@ -333,12 +293,11 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
 
     The sample modes (approx, persample, none) evaluate the implicit function at each sample
     on the lens side of the chord and tangents. That is what approx's half-plane table decided
-    too (docs/modes.md: its bounded error sent every sample it could not decide surely to this
-    same test), and cheaper than the one evaluation, gradient, table look-ups and undecided
-    samples it took per pixel (the tiger at 2048 px: 45% of its curve pixels left samples
-    undecided; docs/bench.md, session 13). alpha and a2c evaluate the distance at the pixel
-    centre. ``lens_stats`` counts the curve pixels of the sample modes (0), those where samples
-    were evaluated (1: all of them) and the samples evaluated (2)."""
+    until session 13 (docs/modes.md: its bounded error sent every sample it could not decide
+    surely to this same test), and cheaper than the one evaluation, gradient, table look-ups
+    and undecided samples it took per pixel (the tiger at 2048 px: 45% of its curve pixels
+    left samples undecided; docs/bench.md, session 13). alpha and a2c evaluate the distance at
+    the pixel centre. ``lens_stats[0]`` counts the curve pixels the sample modes evaluate."""
     n = sx.shape[0]
     by_sample = mode == MODE_APPROX or mode == MODE_PERSAMPLE or mode == MODE_NONE
     # per sample, the row's terms of k, l and m (see _eval_implicit)
@@ -480,8 +439,6 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                     dlist[r, dcount[r]] = px
                     dcount[r] += 1
     lens_stats[0] += evaluated
-    lens_stats[1] += evaluated
-    lens_stats[2] += evaluated * n
 
 
 @njit(cache=True, error_model="numpy")
@@ -821,7 +778,7 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
     """render_msaa's per-strip buffers, allocated once per image and reused by every call:
     the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels),
     but for the occlusion stamps, which hold the numbers of past runs (no later run's).
-    ``lens_stats``: where scan_lenses counts (3 int64), e.g. shared by a whole render."""
+    ``lens_stats``: where scan_lenses counts (1 int64), e.g. shared by a whole render."""
     return (np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # delta
             np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # local
             np.zeros((strip_rows, W + 1), dtype=np.uint8),          # dirty
@@ -834,7 +791,7 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.full((strip_rows, W), -1, dtype=np.int32),           # slot_of
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
             np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
-            np.zeros(3, dtype=np.int64) if lens_stats is None else lens_stats,
+            np.zeros(1, dtype=np.int64) if lens_stats is None else lens_stats,
             # runs of opaque fills (sweep_rows_behind): samples painted so far, whose they
             # are (the run's number), the next pixel not full, and the last run's number
             np.zeros((strip_rows, W), dtype=np.uint64),             # occ

@@ -33,26 +33,24 @@ CONFIGS = (("default", None, None), ("approx 8", "approx", 8), ("persample 8", "
 
 
 def _render(path, size, mode, samples):
-    """(straight RGBA8 image, approx-mode lens statistics or None) of one icon."""
+    """The straight RGBA8 image of one icon."""
     if mode is None:
-        return render_svg_array(str(path), width=size, height=size), None
+        return render_svg_array(str(path), width=size, height=size)
     scene = load_svg(str(path), width=size, height=size)
     opts = RenderOptions(mode, samples)
-    return to_rgba8(render_float(scene, opts)), (opts.lens_stats if mode == "approx" else None)
+    return to_rgba8(render_float(scene, opts))
 
 
 def measure(paths, sizes=(16, 24, 32), configs=CONFIGS, log=None):
     """{(label, size): {"pass": fraction passing vs ground truth, "pass_analytic": vs
     analytic, "edge": mean edge-pixel error × 255, "bad": mean off pixels of failing icons,
-    "seconds": render time, "fallback": fraction of approx curve pixels where the half-plane
-    left samples undecided, "evaluations": samples evaluated per approx curve pixel}} over the
-    icons that render."""
+    "seconds": render time}} over the icons that render."""
     stats = {}
     for size in sizes:
         for path in paths:
             try:
-                truth8 = _render(path, size, "reference", GROUND_TRUTH_SAMPLES)[0]
-                exact8 = _render(path, size, "analytic", 1)[0]
+                truth8 = _render(path, size, "reference", GROUND_TRUTH_SAMPLES)
+                exact8 = _render(path, size, "analytic", 1)
             except Exception as exc:  # an icon the renderer rejects is left out, and said
                 if log:
                     log(f"skip {path.name} at {size}: {exc}")
@@ -61,17 +59,11 @@ def measure(paths, sizes=(16, 24, 32), configs=CONFIGS, log=None):
             mask = edge_mask(truth)
             for label, mode, samples in configs:
                 t0 = time.perf_counter()
-                if mode == "analytic":
-                    img8, lens = exact8, None
-                else:
-                    img8, lens = _render(path, size, mode, samples)
+                img8 = exact8 if mode == "analytic" else _render(path, size, mode, samples)
                 dt = time.perf_counter() - t0
                 cmp = compare_images(img8, truth8)
                 s = stats.setdefault((label, size), {"n": 0, "pass": 0, "pass_analytic": 0,
-                                                     "edge": 0.0, "bad": 0, "seconds": 0.0,
-                                                     "lens": np.zeros(3, dtype=np.int64)})
-                if lens is not None:
-                    s["lens"] += lens
+                                                     "edge": 0.0, "bad": 0, "seconds": 0.0})
                 s["n"] += 1
                 s["pass"] += cmp.passed()
                 s["pass_analytic"] += compare_images(img8, exact8).passed()
@@ -85,9 +77,7 @@ def measure(paths, sizes=(16, 24, 32), configs=CONFIGS, log=None):
         fails = n - s["pass"]
         out[key] = {"icons": n, "pass": s["pass"] / n, "pass_analytic": s["pass_analytic"] / n,
                     "edge": s["edge"] / n, "bad": s["bad"] / fails if fails else 0.0,
-                    "seconds": s["seconds"],
-                    "fallback": s["lens"][1] / s["lens"][0] if s["lens"][0] else None,
-                    "evaluations": s["lens"][2] / s["lens"][0] if s["lens"][0] else None}
+                    "seconds": s["seconds"]}
     return out
 
 
@@ -107,12 +97,6 @@ def table(result, sizes) -> str:
             cells += [f"{100 * r['pass']:.1f}% ({100 * r['pass_analytic']:.1f}%)",
                       f"{r['edge']:.2f}"]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
-    for label in labels:
-        r = [result[(label, size)] for size in sizes if (label, size) in result]
-        if r and r[0]["fallback"] is not None:
-            lines.append(f"\n{label}: curve pixels where samples are evaluated: " + ", ".join(
-                f"{x['fallback']:.1%} at {size} px ({x['evaluations']:.2f} samples/pixel)"
-                for x, size in zip(r, sizes)))
     return "\n".join(lines)
 
 
