@@ -490,7 +490,7 @@ def test_font_variant_ligatures_none_turns_ligatures_off():
     ("Noto Sans", True), ("'Mplus 1p'", True), ('"Mplus 1p", serif', True),
     ("Mplus 1p", False), ("Noto Sans,", False), (", serif", False), ("inherit serif", False),
     ("-my-font", True), ("--x", True), ("Font\\ 1p", True), ("'a, b', c", True),
-    ("'unclosed", False), ("Noto 'Sans'", False),
+    ("'unclosed", True), ("Noto 'Sans'", False),   # CSS Syntax 3: a string ends with the value
 ])
 def test_font_family_list_validity(value, valid):
     from vecmsaa.svg.text.font_match import valid_family_list
@@ -903,3 +903,65 @@ def test_a_span_in_a_variable_font_is_drawn_at_its_own_location(span):
     both = ink(f'<tspan font-weight="100">I</tspan><tspan {span}>HHH</tspan>')
     assert abs(heavy - light) > 0.1 * light
     assert both - thin_i == pytest.approx(heavy, rel=0.02)
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("prop, value", [
+    ("font-style", "italic"), ("font-weight", "bold"), ("font-size", "x-large"),
+    ("text-anchor", "middle"), ("writing-mode", "tb"), ("dominant-baseline", "central"),
+    ("text-decoration", "line-through"), ("font-variant", "small-caps"),
+    ("letter-spacing", "5px"), ("baseline-shift", "super"), ("font-family", "inherit")])
+def test_keywords_are_ascii_case_insensitive(prop, value):
+    # CSS Values 4 §2.1: keywords (and units) are ASCII case-insensitive, in a presentation
+    # attribute (parsed as a CSS value) as in a declaration
+    def draw(body):
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+               f'<g font-family="Noto Sans">{body}</g></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
+                                mode="analytic")
+    text = '<text x="100" y="50" KW>Ab<tspan BS>cd</tspan> AV</text>'
+
+    def body(form):
+        if prop == "baseline-shift":
+            return text.replace("KW", "").replace("BS", form)
+        return text.replace("KW", form).replace("BS", "")
+    plain = draw(body(""))
+    lower = draw(body(f'{prop}="{value}"'))
+    if prop != "font-family":
+        assert not np.array_equal(plain, lower)
+    for v in (value.upper(), value.capitalize()):
+        assert np.array_equal(draw(body(f'{prop}="{v}"')), lower)
+        assert np.array_equal(draw(body(f'style="{prop}: {v}"')), lower)
+
+
+def test_font_family_is_read_as_a_css_value():
+    # CSS Syntax 3 tokenizes a presentation attribute's value as CSS: escapes are decoded,
+    # a string left open at the end of the value ends there, comments separate identifiers
+    from vecmsaa.svg.text.font_match import family_names
+    assert family_names(r"\4E oto Sans") == ["Noto Sans"]
+    assert family_names(r"No\74 o\ Sans, serif") == ["Noto Sans", "serif"]
+    assert family_names(r"'\4E oto Sans'") == ["Noto Sans"]
+    assert family_names("'Noto Sans") == ["Noto Sans"]
+    assert family_names("Noto Mono, \"Noto Sans") == ["Noto Mono", "Noto Sans"]
+    assert family_names("'Noto Sans, serif") == ["Noto Sans, serif"]   # one string
+    assert family_names("Noto/**/Sans") == ["Noto Sans"]
+    assert family_names("'serif'") == ['"serif"']        # a family called serif
+    assert family_names(r"\73 erif") == ["serif"]        # the generic: an identifier
+    for invalid in ("Mplus 1p", "'a' b", "a 'b'", "a,", ",a", "", "a, inherit", "a;b",
+                    "a !important", "a(b)"):
+        assert family_names(invalid) is None, invalid
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+def test_escaped_and_unterminated_family_names_in_attributes():
+    def draw(family):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
+               f'<g font-family="Noto Mono"><text x="10" y="60" font-size="26" '
+               f'font-family="{family}">Family Wg</text></g></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    sans = draw("Noto Sans")
+    assert not np.array_equal(sans, draw("Noto Serif"))
+    for form in (r"\4E oto Sans", r"Noto\ Sans", "'Noto Sans", "Noto/**/Sans"):
+        assert np.array_equal(draw(form), sans), form

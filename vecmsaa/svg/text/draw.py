@@ -71,7 +71,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     # Antialiasing of text, decorations included, is the <text> element's text-rendering
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
-    antialias = (ctx.style.get("text-rendering") or "auto").strip() != "optimizeSpeed"
+    antialias = (ctx.style.get("text-rendering") or "auto").strip().lower() != "optimizespeed"
     for fill in _fills_of(out):
         fill.antialias = antialias
     return out
