@@ -965,3 +965,23 @@ def test_escaped_and_unterminated_family_names_in_attributes():
     assert not np.array_equal(sans, draw("Noto Serif"))
     for form in (r"\4E oto Sans", r"Noto\ Sans", "'Noto Sans", "Noto/**/Sans"):
         assert np.array_equal(draw(form), sans), form
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("chars, xs, rotate", [("AB", "60 100", "0 -30"),
+                                              ("BA", "100 60", "-30 0"),
+                                              ("BAB", "100 60 90", "-30 0 20")])
+def test_colour_and_outline_glyphs_paint_in_text_order(chars, xs, rotate):
+    # SVG 2 text rendering order: each glyph goes over the glyphs before it, whether it is
+    # an outline or a bitmap (the sbix "A" is an image with an opaque white background, the
+    # font's "B" a CFF outline): drawn as in separate elements, one after the other
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
+               '<rect width="200" height="100" fill="#8cf"/>' + body + '</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, mode="analytic")
+    font = 'font-family="CFF Outlines and SBIX" font-size="40" y="70"'
+    one = draw(f'<text {font} x="{xs}" rotate="{rotate}">{chars}</text>')
+    separate = draw("".join(f'<text {font} x="{x}" rotate="{r}">{c}</text>'
+                            for c, x, r in zip(chars, xs.split(), rotate.split())))
+    assert np.abs(one.astype(int) - separate.astype(int)).max() <= 1
