@@ -278,11 +278,15 @@ def test_font_shorthand_takes_an_oblique_angle(value, style):
 @pytest.mark.parametrize("outer, inner, expected", [
     ("400", "bolder", 700), ("100", "bolder", 200), ("600", "bolder", 700),
     ("900", "bolder", 900), ("400", "lighter", 200), ("500", "lighter", 400),
-    ("700", "lighter", 600), ("100", "lighter", 100), ("bold", "650", 700),
-    ("300", "1500", 300), ("normal", "bold", 700), ("200", "inherit", 200)])
+    ("700", "lighter", 600), ("100", "lighter", 100), ("bold", "650", 650),
+    ("300", "1500", 300), ("normal", "bold", 700), ("200", "inherit", 200),
+    ("bold", "0", 700), ("bold", "+350", 350), ("bold", "3e2", 300), ("bold", "1", 1),
+    ("bold", "1000", 1000), ("bold", "650.5", 650.5), ("950", "bolder", 950),
+    ("50", "lighter", 50), ("650", "bolder", 750)])
 def test_font_weight_computes_as_in_resvg(outer, inner, expected):
     # usvg's resolve_font_weight: bolder/lighter step by 100 (400 by 300 and 200), clamped
-    # to 100..900; values other than the keywords and the multiples of 100 are ignored
+    # to 100..900 (a weight outside stays); numbers are any CSS <number> from 1 to 1000 (CSS
+    # Fonts 4 §2.2; resvg: the multiples of 100 only); other values are ignored
     from vecmsaa.svg.document import load_document
     from vecmsaa.svg.text.font_match import _weight
     doc = load_document(f'<svg xmlns="http://www.w3.org/2000/svg"><g font-weight="{outer}">'
@@ -985,3 +989,26 @@ def test_colour_and_outline_glyphs_paint_in_text_order(chars, xs, rotate):
     separate = draw("".join(f'<text {font} x="{x}" rotate="{r}">{c}</text>'
                             for c, x, r in zip(chars, xs.split(), rotate.split())))
     assert np.abs(one.astype(int) - separate.astype(int)).max() <= 1
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("weight, face", [
+    ("1", 100), ("250", 100), ("299", 100), ("350", 300), ("399", 300), ("450", 400),
+    ("499", 400), ("501", 700), ("650", 700), ("650.5", 700), ("750", 900), ("1000", 900),
+    ("+700", 700), ("3e2", 300)])
+def test_font_weight_numbers_match_faces_by_css_fonts(weight, face):
+    # CSS Fonts 4 §5.2 with Noto Sans' faces at 100, 300, 400, 700 and 900: a weight under
+    # 400 takes the nearest lighter face (else the nearest heavier), 400-500 the faces up to
+    # 500 ascending then lighter ones descending, over 500 the nearest heavier (else lighter)
+    def draw(w, how):
+        text = "font-family: Noto Sans; font-size: 36px; font-weight: " + w
+        attr = (f'style="{text}"' if how == "css" else
+                f'font-family="Noto Sans" font-size="36" font-weight="{w}"')
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
+               f'<text x="5" y="60" {attr}>Weight</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    assert np.array_equal(draw(weight, "attr"), draw(str(face), "attr"))
+    assert np.array_equal(draw(weight, "css"), draw(str(face), "attr"))
+    if face != 400:
+        assert not np.array_equal(draw(weight, "attr"), draw("400", "attr"))

@@ -34,6 +34,9 @@ FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": 
                "font-variation-settings": "normal"}
 
 
+_SIZED = re.compile(r"(?i)[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|em|ex|%)(/|$)|"
+                    r"(xx-small|x-small|small|medium|large|x-large|xx-large|xxx-large|larger|"
+                    r"smaller)(/|$)")
 _OBLIQUE_ANGLE = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)(deg|grad|rad|turn)$")
 
 
@@ -53,8 +56,10 @@ def parse_font_shorthand(value):
         size = low.split("/")[0]
         if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
                                                   r"em|ex|%)?$", size):
-            if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
-                                                     "700", "800", "900"):
+            # a unitless number is a weight (CSS Fonts 4: any from 1 to 1000) where a size
+            # follows; else, past the nine multiples of 100, a unitless size as before
+            if weight_number(size) is not None and "/" not in tok and (
+                    size in WEIGHTS or any(_SIZED.match(t) for t in tokens[i + 1:])):
                 if "font-weight" in longhands:
                     return None
                 longhands["font-weight"] = size
@@ -109,19 +114,36 @@ class FontSpec:
     small_caps: bool
 
 
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def weight_number(value):
+    """A font-weight ``<number>`` (CSS Fonts 4 §2.2: any number from 1 to 1000, ``650``,
+    ``+700``, ``3e2``, ``650.5``), or None when ``value`` is none."""
+    if not _NUMBER.fullmatch(value):
+        return None
+    w = float(value)
+    if not 1 <= w <= 1000:
+        return None
+    return int(w) if w.is_integer() else w
+
+
 def _weight(style):
-    """Computed font-weight as resvg computes it (usvg's resolve_font_weight): the keywords
-    and the nine multiples of 100; ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100
-    away (200 from 400), within 100..900; any other value (650, 1500) keeps the parent's."""
+    """Computed font-weight: the keywords and any number from 1 to 1000 (CSS Fonts 4 §2.2;
+    resvg 0.44 and 0.48.1 take the nine multiples of 100 only, and keep the parent's weight
+    for 650); ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100 away (200 from 400),
+    within 100..900, as resvg (usvg's resolve_font_weight) computes them; an invalid value
+    (1500, 0) keeps the parent's."""
     v = (style.specified.get("font-weight") or "").strip()
     parent = _weight(style.parent) if style.parent is not None else 400
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
-        return min(900, parent + (300 if parent == 400 else 100))
+        return parent if parent >= 900 else min(900, parent + (300 if parent == 400 else 100))
     if v == "lighter":
-        return max(100, parent - (200 if parent == 400 else 100))
-    return parent
+        return parent if parent <= 100 else max(100, parent - (200 if parent == 400 else 100))
+    w = weight_number(v)
+    return parent if w is None else w
 
 
 def _stretch(style):
