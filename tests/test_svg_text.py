@@ -1012,3 +1012,31 @@ def test_font_weight_numbers_match_faces_by_css_fonts(weight, face):
     assert np.array_equal(draw(weight, "css"), draw(str(face), "attr"))
     if face != 400:
         assert not np.array_equal(draw(weight, "attr"), draw("400", "attr"))
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("attrs", ['letter-spacing="20"', 'dx="0 30 30"', 'rotate="0 40 40"',
+                                   'dy="0 -20 20"'])
+def test_an_emoji_zwj_sequence_is_one_typographic_character(attrs):
+    # UAX #29 GB11: a pictograph after a zero width joiner continues the grapheme cluster,
+    # also where the font has no glyph for the sequence (Twitter Color Emoji draws 😀 ZWJ 😁
+    # as two glyphs): SVG 2 positions, rotates and spaces typographic characters, so values
+    # for the characters after the first (and spacing inside the cluster) do not apply
+    def draw(a):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
+               f'<text {a} y="70" font-family="Twitter Color Emoji" font-size="36">'
+               '&#x1F600;&#x200D;&#x1F601;</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, mode="analytic")
+    assert np.array_equal(draw('x="10" ' + attrs), draw('x="10"'))
+
+
+def test_regional_indicator_pairs_and_zwj_sequences_join():
+    from vecmsaa.svg.text.layout import _joined
+    flags = "\U0001F1EB\U0001F1F7\U0001F1E9\U0001F1EA"     # FR DE
+    # (a cluster's base, a character after it): the second indicator joins the first, the
+    # third starts a cluster of its own and the fourth joins it
+    assert _joined(flags, 0, 1) and not _joined(flags, 0, 2) and _joined(flags, 2, 3)
+    zwj = "\U0001F3F3\ufe0f\u200d\U0001F308a\u200db"
+    assert _joined(zwj, 0, 3)                        # the rainbow after the joiner
+    assert not _joined(zwj, 3, 4) and not _joined(zwj, 4, 6)   # letters are no pictographs
