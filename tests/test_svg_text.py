@@ -278,11 +278,15 @@ def test_font_shorthand_takes_an_oblique_angle(value, style):
 @pytest.mark.parametrize("outer, inner, expected", [
     ("400", "bolder", 700), ("100", "bolder", 200), ("600", "bolder", 700),
     ("900", "bolder", 900), ("400", "lighter", 200), ("500", "lighter", 400),
-    ("700", "lighter", 600), ("100", "lighter", 100), ("bold", "650", 700),
-    ("300", "1500", 300), ("normal", "bold", 700), ("200", "inherit", 200)])
+    ("700", "lighter", 600), ("100", "lighter", 100), ("bold", "650", 650),
+    ("300", "1500", 300), ("normal", "bold", 700), ("200", "inherit", 200),
+    ("bold", "0", 700), ("bold", "+350", 350), ("bold", "3e2", 300), ("bold", "1", 1),
+    ("bold", "1000", 1000), ("bold", "650.5", 650.5), ("950", "bolder", 950),
+    ("50", "lighter", 50), ("650", "bolder", 750)])
 def test_font_weight_computes_as_in_resvg(outer, inner, expected):
     # usvg's resolve_font_weight: bolder/lighter step by 100 (400 by 300 and 200), clamped
-    # to 100..900; values other than the keywords and the multiples of 100 are ignored
+    # to 100..900 (a weight outside stays); numbers are any CSS <number> from 1 to 1000 (CSS
+    # Fonts 4 §2.2; resvg: the multiples of 100 only); other values are ignored
     from vecmsaa.svg.document import load_document
     from vecmsaa.svg.text.font_match import _weight
     doc = load_document(f'<svg xmlns="http://www.w3.org/2000/svg"><g font-weight="{outer}">'
@@ -490,7 +494,7 @@ def test_font_variant_ligatures_none_turns_ligatures_off():
     ("Noto Sans", True), ("'Mplus 1p'", True), ('"Mplus 1p", serif', True),
     ("Mplus 1p", False), ("Noto Sans,", False), (", serif", False), ("inherit serif", False),
     ("-my-font", True), ("--x", True), ("Font\\ 1p", True), ("'a, b', c", True),
-    ("'unclosed", False), ("Noto 'Sans'", False),
+    ("'unclosed", True), ("Noto 'Sans'", False),   # CSS Syntax 3: a string ends with the value
 ])
 def test_font_family_list_validity(value, valid):
     from vecmsaa.svg.text.font_match import valid_family_list
@@ -903,3 +907,136 @@ def test_a_span_in_a_variable_font_is_drawn_at_its_own_location(span):
     both = ink(f'<tspan font-weight="100">I</tspan><tspan {span}>HHH</tspan>')
     assert abs(heavy - light) > 0.1 * light
     assert both - thin_i == pytest.approx(heavy, rel=0.02)
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("prop, value", [
+    ("font-style", "italic"), ("font-weight", "bold"), ("font-size", "x-large"),
+    ("text-anchor", "middle"), ("writing-mode", "tb"), ("dominant-baseline", "central"),
+    ("text-decoration", "line-through"), ("font-variant", "small-caps"),
+    ("letter-spacing", "5px"), ("baseline-shift", "super"), ("font-family", "inherit")])
+def test_keywords_are_ascii_case_insensitive(prop, value):
+    # CSS Values 4 §2.1: keywords (and units) are ASCII case-insensitive, in a presentation
+    # attribute (parsed as a CSS value) as in a declaration
+    def draw(body):
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+               f'<g font-family="Noto Sans">{body}</g></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
+                                mode="analytic")
+    text = '<text x="100" y="50" KW>Ab<tspan BS>cd</tspan> AV</text>'
+
+    def body(form):
+        if prop == "baseline-shift":
+            return text.replace("KW", "").replace("BS", form)
+        return text.replace("KW", form).replace("BS", "")
+    plain = draw(body(""))
+    lower = draw(body(f'{prop}="{value}"'))
+    if prop != "font-family":
+        assert not np.array_equal(plain, lower)
+    for v in (value.upper(), value.capitalize()):
+        assert np.array_equal(draw(body(f'{prop}="{v}"')), lower)
+        assert np.array_equal(draw(body(f'style="{prop}: {v}"')), lower)
+
+
+def test_font_family_is_read_as_a_css_value():
+    # CSS Syntax 3 tokenizes a presentation attribute's value as CSS: escapes are decoded,
+    # a string left open at the end of the value ends there, comments separate identifiers
+    from vecmsaa.svg.text.font_match import family_names
+    assert family_names(r"\4E oto Sans") == ["Noto Sans"]
+    assert family_names(r"No\74 o\ Sans, serif") == ["Noto Sans", "serif"]
+    assert family_names(r"'\4E oto Sans'") == ["Noto Sans"]
+    assert family_names("'Noto Sans") == ["Noto Sans"]
+    assert family_names("Noto Mono, \"Noto Sans") == ["Noto Mono", "Noto Sans"]
+    assert family_names("'Noto Sans, serif") == ["Noto Sans, serif"]   # one string
+    assert family_names("Noto/**/Sans") == ["Noto Sans"]
+    assert family_names("'serif'") == ['"serif"']        # a family called serif
+    assert family_names(r"\73 erif") == ["serif"]        # the generic: an identifier
+    for invalid in ("Mplus 1p", "'a' b", "a 'b'", "a,", ",a", "", "a, inherit", "a;b",
+                    "a !important", "a(b)"):
+        assert family_names(invalid) is None, invalid
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+def test_escaped_and_unterminated_family_names_in_attributes():
+    def draw(family):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
+               f'<g font-family="Noto Mono"><text x="10" y="60" font-size="26" '
+               f'font-family="{family}">Family Wg</text></g></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    sans = draw("Noto Sans")
+    assert not np.array_equal(sans, draw("Noto Serif"))
+    for form in (r"\4E oto Sans", r"Noto\ Sans", "'Noto Sans", "Noto/**/Sans"):
+        assert np.array_equal(draw(form), sans), form
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("chars, xs, rotate", [("AB", "60 100", "0 -30"),
+                                              ("BA", "100 60", "-30 0"),
+                                              ("BAB", "100 60 90", "-30 0 20")])
+def test_colour_and_outline_glyphs_paint_in_text_order(chars, xs, rotate):
+    # SVG 2 text rendering order: each glyph goes over the glyphs before it, whether it is
+    # an outline or a bitmap (the sbix "A" is an image with an opaque white background, the
+    # font's "B" a CFF outline): drawn as in separate elements, one after the other
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
+               '<rect width="200" height="100" fill="#8cf"/>' + body + '</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, mode="analytic")
+    font = 'font-family="CFF Outlines and SBIX" font-size="40" y="70"'
+    one = draw(f'<text {font} x="{xs}" rotate="{rotate}">{chars}</text>')
+    separate = draw("".join(f'<text {font} x="{x}" rotate="{r}">{c}</text>'
+                            for c, x, r in zip(chars, xs.split(), rotate.split())))
+    assert np.abs(one.astype(int) - separate.astype(int)).max() <= 1
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("weight, face", [
+    ("1", 100), ("250", 100), ("299", 100), ("350", 300), ("399", 300), ("450", 400),
+    ("499", 400), ("501", 700), ("650", 700), ("650.5", 700), ("750", 900), ("1000", 900),
+    ("+700", 700), ("3e2", 300)])
+def test_font_weight_numbers_match_faces_by_css_fonts(weight, face):
+    # CSS Fonts 4 §5.2 with Noto Sans' faces at 100, 300, 400, 700 and 900: a weight under
+    # 400 takes the nearest lighter face (else the nearest heavier), 400-500 the faces up to
+    # 500 ascending then lighter ones descending, over 500 the nearest heavier (else lighter)
+    def draw(w, how):
+        text = "font-family: Noto Sans; font-size: 36px; font-weight: " + w
+        attr = (f'style="{text}"' if how == "css" else
+                f'font-family="Noto Sans" font-size="36" font-weight="{w}"')
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
+               f'<text x="5" y="60" {attr}>Weight</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    assert np.array_equal(draw(weight, "attr"), draw(str(face), "attr"))
+    assert np.array_equal(draw(weight, "css"), draw(str(face), "attr"))
+    if face != 400:
+        assert not np.array_equal(draw(weight, "attr"), draw("400", "attr"))
+
+
+@pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
+@pytest.mark.parametrize("attrs", ['letter-spacing="20"', 'dx="0 30 30"', 'rotate="0 40 40"',
+                                   'dy="0 -20 20"'])
+def test_an_emoji_zwj_sequence_is_one_typographic_character(attrs):
+    # UAX #29 GB11: a pictograph after a zero width joiner continues the grapheme cluster,
+    # also where the font has no glyph for the sequence (Twitter Color Emoji draws 😀 ZWJ 😁
+    # as two glyphs): SVG 2 positions, rotates and spaces typographic characters, so values
+    # for the characters after the first (and spacing inside the cluster) do not apply
+    def draw(a):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
+               f'<text {a} y="70" font-family="Twitter Color Emoji" font-size="36">'
+               '&#x1F600;&#x200D;&#x1F601;</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, mode="analytic")
+    assert np.array_equal(draw('x="10" ' + attrs), draw('x="10"'))
+
+
+def test_regional_indicator_pairs_and_zwj_sequences_join():
+    from vecmsaa.svg.text.layout import _joined
+    flags = "\U0001F1EB\U0001F1F7\U0001F1E9\U0001F1EA"     # FR DE
+    # (a cluster's base, a character after it): the second indicator joins the first, the
+    # third starts a cluster of its own and the fourth joins it
+    assert _joined(flags, 0, 1) and not _joined(flags, 0, 2) and _joined(flags, 2, 3)
+    zwj = "\U0001F3F3\ufe0f\u200d\U0001F308a\u200db"
+    assert _joined(zwj, 0, 3)                        # the rainbow after the joiner
+    assert not _joined(zwj, 3, 4) and not _joined(zwj, 4, 6)   # letters are no pictographs

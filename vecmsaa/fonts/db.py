@@ -99,7 +99,7 @@ def _style_order(wanted: str):
             "oblique": ["oblique", "italic", "normal"]}.get(wanted, ["normal", "oblique", "italic"])
 
 
-def _weight_key(wanted: int):
+def _weight_key(wanted: float):
     """Sort key giving CSS weight preference (smaller is better)."""
     def key(w):
         if w == wanted:
@@ -127,7 +127,7 @@ def best_match(faces, weight=400, style="normal", stretch=100.0):
         if with_style:
             faces = with_style
             break
-    return min(faces, key=lambda f: _weight_key(int(weight))(f.weight))
+    return min(faces, key=lambda f: _weight_key(float(weight))(f.weight))
 
 
 @dataclass

@@ -730,6 +730,27 @@ class Document:
         return style
 
 
+#: text properties whose values are keywords, numbers and lengths only: CSS reads keywords
+#: (and units) ASCII case-insensitively (CSS Values 4 §2.1), so their values are lower-cased
+#: here, once for attributes and declarations alike (``font-style="ITALIC"``,
+#: ``text-anchor="Middle"``; resvg 0.44 and 0.48.1 take such values as invalid)
+KEYWORD_PROPERTIES = {
+    "alignment-baseline", "baseline-shift", "direction", "dominant-baseline", "font-kerning",
+    "font-size", "font-size-adjust", "font-stretch", "font-style", "font-synthesis",
+    "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
+    "font-variant-numeric", "font-variant-position", "font-weight",
+    "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",
+    "text-anchor", "text-decoration", "text-orientation", "text-rendering", "unicode-bidi",
+    "white-space", "word-spacing", "writing-mode",
+}
+_CSS_WIDE_INITIALS = frozenset("iIuUrR")   # of inherit, initial, unset, revert: any property
+_ASCII_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
+
+
+def _ascii_lower(value):
+    return value.lower() if value.isascii() else value.translate(_ASCII_LOWER)
+
+
 def _specified(spec, found, style_attr, warnings):
     """An element's specified style: its presentation attributes ``spec`` (updated in place)
     under the CSS rules that match it (``found``: cssselect2 matches), its ``style``
@@ -751,6 +772,10 @@ def _specified(spec, found, style_attr, warnings):
                     (important if imp else spec)[pname] = pval
         spec.update(important)
     for name, value in spec.items():
+        if name in KEYWORD_PROPERTIES or value[:1] in _CSS_WIDE_INITIALS:
+            low = _ascii_lower(value)
+            if name in KEYWORD_PROPERTIES or low in _NO_WARNING:
+                spec[name] = value = low
         if name in UNSUPPORTED_PROPERTIES:
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:

@@ -71,7 +71,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     # Antialiasing of text, decorations included, is the <text> element's text-rendering
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
-    antialias = (ctx.style.get("text-rendering") or "auto").strip() != "optimizeSpeed"
+    antialias = (ctx.style.get("text-rendering") or "auto").strip().lower() != "optimizespeed"
     for fill in _fills_of(out):
         fill.antialias = antialias
     return out
@@ -94,34 +94,43 @@ def _glyph_path(glyphs):
 
 def _color_or_plain(glyphs, path, style, ctx, bbox):
     """Colour glyphs (COLR, sbix/CBDT bitmaps, else SVG documents) draw their own colours;
-    everything else is the outline path filled and stroked through ctx.draw."""
+    everything else is the outline path filled and stroked through ctx.draw. Glyphs are
+    painted in their order (SVG 2, text rendering order: each glyph over the ones before
+    it; an sbix bitmap's opaque background hides an outline glyph drawn before it, and one
+    drawn after it goes over the bitmap), a run of outline glyphs as one path."""
     special = [g for g in glyphs if is_color_glyph(g.face, g.gid) or has_svg_glyph(g.face, g.gid)]
     if not special:
         return ctx.draw(path, style, bbox) if not path.is_empty() else []
     ref = ctx.resolve_paint(style, "fill", bbox)
     paint = ref.paint if ref is not None else Solid()
-    colored, plain = [], [g for g in glyphs if not (is_color_glyph(g.face, g.gid)
-                                                    or has_svg_glyph(g.face, g.gid))]
-    for g in special:
+    out, plain = [], []
+
+    def flush():
+        plain_path = _glyph_path(plain) if plain else None
+        if plain_path is not None and not plain_path.is_empty():
+            out.extend(ctx.draw(plain_path, style, bbox))
+        plain.clear()
+
+    for g in glyphs:
         if is_color_glyph(g.face, g.gid):
             nodes = color_glyph_fills(g.face, g.location, g.gid, g.matrix, paint, ctx.transform)
-        else:
+        elif has_svg_glyph(g.face, g.gid):
             nodes = svg_glyph_nodes(g.face, g.gid, g.matrix, ctx.transform)
-            if nodes is None:                  # an unreadable SVG glyph: its outline
-                plain.append(g)
-                continue
+        else:
+            nodes = None
+        if nodes is None:                  # an outline glyph, or an unreadable SVG glyph
+            plain.append(g)
+            continue
         if ctx.in_clip:
             # in a clip path a colour glyph counts by its shape: every fill, opaque; a bitmap
             # glyph (sbix, CBDT) is an image, which has no geometry to clip with (as in
             # resvg, also where the font has an outline for it)
             nodes = [Fill(f.path, Solid((0.0, 0.0, 0.0, 1.0))) for f in _fills_of(nodes)
                      if not isinstance(f.paint, ImagePaint)]
-        colored.extend(nodes)
-    out = []
-    plain_path = _glyph_path(plain) if plain else None
-    if plain_path is not None and not plain_path.is_empty():
-        out.extend(ctx.draw(plain_path, style, bbox))
-    return out + colored
+        flush()
+        out.extend(nodes)
+    flush()
+    return out
 
 
 def _fills_of(nodes):

@@ -34,6 +34,9 @@ FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": 
                "font-variation-settings": "normal"}
 
 
+_SIZED = re.compile(r"(?i)[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|em|ex|%)(/|$)|"
+                    r"(xx-small|x-small|small|medium|large|x-large|xx-large|xxx-large|larger|"
+                    r"smaller)(/|$)")
 _OBLIQUE_ANGLE = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)(deg|grad|rad|turn)$")
 
 
@@ -53,8 +56,10 @@ def parse_font_shorthand(value):
         size = low.split("/")[0]
         if size in FONT_SIZE_KEYWORDS or re.match(r"^[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|"
                                                   r"em|ex|%)?$", size):
-            if re.match(r"^\d+$", size) and size in ("100", "200", "300", "400", "500", "600",
-                                                     "700", "800", "900"):
+            # a unitless number is a weight (CSS Fonts 4: any from 1 to 1000) where a size
+            # follows; else, past the nine multiples of 100, a unitless size as before
+            if weight_number(size) is not None and "/" not in tok and (
+                    size in WEIGHTS or any(_SIZED.match(t) for t in tokens[i + 1:])):
                 if "font-weight" in longhands:
                     return None
                 longhands["font-weight"] = size
@@ -109,19 +114,36 @@ class FontSpec:
     small_caps: bool
 
 
+_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def weight_number(value):
+    """A font-weight ``<number>`` (CSS Fonts 4 §2.2: any number from 1 to 1000, ``650``,
+    ``+700``, ``3e2``, ``650.5``), or None when ``value`` is none."""
+    if not _NUMBER.fullmatch(value):
+        return None
+    w = float(value)
+    if not 1 <= w <= 1000:
+        return None
+    return int(w) if w.is_integer() else w
+
+
 def _weight(style):
-    """Computed font-weight as resvg computes it (usvg's resolve_font_weight): the keywords
-    and the nine multiples of 100; ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100
-    away (200 from 400), within 100..900; any other value (650, 1500) keeps the parent's."""
+    """Computed font-weight: the keywords and any number from 1 to 1000 (CSS Fonts 4 §2.2;
+    resvg 0.44 and 0.48.1 take the nine multiples of 100 only, and keep the parent's weight
+    for 650); ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100 away (200 from 400),
+    within 100..900, as resvg (usvg's resolve_font_weight) computes them; an invalid value
+    (1500, 0) keeps the parent's."""
     v = (style.specified.get("font-weight") or "").strip()
     parent = _weight(style.parent) if style.parent is not None else 400
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
-        return min(900, parent + (300 if parent == 400 else 100))
+        return parent if parent >= 900 else min(900, parent + (300 if parent == 400 else 100))
     if v == "lighter":
-        return max(100, parent - (200 if parent == 400 else 100))
-    return parent
+        return parent if parent <= 100 else max(100, parent - (200 if parent == 400 else 100))
+    w = weight_number(v)
+    return parent if w is None else w
 
 
 def _stretch(style):
@@ -333,42 +355,48 @@ def _tags(prop):
 
 #: CSS-wide keywords, which no unquoted family name may be
 _CSS_WIDE = {"initial", "inherit", "unset", "default", "revert", "revert-layer"}
-_IDENT = re.compile(r"-?(?:[A-Za-z_\u0080-\U0010ffff]|\\.)(?:[A-Za-z0-9_\-\u0080-\U0010ffff]|\\.)*"
-                    r"|--(?:[A-Za-z0-9_\-\u0080-\U0010ffff]|\\.)*")
+
+
+def family_names(text):
+    """A font-family value → its list of names (a quoted name that spells a generic family
+    in double quotes, as :func:`vecmsaa.fonts.db.parse_family_list` gives it), or None when
+    it is not valid CSS (CSS Fonts 4 §2.1): a comma-separated list of strings and unquoted
+    names, an unquoted name being one or more identifiers (``Mplus 1p`` is not one: ``1p``
+    is no identifier; ``'Mplus 1p'`` is). The value is read with CSS's tokenizer, as a
+    presentation attribute is parsed as a CSS value (SVG 2 §6.7, CSS Syntax 3): escapes are
+    decoded (``\\4E oto Sans`` is Noto Sans) and a string left open at the end of the value
+    ends there (``'Noto Sans``)."""
+    import tinycss2
+
+    from ...fonts.db import GENERIC_FAMILIES
+
+    out, words, string = [], [], None
+    for tok in [*tinycss2.parse_component_value_list(text or ""), None]:
+        kind = "literal" if tok is None else tok.type
+        if kind in ("whitespace", "comment") or (
+                kind == "error" and tok.kind == "eof-in-string"):
+            continue
+        if tok is None or kind == "literal" and tok.value == ",":
+            if string is not None and not words:
+                name = " ".join(string.split())
+                out.append(f'"{name}"' if name.lower() in GENERIC_FAMILIES else name)
+            elif words and string is None:
+                out.append(" ".join(words))
+            else:
+                return None
+            words, string = [], None
+        elif kind == "ident" and string is None and tok.lower_value not in _CSS_WIDE:
+            words.append(tok.value)
+        elif kind == "string" and string is None and not words:
+            string = tok.value
+        else:
+            return None
+    return [f for f in out if f]
 
 
 def valid_family_list(text):
-    """Whether a font-family value is valid CSS (CSS Fonts 4 §2.1): a comma-separated list
-    of quoted strings and unquoted names, an unquoted name being one or more identifiers
-    (``Mplus 1p`` is not one: ``1p`` is no identifier; ``'Mplus 1p'`` is)."""
-    for item in re.split(r",", _mask_strings(text)):
-        item = item.strip()
-        if not item:
-            return False
-        if item[0] in "\"'":
-            if not re.fullmatch(r"(\"[^\"]*\"|'[^']*')", item):
-                return False
-            continue
-        words = re.split(r"(?<!\\)\s+", item)
-        if any(not _IDENT.fullmatch(w) or w.lower() in _CSS_WIDE for w in words):
-            return False
-    return True
-
-
-def _mask_strings(text):
-    """The text with commas inside quoted strings replaced (so that splitting at commas
-    keeps strings whole)."""
-    out, quote = [], None
-    for ch in text:
-        if quote:
-            out.append("\0" if ch == "," else ch)
-            if ch == quote:
-                quote = None
-        else:
-            if ch in "\"'":
-                quote = ch
-            out.append(ch)
-    return "".join(out)
+    """Whether a font-family value is valid CSS (see :func:`family_names`)."""
+    return family_names(text) is not None
 
 
 def _family_list(style):
@@ -381,8 +409,9 @@ def _family_list(style):
         if v is not None and v.strip() == "initial":
             break
         if v is not None and v.strip() not in ("inherit", "unset"):
-            if valid_family_list(v.strip()):
-                return parse_family_list(v)
+            names = family_names(v)
+            if names is not None:
+                return names
             warn(f"font-family: {v.strip()[:40]} is not a valid family list: ignored")
         s = s.parent
     return parse_family_list("serif")

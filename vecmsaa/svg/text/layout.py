@@ -150,7 +150,7 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     owner = {}
     base = None
     for i in range(s, e):
-        if base is not None and _extends(text[i]):
+        if base is not None and (_extends(text[i]) or _joined(text, base, i)):
             owner[i] = base
         else:
             base = i
@@ -206,6 +206,27 @@ def _extends(ch):
     return (unicodedata.category(ch) in ("Mn", "Me", "Mc") or cp in (0x200C, 0x200D)
             or 0xFE00 <= cp <= 0xFE0F or 0x1F3FB <= cp <= 0x1F3FF or 0xE0020 <= cp <= 0xE007F
             or 0xE0100 <= cp <= 0xE01EF)
+
+
+#: Extended_Pictographic (UAX #29, emoji-data.txt), by blocks: what a zero width joiner
+#: joins into one emoji sequence
+_PICTOGRAPHIC = ((0x00A9, 0x00A9), (0x00AE, 0x00AE), (0x203C, 0x203C), (0x2049, 0x2049),
+                 (0x2122, 0x2122), (0x2139, 0x2139), (0x2194, 0x21AA), (0x231A, 0x23FF),
+                 (0x24C2, 0x24C2), (0x25AA, 0x27BF), (0x2934, 0x2935), (0x2B05, 0x2B55),
+                 (0x3030, 0x3030), (0x303D, 0x303D), (0x3297, 0x3299), (0x1F000, 0x1F0FF),
+                 (0x1F10D, 0x1F1AD), (0x1F201, 0x1F64F), (0x1F680, 0x1F6FF),
+                 (0x1F774, 0x1F7FF), (0x1F80C, 0x1FAFF), (0x1FC00, 0x1FFFD))
+
+
+def _joined(text, base, i):
+    """Whether text[i] continues the grapheme cluster that starts at ``base`` though it
+    extends nothing (UAX #29): a pictograph after a zero width joiner (GB11: an emoji ZWJ
+    sequence is one cluster even where the font has no glyph for it) and the second of a
+    pair of regional indicators (GB12/13: a flag)."""
+    cp = ord(text[i])
+    if 0x1F1E6 <= cp <= 0x1F1FF:
+        return i == base + 1 and 0x1F1E6 <= ord(text[base]) <= 0x1F1FF
+    return text[i - 1] == "\u200d" and any(lo <= cp <= hi for lo, hi in _PICTOGRAPHIC)
 
 
 def _spacing_allowed(ch):
