@@ -143,15 +143,19 @@ def star_polygons(draw):
     return [(cx + r * math.cos(a), cy + r * math.sin(a)) for a, r in zip(angles, radii)]
 
 
+def polygon_path(points) -> Path:
+    path = Path()
+    path.moveTo(points[0])
+    for p in points[1:]:
+        path.lineTo(p)
+    path.closePath()
+    return path
+
+
 @settings(max_examples=25, deadline=None)
 @given(star_polygons())
 def test_analytic_equals_exact_polygon_area_per_pixel(poly):
-    path = Path()
-    path.moveTo(poly[0])
-    for p in poly[1:]:
-        path.lineTo(p)
-    path.closePath()
-    got = alpha_of(path, "analytic")
+    got = alpha_of(polygon_path(poly), "analytic")
     want = polygon_pixel_coverage(poly, SIZE, SIZE)
     np.testing.assert_allclose(got, want, atol=2e-5)
 
@@ -587,12 +591,7 @@ def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
 
 
 def _polyline_fill(points):
-    path = Path()
-    path.moveTo(points[0])
-    for p in points[1:]:
-        path.lineTo(p)
-    path.closePath()
-    return Fill(path, Solid((0, 0, 0, 1)))
+    return Fill(polygon_path(points), Solid((0, 0, 0, 1)))
 
 
 def test_a_band_under_a_wide_fill_weighs_more_than_its_edges_say():

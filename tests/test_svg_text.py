@@ -28,6 +28,16 @@ def render(body, width=200, height=100, mode="analytic", **kw):
     return render_svg_array(svg, mode=mode, **opts)
 
 
+def render_with_suite_fonts(body):
+    """A 200 x 100 document (font-size 24) drawn with the resvg suite's fonts alone, serif
+    being Noto Serif, in exact coverage."""
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
+           f'{body}</svg>').encode()
+    return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                            skip_system_fonts=True, serif_family="Noto Serif", width=200,
+                            mode="analytic")
+
+
 def alpha(img):
     return img[..., 3].astype(np.float64) / 255.0
 
@@ -718,12 +728,7 @@ def test_a_nested_span_moves_with_the_span_that_sets_alignment_baseline(value):
 def test_css_wide_initial_and_unset_on_text_properties(prop, value):
     # CSS Cascade 4: initial is the property's initial value (serif, auto, normal), unset on
     # an inherited property inherits
-    def draw(body):
-        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
-               f'{body}</svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
-                                mode="analytic")
+    draw = render_with_suite_fonts
     plain = draw('<text x="10" y="60">Hxg ab</text>')
     parent = draw(f'<g {prop}="{value}"><text x="10" y="60">Hxg ab</text></g>')
     assert not np.array_equal(plain, parent)
@@ -919,11 +924,7 @@ def test_keywords_are_ascii_case_insensitive(prop, value):
     # CSS Values 4 §2.1: keywords (and units) are ASCII case-insensitive, in a presentation
     # attribute (parsed as a CSS value) as in a declaration
     def draw(body):
-        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
-               f'<g font-family="Noto Sans">{body}</g></svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, serif_family="Noto Serif", width=200,
-                                mode="analytic")
+        return render_with_suite_fonts(f'<g font-family="Noto Sans">{body}</g>')
     text = '<text x="100" y="50" KW>Ab<tspan BS>cd</tspan> AV</text>'
 
     def body(form):
