@@ -607,3 +607,23 @@ def test_a_pixel_whose_alpha_rounds_to_zero_in_8_bits_has_no_colour():
                                           ("linear", (0.0, 1.0))])
     assert tuple(transfer[0, 0]) == (0, 0, 0, 1)                 # opaque black: no colour
     assert transfer[0, 1, :3] == pytest.approx((1.0, 0.843, 0.0), abs=1e-4)
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "0 -2", "x", "2", "1 3"])
+def test_kernel_unit_length_leaves_convolution_and_lighting_as_without_it(value):
+    # Filter Effects 1 (feConvolveMatrix, feDiffuseLighting, feSpecularLighting
+    # kernelUnitLength): a negative or zero value means the default, one pixel of the
+    # offscreen; a value that does not parse is the initial one; a positive one rescales the
+    # kernel, which vecmsaa does not (kernels step one device pixel, as resvg's). The filtered
+    # rect must therefore look as it does without the attribute (it was left undrawn for the
+    # first four, a NameError before that)
+    rect = '<rect x="40" y="50" width="90" height="70" fill="seagreen" filter="url(#f)"/>'
+    for prim in ('<feConvolveMatrix order="3" kernelMatrix="1 2 1 0 0 0 -1 -2 -1"{}/>',
+                 '<feDiffuseLighting{}><feDistantLight azimuth="45" elevation="30"/>'
+                 '</feDiffuseLighting>',
+                 '<feSpecularLighting specularExponent="4"{}><fePointLight x="80" y="60" '
+                 'z="40"/></feSpecularLighting>'):
+        plain = _svg(f'<filter id="f">{prim.format("")}</filter>{rect}')
+        got = _svg(f'<filter id="f">{prim.format(f" kernelUnitLength={chr(34)}{value}{chr(34)}")}'
+                   f'</filter>{rect}')
+        assert plain[..., 3].any() and np.array_equal(got, plain)
