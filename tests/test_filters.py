@@ -627,3 +627,19 @@ def test_kernel_unit_length_leaves_convolution_and_lighting_as_without_it(value)
         got = _svg(f'<filter id="f">{prim.format(f" kernelUnitLength={chr(34)}{value}{chr(34)}")}'
                    f'</filter>{rect}')
         assert plain[..., 3].any() and np.array_equal(got, plain)
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_displacement_map_moves_by_scale_times_channel_offset_in_user_units(k):
+    # Filter Effects 1 (feDisplacementMap): P'(x,y) = P(x + scale·(XC − ½), y + scale·(YC − ½)),
+    # scale in the filter's user units: a flood with R = 1 and alpha 1 moves the source by
+    # scale/2 = 10 units up and left, 10·k pixels under scale(k) (resvg multiplies by the
+    # scale twice: 100 units; librsvg 2.54 moves it by 10)
+    body = ('<filter id="f" x="-0.5" y="-0.5" width="2" height="2" color-interpolation-filters="sRGB">'
+            '<feFlood flood-color="rgb(255,0,0)" result="m"/><feDisplacementMap in="SourceGraphic" '
+            'in2="m" scale="20" xChannelSelector="R" yChannelSelector="A"/></filter>'
+            f'<g transform="scale({k})"><rect x="50" y="50" width="80" height="60" fill="green" '
+            'filter="url(#f)"/></g>')
+    img = _svg(body, 300)
+    ys, xs = np.nonzero(img[..., 3] > 127)
+    assert (xs.min(), xs.max() + 1, ys.min(), ys.max() + 1) == (40 * k, 120 * k, 40 * k, 100 * k)
