@@ -643,3 +643,20 @@ def test_displacement_map_moves_by_scale_times_channel_offset_in_user_units(k):
     img = _svg(body, 300)
     ys, xs = np.nonzero(img[..., 3] > 127)
     assert (xs.min(), xs.max() + 1, ys.min(), ys.max() + 1) == (40 * k, 120 * k, 40 * k, 100 * k)
+
+
+def test_tile_of_a_subregion_past_the_region_edge_repeats_its_clipped_part():
+    # Filter Effects 1 clips every intermediate result to the filter region, and Blink, WebKit
+    # and librsvg (2.54, to the level here) clip the primitive subregion itself, so feTile's
+    # cell is the part inside the region: here x 20..40 (not 10..40, nor resvg's 20-wide cell
+    # started at 10, which suite test filters/feTile/complex-transform shows at 5 px)
+    grad = ('<linearGradient id="g"><stop offset="0" stop-color="red"/>'
+            '<stop offset="1" stop-color="blue"/></linearGradient>')
+    source = _svg(f'{grad}<rect width="200" height="200" fill="url(#g)"/>').astype(int)
+    tiled = _svg(f'{grad}<filter id="f" filterUnits="userSpaceOnUse" x="20" y="20" width="160" '
+                 'height="160"><feTile in="SourceGraphic" x="10" y="30" width="30" height="20"/>'
+                 '<feTile/></filter><rect width="200" height="200" fill="url(#g)" '
+                 'filter="url(#f)"/>').astype(int)
+    ys, xs = np.mgrid[20:180, 20:180]
+    want = source[30 + (ys - 30) % 20, 20 + (xs - 20) % 20]
+    assert np.abs(tiled[20:180, 20:180] - want).max() <= 1
