@@ -646,8 +646,8 @@ def test_displacement_map_moves_by_scale_times_channel_offset_in_user_units(k):
 
 
 def test_tile_of_a_subregion_past_the_region_edge_repeats_its_clipped_part():
-    # Filter Effects 1 clips every intermediate result to the filter region, and Blink, WebKit
-    # and librsvg (2.54, to the level here) clip the primitive subregion itself, so feTile's
+    # Filter Effects 1 clips every intermediate result to the filter region, and WebKit and
+    # librsvg (2.54, to the level here) clip the primitive subregion itself, so feTile's
     # cell is the part inside the region: here x 20..40 (not 10..40, nor resvg's 20-wide cell
     # started at 10, which suite test filters/feTile/complex-transform shows at 5 px)
     grad = ('<linearGradient id="g"><stop offset="0" stop-color="red"/>'
