@@ -607,3 +607,56 @@ def test_a_pixel_whose_alpha_rounds_to_zero_in_8_bits_has_no_colour():
                                           ("linear", (0.0, 1.0))])
     assert tuple(transfer[0, 0]) == (0, 0, 0, 1)                 # opaque black: no colour
     assert transfer[0, 1, :3] == pytest.approx((1.0, 0.843, 0.0), abs=1e-4)
+
+
+@pytest.mark.parametrize("value", ["0", "-1", "0 -2", "x", "2", "1 3"])
+def test_kernel_unit_length_leaves_convolution_and_lighting_as_without_it(value):
+    # Filter Effects 1 (feConvolveMatrix, feDiffuseLighting, feSpecularLighting
+    # kernelUnitLength): a negative or zero value means the default, one pixel of the
+    # offscreen; a value that does not parse is the initial one; a positive one rescales the
+    # kernel, which vecmsaa does not (kernels step one device pixel, as resvg's). The filtered
+    # rect must therefore look as it does without the attribute (it was left undrawn for the
+    # first four, a NameError before that)
+    rect = '<rect x="40" y="50" width="90" height="70" fill="seagreen" filter="url(#f)"/>'
+    for prim in ('<feConvolveMatrix order="3" kernelMatrix="1 2 1 0 0 0 -1 -2 -1"{}/>',
+                 '<feDiffuseLighting{}><feDistantLight azimuth="45" elevation="30"/>'
+                 '</feDiffuseLighting>',
+                 '<feSpecularLighting specularExponent="4"{}><fePointLight x="80" y="60" '
+                 'z="40"/></feSpecularLighting>'):
+        plain = _svg(f'<filter id="f">{prim.format("")}</filter>{rect}')
+        got = _svg(f'<filter id="f">{prim.format(f" kernelUnitLength={chr(34)}{value}{chr(34)}")}'
+                   f'</filter>{rect}')
+        assert plain[..., 3].any() and np.array_equal(got, plain)
+
+
+@pytest.mark.parametrize("k", [1, 2])
+def test_displacement_map_moves_by_scale_times_channel_offset_in_user_units(k):
+    # Filter Effects 1 (feDisplacementMap): P'(x,y) = P(x + scale·(XC − ½), y + scale·(YC − ½)),
+    # scale in the filter's user units: a flood with R = 1 and alpha 1 moves the source by
+    # scale/2 = 10 units up and left, 10·k pixels under scale(k) (resvg multiplies by the
+    # scale twice: 100 units; librsvg 2.54 moves it by 10)
+    body = ('<filter id="f" x="-0.5" y="-0.5" width="2" height="2" color-interpolation-filters="sRGB">'
+            '<feFlood flood-color="rgb(255,0,0)" result="m"/><feDisplacementMap in="SourceGraphic" '
+            'in2="m" scale="20" xChannelSelector="R" yChannelSelector="A"/></filter>'
+            f'<g transform="scale({k})"><rect x="50" y="50" width="80" height="60" fill="green" '
+            'filter="url(#f)"/></g>')
+    img = _svg(body, 300)
+    ys, xs = np.nonzero(img[..., 3] > 127)
+    assert (xs.min(), xs.max() + 1, ys.min(), ys.max() + 1) == (40 * k, 120 * k, 40 * k, 100 * k)
+
+
+def test_tile_of_a_subregion_past_the_region_edge_repeats_its_clipped_part():
+    # Filter Effects 1 clips every intermediate result to the filter region, and WebKit and
+    # librsvg (2.54, to the level here) clip the primitive subregion itself, so feTile's
+    # cell is the part inside the region: here x 20..40 (not 10..40, nor resvg's 20-wide cell
+    # started at 10, which suite test filters/feTile/complex-transform shows at 5 px)
+    grad = ('<linearGradient id="g"><stop offset="0" stop-color="red"/>'
+            '<stop offset="1" stop-color="blue"/></linearGradient>')
+    source = _svg(f'{grad}<rect width="200" height="200" fill="url(#g)"/>').astype(int)
+    tiled = _svg(f'{grad}<filter id="f" filterUnits="userSpaceOnUse" x="20" y="20" width="160" '
+                 'height="160"><feTile in="SourceGraphic" x="10" y="30" width="30" height="20"/>'
+                 '<feTile/></filter><rect width="200" height="200" fill="url(#g)" '
+                 'filter="url(#f)"/>').astype(int)
+    ys, xs = np.mgrid[20:180, 20:180]
+    want = source[30 + (ys - 30) % 20, 20 + (xs - 20) % 20]
+    assert np.abs(tiled[20:180, 20:180] - want).max() <= 1

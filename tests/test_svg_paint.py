@@ -352,3 +352,27 @@ def test_letter_spacing_in_em_inherits_as_the_parents_absolute_length():
     inherited = render(f'<g letter-spacing="0.5em" font-size="10">{text.format("")}</g>')
     assert np.array_equal(inherited, render(text.format('letter-spacing="5"')))
     assert not np.array_equal(inherited, render(text.format('letter-spacing="10"')))
+
+
+def test_context_fill_pattern_keeps_the_use_elements_cells_under_a_child_transform():
+    # SVG 2 (context-fill): a paint server referenced through a context paint is in the
+    # context element's (the use's) user space (as the web platform test
+    # svg/painting/reftests/paint-context-008 draws it), so the child's scale(0.8) does not move the
+    # 10-unit cells: at 1.5 px a unit every cell is 15 whole pixels and each pixel inside the
+    # rect is one cell's colour exactly (resvg resamples a tile drawn at the child's scale and
+    # bleeds up to 95% of a neighbouring cell into some rows)
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" '
+           'viewBox="0 0 200 200"><pattern id="p" patternUnits="userSpaceOnUse" width="20" height="20">'
+           '<rect width="10" height="10" fill="grey"/><rect x="10" y="10" width="10" height="10" '
+           'fill="green"/></pattern><defs><g id="g"><rect x="50" y="50" width="100" height="100" '
+           'transform-origin="100 100" transform="scale(0.8)" fill="context-fill"/></g></defs>'
+           '<use xlink:href="#g" fill="url(#p)"/></svg>')
+    img = render_svg_array(svg.encode(), width=300).astype(int)
+    # the rect is 60..140 units: pixels 90..210, cells of 15 px
+    ys, xs = np.mgrid[90:210, 90:210]
+    col, row = xs // 15, ys // 15
+    want = np.zeros((120, 120, 4), int)
+    want[(col % 2 == 0) & (row % 2 == 0)] = (128, 128, 128, 255)
+    want[(col % 2 == 1) & (row % 2 == 1)] = (0, 128, 0, 255)
+    got = img[90:210, 90:210]
+    assert np.abs(got - want).max() <= 1

@@ -370,15 +370,11 @@ class PrimitiveResolver:
 
     def lighting(self, fe, style, specular):
         """The Lighting effect, or None for a primitive usvg drops (no light source, specular
-        exponent outside 1..128, a bad kernelUnitLength)."""
+        exponent outside 1..128)."""
         src = next((c for c in fe.children
                     if c.tag in ("feDistantLight", "fePointLight", "feSpotLight")), None)
         if src is None:
             return None
-        if fe.get("kernelUnitLength") is not None:
-            k = parse_numbers(fe.get("kernelUnitLength"))
-            if not k or min(k) <= 0:
-                return None
         exponent = parse_number(fe.get("specularExponent"), 1.0)
         if specular and not 1.0 <= exponent <= 128.0:
             return None
@@ -520,8 +516,9 @@ def color_matrix_of(fe):
 
 def convolve_effect(fe):
     """The ConvolveMatrix effect of an feConvolveMatrix, or None when usvg drops the
-    primitive (a kernel of the wrong size, a zero divisor, a target outside the kernel, a bad
-    kernelUnitLength)."""
+    primitive (a kernel of the wrong size, a zero divisor, a target outside the kernel).
+    kernelUnitLength is not read: kernels step one device pixel, as resvg's, and Filter Effects 1
+    takes a negative or zero value (or one that does not parse) as the default."""
     cols = rows = 3
     order = parse_number_list(fe.get("order") or "") or []
     if order:
@@ -542,10 +539,6 @@ def convolve_effect(fe):
         if not 0 <= t < n:
             return None
         target.append(t)
-    if fe.get("kernelUnitLength") is not None:
-        k = parse_numbers(fe.get("kernelUnitLength"))
-        if not k or min(k) <= 0:
-            return None
     edge = (fe.get("edgeMode") or "duplicate").strip()
     return ConvolveMatrix(tuple(values[r * cols:(r + 1) * cols] for r in range(rows)),
                           tuple(target), divisor, parse_number(fe.get("bias"), 0.0),
