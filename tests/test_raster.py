@@ -14,7 +14,7 @@ from vecmsaa.raster.sample_patterns import standard_pattern
 from vecmsaa.output.png import encode_png
 from vecmsaa.raster.modes import MODES
 from vecmsaa.raster import render as render_module
-from vecmsaa.raster.render import (RenderOptions, render_float, render_scene, render_scene_png,
+from vecmsaa.raster.render import (RenderOptions, render_scene, render_scene_png,
                                    render_scene_rgba8)
 from vecmsaa.output.rgba8 import to_rgba8
 from vecmsaa.scene.nodes import Fill, Group, LinearGradient, Mask, Scene, Solid

@@ -289,7 +289,6 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
     particular order, and must only touch its own rows. A band's pixels do not depend on
     where the band begins or on the other bands, so the image is the same for any number of
     threads (the kernels release the GIL)."""
-    H, W = scene.height, scene.width
     if opts.resolve is not None:
         draw_sampled_bands(scene, opts, consume, band_budget, threads, target)
         return

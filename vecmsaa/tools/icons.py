@@ -18,8 +18,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 from ..api import load_svg, render_svg_array
 from ..output.rgba8 import to_rgba8
 from ..raster.render import RenderOptions, render_float

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 from ...diagnostics import warn
 from ...fonts import FontError
 from ...fonts.db import FontDatabase, database_from_options, parse_family_list
-from .content import TEXT_CONTENT
 
 WEIGHTS = {"normal": 400, "bold": 700, **{str(w): w for w in range(100, 1000, 100)}}
 STRETCHES = {"ultra-condensed": 50.0, "extra-condensed": 62.5, "condensed": 75.0,
