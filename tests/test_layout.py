@@ -112,3 +112,32 @@ def test_allowed_imports_pass():
     assert not list(violations(PACKAGE / "svg/paint.py", "from ..scene.nodes import Group\n"))
     assert not list(violations(PACKAGE / "raster/render.py",
                                "def f():\n    from ..output.rgba8 import x\n"))
+
+
+def test_no_module_names_an_undefined_name():
+    """Every name a module reads is defined or imported (pyflakes' static check): a call to a
+    function nobody imported raises NameError only when that branch runs, as
+    ``kernelUnitLength`` did in svg/filters.py until session 13 (every use of the attribute
+    failed the render)."""
+    from pyflakes import api, messages, reporter
+
+    class Collect(reporter.Reporter):
+        def __init__(self):
+            super().__init__(None, None)
+            self.found = []
+
+        def flake(self, message):
+            if isinstance(message, (messages.UndefinedName, messages.UndefinedLocal,
+                                    messages.UndefinedExport)):
+                self.found.append(str(message))
+
+        def syntaxError(self, *args):
+            self.found.append(f"syntax error: {args}")
+
+        def unexpectedError(self, filename, msg):
+            self.found.append(f"{filename}: {msg}")
+
+    found = Collect()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        api.checkPath(str(path), found)
+    assert found.found == []
