@@ -257,6 +257,17 @@ def test_kernel_hypot_is_cpythons(x, y, scale):
     assert _hypot(x * 1e-12, y) == math.hypot(x * 1e-12, y)
 
 
+@pytest.mark.parametrize("m", [2.0 ** -1022, math.nextafter(2.0 ** -1022, 0), 2.0 ** -1021,
+                               2.0 ** 1021, math.nextafter(2.0 ** 1022, 0), 2.0 ** 1022,
+                               2.0 ** 1023, 1.7976931348623157e308, 0.5, 1.0, 3.0, 5e-324])
+def test_kernel_hypot_at_the_exponent_limits(m):
+    # the kernel takes frexp's exponent from m's bits for normal m below 2**1022 and calls
+    # frexp and ldexp elsewhere: both sides of either limit agree with CPython
+    for other in (0.0, m, m * 0.75, m * 1e-8, math.nextafter(m, 0)):
+        assert _hypot(m, other) == math.hypot(m, other)
+        assert _hypot(-other, -m) == math.hypot(other, m)
+
+
 coordinate = st.floats(-100, 100, allow_nan=False).map(lambda v: round(v, 2))
 
 

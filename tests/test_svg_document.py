@@ -502,3 +502,16 @@ def test_the_id_map_holds_the_first_element_in_document_order_with_each_id():
     assert d.ids["c"].tag == "rect" and d.ids["c"].get("height") == "2"
     assert "d" not in d.ids
     assert d.lookup("url(#b)") is d.ids["b"] and d.lookup("#zz") is None
+
+
+def test_svg_colour_answers_kept_by_text_stay_right():
+    # parse_svg_color keeps its answers by text (at most 4096): every answer after the store
+    # fills and is cleared is still the colour its own text says
+    from vecmsaa.svg.color import parse_svg_color
+    for round_ in range(2):
+        for i in range(5000):
+            r, g, b = i % 256, (i // 256) % 256, (7 * i) % 256
+            text = f"#{r:02x}{g:02x}{b:02x}" if i % 2 else f"rgb({r}, {g}, {b})"
+            assert parse_svg_color(text) == (r / 255, g / 255, b / 255, 1.0)
+    assert parse_svg_color(" currentColor ") == "currentColor"
+    assert parse_svg_color("#12345") is None and parse_svg_color("#12345") is None

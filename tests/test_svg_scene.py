@@ -1074,3 +1074,40 @@ def test_a_fractional_document_size_keeps_one_scale_on_both_axes(size):
     img = render_svg_array(f'<svg {NS} {size}><rect width="100" height="10"/></svg>', width=200)
     column = img[:, 50, 3].astype(int)
     assert column[:20].min() == 255 and column[20:].max() == 0
+
+
+def test_draw_plan_follows_inheritance_through_shared_styles():
+    # fill-rule, shape-rendering, paint-order and markers are inherited: a path specifying
+    # none of them draws as its nearest ancestor that does, one specifying any draws by its
+    # own (siblings of equal attributes share one style, and with it the plan)
+    body = ('<defs><marker id="m" markerWidth="4" markerHeight="4"><rect width="4" height="4"'
+            ' fill="lime"/></marker></defs>'
+            '<g fill-rule="evenodd" shape-rendering="crispEdges" paint-order="stroke">'
+            '<g fill="red"><path d="M0 0H10V10Z" stroke="blue"/>'           # 1: the group's
+            '<path d="M0 0H10V10Z" stroke="blue" fill-rule="nonzero"/></g>'  # 2: own rule
+            '<g shape-rendering="auto"><path d="M0 0H10V10Z" fill="#00f" stroke="red"/>'  # 3
+            '<path d="M0 0H10V10Z" fill="#00f" stroke="red" paint-order="normal"/>'       # 4
+            '<path d="M0 0H10V10Z" fill="#00f" marker-start="url(#m)"/></g>'              # 5
+            '<path d="M0 0H10V10Z" fill="red" stroke="blue"/></g>'           # 6: the group's
+            '<path d="M0 0H10V10Z" fill="red" stroke="blue"/>')              # 7: initial values
+    fills = scene(body).fills()
+    # per path: (rule of its fill, antialiased, stroke drawn before the fill), marker rects
+    groups = [fills[0:2], fills[2:4], fills[4:6], fills[6:8], fills[8:10], fills[10:12],
+              fills[12:14]]
+    assert len(fills) == 14
+    expected = [("evenodd", False, True), ("nonzero", False, True), ("evenodd", True, True),
+                ("evenodd", True, False), None, ("evenodd", False, True),
+                ("nonzero", True, False)]
+    for pair, want in zip(groups, expected):
+        if want is None:        # path 5: its fill, then its start marker (lime)
+            assert pair[0].rule == "evenodd" and pair[0].antialias
+            assert pair[1].paint.color == (0, 1, 0, 1)
+            continue
+        rule, antialias, stroke_first = want
+        fill = pair[1] if stroke_first else pair[0]
+        stroke = pair[0] if stroke_first else pair[1]
+        assert fill.rule == rule and fill.antialias == antialias
+        assert stroke.antialias == antialias
+        assert fill.paint.color != stroke.paint.color
+        assert fill.paint.color == ((1, 0, 0, 1) if pair is not groups[2] and pair is not
+                                    groups[3] else (0, 0, 1, 1))

@@ -181,13 +181,14 @@ def _flatten_cubic(edges, ne, c, tol):
 
 # -- curve primitives -----------------------------------------------------------------------------
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y):
+def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y, n0=-1.0, n1=-1.0):
     """Everything of a lens primitive but its implicit function and its ``nctrl`` control
     points (the caller has stored them: no array of them per piece): bounding
     box, winding sign, the chord (first to last control point) sorted by y (as the scan
     converter sees it) with the side the lens lies on, judged from the point (sx, sy) known to
     be inside the lens, and the tangent half-planes through the ends along t0 and t1 (left at
-    (0, 0, 1), none, for a zero tangent)."""
+    (0, 0, 1), none, for a zero tangent). ``n0``, ``n1``: the tangents' lengths where the
+    caller has taken them (a cubic piece's refinement does), else negative."""
     ctrl = prim[P_CTRL:P_CTRL + 2 * nctrl]
     x0 = ctrl[0]
     y0 = ctrl[1]
@@ -227,11 +228,12 @@ def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y):
     # the tangent half-planes a·x + b·y + c ≥ 0, oriented so (sx, sy) is inside
     for e in range(2):
         base = P_T1 if e == 0 else P_T2
-        px, py, dx, dy = (x0, y0, t0x, t0y) if e == 0 else (x1, y1, t1x, t1y)
+        px, py, dx, dy, ln = (x0, y0, t0x, t0y, n0) if e == 0 else (x1, y1, t1x, t1y, n1)
         prim[base] = 0.0
         prim[base + 1] = 0.0
         prim[base + 2] = 1.0
-        ln = math.hypot(dx, dy)
+        if ln < 0.0:
+            ln = math.hypot(dx, dy)
         if ln == 0.0:
             continue
         a, b = -dy / ln, dx / ln
@@ -531,8 +533,9 @@ def _implicit(prim, x, y):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
-    """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m)."""
+def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv, t0x, t0y, t1x, t1y, n0, n1):
+    """Chord plus lens for a convex cubic piece sharing the parent's implicit (k, l, m); its
+    end tangents (_end_tangents) and their lengths as the refinement took them."""
     prims = _grow(prims, nc)
     prim = prims[nc]
     for j in range(PRIM_FIELDS):
@@ -554,11 +557,10 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv):
     if not (math.isfinite(f) and math.isfinite(f_out)) or f == 0.0 or (f < 0) == (f_out < 0):
         return edges, ne, prims, nc, False
     prim[P_SIGMA] = 1.0 if f < 0 else -1.0
-    t0x, t0y, t1x, t1y = _end_tangents(c)
     for i in range(4):
         prim[P_CTRL + 2 * i] = c[i, 0]
         prim[P_CTRL + 2 * i + 1] = c[i, 1]
-    _set_lens(prim, 4, qx, qy, t0x, t0y, t1x, t1y)
+    _set_lens(prim, 4, qx, qy, t0x, t0y, t1x, t1y, n0, n1)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
     return edges, ne, prims, nc + 1, True
 
@@ -677,6 +679,9 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
             _cubic_sub(sub, c, ta, tb)
             bulge = _bulge(sub)
             split = 0.75 * bulge > max_sagitta
+            # the end tangents and their lengths, once taken (_emit_cubic_piece's too)
+            t0x = t0y = t1x = t1y = n1 = 0.0
+            n0 = -1.0
             if not split:
                 # does the piece turn by more than acos(max_turn_cos) between its end tangents?
                 t0x, t0y, t1x, t1y = _end_tangents(sub)
@@ -695,7 +700,11 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
                 top += 1
                 stack[top, 0], stack[top, 1], stack[top, 2] = ta, tm, depth + 1
                 continue
-            edges, ne, prims, nc, ok = _emit_cubic_piece(edges, ne, prims, nc, sub, M, ox, oy, inv)
+            if n0 < 0.0:
+                t0x, t0y, t1x, t1y = _end_tangents(sub)
+                n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
+            edges, ne, prims, nc, ok = _emit_cubic_piece(edges, ne, prims, nc, sub, M, ox, oy,
+                                                         inv, t0x, t0y, t1x, t1y, n0, n1)
             if not ok:
                 edges, ne, prims, nc = _cubic_as_quads(edges, ne, prims, nc, sub, max_sagitta)
     return edges, ne, prims, nc

@@ -695,11 +695,17 @@ def _hypot(x, y):
     if m == 0.0:
         return m
     factor = 1.0
-    e = math.frexp(m)[1]
-    if e < -1023:           # subnormal: scaled up first
-        x, y, m, factor = x / _DBL_MIN, y / _DBL_MIN, m / _DBL_MIN, _DBL_MIN
+    # frexp's exponent and 2**-e from m's bits where both are normal numbers (m in
+    # [2**-1022, 2**1022)): frexp and ldexp are calls into libm, this is its most frequent case
+    biased = (np.float64(m).view(np.int64) >> 52) & 0x7FF
+    if 0 < biased < 2045:
+        scale = np.int64((2045 - biased) << 52).view(np.float64)
+    else:
         e = math.frexp(m)[1]
-    scale = math.ldexp(1.0, -e)
+        if e < -1023:           # subnormal: scaled up first
+            x, y, m, factor = x / _DBL_MIN, y / _DBL_MIN, m / _DBL_MIN, _DBL_MIN
+            e = math.frexp(m)[1]
+        scale = math.ldexp(1.0, -e)
     csum, frac1, frac2 = 1.0, 0.0, 0.0
     for v in (x * scale, y * scale):
         hi, lo = _square(v)

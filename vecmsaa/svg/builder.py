@@ -939,7 +939,25 @@ class Builder:
     @staticmethod
     def _draw_plan(style):
         """What draw_path reads of a style on every shape: (antialias, paint order, fill-rule,
-        whether it names markers); kept with the (shared) style."""
+        whether it names markers); kept with the (shared) style. The properties are all
+        inherited, so a style specifying none of them has its parent's plan (the tiger's
+        styles differ in paint and stroke width only); found without recursion, as deep
+        nesting must not reach Python's recursion limit."""
+        passed = []
+        while style.parent is not None and _DRAW_PLAN_PROPERTIES.isdisjoint(style.specified):
+            passed.append(style)
+            style = style.parent
+            plan = style.cache.get("draw-plan")
+            if plan is not None:
+                break
+        else:
+            plan = style.cache["draw-plan"] = Builder._own_draw_plan(style)
+        for s in passed:
+            s.cache["draw-plan"] = plan
+        return plan
+
+    @staticmethod
+    def _own_draw_plan(style):
         return (style.get("shape-rendering").strip() not in ("crispEdges", "optimizeSpeed"),
                 paint_order(style.get("paint-order")), style.get("fill-rule").strip(),
                 any(style.get(f"marker-{kind}") != "none" for kind in ("start", "mid", "end")))
@@ -1321,6 +1339,11 @@ def conditions_pass(el):
     if ext is not None:
         return False
     return True
+
+
+#: what Builder._draw_plan reads of a style (``marker`` in case a shorthand is kept as given)
+_DRAW_PLAN_PROPERTIES = frozenset({"shape-rendering", "paint-order", "fill-rule", "marker",
+                                   "marker-start", "marker-mid", "marker-end"})
 
 
 @functools.lru_cache(maxsize=64)
