@@ -660,3 +660,13 @@ def test_tile_of_a_subregion_past_the_region_edge_repeats_its_clipped_part():
     ys, xs = np.mgrid[20:180, 20:180]
     want = source[30 + (ys - 30) % 20, 20 + (xs - 20) % 20]
     assert np.abs(tiled[20:180, 20:180] - want).max() <= 1
+
+
+@pytest.mark.parametrize("value", ["hue-rotate(1e400deg)", "hue-rotate(-1e400turn)"])
+def test_filter_function_with_an_overflowing_angle_is_invalid(value):
+    """An angle too large for a double is no angle: the filter value does not parse and is
+    ignored, as an absent filter (was: math domain error from cos(inf))."""
+    def doc(f):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
+                f'<rect width="10" height="10" fill="red" {f}/></svg>')
+    assert np.array_equal(render_svg_array(doc(f'filter="{value}"')), render_svg_array(doc("")))

@@ -659,7 +659,7 @@ def _angle(args):
         return None
     v = float(m.group(1))
     unit = m.group(2) or ("deg" if v == 0 else None)
-    if unit is None:
+    if unit is None or not math.isfinite(v):   # 1e400deg overflows: not an angle
         return None
     return {"deg": v, "grad": v * 0.9, "rad": math.degrees(v), "turn": v * 360}[unit]
 

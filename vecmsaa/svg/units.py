@@ -28,7 +28,8 @@ def parse_length_list(text) -> list[tuple[float, str]]:
     out, pos, text = [], 0, text or ""
     while pos < len(text):
         m = _LIST_LENGTH.match(text, pos)
-        if m is None:
+        # a number too large for a double (1e400) does not parse either
+        if m is None or not math.isfinite(float(m.group(1))):
             break
         out.append((float(m.group(1)), m.group(2) or ""))
         pos = m.end()
@@ -77,7 +78,8 @@ def _leading_numbers(text: str) -> tuple[list[float], int]:
     out, pos = [], 0
     while pos < len(text):
         m = _LIST_ITEM.match(text, pos)
-        if m is None:
+        # a number too large for a double (1e400) is not one: the list stops (or is invalid)
+        if m is None or not math.isfinite(float(m.group(1))):
             break
         out.append(float(m.group(1)))
         pos = m.end()
