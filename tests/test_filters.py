@@ -670,3 +670,24 @@ def test_filter_function_with_an_overflowing_angle_is_invalid(value):
         return ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
                 f'<rect width="10" height="10" fill="red" {f}/></svg>')
     assert np.array_equal(render_svg_array(doc(f'filter="{value}"')), render_svg_array(doc("")))
+
+
+@pytest.mark.parametrize("fe, drawn", [('<feOffset dx="1e308"/>', False),
+                                       ('<feOffset dy="-3.5e38"/>', False),
+                                       ('<feGaussianBlur stdDeviation="1e308"/>', False),
+                                       ('<feGaussianBlur stdDeviation="1e200 0"/>', False),
+                                       ('<feDropShadow dx="1e308"/>', True),
+                                       ('<feDropShadow stdDeviation="1e308"/>', True)])
+def test_shift_or_blur_past_float_range_leaves_nothing(fe, drawn):
+    """A finite number whose device size overflows (f32 for shifts, 12·sigma² for blurs) is
+    still that number: an offset that far moves the image out, a blur that wide spreads it to
+    nothing, so only a drop shadow's source stays (these raised OverflowError)."""
+    def doc(f, use='filter="url(#f)"'):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
+                '<filter id="f" color-interpolation-filters="sRGB">' + f + '</filter>'
+                f'<rect x="5" y="5" width="10" height="10" {use}/></svg>')
+    img = render_svg_array(doc(fe))
+    if drawn:
+        assert np.array_equal(img, render_svg_array(doc("", use="")))
+    else:
+        assert not img[..., 3].any()

@@ -577,11 +577,18 @@ def _amount(args, default=1.0):
     return parsed[0] / 100 if parsed[1] == "%" else parsed[0]
 
 
+F32_MAX = float(np.finfo(np.float32).max)
+
+
 def f32_product(length, scale):
     """A length in device pixels where resvg shifts by whole ones (feOffset, drop shadows:
     truncated): the product in f32 as resvg takes it, so -10 x 1.3 is -13 (f32 rounds the
-    product to 13.0), not f64's -12.9999995 that truncates to -12."""
-    return float(np.float32(length) * np.float32(scale))
+    product to 13.0), not f64's -12.9999995 that truncates to -12. A product past f32's range
+    (dx="1e308") saturates at its largest finite value: a shift that far out leaves nothing
+    either way, and infinity has no whole number of pixels."""
+    with np.errstate(over="ignore"):
+        v = float(np.float32(length) * np.float32(scale))
+    return v if math.isfinite(v) else math.copysign(F32_MAX, v)
 
 
 def filter_function(builder, name, args, style, ctx, bbox_fn):
