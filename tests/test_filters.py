@@ -691,3 +691,15 @@ def test_shift_or_blur_past_float_range_leaves_nothing(fe, drawn):
         assert np.array_equal(img, render_svg_array(doc("", use="")))
     else:
         assert not img[..., 3].any()
+
+
+@pytest.mark.parametrize("operator", ["dilate", "erode"])
+def test_morphology_radius_overflowing_in_device_pixels_is_a_huge_radius(operator):
+    """1.7e308 user units at 10 px per unit is infinite in device pixels (raised
+    OverflowError): it acts as any radius past the image does."""
+    def doc(r):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40" viewBox="0 0 4 4">'
+                f'<filter id="f"><feMorphology operator="{operator}" radius="{r}"/></filter>'
+                '<rect width="2" height="2" filter="url(#f)"/><circle cx="3" cy="3" r="1"/></svg>')
+    assert np.array_equal(render_svg_array(doc("1.7976931348623157e308")),
+                          render_svg_array(doc("1000")))

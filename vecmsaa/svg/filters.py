@@ -366,7 +366,10 @@ class PrimitiveResolver:
             ry = 1.0 if ry == 0 else ry
             if rx < 0 or ry < 0:
                 rx, ry = 1.0, 1.0
-        return Morphology(op, rx * self.scale[0], ry * self.scale[1]), (inp,)
+        # a radius overflowing to infinity in device pixels (1.7e308 × 10) is as wide as any
+        # huge one: past the image either way, and infinity has no whole number of pixels
+        return Morphology(op, min(rx * self.scale[0], F32_MAX),
+                          min(ry * self.scale[1], F32_MAX)), (inp,)
 
     def lighting(self, fe, style, specular):
         """The Lighting effect, or None for a primitive usvg drops (no light source, specular
