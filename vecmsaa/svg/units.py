@@ -244,8 +244,9 @@ def row_scale_f32(m):
     does (a rotation's norm is 1 or 0.99999994 by angle, not 0.9999999999999999 or 1)."""
     import numpy as np
 
-    a, b, c, d = (np.float32(v) for v in m[:4])
-    return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
+    with np.errstate(over="ignore"):    # entries past f32 give inf, which callers check
+        a, b, c, d = (np.float32(v) for v in m[:4])
+        return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
 
 
 def mean_scale(m):
