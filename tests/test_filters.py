@@ -660,3 +660,46 @@ def test_tile_of_a_subregion_past_the_region_edge_repeats_its_clipped_part():
     ys, xs = np.mgrid[20:180, 20:180]
     want = source[30 + (ys - 30) % 20, 20 + (xs - 20) % 20]
     assert np.abs(tiled[20:180, 20:180] - want).max() <= 1
+
+
+@pytest.mark.parametrize("value", ["hue-rotate(1e400deg)", "hue-rotate(-1e400turn)"])
+def test_filter_function_with_an_overflowing_angle_is_invalid(value):
+    """An angle too large for a double is no angle: the filter value does not parse and is
+    ignored, as an absent filter (was: math domain error from cos(inf))."""
+    def doc(f):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
+                f'<rect width="10" height="10" fill="red" {f}/></svg>')
+    assert np.array_equal(render_svg_array(doc(f'filter="{value}"')), render_svg_array(doc("")))
+
+
+@pytest.mark.parametrize("fe, drawn", [('<feOffset dx="1e308"/>', False),
+                                       ('<feOffset dy="-3.5e38"/>', False),
+                                       ('<feGaussianBlur stdDeviation="1e308"/>', False),
+                                       ('<feGaussianBlur stdDeviation="1e200 0"/>', False),
+                                       ('<feDropShadow dx="1e308"/>', True),
+                                       ('<feDropShadow stdDeviation="1e308"/>', True)])
+def test_shift_or_blur_past_float_range_leaves_nothing(fe, drawn):
+    """A finite number whose device size overflows (f32 for shifts, 12·sigma² for blurs) is
+    still that number: an offset that far moves the image out, a blur that wide spreads it to
+    nothing, so only a drop shadow's source stays (these raised OverflowError)."""
+    def doc(f, use='filter="url(#f)"'):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
+                '<filter id="f" color-interpolation-filters="sRGB">' + f + '</filter>'
+                f'<rect x="5" y="5" width="10" height="10" {use}/></svg>')
+    img = render_svg_array(doc(fe))
+    if drawn:
+        assert np.array_equal(img, render_svg_array(doc("", use="")))
+    else:
+        assert not img[..., 3].any()
+
+
+@pytest.mark.parametrize("operator", ["dilate", "erode"])
+def test_morphology_radius_overflowing_in_device_pixels_is_a_huge_radius(operator):
+    """1.7e308 user units at 10 px per unit is infinite in device pixels (raised
+    OverflowError): it acts as any radius past the image does."""
+    def doc(r):
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40" viewBox="0 0 4 4">'
+                f'<filter id="f"><feMorphology operator="{operator}" radius="{r}"/></filter>'
+                '<rect width="2" height="2" filter="url(#f)"/><circle cx="3" cy="3" r="1"/></svg>')
+    assert np.array_equal(render_svg_array(doc("1.7976931348623157e308")),
+                          render_svg_array(doc("1000")))

@@ -376,3 +376,14 @@ def test_context_fill_pattern_keeps_the_use_elements_cells_under_a_child_transfo
     want[(col % 2 == 1) & (row % 2 == 1)] = (0, 128, 0, 255)
     got = img[90:210, 90:210]
     assert np.abs(got - want).max() <= 1
+
+
+@pytest.mark.parametrize("attrs", ['width="10" height="10" patternTransform="matrix(1e308 0 0 1e308 0 0)"',
+                                   'width="1e38" height="10" patternTransform="scale(1e10)"'])
+def test_pattern_tile_beyond_f32_is_not_drawn(attrs):
+    """A tile whose pixel size overflows f32 (resvg's precision) has no size: the paint draws
+    nothing instead of raising OverflowError (found by the session 13 attribute sweep)."""
+    img = render(f'<pattern id="p" patternUnits="userSpaceOnUse" {attrs}>'
+                 '<rect width="5" height="5" fill="red"/></pattern>'
+                 '<rect width="40" height="40" fill="url(#p)"/>')
+    assert not img[..., 3].any()

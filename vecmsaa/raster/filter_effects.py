@@ -29,6 +29,8 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
 BOX_BLUR_SIGMA = 2.0
 #: box blur passes approximating a Gaussian (resvg uses five)
 BOX_PASSES = 5
+#: larger standard deviations blur as this one (see box_sizes)
+MAX_BLUR_SIGMA = 1e15
 
 
 # -- colour spaces ---------------------------------------------------------------------------
@@ -89,6 +91,9 @@ def convolve_axis(img: np.ndarray, kernel: np.ndarray, axis: int) -> np.ndarray:
 def box_sizes(sigma: float, passes: int = BOX_PASSES) -> list[int]:
     """Odd box widths whose ``passes`` successive box blurs have variance close to sigma²
     (the smaller width wl for the first m passes, wl + 2 for the rest)."""
+    # boxes far wider than any image leave ~0 everywhere whatever sigma is (each pass divides
+    # by its width); the cap keeps 12·sigma² finite (stdDeviation="1e308")
+    sigma = min(sigma, MAX_BLUR_SIGMA)
     ideal = math.sqrt(12.0 * sigma * sigma / passes + 1.0)
     wl = int(math.floor(ideal))
     if wl % 2 == 0:

@@ -366,7 +366,10 @@ class PrimitiveResolver:
             ry = 1.0 if ry == 0 else ry
             if rx < 0 or ry < 0:
                 rx, ry = 1.0, 1.0
-        return Morphology(op, rx * self.scale[0], ry * self.scale[1]), (inp,)
+        # a radius overflowing to infinity in device pixels (1.7e308 × 10) is as wide as any
+        # huge one: past the image either way, and infinity has no whole number of pixels
+        return Morphology(op, min(rx * self.scale[0], F32_MAX),
+                          min(ry * self.scale[1], F32_MAX)), (inp,)
 
     def lighting(self, fe, style, specular):
         """The Lighting effect, or None for a primitive usvg drops (no light source, specular
@@ -577,11 +580,18 @@ def _amount(args, default=1.0):
     return parsed[0] / 100 if parsed[1] == "%" else parsed[0]
 
 
+F32_MAX = float(np.finfo(np.float32).max)
+
+
 def f32_product(length, scale):
     """A length in device pixels where resvg shifts by whole ones (feOffset, drop shadows:
     truncated): the product in f32 as resvg takes it, so -10 x 1.3 is -13 (f32 rounds the
-    product to 13.0), not f64's -12.9999995 that truncates to -12."""
-    return float(np.float32(length) * np.float32(scale))
+    product to 13.0), not f64's -12.9999995 that truncates to -12. A product past f32's range
+    (dx="1e308") saturates at its largest finite value: a shift that far out leaves nothing
+    either way, and infinity has no whole number of pixels."""
+    with np.errstate(over="ignore"):
+        v = float(np.float32(length) * np.float32(scale))
+    return v if math.isfinite(v) else math.copysign(F32_MAX, v)
 
 
 def filter_function(builder, name, args, style, ctx, bbox_fn):
@@ -659,7 +669,7 @@ def _angle(args):
         return None
     v = float(m.group(1))
     unit = m.group(2) or ("deg" if v == 0 else None)
-    if unit is None:
+    if unit is None or not math.isfinite(v):   # 1e400deg overflows: not an angle
         return None
     return {"deg": v, "grad": v * 0.9, "rad": math.degrees(v), "turn": v * 360}[unit]
 

@@ -237,6 +237,11 @@ def pattern(builder, el, ctx, bbox):
     sx, sy = row_scale_f32(full)
     if sx <= 0 or sy <= 0:
         return None
+    # a tile side past f32's range (matrix(1e308 ...)) has no pixel size in resvg: not drawn
+    with np.errstate(over="ignore"):
+        if not (np.isfinite(np.float32(w) * np.float32(sx))
+                and np.isfinite(np.float32(h) * np.float32(sy))):
+            return None
     tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
     # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
     # 1e12) would otherwise become a 1-pixel sliver of millions of rows

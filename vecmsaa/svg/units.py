@@ -28,7 +28,8 @@ def parse_length_list(text) -> list[tuple[float, str]]:
     out, pos, text = [], 0, text or ""
     while pos < len(text):
         m = _LIST_LENGTH.match(text, pos)
-        if m is None:
+        # a number too large for a double (1e400) does not parse either
+        if m is None or not math.isfinite(float(m.group(1))):
             break
         out.append((float(m.group(1)), m.group(2) or ""))
         pos = m.end()
@@ -77,7 +78,8 @@ def _leading_numbers(text: str) -> tuple[list[float], int]:
     out, pos = [], 0
     while pos < len(text):
         m = _LIST_ITEM.match(text, pos)
-        if m is None:
+        # a number too large for a double (1e400) is not one: the list stops (or is invalid)
+        if m is None or not math.isfinite(float(m.group(1))):
             break
         out.append(float(m.group(1)))
         pos = m.end()
@@ -242,8 +244,9 @@ def row_scale_f32(m):
     does (a rotation's norm is 1 or 0.99999994 by angle, not 0.9999999999999999 or 1)."""
     import numpy as np
 
-    a, b, c, d = (np.float32(v) for v in m[:4])
-    return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
+    with np.errstate(over="ignore"):    # entries past f32 give inf, which callers check
+        a, b, c, d = (np.float32(v) for v in m[:4])
+        return float(np.sqrt(a * a + c * c)), float(np.sqrt(b * b + d * d))
 
 
 def mean_scale(m):

@@ -8,7 +8,6 @@ absolute ``x`` or ``y`` (or the first of a ``textPath``) starts a text chunk (:m
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from ..builder import conditions_pass
@@ -199,8 +198,7 @@ def apply_positions(text_el, chars, ctx, styles):
                 for k, (v, unit) in zip(idx, parse_length_list(el.get(name))):
                     setattr(chars[k], name, ctx.length(f"{v!r}{unit}", axis, style))
         # a list with anything but numbers in it (``10,,20``, ``10 x``) is invalid, as in resvg
-        rot = [r if math.isfinite(r) else 0.0
-               for r in parse_number_list(el.get("rotate") or "") or ()]
+        rot = parse_number_list(el.get("rotate") or "") or ()
         if rot:
             for j, k in enumerate(idx):
                 chars[k].rotate = rot[min(j, len(rot) - 1)]
