@@ -8,7 +8,7 @@ which at 16 x 16 means not one pixel). The edge-pixel error is tools/accuracy.py
 Icons are not part of the repository: point the command at folders of SVG files (e.g. a
 desktop theme's symbolic icons)::
 
-    python -m vecmsaa.tools.icons /work/icons/adwaita --sizes 16 24 32
+    python -m vecmsaa.tools.icons ~/icons/adwaita --sizes 16 24 32
 """
 from __future__ import annotations
 
