@@ -10,7 +10,6 @@ from ..scene.transform import IDENTITY, compose
 NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 #: a CSS <length>: the unit follows the number directly ("50 px" is two tokens, no length)
 _LENGTH = re.compile(rf"^\s*({NUMBER_RE})(px|pt|pc|mm|cm|in|em|ex|%)?\s*$", re.I)
-_NUMBERS = re.compile(NUMBER_RE)
 
 #: units whose size in px follows the output resolution (``dpi``; CSS fixes them at 96 dpi)
 PHYSICAL_UNITS = ("pt", "pc", "mm", "cm", "in")
@@ -44,10 +43,6 @@ def parse_number(text, default=None):
     except (ValueError, AttributeError):
         return default
     return v if math.isfinite(v) else default
-
-
-def parse_numbers(text) -> list[float]:
-    return [float(x) for x in _NUMBERS.findall(text or "")]
 
 
 _LIST_ITEM = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
@@ -258,10 +253,10 @@ def mean_scale(m):
 def parse_viewbox(text):
     if not text:
         return None
+    # (a number that overflows to infinity is no list item: the list, so the viewBox, is
+    # invalid, as with a negative size)
     nums = parse_number_list(text)
-    # a number that overflows to infinity makes the viewBox as invalid as a negative size
-    if nums is None or len(nums) != 4 or not (0 < nums[2] < math.inf and 0 < nums[3] < math.inf) \
-            or not (math.isfinite(nums[0]) and math.isfinite(nums[1])):
+    if nums is None or len(nums) != 4 or not (nums[2] > 0 and nums[3] > 0):
         return None
     return tuple(nums)
 
