@@ -327,7 +327,9 @@ def _parse_batch(buf, starts, mode, given, spans):
                 field = (field + 1) % 7
             if status:
                 break
-            ok = _skip_wsp(buf, p, a1) == a1
+            # a comma may follow a command's last number (svgtypes and browsers read
+            # "M20 20,L180 20"; SVG's grammar leaves separators between commands open)
+            ok = (_skip_sep(buf, p, a1) if count else _skip_wsp(buf, p, a1)) == a1
             if upper != _A and not ok and count and (buf[p] == _E_LOWER or buf[p] == _E_UPPER):
                 count -= 1      # "1e" is a broken number, not "1" followed by junk
             arity = _ARITY[upper]
@@ -524,6 +526,9 @@ def _parse_exactly(text: str):
     raw = buf.tobytes()
     given = np.array([float(raw[a:b]) for a, b in spans[:2 * count].reshape(-1, 2).tolist()],
                      np.float64)
+    bad = np.flatnonzero(~np.isfinite(given))
+    if len(bad):    # a number past double range is an error: the data is read up to it
+        return _parse_exactly(raw[:spans[2 * bad[0]]].decode("utf-8", "replace"))
     verbs, pts, origin, vstart, pstart = _parse_batch(buf, starts, _GIVEN, given, _NO_SPANS)[:5]
     nv, npts = vstart[-1], pstart[-1]
     return Path._of_arrays(verbs[:nv].copy(), pts[:npts].reshape(-1, 2).copy()), origin[:nv].copy()
