@@ -528,6 +528,9 @@ def test_markers_are_placed_on_vertices():
     ("M 20 30 Z", [20, 30, 20, 30]),                   # a zero-length closed subpath
     ("M 20 30 Z M 60 70 Z", [20, 30, 60, 70, 60, 70]),  # the first close adds no mid
     ("M 20 30", []), ("M 20 30 M 60 70", []),           # lone movetos have no segment
+    # nor a vertex where a subpath follows: the start marker is the first segment's
+    ("M 20 30 M 60 70 L 80 70", [60, 70, 80, 70]),
+    ("M 10 10 L 20 10 M 30 30 M 40 40 L 50 40", [10, 10, 20, 10, 40, 40, 50, 40]),
 ])
 def test_markers_on_zero_length_closed_subpaths(d, centres):
     # SVG 2: "M x y Z" is a subpath with a (zero-length) closing segment, so its vertex takes

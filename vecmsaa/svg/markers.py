@@ -157,7 +157,8 @@ def marker_vertices(path: Path, commands=None):
         n = VERB_POINTS[v]
         cmd = commands[vi] if commands is not None else vi
         if v == MOVE:
-            if verts is not None:
+            if verts is not None and len(verts) > 1:
+                # (a lone moveto is no segment and so no vertex, wherever it stands)
                 subpaths.append((verts, dirs, closed))
             start = cur = tuple(pts[i])
             verts, dirs, closed = [start], [], False
