@@ -547,6 +547,27 @@ def test_markers_on_zero_length_closed_subpaths(d, centres):
     assert got == pytest.approx(centres)
 
 
+@pytest.mark.parametrize("parent, clipped", [
+    ('<g overflow="hidden">', True), ('<g overflow="scroll">', True),
+    ('<g overflow="visible">', False), ('<g>', False),          # a g's own default: visible
+    ('<g overflow="hidden"><g overflow="inherit">', True),      # inherit through inherit
+    ('<svg overflow="visible">', False), ('<svg>', True),       # a nested svg clips by default
+    ('', False),                                                # the root svg does not
+])
+def test_marker_overflow_inherit_takes_the_parents_value(parent, clipped):
+    # overflow is not an inherited property: 'inherit' takes the document parent's computed
+    # value (CSS Cascade 4 §7.3), whose default for a nested svg is hidden (SVG 2 UA sheet)
+    from vecmsaa.api import render_svg_array
+    close = "".join(f"</{t.split()[0].strip('<>')}>" for t in reversed(parent.split(">")[:-1]))
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100">{parent}<marker id="m" overflow="inherit" '
+        'markerUnits="userSpaceOnUse" markerWidth="10" markerHeight="10">'
+        f'<rect x="-10" y="-10" width="20" height="20"/></marker>{close}'
+        '<path d="M 50 50 L 90 50" marker-start="url(#m)"/></svg>')
+    assert img[55, 55, 3] == 255                  # inside the marker's viewport: drawn
+    assert img[45, 45, 3] == (0 if clipped else 255)
+
+
 def test_mid_markers_go_between_the_pieces_of_an_arc():
     # resvg: a semicircle is two 90° cubics, and the joint at its top gets a mid marker
     s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
