@@ -547,6 +547,26 @@ def test_markers_on_zero_length_closed_subpaths(d, centres):
     assert got == pytest.approx(centres)
 
 
+@pytest.mark.parametrize("orient, angle", [
+    ("90", 90), ("90deg", 90), ("100grad", 90), ("0.25turn", 90), ("1.5707963rad", 90),
+    ("+9e1", 90), ("-90", -90), ("90DEG", 90),
+    ("90 deg", 0), ("90px", 0), ("deg", 0), ("90deg 0", 0), ("", 0),   # no <angle>: 0
+])
+def test_marker_orient_angles(orient, angle):
+    # CSS Values 4 §6.1: an angle is a number immediately followed by its unit (a turn is
+    # 360 degrees, a grad 0.9); SVG 2 orient: a number is in degrees, anything else invalid
+    s = scene(f'<marker id="m" orient="{orient}" markerUnits="userSpaceOnUse" '
+              'markerWidth="40" markerHeight="40" overflow="visible">'
+              '<rect width="20" height="2"/></marker>'
+              '<path d="M 50 50 L 90 50" marker-start="url(#m)"/>')
+    x0, y0, x1, y1 = path_bounds(s.fills()[0].path)
+    r = math.radians(angle)
+    corners = [(50 + 20 * math.cos(r) * u - 2 * math.sin(r) * v,
+                50 + 20 * math.sin(r) * u + 2 * math.cos(r) * v) for u in (0, 1) for v in (0, 1)]
+    xs, ys = zip(*corners)
+    assert (x0, y0, x1, y1) == pytest.approx((min(xs), min(ys), max(xs), max(ys)), abs=1e-6)
+
+
 @pytest.mark.parametrize("parent, clipped", [
     ('<g overflow="hidden">', True), ('<g overflow="scroll">', True),
     ('<g overflow="visible">', False), ('<g>', False),          # a g's own default: visible
