@@ -528,6 +528,9 @@ def test_markers_are_placed_on_vertices():
     ("M 20 30 Z", [20, 30, 20, 30]),                   # a zero-length closed subpath
     ("M 20 30 Z M 60 70 Z", [20, 30, 60, 70, 60, 70]),  # the first close adds no mid
     ("M 20 30", []), ("M 20 30 M 60 70", []),           # lone movetos have no segment
+    # nor a vertex where a subpath follows: the start marker is the first segment's
+    ("M 20 30 M 60 70 L 80 70", [60, 70, 80, 70]),
+    ("M 10 10 L 20 10 M 30 30 M 40 40 L 50 40", [10, 10, 20, 10, 40, 40, 50, 40]),
 ])
 def test_markers_on_zero_length_closed_subpaths(d, centres):
     # SVG 2: "M x y Z" is a subpath with a (zero-length) closing segment, so its vertex takes
@@ -542,6 +545,47 @@ def test_markers_on_zero_length_closed_subpaths(d, centres):
         x0, y0, x1, y1 = path_bounds(f.path)
         got += [(x0 + x1) / 2, (y0 + y1) / 2]
     assert got == pytest.approx(centres)
+
+
+@pytest.mark.parametrize("orient, angle", [
+    ("90", 90), ("90deg", 90), ("100grad", 90), ("0.25turn", 90), ("1.5707963rad", 90),
+    ("+9e1", 90), ("-90", -90), ("90DEG", 90),
+    ("90 deg", 0), ("90px", 0), ("deg", 0), ("90deg 0", 0), ("", 0),   # no <angle>: 0
+])
+def test_marker_orient_angles(orient, angle):
+    # CSS Values 4 §6.1: an angle is a number immediately followed by its unit (a turn is
+    # 360 degrees, a grad 0.9); SVG 2 orient: a number is in degrees, anything else invalid
+    s = scene(f'<marker id="m" orient="{orient}" markerUnits="userSpaceOnUse" '
+              'markerWidth="40" markerHeight="40" overflow="visible">'
+              '<rect width="20" height="2"/></marker>'
+              '<path d="M 50 50 L 90 50" marker-start="url(#m)"/>')
+    x0, y0, x1, y1 = path_bounds(s.fills()[0].path)
+    r = math.radians(angle)
+    corners = [(50 + 20 * math.cos(r) * u - 2 * math.sin(r) * v,
+                50 + 20 * math.sin(r) * u + 2 * math.cos(r) * v) for u in (0, 1) for v in (0, 1)]
+    xs, ys = zip(*corners)
+    assert (x0, y0, x1, y1) == pytest.approx((min(xs), min(ys), max(xs), max(ys)), abs=1e-6)
+
+
+@pytest.mark.parametrize("parent, clipped", [
+    ('<g overflow="hidden">', True), ('<g overflow="scroll">', True),
+    ('<g overflow="visible">', False), ('<g>', False),          # a g's own default: visible
+    ('<g overflow="hidden"><g overflow="inherit">', True),      # inherit through inherit
+    ('<svg overflow="visible">', False), ('<svg>', True),       # a nested svg clips by default
+    ('', False),                                                # the root svg does not
+])
+def test_marker_overflow_inherit_takes_the_parents_value(parent, clipped):
+    # overflow is not an inherited property: 'inherit' takes the document parent's computed
+    # value (CSS Cascade 4 §7.3), whose default for a nested svg is hidden (SVG 2 UA sheet)
+    from vecmsaa.api import render_svg_array
+    close = "".join(f"</{t.split()[0].strip('<>')}>" for t in reversed(parent.split(">")[:-1]))
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100">{parent}<marker id="m" overflow="inherit" '
+        'markerUnits="userSpaceOnUse" markerWidth="10" markerHeight="10">'
+        f'<rect x="-10" y="-10" width="20" height="20"/></marker>{close}'
+        '<path d="M 50 50 L 90 50" marker-start="url(#m)"/></svg>')
+    assert img[55, 55, 3] == 255                  # inside the marker's viewport: drawn
+    assert img[45, 45, 3] == (0 if clipped else 255)
 
 
 def test_mid_markers_go_between_the_pieces_of_an_arc():

@@ -705,6 +705,15 @@ class Builder:
     def overflow_hidden(self, el, style):
         v = el.specified.get("overflow") or ("hidden" if el.tag in CLIPPING_BY_DEFAULT
                                               else "visible")
+        # 'overflow' is not inherited, so 'inherit' takes the document parent's own value
+        # (its UA default when it has none; the root's is visible)
+        while v.strip() == "inherit":
+            el = el.parent
+            if el is None:
+                return False
+            v = el.specified.get("overflow") or (
+                "hidden" if el.tag in CLIPPING_BY_DEFAULT and el.parent is not None
+                else "visible")
         return v.strip() in ("hidden", "scroll")
 
     def nested_svg(self, el, ctx, style, size_override=None, effects=False):

@@ -2,13 +2,19 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
 from ..scene.nodes import Group
-from .units import matrix_scale, parse_aspect, parse_number, parse_viewbox, viewbox_transform
+from .units import (NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
+                    viewbox_transform)
+
+
+_ANGLE = re.compile(rf"({NUMBER_RE})(deg|grad|rad|turn)?", re.I)
+_ANGLE_UNITS = {"deg": 1.0, "grad": 0.9, "rad": 180 / math.pi, "turn": 360.0}
 
 
 def auto_angle(angle_in, angle_out):
@@ -87,14 +93,11 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
         else:
             angle = angle_in if kind == "end" else auto_angle(angle_in, angle_out)
     else:
-        o = orient.lower()
-        factor = 1.0
-        for unit, f in (("deg", 1.0), ("grad", 0.9), ("rad", 180 / math.pi), ("turn", 360.0)):
-            if o.endswith(unit):
-                o = o[:-len(unit)]
-                factor = f
-                break
-        angle = (parse_number(o, 0.0) or 0.0) * factor
+        # an <angle> is a number with its unit right after it ('45 deg' is invalid: 0)
+        m = _ANGLE.fullmatch(orient)
+        angle = float(m[1]) * _ANGLE_UNITS[(m[2] or "deg").lower()] if m else 0.0
+        if not math.isfinite(angle):
+            angle = 0.0
     units = (marker.get("markerUnits") or "strokeWidth").strip()
     scale = stroke_width if units != "userSpaceOnUse" else 1.0
     m = translate(x, y)
@@ -157,7 +160,8 @@ def marker_vertices(path: Path, commands=None):
         n = VERB_POINTS[v]
         cmd = commands[vi] if commands is not None else vi
         if v == MOVE:
-            if verts is not None:
+            if verts is not None and len(verts) > 1:
+                # (a lone moveto is no segment and so no vertex, wherever it stands)
                 subpaths.append((verts, dirs, closed))
             start = cur = tuple(pts[i])
             verts, dirs, closed = [start], [], False
