@@ -492,6 +492,43 @@ def test_image_data_url_png(tmp_path):
     assert apply(f.paint.to_paint, [[50, 40]])[0] == pytest.approx((3, 2))
 
 
+def _png_bytes(im):
+    import io
+    buf = io.BytesIO()
+    im.save(buf, "PNG")
+    return buf.getvalue()
+
+
+def test_data_urls_follow_fetchs_processor():
+    import base64
+    import urllib.parse
+
+    from vecmsaa.svg.resources import decode_data_url
+    data = bytes(range(250, 256)) + bytes(range(4))
+    b64 = base64.b64encode(data).decode()
+    assert b64.endswith("==") and "+" in b64 and "/" in b64
+    ok = [b64, b64.rstrip("="),                          # padding is optional
+          urllib.parse.quote(b64, safe=""),              # the body is percent-decoded first
+          " \n".join(b64[i:i + 5] for i in range(0, len(b64), 5))]   # ASCII whitespace
+    for body in ok:
+        assert decode_data_url("data:image/png;base64," + body) == (data, "image/png", None)
+    # outside the base64 alphabet, or a length of 4k + 1: failure (forgiving-base64 decode)
+    for body in (b64.replace("A", "-"), b64[:-1] + "!", "AAAAA", b64 + "=="):
+        assert decode_data_url("data:image/png;base64," + body) is None
+    assert decode_data_url("data:,a%20b") == (b"a b", None, None)
+
+
+def test_sixteen_bit_grey_png_is_scaled_to_its_range():
+    from PIL import Image
+    from vecmsaa.svg.image import decode_raster, image_texels
+    # PNG: a 16-bit grey sample v is v / 65535 of white
+    grey = Image.fromarray(np.array([[0, 16384, 32768, 65535]], dtype=np.uint16))
+    texels = image_texels(decode_raster(_png_bytes(grey)))
+    assert texels[1, 1:-1, 0] == pytest.approx(np.array([0, 16384, 32768, 65535]) / 65535,
+                                               abs=0.5 / 255)
+    assert (texels[1, 1:-1, 3] == 1).all()
+
+
 def test_files_outside_allowed_folders_are_not_read(tmp_path):
     from PIL import Image
     outside = tmp_path / "outside"

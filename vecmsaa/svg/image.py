@@ -56,6 +56,11 @@ def decode_raster(data: bytes, resources=None):
             resources.decoded_pixels += pixels
         im.seek(0)
         im.load()
+        if im.mode in ("I", "I;16", "I;16B", "I;16L"):
+            # 16-bit grey (PNG): Pillow's conversions clamp the samples to 0-255 where 65535
+            # is white, so scale them here (to 8 bits, as resvg decodes every image)
+            grey = np.asarray(im, dtype=np.float64)
+            im = Image.fromarray(np.round(np.clip(grey, 0, 65535) / 257.0).astype(np.uint8), "L")
         cache[data] = im
     return im
 
