@@ -145,6 +145,25 @@ def test_nested_svg_viewbox_and_clip():
     assert path_bounds(g.children[0].path) == pytest.approx((10, 10, 30, 30))
 
 
+@pytest.mark.parametrize("overflow, clipped", [
+    (None, True), ("hidden", True), ("scroll", True), ("clip", True),   # CSS Overflow 3
+    ("visible", False), ("auto", False), ("VISIBLE", False),   # SVG: auto is visible
+    ("bogus", True), ("", True),    # invalid: dropped, the UA sheet's hidden applies
+    ("initial", False), ("inherit", False),   # the initial value; the root's (visible)
+])
+def test_nested_svg_overflow_values(overflow, clipped):
+    attr = "" if overflow is None else f' overflow="{overflow}"'
+    for form in (attr, attr.replace('overflow="', 'style="overflow:')):
+        s = scene(f'<svg x="10" y="10" width="20" height="20"{form}>'
+                  '<rect width="50" height="50"/></svg>')
+        (g,) = s.root.children
+        assert (isinstance(g, Group) and g.clip is not None) == clipped, form
+    s = scene(f'<defs><symbol id="s"{attr}><rect width="50" height="50"/></symbol></defs>'
+              '<use href="#s" width="20" height="20"/>')
+    (g,) = s.root.children
+    assert (isinstance(g, Group) and g.clip is not None) == clipped
+
+
 def test_use_with_offset_and_inherited_fill():
     s = scene('<defs><rect id="r" width="10" height="10"/></defs>'
               '<use href="#r" x="5" y="6" fill="green"/>')

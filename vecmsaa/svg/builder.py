@@ -703,9 +703,16 @@ class Builder:
         return Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
 
     def overflow_hidden(self, el, style):
-        v = el.specified.get("overflow") or ("hidden" if el.tag in CLIPPING_BY_DEFAULT
-                                              else "visible")
-        return v.strip() in ("hidden", "scroll")
+        v = (el.specified.get("overflow") or "").strip().lower()
+        if v in ("visible", "auto", "initial", "unset"):   # SVG: auto is visible
+            return False
+        if v in ("hidden", "scroll", "clip"):
+            return True
+        if v == "inherit" and el.parent is not None:
+            return self.overflow_hidden(el.parent, style)
+        # none or an invalid value (CSS drops the declaration): the UA style sheet's
+        # `svg:not(:root), symbol, image, marker, pattern { overflow: hidden }`
+        return el.tag in CLIPPING_BY_DEFAULT and el.parent is not None
 
     def nested_svg(self, el, ctx, style, size_override=None, effects=False):
         """The content of a nested <svg> under its viewport transform (x/y, viewBox) and
