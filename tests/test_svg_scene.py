@@ -537,6 +537,21 @@ def test_data_urls_follow_fetchs_processor():
     assert decode_data_url("data:,a%20b") == (b"a b", None, None)
 
 
+@pytest.mark.parametrize("mime, drawn", [
+    ("image/png", True), ("", True), ("image/jpeg", True),   # the bytes decide
+    ("application/octet-stream", True),
+    ("image/svg+xml", False), ("text/xml", False),   # an XML type is taken as given
+])
+def test_image_type_is_sniffed_unless_xml(mime, drawn):
+    import base64
+
+    from PIL import Image
+    url = f"data:{mime};base64," + base64.b64encode(
+        _png_bytes(Image.new("RGBA", (2, 2), (255, 0, 0, 255)))).decode()
+    s = scene(f'<image width="40" height="40" href="{url}"/>')
+    assert (len(s.fills()) == 1) == drawn
+
+
 def test_sixteen_bit_grey_png_is_scaled_to_its_range():
     from PIL import Image
     from vecmsaa.svg.image import decode_raster, image_texels

@@ -19,7 +19,11 @@ MAX_DECODED_PIXELS = 1 << 28
 
 
 def sniff(data: bytes, mime=None):
-    """'raster', 'svg' or None from the first bytes (the MIME type is only a hint)."""
+    """'raster', 'svg' or None from the first bytes. The MIME type is only a hint, but an XML
+    type is taken as given (MIME Sniffing's rules for images: `image/svg+xml` over PNG bytes
+    is an SVG document that does not parse, not a PNG)."""
+    if mime and (mime.endswith("+xml") or mime in ("text/xml", "application/xml")):
+        return "svg"
     head = data[:16]
     if (head.startswith(b"\x89PNG") or head.startswith(b"\xff\xd8") or head.startswith(b"GIF8")
             or (head.startswith(b"RIFF") and data[8:12] == b"WEBP")):
