@@ -178,6 +178,25 @@ def test_use_cycles_are_cut():
     assert len(s.fills()) == 1
 
 
+@pytest.mark.parametrize("body, drawn", [
+    # a <use> of an element holding a <use> back to that element draws nothing (resvg; the
+    # SVG 1.1 suite's struct-use-12-f draws none of its circular <use>s) ...
+    ('<defs><symbol id="s"><use href="#s"/><rect width="5" height="5"/></symbol></defs>'
+     '<use href="#s"/>', 0),
+    ('<defs><g id="g"><g><use href="#g"/></g><rect width="5" height="5"/></g></defs>'
+     '<use href="#g"/>', 0),
+    # ... or back to the <use> itself
+    ('<g id="g"><use href="#u"/><rect width="5" height="5"/></g><use id="u" href="#g"/>', 1),
+    # the element drawn where it stands keeps its content, without the <use> inside
+    ('<g id="g"><use href="#g"/><rect width="5" height="5"/></g>', 1),
+    # a cycle further down is skipped where it closes, not by the <use> above it
+    ('<defs><g id="bad"><use href="#bad"/></g><g id="ok"><use href="#bad"/>'
+     '<rect width="5" height="5"/></g></defs><use href="#ok"/>', 1),
+])
+def test_use_that_would_recurse_draws_nothing(body, drawn):
+    assert len(scene(body).fills()) == drawn
+
+
 def test_use_expansion_is_bounded():
     # 10 levels of 10 uses each would be 10^10 rects
     levels = ['<rect id="l0" width="1" height="1"/>']

@@ -224,6 +224,7 @@ class Builder:
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+        self._links_back_memo = {}     # see links_back()
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
@@ -778,6 +779,8 @@ class Builder:
             return []
         if contains(target, el):
             return []
+        if links_back(el, target, self.doc, self._links_back_memo):
+            return []
         get = self.length_getter(el, style, ctx)
         if not translated:
             ctx = self.use_translated(el, style, ctx)
@@ -1324,6 +1327,28 @@ def _expanded_size(el, doc, memo, active):
     active.discard(key)
     memo[key] = min(total, MAX_NODES + 1)
     return memo[key]
+
+
+def links_back(el, target, doc, memo) -> bool:
+    """Whether a <use> inside ``target`` (at any depth, through no other reference)
+    references ``el`` or ``target`` itself: then instantiating ``el`` would recurse, and the
+    <use> ``el`` draws nothing, as resvg skips it. SVG 2 makes a <use> whose target is its
+    ancestor an error but leaves the <use> that instantiates such a cycle open (w3c/svgwg
+    issue 770); the SVG 1.1 suite's struct-use-12-f renders none of them. ``memo`` caches
+    by element for the document."""
+    key = id(el)
+    got = memo.get(key)
+    if got is None:
+        got = False
+        stack = list(target.children)
+        while stack and not got:
+            node = stack.pop()
+            if node.tag == "use":
+                linked = doc.lookup(node.get("href") or "")
+                got = linked is el or linked is target
+            stack.extend(node.children)
+        memo[key] = got
+    return got
 
 
 def contains(ancestor, el):
