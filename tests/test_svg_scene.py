@@ -571,6 +571,31 @@ def test_image_type_is_sniffed_unless_xml(mime, drawn):
     assert (len(s.fills()) == 1) == drawn
 
 
+def test_svg_image_inside_its_viewport_is_not_clipped_by_it():
+    # an SVG image whose drawing stays inside its viewport draws as the same drawing inline:
+    # a viewport clip along the drawing's own edge (turned 30°, so across pixels) would
+    # multiply the two edge coverages, a · a instead of a
+    import base64
+
+    from vecmsaa.api import render_svg_array
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 10 10">'
+             '<rect width="10" height="10" fill="green"/></svg>')
+    url = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    doc = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">'
+           '<g transform="rotate(30 50 50)">{}</g></svg>')
+    as_image = render_svg_array(doc.format(f'<image x="20" y="20" width="60" height="60" '
+                                           f'href="{url}"/>').encode())
+    inline = render_svg_array(doc.format('<rect x="20" y="20" width="60" height="60" '
+                                         'fill="green"/>').encode())
+    assert np.abs(as_image.astype(int) - inline.astype(int)).max() <= 1
+    # a drawing reaching past the viewport is still clipped to it
+    inner = inner.replace('width="10"', 'width="20"')
+    url = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    (g,) = scene(f'<image x="20" y="20" width="60" height="60" href="{url}"/>').root.children
+    assert g.clip is not None
+    assert path_bounds(g.clip.children[0].path) == pytest.approx((20, 20, 80, 80))
+
+
 def test_sixteen_bit_grey_png_is_scaled_to_its_range():
     from PIL import Image
     from vecmsaa.svg.image import decode_raster, image_texels

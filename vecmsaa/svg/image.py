@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..scene.transform import compose, invert, translate
+from ..scene.bounds import path_bounds
 from ..scene.path import rect_path
 from ..scene.nodes import Fill, Group, ImagePaint
 from .units import parse_aspect, viewbox_transform
@@ -178,8 +179,36 @@ def image_nodes(builder, el, ctx, style):
     nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
     if not nodes:
         return []
+    if _within(nodes, ctx.transform, (x, y, x + w, y + h)):
+        # the viewport clips nothing; as a clip its edge, where the drawing's own edge often
+        # lies (a background filling the viewBox), would multiply the two coverages there
+        return nodes
     clip = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
     return [Group(children=nodes, clip=clip)]
+
+
+def _within(nodes, to_device, box) -> bool:
+    """Whether everything ``nodes`` draw lies inside ``box`` (x0, y0, x1, y1) of the user
+    space ``to_device`` maps to device pixels (filters may reach outside: never)."""
+    try:
+        to_user = invert(to_device)
+    except ValueError:
+        return False
+    x0, y0, x1, y1 = box
+    eps = 1e-7 * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    stack = list(nodes)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Fill):
+            b = path_bounds(node.path, to_user)
+            if b is not None and not (b[0] >= x0 - eps and b[1] >= y0 - eps
+                                      and b[2] <= x1 + eps and b[3] <= y1 + eps):
+                return False
+        elif node.filters:
+            return False
+        else:
+            stack.extend(node.children)
+    return True
 
 
 def _load_svg(builder, data):
