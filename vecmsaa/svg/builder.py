@@ -242,9 +242,8 @@ class Builder:
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
-    def build_root(self, transform, viewport, root_scale=1.0, geometry=False) -> list:
-        """Nodes of the root <svg>'s content under ``transform`` (user → device);
-        ``geometry``: the content's object bounding boxes only (no strokes, clips, effects)."""
+    def build_root(self, transform, viewport, root_scale=1.0) -> list:
+        """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
         self.root_scale = root_scale
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
@@ -252,10 +251,8 @@ class Builder:
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
-        ctx = Ctx(transform=transform, viewport=viewport, geometry=geometry)
+        ctx = Ctx(transform=transform, viewport=viewport)
         nodes = self.children(root, ctx, style)
-        if geometry:
-            return nodes
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
             box = rect_path(0, 0, *viewport).transformed(transform)

@@ -92,8 +92,9 @@ def open_svg(data: bytes, folder, resources: Resources, options: Options,
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:
+        # not rounded: the suite's references scale by the exact extent (199.5 in no-size)
         width, height = drawing_extent(builder, viewport)
-    if whole_pixels and width > 0 and height > 0:
+    elif whole_pixels and width > 0 and height > 0:
         width, height = _whole(width), _whole(height)
     return SizedDocument(builder, width, height, root_m, viewport)
 
@@ -104,12 +105,13 @@ def _whole(v: float) -> float:
 
 
 def drawing_extent(builder, viewport):
-    """Size of a document without width, height and viewBox: the right and bottom edges of
-    its drawing's object bounding box (no strokes, as resvg takes ``abs_bounding_box``);
-    the viewport (the width and height as far as given, else 100) when it draws nothing."""
+    """Size of a document without width, height and viewBox: its drawing's right and bottom
+    edges, strokes included (the suite's `structure/svg/no-size` reference is 200 px for a
+    frame stroked out to 199.5; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
+    width and height as far as given, else 100) when it draws nothing."""
     box = None
     for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
-                                                           viewport, geometry=True))).fills():
+                                                           viewport))).fills():
         b = path_bounds(f.path)
         if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
             box = union(box, b)
