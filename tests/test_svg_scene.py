@@ -596,6 +596,32 @@ def test_svg_image_inside_its_viewport_is_not_clipped_by_it():
     assert path_bounds(g.clip.children[0].path) == pytest.approx((20, 20, 80, 80))
 
 
+@pytest.mark.parametrize("attrs, transform, smooth", [
+    ('x="10.5" y="3.25"', "", False),          # a texel per pixel, moved: nearest texel
+    ('x="10.5"', "translate(0.3 7)", False),
+    ('', "scale(1.01)", True), ('width="8"', "", True),    # scaled: filtered
+    ('', "rotate(90)", True),
+])
+def test_unit_scale_translated_image_takes_the_nearest_texel(attrs, transform, smooth):
+    # tiny-skia's pattern shader (resvg) samples a pattern whose transform is a translation by
+    # the nearest texel: red and blue texels stay red and blue at a half-pixel offset
+    import base64
+
+    from PIL import Image
+    im = Image.new("RGBA", (4, 1), (255, 0, 0, 255))
+    im.putpixel((1, 0), (0, 0, 255, 255))
+    im.putpixel((3, 0), (0, 0, 255, 255))
+    url = "data:image/png;base64," + base64.b64encode(_png_bytes(im)).decode()
+    s = scene(f'<g transform="{transform}"><image {attrs} href="{url}"/></g>')
+    assert only_fill(s).paint.smooth == smooth
+    if not smooth and not transform:
+        from vecmsaa.api import render_svg_array
+        img = render_svg_array(f'<svg {NS} width="20" height="6"><image {attrs} href="{url}"/>'
+                               '</svg>'.encode())
+        row = img[4, 11:14, :3]            # whole pixels inside the image
+        assert {tuple(int(v) for v in p) for p in row} <= {(255, 0, 0), (0, 0, 255)}
+
+
 def test_sixteen_bit_grey_png_is_scaled_to_its_range():
     from PIL import Image
     from vecmsaa.svg.image import decode_raster, image_texels

@@ -149,8 +149,11 @@ def image_nodes(builder, el, ctx, style):
         return [Fill(rect_path(x, y, w, h).transformed(ctx.transform))]
     if kind == "raster":
         rendering = style.get("image-rendering").strip()
-        smooth = rendering not in ("optimizeSpeed", "pixelated", "crisp-edges")
         to_device = compose(ctx.transform, image_to_user)
+        # a texel per device pixel, only moved: the nearest texel (tiny-skia's pattern shader
+        # drops its filter for a translation, as resvg draws it; the filter is the UA's choice)
+        smooth = (rendering not in ("optimizeSpeed", "pixelated", "crisp-edges")
+                  and tuple(np.float32(to_device[:4])) != (1.0, 0.0, 0.0, 1.0))
         try:
             to_paint = invert(to_device)
         except ValueError:
