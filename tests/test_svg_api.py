@@ -134,8 +134,8 @@ def test_intrinsic_size_without_a_viewbox_needs_both_lengths(attrs, size):
 
 
 @pytest.mark.parametrize("attrs, body, size", [
-    # strokes included: the suite's structure/svg/no-size reference is 200 px for a frame
-    # stroked out to 199.5 (resvg-py 0.5.0 leaves strokes out)
+    # strokes included: the suite's structure/svg/no-size reference scales by 199.5, where
+    # its frame's stroke ends (resvg-py 0.5.0 leaves strokes out)
     ('', '<rect width="100" height="50" stroke="black" stroke-width="10"/>', (105, 55)),
     # the output's whole pixels
     ('', '<rect x="20" y="20" width="100.5" height="50.25"/>', (121, 70)),

@@ -106,8 +106,8 @@ def _whole(v: float) -> float:
 
 def drawing_extent(builder, viewport):
     """Size of a document without width, height and viewBox: its drawing's right and bottom
-    edges, strokes included (the suite's `structure/svg/no-size` reference is 200 px for a
-    frame stroked out to 199.5; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
+    edges, strokes included (the suite's `structure/svg/no-size` reference scales by 199.5,
+    where its frame's stroke ends; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
     width and height as far as given, else 100) when it draws nothing."""
     box = None
     for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
