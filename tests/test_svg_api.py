@@ -131,3 +131,26 @@ def test_intrinsic_size_without_a_viewbox_needs_both_lengths(attrs, size):
     img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}><rect x="10" '
                            'y="10" width="80" height="40"/><circle cx="50" cy="50" r="30"/></svg>')
     assert img.shape[1::-1] == size
+
+
+@pytest.mark.parametrize("attrs, body, size", [
+    # strokes included: the suite's structure/svg/no-size reference scales by 199.5, where
+    # its frame's stroke ends (resvg-py 0.5.0 leaves strokes out)
+    ('', '<rect width="100" height="50" stroke="black" stroke-width="10"/>', (105, 55)),
+    # the output's whole pixels
+    ('', '<rect x="20" y="20" width="100.5" height="50.25"/>', (121, 70)),
+    # percentages refer to the width and height as far as given: 96% of 150 is 144
+    ('width="150"', '<rect x="2" y="2" width="96%" height="96%"/>', (146, 98)),
+    ('width="50%" height="400"', '<rect width="96%" height="10%"/>', (48, 40)),
+    # nothing drawn: the size given, 100 for what is not
+    ('width="150"', '<rect width="100" height="50" transform="scale(0)"/>', (150, 100)),
+    # a clip does not shrink the box, a transform moves it (rotated: corners at x = -35.36
+    # and 70.71, y up to 106.07)
+    ('', '<clipPath id="c"><rect width="10" height="10"/></clipPath>'
+         '<rect width="100" height="50" clip-path="url(#c)"/>', (100, 50)),
+    ('', '<rect width="100" height="50" transform="rotate(45)"/>', (71, 106)),
+])
+def test_size_from_the_drawing(attrs, body, size):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}>{body}</svg>')
+    assert img.shape[1::-1] == size

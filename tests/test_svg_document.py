@@ -187,6 +187,22 @@ def test_malformed_transforms(text):
     assert parse_transform(text) is None
 
 
+@pytest.mark.parametrize("prop, value, attr", [
+    ("transform", "translate(-10-10)", "translate(-10 -10)"),
+    ("transform", "matrix(1 0 0 1 5-5)", "matrix(1 0 0 1 5 -5)"),
+    ("stroke-dasharray", "5-5", "5 -5"),
+])
+def test_declaration_values_keep_the_tokens_as_written(prop, value, attr):
+    # a value in a declaration reads as the same text in a presentation attribute: tokens
+    # that run together (`-10-10`: two numbers) stay two, not joined by an empty comment
+    from vecmsaa.svg.document import load_document
+    d = load_document(f'<svg xmlns="http://www.w3.org/2000/svg"><style>#a {{ {prop}: {value} }}'
+                      f'</style><rect id="a"/><rect id="b" style="{prop}:{value}"/></svg>'
+                      .encode())
+    assert d.lookup("#a").specified[prop] == attr
+    assert d.lookup("#b").specified[prop] == attr
+
+
 def test_rotate_about_a_point():
     m = parse_transform("rotate(90, 10, 10)")
     a, b, c, d, e, f = m

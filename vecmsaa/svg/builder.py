@@ -224,6 +224,7 @@ class Builder:
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+        self._links_back_memo = {}     # see links_back()
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
@@ -703,18 +704,16 @@ class Builder:
         return Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
 
     def overflow_hidden(self, el, style):
-        v = el.specified.get("overflow") or ("hidden" if el.tag in CLIPPING_BY_DEFAULT
-                                              else "visible")
-        # 'overflow' is not inherited, so 'inherit' takes the document parent's own value
-        # (its UA default when it has none; the root's is visible)
-        while v.strip() == "inherit":
-            el = el.parent
-            if el is None:
-                return False
-            v = el.specified.get("overflow") or (
-                "hidden" if el.tag in CLIPPING_BY_DEFAULT and el.parent is not None
-                else "visible")
-        return v.strip() in ("hidden", "scroll")
+        v = (el.specified.get("overflow") or "").strip().lower()
+        if v in ("visible", "auto", "initial", "unset"):   # SVG: auto is visible
+            return False
+        if v in ("hidden", "scroll", "clip"):
+            return True
+        if v == "inherit" and el.parent is not None:
+            return self.overflow_hidden(el.parent, style)
+        # none or an invalid value (CSS drops the declaration): the UA style sheet's
+        # `svg:not(:root), symbol, image, marker, pattern { overflow: hidden }`
+        return el.tag in CLIPPING_BY_DEFAULT and el.parent is not None
 
     def nested_svg(self, el, ctx, style, size_override=None, effects=False):
         """The content of a nested <svg> under its viewport transform (x/y, viewBox) and
@@ -776,6 +775,8 @@ class Builder:
                 or any(a is target for a in el.ancestors())):
             return []
         if contains(target, el):
+            return []
+        if links_back(el, target, self.doc, self._links_back_memo):
             return []
         get = self.length_getter(el, style, ctx)
         if not translated:
@@ -1323,6 +1324,28 @@ def _expanded_size(el, doc, memo, active):
     active.discard(key)
     memo[key] = min(total, MAX_NODES + 1)
     return memo[key]
+
+
+def links_back(el, target, doc, memo) -> bool:
+    """Whether a <use> inside ``target`` (at any depth, through no other reference)
+    references ``el`` or ``target`` itself: then instantiating ``el`` would recurse, and the
+    <use> ``el`` draws nothing, as resvg skips it. SVG 2 makes a <use> whose target is its
+    ancestor an error but leaves the <use> that instantiates such a cycle open (w3c/svgwg
+    issue 770); the SVG 1.1 suite's struct-use-12-f renders none of them. ``memo`` caches
+    by element for the document."""
+    key = id(el)
+    got = memo.get(key)
+    if got is None:
+        got = False
+        stack = list(target.children)
+        while stack and not got:
+            node = stack.pop()
+            if node.tag == "use":
+                linked = doc.lookup(node.get("href") or "")
+                got = linked is el or linked is target
+            stack.extend(node.children)
+        memo[key] = got
+    return got
 
 
 def contains(ancestor, el):

@@ -602,6 +602,11 @@ def _declarations(tokens_or_text):
         if d.type != "declaration":
             continue
         value = tinycss2.serialize(d.value).strip()
+        if "/**/" in value and '"' not in value and "'" not in value:
+            # tinycss2 writes an empty comment between tokens that would run together
+            # (`translate(-10-10)` → `-10/**/-10`); the SVG number grammars the values are
+            # read with take a space there
+            value = value.replace("/**/", " ")
         if not value:
             # no property takes an empty value: CSS drops the declaration, and what it would
             # have overridden (a presentation attribute, an earlier rule) applies

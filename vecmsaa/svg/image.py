@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..scene.transform import compose, invert, translate
+from ..scene.bounds import path_bounds
 from ..scene.path import rect_path
 from ..scene.nodes import Fill, Group, ImagePaint
 from .units import parse_aspect, viewbox_transform
@@ -19,7 +20,11 @@ MAX_DECODED_PIXELS = 1 << 28
 
 
 def sniff(data: bytes, mime=None):
-    """'raster', 'svg' or None from the first bytes (the MIME type is only a hint)."""
+    """'raster', 'svg' or None from the first bytes. The MIME type is only a hint, but an XML
+    type is taken as given (MIME Sniffing's rules for images: `image/svg+xml` over PNG bytes
+    is an SVG document that does not parse, not a PNG)."""
+    if mime and (mime.endswith("+xml") or mime in ("text/xml", "application/xml")):
+        return "svg"
     head = data[:16]
     if (head.startswith(b"\x89PNG") or head.startswith(b"\xff\xd8") or head.startswith(b"GIF8")
             or (head.startswith(b"RIFF") and data[8:12] == b"WEBP")):
@@ -56,6 +61,11 @@ def decode_raster(data: bytes, resources=None):
             resources.decoded_pixels += pixels
         im.seek(0)
         im.load()
+        if im.mode in ("I", "I;16", "I;16B", "I;16L"):
+            # 16-bit grey (PNG): Pillow's conversions clamp the samples to 0-255 where 65535
+            # is white, so scale them here (to 8 bits, as resvg decodes every image)
+            grey = np.asarray(im, dtype=np.float64)
+            im = Image.fromarray(np.round(np.clip(grey, 0, 65535) / 257.0).astype(np.uint8), "L")
         cache[data] = im
     return im
 
@@ -139,8 +149,11 @@ def image_nodes(builder, el, ctx, style):
         return [Fill(rect_path(x, y, w, h).transformed(ctx.transform))]
     if kind == "raster":
         rendering = style.get("image-rendering").strip()
-        smooth = rendering not in ("optimizeSpeed", "pixelated", "crisp-edges")
         to_device = compose(ctx.transform, image_to_user)
+        # a texel per device pixel, only moved: the nearest texel (tiny-skia's pattern shader
+        # drops its filter for a translation, as resvg draws it; the filter is the UA's choice)
+        smooth = (rendering not in ("optimizeSpeed", "pixelated", "crisp-edges")
+                  and tuple(np.float32(to_device[:4])) != (1.0, 0.0, 0.0, 1.0))
         try:
             to_paint = invert(to_device)
         except ValueError:
@@ -169,8 +182,36 @@ def image_nodes(builder, el, ctx, style):
     nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
     if not nodes:
         return []
+    if _within(nodes, ctx.transform, (x, y, x + w, y + h)):
+        # the viewport clips nothing; as a clip its edge, where the drawing's own edge often
+        # lies (a background filling the viewBox), would multiply the two coverages there
+        return nodes
     clip = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
     return [Group(children=nodes, clip=clip)]
+
+
+def _within(nodes, to_device, box) -> bool:
+    """Whether everything ``nodes`` draw lies inside ``box`` (x0, y0, x1, y1) of the user
+    space ``to_device`` maps to device pixels (filters may reach outside: never)."""
+    try:
+        to_user = invert(to_device)
+    except ValueError:
+        return False
+    x0, y0, x1, y1 = box
+    eps = 1e-7 * max(1.0, abs(x0), abs(y0), abs(x1), abs(y1))
+    stack = list(nodes)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Fill):
+            b = path_bounds(node.path, to_user)
+            if b is not None and not (b[0] >= x0 - eps and b[1] >= y0 - eps
+                                      and b[2] <= x1 + eps and b[3] <= y1 + eps):
+                return False
+        elif node.filters:
+            return False
+        else:
+            stack.extend(node.children)
+    return True
 
 
 def _load_svg(builder, data):

@@ -6,8 +6,8 @@ else is read: no network, no absolute paths elsewhere, no ``..`` escapes.
 from __future__ import annotations
 
 import base64
-import binascii
 import os
+import re
 import urllib.parse
 
 from ..diagnostics import warn
@@ -100,11 +100,18 @@ def decode_data_url(url):
         return None
     parts = [p.strip() for p in header.split(";")]
     mime = parts[0].lower() if parts and parts[0] else None
+    # Fetch's data: URL processor: the body is percent-decoded first (base64 too: `%2B` is
+    # `+`), then base64-decoded forgivingly (HTML's "forgiving-base64 decode": ASCII
+    # whitespace removed, the padding optional)
+    data = urllib.parse.unquote_to_bytes(payload)
     if any(p.lower() == "base64" for p in parts[1:]):
-        try:
-            data = base64.b64decode("".join(payload.split()), validate=False)
-        except (binascii.Error, ValueError):
+        text = b"".join(data.split())
+        if len(text) % 4 == 0 and text.endswith(b"="):
+            text = text[:-2] if text.endswith(b"==") else text[:-1]
+        if len(text) % 4 == 1 or not _BASE64.fullmatch(text):
             return None
-    else:
-        data = urllib.parse.unquote_to_bytes(payload)
+        data = base64.b64decode(text + b"=" * (-len(text) % 4))
     return data, mime, None
+
+
+_BASE64 = re.compile(rb"[A-Za-z0-9+/]*")

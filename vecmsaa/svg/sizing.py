@@ -21,7 +21,7 @@ def document_size(doc: Document, dpi: float = 96.0):
     A zero or negative width or height comes back as is (SVG: rendering is disabled); a
     document without a viewBox whose width or height is missing or a percentage (of nothing:
     SVG leaves the size undefined) gets None for both, and its drawing's extent decides, as
-    in resvg.
+    in resvg; its viewport is then the width and height as far as they are given.
     """
     root = doc.root
     vb = parse_viewbox(root.get("viewBox"))
@@ -42,7 +42,11 @@ def document_size(doc: Document, dpi: float = 96.0):
         return parsed is not None and parsed[1] != "%"
 
     if vb is None and not (absolute("width") and absolute("height")):
-        return None, None, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
+        # the drawing's extent sizes it; percentages inside refer to the width and height
+        # that are given, a percentage of one to that of 100 and a missing one to 100
+        # (resvg's default size)
+        return None, None, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (dimension("width", 100.0),
+                                                            dimension("height", 100.0))
     width = dimension("width", vb[2] if vb else 100.0)
     height = dimension("height", vb[3] if vb else 100.0)
     if vb is not None and root.get("width") is None and root.get("height") is not None:
@@ -88,6 +92,7 @@ def open_svg(data: bytes, folder, resources: Resources, options: Options,
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:
+        # not rounded: the suite's references scale by the exact extent (199.5 in no-size)
         width, height = drawing_extent(builder, viewport)
     elif whole_pixels and width > 0 and height > 0:
         width, height = _whole(width), _whole(height)
@@ -100,8 +105,10 @@ def _whole(v: float) -> float:
 
 
 def drawing_extent(builder, viewport):
-    """Size of a document without width, height and viewBox: the drawing's right and bottom
-    edges (strokes included), as resvg does; 100 x 100 when it draws nothing."""
+    """Size of a document without width, height and viewBox: its drawing's right and bottom
+    edges, strokes included (the suite's `structure/svg/no-size` reference scales by 199.5,
+    where its frame's stroke ends; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
+    width and height as far as given, else 100) when it draws nothing."""
     box = None
     for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
                                                            viewport))).fills():
@@ -109,5 +116,5 @@ def drawing_extent(builder, viewport):
         if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
             box = union(box, b)
     if box is None or box[2] <= 0 or box[3] <= 0:
-        return 100.0, 100.0
+        return viewport
     return box[2], box[3]
