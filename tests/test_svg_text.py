@@ -198,6 +198,25 @@ def test_paint_order_applies_to_text_decoration(order, centre_colour):
     assert img[centre, int(10 + h + space / 2), :3] == pytest.approx(centre_colour, abs=1)
 
 
+def test_decoration_is_not_drawn_under_hidden_text():
+    """A decoration is painted with the text it decorates (CSS Text Decoration 3 §2): under
+    a hidden span's characters there is no line, and a visible span inside a hidden
+    decorating one keeps its line. Columns are the hand-placed advances of H."""
+    h = freetype_advance("H", 100)
+    img = alpha(render('<text x="10" y="100" font-size="100" text-decoration="underline" '
+                       'kerning="0">H<tspan visibility="hidden">HH</tspan>H</text>',
+                       width=500, height=150))
+    assert img[:, int(10 + h + 2):int(10 + 3 * h - 2)].max() == 0
+    assert img[100:, int(10 + 2):int(10 + h - 2)].min(axis=1).max() > 0.9    # under the first H
+    assert img[100:, int(10 + 3 * h + 2):int(10 + 4 * h - 2)].min(axis=1).max() > 0.9
+    img = alpha(render('<text x="10" y="100" font-size="100" kerning="0"><tspan '
+                       'visibility="hidden" text-decoration="underline">H<tspan '
+                       'visibility="visible">H</tspan>H</tspan></text>', width=500, height=150))
+    assert img[:, :int(10 + h - 2)].max() == 0
+    assert img[:, int(10 + 2 * h + 2):].max() == 0
+    assert img[100:, int(10 + h + 2):int(10 + 2 * h - 2)].min(axis=1).max() > 0.9
+
+
 def test_missing_character_falls_back_to_another_face():
     # Roboto Flex's test subset has no 'z'; the fixture folder's Noto Sans does.
     with_fallback = alpha(render('<text x="10" y="70" font-family="Roboto Flex">z</text>'))
