@@ -417,6 +417,45 @@ def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path)
     assert (rows.min(), rows[gaps[0]] + 1, rows[gaps[0] + 1], rows.max() + 1) == (20, 110, 120, 210)
 
 
+@pytest.mark.parametrize("os2_version", [1, 4])
+def test_middle_baseline_without_an_os2_x_height(tmp_path, os2_version):
+    """alignment-baseline: middle puts the x-middle baseline (half the x-height above the
+    alphabetic one) on y. A font with no x-height (OS/2 version 1 has no sxHeight; 0 in a
+    later one) takes 45% of its ascent-to-descent height, as resvg and Firefox do: for the
+    square font (ascender 800, descender -200) 450 units, so at 100 px the square (from -100
+    to 800 units) moves down by 22.5 px: its top edge from y = 20 to 42.5."""
+    _square_cjk_font(tmp_path / "square.ttf", "Square")
+    from fontTools.ttLib import TTFont
+    font = TTFont(tmp_path / "square.ttf")
+    font["OS/2"].version = os2_version
+    font["OS/2"].sxHeight = 0
+    font.save(tmp_path / "square.ttf")
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">'
+           '<text x="50" y="100" font-size="100" font-family="Square" '
+           'alignment-baseline="middle">\u65e5</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True,
+                               mode="analytic"))
+    column = a[:, 100]
+    assert column[41] == 0 and column[42] == pytest.approx(0.5, abs=0.02)
+    assert column[43] == pytest.approx(1, abs=0.01)
+
+
+def test_underline_of_a_font_without_thickness(tmp_path):
+    """A post table with a zero underline thickness: resvg's default, a twelfth of the em
+    (83 units of 1000: 8.3 px at 100 px), centred on the post table's position (-100)."""
+    _square_cjk_font(tmp_path / "thin.ttf", "Thin", underline=(-100, 0))
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="300" height="200">'
+           '<text x="10" y="100" font-size="100" font-family="Thin" '
+           'text-decoration="underline">\u65e5</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True,
+                               mode="analytic"))
+    # left of the square (x = 20 to 100) only the underline has ink: rows 105.85 to 114.15
+    column = a[:, 15]
+    assert column[104] == 0 and column[105] == pytest.approx(0.15, abs=0.02)
+    assert column[106:114].min() == pytest.approx(1) and column[114] == pytest.approx(0.15, abs=0.02)
+    assert column[115] == 0
+
+
 def test_underline_is_sized_by_the_spans_font_not_a_fallback(tmp_path):
     """A text span's decoration takes its metrics from the span's font (CSS Text Decoration:
     the element's first available font), here the post table of "Main", even though the
