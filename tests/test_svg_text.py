@@ -217,6 +217,16 @@ def test_decoration_is_not_drawn_under_hidden_text():
     assert img[100:, int(10 + h + 2):int(10 + 2 * h - 2)].min(axis=1).max() > 0.9
 
 
+def test_text_after_an_element_of_another_namespace_is_drawn():
+    """An element of another namespace inside <text> is not rendered, but the characters
+    after it are the <text>'s own (XML: character data of the parent), so they are drawn as
+    if the element were not there (xml:space default then collapses the two spaces)."""
+    foreign = render('<text x="10" y="70" kerning="0">Ab <x:b xmlns:x="urn:x">no</x:b> '
+                     'cd<tspan>e</tspan><x:i xmlns:x="urn:x"/>f</text>', width=300)
+    plain = render('<text x="10" y="70" kerning="0">Ab cd<tspan>e</tspan>f</text>', width=300)
+    assert alpha(plain).sum() > 0 and np.array_equal(foreign, plain)
+
+
 def test_missing_character_falls_back_to_another_face():
     # Roboto Flex's test subset has no 'z'; the fixture folder's Noto Sans does.
     with_fallback = alpha(render('<text x="10" y="70" font-family="Roboto Flex">z</text>'))
