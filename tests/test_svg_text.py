@@ -241,6 +241,16 @@ def test_white_space_collapses_unless_preserved():
     assert preserved[2] - collapsed[2] == pytest.approx(2 * space, abs=1)
 
 
+def test_spaces_across_nested_spans_collapse_to_one():
+    """Spaces meeting across span boundaries collapse to one (CSS Text 3 §4.1.1, and resvg's
+    pairwise trimming): here the space after the first span's tspan, an emptied node, and the
+    deeper span's leading space."""
+    nested = render('<text x="10" y="70" kerning="0"><tspan><tspan>H</tspan></tspan> '
+                    '<tspan> <tspan> H</tspan></tspan></text>', width=300)
+    flat = render('<text x="10" y="70" kerning="0">H H</text>', width=300)
+    assert alpha(flat).sum() > 0 and np.array_equal(nested, flat)
+
+
 def test_gradient_on_text_uses_the_text_box():
     img = render('<defs><linearGradient id="g"><stop offset="0" stop-color="#f00"/>'
                  '<stop offset="1" stop-color="#00f"/></linearGradient></defs>'
