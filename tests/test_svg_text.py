@@ -472,7 +472,8 @@ def test_underline_of_a_font_without_thickness(tmp_path):
     # left of the square (x = 20 to 100) only the underline has ink: rows 105.85 to 114.15
     column = a[:, 15]
     assert column[104] == 0 and column[105] == pytest.approx(0.15, abs=0.02)
-    assert column[106:114].min() == pytest.approx(1) and column[114] == pytest.approx(0.15, abs=0.02)
+    assert column[106:114].min() == pytest.approx(1)
+    assert column[114] == pytest.approx(0.15, abs=0.02)
     assert column[115] == 0
 
 

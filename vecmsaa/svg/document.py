@@ -346,10 +346,11 @@ class _TreeReader:
 
     The tree is what ElementTree's tree converted element by element would be: elements
     outside the root's namespace are skipped with their subtree (the text after one stays
-    its parent's character data), comments and processing instructions leave no trace in the text around them. The
-    guards are defusedxml's (no entity declarations, no external entities), with its
-    exceptions. With ``mirror`` the ElementTree tree is built as well, for CSS selector
-    matching, and each element's specified style is left to :meth:`specify`."""
+    its parent's character data), comments and processing instructions leave no trace in
+    the text around them. The guards are defusedxml's (no entity declarations, no external
+    entities), with its exceptions. With ``mirror`` the ElementTree tree is built as well,
+    for CSS selector matching, and each element's specified style is left to
+    :meth:`specify`."""
 
     def __init__(self, doc, mirror: bool):
         self.doc = doc
