@@ -198,6 +198,35 @@ def test_paint_order_applies_to_text_decoration(order, centre_colour):
     assert img[centre, int(10 + h + space / 2), :3] == pytest.approx(centre_colour, abs=1)
 
 
+def test_decoration_is_not_drawn_under_hidden_text():
+    """A decoration is painted with the text it decorates (CSS Text Decoration 3 §2): under
+    a hidden span's characters there is no line, and a visible span inside a hidden
+    decorating one keeps its line. Columns are the hand-placed advances of H."""
+    h = freetype_advance("H", 100)
+    img = alpha(render('<text x="10" y="100" font-size="100" text-decoration="underline" '
+                       'kerning="0">H<tspan visibility="hidden">HH</tspan>H</text>',
+                       width=500, height=150))
+    assert img[:, int(10 + h + 2):int(10 + 3 * h - 2)].max() == 0
+    assert img[100:, int(10 + 2):int(10 + h - 2)].min(axis=1).max() > 0.9    # under the first H
+    assert img[100:, int(10 + 3 * h + 2):int(10 + 4 * h - 2)].min(axis=1).max() > 0.9
+    img = alpha(render('<text x="10" y="100" font-size="100" kerning="0"><tspan '
+                       'visibility="hidden" text-decoration="underline">H<tspan '
+                       'visibility="visible">H</tspan>H</tspan></text>', width=500, height=150))
+    assert img[:, :int(10 + h - 2)].max() == 0
+    assert img[:, int(10 + 2 * h + 2):].max() == 0
+    assert img[100:, int(10 + h + 2):int(10 + 2 * h - 2)].min(axis=1).max() > 0.9
+
+
+def test_text_after_an_element_of_another_namespace_is_drawn():
+    """An element of another namespace inside <text> is not rendered, but the characters
+    after it are the <text>'s own (XML: character data of the parent), so they are drawn as
+    if the element were not there (xml:space default then collapses the two spaces)."""
+    foreign = render('<text x="10" y="70" kerning="0">Ab <x:b xmlns:x="urn:x">no</x:b> '
+                     'cd<tspan>e</tspan><x:i xmlns:x="urn:x"/>f</text>', width=300)
+    plain = render('<text x="10" y="70" kerning="0">Ab cd<tspan>e</tspan>f</text>', width=300)
+    assert alpha(plain).sum() > 0 and np.array_equal(foreign, plain)
+
+
 def test_missing_character_falls_back_to_another_face():
     # Roboto Flex's test subset has no 'z'; the fixture folder's Noto Sans does.
     with_fallback = alpha(render('<text x="10" y="70" font-family="Roboto Flex">z</text>'))
@@ -210,6 +239,16 @@ def test_white_space_collapses_unless_preserved():
                                      'H   H</text>', width=300)))
     space = freetype_advance(" ", 40)
     assert preserved[2] - collapsed[2] == pytest.approx(2 * space, abs=1)
+
+
+def test_spaces_across_nested_spans_collapse_to_one():
+    """Spaces meeting across span boundaries collapse to one (CSS Text 3 §4.1.1, and resvg's
+    pairwise trimming): here the space after the first span's tspan, an emptied node, and the
+    deeper span's leading space."""
+    nested = render('<text x="10" y="70" kerning="0"><tspan><tspan>H</tspan></tspan> '
+                    '<tspan> <tspan> H</tspan></tspan></text>', width=300)
+    flat = render('<text x="10" y="70" kerning="0">H H</text>', width=300)
+    assert alpha(flat).sum() > 0 and np.array_equal(nested, flat)
 
 
 def test_gradient_on_text_uses_the_text_box():
@@ -396,6 +435,46 @@ def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path)
     gaps = np.nonzero(np.diff(rows) > 1)[0]
     assert len(gaps) == 1
     assert (rows.min(), rows[gaps[0]] + 1, rows[gaps[0] + 1], rows.max() + 1) == (20, 110, 120, 210)
+
+
+@pytest.mark.parametrize("os2_version", [1, 4])
+def test_middle_baseline_without_an_os2_x_height(tmp_path, os2_version):
+    """alignment-baseline: middle puts the x-middle baseline (half the x-height above the
+    alphabetic one) on y. A font with no x-height (OS/2 version 1 has no sxHeight; 0 in a
+    later one) takes 45% of its ascent-to-descent height, as resvg and Firefox do: for the
+    square font (ascender 800, descender -200) 450 units, so at 100 px the square (from -100
+    to 800 units) moves down by 22.5 px: its top edge from y = 20 to 42.5."""
+    _square_cjk_font(tmp_path / "square.ttf", "Square")
+    from fontTools.ttLib import TTFont
+    font = TTFont(tmp_path / "square.ttf")
+    font["OS/2"].version = os2_version
+    font["OS/2"].sxHeight = 0
+    font.save(tmp_path / "square.ttf")
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">'
+           '<text x="50" y="100" font-size="100" font-family="Square" '
+           'alignment-baseline="middle">\u65e5</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True,
+                               mode="analytic"))
+    column = a[:, 100]
+    assert column[41] == 0 and column[42] == pytest.approx(0.5, abs=0.02)
+    assert column[43] == pytest.approx(1, abs=0.01)
+
+
+def test_underline_of_a_font_without_thickness(tmp_path):
+    """A post table with a zero underline thickness: resvg's default, a twelfth of the em
+    (83 units of 1000: 8.3 px at 100 px), centred on the post table's position (-100)."""
+    _square_cjk_font(tmp_path / "thin.ttf", "Thin", underline=(-100, 0))
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="300" height="200">'
+           '<text x="10" y="100" font-size="100" font-family="Thin" '
+           'text-decoration="underline">\u65e5</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True,
+                               mode="analytic"))
+    # left of the square (x = 20 to 100) only the underline has ink: rows 105.85 to 114.15
+    column = a[:, 15]
+    assert column[104] == 0 and column[105] == pytest.approx(0.15, abs=0.02)
+    assert column[106:114].min() == pytest.approx(1)
+    assert column[114] == pytest.approx(0.15, abs=0.02)
+    assert column[115] == 0
 
 
 def test_underline_is_sized_by_the_spans_font_not_a_fallback(tmp_path):

@@ -199,17 +199,20 @@ class Face:
         x_height = getattr(os2, "sxHeight", 0) if os2 is not None else 0
         cap_height = getattr(os2, "sCapHeight", 0) if os2 is not None else 0
         if not x_height:
-            x_height = self._glyph_height("x") or 0.5 * upem
+            # no OS/2 x-height (a version 0 or 1 table, or 0): CSS leaves the fallback to the
+            # renderer; resvg (so the suite's references) takes 45% of the ascent-to-descent
+            # height, as Firefox does, not the height of the 'x' glyph
+            x_height = int(0.45 * (asc - desc)) or 0.5 * upem
         if not cap_height:
             cap_height = self._glyph_height("H") or 0.7 * upem
         post = t["post"] if "post" in t else None
+        # without a post table (or a zero thickness in it) resvg's defaults: a twelfth of the
+        # em thick, a ninth below the baseline (CSS leaves them to the renderer)
         ul_thick = post.underlineThickness if post is not None and post.underlineThickness \
-            else upem / 14
-        ul_pos = post.underlinePosition if post is not None and post.underlinePosition \
-            else -upem / 10
+            else upem // 12
+        ul_pos = post.underlinePosition if post is not None else -(upem // 9)
         so_thick = os2.yStrikeoutSize if os2 is not None and os2.yStrikeoutSize else ul_thick
-        so_pos = os2.yStrikeoutPosition if os2 is not None and os2.yStrikeoutPosition \
-            else x_height / 2
+        so_pos = os2.yStrikeoutPosition if os2 is not None else x_height / 2
         return Metrics(upem, float(asc), float(desc), float(gap), float(x_height),
                        float(cap_height), float(ul_pos), float(ul_thick), float(so_pos),
                        float(so_thick))

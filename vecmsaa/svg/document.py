@@ -345,11 +345,12 @@ class _TreeReader:
     map data building it and converting it cost three times expat's own parse).
 
     The tree is what ElementTree's tree converted element by element would be: elements
-    outside the root's namespace are skipped with their subtree and their tail text,
-    comments and processing instructions leave no trace in the text around them. The
-    guards are defusedxml's (no entity declarations, no external entities), with its
-    exceptions. With ``mirror`` the ElementTree tree is built as well, for CSS selector
-    matching, and each element's specified style is left to :meth:`specify`."""
+    outside the root's namespace are skipped with their subtree (the text after one stays
+    its parent's character data), comments and processing instructions leave no trace in
+    the text around them. The guards are defusedxml's (no entity declarations, no external
+    entities), with its exceptions. With ``mirror`` the ElementTree tree is built as well,
+    for CSS selector matching, and each element's specified style is left to
+    :meth:`specify`."""
 
     def __init__(self, doc, mirror: bool):
         self.doc = doc
@@ -395,9 +396,9 @@ class _TreeReader:
             el = last[0]
             if el is not None:
                 if last[1]:
-                    el.tail = text
+                    el.tail += text    # += : a foreign element may have split it
                 else:
-                    el.text = text
+                    el.text += text
 
         def start_plain(name, attr):
             """start() without the mirror, for the common case in one go: an element of the
@@ -411,9 +412,9 @@ class _TreeReader:
                 el = last[0]
                 if el is not None:
                     if last[1]:
-                        el.tail = text
+                        el.tail += text
                     else:
-                        el.text = text
+                        el.text += text
             tag = own.get(name)
             if (tag is None or not stack or error is not None or count >= MAX_ELEMENTS
                     or len(stack) > MAX_DEPTH):
@@ -536,7 +537,17 @@ class _TreeReader:
         def end(name):
             if chunks:
                 flush()
-            last[0] = stack.pop()
+            el = stack.pop()
+            if el is None and stack and stack[-1] is not None:
+                # the characters after a skipped (foreign) element are still its parent's:
+                # a <text>'s words after an element of another namespace are drawn
+                parent = stack[-1]
+                if parent.children:
+                    last[0], last[1] = parent.children[-1], True
+                else:
+                    last[0], last[1] = parent, False
+                return
+            last[0] = el
             last[1] = True
 
         def end_mirrored(name):

@@ -145,9 +145,12 @@ def collapse_white_space(nodes):
     for i in range(n):
         first = texts[i]
         second = texts[i + 1]
+        depth1 = first[1]
         if not first[0] and last_non_empty is not None:
+            # an emptied node stands in for the last node with text, at its own depth (as
+            # resvg: '<tspan>a </tspan><tspan><tspan> b' keeps one space, not two)
             first = last_non_empty
-        t1, depth1, pres1 = first
+        t1, _, pres1 = first
         t2, depth2, pres2 = second
         c1 = t1[0].ch if t1 else None
         c2 = t1[-1].ch if t1 else None

@@ -186,6 +186,11 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
         for kind, decl in outer.items():
             kinds.setdefault(kind, decl)
         span_kinds[id(el)] = kinds
+    # a hidden span's characters are not painted, and neither is a decoration under them
+    # (a decoration is drawn with the text it decorates; a visible span inside a hidden
+    # decorating one keeps its line)
+    hidden = {key for key in span_kinds
+              if styles[key].get("visibility").strip() in ("hidden", "collapse")}
     for kind in ("underline", "overline", "line-through"):
         by_decl = {}
         runs = []
@@ -194,7 +199,7 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
         for c in clusters:
             el = chars[c.char].el
             decl = span_kinds[id(el)].get(kind)
-            if decl is None or not c.visible:
+            if decl is None or not c.visible or id(el) in hidden:
                 run = None
             elif run is None or c.shifted or el is not prev_el:
                 run = [c, c.advance, decl]
