@@ -703,3 +703,21 @@ def test_morphology_radius_overflowing_in_device_pixels_is_a_huge_radius(operato
                 '<rect width="2" height="2" filter="url(#f)"/><circle cx="3" cy="3" r="1"/></svg>')
     assert np.array_equal(render_svg_array(doc("1.7976931348623157e308")),
                           render_svg_array(doc("1000")))
+
+
+@pytest.mark.parametrize("prims, want", [
+    # " SourceAlpha " is no keyword: an unknown name, so the previous result (the flood)
+    ('<feFlood flood-color="#00ff00"/><feOffset in=" SourceAlpha "/>', (0, 255, 0, 255)),
+    ('<feFlood flood-color="#00ff00"/><feOffset in="SourceAlpha"/>', (0, 0, 0, 255)),
+    # a result named " a " is not "a": in="a" names nothing and reads the previous result
+    ('<feFlood flood-color="#0000ff" result=" a "/><feFlood flood-color="#00ff00"/>'
+     '<feMerge><feMergeNode in="a"/></feMerge>', (0, 255, 0, 255)),
+    ('<feFlood flood-color="#0000ff" result=" a "/><feFlood flood-color="#00ff00"/>'
+     '<feMerge><feMergeNode in=" a "/></feMerge>', (0, 0, 255, 255)),
+])
+def test_input_and_result_names_are_compared_as_written(prims, want):
+    # Filter Effects 1 names results by the attribute's value; Blink and usvg look names up
+    # without trimming it, so spaces around a keyword or a name make another name
+    img = _svg(f'<filter id="f" x="0" y="0" width="1" height="1">{prims}</filter>'
+               '<rect x="50" y="50" width="100" height="100" filter="url(#f)"/>')
+    assert tuple(img[100, 100]) == want

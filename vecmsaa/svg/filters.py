@@ -206,7 +206,7 @@ class PrimitiveResolver:
             out.append(Primitive(effect, tuple(inputs), sub, cif != "sRGB"))
             name = child.get("result")
             if name:
-                self.names[name.strip()] = self.count
+                self.names[name] = self.count
             self.count += 1
         return out
 
@@ -240,8 +240,9 @@ class PrimitiveResolver:
         return x, y, w, h
 
     def input(self, fe, attr="in"):
+        # the name as written: " SourceGraphic " and " a " name nothing (usvg, and Blink's
+        # lookup of in/result names, compare the attribute's text), so the previous result
         value = fe.get(attr)
-        value = value.strip() if value is not None else None
         previous = self.count - 1 if self.count else SOURCE_GRAPHIC
         if value is None:
             return previous
