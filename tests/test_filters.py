@@ -721,3 +721,26 @@ def test_input_and_result_names_are_compared_as_written(prims, want):
     img = _svg(f'<filter id="f" x="0" y="0" width="1" height="1">{prims}</filter>'
                '<rect x="50" y="50" width="100" height="100" filter="url(#f)"/>')
     assert tuple(img[100, 100]) == want
+
+
+@pytest.mark.parametrize("padded", [False, True])
+def test_keyword_attributes_with_spaces_are_unknown_keywords(padded):
+    # operator=" in " is no operator: the lacuna value, over (Filter Effects 1); likewise an
+    # feMorphology operator of " dilate" is erode's lacuna and " userSpaceOnUse" is no unit
+    sp = " " if padded else ""
+    img = _svg(f'<filter id="c" x="0" y="0" width="1" height="1"><feFlood flood-color="#00ff00" '
+               f'y="0" height="50"/><feComposite in="SourceGraphic" operator="{sp}in{sp}"/></filter>'
+               '<rect x="0" y="0" width="100" height="100" fill="#0000ff" filter="url(#c)"/>'
+               f'<filter id="m" x="-1" y="-1" width="3" height="3"><feMorphology radius="5" '
+               f'operator="{sp}dilate"/></filter>'
+               '<rect x="150" y="150" width="20" height="20" fill="#ff0000" filter="url(#m)"/>'
+               f'<filter id="u" filterUnits="{sp}userSpaceOnUse" x="0" y="0" width="1" '
+               'height="1"><feFlood flood-color="#ff00ff"/></filter>'
+               '<rect x="100" y="0" width="40" height="40" filter="url(#u)"/>')
+    # in: the source where the flood is (rows < 50), nothing below; over: the source throughout
+    assert tuple(img[75, 50]) == ((0, 0, 255, 255) if padded else (0, 0, 0, 0))
+    # dilate grows the 20 px square by 5 px; erode shrinks it
+    assert tuple(img[147, 160]) == ((0, 0, 0, 0) if padded else (255, 0, 0, 255))
+    assert tuple(img[160, 160]) == (255, 0, 0, 255)
+    # a 1 x 1 user-unit region holds one pixel; the bounding-box default covers the rect
+    assert tuple(img[20, 120]) == ((255, 0, 255, 255) if padded else (0, 0, 0, 0))
