@@ -744,3 +744,27 @@ def test_keyword_attributes_with_spaces_are_unknown_keywords(padded):
     assert tuple(img[160, 160]) == (255, 0, 0, 255)
     # a 1 x 1 user-unit region holds one pixel; the bounding-box default covers the rect
     assert tuple(img[20, 120]) == ((255, 0, 255, 255) if padded else (0, 0, 0, 0))
+
+
+def _turbulence_doc(kind, octaves, cif="sRGB"):
+    return (f'<svg {NS} width="50" height="50"><filter id="f" x="0" y="0" width="1" height="1" '
+            f'color-interpolation-filters="{cif}"><feTurbulence type="{kind}" '
+            f'baseFrequency="0.13" numOctaves="{octaves}"/></filter>'
+            '<rect width="50" height="50" filter="url(#f)"/></svg>')
+
+
+@pytest.mark.parametrize("octaves", ["0", "0.4", "-1"])
+def test_fractal_noise_of_no_octaves_is_half_transparent_grey(octaves):
+    # the reference code's fractal sum of no octaves is 0, and (0 * 255 + 255) / 2 = 127.5 in
+    # every channel, alpha too: grey at half opacity (turbulence's sum 0 is transparent)
+    img = render_svg_array(_turbulence_doc("fractalNoise", octaves).encode())
+    assert np.abs(img.astype(int) - 127.5).max() <= 1
+    img = render_svg_array(_turbulence_doc("turbulence", octaves).encode())
+    assert not img.any()
+
+
+def test_half_an_octave_rounds_to_one():
+    # numOctaves="0.5" rounds half away from zero, as usvg rounds it: the first octave's noise
+    half = render_svg_array(_turbulence_doc("fractalNoise", "0.5").encode())
+    one = render_svg_array(_turbulence_doc("fractalNoise", "1").encode())
+    assert np.array_equal(half, one) and np.ptp(one[..., 3]) > 50

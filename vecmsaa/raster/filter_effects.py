@@ -634,7 +634,9 @@ def turbulence(shape, origin, p: Turbulence) -> np.ndarray:
     lattice, gradient = turbulence_tables(p.seed)
     out = np.zeros(shape[:2] + (4,), dtype=np.float64)
     sx, sy, tx, ty = p.to_device
-    if sx > 0 and sy > 0 and p.octaves > 0:
+    # no octaves is no noise: fractal noise's (0 + 1) / 2 is a half-transparent grey then, as
+    # the specification's reference code computes it; turbulence's 0 is transparent
+    if sx > 0 and sy > 0:
         _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p.fx, p.fy,
                            p.octaves, p.fractal, p.stitch, lattice, gradient)
     return premultiply(out.astype(np.float32))

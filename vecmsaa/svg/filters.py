@@ -429,8 +429,11 @@ class PrimitiveResolver:
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
         sx, sy = row_scale_f32(self.ctx.transform)
-        # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
-        return Turbulence(fx, fy, max(0, min(int(round(octaves)), MAX_OCTAVES)), int(seed),
+        # a fractional count rounds half away from zero, as usvg rounds it (0.5 is one octave;
+        # Python's round() would make it none); octaves past MAX_OCTAVES add under 1/4096 of
+        # the first one: not a visible level
+        octaves = math.floor(min(max(octaves, 0.0), MAX_OCTAVES) + 0.5)
+        return Turbulence(fx, fy, octaves, int(seed),
                           (fe.get("stitchTiles") or "") == "stitch",
                           (fe.get("type") or "") == "fractalNoise", (sx, sy, e, f))
 
