@@ -38,17 +38,46 @@ def direct_gaussian(img, sigma):
     return out
 
 
-def test_small_blur_is_a_gaussian_convolution():
-    img = square()
-    got = F.gaussian_blur(img, 1.5, 1.5)
-    assert np.abs(got - direct_gaussian(img, 1.5)).max() < 1e-5
+@pytest.mark.parametrize("sx, sy", [(1.5, 1.5), (0.3, 1.9), (0.8, 0.0)])
+def test_small_blur_spreads_a_pixel_with_the_gaussian_s_mass_and_variance(sx, sy):
+    # below sigma 2 the blur is resvg's recursive Gaussian (Alvarez and Mazorra's heat
+    # steps): a pixel far from the ends keeps its mass, spreads symmetrically with variance
+    # sigma² along each axis (none along an axis of sigma 0), and is close to the Gaussian
+    img = np.zeros((121, 121, 4), dtype=np.float32)
+    img[60, 60] = 1.0
+    got = F.gaussian_blur(img, sx, sy)[..., 3].astype(np.float64)
+    x = np.arange(121) - 60.0
+    assert abs(got.sum() - 1.0) < 1e-6
+    assert np.allclose(got, got[::-1, ::-1], atol=1e-7)
+    for s, profile in ((sx, got.sum(axis=0)), (sy, got.sum(axis=1))):
+        assert abs((profile * x * x).sum() - s * s) < 1e-5
+    if sx > 1 and sy > 1:
+        # a square's edges within 4% of the sampled Gaussian's (the recursion's kernel is
+        # sharper at its centre than the Gaussian, so a lone pixel's peak is higher)
+        sq = square()
+        assert np.abs(F.gaussian_blur(sq, sx, sy) - direct_gaussian(sq, sx)).max() < 0.04
 
 
-def test_large_blur_approximates_a_gaussian_and_keeps_the_mass():
+@pytest.mark.parametrize("sigma", [2.0, 4.0, 5.0])
+def test_large_blur_approximates_a_gaussian_and_keeps_the_mass(sigma):
+    # successive box blurs tend to the Gaussian of their summed variance (a box of width w
+    # has (w² - 1) / 12); resvg's box widths put that within 12% of sigma (see box_sizes)
     img = square()
-    got = F.gaussian_blur(img, 4.0, 4.0)
+    got = F.gaussian_blur(img, sigma, sigma)
     assert abs(got[..., 3].sum() - img[..., 3].sum()) < 1e-3 * img[..., 3].sum()
-    assert np.abs(got - direct_gaussian(img, 4.0)).max() < 0.03
+    boxes = math.sqrt(sum((w * w - 1) / 12 for w in F.box_sizes(sigma)))
+    assert abs(boxes - sigma) < 0.12 * sigma
+    assert np.abs(got - direct_gaussian(img, boxes)).max() < 0.03
+
+
+@pytest.mark.parametrize("sigma, widths", [(2.0, [3] * 5), (3.0, [5] * 5), (2.5, [3, 3, 3, 5, 5]),
+                                           (4.0, [7] * 5), (10.0, [15] * 4 + [17])])
+def test_box_widths_are_resvgs(sigma, widths):
+    # resvg (the suite's references) takes wl = sqrt(12·sigma² / 5) + 1 floored and made odd,
+    # and m = (12·sigma² - 5·wl² - 20·wl - 15) / (-4·wl - 4) rounded half away from zero boxes
+    # of wl, the rest wl + 2; at sigma 2: wl = floor(4.098) - 1 = 3, m = 72 / 16 = 4.5 → 5
+    # (Python's round() gave 4, and the root of 12·sigma² / 5 + 1 another wl at sigma 3 and 4)
+    assert F.box_sizes(sigma) == widths
 
 
 def test_box_sizes_match_the_variance():
