@@ -79,15 +79,20 @@ def _iir_coefficients(sigma: float):
     return lam, (1.0 + 2.0 * lam - math.sqrt(1.0 + 4.0 * lam)) / (2.0 * lam)
 
 
-def _iir_scan(a: np.ndarray, nu: float) -> None:
+@njit(cache=True)
+def _iir_scan(a, nu):
     """IIR_STEPS passes of y[i] += nu·y[i - 1] forwards then backwards along axis 0, in place;
     nothing beyond the ends (resvg's boundary: no extension)."""
-    n = a.shape[0]
+    n, m, nc = a.shape
     for _ in range(IIR_STEPS):
         for i in range(1, n):
-            a[i] += nu * a[i - 1]
+            for j in range(m):
+                for c in range(nc):
+                    a[i, j, c] += nu * a[i - 1, j, c]
         for i in range(n - 1, 0, -1):
-            a[i - 1] += nu * a[i]
+            for j in range(m):
+                for c in range(nc):
+                    a[i - 1, j, c] += nu * a[i, j, c]
 
 
 def iir_blur(img: np.ndarray, sx: float, sy: float) -> np.ndarray:
