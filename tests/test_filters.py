@@ -38,17 +38,46 @@ def direct_gaussian(img, sigma):
     return out
 
 
-def test_small_blur_is_a_gaussian_convolution():
-    img = square()
-    got = F.gaussian_blur(img, 1.5, 1.5)
-    assert np.abs(got - direct_gaussian(img, 1.5)).max() < 1e-5
+@pytest.mark.parametrize("sx, sy", [(1.5, 1.5), (0.3, 1.9), (0.8, 0.0)])
+def test_small_blur_spreads_a_pixel_with_the_gaussian_s_mass_and_variance(sx, sy):
+    # below sigma 2 the blur is resvg's recursive Gaussian (Alvarez and Mazorra's heat
+    # steps): a pixel far from the ends keeps its mass, spreads symmetrically with variance
+    # sigma² along each axis (none along an axis of sigma 0), and is close to the Gaussian
+    img = np.zeros((121, 121, 4), dtype=np.float32)
+    img[60, 60] = 1.0
+    got = F.gaussian_blur(img, sx, sy)[..., 3].astype(np.float64)
+    x = np.arange(121) - 60.0
+    assert abs(got.sum() - 1.0) < 1e-6
+    assert np.allclose(got, got[::-1, ::-1], atol=1e-7)
+    for s, profile in ((sx, got.sum(axis=0)), (sy, got.sum(axis=1))):
+        assert abs((profile * x * x).sum() - s * s) < 1e-5
+    if sx > 1 and sy > 1:
+        # a square's edges within 4% of the sampled Gaussian's (the recursion's kernel is
+        # sharper at its centre than the Gaussian, so a lone pixel's peak is higher)
+        sq = square()
+        assert np.abs(F.gaussian_blur(sq, sx, sy) - direct_gaussian(sq, sx)).max() < 0.04
 
 
-def test_large_blur_approximates_a_gaussian_and_keeps_the_mass():
+@pytest.mark.parametrize("sigma", [2.0, 4.0, 5.0])
+def test_large_blur_approximates_a_gaussian_and_keeps_the_mass(sigma):
+    # successive box blurs tend to the Gaussian of their summed variance (a box of width w
+    # has (w² - 1) / 12); resvg's box widths put that within 12% of sigma (see box_sizes)
     img = square()
-    got = F.gaussian_blur(img, 4.0, 4.0)
+    got = F.gaussian_blur(img, sigma, sigma)
     assert abs(got[..., 3].sum() - img[..., 3].sum()) < 1e-3 * img[..., 3].sum()
-    assert np.abs(got - direct_gaussian(img, 4.0)).max() < 0.03
+    boxes = math.sqrt(sum((w * w - 1) / 12 for w in F.box_sizes(sigma)))
+    assert abs(boxes - sigma) < 0.12 * sigma
+    assert np.abs(got - direct_gaussian(img, boxes)).max() < 0.03
+
+
+@pytest.mark.parametrize("sigma, widths", [(2.0, [3] * 5), (3.0, [5] * 5), (2.5, [3, 3, 3, 5, 5]),
+                                           (4.0, [7] * 5), (10.0, [15] * 4 + [17])])
+def test_box_widths_are_resvgs(sigma, widths):
+    # resvg (the suite's references) takes wl = sqrt(12·sigma² / 5) + 1 floored and made odd,
+    # and m = (12·sigma² - 5·wl² - 20·wl - 15) / (-4·wl - 4) rounded half away from zero boxes
+    # of wl, the rest wl + 2; at sigma 2: wl = floor(4.098) - 1 = 3, m = 72 / 16 = 4.5 → 5
+    # (Python's round() gave 4, and the root of 12·sigma² / 5 + 1 another wl at sigma 3 and 4)
+    assert F.box_sizes(sigma) == widths
 
 
 def test_box_sizes_match_the_variance():
@@ -703,3 +732,68 @@ def test_morphology_radius_overflowing_in_device_pixels_is_a_huge_radius(operato
                 '<rect width="2" height="2" filter="url(#f)"/><circle cx="3" cy="3" r="1"/></svg>')
     assert np.array_equal(render_svg_array(doc("1.7976931348623157e308")),
                           render_svg_array(doc("1000")))
+
+
+@pytest.mark.parametrize("prims, want", [
+    # " SourceAlpha " is no keyword: an unknown name, so the previous result (the flood)
+    ('<feFlood flood-color="#00ff00"/><feOffset in=" SourceAlpha "/>', (0, 255, 0, 255)),
+    ('<feFlood flood-color="#00ff00"/><feOffset in="SourceAlpha"/>', (0, 0, 0, 255)),
+    # a result named " a " is not "a": in="a" names nothing and reads the previous result
+    ('<feFlood flood-color="#0000ff" result=" a "/><feFlood flood-color="#00ff00"/>'
+     '<feMerge><feMergeNode in="a"/></feMerge>', (0, 255, 0, 255)),
+    ('<feFlood flood-color="#0000ff" result=" a "/><feFlood flood-color="#00ff00"/>'
+     '<feMerge><feMergeNode in=" a "/></feMerge>', (0, 0, 255, 255)),
+])
+def test_input_and_result_names_are_compared_as_written(prims, want):
+    # Filter Effects 1 names results by the attribute's value; Blink and usvg look names up
+    # without trimming it, so spaces around a keyword or a name make another name
+    img = _svg(f'<filter id="f" x="0" y="0" width="1" height="1">{prims}</filter>'
+               '<rect x="50" y="50" width="100" height="100" filter="url(#f)"/>')
+    assert tuple(img[100, 100]) == want
+
+
+@pytest.mark.parametrize("padded", [False, True])
+def test_keyword_attributes_with_spaces_are_unknown_keywords(padded):
+    # operator=" in " is no operator: the lacuna value, over (Filter Effects 1); likewise an
+    # feMorphology operator of " dilate" is erode's lacuna and " userSpaceOnUse" is no unit
+    sp = " " if padded else ""
+    img = _svg(f'<filter id="c" x="0" y="0" width="1" height="1"><feFlood flood-color="#00ff00" '
+               f'y="0" height="50"/><feComposite in="SourceGraphic" operator="{sp}in{sp}"/></filter>'
+               '<rect x="0" y="0" width="100" height="100" fill="#0000ff" filter="url(#c)"/>'
+               f'<filter id="m" x="-1" y="-1" width="3" height="3"><feMorphology radius="5" '
+               f'operator="{sp}dilate"/></filter>'
+               '<rect x="150" y="150" width="20" height="20" fill="#ff0000" filter="url(#m)"/>'
+               f'<filter id="u" filterUnits="{sp}userSpaceOnUse" x="0" y="0" width="1" '
+               'height="1"><feFlood flood-color="#ff00ff"/></filter>'
+               '<rect x="100" y="0" width="40" height="40" filter="url(#u)"/>')
+    # in: the source where the flood is (rows < 50), nothing below; over: the source throughout
+    assert tuple(img[75, 50]) == ((0, 0, 255, 255) if padded else (0, 0, 0, 0))
+    # dilate grows the 20 px square by 5 px; erode shrinks it
+    assert tuple(img[147, 160]) == ((0, 0, 0, 0) if padded else (255, 0, 0, 255))
+    assert tuple(img[160, 160]) == (255, 0, 0, 255)
+    # a 1 x 1 user-unit region holds one pixel; the bounding-box default covers the rect
+    assert tuple(img[20, 120]) == ((255, 0, 255, 255) if padded else (0, 0, 0, 0))
+
+
+def _turbulence_doc(kind, octaves, cif="sRGB"):
+    return (f'<svg {NS} width="50" height="50"><filter id="f" x="0" y="0" width="1" height="1" '
+            f'color-interpolation-filters="{cif}"><feTurbulence type="{kind}" '
+            f'baseFrequency="0.13" numOctaves="{octaves}"/></filter>'
+            '<rect width="50" height="50" filter="url(#f)"/></svg>')
+
+
+@pytest.mark.parametrize("octaves", ["0", "0.4", "-1"])
+def test_fractal_noise_of_no_octaves_is_half_transparent_grey(octaves):
+    # the reference code's fractal sum of no octaves is 0, and (0 * 255 + 255) / 2 = 127.5 in
+    # every channel, alpha too: grey at half opacity (turbulence's sum 0 is transparent)
+    img = render_svg_array(_turbulence_doc("fractalNoise", octaves).encode())
+    assert np.abs(img.astype(int) - 127.5).max() <= 1
+    img = render_svg_array(_turbulence_doc("turbulence", octaves).encode())
+    assert not img.any()
+
+
+def test_half_an_octave_rounds_to_one():
+    # numOctaves="0.5" rounds half away from zero, as usvg rounds it: the first octave's noise
+    half = render_svg_array(_turbulence_doc("fractalNoise", "0.5").encode())
+    one = render_svg_array(_turbulence_doc("fractalNoise", "1").encode())
+    assert np.array_equal(half, one) and np.ptp(one[..., 3]) > 50

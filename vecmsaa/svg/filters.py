@@ -9,6 +9,12 @@ transform's x and y scale (as resvg: a rotated or skewed element is filtered in 
 A reference to nothing usable (a missing element, another kind of element, an empty or invalid
 region, a filter without primitives) counts as invalid; when every entry is invalid the element
 is not drawn. A value that does not parse is ignored (the element is drawn unfiltered).
+
+Keyword attributes of the filter elements (``operator``, ``mode``, ``type``, ``edgeMode``,
+``filterUnits``...) and ``in``/``result`` names are compared as written: they are no CSS
+properties, whose values are trimmed, and usvg and Blink match them exactly, so
+``operator=" in "`` is an unknown operator (the default). Presentation attributes
+(``color-interpolation-filters``, ``flood-color``) are trimmed like any property.
 """
 from __future__ import annotations
 
@@ -143,8 +149,8 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
                 return e.get(name)
         return None
 
-    units_obb = (attr("filterUnits") or "").strip() != "userSpaceOnUse"
-    prim_obb = (attr("primitiveUnits") or "").strip() == "objectBoundingBox"
+    units_obb = (attr("filterUnits") or "") != "userSpaceOnUse"
+    prim_obb = (attr("primitiveUnits") or "") == "objectBoundingBox"
     bbox = bbox_fn() if (units_obb or prim_obb) else None
     if (units_obb or prim_obb) and (bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]):
         return None
@@ -206,7 +212,7 @@ class PrimitiveResolver:
             out.append(Primitive(effect, tuple(inputs), sub, cif != "sRGB"))
             name = child.get("result")
             if name:
-                self.names[name.strip()] = self.count
+                self.names[name] = self.count
             self.count += 1
         return out
 
@@ -240,8 +246,9 @@ class PrimitiveResolver:
         return x, y, w, h
 
     def input(self, fe, attr="in"):
+        # the name as written: " SourceGraphic " and " a " name nothing (usvg, and Blink's
+        # lookup of in/result names, compare the attribute's text), so the previous result
         value = fe.get(attr)
-        value = value.strip() if value is not None else None
         previous = self.count - 1 if self.count else SOURCE_GRAPHIC
         if value is None:
             return previous
@@ -301,13 +308,13 @@ class PrimitiveResolver:
             inputs = [self.input(node) for node in fe.children if node.tag == "feMergeNode"]
             return Merge(), tuple(inputs)
         if tag == "feComposite":
-            op = (fe.get("operator") or "over").strip()
+            op = fe.get("operator") or "over"
             if op not in ("over", "in", "out", "atop", "xor", "lighter", "arithmetic"):
                 op = "over"
             k = tuple(self.number(fe, n, 0.0) for n in ("k1", "k2", "k3", "k4"))
             return Composite(op, k), (inp, self.input(fe, "in2"))
         if tag == "feBlend":
-            mode = (fe.get("mode") or "normal").strip()
+            mode = fe.get("mode") or "normal"
             if mode not in BLEND_MODES:
                 mode = "normal"
             return Blend(mode), (inp, self.input(fe, "in2"))
@@ -332,7 +339,7 @@ class PrimitiveResolver:
             scale = self.number(fe, "scale", 0.0)
 
             def channel(name):
-                v = (fe.get(name) or "A").strip()
+                v = fe.get(name) or "A"
                 return v if v in ("R", "G", "B") else "A"
             return (DisplacementMap(scale * self.scale[0], scale * self.scale[1],
                                     channel("xChannelSelector"), channel("yChannelSelector")),
@@ -354,7 +361,7 @@ class PrimitiveResolver:
         return TRANSPARENT, ()
 
     def morphology(self, fe, inp):
-        op = "dilate" if (fe.get("operator") or "").strip() == "dilate" else "erode"
+        op = "dilate" if (fe.get("operator") or "") == "dilate" else "erode"
         rx, ry = 1.0, 1.0
         text = fe.get("radius")
         if text is not None:
@@ -422,10 +429,13 @@ class PrimitiveResolver:
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
         sx, sy = row_scale_f32(self.ctx.transform)
-        # octaves past MAX_OCTAVES add under 1/4096 of the first one: not a visible level
-        return Turbulence(fx, fy, max(0, min(int(round(octaves)), MAX_OCTAVES)), int(seed),
+        # a fractional count rounds half away from zero, as usvg rounds it (0.5 is one octave;
+        # Python's round() would make it none); octaves past MAX_OCTAVES add under 1/4096 of
+        # the first one: not a visible level
+        octaves = math.floor(min(max(octaves, 0.0), MAX_OCTAVES) + 0.5)
+        return Turbulence(fx, fy, octaves, int(seed),
                           (fe.get("stitchTiles") or "") == "stitch",
-                          (fe.get("type") or "").strip() == "fractalNoise", (sx, sy, e, f))
+                          (fe.get("type") or "") == "fractalNoise", (sx, sy, e, f))
 
     def image(self, fe):
         """feImage content as a scene Group in device pixels, or None. An element is drawn as
@@ -497,7 +507,7 @@ IDENTITY_MATRIX = [1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0]
 def color_matrix_of(fe):
     """The 4 x 5 matrix of an feColorMatrix (usvg: a bad or missing ``values`` is identity,
     except that saturate and hueRotate without values mean 1 and 0)."""
-    kind = (fe.get("type") or "matrix").strip()
+    kind = fe.get("type") or "matrix"
     text = fe.get("values")
     values = parse_number_list(text) if text is not None else None
     if values is None and text is not None:
@@ -542,15 +552,15 @@ def convolve_effect(fe):
         if not 0 <= t < n:
             return None
         target.append(t)
-    edge = (fe.get("edgeMode") or "duplicate").strip()
+    edge = fe.get("edgeMode") or "duplicate"
     return ConvolveMatrix(tuple(values[r * cols:(r + 1) * cols] for r in range(rows)),
                           tuple(target), divisor, parse_number(fe.get("bias"), 0.0),
                           edge if edge in ("none", "wrap") else "duplicate",
-                          (fe.get("preserveAlpha") or "").strip() == "true")
+                          (fe.get("preserveAlpha") or "") == "true")
 
 
 def transfer_function(node):
-    kind = (node.get("type") or "").strip()
+    kind = node.get("type") or ""
     if kind in ("table", "discrete"):
         # a list that does not parse throughout is no list (the identity), as in resvg
         tokens = re.split(r"[\s,]+", (node.get("tableValues") or "").strip())
