@@ -572,25 +572,22 @@ class Builder:
             return None
         return m
 
-    def transform_origin(self, text, style, viewport, units_box=None):
-        """transform-origin → (x, y) in user units; ``units_box`` (w, h) replaces the viewport
-        for percentages (and turns plain numbers into fractions) in objectBoundingBox units."""
+    def transform_origin(self, text, style, viewport):
+        """transform-origin → (x, y) in user units."""
         vals = _origin_values(text)
         if vals is None:
             # invalid: the initial value, which for SVG elements is 0 0 (SVG 2's UA style sheet)
             return 0.0, 0.0
-        box = units_box or viewport
 
         def resolve(v, axis):
             parsed = split_length(v)
             if parsed is None:
                 return 0.0
             n, unit = parsed
-            ref = box[0] if axis == "x" else box[1]
+            ref = viewport[0] if axis == "x" else viewport[1]
             if unit == "%":
                 return n * ref / 100
-            return to_px(n, unit, style.font_size(), dpi=self.options.dpi) * \
-                (ref if units_box else 1)
+            return to_px(n, unit, style.font_size(), dpi=self.options.dpi)
         return resolve(vals[0], "x"), resolve(vals[1], "y")
 
     # -- structural wrapping ---------------------------------------------------------------

@@ -10,6 +10,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 
@@ -99,11 +100,13 @@ def separate_equal_offsets(stops, eps=1e-6):
     return kept
 
 
-def _coord(builder, value, axis, obb, style, viewport, default):
-    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units."""
+def box_coord(builder, value, axis, obb, style, viewport, default):
+    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units, where a
+    percentage is a fraction and a length with a unit is its number of user units (2mm is
+    7.56 boxes, as in browsers and resvg: the unit box is the user space)."""
     if value is None or split_length(value) is None:
         value = default
-    if obb:
+    if obb and split_length(value)[1] == "%":
         return parse_fraction(value)
     return builder.length(value, axis, style, viewport)
 
@@ -114,7 +117,7 @@ DEGENERATE = 1 / (1 << 15)
 ZERO_SCALE = 2.0 ** -23
 
 
-def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
+def _units_transform(builder, chain, attr, el_style, ctx):
     """gradientTransform/patternTransform with transform-origin, from the element itself (as
     in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
@@ -126,8 +129,10 @@ def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
         m = IDENTITY
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
-        ox, oy = builder.transform_origin(origin, el_style, ctx.viewport,
-                                          units_box=(1.0, 1.0) if obb else None)
+        # resolved as anywhere else (percentages of the viewport, CSS transform-box'
+        # view-box), also in objectBoundingBox units, where the point is then one in the
+        # unit box (as in resvg: "center" is (100, 100) boxes in a 200-unit viewport)
+        ox, oy = builder.transform_origin(origin, el_style, ctx.viewport)
         m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
     return m
 
@@ -149,7 +154,9 @@ def gradient(builder, el, ctx, bbox):
         return None
     if len(stops) == 1:
         return Solid(tuple(stops[0, 1:]))
-    obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
+    # enumerated attributes match their keywords exactly (no CSS whitespace trimming: they
+    # are no properties; browsers and resvg take " userSpaceOnUse" as invalid, the default)
+    obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox") != "userSpaceOnUse"
     style = builder.doc.document_style(el)
     m = ctx.transform
     if obb:
@@ -157,12 +164,12 @@ def gradient(builder, el, ctx, bbox):
             return None
         from .builder import bbox_matrix
         m = compose(m, bbox_matrix(bbox))
-    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx, bbox, obb))
+    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
     try:
         to_paint = invert(m)
     except ValueError:
         return NO_PAINT
-    spread = inherited_attr(chain, "spreadMethod", "pad").strip()
+    spread = inherited_attr(chain, "spreadMethod", "pad")
     if spread not in ("pad", "reflect", "repeat"):
         spread = "pad"
     vp = ctx.viewport
@@ -171,7 +178,7 @@ def gradient(builder, el, ctx, bbox):
         # coordinates inherit only from gradients of the same kind, up to the first of
         # another kind (usvg stops there)
         same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
-        return _coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
+        return box_coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
     if el.tag == "linearGradient":
         x1, y1 = attr("x1", "x", "0%"), attr("y1", "y", "0%")
@@ -212,25 +219,26 @@ def pattern(builder, el, ctx, bbox):
         return None
     chain = href_chain(builder, el, ("pattern",))
     style = builder.doc.document_style(el)
-    obb = inherited_attr(chain, "patternUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
-    content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse").strip()
+    obb = inherited_attr(chain, "patternUnits", "objectBoundingBox") != "userSpaceOnUse"
+    content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse")
                    == "objectBoundingBox")
     vb = parse_viewbox(inherited_attr(chain, "viewBox"))
     vp = ctx.viewport
 
     def attr(name, axis):
-        return _coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
+        return box_coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
     x, y, w, h = attr("x", "x"), attr("y", "y"), attr("width", "x"), attr("height", "y")
     if obb or (content_obb and vb is None):
         if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
-            return None
+            # as in resvg: the fallback for a tile in box units, nothing for content alone
+            return None if obb else NO_PAINT
     if obb:
         bx, by = bbox[0], bbox[1]
         bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
         x, y, w, h = bx + x * bw, by + y * bh, w * bw, h * bh
     if w <= 0 or h <= 0:
         return None
-    pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx, bbox, False)
+    pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx)
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
@@ -264,29 +272,28 @@ def pattern(builder, el, ctx, bbox):
     if vb is not None:
         content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
                                     w, h)
-        content_viewport = (vb[2], vb[3])
     elif content_obb:
         content = (bbox[2] - bbox[0], 0.0, 0.0, bbox[3] - bbox[1], 0.0, 0.0)
-        content_viewport = vp
     else:
         content = IDENTITY
-        content_viewport = vp
+    # A pattern establishes no viewport (SVG 2 §8.2 lists those that do): percentages in its
+    # content are of the referencing element's, also under a viewBox (browsers, resvg).
     source = next((e for e in chain if any(c.tag for c in e.children)), el)
     tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
-                   viewport=content_viewport, use_stack=ctx.use_stack,
+                   viewport=vp, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
     # Shapes sharing a pattern at the same scale share its tile (it does not depend on
     # where the shape is): they get the same content group, which the raster renders once.
     # The key holds everything the tile's content can depend on.
-    key = (id(el), tw, th, tile_ctx.transform, content_viewport, id(ctx.context_fill),
+    key = (id(el), tw, th, tile_ctx.transform, vp, id(ctx.context_fill),
            id(ctx.context_stroke), ctx.use_stack, tuple(map(id, builder.paint_stack)),
            tuple(map(id, builder.ref_stack)))
     if key in builder.tile_cache:
         content = builder.tile_cache[key]
     else:
         content = builder.tile_cache[key] = _tile_content(builder, el, source, tile_ctx)
-    if content is None:
-        return None
+    if content is None or content is NO_PAINT:
+        return content
     tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
         to_paint = invert(tile_to_device)
@@ -308,11 +315,28 @@ def _tile_pixels(length, scale):
     return max(1, math.floor(float(np.float32(length) * np.float32(scale)) + 0.5))
 
 
+#: containers that count as pattern content even when empty (usvg keeps them)
+_CONTAINERS = ("g", "a")
+
+
 def _tile_content(builder, el, source, tile_ctx):
-    """The pattern's content in tile pixels as a Group, or None when it draws nothing."""
+    """The pattern's content in tile pixels as a Group; when it draws nothing, None (the
+    fallback applies) if it has no content at all, NO_PAINT if its content is there but
+    invisible. As in resvg, where a pattern with nothing to convert is no paint server: no
+    children, or only non-rendering ones (desc, gradients, unknown elements), display: none,
+    shapes without geometry; while a hidden, unpainted or transparent shape, an empty group
+    are content that paints nothing."""
     builder.paint_stack.append(el)
     try:
-        nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
+        style = builder.doc.document_style(source)
+        nodes = builder.children(source, tile_ctx, style)
+        if nodes:
+            return Group(children=nodes)
+        if any(c.tag in _CONTAINERS and
+               builder.doc.document_style(c).get("display").strip() != "none"
+               for c in source.children):
+            return NO_PAINT
+        return NO_PAINT if builder.children(source, replace(tile_ctx, geometry=True),
+                                            style) else None
     finally:
         builder.paint_stack.pop()
-    return Group(children=nodes) if nodes else None
