@@ -507,3 +507,19 @@ def test_mutual_clip_and_mask_references_break_at_the_later_element(ref, first, 
     want = np.zeros((100, 100), bool)
     want[:50, :50 if target == "a" else 100] = True
     assert (a == want).all()
+
+
+@pytest.mark.parametrize("child, inherits", [("<desc>d</desc>", True), ("<title>t</title>", True),
+                                             ("<metadata/>", True), ("<foo/>", True),
+                                             ("<g/>", False), ("<linearGradient/>", False)])
+def test_pattern_children_via_href_skip_non_rendering_elements(child, inherits):
+    """SVG 2: a pattern without children takes its href's. Descriptive elements (desc, title,
+    metadata) and unknown ones are no content (usvg drops them from its tree): the pattern
+    still takes the referenced one's blue tile. A g or a gradient are children: an empty g
+    paints nothing, a gradient converts to no content, so the fallback."""
+    img = render('<pattern id="b" patternUnits="userSpaceOnUse" width="10" height="10">'
+                 '<rect width="10" height="10" fill="#00f"/></pattern>'
+                 f'<pattern id="p" href="#b">{child}</pattern>'
+                 '<rect width="100" height="100" fill="url(#p) #0f0"/>')
+    want = (0, 0, 255, 255) if inherits else (0, 0, 0, 0) if child == "<g/>" else (0, 255, 0, 255)
+    assert (img[50, 50] == want).all()

@@ -278,7 +278,7 @@ def pattern(builder, el, ctx, bbox):
         content = IDENTITY
     # A pattern establishes no viewport (SVG 2 §8.2 lists those that do): percentages in its
     # content are of the referencing element's, also under a viewBox (browsers, resvg).
-    source = next((e for e in chain if any(c.tag for c in e.children)), el)
+    source = next((e for e in chain if any(_is_child(c) for c in e.children)), el)
     tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
                    viewport=vp, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
@@ -306,6 +306,18 @@ def pattern(builder, el, ctx, bbox):
     axis_aligned = all(abs(m[1]) < 1e-9 and abs(m[2]) < 1e-9
                        for m in (tile_to_device, ctx.transform, pattern_m))
     return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
+
+
+#: the elements usvg's tree keeps (style, desc, title, metadata and unknown elements are not):
+#: a pattern with none of them as children takes its href's children
+_TREE_ELEMENTS = frozenset(
+    "a circle clipPath defs ellipse filter g image line linearGradient marker mask path "
+    "pattern polygon polyline radialGradient rect stop svg switch symbol text textPath tref "
+    "tspan use".split())
+
+
+def _is_child(el):
+    return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
 
 
 def _tile_pixels(length, scale):
