@@ -523,3 +523,17 @@ def test_pattern_children_via_href_skip_non_rendering_elements(child, inherits):
                  '<rect width="100" height="100" fill="url(#p) #0f0"/>')
     want = (0, 0, 255, 255) if inherits else (0, 0, 0, 0) if child == "<g/>" else (0, 255, 0, 255)
     assert (img[50, 50] == want).all()
+
+
+@pytest.mark.parametrize("fx", ['fx="bogus"', 'fx=""', 'fx="1e400"', ""])
+def test_radial_focus_that_does_not_parse_is_the_centre(fx):
+    """SVG 2: fx not given coincides with cx, and an invalid value is as if not given. With
+    the focus at the centre (30, 50) of r = 40 in user space, a pixel at distance d from the
+    centre is at t = d / 40 of the ramp whatever its direction: (10, 50) and (50, 50) are both
+    t = 0.5 (a focus at the default 50% would put them at different t)."""
+    img = render('<radialGradient id="g" gradientUnits="userSpaceOnUse" cx="30" cy="50" r="40" '
+                 f'{fx}>{RAMP}</radialGradient><rect width="100" height="100" fill="url(#g)"/>')
+    # pixel (x, 49) has its centre at (x + 0.5, 49.5)
+    for x in (9, 50):
+        d = np.hypot(x + 0.5 - 30, 49.5 - 50)
+        assert abs(img[49, x, 0] - 255 * d / 40) <= 1.5

@@ -189,8 +189,10 @@ def gradient(builder, el, ctx, bbox):
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
     r = attr("r", "xy", "50%")
     same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
-    fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
-    fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
+    # fx/fy not given, or not a length (an invalid value is as if not given), coincide with
+    # cx/cy (SVG 2's lacuna)
+    fx = cx if split_length(inherited_attr(same, "fx")) is None else attr("fx", "x", "50%")
+    fy = cy if split_length(inherited_attr(same, "fy")) is None else attr("fy", "y", "50%")
     fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
     if r <= 0:
         # SVG: "a value of zero will cause the area to be painted as a single color using the
