@@ -537,3 +537,16 @@ def test_radial_focus_that_does_not_parse_is_the_centre(fx):
     for x in (9, 50):
         d = np.hypot(x + 0.5 - 30, 49.5 - 50)
         assert abs(img[49, x, 0] - 255 * d / 40) <= 1.5
+
+
+def test_reference_cycles_look_only_at_elements_references_reach():
+    """Of two clip paths with one id, references reach the first (the left half); the second
+    is never drawn, so its clip-path to b closes no cycle, and b (the top half) keeps its
+    clip-path to a: the element is the top-left quadrant."""
+    img = render('<clipPath id="a"><rect width="50" height="100"/></clipPath>'
+                 '<clipPath id="b" clip-path="url(#a)"><rect width="100" height="50"/></clipPath>'
+                 '<clipPath id="a" clip-path="url(#b)"><rect width="100" height="100"/></clipPath>'
+                 '<rect width="100" height="100" fill="#00f" clip-path="url(#b)"/>')
+    want = np.zeros((100, 100), bool)
+    want[:50, :50] = True
+    assert ((img[..., 3] > 127) == want).all()

@@ -440,7 +440,7 @@ class _TreeReader:
             elif tag == "use":
                 doc.has_use = True
             elif tag in _LINK_CONTAINERS:
-                doc.has_link_container = True
+                doc.link_containers.append(el)
             if siblings:
                 siblings.append(el)
             else:
@@ -515,7 +515,7 @@ class _TreeReader:
             elif tag == "use":
                 doc.has_use = True
             elif tag in _LINK_CONTAINERS:
-                doc.has_link_container = True
+                doc.link_containers.append(el)
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
             elif spec or style_attr:
@@ -674,7 +674,7 @@ class Document:
         self.paths = []             # the <path> elements in document order
         self.size = 0               # how many elements the tree has
         self.has_use = False        # whether any <use> instantiates content
-        self.has_link_container = False    # any pattern, clipPath or mask element
+        self.link_containers = []   # pattern, clipPath and mask elements in document order
 
     @property
     def ids(self) -> dict:
@@ -839,10 +839,11 @@ def _break_reference_cycles(doc):
     error without saying what is drawn): for each such element P in document order, each
     element E in P (P itself too) whose property references Q: if Q is P, E's reference goes;
     otherwise the first element in Q (Q too) referencing P loses that reference. So of
-    two clip paths referencing each other, the later one in the document keeps its clip.
-    Fills first, then strokes. The build's own guards (paint.pattern, masking._target) still
+    two clip paths referencing each other, the earlier one in the document keeps its clip.
+    Fills first, then strokes. Only elements references reach (the first with their id)
+    are looked at, and the id map is made only once a reference is found. The build's own guards (paint.pattern, masking._target) still
     stop any cycle this leaves, e.g. through ``use`` or inherited paints."""
-    if not doc.has_link_container:
+    if not doc.link_containers:
         return
 
     def link(el, name):
@@ -851,12 +852,19 @@ def _break_reference_cycles(doc):
         return m.group(1) if m else None
 
     for tag, name in _LINKS:
-        for container in [el for el in doc.ids.values() if el.tag == tag]:
+        for container in doc.link_containers:
+            if container.tag != tag:
+                continue
             cid = container.attrs.get("id")
+            reached = None
             for node in _descendants(container):
                 while True:
                     target = link(node, name)
                     if target is None:
+                        break
+                    if reached is None:
+                        reached = cid is not None and doc.ids.get(cid) is container
+                    if not reached:
                         break
                     if target == cid:
                         node.specified[name] = "none"
