@@ -1111,3 +1111,41 @@ def test_draw_plan_follows_inheritance_through_shared_styles():
         assert fill.paint.color != stroke.paint.color
         assert fill.paint.color == ((1, 0, 0, 1) if pair is not groups[2] and pair is not
                                     groups[3] else (0, 0, 1, 1))
+
+
+def _ts_concat(a, b):
+    """tiny-skia's Transform::pre_concat: each entry a sum of products of f32 numbers,
+    computed in f64 and rounded to f32 (its mul_add_mul)."""
+    f = lambda v: float(np.float32(v))
+    return (f(a[0] * b[0] + a[2] * b[1]), f(a[1] * b[0] + a[3] * b[1]),
+            f(a[0] * b[2] + a[2] * b[3]), f(a[1] * b[2] + a[3] * b[3]),
+            f(a[0] * b[4] + a[2] * b[5] + a[4]), f(a[1] * b[4] + a[3] * b[5] + a[5]))
+
+
+def _svg_rotate(deg, cx, cy):
+    """svgtypes' rotate(a cx cy) in f64 (translate, rotate, translate back), then f32 as usvg
+    stores it."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return tuple(float(np.float32(v)) for v in (c, s, -s, c, cx - c * cx + s * cy,
+                                                  cy - s * cx - c * cy))
+
+
+@pytest.mark.parametrize("element, pattern", [(13, 32), (-13, 58), (20, 25), (0, 45)])
+def test_pattern_tile_pixels_follow_resvgs_f32_chain(element, pattern):
+    """resvg sizes a pattern tile as round(width x sx) with sx the row norm (in f32) of the
+    canvas scale, the element's transform and the pattern's, each an f32 matrix and
+    concatenated in f32. Under rotations summing to 45 degrees at 1.5 px per unit the norm is
+    1.5 exactly or an ulp off by angle, and a 17 x 13 unit tile (25.5 x 19.5 px) is then
+    26 x 20 px or 25 x 19 px; the f64 product rounded once gives 25 x 19 for all four."""
+    chain = _ts_concat(_ts_concat((1.5, 0.0, 0.0, 1.5, 0.0, 0.0),
+                                  _svg_rotate(element, 100, 100)), _svg_rotate(pattern, 100, 100))
+    a, b, c, d = (np.float32(v) for v in chain[:4])
+    sx, sy = np.sqrt(a * a + c * c), np.sqrt(b * b + d * d)
+    want = (math.floor(float(np.float32(17) * sx) + 0.5),
+            math.floor(float(np.float32(13) * sy) + 0.5))
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="17" height="13" '
+              f'patternTransform="rotate({pattern} 100 100)"><rect width="5" height="5"/></pattern>'
+              f'<rect x="40" y="40" width="120" height="120" fill="url(#p)" '
+              f'transform="rotate({element} 100 100)"/>', 'viewBox="0 0 200 200"', width=300)
+    p = only_fill(s).paint
+    assert (p.width, p.height) == want

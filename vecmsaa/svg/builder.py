@@ -104,6 +104,8 @@ class Ctx:
     context_stroke: object = None
     clip: bool = False                    # inside a clipPath: plain black fills, no strokes
     geometry: bool = False                # only object geometry (bounding boxes)
+    chain: tuple = ()                     # the matrices composed into transform, outermost
+                                          # first (the root's, elements'; paint._f32_chain)
 
 
 class ContextPaint:
@@ -250,7 +252,7 @@ class Builder:
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
-        ctx = Ctx(transform=transform, viewport=viewport)
+        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
         nodes = self.children(root, ctx, style)
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
@@ -521,7 +523,8 @@ class Builder:
         m = self.element_transform(el, style, ctx)
         if m is None:
             return []
-        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m))
+        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m),
+                                              chain=ctx.chain + (m,))
         tag = el.tag
         if tag in SHAPES:
             nodes = self.shape(el, c, style)

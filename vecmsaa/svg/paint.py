@@ -244,7 +244,7 @@ def pattern(builder, el, ctx, bbox):
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
-    sx, sy = row_scale_f32(full)
+    sx, sy = row_scale_f32(_f32_chain(ctx, pattern_m))
     if sx <= 0 or sy <= 0:
         return None
     # a tile side past f32's range (matrix(1e308 ...)) has no pixel size in resvg: not drawn
@@ -281,7 +281,8 @@ def pattern(builder, el, ctx, bbox):
     # A pattern establishes no viewport (SVG 2 §8.2 lists those that do): percentages in its
     # content are of the referencing element's, also under a viewBox (browsers, resvg).
     source = next((e for e in chain if any(_is_child(c) for c in e.children)), el)
-    tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
+    tile_scale = (sx, 0.0, 0.0, sy, 0.0, 0.0)
+    tile_ctx = Ctx(transform=compose(tile_scale, content), chain=(tile_scale, content),
                    viewport=vp, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
     # Shapes sharing a pattern at the same scale share its tile (it does not depend on
@@ -320,6 +321,37 @@ _TREE_ELEMENTS = frozenset(
 
 def _is_child(el):
     return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
+
+
+def _concat32(a, b):
+    """a ∘ b as tiny-skia concatenates: each entry a sum of products in f64, rounded to f32."""
+    a0, a1, a2, a3, a4, a5 = a
+    b0, b1, b2, b3, b4, b5 = b
+    return tuple(float(np.float32(v)) for v in (
+        a0 * b0 + a2 * b1, a1 * b0 + a3 * b1, a0 * b2 + a2 * b3, a1 * b2 + a3 * b3,
+        a0 * b4 + a2 * b5 + a4, a1 * b4 + a3 * b5 + a5))
+
+
+def _f32_chain(ctx, pattern_m):
+    """The pattern's device matrix as resvg composes it: the root's and each element's
+    transform (``ctx.chain``) and the pattern's each in f32, concatenated in f32 (not the
+    f64 product rounded): under a rotation the two differ by an ulp of the row norm, and a
+    tile of n + 1/2 px rounds to n in one and n + 1 in the other (17 units at 1.5 px each
+    under rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from
+    the product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        f32 = lambda m: tuple(float(np.float32(v)) for v in m)
+        product = IDENTITY
+        for m in ctx.chain:
+            product = compose(product, m)
+        try:
+            rest = compose(invert(product), ctx.transform)
+        except ValueError:
+            return f32(compose(ctx.transform, pattern_m))
+        out = IDENTITY
+        for m in ctx.chain + (rest,):
+            out = _concat32(out, f32(m))
+        return _concat32(out, f32(pattern_m))
 
 
 def _tile_pixels(length, scale):
