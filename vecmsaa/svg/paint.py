@@ -244,7 +244,10 @@ def pattern(builder, el, ctx, bbox):
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
-    sx, sy = row_scale_f32(_f32_chain(ctx, pattern_m))
+    element32 = _f32_chain(ctx)
+    pattern32 = tuple(float(np.float32(v)) for v in pattern_m)
+    sx, sy = row_scale_f32(_concat32(element32, pattern32))
+    sx32, sy32 = np.float32(sx), np.float32(sy)
     if sx <= 0 or sy <= 0:
         return None
     # a tile side past f32's range (matrix(1e308 ...)) has no pixel size in resvg: not drawn
@@ -302,13 +305,19 @@ def pattern(builder, el, ctx, bbox):
         to_paint = invert(tile_to_device)
     except ValueError:
         return NO_PAINT
-    # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
-    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering. So
-    # do tiles whose rotations cancel (an element's rotate(-30), the pattern's rotate(30)):
-    # resvg composes them in f32, is left with a skew of ~1e-8, and filters (bicubic).
-    axis_aligned = all(abs(m[1]) < 1e-9 and abs(m[2]) < 1e-9
-                       for m in (tile_to_device, ctx.transform, pattern_m))
-    return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
+    # The tile is rendered at device resolution and sampled as tiny-skia samples resvg's:
+    # nearest only where the shader's matrix (the element's, then the pattern's transform,
+    # x/y and the tile's 1/scale, concatenated in f32) is exactly a translation, filtered
+    # otherwise: rotated and skewed tiles, but also rotations that cancel with an f32 skew
+    # left (an element's rotate(-30) and the pattern's rotate(30) at 1.5 px per unit; not
+    # at 1) and scales that miss 1 by an ulp (300/131 px per unit).
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        f = np.float32
+        ts2 = _concat32(_concat32(pattern32, (1.0, 0.0, 0.0, 1.0, float(f(x)), float(f(y)))),
+                        (float(f(1) / sx32), 0.0, 0.0, float(f(1) / sy32), 0.0, 0.0))
+        total = _concat32(element32, ts2)
+    crisp = total[0] == 1.0 and total[3] == 1.0 and total[1] == 0.0 and total[2] == 0.0
+    return PatternPaint(content, tw, th, to_paint, smooth=not crisp)
 
 
 #: the elements usvg's tree keeps (style, desc, title, metadata and unknown elements are not):
@@ -332,13 +341,13 @@ def _concat32(a, b):
         a0 * b4 + a2 * b5 + a4, a1 * b4 + a3 * b5 + a5))
 
 
-def _f32_chain(ctx, pattern_m):
-    """The pattern's device matrix as resvg composes it: the root's and each element's
-    transform (``ctx.chain``) and the pattern's each in f32, concatenated in f32 (not the
-    f64 product rounded): under a rotation the two differ by an ulp of the row norm, and a
-    tile of n + 1/2 px rounds to n in one and n + 1 in the other (17 units at 1.5 px each
-    under rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from
-    the product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
+def _f32_chain(ctx):
+    """The element's device matrix as resvg composes it: the root's and each element's
+    transform (``ctx.chain``) each in f32, concatenated in f32 (not the f64 product rounded):
+    under a rotation the two differ by an ulp of the row norm, and a pattern tile of
+    n + 1/2 px rounds to n in one and n + 1 in the other (17 units at 1.5 px each under
+    rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from the
+    product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
     with np.errstate(over="ignore", invalid="ignore"):
         f32 = lambda m: tuple(float(np.float32(v)) for v in m)
         product = IDENTITY
@@ -347,11 +356,11 @@ def _f32_chain(ctx, pattern_m):
         try:
             rest = compose(invert(product), ctx.transform)
         except ValueError:
-            return f32(compose(ctx.transform, pattern_m))
+            return f32(ctx.transform)
         out = IDENTITY
         for m in ctx.chain + (rest,):
             out = _concat32(out, f32(m))
-        return _concat32(out, f32(pattern_m))
+        return out
 
 
 def _tile_pixels(length, scale):
