@@ -387,3 +387,166 @@ def test_pattern_tile_beyond_f32_is_not_drawn(attrs):
                  '<rect width="5" height="5" fill="red"/></pattern>'
                  '<rect width="40" height="40" fill="url(#p)"/>')
     assert not img[..., 3].any()
+
+
+# -- paint-server and masking attributes (session 14) -------------------------------------------
+RAMP = '<stop offset="0" stop-color="#000"/><stop offset="1" stop-color="#fff"/>'
+
+
+@pytest.mark.parametrize("units, user", [("userSpaceOnUse", True), (" userSpaceOnUse", False),
+                                         ("userSpaceOnUse ", False), ("userspaceonuse", False),
+                                         ("objectBoundingBox", False)])
+def test_gradient_units_keyword_is_matched_exactly(units, user):
+    """gradientUnits is an attribute, not a property: its keywords match exactly (no CSS
+    whitespace trimming or case folding), anything else is the default objectBoundingBox.
+    x2="1" is then one user unit (a step to white) or the box's width (a ramp)."""
+    img = render(f'<linearGradient id="g" gradientUnits="{units}" x2="1">{RAMP}</linearGradient>'
+                 '<rect width="100" height="10" fill="url(#g)"/>', height=10)
+    # pixel 50's centre is 50.5 units, a fraction 0.505 of the box
+    want = 255 if user else 0.505 * 255
+    assert abs(img[5, 50, 0] - want) <= 1.5
+
+
+@pytest.mark.parametrize("attr, value, inside", [
+    ("clipPathUnits", "objectBoundingBox", True), ("clipPathUnits", " objectBoundingBox", False),
+    ("maskContentUnits", "objectBoundingBox", True), ("maskContentUnits", "objectBoundingBox ", False)])
+def test_clip_and_mask_units_keywords_are_matched_exactly(attr, value, inside):
+    """A rect of 0.5 x 1 units covers the left half of a 100 x 10 box in bounding-box units,
+    and half a unit of it in user space (an invalid keyword is the default userSpaceOnUse)."""
+    content = '<rect width="0.5" height="1" fill="white"/>'
+    el = (f'<clipPath id="c" {attr}="{value}">{content}</clipPath>' if attr == "clipPathUnits"
+          else f'<mask id="c" {attr}="{value}">{content}</mask>')
+    ref = "clip-path" if attr == "clipPathUnits" else "mask"
+    img = render(el + f'<rect width="100" height="10" fill="#00f" {ref}="url(#c)"/>', height=10)
+    assert img[5, 25, 3] == (255 if inside else 0)
+    assert img[5, 75, 3] == 0
+
+
+@pytest.mark.parametrize("value, boxes", [("2mm", 2 * 96 / 25.4), ("0.1in", 9.6), ("50%", 0.5),
+                                          ("0.5", 0.5), ("3px", 3.0)])
+def test_bounding_box_units_take_lengths_as_user_units(value, boxes):
+    """In objectBoundingBox units a percentage is a fraction of the box and a length is its
+    number of user units in the unit box (2mm = 7.559 boxes), as in browsers' length
+    resolution: the ramp from x1 = 0 to x2 = value puts pixel 50 (0.505 boxes) at
+    0.505 / boxes of the way."""
+    img = render(f'<linearGradient id="g" x2="{value}">{RAMP}</linearGradient>'
+                 '<rect width="100" height="10" fill="url(#g)"/>', height=10)
+    assert abs(img[5, 50, 0] - 255 * min(1.0, 0.505 / boxes)) <= 1.5
+
+
+def test_mask_region_in_bounding_box_units_takes_lengths_as_user_units():
+    """x="0.1mm" on a mask in objectBoundingBox units is 0.378 boxes, not 0.1: the region
+    of a 100-unit-wide box starts at 37.8."""
+    img = render('<mask id="m" x="0.1mm" y="0" width="2" height="1">'
+                 '<rect width="100" height="10" fill="white"/></mask>'
+                 '<rect width="100" height="10" fill="#00f" mask="url(#m)"/>', height=10)
+    assert img[5, 36, 3] == 0 and img[5, 39, 3] == 255
+
+
+def test_gradient_transform_origin_in_bounding_box_units():
+    """transform-origin resolves as on any element (percentages of the viewport, CSS
+    transform-box: view-box), and in objectBoundingBox units the point is one of the unit
+    box: "50% 0" in a 100-wide viewport is x = 50 boxes. scale(2) about it maps gradient x to
+    box x = 2x - 50, so the box (x in 0..1) sees gradient x about 25: past x2 = 1, white."""
+    img = render('<linearGradient id="g" gradientTransform="scale(2)" transform-origin="50% 0">'
+                 f'{RAMP}</linearGradient><rect width="100" height="10" fill="url(#g)"/>',
+                 height=10)
+    assert (img[5, ::10, :3] == 255).all()
+
+
+def test_pattern_content_percentages_are_of_the_referencing_viewport():
+    """A pattern establishes no viewport (SVG 2 §8.2), also with a viewBox: width="5%" in a
+    100 x 100 document is 5 viewBox units, half the 10-unit tile (10 px of 20)."""
+    img = render('<pattern id="p" patternUnits="userSpaceOnUse" width="20" height="20" '
+                 'viewBox="0 0 10 10"><rect width="5%" height="100%" fill="#00f"/></pattern>'
+                 '<rect width="100" height="100" fill="url(#p)"/>')
+    row = img[10, :, 3]
+    assert (row[0:10] == 255).all() and (row[10:20] == 0).all() and (row[20:30] == 255).all()
+
+
+@pytest.mark.parametrize("content, fallback", [
+    ("", True), ("<desc>d</desc>", True), ("<foo/>", True), ('<rect width="0" height="5"/>', True),
+    ('<rect width="5" height="5" display="none"/>', True), ("<text> </text>", True),
+    ('<rect width="5" height="5" fill="none"/>', False),
+    ('<rect width="5" height="5" visibility="hidden"/>', False),
+    ('<rect width="5" height="5" opacity="0"/>', False), ("<g/>", False)])
+def test_pattern_without_content_uses_the_fallback(content, fallback):
+    """A pattern with nothing to draw is no paint server, so the fallback colour applies; one
+    whose content is there but paints nothing (hidden, unpainted, transparent, an empty
+    group) is a paint server that paints transparent (resvg's reading; SVG 2 leaves it)."""
+    img = render('<pattern id="p" patternUnits="userSpaceOnUse" width="10" height="10">'
+                 f'{content}</pattern><rect width="100" height="100" fill="url(#p) #00f"/>')
+    assert (img[..., 3] == (255 if fallback else 0)).all()
+
+
+def test_pattern_content_units_on_an_empty_box_paint_nothing():
+    """patternContentUnits="objectBoundingBox" on a horizontal line (a box without height):
+    the content cannot be laid out, and the paint is none, not the fallback (as resvg)."""
+    img = render('<pattern id="p" patternUnits="userSpaceOnUse" width="10" height="10" '
+                 'patternContentUnits="objectBoundingBox"><rect width="1" height="1"/></pattern>'
+                 '<line x1="0" y1="50" x2="100" y2="50" stroke="url(#p) #00f" stroke-width="20"/>')
+    assert not img[..., 3].any()
+
+
+@pytest.mark.parametrize("ref, first, second, keeps", [
+    ("clip-path", '<clipPath id="a" clip-path="url(#b)"><rect width="50" height="100"/></clipPath>',
+     '<clipPath id="b" clip-path="url(#a)"><rect width="100" height="50"/></clipPath>', "b"),
+    ("mask", '<mask id="a" mask="url(#b)"><rect width="50" height="100" fill="white"/></mask>',
+     '<mask id="b" mask="url(#a)"><rect width="100" height="50" fill="white"/></mask>', "b"),
+    ("mask", '<mask id="a"><rect width="50" height="100" fill="white" mask="url(#b)"/></mask>',
+     '<mask id="b"><rect width="100" height="50" fill="white" mask="url(#a)"/></mask>', "b")])
+@pytest.mark.parametrize("target", ["a", "b"])
+def test_mutual_clip_and_mask_references_break_at_the_later_element(ref, first, second, keeps,
+                                                                      target):
+    """Two clip paths or masks referencing each other: the cycle is broken as usvg breaks it
+    (SVG makes it an error without saying what is drawn): the first one in document order
+    keeps its reference, the later one loses it, whichever the element uses. So a (left half)
+    is always clipped by b (top half); b alone is the top half."""
+    img = render(first + second + f'<rect width="100" height="100" fill="#00f" {ref}="url(#{target})"/>')
+    a = img[..., 3] > 127
+    want = np.zeros((100, 100), bool)
+    want[:50, :50 if target == "a" else 100] = True
+    assert (a == want).all()
+
+
+@pytest.mark.parametrize("child, inherits", [("<desc>d</desc>", True), ("<title>t</title>", True),
+                                             ("<metadata/>", True), ("<foo/>", True),
+                                             ("<g/>", False), ("<linearGradient/>", False)])
+def test_pattern_children_via_href_skip_non_rendering_elements(child, inherits):
+    """SVG 2: a pattern without children takes its href's. Descriptive elements (desc, title,
+    metadata) and unknown ones are no content (usvg drops them from its tree): the pattern
+    still takes the referenced one's blue tile. A g or a gradient are children: an empty g
+    paints nothing, a gradient converts to no content, so the fallback."""
+    img = render('<pattern id="b" patternUnits="userSpaceOnUse" width="10" height="10">'
+                 '<rect width="10" height="10" fill="#00f"/></pattern>'
+                 f'<pattern id="p" href="#b">{child}</pattern>'
+                 '<rect width="100" height="100" fill="url(#p) #0f0"/>')
+    want = (0, 0, 255, 255) if inherits else (0, 0, 0, 0) if child == "<g/>" else (0, 255, 0, 255)
+    assert (img[50, 50] == want).all()
+
+
+@pytest.mark.parametrize("fx", ['fx="bogus"', 'fx=""', 'fx="1e400"', ""])
+def test_radial_focus_that_does_not_parse_is_the_centre(fx):
+    """SVG 2: fx not given coincides with cx, and an invalid value is as if not given. With
+    the focus at the centre (30, 50) of r = 40 in user space, a pixel at distance d from the
+    centre is at t = d / 40 of the ramp whatever its direction: (10, 50) and (50, 50) are both
+    t = 0.5 (a focus at the default 50% would put them at different t)."""
+    img = render('<radialGradient id="g" gradientUnits="userSpaceOnUse" cx="30" cy="50" r="40" '
+                 f'{fx}>{RAMP}</radialGradient><rect width="100" height="100" fill="url(#g)"/>')
+    # pixel (x, 49) has its centre at (x + 0.5, 49.5)
+    for x in (9, 50):
+        d = np.hypot(x + 0.5 - 30, 49.5 - 50)
+        assert abs(img[49, x, 0] - 255 * d / 40) <= 1.5
+
+
+def test_reference_cycles_look_only_at_elements_references_reach():
+    """Of two clip paths with one id, references reach the first (the left half); the second
+    is never drawn, so its clip-path to b closes no cycle, and b (the top half) keeps its
+    clip-path to a: the element is the top-left quadrant."""
+    img = render('<clipPath id="a"><rect width="50" height="100"/></clipPath>'
+                 '<clipPath id="b" clip-path="url(#a)"><rect width="100" height="50"/></clipPath>'
+                 '<clipPath id="a" clip-path="url(#b)"><rect width="100" height="100"/></clipPath>'
+                 '<rect width="100" height="100" fill="#00f" clip-path="url(#b)"/>')
+    want = np.zeros((100, 100), bool)
+    want[:50, :50] = True
+    assert ((img[..., 3] > 127) == want).all()

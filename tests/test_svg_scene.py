@@ -877,11 +877,15 @@ def test_skewed_pattern_tile_resolution_uses_row_norms_as_resvg():
 
 
 @pytest.mark.parametrize("element, pattern, smooth", [
-    ("", "", False), ("", "scale(2)", False), ('transform="rotate(-30)"', "rotate(30)", True),
+    ("", "", False), ("", "scale(2)", False), ('transform="rotate(-30)"', "rotate(30)", False),
+    ('transform="rotate(-10)"', "rotate(10)", True),
     ('transform="rotate(-30)"', "", True), ("", "skewX(10)", True)])
 def test_pattern_tiles_are_filtered_where_resvg_filters_them(element, pattern, smooth):
-    # resvg composes transforms in f32: rotations that cancel leave a skew of ~1e-8, and its
-    # pattern shader then filters the tile (bicubic) instead of taking texels (nearest)
+    # resvg composes transforms in f32: rotations that cancel may leave a skew of ~1e-8
+    # (rotate(-10) and rotate(10) at 1 px per unit; not -30 and 30, whose f32 products
+    # cancel exactly: resvg 0.48.1 draws that tile with no filtered texel), and its pattern
+    # shader then filters the tile (bicubic) instead of taking texels (nearest); see
+    # test_pattern_sampling_follows_resvgs_f32_chain
     s = scene(f'<pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse" '
               f'patternTransform="{pattern}"><rect width="5" height="5"/></pattern>'
               f'<rect width="80" height="80" fill="url(#p)" {element}/>')
@@ -1296,3 +1300,74 @@ def test_draw_plan_follows_inheritance_through_shared_styles():
         assert fill.paint.color != stroke.paint.color
         assert fill.paint.color == ((1, 0, 0, 1) if pair is not groups[2] and pair is not
                                     groups[3] else (0, 0, 1, 1))
+
+
+def _ts_concat(a, b):
+    """tiny-skia's Transform::pre_concat: each entry a sum of products of f32 numbers,
+    computed in f64 and rounded to f32 (its mul_add_mul)."""
+    f = lambda v: float(np.float32(v))
+    return (f(a[0] * b[0] + a[2] * b[1]), f(a[1] * b[0] + a[3] * b[1]),
+            f(a[0] * b[2] + a[2] * b[3]), f(a[1] * b[2] + a[3] * b[3]),
+            f(a[0] * b[4] + a[2] * b[5] + a[4]), f(a[1] * b[4] + a[3] * b[5] + a[5]))
+
+
+def _svg_rotate(deg, cx, cy):
+    """svgtypes' rotate(a cx cy) in f64 (translate, rotate, translate back), then f32 as usvg
+    stores it."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return tuple(float(np.float32(v)) for v in (c, s, -s, c, cx - c * cx + s * cy,
+                                                  cy - s * cx - c * cy))
+
+
+@pytest.mark.parametrize("element, pattern", [(13, 32), (-13, 58), (20, 25), (0, 45)])
+def test_pattern_tile_pixels_follow_resvgs_f32_chain(element, pattern):
+    """resvg sizes a pattern tile as round(width x sx) with sx the row norm (in f32) of the
+    canvas scale, the element's transform and the pattern's, each an f32 matrix and
+    concatenated in f32. Under rotations summing to 45 degrees at 1.5 px per unit the norm is
+    1.5 exactly or an ulp off by angle, and a 17 x 13 unit tile (25.5 x 19.5 px) is then
+    26 x 20 px or 25 x 19 px; the f64 product rounded once gives 25 x 19 for all four."""
+    chain = _ts_concat(_ts_concat((1.5, 0.0, 0.0, 1.5, 0.0, 0.0),
+                                  _svg_rotate(element, 100, 100)), _svg_rotate(pattern, 100, 100))
+    a, b, c, d = (np.float32(v) for v in chain[:4])
+    sx, sy = np.sqrt(a * a + c * c), np.sqrt(b * b + d * d)
+    want = (math.floor(float(np.float32(17) * sx) + 0.5),
+            math.floor(float(np.float32(13) * sy) + 0.5))
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" width="17" height="13" '
+              f'patternTransform="rotate({pattern} 100 100)"><rect width="5" height="5"/></pattern>'
+              f'<rect x="40" y="40" width="120" height="120" fill="url(#p)" '
+              f'transform="rotate({element} 100 100)"/>', 'viewBox="0 0 200 200"', width=300)
+    p = only_fill(s).paint
+    assert (p.width, p.height) == want
+
+
+@pytest.mark.parametrize("element, pattern, size, width", [
+    (30, "rotate(-30)", 200, 200), (-30, "rotate(30)", 200, 200), (10, "rotate(-10)", 200, 200),
+    (30, "rotate(-30)", 200, 300), (0, "scale(1.5 0.7)", 97, 300),
+    (0, "scale(1.5 0.7)", 97, 200), (0, "scale(1.3)", 150, 200), (0, "scale(2)", 150, 200),
+    (0, "", 131, 300), (0, "", 131, 200)])
+def test_pattern_sampling_follows_resvgs_f32_chain(element, pattern, size, width):
+    """tiny-skia samples a pattern nearest only when the shader's whole matrix (canvas and
+    element transforms, then the pattern's transform, its x/y and the tile's 1/scale, all
+    concatenated in f32) is a translation exactly, and filters it otherwise: rotations that
+    cancel leave an f32 skew or not by angle and scale, and a canvas scale like 300/131
+    times a pattern's scale times their f32 norm's inverse misses 1 by an ulp or not. The
+    tile is smooth exactly when that chain is no translation."""
+    f = lambda v: float(np.float32(v))
+    k = f(width / size)
+    e = _ts_concat((k, 0.0, 0.0, k, 0.0, 0.0), _svg_rotate(element, 100, 100))
+    if pattern.startswith("rotate"):
+        p = _svg_rotate(float(pattern[7:-1]), 0, 0)
+    else:
+        sc = [float(v) for v in pattern[6:-1].split()] if pattern else [1.0]
+        p = (f(sc[0]), 0.0, 0.0, f(sc[-1]), 0.0, 0.0)
+    a, b, c, d = (np.float32(v) for v in _ts_concat(e, p)[:4])
+    sx, sy = np.sqrt(a * a + c * c), np.sqrt(b * b + d * d)
+    ts2 = _ts_concat(_ts_concat(p, (1.0, 0.0, 0.0, 1.0, 3.0, 2.0)),
+                     (float(np.float32(1) / sx), 0.0, 0.0, float(np.float32(1) / sy), 0.0, 0.0))
+    translation = _ts_concat(e, ts2)[:4] == (1.0, 0.0, 0.0, 1.0)
+    s = scene('<pattern id="p" patternUnits="userSpaceOnUse" x="3" y="2" width="20" height="20" '
+              f'patternTransform="{pattern}"><rect width="5" height="5"/></pattern>'
+              f'<rect x="40" y="40" width="120" height="120" fill="url(#p)" '
+              f'transform="rotate({element} 100 100)"/>', f'viewBox="0 0 {size} {size}"',
+              width=width)
+    assert only_fill(s).paint.smooth == (not translation)

@@ -104,6 +104,8 @@ class Ctx:
     context_stroke: object = None
     clip: bool = False                    # inside a clipPath: plain black fills, no strokes
     geometry: bool = False                # only object geometry (bounding boxes)
+    chain: tuple = ()                     # the matrices composed into transform, outermost
+                                          # first (the root's, elements'; paint._f32_chain)
 
 
 class ContextPaint:
@@ -251,7 +253,7 @@ class Builder:
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
-        ctx = Ctx(transform=transform, viewport=viewport)
+        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
         nodes = self.children(root, ctx, style)
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
@@ -522,7 +524,8 @@ class Builder:
         m = self.element_transform(el, style, ctx)
         if m is None:
             return []
-        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m))
+        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m),
+                                              chain=ctx.chain + (m,))
         tag = el.tag
         if tag in SHAPES:
             nodes = self.shape(el, c, style)
@@ -573,25 +576,22 @@ class Builder:
             return None
         return m
 
-    def transform_origin(self, text, style, viewport, units_box=None):
-        """transform-origin → (x, y) in user units; ``units_box`` (w, h) replaces the viewport
-        for percentages (and turns plain numbers into fractions) in objectBoundingBox units."""
+    def transform_origin(self, text, style, viewport):
+        """transform-origin → (x, y) in user units."""
         vals = _origin_values(text)
         if vals is None:
             # invalid: the initial value, which for SVG elements is 0 0 (SVG 2's UA style sheet)
             return 0.0, 0.0
-        box = units_box or viewport
 
         def resolve(v, axis):
             parsed = split_length(v)
             if parsed is None:
                 return 0.0
             n, unit = parsed
-            ref = box[0] if axis == "x" else box[1]
+            ref = viewport[0] if axis == "x" else viewport[1]
             if unit == "%":
                 return n * ref / 100
-            return to_px(n, unit, style.font_size(), dpi=self.options.dpi) * \
-                (ref if units_box else 1)
+            return to_px(n, unit, style.font_size(), dpi=self.options.dpi)
         return resolve(vals[0], "x"), resolve(vals[1], "y")
 
     # -- structural wrapping ---------------------------------------------------------------

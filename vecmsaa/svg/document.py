@@ -440,8 +440,8 @@ class _TreeReader:
                 paths.append(el)
             elif tag == "use":
                 doc.has_use = True
-            elif tag == "pattern":
-                doc.has_pattern = True
+            elif tag in _LINK_CONTAINERS:
+                doc.link_containers.append(el)
             if siblings:
                 siblings.append(el)
             else:
@@ -515,8 +515,8 @@ class _TreeReader:
                 paths.append(el)
             elif tag == "use":
                 doc.has_use = True
-            elif tag == "pattern":
-                doc.has_pattern = True
+            elif tag in _LINK_CONTAINERS:
+                doc.link_containers.append(el)
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
             elif spec or style_attr:
@@ -690,7 +690,7 @@ class Document:
         self.paths = []             # the <path> elements in document order
         self.size = 0               # how many elements the tree has
         self.has_use = False        # whether any <use> instantiates content
-        self.has_pattern = False    # whether there is any <pattern> element
+        self.link_containers = []   # pattern, clipPath and mask elements in document order
 
     @property
     def ids(self) -> dict:
@@ -827,7 +827,7 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
         raise SvgError(reader.error)
     for name, value in (root_defaults or {}).items():
         doc.root.specified.setdefault(name, value)
-    _break_pattern_cycles(doc)
+    _break_reference_cycles(doc)
     return doc
 
 
@@ -843,17 +843,23 @@ def _descendants(el):
         stack.extend(reversed(node.children))
 
 
-def _break_pattern_cycles(doc):
-    """A fill or stroke that would make a pattern contain itself becomes ``none``, chosen as
-    usvg chooses it (SVG leaves a circular reference an error without saying what is drawn):
-    for each pattern P in document order, each element E inside P with a paint url(#Q): if Q is
-    P, E's paint goes; otherwise the first element inside Q painting with url(#P) loses that
-    paint. Fills first, then strokes. The build's own guard (paint.pattern) still stops any
-    cycle this leaves, e.g. through ancestors' inherited paints."""
-    if not doc.has_pattern:
-        return
-    patterns = [el for el in doc.ids.values() if el.tag == "pattern"]
-    if not patterns:
+#: elements whose content may reference them back, with the properties that can: usvg's
+#: fix_recursive_links (svgtree) breaks the cycles these make, before anything is drawn
+_LINKS = (("pattern", "fill"), ("pattern", "stroke"), ("clipPath", "clip-path"), ("mask", "mask"))
+_LINK_CONTAINERS = frozenset(tag for tag, _ in _LINKS)
+
+
+def _break_reference_cycles(doc):
+    """A fill, stroke, clip-path or mask that would make a pattern, clip path or mask contain
+    itself becomes ``none``, chosen as usvg chooses it (SVG leaves a circular reference an
+    error without saying what is drawn): for each such element P in document order, each
+    element E in P (P itself too) whose property references Q: if Q is P, E's reference goes;
+    otherwise the first element in Q (Q too) referencing P loses that reference. So of
+    two clip paths referencing each other, the earlier one in the document keeps its clip.
+    Fills first, then strokes. Only elements references reach (the first with their id)
+    are looked at, and the id map is made only once a reference is found. The build's own guards (paint.pattern, masking._target) still
+    stop any cycle this leaves, e.g. through ``use`` or inherited paints."""
+    if not doc.link_containers:
         return
 
     def link(el, name):
@@ -861,21 +867,28 @@ def _break_pattern_cycles(doc):
         m = _URL_ID.match(value) if value else None
         return m.group(1) if m else None
 
-    for name in ("fill", "stroke"):
-        for pat in patterns:
-            pid = pat.attrs.get("id")
-            for node in _descendants(pat):
+    for tag, name in _LINKS:
+        for container in doc.link_containers:
+            if container.tag != tag:
+                continue
+            cid = container.attrs.get("id")
+            reached = None
+            for node in _descendants(container):
                 while True:
                     target = link(node, name)
                     if target is None:
                         break
-                    if target == pid:
+                    if reached is None:
+                        reached = cid is not None and doc.ids.get(cid) is container
+                    if not reached:
+                        break
+                    if target == cid:
                         node.specified[name] = "none"
                         continue
                     linked = doc.ids.get(target)
                     hit = None
                     if linked is not None:
-                        hit = next((n for n in _descendants(linked) if link(n, name) == pid), None)
+                        hit = next((n for n in _descendants(linked) if link(n, name) == cid), None)
                     if hit is None:
                         break
                     hit.specified[name] = "none"

@@ -15,7 +15,7 @@ from ..scene.path import rect_path
 from ..scene.color import linear_rgb_image, srgb_to_linear
 from ..scene.nodes import (Fill, Group, ImagePaint, LinearGradient, Mask, PatternPaint,
                            RadialGradient, Solid)
-from .units import parse_fraction
+from .paint import box_coord
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
                  "use"}
@@ -57,7 +57,8 @@ def clip_path(builder, value, ctx, bbox_fn):
     if m is None:
         return False
     transform = compose(ctx.transform, m)
-    if (el.get("clipPathUnits") or "").strip() == "objectBoundingBox":
+    # units match their keyword exactly, as in paint.gradient
+    if el.get("clipPathUnits") == "objectBoundingBox":
         bbox = bbox_fn()
         if not _usable(bbox):
             return False
@@ -92,20 +93,19 @@ def masks(builder, value, ctx, bbox_fn):
     if not el:
         return [] if el is None else False
     style = builder.doc.document_style(el)
-    units_obb = (el.get("maskUnits") or "objectBoundingBox").strip() != "userSpaceOnUse"
-    content_obb = (el.get("maskContentUnits") or "").strip() == "objectBoundingBox"
+    units_obb = el.get("maskUnits") != "userSpaceOnUse"
+    content_obb = el.get("maskContentUnits") == "objectBoundingBox"
     bbox = bbox_fn() if (units_obb or content_obb) else None
     if (units_obb or content_obb) and not _usable(bbox):
         return False
     if units_obb:
-        def frac(name, default):
-            f = parse_fraction(el.get(name))
-            return parse_fraction(default) if f is None else f
+        def frac(name, axis, default):
+            return box_coord(builder, el.get(name), axis, True, style, ctx.viewport, default)
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
-        x = bx + frac("x", "-10%") * bw
-        y = by + frac("y", "-10%") * bh
-        w = frac("width", "120%") * bw
-        h = frac("height", "120%") * bh
+        x = bx + frac("x", "x", "-10%") * bw
+        y = by + frac("y", "y", "-10%") * bh
+        w = frac("width", "x", "120%") * bw
+        h = frac("height", "y", "120%") * bh
     else:
         get = builder.length_getter(el, style, ctx)
         x, y = get("x", "x", None), get("y", "y", None)

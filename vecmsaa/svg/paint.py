@@ -10,6 +10,7 @@ from __future__ import annotations
 import itertools
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 
@@ -99,11 +100,13 @@ def separate_equal_offsets(stops, eps=1e-6):
     return kept
 
 
-def _coord(builder, value, axis, obb, style, viewport, default):
-    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units."""
+def box_coord(builder, value, axis, obb, style, viewport, default):
+    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units, where a
+    percentage is a fraction and a length with a unit is its number of user units (2mm is
+    7.56 boxes, as in browsers and resvg: the unit box is the user space)."""
     if value is None or split_length(value) is None:
         value = default
-    if obb:
+    if obb and split_length(value)[1] == "%":
         return parse_fraction(value)
     return builder.length(value, axis, style, viewport)
 
@@ -114,7 +117,7 @@ DEGENERATE = 1 / (1 << 15)
 ZERO_SCALE = 2.0 ** -23
 
 
-def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
+def _units_transform(builder, chain, attr, el_style, ctx):
     """gradientTransform/patternTransform with transform-origin, from the element itself (as
     in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
@@ -126,8 +129,10 @@ def _units_transform(builder, chain, attr, el_style, ctx, bbox, obb):
         m = IDENTITY
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
-        ox, oy = builder.transform_origin(origin, el_style, ctx.viewport,
-                                          units_box=(1.0, 1.0) if obb else None)
+        # resolved as anywhere else (percentages of the viewport, CSS transform-box'
+        # view-box), also in objectBoundingBox units, where the point is then one in the
+        # unit box (as in resvg: "center" is (100, 100) boxes in a 200-unit viewport)
+        ox, oy = builder.transform_origin(origin, el_style, ctx.viewport)
         m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
     return m
 
@@ -149,7 +154,9 @@ def gradient(builder, el, ctx, bbox):
         return None
     if len(stops) == 1:
         return Solid(tuple(stops[0, 1:]))
-    obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
+    # enumerated attributes match their keywords exactly (no CSS whitespace trimming: they
+    # are no properties; browsers and resvg take " userSpaceOnUse" as invalid, the default)
+    obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox") != "userSpaceOnUse"
     style = builder.doc.document_style(el)
     m = ctx.transform
     if obb:
@@ -157,12 +164,12 @@ def gradient(builder, el, ctx, bbox):
             return None
         from .builder import bbox_matrix
         m = compose(m, bbox_matrix(bbox))
-    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx, bbox, obb))
+    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
     try:
         to_paint = invert(m)
     except ValueError:
         return NO_PAINT
-    spread = inherited_attr(chain, "spreadMethod", "pad").strip()
+    spread = inherited_attr(chain, "spreadMethod", "pad")
     if spread not in ("pad", "reflect", "repeat"):
         spread = "pad"
     vp = ctx.viewport
@@ -171,7 +178,7 @@ def gradient(builder, el, ctx, bbox):
         # coordinates inherit only from gradients of the same kind, up to the first of
         # another kind (usvg stops there)
         same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
-        return _coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
+        return box_coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
     if el.tag == "linearGradient":
         x1, y1 = attr("x1", "x", "0%"), attr("y1", "y", "0%")
@@ -182,8 +189,10 @@ def gradient(builder, el, ctx, bbox):
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
     r = attr("r", "xy", "50%")
     same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
-    fx = attr("fx", "x", "50%") if inherited_attr(same, "fx") is not None else cx
-    fy = attr("fy", "y", "50%") if inherited_attr(same, "fy") is not None else cy
+    # fx/fy not given, or not a length (an invalid value is as if not given), coincide with
+    # cx/cy (SVG 2's lacuna)
+    fx = cx if split_length(inherited_attr(same, "fx")) is None else attr("fx", "x", "50%")
+    fy = cy if split_length(inherited_attr(same, "fy")) is None else attr("fy", "y", "50%")
     fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
     if r <= 0:
         # SVG: "a value of zero will cause the area to be painted as a single color using the
@@ -212,29 +221,33 @@ def pattern(builder, el, ctx, bbox):
         return None
     chain = href_chain(builder, el, ("pattern",))
     style = builder.doc.document_style(el)
-    obb = inherited_attr(chain, "patternUnits", "objectBoundingBox").strip() != "userSpaceOnUse"
-    content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse").strip()
+    obb = inherited_attr(chain, "patternUnits", "objectBoundingBox") != "userSpaceOnUse"
+    content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse")
                    == "objectBoundingBox")
     vb = parse_viewbox(inherited_attr(chain, "viewBox"))
     vp = ctx.viewport
 
     def attr(name, axis):
-        return _coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
+        return box_coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
     x, y, w, h = attr("x", "x"), attr("y", "y"), attr("width", "x"), attr("height", "y")
     if obb or (content_obb and vb is None):
         if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
-            return None
+            # as in resvg: the fallback for a tile in box units, nothing for content alone
+            return None if obb else NO_PAINT
     if obb:
         bx, by = bbox[0], bbox[1]
         bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
         x, y, w, h = bx + x * bw, by + y * bh, w * bw, h * bh
     if w <= 0 or h <= 0:
         return None
-    pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx, bbox, False)
+    pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx)
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
-    sx, sy = row_scale_f32(full)
+    element32 = _f32_chain(ctx)
+    pattern32 = tuple(float(np.float32(v)) for v in pattern_m)
+    sx, sy = row_scale_f32(_concat32(element32, pattern32))
+    sx32, sy32 = np.float32(sx), np.float32(sy)
     if sx <= 0 or sy <= 0:
         return None
     # a tile side past f32's range (matrix(1e308 ...)) has no pixel size in resvg: not drawn
@@ -264,41 +277,90 @@ def pattern(builder, el, ctx, bbox):
     if vb is not None:
         content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
                                     w, h)
-        content_viewport = (vb[2], vb[3])
     elif content_obb:
         content = (bbox[2] - bbox[0], 0.0, 0.0, bbox[3] - bbox[1], 0.0, 0.0)
-        content_viewport = vp
     else:
         content = IDENTITY
-        content_viewport = vp
-    source = next((e for e in chain if any(c.tag for c in e.children)), el)
-    tile_ctx = Ctx(transform=compose((sx, 0.0, 0.0, sy, 0.0, 0.0), content),
-                   viewport=content_viewport, use_stack=ctx.use_stack,
+    # A pattern establishes no viewport (SVG 2 §8.2 lists those that do): percentages in its
+    # content are of the referencing element's, also under a viewBox (browsers, resvg).
+    source = next((e for e in chain if any(_is_child(c) for c in e.children)), el)
+    tile_scale = (sx, 0.0, 0.0, sy, 0.0, 0.0)
+    tile_ctx = Ctx(transform=compose(tile_scale, content), chain=(tile_scale, content),
+                   viewport=vp, use_stack=ctx.use_stack,
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
     # Shapes sharing a pattern at the same scale share its tile (it does not depend on
     # where the shape is): they get the same content group, which the raster renders once.
     # The key holds everything the tile's content can depend on.
-    key = (id(el), tw, th, tile_ctx.transform, content_viewport, id(ctx.context_fill),
+    key = (id(el), tw, th, tile_ctx.transform, vp, id(ctx.context_fill),
            id(ctx.context_stroke), ctx.use_stack, tuple(map(id, builder.paint_stack)),
            tuple(map(id, builder.ref_stack)))
     if key in builder.tile_cache:
         content = builder.tile_cache[key]
     else:
         content = builder.tile_cache[key] = _tile_content(builder, el, source, tile_ctx)
-    if content is None:
-        return None
+    if content is None or content is NO_PAINT:
+        return content
     tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
         to_paint = invert(tile_to_device)
     except ValueError:
         return NO_PAINT
-    # The tile is rendered at device resolution: an axis-aligned tile maps texels onto pixels
-    # (nearest keeps it crisp, as resvg shows it); rotated or skewed tiles need filtering. So
-    # do tiles whose rotations cancel (an element's rotate(-30), the pattern's rotate(30)):
-    # resvg composes them in f32, is left with a skew of ~1e-8, and filters (bicubic).
-    axis_aligned = all(abs(m[1]) < 1e-9 and abs(m[2]) < 1e-9
-                       for m in (tile_to_device, ctx.transform, pattern_m))
-    return PatternPaint(content, tw, th, to_paint, smooth=not axis_aligned)
+    # The tile is rendered at device resolution and sampled as tiny-skia samples resvg's:
+    # nearest only where the shader's matrix (the element's, then the pattern's transform,
+    # x/y and the tile's 1/scale, concatenated in f32) is exactly a translation, filtered
+    # otherwise: rotated and skewed tiles, but also rotations that cancel with an f32 skew
+    # left (an element's rotate(-30) and the pattern's rotate(30) at 1.5 px per unit; not
+    # at 1) and scales that miss 1 by an ulp (300/131 px per unit).
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        f = np.float32
+        ts2 = _concat32(_concat32(pattern32, (1.0, 0.0, 0.0, 1.0, float(f(x)), float(f(y)))),
+                        (float(f(1) / sx32), 0.0, 0.0, float(f(1) / sy32), 0.0, 0.0))
+        total = _concat32(element32, ts2)
+    crisp = total[0] == 1.0 and total[3] == 1.0 and total[1] == 0.0 and total[2] == 0.0
+    return PatternPaint(content, tw, th, to_paint, smooth=not crisp)
+
+
+#: the elements usvg's tree keeps (style, desc, title, metadata and unknown elements are not):
+#: a pattern with none of them as children takes its href's children
+_TREE_ELEMENTS = frozenset(
+    "a circle clipPath defs ellipse filter g image line linearGradient marker mask path "
+    "pattern polygon polyline radialGradient rect stop svg switch symbol text textPath tref "
+    "tspan use".split())
+
+
+def _is_child(el):
+    return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
+
+
+def _concat32(a, b):
+    """a ∘ b as tiny-skia concatenates: each entry a sum of products in f64, rounded to f32."""
+    a0, a1, a2, a3, a4, a5 = a
+    b0, b1, b2, b3, b4, b5 = b
+    return tuple(float(np.float32(v)) for v in (
+        a0 * b0 + a2 * b1, a1 * b0 + a3 * b1, a0 * b2 + a2 * b3, a1 * b2 + a3 * b3,
+        a0 * b4 + a2 * b5 + a4, a1 * b4 + a3 * b5 + a5))
+
+
+def _f32_chain(ctx):
+    """The element's device matrix as resvg composes it: the root's and each element's
+    transform (``ctx.chain``) each in f32, concatenated in f32 (not the f64 product rounded):
+    under a rotation the two differ by an ulp of the row norm, and a pattern tile of
+    n + 1/2 px rounds to n in one and n + 1 in the other (17 units at 1.5 px each under
+    rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from the
+    product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        f32 = lambda m: tuple(float(np.float32(v)) for v in m)
+        product = IDENTITY
+        for m in ctx.chain:
+            product = compose(product, m)
+        try:
+            rest = compose(invert(product), ctx.transform)
+        except ValueError:
+            return f32(ctx.transform)
+        out = IDENTITY
+        for m in ctx.chain + (rest,):
+            out = _concat32(out, f32(m))
+        return out
 
 
 def _tile_pixels(length, scale):
@@ -308,11 +370,28 @@ def _tile_pixels(length, scale):
     return max(1, math.floor(float(np.float32(length) * np.float32(scale)) + 0.5))
 
 
+#: containers that count as pattern content even when empty (usvg keeps them)
+_CONTAINERS = ("g", "a")
+
+
 def _tile_content(builder, el, source, tile_ctx):
-    """The pattern's content in tile pixels as a Group, or None when it draws nothing."""
+    """The pattern's content in tile pixels as a Group; when it draws nothing, None (the
+    fallback applies) if it has no content at all, NO_PAINT if its content is there but
+    invisible. As in resvg, where a pattern with nothing to convert is no paint server: no
+    children, or only non-rendering ones (desc, gradients, unknown elements), display: none,
+    shapes without geometry; while a hidden, unpainted or transparent shape, an empty group
+    are content that paints nothing."""
     builder.paint_stack.append(el)
     try:
-        nodes = builder.children(source, tile_ctx, builder.doc.document_style(source))
+        style = builder.doc.document_style(source)
+        nodes = builder.children(source, tile_ctx, style)
+        if nodes:
+            return Group(children=nodes)
+        if any(c.tag in _CONTAINERS and
+               builder.doc.document_style(c).get("display").strip() != "none"
+               for c in source.children):
+            return NO_PAINT
+        return NO_PAINT if builder.children(source, replace(tile_ctx, geometry=True),
+                                            style) else None
     finally:
         builder.paint_stack.pop()
-    return Group(children=nodes) if nodes else None
