@@ -131,6 +131,23 @@ def test_persample_on_a_loop_cubic_and_a_serpentine():
             assert_matches_brute_force(path, "persample", 16, rule)
 
 
+def test_a_small_loop_whose_end_tangents_are_close():
+    # the loop between this cubic's double-point parameters turns by ~283°, its end tangents
+    # only 77° apart, and its chord has no length: taken as one lens, its sliver on the far
+    # side of the chord's row (y < 8.514) was lost: pixel centres up to 0.086 px inside drew
+    # empty (hypothesis found it). Pixel centres over that sliver, and 8 samples a pixel.
+    path = Path()
+    path.moveTo((0.0, 0.0))
+    path.lineTo((11.3984, 14.7356))
+    path.curveTo((10.0, 0.15), (15.5, 18.0), (6.75, 0.125))
+    path.closePath()
+    for dx in (-0.2, -0.1, 0.0, 0.1):
+        for dy in (0.0, 0.02, 0.04):
+            shifted = path.transformed((1, 0, 0, 1, dx + 1.2345e-6, dy + 2.7182e-6))
+            assert_matches_brute_force(shifted, "none", 1, "nonzero")
+    assert_matches_brute_force(path, "persample", 8, "evenodd")
+
+
 @st.composite
 def star_polygons(draw):
     """Simple (non-self-intersecting) polygons: points at increasing angles around a centre."""

@@ -686,8 +686,13 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
                 # does the piece turn by more than acos(max_turn_cos) between its end tangents?
                 t0x, t0y, t1x, t1y = _end_tangents(sub)
                 n0, n1 = math.hypot(t0x, t0y), math.hypot(t1x, t1y)
+                # on a piece that turns by at most 90° the chord lies between the end
+                # tangents; a loop turns by over 270° with its end tangents less than 90°
+                # apart, and its chord (none, between the double point's parameters) does not
+                chx, chy = sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]
                 split = n0 == 0.0 or n1 == 0.0 or \
-                    (t0x * t1x + t0y * t1y) / (n0 * n1) < max_turn_cos
+                    (t0x * t1x + t0y * t1y) / (n0 * n1) < max_turn_cos or \
+                    chx * t0x + chy * t0y <= 0.0 or chx * t1x + chy * t1y <= 0.0
             if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
                 edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
                 continue
