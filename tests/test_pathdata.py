@@ -273,7 +273,11 @@ def test_arc_to_cubics_full_sweep_pieces():
     ("M 10 10 20 20 30", "M 10 10 20 20"),
 ])
 def test_error_recovery_keeps_prefix(bad, good):
-    a, b = parse_path_data(bad), parse_path_data(good)
+    assert_parses_as(bad, good)
+
+
+def assert_parses_as(text, same_as):
+    a, b = parse_path_data(text), parse_path_data(same_as)
     assert a.verbs.tolist() == b.verbs.tolist()
     np.testing.assert_array_equal(a.points, b.points)
 
@@ -304,9 +308,7 @@ def test_an_arc_after_an_infinite_coordinate_does_not_raise():
 def test_a_number_past_double_range_is_an_error(bad, good):
     # a number that does not fit a double is no number: the data is drawn up to the
     # command holding it, as after any error (SVG 2 path data error handling)
-    a, b = parse_path_data(bad), parse_path_data(good)
-    assert a.verbs.tolist() == b.verbs.tolist()
-    np.testing.assert_array_equal(a.points, b.points)
+    assert_parses_as(bad, good)
 
 
 @pytest.mark.parametrize("with_comma, without", [
@@ -316,9 +318,7 @@ def test_a_number_past_double_range_is_an_error(bad, good):
     ("M 10 10 L 20 20,", "M 10 10 L 20 20"),
 ])
 def test_a_comma_after_a_commands_last_number(with_comma, without):
-    a, b = parse_path_data(with_comma), parse_path_data(without)
-    assert a.verbs.tolist() == b.verbs.tolist()
-    np.testing.assert_array_equal(a.points, b.points)
+    assert_parses_as(with_comma, without)
 
 
 # -- the compiled reader: exact numbers, one call per document ------------------------------
