@@ -427,8 +427,8 @@ DOMINANT_BASELINES = frozenset((
 
 def _dominant_baseline(style):
     """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
-    value; an invalid value is ignored, so the parent's applies too (as in resvg); ``initial``
-    is auto (``unset``, on an inherited property, inherits)."""
+    value; an invalid value is ignored, so the parent's applies too (CSS; resvg takes auto
+    on a span); ``initial`` is auto (``unset``, on an inherited property, inherits)."""
     s = style
     while s is not None:
         v = (s.specified.get("dominant-baseline") or "inherit").strip()
