@@ -217,6 +217,34 @@ def test_decoration_is_not_drawn_under_hidden_text():
     assert img[100:, int(10 + h + 2):int(10 + 2 * h - 2)].min(axis=1).max() > 0.9
 
 
+@pytest.mark.parametrize("value", ["-", "1 2", "none", "bogus", "10px"])
+def test_invalid_alignment_baseline_is_ignored(value):
+    """An invalid alignment-baseline on a span is dropped (CSS: a declaration that does not
+    parse is ignored), so the span sits on the text's dominant baseline (hanging) like its
+    neighbour: both H glyphs have the same ink rows. Read as a value, it put the span's H
+    on the alphabetic baseline, about 0.8 em lower."""
+    h = freetype_advance("H", 40)
+    img = alpha(render('<text x="10" y="50" dominant-baseline="hanging" kerning="0">H'
+                       f'<tspan alignment-baseline="{value}">H</tspan></text>'))
+    split = int(10 + h)
+    left, right = ink_box(img[:, :split]), ink_box(img[:, split:])
+    assert (left[1], left[3]) == (right[1], right[3])
+
+
+def test_decoration_of_a_run_pulled_back_past_its_start_is_empty():
+    """word-spacing="-10000" pulls the second word 10000 units back: with text-anchor middle
+    every glyph lies thousands of units off the canvas (the chunk's advance is about -9900,
+    so the first word starts near x = 5050 and the second near -4900). The line-through's
+    run then has a negative length, a rectangle of negative width, which is empty: nothing
+    may be drawn on the canvas (a line spanning the run backwards would cross all of it).
+    With a small negative spacing the run is positive and the line is drawn."""
+    body = ('<text x="100" y="60" word-spacing="{}" text-anchor="middle" '
+            'text-decoration="line-through">HH HH</text>')
+    assert alpha(render(body.format(-10000))).max() == 0
+    img = alpha(render(body.format(-5)))
+    assert img[:, 100].max() > 0.9
+
+
 def test_text_after_an_element_of_another_namespace_is_drawn():
     """An element of another namespace inside <text> is not rendered, but the characters
     after it are the <text>'s own (XML: character data of the parent), so they are drawn as

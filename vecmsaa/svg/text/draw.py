@@ -208,6 +208,11 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
                 run[1] += c.advance
             prev_el = el
         for c0, width, decl in runs:
+            if width <= 0:
+                # spacing pulled the run back past its start (word-spacing="-10000"): its
+                # line would be a rectangle of negative width, which is empty (CSS leaves
+                # it open; resvg draws none, rather than a line through where no glyph is)
+                continue
             # the span's own font (its family list's best match), even where a character
             # fell back to another face, as resvg measures decorations
             face = chars[c0.char].primary_face or c0.face

@@ -398,12 +398,23 @@ def _alignment_baseline(style, root_style):
     level down this is also where resvg looks (the element, then its parent)."""
     s = style
     while s is not None:
-        if "alignment-baseline" in s.specified:
-            return (s.get("alignment-baseline") or "auto").strip()
+        # an invalid value is ignored, as if not specified (CSS: the declaration is dropped),
+        # so the enclosing span's or the dominant baseline applies
+        v = (s.get("alignment-baseline") or "").strip().lower() \
+            if "alignment-baseline" in s.specified else ""
+        if v in ALIGNMENT_BASELINES:
+            return v
         if s is root_style:
             break
         s = s.parent
     return "auto"
+
+
+#: alignment-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom)
+ALIGNMENT_BASELINES = frozenset((
+    "auto", "baseline", "before-edge", "text-before-edge", "middle", "central", "after-edge",
+    "text-after-edge", "ideographic", "alphabetic", "hanging", "mathematical", "text-top",
+    "text-bottom"))
 
 
 #: dominant-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom);
@@ -416,8 +427,8 @@ DOMINANT_BASELINES = frozenset((
 
 def _dominant_baseline(style):
     """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
-    value; an invalid value is ignored, so the parent's applies too (as in resvg); ``initial``
-    is auto (``unset``, on an inherited property, inherits)."""
+    value; an invalid value is ignored, so the parent's applies too (CSS; resvg takes auto
+    on a span); ``initial`` is auto (``unset``, on an inherited property, inherits)."""
     s = style
     while s is not None:
         v = (s.specified.get("dominant-baseline") or "inherit").strip()
