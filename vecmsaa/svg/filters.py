@@ -53,6 +53,14 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     entries = parse_filter_value(value)
     if entries is None:
         return []
+    if _draws_itself(builder, el, entries) and (
+            not ctx.use_stack or any(r is el for r in builder.ref_stack)):
+        # a filter whose feImage draws the element the filter is on: the reference is
+        # circular, which Filter Effects 1 leaves open; usvg removes such an element's
+        # `filter` when it parses the document, after copying `use` instances, so the element
+        # is drawn unfiltered, and an instance of it keeps the filter, whose feImage draws the
+        # element unfiltered
+        return []
     out, invalid = [], False
     for name, args in entries:
         if name == "url":
@@ -78,6 +86,19 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     if not out and invalid:
         return False
     return out
+
+
+def _draws_itself(builder, el, entries):
+    """Whether a url of the filter list names a <filter> with an feImage child whose href is
+    ``el`` (usvg's test: the feImage's own parent, not one reached through href)."""
+    for name, args in entries:
+        ref = url_argument(args) if name == "url" else None
+        target = builder.doc.lookup(ref) if ref and ref.startswith("#") else None
+        if target is not None and target.tag == "filter" and any(
+                c.tag == "feImage" and builder.doc.lookup(c.get("href") or "") is el
+                for c in target.children):
+            return True
+    return False
 
 
 def parse_filter_value(value):
@@ -366,8 +387,9 @@ class PrimitiveResolver:
             effect = self.lighting(fe, style, tag == "feSpecularLighting")
             return (effect, (inp,)) if effect is not None else (TRANSPARENT, ())
         if tag == "feImage":
-            if self.builder.doc.lookup(fe.get("href") or "") is self.el:
-                # a filter drawing its own element: resvg shows the element unfiltered
+            if self.builder.doc.lookup(fe.get("href") or "") is self.el and not self.ctx.use_stack:
+                # a filter drawing its own element through a filter's href (which usvg's
+                # test above misses): resvg shows the element unfiltered
                 return Offset(0.0, 0.0), (SOURCE_GRAPHIC,)
             content = self.image(fe)
             if content is None:
