@@ -797,3 +797,40 @@ def test_half_an_octave_rounds_to_one():
     half = render_svg_array(_turbulence_doc("fractalNoise", "0.5").encode())
     one = render_svg_array(_turbulence_doc("fractalNoise", "1").encode())
     assert np.array_equal(half, one) and np.ptp(one[..., 3]) > 50
+
+
+@pytest.mark.parametrize("where", ["filter", "primitive"])
+def test_lengths_with_units_in_bounding_box_units_count_user_units(where):
+    # objectBoundingBox units: a percentage is a fraction of the box, a length with a unit its
+    # number of user units (the unit box is the user space, as for gradients and masks).
+    # 0.1in = 9.6 user units = 9.6 boxes of 1 x 1 scaled to 4 px: the region ends at 38.4 px,
+    # rounded out to whole pixels (39). Read as the number 0.1 it would end at 0.4 px (1).
+    if where == "filter":
+        filt = '<filter id="f" x="0" y="0" width="0.1in" height="25%">'
+    else:
+        filt = ('<filter id="f" primitiveUnits="objectBoundingBox" filterUnits="userSpaceOnUse" '
+                'x="0" y="0" width="40" height="40">')
+    flood = ('<feFlood flood-color="#00ff00" width="0.1in" height="25%"/>' if where == "primitive"
+             else '<feFlood flood-color="#00ff00"/>')
+    img = render(filt + flood + '</filter><g transform="scale(4)"><rect width="1" height="1" '
+                 'filter="url(#f)"/></g>')
+    assert img[0, 38, 3] == 255 and img[0, 39, 3] == 0
+    assert img[0, 0, 3] == 255 and img[1, 0, 3] == 0      # 25% of the 4 px box: 1 px high
+
+
+def test_a_filter_drawing_its_own_element_leaves_it_unfiltered_and_instances_filtered():
+    # Circular feImage references are left open by Filter Effects 1; the suite's references
+    # (usvg) drop the filter of an element that a feImage of its own filter links, when the
+    # document is parsed, after `use` instances are copied: the element is drawn unfiltered,
+    # also with more primitives after the feImage, and an instance keeps the filter, whose
+    # feImage draws the element (unfiltered) from the region's corner.
+    flt = ('<filter id="f"><feImage href="#r"/><feOffset dx="{dx}" dy="0"/></filter>')
+    rect = '<rect id="r" x="20" y="20" width="120" height="120" fill="#00ff00" filter="url(#f)"/>'
+    img = render(flt.format(dx=20) + rect, size=200)
+    assert img[80, 20, 3] == 255 and img[80, 139, 3] == 255 and img[80, 140, 3] == 0
+    assert img[80, 19, 3] == 0
+    # an instance 30 units right: the region is the instance's box grown by 10% (38 .. 182);
+    # the element's user origin at its corner puts the rect at 58 .. 178
+    img = render(flt.format(dx=0) + f'<defs>{rect}</defs><use href="#r" x="30"/>', size=200)
+    assert img[80, 58, 3] == 255 and img[80, 177, 3] == 255
+    assert img[80, 57, 3] == 0 and img[80, 178, 3] == 0

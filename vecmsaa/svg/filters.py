@@ -53,6 +53,14 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     entries = parse_filter_value(value)
     if entries is None:
         return []
+    if _draws_itself(builder, el, entries) and (
+            not ctx.use_stack or any(r is el for r in builder.ref_stack)):
+        # a filter whose feImage draws the element the filter is on: the reference is
+        # circular, which Filter Effects 1 leaves open; usvg removes such an element's
+        # `filter` when it parses the document, after copying `use` instances, so the element
+        # is drawn unfiltered, and an instance of it keeps the filter, whose feImage draws the
+        # element unfiltered
+        return []
     out, invalid = [], False
     for name, args in entries:
         if name == "url":
@@ -78,6 +86,19 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     if not out and invalid:
         return False
     return out
+
+
+def _draws_itself(builder, el, entries):
+    """Whether a url of the filter list names a <filter> with an feImage child whose href is
+    ``el`` (usvg's test: the feImage's own parent, not one reached through href)."""
+    for name, args in entries:
+        ref = url_argument(args) if name == "url" else None
+        target = builder.doc.lookup(ref) if ref and ref.startswith("#") else None
+        if target is not None and target.tag == "filter" and any(
+                c.tag == "feImage" and builder.doc.lookup(c.get("href") or "") is el
+                for c in target.children):
+            return True
+    return False
 
 
 def parse_filter_value(value):
@@ -138,6 +159,18 @@ def _href_chain(el, doc):
     return seen
 
 
+def box_number(builder, value, axis, style, viewport):
+    """An objectBoundingBox coordinate of a filter region or primitive subregion, or None when
+    absent or invalid: a percentage is a fraction of the box, a length with a unit its number
+    of user units (2mm is 7.56 boxes, as for gradients and masks, and in resvg: the unit box
+    is the user space)."""
+    if value is None or split_length(value) is None:
+        return None
+    if split_length(value)[1] == "%":
+        return parse_fraction(value)
+    return builder.length(value, axis, style, viewport)
+
+
 # -- <filter> ------------------------------------------------------------------------------
 def filter_element(builder, fel, el, ctx, bbox_fn):
     """The Filter of a ``<filter>`` element for ``el``, or None when unusable."""
@@ -157,7 +190,8 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     style = builder.doc.document_style(fel)
     if units_obb:
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
-        fr = [parse_fraction(attr(n)) for n in ("x", "y", "width", "height")]
+        fr = [box_number(builder, attr(n), a, style, ctx.viewport)
+              for n, a in (("x", "x"), ("y", "y"), ("width", "x"), ("height", "y"))]
         fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
         x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
     else:
@@ -228,8 +262,10 @@ class PrimitiveResolver:
         if self.obb_box is not None:
             bx, by = self.obb_box[0], self.obb_box[1]
             bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
-            fx, fy, fw, fh = [d if v is None else v for v, d in
-                              zip([parse_fraction(fe.get(n)) for n in names], (0.0, 0.0, 1.0, 1.0))]
+            style = self.builder.doc.document_style(fe)
+            fr = [box_number(self.builder, fe.get(n), a, style, self.ctx.viewport)
+                  for n, a in zip(names, ("x", "y", "x", "y"))]
+            fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (0.0, 0.0, 1.0, 1.0))]
             if fe.tag in ("feFlood", "feImage"):
                 # usvg: fractions of the bounding box
                 x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
@@ -351,8 +387,9 @@ class PrimitiveResolver:
             effect = self.lighting(fe, style, tag == "feSpecularLighting")
             return (effect, (inp,)) if effect is not None else (TRANSPARENT, ())
         if tag == "feImage":
-            if self.builder.doc.lookup(fe.get("href") or "") is self.el:
-                # a filter drawing its own element: resvg shows the element unfiltered
+            if self.builder.doc.lookup(fe.get("href") or "") is self.el and not self.ctx.use_stack:
+                # a filter drawing its own element through a filter's href (which usvg's
+                # test above misses): resvg shows the element unfiltered
                 return Offset(0.0, 0.0), (SOURCE_GRAPHIC,)
             content = self.image(fe)
             if content is None:
