@@ -30,7 +30,8 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .units import (parse_fraction, parse_number, parse_number_list, parse_number_prefix,
+from .paint import box_coord
+from .units import (parse_number, parse_number_list, parse_number_prefix,
                     parse_opacity, row_scale_f32, split_length, url_argument)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
@@ -159,18 +160,6 @@ def _href_chain(el, doc):
     return seen
 
 
-def box_number(builder, value, axis, style, viewport):
-    """An objectBoundingBox coordinate of a filter region or primitive subregion, or None when
-    absent or invalid: a percentage is a fraction of the box, a length with a unit its number
-    of user units (2mm is 7.56 boxes, as for gradients and masks, and in resvg: the unit box
-    is the user space)."""
-    if value is None or split_length(value) is None:
-        return None
-    if split_length(value)[1] == "%":
-        return parse_fraction(value)
-    return builder.length(value, axis, style, viewport)
-
-
 # -- <filter> ------------------------------------------------------------------------------
 def filter_element(builder, fel, el, ctx, bbox_fn):
     """The Filter of a ``<filter>`` element for ``el``, or None when unusable."""
@@ -190,9 +179,9 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     style = builder.doc.document_style(fel)
     if units_obb:
         bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
-        fr = [box_number(builder, attr(n), a, style, ctx.viewport)
-              for n, a in (("x", "x"), ("y", "y"), ("width", "x"), ("height", "y"))]
-        fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (-0.1, -0.1, 1.2, 1.2))]
+        fx, fy, fw, fh = [box_coord(builder, attr(n), a, True, style, ctx.viewport, d)
+                          for n, a, d in (("x", "x", "-10%"), ("y", "y", "-10%"),
+                                          ("width", "x", "120%"), ("height", "y", "120%"))]
         x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
     else:
         vw, vh = ctx.viewport
@@ -263,9 +252,9 @@ class PrimitiveResolver:
             bx, by = self.obb_box[0], self.obb_box[1]
             bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
             style = self.builder.doc.document_style(fe)
-            fr = [box_number(self.builder, fe.get(n), a, style, self.ctx.viewport)
-                  for n, a in zip(names, ("x", "y", "x", "y"))]
-            fx, fy, fw, fh = [d if v is None else v for v, d in zip(fr, (0.0, 0.0, 1.0, 1.0))]
+            fx, fy, fw, fh = [box_coord(self.builder, fe.get(n), a, True, style,
+                                        self.ctx.viewport, d)
+                              for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%"))]
             if fe.tag in ("feFlood", "feImage"):
                 # usvg: fractions of the bounding box
                 x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
