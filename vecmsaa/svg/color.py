@@ -15,6 +15,8 @@ from __future__ import annotations
 import math
 import re
 
+from .units import ANGLE_DEG
+
 NAMED = {
     "aliceblue": (240, 248, 255), "antiquewhite": (250, 235, 215), "aqua": (0, 255, 255),
     "aquamarine": (127, 255, 212), "azure": (240, 255, 255), "beige": (245, 245, 220),
@@ -97,7 +99,6 @@ for _old, _new in {
 
 _FUNC = re.compile(r"^([a-z]+)\(\s*(.*?)\s*\)$", re.I | re.S)
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?(%|deg|rad|grad|turn)?$", re.I)
-_HUE_UNITS = {"": 1.0, "deg": 1.0, "grad": 0.9, "rad": 180 / math.pi, "turn": 360.0}
 NONE = "none"
 
 
@@ -146,7 +147,7 @@ def _hue(token, legacy=False):
     parsed = _number(token, legacy)
     if parsed is None or parsed[1] == "%":
         return None
-    return parsed[0] * _HUE_UNITS[parsed[1]]
+    return parsed[0] * ANGLE_DEG[parsed[1]]
 
 
 def _hue_to_rgb(h):

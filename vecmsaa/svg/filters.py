@@ -31,7 +31,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
 from .color import parse_svg_color as parse_color
 from .document import Element
 from .paint import box_coord
-from .units import (parse_number, parse_number_list, parse_number_prefix,
+from .units import (ANGLE_DEG, parse_number, parse_number_list, parse_number_prefix,
                     parse_opacity, row_scale_f32, split_length, url_argument)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
@@ -707,7 +707,7 @@ def _angle(args):
     unit = m.group(2) or ("deg" if v == 0 else None)
     if unit is None or not math.isfinite(v):   # 1e400deg overflows: not an angle
         return None
-    return {"deg": v, "grad": v * 0.9, "rad": math.degrees(v), "turn": v * 360}[unit]
+    return v * ANGLE_DEG[unit]
 
 
 def _css_length(builder, text, style, ctx):

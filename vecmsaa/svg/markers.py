@@ -9,12 +9,11 @@ from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
 from ..scene.nodes import Group
-from .units import (NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
+from .units import (ANGLE_DEG, NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
                     viewbox_transform)
 
 
 _ANGLE = re.compile(rf"({NUMBER_RE})(deg|grad|rad|turn)?", re.I)
-_ANGLE_UNITS = {"deg": 1.0, "grad": 0.9, "rad": 180 / math.pi, "turn": 360.0}
 
 
 def auto_angle(angle_in, angle_out):
@@ -95,7 +94,7 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     else:
         # an <angle> is a number with its unit right after it ('45 deg' is invalid: 0)
         m = _ANGLE.fullmatch(orient)
-        angle = float(m[1]) * _ANGLE_UNITS[(m[2] or "deg").lower()] if m else 0.0
+        angle = float(m[1]) * ANGLE_DEG[(m[2] or "").lower()] if m else 0.0
         if not math.isfinite(angle):
             angle = 0.0
     units = (marker.get("markerUnits") or "strokeWidth").strip()
