@@ -245,17 +245,14 @@ def pattern(builder, el, ctx, bbox):
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
     element32 = _f32_chain(ctx)
-    pattern32 = tuple(float(np.float32(v)) for v in pattern_m)
+    pattern32 = _f32(pattern_m)
     sx, sy = row_scale_f32(_concat32(element32, pattern32))
     sx32, sy32 = np.float32(sx), np.float32(sy)
     if sx <= 0 or sy <= 0:
         return None
-    # a tile side past f32's range (matrix(1e308 ...)) has no pixel size in resvg: not drawn
-    with np.errstate(over="ignore"):
-        if not (np.isfinite(np.float32(w) * np.float32(sx))
-                and np.isfinite(np.float32(h) * np.float32(sy))):
-            return None
     tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
+    if tw is None or th is None:
+        return None
     # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
     # 1e12) would otherwise become a 1-pixel sliver of millions of rows
     if tw > MAX_TILE_SIDE:
@@ -332,6 +329,11 @@ def _is_child(el):
     return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
 
 
+def _f32(m):
+    """A matrix's entries rounded to f32 (as floats)."""
+    return tuple(float(np.float32(v)) for v in m)
+
+
 def _concat32(a, b):
     """a ∘ b as tiny-skia concatenates: each entry a sum of products in f64, rounded to f32."""
     a0, a1, a2, a3, a4, a5 = a
@@ -349,25 +351,27 @@ def _f32_chain(ctx):
     rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from the
     product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
     with np.errstate(over="ignore", invalid="ignore"):
-        f32 = lambda m: tuple(float(np.float32(v)) for v in m)
         product = IDENTITY
         for m in ctx.chain:
             product = compose(product, m)
         try:
             rest = compose(invert(product), ctx.transform)
         except ValueError:
-            return f32(ctx.transform)
+            return _f32(ctx.transform)
         out = IDENTITY
         for m in ctx.chain + (rest,):
-            out = _concat32(out, f32(m))
+            out = _concat32(out, _f32(m))
         return out
 
 
 def _tile_pixels(length, scale):
     """A tile side in whole pixels as resvg computes it: length × scale in f32, rounded
     (halves away from zero). A 12.5-unit tile is 13 px under rotate(-46) (norm 1 in f32) and
-    12 under rotate(45) (0.99999994)."""
-    return max(1, math.floor(float(np.float32(length) * np.float32(scale)) + 0.5))
+    12 under rotate(45) (0.99999994). None past f32's range (matrix(1e308 ...)): such a
+    tile has no pixel size in resvg, and is not drawn."""
+    with np.errstate(over="ignore"):
+        v = float(np.float32(length) * np.float32(scale))
+    return max(1, math.floor(v + 0.5)) if math.isfinite(v) else None
 
 
 #: containers that count as pattern content even when empty (usvg keeps them)
