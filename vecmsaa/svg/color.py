@@ -12,6 +12,7 @@ modern one with spaces, an optional ``/ alpha`` and the ``none`` keyword (= 0).
 """
 from __future__ import annotations
 
+import functools
 import math
 import re
 
@@ -529,24 +530,14 @@ class _SvgColorReader:
         return (*rgb, alpha)
 
 
-_SVG_COLORS = {}     # parse_svg_color's answers by text: documents repeat a few colours
-
-
+@functools.lru_cache(maxsize=4096)
 def parse_svg_color(text: str):
     """A colour in an SVG document (fill, stroke, stop-color, flood-color, lighting-color,
     color, CSS filter functions), read as resvg reads it (see above): (r, g, b, a) floats, the
     string "currentColor" (the keyword, case-sensitive as in resvg), or None when invalid.
     Answers are kept by text (immutable values; the tiger reads ≈ 100 colours a load, of
-    which a few dozen differ), at most 4096 of them."""
-    try:
-        return _SVG_COLORS[text]
-    except KeyError:
-        pass
-    color = _parse_svg_color(text)
-    if len(_SVG_COLORS) >= 4096:
-        _SVG_COLORS.clear()
-    _SVG_COLORS[text] = color
-    return color
+    which a few dozen differ)."""
+    return _parse_svg_color(text)
 
 
 def _parse_svg_color(text: str):
