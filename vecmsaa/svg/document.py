@@ -857,8 +857,9 @@ def _break_reference_cycles(doc):
     otherwise the first element in Q (Q too) referencing P loses that reference. So of
     two clip paths referencing each other, the earlier one in the document keeps its clip.
     Fills first, then strokes. Only elements references reach (the first with their id)
-    are looked at, and the id map is made only once a reference is found. The build's own guards (paint.pattern, masking._target) still
-    stop any cycle this leaves, e.g. through ``use`` or inherited paints."""
+    are looked at, and the id map is made only once a reference is found. The build's own
+    guards (paint.pattern, masking._target) still stop any cycle this leaves, e.g. through
+    ``use`` or inherited paints."""
     if not doc.link_containers:
         return
 
