@@ -379,6 +379,9 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
             for px in range(pxa, pxz + 1):
                 if stamp[r, px] == full_id:
                     continue
+                # the samples that gain the lens's winding (alpha adds fractions instead)
+                bits = np.uint64(0)
+                per_sample = by_sample
                 if not by_sample:
                     if px >= max_lo and px <= min_hi:
                         region = full
@@ -395,7 +398,9 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                     g = math.sqrt(gx * gx + gy * gy)
                     if not (1e-150 < g < 1e150):
                         g = math.hypot(gx, gy)
-                    if g > 0.0 and math.isfinite(f):
+                    if not (g > 0.0 and math.isfinite(f)):
+                        per_sample = True   # a singular point (cusp, double point)
+                    else:
                         alpha = _lens_alpha(sigma * f / g, bx0, by0, bx1, by1, px, py)
                         if mode == MODE_ALPHA:
                             if not (alpha > 0.0):
@@ -407,33 +412,25 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                             bits = a2c_bits[int(alpha * n + 0.5)] & region
                             if bits == 0:
                                 continue
-                            for s in range(n):
-                                if (bits >> np.uint64(s)) & np.uint64(1):
-                                    local[r, px, s] += wsign
-                        if dirty[r, px] == 0:
-                            dirty[r, px] = 1
-                            dlist[r, dcount[r]] = px
-                            dcount[r] += 1
+                if per_sample:
+                    # the samples inside the lens, in registers first: only a pixel with some
+                    # is read and written (the strip's lens buffer is not in the caches)
+                    evaluated += 1
+                    for s in range(n):
+                        X = (px + sx[s] - ox) * inv
+                        k = ka * X + k_row[s] + kc
+                        l = la * X + l_row[s] + lc
+                        m = ma * X + m_row[s] + mc
+                        kk = k * k
+                        f = (kk * k if cubic else kk) - l * m
+                        inside = (sigma * f < 0.0) & (lo[s] <= px) & (px <= hi[s])
+                        bits |= np.uint64(inside) << np.uint64(s)
+                    if bits == 0:
                         continue
-                    # a singular point (cusp, double point): evaluated per sample instead
-                # the samples inside the lens, in registers first: only a pixel with some is
-                # read and written (the strip's lens buffer is not in the caches)
-                evaluated += 1
-                bits = np.uint64(0)
-                for s in range(n):
-                    X = (px + sx[s] - ox) * inv
-                    k = ka * X + k_row[s] + kc
-                    l = la * X + l_row[s] + lc
-                    m = ma * X + m_row[s] + mc
-                    kk = k * k
-                    f = (kk * k if cubic else kk) - l * m
-                    inside = (sigma * f < 0.0) & (lo[s] <= px) & (px <= hi[s])
-                    bits |= np.uint64(inside) << np.uint64(s)
-                if bits == 0:
-                    continue
-                for s in range(n):
-                    if (bits >> np.uint64(s)) & np.uint64(1):
-                        local[r, px, s] += w32
+                if bits != 0:
+                    for s in range(n):
+                        if (bits >> np.uint64(s)) & np.uint64(1):
+                            local[r, px, s] += w32
                 if dirty[r, px] == 0:
                     dirty[r, px] = 1
                     dlist[r, dcount[r]] = px
