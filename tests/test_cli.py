@@ -134,7 +134,8 @@ def _render_imports(tmp_path, body):
 
 def test_render_imports_no_module_of_a_feature_the_document_lacks(tmp_path):
     """A fill, a stroke and a path: no filters, text, fonts, clip paths, masks, gradients,
-    images, CSS, numba (the compiled kernels run without it). A filter brings its modules in."""
+    images, CSS, numba (the compiled kernels run without it). A filter brings its modules in,
+    a mask its own (not the gradients' and patterns')."""
     plain = ('<rect width="5" height="5" fill="red"/><circle cx="5" cy="5" r="3" stroke="blue"'
              ' fill="none"/><path d="M 1 1 Q 9 1 9 9" stroke="#000" stroke-dasharray="1 1"/>')
     assert _render_imports(tmp_path, plain) == ["0"]
@@ -142,6 +143,9 @@ def test_render_imports_no_module_of_a_feature_the_document_lacks(tmp_path):
                '<rect width="5" height="5" filter="url(#f)"/>')
     assert set(_render_imports(tmp_path, blurred)) == {
         "0", "vecmsaa.scene.effects", "vecmsaa.svg.filters", "vecmsaa.raster.filter_effects"}
+    masked = ('<mask id="m"><rect width="5" height="5" fill="white"/></mask>'
+              '<rect width="5" height="5" mask="url(#m)"/>')
+    assert _render_imports(tmp_path, masked) == ["0", "vecmsaa.svg.masking"]
 
 
 def test_the_command_ends_without_teardown_but_runs_atexit_and_flushes(tmp_path):

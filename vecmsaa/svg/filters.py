@@ -30,8 +30,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .paint import box_coord
-from .units import (ANGLE_DEG, parse_number, parse_number_list, parse_number_prefix,
+from .units import (ANGLE_DEG, box_coord, parse_number, parse_number_list, parse_number_prefix,
                     parse_opacity, row_scale_f32, split_length, url_argument)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")

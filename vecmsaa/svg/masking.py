@@ -15,7 +15,7 @@ from ..scene.path import rect_path
 from ..scene.color import linear_rgb_image, srgb_to_linear
 from ..scene.nodes import (Fill, Group, ImagePaint, LinearGradient, Mask, PatternPaint,
                            RadialGradient, Solid)
-from .paint import box_coord
+from .units import box_coord
 
 CLIP_CHILDREN = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path", "text",
                  "use"}

@@ -17,7 +17,7 @@ import numpy as np
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_svg_color as parse_color
-from .units import (NUMBER_RE, row_scale, row_scale_f32, parse_aspect, parse_fraction,
+from .units import (NUMBER_RE, box_coord, row_scale, row_scale_f32, parse_aspect,
                     parse_opacity, parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
@@ -98,17 +98,6 @@ def separate_equal_offsets(stops, eps=1e-6):
             else:
                 kept[i - 1][0] = kept[i][0] - eps
     return kept
-
-
-def box_coord(builder, value, axis, obb, style, viewport, default):
-    """A gradient/pattern coordinate: fractions of the box in objectBoundingBox units, where a
-    percentage is a fraction and a length with a unit is its number of user units (2mm is
-    7.56 boxes, as in browsers and resvg: the unit box is the user space)."""
-    if value is None or split_length(value) is None:
-        value = default
-    if obb and split_length(value)[1] == "%":
-        return parse_fraction(value)
-    return builder.length(value, axis, style, viewport)
 
 
 #: tiny-skia's tolerance for equal gradient circles (centres and radii, user units)

@@ -116,6 +116,19 @@ def parse_fraction(text):
     return v / 100 if unit == "%" else v
 
 
+def box_coord(builder, value, axis, obb, style, viewport, default):
+    """A coordinate of a gradient, pattern, mask or filter region (``builder`` reads lengths):
+    in objectBoundingBox units (``obb``) a fraction of the box, where a percentage is a
+    fraction and a length with a unit is its number of user units (2mm is 7.56 boxes, as in
+    browsers and resvg: the unit box is the user space); ``default`` where ``value`` is
+    missing or not a length."""
+    if value is None or split_length(value) is None:
+        value = default
+    if obb and split_length(value)[1] == "%":
+        return parse_fraction(value)
+    return builder.length(value, axis, style, viewport)
+
+
 def to_px(value, unit, font_size=16.0, reference=0.0, dpi=96.0):
     """Convert (value, unit) to user units; ``reference`` is what 100% means, ``dpi`` what
     1in is in px (it scales the physical units)."""
