@@ -221,6 +221,9 @@ class Builder:
         self.options = options
         self.nodes_made = 0
         self.text_chars = 0            # characters laid out so far (MAX_TEXT_CHARS)
+        # device-space object bounding boxes of the text drawn, when a list (sizing.py's
+        # drawing_extent sizes a document by them, as resvg does)
+        self.text_boxes = None
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
@@ -1275,6 +1278,16 @@ class TextContext:
 
     def resolve_paint(self, style, which, bbox=None):
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
+
+    def note_text_box(self, bbox):
+        """Record a drawn text's object bounding box (user space) in device space, when the
+        builder collects them."""
+        boxes = self._builder.text_boxes
+        if boxes is not None and not (self._ctx.clip or self._ctx.geometry):
+            x0, y0, x1, y1 = bbox
+            b = rect_path(x0, y0, x1 - x0, y1 - y0).transformed(self._ctx.transform).bounds()
+            if b is not None:
+                boxes.append(b)
 
     def path_of(self, element):
         """A shape's outline in the referencing text's user space: its own ``transform`` is

@@ -110,9 +110,16 @@ def drawing_extent(builder, viewport):
     where its frame's stroke ends; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
     width and height as far as given, else 100) when it draws nothing."""
     box = None
-    for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
-                                                           viewport))).fills():
-        b = path_bounds(f.path)
+    # text counts by its object bounding box (the em boxes of its glyphs over their
+    # advances), as resvg sizes a document (its Text::abs_bounding_box), besides its ink
+    builder.text_boxes = []
+    try:
+        fills = Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
+                                                              viewport))).fills()
+        boxes = [path_bounds(f.path) for f in fills] + builder.text_boxes
+    finally:
+        builder.text_boxes = None
+    for b in boxes:
         if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
             box = union(box, b)
     if box is None or box[2] <= 0 or box[3] <= 0:

@@ -54,6 +54,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
         x0, y0, x1, y1 = bbox
         return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
+    ctx.note_text_box(bbox)
     nodes_by_el = {}
     for key, (el, glyphs) in by_el.items():
         style = styles[id(el)]
