@@ -359,6 +359,17 @@ def test_foreign_elements_are_skipped():
     assert "r" in d.ids and "hidden" not in d.ids
 
 
+def test_svg_namespace_elements_in_a_document_without_a_namespace():
+    # a root without xmlns is read as SVG (as resvg 0.45.1+ reads it), and then an element
+    # that is in the SVG namespace by a prefix is an SVG element too (XML Namespaces: its
+    # name is (SVG namespace, rect)); one in another namespace is still foreign
+    d = load_document(b'<svg xmlns:s="http://www.w3.org/2000/svg" xmlns:f="urn:f">'
+                      b'<s:rect id="a"/><rect id="b"/><f:rect id="c"/>'
+                      b'<s:style>#a { fill: green }</s:style></svg>')
+    assert "a" in d.ids and "b" in d.ids and "c" not in d.ids
+    assert d.ids["a"].tag == "rect" and d.ids["a"].specified.get("fill") == "green"
+
+
 def test_xlink_href_and_href():
     d = load_document(f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink">'
                       '<use id="u" xlink:href="#a"/><use id="v" href="#b"/></svg>'.encode())

@@ -479,7 +479,11 @@ class _TreeReader:
                 error = "too many elements"
             elif len(stack) > MAX_DEPTH:
                 error = f"elements nest deeper than {MAX_DEPTH} levels"
-            if error is not None or ns != default_ns:
+            # a document whose root has no namespace (read as SVG, as resvg reads it) takes
+            # elements of the SVG namespace too (`<s:rect>` with xmlns:s for SVG): they are
+            # SVG elements whatever the root is
+            if error is not None or (ns != default_ns
+                                     and not (ns == SVG_NS and default_ns == "")):
                 unmade += 1
                 stack.append(None)   # foreign element: skipped with its subtree
                 last[0] = None
@@ -908,7 +912,7 @@ def _cascade(reader, stylesheet):
     # <style> elements anywhere apply to the whole document (even those after their use).
     for node in xml_root.iter():
         nns, _, ntag = node.tag[1:].partition("}") if node.tag[0] == "{" else ("", "", node.tag)
-        if ntag == "style" and nns == default_ns:
+        if ntag == "style" and (nns == default_ns or nns == SVG_NS):
             kind = (node.get("type") or "text/css").strip()
             if kind not in ("", "text/css"):
                 continue
