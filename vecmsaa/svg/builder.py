@@ -771,7 +771,7 @@ class Builder:
         ref = el.get("href")
         if ref is None:
             return []
-        target = self.doc.lookup(ref) if ref.strip().startswith("#") else None
+        target = self.doc.lookup(ref, detached=True) if ref.strip().startswith("#") else None
         if target is None:
             return []
         if (target is el or id(target) in ctx.use_stack or len(ctx.use_stack) >= MAX_USE_DEPTH
@@ -1331,7 +1331,7 @@ def _expanded_size(el, doc, memo, active):
         if total > MAX_NODES:
             break
     if el.tag == "use":
-        target = doc.lookup(el.get("href") or "")
+        target = doc.lookup(el.get("href") or "", detached=True)
         if target is not None:
             total += _expanded_size(target, doc, memo, active)
     active.discard(key)
@@ -1354,7 +1354,7 @@ def links_back(el, target, doc, memo) -> bool:
         while stack and not got:
             node = stack.pop()
             if node.tag == "use":
-                linked = doc.lookup(node.get("href") or "")
+                linked = doc.lookup(node.get("href") or "", detached=True)
                 got = linked is el or linked is target
             stack.extend(node.children)
         memo[key] = got
