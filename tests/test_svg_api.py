@@ -154,3 +154,20 @@ def test_size_from_the_drawing(attrs, body, size):
     from vecmsaa.api import render_svg_array
     img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}>{body}</svg>')
     assert img.shape[1::-1] == size
+
+
+@pytest.mark.parametrize("attrs", [
+    # the viewBox's own rectangle, which here is the whole canvas (the user space's origin is
+    # at its middle: a rectangle from the origin would cover a quarter)
+    'viewBox="-50 -50 100 100"',
+    # the root's transform and opacity are the root element's, not the canvas's (CSS
+    # Backgrounds 3 §2.11.2: the root's background becomes the canvas background, which
+    # covers the canvas; resvg paints it under the root's group)
+    'viewBox="0 0 100 100" transform="rotate(45 50 50)"',
+    'viewBox="0 0 100 100" opacity="0.5"',
+])
+def test_the_background_color_of_the_root_covers_the_canvas(attrs):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" '
+                           f'{attrs} style="background-color: #00ff00"/>'.encode())
+    assert (img == (0, 255, 0, 255)).all()

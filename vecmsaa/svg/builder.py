@@ -247,8 +247,10 @@ class Builder:
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
-    def build_root(self, transform, viewport, root_scale=1.0) -> list:
-        """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
+    def build_root(self, transform, viewport, root_scale=1.0, canvas=None) -> list:
+        """Nodes of the root <svg>'s content under ``transform`` (user → device).
+        ``canvas``: user → device without the root's own ``transform`` (which the canvas
+        background does not take), when it has one."""
         self.root_scale = root_scale
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
@@ -257,12 +259,17 @@ class Builder:
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
         ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
-        nodes = self.children(root, ctx, style)
+        nodes = self.wrap(root, style, ctx, self.children(root, ctx, style))
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
-            box = rect_path(0, 0, *viewport).transformed(transform)
-            nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
-        return self.wrap(root, style, ctx, nodes)
+            # the canvas background (CSS Backgrounds 3 §2.11.2: the root's background covers
+            # the canvas, under the root's transform, opacity and effects), over the viewBox
+            # as resvg paints it (its svg/background-color-with-viewbox test)
+            vb = parse_viewbox(root.get("viewBox"))
+            box = rect_path(*(vb if vb is not None else (0, 0, *viewport)))
+            nodes.insert(0, Fill(box.transformed(canvas or transform),
+                                 Solid(tuple(float(c) for c in background))))
+        return nodes
 
     def root_transform(self, width, height):
         """The root <svg>'s own transform in its viewport's px (None when singular)."""
