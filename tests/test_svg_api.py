@@ -171,3 +171,17 @@ def test_the_background_color_of_the_root_covers_the_canvas(attrs):
     img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" '
                            f'{attrs} style="background-color: #00ff00"/>'.encode())
     assert (img == (0, 255, 0, 255)).all()
+
+
+@pytest.mark.parametrize("attrs, size", [
+    # a missing, `auto` (SVG 2: the replaced element's auto size, from the aspect ratio) or
+    # invalid (ignored) dimension follows the other one by the viewBox's ratio, 2:1 here
+    ('width="150"', (150, 75)), ('width="150" height="auto"', (150, 75)),
+    ('width="150" height="abc"', (150, 75)), ('width="auto" height="60"', (120, 60)),
+    ('width="" height="60"', (120, 60)),
+])
+def test_a_missing_dimension_follows_the_viewbox_ratio(attrs, size):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs} '
+                           'viewBox="0 0 200 100"/>'.encode())
+    assert img.shape[1::-1] == size

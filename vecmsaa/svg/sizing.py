@@ -49,9 +49,16 @@ def document_size(doc: Document, dpi: float = 96.0):
                                                             dimension("height", 100.0))
     width = dimension("width", vb[2] if vb else 100.0)
     height = dimension("height", vb[3] if vb else 100.0)
-    if vb is not None and root.get("width") is None and root.get("height") is not None:
+
+    def given(name):
+        # `auto` (SVG 2: the replaced element's auto size, which follows the aspect ratio)
+        # and an invalid value (ignored) leave the dimension to the other one, as missing
+        raw = root.get(name)
+        return raw is not None and split_length(raw) is not None
+
+    if vb is not None and not given("width") and given("height"):
         width = height * vb[2] / vb[3]
-    elif vb is not None and root.get("height") is None and root.get("width") is not None:
+    elif vb is not None and not given("height") and given("width"):
         height = width * vb[3] / vb[2]
     if not (width > 0 and height > 0):
         return width, height, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
