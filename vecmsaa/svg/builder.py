@@ -809,6 +809,13 @@ class Builder:
             tstyle = style.child(target)
             if tstyle.get("display").strip() == "none":
                 return []
+            # its own transform (SVG 2: the svg element takes one) applies in the use's
+            # space, as where it stands (resvg 0.48 draws it so)
+            m = self.element_transform(target, tstyle, c)
+            if m is None:
+                return []
+            if m is not IDENTITY:
+                c = replace(c, transform=compose(c.transform, m), chain=c.chain + (m,))
             return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True)
         return self.element(target, c, style)
 
