@@ -149,6 +149,10 @@ def test_intrinsic_size_without_a_viewbox_needs_both_lengths(attrs, size):
     ('', '<clipPath id="c"><rect width="10" height="10"/></clipPath>'
          '<rect width="100" height="50" clip-path="url(#c)"/>', (100, 50)),
     ('', '<rect width="100" height="50" transform="rotate(45)"/>', (71, 106)),
+    # a shape painted with nothing, or hidden, still takes room, as in resvg (its root
+    # group's bounding box has every path's outline): to x = 160 and y = 70
+    ('', '<rect x="10" y="10" width="150" height="60" fill="none"/><circle r="20"/>', (160, 70)),
+    ('', '<rect x="10" y="10" width="150" height="60" visibility="hidden"/>', (160, 70)),
 ])
 def test_size_from_the_drawing(attrs, body, size):
     from vecmsaa.api import render_svg_array

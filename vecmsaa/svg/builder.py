@@ -221,9 +221,9 @@ class Builder:
         self.options = options
         self.nodes_made = 0
         self.text_chars = 0            # characters laid out so far (MAX_TEXT_CHARS)
-        # device-space object bounding boxes of the text drawn, when a list (sizing.py's
-        # drawing_extent sizes a document by them, as resvg does)
-        self.text_boxes = None
+        # the ids of the fills that draw text, when a set (sizing.py's drawing_extent sizes
+        # a document by text's object bounding box rather than its ink, as resvg does)
+        self.text_fills = None
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
@@ -247,10 +247,12 @@ class Builder:
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
-    def build_root(self, transform, viewport, root_scale=1.0, canvas=None) -> list:
+    def build_root(self, transform, viewport, root_scale=1.0, canvas=None,
+                   geometry=False) -> list:
         """Nodes of the root <svg>'s content under ``transform`` (user → device).
         ``canvas``: user → device without the root's own ``transform`` (which the canvas
-        background does not take), when it has one."""
+        background does not take), when it has one. ``geometry``: the object geometry
+        alone (see Ctx.geometry), unpainted shapes included."""
         self.root_scale = root_scale
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
@@ -258,8 +260,10 @@ class Builder:
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
-        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
+        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,), geometry=geometry)
         nodes = self.wrap(root, style, ctx, self.children(root, ctx, style))
+        if geometry:
+            return nodes
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
             # the canvas background (CSS Backgrounds 3 §2.11.2: the root's background covers
@@ -1293,15 +1297,10 @@ class TextContext:
     def resolve_paint(self, style, which, bbox=None):
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
 
-    def note_text_box(self, bbox):
-        """Record a drawn text's object bounding box (user space) in device space, when the
-        builder collects them."""
-        boxes = self._builder.text_boxes
-        if boxes is not None and not (self._ctx.clip or self._ctx.geometry):
-            x0, y0, x1, y1 = bbox
-            b = rect_path(x0, y0, x1 - x0, y1 - y0).transformed(self._ctx.transform).bounds()
-            if b is not None:
-                boxes.append(b)
+    def note_text_fills(self, fills):
+        """Record the fills that draw a text, when the builder collects them."""
+        if self._builder.text_fills is not None:
+            self._builder.text_fills.update(id(f) for f in fills)
 
     def path_of(self, element):
         """A shape's outline in the referencing text's user space: its own ``transform`` is

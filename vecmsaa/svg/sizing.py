@@ -117,15 +117,20 @@ def drawing_extent(builder, viewport):
     where its frame's stroke ends; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
     width and height as far as given, else 100) when it draws nothing."""
     box = None
-    # text counts by its object bounding box (the em boxes of its glyphs over their
-    # advances), as resvg sizes a document (its Text::abs_bounding_box), besides its ink
-    builder.text_boxes = []
+    # what is drawn, strokes included, and, as resvg sizes a document (its root group's
+    # abs_bounding_box), every shape's outline painted or not and text by its object
+    # bounding box (its glyphs' em boxes over their advances) rather than its ink
+    identity = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+    builder.text_fills = set()
     try:
-        fills = Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
-                                                              viewport))).fills()
-        boxes = [path_bounds(f.path) for f in fills] + builder.text_boxes
+        drawn = Scene(1, 1, Group(children=builder.build_root(identity, viewport))).fills()
+        text = builder.text_fills
     finally:
-        builder.text_boxes = None
+        builder.text_fills = None
+    outlines = Scene(1, 1, Group(children=builder.build_root(identity, viewport,
+                                                             geometry=True))).fills()
+    boxes = [path_bounds(f.path) for f in drawn if id(f) not in text]
+    boxes += [path_bounds(f.path) for f in outlines]
     for b in boxes:
         if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
             box = union(box, b)

@@ -54,7 +54,6 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
         x0, y0, x1, y1 = bbox
         return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
-    ctx.note_text_box(bbox)
     nodes_by_el = {}
     for key, (el, glyphs) in by_el.items():
         style = styles[id(el)]
@@ -73,8 +72,10 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
     antialias = (ctx.style.get("text-rendering") or "auto").strip().lower() != "optimizespeed"
-    for fill in _fills_of(out):
+    fills = _fills_of(out)
+    for fill in fills:
         fill.antialias = antialias
+    ctx.note_text_fills(fills)
     return out
 
 
