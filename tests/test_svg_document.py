@@ -391,6 +391,23 @@ def test_use_instantiates_an_svg_element_inside_a_foreign_one():
     assert d.lookup("#r", detached=True).tag == "rect"
 
 
+def test_an_unknown_element_is_treated_as_a_foreign_one():
+    # <random> is no SVG element: nothing in it is drawn, a <use> still instantiates an
+    # element inside it, but a paint server there is not found (resvg keeps no unknown
+    # element in its tree; browsers lay out nothing under one), so the fallback colour paints
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {SVG} width="100" height="100"><random><rect id="r" width="20" height="20" '
+        'fill="#0000ff"/><linearGradient id="g"><stop stop-color="red"/></linearGradient>'
+        '</random><use href="#r" x="50" y="30"/><rect x="0" y="70" width="100" height="30" '
+        'fill="url(#g) #00ff00"/></svg>'.encode())
+    assert (img[30:50, 50:70] == (0, 0, 255, 255)).all()
+    assert (img[70:100] == (0, 255, 0, 255)).all()
+    assert img[:, :, 3].sum() == 255 * (400 + 3000)
+    d = load_document(f'<svg {SVG}><random><g id="g"/></random><animate id="a"/></svg>'.encode())
+    assert "g" not in d.ids and d.lookup("#g", detached=True).tag == "g" and "a" in d.ids
+
+
 def test_xlink_href_and_href():
     d = load_document(f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink">'
                       '<use id="u" xlink:href="#a"/><use id="v" href="#b"/></svg>'.encode())

@@ -340,6 +340,20 @@ def _et_name(name):
 _STYLE_ELEMENT = re.compile(rb"<(?:[^\s<>/!?:]+:)?style[\s/>]")
 
 
+#: the elements SVG 1.1 and SVG 2 define; another name in the SVG namespace is an unknown
+#: element, treated as one of another namespace
+SVG_ELEMENT_NAMES = frozenset("""
+a altGlyph altGlyphDef altGlyphItem animate animateColor animateMotion animateTransform circle
+clipPath color-profile cursor defs desc discard ellipse feBlend feColorMatrix
+feComponentTransfer feComposite feConvolveMatrix feDiffuseLighting feDisplacementMap
+feDistantLight feDropShadow feFlood feFuncA feFuncB feFuncG feFuncR feGaussianBlur feImage
+feMerge feMergeNode feMorphology feOffset fePointLight feSpecularLighting feSpotLight feTile
+feTurbulence filter font font-face font-face-format font-face-name font-face-src
+font-face-uri foreignObject g glyph glyphRef hkern image line linearGradient marker mask
+metadata missing-glyph mpath path pattern polygon polyline radialGradient rect script set
+stop style svg switch symbol text textPath title tref tspan use view vkern""".split())
+
+
 class _Foreign:
     """On the reader's stack: an element of another namespace, and the SVG element around
     it (which the SVG elements inside inherit from)."""
@@ -491,15 +505,17 @@ class _TreeReader:
             # a document whose root has no namespace (read as SVG, as resvg reads it) takes
             # elements of the SVG namespace too (`<s:rect>` with xmlns:s for SVG): they are
             # SVG elements whatever the root is
-            if error is not None or (ns != default_ns
-                                     and not (ns == SVG_NS and default_ns == "")):
+            if error is not None or tag not in SVG_ELEMENT_NAMES or (
+                    ns != default_ns and not (ns == SVG_NS and default_ns == "")):
                 unmade += 1
                 if error is not None:
                     stack.append(None)
                 else:
-                    # foreign element: not drawn, nor anything in it; the SVG elements
-                    # inside are made, detached (<use> may reference them, as in resvg),
-                    # inheriting from the SVG element around
+                    # foreign or unknown element: not drawn, nor anything in it; the SVG
+                    # elements inside are made, detached (<use> may reference them, as in
+                    # resvg), inheriting from the SVG element around. Paint servers, clips,
+                    # masks, markers, filters and paths there are not found (as in resvg, and
+                    # in browsers, which lay out nothing under an unknown element)
                     top = stack[-1]
                     stack.append(_Foreign(top.parent if top.__class__ is _Foreign else top))
                 last[0] = None
