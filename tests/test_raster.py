@@ -621,3 +621,22 @@ def test_a_band_under_a_wide_fill_weighs_more_than_its_edges_say():
     scene = Scene(2000, 1200, Group([wide, _polyline_fill(ring)]))
     items = render_module.prepare_items(scene.root, RenderOptions())
     assert render_module.heaviest_first(items, range(0, 1200, 256), 256)[:2] == [768, 256]
+
+
+@pytest.mark.parametrize("mode", ["approx", "analytic"])
+@pytest.mark.parametrize("far", ["1e12", "1e20", "1e300"])
+def test_an_edge_reaching_far_off_the_canvas_draws_what_it_covers(mode, far):
+    # (20, 20) → (far, 20) → (100, 100): on the canvas the edge back from the far point is
+    # horizontal at y = 100 (it rises 80 over `far`: under 1e-10 px by x = 200), so the
+    # triangle covers what the quadrilateral (20, 20) (300, 20) (300, 100) (100, 100) covers.
+    # Its crossings were taken from its far end and lost to rounding, and fell on any
+    # column, into the frame drawn after it too (a black band across the canvas).
+    from vecmsaa.api import render_svg_array
+    frame = '<rect x="1" y="1" width="198" height="198" fill="none" stroke="black"/>'
+
+    def draw(d):
+        return render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">'
+                                f'<path d="{d}" fill="green"/>{frame}</svg>'.encode(),
+                                width=300, mode=mode)
+    assert np.array_equal(draw(f"M 20 20 L {far} 20 L 100 100 Z"),
+                          draw("M 20 20 L 300 20 L 300 100 L 100 100 Z"))

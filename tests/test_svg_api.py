@@ -149,8 +149,43 @@ def test_intrinsic_size_without_a_viewbox_needs_both_lengths(attrs, size):
     ('', '<clipPath id="c"><rect width="10" height="10"/></clipPath>'
          '<rect width="100" height="50" clip-path="url(#c)"/>', (100, 50)),
     ('', '<rect width="100" height="50" transform="rotate(45)"/>', (71, 106)),
+    # a shape painted with nothing, or hidden, still takes room, as in resvg (its root
+    # group's bounding box has every path's outline): to x = 160 and y = 70
+    ('', '<rect x="10" y="10" width="150" height="60" fill="none"/><circle r="20"/>', (160, 70)),
+    ('', '<rect x="10" y="10" width="150" height="60" visibility="hidden"/>', (160, 70)),
 ])
 def test_size_from_the_drawing(attrs, body, size):
     from vecmsaa.api import render_svg_array
     img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs}>{body}</svg>')
+    assert img.shape[1::-1] == size
+
+
+@pytest.mark.parametrize("attrs", [
+    # the viewBox's own rectangle, which here is the whole canvas (the user space's origin is
+    # at its middle: a rectangle from the origin would cover a quarter)
+    'viewBox="-50 -50 100 100"',
+    # the root's transform and opacity are the root element's, not the canvas's (CSS
+    # Backgrounds 3 §2.11.2: the root's background becomes the canvas background, which
+    # covers the canvas; resvg paints it under the root's group)
+    'viewBox="0 0 100 100" transform="rotate(45 50 50)"',
+    'viewBox="0 0 100 100" opacity="0.5"',
+])
+def test_the_background_color_of_the_root_covers_the_canvas(attrs):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100" '
+                           f'{attrs} style="background-color: #00ff00"/>'.encode())
+    assert (img == (0, 255, 0, 255)).all()
+
+
+@pytest.mark.parametrize("attrs, size", [
+    # a missing, `auto` (SVG 2: the replaced element's auto size, from the aspect ratio) or
+    # invalid (ignored) dimension follows the other one by the viewBox's ratio, 2:1 here
+    ('width="150"', (150, 75)), ('width="150" height="auto"', (150, 75)),
+    ('width="150" height="abc"', (150, 75)), ('width="auto" height="60"', (120, 60)),
+    ('width="" height="60"', (120, 60)),
+])
+def test_a_missing_dimension_follows_the_viewbox_ratio(attrs, size):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg xmlns="http://www.w3.org/2000/svg" {attrs} '
+                           'viewBox="0 0 200 100"/>'.encode())
     assert img.shape[1::-1] == size

@@ -359,6 +359,55 @@ def test_foreign_elements_are_skipped():
     assert "r" in d.ids and "hidden" not in d.ids
 
 
+def test_svg_namespace_elements_in_a_document_without_a_namespace():
+    # a root without xmlns is read as SVG (as resvg 0.45.1+ reads it), and then an element
+    # that is in the SVG namespace by a prefix is an SVG element too (XML Namespaces: its
+    # name is (SVG namespace, rect)); one in another namespace is still foreign
+    d = load_document(b'<svg xmlns:s="http://www.w3.org/2000/svg" xmlns:f="urn:f">'
+                      b'<s:rect id="a"/><rect id="b"/><f:rect id="c"/>'
+                      b'<s:style>#a { fill: green }</s:style></svg>')
+    assert "a" in d.ids and "b" in d.ids and "c" not in d.ids
+    assert d.ids["a"].tag == "rect" and d.ids["a"].specified.get("fill") == "green"
+
+
+def test_use_instantiates_an_svg_element_inside_a_foreign_one():
+    # the rect inside <f:foo> is an SVG element of the document, not rendered where it stands
+    # (its foreign parent is not), but a <use> instantiates any element (SVG 2 §5.6; resvg
+    # 0.8+ and browsers draw it); paint servers are looked up among rendered content only
+    # (resvg and browsers do not find a gradient there), so the gradient paints nothing
+    from vecmsaa.api import render_svg_array
+    from vecmsaa.diagnostics import RenderWarning
+    with pytest.warns(RenderWarning, match="unresolved"):
+        img = render_svg_array(
+            f'<svg {SVG} width="100" height="100"><f:foo xmlns:f="urn:f">'
+            '<rect id="r" width="20" height="20" fill="#00ff00"/><linearGradient id="g">'
+            '<stop stop-color="red"/></linearGradient></f:foo>'
+            '<use href="#r" x="50" y="30"/><rect x="0" y="70" width="100" height="30" '
+            'fill="url(#g)"/></svg>'.encode())
+    assert (img[30:50, 50:70] == (0, 255, 0, 255)).all()
+    assert img[:, :, 3].sum() == 255 * 400      # nothing else: not the rect itself, no red
+    d = load_document(f'<svg {SVG}><f:foo xmlns:f="urn:f"><rect id="r"/></f:foo></svg>'.encode())
+    assert "r" not in d.ids and d.lookup("#r") is None
+    assert d.lookup("#r", detached=True).tag == "rect"
+
+
+def test_an_unknown_element_is_treated_as_a_foreign_one():
+    # <random> is no SVG element: nothing in it is drawn, a <use> still instantiates an
+    # element inside it, but a paint server there is not found (resvg keeps no unknown
+    # element in its tree; browsers lay out nothing under one), so the fallback colour paints
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {SVG} width="100" height="100"><random><rect id="r" width="20" height="20" '
+        'fill="#0000ff"/><linearGradient id="g"><stop stop-color="red"/></linearGradient>'
+        '</random><use href="#r" x="50" y="30"/><rect x="0" y="70" width="100" height="30" '
+        'fill="url(#g) #00ff00"/></svg>'.encode())
+    assert (img[30:50, 50:70] == (0, 0, 255, 255)).all()
+    assert (img[70:100] == (0, 255, 0, 255)).all()
+    assert img[:, :, 3].sum() == 255 * (400 + 3000)
+    d = load_document(f'<svg {SVG}><random><g id="g"/></random><animate id="a"/></svg>'.encode())
+    assert "g" not in d.ids and d.lookup("#g", detached=True).tag == "g" and "a" in d.ids
+
+
 def test_xlink_href_and_href():
     d = load_document(f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink">'
                       '<use id="u" xlink:href="#a"/><use id="v" href="#b"/></svg>'.encode())
@@ -399,7 +448,9 @@ def test_the_tree_is_elementtrees_less_foreign_elements():
     # parent): it joins the tail of the SVG element before it
     assert [c.tail for c in text.children] == [" e <&>gone", "f"]
     assert d.root.children[1].specified == {"fill": "red"}
-    assert d.paths == [] and d.size == 8 and d.has_use
+    # the <tspan/> inside <f:x> is made too, detached (a <use> may reference it): 9 elements
+    assert d.paths == [] and d.size == 9 and d.has_use
+    assert [e.tag for e in d.detached] == ["tspan"] and d.detached[0].parent is text
 
 
 # -- XML safety ---------------------------------------------------------------------------------

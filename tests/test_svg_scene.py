@@ -1371,3 +1371,17 @@ def test_pattern_sampling_follows_resvgs_f32_chain(element, pattern, size, width
               f'transform="rotate({element} 100 100)"/>', f'viewBox="0 0 {size} {size}"',
               width=width)
     assert only_fill(s).paint.smooth == (not translation)
+
+
+def test_a_use_of_an_svg_element_applies_its_transform():
+    # SVG 2 lets an <svg> element carry a transform; drawn through a <use> it applies in the
+    # use's translated space as it would where the element stands: translate(30 0) after the
+    # use's x/y puts the 20 x 20 viewport at (40, 10)
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100"><defs>'
+        '<svg id="s" width="20" height="20" transform="translate(30 0)">'
+        '<rect width="50" height="50" fill="#00ff00"/></svg></defs>'
+        '<use href="#s" x="10" y="10"/></svg>'.encode())
+    assert (img[10:30, 40:60] == (0, 255, 0, 255)).all()
+    assert img[:, :, 3].sum() == 255 * 400

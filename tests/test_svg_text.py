@@ -1160,3 +1160,15 @@ def test_position_list_with_an_overflowing_number_is_cut_there(attr, same):
     plain = render(f'<text x="10" y="60" {same}>Ab</text>')
     got = render(f'<text x="10" y="60" {attr}>Ab</text>')
     assert np.array_equal(got, plain)
+
+
+def test_a_document_without_a_size_takes_the_object_bounding_box_of_its_text():
+    # resvg sizes a document without width, height and viewBox by the bounding box of what
+    # it draws, and for text that is the object bounding box (glyph advances, ascent to
+    # descent: hhea 1069/-293 per 1000 in the fixture font), not the ink: an H at x = 10
+    # advances 741 units, so the right edge is 10 + 0.741 * 40 = 39.64 (the ink ends near
+    # 36) and the bottom 50 + 0.293 * 40 = 61.72 (the ink ends at the baseline, 50)
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg"><text x="10" y="50" font-size="40" '
+           'font-family="Noto Sans">H</text></svg>')
+    img = render_svg_array(svg, **FONTS)
+    assert img.shape[1::-1] == (40, 62)

@@ -644,6 +644,76 @@ class FillBatch:
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
         self.edges, self.edge_off, self.prims, self.prim_off = built()
+        self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+
+
+#: device x beyond which an edge is moved onto the line x = ±FAR_X (see clamp_far_edges)
+FAR_X = float(2 ** 24)
+
+
+def clamp_far_edges(edges, edge_off):
+    """The edges with their parts beyond x = ±FAR_X replaced by vertical edges on those
+    lines over the same rows, the same winding for every sample on the canvas: the scan
+    kernels find an edge's crossings from its top point, and with that point at x = 1e20 the
+    crossing near the canvas is lost to rounding (and then lands on any column, into
+    another fill's deltas). An edge within the bounds, all of them in practice, is kept as
+    it is (the same bytes)."""
+    if len(edges) == 0:
+        return edges, edge_off
+    xs = edges[:, 0::2]
+    far = ~(np.abs(xs) <= FAR_X).all(axis=1)
+    if not far.any():
+        return edges, edge_off
+    pieces = [None] * len(edges)
+    counts = np.ones(len(edges), np.int64)
+    for i in np.flatnonzero(far):
+        got = _edge_within(*(float(v) for v in edges[i]))
+        pieces[i] = got
+        counts[i] = len(got)
+    out = []
+    for i, e in enumerate(edges):
+        if pieces[i] is None:
+            out.append(e[None])
+        elif pieces[i]:
+            out.append(np.asarray(pieces[i], np.float64))
+    cum = np.zeros(len(edges) + 1, np.int64)
+    np.cumsum(counts, out=cum[1:])
+    new = np.concatenate(out) if out else np.empty((0, 4))
+    return np.ascontiguousarray(new), np.ascontiguousarray(cum[edge_off])
+
+
+def _edge_within(x0, y0, x1, y1):
+    """One edge as pieces that stay within x = ±FAR_X (see clamp_far_edges); none for an
+    edge with a NaN coordinate or a non-finite y (no winding can be made of it)."""
+    if not (math.isfinite(y0) and math.isfinite(y1)) or x0 != x0 or x1 != x1:
+        return []
+    # infinite x: the edge's crossings are at infinity but for its end points
+    x0 = max(min(x0, 1e300), -1e300)
+    x1 = max(min(x1, 1e300), -1e300)
+    ts = [0.0, 1.0]
+    dx = x1 - x0
+    for bound in (FAR_X, -FAR_X):
+        if dx != 0.0:
+            t = (bound - x0) / dx
+            if 0.0 < t < 1.0:
+                ts.append(t)
+    ts.sort()
+    out = []
+    for ta, tb in zip(ts, ts[1:]):
+        if tb <= ta:
+            continue
+        ya = y0 + (y1 - y0) * ta if ta < 1.0 else y1
+        yb = y0 + (y1 - y0) * tb if tb < 1.0 else y1
+        xm = x0 + dx * ((ta + tb) / 2)
+        if xm > FAR_X:
+            out.append((FAR_X, ya, FAR_X, yb))
+        elif xm < -FAR_X:
+            out.append((-FAR_X, ya, -FAR_X, yb))
+        else:
+            xa = x0 if ta == 0.0 else x0 + dx * ta
+            xb = x1 if tb == 1.0 else x0 + dx * tb
+            out.append((min(max(xa, -FAR_X), FAR_X), ya, min(max(xb, -FAR_X), FAR_X), yb))
+    return out
 
 
 #: build_batch's work per verb, roughly (a cubic: classified, split, a lens per piece), to

@@ -221,6 +221,9 @@ class Builder:
         self.options = options
         self.nodes_made = 0
         self.text_chars = 0            # characters laid out so far (MAX_TEXT_CHARS)
+        # the ids of the fills that draw text, when a set (sizing.py's drawing_extent sizes
+        # a document by text's object bounding box rather than its ink, as resvg does)
+        self.text_fills = None
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
@@ -244,8 +247,12 @@ class Builder:
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
-    def build_root(self, transform, viewport, root_scale=1.0) -> list:
-        """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
+    def build_root(self, transform, viewport, root_scale=1.0, canvas=None,
+                   geometry=False) -> list:
+        """Nodes of the root <svg>'s content under ``transform`` (user → device).
+        ``canvas``: user → device without the root's own ``transform`` (which the canvas
+        background does not take), when it has one. ``geometry``: the object geometry
+        alone (see Ctx.geometry), unpainted shapes included."""
         self.root_scale = root_scale
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
@@ -253,13 +260,20 @@ class Builder:
         style = self.doc.document_style(root)
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
-        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
-        nodes = self.children(root, ctx, style)
+        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,), geometry=geometry)
+        nodes = self.wrap(root, style, ctx, self.children(root, ctx, style))
+        if geometry:
+            return nodes
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
-            box = rect_path(0, 0, *viewport).transformed(transform)
-            nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
-        return self.wrap(root, style, ctx, nodes)
+            # the canvas background (CSS Backgrounds 3 §2.11.2: the root's background covers
+            # the canvas, under the root's transform, opacity and effects), over the viewBox
+            # as resvg paints it (its svg/background-color-with-viewbox test)
+            vb = parse_viewbox(root.get("viewBox"))
+            box = rect_path(*(vb if vb is not None else (0, 0, *viewport)))
+            nodes.insert(0, Fill(box.transformed(canvas or transform),
+                                 Solid(tuple(float(c) for c in background))))
+        return nodes
 
     def root_transform(self, width, height):
         """The root <svg>'s own transform in its viewport's px (None when singular)."""
@@ -768,7 +782,7 @@ class Builder:
         ref = el.get("href")
         if ref is None:
             return []
-        target = self.doc.lookup(ref) if ref.strip().startswith("#") else None
+        target = self.doc.lookup(ref, detached=True) if ref.strip().startswith("#") else None
         if target is None:
             return []
         if (target is el or id(target) in ctx.use_stack or len(ctx.use_stack) >= MAX_USE_DEPTH
@@ -799,6 +813,13 @@ class Builder:
             tstyle = style.child(target)
             if tstyle.get("display").strip() == "none":
                 return []
+            # its own transform (SVG 2: the svg element takes one) applies in the use's
+            # space, as where it stands (resvg 0.48 draws it so)
+            m = self.element_transform(target, tstyle, c)
+            if m is None:
+                return []
+            if m is not IDENTITY:
+                c = replace(c, transform=compose(c.transform, m), chain=c.chain + (m,))
             return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True)
         return self.element(target, c, style)
 
@@ -1276,6 +1297,11 @@ class TextContext:
     def resolve_paint(self, style, which, bbox=None):
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
 
+    def note_text_fills(self, fills):
+        """Record the fills that draw a text, when the builder collects them."""
+        if self._builder.text_fills is not None:
+            self._builder.text_fills.update(id(f) for f in fills)
+
     def path_of(self, element):
         """A shape's outline in the referencing text's user space: its own ``transform`` is
         "a supplemental transformation" there (SVG 2 textPath); a singular one is ignored, as
@@ -1318,7 +1344,7 @@ def _expanded_size(el, doc, memo, active):
         if total > MAX_NODES:
             break
     if el.tag == "use":
-        target = doc.lookup(el.get("href") or "")
+        target = doc.lookup(el.get("href") or "", detached=True)
         if target is not None:
             total += _expanded_size(target, doc, memo, active)
     active.discard(key)
@@ -1341,7 +1367,7 @@ def links_back(el, target, doc, memo) -> bool:
         while stack and not got:
             node = stack.pop()
             if node.tag == "use":
-                linked = doc.lookup(node.get("href") or "")
+                linked = doc.lookup(node.get("href") or "", detached=True)
                 got = linked is el or linked is target
             stack.extend(node.children)
         memo[key] = got

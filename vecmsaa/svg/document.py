@@ -340,6 +340,29 @@ def _et_name(name):
 _STYLE_ELEMENT = re.compile(rb"<(?:[^\s<>/!?:]+:)?style[\s/>]")
 
 
+#: the elements SVG 1.1 and SVG 2 define; another name in the SVG namespace is an unknown
+#: element, treated as one of another namespace
+SVG_ELEMENT_NAMES = frozenset("""
+a altGlyph altGlyphDef altGlyphItem animate animateColor animateMotion animateTransform circle
+clipPath color-profile cursor defs desc discard ellipse feBlend feColorMatrix
+feComponentTransfer feComposite feConvolveMatrix feDiffuseLighting feDisplacementMap
+feDistantLight feDropShadow feFlood feFuncA feFuncB feFuncG feFuncR feGaussianBlur feImage
+feMerge feMergeNode feMorphology feOffset fePointLight feSpecularLighting feSpotLight feTile
+feTurbulence filter font font-face font-face-format font-face-name font-face-src
+font-face-uri foreignObject g glyph glyphRef hkern image line linearGradient marker mask
+metadata missing-glyph mpath path pattern polygon polyline radialGradient rect script set
+stop style svg switch symbol text textPath title tref tspan use view vkern""".split())
+
+
+class _Foreign:
+    """On the reader's stack: an element of another namespace, and the SVG element around
+    it (which the SVG elements inside inherit from)."""
+    __slots__ = ("parent",)
+
+    def __init__(self, parent):
+        self.parent = parent
+
+
 class _TreeReader:
     """expat events straight into the :class:`Element` tree (no ElementTree in between: on
     map data building it and converting it cost three times expat's own parse).
@@ -420,7 +443,7 @@ class _TreeReader:
                     or len(stack) > MAX_DEPTH):
                 return start(name, attr, False)
             parent = stack[-1]
-            if parent is None:
+            if parent.__class__ is not Element:      # skipped, or inside a foreign element
                 return start(name, attr, False)
             if quiet.issuperset(attr):
                 spec = {}
@@ -479,9 +502,22 @@ class _TreeReader:
                 error = "too many elements"
             elif len(stack) > MAX_DEPTH:
                 error = f"elements nest deeper than {MAX_DEPTH} levels"
-            if error is not None or ns != default_ns:
+            # a document whose root has no namespace (read as SVG, as resvg reads it) takes
+            # elements of the SVG namespace too (`<s:rect>` with xmlns:s for SVG): they are
+            # SVG elements whatever the root is
+            if error is not None or tag not in SVG_ELEMENT_NAMES or (
+                    ns != default_ns and not (ns == SVG_NS and default_ns == "")):
                 unmade += 1
-                stack.append(None)   # foreign element: skipped with its subtree
+                if error is not None:
+                    stack.append(None)
+                else:
+                    # foreign or unknown element: not drawn, nor anything in it; the SVG
+                    # elements inside are made, detached (<use> may reference them, as in
+                    # resvg), inheriting from the SVG element around. Paint servers, clips,
+                    # masks, markers, filters and paths there are not found (as in resvg, and
+                    # in browsers, which lay out nothing under an unknown element)
+                    top = stack[-1]
+                    stack.append(_Foreign(top.parent if top.__class__ is _Foreign else top))
                 last[0] = None
                 return
             own[name] = tag
@@ -510,7 +546,12 @@ class _TreeReader:
                     elif key in PRESENTATION:
                         spec[key] = value.strip()
             parent = stack[-1] if stack else None
-            el = Element(tag, attrs, parent, len(parent.children) if parent else 0, doc)
+            if parent.__class__ is _Foreign:
+                el = Element(tag, attrs, parent.parent, 0, doc)
+                doc.detached.append(el)
+                parent = None
+            else:
+                el = Element(tag, attrs, parent, len(parent.children) if parent else 0, doc)
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
@@ -528,7 +569,7 @@ class _TreeReader:
                     parent.children.append(el)
                 else:
                     parent.children = [el]
-            else:
+            elif self.root is None:
                 self.root = el
             stack.append(el)
             last[0] = el
@@ -538,7 +579,7 @@ class _TreeReader:
             if chunks:
                 flush()
             el = stack.pop()
-            if el is None and stack and stack[-1] is not None:
+            if el.__class__ is not Element and stack and stack[-1].__class__ is Element:
                 # the characters after a skipped (foreign) element are still its parent's:
                 # a <text>'s words after an element of another namespace are drawn
                 parent = stack[-1]
@@ -546,6 +587,9 @@ class _TreeReader:
                     last[0], last[1] = parent.children[-1], True
                 else:
                     last[0], last[1] = parent, False
+                return
+            if el.__class__ is not Element:
+                last[0] = None
                 return
             last[0] = el
             last[1] = True
@@ -691,6 +735,8 @@ class Document:
         self.size = 0               # how many elements the tree has
         self.has_use = False        # whether any <use> instantiates content
         self.link_containers = []   # pattern, clipPath and mask elements in document order
+        self.detached = []          # SVG elements inside foreign ones: referable, not drawn
+        self._detached_ids = None
 
     @property
     def ids(self) -> dict:
@@ -704,8 +750,25 @@ class Document:
                     ids.setdefault(ident, el)
         return self._ids
 
-    def lookup(self, ref):
-        """Element for an id, ``#id``, ``url(#id)`` or None."""
+    def lookup(self, ref, detached=False):
+        """Element for an id, ``#id``, ``url(#id)`` or None. ``detached``: an SVG element
+        inside a foreign one may be the answer too (for <use>, which instantiates any element
+        of the document, as resvg's and browsers' do; paint servers, clips, masks, markers
+        and filters there are not drawn, so not found, as in resvg and browsers)."""
+        found = self._lookup(ref)
+        if found is None and detached and self.detached and ref is not None:
+            if self._detached_ids is None:
+                self._detached_ids = {}
+                for top in self.detached:
+                    for el in _descendants(top):
+                        ident = el.attrs.get("id")
+                        if ident is not None:
+                            self._detached_ids.setdefault(ident, el)
+            ref = ref.strip()
+            return self._detached_ids.get(ref[1:] if ref.startswith("#") else ref)
+        return found
+
+    def _lookup(self, ref):
         if ref is None:
             return None
         ref = ref.strip()
@@ -733,6 +796,7 @@ class Document:
             styles.extend(style._children.values())
             style._children = {}
         self.root, self._ids, self.paths, self._doc_styles = None, {}, [], {}
+        self.detached, self._detached_ids = [], None
 
     def document_style(self, el: Element) -> Style:
         """Computed style from the element's document ancestors (for paint servers, clip paths,
@@ -908,7 +972,7 @@ def _cascade(reader, stylesheet):
     # <style> elements anywhere apply to the whole document (even those after their use).
     for node in xml_root.iter():
         nns, _, ntag = node.tag[1:].partition("}") if node.tag[0] == "{" else ("", "", node.tag)
-        if ntag == "style" and nns == default_ns:
+        if ntag == "style" and (nns == default_ns or nns == SVG_NS):
             kind = (node.get("type") or "text/css").strip()
             if kind not in ("", "text/css"):
                 continue

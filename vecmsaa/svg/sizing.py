@@ -49,9 +49,16 @@ def document_size(doc: Document, dpi: float = 96.0):
                                                             dimension("height", 100.0))
     width = dimension("width", vb[2] if vb else 100.0)
     height = dimension("height", vb[3] if vb else 100.0)
-    if vb is not None and root.get("width") is None and root.get("height") is not None:
+
+    def given(name):
+        # `auto` (SVG 2: the replaced element's auto size, which follows the aspect ratio)
+        # and an invalid value (ignored) leave the dimension to the other one, as missing
+        raw = root.get(name)
+        return raw is not None and split_length(raw) is not None
+
+    if vb is not None and not given("width") and given("height"):
         width = height * vb[2] / vb[3]
-    elif vb is not None and root.get("height") is None and root.get("width") is not None:
+    elif vb is not None and not given("height") and given("width"):
         height = width * vb[3] / vb[2]
     if not (width > 0 and height > 0):
         return width, height, (1.0, 0.0, 0.0, 1.0, 0.0, 0.0), (100.0, 100.0)
@@ -110,9 +117,21 @@ def drawing_extent(builder, viewport):
     where its frame's stroke ends; resvg-py 0.5.0 leaves strokes out: 199); the viewport (the
     width and height as far as given, else 100) when it draws nothing."""
     box = None
-    for f in Scene(1, 1, Group(children=builder.build_root((1.0, 0.0, 0.0, 1.0, 0.0, 0.0),
-                                                           viewport))).fills():
-        b = path_bounds(f.path)
+    # what is drawn, strokes included, and, as resvg sizes a document (its root group's
+    # abs_bounding_box), every shape's outline painted or not and text by its object
+    # bounding box (its glyphs' em boxes over their advances) rather than its ink
+    identity = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
+    builder.text_fills = set()
+    try:
+        drawn = Scene(1, 1, Group(children=builder.build_root(identity, viewport))).fills()
+        text = builder.text_fills
+    finally:
+        builder.text_fills = None
+    outlines = Scene(1, 1, Group(children=builder.build_root(identity, viewport,
+                                                             geometry=True))).fills()
+    boxes = [path_bounds(f.path) for f in drawn if id(f) not in text]
+    boxes += [path_bounds(f.path) for f in outlines]
+    for b in boxes:
         if b is not None and all(math.isfinite(v) for v in b):   # as drawn: others are not
             box = union(box, b)
     if box is None or box[2] <= 0 or box[3] <= 0:

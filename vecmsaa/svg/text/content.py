@@ -84,7 +84,7 @@ def collect_chars(text_el, ctx, styles):
                             walk(child, chain + (child,), cstyle, cpres, tp, depth + 1)
                     elif child.tag == "tref":
                         styles[id(child)] = cstyle
-                        target = href_target(child)
+                        target = href_target(child, detached=True)
                         if target is not None and target.tag in SVG_ELEMENTS:
                             add(_all_text(target), child, chain + (child,), depth + 1, cpres,
                                 tp)
@@ -101,12 +101,14 @@ def collect_chars(text_el, ctx, styles):
     return nodes
 
 
-def href_target(el):
-    """The element an ``href="#id"`` (tref, textPath) points at, or None."""
+def href_target(el, detached=False):
+    """The element an ``href="#id"`` (tref, textPath) points at, or None. ``detached``: an
+    element inside a foreign or unknown one may be it too (a tref's characters, as a use's
+    content; a textPath's path there is not found, as in resvg)."""
     ref = (el.get("href") or "").strip()
     if not ref.startswith("#") or el.source is None:
         return None
-    return el.source.lookup(ref)
+    return el.source.lookup(ref, detached=detached)
 
 
 def _all_text(el):

@@ -72,8 +72,10 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
     antialias = (ctx.style.get("text-rendering") or "auto").strip().lower() != "optimizespeed"
-    for fill in _fills_of(out):
+    fills = _fills_of(out)
+    for fill in fills:
         fill.antialias = antialias
+    ctx.note_text_fills(fills)
     return out
 
 
