@@ -813,6 +813,12 @@ class Builder:
             tstyle = style.child(target)
             if tstyle.get("display").strip() == "none":
                 return []
+            # the svg's own transform applies as where it stands (element() does so there)
+            m = self.element_transform(target, tstyle, c)
+            if m is None:
+                return []
+            if m is not IDENTITY:
+                c = replace(c, transform=compose(c.transform, m), chain=c.chain + (m,))
             return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True)
         return self.element(target, c, style)
 
