@@ -221,6 +221,31 @@ def test_switch_takes_first_matching_child():
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
 
 
+def test_switch_bounding_box_is_its_rendered_childs():
+    """A switch renders only its first matching child, so its object bounding box is that
+    child's (SVG 2: the bounding box of a container is of its rendered descendants): the
+    left half of the 40-wide rect, not of the 100-wide one the switch skips."""
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="10"><clipPath id="c" clipPathUnits="objectBoundingBox">'
+        '<rect width="0.5" height="1"/></clipPath><switch clip-path="url(#c)">'
+        '<rect width="40" height="10"/><rect width="100" height="10"/></switch></svg>')
+    assert (img[5, :20, 3] == 255).all() and (img[5, 20:, 3] == 0).all()
+
+
+def test_use_of_svg_takes_the_svgs_transform():
+    """A <use> of a nested <svg> draws it as where it stands, its own transform included
+    (SVG 2: transform applies to svg elements): translate(50) then x="20" puts the 10 x 10
+    rect at 70..80, as drawn in place."""
+    inline = scene('<svg transform="translate(50)" x="20" width="30" height="10">'
+                   '<rect width="10" height="10"/></svg>')
+    used = scene('<defs><svg id="s" transform="translate(50)" x="20" width="30" height="10">'
+                 '<rect width="10" height="10"/></svg></defs><use href="#s"/>')
+    for s in (inline, used):
+        (f,) = s.fills()[:1]
+        assert path_bounds(f.path) == pytest.approx((70, 0, 80, 10))
+
+
 def test_display_none_and_visibility():
     s = scene('<g display="none"><rect width="1" height="1"/></g>'
               '<g visibility="hidden"><rect width="2" height="2"/>'

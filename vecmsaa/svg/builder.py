@@ -544,11 +544,7 @@ class Builder:
         if tag in SHAPES:
             nodes = self.shape(el, c, style)
         elif tag == "switch":
-            nodes = []
-            for child in el.children:
-                if child.tag in RENDERED and conditions_pass(child):
-                    nodes = self.element(child, c, style)
-                    break
+            nodes = self.switch(el, c, style)
         elif tag in CONTAINERS:
             nodes = self.children(el, c, style)
         elif tag == "svg":
@@ -571,6 +567,13 @@ class Builder:
         if self.nodes_by_id is not None and el.id is not None:
             self.nodes_by_id.setdefault(el.id, nodes)
         return nodes
+
+    def switch(self, el, ctx, style):
+        """The nodes of a <switch>: its first child that is rendered and whose conditions hold."""
+        for child in el.children:
+            if child.tag in RENDERED and conditions_pass(child):
+                return self.element(child, ctx, style)
+        return []
 
     def element_transform(self, el, style, ctx):
         """The element's own transform (with transform-origin), None when it is singular."""
@@ -612,6 +615,14 @@ class Builder:
     def wrap(self, el, style, ctx, nodes) -> list:
         """Apply filter, opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
         if ctx.geometry:
+            # an element its filter keeps from being drawn (a url to no filter) adds nothing
+            # to a bounding box either, as in resvg (usvg leaves it out of the tree)
+            f = el.specified.get("filter")
+            if nodes and f and f.strip() != "none":
+                from .filters import element_filters
+                if element_filters(self, el, style, ctx,
+                                   lambda: self.object_bbox(el, ctx, style)) is False:
+                    return []
             return nodes
         if ctx.clip:
             clip_ref = el.specified.get("clip-path")
@@ -694,6 +705,9 @@ class Builder:
         tag = el.tag
         if tag in SHAPES:
             nodes = self.shape(el, g, style)
+        elif tag == "switch":
+            # the child it renders, not the others
+            nodes = self.switch(el, g, style)
         elif tag in CONTAINERS:
             nodes = self.children(el, g, style)
         elif tag == "svg":
