@@ -1160,3 +1160,18 @@ def test_position_list_with_an_overflowing_number_is_cut_there(attr, same):
     plain = render(f'<text x="10" y="60" {same}>Ab</text>')
     got = render(f'<text x="10" y="60" {attr}>Ab</text>')
     assert np.array_equal(got, plain)
+
+
+@pytest.mark.parametrize("href", ['href="#nothing"', 'href="#t"', "", 'href="#empty"'])
+def test_text_around_a_text_path_in_error_is_one_chunk(href):
+    # SVG 2: a textPath whose href names no path or basic shape (or none, or an empty path)
+    # renders none of its characters; the text around it stays one chunk laid out as if the
+    # textPath were not there (as resvg): "H " and " H" are "H  H", ending at x=190
+    body = (f'<path id="empty" d=""/><text id="t" x="190" y="70" kerning="0" '
+            f'text-anchor="end">H <textPath {href}>HH</textPath> H</text>')
+    got = ink_box(alpha(render(body)))
+    width = freetype_advance("H  H", 40)
+    one = ink_box(alpha(render(f'<text x="{190 - width}" y="70">H</text>')))
+    last = ink_box(alpha(render(f'<text x="{190 - freetype_advance("H", 40)}" y="70">H</text>')))
+    assert got[0] == one[0] and got[2] == last[2]
+    assert got[1] == one[1] and got[3] == one[3]
