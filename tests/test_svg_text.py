@@ -1175,3 +1175,17 @@ def test_text_around_a_text_path_in_error_is_one_chunk(href):
     last = ink_box(alpha(render(f'<text x="{190 - freetype_advance("H", 40)}" y="70">H</text>')))
     assert got[0] == one[0] and got[2] == last[2]
     assert got[1] == one[1] and got[3] == one[3]
+
+
+@pytest.mark.parametrize("markup", ['<tspan fill="red">W</tspan>M',
+                                    '<tspan><tspan fill="red">W</tspan></tspan>M',
+                                    '<tspan fill="red">W</tspan><tspan fill="black">M</tspan>'])
+def test_glyphs_are_painted_in_the_order_of_their_characters(markup):
+    # SVG 1.1 §10.4 / SVG 2 text rendering order: glyphs in the logical order of the
+    # characters, so the text's own M after a red span's W is painted over it
+    both = render(f'<text x="20 20" y="70">{markup}</text>', mode="reference")
+    w = alpha(render('<text x="20" y="70">W</text>', mode="reference")) > 0.999
+    m = alpha(render('<text x="20" y="70">M</text>', mode="reference")) > 0.999
+    overlap = w & m
+    assert overlap.sum() > 50
+    assert (both[overlap][:, :3] == 0).all()
