@@ -1172,3 +1172,32 @@ def test_a_document_without_a_size_takes_the_object_bounding_box_of_its_text():
            'font-family="Noto Sans">H</text></svg>')
     img = render_svg_array(svg, **FONTS)
     assert img.shape[1::-1] == (40, 62)
+
+
+@pytest.mark.parametrize("href", ['href="#nothing"', 'href="#t"', "", 'href="#empty"'])
+def test_text_around_a_text_path_in_error_is_one_chunk(href):
+    # SVG 2: a textPath whose href names no path or basic shape (or none, or an empty path)
+    # renders none of its characters; the text around it stays one chunk laid out as if the
+    # textPath were not there (as resvg): "H " and " H" are "H  H", ending at x=190
+    body = (f'<path id="empty" d=""/><text id="t" x="190" y="70" kerning="0" '
+            f'text-anchor="end">H <textPath {href}>HH</textPath> H</text>')
+    got = ink_box(alpha(render(body)))
+    width = freetype_advance("H  H", 40)
+    one = ink_box(alpha(render(f'<text x="{190 - width}" y="70">H</text>')))
+    last = ink_box(alpha(render(f'<text x="{190 - freetype_advance("H", 40)}" y="70">H</text>')))
+    assert got[0] == one[0] and got[2] == last[2]
+    assert got[1] == one[1] and got[3] == one[3]
+
+
+@pytest.mark.parametrize("markup", ['<tspan fill="red">W</tspan>M',
+                                    '<tspan><tspan fill="red">W</tspan></tspan>M',
+                                    '<tspan fill="red">W</tspan><tspan fill="black">M</tspan>'])
+def test_glyphs_are_painted_in_the_order_of_their_characters(markup):
+    # SVG 1.1 §10.4 / SVG 2 text rendering order: glyphs in the logical order of the
+    # characters, so the text's own M after a red span's W is painted over it
+    both = render(f'<text x="20 20" y="70">{markup}</text>', mode="reference")
+    w = alpha(render('<text x="20" y="70">W</text>', mode="reference")) > 0.999
+    m = alpha(render('<text x="20" y="70">M</text>', mode="reference")) > 0.999
+    overlap = w & m
+    assert overlap.sum() > 50
+    assert (both[overlap][:, :3] == 0).all()

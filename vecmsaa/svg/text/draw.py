@@ -1,4 +1,4 @@
-"""Text drawing: glyph outlines grouped by element, filled and stroked through the builder
+"""Text drawing: glyph outlines in runs of one element, filled and stroked through the builder
 (``ctx.draw``), colour glyphs drawn in their own colours, and text decorations as rectangles
 under/over the glyphs; the object bounding box of text as resvg computes it."""
 from __future__ import annotations
@@ -10,7 +10,6 @@ from ...fonts.layout import glyphs_arrays
 from ...scene.nodes import Fill, ImagePaint, Solid
 from ...scene.path import Path, rect_path
 from ...scene.transform import compose
-from .content import TEXT_CONTENT
 from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 
 def text_bbox(clusters):
@@ -36,10 +35,15 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     visible = [c for c in clusters if c.visible]
     if not visible:
         return []
-    by_el = {}
-    for c in visible:
+    # Glyphs are painted in the logical order of their characters, whatever the bidi
+    # reordering (SVG 1.1 §10.4, SVG 2 text rendering order), as runs of consecutive
+    # characters of one element: an element's text after a child's is painted over it.
+    runs = []
+    for c in sorted(visible, key=lambda c: c.char):
         el = chars[c.char].el
-        by_el.setdefault(id(el), (el, []))[1].extend(c.glyphs)
+        if not runs or runs[-1][0] is not el:
+            runs.append((el, []))
+        runs[-1][1].extend(c.glyphs)
     bbox = text_bbox(visible)
     if bbox is None:
         return []
@@ -54,18 +58,17 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
         x0, y0, x1, y1 = bbox
         return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
-    nodes_by_el = {}
-    for key, (el, glyphs) in by_el.items():
-        style = styles[id(el)]
-        if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
-            continue
-        path = _glyph_path(glyphs)
-        nodes_by_el.setdefault(key, []).extend(_color_or_plain(glyphs, path, style, ctx, bbox))
     out = []
     for kind in ("underline", "overline"):
         for deco_style, path in decorations.get(kind, []):
             out.extend(ctx.draw(path, deco_style, bbox))
-    out.extend(_wrap_tree(text_el, nodes_by_el, ctx, styles, top=True))
+    # Like resvg, opacity, clip-path, mask and filter on tspan-level elements are not
+    # applied (only on <text> itself, by the builder).
+    for el, glyphs in runs:
+        style = styles[id(el)]
+        if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
+            continue
+        out.extend(_color_or_plain(glyphs, _glyph_path(glyphs), style, ctx, bbox))
     for deco_style, path in decorations.get("line-through", []):
         out.extend(ctx.draw(path, deco_style, bbox))
     # Antialiasing of text, decorations included, is the <text> element's text-rendering
@@ -144,17 +147,6 @@ def _fills_of(nodes):
         else:
             stack.extend(reversed(n.children))
     return out
-
-
-def _wrap_tree(el, nodes_by_el, ctx, styles, top=False):
-    """Nodes of an element's subtree in document order. Like resvg, opacity, clip-path, mask
-    and filter on tspan-level elements are not applied (only on <text> itself, by the
-    builder)."""
-    nodes = list(nodes_by_el.get(id(el), []))
-    for c in el.children:
-        if c.tag in TEXT_CONTENT and id(c) in styles:
-            nodes.extend(_wrap_tree(c, nodes_by_el, ctx, styles))
-    return nodes
 
 
 def text_decorations(text_el, chars, clusters, styles, vertical):

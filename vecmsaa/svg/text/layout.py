@@ -19,7 +19,7 @@ from ..units import split_length, to_px
 from .content import apply_positions, collapse_white_space, collect_chars
 from .draw import draw_clusters
 from .font_match import assign_faces, face_location, font_database, font_spec
-from .on_path import position_on_path
+from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
 #: code point ranges: Arabic, Syriac, NKo, Mandaic, Devanagari, Bengali, Gurmukhi, Ogham,
@@ -459,6 +459,18 @@ def build_text(element, ctx):
     if not chars:
         return []
     apply_positions(element, chars, ctx, styles)
+    # A textPath in error renders none of its characters (SVG 2 textPath): they take no
+    # place in the text either, so the text around it is one chunk, as if the textPath were
+    # not there (SVG 2 leaves the position after it open; resvg drops it so). They have
+    # taken their values of the x/y/dx/dy/rotate lists above, which the text after it does
+    # not get.
+    walkers = {}
+    for c in chars:
+        if c.text_path is not None and id(c.text_path) not in walkers:
+            walkers[id(c.text_path)] = path_walker(c.text_path, ctx)
+    chars = [c for c in chars if c.text_path is None or walkers[id(c.text_path)] is not None]
+    if not chars:
+        return []
     db = font_database(ctx)
     spec_cache = {}
     specs = []
@@ -518,7 +530,8 @@ def build_text(element, ctx):
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
             start = chunk_x + anchor_shift(anchor, sum(c.advance for c in clusters))
-            last_x, last_y = position_on_path(clusters, chars, first.text_path, start, ctx,
+            last_x, last_y = position_on_path(clusters, chars, first.text_path,
+                                              walkers[id(first.text_path)], start, ctx,
                                               styles, shifts)
         else:
             x = first.x if first.x is not None else last_x

@@ -8,25 +8,26 @@ from ...scene.transform import compose, rotate_at, translate
 from .content import href_target
 
 
-def position_on_path(clusters, chars, text_path, start, ctx, styles, shifts):
-    """Clusters along a textPath from arc length ``start`` (the chunk's x moved by its
-    text-anchor) plus startOffset: each cluster's midpoint on the path, turned to its tangent,
-    then moved off the path by dy and baseline shifts; returns the pen at the end."""
+def path_walker(text_path, ctx):
+    """The walker along a textPath's path, or None when the textPath is in error: its href
+    names no path or basic shape, or an empty one, or one with infinite coordinates (or a
+    length that overflows)."""
     target = href_target(text_path)
     path = ctx.path_of(target) if target is not None else None
-    walker = None
-    if path is not None and not path.is_empty():
-        a, b, cc, d = ctx.transform[:4]
-        # resvg's tolerance follows the text's transform in the SVG's own units, before the
-        # output is scaled to its pixel size: divide that scaling out.
-        walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d))
-                            / ctx.root_scale)
-    # a path with infinite coordinates (or a length that overflows) is not drawn, and has no
-    # length to lay text along
-    if walker is None or not math.isfinite(walker.length):
-        for c in clusters:
-            c.visible = False
-        return 0.0, 0.0
+    if path is None or path.is_empty():
+        return None
+    a, b, cc, d = ctx.transform[:4]
+    # resvg's tolerance follows the text's transform in the SVG's own units, before the
+    # output is scaled to its pixel size: divide that scaling out.
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / ctx.root_scale)
+    return walker if math.isfinite(walker.length) else None
+
+
+def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shifts):
+    """Clusters along a textPath (``walker`` along its path) from arc length ``start`` (the
+    chunk's x moved by its text-anchor) plus startOffset: each cluster's midpoint on the path,
+    turned to its tangent, then moved off the path by dy and baseline shifts; returns the pen
+    at the end."""
     style = styles.get(id(text_path), ctx.style)
     offset = 0.0
     start_offset = text_path.get("startOffset")
