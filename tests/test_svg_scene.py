@@ -34,6 +34,15 @@ def test_rect_through_viewbox_and_output_width():
     assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 40, 60))
 
 
+@pytest.mark.parametrize("viewbox", ["0 0 200 100", "40 -20 200 100", "-100 50 400 200"])
+def test_root_background_fills_the_viewbox_wherever_it_starts(viewbox):
+    # the root's background-color fills the viewBox's rectangle, here the whole 100 x 50
+    # document, whatever the viewBox's origin (the fill was placed at 0, 0 in user space)
+    s = scene("", f'width="100" height="50" viewBox="{viewbox}" '
+                  'style="background-color: #0000ff80"')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 100, 50))
+
+
 def test_height_only_keeps_aspect_ratio():
     s = scene("", 'width="40" height="10"', height=25)
     assert (s.width, s.height) == (100, 25)

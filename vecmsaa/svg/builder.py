@@ -257,7 +257,9 @@ class Builder:
         nodes = self.children(root, ctx, style)
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
-            box = rect_path(0, 0, *viewport).transformed(transform)
+            # the viewBox's own rectangle, as resvg fills it: its origin need not be (0, 0)
+            vb = parse_viewbox(root.get("viewBox"))
+            box = rect_path(*(vb[:2] if vb else (0, 0)), *viewport).transformed(transform)
             nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
         return self.wrap(root, style, ctx, nodes)
 
