@@ -1160,3 +1160,18 @@ def test_position_list_with_an_overflowing_number_is_cut_there(attr, same):
     plain = render(f'<text x="10" y="60" {same}>Ab</text>')
     got = render(f'<text x="10" y="60" {attr}>Ab</text>')
     assert np.array_equal(got, plain)
+
+
+@pytest.mark.parametrize("attr, text", [("letter-spacing", "HHH"), ("word-spacing", "H H H"),
+                                        ("textLength", "HHH")])
+def test_percentage_spacing_and_text_length_are_of_the_normalized_diagonal(attr, text):
+    # SVG 2 §8.9: a percentage of a length that is neither horizontal nor vertical is of
+    # the viewport's normalized diagonal, sqrt((w² + h²) / 2): 158.11 for 200 x 100, where
+    # these were taken of the width (200)
+    diagonal = ((200 ** 2 + 100 ** 2) / 2) ** 0.5
+    pct = 30 if attr == "textLength" else 10
+    as_pct = render(f'<text x="5" y="60" {attr}="{pct}%">{text}</text>')
+    as_len = render(f'<text x="5" y="60" {attr}="{pct * diagonal / 100!r}">{text}</text>')
+    as_width = render(f'<text x="5" y="60" {attr}="{pct * 2}">{text}</text>')
+    assert not np.array_equal(as_len, as_width)
+    assert np.abs(as_pct.astype(int) - as_len).max() <= 1
