@@ -1175,3 +1175,19 @@ def test_percentage_spacing_and_text_length_are_of_the_normalized_diagonal(attr,
     as_width = render(f'<text x="5" y="60" {attr}="{pct * 2}">{text}</text>')
     assert not np.array_equal(as_len, as_width)
     assert np.abs(as_pct.astype(int) - as_len).max() <= 1
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_fill_rule_and_clip_rule_do_not_apply_to_text(clip):
+    # SVG 2 text rendering order: fill-rule does not apply to text, so glyphs pulled over
+    # each other (letter-spacing -15 at size 40) leave no evenodd holes where they overlap;
+    # nor does clip-rule in a clip path (the suite's clip-rule test with overlapping spans)
+    def draw(rule):
+        text = f'<text x="5" y="60" letter-spacing="-15" {rule}>HHHH</text>'
+        if clip:
+            return render(f'<clipPath id="c">{text.replace("fill-", "clip-")}</clipPath>'
+                          '<rect width="200" height="100" clip-path="url(#c)"/>')
+        return render(text)
+    plain = draw("")
+    assert plain[..., 3].any()
+    assert np.array_equal(draw('fill-rule="evenodd"'), plain)
