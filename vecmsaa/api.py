@@ -219,7 +219,8 @@ class _Loaded:
         try:
             return self.builder.build_root(compose(compose(to_device, root_transform),
                                                    self.root_m), self.viewport,
-                                           root_scale=root_scale)
+                                           root_scale=root_scale,
+                                           canvas=compose(to_device, self.root_m))
         except RecursionError:
             raise SvgError("document nesting is too deep") from None
         finally:

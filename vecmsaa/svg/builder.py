@@ -244,8 +244,9 @@ class Builder:
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
-    def build_root(self, transform, viewport, root_scale=1.0) -> list:
-        """Nodes of the root <svg>'s content under ``transform`` (user → device)."""
+    def build_root(self, transform, viewport, root_scale=1.0, canvas=None) -> list:
+        """Nodes of the root <svg>'s content under ``transform`` (user → device); ``canvas``
+        is that matrix without the root's own ``transform`` (by default ``transform``)."""
         self.root_scale = root_scale
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
@@ -254,14 +255,18 @@ class Builder:
         if style.get("display").strip() == "none" or not conditions_pass(root):
             return []
         ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,))
-        nodes = self.children(root, ctx, style)
+        out = self.wrap(root, style, ctx, self.children(root, ctx, style))
         background = parse_color(root.specified.get("background-color") or "transparent")
         if background not in (None, "currentColor") and background[3] > 0:
-            # the viewBox's own rectangle, as resvg fills it: its origin need not be (0, 0)
+            # the viewBox's own rectangle, as resvg fills it: its origin need not be (0, 0).
+            # It is the canvas's background (CSS Backgrounds 3 §2.11.2), so the root's
+            # transform, opacity, clip, mask and filter, which apply to the element, do not
+            # apply to it (as resvg draws it)
             vb = parse_viewbox(root.get("viewBox"))
-            box = rect_path(*(vb[:2] if vb else (0, 0)), *viewport).transformed(transform)
-            nodes.insert(0, Fill(box, Solid(tuple(float(c) for c in background))))
-        return self.wrap(root, style, ctx, nodes)
+            box = rect_path(*(vb[:2] if vb else (0, 0)), *viewport).transformed(
+                transform if canvas is None else canvas)
+            out = [Fill(box, Solid(tuple(float(c) for c in background)))] + out
+        return out
 
     def root_transform(self, width, height):
         """The root <svg>'s own transform in its viewport's px (None when singular)."""
