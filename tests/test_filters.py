@@ -621,6 +621,34 @@ def test_offset_under_rotation_steps_by_resvgs_f32_scale(angle):
     F.offset(np.zeros((8, 8, 4), np.float32), offset.dx, offset.dy)   # it runs on them
 
 
+def test_filter_scale_under_nested_transforms_is_resvgs_f32_chain():
+    # resvg concatenates the root's matrix and each element's in f32: scale(1.5) then a
+    # group's rotate(25) gives entries f32(1.5 * f32(cos 25°)) and f32(1.5 * f32(-sin 25°)),
+    # whose f32 row norm is 1.5000001, so a radius of 4 units is 6.0000005 px (windows of
+    # 7) where the f64 product's entries give exactly 1.5 (6 px)
+    from vecmsaa.api import load_svg
+    from vecmsaa.scene.nodes import Morphology
+
+    scene = load_svg(f'<svg {NS} width="300" height="300" viewBox="0 0 200 200"><filter '
+                     'id="f"><feMorphology operator="dilate" radius="4 2"/></filter>'
+                     '<g transform="rotate(25 100 100)"><rect x="40" y="60" width="120" '
+                     'height="80" filter="url(#f)"/></g></svg>')
+    stack, effects = [scene.root], []
+    while stack:
+        node = stack.pop()
+        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
+        stack.extend(getattr(node, "children", []))
+    (morph,) = [e for e in effects if isinstance(e, Morphology)]
+    f = np.float32
+    a = f(f(1.5) * f(math.cos(math.radians(25))))
+    c = f(f(1.5) * f(-math.sin(math.radians(25))))
+    norm = np.sqrt(a * a + c * c)
+    assert norm > 1.5
+    assert (morph.rx, morph.ry) == (pytest.approx(float(4 * norm), abs=1e-12),
+                                    pytest.approx(float(2 * norm), abs=1e-12))
+    assert math.ceil(morph.rx) == 7
+
+
 def test_a_pixel_whose_alpha_rounds_to_zero_in_8_bits_has_no_colour():
     # luminanceToAlpha of a blur's far tail: at alpha 0.001 (0 in 8 bits, where resvg and
     # browsers filter) there is no colour to take the luminance of; at 0.01 (3/255) there is

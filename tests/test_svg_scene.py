@@ -34,6 +34,33 @@ def test_rect_through_viewbox_and_output_width():
     assert path_bounds(only_fill(s).path) == pytest.approx((10, 20, 40, 60))
 
 
+@pytest.mark.parametrize("viewbox", ["0 0 200 100", "40 -20 200 100", "-100 50 400 200"])
+def test_root_background_fills_the_viewbox_wherever_it_starts(viewbox):
+    # the root's background-color fills the viewBox's rectangle, here the whole 100 x 50
+    # document, whatever the viewBox's origin (the fill was placed at 0, 0 in user space)
+    s = scene("", f'width="100" height="50" viewBox="{viewbox}" '
+                  'style="background-color: #0000ff80"')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 100, 50))
+
+
+@pytest.mark.parametrize("attr", ['opacity="0.5"', 'transform="rotate(30 50 50)"',
+                                  'filter="url(#f)"', 'clip-path="url(#c)"'])
+def test_root_background_is_the_canvas_not_the_element(attr):
+    # CSS Backgrounds 3 §2.11.2: the root's background is the canvas's, so the root's
+    # opacity, transform, filter and clip (which apply to the element) leave it alone: the
+    # whole 100 x 100 canvas is opaque blue outside the drawing (it was half transparent,
+    # turned with the content, offset or clipped away)
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100" viewBox="0 0 100 100" {attr} '
+        'style="background-color: blue"><filter id="f"><feOffset dx="30"/></filter>'
+        '<clipPath id="c"><rect width="10" height="10"/></clipPath>'
+        '<rect x="40" y="40" width="20" height="20" fill="lime"/></svg>', mode="analytic")
+    outside = np.ones((100, 100), bool)
+    outside[20:80, 20:95] = False                     # wherever the rect may be drawn
+    assert (img[outside] == (0, 0, 255, 255)).all()
+
+
 def test_height_only_keeps_aspect_ratio():
     s = scene("", 'width="40" height="10"', height=25)
     assert (s.width, s.height) == (100, 25)

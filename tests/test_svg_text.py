@@ -1201,3 +1201,35 @@ def test_glyphs_are_painted_in_the_order_of_their_characters(markup):
     overlap = w & m
     assert overlap.sum() > 50
     assert (both[overlap][:, :3] == 0).all()
+
+
+
+@pytest.mark.parametrize("attr, text", [("letter-spacing", "HHH"), ("word-spacing", "H H H"),
+                                        ("textLength", "HHH")])
+def test_percentage_spacing_and_text_length_are_of_the_normalized_diagonal(attr, text):
+    # SVG 2 §8.9: a percentage of a length that is neither horizontal nor vertical is of
+    # the viewport's normalized diagonal, sqrt((w² + h²) / 2): 158.11 for 200 x 100, where
+    # these were taken of the width (200)
+    diagonal = ((200 ** 2 + 100 ** 2) / 2) ** 0.5
+    pct = 30 if attr == "textLength" else 10
+    as_pct = render(f'<text x="5" y="60" {attr}="{pct}%">{text}</text>')
+    as_len = render(f'<text x="5" y="60" {attr}="{pct * diagonal / 100!r}">{text}</text>')
+    as_width = render(f'<text x="5" y="60" {attr}="{pct * 2}">{text}</text>')
+    assert not np.array_equal(as_len, as_width)
+    assert np.abs(as_pct.astype(int) - as_len).max() <= 1
+
+
+@pytest.mark.parametrize("clip", [False, True])
+def test_fill_rule_and_clip_rule_do_not_apply_to_text(clip):
+    # SVG 2 text rendering order: fill-rule does not apply to text, so glyphs pulled over
+    # each other (letter-spacing -15 at size 40) leave no evenodd holes where they overlap;
+    # nor does clip-rule in a clip path (the suite's clip-rule test with overlapping spans)
+    def draw(rule):
+        text = f'<text x="5" y="60" letter-spacing="-15" {rule}>HHHH</text>'
+        if clip:
+            return render(f'<clipPath id="c">{text.replace("fill-", "clip-")}</clipPath>'
+                          '<rect width="200" height="100" clip-path="url(#c)"/>')
+        return render(text)
+    plain = draw("")
+    assert plain[..., 3].any()
+    assert np.array_equal(draw('fill-rule="evenodd"'), plain)

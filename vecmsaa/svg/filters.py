@@ -30,8 +30,9 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
-from .units import (ANGLE_DEG, box_coord, parse_number, parse_number_list, parse_number_prefix,
-                    parse_opacity, row_scale_f32, split_length, url_argument)
+from .units import (ANGLE_DEG, box_coord, f32_chain, parse_number, parse_number_list,
+                    parse_number_prefix, parse_opacity, row_scale_f32, split_length,
+                    url_argument)
 
 _FUNCTION = re.compile(r"\s*([a-zA-Z-]+)\(\s*((?:[^()]|\([^()]*\))*?)\s*\)\s*")
 PRIMITIVE_TAGS = {
@@ -212,7 +213,8 @@ class PrimitiveResolver:
         self.builder, self.el, self.ctx = builder, el, ctx
         self.region = region                  # user-space x, y, w, h
         self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
-        sx, sy = row_scale_f32(ctx.transform)
+        # the scale of resvg's f32 matrix chain (see f32_chain)
+        sx, sy = row_scale_f32(f32_chain(ctx.chain, ctx.transform))
         if obb_box is not None:
             sx *= obb_box[2] - obb_box[0]
             sy *= obb_box[3] - obb_box[1]
@@ -453,7 +455,7 @@ class PrimitiveResolver:
         octaves = parse_number(fe.get("numOctaves"), 1.0)
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
-        sx, sy = row_scale_f32(self.ctx.transform)
+        sx, sy = row_scale_f32(f32_chain(self.ctx.chain, self.ctx.transform))
         # a fractional count rounds half away from zero, as usvg rounds it (0.5 is one octave;
         # Python's round() would make it none); octaves past MAX_OCTAVES add under 1/4096 of
         # the first one: not a visible level
@@ -477,7 +479,7 @@ class PrimitiveResolver:
         style = b.doc.document_style(fe)
         x, y, w, h = self.user_subregion(fe)
         sub = self.subregion(fe)
-        sx, sy = row_scale_f32(self.ctx.transform)
+        sx, sy = row_scale_f32(f32_chain(self.ctx.chain, self.ctx.transform))
         if href.startswith("#"):
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
@@ -632,7 +634,7 @@ def f32_product(length, scale):
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
-    sx, sy = row_scale_f32(ctx.transform)
+    sx, sy = row_scale_f32(f32_chain(ctx.chain, ctx.transform))
     linear = False                      # filter functions work in sRGB
     if name == "blur":
         std = _css_length(builder, args or "0", style, ctx)

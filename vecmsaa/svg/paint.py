@@ -17,8 +17,9 @@ import numpy as np
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_svg_color as parse_color
-from .units import (NUMBER_RE, box_coord, row_scale, row_scale_f32, parse_aspect,
-                    parse_opacity, parse_transform, parse_viewbox, split_length, viewbox_transform)
+from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
+                    row_scale_f32, parse_aspect, parse_opacity, parse_transform, parse_viewbox,
+                    split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 #: what a paint server with a singular transform (element, gradientTransform, patternTransform)
@@ -233,9 +234,9 @@ def pattern(builder, el, ctx, bbox):
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
-    element32 = _f32_chain(ctx)
-    pattern32 = _f32(pattern_m)
-    sx, sy = row_scale_f32(_concat32(element32, pattern32))
+    element32 = f32_chain(ctx.chain, ctx.transform)
+    pattern32 = f32_matrix(pattern_m)
+    sx, sy = row_scale_f32(concat_f32(element32, pattern32))
     sx32, sy32 = np.float32(sx), np.float32(sy)
     if sx <= 0 or sy <= 0:
         return None
@@ -299,9 +300,9 @@ def pattern(builder, el, ctx, bbox):
     # at 1) and scales that miss 1 by an ulp (300/131 px per unit).
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         f = np.float32
-        ts2 = _concat32(_concat32(pattern32, (1.0, 0.0, 0.0, 1.0, float(f(x)), float(f(y)))),
+        ts2 = concat_f32(concat_f32(pattern32, (1.0, 0.0, 0.0, 1.0, float(f(x)), float(f(y)))),
                         (float(f(1) / sx32), 0.0, 0.0, float(f(1) / sy32), 0.0, 0.0))
-        total = _concat32(element32, ts2)
+        total = concat_f32(element32, ts2)
     crisp = total[0] == 1.0 and total[3] == 1.0 and total[1] == 0.0 and total[2] == 0.0
     return PatternPaint(content, tw, th, to_paint, smooth=not crisp)
 
@@ -316,41 +317,6 @@ _TREE_ELEMENTS = frozenset(
 
 def _is_child(el):
     return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
-
-
-def _f32(m):
-    """A matrix's entries rounded to f32 (as floats)."""
-    return tuple(float(np.float32(v)) for v in m)
-
-
-def _concat32(a, b):
-    """a ∘ b as tiny-skia concatenates: each entry a sum of products in f64, rounded to f32."""
-    a0, a1, a2, a3, a4, a5 = a
-    b0, b1, b2, b3, b4, b5 = b
-    return tuple(float(np.float32(v)) for v in (
-        a0 * b0 + a2 * b1, a1 * b0 + a3 * b1, a0 * b2 + a2 * b3, a1 * b2 + a3 * b3,
-        a0 * b4 + a2 * b5 + a4, a1 * b4 + a3 * b5 + a5))
-
-
-def _f32_chain(ctx):
-    """The element's device matrix as resvg composes it: the root's and each element's
-    transform (``ctx.chain``) each in f32, concatenated in f32 (not the f64 product rounded):
-    under a rotation the two differ by an ulp of the row norm, and a pattern tile of
-    n + 1/2 px rounds to n in one and n + 1 in the other (17 units at 1.5 px each under
-    rotate(13) on the element and rotate(32) on the pattern: 26 px in resvg, 25 from the
-    product). What the chain does not hold (a use's x/y, nested viewports) comes last."""
-    with np.errstate(over="ignore", invalid="ignore"):
-        product = IDENTITY
-        for m in ctx.chain:
-            product = compose(product, m)
-        try:
-            rest = compose(invert(product), ctx.transform)
-        except ValueError:
-            return _f32(ctx.transform)
-        out = IDENTITY
-        for m in ctx.chain + (rest,):
-            out = _concat32(out, _f32(m))
-        return out
 
 
 def _tile_pixels(length, scale):

@@ -105,7 +105,7 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
     drawn after it goes over the bitmap), a run of outline glyphs as one path."""
     special = [g for g in glyphs if is_color_glyph(g.face, g.gid) or has_svg_glyph(g.face, g.gid)]
     if not special:
-        return ctx.draw(path, style, bbox) if not path.is_empty() else []
+        return _nonzero(ctx.draw(path, style, bbox)) if not path.is_empty() else []
     ref = ctx.resolve_paint(style, "fill", bbox)
     paint = ref.paint if ref is not None else Solid()
     out, plain = [], []
@@ -113,7 +113,7 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
     def flush():
         plain_path = _glyph_path(plain) if plain else None
         if plain_path is not None and not plain_path.is_empty():
-            out.extend(ctx.draw(plain_path, style, bbox))
+            out.extend(_nonzero(ctx.draw(plain_path, style, bbox)))
         plain.clear()
 
     for g in glyphs:
@@ -136,6 +136,17 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
         out.extend(nodes)
     flush()
     return out
+
+
+def _nonzero(nodes):
+    """Glyph outlines fill by the nonzero rule whatever fill-rule (and, in a clip path,
+    clip-rule) says: SVG 2 text rendering order, "the fill-rule property does not apply to
+    SVG text elements" (as resvg), so the overlapping contours of joined Arabic glyphs and
+    of overlapping spans leave no holes."""
+    for n in nodes:
+        if isinstance(n, Fill):
+            n.rule = "nonzero"
+    return nodes
 
 
 def _fills_of(nodes):

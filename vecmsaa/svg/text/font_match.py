@@ -420,7 +420,9 @@ def _spacing(value, ctx, style):
     v = (value or "normal").strip()
     if v == "normal":
         return 0.0
-    return ctx.length(v, "x", style, 0.0) or 0.0
+    # a percentage is of the viewport's normalized diagonal (SVG 2 §8.9: a length that is
+    # neither horizontal nor vertical), as resvg takes it, not of its width
+    return ctx.length(v, "xy", style, 0.0) or 0.0
 
 
 def font_database(ctx) -> FontDatabase:

@@ -497,7 +497,8 @@ def build_text(element, ctx):
         value = el.get("textLength")
         if value is None or id(el) in text_length:
             continue
-        length = ctx.length(value, "x", styles.get(id(el), ctx.style))
+        # (a percentage: of the viewport's normalized diagonal, as for the spacings)
+        length = ctx.length(value, "xy", styles.get(id(el), ctx.style))
         if length is not None and length >= 0:
             text_length[id(el)] = (length, (el.get("lengthAdjust") or "spacing").strip())
     # baseline shift of every character (positive moves down)
