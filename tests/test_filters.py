@@ -834,3 +834,41 @@ def test_a_filter_drawing_its_own_element_leaves_it_unfiltered_and_instances_fil
     img = render(flt.format(dx=0) + f'<defs>{rect}</defs><use href="#r" x="30"/>', size=200)
     assert img[80, 58, 3] == 255 and img[80, 177, 3] == 255
     assert img[80, 57, 3] == 0 and img[80, 178, 3] == 0
+
+
+def _effects(scene):
+    stack, effects = [scene.root], []
+    while stack:
+        node = stack.pop()
+        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
+        stack.extend(getattr(node, "children", []))
+    return effects
+
+
+def test_morphology_radius_under_a_rotation_is_resvgs_f32_product():
+    # resvg composes the root's scale and the group's rotation each as an f32 matrix, in
+    # f32, takes the row norm in f32 (tiny-skia's get_scale) and the radius times it in f32;
+    # its window is 2·ceil(r) px. At 1.5 px per unit under rotate(25) that norm is 1.5000001,
+    # so a radius of 10 units is ceil(15.000001) = 16 px (the rounded f64 product gives
+    # 1.5 and 15 px): the dilation then reaches 16 px below the source and 15 above.
+    from vecmsaa.api import load_svg
+    from vecmsaa.scene.nodes import Morphology
+
+    f = np.float32
+    cos, sin = f(math.cos(math.radians(25))), f(math.sin(math.radians(25)))
+    a, c = f(f(1.5) * cos), f(f(1.5) * -sin)
+    r = f(f(10) * np.sqrt(f(a * a + c * c)))
+    assert math.ceil(r) == 16                                      # the truth's premise
+    body = ('<g transform="rotate(25 100 100)"><rect x="70" y="70" width="60" height="60" '
+            'filter="url(#f)"/></g>')
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><filter id="f" x="-1" '
+           f'y="-1" width="3" height="3"><feMorphology operator="dilate" radius="10"/></filter>'
+           f'{body}</svg>')
+    (m,) = [e for e in _effects(load_svg(svg)) if isinstance(e, Morphology)]
+    assert (m.rx, m.ry) == (float(r), float(r))
+    dilated = render_svg_array(svg)[..., 3]
+    plain = render_svg_array(svg.replace(' filter="url(#f)"', ""))[..., 3]
+    rows = lambda al: np.nonzero(al.max(1))[0]
+    assert rows(dilated)[0] == rows(plain)[0] - 15        # max over [y - 16, y + 15]
+    assert rows(dilated)[-1] == rows(plain)[-1] + 16
+

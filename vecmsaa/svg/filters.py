@@ -212,7 +212,7 @@ class PrimitiveResolver:
         self.builder, self.el, self.ctx = builder, el, ctx
         self.region = region                  # user-space x, y, w, h
         self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
-        sx, sy = row_scale_f32(ctx.transform)
+        sx, sy = device_scale(ctx)
         if obb_box is not None:
             sx *= obb_box[2] - obb_box[0]
             sy *= obb_box[3] - obb_box[1]
@@ -400,8 +400,10 @@ class PrimitiveResolver:
                 rx, ry = 1.0, 1.0
         # a radius overflowing to infinity in device pixels (1.7e308 × 10) is as wide as any
         # huge one: past the image either way, and infinity has no whole number of pixels
-        return Morphology(op, min(rx * self.scale[0], F32_MAX),
-                          min(ry * self.scale[1], F32_MAX)), (inp,)
+        # resvg's window is 2·ceil(r) pixels, r = radius × scale in f32: an ulp over a whole
+        # number is a pixel more on each side
+        return Morphology(op, f32_product(rx, self.scale[0]),
+                          f32_product(ry, self.scale[1])), (inp,)
 
     def lighting(self, fe, style, specular):
         """The Lighting effect, or None for a primitive usvg drops (no light source, specular
@@ -629,10 +631,26 @@ def f32_product(length, scale):
     return v if math.isfinite(v) else math.copysign(F32_MAX, v)
 
 
+def device_matrix(ctx):
+    """The element's matrix as resvg composes it (paint._f32_chain)."""
+    from .paint import _f32_chain
+
+    return _f32_chain(ctx)
+
+
+def device_scale(ctx):
+    """The factors resvg scales filter lengths by (tiny-skia's get_scale: the row norms in
+    f32) of the element's matrix as resvg composes it, each transform in f32 and concatenated
+    in f32 (paint._f32_chain), not of the f64 product rounded: under rotate(25) at 1.5 px per
+    unit the first is 1.5000001, the second 1.5, and a morphology radius of 10 units,
+    ceil(15.000001), reaches 16 pixels in resvg."""
+    return row_scale_f32(device_matrix(ctx))
+
+
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
-    sx, sy = row_scale_f32(ctx.transform)
+    sx, sy = device_scale(ctx)
     linear = False                      # filter functions work in sRGB
     if name == "blur":
         std = _css_length(builder, args or "0", style, ctx)
