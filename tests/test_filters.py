@@ -872,3 +872,21 @@ def test_morphology_radius_under_a_rotation_is_resvgs_f32_product():
     assert rows(dilated)[0] == rows(plain)[0] - 15        # max over [y - 16, y + 15]
     assert rows(dilated)[-1] == rows(plain)[-1] + 16
 
+
+def test_nested_viewport_places_filter_region_edges_as_usvgs_f32_viewbox():
+    # usvg maps a nested viewBox in f32: meeting 120 x 160 with viewBox -20 -20 100 100, the
+    # scale is f32(1.2) = 1.20000005, the vertical slack (160 - f32(100 x 1.2)) / 2 =
+    # 19.9999962, so y = 10 lands at 20 + 24 + 19.9999962 + 12.0000005 → ×1.5 = 113.999996:
+    # the filter region starts in row 113 (exactly: 114) and spans 144 rows.
+    f = np.float32
+    s = f(f(120) / f(100))
+    ty = f(f(f(20) * s) + f(f(f(160) - f(f(100) * s)) / f(2)))
+    top = f(f(f(1.5) * s) * f(10) + f(f(1.5) * f(f(20) + ty)))
+    assert math.floor(top) == 113                                   # the truth's premise
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><svg x="20" y="20" '
+           'width="120" height="160" viewBox="-20 -20 100 100"><filter id="f" '
+           'filterUnits="userSpaceOnUse" x="10" y="10" width="80" height="80"><feFlood '
+           'flood-color="blue"/></filter><rect width="10" height="10" filter="url(#f)"/>'
+           '</svg></svg>')
+    rows = np.nonzero(render_svg_array(svg)[..., 3].max(1))[0]
+    assert (rows[0], rows[-1]) == (math.floor(top), math.floor(top) + 143)

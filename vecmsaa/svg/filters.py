@@ -631,20 +631,15 @@ def f32_product(length, scale):
     return v if math.isfinite(v) else math.copysign(F32_MAX, v)
 
 
-def device_matrix(ctx):
-    """The element's matrix as resvg composes it (paint._f32_chain)."""
-    from .paint import _f32_chain
-
-    return _f32_chain(ctx)
-
-
 def device_scale(ctx):
     """The factors resvg scales filter lengths by (tiny-skia's get_scale: the row norms in
     f32) of the element's matrix as resvg composes it, each transform in f32 and concatenated
     in f32 (paint._f32_chain), not of the f64 product rounded: under rotate(25) at 1.5 px per
     unit the first is 1.5000001, the second 1.5, and a morphology radius of 10 units,
     ceil(15.000001), reaches 16 pixels in resvg."""
-    return row_scale_f32(device_matrix(ctx))
+    from .paint import _f32_chain
+
+    return row_scale_f32(_f32_chain(ctx))
 
 
 def filter_function(builder, name, args, style, ctx, bbox_fn):
