@@ -890,3 +890,22 @@ def test_nested_viewport_places_filter_region_edges_as_usvgs_f32_viewbox():
            '</svg></svg>')
     rows = np.nonzero(render_svg_array(svg)[..., 3].max(1))[0]
     assert (rows[0], rows[-1]) == (math.floor(top), math.floor(top) + 143)
+
+
+def test_subregion_width_is_taken_in_the_filter_layer_as_resvg_does():
+    # a flood subregion from 28 to 38 units at 1.2 px per unit, 30 px across: 63.6 to 75.6,
+    # whole pixels from floor(63.6) = 63, ceil(12.0) = 12 px wide (exact arithmetic). Mapped
+    # in f32 in place the width comes out 12.000004 (13 px); resvg maps it in the layer that
+    # starts at the region's corner (0.6 to 12.6, exactly 12 in f32), so 12, and feTile
+    # repeats it every 12 px.
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><filter id="f">'
+           '<feFlood flood-color="#00ff00" x="28" y="28" width="10" height="10"/></filter>'
+           '<g transform="translate(20 40) scale(0.8 0.55)"><rect x="40" y="40" width="120" '
+           'height="120" filter="url(#f)"/></g></svg>')
+    cols = np.nonzero(render_svg_array(svg)[..., 1].max(0))[0]
+    assert (cols[0], cols[-1]) == (math.floor(63.6), math.floor(63.6) + math.ceil(75.6 - 63.6) - 1)
+    tiled = render_svg_array(svg.replace('height="10"/>', 'height="10"/><feOffset dx="5"/>'
+                                         '<feTile/>'))[..., 1]
+    row = tiled[90] > 0
+    starts = np.nonzero(row[1:] & ~row[:-1])[0] + 1
+    assert set(np.diff(starts)) == {12}

@@ -140,6 +140,25 @@ def device_rect(x, y, w, h, m):
     return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
 
 
+def layer_matrix(m, region):
+    """resvg filters a layer whose corner is the filter region's whole-pixel corner, mapping
+    the region and subregions again with the matrix translated by minus that corner (its
+    translation in f32): a subregion from 63.6 to 75.6 px is 0.6 to 12.6 there, 12 px wide
+    (ceil of 12.0), where mapped in place its f32 width is 12.000004 and it is 13."""
+    x0, y0 = region[:2]
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):
+        e, ff = float(f(f(m[4]) - f(x0))), float(f(f(m[5]) - f(y0)))
+    return (m[0], m[1], m[2], m[3], e, ff), x0, y0
+
+
+def layer_rect(x, y, w, h, layer):
+    """device_rect in the layer of :func:`layer_matrix`, moved back to the canvas."""
+    m, x0, y0 = layer
+    r = device_rect(x, y, w, h, m)
+    return None if r is None else (r[0] + x0, r[1] + y0, r[2] + x0, r[3] + y0)
+
+
 def bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh):
     """x, y, width, height of a rectangle given in fractions of a bounding box, in f32 as usvg
     maps it (``x * bbox.width + bbox.x``, ``width * bbox.width``): the default region's 1.2 is
@@ -196,7 +215,10 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     holder = next((e for e in chain if e.children), None)   # usvg: the first with children
     if region is None or holder is None:
         return None
+    layer = layer_matrix(ctx.transform, region)
+    region = layer_rect(x, y, w, h, layer) or region
     resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), bbox if prim_obb else None)
+    resolver.layer = layer
     primitives = resolver.primitives(holder)
     if not primitives:
         return None
@@ -241,7 +263,7 @@ class PrimitiveResolver:
     def subregion(self, fe):
         """Device rect of the primitive subregion (default: the filter region), or None."""
         user = self.user_subregion(fe)
-        return None if user is None else device_rect(*user, self.ctx.transform)
+        return None if user is None else layer_rect(*user, self.layer)
 
     def user_subregion(self, fe):
         """(x, y, width, height) of the primitive subregion in user space, or None."""
@@ -675,10 +697,11 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
         return None
     frac = (-0.5, -0.5, 2.0, 2.0) if name in ("blur", "drop-shadow") else (-0.1, -0.1, 1.2, 1.2)
     bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
-    region = device_rect(bbox[0] + frac[0] * bw, bbox[1] + frac[1] * bh, frac[2] * bw,
-                         frac[3] * bh, ctx.transform)
+    user = (bbox[0] + frac[0] * bw, bbox[1] + frac[1] * bh, frac[2] * bw, frac[3] * bh)
+    region = device_rect(*user, ctx.transform)
     if region is None:
         return None
+    region = layer_rect(*user, layer_matrix(ctx.transform, region)) or region
     return Filter(region=region, primitives=[Primitive(effect, (SOURCE_GRAPHIC,), region, linear)])
 
 
