@@ -874,3 +874,78 @@ def test_element_not_drawn_for_its_filter_is_out_of_its_groups_bounding_box():
         '<rect width="40" height="10"/><rect width="100" height="10" filter="url(#none)"/>'
         '</g></svg>')
     assert (img[5, :20, 3] == 255).all() and (img[5, 20:, 3] == 0).all()
+
+
+def _effects(scene):
+    stack, effects = [scene.root], []
+    while stack:
+        node = stack.pop()
+        effects += [p.effect for f in getattr(node, "filters", None) or [] for p in f.primitives]
+        stack.extend(getattr(node, "children", []))
+    return effects
+
+
+def test_morphology_radius_under_a_rotation_is_resvgs_f32_product():
+    # resvg composes the root's scale and the group's rotation each as an f32 matrix, in
+    # f32, takes the row norm in f32 (tiny-skia's get_scale) and the radius times it in f32;
+    # its window is 2·ceil(r) px. At 1.5 px per unit under rotate(25) that norm is 1.5000001,
+    # so a radius of 10 units is ceil(15.000001) = 16 px (the rounded f64 product gives
+    # 1.5 and 15 px): the dilation then reaches 16 px below the source and 15 above.
+    from vecmsaa.api import load_svg
+    from vecmsaa.scene.nodes import Morphology
+
+    f = np.float32
+    cos, sin = f(math.cos(math.radians(25))), f(math.sin(math.radians(25)))
+    a, c = f(f(1.5) * cos), f(f(1.5) * -sin)
+    r = f(f(10) * np.sqrt(f(a * a + c * c)))
+    assert math.ceil(r) == 16                                      # the truth's premise
+    body = ('<g transform="rotate(25 100 100)"><rect x="70" y="70" width="60" height="60" '
+            'filter="url(#f)"/></g>')
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><filter id="f" x="-1" '
+           f'y="-1" width="3" height="3"><feMorphology operator="dilate" radius="10"/></filter>'
+           f'{body}</svg>')
+    (m,) = [e for e in _effects(load_svg(svg)) if isinstance(e, Morphology)]
+    assert (m.rx, m.ry) == (float(r), float(r))
+    dilated = render_svg_array(svg)[..., 3]
+    plain = render_svg_array(svg.replace(' filter="url(#f)"', ""))[..., 3]
+    rows = lambda al: np.nonzero(al.max(1))[0]
+    assert rows(dilated)[0] == rows(plain)[0] - 15        # max over [y - 16, y + 15]
+    assert rows(dilated)[-1] == rows(plain)[-1] + 16
+
+
+def test_nested_viewport_places_filter_region_edges_as_usvgs_f32_viewbox():
+    # usvg maps a nested viewBox in f32: meeting 120 x 160 with viewBox -20 -20 100 100, the
+    # scale is f32(1.2) = 1.20000005, the vertical slack (160 - f32(100 x 1.2)) / 2 =
+    # 19.9999962, so y = 10 lands at 20 + 24 + 19.9999962 + 12.0000005 → ×1.5 = 113.999996:
+    # the filter region starts in row 113 (exactly: 114) and spans 144 rows.
+    f = np.float32
+    s = f(f(120) / f(100))
+    ty = f(f(f(20) * s) + f(f(f(160) - f(f(100) * s)) / f(2)))
+    top = f(f(f(1.5) * s) * f(10) + f(f(1.5) * f(f(20) + ty)))
+    assert math.floor(top) == 113                                   # the truth's premise
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><svg x="20" y="20" '
+           'width="120" height="160" viewBox="-20 -20 100 100"><filter id="f" '
+           'filterUnits="userSpaceOnUse" x="10" y="10" width="80" height="80"><feFlood '
+           'flood-color="blue"/></filter><rect width="10" height="10" filter="url(#f)"/>'
+           '</svg></svg>')
+    rows = np.nonzero(render_svg_array(svg)[..., 3].max(1))[0]
+    assert (rows[0], rows[-1]) == (math.floor(top), math.floor(top) + 143)
+
+
+def test_subregion_width_is_taken_in_the_filter_layer_as_resvg_does():
+    # a flood subregion from 28 to 38 units at 1.2 px per unit, 30 px across: 63.6 to 75.6,
+    # whole pixels from floor(63.6) = 63, ceil(12.0) = 12 px wide (exact arithmetic). Mapped
+    # in f32 in place the width comes out 12.000004 (13 px); resvg maps it in the layer that
+    # starts at the region's corner (0.6 to 12.6, exactly 12 in f32), so 12, and feTile
+    # repeats it every 12 px.
+    svg = (f'<svg {NS} viewBox="0 0 200 200" width="300" height="300"><filter id="f">'
+           '<feFlood flood-color="#00ff00" x="28" y="28" width="10" height="10"/></filter>'
+           '<g transform="translate(20 40) scale(0.8 0.55)"><rect x="40" y="40" width="120" '
+           'height="120" filter="url(#f)"/></g></svg>')
+    cols = np.nonzero(render_svg_array(svg)[..., 1].max(0))[0]
+    assert (cols[0], cols[-1]) == (math.floor(63.6), math.floor(63.6) + math.ceil(75.6 - 63.6) - 1)
+    tiled = render_svg_array(svg.replace('height="10"/>', 'height="10"/><feOffset dx="5"/>'
+                                         '<feTile/>'))[..., 1]
+    row = tiled[90] > 0
+    starts = np.nonzero(row[1:] & ~row[:-1])[0] + 1
+    assert set(np.diff(starts)) == {12}

@@ -32,7 +32,7 @@ from .resources import Resources
 from .shapes import shape_path
 from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
                     parse_transform, parse_viewbox, split_length, to_px, url_argument,
-                    viewbox_transform)
+                    viewbox_transform, viewbox_transform_f32)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -105,7 +105,7 @@ class Ctx:
     clip: bool = False                    # inside a clipPath: plain black fills, no strokes
     geometry: bool = False                # only object geometry (bounding boxes)
     chain: tuple = ()                     # the matrices composed into transform, outermost
-                                          # first (the root's, elements'; paint._f32_chain)
+                                          # first (the root's, elements'; units.f32_chain)
 
 
 class ContextPaint:
@@ -761,12 +761,15 @@ class Builder:
         vb = parse_viewbox(el.get("viewBox"))
         m = translate(x, y)
         if vb is not None:
-            m = compose(m, viewbox_transform(vb, parse_aspect(el.get("preserveAspectRatio")),
-                                             w, h))
+            # in f32 as usvg maps it: whole-pixel edges (filter regions, pattern tiles) then
+            # fall where resvg's do
+            m = compose(m, viewbox_transform_f32(vb, parse_aspect(el.get("preserveAspectRatio")),
+                                                 w, h))
             viewport = (vb[2], vb[3])
         else:
             viewport = (w, h)
-        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport,
+                        chain=ctx.chain + (m,))
         nodes = self.children(el, inner, style)
         if effects:
             nodes = self.wrap(el, style, inner, nodes)

@@ -141,6 +141,25 @@ def device_rect(x, y, w, h, m):
     return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
 
 
+def layer_matrix(m, region):
+    """resvg filters a layer whose corner is the filter region's whole-pixel corner, mapping
+    the region and subregions again with the matrix translated by minus that corner (its
+    translation in f32): a subregion from 63.6 to 75.6 px is 0.6 to 12.6 there, 12 px wide
+    (ceil of 12.0), where mapped in place its f32 width is 12.000004 and it is 13."""
+    x0, y0 = region[:2]
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):
+        e, ff = float(f(f(m[4]) - f(x0))), float(f(f(m[5]) - f(y0)))
+    return (m[0], m[1], m[2], m[3], e, ff), x0, y0
+
+
+def layer_rect(x, y, w, h, layer):
+    """device_rect in the layer of :func:`layer_matrix`, moved back to the canvas."""
+    m, x0, y0 = layer
+    r = device_rect(x, y, w, h, m)
+    return None if r is None else (r[0] + x0, r[1] + y0, r[2] + x0, r[3] + y0)
+
+
 def bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh):
     """x, y, width, height of a rectangle given in fractions of a bounding box, in f32 as usvg
     maps it (``x * bbox.width + bbox.x``, ``width * bbox.width``): the default region's 1.2 is
@@ -197,7 +216,10 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     holder = next((e for e in chain if e.children), None)   # usvg: the first with children
     if region is None or holder is None:
         return None
+    layer = layer_matrix(ctx.transform, region)
+    region = layer_rect(x, y, w, h, layer) or region
     resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), bbox if prim_obb else None)
+    resolver.layer = layer
     primitives = resolver.primitives(holder)
     if not primitives:
         return None
@@ -213,8 +235,7 @@ class PrimitiveResolver:
         self.builder, self.el, self.ctx = builder, el, ctx
         self.region = region                  # user-space x, y, w, h
         self.obb_box = obb_box                # bbox when primitiveUnits is objectBoundingBox
-        # the scale of resvg's f32 matrix chain (see f32_chain)
-        sx, sy = row_scale_f32(f32_chain(ctx.chain, ctx.transform))
+        sx, sy = device_scale(ctx)
         if obb_box is not None:
             sx *= obb_box[2] - obb_box[0]
             sy *= obb_box[3] - obb_box[1]
@@ -243,7 +264,7 @@ class PrimitiveResolver:
     def subregion(self, fe):
         """Device rect of the primitive subregion (default: the filter region), or None."""
         user = self.user_subregion(fe)
-        return None if user is None else device_rect(*user, self.ctx.transform)
+        return None if user is None else layer_rect(*user, self.layer)
 
     def user_subregion(self, fe):
         """(x, y, width, height) of the primitive subregion in user space, or None."""
@@ -402,8 +423,10 @@ class PrimitiveResolver:
                 rx, ry = 1.0, 1.0
         # a radius overflowing to infinity in device pixels (1.7e308 × 10) is as wide as any
         # huge one: past the image either way, and infinity has no whole number of pixels
-        return Morphology(op, min(rx * self.scale[0], F32_MAX),
-                          min(ry * self.scale[1], F32_MAX)), (inp,)
+        # resvg's window is 2·ceil(r) pixels, r = radius × scale in f32: an ulp over a whole
+        # number is a pixel more on each side
+        return Morphology(op, f32_product(rx, self.scale[0]),
+                          f32_product(ry, self.scale[1])), (inp,)
 
     def lighting(self, fe, style, specular):
         """The Lighting effect, or None for a primitive usvg drops (no light source, specular
@@ -455,7 +478,7 @@ class PrimitiveResolver:
         octaves = parse_number(fe.get("numOctaves"), 1.0)
         seed = parse_number(fe.get("seed"), 0.0)
         a, b, c, d, e, f = self.ctx.transform
-        sx, sy = row_scale_f32(f32_chain(self.ctx.chain, self.ctx.transform))
+        sx, sy = device_scale(self.ctx)
         # a fractional count rounds half away from zero, as usvg rounds it (0.5 is one octave;
         # Python's round() would make it none); octaves past MAX_OCTAVES add under 1/4096 of
         # the first one: not a visible level
@@ -479,7 +502,7 @@ class PrimitiveResolver:
         style = b.doc.document_style(fe)
         x, y, w, h = self.user_subregion(fe)
         sub = self.subregion(fe)
-        sx, sy = row_scale_f32(f32_chain(self.ctx.chain, self.ctx.transform))
+        sx, sy = device_scale(self.ctx)
         if href.startswith("#"):
             target = b.doc.lookup(href)
             if target is None or any(r is target for r in b.ref_stack):
@@ -631,10 +654,19 @@ def f32_product(length, scale):
     return v if math.isfinite(v) else math.copysign(F32_MAX, v)
 
 
+def device_scale(ctx):
+    """The factors resvg scales filter lengths by (tiny-skia's get_scale: the row norms in
+    f32) of the element's matrix as resvg composes it, each transform in f32 and concatenated
+    in f32 (units.f32_chain), not of the f64 product rounded: under rotate(25) at 1.5 px per
+    unit the first is 1.5000001, the second 1.5, and a morphology radius of 10 units,
+    ceil(15.000001), reaches 16 pixels in resvg."""
+    return row_scale_f32(f32_chain(ctx.chain, ctx.transform))
+
+
 def filter_function(builder, name, args, style, ctx, bbox_fn):
     """Filter for one CSS filter function; None when the element has no bounding box (the
     function is skipped), False when it does not parse (the whole value is ignored)."""
-    sx, sy = row_scale_f32(f32_chain(ctx.chain, ctx.transform))
+    sx, sy = device_scale(ctx)
     linear = False                      # filter functions work in sRGB
     if name == "blur":
         std = _css_length(builder, args or "0", style, ctx)
@@ -664,10 +696,11 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
         return None
     frac = (-0.5, -0.5, 2.0, 2.0) if name in ("blur", "drop-shadow") else (-0.1, -0.1, 1.2, 1.2)
     bw, bh = bbox[2] - bbox[0], bbox[3] - bbox[1]
-    region = device_rect(bbox[0] + frac[0] * bw, bbox[1] + frac[1] * bh, frac[2] * bw,
-                         frac[3] * bh, ctx.transform)
+    user = (bbox[0] + frac[0] * bw, bbox[1] + frac[1] * bh, frac[2] * bw, frac[3] * bh)
+    region = device_rect(*user, ctx.transform)
     if region is None:
         return None
+    region = layer_rect(*user, layer_matrix(ctx.transform, region)) or region
     return Filter(region=region, primitives=[Primitive(effect, (SOURCE_GRAPHIC,), region, linear)])
 
 

@@ -346,6 +346,29 @@ def viewbox_transform(viewbox, aspect, width, height):
     return (s, 0.0, 0.0, s, tx, ty)
 
 
+def viewbox_transform_f32(viewbox, aspect, width, height):
+    """:func:`viewbox_transform` as usvg computes it for a nested viewport, every step in f32
+    (tiny-skia's view_box_to_transform): (160 - 100 × 1.2) / 2 is 19.9999962 there, so
+    content 10 units into a viewBox of -20 -20 100 100 meeting 120 x 160 sits at 43.9999962
+    + 12, and a filter region's edge at 1.5 px per unit falls on row 113, not 114."""
+    import numpy as np
+
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        vx, vy, vw, vh = (f(v) for v in viewbox)
+        width, height = f(width), f(height)
+        align, slice_ = aspect
+        sx, sy = f(width / vw), f(height / vh)
+        if align != "none":
+            sx = sy = max(sx, sy) if slice_ else min(sx, sy)
+        tx, ty = f(-vx * sx), f(-vy * sy)
+        if align != "none":
+            dw, dh = f(width - f(vw * sx)), f(height - f(vh * sy))
+            tx = f(tx + {"Min": f(0), "Mid": f(dw / f(2)), "Max": dw}[align[1:4]])
+            ty = f(ty + {"Min": f(0), "Mid": f(dh / f(2)), "Max": dh}[align[5:8]])
+    return (float(sx), 0.0, 0.0, float(sy), float(tx), float(ty))
+
+
 @functools.lru_cache(maxsize=256)
 def parse_opacity(value):
     if value is None:
