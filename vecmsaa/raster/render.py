@@ -644,7 +644,10 @@ class FillBatch:
         table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
         self.kinds, self.params, self.lut, self.tex = table.arrays()
         self.edges, self.edge_off, self.prims, self.prim_off = built()
-        self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+        # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
+        # NaN) has any to move, and the test costs a pass over the fills, not the edges
+        if len(box) and not (box[:, 0].min() >= -FAR_X and box[:, 2].max() <= FAR_X):
+            self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
 
 
 #: device x beyond which an edge is moved onto the line x = ±FAR_X (see clamp_far_edges)
