@@ -550,3 +550,27 @@ def test_reference_cycles_look_only_at_elements_references_reach():
     want = np.zeros((100, 100), bool)
     want[:50, :50] = True
     assert ((img[..., 3] > 127) == want).all()
+
+
+# -- single-colour gradients: SVG 2 §14.2/§14.3 -------------------------------------------------
+# "A value of zero [for r] will cause the area to be painted as a single color using the color
+# and opacity of the last gradient stop"; x1 = x2 and y1 = y2 paints likewise. That colour needs
+# neither the object bounding box nor the gradientTransform: a zero radius on an element whose
+# box has no width, and either kind through a singular transform, paint the last stop.
+_STOPS = '<stop offset="0" stop-color="#00f"/><stop offset="1" stop-color="#f00"/>'
+
+
+@pytest.mark.parametrize("grad, shape, at", [
+    ('<radialGradient id="g" r="0">', '<line x1="50" y1="5" x2="50" y2="95" stroke="url(#g) #0f0" '
+     'stroke-width="40"/>', (50, 40)),
+    ('<radialGradient id="g" r="-0.2">', '<line x1="5" y1="50" x2="95" y2="50" stroke="url(#g) #0f0" '
+     'stroke-width="40"/>', (50, 40)),
+    ('<radialGradient id="g" r="0" gradientTransform="matrix(1 2 2 4 0 0)">',
+     '<rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>', (50, 50)),
+    ('<linearGradient id="g" x1="0.3" x2="0.3" y1="0.6" y2="0.6" gradientTransform="matrix(1 2 2 4 0 0)">',
+     '<rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>', (50, 50)),
+])
+def test_single_colour_gradient_needs_no_box_or_transform(grad, shape, at):
+    tag = grad[1:grad.index(" ")]
+    img = render(f'<defs>{grad}{_STOPS}</{tag}></defs>{shape}')
+    assert tuple(img[at[1], at[0]]) == (255, 0, 0, 255)

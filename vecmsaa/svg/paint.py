@@ -148,20 +148,6 @@ def gradient(builder, el, ctx, bbox):
     # are no properties; browsers and resvg take " userSpaceOnUse" as invalid, the default)
     obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox") != "userSpaceOnUse"
     style = builder.doc.document_style(el)
-    m = ctx.transform
-    if obb:
-        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
-            return None
-        from .builder import bbox_matrix
-        m = compose(m, bbox_matrix(bbox))
-    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
-    try:
-        to_paint = invert(m)
-    except ValueError:
-        return NO_PAINT
-    spread = inherited_attr(chain, "spreadMethod", "pad")
-    if spread not in ("pad", "reflect", "repeat"):
-        spread = "pad"
     vp = ctx.viewport
 
     def attr(name, axis, default):
@@ -170,24 +156,43 @@ def gradient(builder, el, ctx, bbox):
         same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
         return box_coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
+    # The single-colour gradients need neither the box nor the transform: SVG paints the area
+    # with the last stop, as resvg does also on an empty box (a radius of zero) and through a
+    # singular gradientTransform (both kinds).
+    if el.tag == "radialGradient":
+        r = attr("r", "xy", "50%")
+        if r <= 0:
+            # SVG: "a value of zero will cause the area to be painted as a single color using
+            # the color and opacity of the last gradient stop"
+            return Solid(tuple(stops[-1, 1:]))
+    m = ctx.transform
+    if obb:
+        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
+            return None
+        from .builder import bbox_matrix
+        m = compose(m, bbox_matrix(bbox))
     if el.tag == "linearGradient":
         x1, y1 = attr("x1", "x", "0%"), attr("y1", "y", "0%")
         x2, y2 = attr("x2", "x", "100%"), attr("y2", "y", "0%")
         if x1 == x2 and y1 == y2:
             return Solid(tuple(stops[-1, 1:]))
+    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
+    try:
+        to_paint = invert(m)
+    except ValueError:
+        return NO_PAINT
+    spread = inherited_attr(chain, "spreadMethod", "pad")
+    if spread not in ("pad", "reflect", "repeat"):
+        spread = "pad"
+    if el.tag == "linearGradient":
         return LinearGradient(x1, y1, x2, y2, stops, spread, to_paint)
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
-    r = attr("r", "xy", "50%")
     same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
     # fx/fy not given, or not a length (an invalid value is as if not given), coincide with
     # cx/cy (SVG 2's lacuna)
     fx = cx if split_length(inherited_attr(same, "fx")) is None else attr("fx", "x", "50%")
     fy = cy if split_length(inherited_attr(same, "fy")) is None else attr("fy", "y", "50%")
     fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
-    if r <= 0:
-        # SVG: "a value of zero will cause the area to be painted as a single color using the
-        # color and opacity of the last gradient stop"
-        return Solid(tuple(stops[-1, 1:]))
     if (math.hypot(cx - fx, cy - fy) <= DEGENERATE and abs(r - fr) <= DEGENERATE):
         # Equal circles: canvas paints nothing. tiny-skia (so resvg) paints, with pad, the
         # limit of a ring growing thin: the first stop's colour inside, the last one outside;
