@@ -574,3 +574,33 @@ def test_single_colour_gradient_needs_no_box_or_transform(grad, shape, at):
     tag = grad[1:grad.index(" ")]
     img = render(f'<defs>{grad}{_STOPS}</{tag}></defs>{shape}')
     assert tuple(img[at[1], at[0]]) == (255, 0, 0, 255)
+
+
+# -- singular paint-server transforms: CSS Transforms 1 §6 (a non-invertible matrix renders
+# nothing). The matrix is singular whatever the element's transform is; under a skew or
+# rotation the product's rounded determinant is not zero, and must not paint a smear.
+@pytest.mark.parametrize("element_transform", ["", "skewX(15)", "rotate(23 50 50)", "scale(1 0.6)"])
+@pytest.mark.parametrize("server", [
+    '<pattern id="s" patternUnits="userSpaceOnUse" width="10" height="10" '
+    'patternTransform="matrix(1 1 1 1 0 0)"><rect width="10" height="10" fill="#00f"/></pattern>',
+    '<linearGradient id="s" gradientTransform="matrix(1 2 2 4 0 0)"><stop stop-color="#00f"/>'
+    '<stop offset="1" stop-color="#f00"/></linearGradient>',
+    '<radialGradient id="s" gradientTransform="matrix(1 2 2 4 0 0)"><stop stop-color="#00f"/>'
+    '<stop offset="1" stop-color="#f00"/></radialGradient>',
+])
+def test_singular_server_transform_paints_nothing_under_any_element_transform(server, element_transform):
+    img = render(f'<defs>{server}</defs><rect x="10" y="10" width="80" height="80" '
+                 f'fill="url(#s)" transform="{element_transform}"/>')
+    assert img[..., 3].max() == 0
+
+
+# A pattern tile without area is no pattern, whatever its content units: a zero width with
+# patternContentUnits="objectBoundingBox" on a line's empty box paints as it does without them.
+def test_zero_size_pattern_tile_ignores_content_units():
+    def draw(units):
+        return render(f'<defs><pattern id="p" patternUnits="userSpaceOnUse" width="0" height="20"{units}>'
+                      '<rect width="1" height="1" fill="#00f"/></pattern></defs>'
+                      '<line x1="10" y1="50" x2="90" y2="50" stroke="url(#p) #f00" stroke-width="20"/>')
+    plain = draw("")
+    assert tuple(plain[50, 50]) == (255, 0, 0, 255)
+    assert np.array_equal(draw(' patternContentUnits="objectBoundingBox"'), plain)

@@ -112,11 +112,18 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
-    matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing (NO_PAINT)."""
+    matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
+    decided on this matrix, not on its product with the element's: under a skew or rotation
+    the product's determinant is rounding noise, not zero, and would paint a smear."""
     text = chain[0].get(attr)    # not inherited through href: usvg reads the element's own
     m = parse_transform(text) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
+    # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)
+    a, b, c, d = m[:4]
+    big = max(abs(a), abs(b), abs(c), abs(d))
+    if abs(a / big * (d / big) - b / big * (c / big)) <= 1e-12:
+        return None
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
         # resolved as anywhere else (percentages of the viewport, CSS transform-box'
@@ -176,7 +183,10 @@ def gradient(builder, el, ctx, bbox):
         x2, y2 = attr("x2", "x", "100%"), attr("y2", "y", "0%")
         if x1 == x2 and y1 == y2:
             return Solid(tuple(stops[-1, 1:]))
-    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
+    gradient_m = _units_transform(builder, chain, "gradientTransform", style, ctx)
+    if gradient_m is None:
+        return NO_PAINT
+    m = compose(m, gradient_m)
     try:
         to_paint = invert(m)
     except ValueError:
@@ -225,6 +235,10 @@ def pattern(builder, el, ctx, bbox):
     def attr(name, axis):
         return box_coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
     x, y, w, h = attr("x", "x"), attr("y", "y"), attr("width", "x"), attr("height", "y")
+    if w <= 0 or h <= 0:
+        # a tile without area is no valid pattern (resvg skips it, so the fallback), whether
+        # or not its content would need the box
+        return None
     if obb or (content_obb and vb is None):
         if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
             # as in resvg: the fallback for a tile in box units, nothing for content alone
@@ -236,6 +250,8 @@ def pattern(builder, el, ctx, bbox):
     if w <= 0 or h <= 0:
         return None
     pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx)
+    if pattern_m is None:
+        return NO_PAINT
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
