@@ -604,3 +604,13 @@ def test_zero_size_pattern_tile_ignores_content_units():
     plain = draw("")
     assert tuple(plain[50, 50]) == (255, 0, 0, 255)
     assert np.array_equal(draw(' patternContentUnits="objectBoundingBox"'), plain)
+
+
+# Two equal circles (focal circle = end circle) with reflect or repeat paint nothing (canvas's
+# two-point conical gradient: no circle of the family but the one passes through a pixel);
+# the gradient is a valid paint server, so the paint's fallback does not apply either.
+@pytest.mark.parametrize("spread", ["reflect", "repeat"])
+def test_equal_circles_reflect_repeat_paint_nothing_not_fallback(spread):
+    img = render(f'<defs><radialGradient id="g" spreadMethod="{spread}" fr="0.5">{_STOPS}'
+                 '</radialGradient></defs><rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>')
+    assert img[..., 3].max() == 0

@@ -208,7 +208,7 @@ def gradient(builder, el, ctx, bbox):
         # limit of a ring growing thin: the first stop's colour inside, the last one outside;
         # with reflect or repeat nothing.
         if spread != "pad":
-            return None
+            return NO_PAINT    # a valid paint server that paints nothing: not the fallback
         first, last = list(stops[0, 1:]), list(stops[-1, 1:])
         ring = separate_equal_offsets([[0.0, *first], [1.0, *first], [1.0, *last]])
         return RadialGradient(cx, cy, r, cx, cy, np.asarray(ring, dtype=np.float64), 0.0,
