@@ -614,3 +614,19 @@ def test_equal_circles_reflect_repeat_paint_nothing_not_fallback(spread):
     img = render(f'<defs><radialGradient id="g" spreadMethod="{spread}" fr="0.5">{_STOPS}'
                  '</radialGradient></defs><rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>')
     assert img[..., 3].max() == 0
+
+
+# A focal point a ten-thousandth of r outside the end circle: the largest root of the two-point
+# conical gradient runs off to thousands of periods there (numerically the circle is touched, as
+# tiny-skia and Skia decide within 1/4096), so it paints as the focal point on the circle, which
+# SVG 2 defines: one root. Compared with that drawing away from the tangent line through the
+# focal point (x = 10), where t grows without bound in both.
+@pytest.mark.parametrize("spread", ["pad", "reflect", "repeat"])
+def test_focal_point_just_outside_paints_as_on_the_circle(spread):
+    def draw(fx):
+        return render(f'<defs><radialGradient id="g" gradientUnits="userSpaceOnUse" cx="50" cy="50" '
+                      f'r="40" fx="{fx}" fy="50" spreadMethod="{spread}">{_STOPS}</radialGradient></defs>'
+                      '<rect width="100" height="100" fill="url(#g)"/>')
+    on, off = draw(10), draw(9.996)
+    far = np.abs(np.arange(100) + 0.5 - 10) > 3
+    assert np.abs(on - off)[:, far].max() <= 8
