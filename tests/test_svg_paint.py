@@ -550,3 +550,83 @@ def test_reference_cycles_look_only_at_elements_references_reach():
     want = np.zeros((100, 100), bool)
     want[:50, :50] = True
     assert ((img[..., 3] > 127) == want).all()
+
+
+# -- single-colour gradients: SVG 2 §14.2/§14.3 -------------------------------------------------
+# "A value of zero [for r] will cause the area to be painted as a single color using the color
+# and opacity of the last gradient stop"; x1 = x2 and y1 = y2 paints likewise. That colour needs
+# neither the object bounding box nor the gradientTransform: a zero radius on an element whose
+# box has no width, and either kind through a singular transform, paint the last stop.
+_STOPS = '<stop offset="0" stop-color="#00f"/><stop offset="1" stop-color="#f00"/>'
+
+
+@pytest.mark.parametrize("grad, shape, at", [
+    ('<radialGradient id="g" r="0">', '<line x1="50" y1="5" x2="50" y2="95" stroke="url(#g) #0f0" '
+     'stroke-width="40"/>', (50, 40)),
+    ('<radialGradient id="g" r="-0.2">', '<line x1="5" y1="50" x2="95" y2="50" stroke="url(#g) #0f0" '
+     'stroke-width="40"/>', (50, 40)),
+    ('<radialGradient id="g" r="0" gradientTransform="matrix(1 2 2 4 0 0)">',
+     '<rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>', (50, 50)),
+    ('<linearGradient id="g" x1="0.3" x2="0.3" y1="0.6" y2="0.6" gradientTransform="matrix(1 2 2 4 0 0)">',
+     '<rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>', (50, 50)),
+])
+def test_single_colour_gradient_needs_no_box_or_transform(grad, shape, at):
+    tag = grad[1:grad.index(" ")]
+    img = render(f'<defs>{grad}{_STOPS}</{tag}></defs>{shape}')
+    assert tuple(img[at[1], at[0]]) == (255, 0, 0, 255)
+
+
+# -- singular paint-server transforms: CSS Transforms 1 §6 (a non-invertible matrix renders
+# nothing). The matrix is singular whatever the element's transform is; under a skew or
+# rotation the product's rounded determinant is not zero, and must not paint a smear.
+@pytest.mark.parametrize("element_transform", ["", "skewX(15)", "rotate(23 50 50)", "scale(1 0.6)"])
+@pytest.mark.parametrize("server", [
+    '<pattern id="s" patternUnits="userSpaceOnUse" width="10" height="10" '
+    'patternTransform="matrix(1 1 1 1 0 0)"><rect width="10" height="10" fill="#00f"/></pattern>',
+    '<linearGradient id="s" gradientTransform="matrix(1 2 2 4 0 0)"><stop stop-color="#00f"/>'
+    '<stop offset="1" stop-color="#f00"/></linearGradient>',
+    '<radialGradient id="s" gradientTransform="matrix(1 2 2 4 0 0)"><stop stop-color="#00f"/>'
+    '<stop offset="1" stop-color="#f00"/></radialGradient>',
+])
+def test_singular_server_transform_paints_nothing_under_any_element_transform(server, element_transform):
+    img = render(f'<defs>{server}</defs><rect x="10" y="10" width="80" height="80" '
+                 f'fill="url(#s)" transform="{element_transform}"/>')
+    assert img[..., 3].max() == 0
+
+
+# A pattern tile without area is no pattern, whatever its content units: a zero width with
+# patternContentUnits="objectBoundingBox" on a line's empty box paints as it does without them.
+def test_zero_size_pattern_tile_ignores_content_units():
+    def draw(units):
+        return render(f'<defs><pattern id="p" patternUnits="userSpaceOnUse" width="0" height="20"{units}>'
+                      '<rect width="1" height="1" fill="#00f"/></pattern></defs>'
+                      '<line x1="10" y1="50" x2="90" y2="50" stroke="url(#p) #f00" stroke-width="20"/>')
+    plain = draw("")
+    assert tuple(plain[50, 50]) == (255, 0, 0, 255)
+    assert np.array_equal(draw(' patternContentUnits="objectBoundingBox"'), plain)
+
+
+# Two equal circles (focal circle = end circle) with reflect or repeat paint nothing (canvas's
+# two-point conical gradient: no circle of the family but the one passes through a pixel);
+# the gradient is a valid paint server, so the paint's fallback does not apply either.
+@pytest.mark.parametrize("spread", ["reflect", "repeat"])
+def test_equal_circles_reflect_repeat_paint_nothing_not_fallback(spread):
+    img = render(f'<defs><radialGradient id="g" spreadMethod="{spread}" fr="0.5">{_STOPS}'
+                 '</radialGradient></defs><rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>')
+    assert img[..., 3].max() == 0
+
+
+# A focal point a ten-thousandth of r outside the end circle: the largest root of the two-point
+# conical gradient runs off to thousands of periods there (numerically the circle is touched, as
+# tiny-skia and Skia decide within 1/4096), so it paints as the focal point on the circle, which
+# SVG 2 defines: one root. Compared with that drawing away from the tangent line through the
+# focal point (x = 10), where t grows without bound in both.
+@pytest.mark.parametrize("spread", ["pad", "reflect", "repeat"])
+def test_focal_point_just_outside_paints_as_on_the_circle(spread):
+    def draw(fx):
+        return render(f'<defs><radialGradient id="g" gradientUnits="userSpaceOnUse" cx="50" cy="50" '
+                      f'r="40" fx="{fx}" fy="50" spreadMethod="{spread}">{_STOPS}</radialGradient></defs>'
+                      '<rect width="100" height="100" fill="url(#g)"/>')
+    on, off = draw(10), draw(9.996)
+    far = np.abs(np.arange(100) + 0.5 - 10) > 3
+    assert np.abs(on - off)[:, far].max() <= 8

@@ -176,7 +176,12 @@ def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, x, y):
     a = cdx * cdx + cdy * cdy - dr * dr
     b = pdx * cdx + pdy * cdy + fr * dr
     c = pdx * pdx + pdy * pdy - fr * fr
-    if abs(a) < 1e-12 * max(1.0, r * r):
+    # The focal circle touching the end circle from inside (a = 0: one root) is decided within
+    # a relative 1/4096 (tiny-skia's and Skia's "focal on circle" test, |dr| / |c - f| near 1):
+    # just past it the largest root runs off to 2b/a, thousands of periods, and reflect or
+    # repeat would draw moire where the on-circle limit is smooth.
+    cd = math.sqrt(cdx * cdx + cdy * cdy)
+    if abs(a) < 1e-12 * max(1.0, r * r) or (cd > 0.0 and abs(cd - abs(dr)) < cd / 4096.0):
         if b == 0.0:
             return 0.0, False
         t = c / (2.0 * b)

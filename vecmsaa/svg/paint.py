@@ -112,11 +112,18 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     in resvg; SVG would inherit it through href). A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
-    matrices (matrix(1 2 2 4 0 0)) stay, and the paint then paints nothing (NO_PAINT)."""
+    matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
+    decided on this matrix, not on its product with the element's: under a skew or rotation
+    the product's determinant is rounding noise, not zero, and would paint a smear."""
     text = chain[0].get(attr)    # not inherited through href: usvg reads the element's own
     m = parse_transform(text) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
+    # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)
+    a, b, c, d = m[:4]
+    big = max(abs(a), abs(b), abs(c), abs(d))
+    if abs(a / big * (d / big) - b / big * (c / big)) <= 1e-12:
+        return None
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
         # resolved as anywhere else (percentages of the viewport, CSS transform-box'
@@ -148,20 +155,6 @@ def gradient(builder, el, ctx, bbox):
     # are no properties; browsers and resvg take " userSpaceOnUse" as invalid, the default)
     obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox") != "userSpaceOnUse"
     style = builder.doc.document_style(el)
-    m = ctx.transform
-    if obb:
-        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
-            return None
-        from .builder import bbox_matrix
-        m = compose(m, bbox_matrix(bbox))
-    m = compose(m, _units_transform(builder, chain, "gradientTransform", style, ctx))
-    try:
-        to_paint = invert(m)
-    except ValueError:
-        return NO_PAINT
-    spread = inherited_attr(chain, "spreadMethod", "pad")
-    if spread not in ("pad", "reflect", "repeat"):
-        spread = "pad"
     vp = ctx.viewport
 
     def attr(name, axis, default):
@@ -170,30 +163,52 @@ def gradient(builder, el, ctx, bbox):
         same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
         return box_coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
+    # The single-colour gradients need neither the box nor the transform: SVG paints the area
+    # with the last stop, as resvg does also on an empty box (a radius of zero) and through a
+    # singular gradientTransform (both kinds).
+    if el.tag == "radialGradient":
+        r = attr("r", "xy", "50%")
+        if r <= 0:
+            # SVG: "a value of zero will cause the area to be painted as a single color using
+            # the color and opacity of the last gradient stop"
+            return Solid(tuple(stops[-1, 1:]))
+    m = ctx.transform
+    if obb:
+        if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
+            return None
+        from .builder import bbox_matrix
+        m = compose(m, bbox_matrix(bbox))
     if el.tag == "linearGradient":
         x1, y1 = attr("x1", "x", "0%"), attr("y1", "y", "0%")
         x2, y2 = attr("x2", "x", "100%"), attr("y2", "y", "0%")
         if x1 == x2 and y1 == y2:
             return Solid(tuple(stops[-1, 1:]))
+    gradient_m = _units_transform(builder, chain, "gradientTransform", style, ctx)
+    if gradient_m is None:
+        return NO_PAINT
+    m = compose(m, gradient_m)
+    try:
+        to_paint = invert(m)
+    except ValueError:
+        return NO_PAINT
+    spread = inherited_attr(chain, "spreadMethod", "pad")
+    if spread not in ("pad", "reflect", "repeat"):
+        spread = "pad"
+    if el.tag == "linearGradient":
         return LinearGradient(x1, y1, x2, y2, stops, spread, to_paint)
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
-    r = attr("r", "xy", "50%")
     same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
     # fx/fy not given, or not a length (an invalid value is as if not given), coincide with
     # cx/cy (SVG 2's lacuna)
     fx = cx if split_length(inherited_attr(same, "fx")) is None else attr("fx", "x", "50%")
     fy = cy if split_length(inherited_attr(same, "fy")) is None else attr("fy", "y", "50%")
     fr = max(attr("fr", "xy", "0%"), 0.0)    # a negative radius is an error: the default
-    if r <= 0:
-        # SVG: "a value of zero will cause the area to be painted as a single color using the
-        # color and opacity of the last gradient stop"
-        return Solid(tuple(stops[-1, 1:]))
     if (math.hypot(cx - fx, cy - fy) <= DEGENERATE and abs(r - fr) <= DEGENERATE):
         # Equal circles: canvas paints nothing. tiny-skia (so resvg) paints, with pad, the
         # limit of a ring growing thin: the first stop's colour inside, the last one outside;
         # with reflect or repeat nothing.
         if spread != "pad":
-            return None
+            return NO_PAINT    # a valid paint server that paints nothing: not the fallback
         first, last = list(stops[0, 1:]), list(stops[-1, 1:])
         ring = separate_equal_offsets([[0.0, *first], [1.0, *first], [1.0, *last]])
         return RadialGradient(cx, cy, r, cx, cy, np.asarray(ring, dtype=np.float64), 0.0,
@@ -220,6 +235,10 @@ def pattern(builder, el, ctx, bbox):
     def attr(name, axis):
         return box_coord(builder, inherited_attr(chain, name), axis, obb, style, vp, "0")
     x, y, w, h = attr("x", "x"), attr("y", "y"), attr("width", "x"), attr("height", "y")
+    if w <= 0 or h <= 0:
+        # a tile without area is no valid pattern (resvg skips it, so the fallback), whether
+        # or not its content would need the box
+        return None
     if obb or (content_obb and vb is None):
         if bbox is None or bbox[2] - bbox[0] <= 0 or bbox[3] - bbox[1] <= 0:
             # as in resvg: the fallback for a tile in box units, nothing for content alone
@@ -231,6 +250,8 @@ def pattern(builder, el, ctx, bbox):
     if w <= 0 or h <= 0:
         return None
     pattern_m = _units_transform(builder, chain, "patternTransform", style, ctx)
+    if pattern_m is None:
+        return NO_PAINT
     full = compose(ctx.transform, pattern_m)
     # The tile's resolution as resvg picks it (row norms, in f32), so a skewed pattern's
     # content is laid out at the same scale as in resvg, and its size in whole pixels is too.
