@@ -271,6 +271,35 @@ def test_style_attribute_beats_css_and_important_beats_style_attribute():
     assert r.specified["stroke"] == "red"
 
 
+@pytest.mark.parametrize("css, fill", [
+    # CSS Namespaces 3 §2: a prefix declared by @namespace qualifies type and attribute
+    # selectors; declared for another URL it matches nothing
+    ("@namespace svg url(http://www.w3.org/2000/svg); svg|rect { fill: green }", "green"),
+    ('@namespace svg "http://www.w3.org/2000/svg"; svg|* { fill: green }', "green"),
+    ('@import url(x.css); @namespace s url("http://www.w3.org/2000/svg"); s|rect { fill: green }',
+     "green"),
+    ("@namespace svg url(http://example.org); rect { fill: green } svg|rect { fill: red }", "green"),
+    # a default namespace qualifies unprefixed type selectors, not attribute selectors
+    ("@namespace url(http://example.org); rect { fill: red } [id=r] { fill: green }", "green"),
+    ("@namespace url(http://www.w3.org/2000/svg); rect { fill: green }", "green"),
+    ("@namespace url(http://example.org); *|rect { fill: green }", "green"),
+    ("@namespace xl url(http://www.w3.org/1999/xlink); [xl|href] { fill: green }", "green"),
+    # an undeclared prefix invalidates the rule; @namespace after a rule is ignored (§2);
+    # a declaration holds for its own style sheet only
+    ("rect { fill: green } svg|rect { fill: red }", "green"),
+    ("rect { fill: green } @namespace svg url(http://www.w3.org/2000/svg); svg|rect { fill: red }",
+     "green"),
+    ("@namespace svg url(http://example.org) junk; rect { fill: green } svg|rect { fill: red }",
+     "green"),
+    ("@namespace svg url(http://www.w3.org/2000/svg);</style><style>rect { fill: green }"
+     " svg|rect { fill: red }", "green"),
+])
+def test_css_namespace_prefixes(css, fill):
+    d = doc(f'<style>{css}</style><rect id="r" xmlns:xlink="http://www.w3.org/1999/xlink" '
+            f'xlink:href="#r"/>')
+    assert d.ids["r"].specified.get("fill") == fill
+
+
 def test_presentation_attributes_are_the_weakest():
     d = doc('<style>rect { fill: green }</style><rect id="r" fill="red"/>')
     assert d.ids["r"].specified["fill"] == "green"
