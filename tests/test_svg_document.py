@@ -300,6 +300,36 @@ def test_css_namespace_prefixes(css, fill):
     assert d.ids["r"].specified.get("fill") == fill
 
 
+@pytest.mark.parametrize("group, own, rgba", [
+    # CSS Cascade 4 §7.3: unset inherits an inherited property...
+    ('fill="green"', 'style="fill: unset"', (0, 128, 0, 255)),
+    ('fill="green"', 'fill="UNSET"', (0, 128, 0, 255)),
+    ('fill="green"', 'style="fill: red; fill: unset"', (0, 128, 0, 255)),
+    ('color="green"', 'fill="currentColor" style="color: unset"', (0, 128, 0, 255)),
+    ('fill-opacity="0.5"', 'fill="#00f" style="fill-opacity: unset"', (0, 0, 255, 128)),
+    # ... and is the initial value of one that is not (a group's opacity still applies once)
+    ('opacity="0.5"', 'fill="#00f" style="opacity: unset"', (0, 0, 255, 128)),
+    # §7.1: initial is the property's initial value, not the parent's
+    ('fill="red"', 'style="fill: initial"', (0, 0, 0, 255)),
+    ('fill-opacity="0.5"', 'fill="#00f" style="fill-opacity: initial"', (0, 0, 255, 255)),
+])
+def test_css_wide_keywords_unset_and_initial(group, own, rgba):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="10" height="10"><g {group}><rect width="10" '
+                           f'height="10" {own}/></g></svg>'.encode(), width=10)
+    assert tuple(int(v) for v in img[5, 5]) == pytest.approx(rgba, abs=1)
+
+
+@pytest.mark.parametrize("own, width", [
+    ('style="stroke-width: unset"', 8), ('style="stroke-width: initial"', 1)])
+def test_css_wide_keywords_on_a_stroke_width(own, width):
+    # a vertical stroke: the coverage summed across a row is its width
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="100" height="10"><g stroke="#000" stroke-width="8">'
+                           f'<path d="M50 0V10" {own}/></g></svg>'.encode(), width=100)
+    assert img[5, :, 3].sum() / 255 == pytest.approx(width, abs=0.05)
+
+
 def test_presentation_attributes_are_the_weakest():
     d = doc('<style>rect { fill: green }</style><rect id="r" fill="red"/>')
     assert d.ids["r"].specified["fill"] == "green"

@@ -857,6 +857,9 @@ KEYWORD_PROPERTIES = {
     "white-space", "word-spacing", "writing-mode",
 }
 _CSS_WIDE_INITIALS = frozenset("iIuUrR")   # of inherit, initial, unset, revert: any property
+#: properties whose ``initial`` is replaced by their initial value in the cascade (text
+#: properties read ``initial`` themselves: the font family's is the reader's option)
+_PAINT_INITIAL = frozenset(INITIAL) - {"font-size", "font-family"}
 _ASCII_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
 
 
@@ -889,6 +892,10 @@ def _specified(spec, found, style_attr, warnings):
             low = _ascii_lower(value)
             if name in KEYWORD_PROPERTIES or low in _NO_WARNING:
                 spec[name] = value = low
+            if value == "unset":     # CSS Cascade 4 §7.3: inherit if inherited, else initial
+                spec[name] = value = "inherit" if name in INHERITED else "initial"
+            if value == "initial" and name in _PAINT_INITIAL:   # §7.1
+                spec[name] = value = INITIAL[name]
         if name in UNSUPPORTED_PROPERTIES:
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
