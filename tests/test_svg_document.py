@@ -271,6 +271,65 @@ def test_style_attribute_beats_css_and_important_beats_style_attribute():
     assert r.specified["stroke"] == "red"
 
 
+@pytest.mark.parametrize("css, fill", [
+    # CSS Namespaces 3 §2: a prefix declared by @namespace qualifies type and attribute
+    # selectors; declared for another URL it matches nothing
+    ("@namespace svg url(http://www.w3.org/2000/svg); svg|rect { fill: green }", "green"),
+    ('@namespace svg "http://www.w3.org/2000/svg"; svg|* { fill: green }', "green"),
+    ('@import url(x.css); @namespace s url("http://www.w3.org/2000/svg"); s|rect { fill: green }',
+     "green"),
+    ("@namespace svg url(http://example.org); rect { fill: green } svg|rect { fill: red }", "green"),
+    # a default namespace qualifies unprefixed type selectors, not attribute selectors
+    ("@namespace url(http://example.org); rect { fill: red } [id=r] { fill: green }", "green"),
+    ("@namespace url(http://www.w3.org/2000/svg); rect { fill: green }", "green"),
+    ("@namespace url(http://example.org); *|rect { fill: green }", "green"),
+    ("@namespace xl url(http://www.w3.org/1999/xlink); [xl|href] { fill: green }", "green"),
+    # an undeclared prefix invalidates the rule; @namespace after a rule is ignored (§2);
+    # a declaration holds for its own style sheet only
+    ("rect { fill: green } svg|rect { fill: red }", "green"),
+    ("rect { fill: green } @namespace svg url(http://www.w3.org/2000/svg); svg|rect { fill: red }",
+     "green"),
+    ("@namespace svg url(http://example.org) junk; rect { fill: green } svg|rect { fill: red }",
+     "green"),
+    ("@namespace svg url(http://www.w3.org/2000/svg);</style><style>rect { fill: green }"
+     " svg|rect { fill: red }", "green"),
+])
+def test_css_namespace_prefixes(css, fill):
+    d = doc(f'<style>{css}</style><rect id="r" xmlns:xlink="http://www.w3.org/1999/xlink" '
+            f'xlink:href="#r"/>')
+    assert d.ids["r"].specified.get("fill") == fill
+
+
+@pytest.mark.parametrize("group, own, rgba", [
+    # CSS Cascade 4 §7.3: unset inherits an inherited property...
+    ('fill="green"', 'style="fill: unset"', (0, 128, 0, 255)),
+    ('fill="green"', 'fill="UNSET"', (0, 128, 0, 255)),
+    ('fill="green"', 'style="fill: red; fill: unset"', (0, 128, 0, 255)),
+    ('color="green"', 'fill="currentColor" style="color: unset"', (0, 128, 0, 255)),
+    ('fill-opacity="0.5"', 'fill="#00f" style="fill-opacity: unset"', (0, 0, 255, 128)),
+    # ... and is the initial value of one that is not (a group's opacity still applies once)
+    ('opacity="0.5"', 'fill="#00f" style="opacity: unset"', (0, 0, 255, 128)),
+    # §7.1: initial is the property's initial value, not the parent's
+    ('fill="red"', 'style="fill: initial"', (0, 0, 0, 255)),
+    ('fill-opacity="0.5"', 'fill="#00f" style="fill-opacity: initial"', (0, 0, 255, 255)),
+])
+def test_css_wide_keywords_unset_and_initial(group, own, rgba):
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="10" height="10"><g {group}><rect width="10" '
+                           f'height="10" {own}/></g></svg>'.encode(), width=10)
+    assert tuple(int(v) for v in img[5, 5]) == pytest.approx(rgba, abs=1)
+
+
+@pytest.mark.parametrize("own, width", [
+    ('style="stroke-width: unset"', 8), ('style="stroke-width: initial"', 1)])
+def test_css_wide_keywords_on_a_stroke_width(own, width):
+    # a vertical stroke: the coverage summed across a row is its width
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="100" height="10"><g stroke="#000" stroke-width="8">'
+                           f'<path d="M50 0V10" {own}/></g></svg>'.encode(), width=100)
+    assert img[5, :, 3].sum() / 255 == pytest.approx(width, abs=0.05)
+
+
 def test_presentation_attributes_are_the_weakest():
     d = doc('<style>rect { fill: green }</style><rect id="r" fill="red"/>')
     assert d.ids["r"].specified["fill"] == "green"

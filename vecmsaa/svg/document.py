@@ -692,6 +692,30 @@ def _expand_shorthand(name, value):
     return [(name, value)]
 
 
+def _namespace_rule(rule, namespaces):
+    """Record an ``@namespace [prefix] <string or url>;`` rule in ``namespaces`` (prefix, or
+    None for the default namespace -> URL); anything else in the prelude, or a block, makes
+    the rule invalid and it is ignored (CSS Namespaces 3 §2)."""
+    if rule.content is not None:
+        return
+    parts = [t for t in rule.prelude if t.type not in ("whitespace", "comment")]
+    prefix = None
+    if len(parts) == 2 and parts[0].type == "ident":
+        prefix = parts.pop(0).value
+    if len(parts) != 1:
+        return
+    tok = parts[0]
+    if tok.type in ("string", "url"):
+        url = tok.value
+    elif (tok.type == "function" and tok.lower_name == "url"
+          and len([a for a in tok.arguments if a.type != "whitespace"]) == 1
+          and [a for a in tok.arguments if a.type != "whitespace"][0].type == "string"):
+        url = [a for a in tok.arguments if a.type != "whitespace"][0].value
+    else:
+        return
+    namespaces[prefix] = url
+
+
 class Stylesheets:
     """All CSS rules of a document, matched with cssselect2."""
 
@@ -706,12 +730,21 @@ class Stylesheets:
         import tinycss2
 
         rules = tinycss2.parse_stylesheet(css_text, skip_whitespace=True, skip_comments=True)
+        namespaces = {}     # this sheet's @namespace prefixes (CSS Namespaces 3 §2)
+        head = True         # @namespace is valid only before any rule but @charset/@import
         for rule in rules:
-            # at-rules, @import included, are skipped: resvg does not follow @import
+            # other at-rules, @import included, are skipped: resvg does not follow @import
+            if rule.type == "at-rule" and rule.lower_at_keyword in ("charset", "import"):
+                continue
+            if rule.type == "at-rule" and rule.lower_at_keyword == "namespace":
+                if head:
+                    _namespace_rule(rule, namespaces)
+                continue
+            head = False
             if rule.type != "qualified-rule":
                 continue
             try:
-                selectors = cssselect2.compile_selector_list(rule.prelude)
+                selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
             except Exception:   # cssselect2 raises its own SelectorError and others
                 continue
             decls = _declarations(rule.content)
@@ -824,6 +857,9 @@ KEYWORD_PROPERTIES = {
     "white-space", "word-spacing", "writing-mode",
 }
 _CSS_WIDE_INITIALS = frozenset("iIuUrR")   # of inherit, initial, unset, revert: any property
+#: properties whose ``initial`` is replaced by their initial value in the cascade (text
+#: properties read ``initial`` themselves: the font family's is the reader's option)
+_PAINT_INITIAL = frozenset(INITIAL) - {"font-size", "font-family"}
 _ASCII_LOWER = str.maketrans("ABCDEFGHIJKLMNOPQRSTUVWXYZ", "abcdefghijklmnopqrstuvwxyz")
 
 
@@ -856,6 +892,10 @@ def _specified(spec, found, style_attr, warnings):
             low = _ascii_lower(value)
             if name in KEYWORD_PROPERTIES or low in _NO_WARNING:
                 spec[name] = value = low
+            if value == "unset":     # CSS Cascade 4 §7.3: inherit if inherited, else initial
+                spec[name] = value = "inherit" if name in INHERITED else "initial"
+            if value == "initial" and name in _PAINT_INITIAL:   # §7.1
+                spec[name] = value = INITIAL[name]
         if name in UNSUPPORTED_PROPERTIES:
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
