@@ -378,6 +378,22 @@ def test_u_turn_has_no_spike():
     assert inside(out, [(51.9, 0)])[0] and not inside(out, [(52.1, 0)])[0]
 
 
+@pytest.mark.parametrize("limit", [1.0, 4.0, 10.0])
+def test_u_turn_miter_clip_reaches_half_the_limit(limit):
+    # SVG 2 stroke-linejoin miter-clip: a miter over the limit is clipped at miterlimit · w/2
+    # from the vertex along the bisector. At a reversal the miter is infinite and the
+    # bisector runs on along the incoming segment (as it does at 179.9°): a box past the turn.
+    w = 4.0
+    reach = 50 + limit * w / 2
+    for pts in (((0, 0), (50, 0), (0, 0)), ((0, 0), (50, 0), (50, 0), (10, 0))):
+        out = stroke_path(line(*pts), w, join="miter-clip", miterlimit=limit)
+        assert inside(out, [(reach - 0.05, 1.9), (reach - 0.05, -1.9)]).all()
+        assert not inside(out, [(reach + 0.05, 0), (reach - 0.05, 2.1)]).any()
+    # continuous with a turn just short of the reversal
+    near = stroke_path(line((0, 0), (50, 0), (0, 1e-6)), w, join="miter-clip", miterlimit=limit)
+    assert inside(near, [(reach - 0.05, 0)])[0] and not inside(near, [(reach + 0.05, 0)])[0]
+
+
 # -- caps ------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("cap, beyond", [("butt", 0.0), ("square", 3.0), ("round", 3.0)])
