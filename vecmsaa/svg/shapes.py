@@ -26,13 +26,16 @@ def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
         return rect_path(x, y, w, h)
     p = Path()
     k = QUARTER_W
+    # x + (w − rx), not x + w − rx: with rx clamped to w/2 the sides' lines must have exactly
+    # zero length; a last-bit reversal would be a U-turn, which miter-clip extends
+    x2, y2 = x + (w - rx), y + (h - ry)
     p.moveTo((x + rx, y))
-    p.lineTo((x + w - rx, y))
+    p.lineTo((x2, y))
     p.conicTo((x + w, y), (x + w, y + ry), k)
-    p.lineTo((x + w, y + h - ry))
-    p.conicTo((x + w, y + h), (x + w - rx, y + h), k)
+    p.lineTo((x + w, y2))
+    p.conicTo((x + w, y + h), (x2, y + h), k)
     p.lineTo((x + rx, y + h))
-    p.conicTo((x, y + h), (x, y + h - ry), k)
+    p.conicTo((x, y + h), (x, y2), k)
     p.lineTo((x, y + ry))
     p.conicTo((x, y), (x + rx, y), k)
     p.closePath()
