@@ -1453,3 +1453,18 @@ def test_markers_in_stroke_width_units_need_a_positive_width(sw, n):
     marks = [b for b in boxes if 0 < b[2] - b[0] < 20]      # not the 40-unit stroke
     assert len(marks) == n
     assert all(b[2] - b[0] == pytest.approx(4) for b in marks)   # the 2-unit rect × 2
+
+
+def test_rect_with_rx_and_zero_ry_has_the_rounded_paths_vertices():
+    # SVG 2's rect path with zero-height corner arcs as lines (an arc with a zero radius is a
+    # straight line): it starts at (x + rx, y), and its vertices are the 8 ends of the sides'
+    # lines and the corners' arcs, the start one shared with the closing end
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse"><rect width="2" height="2"/></marker>'
+              '<rect x="10" y="20" width="60" height="30" rx="15" ry="0" fill="none" '
+              'marker-start="url(#m)" marker-mid="url(#m)"/>')
+    centres = [((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
+               for b in (path_bounds(f.path) for f in s.fills())]
+    assert centres[0] == pytest.approx((25, 20))
+    want = {(25, 20), (55, 20), (70, 20), (70, 50), (55, 50), (25, 50), (10, 50), (10, 20)}
+    assert {(round(x, 9), round(y, 9)) for x, y in centres} == want
