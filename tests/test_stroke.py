@@ -378,6 +378,22 @@ def test_u_turn_has_no_spike():
     assert inside(out, [(51.9, 0)])[0] and not inside(out, [(52.1, 0)])[0]
 
 
+@pytest.mark.parametrize("limit", [1.0, 4.0, 10.0])
+def test_u_turn_miter_clip_reaches_half_the_limit(limit):
+    # SVG 2 stroke-linejoin miter-clip: a miter over the limit is clipped at miterlimit · w/2
+    # from the vertex along the bisector. At a reversal the miter is infinite and the
+    # bisector runs on along the incoming segment (as it does at 179.9°): a box past the turn.
+    w = 4.0
+    reach = 50 + limit * w / 2
+    for pts in (((0, 0), (50, 0), (0, 0)), ((0, 0), (50, 0), (50, 0), (10, 0))):
+        out = stroke_path(line(*pts), w, join="miter-clip", miterlimit=limit)
+        assert inside(out, [(reach - 0.05, 1.9), (reach - 0.05, -1.9)]).all()
+        assert not inside(out, [(reach + 0.05, 0), (reach - 0.05, 2.1)]).any()
+    # continuous with a turn just short of the reversal
+    near = stroke_path(line((0, 0), (50, 0), (0, 1e-6)), w, join="miter-clip", miterlimit=limit)
+    assert inside(near, [(reach - 0.05, 0)])[0] and not inside(near, [(reach + 0.05, 0)])[0]
+
+
 # -- caps ------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("cap, beyond", [("butt", 0.0), ("square", 3.0), ("round", 3.0)])
@@ -659,3 +675,23 @@ def test_closepath_vertex_gets_no_mid_marker_but_the_next_moveto_does():
     # resvg: mid markers on every vertex but those reached by ClosePath
     assert got == [(0, 0, "start"), (10, 0, "mid"), (10, 10, "mid"), (20, 0, "mid"),
                    (30, 0, "end")]
+
+
+@pytest.mark.parametrize("x,w", [(49.9, 77.3), (0.1, 0.7), (1e3 + 0.3, 33.3)])
+def test_rect_with_half_width_corners_has_no_u_turn(x, w):
+    # rx = w/2 (a clamped rx) leaves the top and bottom sides zero-length (SVG 2 rect's path);
+    # computed as x + w − rx they could reverse by a last bit, and a miter-clip U-turn there
+    # would add a box of limit·w/2 along the side. The stroke stays within hw of the ellipse.
+    from vecmsaa.svg.shapes import rounded_rect_path
+    y, h, sw = 38.0, 0.5 * w, 0.15 * w
+    rx, ry = w / 2, h / 2
+    out = stroke_path(rounded_rect_path(x, y, w, h, rx, ry), sw, join="miter-clip",
+                      miterlimit=4)
+    cx, cy = x + rx, y + ry
+    t = np.linspace(0, 2 * math.pi, 721)
+    # points 0.1 sw outside the stroke band along the ellipse's outward normals
+    ex, ey = cx + rx * np.cos(t), cy + ry * np.sin(t)
+    nx, ny = np.cos(t) / rx, np.sin(t) / ry
+    nl = np.hypot(nx, ny)
+    q = np.stack([ex + nx / nl * 0.6 * sw, ey + ny / nl * 0.6 * sw], 1)
+    assert not inside(out, q).any()

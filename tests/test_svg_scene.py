@@ -1437,3 +1437,34 @@ def test_a_use_of_an_svg_element_applies_its_transform():
         '<use href="#s" x="10" y="10"/></svg>'.encode())
     assert (img[10:30, 40:60] == (0, 255, 0, 255)).all()
     assert img[:, :, 3].sum() == 255 * 400
+
+
+@pytest.mark.parametrize("sw, n", [("-5", 0), ("0", 0), ("2", 3)])
+def test_markers_in_stroke_width_units_need_a_positive_width(sw, n):
+    # the marker's viewport is markerWidth × markerHeight times the stroke width; a zero or
+    # negative product disables rendering like a zero markerWidth (SVG 2 §11.6.2); a negative
+    # stroke-width draws no stroke (the suite's painting/stroke-width/negative)
+    s = scene('<marker id="m" markerWidth="4" markerHeight="4" overflow="visible">'
+              '<rect width="2" height="2"/></marker>'
+              f'<path d="M 10 10 L 50 10 L 50 50" fill="none" stroke="black" '
+              f'stroke-width="{sw}" marker-start="url(#m)" marker-mid="url(#m)" '
+              'marker-end="url(#m)"/>')
+    boxes = [path_bounds(f.path) for f in s.fills()]
+    marks = [b for b in boxes if 0 < b[2] - b[0] < 20]      # not the 40-unit stroke
+    assert len(marks) == n
+    assert all(b[2] - b[0] == pytest.approx(4) for b in marks)   # the 2-unit rect × 2
+
+
+def test_rect_with_rx_and_zero_ry_has_the_rounded_paths_vertices():
+    # SVG 2's rect path with zero-height corner arcs as lines (an arc with a zero radius is a
+    # straight line): it starts at (x + rx, y), and its vertices are the 8 ends of the sides'
+    # lines and the corners' arcs, the start one shared with the closing end
+    s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
+              'markerUnits="userSpaceOnUse"><rect width="2" height="2"/></marker>'
+              '<rect x="10" y="20" width="60" height="30" rx="15" ry="0" fill="none" '
+              'marker-start="url(#m)" marker-mid="url(#m)"/>')
+    centres = [((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
+               for b in (path_bounds(f.path) for f in s.fills())]
+    assert centres[0] == pytest.approx((25, 20))
+    want = {(25, 20), (55, 20), (70, 20), (70, 50), (55, 50), (25, 50), (10, 50), (10, 20)}
+    assert {(round(x, 9), round(y, 9)) for x, y in centres} == want

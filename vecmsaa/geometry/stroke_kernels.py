@@ -164,7 +164,11 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
     if join == _MITER_CLIP:
         ux, uy = n0x + n1x, n0y + n1y
         ul = math.hypot(ux, uy)
-        if ul > 1e-12:
+        if ul <= 1e-12:
+            # a U-turn: the outer bisector is the limit of the near-reversal ones, straight on
+            # along the incoming segment, so the clipped miter is a box of limit·w/2 past p
+            ux, uy, ul = d0x, d0y, 1.0
+        if ul > 0:
             ux, uy = ux / ul, uy / ul
             lim = miterlimit * hw
             da = d0x * ux + d0y * uy

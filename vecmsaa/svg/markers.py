@@ -99,6 +99,10 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
             angle = 0.0
     units = (marker.get("markerUnits") or "strokeWidth").strip()
     scale = stroke_width if units != "userSpaceOnUse" else 1.0
+    if not scale > 0:
+        # a viewport of markerWidth·strokeWidth ≤ 0 disables rendering, as a zero marker
+        # size does (a negative stroke-width, which draws no stroke, gave mirrored markers)
+        return []
     m = translate(x, y)
     if angle:
         r = math.radians(angle)

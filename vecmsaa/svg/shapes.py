@@ -22,17 +22,31 @@ def ellipse_path(cx, cy, rx, ry) -> Path:
 
 
 def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
-    if rx <= 0 or ry <= 0:
+    if rx <= 0:
         return rect_path(x, y, w, h)
     p = Path()
     k = QUARTER_W
+    # x + (w − rx), not x + w − rx: with rx clamped to w/2 the sides' lines must have exactly
+    # zero length; a last-bit reversal would be a U-turn, which miter-clip extends
+    x2, y2 = x + (w - rx), y + (h - ry)
+    if ry <= 0:
+        # SVG 2's rect path with corner arcs of zero height, each a straight line (an arc
+        # with a zero radius is a line): the rectangle's outline, but the rounded path's
+        # vertices (markers) and start at x + rx (dashes), as in resvg. (SVG 2 skips the
+        # arcs, which leaves its steps' lines off the rectangle: no reading of its own.)
+        p.moveTo((x + rx, y))
+        for q in ((x2, y), (x + w, y), (x + w, y + h), (x2, y + h), (x + rx, y + h),
+                  (x, y + h), (x, y), (x + rx, y)):
+            p.lineTo(q)
+        p.closePath()
+        return p
     p.moveTo((x + rx, y))
-    p.lineTo((x + w - rx, y))
+    p.lineTo((x2, y))
     p.conicTo((x + w, y), (x + w, y + ry), k)
-    p.lineTo((x + w, y + h - ry))
-    p.conicTo((x + w, y + h), (x + w - rx, y + h), k)
+    p.lineTo((x + w, y2))
+    p.conicTo((x + w, y + h), (x2, y + h), k)
     p.lineTo((x + rx, y + h))
-    p.conicTo((x, y + h), (x, y + h - ry), k)
+    p.conicTo((x, y + h), (x, y2), k)
     p.lineTo((x, y + ry))
     p.conicTo((x, y), (x + rx, y), k)
     p.closePath()
