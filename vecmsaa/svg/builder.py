@@ -615,14 +615,6 @@ class Builder:
     def wrap(self, el, style, ctx, nodes) -> list:
         """Apply filter, opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
         if ctx.geometry:
-            # an element its filter keeps from being drawn (a url to no filter) adds nothing
-            # to a bounding box either, as in resvg (usvg leaves it out of the tree)
-            f = el.specified.get("filter")
-            if nodes and f and f.strip() != "none":
-                from .filters import element_filters
-                if element_filters(self, el, style, ctx,
-                                   lambda: self.object_bbox(el, ctx, style)) is False:
-                    return []
             return nodes
         if ctx.clip:
             clip_ref = el.specified.get("clip-path")
