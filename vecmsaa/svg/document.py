@@ -705,15 +705,12 @@ def _namespace_rule(rule, namespaces):
     if len(parts) != 1:
         return
     tok = parts[0]
-    if tok.type in ("string", "url"):
-        url = tok.value
-    elif (tok.type == "function" and tok.lower_name == "url"
-          and len([a for a in tok.arguments if a.type != "whitespace"]) == 1
-          and [a for a in tok.arguments if a.type != "whitespace"][0].type == "string"):
-        url = [a for a in tok.arguments if a.type != "whitespace"][0].value
-    else:
-        return
-    namespaces[prefix] = url
+    if tok.type == "function" and tok.lower_name == "url":     # url("...")
+        args = [a for a in tok.arguments if a.type != "whitespace"]
+        if len(args) == 1 and args[0].type == "string":
+            namespaces[prefix] = args[0].value
+    elif tok.type in ("string", "url"):
+        namespaces[prefix] = tok.value
 
 
 class Stylesheets:

@@ -156,11 +156,11 @@ def gradient(builder, el, ctx, bbox):
     obb = inherited_attr(chain, "gradientUnits", "objectBoundingBox") != "userSpaceOnUse"
     style = builder.doc.document_style(el)
     vp = ctx.viewport
+    # coordinates inherit only from gradients of the same kind, up to the first of another
+    # kind (usvg stops there)
+    same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
 
     def attr(name, axis, default):
-        # coordinates inherit only from gradients of the same kind, up to the first of
-        # another kind (usvg stops there)
-        same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
         return box_coord(builder, inherited_attr(same, name), axis, obb, style, vp, default)
 
     # The single-colour gradients need neither the box nor the transform: SVG paints the area
@@ -197,7 +197,6 @@ def gradient(builder, el, ctx, bbox):
     if el.tag == "linearGradient":
         return LinearGradient(x1, y1, x2, y2, stops, spread, to_paint)
     cx, cy = attr("cx", "x", "50%"), attr("cy", "y", "50%")
-    same = list(itertools.takewhile(lambda e: e.tag == el.tag, chain))
     # fx/fy not given, or not a length (an invalid value is as if not given), coincide with
     # cx/cy (SVG 2's lacuna)
     fx = cx if split_length(inherited_attr(same, "fx")) is None else attr("fx", "x", "50%")
