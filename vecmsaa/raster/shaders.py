@@ -160,9 +160,23 @@ def _lut_index(t):
 
 
 @njit(cache=True, inline="always")
-def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, x, y):
+def _focal_on_circle(cx, cy, r, fx, fy, fr):
+    """Whether a radial gradient's focal circle touches its end circle from inside (a = 0 in
+    _gradient_t: one root), decided within a relative 1/4096 (tiny-skia's and Skia's "focal on
+    circle" test, |dr| / |c - f| near 1): just past it the largest root runs off to 2b/a,
+    thousands of periods, and reflect or repeat would draw moire where the on-circle limit is
+    smooth. Constant per gradient: computed once per span, not per pixel."""
+    cdx, cdy, dr = cx - fx, cy - fy, r - fr
+    a = cdx * cdx + cdy * cdy - dr * dr
+    cd = math.sqrt(cdx * cdx + cdy * cdy)
+    return abs(a) < 1e-12 * max(1.0, r * r) or (cd > 0.0 and abs(cd - abs(dr)) < cd / 4096.0)
+
+
+@njit(cache=True, inline="always")
+def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, one_root, x, y):
     """(t, paints) of a gradient at device (x, y): m the device → gradient matrix (f[4:10]),
-    a the gradient's geometry (f[10:16]: linear x1 y1 x2 y2, radial cx cy r fx fy fr);
+    a the gradient's geometry (f[10:16]: linear x1 y1 x2 y2, radial cx cy r fx fy fr),
+    one_root whether a radial gradient's focal circle touches its end circle (_focal_on_circle);
     paints False where a radial gradient draws nothing. Scalars only."""
     gx = m0 * x + m2 * y + m4
     gy = m1 * x + m3 * y + m5
@@ -176,12 +190,7 @@ def _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5, x, y):
     a = cdx * cdx + cdy * cdy - dr * dr
     b = pdx * cdx + pdy * cdy + fr * dr
     c = pdx * pdx + pdy * pdy - fr * fr
-    # The focal circle touching the end circle from inside (a = 0: one root) is decided within
-    # a relative 1/4096 (tiny-skia's and Skia's "focal on circle" test, |dr| / |c - f| near 1):
-    # just past it the largest root runs off to 2b/a, thousands of periods, and reflect or
-    # repeat would draw moire where the on-circle limit is smooth.
-    cd = math.sqrt(cdx * cdx + cdy * cdy)
-    if abs(a) < 1e-12 * max(1.0, r * r) or (cd > 0.0 and abs(cd - abs(dr)) < cd / 4096.0):
+    if one_root:
         if b == 0.0:
             return 0.0, False
         t = c / (2.0 * b)
@@ -236,9 +245,10 @@ def shade_span(kind, f, lut, tex, x0, x1, y, out):
         base, spread = int(f[17]), int(f[16])
         m0, m1, m2, m3, m4, m5 = f[4], f[5], f[6], f[7], f[8], f[9]
         a0, a1, a2, a3, a4, a5 = f[10], f[11], f[12], f[13], f[14], f[15]
+        one_root = kind == 2 and _focal_on_circle(a0, a1, a2, a3, a4, a5)
         for x in range(x0, x1):
             t, paints = _gradient_t(kind, m0, m1, m2, m3, m4, m5, a0, a1, a2, a3, a4, a5,
-                                    x + 0.5, y)
+                                    one_root, x + 0.5, y)
             if not paints:
                 out[x - x0, 0] = out[x - x0, 1] = out[x - x0, 2] = out[x - x0, 3] = 0.0
                 continue
