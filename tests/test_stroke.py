@@ -361,6 +361,32 @@ def test_miter_tip_length(angle):
     assert probe(out, clip * 0.98) and not probe(out, clip * 1.02 + 1e-3)
 
 
+@pytest.mark.parametrize("ratio", [4.03, 3.97])
+@pytest.mark.parametrize("bend", [1, -1])
+def test_miter_limit_judges_a_curve_by_its_tangent(ratio, bend):
+    # A cubic whose first control point is its start (an `S` after an arc) leaves along the
+    # direction to its second (SVG 2 path directionality) and bends tighter than the half width
+    # there; the miter limit (4) judges that tangent, whichever way the curve then bends.
+    w = 10.0
+    a = math.radians(_interior_angle(ratio))
+    d1 = np.array([-math.cos(a), -math.sin(a)])
+    vertex, c2 = np.array([50.0, 50.0]), np.array([50.0, 50.0]) + 30 * d1
+    p3 = c2 + 30 * bend * np.array([-d1[1], d1[0]])
+    p = Path()
+    p.moveTo((0, 50))
+    p.lineTo(tuple(vertex))
+    p.curveTo(tuple(vertex), tuple(c2), tuple(p3))
+    p.endPath()
+    out = stroke_path(p, w, join="miter", miterlimit=4.0)
+    mid_miter = vertex + _outer_bisector(_interior_angle(ratio)) * ratio * w / 2 * 0.6
+    assert inside(out, [mid_miter])[0] == (ratio <= 4.0)
+
+
+def _interior_angle(ratio):
+    """The interior angle (degrees) of a corner whose miter ratio is ratio: 1 / sin(θ/2)."""
+    return math.degrees(2 * math.asin(1 / ratio))
+
+
 @pytest.mark.parametrize("angle", [20, 90, 160])
 def test_round_join_radius(angle):
     w = 6.0

@@ -127,11 +127,13 @@ def dot_contour(verbs, pts, cnt, px, py, dx, dy, hw, cap, tol):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join, miterlimit,
-                     dot, tol):
+                     dot, limit_dot, tol):
     """Items along the outer side (side: +1 left, -1 right) of a turn at p, after the incoming
     side's last point (on its offset line) and before the outgoing side's next point (on the
     outgoing offset line). The offset ends a and b are left out where they are collinear with
-    their neighbours (a miter's tip, a clipped miter's corners)."""
+    their neighbours (a miter's tip, a clipped miter's corners). limit_dot: the cosine of the
+    turn that the miter limit judges, the segments' own end tangents; dot (of the directions
+    d0, d1 the sides were offset along) places the shapes."""
     n0x, n0y = -d0y * side, d0x * side
     n1x, n1y = -d1y * side, d1x * side
     ax, ay = px + n0x * hw, py + n0y * hw
@@ -158,8 +160,11 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
         _line(verbs, pts, cnt, ax, ay)
         _arc(verbs, pts, cnt, px, py, hw, a0, a0 + turn, tol)
         return
-    if join != _BEVEL and has_tip and 1.0 / cos_half <= miterlimit:
-        _line(verbs, pts, cnt, tx, ty)  # miter (and "arcs", which falls back to it)
+    cos_limit = math.sqrt(max(0.0, (1.0 + limit_dot) / 2.0))
+    if join != _BEVEL and has_tip and (cos_limit > 0 and 1.0 / cos_limit <= miterlimit or
+                                       join == _MITER_CLIP and 1.0 / cos_half <= miterlimit):
+        # miter (and "arcs", which falls back to it); a clip beyond the tip leaves it whole
+        _line(verbs, pts, cnt, tx, ty)
         return
     if join == _MITER_CLIP:
         ux, uy = n0x + n1x, n0y + n1y
@@ -290,11 +295,11 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
             continue
         if cross > 0:       # turning left: left side inner
             outer_join_items(rv, rp, rc, px, py, d0x, d0y, d1x, d1y, -1.0, hw, join,
-                             miterlimit, dot, tol)
+                             miterlimit, dot, dot, tol)
             sign = 1.0
         else:
             outer_join_items(lv, lp, lc, px, py, d0x, d0y, d1x, d1y, 1.0, hw, join,
-                             miterlimit, dot, tol)
+                             miterlimit, dot, dot, tol)
             sign = -1.0
         # the crossing is hw·tan(φ/2) from the vertex along each segment, the other corner
         # hw·sin φ; both must lie within both segments. Each shortcut removes a region
@@ -974,13 +979,13 @@ def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw,
-                join, miterlimit, dot, tol, o1x, o1y, i1x, i1y):
+                join, miterlimit, dot, limit_dot, tol, o1x, o1y, i1x, i1y):
     """Extend the outer side (side: +1 left, −1 right) by the join shape to its next offset's
     start o1, the inner side through p to its next start i1. tv, tp, tc: scratch."""
     tc[0] = 0
     tc[1] = 0
     outer_join_items(tv, tp, tc, px, py, d0x, d0y, d1x, d1y, side, hw, join, miterlimit, dot,
-                     tol)
+                     limit_dot, tol)
     first_pts = 3 if tv[0] == CUBIC else 1
     e = first_pts - 1
     v0 = p0 = 0
@@ -1127,6 +1132,10 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         stack = np.empty((_MAX_DEPTH + 2, 9))
         cur = np.empty(8)
         firsts = np.empty(hi - lo + 1, np.int64)    # each segment's first piece, then n
+        # each segment's own end directions (start x, y, end x, y): where a bend tighter than
+        # the half width makes a curve's end pieces chords, their directions are off its tangent,
+        # and a join's miter limit must judge the tangents (SVG 2 path directionality)
+        ends = np.zeros((hi - lo, 4))
         n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
         for s in range(lo, hi):
             firsts[s - lo] = n
@@ -1142,6 +1151,10 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                     if ok:
                         continue
                 _as_cubic(stack, seg, kinds[s])
+                for j in range(8):
+                    cur[j] = stack[0, j]
+                ok, ends[s - lo, 0], ends[s - lo, 1], ends[s - lo, 2], ends[s - lo, 3] = \
+                    _cubic_tangents(cur)
                 # The cubic in stack[0] becomes pieces (written out here, not a kernel of its
                 # own: each call level is linked, optimised and compiled again in its caller):
                 # offset cubics where they fit within tol, else halves (depth first, the first
@@ -1230,6 +1243,15 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                         tab, pk, n = _line_piece(tab, pk, n, mx, my, cur[6], cur[7], dx, dy,
                                                  hw, flat)
         firsts[hi - lo] = n
+        piece_seg = np.empty(n + 1, np.int64)
+        for s in range(hi - lo):
+            if firsts[s + 1] > firsts[s] and ends[s, 0] == 0.0 and ends[s, 1] == 0.0:
+                # a line or an exact arc: its pieces' own directions
+                ends[s, 0], ends[s, 1] = tab[firsts[s], _PT0], tab[firsts[s], _PT0 + 1]
+                ends[s, 2] = tab[firsts[s + 1] - 1, _PT1]
+                ends[s, 3] = tab[firsts[s + 1] - 1, _PT1 + 1]
+            for j in range(firsts[s], firsts[s + 1]):
+                piece_seg[j] = s
         run_lo = np.empty(n + 1, np.int64)
         run_join = np.empty(n + 1, np.int64)
         nruns = 0
@@ -1283,12 +1305,16 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
             else:
                 jn = run_join[i] if i < nruns else join
                 jtol = _shape_tol(tab, prev, a, tol)
+                e0, e1 = ends[piece_seg[prev]], ends[piece_seg[a]]
+                limit_dot = e0[2] * e1[0] + e0[3] * e1[1] if jn != _ROUND else dot
                 if cross > 0:       # turning left: left side inner
                     _turn_sides(rv, rp, rc, lv, lp, lc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
-                                -1.0, hw, jn, miterlimit, dot, jtol, r1x, r1y, l1x, l1y)
+                                -1.0, hw, jn, miterlimit, dot, limit_dot, jtol, r1x, r1y, l1x,
+                                l1y)
                 else:
                     _turn_sides(lv, lp, lc, rv, rp, rc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
-                                1.0, hw, jn, miterlimit, dot, jtol, l1x, l1y, r1x, r1y)
+                                1.0, hw, jn, miterlimit, dot, limit_dot, jtol, l1x, l1y, r1x,
+                                r1y)
             if i < nruns:
                 _append_side(rv, rp, rc, tab, pk, a, run_lo[i + 1], np.int64(_PR))
                 _append_side(lv, lp, lc, tab, pk, a, run_lo[i + 1], np.int64(_PL))
