@@ -136,6 +136,34 @@ def test_text_on_a_straight_path_is_plain_text():
     assert np.allclose(ink_box(on_path), ink_box(plain), atol=1)
 
 
+@pytest.mark.parametrize("path_length, offset, plain_x", [
+    ("2", "1", 100),          # 180 units long, calibrated to 2: an offset of 1 is half way
+    ("360", "45", 32.5),      # an offset in the author's units, scaled by 180 / 360
+    ("2", "50%", 100),        # a percentage is of the whole path either way
+    ("-2", "30", 40),         # a negative pathLength is an error: offsets as without it
+    ("x", "30", 40),          # (so is one that is no number)
+    ("0", "0", 10),           # pathLength 0, an infinite scale: an offset of 0 stays 0
+    ("0", "50%", 10),         # (a percentage of 0 is 0)
+    ("0", "5", None),         # ... and any other offset leaves the path: nothing drawn
+    ("0", "-5", None),
+])
+def test_text_path_start_offset_follows_path_length(path_length, offset, plain_x):
+    """SVG 2 Paths, "The 'pathLength' attribute": distances along a path (text on a path's
+    startOffset) are scaled by the path's computed length over the author's pathLength; 0 is
+    a scaling factor of infinity, under which 0 stays 0 and positive values become infinite.
+    The path runs 180 units from x = 10, so the text sits as plain text at 10 + the scaled
+    offset."""
+    got = alpha(render(f'<defs><path id="p" d="M 10 70 H 190" pathLength="{path_length}"/>'
+                       f'</defs><text><textPath href="#p" startOffset="{offset}">Hxg'
+                       '</textPath></text>'))
+    if plain_x is None:
+        assert got.max() == 0
+        return
+    want = alpha(render(f'<text x="{plain_x}" y="70">Hxg</text>'))
+    assert got.sum() == pytest.approx(want.sum(), rel=0.01)
+    assert np.allclose(ink_box(got), ink_box(want), atol=1)
+
+
 @pytest.mark.parametrize("tag", ["path", "line"])
 def test_text_path_uses_the_referenced_shapes_transform(tag):
     """SVG 2: the referenced shape's transform is a supplemental transformation of the path in

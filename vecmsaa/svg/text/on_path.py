@@ -2,10 +2,14 @@
 from __future__ import annotations
 
 import math
+import re
 
 from ...geometry.arclength import PathWalker
 from ...scene.transform import compose, rotate_at, translate
+from ..units import NUMBER_RE
 from .content import href_target
+
+_NUMBER = re.compile(NUMBER_RE)
 
 
 def path_walker(text_path, ctx):
@@ -23,23 +27,51 @@ def path_walker(text_path, ctx):
     return walker if math.isfinite(walker.length) else None
 
 
+def path_length_attribute(element):
+    """The ``pathLength`` of a textPath's path or shape: a non-negative number, or None when
+    absent or in error (SVG 2 Paths, "The 'pathLength' attribute": a negative value is an
+    error)."""
+    raw = element.get("pathLength") if element is not None else None
+    if raw is None or not _NUMBER.fullmatch(raw.strip()):
+        return None
+    value = float(raw)
+    return value if 0 <= value < math.inf else None
+
+
+def start_offset(text_path, walker, ctx, style):
+    """startOffset as an arc length along the walker's path. A percentage is of the whole
+    path. The path's ``pathLength`` calibrates distances along it (SVG 2 paths, "pathLength":
+    the user agent scales them by its own length over the author's; 0 is an infinite scale
+    under which 0 stays 0 and any other distance leaves the path), so a length is in the
+    author's units and a percentage is of ``pathLength`` before that scaling."""
+    author = path_length_attribute(href_target(text_path))
+    offset = 0.0
+    raw = text_path.get("startOffset")
+    if raw is not None:
+        raw = raw.strip()
+        if raw.endswith("%"):
+            try:
+                offset = float(raw[:-1]) / 100 * (walker.length if author is None else author)
+            except ValueError:
+                offset = 0.0
+            if not math.isfinite(offset):
+                offset = 0.0
+        else:
+            offset = ctx.length(raw, "x", style, 0.0) or 0.0
+    if author is None or offset == 0.0:
+        return offset
+    if author == 0.0:
+        return math.copysign(math.inf, offset)
+    return offset * walker.length / author
+
+
 def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shifts):
     """Clusters along a textPath (``walker`` along its path) from arc length ``start`` (the
     chunk's x moved by its text-anchor) plus startOffset: each cluster's midpoint on the path,
     turned to its tangent, then moved off the path by dy and baseline shifts; returns the pen
     at the end."""
     style = styles.get(id(text_path), ctx.style)
-    offset = 0.0
-    start_offset = text_path.get("startOffset")
-    if start_offset is not None:
-        start_offset = start_offset.strip()
-        if start_offset.endswith("%"):
-            try:
-                offset = float(start_offset[:-1]) / 100 * walker.length
-            except ValueError:
-                offset = 0.0
-        else:
-            offset = ctx.length(start_offset, "x", style, 0.0) or 0.0
+    offset = start_offset(text_path, walker, ctx, style)
     advance = start + offset
     dy = 0.0
     last = (0.0, 0.0)
