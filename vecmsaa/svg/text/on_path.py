@@ -5,6 +5,7 @@ import math
 
 from ...geometry.arclength import PathWalker
 from ...scene.transform import compose, rotate_at, translate
+from ..shapes import author_path_length
 from .content import href_target
 
 
@@ -40,6 +41,13 @@ def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shi
                 offset = 0.0
         else:
             offset = ctx.length(start_offset, "x", style, 0.0) or 0.0
+            # a length is in the path's pathLength units (SVG 2 text on a path: the offset is
+            # "adjusted due to any pathLength"; percentages are not): a pathLength of 0 scales
+            # by infinity, leaving 0 at the start and putting any other offset off the path
+            author = author_path_length(href_target(text_path))
+            if author is not None and offset:
+                offset = offset * walker.length / author if author > 0 else \
+                    math.copysign(math.inf, offset)
     advance = start + offset
     dy = 0.0
     last = (0.0, 0.0)
