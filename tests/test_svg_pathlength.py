@@ -47,6 +47,23 @@ def test_path_length_scales_dashes_on_a_path(attrs, on, off):
         assert a[50, x] == 0, (x, a[50, ::5].tolist())
 
 
+@pytest.mark.parametrize("d", ["M 10 10 L 10 10", "M 10 10 L 50 10"])
+@pytest.mark.parametrize("path_length", ["2", "0", "1e-320", "1e300"])
+def test_path_length_extremes_draw_as_their_dash_pattern_allows(d, path_length):
+    """A zero-length path has no distance to scale (drawn as without pathLength); a scale
+    past floats (pathLength 1e-320) or 0 makes the first dash cover the path: solid."""
+    body = (f'<path d="{d}" {{}} stroke="black" stroke-width="6" stroke-linecap="butt" '
+            f'stroke-dasharray="1" stroke-dashoffset="0.5"/>')
+    got = alpha(body.format(f'pathLength="{path_length}"'), 60, 20)
+    if d.endswith("10 10"):
+        assert np.array_equal(got, alpha(body.format(""), 60, 20))
+    elif path_length in ("0", "1e-320"):
+        assert np.array_equal(got, alpha(body.format("").replace('stroke-dasharray="1"', ""),
+                                         60, 20))
+    else:
+        assert got.any()
+
+
 def test_path_length_on_a_rect():
     """SVG 2 gives basic shapes pathLength too. A 60 x 60 square from (20, 20) clockwise has
     240 units of perimeter: with pathLength 8, dashes of 1 are 30 units, so each side is half

@@ -951,6 +951,8 @@ class Builder:
         if params is None or params[4] is None:
             return None
         length = dash_length(path)
+        if not length > 0:
+            return None                 # no distance along the path to scale
         if author > 0:
             return length / author
         nonzero = [abs(v) for v in (*params[4], params[5]) if v]
@@ -1113,8 +1115,9 @@ class Builder:
     def _general_stroke(self, path, style, ctx, ref, antialias, dash_scale=None):
         width, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
         if dashes and dash_scale is not None:
-            dashes = [d * dash_scale for d in dashes]
-            offset *= dash_scale
+            # (a pattern scaled past floats, or to nothing, is solid, as such a pattern given)
+            dashes = dash_pattern([d * dash_scale for d in dashes])
+            offset = offset * dash_scale if dashes and math.isfinite(offset * dash_scale) else 0.0
         non_scaling = style.get("vector-effect").strip() == "non-scaling-stroke"
         opacity = ref.opacity
         if non_scaling:
