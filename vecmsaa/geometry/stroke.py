@@ -388,6 +388,15 @@ class _MeasuredArc:
         return (-self.sense * math.sin(b), self.sense * math.cos(b))
 
 
+def dash_length(path: Path) -> float:
+    """The total length of ``path`` as the dasher measures it (circular arcs exactly, r·θ;
+    closing lines included, the gaps between subpaths not): the user agent's path length that
+    a ``pathLength`` attribute calibrates dashes against, so that a pattern dividing the
+    author's length divides this one exactly."""
+    return sum((_MeasuredArc(s) if isinstance(s, _Conic) else _Measured(s, 0.25)).length
+               for segs, _ in _subpaths(exact_conics(path, 0.0)) for s in segs)
+
+
 def _dash_subpath(segs, closed, pattern, offset, tol):
     """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes.
     On a closed subpath a dash running through the start point is one dash (as in Skia, and so

@@ -21,7 +21,7 @@ from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
-from ..geometry.stroke import dash_coverage, dash_pattern, stroke_path
+from ..geometry.stroke import dash_coverage, dash_length, dash_pattern, stroke_path
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from .document import Document, Element, Style
@@ -29,7 +29,7 @@ from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
-from .shapes import shape_path
+from .shapes import author_path_length, shape_path
 from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
                     parse_transform, parse_viewbox, split_length, to_px, url_argument,
                     viewbox_transform, viewbox_transform_f32)
@@ -311,10 +311,12 @@ class Builder:
         run = []        # consecutive plain <path> children (see _path_run)
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
-            # tested here, not in a function: a call per path costs more than the test)
+            # no pathLength, which only shape() applies; tested here, not in a function: a
+            # call per path costs more than the test)
             if (child.tag == "path" and not child.specified
                     and "systemLanguage" not in child.attrs
-                    and "requiredExtensions" not in child.attrs):
+                    and "requiredExtensions" not in child.attrs
+                    and "pathLength" not in child.attrs):
                 run.append(child)
                 continue
             if run:
@@ -932,13 +934,37 @@ class Builder:
             return out
         if style.get("visibility").strip() in ("hidden", "collapse") and not ctx.geometry:
             return []
-        return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE)
+        dash_scale = None
+        if "pathLength" in el.attrs and not (ctx.geometry or ctx.clip):
+            dash_scale = self._path_length_scale(el, path, style, ctx)
+        return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE,
+                              dash_scale=dash_scale)
 
-    def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None) -> list:
+    def _path_length_scale(self, el, path, style, ctx):
+        """The factor a shape's ``pathLength`` scales its dash array and offset by (SVG 2
+        painting, the stroke shape: dash positions are in the author's length), or None for
+        none: no pathLength, an erroneous one, or no dashes. A pathLength of 0 scales by
+        infinity (SVG 2 paths: zero stays zero, a positive length becomes +∞): a factor that
+        makes every nonzero dash and offset longer than the path stands for it."""
+        author = author_path_length(el)
+        params = self.stroke_params(style, ctx) if author is not None else None
+        if params is None or params[4] is None:
+            return None
+        length = dash_length(path)
+        if not length > 0:
+            return None                 # no distance along the path to scale
+        if author > 0:
+            return length / author
+        nonzero = [abs(v) for v in (*params[4], params[5]) if v]
+        return 2.0 * (length + 1.0) / min(nonzero)
+
+    def draw_path(self, path: Path, style: Style, ctx: Ctx, markers=False, bbox=None,
+                  dash_scale=None) -> list:
         """Fill, stroke and markers of a user-space path with a computed style.
 
         In a clip path only the fill outline is produced (black, clip-rule); when collecting
-        geometry for bounding boxes only the plain outline.
+        geometry for bounding boxes only the plain outline. ``dash_scale`` multiplies the dash
+        array and offset (an element's pathLength).
         """
         if ctx.geometry:
             # Bounding boxes of groups are unions of their children's boxes mapped through
@@ -971,7 +997,7 @@ class Builder:
                                     "evenodd" if rule == "evenodd" else "nonzero",
                                     ref.opacity, antialias))
             elif item == "stroke":
-                out.extend(self.stroke(path, style, ctx, bbox, antialias))
+                out.extend(self.stroke(path, style, ctx, bbox, antialias, dash_scale))
             elif item == "markers" and markers and marked:
                 out.extend(self.markers(path, style, ctx))
         return out
@@ -1031,7 +1057,7 @@ class Builder:
         offset = self.length(style.get("stroke-dashoffset"), "xy", style, viewport, 0.0)
         return width, join, cap, limit, dashes, offset or 0.0
 
-    def stroke(self, path, style, ctx, bbox, antialias):
+    def stroke(self, path, style, ctx, bbox, antialias, dash_scale=None):
         ref = self.resolve_paint(style, "stroke", ctx, bbox)
         if ref is None:
             return []
@@ -1039,7 +1065,7 @@ class Builder:
         if plan is None:
             return []
         if plan[0] is None:
-            return self._general_stroke(path, style, ctx, ref, antialias)
+            return self._general_stroke(path, style, ctx, ref, antialias, dash_scale)
         # a solid, scaling stroke: everything but the path follows from style and transform
         codes, stroke_width, tolerance, fade = plan
         opacity = ref.opacity
@@ -1086,8 +1112,12 @@ class Builder:
                  float(max(1.0, limit)), float(offset))
         return codes, stroke_width, tolerance, fade
 
-    def _general_stroke(self, path, style, ctx, ref, antialias):
+    def _general_stroke(self, path, style, ctx, ref, antialias, dash_scale=None):
         width, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
+        if dashes and dash_scale is not None:
+            # (a pattern scaled past floats, or to nothing, is solid, as such a pattern given)
+            dashes = dash_pattern([d * dash_scale for d in dashes])
+            offset = offset * dash_scale if dashes and math.isfinite(offset * dash_scale) else 0.0
         non_scaling = style.get("vector-effect").strip() == "non-scaling-stroke"
         opacity = ref.opacity
         if non_scaling:

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 from ..scene.path import Path, rect_path
-from .units import parse_number_prefix
+from .units import parse_number, parse_number_prefix
 
 #: the weight of a quarter-ellipse conic, cos 45°
 QUARTER_W = 0.7071067811865476
@@ -51,6 +51,14 @@ def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
     p.conicTo((x, y), (x + rx, y), k)
     p.closePath()
     return p
+
+
+def author_path_length(el):
+    """The element's ``pathLength`` (SVG 2 paths §"The pathLength attribute": the author's
+    length of the path, which distances along it are scaled by): a number ≥ 0, or None when
+    it is absent or in error (not a number, or negative), and nothing is scaled."""
+    v = parse_number(el.attrs.get("pathLength"))
+    return v if v is not None and v >= 0 else None
 
 
 def shape_path(el, length):

@@ -2,14 +2,11 @@
 from __future__ import annotations
 
 import math
-import re
 
 from ...geometry.arclength import PathWalker
 from ...scene.transform import compose, rotate_at, translate
-from ..units import NUMBER_RE
+from ..shapes import author_path_length
 from .content import href_target
-
-_NUMBER = re.compile(NUMBER_RE)
 
 
 def path_walker(text_path, ctx):
@@ -27,24 +24,14 @@ def path_walker(text_path, ctx):
     return walker if math.isfinite(walker.length) else None
 
 
-def path_length_attribute(element):
-    """The ``pathLength`` of a textPath's path or shape: a non-negative number, or None when
-    absent or in error (SVG 2 Paths, "The 'pathLength' attribute": a negative value is an
-    error)."""
-    raw = element.get("pathLength") if element is not None else None
-    if raw is None or not _NUMBER.fullmatch(raw.strip()):
-        return None
-    value = float(raw)
-    return value if 0 <= value < math.inf else None
-
-
 def start_offset(text_path, walker, ctx, style):
     """startOffset as an arc length along the walker's path. A percentage is of the whole
     path. The path's ``pathLength`` calibrates distances along it (SVG 2 paths, "pathLength":
     the user agent scales them by its own length over the author's; 0 is an infinite scale
     under which 0 stays 0 and any other distance leaves the path), so a length is in the
     author's units and a percentage is of ``pathLength`` before that scaling."""
-    author = path_length_attribute(href_target(text_path))
+    target = href_target(text_path)
+    author = author_path_length(target) if target is not None else None
     offset = 0.0
     raw = text_path.get("startOffset")
     if raw is not None:
