@@ -161,11 +161,18 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
         _arc(verbs, pts, cnt, px, py, hw, a0, a0 + turn, tol)
         return
     cos_limit = math.sqrt(max(0.0, (1.0 + limit_dot) / 2.0))
-    if join != _BEVEL and has_tip and (cos_limit > 0 and 1.0 / cos_limit <= miterlimit or
-                                       join == _MITER_CLIP and 1.0 / cos_half <= miterlimit):
+    within = cos_limit > 0 and 1.0 / cos_limit <= miterlimit    # the tangents' miter
+    lim = miterlimit * hw
+    if join != _BEVEL and has_tip and 1.0 / cos_half <= miterlimit and (
+            within or join == _MITER_CLIP):
         # miter (and "arcs", which falls back to it); a clip beyond the tip leaves it whole
         _line(verbs, pts, cnt, tx, ty)
         return
+    if join != _BEVEL and join != _MITER_CLIP and within:
+        # the tangents' miter is within the limit but the directions' (chords of a tight
+        # bend) is not: clipped where the tangents' tip would be, no farther
+        join = _MITER_CLIP
+        lim = hw / cos_limit
     if join == _MITER_CLIP:
         ux, uy = n0x + n1x, n0y + n1y
         ul = math.hypot(ux, uy)
@@ -175,7 +182,6 @@ def outer_join_items(verbs, pts, cnt, px, py, d0x, d0y, d1x, d1y, side, hw, join
             ux, uy, ul = d0x, d0y, 1.0
         if ul > 0:
             ux, uy = ux / ul, uy / ul
-            lim = miterlimit * hw
             da = d0x * ux + d0y * uy
             pa = hw * (n0x * ux + n0y * uy)
             if da > 1e-12 and lim > pa:
