@@ -864,6 +864,19 @@ def test_a_filter_drawing_its_own_element_leaves_it_unfiltered_and_instances_fil
     assert img[80, 57, 3] == 0 and img[80, 178, 3] == 0
 
 
+def test_element_not_drawn_for_its_filter_is_out_of_its_groups_bounding_box():
+    """An element whose filter references no filter is not drawn (as resvg draws it), and so
+    adds nothing to its group's object bounding box (SVG 2 §8.10 unites the rendered
+    children; usvg leaves it out of the tree): the group's box is the 40-wide rect's, so the
+    clip's left half ends at 20, not at 50."""
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="10"><clipPath id="c" clipPathUnits="objectBoundingBox">'
+        '<rect width="0.5" height="1"/></clipPath><g clip-path="url(#c)">'
+        '<rect width="40" height="10"/><rect width="100" height="10" filter="url(#none)"/>'
+        '</g></svg>')
+    assert (img[5, :20, 3] == 255).all() and (img[5, 20:, 3] == 0).all()
+
+
 def test_a_filtered_element_in_several_contexts_takes_the_box_of_each():
     """Object bounding boxes are computed once per element and context: the same group drawn
     where its percentages, inherited font size, context paint, marker or pattern differ

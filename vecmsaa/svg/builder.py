@@ -239,6 +239,7 @@ class Builder:
         # each computed once per element and context (see object_bbox; emptied by build_root)
         self._bbox_memo = {}
         self._geometry_memo = {}
+        self._hidden_memo = {}         # see _filter_hides
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -260,6 +261,7 @@ class Builder:
         self.root_scale = root_scale
         self._bbox_memo.clear()
         self._geometry_memo.clear()
+        self._hidden_memo.clear()
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
@@ -634,6 +636,12 @@ class Builder:
     def wrap(self, el, style, ctx, nodes) -> list:
         """Apply filter, opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
         if ctx.geometry:
+            # an element its filter keeps from being drawn (a url to no filter, or to filters
+            # that cannot apply to it) adds nothing to a bounding box either: SVG 2's
+            # algorithm skips children that are not rendered, and usvg drops the element
+            f = el.specified.get("filter")
+            if nodes and f and f.strip() != "none" and self._filter_hides(el, ctx, style):
+                return []
             return nodes
         if ctx.clip:
             clip_ref = el.specified.get("clip-path")
@@ -696,6 +704,21 @@ class Builder:
         group.blend = blend
         group.isolate = isolate
         return [group]
+
+    def _filter_hides(self, el, ctx, style):
+        """Whether the element's filter keeps it from being drawn, for the geometry pass:
+        decided once per element and context, as its box (which the decision needs) is, in
+        its own user space (transform-free: only an overflowing device rectangle, which the
+        drawing pass refuses, would decide otherwise)."""
+        g = replace(ctx, transform=IDENTITY, geometry=True, clip=False)
+        key = (el, style, g, tuple(self.ref_stack))
+        try:
+            return self._hidden_memo[key]
+        except KeyError:
+            from .filters import element_filters
+            hidden = self._hidden_memo[key] = element_filters(
+                self, el, style, g, lambda: self.object_bbox(el, ctx, style)) is False
+            return hidden
 
     def _plain_wrap(self, style):
         """Whether wrap() leaves the nodes of an element of this style as they are, for an
