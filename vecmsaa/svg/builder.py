@@ -709,13 +709,17 @@ class Builder:
         """Whether the element's filter keeps it from being drawn, for the geometry pass:
         decided once per element and context, as its box (which the decision needs) is, in
         its own user space (transform-free: only an overflowing device rectangle, which the
-        drawing pass refuses, would decide otherwise)."""
-        g = replace(ctx, transform=IDENTITY, geometry=True, clip=False)
-        key = (el, style, g, tuple(self.ref_stack))
+        drawing pass refuses, would decide otherwise). The chain of matrices is left out,
+        of the key and of the filter resolved to decide (hashing it, and device_scale's f32
+        product, cost its length, and a walk under a transform on every level asks n^2/2
+        times): it scales primitives' lengths, never decides whether a filter applies."""
+        key = (el, style, ctx.viewport, ctx.use_stack, ctx.context_fill, ctx.context_stroke,
+               tuple(self.ref_stack))
         try:
             return self._hidden_memo[key]
         except KeyError:
             from .filters import element_filters
+            g = replace(ctx, transform=IDENTITY, chain=(), geometry=True, clip=False)
             hidden = self._hidden_memo[key] = element_filters(
                 self, el, style, g, lambda: self.object_bbox(el, ctx, style)) is False
             return hidden
