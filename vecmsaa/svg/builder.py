@@ -236,7 +236,8 @@ class Builder:
         self._path_curved = None       # per path of the batch: a verb besides M, L and Z
         self._path_odd = None          # per path of the batch: see _odd_in_run
         # Object bounding boxes and the geometry-pass nodes of elements other than shapes,
-        # each computed once per element and context (see object_bbox; emptied by build_root)
+        # each computed once per element and context (see object_bbox; emptied around each
+        # build_root)
         self._bbox_memo = {}
         self._geometry_memo = {}
         self._hidden_memo = {}         # see _filter_hides
@@ -259,9 +260,18 @@ class Builder:
         background does not take), when it has one. ``geometry``: the object geometry
         alone (see Ctx.geometry), unpainted shapes included."""
         self.root_scale = root_scale
+        self._clear_memos()
+        try:
+            return self._build_root(transform, viewport, canvas, geometry)
+        finally:
+            self._clear_memos()     # the scene, drawn next, needs none of their geometry
+
+    def _clear_memos(self):
         self._bbox_memo.clear()
         self._geometry_memo.clear()
         self._hidden_memo.clear()
+
+    def _build_root(self, transform, viewport, canvas, geometry) -> list:
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
