@@ -864,6 +864,56 @@ def test_a_filter_drawing_its_own_element_leaves_it_unfiltered_and_instances_fil
     assert img[80, 57, 3] == 0 and img[80, 178, 3] == 0
 
 
+def test_element_not_drawn_for_its_filter_is_out_of_its_groups_bounding_box():
+    """An element whose filter references no filter is not drawn (as resvg draws it), and so
+    adds nothing to its group's object bounding box (SVG 2 §8.10 unites the rendered
+    children; usvg leaves it out of the tree): the group's box is the 40-wide rect's, so the
+    clip's left half ends at 20, not at 50."""
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="10"><clipPath id="c" clipPathUnits="objectBoundingBox">'
+        '<rect width="0.5" height="1"/></clipPath><g clip-path="url(#c)">'
+        '<rect width="40" height="10"/><rect width="100" height="10" filter="url(#none)"/>'
+        '</g></svg>')
+    assert (img[5, :20, 3] == 255).all() and (img[5, 20:, 3] == 0).all()
+
+
+def test_a_filtered_element_in_several_contexts_takes_the_box_of_each():
+    """Object bounding boxes are computed once per element and context: the same group drawn
+    where its percentages, inherited font size, context paint, marker or pattern differ
+    takes its box in each. The flood of a filter whose region is the box
+    (x=0 y=0 width=1 height=1) covers exactly the box of its red rect, computed by hand."""
+    img = render_svg_array(
+        f'<svg {NS} width="200" height="70"><defs>'
+        '<filter id="f" x="0" y="0" width="1" height="1"><feFlood flood-color="blue"/></filter>'
+        '<filter id="o" x="0" y="0" width="1" height="1"><feOffset/></filter>'
+        '<g id="g" filter="url(#f)"><rect width="50%" height="50%" fill="red"/></g>'
+        '<g id="h" filter="url(#f)"><rect width="1em" height="1em" fill="red"/></g>'
+        '<g id="k" filter="url(#o)"><rect width="10" height="10" fill="context-fill"/></g>'
+        '<marker id="m" markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="10" '
+        'overflow="visible"><use href="#h" font-size="8"/></marker>'
+        '<pattern id="p" width="1" height="1" patternContentUnits="objectBoundingBox">'
+        '<g filter="url(#f)"><rect width="1" height="1" fill="red"/></g></pattern></defs>'
+        '<svg width="40" height="20"><use href="#g"/></svg>'
+        '<svg x="50" width="80" height="40"><use href="#g"/></svg>'
+        '<svg x="100" width="40" height="20" overflow="visible">'
+        '<use href="#g" transform="translate(0 20) scale(2)"/></svg>'
+        '<use href="#h" x="150" font-size="10"/><use href="#h" x="170" y="10" font-size="20"/>'
+        '<use href="#k" y="45" fill="lime"/><use href="#k" x="20" y="45" fill="yellow"/>'
+        '<path d="M 50 45 h 1" marker-start="url(#m)"/>'
+        '<rect x="100" y="45" width="20" height="10" fill="url(#p)"/>'
+        '<rect x="130" y="42" width="40" height="18" fill="url(#p)"/></svg>')
+    want = np.zeros(img.shape[:2], bool)
+    for y0, y1, x0, x1 in ((0, 10, 0, 20), (0, 20, 50, 90), (20, 40, 100, 140),    # 50% of 40x20,
+                           (0, 10, 150, 160), (10, 30, 170, 190),                  # 80x40, scaled
+                           (45, 53, 50, 58),                                       # 1em: 10, 20, 8
+                           (45, 55, 100, 120), (42, 60, 130, 170)):                # the patterns'
+        want[y0:y1, x0:x1] = True
+    blue = (img[..., 2] == 255) & (img[..., 0] == 0) & (img[..., 1] == 0)
+    assert (blue == want).all()
+    assert tuple(img[50, 5]) == (0, 255, 0, 255) and tuple(img[50, 25]) == (255, 255, 0, 255)
+    assert not ((img[..., 0] > 0) & (img[..., 1] == 0) & (img[..., 3] > 0)).any()    # no red
+
+
 def _effects(scene):
     stack, effects = [scene.root], []
     while stack:

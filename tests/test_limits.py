@@ -244,6 +244,32 @@ def test_deep_nesting_renders(filtered):
     assert deep.shape == flat.shape and np.array_equal(deep, flat)
 
 
+def test_nested_filtered_groups_build_each_element_a_bounded_number_of_times(monkeypatch):
+    """n nested groups, each with a filter in objectBoundingBox units: each needs its box to
+    be drawn, and in the bounding-box pass, to decide whether its filter lets it be drawn at
+    all (an element not drawn is out of its ancestors' boxes). Each element's box and
+    geometry are computed once, so the n + 1 elements are built a bounded number of times
+    each (drawn, and once as geometry), not n^2 / 2 times (each level's box walking its
+    subtree) or 2^n (each level's decision building its subtree again)."""
+    from vecmsaa.svg.builder import Builder
+    builders = []
+    init = Builder.__init__
+
+    def record(self, *args, **kwargs):
+        init(self, *args, **kwargs)
+        builders.append(self)
+    monkeypatch.setattr(Builder, "__init__", record)
+    g = '<g filter="url(#f)">'
+    defs = ('<filter id="f" x="0" y="0" width="1" height="1" primitiveUnits="objectBoundingBox">'
+            '<feOffset dx="0"/></filter>')
+    for n in (40, 200):
+        builders.clear()
+        img = render_svg_array(f'<svg {SVG} width="20" height="20">{defs}{g * n}'
+                               f'<rect width="10" height="10"/>{"</g>" * n}</svg>')
+        assert (img[:10, :10, 3] == 255).all() and img[..., 3].sum() == 100 * 255
+        assert sum(b.nodes_made for b in builders) <= 3 * (n + 1)
+
+
 def test_nesting_beyond_the_limit_is_a_clean_error():
     from vecmsaa.svg.document import MAX_DEPTH
     n = MAX_DEPTH + 1

@@ -235,6 +235,12 @@ class Builder:
         self._path_batch = None
         self._path_curved = None       # per path of the batch: a verb besides M, L and Z
         self._path_odd = None          # per path of the batch: see _odd_in_run
+        # Object bounding boxes and the geometry-pass nodes of elements other than shapes,
+        # each computed once per element and context (see object_bbox; emptied around each
+        # build_root)
+        self._bbox_memo = {}
+        self._geometry_memo = {}
+        self._hidden_memo = {}         # see _filter_hides
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -254,6 +260,18 @@ class Builder:
         background does not take), when it has one. ``geometry``: the object geometry
         alone (see Ctx.geometry), unpainted shapes included."""
         self.root_scale = root_scale
+        self._clear_memos()
+        try:
+            return self._build_root(transform, viewport, canvas, geometry)
+        finally:
+            self._clear_memos()     # the scene, drawn next, needs none of their geometry
+
+    def _clear_memos(self):
+        self._bbox_memo.clear()
+        self._geometry_memo.clear()
+        self._hidden_memo.clear()
+
+    def _build_root(self, transform, viewport, canvas, geometry) -> list:
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
@@ -525,6 +543,19 @@ class Builder:
                 stroke_ref)
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
+        if ctx.geometry and ctx.transform is IDENTITY and el.tag not in SHAPES:
+            # built once per context (see object_bbox), at the identity, where a box's walk
+            # starts (under a transform from there a key would miss, and hashing costs); a
+            # copy, as callers own their lists
+            key = (el, parent_style, ctx, tuple(self.ref_stack))
+            try:
+                return list(self._geometry_memo[key])
+            except KeyError:
+                nodes = self._geometry_memo[key] = self._element(el, ctx, parent_style)
+                return list(nodes)
+        return self._element(el, ctx, parent_style)
+
+    def _element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if el.tag not in RENDERED:
             if el.tag in UNSUPPORTED:
                 warn(f"<{el.tag}> is not supported: skipped")
@@ -617,6 +648,12 @@ class Builder:
     def wrap(self, el, style, ctx, nodes) -> list:
         """Apply filter, opacity, clip-path, mask, mix-blend-mode and isolation of an element."""
         if ctx.geometry:
+            # an element its filter keeps from being drawn (a url to no filter, or to filters
+            # that cannot apply to it) adds nothing to a bounding box either: SVG 2's
+            # algorithm skips children that are not rendered, and usvg drops the element
+            f = el.specified.get("filter")
+            if nodes and f and f.strip() != "none" and self._filter_hides(el, ctx, style):
+                return []
             return nodes
         if ctx.clip:
             clip_ref = el.specified.get("clip-path")
@@ -680,6 +717,25 @@ class Builder:
         group.isolate = isolate
         return [group]
 
+    def _filter_hides(self, el, ctx, style):
+        """Whether the element's filter keeps it from being drawn, for the geometry pass:
+        decided once per element and context, as its box (which the decision needs) is, in
+        its own user space (transform-free: only an overflowing device rectangle, which the
+        drawing pass refuses, would decide otherwise). The chain of matrices is left out,
+        of the key and of the filter resolved to decide (hashing it, and device_scale's f32
+        product, cost its length, and a walk under a transform on every level asks n^2/2
+        times): it scales primitives' lengths, never decides whether a filter applies."""
+        key = (el, style, ctx.viewport, ctx.use_stack, ctx.context_fill, ctx.context_stroke,
+               tuple(self.ref_stack))
+        try:
+            return self._hidden_memo[key]
+        except KeyError:
+            from .filters import element_filters
+            g = replace(ctx, transform=IDENTITY, chain=(), geometry=True, clip=False)
+            hidden = self._hidden_memo[key] = element_filters(
+                self, el, style, g, lambda: self.object_bbox(el, ctx, style)) is False
+            return hidden
+
     def _plain_wrap(self, style):
         """Whether wrap() leaves the nodes of an element of this style as they are, for an
         element without clip-path, mask or filter of its own (_path_run's): opacity 1, normal
@@ -694,8 +750,24 @@ class Builder:
         return True
 
     def object_bbox(self, el, ctx, style):
-        """Object bounding box of an element in its own user space (after its transform)."""
+        """Object bounding box of an element in its own user space (after its transform).
+
+        Memoized per element and all the box can depend on: its computed style (Styles are
+        shared: the same object, the same values), the context but for its transform (the
+        box is in the element's own space; viewport, use stack, context paints and the chain
+        of matrices stay in the key) and the clip paths, masks and markers being built.
+        element()'s geometry pass is memoized the same way with the transform in the key (a
+        box maps each shape's box through the product of the transforms from the element
+        down, which memoized subtrees could only reproduce to an ulp). Without them a box
+        walked its whole subtree at every filtered or clipped level of a nesting (n^2/2
+        builds), and deciding in the geometry pass whether each level's filter draws, which
+        needs its box, built each subtree twice (2^n)."""
         g = replace(ctx, transform=IDENTITY, geometry=True, clip=False)
+        key = (el, style, g, tuple(self.ref_stack))
+        try:
+            return self._bbox_memo[key]
+        except KeyError:
+            pass
         tag = el.tag
         if tag in SHAPES:
             nodes = self.shape(el, g, style)
@@ -719,6 +791,7 @@ class Builder:
         box = None
         for f in Scene(1, 1, Group(children=nodes)).fills():
             box = union(box, path_bounds(f.path))
+        self._bbox_memo[key] = box
         return box
 
     # -- containers ------------------------------------------------------------------------
