@@ -182,8 +182,11 @@ def _transform_args(name, text):
     return out
 
 
+@functools.lru_cache(maxsize=4096)
 def parse_transform(text):
-    """A transform list → affine matrix; None when the text is malformed.
+    """A transform list → affine matrix; None when the text is malformed. Cached by text: the
+    bounding-box walks parse an element's transform once per walk that reaches it (quadratic in
+    nesting depth), and documents repeat a few transforms many times.
 
     SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
     translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
