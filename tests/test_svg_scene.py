@@ -608,6 +608,25 @@ def test_data_urls_follow_fetchs_processor():
     assert decode_data_url("data:,a%20b") == (b"a b", None, None)
 
 
+def test_a_data_url_s_fragment_is_not_its_body():
+    """URL Standard: a fragment begins at the URL's first "#", and Fetch's data: URL processor
+    serializes the URL without it, so "...</svg>#id" is the document alone and an unescaped
+    "#" inside it ends the body (the document is then cut short and not drawn)."""
+    from vecmsaa.api import render_svg_array
+    from vecmsaa.svg.resources import decode_data_url
+    assert decode_data_url("data:,ab#cd") == (b"ab", None, None)
+    assert decode_data_url("data:text/plain;base64,YWI=#x") == (b"ab", "text/plain", None)
+
+    def doc(body):
+        body = body.replace("<", "&lt;")
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40">'
+                f'<image width="40" height="40" href="data:image/svg+xml;utf8,{body}"/></svg>')
+    inner = "<svg xmlns='http://www.w3.org/2000/svg' width='20' height='20'>" \
+            "<rect width='20' height='20' fill='{}'/></svg>"
+    assert tuple(render_svg_array(doc(inner.format("black") + "#r"))[20, 20]) == (0, 0, 0, 255)
+    assert not render_svg_array(doc(inner.format("#00f")))[..., 3].any()
+
+
 @pytest.mark.parametrize("mime, drawn", [
     ("image/png", True), ("", True), ("image/jpeg", True),   # the bytes decide
     ("application/octet-stream", True),

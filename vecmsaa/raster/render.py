@@ -1080,17 +1080,25 @@ def content_box(group: Group):
     """(x0, y0, x1, y1) device coordinates outside which nothing of ``group``'s children draws
     (their fills' points, control points included, and nested filtered layers' filter
     regions), or None if they hold nothing."""
-    box = None
+    box, points = None, []
     stack = list(group.children)
     while stack:
         node = stack.pop()
         if isinstance(node, Fill):
-            box = bounds.union(box, node.path.bounds())
+            p = node.path.points
+            if len(p):
+                points.append(p)
         elif node.filters:
             for f in node.filters:
                 box = bounds.union(box, f.region)
         else:
             stack.extend(node.children)
+    if points:
+        # one reduction over all the points: a group of 20,000 small paths took 0.2 s of
+        # per-path min/max calls, and filter functions ask for this box when building too
+        p = np.concatenate(points) if len(points) > 1 else points[0]
+        box = bounds.union(box, (float(p[:, 0].min()), float(p[:, 1].min()),
+                                 float(p[:, 0].max()), float(p[:, 1].max())))
     return box
 
 
