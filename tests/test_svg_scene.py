@@ -158,6 +158,51 @@ def test_transform_origin_keywords_and_invalid_values(origin, point):
     assert path_bounds(only_fill(s).path) == pytest.approx((ox, oy, ox + 20, oy + 20))
 
 
+@pytest.mark.parametrize("box, origin, expect", [
+    # CSS Transforms 1 transform-box; scale(2) of the 40x10 rect at (20, 30) about the origin
+    # (ox, oy) gives (ox + 2 (20 - ox), oy + 2 (30 - oy)) .. + (80, 20)
+    ("view-box", "50% 50%", (-10, 10, 70, 30)),         # of the 100x100 viewport: (50, 50)
+    ("fill-box", "50% 50%", (0, 25, 80, 45)),           # the box's centre (40, 35)
+    ("content-box", "50% 50%", (0, 25, 80, 45)),        # fill-box without a CSS box
+    ("fill-box", "10px 0", (10, 30, 90, 50)),           # lengths from the corner (30, 30)
+    ("fill-box", None, (20, 30, 100, 50)),              # the initial 0 0: the corner (20, 30)
+    ("view-box", None, (40, 60, 120, 80)),              # 0 0 of the user space
+    ("bogus", "50% 50%", (-10, 10, 70, 30)),            # invalid: the initial view-box
+    # the stroke bounding box of a 4-wide stroke: (18, 28, 44, 14), centre (40, 35) again;
+    # its corner (18, 28) as the origin
+    ("stroke-box", "50% 50%", (0, 25, 80, 45)),
+    ("border-box", None, (22, 32, 102, 52)),
+    ("stroke-box", None, (22, 32, 102, 52)),
+])
+def test_transform_box_reference_box(box, origin, expect):
+    o = "" if origin is None else f"transform-origin: {origin};"
+    s = scene(f'<rect x="20" y="30" width="40" height="10" stroke="blue" stroke-width="4" '
+              f'style="transform: scale(2); transform-box: {box}; {o}"/>')
+    assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
+
+
+@pytest.mark.parametrize("transform, box, expect", [
+    # CSS Transforms 1: a percentage in translate() is of the reference box's width (x) or
+    # height (y)
+    ("translate(50%, -50%)", "fill-box", (40, 25, 80, 35)),     # (+20, -5)
+    ("translateY(100%)", "fill-box", (20, 40, 60, 50)),
+    ("translateX(10%)", "view-box", (30, 30, 70, 40)),           # 10% of the 100 viewport
+    ("translate(0, 20%)", "view-box", (20, 50, 60, 60)),
+])
+def test_translate_percentages_of_the_reference_box(transform, box, expect):
+    s = scene(f'<rect x="20" y="30" width="40" height="10" '
+              f'style="transform: {transform}; transform-box: {box}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(expect)
+
+
+def test_transform_box_is_not_a_presentation_attribute():
+    # SVG 2 lists no transform-box attribute: the attribute is ignored (view-box, so the
+    # origin 50% 50% is the viewport's centre)
+    s = scene('<rect x="20" y="30" width="40" height="10" transform-box="fill-box" '
+              'style="transform: scale(2); transform-origin: 50% 50%"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((-10, 10, 70, 30))
+
+
 def test_percentages_use_the_viewport():
     s = scene('<rect x="10%" y="10%" width="50%" height="25%"/>', 'viewBox="0 0 200 100"',
               width=200)

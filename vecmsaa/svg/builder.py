@@ -580,12 +580,18 @@ class Builder:
         text = el.specified.get("transform")
         if not text or text == "none":
             return IDENTITY
-        m = parse_transform(text)
+        origin = el.specified.get("transform-origin")
+        # the reference box (CSS Transforms 1 transform-box) is wanted for percentages and
+        # for an origin; with fill-box or stroke-box also for the initial origin, 0 0 of the
+        # box (SVG 2's UA style sheet), which is then the box's corner
+        box = None
+        if origin or "%" in text or self.transform_box(el) != "view-box":
+            box = self.reference_box(el, style, ctx)
+        m = parse_transform(text, None if box is None else box[2:])
         if m is None:
             return IDENTITY
-        origin = el.specified.get("transform-origin")
-        if origin:
-            ox, oy = self.transform_origin(origin, style, ctx.viewport)
+        if box is not None:
+            ox, oy = self.transform_origin(origin or "0 0", style, box)
             if ox or oy:
                 m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
         a, b, c, d, _, _ = m
@@ -593,23 +599,74 @@ class Builder:
             return None
         return m
 
-    def transform_origin(self, text, style, viewport):
-        """transform-origin → (x, y) in user units."""
+    def transform_origin(self, text, style, box):
+        """transform-origin → (x, y) in user units; ``box`` is the reference box, (x, y,
+        width, height), or a viewport's (width, height) (the view-box at 0, 0)."""
+        bx, by, bw, bh = box if len(box) == 4 else (0.0, 0.0, *box)
         vals = _origin_values(text)
         if vals is None:
             # invalid: the initial value, which for SVG elements is 0 0 (SVG 2's UA style sheet)
-            return 0.0, 0.0
+            vals = ("0", "0")
 
-        def resolve(v, axis):
+        def resolve(v, size):
             parsed = split_length(v)
             if parsed is None:
                 return 0.0
             n, unit = parsed
-            ref = viewport[0] if axis == "x" else viewport[1]
             if unit == "%":
-                return n * ref / 100
+                return n * size / 100
             return to_px(n, unit, style.font_size(), dpi=self.options.dpi)
-        return resolve(vals[0], "x"), resolve(vals[1], "y")
+        return bx + resolve(vals[0], bw), by + resolve(vals[1], bh)
+
+    @staticmethod
+    def transform_box(el):
+        """An element's used transform-box: view-box, fill-box or stroke-box. CSS Transforms 1:
+        content-box is fill-box and border-box stroke-box for SVG elements without a CSS layout
+        box; the initial value (and that of an invalid one) is view-box. The root <svg> has a
+        CSS box in a browser: it keeps the view-box here."""
+        value = el.specified.get("transform-box")
+        while value is not None and value.strip().lower() == "inherit" and el.parent is not None:
+            el = el.parent
+            value = el.specified.get("transform-box")
+        if value is None or el.parent is None:
+            return "view-box"
+        value = value.strip().lower()
+        if value in ("fill-box", "content-box"):
+            return "fill-box"
+        if value in ("stroke-box", "border-box"):
+            return "stroke-box"
+        return "view-box"
+
+    def reference_box(self, el, style, ctx):
+        """The reference box of the element's transform and transform-origin (CSS Transforms 1
+        transform-box) as (x, y, width, height) in its user space: the object bounding box
+        (fill-box), the stroke bounding box (stroke-box), or the nearest viewport's viewBox
+        placed at the origin (view-box). An element without a box has an empty one at 0, 0."""
+        kind = self.transform_box(el)
+        if kind == "view-box":
+            return (0.0, 0.0, *ctx.viewport)
+        bbox = self.object_bbox(el, ctx, style)
+        if kind == "stroke-box":
+            bbox = self.stroke_bbox(el, ctx, style, bbox)
+        if bbox is None:
+            return (0.0, 0.0, 0.0, 0.0)
+        return (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1])
+
+    def stroke_bbox(self, el, ctx, style, bbox):
+        """SVG 2's stroke bounding box of a shape: its object bounding box ``bbox`` with the
+        stroke shape (when the stroke is not none), markers left out. For other elements the
+        object bounding box."""
+        if el.tag not in SHAPES or style.get("stroke").strip() == "none":
+            return bbox
+        path = (self.path_data(el) if el.tag == "path"
+                else shape_path(el, self.length_getter(el, style, ctx)))
+        params = self.stroke_params(style, ctx)
+        if path is None or params is None:
+            return bbox
+        width, join, cap, limit, dashes, offset = params
+        outline = stroke_path(path, width, join=join, cap=cap, miterlimit=limit, dashes=dashes,
+                              dash_offset=offset)
+        return union(bbox, path_bounds(outline)) if not outline.is_empty() else bbox
 
     # -- structural wrapping ---------------------------------------------------------------
     def wrap(self, el, style, ctx, nodes) -> list:

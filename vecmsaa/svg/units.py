@@ -154,9 +154,11 @@ _TRANSFORM_ARGS = {"matrix": (6, 6, "nnnnnn"), "translate": (1, 2, "ll"), "trans
                    "skewX": (1, 1, "a"), "skewY": (1, 1, "a")}
 
 
-def _transform_args(name, text):
+def _transform_args(name, text, box=None):
     """The arguments of one transform function as floats (angles in degrees, lengths in px),
-    or None when their number, kind or units are wrong."""
+    or None when their number, kind or units are wrong. ``box``: the (width, height) of the
+    reference box that percentages in translate functions are of (CSS Transforms 1 §7.1),
+    None where they are invalid."""
     lo, hi, kinds = _TRANSFORM_ARGS[name]
     out = []
     pos = 0
@@ -171,6 +173,8 @@ def _transform_args(name, text):
             value *= ANGLE_DEG[unit]
         elif kind == "l" and unit in UNIT_PX:
             value *= UNIT_PX[unit]
+        elif kind == "l" and unit == "%" and box is not None and name != "rotate":
+            value *= box[1 if name == "translateY" or len(out) == 1 else 0] / 100
         elif kind == "n" and unit in ("", "%"):
             value = value / 100 if unit == "%" else value
         else:
@@ -182,12 +186,13 @@ def _transform_args(name, text):
     return out
 
 
-def parse_transform(text):
+def parse_transform(text, box=None):
     """A transform list → affine matrix; None when the text is malformed.
 
     SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
     translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
-    scale factors as percentages) are both read."""
+    scale factors as percentages; translations as percentages of ``box``, the (width, height)
+    of the element's reference box) are both read."""
     m = IDENTITY
     if text is None:
         return IDENTITY
@@ -198,7 +203,7 @@ def parse_transform(text):
         if not mt or mt.group(1) not in _TRANSFORM_ARGS:
             return None
         name = mt.group(1)
-        nums = _transform_args(name, mt.group(2))
+        nums = _transform_args(name, mt.group(2), box)
         if nums is None or not all(map(math.isfinite, nums)):
             return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
