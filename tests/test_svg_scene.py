@@ -203,6 +203,20 @@ def test_transform_box_is_not_a_presentation_attribute():
     assert path_bounds(only_fill(s).path) == pytest.approx((-10, 10, 70, 30))
 
 
+@pytest.mark.parametrize("value, expect", [
+    # CSS Values 4 §10 calc(): em of the element's font size (10), % of the 200 x 100 viewport
+    ("calc(80px + 10% - 2em)", 80), ("calc(5 * 5%)", 50), ("calc((2px + 3px) * 2)", 10),
+    ("calc(100px / 4)", 25), ("CALC(1in - 90px)", 6), ("calc(2 * 3)", 6),
+    # type errors and malformed sums: invalid, the default 0
+    ("calc(10px + 5)", 0), ("calc(10px * 2px)", 0), ("calc(10px / 0)", 0),
+    ("calc(10px -5px)", 0), ("calc(10px", 0), ("calc(10qq)", 0),
+])
+def test_calc_lengths(value, expect):
+    s = scene(f'<rect font-size="10" x="{value}" width="10" height="10"/>',
+              'width="200" height="100"')
+    assert path_bounds(only_fill(s).path)[0] == pytest.approx(expect)
+
+
 def test_percentages_use_the_viewport():
     s = scene('<rect x="10%" y="10%" width="50%" height="25%"/>', 'viewBox="0 0 200 100"',
               width=200)

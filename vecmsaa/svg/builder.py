@@ -30,9 +30,9 @@ from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import shape_path
-from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, to_px, url_argument,
-                    viewbox_transform, viewbox_transform_f32)
+from .units import (eval_calc, mean_scale, parse_aspect, parse_length_list, parse_number,
+                    parse_opacity, parse_transform, parse_viewbox, split_length, to_px,
+                    url_argument, viewbox_transform, viewbox_transform_f32)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -212,6 +212,10 @@ def _origin_values(text):
     return x, y
 
 
+#: units a calc() may hold (those split_length reads)
+_LENGTH_UNITS = frozenset({"%", "px", "pt", "pc", "mm", "cm", "in", "em", "ex"})
+
+
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
 
@@ -286,7 +290,12 @@ class Builder:
         """A length attribute value → user units (axis: x, y or xy for the diagonal)."""
         parsed = split_length(value) if value is not None else None
         if parsed is None:
-            return default
+            # calc() (CSS Values 4 §10): SVG 2's lengths are CSS lengths
+            if value is None or "calc(" not in value.lower():
+                return default
+            got = eval_calc(value, lambda v, unit: self.length_px(v, unit, axis, style, viewport)
+                            if unit in _LENGTH_UNITS else None)
+            return default if got is None else got
         return self.length_px(*parsed, axis, style, viewport)
 
     def length_px(self, v, unit, axis, style, viewport):

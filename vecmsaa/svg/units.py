@@ -106,6 +106,97 @@ def split_length(text):
     return v, (m.group(2) or "").lower()
 
 
+_CALC_TOKEN = re.compile(rf"\s*(?:({NUMBER_RE})([a-zA-Z]+|%)?|(calc\()|([-+*/()]))", re.I)
+
+
+def eval_calc(text, resolve):
+    """The value of a CSS ``calc()`` expression (CSS Values 4 §10) in px, or None when it is
+    not one or its types do not add up. ``resolve(number, unit)`` gives a dimension or
+    percentage in px (None for an unknown unit). Sums take lengths with lengths; a product
+    takes a number on one side, a quotient a number on the right; the result is a length
+    (a bare number is taken as user units, as in an SVG attribute)."""
+    text = text.strip()
+    if not text[:5].lower() == "calc(":
+        return None
+    tokens = []
+    pos = 0
+    while pos < len(text):
+        m = _CALC_TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            if text[pos:].strip() == "":
+                break
+            return None
+        if m.group(1) is not None:
+            unit = (m.group(2) or "").lower()
+            if unit:
+                v = resolve(float(m.group(1)), unit)
+                if v is None:
+                    return None
+                tokens.append(("L", v))
+            else:
+                tokens.append(("N", float(m.group(1))))
+        elif m.group(3):
+            tokens.append(("(", None))
+        else:
+            tokens.append((m.group(4), None))
+        pos = m.end()
+    # operators of CSS calc: + and - need spaces around them; a sign without one belongs to
+    # the number ("10px -5px" is not a sum); the tokenizer read "-5px" as a number, so a
+    # value following a value without an operator is an error
+    at = [0]
+
+    def peek():
+        return tokens[at[0]][0] if at[0] < len(tokens) else None
+
+    def take():
+        at[0] += 1
+        return tokens[at[0] - 1]
+
+    def value():
+        kind, v = take() if at[0] < len(tokens) else (None, None)
+        if kind in ("L", "N"):
+            return kind, v
+        if kind == "(":
+            got = total()
+            if got is None or peek() != ")":
+                return None
+            take()
+            return got
+        return None
+
+    def product():
+        left = value()
+        while left is not None and peek() in ("*", "/"):
+            op = take()[0]
+            right = value()
+            if right is None:
+                return None
+            if op == "*":
+                if left[0] == "L" and right[0] == "L":
+                    return None
+                left = ("L" if "L" in (left[0], right[0]) else "N", left[1] * right[1])
+            else:
+                if right[0] != "N" or right[1] == 0:
+                    return None
+                left = (left[0], left[1] / right[1])
+        return left
+
+    def total():
+        left = product()
+        while left is not None and peek() in ("+", "-"):
+            op = take()[0]
+            right = product()
+            if right is None or right[0] != left[0]:
+                return None
+            left = (left[0], left[1] + right[1] if op == "+" else left[1] - right[1])
+        return left
+
+    got = value()
+    if got is None or at[0] != len(tokens) or not math.isfinite(got[1]):
+        return None
+    return got[1]
+
+
 def parse_fraction(text):
     """An objectBoundingBox coordinate: a number or a percentage, as a fraction of the box;
     None when it does not parse."""
