@@ -667,6 +667,33 @@ def test_data_urls_follow_fetchs_processor():
     assert decode_data_url("data:,a%20b") == (b"a b", None, None)
 
 
+def test_data_url_fragment_is_not_body():
+    # the URL Standard: a fragment starts at the first "#", whether or not it is percent-encoded
+    # elsewhere; the data: URL processor sees the URL without it
+    from vecmsaa.svg.resources import decode_data_url
+    assert decode_data_url("data:text/plain,abc#frag") == (b"abc", "text/plain", None)
+    assert decode_data_url("data:,a%23b#c") == (b"a#b", None, None)
+    assert decode_data_url("data:;base64,QUJD#x") == (b"ABC", None, None)
+
+
+@pytest.mark.parametrize("fragment, expect", [
+    # SVG 2 Linking into SVG content: #id of a <view> takes its viewBox (and
+    # preserveAspectRatio) for the root's; here the view shows the document's green
+    # top-left quarter, 10 x 10 user units, in the 40 x 40 image: scale 4
+    ("#v", (10, 10, 50, 50)),
+    ("#r", (10, 10, 30, 30)),       # not a view: the whole 20 x 20 document, scale 2
+    ("#nothing", (10, 10, 30, 30)),
+    ("", (10, 10, 30, 30)),
+])
+def test_svg_image_view_fragment(fragment, expect):
+    import urllib.parse
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">'
+             '<view id="v" viewBox="0 0 10 10"/><rect id="r" width="10" height="10"/></svg>')
+    url = "data:image/svg+xml," + urllib.parse.quote(inner) + fragment
+    s = scene(f'<image x="10" y="10" width="40" height="40" href="{url}"/>')
+    assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
+
+
 @pytest.mark.parametrize("mime, drawn", [
     ("image/png", True), ("", True), ("image/jpeg", True),   # the bytes decide
     ("application/octet-stream", True),

@@ -95,7 +95,9 @@ def _short(url: str) -> str:
 
 
 def decode_data_url(url):
-    header, sep, payload = url[5:].partition(",")
+    # the URL Standard's parser: a fragment (from the first #) is no part of the body (an
+    # SVG image's view, see image.py)
+    header, sep, payload = url[5:].partition("#")[0].partition(",")
     if not sep:
         return None
     parts = [p.strip() for p in header.split(";")]

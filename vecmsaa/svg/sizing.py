@@ -3,6 +3,7 @@ space to that size (:func:`open_svg`, for the API and for SVG images alike)."""
 from __future__ import annotations
 
 import math
+import urllib.parse
 
 from dataclasses import dataclass
 
@@ -83,8 +84,22 @@ class SizedDocument:
     viewport: tuple
 
 
+def apply_view(doc: Document, fragment: str) -> None:
+    """Link into a view of the document (SVG 2 Linking, "Linking into SVG content"): when
+    ``fragment`` is the id of a <view> element, its viewBox and preserveAspectRatio (each
+    where it has one) replace the root <svg>'s; any other fragment changes nothing."""
+    view = doc.lookup("#" + urllib.parse.unquote(fragment))
+    if view is None or view.tag != "view":
+        return
+    if parse_viewbox(view.get("viewBox")) is not None:
+        doc.root.attrs["viewBox"] = view.get("viewBox")
+    if view.get("preserveAspectRatio") is not None:
+        doc.root.attrs["preserveAspectRatio"] = view.get("preserveAspectRatio")
+
+
 def open_svg(data: bytes, folder, resources: Resources, options: Options,
-             whole_pixels: bool = True, **document_options) -> SizedDocument:
+             whole_pixels: bool = True, view: str | None = None,
+             **document_options) -> SizedDocument:
     """Parse SVG bytes and size the document; a document without width, height and viewBox
     takes its drawing's extent. ``document_options`` go to :func:`load_document` (user
     stylesheet, root defaults, languages). Raises SvgError (and RecursionError on absurd
@@ -96,6 +111,8 @@ def open_svg(data: bytes, folder, resources: Resources, options: Options,
     both axes, where stretching to 26 rows would scale y by 2.08. SVG images and glyphs keep
     the exact size."""
     doc = load_document(data, folder, **document_options)
+    if view:
+        apply_view(doc, view)
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:
