@@ -195,6 +195,45 @@ def test_translate_percentages_of_the_reference_box(transform, box, expect):
     assert path_bounds(only_fill(s).path) == pytest.approx(expect)
 
 
+@pytest.mark.parametrize("decl, expect", [
+    # CSS Transforms 2 individual transforms on the 10 x 20 rect at (20, 30), origin 0 0
+    ("translate: 10px 5px", (30, 35, 40, 55)),
+    ("translate: 10px", (30, 30, 40, 50)),
+    ("translate: 10% 0 7px", (30, 30, 40, 50)),             # 10% of the 100 viewport; z
+    ("rotate: 90deg", (-50, 20, -30, 30)),                  # (x, y) → (-y, x)
+    ("rotate: z 0.25turn", (-50, 20, -30, 30)),
+    ("rotate: 0 0 2 100grad", (-50, 20, -30, 30)),
+    ("rotate: x 60deg", (20, 15, 30, 25)),                  # seen flat: y · cos 60°
+    ("rotate: y 180deg", (-30, 30, -20, 50)),               # x · cos 180°
+    ("scale: 2", (40, 60, 60, 100)),
+    ("scale: 200% 0.5", (40, 15, 60, 25)),
+    # order: translate, rotate, scale, then transform: T(100) R(90) translate(10px, 0)
+    ("translate: 100px; rotate: 90deg; transform: translate(10px, 0)", (50, 30, 70, 40)),
+    ("scale: 2; transform: translate(5px, 0)", (50, 60, 70, 100)),
+    # invalid values: none
+    ("rotate: 90", (20, 30, 30, 50)), ("scale: 2px", (20, 30, 30, 50)),
+    ("translate: 10", (20, 30, 30, 50)), ("rotate: w 9deg", (20, 30, 30, 50)),
+    ("translate: none; rotate: none; scale: none", (20, 30, 30, 50)),
+])
+def test_individual_transform_properties(decl, expect):
+    s = scene(f'<rect x="20" y="30" width="10" height="20" style="{decl}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(expect, abs=1e-9)
+
+
+def test_individual_transforms_turn_about_the_origin():
+    # rotate: 180deg about the centre of the fill box leaves the rect where it is; the
+    # translate percentage is of the box (10 x 20)
+    s = scene('<rect x="20" y="30" width="10" height="20" style="transform-box: fill-box; '
+              'transform-origin: center; rotate: 180deg; translate: 100% 50%"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((30, 40, 40, 60))
+
+
+def test_rotate_attribute_is_not_the_rotate_property():
+    # rotate="..." is text's glyph rotation attribute, not a presentation attribute
+    s = scene('<rect x="20" y="30" width="10" height="20" rotate="90deg"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 30, 30, 50))
+
+
 def test_transform_box_is_not_a_presentation_attribute():
     # SVG 2 lists no transform-box attribute: the attribute is ignored (view-box, so the
     # origin 50% 50% is the viewport's centre)

@@ -30,9 +30,10 @@ from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import shape_path
-from .units import (eval_calc, mean_scale, parse_aspect, parse_length_list, parse_number,
-                    parse_opacity, parse_transform, parse_viewbox, split_length, to_px,
-                    url_argument, viewbox_transform, viewbox_transform_f32)
+from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
+                    parse_length_list, parse_number, parse_opacity, parse_transform,
+                    parse_viewbox, split_length, to_px, url_argument, viewbox_transform,
+                    viewbox_transform_f32)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -586,18 +587,34 @@ class Builder:
 
     def element_transform(self, el, style, ctx):
         """The element's own transform (with transform-origin), None when it is singular."""
-        text = el.specified.get("transform")
-        if not text or text == "none":
+        spec = el.specified
+        text = spec.get("transform")
+        if text == "none":
+            text = None
+        individual = None
+        if "translate" in spec or "rotate" in spec or "scale" in spec:
+            individual = [spec.get(name) for name in ("translate", "rotate", "scale")]
+            individual = [None if v is None or v.strip() == "none" else v for v in individual]
+            if not any(individual):
+                individual = None
+        if not text and individual is None:
             return IDENTITY
-        origin = el.specified.get("transform-origin")
+        origin = spec.get("transform-origin")
         # the reference box (CSS Transforms 1 transform-box) is wanted for percentages and
         # for an origin; with fill-box or stroke-box also for the initial origin, 0 0 of the
         # box (SVG 2's UA style sheet), which is then the box's corner
         box = None
-        if origin or "%" in text or self.transform_box(el) != "view-box":
+        if (origin or "%" in (text or "") or (individual and "%" in (individual[0] or ""))
+                or self.transform_box(el) != "view-box"):
             box = self.reference_box(el, style, ctx)
-        m = parse_transform(text, None if box is None else box[2:])
+        size = ctx.viewport if box is None else box[2:]
+        m = parse_transform(text, size) if text else IDENTITY
         if m is None:
+            m = IDENTITY
+        if individual is not None:
+            # CSS Transforms 2: translate, rotate and scale come before transform
+            m = compose(individual_transform(*individual, size), m)
+        if m == IDENTITY:
             return IDENTITY
         if box is not None:
             ox, oy = self.transform_origin(origin or "0 0", style, box)

@@ -47,6 +47,7 @@ PROPERTIES = {
     "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
     "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
     "text-overflow", "text-rendering", "transform", "transform-box", "transform-origin",
+    "translate", "rotate", "scale",
     "unicode-bidi",
     "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
     "inline-size", "text-orientation", "font-synthesis", "line-height", "background-color",
@@ -56,7 +57,10 @@ PROPERTIES = {
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
-            "transform-box"}  # not in SVG 2's list of presentation attributes
+            "transform-box",  # not in SVG 2's list of presentation attributes
+            # CSS Transforms 2's individual transforms (a rotate attribute is text's glyph
+            # rotation)
+            "translate", "rotate", "scale"}
 
 #: properties that may be given as presentation attributes
 PRESENTATION = PROPERTIES - CSS_ONLY

@@ -324,6 +324,72 @@ def parse_transform(text, box=None):
     return m
 
 
+_CSS_DIMENSION = re.compile(rf"^({NUMBER_RE})([a-zA-Z%]*)$")
+
+
+def individual_transform(translate_text, rotate_text, scale_text, box):
+    """The matrix of CSS Transforms 2's individual transform properties, translate, then
+    rotate, then scale (§3.1: they apply before ``transform``, all about the origin), as
+    seen in the plane: a rotation about another axis than z is the 3-D rotation's x-y part
+    (the flat projection a renderer without perspective shows). ``box`` is the reference
+    box's (width, height) for translate's percentages. A value that is not of the property's
+    grammar is none (the declaration is dropped)."""
+    m = IDENTITY
+
+    def dims(text):
+        out = []
+        for token in text.split():
+            d = _CSS_DIMENSION.match(token)
+            if not d:
+                return None
+            out.append((float(d.group(1)), d.group(2).lower()))
+        return out
+
+    parts = dims(translate_text) if translate_text else None
+    if parts and 1 <= len(parts) <= 3:
+        xy = []
+        for i, (v, unit) in enumerate(parts):
+            if unit == "%" and i < 2:
+                v = v * box[i] / 100
+            elif unit in UNIT_PX and (unit or v == 0):
+                v = v * UNIT_PX[unit]
+            else:
+                xy = None
+                break
+            xy.append(v)
+        if xy:
+            m = compose(m, (1.0, 0.0, 0.0, 1.0, xy[0], xy[1] if len(xy) > 1 else 0.0))
+    parts = dims(rotate_text) if rotate_text else None
+    if rotate_text and parts is None:
+        words = rotate_text.lower().split()            # an axis keyword and an angle
+        axis = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
+        keys = [w for w in words if w in axis]
+        rest = [w for w in words if w not in axis]
+        if len(keys) == 1 and len(rest) == 1 and len(words) == 2:
+            d = _CSS_DIMENSION.match(rest[0])
+            if d:
+                parts = [(float(c), "") for c in axis[keys[0]]]
+                parts.append((float(d.group(1)), d.group(2).lower()))
+    if parts and len(parts) in (1, 4):
+        v, unit = parts[-1]
+        vector = [p[0] for p in parts[:3] if p[1] == ""] if len(parts) == 4 else [0, 0, 1]
+        if ((unit in ANGLE_DEG and (unit or v == 0)) and len(vector) == 3
+                and any(vector)):
+            a = math.radians(v * ANGLE_DEG[unit])
+            n = math.sqrt(sum(c * c for c in vector))
+            x, y, z = (c / n for c in vector)
+            c, sn = math.cos(a), math.sin(a)
+            # Rodrigues' rotation matrix, rows x and y, columns x and y
+            r00, r01 = c + x * x * (1 - c), x * y * (1 - c) - z * sn
+            r10, r11 = y * x * (1 - c) + z * sn, c + y * y * (1 - c)
+            m = compose(m, (r00, r10, r01, r11, 0.0, 0.0))
+    parts = dims(scale_text) if scale_text else None
+    if parts and 1 <= len(parts) <= 3 and all(unit in ("", "%") for _, unit in parts):
+        f = [v / 100 if unit == "%" else v for v, unit in parts]
+        m = compose(m, (f[0], 0.0, 0.0, f[1] if len(f) > 1 else f[0], 0.0, 0.0))
+    return m
+
+
 def scale(sx, sy=None):
     return (float(sx), 0.0, 0.0, float(sx if sy is None else sy), 0.0, 0.0)
 
