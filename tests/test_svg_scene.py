@@ -181,6 +181,13 @@ def test_transform_box_reference_box(box, origin, expect):
     assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
 
 
+def test_font_relative_lengths_in_transform():
+    # CSS Values 4: em is the element's font size; translate() takes lengths (CSS Transforms 1)
+    s = scene('<g font-size="20"><rect width="10" height="10" '
+              'style="transform: translate(1em, 0.5em) translateX(-0.25em)"/></g>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((15, 10, 25, 20))
+
+
 @pytest.mark.parametrize("transform, box, expect", [
     # CSS Transforms 1: a percentage in translate() is of the reference box's width (x) or
     # height (y)
@@ -200,6 +207,7 @@ def test_translate_percentages_of_the_reference_box(transform, box, expect):
     ("translate: 10px 5px", (30, 35, 40, 55)),
     ("translate: 10px", (30, 30, 40, 50)),
     ("translate: 10% 0 7px", (30, 30, 40, 50)),             # 10% of the 100 viewport; z
+    ("translate: 1em 0.5em", (28, 34, 38, 54)),             # font-size 8
     ("rotate: 90deg", (-50, 20, -30, 30)),                  # (x, y) → (-y, x)
     ("rotate: z 0.25turn", (-50, 20, -30, 30)),
     ("rotate: 0 0 2 100grad", (-50, 20, -30, 30)),
@@ -216,7 +224,7 @@ def test_translate_percentages_of_the_reference_box(transform, box, expect):
     ("translate: none; rotate: none; scale: none", (20, 30, 30, 50)),
 ])
 def test_individual_transform_properties(decl, expect):
-    s = scene(f'<rect x="20" y="30" width="10" height="20" style="{decl}"/>')
+    s = scene(f'<rect x="20" y="30" width="10" height="20" font-size="8" style="{decl}"/>')
     assert path_bounds(only_fill(s).path) == pytest.approx(expect, abs=1e-9)
 
 

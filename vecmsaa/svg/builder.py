@@ -608,12 +608,12 @@ class Builder:
                 or self.transform_box(el) != "view-box"):
             box = self.reference_box(el, style, ctx)
         size = ctx.viewport if box is None else box[2:]
-        m = parse_transform(text, size) if text else IDENTITY
+        m = parse_transform(text, size, style.font_size()) if text else IDENTITY
         if m is None:
             m = IDENTITY
         if individual is not None:
             # CSS Transforms 2: translate, rotate and scale come before transform
-            m = compose(individual_transform(*individual, size), m)
+            m = compose(individual_transform(*individual, size, style.font_size()), m)
         if m == IDENTITY:
             return IDENTITY
         if box is not None:

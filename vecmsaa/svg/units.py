@@ -245,11 +245,11 @@ _TRANSFORM_ARGS = {"matrix": (6, 6, "nnnnnn"), "translate": (1, 2, "ll"), "trans
                    "skewX": (1, 1, "a"), "skewY": (1, 1, "a")}
 
 
-def _transform_args(name, text, box=None):
+def _transform_args(name, text, box=None, font_size=None):
     """The arguments of one transform function as floats (angles in degrees, lengths in px),
     or None when their number, kind or units are wrong. ``box``: the (width, height) of the
     reference box that percentages in translate functions are of (CSS Transforms 1 §7.1),
-    None where they are invalid."""
+    None where they are invalid; ``font_size`` what em is (None: em and ex are invalid)."""
     lo, hi, kinds = _TRANSFORM_ARGS[name]
     out = []
     pos = 0
@@ -266,6 +266,8 @@ def _transform_args(name, text, box=None):
             value *= UNIT_PX[unit]
         elif kind == "l" and unit == "%" and box is not None and name != "rotate":
             value *= box[1 if name == "translateY" or len(out) == 1 else 0] / 100
+        elif kind == "l" and unit in ("em", "ex") and font_size is not None:
+            value *= font_size if unit == "em" else font_size / 2    # ex as to_px has it
         elif kind == "n" and unit in ("", "%"):
             value = value / 100 if unit == "%" else value
         else:
@@ -277,13 +279,13 @@ def _transform_args(name, text, box=None):
     return out
 
 
-def parse_transform(text, box=None):
+def parse_transform(text, box=None, font_size=None):
     """A transform list → affine matrix; None when the text is malformed.
 
     SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
     translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
     scale factors as percentages; translations as percentages of ``box``, the (width, height)
-    of the element's reference box) are both read."""
+    of the element's reference box, or in em and ex of ``font_size``) are both read."""
     m = IDENTITY
     if text is None:
         return IDENTITY
@@ -294,7 +296,7 @@ def parse_transform(text, box=None):
         if not mt or mt.group(1) not in _TRANSFORM_ARGS:
             return None
         name = mt.group(1)
-        nums = _transform_args(name, mt.group(2), box)
+        nums = _transform_args(name, mt.group(2), box, font_size)
         if nums is None or not all(map(math.isfinite, nums)):
             return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
@@ -327,13 +329,13 @@ def parse_transform(text, box=None):
 _CSS_DIMENSION = re.compile(rf"^({NUMBER_RE})([a-zA-Z%]*)$")
 
 
-def individual_transform(translate_text, rotate_text, scale_text, box):
+def individual_transform(translate_text, rotate_text, scale_text, box, font_size=16.0):
     """The matrix of CSS Transforms 2's individual transform properties, translate, then
     rotate, then scale (§3.1: they apply before ``transform``, all about the origin), as
     seen in the plane: a rotation about another axis than z is the 3-D rotation's x-y part
     (the flat projection a renderer without perspective shows). ``box`` is the reference
-    box's (width, height) for translate's percentages. A value that is not of the property's
-    grammar is none (the declaration is dropped)."""
+    box's (width, height) for translate's percentages, ``font_size`` what em is. A value that
+    is not of the property's grammar is none (the declaration is dropped)."""
     m = IDENTITY
 
     def dims(text):
@@ -353,6 +355,8 @@ def individual_transform(translate_text, rotate_text, scale_text, box):
                 v = v * box[i] / 100
             elif unit in UNIT_PX and (unit or v == 0):
                 v = v * UNIT_PX[unit]
+            elif unit in ("em", "ex"):
+                v = v * (font_size if unit == "em" else font_size / 2)   # ex as to_px has it
             else:
                 xy = None
                 break
