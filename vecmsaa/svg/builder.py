@@ -230,6 +230,7 @@ class Builder:
         # a document by text's object bounding box rather than its ink, as resvg does)
         self.text_fills = None
         self.root_scale = 1.0
+        self._reference_boxes = {}     # see reference_box
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
@@ -671,12 +672,21 @@ class Builder:
         kind = self.transform_box(el)
         if kind == "view-box":
             return (0.0, 0.0, *ctx.viewport)
+        # once per element, style and viewport: the box is computed by building the element
+        # (in geometry mode), and building it again computes its descendants' boxes, so
+        # nested fill-box groups would cost 2^depth builds (the style is kept with the box:
+        # its id stays its own)
+        key = (id(el), id(style), ctx.viewport, kind)
+        got = self._reference_boxes.get(key)
+        if got is not None:
+            return got[1]
         bbox = self.object_bbox(el, ctx, style)
         if kind == "stroke-box":
             bbox = self.stroke_bbox(el, ctx, style, bbox)
-        if bbox is None:
-            return (0.0, 0.0, 0.0, 0.0)
-        return (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1])
+        box = ((0.0, 0.0, 0.0, 0.0) if bbox is None
+               else (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]))
+        self._reference_boxes[key] = (style, box)
+        return box
 
     def stroke_bbox(self, el, ctx, style, bbox):
         """SVG 2's stroke bounding box of a shape: its object bounding box ``bbox`` with the
