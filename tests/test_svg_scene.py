@@ -242,6 +242,23 @@ def test_rotate_attribute_is_not_the_rotate_property():
     assert path_bounds(only_fill(s).path) == pytest.approx((20, 30, 30, 50))
 
 
+@pytest.mark.parametrize("element", [
+    # the fill box of a <use> is its content's box moved by its x/y (the translation SVG 2
+    # appends to its transform), of a nested <svg> its content's box through x/y and the
+    # viewBox (here 20 x 20 showing 10 x 10: scale 2): both (50, 0, 60, 20), so a half turn
+    # about the box's centre leaves the drawing where it is
+    '<use href="#r" x="50" STYLE/>',
+    '<svg x="50" width="20" height="20" viewBox="0 0 10 10" STYLE>'
+    '<rect width="5" height="10"/></svg>',
+])
+def test_fill_box_of_use_and_nested_svg_is_in_their_parent_space(element):
+    style = ('style="transform-box: fill-box; transform-origin: center; '
+             'transform: rotate(180deg)"')
+    s = scene('<defs><rect id="r" width="10" height="20"/></defs>'
+              + element.replace("STYLE", style))
+    assert path_bounds(only_fill(s).path) == pytest.approx((50, 0, 60, 20), abs=1e-9)
+
+
 def test_transform_box_is_not_a_presentation_attribute():
     # SVG 2 lists no transform-box attribute: the attribute is ignored (view-box, so the
     # origin 50% 50% is the viewport's centre)

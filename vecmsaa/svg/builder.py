@@ -683,10 +683,30 @@ class Builder:
         bbox = self.object_bbox(el, ctx, style)
         if kind == "stroke-box":
             bbox = self.stroke_bbox(el, ctx, style, bbox)
+        if bbox is not None and el.tag in ("use", "svg"):
+            bbox = self._own_space_box(el, style, ctx, bbox)
         box = ((0.0, 0.0, 0.0, 0.0) if bbox is None
                else (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]))
         self._reference_boxes[key] = (style, box)
         return box
+
+    def _own_space_box(self, el, style, ctx, bbox):
+        """A <use>'s or nested <svg>'s object bounding box (object_bbox gives it where their
+        clip-path, mask and filter apply: after a use's x/y, inside an svg's viewport) in the
+        space their transform applies in: moved by x/y, and for an svg mapped by its viewBox."""
+        get = self.length_getter(el, style, ctx)
+        m = translate(get("x", "x", 0.0), get("y", "y", 0.0))
+        if el.tag == "svg":
+            vb = parse_viewbox(el.get("viewBox"))
+            w = get("width", "x", ctx.viewport[0])
+            h = get("height", "y", ctx.viewport[1])
+            if vb is not None and w > 0 and h > 0:
+                m = compose(m, viewbox_transform_f32(
+                    vb, parse_aspect(el.get("preserveAspectRatio")), w, h))
+        a, _, _, d, e, f = m                     # a translation and a scale: no rotation
+        x0, x1 = a * bbox[0] + e, a * bbox[2] + e
+        y0, y1 = d * bbox[1] + f, d * bbox[3] + f
+        return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
 
     def stroke_bbox(self, el, ctx, style, bbox):
         """SVG 2's stroke bounding box of a shape: its object bounding box ``bbox`` with the
