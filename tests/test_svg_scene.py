@@ -745,6 +745,10 @@ def test_data_url_fragment_is_not_body():
     # preserveAspectRatio) for the root's; here the view shows the document's green
     # top-left quarter, 10 x 10 user units, in the 40 x 40 image: scale 4
     ("#v", (10, 10, 50, 50)),
+    ("#svgView(viewBox(0,0,10,10))", (10, 10, 50, 50)),           # an SVG view specification
+    ("#svgView(viewBox(0%2C0%2C10%2C10)%3BpreserveAspectRatio(none))", (10, 10, 50, 50)),
+    ("#svgView(viewBox(0,0,20,10))", (10, 20, 30, 40)),   # meet: centred, scale 2, y + 10
+    ("#xywh=0,0,10,10", (10, 10, 50, 50)),                 # a spatial media fragment
     ("#r", (10, 10, 30, 30)),       # not a view: the whole 20 x 20 document, scale 2
     ("#nothing", (10, 10, 30, 30)),
     ("", (10, 10, 30, 30)),

@@ -3,6 +3,7 @@ space to that size (:func:`open_svg`, for the API and for SVG images alike)."""
 from __future__ import annotations
 
 import math
+import re
 import urllib.parse
 
 from dataclasses import dataclass
@@ -85,16 +86,37 @@ class SizedDocument:
 
 
 def apply_view(doc: Document, fragment: str) -> None:
-    """Link into a view of the document (SVG 2 Linking, "Linking into SVG content"): when
-    ``fragment`` is the id of a <view> element, its viewBox and preserveAspectRatio (each
-    where it has one) replace the root <svg>'s; any other fragment changes nothing."""
-    view = doc.lookup("#" + urllib.parse.unquote(fragment))
-    if view is None or view.tag != "view":
-        return
-    if parse_viewbox(view.get("viewBox")) is not None:
-        doc.root.attrs["viewBox"] = view.get("viewBox")
-    if view.get("preserveAspectRatio") is not None:
-        doc.root.attrs["preserveAspectRatio"] = view.get("preserveAspectRatio")
+    """Link into a view of the document (SVG 2 Linking, "Linking into SVG content"): the id
+    of a <view> element, whose viewBox and preserveAspectRatio (each where it has one)
+    replace the root <svg>'s; ``svgView(viewBox(x,y,w,h);preserveAspectRatio(...))``, whose
+    parameters do the same (its ``transform(...)`` is not applied); a spatial media fragment
+    ``xywh=x,y,w,h`` (in pixels), a viewBox. Any other fragment changes nothing."""
+    fragment = urllib.parse.unquote(fragment).strip()
+    given = {}
+    view_spec = _SVG_VIEW.fullmatch(fragment)
+    xywh = _XYWH.fullmatch(fragment)
+    if view_spec:
+        for name, value in _VIEW_PARAM.findall(view_spec.group(1)):
+            given[{"viewbox": "viewBox"}.get(name.lower(), name)] = value.replace(",", " ")
+    elif xywh:
+        given["viewBox"] = xywh.group(1).replace(",", " ")
+    else:
+        view = doc.lookup("#" + fragment)
+        if view is None or view.tag != "view":
+            return
+        for name in ("viewBox", "preserveAspectRatio"):
+            if view.get(name) is not None:
+                given[name] = view.get(name)
+    if "viewBox" in given and parse_viewbox(given["viewBox"]) is not None:
+        doc.root.attrs["viewBox"] = given["viewBox"]
+    if "preserveAspectRatio" in given:
+        doc.root.attrs["preserveAspectRatio"] = given["preserveAspectRatio"]
+
+
+_SVG_VIEW = re.compile(r"svgView\((.*)\)", re.S)
+_VIEW_PARAM = re.compile(r"\s*(viewBox|preserveAspectRatio|transform)\(([^)]*)\)\s*;?")
+_XYWH = re.compile(r"xywh=(?:pixel:)?\s*([-+0-9.eE]+\s*,\s*[-+0-9.eE]+\s*,\s*[-+0-9.eE]+"
+                   r"\s*,\s*[-+0-9.eE]+)")
 
 
 def open_svg(data: bytes, folder, resources: Resources, options: Options,
