@@ -270,6 +270,20 @@ def test_nested_filtered_groups_build_each_element_a_bounded_number_of_times(mon
         assert sum(b.nodes_made for b in builders) <= 3 * (n + 1)
 
 
+def test_deep_nesting_of_fill_box_transforms_renders():
+    """200 nested groups, each turned a quarter about the centre of its own object bounding box
+    (transform-box: fill-box): each group's box is built once, not once per ancestor (2^200
+    builds, past the node budget); four quarter turns about the rect's centre leave it where
+    it is."""
+    from vecmsaa.api import load_svg
+    from vecmsaa.scene.bounds import path_bounds
+    g = '<g style="transform-box: fill-box; transform-origin: center; transform: rotate(90deg)">'
+    n = 200
+    rect = '<rect x="4" y="2" width="10" height="6" fill="red"/>'
+    (fill,) = load_svg(f'<svg {SVG} width="20" height="20">{g * n}{rect}{"</g>" * n}</svg>').fills()
+    assert path_bounds(fill.path) == pytest.approx((4, 2, 14, 8), abs=1e-9)
+
+
 def test_nesting_beyond_the_limit_is_a_clean_error():
     from vecmsaa.svg.document import MAX_DEPTH
     n = MAX_DEPTH + 1

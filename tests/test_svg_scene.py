@@ -158,6 +158,129 @@ def test_transform_origin_keywords_and_invalid_values(origin, point):
     assert path_bounds(only_fill(s).path) == pytest.approx((ox, oy, ox + 20, oy + 20))
 
 
+@pytest.mark.parametrize("box, origin, expect", [
+    # CSS Transforms 1 transform-box; scale(2) of the 40x10 rect at (20, 30) about the origin
+    # (ox, oy) gives (ox + 2 (20 - ox), oy + 2 (30 - oy)) .. + (80, 20)
+    ("view-box", "50% 50%", (-10, 10, 70, 30)),         # of the 100x100 viewport: (50, 50)
+    ("fill-box", "50% 50%", (0, 25, 80, 45)),           # the box's centre (40, 35)
+    ("content-box", "50% 50%", (0, 25, 80, 45)),        # fill-box without a CSS box
+    ("fill-box", "10px 0", (10, 30, 90, 50)),           # lengths from the corner (30, 30)
+    ("fill-box", None, (20, 30, 100, 50)),              # the initial 0 0: the corner (20, 30)
+    ("view-box", None, (40, 60, 120, 80)),              # 0 0 of the user space
+    ("bogus", "50% 50%", (-10, 10, 70, 30)),            # invalid: the initial view-box
+    # the stroke bounding box of a 4-wide stroke: (18, 28, 44, 14), centre (40, 35) again;
+    # its corner (18, 28) as the origin
+    ("stroke-box", "50% 50%", (0, 25, 80, 45)),
+    ("border-box", None, (22, 32, 102, 52)),
+    ("stroke-box", None, (22, 32, 102, 52)),
+])
+def test_transform_box_reference_box(box, origin, expect):
+    o = "" if origin is None else f"transform-origin: {origin};"
+    s = scene(f'<rect x="20" y="30" width="40" height="10" stroke="blue" stroke-width="4" '
+              f'style="transform: scale(2); transform-box: {box}; {o}"/>')
+    assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
+
+
+def test_font_relative_lengths_in_transform():
+    # CSS Values 4: em is the element's font size; translate() takes lengths (CSS Transforms 1)
+    s = scene('<g font-size="20"><rect width="10" height="10" '
+              'style="transform: translate(1em, 0.5em) translateX(-0.25em)"/></g>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((15, 10, 25, 20))
+
+
+@pytest.mark.parametrize("transform, box, expect", [
+    # CSS Transforms 1: a percentage in translate() is of the reference box's width (x) or
+    # height (y)
+    ("translate(50%, -50%)", "fill-box", (40, 25, 80, 35)),     # (+20, -5)
+    ("translateY(100%)", "fill-box", (20, 40, 60, 50)),
+    ("translateX(10%)", "view-box", (30, 30, 70, 40)),           # 10% of the 100 viewport
+    ("translate(0, 20%)", "view-box", (20, 50, 60, 60)),
+])
+def test_translate_percentages_of_the_reference_box(transform, box, expect):
+    s = scene(f'<rect x="20" y="30" width="40" height="10" '
+              f'style="transform: {transform}; transform-box: {box}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(expect)
+
+
+@pytest.mark.parametrize("decl, expect", [
+    # CSS Transforms 2 individual transforms on the 10 x 20 rect at (20, 30), origin 0 0
+    ("translate: 10px 5px", (30, 35, 40, 55)),
+    ("translate: 10px", (30, 30, 40, 50)),
+    ("translate: 10% 0 7px", (30, 30, 40, 50)),             # 10% of the 100 viewport; z
+    ("translate: 1em 0.5em", (28, 34, 38, 54)),             # font-size 8
+    ("rotate: 90deg", (-50, 20, -30, 30)),                  # (x, y) → (-y, x)
+    ("rotate: z 0.25turn", (-50, 20, -30, 30)),
+    ("rotate: 0 0 2 100grad", (-50, 20, -30, 30)),
+    ("rotate: x 60deg", (20, 15, 30, 25)),                  # seen flat: y · cos 60°
+    ("rotate: y 180deg", (-30, 30, -20, 50)),               # x · cos 180°
+    ("scale: 2", (40, 60, 60, 100)),
+    ("scale: 200% 0.5", (40, 15, 60, 25)),
+    # order: translate, rotate, scale, then transform: T(100) R(90) translate(10px, 0)
+    ("translate: 100px; rotate: 90deg; transform: translate(10px, 0)", (50, 30, 70, 40)),
+    ("scale: 2; transform: translate(5px, 0)", (50, 60, 70, 100)),
+    # invalid values: none
+    ("rotate: 90", (20, 30, 30, 50)), ("scale: 2px", (20, 30, 30, 50)),
+    ("translate: 10", (20, 30, 30, 50)), ("rotate: w 9deg", (20, 30, 30, 50)),
+    ("translate: none; rotate: none; scale: none", (20, 30, 30, 50)),
+])
+def test_individual_transform_properties(decl, expect):
+    s = scene(f'<rect x="20" y="30" width="10" height="20" font-size="8" style="{decl}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(expect, abs=1e-9)
+
+
+def test_individual_transforms_turn_about_the_origin():
+    # rotate: 180deg about the centre of the fill box leaves the rect where it is; the
+    # translate percentage is of the box (10 x 20)
+    s = scene('<rect x="20" y="30" width="10" height="20" style="transform-box: fill-box; '
+              'transform-origin: center; rotate: 180deg; translate: 100% 50%"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((30, 40, 40, 60))
+
+
+def test_rotate_attribute_is_not_the_rotate_property():
+    # rotate="..." is text's glyph rotation attribute, not a presentation attribute
+    s = scene('<rect x="20" y="30" width="10" height="20" rotate="90deg"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 30, 30, 50))
+
+
+@pytest.mark.parametrize("element", [
+    # the fill box of a <use> is its content's box moved by its x/y (the translation SVG 2
+    # appends to its transform), of a nested <svg> its content's box through x/y and the
+    # viewBox (here 20 x 20 showing 10 x 10: scale 2): both (50, 0, 60, 20), so a half turn
+    # about the box's centre leaves the drawing where it is
+    '<use href="#r" x="50" STYLE/>',
+    '<svg x="50" width="20" height="20" viewBox="0 0 10 10" STYLE>'
+    '<rect width="5" height="10"/></svg>',
+])
+def test_fill_box_of_use_and_nested_svg_is_in_their_parent_space(element):
+    style = ('style="transform-box: fill-box; transform-origin: center; '
+             'transform: rotate(180deg)"')
+    s = scene('<defs><rect id="r" width="10" height="20"/></defs>'
+              + element.replace("STYLE", style))
+    assert path_bounds(only_fill(s).path) == pytest.approx((50, 0, 60, 20), abs=1e-9)
+
+
+def test_transform_box_is_not_a_presentation_attribute():
+    # SVG 2 lists no transform-box attribute: the attribute is ignored (view-box, so the
+    # origin 50% 50% is the viewport's centre)
+    s = scene('<rect x="20" y="30" width="40" height="10" transform-box="fill-box" '
+              'style="transform: scale(2); transform-origin: 50% 50%"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((-10, 10, 70, 30))
+
+
+@pytest.mark.parametrize("value, expect", [
+    # CSS Values 4 §10 calc(): em of the element's font size (10), % of the 200 x 100 viewport
+    ("calc(80px + 10% - 2em)", 80), ("calc(5 * 5%)", 50), ("calc((2px + 3px) * 2)", 10),
+    ("calc(100px / 4)", 25), ("CALC(1in - 90px)", 6), ("calc(2 * 3)", 6),
+    # type errors and malformed sums: invalid, the default 0
+    ("calc(10px + 5)", 0), ("calc(10px * 2px)", 0), ("calc(10px / 0)", 0),
+    ("calc(10px -5px)", 0), ("calc(10px", 0), ("calc(10qq)", 0),
+])
+def test_calc_lengths(value, expect):
+    s = scene(f'<rect font-size="10" x="{value}" width="10" height="10"/>',
+              'width="200" height="100"')
+    assert path_bounds(only_fill(s).path)[0] == pytest.approx(expect)
+
+
 def test_percentages_use_the_viewport():
     s = scene('<rect x="10%" y="10%" width="50%" height="25%"/>', 'viewBox="0 0 200 100"',
               width=200)
@@ -625,6 +748,37 @@ def test_a_data_url_s_fragment_is_not_its_body():
             "<rect width='20' height='20' fill='{}'/></svg>"
     assert tuple(render_svg_array(doc(inner.format("black") + "#r"))[20, 20]) == (0, 0, 0, 255)
     assert not render_svg_array(doc(inner.format("#00f")))[..., 3].any()
+
+
+def test_data_url_fragment_is_not_body():
+    # the URL Standard: a fragment starts at the first "#", whether or not it is percent-encoded
+    # elsewhere; the data: URL processor sees the URL without it
+    from vecmsaa.svg.resources import decode_data_url
+    assert decode_data_url("data:text/plain,abc#frag") == (b"abc", "text/plain", None)
+    assert decode_data_url("data:,a%23b#c") == (b"a#b", None, None)
+    assert decode_data_url("data:;base64,QUJD#x") == (b"ABC", None, None)
+
+
+@pytest.mark.parametrize("fragment, expect", [
+    # SVG 2 Linking into SVG content: #id of a <view> takes its viewBox (and
+    # preserveAspectRatio) for the root's; here the view shows the document's green
+    # top-left quarter, 10 x 10 user units, in the 40 x 40 image: scale 4
+    ("#v", (10, 10, 50, 50)),
+    ("#svgView(viewBox(0,0,10,10))", (10, 10, 50, 50)),           # an SVG view specification
+    ("#svgView(viewBox(0%2C0%2C10%2C10)%3BpreserveAspectRatio(none))", (10, 10, 50, 50)),
+    ("#svgView(viewBox(0,0,20,10))", (10, 20, 30, 40)),   # meet: centred, scale 2, y + 10
+    ("#xywh=0,0,10,10", (10, 10, 50, 50)),                 # a spatial media fragment
+    ("#r", (10, 10, 30, 30)),       # not a view: the whole 20 x 20 document, scale 2
+    ("#nothing", (10, 10, 30, 30)),
+    ("", (10, 10, 30, 30)),
+])
+def test_svg_image_view_fragment(fragment, expect):
+    import urllib.parse
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 20 20">'
+             '<view id="v" viewBox="0 0 10 10"/><rect id="r" width="10" height="10"/></svg>')
+    url = "data:image/svg+xml," + urllib.parse.quote(inner) + fragment
+    s = scene(f'<image x="10" y="10" width="40" height="40" href="{url}"/>')
+    assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
 
 
 @pytest.mark.parametrize("mime, drawn", [

@@ -30,9 +30,10 @@ from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
 from .shapes import author_path_length, shape_path
-from .units import (mean_scale, parse_aspect, parse_length_list, parse_number, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, to_px, url_argument,
-                    viewbox_transform, viewbox_transform_f32)
+from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
+                    parse_length_list, parse_number, parse_opacity, parse_transform,
+                    parse_viewbox, split_length, to_px, url_argument, viewbox_transform,
+                    viewbox_transform_f32)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -218,6 +219,10 @@ def _origin_values(text):
     return x, y
 
 
+#: units a calc() may hold (those split_length reads)
+_LENGTH_UNITS = frozenset({"%", "px", "pt", "pc", "mm", "cm", "in", "em", "ex"})
+
+
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
 
@@ -231,6 +236,7 @@ class Builder:
         # a document by text's object bounding box rather than its ink, as resvg does)
         self.text_fills = None
         self.root_scale = 1.0
+        self._reference_boxes = {}     # see reference_box
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
@@ -310,7 +316,12 @@ class Builder:
         """A length attribute value → user units (axis: x, y or xy for the diagonal)."""
         parsed = split_length(value) if value is not None else None
         if parsed is None:
-            return default
+            # calc() (CSS Values 4 §10): SVG 2's lengths are CSS lengths
+            if value is None or "calc(" not in value.lower():
+                return default
+            got = eval_calc(value, lambda v, unit: self.length_px(v, unit, axis, style, viewport)
+                            if unit in _LENGTH_UNITS else None)
+            return default if got is None else got
         return self.length_px(*parsed, axis, style, viewport)
 
     def length_px(self, v, unit, axis, style, viewport):
@@ -616,15 +627,37 @@ class Builder:
 
     def element_transform(self, el, style, ctx):
         """The element's own transform (with transform-origin), None when it is singular."""
-        text = el.specified.get("transform")
-        if not text or text == "none":
+        spec = el.specified
+        text = spec.get("transform")
+        if text == "none":
+            text = None
+        individual = None
+        if "translate" in spec or "rotate" in spec or "scale" in spec:
+            individual = [spec.get(name) for name in ("translate", "rotate", "scale")]
+            individual = [None if v is None or v.strip() == "none" else v for v in individual]
+            if not any(individual):
+                individual = None
+        if not text and individual is None:
             return IDENTITY
-        m = parse_transform(text)
+        origin = spec.get("transform-origin")
+        # the reference box (CSS Transforms 1 transform-box) is wanted for percentages and
+        # for an origin; with fill-box or stroke-box also for the initial origin, 0 0 of the
+        # box (SVG 2's UA style sheet), which is then the box's corner
+        box = None
+        if (origin or "%" in (text or "") or (individual and "%" in (individual[0] or ""))
+                or self.transform_box(el) != "view-box"):
+            box = self.reference_box(el, style, ctx)
+        size = ctx.viewport if box is None else box[2:]
+        m = parse_transform(text, size, style.font_size()) if text else IDENTITY
         if m is None:
+            m = IDENTITY
+        if individual is not None:
+            # CSS Transforms 2: translate, rotate and scale come before transform
+            m = compose(individual_transform(*individual, size, style.font_size()), m)
+        if m == IDENTITY:
             return IDENTITY
-        origin = el.specified.get("transform-origin")
-        if origin:
-            ox, oy = self.transform_origin(origin, style, ctx.viewport)
+        if box is not None:
+            ox, oy = self.transform_origin(origin or "0 0", style, box)
             if ox or oy:
                 m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
         a, b, c, d, _, _ = m
@@ -632,23 +665,103 @@ class Builder:
             return None
         return m
 
-    def transform_origin(self, text, style, viewport):
-        """transform-origin → (x, y) in user units."""
+    def transform_origin(self, text, style, box):
+        """transform-origin → (x, y) in user units; ``box`` is the reference box, (x, y,
+        width, height), or a viewport's (width, height) (the view-box at 0, 0)."""
+        bx, by, bw, bh = box if len(box) == 4 else (0.0, 0.0, *box)
         vals = _origin_values(text)
         if vals is None:
             # invalid: the initial value, which for SVG elements is 0 0 (SVG 2's UA style sheet)
-            return 0.0, 0.0
+            vals = ("0", "0")
 
-        def resolve(v, axis):
+        def resolve(v, size):
             parsed = split_length(v)
             if parsed is None:
                 return 0.0
             n, unit = parsed
-            ref = viewport[0] if axis == "x" else viewport[1]
             if unit == "%":
-                return n * ref / 100
+                return n * size / 100
             return to_px(n, unit, style.font_size(), dpi=self.options.dpi)
-        return resolve(vals[0], "x"), resolve(vals[1], "y")
+        return bx + resolve(vals[0], bw), by + resolve(vals[1], bh)
+
+    @staticmethod
+    def transform_box(el):
+        """An element's used transform-box: view-box, fill-box or stroke-box. CSS Transforms 1:
+        content-box is fill-box and border-box stroke-box for SVG elements without a CSS layout
+        box; the initial value (and that of an invalid one) is view-box. The root <svg> has a
+        CSS box in a browser: it keeps the view-box here."""
+        value = el.specified.get("transform-box")
+        while value is not None and value.strip().lower() == "inherit" and el.parent is not None:
+            el = el.parent
+            value = el.specified.get("transform-box")
+        if value is None or el.parent is None:
+            return "view-box"
+        value = value.strip().lower()
+        if value in ("fill-box", "content-box"):
+            return "fill-box"
+        if value in ("stroke-box", "border-box"):
+            return "stroke-box"
+        return "view-box"
+
+    def reference_box(self, el, style, ctx):
+        """The reference box of the element's transform and transform-origin (CSS Transforms 1
+        transform-box) as (x, y, width, height) in its user space: the object bounding box
+        (fill-box), the stroke bounding box (stroke-box), or the nearest viewport's viewBox
+        placed at the origin (view-box). An element without a box has an empty one at 0, 0."""
+        kind = self.transform_box(el)
+        if kind == "view-box":
+            return (0.0, 0.0, *ctx.viewport)
+        # once per element, style and viewport: the box is computed by building the element
+        # (in geometry mode), and building it again computes its descendants' boxes, so
+        # nested fill-box groups would cost 2^depth builds (the style is kept with the box:
+        # its id stays its own)
+        key = (id(el), id(style), ctx.viewport, kind)
+        got = self._reference_boxes.get(key)
+        if got is not None:
+            return got[1]
+        bbox = self.object_bbox(el, ctx, style)
+        if kind == "stroke-box":
+            bbox = self.stroke_bbox(el, ctx, style, bbox)
+        if bbox is not None and el.tag in ("use", "svg"):
+            bbox = self._own_space_box(el, style, ctx, bbox)
+        box = ((0.0, 0.0, 0.0, 0.0) if bbox is None
+               else (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]))
+        self._reference_boxes[key] = (style, box)
+        return box
+
+    def _own_space_box(self, el, style, ctx, bbox):
+        """A <use>'s or nested <svg>'s object bounding box (object_bbox gives it where their
+        clip-path, mask and filter apply: after a use's x/y, inside an svg's viewport) in the
+        space their transform applies in: moved by x/y, and for an svg mapped by its viewBox."""
+        get = self.length_getter(el, style, ctx)
+        m = translate(get("x", "x", 0.0), get("y", "y", 0.0))
+        if el.tag == "svg":
+            vb = parse_viewbox(el.get("viewBox"))
+            w = get("width", "x", ctx.viewport[0])
+            h = get("height", "y", ctx.viewport[1])
+            if vb is not None and w > 0 and h > 0:
+                m = compose(m, viewbox_transform_f32(
+                    vb, parse_aspect(el.get("preserveAspectRatio")), w, h))
+        a, _, _, d, e, f = m                     # a translation and a scale: no rotation
+        x0, x1 = a * bbox[0] + e, a * bbox[2] + e
+        y0, y1 = d * bbox[1] + f, d * bbox[3] + f
+        return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+
+    def stroke_bbox(self, el, ctx, style, bbox):
+        """SVG 2's stroke bounding box of a shape: its object bounding box ``bbox`` with the
+        stroke shape (when the stroke is not none), markers left out. For other elements the
+        object bounding box."""
+        if el.tag not in SHAPES or style.get("stroke").strip() == "none":
+            return bbox
+        path = (self.path_data(el) if el.tag == "path"
+                else shape_path(el, self.length_getter(el, style, ctx)))
+        params = self.stroke_params(style, ctx)
+        if path is None or params is None:
+            return bbox
+        width, join, cap, limit, dashes, offset = params
+        outline = stroke_path(path, width, join=join, cap=cap, miterlimit=limit, dashes=dashes,
+                              dash_offset=offset)
+        return union(bbox, path_bounds(outline)) if not outline.is_empty() else bbox
 
     # -- structural wrapping ---------------------------------------------------------------
     def wrap(self, el, style, ctx, nodes) -> list:

@@ -46,7 +46,9 @@ PROPERTIES = {
     "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
     "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
     "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
-    "text-overflow", "text-rendering", "transform", "transform-origin", "unicode-bidi",
+    "text-overflow", "text-rendering", "transform", "transform-box", "transform-origin",
+    "translate", "rotate", "scale",
+    "unicode-bidi",
     "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
     "inline-size", "text-orientation", "font-synthesis", "line-height", "background-color",
 }
@@ -54,7 +56,11 @@ PROPERTIES = {
 #: properties settable from CSS only, not as presentation attributes
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
-            "font-kerning"}   # resvg: font-kerning is not a presentation attribute
+            "font-kerning",   # resvg: font-kerning is not a presentation attribute
+            "transform-box",  # not in SVG 2's list of presentation attributes
+            # CSS Transforms 2's individual transforms (a rotate attribute is text's glyph
+            # rotation)
+            "translate", "rotate", "scale"}
 
 #: properties that may be given as presentation attributes
 PRESENTATION = PROPERTIES - CSS_ONLY

@@ -129,7 +129,8 @@ def image_nodes(builder, el, ctx, style):
     elif kind == "svg":
         if builder.options.image_nesting >= 3:
             return []
-        sub = _load_svg(builder, data)
+        href = el.get("href") or ""
+        sub = _load_svg(builder, data, href.partition("#")[2] if "#" in href else None)
         if sub is None:
             return []
         iw, ih = sub.width, sub.height
@@ -214,16 +215,16 @@ def _within(nodes, to_device, box) -> bool:
     return True
 
 
-def _load_svg(builder, data):
-    """A nested SVG image as a SizedDocument, or None when it cannot be read. As in resvg, it
-    may embed data: URLs but load no files: that also rules out documents that show
-    themselves."""
+def _load_svg(builder, data, fragment=None):
+    """A nested SVG image as a SizedDocument, or None when it cannot be read; ``fragment``,
+    the URL's fragment, may name a <view> of it. As in resvg, it may embed data: URLs but
+    load no files: that also rules out documents that show themselves."""
     from . import SvgError
     from .resources import Resources
     from .sizing import open_svg
 
     options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
     try:
-        return open_svg(data, None, Resources(), options, whole_pixels=False)
+        return open_svg(data, None, Resources(), options, whole_pixels=False, view=fragment)
     except SvgError:
         return None

@@ -95,12 +95,10 @@ def _short(url: str) -> str:
 
 
 def decode_data_url(url):
-    # the URL's fragment is no part of its body (URL Standard: a fragment starts at the first
-    # "#"; Fetch's data: URL processor serializes the URL without it): an SVG's
-    # "data:image/svg+xml,<svg>...</svg>#id" is the document, and an unescaped "#" in it
-    # ("fill='#00f'") ends the body there, as in browsers and resvg
-    url = url.split("#", 1)[0]
-    header, sep, payload = url[5:].partition(",")
+    # the URL Standard's parser: a fragment (from the first "#") is no part of the body (Fetch's
+    # data: URL processor serializes the URL without it; an SVG image's view, see image.py), so
+    # an unescaped "#" in an SVG ("fill='#00f'") ends the body there, as in browsers and resvg
+    header, sep, payload = url[5:].partition("#")[0].partition(",")
     if not sep:
         return None
     parts = [p.strip() for p in header.split(";")]

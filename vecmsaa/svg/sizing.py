@@ -3,6 +3,8 @@ space to that size (:func:`open_svg`, for the API and for SVG images alike)."""
 from __future__ import annotations
 
 import math
+import re
+import urllib.parse
 
 from dataclasses import dataclass
 
@@ -83,8 +85,43 @@ class SizedDocument:
     viewport: tuple
 
 
+def apply_view(doc: Document, fragment: str) -> None:
+    """Link into a view of the document (SVG 2 Linking, "Linking into SVG content"): the id
+    of a <view> element, whose viewBox and preserveAspectRatio (each where it has one)
+    replace the root <svg>'s; ``svgView(viewBox(x,y,w,h);preserveAspectRatio(...))``, whose
+    parameters do the same (its ``transform(...)`` is not applied); a spatial media fragment
+    ``xywh=x,y,w,h`` (in pixels), a viewBox. Any other fragment changes nothing."""
+    fragment = urllib.parse.unquote(fragment).strip()
+    given = {}
+    view_spec = _SVG_VIEW.fullmatch(fragment)
+    xywh = _XYWH.fullmatch(fragment)
+    if view_spec:
+        for name, value in _VIEW_PARAM.findall(view_spec.group(1)):
+            given[{"viewbox": "viewBox"}.get(name.lower(), name)] = value.replace(",", " ")
+    elif xywh:
+        given["viewBox"] = xywh.group(1).replace(",", " ")
+    else:
+        view = doc.lookup("#" + fragment)
+        if view is None or view.tag != "view":
+            return
+        for name in ("viewBox", "preserveAspectRatio"):
+            if view.get(name) is not None:
+                given[name] = view.get(name)
+    if "viewBox" in given and parse_viewbox(given["viewBox"]) is not None:
+        doc.root.attrs["viewBox"] = given["viewBox"]
+    if "preserveAspectRatio" in given:
+        doc.root.attrs["preserveAspectRatio"] = given["preserveAspectRatio"]
+
+
+_SVG_VIEW = re.compile(r"svgView\((.*)\)", re.S)
+_VIEW_PARAM = re.compile(r"\s*(viewBox|preserveAspectRatio|transform)\(([^)]*)\)\s*;?")
+_XYWH = re.compile(r"xywh=(?:pixel:)?\s*([-+0-9.eE]+\s*,\s*[-+0-9.eE]+\s*,\s*[-+0-9.eE]+"
+                   r"\s*,\s*[-+0-9.eE]+)")
+
+
 def open_svg(data: bytes, folder, resources: Resources, options: Options,
-             whole_pixels: bool = True, **document_options) -> SizedDocument:
+             whole_pixels: bool = True, view: str | None = None,
+             **document_options) -> SizedDocument:
     """Parse SVG bytes and size the document; a document without width, height and viewBox
     takes its drawing's extent. ``document_options`` go to :func:`load_document` (user
     stylesheet, root defaults, languages). Raises SvgError (and RecursionError on absurd
@@ -96,6 +133,8 @@ def open_svg(data: bytes, folder, resources: Resources, options: Options,
     both axes, where stretching to 26 rows would scale y by 2.08. SVG images and glyphs keep
     the exact size."""
     doc = load_document(data, folder, **document_options)
+    if view:
+        apply_view(doc, view)
     width, height, root_m, viewport = document_size(doc, options.dpi)
     builder = Builder(doc, resources, options)
     if width is None:

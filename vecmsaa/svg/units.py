@@ -106,6 +106,97 @@ def split_length(text):
     return v, (m.group(2) or "").lower()
 
 
+_CALC_TOKEN = re.compile(rf"\s*(?:({NUMBER_RE})([a-zA-Z]+|%)?|(calc\()|([-+*/()]))", re.I)
+
+
+def eval_calc(text, resolve):
+    """The value of a CSS ``calc()`` expression (CSS Values 4 §10) in px, or None when it is
+    not one or its types do not add up. ``resolve(number, unit)`` gives a dimension or
+    percentage in px (None for an unknown unit). Sums take lengths with lengths; a product
+    takes a number on one side, a quotient a number on the right; the result is a length
+    (a bare number is taken as user units, as in an SVG attribute)."""
+    text = text.strip()
+    if not text[:5].lower() == "calc(":
+        return None
+    tokens = []
+    pos = 0
+    while pos < len(text):
+        m = _CALC_TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            if text[pos:].strip() == "":
+                break
+            return None
+        if m.group(1) is not None:
+            unit = (m.group(2) or "").lower()
+            if unit:
+                v = resolve(float(m.group(1)), unit)
+                if v is None:
+                    return None
+                tokens.append(("L", v))
+            else:
+                tokens.append(("N", float(m.group(1))))
+        elif m.group(3):
+            tokens.append(("(", None))
+        else:
+            tokens.append((m.group(4), None))
+        pos = m.end()
+    # operators of CSS calc: + and - need spaces around them; a sign without one belongs to
+    # the number ("10px -5px" is not a sum); the tokenizer read "-5px" as a number, so a
+    # value following a value without an operator is an error
+    at = [0]
+
+    def peek():
+        return tokens[at[0]][0] if at[0] < len(tokens) else None
+
+    def take():
+        at[0] += 1
+        return tokens[at[0] - 1]
+
+    def value():
+        kind, v = take() if at[0] < len(tokens) else (None, None)
+        if kind in ("L", "N"):
+            return kind, v
+        if kind == "(":
+            got = total()
+            if got is None or peek() != ")":
+                return None
+            take()
+            return got
+        return None
+
+    def product():
+        left = value()
+        while left is not None and peek() in ("*", "/"):
+            op = take()[0]
+            right = value()
+            if right is None:
+                return None
+            if op == "*":
+                if left[0] == "L" and right[0] == "L":
+                    return None
+                left = ("L" if "L" in (left[0], right[0]) else "N", left[1] * right[1])
+            else:
+                if right[0] != "N" or right[1] == 0:
+                    return None
+                left = (left[0], left[1] / right[1])
+        return left
+
+    def total():
+        left = product()
+        while left is not None and peek() in ("+", "-"):
+            op = take()[0]
+            right = product()
+            if right is None or right[0] != left[0]:
+                return None
+            left = (left[0], left[1] + right[1] if op == "+" else left[1] - right[1])
+        return left
+
+    got = value()
+    if got is None or at[0] != len(tokens) or not math.isfinite(got[1]):
+        return None
+    return got[1]
+
+
 def parse_fraction(text):
     """An objectBoundingBox coordinate: a number or a percentage, as a fraction of the box;
     None when it does not parse."""
@@ -154,9 +245,11 @@ _TRANSFORM_ARGS = {"matrix": (6, 6, "nnnnnn"), "translate": (1, 2, "ll"), "trans
                    "skewX": (1, 1, "a"), "skewY": (1, 1, "a")}
 
 
-def _transform_args(name, text):
+def _transform_args(name, text, box=None, font_size=None):
     """The arguments of one transform function as floats (angles in degrees, lengths in px),
-    or None when their number, kind or units are wrong."""
+    or None when their number, kind or units are wrong. ``box``: the (width, height) of the
+    reference box that percentages in translate functions are of (CSS Transforms 1 §7.1),
+    None where they are invalid; ``font_size`` what em is (None: em and ex are invalid)."""
     lo, hi, kinds = _TRANSFORM_ARGS[name]
     out = []
     pos = 0
@@ -171,6 +264,10 @@ def _transform_args(name, text):
             value *= ANGLE_DEG[unit]
         elif kind == "l" and unit in UNIT_PX:
             value *= UNIT_PX[unit]
+        elif kind == "l" and unit == "%" and box is not None and name != "rotate":
+            value *= box[1 if name == "translateY" or len(out) == 1 else 0] / 100
+        elif kind == "l" and unit in ("em", "ex") and font_size is not None:
+            value *= font_size if unit == "em" else font_size / 2    # ex as to_px has it
         elif kind == "n" and unit in ("", "%"):
             value = value / 100 if unit == "%" else value
         else:
@@ -183,14 +280,15 @@ def _transform_args(name, text):
 
 
 @functools.lru_cache(maxsize=4096)
-def parse_transform(text):
-    """A transform list → affine matrix; None when the text is malformed. Cached by text: the
-    bounding-box walks parse an element's transform once per walk that reaches it (quadratic in
-    nesting depth), and documents repeat a few transforms many times.
+def parse_transform(text, box=None, font_size=None):
+    """A transform list → affine matrix; None when the text is malformed. Cached by its
+    arguments: the bounding-box walks parse an element's transform once per walk that reaches
+    it (quadratic in nesting depth), and documents repeat a few transforms many times.
 
     SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
     translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
-    scale factors as percentages) are both read."""
+    scale factors as percentages; translations as percentages of ``box``, the (width, height)
+    of the element's reference box, or in em and ex of ``font_size``) are both read."""
     m = IDENTITY
     if text is None:
         return IDENTITY
@@ -201,7 +299,7 @@ def parse_transform(text):
         if not mt or mt.group(1) not in _TRANSFORM_ARGS:
             return None
         name = mt.group(1)
-        nums = _transform_args(name, mt.group(2))
+        nums = _transform_args(name, mt.group(2), box, font_size)
         if nums is None or not all(map(math.isfinite, nums)):
             return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
@@ -228,6 +326,74 @@ def parse_transform(text):
             ay = nums[0] if name == "skewY" else (nums[1] if name == "skew" and n == 2 else 0.0)
             t = (1, math.tan(math.radians(ay)), math.tan(math.radians(ax)), 1, 0, 0)
         m = compose(m, tuple(float(x) for x in t))
+    return m
+
+
+_CSS_DIMENSION = re.compile(rf"^({NUMBER_RE})([a-zA-Z%]*)$")
+
+
+def individual_transform(translate_text, rotate_text, scale_text, box, font_size=16.0):
+    """The matrix of CSS Transforms 2's individual transform properties, translate, then
+    rotate, then scale (§3.1: they apply before ``transform``, all about the origin), as
+    seen in the plane: a rotation about another axis than z is the 3-D rotation's x-y part
+    (the flat projection a renderer without perspective shows). ``box`` is the reference
+    box's (width, height) for translate's percentages, ``font_size`` what em is. A value that
+    is not of the property's grammar is none (the declaration is dropped)."""
+    m = IDENTITY
+
+    def dims(text):
+        out = []
+        for token in text.split():
+            d = _CSS_DIMENSION.match(token)
+            if not d:
+                return None
+            out.append((float(d.group(1)), d.group(2).lower()))
+        return out
+
+    parts = dims(translate_text) if translate_text else None
+    if parts and 1 <= len(parts) <= 3:
+        xy = []
+        for i, (v, unit) in enumerate(parts):
+            if unit == "%" and i < 2:
+                v = v * box[i] / 100
+            elif unit in UNIT_PX and (unit or v == 0):
+                v = v * UNIT_PX[unit]
+            elif unit in ("em", "ex"):
+                v = v * (font_size if unit == "em" else font_size / 2)   # ex as to_px has it
+            else:
+                xy = None
+                break
+            xy.append(v)
+        if xy:
+            m = compose(m, (1.0, 0.0, 0.0, 1.0, xy[0], xy[1] if len(xy) > 1 else 0.0))
+    parts = dims(rotate_text) if rotate_text else None
+    if rotate_text and parts is None:
+        words = rotate_text.lower().split()            # an axis keyword and an angle
+        axis = {"x": (1, 0, 0), "y": (0, 1, 0), "z": (0, 0, 1)}
+        keys = [w for w in words if w in axis]
+        rest = [w for w in words if w not in axis]
+        if len(keys) == 1 and len(rest) == 1 and len(words) == 2:
+            d = _CSS_DIMENSION.match(rest[0])
+            if d:
+                parts = [(float(c), "") for c in axis[keys[0]]]
+                parts.append((float(d.group(1)), d.group(2).lower()))
+    if parts and len(parts) in (1, 4):
+        v, unit = parts[-1]
+        vector = [p[0] for p in parts[:3] if p[1] == ""] if len(parts) == 4 else [0, 0, 1]
+        if ((unit in ANGLE_DEG and (unit or v == 0)) and len(vector) == 3
+                and any(vector)):
+            a = math.radians(v * ANGLE_DEG[unit])
+            n = math.sqrt(sum(c * c for c in vector))
+            x, y, z = (c / n for c in vector)
+            c, sn = math.cos(a), math.sin(a)
+            # Rodrigues' rotation matrix, rows x and y, columns x and y
+            r00, r01 = c + x * x * (1 - c), x * y * (1 - c) - z * sn
+            r10, r11 = y * x * (1 - c) + z * sn, c + y * y * (1 - c)
+            m = compose(m, (r00, r10, r01, r11, 0.0, 0.0))
+    parts = dims(scale_text) if scale_text else None
+    if parts and 1 <= len(parts) <= 3 and all(unit in ("", "%") for _, unit in parts):
+        f = [v / 100 if unit == "%" else v for v, unit in parts]
+        m = compose(m, (f[0], 0.0, 0.0, f[1] if len(f) > 1 else f[0], 0.0, 0.0))
     return m
 
 
