@@ -987,39 +987,3 @@ def test_subregion_width_is_taken_in_the_filter_layer_as_resvg_does():
     row = tiled[90] > 0
     starts = np.nonzero(row[1:] & ~row[:-1])[0] + 1
     assert set(np.diff(starts)) == {12}
-
-
-# Filter Effects 1, "Filter region for shorthands": the region of a filter function must cover
-# the element's visual content, and for blur() and drop-shadow() the area they spread it over.
-def _doc(body, size=200):
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{size}">'
-            f'{body}</svg>')
-
-
-def test_drop_shadow_function_is_not_cut_by_a_region():
-    # a 50-wide rect's shadow 50 to the right ends at x = 150: all of it drawn, green on green
-    # over the red it covers (usvg's region, the box grown by half its width, ended at 125)
-    img = render_svg_array(_doc(
-        '<rect x="50" width="100" height="100" fill="red"/>'
-        '<rect x="50" width="50" height="100" fill="#008000" '
-        'filter="drop-shadow(50px 0 #008000)"/>'))
-    assert (img[:100, 50:150] == (0, 128, 0, 255)).all()
-    assert not img[:, 150:, 3].any()
-
-
-def test_identity_filter_function_keeps_a_wide_stroke():
-    # a 40-wide stroke reaches 20 beyond a 60-unit box, past the 10% usvg's region grows it
-    # by: opacity(1) computes nothing, so the drawing is the unfiltered one
-    shape = '<rect x="60" y="60" width="60" height="60" fill="blue" stroke="#ff8000" ' \
-            'stroke-width="40" {}/>'
-    plain = render_svg_array(_doc(shape.format("")))
-    for f in ('filter="opacity(1)"', 'filter="invert(0)"', 'filter="opacity(1) opacity(1)"'):
-        got = render_svg_array(_doc(shape.format(f)))
-        assert np.abs(got.astype(int) - plain.astype(int)).max() <= 1, f
-
-
-def test_blur_function_keeps_the_shape_s_mass():
-    # a blur spreads alpha without losing any: a 6-wide bar blurred by 8 keeps its 6 x 100 x
-    # 255 of alpha (usvg's region, 3 units either side of the bar, cut most of it away)
-    img = render_svg_array(_doc('<rect x="97" y="50" width="6" height="100" filter="blur(8px)"/>'))
-    assert abs(img[..., 3].astype(float).sum() / (6 * 100 * 255) - 1) < 0.02

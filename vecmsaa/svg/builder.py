@@ -136,12 +136,6 @@ def parse_url(value):
     return None if ref is None else (ref, m.group(2).strip())
 
 
-def _content_box(nodes):
-    """Device box outside which ``nodes`` draw nothing (raster.render.content_box), or None."""
-    from ..raster.render import content_box     # (imported here: only filter functions ask)
-    return content_box(Group(children=nodes)) if nodes else None
-
-
 def bbox_matrix(bbox):
     x0, y0, x1, y1 = bbox
     return (x1 - x0, 0.0, 0.0, y1 - y0, x0, y0)
@@ -811,8 +805,7 @@ class Builder:
             return bbox_cache[0]
         if has_filter:      # (imported here: filters and their scene classes cost start-up)
             from .filters import element_filters
-            filters = element_filters(self, el, style, ctx, bbox,
-                                      lambda: _content_box(nodes))
+            filters = element_filters(self, el, style, ctx, bbox)
         else:
             filters = []
         if filters is False or not (nodes or filters):

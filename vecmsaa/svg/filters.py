@@ -45,10 +45,9 @@ TRANSPARENT = Flood((0.0, 0.0, 0.0, 0.0))
 LUMA = (0.2126, 0.7152, 0.0722)
 
 
-def element_filters(builder, el, style, ctx, bbox_fn, content_fn=None):
+def element_filters(builder, el, style, ctx, bbox_fn):
     """[Filter] for the element's ``filter`` value, [] when there is none (or it does not
-    parse), False when the element is not drawn. ``content_fn()``: the device box the
-    element's drawing (stroke and markers included) can cover, or None."""
+    parse), False when the element is not drawn."""
     value = (el.specified.get("filter") or "").strip()
     if not value or value == "none":
         return []
@@ -63,7 +62,7 @@ def element_filters(builder, el, style, ctx, bbox_fn, content_fn=None):
         # is drawn unfiltered, and an instance of it keeps the filter, whose feImage draws the
         # element unfiltered
         return []
-    out, invalid, shorthands = [], False, set()
+    out, invalid = [], False
     for name, args in entries:
         if name == "url":
             ref = url_argument(args)
@@ -84,40 +83,9 @@ def element_filters(builder, el, style, ctx, bbox_fn, content_fn=None):
             if flt is False:
                 return []
             if flt is not None:
-                shorthands.add(len(out))
                 out.append(flt)
     if not out and invalid:
         return False
-    if shorthands and content_fn is not None:
-        out = _cover_content(out, shorthands, content_fn())
-    return out
-
-
-def _cover_content(filters, shorthands, box):
-    """Filter Effects 1, "Filter region for shorthands": a filter function's region must
-    cover the element's visual content and, for blur() and drop-shadow(), the area they
-    spread it over. usvg gives a function the object bounding box grown by 10% (50% for
-    blur and drop-shadow), which cuts a stroke wider than that, a shadow offset by more
-    than half the box or a blur reaching farther; that region, grown to the content's box
-    (the input: the element's drawing, then each filter's result) plus the function's reach,
-    keeps usvg's pixels wherever it already covered them."""
-    from ..raster.filter_effects import transparent_reach
-    out = []
-    for k, flt in enumerate(filters):
-        if k in shorthands and box is not None:
-            reach = transparent_reach(flt)      # functions keep transparent pixels transparent
-            grown = (math.floor(box[0]) - 1 - reach, math.floor(box[1]) - 1 - reach,
-                     math.ceil(box[2]) + 1 + reach, math.ceil(box[3]) + 1 + reach)
-            r = flt.region
-            region = (min(r[0], grown[0]), min(r[1], grown[1]),
-                      max(r[2], grown[2]), max(r[3], grown[3]))
-            if region != r:
-                flt = Filter(region=region,
-                             primitives=[replace(p, subregion=region) for p in flt.primitives])
-            box = grown
-        else:
-            box = flt.region            # a <filter>'s result stays in its region
-        out.append(flt)
     return out
 
 
