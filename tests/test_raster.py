@@ -165,6 +165,35 @@ def test_lenses_whose_tangent_or_chord_is_nearly_horizontal(ulps, mirror):
             assert_matches_brute_force(path, mode, samples, "nonzero")
 
 
+def test_an_edge_beyond_the_int64_range_crosses_no_visible_pixel():
+    # scan_edges turns a sample's crossing into a pixel index; an edge reaching x = 1e30
+    # crosses the rows beyond int64, which converted to -2**63 and put those crossings in
+    # column 0 (the edge drawn at the left border: the triangle, whose left edge is at
+    # x = 0.5, came out empty). The kernel on its own, against crossing counts.
+    from vecmsaa.raster.scan import msaa_scratch, scan_edges
+    W, rows = 4, 16
+    offsets = standard_pattern(8)
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    for far in (1e30, -1e30):
+        x0 = 0.5 if far > 0 else W - 0.5
+        path = Path()
+        path.moveTo((x0, 0.0))
+        path.lineTo((far, 8.0))
+        path.lineTo((x0, 16.0))
+        path.closePath()
+        segs = segments(path)
+        edges = np.array([c.ravel() for _, c in segs])
+        delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, len(sx))[:5]
+        scan_edges(edges, 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist, dcount,
+                   np.zeros(rows, dtype=np.bool_))
+        winding = np.cumsum(delta[:, :W], axis=1)
+        for py in range(rows):
+            for px in range(W):
+                for s in range(len(sx)):
+                    want = winding_at(segs, px + sx[s], py + sy[s])
+                    assert winding[py, px, s] == want, (far, px, py, s)
+
+
 def test_persample_on_a_loop_cubic_and_a_serpentine():
     loop = Path()
     loop.moveTo((2, 14))

@@ -251,11 +251,12 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount,
                 ys = py + sy[s]
                 if ys < yt or ys >= yb:
                     continue
-                xc = crossing_x(xt, yt, dxdy, ys)
-                fx = math.ceil(xc - sx[s])
-                if fx >= W:
+                # the sample's pixel is ceil(v); compared as a float first (ceil(v) >= W
+                # exactly when v > W - 1): an edge reaching 1e19 px converts to no int64
+                v = crossing_x(xt, yt, dxdy, ys) - sx[s]
+                if v > W - 1.0:
                     continue
-                px = int(fx) if fx > 0 else 0
+                px = int(math.ceil(v)) if v > 0.0 else 0
                 delta[r, px, s] += d
             # every pixel box this edge touches in the row becomes dirty (plus one to the
             # right, where crossings of samples left of the edge land)
