@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from truth import distance_to_outline, polygon_pixel_coverage, segments, winding_at
@@ -100,8 +100,25 @@ def test_persample_equals_point_in_region_at_the_same_samples(path, rule):
     assert_matches_brute_force(path, "persample", 8, rule)
 
 
+def _sliver_in_a_corner():
+    """Hypothesis's example: a quadratic whose control point lies 9e-20 px above the corner its
+    two straight neighbours meet at (after three zero-length lines, which play no part). Its
+    end tangent is horizontal but for a slope of 4e-20: it crossed the lens's rows 1e19 px
+    away, and that pixel index did not fit an int64."""
+    x, y = 3.878296130856599e-06, 7.388833666117377e-06
+    path = Path()
+    path.moveTo((x, y))
+    for _ in range(3):
+        path.lineTo((x, y))
+    path.lineTo((x, 1.000007388833666))
+    path.qCurveTo((x, 7.388833666117288e-06), (2.000003878296131, y))
+    path.closePath()
+    return path
+
+
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(closed_paths(), st.sampled_from(["nonzero", "evenodd"]), st.sampled_from([8, 16]))
+@example(_sliver_in_a_corner(), "nonzero", 8)
 def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
     # random curves at 16 px turn within pixels, end inside them and share them: the half-plane
     # is wrong there, and approx must notice and evaluate those samples
@@ -112,6 +129,69 @@ def test_approx_equals_point_in_region_at_the_same_samples(path, rule, samples):
 @given(closed_paths())
 def test_none_mode_samples_the_pixel_centre(path):
     assert_matches_brute_force(path, "none", 1, "nonzero")
+
+
+@pytest.mark.parametrize("ulps", [12, -12, 1, -1])
+@pytest.mark.parametrize("mirror", [False, True])
+def test_lenses_whose_tangent_or_chord_is_nearly_horizontal(ulps, mirror):
+    # A lens is bounded by half-planes (chord, end tangents) whose crossing of each sample
+    # row becomes a pixel index. A line that is horizontal but for a slope of ~1e-21 crosses
+    # a row a few pixels away 1e21 px off, beyond int64: that crossing must still mean "far
+    # to that side" (it came out as -2**63, the far left, and a lens lost its samples). Near
+    # y = 0 a slope that small is a few ulps; the usual irrational shift keeps vertices off
+    # the sample rows. Mirrored in x and with the ulps of either sign, both sides of each
+    # line are the lens's side.
+    x0, y0 = 1.2345e-6 * math.pi, 2.7182e-6 * math.e
+    y1 = y0
+    for _ in range(abs(ulps)):
+        y1 = math.nextafter(y1, math.copysign(math.inf, ulps))
+
+    def x(v):
+        return SIZE - (v + x0) if mirror else v + x0
+    # the end tangent at (9, 0): the control point lies a few ulps above or below the corner
+    tangent = Path()
+    tangent.moveTo((x(1.0), y0))
+    tangent.lineTo((x(1.0), 9.0 + y0))
+    tangent.qCurveTo((x(1.0), y1), (x(9.0), y0))
+    tangent.closePath()
+    # the chord (1, 0) -> (9, 0 + a few ulps), the lens 0.95 px deep below it (one piece:
+    # a deeper curve is split into pieces whose chords slope)
+    chord = Path()
+    chord.moveTo((x(1.0), y0))
+    chord.qCurveTo((x(5.0), 1.9 + y0), (x(9.0), y1))
+    chord.closePath()
+    for path in (tangent, chord):
+        for mode, samples in (("persample", 8), ("approx", 16), ("none", 1)):
+            assert_matches_brute_force(path, mode, samples, "nonzero")
+
+
+def test_an_edge_beyond_the_int64_range_crosses_no_visible_pixel():
+    # scan_edges turns a sample's crossing into a pixel index; an edge reaching x = 1e30
+    # crosses the rows beyond int64, which converted to -2**63 and put those crossings in
+    # column 0 (the edge drawn at the left border: the triangle, whose left edge is at
+    # x = 0.5, came out empty). The kernel on its own, against crossing counts.
+    from vecmsaa.raster.scan import msaa_scratch, scan_edges
+    W, rows = 4, 16
+    offsets = standard_pattern(8)
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    for far in (1e30, -1e30):
+        x0 = 0.5 if far > 0 else W - 0.5
+        path = Path()
+        path.moveTo((x0, 0.0))
+        path.lineTo((far, 8.0))
+        path.lineTo((x0, 16.0))
+        path.closePath()
+        segs = segments(path)
+        edges = np.array([c.ravel() for _, c in segs])
+        delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, len(sx))[:5]
+        scan_edges(edges, 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist, dcount,
+                   np.zeros(rows, dtype=np.bool_))
+        winding = np.cumsum(delta[:, :W], axis=1)
+        for py in range(rows):
+            for px in range(W):
+                for s in range(len(sx)):
+                    want = winding_at(segs, px + sx[s], py + sy[s])
+                    assert winding[py, px, s] == want, (far, px, py, s)
 
 
 def test_persample_on_a_loop_cubic_and_a_serpentine():

@@ -72,6 +72,17 @@ def _floor_int(v):
 
 
 @njit(cache=True, inline="always")
+def _ceil_int(v):
+    """ceil(v) as an int, clamped to ±BIG first (0 for NaN), as _floor_int. A bound beyond
+    the int64 range came out as -2**63 (x86's answer for a conversion it cannot make): a lens
+    whose end tangent was off horizontal by 2e-20 put the tangent's crossing of a row 1e19 px
+    to the right, and that bound became the far left, dropping the lens's samples."""
+    if not (v == v):
+        return 0
+    return math.ceil(max(min(v, float(BIG)), -float(BIG)))
+
+
+@njit(cache=True, inline="always")
 def _pixel_index(v, W):
     """floor(v) clamped to the columns 0..W-1, and 0 for NaN (compiled min/max pass NaN
     through, and int(NaN) is undefined: an index far outside the row)."""
@@ -115,14 +126,16 @@ def _clip_half_plane(lo, hi, a, b, c, sxs, ys):
     if a == 0.0 and b == 0.0:
         return lo, hi
     v = -(c + b * ys)
+    # clamped before the conversion to int (_ceil_int): a nearly horizontal tangent (tiny a)
+    # crosses the row far beyond the int64 range
     if a > 0.0:
-        t = math.ceil(v / a - sxs)
+        t = _ceil_int(v / a - sxs)
         if t > lo:
-            lo = int(max(min(t, BIG), -BIG))
+            lo = t
     elif a < 0.0:
-        t = math.floor(v / a - sxs)
+        t = _floor_int(v / a - sxs)
         if t < hi:
-            hi = int(max(min(t, BIG), -BIG))
+            hi = t
     elif v > 0.0:
         lo = BIG
     return lo, hi
@@ -238,11 +251,12 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount,
                 ys = py + sy[s]
                 if ys < yt or ys >= yb:
                     continue
-                xc = crossing_x(xt, yt, dxdy, ys)
-                fx = math.ceil(xc - sx[s])
-                if fx >= W:
+                # the sample's pixel is ceil(v); compared as a float first (ceil(v) >= W
+                # exactly when v > W - 1): an edge reaching 1e19 px converts to no int64
+                v = crossing_x(xt, yt, dxdy, ys) - sx[s]
+                if v > W - 1.0:
                     continue
-                px = int(fx) if fx > 0 else 0
+                px = int(math.ceil(v)) if v > 0.0 else 0
                 delta[r, px, s] += d
             # every pixel box this edge touches in the row becomes dirty (plus one to the
             # right, where crossings of samples left of the edge land)
@@ -355,12 +369,13 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                     lo[s] = -BIG if inside else BIG
                     hi[s] = BIG
                 else:
-                    t = math.ceil(crossing_x(xt, yt, dxdy, ys) - sx[s])
-                    t = max(min(t, BIG), -BIG)
+                    # a nearly horizontal chord crosses far rows beyond the int64 range:
+                    # clamped before the conversion (_ceil_int)
+                    t = _ceil_int(crossing_x(xt, yt, dxdy, ys) - sx[s])
                     if right:
-                        lo[s], hi[s] = int(t), BIG
+                        lo[s], hi[s] = t, BIG
                     else:
-                        lo[s], hi[s] = -BIG, int(t) - 1
+                        lo[s], hi[s] = -BIG, t - 1
                 if tangents:
                     lo_s, hi_s = _clip_half_plane(lo[s], hi[s], t1a, t1b, t1c, sx[s], ys)
                     lo[s], hi[s] = _clip_half_plane(lo_s, hi_s, t2a, t2b, t2c, sx[s], ys)
