@@ -271,11 +271,40 @@ def test_kernel_hypot_at_the_exponent_limits(m):
 coordinate = st.floats(-100, 100, allow_nan=False).map(lambda v: round(v, 2))
 
 
+@pytest.mark.parametrize("a", [4.0, 5.0, 6.0])
+@pytest.mark.parametrize("h", [0.5, 1.0, 2.0])
+@pytest.mark.parametrize("w", [1.0, 2.0])
+def test_s_cubic_parallel_ends_within_tolerance_in_the_middle(a, h, w):
+    # An S whose end tangents are parallel (0,0) (a,0) (0,h) (a+2,h): no offset cubic with
+    # those tangents can take the true offset's midpoint, so a fit that tried is judged there
+    # too, not only at its quarter points. Probes along the exact curve's normals, 1.05 tol
+    # inside and outside the half width, against their brute-force distance to the curve.
+    tol = 0.1
+    ctrl = [(0.0, 0.0), (a, 0.0), (0.0, h), (a + 2.0, h)]
+    p = Path()
+    p.moveTo(ctrl[0])
+    p.curveTo(*ctrl[1:])
+    p.endPath()
+    out = stroke_path(p, w, join="round", cap="round", tolerance=tol)
+    ts = np.linspace(0, 1, 801)
+    c = np.asarray(ctrl)
+    pt = _bezier(c, ts)
+    vel = _bezier(3 * (c[1:] - c[:-1]), ts)
+    nrm = np.column_stack([-vel[:, 1], vel[:, 0]]) / np.hypot(vel[:, 0], vel[:, 1])[:, None]
+    q = np.vstack([pt + nrm * s * (w / 2 + e * 1.05 * tol) for s in (1, -1) for e in (1, -1)])
+    d = distance_to_polylines(q, [_bezier(c, np.linspace(0, 1, 20001))])
+    ins = inside(out, q)
+    margin = tol * 1.01
+    assert np.all(ins[d < w / 2 - margin]), "point within the stroke not covered"
+    assert not np.any(ins[d > w / 2 + margin]), "point outside the stroke covered"
+
+
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.lists(st.tuples(coordinate, coordinate), min_size=4, max_size=4),
        st.sampled_from([1.0, 6.0, 30.0]), st.integers(0, 2 ** 31))
 @example(ctrl=[(0, 0), (0, 0), (2, 0), (0, 0)], w=1.0, seed=0)   # overshoots its chord
 @example(ctrl=[(0.0, 0.0), (0.0, 2.0), (4.0, 2.0), (0.0, 1.0)], w=30.0, seed=0)  # errors add
+@example(ctrl=[(0.0, 0.0), (5.0, 0.0), (0.0, 1.0), (7.0, 1.0)], w=1.0, seed=0)  # an S: its middle
 def test_random_cubic_distance_property(ctrl, w, seed):
     p = Path()
     p.moveTo(ctrl[0])
