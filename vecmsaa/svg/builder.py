@@ -32,8 +32,8 @@ from .resources import Resources
 from .shapes import author_path_length, shape_path
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, to_px, url_argument, viewbox_transform,
-                    viewbox_transform_f32)
+                    parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
+                    viewbox_transform, viewbox_transform_f32)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -214,7 +214,7 @@ def _origin_values(text):
 
 
 #: units a calc() may hold (those split_length reads)
-_LENGTH_UNITS = frozenset({"%", "px", "pt", "pc", "mm", "cm", "in", "em", "ex"})
+_LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
 class Builder:
@@ -230,7 +230,6 @@ class Builder:
         # a document by text's object bounding box rather than its ink, as resvg does)
         self.text_fills = None
         self.root_scale = 1.0
-        self._reference_boxes = {}     # see reference_box
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
@@ -247,6 +246,7 @@ class Builder:
         self._bbox_memo = {}
         self._geometry_memo = {}
         self._hidden_memo = {}         # see _filter_hides
+        self._reference_boxes = {}     # see reference_box
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -276,6 +276,7 @@ class Builder:
         self._bbox_memo.clear()
         self._geometry_memo.clear()
         self._hidden_memo.clear()
+        self._reference_boxes.clear()
 
     def _build_root(self, transform, viewport, canvas, geometry) -> list:
         root = self.doc.root
@@ -705,14 +706,14 @@ class Builder:
         kind = self.transform_box(el)
         if kind == "view-box":
             return (0.0, 0.0, *ctx.viewport)
-        # once per element, style and viewport: the box is computed by building the element
-        # (in geometry mode), and building it again computes its descendants' boxes, so
-        # nested fill-box groups would cost 2^depth builds (the style is kept with the box:
-        # its id stays its own)
-        key = (id(el), id(style), ctx.viewport, kind)
+        # once per element, style and viewport, like object_bbox's memo (whose key, with the
+        # whole context, misses here): the box is computed by building the element (in
+        # geometry mode), and building it again computes its descendants' boxes, so nested
+        # fill-box groups would cost 2^depth builds
+        key = (el, style, ctx.viewport, kind)
         got = self._reference_boxes.get(key)
         if got is not None:
-            return got[1]
+            return got
         bbox = self.object_bbox(el, ctx, style)
         if kind == "stroke-box":
             bbox = self.stroke_bbox(el, ctx, style, bbox)
@@ -720,7 +721,7 @@ class Builder:
             bbox = self._own_space_box(el, style, ctx, bbox)
         box = ((0.0, 0.0, 0.0, 0.0) if bbox is None
                else (bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]))
-        self._reference_boxes[key] = (style, box)
+        self._reference_boxes[key] = box
         return box
 
     def _own_space_box(self, el, style, ctx, bbox):
