@@ -274,6 +274,10 @@ def test_transform_box_is_not_a_presentation_attribute():
     # type errors and malformed sums: invalid, the default 0
     ("calc(10px + 5)", 0), ("calc(10px * 2px)", 0), ("calc(10px / 0)", 0),
     ("calc(10px -5px)", 0), ("calc(10px", 0), ("calc(10qq)", 0),
+    # nesting past the user agent's limit (64 levels here) is invalid, not an error of the
+    # whole document; within it the value stands
+    ("calc(" * 5000 + "7px" + ")" * 5000, 0), ("calc(" * 60 + "7px" + ")" * 60, 7),
+    ("calc(" + "(" * 60 + "7px" + ")" * 61, 7),
 ])
 def test_calc_lengths(value, expect):
     s = scene(f'<rect font-size="10" x="{value}" width="10" height="10"/>',

@@ -107,6 +107,9 @@ def split_length(text):
 
 
 _CALC_TOKEN = re.compile(rf"\s*(?:({NUMBER_RE})([a-zA-Z]+|%)?|(calc\()|([-+*/()]))", re.I)
+#: parentheses nested deeper than this make a calc() invalid (CSS Values 4 leaves the limit to
+#: the user agent); the evaluator below recurses once per level
+CALC_MAX_DEPTH = 64
 
 
 def eval_calc(text, resolve):
@@ -119,7 +122,7 @@ def eval_calc(text, resolve):
     if not text[:5].lower() == "calc(":
         return None
     tokens = []
-    pos = 0
+    pos = depth = 0
     while pos < len(text):
         m = _CALC_TOKEN.match(text, pos)
         if not m or m.end() == pos:
@@ -135,10 +138,14 @@ def eval_calc(text, resolve):
                 tokens.append(("L", v))
             else:
                 tokens.append(("N", float(m.group(1))))
-        elif m.group(3):
+        elif m.group(3) or m.group(4) == "(":
             tokens.append(("(", None))
+            depth += 1
+            if depth > CALC_MAX_DEPTH:
+                return None
         else:
             tokens.append((m.group(4), None))
+            depth -= m.group(4) == ")"
         pos = m.end()
     # operators of CSS calc: + and - need spaces around them; a sign without one belongs to
     # the number ("10px -5px" is not a sum); the tokenizer read "-5px" as a number, so a
