@@ -441,6 +441,44 @@ def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
     assert extra < 4, f"{extra:.1f} canvases more for 30 filtered elements than for one"
 
 
+@pytest.mark.parametrize("filtered", [False, True])
+def test_deeply_nested_layers_hold_a_bounded_total(monkeypatch, filtered):
+    """Each nesting level of groups with opacity keeps a buffer of a band's rows: 120 levels
+    at a full band each would hold 120 canvases. Under a layers budget of two canvases the
+    bands thin out (and so does the drawing of a filtered group's content, at its region's
+    size), holding a few canvases in all, with the pixels of the unbudgeted render (a band's
+    pixels do not depend on where it starts)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster import render
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size, n = 200, 120
+    canvas = size * size * 16                     # one float32 RGBA canvas
+    inner = ('<rect x="20" y="20" width="160" height="160" fill="teal"/>'
+             '<circle cx="100" cy="100" r="60" fill="orange"/>')
+    body = '<g opacity="0.99">' * n + inner + "</g>" * n
+    if filtered:
+        body = f'<g filter="url(#f)">{body}</g>'
+    scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" y="0" '
+                     f'width="1" height="1"><feOffset dx="3"/></filter>{body}</svg>')
+
+    def peak():
+        render_scene_rgba8(scene, threads=1)      # kernels loaded
+        tracemalloc.start()
+        try:
+            return render_scene_rgba8(scene, threads=1), tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    monkeypatch.setattr(render, "LAYERS_BUDGET", 1 << 40)
+    whole, _ = peak()
+    monkeypatch.setattr(render, "LAYERS_BUDGET", 2 * canvas)
+    image, held = peak()
+    assert np.array_equal(image, whole)
+    assert held / canvas < 8, f"{held / canvas:.1f} canvases held by {n} nested layers"
+
+
 def test_a_long_filter_chain_holds_a_few_results_not_one_per_primitive():
     """Each primitive reads the previous result (and the source): after that read it is let
     go, so a chain of 60 costs about what a chain of 2 does."""

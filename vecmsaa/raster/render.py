@@ -66,6 +66,11 @@ BAND_BUDGET = 1 << 24
 #: threads: bands of 512 rows took 26, 66, 41 and 18 ms, so one thread drew 84 ms and the
 #: other 67; of 256 rows, at most 29 ms each)
 BANDS_PER_THREAD = 4
+#: bytes the buffers of nested layers, clips and masks may hold together: each nesting level
+#: keeps a buffer of the band's rows (layer_buffer), so 1,000 nested groups with opacity would
+#: hold 16 GB in bands of BAND_BUDGET; deeper nesting draws in thinner bands instead
+#: (layer_rows). Documents nested up to 8 levels keep their bands
+LAYERS_BUDGET = 1 << 27
 #: pixels of a filtered layer's buffers (a filter needs its whole region at once); a layer whose
 #: filter region (within the image) is larger is not drawn
 MAX_FILTER_PIXELS = 1 << 24
@@ -312,6 +317,7 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
         # band by band, each filtered layer is kept from the first band that needs it to its
         # last; when those would outweigh the whole image, one band holds one at a time
         band_rows = H
+    band_rows = min(band_rows, layer_rows(W, layer_depth(items)))
     starts = range(0, H, band_rows)
     if threads > 1 and len(starts) > threads:
         starts = heaviest_first(items, starts, band_rows)
@@ -540,6 +546,18 @@ def held_filtered_pixels(items, W: int, H: int) -> int:
             total += held_filtered_pixels(item.items, W, H)
         total += held_filtered_pixels([p for p in (item.clip, item.mask) if p], W, H)
     return total
+
+
+def layer_depth(items) -> int:
+    """How many layer buffers drawing ``items`` holds at once: the deepest nesting of layers
+    and their clips and masks (a filtered layer's content is drawn apart, when it is
+    filtered: filtered_part)."""
+    return max((item.depth for item in items if isinstance(item, Layer)), default=0)
+
+
+def layer_rows(width: int, depth: int) -> int:
+    """Rows of a band whose ``depth`` nested layer buffers fit in LAYERS_BUDGET (at least 1)."""
+    return max(1, LAYERS_BUDGET // max(1, width * 16 * depth))
 
 
 def band_layout(W: int, samples: int, band_budget: int,
@@ -862,6 +880,9 @@ class Layer:
             if part is not None:
                 rows = _intersection(rows, part.rows)
         self.rows = rows
+        #: layer buffers drawing it holds at once (layer_depth)
+        self.depth = 1 + max([layer_depth(self.items)]
+                             + [part.depth for part in (self.clip, self.mask) if part is not None])
 
 
 def filter_box(layer: "Layer") -> tuple:
@@ -1052,7 +1073,12 @@ def render_filtered(layer: Layer, raster: Raster):
 
     def draw(group, top, rows):
         img = np.zeros((rows, w, 4), dtype=np.float32)
-        draw_items(prepare_items(group, raster.opts), img, top, local)
+        items = prepare_items(group, raster.opts)
+        # in bands when nested layers would hold more than LAYERS_BUDGET at the region's size
+        # (the same pixels: a band's do not depend on where it begins)
+        step = layer_rows(w, layer_depth(items))
+        for r in range(0, rows, step):
+            draw_items(items, img[r:r + step], top + r, local)
         return img
     pixels = draw(Group(children=moved.children), 0, h)
     for f in moved.filters:
