@@ -234,6 +234,7 @@ class Builder:
         self.ref_stack = []            # clip paths / masks / markers being built
         self.nested_references = 0     # of them built inside another (MAX_NESTED_REFERENCES)
         self.tile_cache = {}           # pattern tile contents, see paint.pattern
+        self.filter_cache = {}         # <filter> elements resolved, see filters.filter_element
         self._links_back_memo = {}     # see links_back()
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
