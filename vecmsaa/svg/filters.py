@@ -52,10 +52,16 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     value = (el.specified.get("filter") or "").strip()
     if not value or value == "none":
         return []
-    entries = parse_filter_value(value)
+    # (parsed once per value; _draws_itself only where a <filter> it names has an feImage)
+    hit = builder.filter_cache.get(value)
+    if hit is None:
+        entries = parse_filter_value(value)
+        hit = builder.filter_cache[value] = (
+            entries, entries is not None and _draws_itself(builder, None, entries, True))
+    entries, has_image = hit
     if entries is None:
         return []
-    if _draws_itself(builder, el, entries) and (
+    if has_image and _draws_itself(builder, el, entries) and (
             not ctx.use_stack or any(r is el for r in builder.ref_stack)):
         # a filter whose feImage draws the element the filter is on: the reference is
         # circular, which Filter Effects 1 leaves open; usvg removes such an element's
@@ -90,14 +96,16 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     return out
 
 
-def _draws_itself(builder, el, entries):
+def _draws_itself(builder, el, entries, any_image=False):
     """Whether a url of the filter list names a <filter> with an feImage child whose href is
-    ``el`` (usvg's test: the feImage's own parent, not one reached through href)."""
+    ``el`` (usvg's test: the feImage's own parent, not one reached through href); with
+    ``any_image``, whether it names one with an feImage child at all."""
     for name, args in entries:
         ref = url_argument(args) if name == "url" else None
         target = builder.doc.lookup(ref) if ref and ref.startswith("#") else None
         if target is not None and target.tag == "filter" and any(
-                c.tag == "feImage" and builder.doc.lookup(c.get("href") or "") is el
+                c.tag == "feImage" and (any_image
+                                        or builder.doc.lookup(c.get("href") or "") is el)
                 for c in target.children):
             return True
     return False
