@@ -141,10 +141,11 @@ def device_rect(x, y, w, h, m):
                                           b * x, b * right, d * y, d * bottom)
     # corners (x, y), (right, y), (x, bottom), (right, bottom)
     s = _f32(ax + cy, ar + cy, ax + cb, ar + cb, bx + dy, br + dy, bx + db, br + db)
-    xs = _f32(s[0] + e, s[1] + e, s[2] + e, s[3] + e)
-    ys = _f32(s[4] + ff, s[5] + ff, s[6] + ff, s[7] + ff)
-    if not all(math.isfinite(v) for v in xs + ys):
+    corners = _f32(s[0] + e, s[1] + e, s[2] + e, s[3] + e,
+                   s[4] + ff, s[5] + ff, s[6] + ff, s[7] + ff)
+    if not all(math.isfinite(v) for v in corners):
         return None
+    xs, ys = corners[:4], corners[4:]
     left, top = min(xs), min(ys)
     x0, y0 = math.floor(left), math.floor(top)
     # the size too is f32 (tiny-skia's width() is right - left): 140 - (-30.0000019) is 170 in
@@ -240,7 +241,8 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     if region is None:
         return None
     layer = layer_matrix(ctx.transform, region)
-    region = layer_rect(x, y, w, h, layer) or region
+    whole = layer_rect(x, y, w, h, layer)
+    region = whole or region
     size = (bbox[2] - bbox[0], bbox[3] - bbox[1]) if prim_obb else None
     key = (fel, ctx.viewport, ctx.transform[:4], tuple(m[:4] for m in ctx.chain), size)
     effects = cache.get(key)
@@ -257,10 +259,11 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
             else:
                 user = (x * fw + fx, y * fh + fy, w * fw, h * fh)
         else:
-            user = [(d if v is None else v) for v, d in zip(spec, (x, y, w, h))]
+            user = tuple([(d if v is None else v) for v, d in zip(spec, (x, y, w, h))])
         if not (user[2] > 0 and user[3] > 0):
             break                                   # usvg stops at an invalid subregion
-        sub = layer_rect(*user, layer)
+        # (a primitive without x, y, width and height has the region's rectangle)
+        sub = whole if user == (x, y, w, h) else layer_rect(*user, layer)
         if sub is None:
             break
         primitives.append(Primitive(effect, inputs, sub, linear))
