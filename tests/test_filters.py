@@ -1014,7 +1014,7 @@ def test_device_rect_is_f32_arithmetic():
     # device_rect rounds f64 results to f32 in batches (array('f')); it must agree with f32
     # arithmetic done by numpy on every input, half-pixel edges, huge and non-finite values
     # included
-    from vecmsaa.svg.filters import device_rect
+    from vecmsaa.svg.filters import device_rect, layer_matrix
 
     rng = np.random.default_rng(17)
     special = [0.0, -0.0, 0.5, 1 / 3, 0.1, 1e39, -1e39, 3.4e38, 1e-46, math.inf, math.nan]
@@ -1031,6 +1031,14 @@ def test_device_rect_is_f32_arithmetic():
         m = tuple(value() if rng.random() < 0.5 else float(rng.choice(
             [1.0, 0.0, 1.5, -1.0, math.sqrt(0.5)])) for _ in range(6))
         assert device_rect(*rect, m) == _device_rect_numpy(*rect, m), (rect, m)
+        # the layer's matrix: the translation minus the region's corner, in f32
+        region = (int(rng.integers(-10**6, 10**6)), int(rng.integers(-10**6, 10**6)))
+        with np.errstate(over="ignore", invalid="ignore"):
+            want = [float(np.float32(np.float32(t) - np.float32(c)))
+                    for t, c in zip(m[4:], region)]
+        got = layer_matrix(m, region + (0, 0))
+        assert got[1:] == region and got[0][:4] == m[:4]
+        assert np.array_equal(got[0][4:], want, equal_nan=True), (m, region)
 
 
 def _filters_in_paint_order(scene):

@@ -167,9 +167,8 @@ def layer_matrix(m, region):
     translation in f32): a subregion from 63.6 to 75.6 px is 0.6 to 12.6 there, 12 px wide
     (ceil of 12.0), where mapped in place its f32 width is 12.000004 and it is 13."""
     x0, y0 = region[:2]
-    f = np.float32
-    with np.errstate(over="ignore", invalid="ignore"):
-        e, ff = float(f(f(m[4]) - f(x0))), float(f(f(m[5]) - f(y0)))
+    e, ff, fx0, fy0 = _f32(m[4], m[5], x0, y0)
+    e, ff = _f32(e - fx0, ff - fy0)         # (f32 subtractions, as in device_rect)
     return (m[0], m[1], m[2], m[3], e, ff), x0, y0
 
 
