@@ -987,3 +987,93 @@ def test_subregion_width_is_taken_in_the_filter_layer_as_resvg_does():
     row = tiled[90] > 0
     starts = np.nonzero(row[1:] & ~row[:-1])[0] + 1
     assert set(np.diff(starts)) == {12}
+
+
+def _device_rect_numpy(x, y, w, h, m):
+    """tiny-skia's Rect::from_xywh(...).transform(m).to_int_rect(), each operation in numpy's
+    f32 (IEEE single precision): right = x + w, each corner a·px + c·py + e, the box of the
+    corners, its left/top floored and its f32 width/height ceiled (at least 1)."""
+    f = np.float32
+    with np.errstate(over="ignore", invalid="ignore"):
+        x, y, w, h = f(x), f(y), f(w), f(h)
+        a, b, c, d, e, g = (f(v) for v in m)
+        r, btm = x + w, y + h
+        xs = [a * px + c * py + e for px, py in ((x, y), (r, y), (x, btm), (r, btm))]
+        ys = [b * px + d * py + g for px, py in ((x, y), (r, y), (x, btm), (r, btm))]
+        if not np.isfinite(xs + ys).all():
+            return None
+        left, top = min(xs), min(ys)
+        width, height = max(xs) - left, max(ys) - top
+    if not (np.isfinite(width) and np.isfinite(height)):
+        return None
+    x0, y0 = math.floor(left), math.floor(top)
+    return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
+
+
+def test_device_rect_is_f32_arithmetic():
+    # device_rect rounds f64 results to f32 in batches (array('f')); it must agree with f32
+    # arithmetic done by numpy on every input, half-pixel edges, huge and non-finite values
+    # included
+    from vecmsaa.svg.filters import device_rect, layer_matrix
+
+    rng = np.random.default_rng(17)
+    special = [0.0, -0.0, 0.5, 1 / 3, 0.1, 1e39, -1e39, 3.4e38, 1e-46, math.inf, math.nan]
+
+    def value():
+        k = rng.random()
+        if k < 0.1:
+            return float(rng.choice(special))
+        if k < 0.5:
+            return float(rng.integers(-100, 100) + rng.choice([0.0, 0.5, 0.1, 0.6, 1 / 3]))
+        return float(rng.uniform(-1, 1) * 10 ** rng.uniform(-8, 30))
+    for _ in range(20000):
+        rect = [value() for _ in range(4)]
+        m = tuple(value() if rng.random() < 0.5 else float(rng.choice(
+            [1.0, 0.0, 1.5, -1.0, math.sqrt(0.5)])) for _ in range(6))
+        assert device_rect(*rect, m) == _device_rect_numpy(*rect, m), (rect, m)
+        # the layer's matrix: the translation minus the region's corner, in f32
+        region = (int(rng.integers(-10**6, 10**6)), int(rng.integers(-10**6, 10**6)))
+        with np.errstate(over="ignore", invalid="ignore"):
+            want = [float(np.float32(np.float32(t) - np.float32(c)))
+                    for t, c in zip(m[4:], region)]
+        got = layer_matrix(m, region + (0, 0))
+        assert got[1:] == region and got[0][:4] == m[:4]
+        assert np.array_equal(got[0][4:], want, equal_nan=True), (m, region)
+
+
+def _filters_in_paint_order(scene):
+    out, stack = [], [scene.root]
+    while stack:
+        node = stack.pop()
+        if getattr(node, "filters", None):
+            out.append(node.filters)
+        stack.extend(reversed(getattr(node, "children", ())))
+    return out
+
+
+@pytest.mark.parametrize("units", ["", 'primitiveUnits="objectBoundingBox"',
+                                   'filterUnits="userSpaceOnUse" x="-5" y="-5" width="50" '
+                                   'height="50"'])
+def test_a_filter_used_many_times_is_resolved_for_each_use(units):
+    # filter_element resolves a <filter> once per viewport, scale and box size and maps the
+    # rectangles for each use: every use must get the Filter it gets alone in a document
+    from vecmsaa.api import load_svg
+
+    std = "0.05" if "objectBoundingBox" in units else "1.3"
+    flt = (f'<filter id="f" {units}><feGaussianBlur stdDeviation="{std}"/>'
+           '<feOffset dx="0.1" dy="0.2" result="o"/><feFlood flood-color="red" x="10%" '
+           'width="60%"/><feComposite in2="o" operator="in"/>'
+           '<feMerge><feMergeNode/><feMergeNode in="SourceGraphic"/></feMerge></filter>')
+    uses = ['<rect x="3.3" y="4.6" width="13.7" height="9" filter="url(#f)"/>',
+            '<rect x="23.35" y="4.6" width="13.7" height="9" filter="url(#f)"/>',
+            '<rect x="3.3" y="24.61" width="7" height="9" filter="url(#f)"/>',
+            '<g transform="translate(40.5 40.25)"><rect x="3.3" y="4.6" width="13.7" '
+            'height="9" filter="url(#f)"/></g>',
+            '<g transform="scale(1.5) rotate(20)"><rect x="30.1" y="4.6" width="13.7" '
+            'height="9" filter="url(#f)"/></g>',
+            '<rect x="60.2" y="60.7" width="13.7" height="9" filter="url(#f)"/>']
+    doc = f'<svg {NS} width="100" height="100" viewBox="0 0 90 90">{flt}{{}}</svg>'
+    together = _filters_in_paint_order(load_svg(doc.format("".join(uses))))
+    alone = [_filters_in_paint_order(load_svg(doc.format(u)))[0] for u in uses]
+    assert together == alone
+    assert len({f[0].region for f in together}) >= 3      # (the uses are apart)

@@ -96,6 +96,25 @@ def test_arguments_the_module_lacks_go_to_numba_and_give_the_same_answer():
     assert np.allclose(kernel(view, a, b, c, d, e, f), expected)
 
 
+def test_a_kernel_bound_to_its_last_argument_gives_the_kernels_answer():
+    # jit.bind_last computes the last argument's part of the call key once; the call must
+    # still pick the entry for all the arguments' types (or numba's JIT where none fits)
+    from vecmsaa import jit
+    from vecmsaa.scene import transform
+    kernel = transform._apply
+    pts = np.array([[1.0, 2.0], [3.0, -4.0], [0.5, 0.25]])
+    view = np.repeat(pts, 2, axis=0)[::2]
+    a, b, c, d, e, f = 2.0, 0.5, -1.0, 3.0, 10.0, -7.0
+    expected = np.stack([a * pts[:, 0] + c * pts[:, 1] + e, b * pts[:, 0] + d * pts[:, 1] + f], 1)
+    bound = jit.bind_last(kernel, f)
+    for p in (pts, view):
+        assert np.allclose(bound(p, a, b, c, d, e), expected)
+    # an integer where the entries take a float: not the float entry's key
+    assert np.allclose(jit.bind_last(kernel, -7)(pts, a, b, c, d, e), expected)
+    # a plain function (numba's JIT kernels under VECMSAA_JIT=1) is called as it is
+    assert jit.bind_last(lambda *args: args, 3)(1, 2) == (1, 2, 3)
+
+
 def test_every_manifest_line_names_a_kernel_with_that_many_parameters():
     import importlib
 

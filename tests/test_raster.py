@@ -671,6 +671,53 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
                 assert a.dtype == b.dtype and np.array_equal(a, b)
 
 
+def test_one_path_alone_has_the_arrays_it_has_in_a_batch():
+    """batch_arrays of one path (a shortcut) gives the verbs, points and offsets that path
+    has in a batch of many, with the same dtypes and layout; and _fill_batches keeps or drops
+    a lone fill (one that draws nothing, one with a NaN) as it does in a batch."""
+    from vecmsaa.geometry.primitives import batch_arrays
+    rng = np.random.default_rng(17)
+    paths = []
+    for i in range(20):
+        path = Path()
+        path.moveTo(tuple(rng.uniform(0, 100, 2)))
+        for _ in range(int(rng.integers(0 if i < 3 else 1, 6))):
+            kind = rng.integers(4)
+            pts = [tuple(rng.uniform(0, 100, 2)) for _ in range(3)]
+            if kind == 0:
+                path.lineTo(pts[0])
+            elif kind == 1:
+                path.qCurveTo(pts[0], pts[1])
+            elif kind == 2:
+                path.curveTo(*pts)
+            else:
+                path.conicTo(pts[0], pts[1], float(rng.uniform(0.2, 3)))
+        if i % 3:
+            path.closePath()
+        paths.append(path)
+    nan = Path()
+    nan.moveTo((1.0, 2.0))
+    nan.lineTo((float("nan"), 3.0))
+    nan.lineTo((4.0, 5.0))
+    paths += [Path(), nan]
+    verbs, pts, voff, poff = batch_arrays(paths)
+    for i, path in enumerate(paths):
+        v, p, vo, po = batch_arrays([path])
+        assert v.dtype == verbs.dtype and p.dtype == pts.dtype and p.shape[1:] == (2,)
+        assert vo.dtype == voff.dtype and po.dtype == poff.dtype
+        assert v.flags.c_contiguous and p.flags.c_contiguous
+        assert np.array_equal(v, verbs[voff[i]:voff[i + 1]])
+        assert np.array_equal(p, pts[poff[i]:poff[i + 1]], equal_nan=True)
+        assert vo.tolist() == [0, voff[i + 1] - voff[i]]
+        assert po.tolist() == [0, poff[i + 1] - poff[i]]
+    opts = RenderOptions()
+    fills = [Fill(path, Solid((1, 0, 0, 1))) for path in paths]
+    together = render_module._fill_batches(fills, opts)[0]
+    kept = [f for f in fills if render_module._fill_batches([f], opts)]
+    assert len(kept) == len(together.rules) < len(fills)
+    assert not any(k is fills[-1] or k is fills[-2] for k in kept)     # NaN, empty
+
+
 def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
     """render.heaviest_first puts the band that most fills' edges reach first (the threads
     take bands in that order; the image does not depend on it), and keeps the bands top down

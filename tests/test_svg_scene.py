@@ -1645,3 +1645,42 @@ def test_rect_with_rx_and_zero_ry_has_the_rounded_paths_vertices():
     assert centres[0] == pytest.approx((25, 20))
     want = {(25, 20), (55, 20), (70, 20), (70, 50), (55, 50), (25, 50), (10, 50), (10, 20)}
     assert {(round(x, 9), round(y, 9)) for x, y in centres} == want
+
+
+def test_translated_keeps_every_field():
+    # nodes.translated copies nodes field by field (not by dataclasses.replace): every field
+    # must be kept as it is, but the ones that move. A new field fails the first asserts:
+    # translated (and this test) must learn it.
+    from dataclasses import fields
+
+    from vecmsaa.scene.nodes import Filter, GaussianBlur, Mask, Primitive, Solid, translated
+    from vecmsaa.scene.path import Path
+
+    def path():
+        p = Path()
+        p.moveTo((1.0, 2.0))
+        p.lineTo((5.0, 2.0))
+        p.lineTo((1.0, 7.0))
+        p.closePath()
+        return p
+    assert [f.name for f in fields(Fill)] == ["path", "paint", "rule", "opacity", "antialias"]
+    assert [f.name for f in fields(Group)] == ["children", "opacity", "clip", "mask", "blend",
+                                               "isolate", "filters"]
+    assert [f.name for f in fields(Mask)] == ["content", "kind"]
+    assert [f.name for f in fields(Primitive)] == ["effect", "inputs", "subregion", "linear"]
+    fill = Fill(path(), Solid((0.1, 0.2, 0.3, 0.4)), "evenodd", 0.5, False)
+    prim = Primitive(GaussianBlur(1.0, 2.0), (-2,), (1, 2, 30, 40), False)
+    group = Group([fill], 0.25, Group([Fill(path())]), Mask(Group([Fill(path())]), "alpha"),
+                  "multiply", True, [Filter((0, 1, 50, 60), [prim])])
+    moved = translated(group, 3, -4)
+    assert (moved.opacity, moved.blend, moved.isolate, moved.mask.kind) == \
+        (0.25, "multiply", True, "alpha")
+    f = moved.children[0]
+    assert (f.paint, f.rule, f.opacity, f.antialias) == (fill.paint, "evenodd", 0.5, False)
+    assert f.path.points.tolist() == [[4.0, -2.0], [8.0, -2.0], [4.0, 3.0]]
+    assert moved.clip.children[0].path.points.tolist() == f.path.points.tolist()
+    assert moved.mask.content.children[0].path.points.tolist() == f.path.points.tolist()
+    p = moved.filters[0].primitives[0]
+    assert moved.filters[0].region == (3, -3, 53, 56)
+    assert (p.effect, p.inputs, p.subregion, p.linear) == \
+        (GaussianBlur(1.0, 2.0), (-2,), (4, -2, 33, 36), False)

@@ -77,6 +77,25 @@ def _call_key(args, scalar=_SCALARS.get, ndarray=_NDARRAY, layouts=_LAYOUTS, mas
                   ("T", *_call_key(a)) if type(a) is tuple else None for a in args])
 
 
+def bind_last(kernel, last):
+    """``lambda *args: kernel(*args, last)`` with ``last``'s part of the call key computed
+    here, once: a raster's scratch buffers are a tuple of fifteen arrays, whose key took 5 µs
+    of every fill (documents of many small layers make tens of thousands). ``last`` must keep
+    its types (the arrays their dtypes, dimensions, layouts and write access)."""
+    if not isinstance(kernel, Kernel):
+        return lambda *args: kernel(*args, last)
+    last_key = arg_key(last)
+    nargs = kernel.nargs - 1
+
+    def call(*args):
+        if len(args) == nargs:
+            entry = kernel.entries.get(_call_key(args) + (last_key,))
+            if entry is not None:
+                return entry(*args, last)
+        return kernel(*args, last)
+    return call
+
+
 def _hashable(k):
     return tuple(_hashable(x) for x in k) if isinstance(k, list) else k
 

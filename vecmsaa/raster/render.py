@@ -31,6 +31,7 @@ from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
+from ..jit import bind_last
 from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
@@ -594,6 +595,10 @@ class Raster:
                                         opts.lens_stats)
         else:
             self.scratch = msaa_scratch(strip_rows, width, opts.samples, opts.lens_stats)
+        # the kernel with the scratch's part of its call key worked out once (jit.bind_last)
+        self._kernel = bind_last(
+            render_analytic if opts.mode == "analytic" else
+            render_csaa if opts.color_samples < opts.samples else render_msaa, self.scratch)
 
     def layer_buffer(self, rows: int, c: int, d: int) -> np.ndarray:
         """The (rows, width, 4) buffer of the layer, clip or mask drawn at the current
@@ -623,18 +628,18 @@ class Raster:
     def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
         b, o = batch, self.opts
         if o.mode == "analytic":
-            render_analytic(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
-                            b.params, b.lut, b.tex, self.scratch)
+            self._kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
+                         b.params, b.lut, b.tex)
             return
         out = np.zeros_like(target) if o.saturate else target
         if o.color_samples < o.samples:
-            render_csaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
-                        b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights, o.kernel_mode,
-                        o.a2c_bits, o.saturate, self.scratch)
+            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
+                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
+                         o.kernel_mode, o.a2c_bits, o.saturate)
         else:
-            render_msaa(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
-                        b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                        o.kernel_mode, o.a2c_bits, o.occlude, o.saturate, self.scratch)
+            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
+                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
+                         o.kernel_mode, o.a2c_bits, o.occlude, o.saturate)
         if o.saturate:
             composite(out, target)
 
@@ -654,7 +659,10 @@ class FillBatch:
         box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
         box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
         self.box = box
-        self.rows = (box[:, 1].min(), box[:, 3].max())
+        # (the columns' extremes in two reductions: a batch of one small fill costs its
+        # reductions more than its geometry)
+        lo, hi = box.min(axis=0), box.max(axis=0)
+        self.rows = (lo[1], hi[3])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
@@ -664,7 +672,7 @@ class FillBatch:
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
-        if len(box) and not (box[:, 0].min() >= -FAR_X and box[:, 2].max() <= FAR_X):
+        if len(box) and not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
 
 
@@ -943,6 +951,11 @@ def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
         return []
     arrays = batch_arrays([f.path for f in fills])
     verbs, pts, voff, poff = arrays
+    if len(fills) == 1:
+        # (one path: the tests below without their running sums)
+        if _NOT_DRAWING[verbs].all() or not np.isfinite(pts).all():
+            return []
+        return [FillBatch(fills, *arrays, opts, pool)]
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
     keep = drawing[voff[1:]] > drawing[voff[:-1]]

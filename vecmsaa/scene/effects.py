@@ -190,5 +190,5 @@ def translated_filter(f: Filter, dx: int, dy: int) -> Filter:
             effect = replace(effect, to_device=(sx, sy, e + dx, f_ + dy))
         elif isinstance(effect, Lighting):
             effect = replace(effect, light=shifted_light(effect.light, dx, dy))
-        prims.append(replace(p, effect=effect, subregion=_shift_rect(p.subregion, dx, dy)))
+        prims.append(Primitive(effect, p.inputs, _shift_rect(p.subregion, dx, dy), p.linear))
     return Filter(region=_shift_rect(f.region, dx, dy), primitives=prims)

@@ -19,6 +19,7 @@ properties, whose values are trimmed, and usvg and Blink match them exactly, so
 from __future__ import annotations
 
 import math
+from array import array as _array
 
 import numpy as np
 import re
@@ -51,10 +52,16 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     value = (el.specified.get("filter") or "").strip()
     if not value or value == "none":
         return []
-    entries = parse_filter_value(value)
+    # (parsed once per value; _draws_itself only where a <filter> it names has an feImage)
+    hit = builder.filter_cache.get(value)
+    if hit is None:
+        entries = parse_filter_value(value)
+        hit = builder.filter_cache[value] = (
+            entries, entries is not None and _draws_itself(builder, None, entries, True))
+    entries, has_image = hit
     if entries is None:
         return []
-    if _draws_itself(builder, el, entries) and (
+    if has_image and _draws_itself(builder, el, entries) and (
             not ctx.use_stack or any(r is el for r in builder.ref_stack)):
         # a filter whose feImage draws the element the filter is on: the reference is
         # circular, which Filter Effects 1 leaves open; usvg removes such an element's
@@ -89,14 +96,16 @@ def element_filters(builder, el, style, ctx, bbox_fn):
     return out
 
 
-def _draws_itself(builder, el, entries):
+def _draws_itself(builder, el, entries, any_image=False):
     """Whether a url of the filter list names a <filter> with an feImage child whose href is
-    ``el`` (usvg's test: the feImage's own parent, not one reached through href)."""
+    ``el`` (usvg's test: the feImage's own parent, not one reached through href); with
+    ``any_image``, whether it names one with an feImage child at all."""
     for name, args in entries:
         ref = url_argument(args) if name == "url" else None
         target = builder.doc.lookup(ref) if ref and ref.startswith("#") else None
         if target is not None and target.tag == "filter" and any(
-                c.tag == "feImage" and builder.doc.lookup(c.get("href") or "") is el
+                c.tag == "feImage" and (any_image
+                                        or builder.doc.lookup(c.get("href") or "") is el)
                 for c in target.children):
             return True
     return False
@@ -119,26 +128,37 @@ def device_rect(x, y, w, h, m):
     """Integer device bounding box (x0, y0, x1, y1) of a user rectangle, as resvg computes it:
     in f32 (tiny-skia's ``Rect`` keeps left, top, right, bottom and maps the corners), then
     ``to_int_rect`` (corner floored, size ceiled). The f32 rounding matters: a width that is
-    whole over a fractional left edge comes out a hair wider, so one pixel wider."""
-    f = np.float32
-    with np.errstate(over="ignore", invalid="ignore"):     # huge values: refused below
-        x, y = f(x), f(y)
-        right, bottom = f(x + f(w)), f(y + f(h))
-        a, b, c, d, e, ff = (f(v) for v in m)
-        corners = ((x, y), (right, y), (x, bottom), (right, bottom))
-        xs = [float(f(f(a * px) + f(c * py)) + e) for px, py in corners]
-        ys = [float(f(f(b * px) + f(d * py)) + ff) for px, py in corners]
-    if not all(math.isfinite(v) for v in xs + ys):
+    whole over a fractional left edge comes out a hair wider, so one pixel wider.
+
+    Each f32 operation is the f64 one rounded to f32 (exact for a product of two f32 values,
+    and correctly rounded for a sum, since f64 has more than twice f32's precision), a batch
+    at a time through ``array('f')``: numpy scalars cost three times more, and filtered
+    markers and shapes come by the ten thousand. Past f32's range a value is infinite, as in
+    numpy."""
+    x, y, w, h, a, b, c, d, e, ff = _f32(x, y, w, h, *m)
+    right, bottom = _f32(x + w, y + h)
+    ax, ar, cy, cb, bx, br, dy, db = _f32(a * x, a * right, c * y, c * bottom,
+                                          b * x, b * right, d * y, d * bottom)
+    # corners (x, y), (right, y), (x, bottom), (right, bottom)
+    s = _f32(ax + cy, ar + cy, ax + cb, ar + cb, bx + dy, br + dy, bx + db, br + db)
+    corners = _f32(s[0] + e, s[1] + e, s[2] + e, s[3] + e,
+                   s[4] + ff, s[5] + ff, s[6] + ff, s[7] + ff)
+    if not all(math.isfinite(v) for v in corners):
         return None
+    xs, ys = corners[:4], corners[4:]
     left, top = min(xs), min(ys)
     x0, y0 = math.floor(left), math.floor(top)
     # the size too is f32 (tiny-skia's width() is right - left): 140 - (-30.0000019) is 170 in
     # f32, so 170 px from row -31, where the exact 170.0000019 would take 171
-    with np.errstate(over="ignore", invalid="ignore"):
-        width, height = f(f(max(xs)) - f(left)), f(f(max(ys)) - f(top))
+    width, height = _f32(max(xs) - left, max(ys) - top)
     if not (math.isfinite(width) and math.isfinite(height)):
         return None
     return (x0, y0, x0 + max(1, math.ceil(width)), y0 + max(1, math.ceil(height)))
+
+
+def _f32(*values):
+    """The values rounded to f32 (as floats; inf past its range)."""
+    return _array("f", values).tolist()
 
 
 def layer_matrix(m, region):
@@ -147,9 +167,8 @@ def layer_matrix(m, region):
     translation in f32): a subregion from 63.6 to 75.6 px is 0.6 to 12.6 there, 12 px wide
     (ceil of 12.0), where mapped in place its f32 width is 12.000004 and it is 13."""
     x0, y0 = region[:2]
-    f = np.float32
-    with np.errstate(over="ignore", invalid="ignore"):
-        e, ff = float(f(f(m[4]) - f(x0))), float(f(f(m[5]) - f(y0)))
+    e, ff, fx0, fy0 = _f32(m[4], m[5], x0, y0)
+    e, ff = _f32(e - fx0, ff - fy0)         # (f32 subtractions, as in device_rect)
     return (m[0], m[1], m[2], m[3], e, ff), x0, y0
 
 
@@ -165,10 +184,9 @@ def bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh):
     maps it (``x * bbox.width + bbox.x``, ``width * bbox.width``): the default region's 1.2 is
     1.2000000477 in f32, so 120% of 100 is 120.0000076 and the region's right edge
     (-10 + 120.0000076) rounds past 110, one device pixel more than in exact arithmetic."""
-    f = np.float32
-    with np.errstate(over="ignore", invalid="ignore"):
-        return (float(f(f(f(fx) * f(bw)) + f(bx))), float(f(f(f(fy) * f(bh)) + f(by))),
-                float(f(f(fw) * f(bw))), float(f(f(fh) * f(bh))))
+    fx, fy, fw, fh, bx, by, bw, bh = _f32(fx, fy, fw, fh, bx, by, bw, bh)
+    pw, ph, w, h = _f32(fx * bw, fy * bh, fw * bw, fh * bh)
+    return (*_f32(pw + bx, ph + by), w, h)
 
 
 def _href_chain(el, doc):
@@ -180,8 +198,134 @@ def _href_chain(el, doc):
 
 
 # -- <filter> ------------------------------------------------------------------------------
+# primitives whose effect depends on where the element is (its translation) or on the element
+# itself: a <filter> holding one is resolved afresh for each use (_filter_per_use)
+_PER_USE = frozenset(("feImage", "feTurbulence", "feDiffuseLighting", "feSpecularLighting"))
+
+
 def filter_element(builder, fel, el, ctx, bbox_fn):
-    """The Filter of a ``<filter>`` element for ``el``, or None when unusable."""
+    """The Filter of a ``<filter>`` element for ``el``, or None when unusable.
+
+    A marker or a shape drawn ten thousand times with one filter differs from use to use in
+    its position and bounding box only, so what does not depend on them is resolved once
+    (builder.filter_cache): the <filter>'s units, its region's and subregions' lengths (per
+    viewport), and the primitives' effects and inputs (per viewport, linear part of the
+    matrices, which is all the device scale depends on, and bounding box size when
+    primitiveUnits is objectBoundingBox). Each use maps the rectangles, in the same
+    arithmetic as _filter_per_use."""
+    cache = builder.filter_cache
+    head = cache.get(fel)
+    if head is None:
+        head = cache[fel] = _filter_head(builder, fel)
+    if head is False:
+        return _filter_per_use(builder, fel, el, ctx, bbox_fn)
+    units_obb, prim_obb, holder = head
+    bbox = bbox_fn() if (units_obb or prim_obb) else None
+    if (units_obb or prim_obb) and (bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]):
+        return None
+    lengths = cache.get((fel, ctx.viewport))
+    if lengths is None:
+        lengths = cache[(fel, ctx.viewport)] = _filter_lengths(builder, fel, units_obb,
+                                                               prim_obb, holder, ctx)
+    region_spec, subs = lengths
+    if bbox is not None:
+        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
+    if units_obb:
+        x, y, w, h = bbox_fractions_f32(*region_spec, bx, by, bw, bh)
+    else:
+        x, y, w, h = region_spec
+    if not (w > 0 and h > 0) or holder is None:
+        return None
+    region = device_rect(x, y, w, h, ctx.transform)
+    if region is None:
+        return None
+    layer = layer_matrix(ctx.transform, region)
+    whole = layer_rect(x, y, w, h, layer)
+    region = whole or region
+    size = (bbox[2] - bbox[0], bbox[3] - bbox[1]) if prim_obb else None
+    key = (fel, ctx.viewport, ctx.transform[:4], tuple(m[:4] for m in ctx.chain), size)
+    effects = cache.get(key)
+    if effects is None:
+        resolver = PrimitiveResolver(builder, el, ctx, None, bbox if prim_obb else None)
+        effects = cache[key] = resolver.effects(holder)
+    primitives = []
+    for (tag, spec), (effect, inputs, linear) in zip(subs, effects):
+        # (the same arithmetic as PrimitiveResolver.user_subregion)
+        if prim_obb:
+            fx, fy, fw, fh = spec
+            if tag in ("feFlood", "feImage"):
+                user = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
+            else:
+                user = (x * fw + fx, y * fh + fy, w * fw, h * fh)
+        else:
+            user = tuple([(d if v is None else v) for v, d in zip(spec, (x, y, w, h))])
+        if not (user[2] > 0 and user[3] > 0):
+            break                                   # usvg stops at an invalid subregion
+        # (a primitive without x, y, width and height has the region's rectangle)
+        sub = whole if user == (x, y, w, h) else layer_rect(*user, layer)
+        if sub is None:
+            break
+        primitives.append(Primitive(effect, inputs, sub, linear))
+    if not primitives:
+        return None
+    return Filter(region=region, primitives=primitives)
+
+
+def _filter_attr(chain, name):
+    for e in chain:
+        if e.get(name) is not None:
+            return e.get(name)
+    return None
+
+
+def _filter_head(builder, fel):
+    """(filterUnits is objectBoundingBox, primitiveUnits is, the element holding the
+    primitives) of a <filter>, False when it must be resolved for each use (_PER_USE)."""
+    chain = _href_chain(fel, builder.doc)
+    holder = next((e for e in chain if e.children), None)   # usvg: the first with children
+    if holder is not None and any(c.tag in _PER_USE for c in holder.children):
+        return False
+    return ((_filter_attr(chain, "filterUnits") or "") != "userSpaceOnUse",
+            (_filter_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder)
+
+
+def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
+    """A <filter>'s lengths in a viewport: its region (fractions of the bounding box, or
+    user-space x, y, width, height), and for each primitive its tag and subregion (fractions,
+    or user-space lengths, None where not given)."""
+    chain = _href_chain(fel, builder.doc)
+    attr = lambda name: _filter_attr(chain, name)  # noqa: E731
+    style = builder.doc.document_style(fel)
+    if units_obb:
+        region = tuple(box_coord(builder, attr(n), a, True, style, ctx.viewport, d)
+                       for n, a, d in (("x", "x", "-10%"), ("y", "y", "-10%"),
+                                       ("width", "x", "120%"), ("height", "y", "120%")))
+    else:
+        vw, vh = ctx.viewport
+
+        def length(name, axis, default):
+            v = builder.length(attr(name), axis, style, ctx.viewport)
+            return default if v is None else v
+        region = (length("x", "x", -0.1 * vw), length("y", "y", -0.1 * vh),
+                  length("width", "x", 1.2 * vw), length("height", "y", 1.2 * vh))
+    subs = []
+    names = ("x", "y", "width", "height")
+    for fe in (holder.children if holder is not None else ()):
+        if fe.tag not in PRIMITIVE_TAGS:
+            continue
+        style = builder.doc.document_style(fe)
+        if prim_obb:
+            spec = tuple(box_coord(builder, fe.get(n), a, True, style, ctx.viewport, d)
+                         for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%")))
+        else:
+            spec = tuple(builder.length(fe.get(n), a, style, ctx.viewport)
+                         for n, a in zip(names, "xyxy"))
+        subs.append((fe.tag, spec))
+    return region, subs
+
+
+def _filter_per_use(builder, fel, el, ctx, bbox_fn):
+    """filter_element for a <filter> resolved afresh for each use."""
     chain = _href_chain(fel, builder.doc)
 
     def attr(name):
@@ -242,6 +386,23 @@ class PrimitiveResolver:
         self.scale = (sx, sy)                 # primitive units → device pixels
         self.names = {}
         self.count = 0
+
+    def effects(self, holder):
+        """[(effect, inputs, linear)] of every primitive, whatever its subregion (for
+        filter_element, which stops at the first invalid one of each use)."""
+        out = []
+        for child in holder.children:
+            if child.tag not in PRIMITIVE_TAGS:
+                continue
+            style = self.builder.doc.document_style(child)
+            effect, inputs = self.effect(child, style)
+            cif = (style.get("color-interpolation-filters") or "").strip()
+            out.append((effect, tuple(inputs), cif != "sRGB"))
+            name = child.get("result")
+            if name:
+                self.names[name] = self.count
+            self.count += 1
+        return out
 
     def primitives(self, holder):
         out = []

@@ -3,8 +3,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import replace
-
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
@@ -73,16 +71,19 @@ def marker_targets(doc, style):
 
 def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, ctx,
                context_fill, context_stroke):
+    from .builder import ctx_with
+
     if any(m is marker for m in builder.ref_stack):
         return []
-    # 'display' does not apply to <marker>: it is drawn even under display="none"
-    style = builder.doc.document_style(marker)
-    get = builder.length_getter(marker, style, ctx)
-    mw = get("markerWidth", "x", 3.0)
-    mh = get("markerHeight", "y", 3.0)
-    if mw <= 0 or mh <= 0:
+    # (what does not depend on the vertex is worked out once per marker, stroke width and
+    # viewport: a polyline may place tens of thousands)
+    key = (marker, stroke_width, ctx.viewport)
+    layout = builder.marker_cache.get(key)
+    if layout is None:
+        layout = builder.marker_cache[key] = marker_layout(builder, marker, stroke_width, ctx)
+    if layout is False:
         return []
-    orient = (marker.get("orient") or "0").strip()
+    style, orient, fixed_angle, scaling, ref, clip_rect, viewport = layout
     if orient == "auto":
         angle = angle_out if kind == "start" else angle_in if kind == "end" else \
             auto_angle(angle_in, angle_out)
@@ -92,6 +93,44 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
         else:
             angle = angle_in if kind == "end" else auto_angle(angle_in, angle_out)
     else:
+        angle = fixed_angle
+    m = translate(x, y)
+    if angle:
+        r = math.radians(angle)
+        m = compose(m, (math.cos(r), math.sin(r), -math.sin(r), math.cos(r), 0.0, 0.0))
+    m = compose(m, scaling)
+    m = compose(m, ref)
+    # Marker content is a fresh instantiation: the <use> cycle guard restarts (recursion
+    # through markers is cut by ref_stack instead).
+    inner = ctx_with(ctx, transform=compose(ctx.transform, m), viewport=viewport, use_stack=(),
+                     context_fill=context_fill, context_stroke=context_stroke)
+    builder.enter_reference(marker)
+    try:
+        nodes = builder.children(marker, inner, style)
+    finally:
+        builder.ref_stack.pop()
+    if not nodes:
+        return []
+    if clip_rect is not None:
+        clip = builder.viewport_clip(*clip_rect, ctx_with(ctx, transform=inner.transform))
+        nodes = [Group(children=nodes, clip=clip)]
+    return nodes
+
+
+def marker_layout(builder, marker, stroke_width, ctx):
+    """(style, orient, its angle when fixed, scaling matrix, refX/refY translation, clip
+    rectangle or None, viewport of the content) of a marker drawn on a stroke of
+    ``stroke_width``, or False when it is not drawn."""
+    # 'display' does not apply to <marker>: it is drawn even under display="none"
+    style = builder.doc.document_style(marker)
+    get = builder.length_getter(marker, style, ctx)
+    mw = get("markerWidth", "x", 3.0)
+    mh = get("markerHeight", "y", 3.0)
+    if mw <= 0 or mh <= 0:
+        return False
+    orient = (marker.get("orient") or "0").strip()
+    angle = None
+    if orient not in ("auto", "auto-start-reverse"):
         # an <angle> is a number with its unit right after it ('45 deg' is invalid: 0)
         m = _ANGLE.fullmatch(orient)
         angle = float(m[1]) * ANGLE_DEG[(m[2] or "").lower()] if m else 0.0
@@ -102,41 +141,24 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
     if not scale > 0:
         # a viewport of markerWidth·strokeWidth ≤ 0 disables rendering, as a zero marker
         # size does (a negative stroke-width, which draws no stroke, gave mirrored markers)
-        return []
-    m = translate(x, y)
-    if angle:
-        r = math.radians(angle)
-        m = compose(m, (math.cos(r), math.sin(r), -math.sin(r), math.cos(r), 0.0, 0.0))
+        return False
     vb = parse_viewbox(marker.get("viewBox"))
     if vb is not None:
         vb_m = viewbox_transform(vb, parse_aspect(marker.get("preserveAspectRatio")),
                                  mw * scale, mh * scale)
         sx, sy = matrix_scale(vb_m)
-        m = compose(m, (sx, 0.0, 0.0, sy, 0.0, 0.0))
+        scaling = (sx, 0.0, 0.0, sy, 0.0, 0.0)
         clip_rect = vb
         viewport = (vb[2], vb[3])
     else:
-        m = compose(m, (scale, 0.0, 0.0, scale, 0.0, 0.0))
+        scaling = (scale, 0.0, 0.0, scale, 0.0, 0.0)
         clip_rect = (0.0, 0.0, mw, mh)
         viewport = ctx.viewport
     ref_x = builder.length(marker.get("refX"), "x", style, viewport, 0.0)
     ref_y = builder.length(marker.get("refY"), "y", style, viewport, 0.0)
-    m = compose(m, translate(-ref_x, -ref_y))
-    # Marker content is a fresh instantiation: the <use> cycle guard restarts (recursion
-    # through markers is cut by ref_stack instead).
-    inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport, use_stack=(),
-                    context_fill=context_fill, context_stroke=context_stroke)
-    builder.enter_reference(marker)
-    try:
-        nodes = builder.children(marker, inner, style)
-    finally:
-        builder.ref_stack.pop()
-    if not nodes:
-        return []
-    if builder.overflow_hidden(marker, style):
-        clip = builder.viewport_clip(*clip_rect, replace(ctx, transform=inner.transform))
-        nodes = [Group(children=nodes, clip=clip)]
-    return nodes
+    if not builder.overflow_hidden(marker, style):
+        clip_rect = None
+    return style, orient, angle, scaling, translate(-ref_x, -ref_y), clip_rect, viewport
 
 
 def marker_vertices(path: Path, commands=None):
