@@ -525,3 +525,38 @@ def test_nested_style_elements_read_their_own_text_only():
     assert doc.ids["r"].specified["fill"] == "blue"
     # the old reading: 1000 * 1001 / 2 copies of the 24-character rule, 12 MB of CSS text
     assert peak < 8_000_000, f"{peak / 1e6:.1f} MB"
+
+
+@pytest.mark.parametrize("sigma, images", [(5, 1), (1, 3)])
+def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
+    """A blur of a filter region as large as the image: the content (one float32 RGBA
+    canvas) is converted to linearRGB, blurred and converted back in place (the box blur
+    keeps a row or a block of columns aside, the recursive one an f64 copy, two canvases),
+    and a band of it is composited without a copy. Before: the content, SourceAlpha, the
+    result's buffer, the linear copy, two blur passes and the sRGB copy (7.8 canvases)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1"><feGaussianBlur stdDeviation="{sigma}"/>'
+                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
+                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}/></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    # the blur is there: the corner is half-transparent, the centre opaque
+    assert 0 < image[0, 0, 3] < 200 and image[size // 2, size // 2, 3] == 255
+    extra = (held - peak(False)[1]) / canvas
+    # the content's canvas, the blur's own (images - 1), and under one for the rasteriser
+    assert extra < images + 1, f"{extra:.1f} canvases for a blur's filter"

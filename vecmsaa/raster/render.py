@@ -1029,7 +1029,10 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     c, d = max(x0, 0), min(x1, w)
     if pixels is None or a >= b or c >= d:
         return None
-    return (a - y0, b - y0, c, d), pixels[a - fy0:b - fy0, c - x0:d - x0].copy()
+    part = pixels[a - fy0:b - fy0, c - x0:d - x0]
+    if layer.blend == "normal" and part.flags.c_contiguous:
+        return (a - y0, b - y0, c, d), part        # draw_layer only reads it then
+    return (a - y0, b - y0, c, d), part.copy()
 
 
 def render_filtered(layer: Layer, raster: Raster):
@@ -1084,14 +1087,22 @@ def render_filtered(layer: Layer, raster: Raster):
     for f in moved.filters:
         fx0, fy0 = max(f.region[0], 0), max(f.region[1], 0)
         fx1, fy1 = min(f.region[2], w), min(f.region[3], h)
-        out = np.zeros_like(pixels)
-        if fx1 > fx0 and fy1 > fy0:
-            part = np.ascontiguousarray(pixels[fy0:fy1, fx0:fx1])
+        if fx1 <= fx0 or fy1 <= fy0:
+            pixels = np.zeros_like(pixels)
+            continue
+        part = np.ascontiguousarray(pixels[fy0:fy1, fx0:fx1])
 
-            def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
-                return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
-            out[fy0:fy1, fx0:fx1] = apply_filter(part, f, (fx0, fy0), draw_content)
-        pixels = out
+        def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
+            return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
+        # the content is not read again: the filter may write into it (a blur in place)
+        done = apply_filter(part, f, (fx0, fy0), draw_content, own_source=True)
+        part = None
+        if (fx0, fy0, fx1, fy1) == (0, 0, w, h):
+            pixels = done           # the region is the whole buffer: nothing to copy
+        else:
+            pixels = np.zeros_like(pixels)
+            pixels[fy0:fy1, fx0:fx1] = done
+        done = None
     # only the part inside the image is ever copied out: keep that (a blur's region reaches
     # far beyond the image)
     cx0, cy0, cx1, cy1 = max(x0, 0), max(y0, 0), min(x1, W), min(y1, H)
