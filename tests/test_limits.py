@@ -560,3 +560,39 @@ def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
     extra = (held - peak(False)[1]) / canvas
     # the content's canvas, the blur's own (images - 1), and under one for the rasteriser
     assert extra < images + 1, f"{extra:.1f} canvases for a blur's filter"
+
+
+def test_nested_filtered_groups_hold_a_few_buffers_not_one_per_level():
+    """Twelve groups nested each with a blur: each level's content buffer (the filter
+    region, one canvas here) was made before the group inside was filtered, so all twelve
+    were held at once. The group inside is filtered first now: twelve levels cost a few
+    canvases more than one, and the pixels are those of blurring twelve times."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 300
+    canvas = size * size * 16
+
+    def render(levels):
+        body = f'<rect x="100" y="100" width="100" height="100" fill="teal"/>'
+        for _ in range(levels):
+            body = f'<g filter="url(#f)">{body}</g>'
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" '
+                         f'filterUnits="userSpaceOnUse" x="0" y="0" width="{size}" '
+                         f'height="{size}"><feGaussianBlur stdDeviation="3"/></filter>'
+                         f'{body}</svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, deep = render(12)
+    one, single = render(1)
+    # twelve blurs of sigma 3 spread like one of sigma 3·√12 ≈ 10.4: wider than one blur
+    assert image[100 - 25, 150, 3] > one[100 - 25, 150, 3]
+    extra = (deep - single) / canvas
+    assert extra < 3, f"{extra:.1f} canvases more for twelve nested filtered groups than one"

@@ -24,6 +24,7 @@ import math
 import os
 import threading
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -1071,12 +1072,20 @@ def render_filtered(layer: Layer, raster: Raster):
         return (0, 0, 0, 0), None
     w, h = x1 - x0, y1 - y0
     moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
-    local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
-                                                     raster.opts.mode == "analytic")[1])
-
     def draw(group, top, rows):
-        img = np.zeros((rows, w, 4), dtype=np.float32)
         items = prepare_items(group, raster.opts)
+        # the first filtered group inside is filtered before this buffer and the rasteriser's
+        # strip buffers exist (filtered_part then finds it done): groups with filters nested N
+        # deep held N of each at once, now about two
+        inner = next((item for item in items if isinstance(item, Layer) and item.filters), None)
+        if inner is not None:
+            with inner.filtering:
+                if id(raster.opts) not in inner.filtered:
+                    inner.filtered[id(raster.opts)] = render_filtered(
+                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h))
+        img = np.zeros((rows, w, 4), dtype=np.float32)
+        local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
+                                                         raster.opts.mode == "analytic")[1])
         # in bands when nested layers would hold more than LAYERS_BUDGET at the region's size
         # (the same pixels: a band's do not depend on where it begins)
         step = layer_rows(w, layer_depth(items))
