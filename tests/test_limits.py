@@ -596,3 +596,34 @@ def test_nested_filtered_groups_hold_a_few_buffers_not_one_per_level():
     assert image[100 - 25, 150, 3] > one[100 - 25, 150, 3]
     extra = (deep - single) / canvas
     assert extra < 3, f"{extra:.1f} canvases more for twelve nested filtered groups than one"
+
+
+def test_a_turbulence_filter_holds_its_result_only():
+    """feTurbulence over the whole image reads no content: the content is not drawn, the
+    noise is written in f32 and premultiplied in place. One canvas and change (before: the
+    content, an f64 noise image, its f32 copy, the premultiplied copy and a cleaned copy,
+    7.6 canvases)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1"><feTurbulence baseFrequency="0.05"/>'
+                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
+                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}/></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    assert len(np.unique(image[..., 3])) > 50          # noise, not the teal rect
+    extra = (held - peak(False)[1]) / canvas
+    assert extra < 1.5, f"{extra:.1f} canvases for a turbulence filter"

@@ -799,14 +799,16 @@ def turbulence(shape, origin, p: Turbulence) -> np.ndarray:
     frequencies fx, fy, octaves, seed, stitch, fractal and the device transform's scale and
     translation (the noise is a function of user coordinates)."""
     lattice, gradient = turbulence_tables(p.seed)
-    out = np.zeros(shape[:2] + (4,), dtype=np.float64)
+    # f32 straight away: each value is rounded once, as an f64 image's astype rounded it
+    out = np.zeros(shape[:2] + (4,), dtype=np.float32)
     sx, sy, tx, ty = p.to_device
     # no octaves is no noise: fractal noise's (0 + 1) / 2 is a half-transparent grey then, as
     # the specification's reference code computes it; turbulence's 0 is transparent
     if sx > 0 and sy > 0:
         _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p.fx, p.fy,
                            p.octaves, p.fractal, p.stitch, lattice, gradient)
-    return premultiply(out.astype(np.float32))
+    out[..., :3] *= out[..., 3:4]           # premultiplied, in place
+    return out
 
 
 # -- lighting --------------------------------------------------------------------------------

@@ -1092,19 +1092,26 @@ def render_filtered(layer: Layer, raster: Raster):
         for r in range(0, rows, step):
             draw_items(items, img[r:r + step], top + r, local)
         return img
-    pixels = draw(Group(children=moved.children), 0, h)
+    if any(i < 0 for prim in moved.filters[0].primitives for i in prim.inputs):
+        pixels = draw(Group(children=moved.children), 0, h)
+    else:
+        # nothing reads the content (a turbulence or a flood alone): not drawn, no buffer
+        pixels = np.broadcast_to(np.float32(0), (h, w, 4))
     for f in moved.filters:
         fx0, fy0 = max(f.region[0], 0), max(f.region[1], 0)
         fx1, fy1 = min(f.region[2], w), min(f.region[3], h)
         if fx1 <= fx0 or fy1 <= fy0:
             pixels = np.zeros_like(pixels)
             continue
-        part = np.ascontiguousarray(pixels[fy0:fy1, fx0:fx1])
+        part = pixels[fy0:fy1, fx0:fx1]
+        if part.flags.writeable:
+            part = np.ascontiguousarray(part)
 
         def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
             return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
         # the content is not read again: the filter may write into it (a blur in place)
-        done = apply_filter(part, f, (fx0, fy0), draw_content, own_source=True)
+        done = apply_filter(part, f, (fx0, fy0), draw_content,
+                            own_source=part.flags.writeable)
         part = None
         if (fx0, fy0, fx1, fy1) == (0, 0, w, h):
             pixels = done           # the region is the whole buffer: nothing to copy
