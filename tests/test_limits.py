@@ -627,3 +627,40 @@ def test_a_turbulence_filter_holds_its_result_only():
     assert len(np.unique(image[..., 3])) > 50          # noise, not the teal rect
     extra = (held - peak(False)[1]) / canvas
     assert extra < 1.5, f"{extra:.1f} canvases for a turbulence filter"
+
+
+@pytest.mark.parametrize("primitive", [
+    '<feColorMatrix type="saturate" values="0.3"/>',
+    '<feComponentTransfer><feFuncR type="linear" slope="0.5"/><feFuncA type="table" '
+    'tableValues="0 1 0.5"/></feComponentTransfer>'])
+def test_a_colour_filter_holds_the_content_and_its_straight_copy(primitive):
+    """feColorMatrix and feComponentTransfer work on straight colour: one copy of the
+    content, clamped and premultiplied in place (the matrix written into the content, which
+    no one reads after). Before: the masked copy, the unpremultiplied one, the product, the
+    sum, the clamped, cast and premultiplied copies (5 canvases with the content)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1">{primitive}</filter><rect '
+                         f'width="{size}" height="{size}" fill="rgb(0,128,255)"'
+                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}/></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    plain, unfiltered = peak(False)
+    assert not np.array_equal(image, plain)               # the filter did something
+    extra = (held - unfiltered) / canvas
+    # the content, its straight copy, channel-sized temporaries
+    assert extra < 3, f"{extra:.1f} canvases for a colour filter"

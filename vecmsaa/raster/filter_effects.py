@@ -19,7 +19,7 @@ from dataclasses import replace
 import numpy as np
 from ..jit import njit
 
-from .blend import blend_premultiplied, premultiply, unpremultiply
+from .blend import blend_premultiplied, unpremultiply
 from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,
                            Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
                            GaussianBlur, Image, Lighting, Merge, Morphology, Offset, Tile,
@@ -31,6 +31,9 @@ BOX_BLUR_SIGMA = 2.0
 BOX_PASSES = 5
 #: larger standard deviations blur as this one (see box_sizes)
 MAX_BLUR_SIGMA = 1e15
+#: pixels at a time of the per-pixel passes done by chunks of rows (_cleaned,
+#: component_transfer): their temporaries are a chunk's, not an image's
+CLEAN_CHUNK = 1 << 16
 
 
 # -- colour spaces ---------------------------------------------------------------------------
@@ -325,16 +328,32 @@ COLORLESS_ALPHA = 0.5 / 255
 
 
 def _straight(img: np.ndarray) -> np.ndarray:
-    """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0."""
-    return unpremultiply(np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img))
+    """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0
+    (one new image: unpremultiplied in place)."""
+    out = np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img)
+    a = out[..., 3:4]
+    np.divide(out[..., :3], a, out=out[..., :3], where=a > 0)
+    out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
+    return out
 
 
-def color_matrix(img: np.ndarray, matrix) -> np.ndarray:
-    """The 4 x 5 matrix applied to straight RGBA (and 1), results clamped to [0, 1]."""
+def _clipped_premultiplied(out: np.ndarray) -> np.ndarray:
+    """out clamped to [0, 1] and premultiplied, in place (f32, as the copies rounded)."""
+    np.clip(out, 0.0, 1.0, out=out)
+    out[..., :3] *= out[..., 3:4]
+    return out
+
+
+def color_matrix(img: np.ndarray, matrix, in_place: bool = False) -> np.ndarray:
+    """The 4 x 5 matrix applied to straight RGBA (and 1), results clamped to [0, 1];
+    ``in_place``: written into ``img`` (the caller no longer needs it)."""
     m = np.asarray(matrix, dtype=np.float32).reshape(4, 5)
     straight = _straight(img)
-    out = straight @ m[:, :4].T + m[:, 4]
-    return premultiply(np.clip(out, 0.0, 1.0).astype(np.float32))
+    into = img if in_place and img.dtype == np.float32 and img.flags.c_contiguous else None
+    out = np.matmul(straight, m[:, :4].T, out=into)
+    straight = None
+    out += m[:, 4]
+    return _clipped_premultiplied(out)
 
 
 def transfer(c: np.ndarray, func) -> np.ndarray:
@@ -362,9 +381,15 @@ def transfer(c: np.ndarray, func) -> np.ndarray:
 
 def component_transfer(img: np.ndarray, funcs) -> np.ndarray:
     straight = _straight(img)
+    # by chunks of rows (each pixel on its own: the same values), so a table's index and
+    # f64 temporaries are a chunk's, not several images'; gamma's power whole (its SIMD loop
+    # is left as it was)
+    rows = max(1, CLEAN_CHUNK // max(1, img.shape[1]))
     for ch, func in enumerate(funcs):
-        straight[..., ch] = transfer(straight[..., ch], func)
-    return premultiply(np.clip(straight, 0.0, 1.0).astype(np.float32))
+        step = img.shape[0] if func[0] == "gamma" else rows
+        for r in range(0, img.shape[0], step):
+            straight[r:r + step, :, ch] = transfer(straight[r:r + step, :, ch], func)
+    return _clipped_premultiplied(straight)
 
 
 def tile(img: np.ndarray, rect) -> np.ndarray:
@@ -524,10 +549,6 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     return final.in_space(False)
 
 
-#: pixels _cleaned looks at at a time
-CLEAN_CHUNK = 1 << 16
-
-
 def _cleaned(img: np.ndarray, owned: bool):
     """(img with NaN as 0, +inf as 1 and -inf as 0, whether apply_filter owns it): in place
     when owned, else a copy where anything needs cleaning. A chunk of rows at a time:
@@ -650,7 +671,7 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, GaussianBlur):
         return gaussian_blur(img, e.sx, e.sy, inputs[0].consume), cs
     if isinstance(e, ColorMatrix):
-        return color_matrix(img, e.matrix), cs
+        return color_matrix(img, e.matrix, inputs[0].consume), cs
     if isinstance(e, ComponentTransfer):
         return component_transfer(img, e.funcs), cs
     if isinstance(e, Morphology):
