@@ -425,16 +425,23 @@ def sliding_extreme(a: np.ndarray, c: int, axis: int, pick, fill) -> np.ndarray:
     cur = np.pad(a, pad, constant_values=fill)     # cur[j] = pick(b[j : j + k]), k = 1
     length, k, pos = 2 * c, 1, 0
     result = None
+
+    def window(lo, hi):              # a view, where np.take copied
+        index = [slice(None)] * a.ndim
+        index[axis] = slice(lo, hi)
+        return cur[tuple(index)]
     while k <= length:
         if length & k:
-            part = np.take(cur, np.arange(pos, pos + n), axis=axis)
-            result = part if result is None else pick(result, part)
+            part = window(pos, pos + n)
+            if result is None:
+                result = part.copy()
+            else:
+                pick(result, part, out=result)
             pos += k
         m = cur.shape[axis] - k
         if m <= 0:
             break
-        cur = pick(np.take(cur, np.arange(m), axis=axis),
-                   np.take(cur, np.arange(k, k + m), axis=axis))
+        cur = pick(window(0, m), window(k, k + m))
         k *= 2
     return result
 
