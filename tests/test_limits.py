@@ -668,3 +668,33 @@ def test_a_pointwise_or_morphology_filter_holds_a_few_canvases(primitive, bound)
     assert not np.array_equal(image, plain)               # the filter did something
     extra = (held - unfiltered) / canvas
     assert extra < bound, f"{extra:.1f} canvases for {primitive}"
+
+
+def test_the_part_of_a_filter_region_inside_the_image_is_kept_in_its_own_buffer():
+    """A filter region beyond the image is cut to the image after filtering: the inside is
+    moved to the front of the region's buffer, which is then shrunk, so no second buffer is
+    held (the copy held the region and the image at once), and what is kept is the image's
+    part only. With another reference to the buffer it is copied instead."""
+    import tracemalloc
+
+    from vecmsaa.raster.render import _cropped
+
+    rng = np.random.default_rng(7)
+    region = rng.random((600, 500, 4), dtype=np.float32)
+    want = region[150:450, 100:400].copy()
+    tracemalloc.start()
+    try:
+        start = tracemalloc.get_traced_memory()[0]
+        got = _cropped([region.copy()], 150, 450, 100, 400)
+        now, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert np.array_equal(got, want)
+    assert now - start <= want.nbytes + 4096, "more than the image's part kept"
+    assert peak - start <= region.nbytes + 4096, "a second buffer during the crop"
+    # a view of it still held elsewhere: the buffer cannot shrink, the view is untouched
+    shared = region.copy()
+    view = shared[:10]
+    first = view.copy()
+    got = _cropped([shared], 150, 450, 100, 400)
+    assert np.array_equal(got, want) and np.array_equal(view, first)

@@ -22,6 +22,7 @@ import copy
 import functools
 import math
 import os
+import sys
 import threading
 from dataclasses import replace
 from types import SimpleNamespace
@@ -1125,8 +1126,36 @@ def render_filtered(layer: Layer, raster: Raster):
     if cx1 <= cx0 or cy1 <= cy0:
         return (0, 0, 0, 0), None
     if (cx0, cy0, cx1, cy1) != (x0, y0, x1, y1):
-        pixels = pixels[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0].copy()
+        held, pixels = [pixels], None       # _cropped holds the only reference
+        pixels = _cropped(held, cy0 - y0, cy1 - y0, cx0 - x0, cx1 - x0)
     return (cx0, cy0, cx1, cy1), pixels
+
+
+def _cropped(held: list, a: int, b: int, c: int, d: int) -> np.ndarray:
+    """pixels[a:b, c:d] on its own (``held``: [pixels], emptied): moved to the front of the
+    buffer it is in, which is then shrunk to it (realloc), so the crop never holds a second
+    buffer (a copy held the region and the image at once); a copy where anything else
+    refers to that buffer."""
+    pixels = held.pop()
+    base = pixels if pixels.base is None else pixels.base
+    shape = pixels.shape
+    if not (pixels.flags.c_contiguous and base.flags.c_contiguous and base.flags.owndata
+            and base.ctypes.data == pixels.ctypes.data and base.nbytes == pixels.nbytes):
+        return pixels[a:b, c:d].copy()
+    pixels = None
+    if sys.getrefcount(base) > 2:        # the name ``base`` and the call's argument
+        return base.reshape(shape)[a:b, c:d].copy()
+    h, row = b - a, (d - c) * 4
+    flat = base.reshape(-1)
+    src = flat.reshape(shape)
+    for r in range(h):               # each row moves toward the front: never over one unread
+        flat[r * row:(r + 1) * row] = src[a + r, c:d].reshape(-1)
+    flat = src = None
+    try:
+        base.resize((h, d - c, 4))   # refused (ValueError) while anything else refers to it
+    except ValueError:
+        return base.reshape(-1)[:h * row].reshape(h, d - c, 4)
+    return base
 
 
 def content_box(group: Group):
