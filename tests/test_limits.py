@@ -405,6 +405,9 @@ def test_nested_references_within_the_limit_render():
 
 
 # -- filters ----------------------------------------------------------------------------------
+FILTERED = ' filter="url(#f)"'
+
+
 def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
     """Elements each with a filter over the whole canvas, rendered in bands (a small band
     budget, two threads): keeping every filtered layer until its last band would hold one
@@ -546,7 +549,7 @@ def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
         scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
                          f'y="0" width="1" height="1"><feGaussianBlur stdDeviation="{sigma}"/>'
                          f'</filter><rect width="{size}" height="{size}" fill="teal"'
-                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}/></svg>')
+                         f'{FILTERED if filtered else ""}/></svg>')
         render_scene_rgba8(scene, threads=1)
         tracemalloc.start()
         try:
@@ -615,7 +618,7 @@ def test_a_turbulence_filter_holds_its_result_only():
         scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
                          f'y="0" width="1" height="1"><feTurbulence baseFrequency="0.05"/>'
                          f'</filter><rect width="{size}" height="{size}" fill="teal"'
-                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}/></svg>')
+                         f'{FILTERED if filtered else ""}/></svg>')
         render_scene_rgba8(scene, threads=1)
         tracemalloc.start()
         try:
@@ -633,15 +636,19 @@ def test_a_turbulence_filter_holds_its_result_only():
     ('<feColorMatrix type="saturate" values="0.3"/>', 3),
     ('<feComponentTransfer><feFuncR type="linear" slope="0.5"/><feFuncA type="table" '
      'tableValues="0 1 0.5"/></feComponentTransfer>', 3),
-    ('<feMorphology operator="dilate" radius="3"/>', 6)])
-def test_a_pointwise_or_morphology_filter_holds_a_few_canvases(primitive, bound):
+    ('<feMorphology operator="dilate" radius="3"/>', 6),
+    ('<feDropShadow dx="4" dy="4" stdDeviation="3"/>', 4.5),
+    ('<feOffset dx="3"/><feComposite in2="SourceGraphic" operator="over"/>', 3)])
+def test_a_filter_primitive_holds_a_few_canvases(primitive, bound):
     """feColorMatrix and feComponentTransfer work on straight colour: one copy of the
     content, clamped and premultiplied in place (the matrix written into the content, which
     no one reads after). Before: the masked copy, the unpremultiplied one, the product, the
     sum, the clamped, cast and premultiplied copies (8.6 and 7.8 canvases with the content).
     feMorphology's sliding extremes combine views of the padded image, where np.take copied
     both operands of each step (11.6 canvases; now the content, a pass's result, the padded
-    image, its next step and the running extreme)."""
+    image, its next step and the running extreme). feDropShadow and feComposite's
+    source-over write into the shadow and into an input no one reads after (8.9 and 7.9
+    canvases before)."""
     import tracemalloc
 
     from vecmsaa.api import load_svg
@@ -653,8 +660,9 @@ def test_a_pointwise_or_morphology_filter_holds_a_few_canvases(primitive, bound)
     def peak(filtered):
         scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
                          f'y="0" width="1" height="1">{primitive}</filter><g'
-                         f'{" filter=" + chr(34) + "url(#f)" + chr(34) if filtered else ""}>'
-                         f'<rect width="{size}" height="{size}" fill="rgb(0,128,255)"/>'
+                         f'{FILTERED if filtered else ""}>'
+                         f'<rect width="{size}" height="{size}" fill="rgb(0,128,255)" '
+                         f'fill-opacity="0.5"/>'
                          f'<circle cx="200" cy="200" r="50" fill="orange"/></g></svg>')
         render_scene_rgba8(scene, threads=1)
         tracemalloc.start()

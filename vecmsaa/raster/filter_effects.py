@@ -295,17 +295,30 @@ def flood(shape, color) -> np.ndarray:
     return out
 
 
-def over(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+def over(src: np.ndarray, dst: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """src over dst; ``in_place``: into dst (the same f32 products and sums)."""
+    if in_place:
+        dst *= 1.0 - src[..., 3:4]
+        dst += src
+        return dst
     return src + dst * (1.0 - src[..., 3:4])
 
 
-def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0.0)):
+def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0.0),
+              into1: bool = False, into2: bool = False):
     """Porter-Duff ``i1 operator i2`` on premultiplied colour, or the arithmetic combination
-    k1·i1·i2 + k2·i1 + k3·i2 + k4 clamped to a valid premultiplied colour."""
+    k1·i1·i2 + k2·i1 + k3·i2 + k4 clamped to a valid premultiplied colour. ``into1`` /
+    ``into2``: the result may be written into i1 / i2 (no one reads it after)."""
     a1, a2 = i1[..., 3:4], i2[..., 3:4]
     if operator == "in":
+        if into1:
+            i1 *= a2
+            return i1
         return i1 * a2
     if operator == "out":
+        if into1:
+            i1 *= 1.0 - a2
+            return i1
         return i1 * (1.0 - a2)
     if operator == "atop":
         return i1 * a2 + i2 * (1.0 - a1)
@@ -318,7 +331,7 @@ def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0
         out = np.clip(k1 * i1 * i2 + k2 * i1 + k3 * i2 + k4, 0.0, 1.0).astype(np.float32)
         out[..., :3] = np.minimum(out[..., :3], out[..., 3:4])
         return out
-    return over(i1, i2)
+    return over(i1, i2, into2)
 
 
 #: below this alpha a pixel has no colour to unpremultiply: it rounds to transparent in 8 bits,
@@ -474,6 +487,11 @@ class _Result:
                 return self.img
             self._other = convert_space(self.img, linear)
         return self._other
+
+
+def _writable(result: "_Result", arr: np.ndarray) -> bool:
+    """Whether a primitive may write its input ``arr`` (``result`` consumed, f32, C order)."""
+    return result.consume and arr.dtype == np.float32 and arr.flags.c_contiguous
 
 
 def _shares(arr, others) -> bool:
@@ -667,13 +685,14 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, Merge):
         out = np.zeros(shape, dtype=np.float32)
         for inp in inputs:
-            out = over(inp.in_space(cs), out)
+            out = over(inp.in_space(cs), out, True)
         return out, cs
     if isinstance(e, (Composite, Blend)):
         i1, i2 = inputs[0].in_space(cs), inputs[1].in_space(cs)
         if isinstance(e, Blend):
             return blend_premultiplied(i1, i2.copy(), e.mode), cs
-        return composite(i1, i2, e.operator, e.k), cs
+        return composite(i1, i2, e.operator, e.k, _writable(inputs[0], i1),
+                         _writable(inputs[1], i2)), cs
     img = inputs[0].in_space(cs)
     if isinstance(e, GaussianBlur):
         return gaussian_blur(img, e.sx, e.sy, inputs[0].consume), cs
@@ -687,10 +706,12 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
         return morphology(img, e.operator, e.rx, e.ry), cs
     if isinstance(e, DropShadow):
         blurred = gaussian_blur(img, e.sx, e.sy)
-        shadow = flood(shape, e.color) * blurred[..., 3:4]
+        shadow = flood(shape, e.color)
+        shadow *= blurred[..., 3:4]          # (in place: one image fewer at a time)
+        blurred = None
         if cs:
-            shadow = convert_space(shadow, True)
-        return over(img, offset(shadow, e.dx, e.dy)), cs
+            shadow = convert_space(shadow, True, out=shadow)
+        return over(img, offset(shadow, e.dx, e.dy), True), cs
     raise ValueError(f"unknown filter primitive {e!r}")
 
 
