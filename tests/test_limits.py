@@ -405,6 +405,9 @@ def test_nested_references_within_the_limit_render():
 
 
 # -- filters ----------------------------------------------------------------------------------
+FILTERED = ' filter="url(#f)"'
+
+
 def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
     """Elements each with a filter over the whole canvas, rendered in bands (a small band
     budget, two threads): keeping every filtered layer until its last band would hold one
@@ -525,3 +528,181 @@ def test_nested_style_elements_read_their_own_text_only():
     assert doc.ids["r"].specified["fill"] == "blue"
     # the old reading: 1000 * 1001 / 2 copies of the 24-character rule, 12 MB of CSS text
     assert peak < 8_000_000, f"{peak / 1e6:.1f} MB"
+
+
+@pytest.mark.parametrize("sigma, images", [(5, 1), (1, 3)])
+def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
+    """A blur of a filter region as large as the image: the content (one float32 RGBA
+    canvas) is converted to linearRGB, blurred and converted back in place (the box blur
+    keeps a row or a block of columns aside, the recursive one an f64 copy, two canvases),
+    and a band of it is composited without a copy. Before: the content, SourceAlpha, the
+    result's buffer, the linear copy, two blur passes and the sRGB copy (7.8 canvases)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1"><feGaussianBlur stdDeviation="{sigma}"/>'
+                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
+                         f'{FILTERED if filtered else ""}/></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    # the blur is there: the corner is half-transparent, the centre opaque
+    assert 0 < image[0, 0, 3] < 200 and image[size // 2, size // 2, 3] == 255
+    extra = (held - peak(False)[1]) / canvas
+    # the content's canvas, the blur's own (images - 1), and under one for the rasteriser
+    assert extra < images + 1, f"{extra:.1f} canvases for a blur's filter"
+
+
+def test_nested_filtered_groups_hold_a_few_buffers_not_one_per_level():
+    """Twelve groups nested each with a blur: each level's content buffer (the filter
+    region, one canvas here) was made before the group inside was filtered, so all twelve
+    were held at once. The group inside is filtered first now: twelve levels cost a few
+    canvases more than one, and the pixels are those of blurring twelve times."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 300
+    canvas = size * size * 16
+
+    def render(levels):
+        body = f'<rect x="100" y="100" width="100" height="100" fill="teal"/>'
+        for _ in range(levels):
+            body = f'<g filter="url(#f)">{body}</g>'
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" '
+                         f'filterUnits="userSpaceOnUse" x="0" y="0" width="{size}" '
+                         f'height="{size}"><feGaussianBlur stdDeviation="3"/></filter>'
+                         f'{body}</svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, deep = render(12)
+    one, single = render(1)
+    # twelve blurs of sigma 3 spread like one of sigma 3·√12 ≈ 10.4: wider than one blur
+    assert image[100 - 25, 150, 3] > one[100 - 25, 150, 3]
+    extra = (deep - single) / canvas
+    assert extra < 3, f"{extra:.1f} canvases more for twelve nested filtered groups than one"
+
+
+def test_a_turbulence_filter_holds_its_result_only():
+    """feTurbulence over the whole image reads no content: the content is not drawn, the
+    noise is written in f32 and premultiplied in place. One canvas and change (before: the
+    content, an f64 noise image, its f32 copy, the premultiplied copy and a cleaned copy,
+    7.6 canvases)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1"><feTurbulence baseFrequency="0.05"/>'
+                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
+                         f'{FILTERED if filtered else ""}/></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    assert len(np.unique(image[..., 3])) > 50          # noise, not the teal rect
+    extra = (held - peak(False)[1]) / canvas
+    assert extra < 1.5, f"{extra:.1f} canvases for a turbulence filter"
+
+
+@pytest.mark.parametrize("primitive, bound", [
+    ('<feColorMatrix type="saturate" values="0.3"/>', 3),
+    ('<feComponentTransfer><feFuncR type="linear" slope="0.5"/><feFuncA type="table" '
+     'tableValues="0 1 0.5"/></feComponentTransfer>', 3),
+    ('<feMorphology operator="dilate" radius="3"/>', 6),
+    ('<feDropShadow dx="4" dy="4" stdDeviation="3"/>', 4.5),
+    ('<feOffset dx="3"/><feComposite in2="SourceGraphic" operator="over"/>', 3)])
+def test_a_filter_primitive_holds_a_few_canvases(primitive, bound):
+    """feColorMatrix and feComponentTransfer work on straight colour: one copy of the
+    content, clamped and premultiplied in place (the matrix written into the content, which
+    no one reads after). Before: the masked copy, the unpremultiplied one, the product, the
+    sum, the clamped, cast and premultiplied copies (8.6 and 7.8 canvases with the content).
+    feMorphology's sliding extremes combine views of the padded image, where np.take copied
+    both operands of each step (11.6 canvases; now the content, a pass's result, the padded
+    image, its next step and the running extreme). feDropShadow and feComposite's
+    source-over write into the shadow and into an input no one reads after (8.9 and 7.9
+    canvases before)."""
+    import tracemalloc
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    size = 400
+    canvas = size * size * 16
+
+    def peak(filtered):
+        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                         f'y="0" width="1" height="1">{primitive}</filter><g'
+                         f'{FILTERED if filtered else ""}>'
+                         f'<rect width="{size}" height="{size}" fill="rgb(0,128,255)" '
+                         f'fill-opacity="0.5"/>'
+                         f'<circle cx="200" cy="200" r="50" fill="orange"/></g></svg>')
+        render_scene_rgba8(scene, threads=1)
+        tracemalloc.start()
+        try:
+            image = render_scene_rgba8(scene, threads=1)
+            return image, tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+    image, held = peak(True)
+    plain, unfiltered = peak(False)
+    assert not np.array_equal(image, plain)               # the filter did something
+    extra = (held - unfiltered) / canvas
+    assert extra < bound, f"{extra:.1f} canvases for {primitive}"
+
+
+def test_the_part_of_a_filter_region_inside_the_image_is_kept_in_its_own_buffer():
+    """A filter region beyond the image is cut to the image after filtering: the inside is
+    moved to the front of the region's buffer, which is then shrunk, so no second buffer is
+    held (the copy held the region and the image at once), and what is kept is the image's
+    part only. With another reference to the buffer it is copied instead."""
+    import tracemalloc
+
+    from vecmsaa.raster.render import _cropped
+
+    rng = np.random.default_rng(7)
+    region = rng.random((600, 500, 4), dtype=np.float32)
+    want = region[150:450, 100:400].copy()
+    tracemalloc.start()
+    try:
+        start = tracemalloc.get_traced_memory()[0]
+        got = _cropped([region.copy()], 150, 450, 100, 400)
+        now, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert np.array_equal(got, want)
+    assert now - start <= want.nbytes + 4096, "more than the image's part kept"
+    assert peak - start <= region.nbytes + 4096, "a second buffer during the crop"
+    # a view of it still held elsewhere: the buffer cannot shrink, the view is untouched
+    shared = region.copy()
+    view = shared[:10]
+    first = view.copy()
+    got = _cropped([shared], 150, 450, 100, 400)
+    assert np.array_equal(got, want) and np.array_equal(view, first)

@@ -19,7 +19,7 @@ from dataclasses import replace
 import numpy as np
 from ..jit import njit
 
-from .blend import blend_premultiplied, premultiply, unpremultiply
+from .blend import blend_premultiplied, unpremultiply
 from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,
                            Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
                            GaussianBlur, Image, Lighting, Merge, Morphology, Offset, Tile,
@@ -31,6 +31,9 @@ BOX_BLUR_SIGMA = 2.0
 BOX_PASSES = 5
 #: larger standard deviations blur as this one (see box_sizes)
 MAX_BLUR_SIGMA = 1e15
+#: pixels at a time of the per-pixel passes done by chunks of rows (_cleaned,
+#: component_transfer): their temporaries are a chunk's, not an image's
+CLEAN_CHUNK = 1 << 16
 
 
 # -- colour spaces ---------------------------------------------------------------------------
@@ -59,11 +62,13 @@ def _convert_space(img, out, to_linear):
                 out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
 
 
-def convert_space(img: np.ndarray, to_linear: bool) -> np.ndarray:
-    """Premultiplied RGBA from sRGB to linearRGB (or back), on the straight colour."""
-    img = np.ascontiguousarray(img, dtype=np.float32)
-    out = np.empty_like(img)
-    _convert_space(img, out, to_linear)
+def convert_space(img: np.ndarray, to_linear: bool, out: np.ndarray | None = None):
+    """Premultiplied RGBA from sRGB to linearRGB (or back), on the straight colour; into
+    ``out`` when given (it may be ``img``: each pixel is read before it is written)."""
+    src = np.ascontiguousarray(img, dtype=np.float32)
+    if out is None or not (out.dtype == np.float32 and out.flags.c_contiguous):
+        out = np.empty_like(src)
+    _convert_space(src, out, to_linear)
     return out
 
 
@@ -80,37 +85,48 @@ def _iir_coefficients(sigma: float):
 
 
 @njit(cache=True)
-def _iir_scan(a, nu):
-    """IIR_STEPS passes of y[i] += nu·y[i - 1] forwards then backwards along axis 0, in place;
-    nothing beyond the ends (resvg's boundary: no extension)."""
-    n, m, nc = a.shape
+def _iir_scan(a, nu, axis):
+    """IIR_STEPS passes of y[i] += nu·y[i - 1] forwards then backwards along ``axis`` (0 or 1),
+    in place; nothing beyond the ends (resvg's boundary: no extension)."""
+    n0, n1, nc = a.shape
     for _ in range(IIR_STEPS):
-        for i in range(1, n):
-            for j in range(m):
-                for c in range(nc):
-                    a[i, j, c] += nu * a[i - 1, j, c]
-        for i in range(n - 1, 0, -1):
-            for j in range(m):
-                for c in range(nc):
-                    a[i - 1, j, c] += nu * a[i, j, c]
+        if axis == 0:
+            for i in range(1, n0):
+                for j in range(n1):
+                    for c in range(nc):
+                        a[i, j, c] += nu * a[i - 1, j, c]
+            for i in range(n0 - 1, 0, -1):
+                for j in range(n1):
+                    for c in range(nc):
+                        a[i - 1, j, c] += nu * a[i, j, c]
+        else:
+            for j in range(n0):
+                for i in range(1, n1):
+                    for c in range(nc):
+                        a[j, i, c] += nu * a[j, i - 1, c]
+                for i in range(n1 - 1, 0, -1):
+                    for c in range(nc):
+                        a[j, i - 1, c] += nu * a[j, i, c]
 
 
-def iir_blur(img: np.ndarray, sx: float, sy: float) -> np.ndarray:
+def iir_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False) -> np.ndarray:
     """resvg's blur below sigma 2 (its port of Getreuer's gaussianiir): the Gaussian as a
     cascade of first-order recursive filters, in f64, the image's ends taken as nothing. A
-    sampled Gaussian kernel gave up to 44 levels more than resvg at an edge at sigma 0.3."""
+    sampled Gaussian kernel gave up to 44 levels more than resvg at an edge at sigma 0.3.
+    Both scans run in place on one f64 copy (each element sees the same sums in the same
+    order as along a transposed copy); ``in_place``: the result is written into ``img``."""
     a = img.astype(np.float64)
     lx, nx = _iir_coefficients(sx) if sx > 0 else (1.0, 1.0)
     ly, ny = _iir_coefficients(sy) if sy > 0 else (1.0, 1.0)
     if sx > 0:
-        t = np.ascontiguousarray(a.transpose(1, 0, 2))
-        _iir_scan(t, nx)
-        a = t.transpose(1, 0, 2)
+        _iir_scan(a, nx, 1)
     if sy > 0:
-        a = np.ascontiguousarray(a)
-        _iir_scan(a, ny)
+        _iir_scan(a, ny, 0)
     # each pass's gain is 1 / (1 - nu) and nu / lambda = (1 - nu)²: this keeps the mass
     a *= (math.sqrt(nx * ny) / math.sqrt(lx * ly)) ** (2 * IIR_STEPS)
+    if in_place and img.dtype == np.float32:
+        img[...] = a
+        return img
     return a.astype(np.float32)
 
 
@@ -147,68 +163,117 @@ def box_sizes(sigma: float, passes: int = BOX_PASSES) -> list[int]:
 
 
 @njit(cache=True)
-def _box_blur_rows(src, dst, r, div):
-    """dst[y, x] = Σ src[y, x - r .. x + r] / div (zeros outside), a running sum per row."""
+def _box_blur_rows(src, dst, radii, divs, a, b):
+    """Box blurs one after another along each row: pass k sets p[x] = Σ q[x - r .. x + r] /
+    divs[k] (zeros outside, r = radii[k]) with a running sum, q the previous pass's row. A row
+    is copied to ``a`` first and passes alternate between ``a`` and ``b`` (f32, as a whole
+    image between passes was), so ``dst`` may be ``src``."""
     h, w, nc = src.shape
     for y in range(h):
-        for c in range(nc):
-            acc = 0.0
-            for x in range(min(r, w - 1) + 1):
-                acc += src[y, x, c]
-            for x in range(w):
-                dst[y, x, c] = acc / div
-                if x + r + 1 < w:
-                    acc += src[y, x + r + 1, c]
-                if x - r >= 0:
-                    acc -= src[y, x - r, c]
+        p, q = a, b
+        for x in range(w):
+            for c in range(nc):
+                p[x, c] = src[y, x, c]
+        for k in range(len(radii)):
+            r, div = radii[k], divs[k]
+            for c in range(nc):
+                acc = 0.0
+                for x in range(min(r, w - 1) + 1):
+                    acc += p[x, c]
+                for x in range(w):
+                    q[x, c] = acc / div
+                    if x + r + 1 < w:
+                        acc += p[x + r + 1, c]
+                    if x - r >= 0:
+                        acc -= p[x - r, c]
+            p, q = q, p
+        for x in range(w):
+            for c in range(nc):
+                dst[y, x, c] = p[x, c]
 
 
 @njit(cache=True)
-def _box_blur_columns(src, dst, r, div):
-    """The same along columns, one running sum per (x, channel) so rows are read in order."""
+def _box_blur_columns(src, dst, radii, divs, a, b):
+    """The same along columns, a block of a.shape[1] columns at a time copied to ``a`` (h rows)
+    with one running sum per (column, channel), so rows are read in order."""
     h, w, nc = src.shape
-    acc = np.zeros((w, nc))
-    for y in range(min(r, h - 1) + 1):
-        for x in range(w):
-            for c in range(nc):
-                acc[x, c] += src[y, x, c]
-    for y in range(h):
-        for x in range(w):
-            for c in range(nc):
-                dst[y, x, c] = acc[x, c] / div
-                if y + r + 1 < h:
-                    acc[x, c] += src[y + r + 1, x, c]
-                if y - r >= 0:
-                    acc[x, c] -= src[y - r, x, c]
+    bw = a.shape[1]
+    acc = np.zeros((bw, nc))
+    for x0 in range(0, w, bw):
+        n = min(bw, w - x0)
+        p, q = a, b
+        for y in range(h):
+            for x in range(n):
+                for c in range(nc):
+                    p[y, x, c] = src[y, x0 + x, c]
+        for k in range(len(radii)):
+            r, div = radii[k], divs[k]
+            acc[:] = 0.0
+            for y in range(min(r, h - 1) + 1):
+                for x in range(n):
+                    for c in range(nc):
+                        acc[x, c] += p[y, x, c]
+            for y in range(h):
+                for x in range(n):
+                    for c in range(nc):
+                        q[y, x, c] = acc[x, c] / div
+                        if y + r + 1 < h:
+                            acc[x, c] += p[y + r + 1, x, c]
+                        if y - r >= 0:
+                            acc[x, c] -= p[y - r, x, c]
+            p, q = q, p
+        for y in range(h):
+            for x in range(n):
+                for c in range(nc):
+                    dst[y, x0 + x, c] = p[y, x, c]
 
 
-def box_blur_axis(img: np.ndarray, radius: int, axis: int) -> np.ndarray:
-    """Mean over the 2·radius + 1 pixels centred on each pixel along ``axis`` (zeros outside)."""
-    if radius <= 0:
-        return img
+#: columns _box_blur_columns blurs at a time (its two scratch blocks: 2 x h x 64 x 16 bytes)
+BLUR_BLOCK = 64
+
+
+def box_blur_axis(img: np.ndarray, sizes, axis: int, out: np.ndarray | None = None):
+    """Box blurs of the odd widths ``sizes`` one after another along ``axis`` (zeros outside),
+    into ``out`` (a new array when None; it may be ``img``): a width-w box is the mean over the
+    w pixels centred on each pixel. Width-1 boxes leave the image alone."""
     src = np.ascontiguousarray(img, dtype=np.float32)
-    out = np.empty_like(src)
-    blur = _box_blur_rows if axis == 1 else _box_blur_columns
-    blur(src, out, min(radius, src.shape[axis]), float(2 * radius + 1))
+    h, w, nc = src.shape
+    n = src.shape[axis]
+    widths = [s for s in sizes if s > 1]
+    if not widths:
+        return img
+    if out is None:
+        out = np.empty_like(src)
+    radii = np.array([min((s - 1) // 2, n) for s in widths], dtype=np.int64)
+    divs = np.array(widths, dtype=np.float64)
+    if axis == 1:
+        _box_blur_rows(src, out, radii, divs, np.empty((w, nc), np.float32),
+                       np.empty((w, nc), np.float32))
+    else:
+        block = min(BLUR_BLOCK, w)
+        _box_blur_columns(src, out, radii, divs, np.empty((h, block, nc), np.float32),
+                          np.empty((h, block, nc), np.float32))
     return out
 
 
-def gaussian_blur(img: np.ndarray, sx: float, sy: float) -> np.ndarray:
+def gaussian_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False) -> np.ndarray:
     """Gaussian blur with standard deviations (sx, sy) pixels; a non-positive one leaves that
     axis alone, tiny ones (< 0.05) too. As resvg: five box blurs on both axes when either
-    deviation is at least BOX_BLUR_SIGMA, the recursive Gaussian otherwise."""
+    deviation is at least BOX_BLUR_SIGMA, the recursive Gaussian otherwise. ``in_place``: the
+    result may be written into ``img`` (the caller no longer needs it): no image-sized copy."""
     sx = sx if sx >= 0.05 else 0.0
     sy = sy if sy >= 0.05 else 0.0
     if sx <= 0 and sy <= 0:
         return img
-    out = img
+    in_place = in_place and img.dtype == np.float32 and img.flags.c_contiguous
     if max(sx, sy) >= BOX_BLUR_SIGMA:
+        out = img
         for axis, s in ((1, sx), (0, sy)):
             if s > 0:
-                for size in box_sizes(s):
-                    out = box_blur_axis(out, (size - 1) // 2, axis)
+                out = box_blur_axis(out, box_sizes(s), axis,
+                                    out if (in_place or out is not img) else None)
         return out
-    return iir_blur(img, sx, sy)
+    return iir_blur(img, sx, sy, in_place)
 
 
 def offset(img: np.ndarray, dx: float, dy: float) -> np.ndarray:
@@ -230,17 +295,30 @@ def flood(shape, color) -> np.ndarray:
     return out
 
 
-def over(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+def over(src: np.ndarray, dst: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """src over dst; ``in_place``: into dst (the same f32 products and sums)."""
+    if in_place:
+        dst *= 1.0 - src[..., 3:4]
+        dst += src
+        return dst
     return src + dst * (1.0 - src[..., 3:4])
 
 
-def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0.0)):
+def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0.0),
+              into1: bool = False, into2: bool = False):
     """Porter-Duff ``i1 operator i2`` on premultiplied colour, or the arithmetic combination
-    k1·i1·i2 + k2·i1 + k3·i2 + k4 clamped to a valid premultiplied colour."""
+    k1·i1·i2 + k2·i1 + k3·i2 + k4 clamped to a valid premultiplied colour. ``into1`` /
+    ``into2``: the result may be written into i1 / i2 (no one reads it after)."""
     a1, a2 = i1[..., 3:4], i2[..., 3:4]
     if operator == "in":
+        if into1:
+            i1 *= a2
+            return i1
         return i1 * a2
     if operator == "out":
+        if into1:
+            i1 *= 1.0 - a2
+            return i1
         return i1 * (1.0 - a2)
     if operator == "atop":
         return i1 * a2 + i2 * (1.0 - a1)
@@ -253,7 +331,7 @@ def composite(i1: np.ndarray, i2: np.ndarray, operator: str, k=(0.0, 0.0, 0.0, 0
         out = np.clip(k1 * i1 * i2 + k2 * i1 + k3 * i2 + k4, 0.0, 1.0).astype(np.float32)
         out[..., :3] = np.minimum(out[..., :3], out[..., 3:4])
         return out
-    return over(i1, i2)
+    return over(i1, i2, into2)
 
 
 #: below this alpha a pixel has no colour to unpremultiply: it rounds to transparent in 8 bits,
@@ -263,16 +341,32 @@ COLORLESS_ALPHA = 0.5 / 255
 
 
 def _straight(img: np.ndarray) -> np.ndarray:
-    """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0."""
-    return unpremultiply(np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img))
+    """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0
+    (one new image: unpremultiplied in place)."""
+    out = np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img)
+    a = out[..., 3:4]
+    np.divide(out[..., :3], a, out=out[..., :3], where=a > 0)
+    out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
+    return out
 
 
-def color_matrix(img: np.ndarray, matrix) -> np.ndarray:
-    """The 4 x 5 matrix applied to straight RGBA (and 1), results clamped to [0, 1]."""
+def _clipped_premultiplied(out: np.ndarray) -> np.ndarray:
+    """out clamped to [0, 1] and premultiplied, in place (f32, as the copies rounded)."""
+    np.clip(out, 0.0, 1.0, out=out)
+    out[..., :3] *= out[..., 3:4]
+    return out
+
+
+def color_matrix(img: np.ndarray, matrix, in_place: bool = False) -> np.ndarray:
+    """The 4 x 5 matrix applied to straight RGBA (and 1), results clamped to [0, 1];
+    ``in_place``: written into ``img`` (the caller no longer needs it)."""
     m = np.asarray(matrix, dtype=np.float32).reshape(4, 5)
     straight = _straight(img)
-    out = straight @ m[:, :4].T + m[:, 4]
-    return premultiply(np.clip(out, 0.0, 1.0).astype(np.float32))
+    into = img if in_place and img.dtype == np.float32 and img.flags.c_contiguous else None
+    out = np.matmul(straight, m[:, :4].T, out=into)
+    straight = None
+    out += m[:, 4]
+    return _clipped_premultiplied(out)
 
 
 def transfer(c: np.ndarray, func) -> np.ndarray:
@@ -300,9 +394,15 @@ def transfer(c: np.ndarray, func) -> np.ndarray:
 
 def component_transfer(img: np.ndarray, funcs) -> np.ndarray:
     straight = _straight(img)
+    # by chunks of rows (each pixel on its own: the same values), so a table's index and
+    # f64 temporaries are a chunk's, not several images'; gamma's power whole (its SIMD loop
+    # is left as it was)
+    rows = max(1, CLEAN_CHUNK // max(1, img.shape[1]))
     for ch, func in enumerate(funcs):
-        straight[..., ch] = transfer(straight[..., ch], func)
-    return premultiply(np.clip(straight, 0.0, 1.0).astype(np.float32))
+        step = img.shape[0] if func[0] == "gamma" else rows
+        for r in range(0, img.shape[0], step):
+            straight[r:r + step, :, ch] = transfer(straight[r:r + step, :, ch], func)
+    return _clipped_premultiplied(straight)
 
 
 def tile(img: np.ndarray, rect) -> np.ndarray:
@@ -338,16 +438,23 @@ def sliding_extreme(a: np.ndarray, c: int, axis: int, pick, fill) -> np.ndarray:
     cur = np.pad(a, pad, constant_values=fill)     # cur[j] = pick(b[j : j + k]), k = 1
     length, k, pos = 2 * c, 1, 0
     result = None
+
+    def window(lo, hi):              # a view, where np.take copied
+        index = [slice(None)] * a.ndim
+        index[axis] = slice(lo, hi)
+        return cur[tuple(index)]
     while k <= length:
         if length & k:
-            part = np.take(cur, np.arange(pos, pos + n), axis=axis)
-            result = part if result is None else pick(result, part)
+            part = window(pos, pos + n)
+            if result is None:
+                result = part.copy()
+            else:
+                pick(result, part, out=result)
             pos += k
         m = cur.shape[axis] - k
         if m <= 0:
             break
-        cur = pick(np.take(cur, np.arange(m), axis=axis),
-                   np.take(cur, np.arange(k, k + m), axis=axis))
+        cur = pick(window(0, m), window(k, k + m))
         k *= 2
     return result
 
@@ -356,75 +463,140 @@ def sliding_extreme(a: np.ndarray, c: int, axis: int, pick, fill) -> np.ndarray:
 class _Result:
     """A primitive's (or a source's) image, its colour space and its subregion. The image in
     the other space is converted once and kept: every primitive of a chain reading
-    SourceGraphic in linearRGB would otherwise convert it again (primitives never write to
-    their inputs)."""
-    __slots__ = ("img", "linear", "rect", "_other")
+    SourceGraphic in linearRGB would otherwise convert it again. Primitives never write to
+    their inputs, except one reading its input for the last time when ``consume`` is set
+    (apply_filter: the arrays are apply_filter's own and no other result shares them): the
+    conversion is then made in place, and the primitive may write into the array it gets."""
+    __slots__ = ("img", "linear", "rect", "_other", "owned", "consume")
 
-    def __init__(self, img, linear, rect):
+    def __init__(self, img, linear, rect, owned=False):
         self.img, self.linear, self.rect = img, linear, rect
         self._other = None
+        self.owned = owned          # img is apply_filter's to overwrite
+        self.consume = False
+
+    def arrays(self):
+        return (self.img,) if self._other is None else (self.img, self._other)
 
     def in_space(self, linear: bool) -> np.ndarray:
         if self.linear == linear:
             return self.img
         if self._other is None:
+            if self.consume:
+                self.img, self.linear = convert_space(self.img, linear, out=self.img), linear
+                return self.img
             self._other = convert_space(self.img, linear)
         return self._other
 
 
-def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None) -> np.ndarray:
+def _writable(result: "_Result", arr: np.ndarray) -> bool:
+    """Whether a primitive may write its input ``arr`` (``result`` consumed, f32, C order)."""
+    return result.consume and arr.dtype == np.float32 and arr.flags.c_contiguous
+
+
+def _shares(arr, others) -> bool:
+    return any(np.may_share_memory(arr, o) for r in others for o in r.arrays())
+
+
+def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None,
+                 own_source: bool = False) -> np.ndarray:
     """The filter's result for ``source`` (the content rendered in the filter region, sRGB
     premultiplied; ``origin``: the device pixel of its top-left corner, by default the
     region's), same shape, sRGB premultiplied. ``draw_content(group)`` renders an feImage's
-    content into an array like ``source``."""
+    content into an array like ``source``. ``own_source``: the caller does not read ``source``
+    again, so the filter may write into it (a blur of SourceGraphic then needs no copy)."""
     h, w = source.shape[:2]
     full = (0, 0, w, h)
     rx0, ry0 = flt.region[:2] if origin is None else origin
-    alpha = np.zeros_like(source)
-    alpha[..., 3] = source[..., 3]
-    sources = {SOURCE_GRAPHIC: _Result(source, False, full),
-               SOURCE_ALPHA: _Result(alpha, False, full)}
+    sources = {SOURCE_GRAPHIC: _Result(source, False, full, own_source)}
     results: list[_Result | None] = []
-    # the last primitive reading each result: after it the result is let go, so a chain of
-    # thousands of primitives holds a few images, not one per primitive
+    # the last primitive reading each result (or source): after it the result is let go, so
+    # a chain of thousands of primitives holds a few images, not one per primitive
     last = len(flt.primitives) - 1
-    last_read = {i: k for k, prim in enumerate(flt.primitives) for i in prim.inputs if i >= 0}
+    last_read = {i: k for k, prim in enumerate(flt.primitives) for i in prim.inputs}
 
     def get(i):
+        if i == SOURCE_ALPHA and i not in sources:
+            # made when first read: most filters never read it
+            alpha = np.zeros_like(source)
+            alpha[..., 3] = source[..., 3]
+            sources[i] = _Result(alpha, False, full, True)
         return sources[i] if i < 0 else results[i]
+
+    def live():
+        return [r for r in list(sources.values()) + results if r is not None]
 
     for k, prim in enumerate(flt.primitives):
         x0, y0, x1, y1 = prim.subregion
         rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
         inputs = [get(i) for i in prim.inputs]
+        if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
+            # resvg: feOffset's image is not confined to a subregion; the subregion it passes
+            # on (to feTile, which repeats it) is its input's when that is a result, its own
+            # when it reads SourceGraphic or SourceAlpha
+            rect = inputs[0].rect
+        for i, r in zip(prim.inputs, inputs):
+            # read for the last time, by this primitive alone, and nothing else shares it
+            r.consume = (r.owned and last_read[i] == k and prim.inputs.count(i) == 1
+                         and not any(_shares(a, [o for o in live() if o is not r])
+                                     for a in r.arrays()))
+            if r.consume and i == SOURCE_GRAPHIC and last_read.get(SOURCE_ALPHA, -1) > k:
+                get(SOURCE_ALPHA)        # made from the source before it is overwritten
         if isinstance(prim.effect, Image):
             img, linear = draw_content(prim.effect.content), False
         else:
             with np.errstate(all="ignore"):      # extreme parameters: cleaned up below
                 img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
             img = img.astype(np.float32, copy=False)
-            if not _keeps_finite(prim.effect):
-                img = np.nan_to_num(img, nan=0.0, posinf=1.0, neginf=0.0)
-        if isinstance(prim.effect, Offset):
-            # resvg: feOffset's image is not confined to a subregion; the subregion it passes
-            # on (to feTile, which repeats it) is its input's when that is a result, its own
-            # when it reads SourceGraphic or SourceAlpha
-            if prim.inputs and prim.inputs[0] >= 0:
-                rect = inputs[0].rect
-        elif rect != full:
-            clipped = np.zeros_like(img)
-            if rect[2] > rect[0] and rect[3] > rect[1]:
-                clipped[rect[1]:rect[3], rect[0]:rect[2]] = img[rect[1]:rect[3], rect[0]:rect[2]]
-            img = clipped
-        results.append(_Result(img.astype(np.float32, copy=False), linear, rect)
-                       if k == last or k in last_read else None)
-        inputs = None
+        # let go of the inputs read for the last time; the result is apply_filter's to write
+        # when it shares no array with what is left (nor with the caller's source)
         for i in prim.inputs:
-            if i >= 0 and last_read[i] == k and i != last:
-                results[i] = None
+            if last_read[i] == k and i != last:
+                if i < 0:
+                    sources.pop(i, None)
+                else:
+                    results[i] = None
+        inputs = None
+        foreign = [] if own_source else [_Result(source, False, full)]
+        owned = not _shares(img, live() + foreign)
+        if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
+            img, owned = _cleaned(img, owned)
+        if rect != full and not isinstance(prim.effect, Offset):
+            if not owned:
+                img, owned = img.copy(), True
+            _clear_outside(img, rect)
+        results.append(_Result(img, linear, rect, owned) if k == last or k in last_read
+                       else None)
     if not results:
         return np.zeros_like(source)
-    return results[-1].in_space(False)
+    final = results[-1]
+    final.consume = final.owned
+    return final.in_space(False)
+
+
+def _cleaned(img: np.ndarray, owned: bool):
+    """(img with NaN as 0, +inf as 1 and -inf as 0, whether apply_filter owns it): in place
+    when owned, else a copy where anything needs cleaning. A chunk of rows at a time:
+    nan_to_num's masks over a whole image cost about as much as the image."""
+    rows = max(1, CLEAN_CHUNK // max(1, img.shape[1]))
+    for r in range(0, img.shape[0], rows):
+        if not np.isfinite(img[r:r + rows]).all():
+            if not owned:
+                img, owned = img.copy(), True
+            np.nan_to_num(img[r:r + rows], copy=False, nan=0.0, posinf=1.0, neginf=0.0)
+    return img, owned
+
+
+def _clear_outside(img: np.ndarray, rect) -> None:
+    """Make img transparent outside rect (x0, y0, x1, y1), in place."""
+    x0, y0, x1, y1 = rect
+    if x1 <= x0 or y1 <= y0:
+        img[...] = 0.0
+        return
+    img[:y0] = 0.0
+    img[y1:] = 0.0
+    img[y0:y1, :x0] = 0.0
+    img[y0:y1, x1:] = 0.0
 
 
 def _keeps_finite(e) -> bool:
@@ -513,18 +685,19 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, Merge):
         out = np.zeros(shape, dtype=np.float32)
         for inp in inputs:
-            out = over(inp.in_space(cs), out)
+            out = over(inp.in_space(cs), out, True)
         return out, cs
     if isinstance(e, (Composite, Blend)):
         i1, i2 = inputs[0].in_space(cs), inputs[1].in_space(cs)
         if isinstance(e, Blend):
             return blend_premultiplied(i1, i2.copy(), e.mode), cs
-        return composite(i1, i2, e.operator, e.k), cs
+        return composite(i1, i2, e.operator, e.k, _writable(inputs[0], i1),
+                         _writable(inputs[1], i2)), cs
     img = inputs[0].in_space(cs)
     if isinstance(e, GaussianBlur):
-        return gaussian_blur(img, e.sx, e.sy), cs
+        return gaussian_blur(img, e.sx, e.sy, inputs[0].consume), cs
     if isinstance(e, ColorMatrix):
-        return color_matrix(img, e.matrix), cs
+        return color_matrix(img, e.matrix, inputs[0].consume), cs
     if isinstance(e, ComponentTransfer):
         return component_transfer(img, e.funcs), cs
     if isinstance(e, Morphology):
@@ -533,10 +706,12 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
         return morphology(img, e.operator, e.rx, e.ry), cs
     if isinstance(e, DropShadow):
         blurred = gaussian_blur(img, e.sx, e.sy)
-        shadow = flood(shape, e.color) * blurred[..., 3:4]
+        shadow = flood(shape, e.color)
+        shadow *= blurred[..., 3:4]          # (in place: one image fewer at a time)
+        blurred = None
         if cs:
-            shadow = convert_space(shadow, True)
-        return over(img, offset(shadow, e.dx, e.dy)), cs
+            shadow = convert_space(shadow, True, out=shadow)
+        return over(img, offset(shadow, e.dx, e.dy), True), cs
     raise ValueError(f"unknown filter primitive {e!r}")
 
 
@@ -673,14 +848,16 @@ def turbulence(shape, origin, p: Turbulence) -> np.ndarray:
     frequencies fx, fy, octaves, seed, stitch, fractal and the device transform's scale and
     translation (the noise is a function of user coordinates)."""
     lattice, gradient = turbulence_tables(p.seed)
-    out = np.zeros(shape[:2] + (4,), dtype=np.float64)
+    # f32 straight away: each value is rounded once, as an f64 image's astype rounded it
+    out = np.zeros(shape[:2] + (4,), dtype=np.float32)
     sx, sy, tx, ty = p.to_device
     # no octaves is no noise: fractal noise's (0 + 1) / 2 is a half-transparent grey then, as
     # the specification's reference code computes it; turbulence's 0 is transparent
     if sx > 0 and sy > 0:
         _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p.fx, p.fy,
                            p.octaves, p.fractal, p.stitch, lattice, gradient)
-    return premultiply(out.astype(np.float32))
+    out[..., :3] *= out[..., 3:4]           # premultiplied, in place
+    return out
 
 
 # -- lighting --------------------------------------------------------------------------------

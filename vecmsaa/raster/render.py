@@ -22,8 +22,10 @@ import copy
 import functools
 import math
 import os
+import sys
 import threading
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -1042,7 +1044,10 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     c, d = max(x0, 0), min(x1, w)
     if pixels is None or a >= b or c >= d:
         return None
-    return (a - y0, b - y0, c, d), pixels[a - fy0:b - fy0, c - x0:d - x0].copy()
+    part = pixels[a - fy0:b - fy0, c - x0:d - x0]
+    if layer.blend == "normal" and part.flags.c_contiguous:
+        return (a - y0, b - y0, c, d), part        # draw_layer only reads it then
+    return (a - y0, b - y0, c, d), part.copy()
 
 
 def render_filtered(layer: Layer, raster: Raster):
@@ -1081,38 +1086,89 @@ def render_filtered(layer: Layer, raster: Raster):
         return (0, 0, 0, 0), None
     w, h = x1 - x0, y1 - y0
     moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
-    local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
-                                                     raster.opts.mode == "analytic")[1])
-
     def draw(group, top, rows):
-        img = np.zeros((rows, w, 4), dtype=np.float32)
         items = prepare_items(group, raster.opts)
+        # the first filtered group inside is filtered before this buffer and the rasteriser's
+        # strip buffers exist (filtered_part then finds it done): groups with filters nested N
+        # deep held N of each at once, now about two
+        inner = next((item for item in items if isinstance(item, Layer) and item.filters), None)
+        if inner is not None:
+            with inner.filtering:
+                if id(raster.opts) not in inner.filtered:
+                    inner.filtered[id(raster.opts)] = render_filtered(
+                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h))
+        img = np.zeros((rows, w, 4), dtype=np.float32)
+        local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
+                                                         raster.opts.mode == "analytic")[1])
         # in bands when nested layers would hold more than LAYERS_BUDGET at the region's size
         # (the same pixels: a band's do not depend on where it begins)
         step = layer_rows(w, layer_depth(items))
         for r in range(0, rows, step):
             draw_items(items, img[r:r + step], top + r, local)
         return img
-    pixels = draw(Group(children=moved.children), 0, h)
+    if any(i < 0 for prim in moved.filters[0].primitives for i in prim.inputs):
+        pixels = draw(Group(children=moved.children), 0, h)
+    else:
+        # nothing reads the content (a turbulence or a flood alone): not drawn, no buffer
+        pixels = np.broadcast_to(np.float32(0), (h, w, 4))
     for f in moved.filters:
         fx0, fy0 = max(f.region[0], 0), max(f.region[1], 0)
         fx1, fy1 = min(f.region[2], w), min(f.region[3], h)
-        out = np.zeros_like(pixels)
-        if fx1 > fx0 and fy1 > fy0:
-            part = np.ascontiguousarray(pixels[fy0:fy1, fx0:fx1])
+        if fx1 <= fx0 or fy1 <= fy0:
+            pixels = np.zeros_like(pixels)
+            continue
+        part = pixels[fy0:fy1, fx0:fx1]
+        if part.flags.writeable:
+            part = np.ascontiguousarray(part)
 
-            def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
-                return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
-            out[fy0:fy1, fx0:fx1] = apply_filter(part, f, (fx0, fy0), draw_content)
-        pixels = out
+        def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
+            return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
+        # the content is not read again: the filter may write into it (a blur in place)
+        done = apply_filter(part, f, (fx0, fy0), draw_content,
+                            own_source=part.flags.writeable)
+        part = None
+        if (fx0, fy0, fx1, fy1) == (0, 0, w, h):
+            pixels = done           # the region is the whole buffer: nothing to copy
+        else:
+            pixels = np.zeros_like(pixels)
+            pixels[fy0:fy1, fx0:fx1] = done
+        done = None
     # only the part inside the image is ever copied out: keep that (a blur's region reaches
     # far beyond the image)
     cx0, cy0, cx1, cy1 = max(x0, 0), max(y0, 0), min(x1, W), min(y1, H)
     if cx1 <= cx0 or cy1 <= cy0:
         return (0, 0, 0, 0), None
     if (cx0, cy0, cx1, cy1) != (x0, y0, x1, y1):
-        pixels = pixels[cy0 - y0:cy1 - y0, cx0 - x0:cx1 - x0].copy()
+        held, pixels = [pixels], None       # _cropped holds the only reference
+        pixels = _cropped(held, cy0 - y0, cy1 - y0, cx0 - x0, cx1 - x0)
     return (cx0, cy0, cx1, cy1), pixels
+
+
+def _cropped(held: list, a: int, b: int, c: int, d: int) -> np.ndarray:
+    """pixels[a:b, c:d] on its own (``held``: [pixels], emptied): moved to the front of the
+    buffer it is in, which is then shrunk to it (realloc), so the crop never holds a second
+    buffer (a copy held the region and the image at once); a copy where anything else
+    refers to that buffer."""
+    pixels = held.pop()
+    base = pixels if pixels.base is None else pixels.base
+    shape = pixels.shape
+    if not (pixels.flags.c_contiguous and base.flags.c_contiguous and base.flags.owndata
+            and base.ctypes.data == pixels.ctypes.data and base.nbytes == pixels.nbytes):
+        return pixels[a:b, c:d].copy()
+    pixels = None
+    if sys.getrefcount(base) > 2:        # the name ``base`` and the call's argument
+        return base.reshape(shape)[a:b, c:d].copy()
+    h, row = b - a, (d - c) * 4
+    flat = base.reshape(-1)
+    src = flat.reshape(shape)
+    for r in range(h):               # each row moves toward the front: never over one unread
+        flat[r * row:(r + 1) * row] = src[a + r, c:d].reshape(-1)
+    flat = src = None
+    try:
+        base.resize((h, d - c, 4))   # refused (ValueError) while anything else refers to it
+    except ValueError:
+        return base.reshape(-1)[:h * row].reshape(h, d - c, 4)
+    return base
 
 
 def content_box(group: Group):
