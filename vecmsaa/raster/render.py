@@ -1144,6 +1144,18 @@ def render_filtered(layer: Layer, raster: Raster):
     return (cx0, cy0, cx1, cy1), pixels
 
 
+def _sole_reference_count() -> int:
+    """What sys.getrefcount says of an array one local name holds, as ``base`` in _cropped:
+    2 up to Python 3.13 (the name and the call's argument); interpreters that count the
+    argument otherwise give their own figure, so the test below never takes a shared buffer
+    for a sole one."""
+    probe = np.empty(1)
+    return sys.getrefcount(probe)
+
+
+_SOLE_REFERENCE = _sole_reference_count()
+
+
 def _cropped(held: list, a: int, b: int, c: int, d: int) -> np.ndarray:
     """pixels[a:b, c:d] on its own (``held``: [pixels], emptied): moved to the front of the
     buffer it is in, which is then shrunk to it (realloc), so the crop never holds a second
@@ -1156,7 +1168,7 @@ def _cropped(held: list, a: int, b: int, c: int, d: int) -> np.ndarray:
             and base.ctypes.data == pixels.ctypes.data and base.nbytes == pixels.nbytes):
         return pixels[a:b, c:d].copy()
     pixels = None
-    if sys.getrefcount(base) > 2:        # the name ``base`` and the call's argument
+    if sys.getrefcount(base) > _SOLE_REFERENCE:
         return base.reshape(shape)[a:b, c:d].copy()
     h, row = b - a, (d - c) * 4
     flat = base.reshape(-1)
