@@ -405,6 +405,22 @@ def test_nested_references_within_the_limit_render():
 
 
 # -- filters ----------------------------------------------------------------------------------
+def render_peak(scene, **options):
+    """(RGBA8 image, tracemalloc's peak in bytes) of rendering ``scene`` once its kernels are
+    loaded (a first render, untraced)."""
+    import tracemalloc
+
+    from vecmsaa.raster.render import render_scene_rgba8
+
+    render_scene_rgba8(scene, **options)
+    tracemalloc.start()
+    try:
+        image = render_scene_rgba8(scene, **options)
+        return image, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
 FILTERED = ' filter="url(#f)"'
 
 
@@ -413,8 +429,6 @@ def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
     budget, two threads): keeping every filtered layer until its last band would hold one
     canvas per element. Thirty must cost at most a few canvases more than one, and give the
     one-band image."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
     from vecmsaa.raster.render import render_scene_rgba8
 
@@ -429,13 +443,7 @@ def test_many_filtered_elements_hold_one_filtered_buffer_at_a_time():
                         f'<feGaussianBlur stdDeviation="2"/></filter>{rects}</svg>')
 
     def banded_peak(s):
-        render_scene_rgba8(s, threads=2, band_budget=canvas // 8)      # kernels loaded
-        tracemalloc.start()
-        try:
-            image = render_scene_rgba8(s, threads=2, band_budget=canvas // 8)
-            return image, tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(s, threads=2, band_budget=canvas // 8)
 
     many = scene(30)
     image, peak = banded_peak(many)
@@ -451,11 +459,8 @@ def test_deeply_nested_layers_hold_a_bounded_total(monkeypatch, filtered):
     bands thin out (and so does the drawing of a filtered group's content, at its region's
     size), holding a few canvases in all, with the pixels of the unbudgeted render (a band's
     pixels do not depend on where it starts)."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
     from vecmsaa.raster import render
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size, n = 200, 120
     canvas = size * size * 16                     # one float32 RGBA canvas
@@ -468,12 +473,7 @@ def test_deeply_nested_layers_hold_a_bounded_total(monkeypatch, filtered):
                      f'width="1" height="1"><feOffset dx="3"/></filter>{body}</svg>')
 
     def peak():
-        render_scene_rgba8(scene, threads=1)      # kernels loaded
-        tracemalloc.start()
-        try:
-            return render_scene_rgba8(scene, threads=1), tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)
     monkeypatch.setattr(render, "LAYERS_BUDGET", 1 << 40)
     whole, _ = peak()
     monkeypatch.setattr(render, "LAYERS_BUDGET", 2 * canvas)
@@ -485,10 +485,7 @@ def test_deeply_nested_layers_hold_a_bounded_total(monkeypatch, filtered):
 def test_a_long_filter_chain_holds_a_few_results_not_one_per_primitive():
     """Each primitive reads the previous result (and the source): after that read it is let
     go, so a chain of 60 costs about what a chain of 2 does."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size = 200
     canvas = size * size * 16
@@ -498,13 +495,7 @@ def test_a_long_filter_chain_holds_a_few_results_not_one_per_primitive():
         scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
                          f'y="0" width="1" height="1">{prims}</filter><rect width="{size}" '
                          f'height="{size}" fill="teal" filter="url(#f)"/></svg>')
-        render_scene_rgba8(scene, threads=1)
-        tracemalloc.start()
-        try:
-            render_scene_rgba8(scene, threads=1)
-            return tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)[1]
     extra = (peak(60) - peak(2)) / canvas
     assert extra < 3, f"{extra:.1f} canvases more for 60 primitives than for 2"
 
@@ -537,10 +528,7 @@ def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
     keeps a row or a block of columns aside, the recursive one an f64 copy, two canvases),
     and a band of it is composited without a copy. Before: the content, SourceAlpha, the
     result's buffer, the linear copy, two blur passes and the sRGB copy (7.8 canvases)."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size = 400
     canvas = size * size * 16
@@ -550,13 +538,7 @@ def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
                          f'y="0" width="1" height="1"><feGaussianBlur stdDeviation="{sigma}"/>'
                          f'</filter><rect width="{size}" height="{size}" fill="teal"'
                          f'{FILTERED if filtered else ""}/></svg>')
-        render_scene_rgba8(scene, threads=1)
-        tracemalloc.start()
-        try:
-            image = render_scene_rgba8(scene, threads=1)
-            return image, tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)
     image, held = peak(True)
     # the blur is there: the corner is half-transparent, the centre opaque
     assert 0 < image[0, 0, 3] < 200 and image[size // 2, size // 2, 3] == 255
@@ -570,29 +552,20 @@ def test_nested_filtered_groups_hold_a_few_buffers_not_one_per_level():
     region, one canvas here) was made before the group inside was filtered, so all twelve
     were held at once. The group inside is filtered first now: twelve levels cost a few
     canvases more than one, and the pixels are those of blurring twelve times."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size = 300
     canvas = size * size * 16
 
     def render(levels):
-        body = f'<rect x="100" y="100" width="100" height="100" fill="teal"/>'
+        body = '<rect x="100" y="100" width="100" height="100" fill="teal"/>'
         for _ in range(levels):
             body = f'<g filter="url(#f)">{body}</g>'
         scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" '
                          f'filterUnits="userSpaceOnUse" x="0" y="0" width="{size}" '
                          f'height="{size}"><feGaussianBlur stdDeviation="3"/></filter>'
                          f'{body}</svg>')
-        render_scene_rgba8(scene, threads=1)
-        tracemalloc.start()
-        try:
-            image = render_scene_rgba8(scene, threads=1)
-            return image, tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)
     image, deep = render(12)
     one, single = render(1)
     # twelve blurs of sigma 3 spread like one of sigma 3·√12 ≈ 10.4: wider than one blur
@@ -606,10 +579,7 @@ def test_a_turbulence_filter_holds_its_result_only():
     noise is written in f32 and premultiplied in place. One canvas and change (before: the
     content, an f64 noise image, its f32 copy, the premultiplied copy and a cleaned copy,
     7.6 canvases)."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size = 400
     canvas = size * size * 16
@@ -619,13 +589,7 @@ def test_a_turbulence_filter_holds_its_result_only():
                          f'y="0" width="1" height="1"><feTurbulence baseFrequency="0.05"/>'
                          f'</filter><rect width="{size}" height="{size}" fill="teal"'
                          f'{FILTERED if filtered else ""}/></svg>')
-        render_scene_rgba8(scene, threads=1)
-        tracemalloc.start()
-        try:
-            image = render_scene_rgba8(scene, threads=1)
-            return image, tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)
     image, held = peak(True)
     assert len(np.unique(image[..., 3])) > 50          # noise, not the teal rect
     extra = (held - peak(False)[1]) / canvas
@@ -649,10 +613,7 @@ def test_a_filter_primitive_holds_a_few_canvases(primitive, bound):
     image, its next step and the running extreme). feDropShadow and feComposite's
     source-over write into the shadow and into an input no one reads after (8.9 and 7.9
     canvases before)."""
-    import tracemalloc
-
     from vecmsaa.api import load_svg
-    from vecmsaa.raster.render import render_scene_rgba8
 
     size = 400
     canvas = size * size * 16
@@ -664,13 +625,7 @@ def test_a_filter_primitive_holds_a_few_canvases(primitive, bound):
                          f'<rect width="{size}" height="{size}" fill="rgb(0,128,255)" '
                          f'fill-opacity="0.5"/>'
                          f'<circle cx="200" cy="200" r="50" fill="orange"/></g></svg>')
-        render_scene_rgba8(scene, threads=1)
-        tracemalloc.start()
-        try:
-            image = render_scene_rgba8(scene, threads=1)
-            return image, tracemalloc.get_traced_memory()[1]
-        finally:
-            tracemalloc.stop()
+        return render_peak(scene, threads=1)
     image, held = peak(True)
     plain, unfiltered = peak(False)
     assert not np.array_equal(image, plain)               # the filter did something
