@@ -633,19 +633,15 @@ def test_layers_band_by_band_on_kept_buffers():
                                   whole), (budget, threads)
 
 
-@pytest.mark.parametrize("threads", [2, 3, 5, 40])
-def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatch):
-    """A batch's edges and lenses built in parts on a band pool's threads
-    (render.build_in_parts) and joined are those of the batch built at once: every array,
-    offsets included, equal. Paths of lines, quadratics, cubics (loops among them) and conics,
-    open and closed, one that draws nothing, and more threads than paths."""
-    from vecmsaa.geometry.primitives import batch_arrays, build_batch
-    rng = np.random.default_rng(7)
+def random_paths(rng, count, empty, most):
+    """``count`` random paths of lines, quadratics, cubics (loops among them) and conics, up
+    to ``most`` - 1 segments, every third open; path i has no segment at all possibly when
+    ``empty(i)``."""
     paths = []
-    for i in range(30):
+    for i in range(count):
         path = Path()
         path.moveTo(tuple(rng.uniform(0, 100, 2)))
-        for _ in range(int(rng.integers(0 if i == 4 else 1, 8))):
+        for _ in range(int(rng.integers(0 if empty(i) else 1, most))):
             kind = rng.integers(4)
             pts = [tuple(rng.uniform(0, 100, 2)) for _ in range(3)]
             if kind == 0:
@@ -659,6 +655,17 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
         if i % 3:
             path.closePath()
         paths.append(path)
+    return paths
+
+
+@pytest.mark.parametrize("threads", [2, 3, 5, 40])
+def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatch):
+    """A batch's edges and lenses built in parts on a band pool's threads
+    (render.build_in_parts) and joined are those of the batch built at once: every array,
+    offsets included, equal. Paths of lines, quadratics, cubics (loops among them) and conics,
+    open and closed, one that draws nothing, and more threads than paths."""
+    from vecmsaa.geometry.primitives import batch_arrays, build_batch
+    paths = random_paths(np.random.default_rng(7), 30, empty=lambda i: i == 4, most=8)
     arrays = batch_arrays(paths)
     monkeypatch.setattr(render_module, "SPLIT_COST", 0)
     for batch in (arrays, batch_arrays(paths[:2])):
@@ -676,25 +683,7 @@ def test_one_path_alone_has_the_arrays_it_has_in_a_batch():
     has in a batch of many, with the same dtypes and layout; and _fill_batches keeps or drops
     a lone fill (one that draws nothing, one with a NaN) as it does in a batch."""
     from vecmsaa.geometry.primitives import batch_arrays
-    rng = np.random.default_rng(17)
-    paths = []
-    for i in range(20):
-        path = Path()
-        path.moveTo(tuple(rng.uniform(0, 100, 2)))
-        for _ in range(int(rng.integers(0 if i < 3 else 1, 6))):
-            kind = rng.integers(4)
-            pts = [tuple(rng.uniform(0, 100, 2)) for _ in range(3)]
-            if kind == 0:
-                path.lineTo(pts[0])
-            elif kind == 1:
-                path.qCurveTo(pts[0], pts[1])
-            elif kind == 2:
-                path.curveTo(*pts)
-            else:
-                path.conicTo(pts[0], pts[1], float(rng.uniform(0.2, 3)))
-        if i % 3:
-            path.closePath()
-        paths.append(path)
+    paths = random_paths(np.random.default_rng(17), 20, empty=lambda i: i < 3, most=6)
     nan = Path()
     nan.moveTo((1.0, 2.0))
     nan.lineTo((float("nan"), 3.0))
