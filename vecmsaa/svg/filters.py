@@ -199,7 +199,7 @@ def _href_chain(el, doc):
 
 # -- <filter> ------------------------------------------------------------------------------
 # primitives whose effect depends on where the element is (its translation) or on the element
-# itself: a <filter> holding one is resolved afresh for each use (_filter_per_use)
+# itself: the effects of a <filter> holding one are resolved afresh for each use
 _PER_USE = frozenset(("feImage", "feTurbulence", "feDiffuseLighting", "feSpecularLighting"))
 
 
@@ -211,15 +211,13 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     (builder.filter_cache): the <filter>'s units, its region's and subregions' lengths (per
     viewport), and the primitives' effects and inputs (per viewport, linear part of the
     matrices, which is all the device scale depends on, and bounding box size when
-    primitiveUnits is objectBoundingBox). Each use maps the rectangles, in the same
-    arithmetic as _filter_per_use."""
+    primitiveUnits is objectBoundingBox), except where a primitive of _PER_USE makes them
+    the use's own. Each use maps the rectangles."""
     cache = builder.filter_cache
     head = cache.get(fel)
     if head is None:
         head = cache[fel] = _filter_head(builder, fel)
-    if head is False:
-        return _filter_per_use(builder, fel, el, ctx, bbox_fn)
-    units_obb, prim_obb, holder = head
+    units_obb, prim_obb, holder, per_use = head
     bbox = bbox_fn() if (units_obb or prim_obb) else None
     if (units_obb or prim_obb) and (bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]):
         return None
@@ -228,9 +226,8 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         lengths = cache[(fel, ctx.viewport)] = _filter_lengths(builder, fel, units_obb,
                                                                prim_obb, holder, ctx)
     region_spec, subs = lengths
-    if bbox is not None:
-        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
     if units_obb:
+        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
         x, y, w, h = bbox_fractions_f32(*region_spec, bx, by, bw, bh)
     else:
         x, y, w, h = region_spec
@@ -242,29 +239,29 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     layer = layer_matrix(ctx.transform, region)
     whole = layer_rect(x, y, w, h, layer)
     region = whole or region
-    size = (bbox[2] - bbox[0], bbox[3] - bbox[1]) if prim_obb else None
-    key = (fel, ctx.viewport, ctx.transform[:4], tuple(m[:4] for m in ctx.chain), size)
-    effects = cache.get(key)
-    if effects is None:
-        resolver = PrimitiveResolver(builder, el, ctx, None, bbox if prim_obb else None)
-        effects = cache[key] = resolver.effects(holder)
+    obb_box = bbox if prim_obb else None
+    if per_use:
+        resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), obb_box)
+        resolver.layer = layer
+        effects = resolver.effects(holder)      # each resolved once its subregion is known
+    else:
+        size = (bbox[2] - bbox[0], bbox[3] - bbox[1]) if prim_obb else None
+        key = (fel, ctx.viewport, ctx.transform[:4], tuple(m[:4] for m in ctx.chain), size)
+        resolved = cache.get(key)
+        if resolved is None:
+            resolved = cache[key] = list(
+                PrimitiveResolver(builder, el, ctx, None, obb_box).effects(holder))
+        effects = iter(resolved)
     primitives = []
-    for (tag, spec), (effect, inputs, linear) in zip(subs, effects):
-        # (the same arithmetic as PrimitiveResolver.user_subregion)
-        if prim_obb:
-            fx, fy, fw, fh = spec
-            if tag in ("feFlood", "feImage"):
-                user = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
-            else:
-                user = (x * fw + fx, y * fh + fy, w * fw, h * fh)
-        else:
-            user = tuple([(d if v is None else v) for v, d in zip(spec, (x, y, w, h))])
-        if not (user[2] > 0 and user[3] > 0):
+    for tag, spec in subs:
+        user = _user_subregion(tag, spec, (x, y, w, h), obb_box)
+        if user is None:
             break                                   # usvg stops at an invalid subregion
         # (a primitive without x, y, width and height has the region's rectangle)
         sub = whole if user == (x, y, w, h) else layer_rect(*user, layer)
         if sub is None:
             break
+        effect, inputs, linear = next(effects)
         primitives.append(Primitive(effect, inputs, sub, linear))
     if not primitives:
         return None
@@ -280,19 +277,18 @@ def _filter_attr(chain, name):
 
 def _filter_head(builder, fel):
     """(filterUnits is objectBoundingBox, primitiveUnits is, the element holding the
-    primitives) of a <filter>, False when it must be resolved for each use (_PER_USE)."""
+    primitives, whether a primitive's effect is the use's own: _PER_USE) of a <filter>."""
     chain = _href_chain(fel, builder.doc)
     holder = next((e for e in chain if e.children), None)   # usvg: the first with children
-    if holder is not None and any(c.tag in _PER_USE for c in holder.children):
-        return False
     return ((_filter_attr(chain, "filterUnits") or "") != "userSpaceOnUse",
-            (_filter_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder)
+            (_filter_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder,
+            holder is not None and any(c.tag in _PER_USE for c in holder.children))
 
 
 def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
     """A <filter>'s lengths in a viewport: its region (fractions of the bounding box, or
-    user-space x, y, width, height), and for each primitive its tag and subregion (fractions,
-    or user-space lengths, None where not given)."""
+    user-space x, y, width, height), and for each primitive its tag and subregion
+    (_subregion_spec)."""
     chain = _href_chain(fel, builder.doc)
     attr = lambda name: _filter_attr(chain, name)  # noqa: E731
     style = builder.doc.document_style(fel)
@@ -308,66 +304,43 @@ def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
             return default if v is None else v
         region = (length("x", "x", -0.1 * vw), length("y", "y", -0.1 * vh),
                   length("width", "x", 1.2 * vw), length("height", "y", 1.2 * vh))
-    subs = []
-    names = ("x", "y", "width", "height")
-    for fe in (holder.children if holder is not None else ()):
-        if fe.tag not in PRIMITIVE_TAGS:
-            continue
-        style = builder.doc.document_style(fe)
-        if prim_obb:
-            spec = tuple(box_coord(builder, fe.get(n), a, True, style, ctx.viewport, d)
-                         for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%")))
-        else:
-            spec = tuple(builder.length(fe.get(n), a, style, ctx.viewport)
-                         for n, a in zip(names, "xyxy"))
-        subs.append((fe.tag, spec))
+    subs = [(fe.tag, _subregion_spec(builder, fe, prim_obb, ctx.viewport))
+            for fe in (holder.children if holder is not None else ())
+            if fe.tag in PRIMITIVE_TAGS]
     return region, subs
 
 
-def _filter_per_use(builder, fel, el, ctx, bbox_fn):
-    """filter_element for a <filter> resolved afresh for each use."""
-    chain = _href_chain(fel, builder.doc)
+def _subregion_spec(builder, fe, prim_obb, viewport):
+    """A primitive's x, y, width and height: fractions with primitiveUnits=objectBoundingBox
+    (defaults 0%, 0%, 100%, 100%), else user-space lengths, None where not given."""
+    style = builder.doc.document_style(fe)
+    names = ("x", "y", "width", "height")
+    if prim_obb:
+        return tuple(box_coord(builder, fe.get(n), a, True, style, viewport, d)
+                     for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%")))
+    return tuple(builder.length(fe.get(n), a, style, viewport) for n, a in zip(names, "xyxy"))
 
-    def attr(name):
-        for e in chain:
-            if e.get(name) is not None:
-                return e.get(name)
-        return None
 
-    units_obb = (attr("filterUnits") or "") != "userSpaceOnUse"
-    prim_obb = (attr("primitiveUnits") or "") == "objectBoundingBox"
-    bbox = bbox_fn() if (units_obb or prim_obb) else None
-    if (units_obb or prim_obb) and (bbox is None or bbox[2] <= bbox[0] or bbox[3] <= bbox[1]):
-        return None
-    style = builder.doc.document_style(fel)
-    if units_obb:
-        bx, by, bw, bh = bbox[0], bbox[1], bbox[2] - bbox[0], bbox[3] - bbox[1]
-        fx, fy, fw, fh = [box_coord(builder, attr(n), a, True, style, ctx.viewport, d)
-                          for n, a, d in (("x", "x", "-10%"), ("y", "y", "-10%"),
-                                          ("width", "x", "120%"), ("height", "y", "120%"))]
-        x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
+def _user_subregion(tag, spec, region, obb_box):
+    """(x, y, width, height) of a primitive subregion in user space from its _subregion_spec
+    and the filter region's user-space rectangle, or None when empty. ``obb_box``: the
+    bounding box with primitiveUnits=objectBoundingBox."""
+    if obb_box is not None:
+        bx, by = obb_box[0], obb_box[1]
+        bw, bh = obb_box[2] - bx, obb_box[3] - by
+        fx, fy, fw, fh = spec
+        if tag in ("feFlood", "feImage"):
+            # usvg: fractions of the bounding box
+            x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
+        else:
+            # usvg: the filter region scaled by the fractions (and x, y added as they are)
+            rx, ry, rw, rh = region
+            x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
     else:
-        vw, vh = ctx.viewport
-
-        def length(name, axis, default):
-            v = builder.length(attr(name), axis, style, ctx.viewport)
-            return default if v is None else v
-        x, y = length("x", "x", -0.1 * vw), length("y", "y", -0.1 * vh)
-        w, h = length("width", "x", 1.2 * vw), length("height", "y", 1.2 * vh)
+        x, y, w, h = [d if v is None else v for v, d in zip(spec, region)]
     if not (w > 0 and h > 0):
         return None
-    region = device_rect(x, y, w, h, ctx.transform)
-    holder = next((e for e in chain if e.children), None)   # usvg: the first with children
-    if region is None or holder is None:
-        return None
-    layer = layer_matrix(ctx.transform, region)
-    region = layer_rect(x, y, w, h, layer) or region
-    resolver = PrimitiveResolver(builder, el, ctx, (x, y, w, h), bbox if prim_obb else None)
-    resolver.layer = layer
-    primitives = resolver.primitives(holder)
-    if not primitives:
-        return None
-    return Filter(region=region, primitives=primitives)
+    return x, y, w, h
 
 
 class PrimitiveResolver:
@@ -388,39 +361,20 @@ class PrimitiveResolver:
         self.count = 0
 
     def effects(self, holder):
-        """[(effect, inputs, linear)] of every primitive, whatever its subregion (for
-        filter_element, which stops at the first invalid one of each use)."""
-        out = []
+        """(effect, inputs, linear) of each primitive in turn, a generator: filter_element
+        asks for the next one once that primitive's subregion holds (usvg stops at the first
+        invalid one, and an feImage's effect reads its subregion)."""
         for child in holder.children:
             if child.tag not in PRIMITIVE_TAGS:
                 continue
             style = self.builder.doc.document_style(child)
             effect, inputs = self.effect(child, style)
             cif = (style.get("color-interpolation-filters") or "").strip()
-            out.append((effect, tuple(inputs), cif != "sRGB"))
             name = child.get("result")
             if name:
                 self.names[name] = self.count
             self.count += 1
-        return out
-
-    def primitives(self, holder):
-        out = []
-        for child in holder.children:
-            if child.tag not in PRIMITIVE_TAGS:
-                continue
-            sub = self.subregion(child)
-            if sub is None:
-                break                                   # usvg stops at an invalid subregion
-            style = self.builder.doc.document_style(child)
-            effect, inputs = self.effect(child, style)
-            cif = (style.get("color-interpolation-filters") or "").strip()
-            out.append(Primitive(effect, tuple(inputs), sub, cif != "sRGB"))
-            name = child.get("result")
-            if name:
-                self.names[name] = self.count
-            self.count += 1
-        return out
+            yield effect, tuple(inputs), cif != "sRGB"
 
     def subregion(self, fe):
         """Device rect of the primitive subregion (default: the filter region), or None."""
@@ -429,29 +383,8 @@ class PrimitiveResolver:
 
     def user_subregion(self, fe):
         """(x, y, width, height) of the primitive subregion in user space, or None."""
-        rx, ry, rw, rh = self.region
-        names = ("x", "y", "width", "height")
-        if self.obb_box is not None:
-            bx, by = self.obb_box[0], self.obb_box[1]
-            bw, bh = self.obb_box[2] - bx, self.obb_box[3] - by
-            style = self.builder.doc.document_style(fe)
-            fx, fy, fw, fh = [box_coord(self.builder, fe.get(n), a, True, style,
-                                        self.ctx.viewport, d)
-                              for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%"))]
-            if fe.tag in ("feFlood", "feImage"):
-                # usvg: fractions of the bounding box
-                x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
-            else:
-                # usvg: the filter region scaled by the fractions (and x, y added as they are)
-                x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
-        else:
-            style = self.builder.doc.document_style(fe)
-            vals = [self.builder.length(fe.get(n), a, style, self.ctx.viewport)
-                    for n, a in zip(names, ("x", "y", "x", "y"))]
-            x, y, w, h = [d if v is None else v for v, d in zip(vals, self.region)]
-        if not (w > 0 and h > 0):
-            return None
-        return x, y, w, h
+        spec = _subregion_spec(self.builder, fe, self.obb_box is not None, self.ctx.viewport)
+        return _user_subregion(fe.tag, spec, self.region, self.obb_box)
 
     def input(self, fe, attr="in"):
         # the name as written: " SourceGraphic " and " a " name nothing (usvg, and Blink's
