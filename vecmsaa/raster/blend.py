@@ -6,18 +6,19 @@ import numpy as np
 from ..jit import njit
 
 
-def unpremultiply(img: np.ndarray) -> np.ndarray:
-    """Straight RGBA (transparent pixels black)."""
-    out = img.copy()
-    a = img[..., 3:4]
-    np.divide(img[..., :3], a, out=out[..., :3], where=a > 0)
+def unpremultiply(img: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """Straight RGBA (transparent pixels black); ``in_place``: written into ``img``."""
+    out = img if in_place else img.copy()
+    a = out[..., 3:4]
+    np.divide(out[..., :3], a, out=out[..., :3], where=a > 0)
     out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
     return out
 
 
-def premultiply(img: np.ndarray) -> np.ndarray:
-    out = img.copy()
-    out[..., :3] *= img[..., 3:4]
+def premultiply(img: np.ndarray, in_place: bool = False) -> np.ndarray:
+    """Premultiplied RGBA of straight ``img``; ``in_place``: written into ``img``."""
+    out = img if in_place else img.copy()
+    out[..., :3] *= out[..., 3:4]
     return out
 
 

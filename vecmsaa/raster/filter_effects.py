@@ -19,7 +19,7 @@ from dataclasses import replace
 import numpy as np
 from ..jit import njit
 
-from .blend import blend_premultiplied, unpremultiply
+from .blend import blend_premultiplied, premultiply, unpremultiply
 from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, ComponentTransfer,
                            Composite, ConvolveMatrix, DisplacementMap, DropShadow, Filter, Flood,
                            GaussianBlur, Image, Lighting, Merge, Morphology, Offset, Tile,
@@ -343,18 +343,13 @@ COLORLESS_ALPHA = 0.5 / 255
 def _straight(img: np.ndarray) -> np.ndarray:
     """Straight RGBA for the per-pixel colour functions, pixels under COLORLESS_ALPHA as 0
     (one new image: unpremultiplied in place)."""
-    out = np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img)
-    a = out[..., 3:4]
-    np.divide(out[..., :3], a, out=out[..., :3], where=a > 0)
-    out[..., :3][np.broadcast_to(a <= 0, out[..., :3].shape)] = 0.0
-    return out
+    return unpremultiply(np.where(img[..., 3:4] < COLORLESS_ALPHA, np.float32(0), img),
+                         in_place=True)
 
 
 def _clipped_premultiplied(out: np.ndarray) -> np.ndarray:
     """out clamped to [0, 1] and premultiplied, in place (f32, as the copies rounded)."""
-    np.clip(out, 0.0, 1.0, out=out)
-    out[..., :3] *= out[..., 3:4]
-    return out
+    return premultiply(np.clip(out, 0.0, 1.0, out=out), in_place=True)
 
 
 def color_matrix(img: np.ndarray, matrix, in_place: bool = False) -> np.ndarray:
@@ -856,8 +851,7 @@ def turbulence(shape, origin, p: Turbulence) -> np.ndarray:
     if sx > 0 and sy > 0:
         _turbulence_pixels(out, origin[0] - tx, origin[1] - ty, sx, sy, p.fx, p.fy,
                            p.octaves, p.fractal, p.stitch, lattice, gradient)
-    out[..., :3] *= out[..., 3:4]           # premultiplied, in place
-    return out
+    return premultiply(out, in_place=True)
 
 
 # -- lighting --------------------------------------------------------------------------------
