@@ -31,6 +31,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
 from .document import Element
+from .paint import inherited_attr
 from .units import (ANGLE_DEG, box_coord, f32_chain, parse_number, parse_number_list,
                     parse_number_prefix, parse_opacity, row_scale_f32, split_length,
                     url_argument)
@@ -268,20 +269,13 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
     return Filter(region=region, primitives=primitives)
 
 
-def _filter_attr(chain, name):
-    for e in chain:
-        if e.get(name) is not None:
-            return e.get(name)
-    return None
-
-
 def _filter_head(builder, fel):
     """(filterUnits is objectBoundingBox, primitiveUnits is, the element holding the
     primitives, whether a primitive's effect is the use's own: _PER_USE) of a <filter>."""
     chain = _href_chain(fel, builder.doc)
     holder = next((e for e in chain if e.children), None)   # usvg: the first with children
-    return ((_filter_attr(chain, "filterUnits") or "") != "userSpaceOnUse",
-            (_filter_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder,
+    return ((inherited_attr(chain, "filterUnits") or "") != "userSpaceOnUse",
+            (inherited_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder,
             holder is not None and any(c.tag in _PER_USE for c in holder.children))
 
 
@@ -290,7 +284,7 @@ def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
     user-space x, y, width, height), and for each primitive its tag and subregion
     (_subregion_spec)."""
     chain = _href_chain(fel, builder.doc)
-    attr = lambda name: _filter_attr(chain, name)  # noqa: E731
+    attr = lambda name: inherited_attr(chain, name)  # noqa: E731
     style = builder.doc.document_style(fel)
     if units_obb:
         region = tuple(box_coord(builder, attr(n), a, True, style, ctx.viewport, d)
