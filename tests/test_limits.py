@@ -421,6 +421,26 @@ def render_peak(scene, **options):
         tracemalloc.stop()
 
 
+def filter_cost(svg_of, size):
+    """(filtered image, unfiltered image, peak of the filtered render over the unfiltered one
+    in float32 RGBA canvases of size x size) of the documents ``svg_of(True)`` and
+    ``svg_of(False)``, rendered on one thread."""
+    from vecmsaa.api import load_svg
+
+    image, held = render_peak(load_svg(svg_of(True)), threads=1)
+    plain, unfiltered = render_peak(load_svg(svg_of(False)), threads=1)
+    return image, plain, (held - unfiltered) / (size * size * 16)
+
+
+def filtered_rect(primitives, size):
+    """svg_of for filter_cost: a teal size x size rect, with a filter of ``primitives``
+    whose region is its box when ``filtered``."""
+    return lambda filtered: (f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+                             f'y="0" width="1" height="1">{primitives}</filter><rect '
+                             f'width="{size}" height="{size}" fill="teal"'
+                             f'{FILTERED if filtered else ""}/></svg>')
+
+
 FILTERED = ' filter="url(#f)"'
 
 
@@ -528,21 +548,11 @@ def test_a_blur_filter_holds_its_content_and_little_more(sigma, images):
     keeps a row or a block of columns aside, the recursive one an f64 copy, two canvases),
     and a band of it is composited without a copy. Before: the content, SourceAlpha, the
     result's buffer, the linear copy, two blur passes and the sRGB copy (7.8 canvases)."""
-    from vecmsaa.api import load_svg
-
     size = 400
-    canvas = size * size * 16
-
-    def peak(filtered):
-        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
-                         f'y="0" width="1" height="1"><feGaussianBlur stdDeviation="{sigma}"/>'
-                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
-                         f'{FILTERED if filtered else ""}/></svg>')
-        return render_peak(scene, threads=1)
-    image, held = peak(True)
+    image, _, extra = filter_cost(
+        filtered_rect(f'<feGaussianBlur stdDeviation="{sigma}"/>', size), size)
     # the blur is there: the corner is half-transparent, the centre opaque
     assert 0 < image[0, 0, 3] < 200 and image[size // 2, size // 2, 3] == 255
-    extra = (held - peak(False)[1]) / canvas
     # the content's canvas, the blur's own (images - 1), and under one for the rasteriser
     assert extra < images + 1, f"{extra:.1f} canvases for a blur's filter"
 
@@ -579,20 +589,10 @@ def test_a_turbulence_filter_holds_its_result_only():
     noise is written in f32 and premultiplied in place. One canvas and change (before: the
     content, an f64 noise image, its f32 copy, the premultiplied copy and a cleaned copy,
     7.6 canvases)."""
-    from vecmsaa.api import load_svg
-
     size = 400
-    canvas = size * size * 16
-
-    def peak(filtered):
-        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
-                         f'y="0" width="1" height="1"><feTurbulence baseFrequency="0.05"/>'
-                         f'</filter><rect width="{size}" height="{size}" fill="teal"'
-                         f'{FILTERED if filtered else ""}/></svg>')
-        return render_peak(scene, threads=1)
-    image, held = peak(True)
+    image, _, extra = filter_cost(
+        filtered_rect('<feTurbulence baseFrequency="0.05"/>', size), size)
     assert len(np.unique(image[..., 3])) > 50          # noise, not the teal rect
-    extra = (held - peak(False)[1]) / canvas
     assert extra < 1.5, f"{extra:.1f} canvases for a turbulence filter"
 
 
@@ -613,23 +613,15 @@ def test_a_filter_primitive_holds_a_few_canvases(primitive, bound):
     image, its next step and the running extreme). feDropShadow and feComposite's
     source-over write into the shadow and into an input no one reads after (8.9 and 7.9
     canvases before)."""
-    from vecmsaa.api import load_svg
-
     size = 400
-    canvas = size * size * 16
-
-    def peak(filtered):
-        scene = load_svg(f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
+    image, plain, extra = filter_cost(
+        lambda filtered: f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" '
                          f'y="0" width="1" height="1">{primitive}</filter><g'
                          f'{FILTERED if filtered else ""}>'
                          f'<rect width="{size}" height="{size}" fill="rgb(0,128,255)" '
                          f'fill-opacity="0.5"/>'
-                         f'<circle cx="200" cy="200" r="50" fill="orange"/></g></svg>')
-        return render_peak(scene, threads=1)
-    image, held = peak(True)
-    plain, unfiltered = peak(False)
+                         f'<circle cx="200" cy="200" r="50" fill="orange"/></g></svg>', size)
     assert not np.array_equal(image, plain)               # the filter did something
-    extra = (held - unfiltered) / canvas
     assert extra < bound, f"{extra:.1f} canvases for {primitive}"
 
 
