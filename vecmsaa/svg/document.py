@@ -163,6 +163,15 @@ _EM_LENGTH = re.compile(r"(?<![\w.])([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(
                         re.I)
 
 
+def inherited_attr(chain, name, default=None):
+    """The attribute of the first element of ``chain`` (an element and those its href leads
+    to: gradients, patterns, filters) that has it, else ``default``."""
+    for el in chain:
+        if name in el.attrs:
+            return el.attrs[name]
+    return default
+
+
 def _absolute_em(value: str, font_size: float) -> str:
     """``value`` with its em and ex lengths written in px for ``font_size``."""
     return _EM_LENGTH.sub(

@@ -30,8 +30,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            GaussianBlur, Group, Image, Lighting, Merge, Morphology, Offset,
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
-from .document import Element
-from .paint import inherited_attr
+from .document import Element, inherited_attr
 from .units import (ANGLE_DEG, box_coord, f32_chain, parse_number, parse_number_list,
                     parse_number_prefix, parse_opacity, row_scale_f32, split_length,
                     url_argument)

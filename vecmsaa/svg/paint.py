@@ -17,6 +17,7 @@ import numpy as np
 from ..scene.transform import IDENTITY, compose, invert, translate
 from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from .color import parse_svg_color as parse_color
+from .document import inherited_attr
 from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
                     row_scale_f32, parse_aspect, parse_opacity, parse_transform, parse_viewbox,
                     split_length, viewbox_transform)
@@ -46,13 +47,6 @@ def href_chain(builder, el, tags):
         seen.add(id(nxt))
         node = nxt
     return chain
-
-
-def inherited_attr(chain, name, default=None):
-    for el in chain:
-        if name in el.attrs:
-            return el.attrs[name]
-    return default
 
 
 def gradient_stops(builder, chain):
