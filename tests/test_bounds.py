@@ -142,3 +142,39 @@ def test_empty_and_degenerate_paths():
     p.lineTo((-1.0, 9.0))
     p.closePath()
     assert path_bounds(p) == (-1.0, 4.0, 3.0, 9.0)
+
+
+class _El:
+    def __init__(self, tag, **attrs):
+        self.tag, self.attrs = tag, {k: str(v) for k, v in attrs.items()}
+
+
+def _length(el):
+    def get(name, axis, default=None):
+        v = el.attrs.get(name)
+        return default if v is None else float(v)
+    return get
+
+
+@pytest.mark.parametrize("el, want", [
+    (_El("rect", x=-791.6, y=276.8, width=36.8, height=973.9, rx=5.4e-5, ry=0.019),
+     (-791.6, 276.8, -791.6 + 36.8, 276.8 + 973.9)),
+    (_El("rect", x=10, y=20, width=30, height=40, rx=100), (10.0, 20.0, 40.0, 60.0)),
+    (_El("rect", x=10, y=20, width=30, height=0), None),
+    (_El("circle", cx=-552.8, cy=3.5, r=138.8), (-552.8 - 138.8, 3.5 - 138.8,
+                                                 -552.8 + 138.8, 3.5 + 138.8)),
+    (_El("circle", cx=1, cy=1, r=0), None),
+    (_El("ellipse", cx=5, cy=6, rx=2), (3.0, 4.0, 7.0, 8.0)),        # ry auto: rx
+    (_El("ellipse", cx=5, cy=6, rx=-1, ry=3), (2.0, 3.0, 8.0, 9.0)),  # rx auto: ry
+    (_El("ellipse", cx=5, cy=6), None),
+])
+def test_shape_box_is_the_shapes_geometry(el, want):
+    # SVG 2 §8.2 (rect), §9.2-9.3 (circle, ellipse): the box of the rectangle or ellipse the
+    # attributes describe, rounded corners or not; None where the shape renders nothing
+    from vecmsaa.svg.shapes import shape_box, shape_path
+    assert shape_box(el, _length(el)) == want
+    path = shape_path(el, _length(el))
+    if want is None:
+        assert path is None
+    else:       # the outline's box (its conics counted as cubics) agrees to rounding
+        assert close(path_bounds(path), want, 1e-12 * max(abs(v) for v in want))
