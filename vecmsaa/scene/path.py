@@ -351,13 +351,16 @@ def conic_weight(b0, b1, mid, b2):
 
 
 def rect_path(x, y, w, h) -> Path:
-    path = Path()
-    path.moveTo((x, y))
-    path.lineTo((x + w, y))
-    path.lineTo((x + w, y + h))
-    path.lineTo((x, y + h))
-    path.closePath()
-    return path
+    """The rectangle's outline, corners from (x, y) clockwise (y down), closed. Made as
+    arrays: the pen's five calls cost more than the rest of a filtered or clipped element's
+    region, clip rectangle or bounding box (thousands of markers make one each)."""
+    r, b = x + w, y + h
+    return Path._of_arrays(_RECT_VERBS, np.array(((x, y), (r, y), (r, b), (x, b)), np.float64))
+
+
+#: rect_path's verbs, shared by its paths (a Path's arrays are not written to: drawing into
+#: a path made from arrays copies them into lists first)
+_RECT_VERBS = np.array((MOVE, LINE, LINE, LINE, CLOSE), np.uint8)
 
 
 #: the attributes of a fresh Path (Path._blank copies them; the lists are replaced there)

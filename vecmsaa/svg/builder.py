@@ -29,7 +29,7 @@ from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
-from .shapes import author_path_length, shape_path
+from .shapes import author_path_length, shape_box, shape_path
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
                     parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
@@ -79,6 +79,9 @@ def _zero_length_closes(path):
             pts.append(pts[-1])
     return Path.from_arrays(np.array(verbs, np.uint8), np.array(pts, np.float64).reshape(-1, 2))
 
+
+#: shapes whose object bounding box shape_box knows from their attributes
+_BOXED_SHAPES = frozenset(("rect", "circle", "ellipse"))
 
 #: the verbs that draw nothing (Path.is_empty)
 _NOT_DRAWING = bytes((MOVE, CLOSE))
@@ -259,6 +262,7 @@ class Builder:
         self._geometry_memo = {}
         self._hidden_memo = {}         # see _filter_hides
         self._reference_boxes = {}     # see reference_box
+        self._shape_memo = {}          # see _shape_path
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -289,6 +293,7 @@ class Builder:
         self._geometry_memo.clear()
         self._hidden_memo.clear()
         self._reference_boxes.clear()
+        self._shape_memo.clear()
 
     def _build_root(self, transform, viewport, canvas, geometry) -> list:
         root = self.doc.root
@@ -888,7 +893,7 @@ class Builder:
         walked its whole subtree at every filtered or clipped level of a nesting (n^2/2
         builds), and deciding in the geometry pass whether each level's filter draws, which
         needs its box, built each subtree twice (2^n)."""
-        g = replace(ctx, transform=IDENTITY, geometry=True, clip=False)
+        g = ctx_with(ctx, transform=IDENTITY, geometry=True, clip=False)
         key = (el, style, g, tuple(self.ref_stack))
         try:
             return self._bbox_memo[key]
@@ -1108,10 +1113,14 @@ class Builder:
         return np.flatnonzero(odd).tolist()
 
     def shape(self, el, ctx, style):
+        if ctx.geometry and el.tag in _BOXED_SHAPES:
+            # a bounding box from the shape's parameters, without its outline
+            box = shape_box(el, self.length_getter(el, style, ctx))
+            return [] if box is None else self.draw_path(None, style, ctx, bbox=box)
         if el.tag == "path":
             path = self.path_data(el)
         else:
-            path = shape_path(el, self.length_getter(el, style, ctx))
+            path = self._shape_path(el, style, ctx)
         if path is None:
             return []
         if path.is_empty():
@@ -1138,6 +1147,21 @@ class Builder:
             dash_scale = self._path_length_scale(el, path, style, ctx)
         return self.draw_path(path, style, ctx, markers=el.tag in MARKABLE,
                               dash_scale=dash_scale)
+
+    def _shape_path(self, el, style, ctx):
+        """shape_path of a basic shape, kept where the same element is likely built again:
+        in a bounding box's geometry pass (the drawing pass follows), inside a <use> and a
+        clip path, mask, marker or pattern (each instance builds it anew: a marker on ten
+        thousand vertices). Keyed by all the path depends on: the element, its computed style
+        (font size) and the viewport (percentages). Paths are not drawn into once made."""
+        key = (el, style, ctx.viewport)
+        memo = self._shape_memo
+        path = memo.get(key, memo)
+        if path is memo:
+            path = shape_path(el, self.length_getter(el, style, ctx))
+            if ctx.geometry or ctx.use_stack or self.ref_stack:
+                memo[key] = path
+        return path
 
     def _path_length_scale(self, el, path, style, ctx):
         """The factor a shape's ``pathLength`` scales its dash array and offset by (SVG 2

@@ -143,7 +143,7 @@ def device_rect(x, y, w, h, m):
     s = _f32(ax + cy, ar + cy, ax + cb, ar + cb, bx + dy, br + dy, bx + db, br + db)
     corners = _f32(s[0] + e, s[1] + e, s[2] + e, s[3] + e,
                    s[4] + ff, s[5] + ff, s[6] + ff, s[7] + ff)
-    if not all(math.isfinite(v) for v in corners):
+    if not math.isfinite(sum(corners)):     # (f32 values: a sum of 8 is finite in f64)
         return None
     xs, ys = corners[:4], corners[4:]
     left, top = min(xs), min(ys)

@@ -61,6 +61,63 @@ def author_path_length(el):
     return v if v is not None and v >= 0 else None
 
 
+def _rect_params(length):
+    """(x, y, width, height, rx, ry) of a <rect>, radii clamped; None when it renders nothing."""
+    w, h = length("width", "x", None), length("height", "y", None)
+    if w is None or h is None or w <= 0 or h <= 0:
+        return None
+    x, y = length("x", "x", 0.0), length("y", "y", 0.0)
+    rx, ry = length("rx", "x", None), length("ry", "y", None)
+    if rx is not None and rx < 0:
+        rx = None
+    if ry is not None and ry < 0:
+        ry = None
+    if rx is None and ry is None:
+        rx = ry = 0.0
+    elif rx is None:
+        rx = ry
+    elif ry is None:
+        ry = rx
+    return x, y, w, h, min(rx, w / 2), min(ry, h / 2)
+
+
+def _ellipse_params(tag, length):
+    """(cx, cy, rx, ry) of a <circle> or <ellipse>; None when it renders nothing."""
+    if tag == "circle":
+        r = length("r", "xy", 0.0)
+        if r <= 0:
+            return None
+        return length("cx", "x", 0.0), length("cy", "y", 0.0), r, r
+    rx, ry = length("rx", "x", None), length("ry", "y", None)
+    # negative or missing radii mean "auto": take the other one (SVG 2)
+    rx = None if rx is not None and rx < 0 else rx
+    ry = None if ry is not None and ry < 0 else ry
+    if rx is None and ry is None:
+        return None
+    rx = ry if rx is None else rx
+    ry = rx if ry is None else ry
+    if rx <= 0 or ry <= 0:
+        return None
+    return length("cx", "x", 0.0), length("cy", "y", 0.0), rx, ry
+
+
+def shape_box(el, length):
+    """The object bounding box of a rect, circle or ellipse from its own parameters (the
+    geometry its outline is made from: exact, without making the outline), None when it
+    renders nothing; False for other elements."""
+    tag = el.tag
+    if tag == "rect":
+        r = _rect_params(length)
+        return None if r is None else (r[0], r[1], r[0] + r[2], r[1] + r[3])
+    if tag == "circle" or tag == "ellipse":
+        e = _ellipse_params(tag, length)
+        if e is None:
+            return None
+        cx, cy, rx, ry = e
+        return cx - rx, cy - ry, cx + rx, cy + ry
+    return False
+
+
 def shape_path(el, length):
     """Path of a basic shape element in its user space, or None when it renders nothing.
 
@@ -68,39 +125,11 @@ def shape_path(el, length):
     """
     tag = el.tag
     if tag == "rect":
-        w, h = length("width", "x", None), length("height", "y", None)
-        if w is None or h is None or w <= 0 or h <= 0:
-            return None
-        x, y = length("x", "x", 0.0), length("y", "y", 0.0)
-        rx, ry = length("rx", "x", None), length("ry", "y", None)
-        if rx is not None and rx < 0:
-            rx = None
-        if ry is not None and ry < 0:
-            ry = None
-        if rx is None and ry is None:
-            rx = ry = 0.0
-        elif rx is None:
-            rx = ry
-        elif ry is None:
-            ry = rx
-        return rounded_rect_path(x, y, w, h, min(rx, w / 2), min(ry, h / 2))
-    if tag == "circle":
-        r = length("r", "xy", 0.0)
-        if r <= 0:
-            return None
-        return ellipse_path(length("cx", "x", 0.0), length("cy", "y", 0.0), r, r)
-    if tag == "ellipse":
-        rx, ry = length("rx", "x", None), length("ry", "y", None)
-        # negative or missing radii mean "auto": take the other one (SVG 2)
-        rx = None if rx is not None and rx < 0 else rx
-        ry = None if ry is not None and ry < 0 else ry
-        if rx is None and ry is None:
-            return None
-        rx = ry if rx is None else rx
-        ry = rx if ry is None else ry
-        if rx <= 0 or ry <= 0:
-            return None
-        return ellipse_path(length("cx", "x", 0.0), length("cy", "y", 0.0), rx, ry)
+        r = _rect_params(length)
+        return None if r is None else rounded_rect_path(*r)
+    if tag == "circle" or tag == "ellipse":
+        e = _ellipse_params(tag, length)
+        return None if e is None else ellipse_path(*e)
     if tag == "line":
         p = Path()
         p.moveTo((length("x1", "x", 0.0), length("y1", "y", 0.0)))
