@@ -24,17 +24,20 @@ class ReferencePen(BasePen):
     def __init__(self, glyphSet=None):
         super().__init__(glyphSet)
         self.verbs, self.points, self.open = [], [], False
+        self.subpath_start = None
 
     def _start(self):
-        if not self.open:       # (Path starts a drawing command after a close at (0, 0))
-            self.verbs.append(MOVE)
-            self.points.append(self._getCurrentPoint() or (0.0, 0.0))
-            self.open = True
+        # a drawing command without a moveTo: after a close at the closed subpath's start
+        # (SVG's closepath), after an endPath or before anything at (0, 0)
+        if not self.open:
+            at = self._getCurrentPoint() or self.subpath_start or (0.0, 0.0)
+            self._moveTo(at)
 
     def _moveTo(self, pt):
         self.verbs.append(MOVE)
         self.points.append(pt)
         self.open = True
+        self.subpath_start = pt
 
     def _lineTo(self, pt):
         self._start()
@@ -58,6 +61,7 @@ class ReferencePen(BasePen):
 
     def _endPath(self):
         self.open = False
+        self.subpath_start = None
 
 
 def assert_same(path, ref):
@@ -105,3 +109,37 @@ def test_every_glyph_with_components_draws_as_through_fonttools():
         if "glyf" in font:
             composites += sum(font["glyf"][g].isComposite() for g in font.getGlyphOrder())
     assert composites > 10
+
+
+def _subpaths(path):
+    """(verb, points) per recorded segment, points as tuples."""
+    out, i = [], 0
+    pts = [tuple(p) for p in path.points.tolist()]
+    for v in path.verbs.tolist():
+        n = (1, 1, 2, 3, 0, 3)[v]
+        out.append((v, pts[i:i + n]))
+        i += n
+    return out
+
+
+def test_drawing_after_closepath_starts_at_the_closed_subpaths_start():
+    """SVG 2 §9.3.4 (closepath): after it, the current point is the subpath's initial point,
+    and a drawing command without a moveto starts the next subpath there. The same holds for
+    a conic (Path's own call), which had no current point to start from, and for a path built
+    from lists, whose subpath start the pen did not see."""
+    from vecmsaa.scene.path import CONIC
+    for make in ("pen", "lists"):
+        if make == "pen":
+            p = Path()
+            p.moveTo((1, 2)); p.lineTo((5, 2)); p.lineTo((5, 6))
+        else:
+            p = Path.from_lists([MOVE, LINE, LINE], [(1, 2), (5, 2), (5, 6)])
+        p.closePath()
+        p.conicTo((9, 9), (3, 7), 0.5)
+        p.closePath()
+        p.lineTo((0, 4))
+        segs = _subpaths(p)
+        assert segs[4] == (MOVE, [(1, 2)]), make
+        assert segs[5][0] == CONIC and segs[5][1][-1] == (3, 7), make
+        assert segs[7] == (MOVE, [(1, 2)]), make
+        assert segs[8] == (LINE, [(0, 4)]), make

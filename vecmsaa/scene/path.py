@@ -40,6 +40,8 @@ class Path:
     # thousands on map data) then sets only ``_arrays`` (and ``_shared``) of its own.
     glyphSet = None
     _current = None             # the pen's current point
+    _start = None               # the open subpath's first point (current after closePath);
+                                # None: not recorded (a path from lists), found when needed
     _verbs = None
     _pts = None
     _arrays = None
@@ -62,7 +64,7 @@ class Path:
         self._verbs.append(MOVE)
         self._pts.append(pt)
         self._open = True
-        self._current = pt
+        self._current = self._start = pt
 
     def lineTo(self, pt):
         self._implicit_move()
@@ -115,13 +117,23 @@ class Path:
         self._thaw()
         if self._open:
             self._verbs.append(CLOSE)
+            # the current point is the subpath's start, as after SVG's and PostScript's closepath
+            self._current = self._start if self._start is not None else self._subpath_start()
         self._open = False
-        self._current = None
+
+    def _subpath_start(self):
+        """The point of the last moveTo recorded (None without one)."""
+        i = len(self._pts)
+        for v in reversed(self._verbs):
+            i -= VERB_POINTS[v]
+            if v == MOVE:
+                return self._pts[i]
+        return None
 
     def endPath(self):
         self._thaw()
         self._open = False
-        self._current = None
+        self._current = self._start = None
 
     def addComponent(self, glyphName, transformation):
         """Draw the component glyph from ``glyphSet`` transformed (a missing one is skipped,
@@ -136,11 +148,13 @@ class Path:
     def _implicit_move(self):
         self._thaw()
         if not self._open:
-            # A drawing command after closePath starts at the last current point (SVG rule).
+            # A drawing command after closePath starts a subpath at the closed one's start
+            # (SVG's rule); one with no point drawn before starts at the origin.
             cur = self._current or (0.0, 0.0)
             self._verbs.append(MOVE)
             self._pts.append(cur)
             self._open = True
+            self._current = self._start = cur
 
     def _thaw(self):
         """Make the lists current before appending; the arrays go stale. A path made from
@@ -294,6 +308,7 @@ class Path:
         self._pts.extend(map(tuple, p.tolist()))
         self._open = v[-1] != CLOSE
         self._current = tuple(p[-1].tolist()) if len(p) else None
+        self._start = None
 
     def __repr__(self):
         return f"Path({len(self)} segments)"
