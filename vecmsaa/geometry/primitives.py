@@ -88,6 +88,8 @@ def _push_edge(edges, ne, x0, y0, x1, y1):
 #: for: more than a sample's distance from its pixel, and more than the rounding of a chord's
 #: crossing with a sample row at any sane coordinate
 CULL_MARGIN = 2.0
+#: rows of build_batch's outputs copied out of a room at least twice their size (see there)
+SMALL_COPY_ROWS = 256
 #: no canvas: nothing is culled (build_batch's ``clip`` for callers that draw anywhere)
 NO_CULL = np.array([-np.inf, -np.inf, np.inf, np.inf])
 
@@ -142,14 +144,37 @@ def _outside(q, n, clip):
     return False
 
 
+@njit(cache=True, inline="always")
+def _adds_winding(x0, y0, x1, y1, top, bottom, right):
+    """Whether the edge can add winding to a sample of the rect from ``top`` to ``bottom``
+    left of ``right``: one wholly above, below or right of it adds none (the scan converters
+    count crossings left of a sample in its own row); one left of it still counts. (Scalars
+    only: an array argument costs a reference count per call, here per edge of a map.)"""
+    return not ((y0 < top and y1 < top) or (y0 > bottom and y1 > bottom) or
+                (x0 > right and x1 > right))
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _push_line(edges, ne, x0, y0, x1, y1, top, bottom, right):
+    """_push_edge of an edge that can add winding to a sample of the rect (_adds_winding).
+    (One call for both: a _push_edge call of its own under the test was not inlined, and
+    its reference counts cost a map's batch a third more time.)"""
+    if not _adds_winding(x0, y0, x1, y1, top, bottom, right):
+        return edges, ne
+    if y0 == y1 and x0 == x1:
+        return edges, ne
+    edges = _grow(edges, ne)
+    edges[ne, 0] = x0
+    edges[ne, 1] = y0
+    edges[ne, 2] = x1
+    edges[ne, 3] = y1
+    return edges, ne + 1
+
+
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _push_visible(edges, ne, x0, y0, x1, y1, clip):
-    """_push_edge of an edge that can add winding to a sample in ``clip``: one wholly above,
-    below or right of it adds none (the scan converters count crossings left of a sample in
-    its own row) and is left out; one left of it still counts."""
-    if max(y0, y1) < clip[1] or min(y0, y1) > clip[3] or min(x0, x1) > clip[2]:
-        return edges, ne
-    return _push_edge(edges, ne, x0, y0, x1, y1)
+    """_push_line with the rect ``clip``."""
+    return _push_line(edges, ne, x0, y0, x1, y1, clip[1], clip[3], clip[2])
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -944,6 +969,7 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
     clip = np.empty(4)
     for k in range(4):
         clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    top, bottom, right = clip[1], clip[3], clip[2]
     for p in range(npaths):
         pi = pt_off[p]
         sx = sy = cx = cy = 0.0
@@ -952,14 +978,14 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
             v = verbs[vi]
             if v == MOVE:
                 if open_:
-                    edges, ne = _push_visible(edges, ne, cx, cy, sx, sy, clip)
+                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
                 sx, sy = points[pi, 0], points[pi, 1]
                 cx, cy = sx, sy
                 pi += 1
                 open_ = True
             elif v == LINE:
                 x, y = points[pi, 0], points[pi, 1]
-                edges, ne = _push_visible(edges, ne, cx, cy, x, y, clip)
+                edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
                 cx, cy = x, y
                 pi += 1
             elif v == QUAD:
@@ -997,20 +1023,21 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
                 pi += 3
             elif v == CLOSE:
                 if open_:
-                    edges, ne = _push_visible(edges, ne, cx, cy, sx, sy, clip)
+                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
                 cx, cy = sx, sy
                 open_ = False
         if open_:
-            edges, ne = _push_visible(edges, ne, cx, cy, sx, sy, clip)
+            edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
         edge_off[p + 1] = ne
         prim_off[p + 1] = nc
-    # views, not copies: a copy is as many fresh pages again (the arrays live for one render);
-    # but copies where less than half the room was taken (culled curves take next to none of
-    # the room their points reserved): a small array's room is all memory, and 50,000
-    # marker copies of a huge circle held 7 KB each of unused lens rows
-    if 2 * ne < edges.shape[0]:
+    # views, not copies: a copy is as many fresh pages again (the arrays live for one render;
+    # a large array's room never written takes no memory). But a small copy where less than
+    # half the room was taken (culled curves take next to none of the room their points
+    # reserve): a small array's room is all memory, and 50,000 marker copies of a huge
+    # circle held 7 KB each of unused lens rows
+    if 2 * ne < edges.shape[0] and ne <= SMALL_COPY_ROWS:
         edges = edges[:ne].copy()
-    if 2 * nc < prims.shape[0]:
+    if 2 * nc < prims.shape[0] and nc <= SMALL_COPY_ROWS:
         prims = prims[:nc].copy()
     return edges[:ne], edge_off, prims[:nc], prim_off
 
