@@ -53,6 +53,16 @@ LINE_EPS = 1.0 / 1024.0
 #: cubic → quadratic fallback tolerance (pixels)
 QUAD_FALLBACK_TOL = 1.0 / 128.0
 MAX_PIECES = 4096
+#: halvings of a conic or cubic at most (2¹² pieces): a bigger bulge (absurd coordinates)
+#: keeps a thicker lens, which is still exact, instead of exploding in count
+MAX_DEPTH = 12
+#: segments a curve is flattened into at most
+MAX_SEGMENTS = 65536
+#: the limits above for a curve reaching beyond the canvas, where only the pieces that meet
+#: it are split (primitives._outside): a circle 1e8 px across is cut to the flatness asked
+#: for where it crosses the image, in a few dozen pieces
+CULLED_MAX_DEPTH = 30
+CULLED_MAX_PIECES = 1 << 24
 
 
 # -- growable output buffers --------------------------------------------------------------------
@@ -283,9 +293,9 @@ def _quad_hull(q, x0, y0, x1, y1, x2, y2, ta, tb):
 def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol, clip, q):
     dd = math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     n = int(math.ceil(math.sqrt(dd / (4.0 * tol)))) if dd > 0 else 1
-    n = max(1, min(n, 65536))
     q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
     cull = not _within(q, 3, clip)
+    n = max(1, min(n, CULLED_MAX_PIECES if cull else MAX_SEGMENTS))
     px, py = x0, y0
     i = 0
     while i < n:
@@ -315,8 +325,8 @@ def _flatten_cubic(edges, ne, c, tol, clip, q):
     m = max(math.hypot(c[0, 0] - 2 * c[1, 0] + c[2, 0], c[0, 1] - 2 * c[1, 1] + c[2, 1]),
             math.hypot(c[1, 0] - 2 * c[2, 0] + c[3, 0], c[1, 1] - 2 * c[2, 1] + c[3, 1]))
     n = int(math.ceil(math.sqrt(3.0 * m / (4.0 * tol)))) if m > 0 else 1
-    n = max(1, min(n, 65536))
     cull = not _within(c, 4, clip)
+    n = max(1, min(n, CULLED_MAX_PIECES if cull else MAX_SEGMENTS))
     px, py = c[0, 0], c[0, 1]
     i = 0
     while i < n:
@@ -419,9 +429,9 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta, clip, 
         return edges, ne, prims, nc
     # splitting into k pieces divides the bulge by k²
     k = int(math.ceil(math.sqrt(dev / max_sagitta)))
-    k = max(1, min(k, MAX_PIECES))
     q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
     cull = not _within(q, 3, clip)
+    k = max(1, min(k, CULLED_MAX_PIECES if cull else MAX_PIECES))
     i = 0
     while i < k:
         # a run of pieces whose part of the curve misses the canvas: its chord (_outside)
@@ -500,11 +510,13 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten,
     """A conic halved until each piece bulges at most ``tol`` from its chord, then each piece
     as its chord (``flatten``: the exact-area modes) or as chord plus lens. A piece's bulge is
     exactly dist(b1, chord) · w / (1 + w), at t = ½; halving gives weight √((1 + w) / 2).
-    At most 2¹² pieces (absurd coordinates keep thicker lenses, which are still exact). A
-    piece whose control triangle misses ``clip`` is its chord, not halved further
-    (_outside): a circle a million pixels across around the canvas is a few dozen pieces."""
+    At most MAX_DEPTH halvings (absurd coordinates keep thicker lenses, which are still
+    exact). A piece whose control triangle misses ``clip`` is its chord, not halved further
+    (_outside): a circle a million pixels across around the canvas is a few dozen pieces,
+    and one crossing it is halved up to CULLED_MAX_DEPTH times where it does."""
     q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
     cull = not _within(q, 3, clip)
+    most = CULLED_MAX_DEPTH if cull else MAX_DEPTH
     stack = np.empty((32, 7))
     top = 0
     st = stack[0]
@@ -526,7 +538,7 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten,
         if bulge < LINE_EPS or (flatten and bulge <= tol):
             edges, ne = _push_edge(edges, ne, ax, ay, ex, ey)
             continue
-        if bulge > tol and d < 12:
+        if bulge > tol and d < most:
             # de Casteljau on (b0, w·b1, b2) at ½, renormalised to end weights 1
             s = 1.0 / (1.0 + wt)
             qx, qy = (ax + wt * bx) * s, (ay + wt * by) * s
@@ -827,6 +839,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4, clip, q):
     if not math.isfinite(dev):
         return edges, ne, prims, nc
     cull = not _within(c, 4, clip)
+    most = CULLED_MAX_DEPTH if cull else MAX_DEPTH
     if cull and _outside(c, 4, clip):
         edges, ne = _push_visible(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1], clip)
         return edges, ne, prims, nc
@@ -910,9 +923,10 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4, clip, q):
             if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
                 edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
                 continue
-            # depth 12: at most 4096 pieces per interval; a bigger bulge (absurd coordinates)
-            # keeps a thicker lens, which is still exact, instead of exploding in count
-            if split and depth < 12 and top < 60:
+            # at most MAX_DEPTH halvings (CULLED_MAX_DEPTH beyond the canvas); a bigger bulge
+            # (absurd coordinates) keeps a thicker lens, which is still exact, instead of
+            # exploding in count
+            if split and depth < most and top < 60:
                 tm = 0.5 * (ta + tb)
                 top += 1
                 stack[top, 0], stack[top, 1], stack[top, 2] = tm, tb, depth + 1
