@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 
 from numba import njit
 
-from vecmsaa.geometry.primitives import (P_KIND, _eval_implicit, build_batch,
+from vecmsaa.geometry.primitives import (NO_CULL, P_KIND, _eval_implicit, build_batch,
                                          classify_cubic as _classify_cubic, KIND_CUBIC)
 from vecmsaa.scene.path import Path
 
@@ -80,7 +80,8 @@ def check_inflections(c):
 
 def primitives(path):
     v, p = path.verbs, path.points
-    return build_batch(v, p, np.array([0, len(v)]), np.array([0, len(p)]), 0.0, 1.0)
+    return build_batch(v, p, np.array([0, len(v)]), np.array([0, len(p)]), 0.0, 1.0,
+                       NO_CULL)
 
 
 cubic_pts = st.lists(st.tuples(st.floats(-50, 50), st.floats(-50, 50)), min_size=4, max_size=4)

@@ -555,7 +555,21 @@ FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">
                 'fill="none"/></svg>')
 
 
-@pytest.mark.parametrize("source", ["layered", "filtered", "Ghostscript_Tiger", "alexandria-city-1"])
+#: geometry far larger than the image, around it and across it (culled: primitives.build_batch),
+#: filled, stroked, in a filter's region and as a clip
+HUGE_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="90" height="70">'
+            '<filter id="f" x="-1" y="-1" width="3" height="3"><feOffset dx="-20" dy="5"/>'
+            '</filter><clipPath id="c"><circle cx="45" cy="-1e6" r="1.00003e6"/></clipPath>'
+            '<circle cx="-1e6" cy="35" r="1.00004e6" fill="#36c"/>'
+            '<path d="M0 0 C 1e6 1e6 -1e6 1e6 0 70 Z" fill="#c30" fill-opacity="0.6"/>'
+            '<ellipse cx="45" cy="1e6" rx="3e6" ry="999940" fill="none" stroke="#393" '
+            'stroke-width="9"/><g clip-path="url(#c)"><rect width="90" height="70" '
+            'fill="#fc0" opacity="0.5"/></g><g filter="url(#f)"><path d="M100 30 Q 1e6 2e6 '
+            '100 40 Z" fill="#909"/></g></svg>')
+
+
+@pytest.mark.parametrize("source", ["layered", "filtered", "huge", "Ghostscript_Tiger",
+                                    "alexandria-city-1"])
 def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     """Bands rendered on 1, 2 or 3 threads with several band budgets, and kernel strips
     smaller than the bands: the same image, byte for byte (each thread has its own kernel
@@ -565,6 +579,8 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
         scene = layered_scene(61)
     elif source == "filtered":
         scene = load_svg(FILTERED_SVG)
+    elif source == "huge":
+        scene = load_svg(HUGE_SVG)
     else:
         path = request.getfixturevalue("shared_dir") / "corpus" / f"{source}.svg"
         if not path.is_file():
@@ -668,11 +684,13 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
     paths = random_paths(np.random.default_rng(7), 30, empty=lambda i: i == 4, most=8)
     arrays = batch_arrays(paths)
     monkeypatch.setattr(render_module, "SPLIT_COST", 0)
+    # (a canvas that culls some of the paths' pieces: their geometry is built all the same)
+    canvas = np.array([20.0, 30.0, 60.0, 70.0])
     for batch in (arrays, batch_arrays(paths[:2])):
         for tol in (0.0, 0.25):
-            whole = build_batch(*batch, tol, render_module.MAX_SAGITTA)
+            whole = build_batch(*batch, tol, render_module.MAX_SAGITTA, canvas)
             with render_module.band_pool(threads) as pool:
-                parts = render_module.build_in_parts(*batch, tol, pool)()
+                parts = render_module.build_in_parts(*batch, tol, pool, canvas)()
             assert len(whole[2]) > 0 or tol > 0
             for a, b in zip(parts, whole):
                 assert a.dtype == b.dtype and np.array_equal(a, b)

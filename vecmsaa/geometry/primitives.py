@@ -53,6 +53,16 @@ LINE_EPS = 1.0 / 1024.0
 #: cubic → quadratic fallback tolerance (pixels)
 QUAD_FALLBACK_TOL = 1.0 / 128.0
 MAX_PIECES = 4096
+#: halvings of a conic or cubic at most (2¹² pieces): a bigger bulge (absurd coordinates)
+#: keeps a thicker lens, which is still exact, instead of exploding in count
+MAX_DEPTH = 12
+#: segments a curve is flattened into at most
+MAX_SEGMENTS = 65536
+#: the limits above for a curve reaching beyond the canvas, where only the pieces that meet
+#: it are split (primitives._outside): a circle 1e8 px across is cut to the flatness asked
+#: for where it crosses the image, in a few dozen pieces
+CULLED_MAX_DEPTH = 30
+CULLED_MAX_PIECES = 1 << 24
 
 
 # -- growable output buffers --------------------------------------------------------------------
@@ -81,6 +91,110 @@ def _push_edge(edges, ne, x0, y0, x1, y1):
     edges[ne, 2] = x1
     edges[ne, 3] = y1
     return edges, ne + 1
+
+
+# -- culling: geometry outside the canvas ----------------------------------------------------
+#: device pixels the culling rect (build_batch's ``clip``) reaches beyond the canvas it stands
+#: for: more than a sample's distance from its pixel, and more than the rounding of a chord's
+#: crossing with a sample row at any sane coordinate
+CULL_MARGIN = 2.0
+#: rows of build_batch's outputs copied out of a room at least twice their size (see there)
+SMALL_COPY_ROWS = 256
+#: no canvas: nothing is culled (build_batch's ``clip`` for callers that draw anywhere)
+NO_CULL = np.array([-np.inf, -np.inf, np.inf, np.inf])
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _outside(q, n, clip):
+    """Whether the convex hull of the points q[:n] misses the rect ``clip`` (x0, y0, x1, y1,
+    margin included): the rect's sides or a line through two of the points separate them
+    (the hull's edges are among those lines: the separating axis test of two convex
+    polygons). A curve piece lies in its control points' hull, and so does the lens between
+    it and its chord: drawn as its chord alone, the piece changes the winding number only
+    inside the hull, where no sample is. False for NaN and for NO_CULL."""
+    cx0, cy0, cx1, cy1 = clip[0], clip[1], clip[2], clip[3]
+    if not (cx0 > -np.inf):
+        return False
+    xmin = xmax = q[0, 0]
+    ymin = ymax = q[0, 1]
+    for k in range(1, n):
+        xmin = min(xmin, q[k, 0])
+        xmax = max(xmax, q[k, 0])
+        ymin = min(ymin, q[k, 1])
+        ymax = max(ymax, q[k, 1])
+    if xmax < cx0 or xmin > cx1 or ymax < cy0 or ymin > cy1:
+        return True
+    if not (xmin <= xmax and ymin <= ymax):
+        return False
+    # rounding of the side values: relative to the largest coordinate in play (1e-12 of it,
+    # a millionth of a pixel at a million pixels), on top of the margin
+    big = max(max(abs(xmin), abs(xmax)), max(abs(ymin), abs(ymax)))
+    big = max(big, max(max(abs(cx0), abs(cx1)), max(abs(cy0), abs(cy1))))
+    for i in range(n):
+        px, py = q[i, 0], q[i, 1]
+        for j in range(i + 1, n):
+            nx, ny = py - q[j, 1], q[j, 0] - px
+            if nx == 0.0 and ny == 0.0:
+                continue
+            lo = hi = 0.0
+            for k in range(n):
+                s = nx * (q[k, 0] - px) + ny * (q[k, 1] - py)
+                lo = min(lo, s)
+                hi = max(hi, s)
+            if lo < 0.0 and hi > 0.0:
+                continue        # points on both sides: not an edge of the hull
+            # the rect's extent along the normal, from p_i
+            ax0, ax1 = nx * (cx0 - px), nx * (cx1 - px)
+            ay0, ay1 = ny * (cy0 - py), ny * (cy1 - py)
+            rmin = min(ax0, ax1) + min(ay0, ay1)
+            rmax = max(ax0, ax1) + max(ay0, ay1)
+            slack = 1e-12 * big * (abs(nx) + abs(ny))
+            if (hi <= 0.0 and rmin > slack) or (lo >= 0.0 and rmax < -slack):
+                return True
+    return False
+
+
+@njit(cache=True, inline="always")
+def _adds_winding(x0, y0, x1, y1, top, bottom, right):
+    """Whether the edge can add winding to a sample of the rect from ``top`` to ``bottom``
+    left of ``right``: one wholly above, below or right of it adds none (the scan converters
+    count crossings left of a sample in its own row); one left of it still counts. (Scalars
+    only: an array argument costs a reference count per call, here per edge of a map.)"""
+    return not ((y0 < top and y1 < top) or (y0 > bottom and y1 > bottom) or
+                (x0 > right and x1 > right))
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _push_line(edges, ne, x0, y0, x1, y1, top, bottom, right):
+    """_push_edge of an edge that can add winding to a sample of the rect (_adds_winding).
+    (One call for both: a _push_edge call of its own under the test was not inlined, and
+    its reference counts cost a map's batch a third more time.)"""
+    if not _adds_winding(x0, y0, x1, y1, top, bottom, right):
+        return edges, ne
+    if y0 == y1 and x0 == x1:
+        return edges, ne
+    edges = _grow(edges, ne)
+    edges[ne, 0] = x0
+    edges[ne, 1] = y0
+    edges[ne, 2] = x1
+    edges[ne, 3] = y1
+    return edges, ne + 1
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _push_visible(edges, ne, x0, y0, x1, y1, clip):
+    """_push_line with the rect ``clip``."""
+    return _push_line(edges, ne, x0, y0, x1, y1, clip[1], clip[3], clip[2])
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _block(i, n):
+    """The largest power of two b with i a multiple of b and i + b <= n (i < n): the aligned
+    runs of pieces i .. i + b - 1 that the uniform splitters below try to cull at once."""
+    b = 1
+    while i % (2 * b) == 0 and i + 2 * b <= n:
+        b *= 2
+    return b
 
 
 # -- Bézier helpers -----------------------------------------------------------------------------
@@ -147,14 +261,57 @@ def _bulge(c):
                abs((c[2, 0] - ax) * dy - (c[2, 1] - ay) * dx) / ln)
 
 
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _within(q, n, clip):
+    """Whether the points q[:n] lie in ``clip``: then no part of the curve can be culled and
+    the splitters run as they do without a rect (most curves of a drawing)."""
+    for k in range(n):
+        if not (clip[0] <= q[k, 0] <= clip[2] and clip[1] <= q[k, 1] <= clip[3]):
+            return False
+    return True
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _quad_hull(q, x0, y0, x1, y1, x2, y2, ta, tb):
+    """The control points of the quadratic's part ta..tb into q (ends as _quad_point gives
+    them, the curve's own at t = 0 and 1); its middle one by blossoming."""
+    ax, ay = _quad_point(x0, y0, x1, y1, x2, y2, ta)
+    bx, by = _quad_point(x0, y0, x1, y1, x2, y2, tb)
+    if ta == 0.0:
+        ax, ay = x0, y0
+    if tb == 1.0:
+        bx, by = x2, y2
+    mt_a, mt_b = 1.0 - ta, 1.0 - tb
+    q[0, 0], q[0, 1] = ax, ay
+    q[1, 0] = mt_a * mt_b * x0 + (mt_a * tb + ta * mt_b) * x1 + ta * tb * x2
+    q[1, 1] = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
+    q[2, 0], q[2, 1] = bx, by
+
+
 # -- flattening (analytic / reference modes) ----------------------------------------------------
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
+def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol, clip, q):
     dd = math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     n = int(math.ceil(math.sqrt(dd / (4.0 * tol)))) if dd > 0 else 1
-    n = max(1, min(n, 65536))
+    q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
+    cull = not _within(q, 3, clip)
+    n = max(1, min(n, CULLED_MAX_PIECES if cull else MAX_SEGMENTS))
     px, py = x0, y0
-    for i in range(1, n + 1):
+    i = 0
+    while i < n:
+        # a run of segments whose part of the curve misses the canvas: one edge (_outside)
+        b = _block(i, n) if cull else 0
+        while b > 0:
+            _quad_hull(q, x0, y0, x1, y1, x2, y2, i / n, (i + b) / n if i + b < n else 1.0)
+            if _outside(q, 3, clip):
+                break
+            b //= 2
+        if b > 0:
+            edges, ne = _push_visible(edges, ne, px, py, q[2, 0], q[2, 1], clip)
+            px, py = q[2, 0], q[2, 1]
+            i += b
+            continue
+        i += 1
         qx, qy = _quad_point(x0, y0, x1, y1, x2, y2, i / n)
         if i == n:
             qx, qy = x2, y2
@@ -164,13 +321,32 @@ def _flatten_quad(edges, ne, x0, y0, x1, y1, x2, y2, tol):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _flatten_cubic(edges, ne, c, tol):
+def _flatten_cubic(edges, ne, c, tol, clip, q):
     m = max(math.hypot(c[0, 0] - 2 * c[1, 0] + c[2, 0], c[0, 1] - 2 * c[1, 1] + c[2, 1]),
             math.hypot(c[1, 0] - 2 * c[2, 0] + c[3, 0], c[1, 1] - 2 * c[2, 1] + c[3, 1]))
     n = int(math.ceil(math.sqrt(3.0 * m / (4.0 * tol)))) if m > 0 else 1
-    n = max(1, min(n, 65536))
+    cull = not _within(c, 4, clip)
+    n = max(1, min(n, CULLED_MAX_PIECES if cull else MAX_SEGMENTS))
     px, py = c[0, 0], c[0, 1]
-    for i in range(1, n + 1):
+    i = 0
+    while i < n:
+        # a run of segments whose part of the curve misses the canvas: one edge (_outside)
+        b = _block(i, n) if cull else 0
+        while b > 0:
+            _cubic_sub(q, c, i / n, (i + b) / n if i + b < n else 1.0)
+            if _outside(q, 4, clip):
+                break
+            b //= 2
+        if b > 0:
+            # (the part's end as the segments' own ends are computed: no crack between them)
+            qx, qy = _cubic_point(c, (i + b) / n)
+            if i + b == n:
+                qx, qy = c[3, 0], c[3, 1]
+            edges, ne = _push_visible(edges, ne, px, py, qx, qy, clip)
+            px, py = qx, qy
+            i += b
+            continue
+        i += 1
         qx, qy = _cubic_point(c, i / n)
         if i == n:
             qx, qy = c[3, 0], c[3, 1]
@@ -246,15 +422,29 @@ def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y, n0=-1.0, n1=-1.0):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
+def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta, clip, q):
     dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
     if dev < LINE_EPS or not (math.isfinite(dev)):
         edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
         return edges, ne, prims, nc
     # splitting into k pieces divides the bulge by k²
     k = int(math.ceil(math.sqrt(dev / max_sagitta)))
-    k = max(1, min(k, MAX_PIECES))
-    for i in range(k):
+    q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
+    cull = not _within(q, 3, clip)
+    k = max(1, min(k, CULLED_MAX_PIECES if cull else MAX_PIECES))
+    i = 0
+    while i < k:
+        # a run of pieces whose part of the curve misses the canvas: its chord (_outside)
+        b = _block(i, k) if cull else 0
+        while b > 0:
+            _quad_hull(q, x0, y0, x1, y1, x2, y2, i / k, (i + b) / k if i + b < k else 1.0)
+            if _outside(q, 3, clip):
+                break
+            b //= 2
+        if b > 0:
+            edges, ne = _push_visible(edges, ne, q[0, 0], q[0, 1], q[2, 0], q[2, 1], clip)
+            i += b
+            continue
         ta, tb = i / k, (i + 1) / k
         ax, ay = _quad_point(x0, y0, x1, y1, x2, y2, ta)
         bx, by = _quad_point(x0, y0, x1, y1, x2, y2, tb)
@@ -267,6 +457,7 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta):
         cy = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
         # a quadratic is the conic of weight 1
         edges, ne, prims, nc = _emit_conic_piece(edges, ne, prims, nc, ax, ay, cx, cy, bx, by, 1.0)
+        i += 1
     return edges, ne, prims, nc
 
 
@@ -315,11 +506,17 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten):
+def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten, clip, q):
     """A conic halved until each piece bulges at most ``tol`` from its chord, then each piece
     as its chord (``flatten``: the exact-area modes) or as chord plus lens. A piece's bulge is
     exactly dist(b1, chord) · w / (1 + w), at t = ½; halving gives weight √((1 + w) / 2).
-    At most 2¹² pieces (absurd coordinates keep thicker lenses, which are still exact)."""
+    At most MAX_DEPTH halvings (absurd coordinates keep thicker lenses, which are still
+    exact). A piece whose control triangle misses ``clip`` is its chord, not halved further
+    (_outside): a circle a million pixels across around the canvas is a few dozen pieces,
+    and one crossing it is halved up to CULLED_MAX_DEPTH times where it does."""
+    q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
+    cull = not _within(q, 3, clip)
+    most = CULLED_MAX_DEPTH if cull else MAX_DEPTH
     stack = np.empty((32, 7))
     top = 0
     st = stack[0]
@@ -330,13 +527,18 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten)
         ax, ay, bx, by, ex, ey, wt = st[0], st[1], st[2], st[3], st[4], st[5], st[6]
         d = depth[top]
         top -= 1
+        if cull:
+            q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = ax, ay, bx, by, ex, ey
+            if _outside(q, 3, clip):
+                edges, ne = _push_visible(edges, ne, ax, ay, ex, ey, clip)
+                continue
         bulge = _dist_to_line(bx, by, ax, ay, ex, ey) * wt / (1.0 + wt)
         if not math.isfinite(bulge):
             continue
         if bulge < LINE_EPS or (flatten and bulge <= tol):
             edges, ne = _push_edge(edges, ne, ax, ay, ex, ey)
             continue
-        if bulge > tol and d < 12:
+        if bulge > tol and d < most:
             # de Casteljau on (b0, w·b1, b2) at ½, renormalised to end weights 1
             s = 1.0 / (1.0 + wt)
             qx, qy = (ax + wt * bx) * s, (ay + wt * by) * s
@@ -372,19 +574,33 @@ def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta):
-    """Fallback: approximate a cubic by quadratics within QUAD_FALLBACK_TOL."""
+def _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta, clip, q):
+    """Fallback: approximate a cubic by quadratics within QUAD_FALLBACK_TOL (runs of them
+    whose part of the cubic misses ``clip``: its chord)."""
     err = math.sqrt(3.0) / 36.0 * math.hypot(c[3, 0] - 3 * c[2, 0] + 3 * c[1, 0] - c[0, 0],
                                              c[3, 1] - 3 * c[2, 1] + 3 * c[1, 1] - c[0, 1])
     n = int(math.ceil((err / QUAD_FALLBACK_TOL) ** (1.0 / 3.0))) if err > 0 else 1
     n = max(1, min(n, MAX_PIECES))
     s = np.empty((4, 2))
-    for i in range(n):
+    cull = not _within(c, 4, clip)
+    i = 0
+    while i < n:
+        b = _block(i, n) if cull else 0
+        while b > 0:
+            _cubic_sub(s, c, i / n, (i + b) / n)
+            if _outside(s, 4, clip):
+                break
+            b //= 2
+        if b > 0:
+            edges, ne = _push_visible(edges, ne, s[0, 0], s[0, 1], s[3, 0], s[3, 1], clip)
+            i += b
+            continue
         _cubic_sub(s, c, i / n, (i + 1) / n)
         qx = (3.0 * (s[1, 0] + s[2, 0]) - s[0, 0] - s[3, 0]) * 0.25
         qy = (3.0 * (s[1, 1] + s[2, 1]) - s[0, 1] - s[3, 1]) * 0.25
         edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, s[0, 0], s[0, 1], qx, qy,
-                                          s[3, 0], s[3, 1], max_sagitta)
+                                          s[3, 0], s[3, 1], max_sagitta, clip, q)
+        i += 1
     return edges, ne, prims, nc
 
 
@@ -612,13 +828,20 @@ def _affine_fit(X, V, M, tmp):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
+def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4, clip, q):
     """Chords and lenses of a cubic. w1..w4: scratch, allocated once by build_batch for all of a
     batch's cubics (eight small arrays allocated per cubic: 6.7 -> 5.8 ms of the tiger's batch
-    at 2048 px; rows of 2-d arrays, not reshaped slices of one: a reshape is a call)."""
+    at 2048 px; rows of 2-d arrays, not reshaped slices of one: a reshape is a call). Pieces
+    whose control polygon misses ``clip`` are their chords, not split further (_outside);
+    ``q``: (4, 2) scratch of the quadratics' tests."""
     # bulge of the control polygon over the chord; degenerate → chord or nothing
     dev = _bulge(c)
     if not math.isfinite(dev):
+        return edges, ne, prims, nc
+    cull = not _within(c, 4, clip)
+    most = CULLED_MAX_DEPTH if cull else MAX_DEPTH
+    if cull and _outside(c, 4, clip):
+        edges, ne = _push_visible(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1], clip)
         return edges, ne, prims, nc
     if dev < LINE_EPS:
         edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
@@ -643,7 +866,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
         qx = 0.25 * (3.0 * (c[1, 0] + c[2, 0]) - c[0, 0] - c[3, 0])
         qy = 0.25 * (3.0 * (c[1, 1] + c[2, 1]) - c[0, 1] - c[3, 1])
         return _emit_quad(edges, ne, prims, nc, c[0, 0], c[0, 1], qx, qy, c[3, 0], c[3, 1],
-                          max_sagitta)
+                          max_sagitta, clip, q)
     # k, l, m are affine in the frame: solve [X Y 1] · M = klm (4 equations, 3 unknowns each)
     _affine_fit(X, klm, M, tmp)
     resid = 0.0
@@ -654,7 +877,7 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
             resid = max(resid, abs(r))
             scale = max(scale, abs(klm[i, j]))
     if not (resid <= 1e-7 * max(scale, 1e-300)):
-        return _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta)
+        return _cubic_as_quads(edges, ne, prims, nc, c, max_sagitta, clip, q)
     # parameter intervals: split at inflections / the double point inside (0, 1)
     nts = 0
     ts[nts] = 0.0
@@ -677,6 +900,10 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
             ta, tb, depth = stack[top, 0], stack[top, 1], stack[top, 2]
             top -= 1
             _cubic_sub(sub, c, ta, tb)
+            if cull and _outside(sub, 4, clip):
+                edges, ne = _push_visible(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1],
+                                          clip)
+                continue
             bulge = _bulge(sub)
             split = 0.75 * bulge > max_sagitta
             # the end tangents and their lengths, once taken (_emit_cubic_piece's too)
@@ -696,9 +923,10 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
             if bulge * 0.75 < LINE_EPS and math.hypot(sub[3, 0] - sub[0, 0], sub[3, 1] - sub[0, 1]) > 0:
                 edges, ne = _push_edge(edges, ne, sub[0, 0], sub[0, 1], sub[3, 0], sub[3, 1])
                 continue
-            # depth 12: at most 4096 pieces per interval; a bigger bulge (absurd coordinates)
-            # keeps a thicker lens, which is still exact, instead of exploding in count
-            if split and depth < 12 and top < 60:
+            # at most MAX_DEPTH halvings (CULLED_MAX_DEPTH beyond the canvas); a bigger bulge
+            # (absurd coordinates) keeps a thicker lens, which is still exact, instead of
+            # exploding in count
+            if split and depth < most and top < 60:
                 tm = 0.5 * (ta + tb)
                 top += 1
                 stack[top, 0], stack[top, 1], stack[top, 2] = tm, tb, depth + 1
@@ -711,17 +939,22 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4):
             edges, ne, prims, nc, ok = _emit_cubic_piece(edges, ne, prims, nc, sub, M, ox, oy,
                                                          inv, t0x, t0y, t1x, t1y, n0, n1)
             if not ok:
-                edges, ne, prims, nc = _cubic_as_quads(edges, ne, prims, nc, sub, max_sagitta)
+                edges, ne, prims, nc = _cubic_as_quads(edges, ne, prims, nc, sub, max_sagitta,
+                                                       clip, q)
     return edges, ne, prims, nc
 
 
 @njit(cache=True, nogil=True)   # a batch is built in parts on threads (render.build_in_parts)
-def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
+def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canvas):
     """Straight edges and curve primitives for a batch of paths.
 
     verbs/points are the concatenated arrays of all paths; path i owns verbs
     verb_off[i]:verb_off[i+1] and points pt_off[i]:pt_off[i+1]. With flatten_tol > 0 curves
     are flattened into edges (analytic and reference modes) and no primitives are made.
+    ``canvas``: (x0, y0, x1, y1), the device rect the edges are drawn in (the image, or a
+    filter's region), or NO_CULL: geometry outside it (CULL_MARGIN beyond) costs next to
+    nothing, whatever its size: curve pieces there are their chords, edges above, below or
+    right of it are left out (see _outside, _push_visible); no sample inside sees a change.
     Returns (edges (E, 4), edge_off (P+1), prims (C, PRIM_FIELDS), prim_off (P+1)).
     """
     npaths = verb_off.shape[0] - 1
@@ -746,6 +979,11 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
     nc = np.int64(0)
     c = np.empty((4, 2))
     w1, w2, w3, w4 = np.empty(6), np.empty((8, 2)), np.empty((71, 3)), np.empty((4, 4))
+    q = np.empty((4, 2))
+    clip = np.empty(4)
+    for k in range(4):
+        clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    top, bottom, right = clip[1], clip[3], clip[2]
     for p in range(npaths):
         pi = pt_off[p]
         sx = sy = cx = cy = 0.0
@@ -754,24 +992,25 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
             v = verbs[vi]
             if v == MOVE:
                 if open_:
-                    edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
                 sx, sy = points[pi, 0], points[pi, 1]
                 cx, cy = sx, sy
                 pi += 1
                 open_ = True
             elif v == LINE:
                 x, y = points[pi, 0], points[pi, 1]
-                edges, ne = _push_edge(edges, ne, cx, cy, x, y)
+                edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
                 cx, cy = x, y
                 pi += 1
             elif v == QUAD:
                 x1, y1 = points[pi, 0], points[pi, 1]
                 x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
                 if flatten_tol > 0:
-                    edges, ne = _flatten_quad(edges, ne, cx, cy, x1, y1, x2, y2, flatten_tol)
+                    edges, ne = _flatten_quad(edges, ne, cx, cy, x1, y1, x2, y2, flatten_tol,
+                                              clip, q)
                 else:
                     edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
-                                                      x2, y2, max_sagitta)
+                                                      x2, y2, max_sagitta, clip, q)
                 cx, cy = x2, y2
                 pi += 2
             elif v == CUBIC:
@@ -780,10 +1019,10 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
                     c[k + 1, 0] = points[pi + k, 0]
                     c[k + 1, 1] = points[pi + k, 1]
                 if flatten_tol > 0:
-                    edges, ne = _flatten_cubic(edges, ne, c, flatten_tol)
+                    edges, ne = _flatten_cubic(edges, ne, c, flatten_tol, clip, q)
                 else:
                     edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
-                                                       w1, w2, w3, w4)
+                                                       w1, w2, w3, w4, clip, q)
                 cx, cy = c[3, 0], c[3, 1]
                 pi += 3
             elif v == CONIC:
@@ -793,19 +1032,27 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta):
                 flatten = flatten_tol > 0
                 edges, ne, prims, nc = _conic_pieces(
                     edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w,
-                    flatten_tol if flatten else max_sagitta, flatten)
+                    flatten_tol if flatten else max_sagitta, flatten, clip, q)
                 cx, cy = x2, y2
                 pi += 3
             elif v == CLOSE:
                 if open_:
-                    edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
                 cx, cy = sx, sy
                 open_ = False
         if open_:
-            edges, ne = _push_edge(edges, ne, cx, cy, sx, sy)
+            edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
         edge_off[p + 1] = ne
         prim_off[p + 1] = nc
-    # views, not copies: a copy is as many fresh pages again (the arrays live for one render)
+    # views, not copies: a copy is as many fresh pages again (the arrays live for one render;
+    # a large array's room never written takes no memory). But a small copy where less than
+    # half the room was taken (culled curves take next to none of the room their points
+    # reserve): a small array's room is all memory, and 50,000 marker copies of a huge
+    # circle held 7 KB each of unused lens rows
+    if 2 * ne < edges.shape[0] and ne <= SMALL_COPY_ROWS:
+        edges = edges[:ne].copy()
+    if 2 * nc < prims.shape[0] and nc <= SMALL_COPY_ROWS:
+        prims = prims[:nc].copy()
     return edges[:ne], edge_off, prims[:nc], prim_off
 
 

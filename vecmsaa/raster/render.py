@@ -35,7 +35,7 @@ from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from ..jit import bind_last
 from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
-from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
+from ..geometry.primitives import NO_CULL, QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
@@ -302,7 +302,7 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
         return
     threads = available_cores() if threads is None else max(1, int(threads))
     with band_pool(threads) as pool:
-        items = prepare_items(scene.root, opts, pool)
+        items = prepare_items(scene.root, opts, pool, (0, 0, scene.width, scene.height))
         _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool)
 
 
@@ -497,7 +497,7 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
     H, W = scene.height, scene.width
     R = (opts.resolve.shape[1] - 1) // 2
     WR = W + 2 * R
-    items = prepare_items(translated(scene.root, R, 0), opts)
+    items = prepare_items(translated(scene.root, R, 0), opts, None, (0, -R, WR, H + R))
     threads = available_cores() if threads is None else max(1, int(threads))
     band_rows, strip_rows = band_layout(WR, opts.sample_opts[0][0].samples, band_budget)
     band_rows = max(1, min(band_rows, H))
@@ -650,10 +650,11 @@ class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
     ``rows``: the device y range its fills lie in."""
 
-    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None):
+    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
+                 canvas=NO_CULL):
         pts = _crisp_at_centres(fills, pts, poff, opts)
         # the geometry is built on the pool's threads while this one does the rest
-        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool)
+        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool, canvas)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         starts = poff[:-1]
@@ -758,13 +759,14 @@ SPLIT_COST = 4096
 PARTS_PER_THREAD = 4
 
 
-def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
+def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None, canvas=NO_CULL):
     """A function giving build_batch of the batch. With a pool and enough work the batch is
     built on the pool's threads (the kernel releases the GIL) from this call on, while this
     thread goes on, in parts of consecutive paths that the function joins: a path's edges
     and primitives depend only on the path, so they are the same bytes in one part or
     several. PARTS_PER_THREAD parts a thread, taken in turn, since the cost per verb is only
-    a guess (a cubic's pieces grow with its size)."""
+    a guess (a cubic's pieces grow with its size). ``canvas``: build_batch's."""
+    canvas = np.asarray(canvas, np.float64)
     parts = 1 if pool is None else pool.threads * PARTS_PER_THREAD
     if parts > 1:
         cost = np.zeros(len(verbs) + 1, np.int64)
@@ -773,14 +775,15 @@ def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None):
         if total < SPLIT_COST:
             parts = 1
     if parts <= 1:
-        whole = build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA)
+        whole = build_batch(verbs, pts, voff, poff, flatten_tol, MAX_SAGITTA, canvas)
         return lambda: whole
     # path boundaries nearest each equal share of the cost
     cuts = np.searchsorted(cost[voff], np.arange(1, parts) * (total / parts))
     bounds = [0] + sorted(set(int(c) for c in cuts) - {0, len(voff) - 1}) + [len(voff) - 1]
 
     def part(a, b):
-        return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA)
+        return build_batch(verbs, pts, voff[a:b + 1], poff[a:b + 1], flatten_tol, MAX_SAGITTA,
+                           canvas)
     futures = [pool.submit(part, a, b) for a, b in zip(bounds, bounds[1:])]
     return functools.partial(_joined, bounds, futures)
 
@@ -870,12 +873,13 @@ class Layer:
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
     sample images of raster/resolve.py each have their own)."""
 
-    def __init__(self, group: Group, opts: RenderOptions, pool=None):
+    def __init__(self, group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL):
         # a filtered layer's content is prepared when it is filtered (moved to its region)
         self.group = group if group.filters else None
-        self.items = [] if group.filters else prepare_items(group, opts, pool)
-        self.clip = Layer(group.clip, opts, pool) if group.clip is not None else None
-        self.mask = Layer(group.mask.content, opts, pool) if group.mask is not None else None
+        self.items = [] if group.filters else prepare_items(group, opts, pool, canvas)
+        self.clip = Layer(group.clip, opts, pool, canvas) if group.clip is not None else None
+        self.mask = (Layer(group.mask.content, opts, pool, canvas) if group.mask is not None
+                     else None)
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
@@ -915,11 +919,13 @@ def _intersection(a, b):
     return max(a[0], b[0]), min(a[1], b[1])
 
 
-def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
+def prepare_items(group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL) -> list:
     """The group's content as FillBatch and Layer items in paint order: fills and layer
     groups in paint order, plain groups flattened away (walked with a stack of iterators, not
     generators: map data yields tens of thousands of fills through them). ``pool``: an
-    executor whose threads help build the batches' geometry (band_pool)."""
+    executor whose threads help build the batches' geometry (band_pool). ``canvas``: the
+    device rect (x0, y0, x1, y1) the items are drawn in (geometry beyond it is culled,
+    build_batch), NO_CULL for anywhere."""
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -927,9 +933,9 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
-                    items.extend(_fill_batches(batch, opts, pool))
+                    items.extend(_fill_batches(batch, opts, pool, canvas))
                     batch = []
-                    items.append(Layer(node, opts, pool))
+                    items.append(Layer(node, opts, pool, canvas))
                 else:
                     stack.append(iter(node.children))
                     break
@@ -937,7 +943,7 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
                 batch.append(node)
         else:
             stack.pop()
-    items.extend(_fill_batches(batch, opts, pool))
+    items.extend(_fill_batches(batch, opts, pool, canvas))
     return items
 
 
@@ -945,7 +951,7 @@ _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
 
 
-def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
+def _fill_batches(fills, opts: RenderOptions, pool=None, canvas=NO_CULL) -> list:
     """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
     Emptiness and finiteness are found on the batch's arrays, per path from running sums."""
     fills = [f for f in fills if f.opacity > 0]
@@ -957,7 +963,7 @@ def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
         # (one path: the tests below without their running sums)
         if _NOT_DRAWING[verbs].all() or not np.isfinite(pts).all():
             return []
-        return [FillBatch(fills, *arrays, opts, pool)]
+        return [FillBatch(fills, *arrays, opts, pool, canvas)]
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
     keep = drawing[voff[1:]] > drawing[voff[:-1]]
@@ -970,7 +976,7 @@ def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
         if not fills:
             return []
         arrays = batch_arrays([f.path for f in fills])
-    return [FillBatch(fills, *arrays, opts, pool)]
+    return [FillBatch(fills, *arrays, opts, pool, canvas)]
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
@@ -1087,7 +1093,7 @@ def render_filtered(layer: Layer, raster: Raster):
     w, h = x1 - x0, y1 - y0
     moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
     def draw(group, top, rows):
-        items = prepare_items(group, raster.opts)
+        items = prepare_items(group, raster.opts, None, (0, 0, w, h))
         # the first filtered group inside is filtered before this buffer and the rasteriser's
         # strip buffers exist (filtered_part then finds it done): groups with filters nested N
         # deep held N of each at once, now about two
