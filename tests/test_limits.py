@@ -383,6 +383,41 @@ def test_text_longer_than_the_limit_is_a_clean_error(monkeypatch):
         render_svg_array(doc(102))
 
 
+def test_text_of_one_chunk_per_character_reads_each_character_a_few_times(monkeypatch):
+    """A list of x values starts a chunk at every character (SVG 2 §11.8.1); joining the whole
+    text per chunk read n² characters (100,000 characters: minutes)."""
+    from vecmsaa.svg.text import content
+
+    reads = []
+
+    class Counted:
+        def __set_name__(self, owner, name):
+            self.name = "_counted_" + name
+
+        def __get__(self, obj, owner=None):
+            if obj is None:
+                return self
+            reads.append(1)
+            return obj.__dict__[self.name]
+
+        def __set__(self, obj, value):
+            obj.__dict__[self.name] = value
+
+    descriptor = Counted()
+    descriptor.__set_name__(content.Char, "ch")
+    monkeypatch.setattr(content.Char, "ch", descriptor, raising=False)
+
+    def doc(n):
+        xs = " ".join(str(i) for i in range(n))
+        return f'<svg {SVG} width="400" height="20"><text x="{xs}" y="15">{"x" * n}</text></svg>'
+    counts = []
+    for n in (200, 800):
+        del reads[:]
+        render_svg_array(doc(n))
+        counts.append(len(reads))
+    assert counts[0] > 0 and counts[1] < 6 * counts[0]     # 4x the characters: linear, not 16x
+
+
 # -- reference fan-out ------------------------------------------------------------------------
 def test_mask_chain_fan_out_is_a_clean_error():
     """Each mask's content uses the next mask twice: 2^14 mask layers for one rectangle."""
