@@ -291,6 +291,51 @@ def test_nesting_beyond_the_limit_is_a_clean_error():
         render_svg_array(f'<svg {SVG} width="10" height="10">{"<g>" * n}{"</g>" * n}</svg>')
 
 
+# -- CSS --------------------------------------------------------------------------------------
+def test_selector_too_long_to_compile_is_dropped_unparsed(monkeypatch):
+    """cssselect2 cannot compile a selector of 67 or more combinators (Python's parser nests
+    too deep) and takes time quadratic in its length to try (20,000: minutes): such a rule is
+    dropped before parsing; the document's other rules apply."""
+    import cssselect2
+    parsed = []
+    real = cssselect2.compile_selector_list
+    monkeypatch.setattr(cssselect2, "compile_selector_list",
+                        lambda prelude, *a: parsed.append(len(prelude)) or real(prelude, *a))
+    long = " ".join(["g"] * 2000) + " rect"
+    doc = (f'<svg {SVG} width="4" height="4"><style>{long} {{fill: red}} g > rect {{fill: '
+           f'#00f}}</style><g><rect width="4" height="4"/></g></svg>')
+    out = render_svg_array(doc)
+    assert (out[..., :3] == (0, 0, 255)).all()
+    assert parsed and max(parsed) < 100
+
+
+@pytest.mark.parametrize("rule, body", [
+    # every rect scans all its earlier siblings (200 rects: 20,000 steps)
+    ("g ~ rect", '<g/>' + '<rect width="1" height="1"/>' * 200),
+    # descendant combinators backtrack: C(30, 6) ways to place six g's over 30 ancestors
+    ("x g g g g g g rect", "<g>" * 30 + '<rect width="1" height="1"/>' + "</g>" * 30),
+])
+def test_costly_selector_matching_is_a_clean_error(monkeypatch, rule, body):
+    from vecmsaa.svg import document
+    monkeypatch.setattr(document, "MAX_SELECTOR_STEPS", 10_000)
+    doc = f'<svg {SVG} width="4" height="4"><style>{rule} {{fill: red}}</style>{body}</svg>'
+    with pytest.raises(SvgError, match="CSS selectors take more than 10000 steps"):
+        render_svg_array(doc)
+
+
+def test_selector_matching_within_the_limit_applies_the_rules(monkeypatch):
+    from vecmsaa.svg import document
+    monkeypatch.setattr(document, "MAX_SELECTOR_STEPS", 10_000, raising=False)
+    doc = (f'<svg {SVG} width="4" height="4"><style>g ~ rect {{fill: #00f}} a g g rect {{fill: '
+           f'red}} g:first-of-type g > rect:last-of-type {{stroke: #0f0}}</style><g/>'
+           f'{"<g>" * 5}<rect width="4" height="4"/><rect width="4" height="4"/>{"</g>" * 5}'
+           f'<rect width="4" height="2"/></svg>')
+    out = render_svg_array(doc)
+    assert (out[:2, :, :3] == (0, 0, 255)).all()          # the last rect: g ~ rect
+    assert (out[2, 1:3, :3] == 0).all()                    # "a g g rect": no <a>, black
+    assert (out[3, 1:3, 1] > 100).all() and (out[3, 1:3, 0] == 0).all()   # green stroke edge
+
+
 # -- images -----------------------------------------------------------------------------------
 def _png(array, mode=None):
     import io
