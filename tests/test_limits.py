@@ -383,6 +383,65 @@ def test_images_over_the_decoded_pixel_budget_are_skipped(monkeypatch):
     assert (out[..., 0] == 255).all() and (out[..., 2] == 0).all()   # red drawn, blue not
 
 
+def test_texels_over_the_document_budget_are_skipped(monkeypatch):
+    """Each reduction of an image is a texel set of its own (16 bytes a texel): a 64² image
+    drawn at 64 px fills a 64² budget, the same image drawn at 16 px (2x2 reduced) is past
+    it and not drawn, with a warning."""
+    from vecmsaa.svg import image
+    monkeypatch.setattr(image, "MAX_TEXEL_PIXELS", 64 * 64)
+    red = _png(np.full((64, 64, 3), (255, 0, 0), np.uint8))
+    doc = _image_doc(red).replace("</svg>", '<image href="data:image/png;base64,'
+                                  + __import__("base64").b64encode(red).decode()
+                                  + '" width="16" height="16" opacity="0.5"/></svg>')
+    with pytest.warns(UserWarning, match="texels"):
+        out = render_svg_array(doc)
+    assert (out[..., :3] == (255, 0, 0)).all() and (out[..., 3] == 255).all()
+    monkeypatch.setattr(image, "MAX_TEXEL_PIXELS", 64 * 64 + 32 * 32)
+    out = render_svg_array(doc)
+    assert out[0, 0, 0] == 255 and out[8, 8, 3] == 255
+
+
+def test_svg_images_share_their_documents_image_budget(monkeypatch):
+    """An SVG image inside the document decodes its images into the document's budget: a
+    nested document per image restarted it (a few KB of nested data: URLs, gigabytes)."""
+    import base64
+
+    from vecmsaa.svg import image
+    monkeypatch.setattr(image, "MAX_DECODED_PIXELS", 64 * 64)
+    red = _png(np.full((64, 64, 3), (255, 0, 0), np.uint8))
+    blue = _png(np.full((64, 64, 3), (0, 0, 255), np.uint8))
+    inner = _image_doc(red).encode()
+    doc = (f'<svg {SVG} width="64" height="64"><image width="64" height="64" href="data:image/'
+           f'svg+xml;base64,{base64.b64encode(inner).decode()}"/><image width="64" height="64" '
+           f'href="data:image/png;base64,{base64.b64encode(blue).decode()}"/></svg>')
+    with pytest.warns(UserWarning, match="decode to more than 4096 pixels"):
+        out = render_svg_array(doc)
+    assert (out[..., 0] == 255).all() and (out[..., 2] == 0).all()   # red drawn, blue not
+
+
+def test_texels_are_made_without_whole_image_temporaries():
+    """Texels are 16 bytes a pixel; converting the whole image at once held float32 and uint8
+    copies beside them (about 40 bytes a pixel at the peak)."""
+    import tracemalloc
+
+    from PIL import Image
+
+    from vecmsaa.svg.image import image_texels
+    rng = np.random.default_rng(18)
+    rgba = rng.integers(0, 256, (1024, 1024, 4), dtype=np.uint8)
+    im = Image.fromarray(rgba, "RGBA")
+    tracemalloc.start()
+    try:
+        texels = image_texels(im)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1.2 * texels.nbytes
+    a = rgba.astype(np.float32) / 255.0
+    assert np.array_equal(texels[1:-1, 1:-1, 3], a[..., 3])
+    assert np.array_equal(texels[1:-1, 1:-1, :3], a[..., :3] * a[..., 3:4])
+
+
 # -- dashes -----------------------------------------------------------------------------------
 @pytest.mark.parametrize("cap, dashes, covered", [
     ("butt", "0.01 0.03", 0.25),            # a quarter of each 0.04 px period is on
