@@ -26,6 +26,19 @@ from vecmsaa.svg import SvgError
 SVG = 'xmlns="http://www.w3.org/2000/svg"'
 
 
+# -- command line -----------------------------------------------------------------------------
+def test_reference_sample_counts_are_bounded():
+    """The reference mode's memory grows with its samples (2^20: 12 GB within a minute)."""
+    import argparse
+
+    from vecmsaa.cli.options import sample_count
+    for ok in ("8", "256", "1024", "4096"):
+        assert sample_count(ok) == int(ok)
+    for bad in ("8100", "65536", "1048576", "300"):
+        with pytest.raises(argparse.ArgumentTypeError, match="from 256 to 4096"):
+            sample_count(bad)
+
+
 # -- fonts ------------------------------------------------------------------------------------
 def _square():
     pen = TTGlyphPen(None)
