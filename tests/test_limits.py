@@ -455,6 +455,36 @@ def test_texels_are_made_without_whole_image_temporaries():
     assert np.array_equal(texels[1:-1, 1:-1, :3], a[..., :3] * a[..., 3:4])
 
 
+def _svg_image_doc(inner, uses, size=10):
+    import base64
+    href = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    return (f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink" width="{size}" '
+            f'height="{size}"><image id="i" width="{size}" height="{size}" href="{href}"/>'
+            + '<use href="#i"/>' * uses + '</svg>')
+
+
+def test_svg_image_elements_count_against_the_documents_limit(monkeypatch):
+    """An SVG image's elements are the document's: an image used 100 times, of 100 rects,
+    builds 10,000 elements (fan-out over nested images: 100 KB built a billion)."""
+    from vecmsaa.svg import builder
+    monkeypatch.setattr(builder, "MAX_NODES", 5000)
+    inner = f'<svg {SVG} width="10" height="10">' + '<rect width="1" height="1"/>' * 100 + '</svg>'
+    render_svg_array(_svg_image_doc(inner, 30))
+    with pytest.raises(SvgError, match="too many elements"):
+        render_svg_array(_svg_image_doc(inner, 100))
+
+
+def test_svg_image_drawn_many_times_is_parsed_once(monkeypatch):
+    from vecmsaa.svg import sizing
+    parsed = []
+    real = sizing.open_svg
+    monkeypatch.setattr(sizing, "open_svg", lambda *a, **k: parsed.append(1) or real(*a, **k))
+    inner = f'<svg {SVG} width="10" height="10"><rect width="5" height="10" fill="#00f"/></svg>'
+    out = render_svg_array(_svg_image_doc(inner, 20))
+    assert len(parsed) == 2                 # the document and its image
+    assert (out[:, :5, 2] == 255).all() and (out[:, 5:, 3] == 0).all()
+
+
 # -- dashes -----------------------------------------------------------------------------------
 @pytest.mark.parametrize("cap, dashes, covered", [
     ("butt", "0.01 0.03", 0.25),            # a quarter of each 0.04 px period is on

@@ -212,7 +212,15 @@ def image_nodes(builder, el, ctx, style):
     sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user,
                                                                      sub.root_matrix)),
                       viewport=sub.viewport, use_stack=(), context_fill=None, context_stroke=None)
-    nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
+    # the nested document's elements and characters count against this document's limits
+    # (MAX_NODES, MAX_TEXT_CHARS): counted apart, an image used a thousand times, of a
+    # document using an image of another a thousand times, built a billion elements
+    sub.builder.nodes_made, sub.builder.text_chars = builder.nodes_made, builder.text_chars
+    try:
+        nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
+    finally:
+        builder.nodes_made = max(builder.nodes_made, sub.builder.nodes_made)
+        builder.text_chars = max(builder.text_chars, sub.builder.text_chars)
     if not nodes:
         return []
     if _within(nodes, ctx.transform, (x, y, x + w, y + h)):
@@ -256,9 +264,15 @@ def _load_svg(builder, data, fragment=None):
     from .sizing import open_svg
 
     options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
+    store = builder.resources.images
+    key = (data, fragment, options.image_nesting)
+    if key in store.documents:      # parsed once however often it is drawn
+        return store.documents[key]
     try:
         # no folders; the document's images (and their budgets) are shared
-        return open_svg(data, None, Resources(images=builder.resources.images), options,
-                        whole_pixels=False, view=fragment)
+        sub = open_svg(data, None, Resources(images=store), options, whole_pixels=False,
+                       view=fragment)
     except SvgError:
-        return None
+        sub = None
+    store.documents[key] = sub
+    return sub

@@ -18,7 +18,7 @@ MAX_RESOURCE_BYTES = 64 * 1024 * 1024
 class Images:
     """Raster images decoded for a document and the SVG images inside it (svg.image): bytes →
     Pillow image, with the pixels decoded so far, and (bytes, reduction) → texels for the
-    scene, with their pixels. Nested SVG images share their document's, so that their
+    scene, with their pixels; SVG images parsed. Nested SVG images share their document's, so that their
     budgets (svg.image.MAX_DECODED_PIXELS, MAX_TEXEL_PIXELS) are the document's."""
 
     def __init__(self):
@@ -26,6 +26,7 @@ class Images:
         self.decoded_pixels = 0
         self.texels = {}
         self.texel_pixels = 0
+        self.documents = {}     # (bytes, fragment, nesting) → SVG image's SizedDocument or None
 
 
 class Resources:
