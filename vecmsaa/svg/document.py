@@ -35,7 +35,7 @@ MAX_DEPTH = 1024
 #: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
 #: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
 #: every element. Past it the document is refused.
-MAX_SELECTOR_STEPS = 10_000_000
+MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
 PROPERTIES = {
@@ -1080,9 +1080,11 @@ def _cascade(reader, stylesheet):
 def _counted_matching(matcher):
     """An ElementWrapper class and a Matcher (sharing ``matcher``'s rules) that count the
     work of matching against MAX_SELECTOR_STEPS and raise SvgError past it. cssselect2 walks
-    ancestors and earlier siblings through these attributes; its tuples of them (one per
-    element, of all its earlier siblings: quadratic memory for a long list of siblings)
-    become walks along the parent and previous-sibling links."""
+    ancestors and earlier siblings through these attributes; its tuples of earlier siblings
+    (one per element, of all its earlier siblings: quadratic memory for a long list of
+    siblings) become walks along the previous-sibling links, and its tuples of ancestors one
+    per parent. Counting charges whole tuples and lists at once (a walk may stop early): a
+    call per step cost half again the matching's time."""
     import cssselect2
 
     left = [MAX_SELECTOR_STEPS]
@@ -1101,14 +1103,30 @@ def _counted_matching(matcher):
                 charge(len(got))
             return got
 
+    def below(el):
+        got = el._below
+        if got is None:
+            got = el._below = (() if el.parent is None else below(el.parent)) + (el,)
+            charge(len(got))
+        return got
+
     class Wrapper(cssselect2.ElementWrapper):
+        _below = None       # this element's ancestors and itself: its children's ancestors
+
         @property
         def ancestors(self):
-            el = self.parent
-            while el is not None:
-                charge(1)
-                yield el
-                el = el.parent
+            # one tuple per parent (cssselect2 makes one per element: depth times the
+            # elements), its length charged when made and at each walk (`any` over it)
+            parent = self.parent
+            if parent is None:
+                return ()
+            got = parent._below
+            if got is None:
+                got = below(parent)
+            left[0] -= len(got)     # charge(), inline: this runs once per selector test
+            if left[0] < 0:
+                charge(0)
+            return got
 
         @property
         def previous_siblings(self):
@@ -1123,9 +1141,8 @@ def _counted_matching(matcher):
             return Siblings(cssselect2.ElementWrapper.etree_children.func(self))
 
         def iter_children(self):
-            for child in super().iter_children():
-                charge(1)
-                yield child
+            charge(len(self.etree_children))
+            return super().iter_children()
 
     class Matcher(cssselect2.Matcher):
         @staticmethod
