@@ -26,6 +26,19 @@ from vecmsaa.svg import SvgError
 SVG = 'xmlns="http://www.w3.org/2000/svg"'
 
 
+# -- command line -----------------------------------------------------------------------------
+def test_reference_sample_counts_are_bounded():
+    """The reference mode's memory grows with its samples (2^20: 12 GB within a minute)."""
+    import argparse
+
+    from vecmsaa.cli.options import sample_count
+    for ok in ("8", "256", "1024", "4096"):
+        assert sample_count(ok) == int(ok)
+    for bad in ("8100", "65536", "1048576", "300"):
+        with pytest.raises(argparse.ArgumentTypeError, match="from 256 to 4096"):
+            sample_count(bad)
+
+
 # -- fonts ------------------------------------------------------------------------------------
 def _square():
     pen = TTGlyphPen(None)
@@ -291,6 +304,51 @@ def test_nesting_beyond_the_limit_is_a_clean_error():
         render_svg_array(f'<svg {SVG} width="10" height="10">{"<g>" * n}{"</g>" * n}</svg>')
 
 
+# -- CSS --------------------------------------------------------------------------------------
+def test_selector_too_long_to_compile_is_dropped_unparsed(monkeypatch):
+    """cssselect2 cannot compile a selector of 67 or more combinators (Python's parser nests
+    too deep) and takes time quadratic in its length to try (20,000: minutes): such a rule is
+    dropped before parsing; the document's other rules apply."""
+    import cssselect2
+    parsed = []
+    real = cssselect2.compile_selector_list
+    monkeypatch.setattr(cssselect2, "compile_selector_list",
+                        lambda prelude, *a: parsed.append(len(prelude)) or real(prelude, *a))
+    long = " ".join(["g"] * 2000) + " rect"
+    doc = (f'<svg {SVG} width="4" height="4"><style>{long} {{fill: red}} g > rect {{fill: '
+           f'#00f}}</style><g><rect width="4" height="4"/></g></svg>')
+    out = render_svg_array(doc)
+    assert (out[..., :3] == (0, 0, 255)).all()
+    assert parsed and max(parsed) < 100
+
+
+@pytest.mark.parametrize("rule, body", [
+    # every rect scans all its earlier siblings (200 rects: 20,000 steps)
+    ("g ~ rect", '<g/>' + '<rect width="1" height="1"/>' * 200),
+    # descendant combinators backtrack: C(30, 6) ways to place six g's over 30 ancestors
+    ("x g g g g g g rect", "<g>" * 30 + '<rect width="1" height="1"/>' + "</g>" * 30),
+])
+def test_costly_selector_matching_is_a_clean_error(monkeypatch, rule, body):
+    from vecmsaa.svg import document
+    monkeypatch.setattr(document, "MAX_SELECTOR_STEPS", 10_000)
+    doc = f'<svg {SVG} width="4" height="4"><style>{rule} {{fill: red}}</style>{body}</svg>'
+    with pytest.raises(SvgError, match="CSS selectors take more than 10000 steps"):
+        render_svg_array(doc)
+
+
+def test_selector_matching_within_the_limit_applies_the_rules(monkeypatch):
+    from vecmsaa.svg import document
+    monkeypatch.setattr(document, "MAX_SELECTOR_STEPS", 10_000, raising=False)
+    doc = (f'<svg {SVG} width="4" height="4"><style>g ~ rect {{fill: #00f}} a g g rect {{fill: '
+           f'red}} g:first-of-type g > rect:last-of-type {{stroke: #0f0}}</style><g/>'
+           f'{"<g>" * 5}<rect width="4" height="4"/><rect width="4" height="4"/>{"</g>" * 5}'
+           f'<rect width="4" height="2"/></svg>')
+    out = render_svg_array(doc)
+    assert (out[:2, :, :3] == (0, 0, 255)).all()          # the last rect: g ~ rect
+    assert (out[2, 1:3, :3] == 0).all()                    # "a g g rect": no <a>, black
+    assert (out[3, 1:3, 1] > 100).all() and (out[3, 1:3, 0] == 0).all()   # green stroke edge
+
+
 # -- images -----------------------------------------------------------------------------------
 def _png(array, mode=None):
     import io
@@ -338,6 +396,95 @@ def test_images_over_the_decoded_pixel_budget_are_skipped(monkeypatch):
     assert (out[..., 0] == 255).all() and (out[..., 2] == 0).all()   # red drawn, blue not
 
 
+def test_texels_over_the_document_budget_are_skipped(monkeypatch):
+    """Each reduction of an image is a texel set of its own (16 bytes a texel): a 64² image
+    drawn at 64 px fills a 64² budget, the same image drawn at 16 px (2x2 reduced) is past
+    it and not drawn, with a warning."""
+    from vecmsaa.svg import image
+    monkeypatch.setattr(image, "MAX_TEXEL_PIXELS", 64 * 64)
+    red = _png(np.full((64, 64, 3), (255, 0, 0), np.uint8))
+    doc = _image_doc(red).replace("</svg>", '<image href="data:image/png;base64,'
+                                  + __import__("base64").b64encode(red).decode()
+                                  + '" width="16" height="16" opacity="0.5"/></svg>')
+    with pytest.warns(UserWarning, match="texels"):
+        out = render_svg_array(doc)
+    assert (out[..., :3] == (255, 0, 0)).all() and (out[..., 3] == 255).all()
+    monkeypatch.setattr(image, "MAX_TEXEL_PIXELS", 64 * 64 + 32 * 32)
+    out = render_svg_array(doc)
+    assert out[0, 0, 0] == 255 and out[8, 8, 3] == 255
+
+
+def test_svg_images_share_their_documents_image_budget(monkeypatch):
+    """An SVG image inside the document decodes its images into the document's budget: a
+    nested document per image restarted it (a few KB of nested data: URLs, gigabytes)."""
+    import base64
+
+    from vecmsaa.svg import image
+    monkeypatch.setattr(image, "MAX_DECODED_PIXELS", 64 * 64)
+    red = _png(np.full((64, 64, 3), (255, 0, 0), np.uint8))
+    blue = _png(np.full((64, 64, 3), (0, 0, 255), np.uint8))
+    inner = _image_doc(red).encode()
+    doc = (f'<svg {SVG} width="64" height="64"><image width="64" height="64" href="data:image/'
+           f'svg+xml;base64,{base64.b64encode(inner).decode()}"/><image width="64" height="64" '
+           f'href="data:image/png;base64,{base64.b64encode(blue).decode()}"/></svg>')
+    with pytest.warns(UserWarning, match="decode to more than 4096 pixels"):
+        out = render_svg_array(doc)
+    assert (out[..., 0] == 255).all() and (out[..., 2] == 0).all()   # red drawn, blue not
+
+
+def test_texels_are_made_without_whole_image_temporaries():
+    """Texels are 16 bytes a pixel; converting the whole image at once held float32 and uint8
+    copies beside them (about 40 bytes a pixel at the peak)."""
+    import tracemalloc
+
+    from PIL import Image
+
+    from vecmsaa.svg.image import image_texels
+    rng = np.random.default_rng(18)
+    rgba = rng.integers(0, 256, (1024, 1024, 4), dtype=np.uint8)
+    im = Image.fromarray(rgba, "RGBA")
+    tracemalloc.start()
+    try:
+        texels = image_texels(im)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 1.2 * texels.nbytes
+    a = rgba.astype(np.float32) / 255.0
+    assert np.array_equal(texels[1:-1, 1:-1, 3], a[..., 3])
+    assert np.array_equal(texels[1:-1, 1:-1, :3], a[..., :3] * a[..., 3:4])
+
+
+def _svg_image_doc(inner, uses, size=10):
+    import base64
+    href = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    return (f'<svg {SVG} xmlns:xlink="http://www.w3.org/1999/xlink" width="{size}" '
+            f'height="{size}"><image id="i" width="{size}" height="{size}" href="{href}"/>'
+            + '<use href="#i"/>' * uses + '</svg>')
+
+
+def test_svg_image_elements_count_against_the_documents_limit(monkeypatch):
+    """An SVG image's elements are the document's: an image used 100 times, of 100 rects,
+    builds 10,000 elements (fan-out over nested images: 100 KB built a billion)."""
+    from vecmsaa.svg import builder
+    monkeypatch.setattr(builder, "MAX_NODES", 5000)
+    inner = f'<svg {SVG} width="10" height="10">' + '<rect width="1" height="1"/>' * 100 + '</svg>'
+    render_svg_array(_svg_image_doc(inner, 30))
+    with pytest.raises(SvgError, match="too many elements"):
+        render_svg_array(_svg_image_doc(inner, 100))
+
+
+def test_svg_image_drawn_many_times_is_parsed_once(monkeypatch):
+    from vecmsaa.svg import sizing
+    parsed = []
+    real = sizing.open_svg
+    monkeypatch.setattr(sizing, "open_svg", lambda *a, **k: parsed.append(1) or real(*a, **k))
+    inner = f'<svg {SVG} width="10" height="10"><rect width="5" height="10" fill="#00f"/></svg>'
+    out = render_svg_array(_svg_image_doc(inner, 20))
+    assert len(parsed) == 2                 # the document and its image
+    assert (out[:, :5, 2] == 255).all() and (out[:, 5:, 3] == 0).all()
+
+
 # -- dashes -----------------------------------------------------------------------------------
 @pytest.mark.parametrize("cap, dashes, covered", [
     ("butt", "0.01 0.03", 0.25),            # a quarter of each 0.04 px period is on
@@ -381,6 +528,66 @@ def test_text_longer_than_the_limit_is_a_clean_error(monkeypatch):
     render_svg_array(doc(100))
     with pytest.raises(SvgError, match="longer than 100 characters"):
         render_svg_array(doc(102))
+
+
+def test_text_of_one_chunk_per_character_reads_each_character_a_few_times(monkeypatch):
+    """A list of x values starts a chunk at every character (SVG 2 §11.8.1); joining the whole
+    text per chunk read n² characters (100,000 characters: minutes)."""
+    from vecmsaa.svg.text import content
+
+    reads = []
+
+    class Counted:
+        def __set_name__(self, owner, name):
+            self.name = "_counted_" + name
+
+        def __get__(self, obj, owner=None):
+            if obj is None:
+                return self
+            reads.append(1)
+            return obj.__dict__[self.name]
+
+        def __set__(self, obj, value):
+            obj.__dict__[self.name] = value
+
+    descriptor = Counted()
+    descriptor.__set_name__(content.Char, "ch")
+    monkeypatch.setattr(content.Char, "ch", descriptor, raising=False)
+
+    def doc(n):
+        xs = " ".join(str(i) for i in range(n))
+        return f'<svg {SVG} width="400" height="20"><text x="{xs}" y="15">{"x" * n}</text></svg>'
+    counts = []
+    for n in (200, 800):
+        del reads[:]
+        render_svg_array(doc(n))
+        counts.append(len(reads))
+    assert counts[0] > 0 and counts[1] < 6 * counts[0]     # 4x the characters: linear, not 16x
+
+
+def test_glyph_placement_holds_no_per_point_copy_of_the_matrices():
+    """Placing many glyphs repeated each glyph's 6-entry matrix for every point (48 bytes a
+    point beside the 16 of the result): 200,000 characters took 400 MB for it alone."""
+    import os
+    import tracemalloc
+
+    from vecmsaa.fonts.layout import glyphs_arrays
+    face = load_face(os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts",
+                                  "NotoSans-Subset.ttf"))
+    gids = [g for g in range(1, min(face.num_glyphs, 40)) if len(face.outline(g, ())[1])] * 200
+    shifts = np.arange(len(gids), dtype=np.float64)
+    mats = [(1.0, 0.0, 0.0, 1.0, x, -x) for x in shifts]
+    tracemalloc.start()
+    try:
+        verbs, out = glyphs_arrays(face, (), gids, mats)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 4 * out.nbytes
+    counts = [len(face.outline(g, ())[1]) for g in gids]
+    points = np.concatenate([face.outline(g, ())[1] for g in gids])
+    shift = np.repeat(shifts, counts)
+    assert np.array_equal(out, points + np.stack([shift, -shift], axis=1))
 
 
 # -- reference fan-out ------------------------------------------------------------------------

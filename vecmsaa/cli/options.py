@@ -4,9 +4,14 @@ from __future__ import annotations
 import argparse
 
 
+#: The reference mode's largest sample count: its memory and time grow with the count (2^20
+#: samples took 12 GB within a minute for one line of text), and 256 or 1024 is its use.
+MAX_REFERENCE_SAMPLES = 4096
+
+
 def sample_count(text: str) -> int:
     """A sample count the renderer has a pattern for: 1, 2, 4, 8, 16 — or, for the reference
-    mode, a square number of at least 256."""
+    mode, a square number from 256 to MAX_REFERENCE_SAMPLES."""
     from vecmsaa.raster.sample_patterns import D3D_PATTERNS
 
     try:
@@ -14,11 +19,12 @@ def sample_count(text: str) -> int:
     except ValueError:
         raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
     side = int(round(value ** 0.5)) if value > 0 else 0
-    if value in D3D_PATTERNS or (value >= 256 and side * side == value):
+    if value in D3D_PATTERNS or (256 <= value <= MAX_REFERENCE_SAMPLES
+                                 and side * side == value):
         return value
     raise argparse.ArgumentTypeError(
         f"must be one of {', '.join(map(str, sorted(D3D_PATTERNS)))} "
-        f"(or a square >= 256 for the reference mode): {text!r}")
+        f"(or a square from 256 to {MAX_REFERENCE_SAMPLES} for the reference mode): {text!r}")
 
 
 def add_coverage_options(parser, default_mode: str | None = None) -> None:
@@ -36,7 +42,7 @@ def add_coverage_options(parser, default_mode: str | None = None) -> None:
                         help=f"samples per pixel: 1, 2, 4, 8, 16 (default "
                              f"{SMALL_OUTPUT_SAMPLES} for outputs of at most {side}x{side} "
                              f"pixels, {DEFAULT_SAMPLES} for larger ones); the reference mode "
-                             "takes 256 or a larger square")
+                             f"takes a square from 256 to {MAX_REFERENCE_SAMPLES}")
 
 
 def add_sampling_options(parser) -> None:

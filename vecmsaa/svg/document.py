@@ -30,6 +30,12 @@ MAX_ELEMENTS = 1_000_000
 #: Deepest element nesting accepted; building and drawing recurse per level, and vecmsaa's
 #: recursion limit (vecmsaa/__init__.py) leaves room for this many levels of filtered groups.
 MAX_DEPTH = 1024
+#: Steps of CSS selector matching per document (a selector tested on an element, an
+#: ancestor or sibling visited, an element wrapped): descendant combinators backtrack
+#: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
+#: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
+#: every element. Past it the document is refused.
+MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
 PROPERTIES = {
@@ -728,6 +734,31 @@ def _namespace_rule(rule, namespaces):
         namespaces[prefix] = tok.value
 
 
+#: cssselect2 compiles a selector into one Python expression nesting three parentheses per
+#: combinator, which Python's parser refuses past 200 (67 combinators); its parser also takes
+#: time quadratic in a selector's length (20,000 combinators: minutes). A rule with a longer
+#: selector is dropped before it is parsed: it could never match anyway.
+MAX_COMBINATORS = 100
+
+
+def _most_combinators(prelude) -> int:
+    """The most combinators (between compound selectors) in one selector of a list."""
+    most = count = 0
+    started = pending = False
+    for tok in prelude:
+        if tok.type == "literal" and tok.value == ",":
+            count, started, pending = 0, False, False
+        elif tok.type in ("whitespace", "comment") or (tok.type == "literal"
+                                                       and tok.value in (">", "+", "~")):
+            pending = started
+        else:
+            if pending:
+                count += 1
+                most = max(most, count)
+            started, pending = True, False
+    return most
+
+
 class Stylesheets:
     """All CSS rules of a document, matched with cssselect2."""
 
@@ -754,6 +785,8 @@ class Stylesheets:
                 continue
             head = False
             if rule.type != "qualified-rule":
+                continue
+            if _most_combinators(rule.prelude) > MAX_COMBINATORS:
                 continue
             try:
                 selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
@@ -1034,10 +1067,89 @@ def _cascade(reader, stylesheet):
             sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
     matches = {}
     if sheets.count:
-        wrapper = cssselect2.ElementWrapper.from_xml_root(xml_root)
+        wrapper, matcher = _counted_matching(sheets.matcher)
+        wrapper = wrapper.from_xml_root(xml_root)
         for w in wrapper.iter_subtree():
-            found = sheets.matcher.match(w)
+            found = matcher.match(w)
             if found:
                 matches[id(w.etree_element)] = found
     for el, node, spec, style_attr in reader.pending:
         el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings)
+
+
+def _counted_matching(matcher):
+    """An ElementWrapper class and a Matcher (sharing ``matcher``'s rules) that count the
+    work of matching against MAX_SELECTOR_STEPS and raise SvgError past it. cssselect2 walks
+    ancestors and earlier siblings through these attributes; its tuples of earlier siblings
+    (one per element, of all its earlier siblings: quadratic memory for a long list of
+    siblings) become walks along the previous-sibling links, and its tuples of ancestors one
+    per parent. Counting charges whole tuples and lists at once (a walk may stop early): a
+    call per step cost half again the matching's time."""
+    import cssselect2
+
+    left = [MAX_SELECTOR_STEPS]
+
+    def charge(n):
+        left[0] -= n
+        if left[0] < 0:
+            raise SvgError(f"CSS selectors take more than {MAX_SELECTOR_STEPS} steps to match "
+                           f"(vecmsaa.svg.document.MAX_SELECTOR_STEPS)")
+
+    class Siblings(list):
+        # `:first-of-type` and its kind scan slices of the siblings
+        def __getitem__(self, key):
+            got = list.__getitem__(self, key)
+            if isinstance(key, slice):
+                charge(len(got))
+            return got
+
+    def below(el):
+        got = el._below
+        if got is None:
+            got = el._below = (() if el.parent is None else below(el.parent)) + (el,)
+            charge(len(got))
+        return got
+
+    class Wrapper(cssselect2.ElementWrapper):
+        _below = None       # this element's ancestors and itself: its children's ancestors
+
+        @property
+        def ancestors(self):
+            # one tuple per parent (cssselect2 makes one per element: depth times the
+            # elements), its length charged when made and at each walk (`any` over it)
+            parent = self.parent
+            if parent is None:
+                return ()
+            got = parent._below
+            if got is None:
+                got = below(parent)
+            left[0] -= len(got)     # charge(), inline: this runs once per selector test
+            if left[0] < 0:
+                charge(0)
+            return got
+
+        @property
+        def previous_siblings(self):
+            el = self.previous
+            while el is not None:
+                charge(1)
+                yield el
+                el = el.previous
+
+        @functools.cached_property
+        def etree_children(self):
+            return Siblings(cssselect2.ElementWrapper.etree_children.func(self))
+
+        def iter_children(self):
+            charge(len(self.etree_children))
+            return super().iter_children()
+
+    class Matcher(cssselect2.Matcher):
+        @staticmethod
+        def add_relevant_selectors(element, selectors, relevant_selectors):
+            charge(len(selectors))
+            cssselect2.Matcher.add_relevant_selectors(element, selectors, relevant_selectors)
+
+    counted = Matcher()
+    counted.__dict__.update(matcher.__dict__)
+    return Wrapper, counted

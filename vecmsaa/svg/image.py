@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..diagnostics import warn
 from ..scene.transform import compose, invert, translate
 from ..scene.bounds import path_bounds
 from ..scene.path import rect_path
@@ -14,9 +15,17 @@ from ..scene.nodes import Fill, Group, ImagePaint
 from .units import parse_aspect, viewbox_transform
 
 #: Pixels of one raster image, and of all distinct raster images of a document (each decoded
-#: once, however often it is referenced); an image over either limit is not drawn.
+#: once, however often it is referenced, SVG images inside it included); an image over either
+#: limit is not drawn.
 MAX_IMAGE_PIXELS = 1 << 26
 MAX_DECODED_PIXELS = 1 << 28
+#: Texels (16 bytes each: float32 RGBA) of all images of a document, SVG images inside it
+#: included, one set per image and reduction (an image drawn at several scales has several);
+#: an image past it is not drawn. One image of MAX_IMAGE_PIXELS drawn unreduced fits.
+MAX_TEXEL_PIXELS = 1 << 26
+#: Pixels converted to float32 at a time (image_texels, by whole rows): whole-image
+#: temporaries were one and a half times the texels themselves.
+_TEXEL_BAND = 1 << 16
 
 
 def sniff(data: bytes, mime=None):
@@ -47,18 +56,20 @@ def decode_raster(data: bytes, resources=None):
     the cache and the MAX_DECODED_PIXELS budget). Raises ValueError when over a limit."""
     from PIL import Image
 
-    cache = resources.decoded_images if resources is not None else {}
+    store = resources.images if resources is not None else None
+    cache = store.decoded if store is not None else {}
     im = cache.get(data)
     if im is None:
         im = Image.open(io.BytesIO(data))
         pixels = im.width * im.height
         if pixels > MAX_IMAGE_PIXELS:
-            raise ValueError(f"image of {im.width}x{im.height} pixels is too large (limit "
+            raise ImageLimit(f"an image of {im.width}x{im.height} pixels was not drawn (limit "
                              f"{MAX_IMAGE_PIXELS} pixels)")
-        if resources is not None:
-            if resources.decoded_pixels + pixels > MAX_DECODED_PIXELS:
-                raise ValueError(f"images decode to more than {MAX_DECODED_PIXELS} pixels")
-            resources.decoded_pixels += pixels
+        if store is not None:
+            if store.decoded_pixels + pixels > MAX_DECODED_PIXELS:
+                raise ImageLimit(f"an image was not drawn: the document's images decode to "
+                                 f"more than {MAX_DECODED_PIXELS} pixels")
+            store.decoded_pixels += pixels
         im.seek(0)
         im.load()
         if im.mode in ("I", "I;16", "I;16B", "I;16L"):
@@ -68,6 +79,10 @@ def decode_raster(data: bytes, resources=None):
             im = Image.fromarray(np.round(np.clip(grey, 0, 65535) / 257.0).astype(np.uint8), "L")
         cache[data] = im
     return im
+
+
+class ImageLimit(ValueError):
+    """An image over one of this module's limits (not drawn, with a warning)."""
 
 
 def image_texels(im, fx: int = 1, fy: int = 1) -> np.ndarray:
@@ -83,14 +98,21 @@ def image_texels(im, fx: int = 1, fy: int = 1) -> np.ndarray:
     h, w = im.height, im.width
     out = np.empty((h + 2, w + 2, 4), np.float32)
     inner = out[1:-1, 1:-1]
-    if im.mode in ("L", "RGB"):
-        inner[..., :3] = np.asarray(im, dtype=np.float32).reshape(h, w, -1) / 255.0
-        inner[..., 3] = 1.0
-    elif im.mode == "RGBa":
-        inner[...] = np.asarray(im, dtype=np.float32) / 255.0
-    else:
-        inner[...] = np.asarray(im.convert("RGBA"), dtype=np.float32) / 255.0
-        inner[..., :3] *= inner[..., 3:4]
+    # by bands of rows (the same per-pixel arithmetic): whole-image uint8 and float32
+    # temporaries held two to three times the texels at once
+    step = max(1, _TEXEL_BAND // max(w, 1))
+    for r0 in range(0, h, step):
+        r1 = min(h, r0 + step)
+        band = im.crop((0, r0, w, r1))
+        rows = inner[r0:r1]
+        if im.mode in ("L", "RGB"):
+            rows[..., :3] = np.asarray(band, dtype=np.float32).reshape(r1 - r0, w, -1) / 255.0
+            rows[..., 3] = 1.0
+        elif im.mode == "RGBa":
+            rows[...] = np.asarray(band, dtype=np.float32) / 255.0
+        else:
+            rows[...] = np.asarray(band.convert("RGBA"), dtype=np.float32) / 255.0
+            rows[..., :3] *= rows[..., 3:4]
     out[0, 1:-1], out[-1, 1:-1] = inner[0], inner[-1]
     out[:, 0], out[:, -1] = out[:, 1], out[:, -2]
     return out
@@ -122,6 +144,9 @@ def image_nodes(builder, el, ctx, style):
     if kind == "raster":
         try:
             im = decode_raster(data, builder.resources)
+        except ImageLimit as exc:
+            warn(str(exc))
+            return []
         except Exception:   # Pillow raises many kinds of errors on corrupt data
             return []
         iw, ih = im.width, im.height
@@ -165,12 +190,19 @@ def image_nodes(builder, el, ctx, style):
             outline = rect_path(0, 0, iw, ih).transformed(image_to_user)
         fx, fy = _reduction(to_device, iw, ih)
         key = (data, fx, fy)
-        texels = builder.resources.image_texels.get(key)
+        store = builder.resources.images
+        texels = store.texels.get(key)
         if texels is None:
+            pixels = -(-iw // fx) * -(-ih // fy)      # Pillow's reduce rounds up
+            if store.texel_pixels + pixels > MAX_TEXEL_PIXELS:
+                warn(f"an image was not drawn: the document's images need more than "
+                     f"{MAX_TEXEL_PIXELS} texels at the sizes they are drawn")
+                return []
             try:
-                texels = builder.resources.image_texels[key] = image_texels(im, fx, fy)
+                texels = store.texels[key] = image_texels(im, fx, fy)
             except Exception:   # Pillow raises many kinds of errors on corrupt data
                 return []
+            store.texel_pixels += pixels
         # texels are reduced by (fx, fy) and padded by one (see image_texels); the outline
         # does the clipping
         to_paint = compose(compose(translate(1, 1), (1.0 / fx, 0, 0, 1.0 / fy, 0, 0)),
@@ -180,7 +212,15 @@ def image_nodes(builder, el, ctx, style):
     sub_ctx = replace(ctx, transform=compose(ctx.transform, compose(image_to_user,
                                                                      sub.root_matrix)),
                       viewport=sub.viewport, use_stack=(), context_fill=None, context_stroke=None)
-    nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
+    # the nested document's elements and characters count against this document's limits
+    # (MAX_NODES, MAX_TEXT_CHARS): counted apart, an image used a thousand times, of a
+    # document using an image of another a thousand times, built a billion elements
+    sub.builder.nodes_made, sub.builder.text_chars = builder.nodes_made, builder.text_chars
+    try:
+        nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale)
+    finally:
+        builder.nodes_made = max(builder.nodes_made, sub.builder.nodes_made)
+        builder.text_chars = max(builder.text_chars, sub.builder.text_chars)
     if not nodes:
         return []
     if _within(nodes, ctx.transform, (x, y, x + w, y + h)):
@@ -224,7 +264,15 @@ def _load_svg(builder, data, fragment=None):
     from .sizing import open_svg
 
     options = replace(builder.options, image_nesting=builder.options.image_nesting + 1)
+    store = builder.resources.images
+    key = (data, fragment, options.image_nesting)
+    if key in store.documents:      # parsed once however often it is drawn
+        return store.documents[key]
     try:
-        return open_svg(data, None, Resources(), options, whole_pixels=False, view=fragment)
+        # no folders; the document's images (and their budgets) are shared
+        sub = open_svg(data, None, Resources(images=store), options, whole_pixels=False,
+                       view=fragment)
     except SvgError:
-        return None
+        sub = None
+    store.documents[key] = sub
+    return sub

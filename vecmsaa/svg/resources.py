@@ -15,8 +15,22 @@ from ..diagnostics import warn
 MAX_RESOURCE_BYTES = 64 * 1024 * 1024
 
 
+class Images:
+    """Raster images decoded for a document and the SVG images inside it (svg.image): bytes →
+    Pillow image, with the pixels decoded so far, and (bytes, reduction) → texels for the
+    scene, with their pixels; SVG images parsed. Nested SVG images share their document's, so that their
+    budgets (svg.image.MAX_DECODED_PIXELS, MAX_TEXEL_PIXELS) are the document's."""
+
+    def __init__(self):
+        self.decoded = {}
+        self.decoded_pixels = 0
+        self.texels = {}
+        self.texel_pixels = 0
+        self.documents = {}     # (bytes, fragment, nesting) → SVG image's SizedDocument or None
+
+
 class Resources:
-    def __init__(self, base_dir=None, resources_dir=None):
+    def __init__(self, base_dir=None, resources_dir=None, images=None):
         self.roots = []
         for d in (base_dir, resources_dir):
             if d:
@@ -26,11 +40,7 @@ class Resources:
         self.base_dir = os.path.realpath(os.fspath(base_dir)) if base_dir else None
         self.resources_dir = (os.path.realpath(os.fspath(resources_dir))
                               if resources_dir else None)
-        # raster images decoded once per document (svg.image): bytes → Pillow image, with the
-        # pixels decoded so far, and (bytes, reduction) → texels for the scene
-        self.decoded_images = {}
-        self.decoded_pixels = 0
-        self.image_texels = {}
+        self.images = images if images is not None else Images()
 
     def fetch(self, url):
         """(bytes, mime or None, folder of the file or None); None when not allowed/found."""

@@ -61,15 +61,18 @@ class Cluster:
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
 
 
-def shape_chunk(chars, faces, specs, start, end):
+def shape_chunk(chars, faces, specs, start, end, text=None):
     """Clusters of chars[start:end] in visual order: the Unicode bidi algorithm's runs for a
     left-to-right paragraph (resvg's, whatever the ``direction`` property says), reordered.
 
     As resvg does, each bidi run is shaped whole with every face (and font settings) that
     its characters use, and each cluster is taken from the shaping by its own character's
     face: kerning and joining across tspans of different fonts come from the run's context.
+    ``text`` is the characters joined (a caller shaping many chunks joins them once: joining
+    per chunk made a text of one chunk per character quadratic).
     """
-    text = "".join(c.ch for c in chars)
+    if text is None:
+        text = "".join(c.ch for c in chars)
     chunk = (start, end)
     clusters = []
     for s, e, d in visual_runs(text[start:end], "ltr"):
@@ -516,10 +519,11 @@ def build_text(element, ctx):
 
     all_clusters = []
     last_x = last_y = 0.0
+    text = "".join(c.ch for c in chars)
     for a, b in zip(bounds[:-1], bounds[1:]):
         first = chars[a]
         on_path = first.text_path is not None
-        clusters = shape_chunk(chars, faces, specs, a, b)
+        clusters = shape_chunk(chars, faces, specs, a, b, text)
         if not clusters:
             continue
         clusters[0].shifted = True       # a chunk starts a new decoration line
