@@ -705,6 +705,53 @@ def test_one_path_alone_has_the_arrays_it_has_in_a_batch():
     kept = [f for f in fills if render_module._fill_batches([f], opts)]
     assert len(kept) == len(together.rules) < len(fills)
     assert not any(k is fills[-1] or k is fills[-2] for k in kept)     # NaN, empty
+    # a lone fill's batch (its box from a shortcut) has the row it has in the batch of all
+    for i, fill in enumerate(kept):
+        alone = render_module._fill_batches([fill], opts)[0]
+        for name in ("box", "rules", "aa", "kinds", "params"):
+            a, b = getattr(alone, name), getattr(together, name)[i:i + 1]
+            assert a.dtype == b.dtype and a.flags.c_contiguous and np.array_equal(a, b), name
+        assert alone.rows == (alone.box[0, 1], alone.box[0, 3])
+
+
+#: shapes filtered alone, of a few widths (the same width again and again, as markers are),
+#: one filtered group inside another of the same width, and a clip around a filtered group
+MANY_FILTERED_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="120" height="90">'
+    '<filter id="b" x="-50%" y="-50%" width="200%" height="200%">'
+    '<feGaussianBlur stdDeviation="0.8"/></filter>'
+    '<filter id="s" x="-20%" y="-20%" width="150%" height="150%">'
+    '<feGaussianBlur in="SourceAlpha" stdDeviation="2"/><feOffset dx="2" dy="2" result="o"/>'
+    '<feFlood flood-color="#000" flood-opacity="0.4"/><feComposite in2="o" operator="in"/>'
+    '<feMerge><feMergeNode/><feMergeNode in="SourceGraphic"/></feMerge></filter>'
+    '<clipPath id="c"><rect x="60" y="50" width="14" height="12"/></clipPath>'
+    + "".join(f'<circle cx="{8 + 11.3 * k % 100}" cy="{6 + 7.1 * k % 40}" r="{3 + k % 3}" '
+              f'fill="#c{k % 10}3" filter="url(#b)"/>' for k in range(24))
+    + '<g filter="url(#b)"><g filter="url(#b)"><rect x="20" y="60" width="9" height="9" '
+      'fill="#3a6"/></g></g>'
+      '<g clip-path="url(#c)"><g filter="url(#s)"><rect x="62" y="52" width="12" height="9" '
+      'rx="2" fill="#eef" stroke="#336"/></g></g>'
+    + "".join(f'<rect x="{70 + 9 * (k % 5)}" y="{50 + 8 * (k // 5)}" width="6" height="5" '
+              f'fill="#e{k}f" filter="url(#s)"/>' for k in range(10))
+    + '</svg>')
+
+
+def test_filtered_layers_on_kept_strip_buffers_draw_as_on_fresh_ones(monkeypatch):
+    """Filtered layers take their rasters' strip buffers from a few kept for the render, by
+    width (Raster.local): nested ones of one width included, on any band size and thread
+    count, they draw what rasters of fresh buffers draw."""
+    from vecmsaa.api import load_svg
+    scene = load_svg(MANY_FILTERED_SVG.encode(), width=240)
+    kept = render_scene_rgba8(scene)
+    assert kept[..., 3].any()
+    for budget, threads in ((scene.width * 16 * 7, 2), (scene.width * 16 * 40, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              kept)
+    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 0)
+    assert np.array_equal(render_scene_rgba8(scene), kept)
+    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 2 << 20)
+    monkeypatch.setattr(render_module, "LOCAL_KITS", 1)      # every other width evicts
+    assert np.array_equal(render_scene_rgba8(scene, threads=2), kept)
 
 
 def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():

@@ -24,7 +24,6 @@ import math
 import os
 import sys
 import threading
-from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -33,7 +32,7 @@ from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
-from ..jit import bind_last
+from ..jit import bind_tail
 from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
 from ..geometry.primitives import QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
@@ -576,17 +575,37 @@ def band_layout(W: int, samples: int, band_budget: int,
     return band_rows // strip_rows * strip_rows, strip_rows
 
 
+#: widths of filtered layers' rasters whose strip buffers a render keeps (Raster.local), and
+#: the bytes one may hold (about 600 px wide at 8 samples)
+LOCAL_KITS = 8
+LOCAL_KIT_BYTES = 2 << 20
+
+
+class _Kit:
+    """A Raster's strip buffers and its fill kernel bound to them (Raster.local)."""
+    __slots__ = ("scratch", "fill")
+
+    def __init__(self, scratch, fill):
+        self.scratch, self.fill = scratch, fill
+
+
 class Raster:
     """The raster kernels and their strip buffers for one image width: allocated once, reused
     by every band and batch (the kernels leave them clean), so no band pays for fresh pages."""
 
     def __init__(self, opts: RenderOptions, width: int, height: int, strip_rows: int,
-                 scratch=None):
+                 scratch=None, kits=None):
         self.opts = opts
         self.width, self.height = width, height
         #: kept layer buffers by nesting depth (layer_buffer)
         self.layer_buffers = []
         self.depth = 0
+        #: the strip buffers and bound kernels of filtered layers' rasters (Raster.local),
+        #: shared with the rasters made from this one
+        self.kits = {} if kits is None else kits
+        if isinstance(scratch, _Kit):
+            self.scratch, self._fill = scratch.scratch, scratch.fill
+            return
         if scratch is not None:
             # another Raster's buffers (same width, strips and sample count), used in turn
             self.scratch = scratch
@@ -597,10 +616,27 @@ class Raster:
                                         opts.lens_stats)
         else:
             self.scratch = msaa_scratch(strip_rows, width, opts.samples, opts.lens_stats)
-        # the kernel with the scratch's part of its call key worked out once (jit.bind_last)
-        self._kernel = bind_last(
-            render_analytic if opts.mode == "analytic" else
-            render_csaa if opts.color_samples < opts.samples else render_msaa, self.scratch)
+        self._fill = None
+
+    def local(self, width: int, height: int) -> "Raster":
+        """A raster for a filtered layer's region of width x height pixels, with this one's
+        options: its strip buffers and bound kernel are kept for the render, by width (a
+        document's many filtered elements come in a few sizes; allocating them and binding
+        the kernel took a sixth of a small blurred marker's time), up to LOCAL_KITS of them,
+        each of at most LOCAL_KIT_BYTES. The kernels leave the buffers clean, and a nested
+        filtered layer of the same width uses them only between its parent's kernel calls."""
+        opts = self.opts
+        strip_rows = band_layout(width, opts.samples, BAND_BUDGET, opts.mode == "analytic")[1]
+        key = (width, strip_rows)
+        kit = self.kits.get(key)
+        if kit is not None:
+            return Raster(opts, width, height, strip_rows, kit, self.kits)
+        local = Raster(opts, width, height, strip_rows, kits=self.kits)
+        if LOCAL_KITS > 0 and sum(a.nbytes for a in local.scratch) <= LOCAL_KIT_BYTES:
+            while len(self.kits) >= LOCAL_KITS:
+                del self.kits[next(iter(self.kits))]        # the oldest
+            self.kits[key] = _Kit(local.scratch, local.fill_kernel())
+        return local
 
     def layer_buffer(self, rows: int, c: int, d: int) -> np.ndarray:
         """The (rows, width, 4) buffer of the layer, clip or mask drawn at the current
@@ -627,21 +663,34 @@ class Raster:
             self.depth -= 1
         return buf[:, c:d].copy()
 
+    def fill_kernel(self):
+        """The kernel bound to the options' arguments and the scratch buffers, their part of
+        the call key worked out once (jit.bind_tail): made on the first fill."""
+        if self._fill is None:
+            o = self.opts
+            if o.mode == "analytic":
+                tail = (self.scratch,)
+            elif o.color_samples < o.samples:
+                tail = (o.sx, o.sy, o.weights, o.kernel_mode, o.a2c_bits, o.saturate,
+                        self.scratch)
+            else:
+                tail = (o.sx, o.sy, o.weights, o.kernel_mode, o.a2c_bits, o.occlude,
+                        o.saturate, self.scratch)
+            self._fill = bind_tail(
+                render_analytic if o.mode == "analytic" else
+                render_csaa if o.color_samples < o.samples else render_msaa, tail)
+        return self._fill
+
     def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
         b, o = batch, self.opts
+        kernel = self._fill or self.fill_kernel()
         if o.mode == "analytic":
-            self._kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
-                         b.params, b.lut, b.tex)
+            kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
+                   b.params, b.lut, b.tex)
             return
         out = np.zeros_like(target) if o.saturate else target
-        if o.color_samples < o.samples:
-            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
-                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                         o.kernel_mode, o.a2c_bits, o.saturate)
-        else:
-            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
-                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                         o.kernel_mode, o.a2c_bits, o.occlude, o.saturate)
+        kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
+               b.kinds, b.params, b.lut, b.tex)
         if o.saturate:
             composite(out, target)
 
@@ -656,14 +705,24 @@ class FillBatch:
         built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
-        starts = poff[:-1]
-        box = np.empty((len(fills), 4))
-        box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
-        box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
+        if len(fills) == 1 and len(pts):
+            # one path (a clip's, a filtered marker's content): its box from two reductions
+            # and Python floats (the same values), where the general case's numpy calls on
+            # arrays of one row cost several times the path's geometry
+            x0, y0 = pts.min(axis=0).tolist()
+            x1, y1 = pts.max(axis=0).tolist()
+            tol = QUAD_FALLBACK_TOL
+            box = np.array([[x0 - tol, y0 - tol, x1 + tol, y1 + tol]])
+            lo, hi = (x0 - tol, y0 - tol), (0.0, 0.0, x1 + tol, y1 + tol)
+        else:
+            starts = poff[:-1]
+            box = np.empty((len(fills), 4))
+            box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
+            box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
+            # (the columns' extremes in two reductions: a batch of one small fill costs its
+            # reductions more than its geometry)
+            lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
-        # (the columns' extremes in two reductions: a batch of one small fill costs its
-        # reductions more than its geometry)
-        lo, hi = box.min(axis=0), box.max(axis=0)
         self.rows = (lo[1], hi[3])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
@@ -880,10 +939,12 @@ class Layer:
         self.opacity = group.opacity
         self.blend = group.blend
         self.filters = group.filters
-        self.filtered = {}
-        self.filtering = threading.Lock()   # bands on threads: one of them filters
         if self.filters:
-            rows = _union([(f.region[1], f.region[3]) for f in self.filters])
+            self.filtered = {}
+            self.filtering = threading.Lock()   # bands on threads: one of them filters
+            #: the device box of its filter regions (filter_box)
+            self.box = box = _filter_regions(self.filters)
+            rows = (box[1], box[3])
         else:
             rows = _union([item.rows for item in self.items])
         for part in (self.clip, self.mask):
@@ -897,7 +958,14 @@ class Layer:
 
 def filter_box(layer: "Layer") -> tuple:
     """(x0, y0, x1, y1): the device box of the union of a filtered layer's filter regions."""
-    regions = [f.region for f in layer.filters]
+    return layer.box
+
+
+def _filter_regions(filters) -> tuple:
+    """The box of the union of the filters' regions."""
+    if len(filters) == 1:
+        return tuple(filters[0].region)
+    regions = [f.region for f in filters]
     return (min(r[0] for r in regions), min(r[1] for r in regions),
             max(r[2] for r in regions), max(r[3] for r in regions))
 
@@ -927,8 +995,9 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
-                    items.extend(_fill_batches(batch, opts, pool))
-                    batch = []
+                    if batch:
+                        items.extend(_fill_batches(batch, opts, pool))
+                        batch = []
                     items.append(Layer(node, opts, pool))
                 else:
                     stack.append(iter(node.children))
@@ -937,7 +1006,8 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
                 batch.append(node)
         else:
             stack.pop()
-    items.extend(_fill_batches(batch, opts, pool))
+    if batch:
+        items.extend(_fill_batches(batch, opts, pool))
     return items
 
 
@@ -1050,21 +1120,32 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     return (a - y0, b - y0, c, d), part.copy()
 
 
+_filter_effects = None
+
+
+def _effects():
+    """The filter_effects module, imported on first use: the effects and their scene classes
+    cost start-up that a render without filters does not need."""
+    global _filter_effects
+    if _filter_effects is None:
+        from . import filter_effects
+        _filter_effects = filter_effects
+    return _filter_effects
+
+
 def render_filtered(layer: Layer, raster: Raster):
     """(rect, pixels): the layer's content rendered in the union of its filter regions and put
     through its filters in order, each taking the previous one's result. Like resvg, content
     up to two image sizes beyond the image's edges takes part (a blur pulls it in); a region
     too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
-    # (imported here: the effects and their scene classes cost start-up that a render without
-    # filters does not need)
-    from .filter_effects import apply_filter, transparent_reach
+    fe = _filter_effects or _effects()
 
     W, H = raster.width, raster.height
     box = filter_box(layer)
     # where the filters keep transparent pixels transparent, only the content's box grown by
     # their reach can come out non-transparent: compute there, not in the whole region (an
     # element with a full-canvas drop shadow costs its own size, not the canvas's)
-    reaches = [transparent_reach(f) for f in layer.filters]
+    reaches = [fe.transparent_reach(f) for f in layer.filters]
     if None not in reaches:
         content = content_box(layer.group)
         if content is None:
@@ -1085,7 +1166,11 @@ def render_filtered(layer: Layer, raster: Raster):
     else:
         return (0, 0, 0, 0), None
     w, h = x1 - x0, y1 - y0
-    moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
+    # (a shallow copy without clip and mask, which the layer applies after filtering:
+    # dataclasses.replace cost as much as moving the content)
+    unclipped = copy.copy(layer.group)
+    unclipped.clip = unclipped.mask = None
+    moved = translated(unclipped, -x0, -y0)
     def draw(group, top, rows):
         items = prepare_items(group, raster.opts)
         # the first filtered group inside is filtered before this buffer and the rasteriser's
@@ -1096,10 +1181,10 @@ def render_filtered(layer: Layer, raster: Raster):
             with inner.filtering:
                 if id(raster.opts) not in inner.filtered:
                     inner.filtered[id(raster.opts)] = render_filtered(
-                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h))
+                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h,
+                                               local=raster.local))
         img = np.zeros((rows, w, 4), dtype=np.float32)
-        local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
-                                                         raster.opts.mode == "analytic")[1])
+        local = raster.local(w, h)
         # in bands when nested layers would hold more than LAYERS_BUDGET at the region's size
         # (the same pixels: a band's do not depend on where it begins)
         step = layer_rows(w, layer_depth(items))
@@ -1124,7 +1209,7 @@ def render_filtered(layer: Layer, raster: Raster):
         def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
             return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
         # the content is not read again: the filter may write into it (a blur in place)
-        done = apply_filter(part, f, (fx0, fy0), draw_content,
+        done = fe.apply_filter(part, f, (fx0, fy0), draw_content,
                             own_source=part.flags.writeable)
         part = None
         if (fx0, fy0, fx1, fy1) == (0, 0, w, h):
@@ -1204,8 +1289,9 @@ def content_box(group: Group):
         # one reduction over all the points: a group of 20,000 small paths took 0.2 s of
         # per-path min/max calls, and filter functions ask for this box when building too
         p = np.concatenate(points) if len(points) > 1 else points[0]
-        box = bounds.union(box, (float(p[:, 0].min()), float(p[:, 1].min()),
-                                 float(p[:, 0].max()), float(p[:, 1].max())))
+        x0, y0 = p.min(axis=0).tolist()
+        x1, y1 = p.max(axis=0).tolist()
+        box = bounds.union(box, (x0, y0, x1, y1))
     return box
 
 
