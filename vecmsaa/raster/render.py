@@ -43,7 +43,7 @@ from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analyti
                    msaa_scratch, render_analytic, render_msaa)
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
-from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, translated
+from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated
 from .shaders import PaintTable
 
 #: flattening tolerance of the exact modes (pixels)
@@ -124,6 +124,8 @@ class RenderOptions:
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
         self.tiles = {}
+        #: paint tables of one solid fill by (paint id, opacity): see FillBatch._one_fill
+        self.solid_tables = {}
         #: the options small tiles render with, made when first needed (tile_options)
         self.tile_opts = None
         #: the options pattern tiles render with (a sample render's are its parent's)
@@ -699,29 +701,33 @@ class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
     ``rows``: the device y range its fills lie in."""
 
-    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None):
-        pts = _crisp_at_centres(fills, pts, poff, opts)
+    def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
+                 extremes=None):
+        moved = _crisp_at_centres(fills, pts, poff, opts)
         # the geometry is built on the pool's threads while this one does the rest
-        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool)
+        built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         if len(fills) == 1 and len(pts):
             # one path (a clip's, a filtered marker's content): its box from two reductions
-            # and Python floats (the same values), where the general case's numpy calls on
-            # arrays of one row cost several times the path's geometry
-            x0, y0 = pts.min(axis=0).tolist()
-            x1, y1 = pts.max(axis=0).tolist()
+            # (or its points' ``extremes`` as _fill_batches found them) and Python floats (the
+            # same values), where the general case's numpy calls on arrays of one row cost
+            # several times the path's geometry
+            if extremes is None or moved is not pts:
+                extremes = moved.min(axis=0).tolist(), moved.max(axis=0).tolist()
+            (x0, y0), (x1, y1) = extremes
             tol = QUAD_FALLBACK_TOL
             box = np.array([[x0 - tol, y0 - tol, x1 + tol, y1 + tol]])
             lo, hi = (x0 - tol, y0 - tol), (0.0, 0.0, x1 + tol, y1 + tol)
-        else:
-            starts = poff[:-1]
-            box = np.empty((len(fills), 4))
-            box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
-            box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
-            # (the columns' extremes in two reductions: a batch of one small fill costs its
-            # reductions more than its geometry)
-            lo, hi = box.min(axis=0), box.max(axis=0)
+            self._one_fill(fills[0], box, lo, hi, built, opts)
+            return
+        starts = poff[:-1]
+        box = np.empty((len(fills), 4))
+        box[:, :2] = np.minimum.reduceat(moved, starts, axis=0) - QUAD_FALLBACK_TOL
+        box[:, 2:] = np.maximum.reduceat(moved, starts, axis=0) + QUAD_FALLBACK_TOL
+        # (the columns' extremes in two reductions: a batch of one small fill costs its
+        # reductions more than its geometry)
+        lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
         self.rows = (lo[1], hi[3])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
@@ -735,6 +741,39 @@ class FillBatch:
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
         if len(box) and not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+
+    def _one_fill(self, fill, box, lo, hi, built, opts) -> None:
+        """The rest of __init__ for a batch of one fill: its rule and antialiasing as arrays
+        shared by such batches, and a solid paint's table made once per render (shared by
+        the fills of that paint and opacity: a marker's every instance), as the kernels only
+        read them."""
+        self.box = box
+        self.rows = (lo[1], hi[3])
+        self.rules = _ONE_RULE[fill.rule == "evenodd"]
+        self.aa = _ONE_AA[bool(fill.antialias)]
+        paint = fill.paint
+        if type(paint) is Solid:
+            key = (id(paint), fill.opacity)
+            hit = opts.solid_tables.get(key)
+            if hit is None:
+                table = PaintTable()
+                table.add(paint, fill.opacity)
+                # (the paint is kept with its table: its id stays unique while the entry lives)
+                hit = opts.solid_tables[key] = (paint, *table.arrays())
+            _, self.kinds, self.params, self.lut, self.tex = hit
+        else:
+            table = PaintTable()
+            table.add_fills([fill], lambda paint: pattern_tile(paint, opts))
+            self.kinds, self.params, self.lut, self.tex = table.arrays()
+        self.edges, self.edge_off, self.prims, self.prim_off = built()
+        if not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
+            self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+
+
+#: a one-fill batch's rules (by whether even-odd) and antialiasing arrays (FillBatch._one_fill)
+_ONE_RULE = {True: np.array([RULE_EVENODD], np.int64),
+             False: np.array([RULE_NONZERO], np.int64)}
+_ONE_AA = {True: np.array([True]), False: np.array([False])}
 
 
 #: device x beyond which an edge is moved onto the line x = ±FAR_X (see clamp_far_edges)
@@ -1013,6 +1052,7 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
 
 _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
+_NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
 
 
 def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
@@ -1024,10 +1064,15 @@ def _fill_batches(fills, opts: RenderOptions, pool=None) -> list:
     arrays = batch_arrays([f.path for f in fills])
     verbs, pts, voff, poff = arrays
     if len(fills) == 1:
-        # (one path: the tests below without their running sums)
-        if _NOT_DRAWING[verbs].all() or not np.isfinite(pts).all():
+        # (one path: the tests below without their running sums or numpy passes: a verb
+        # besides MOVE and CLOSE found in its bytes, and its points finite where their
+        # extremes are, which FillBatch takes as its box)
+        if not verbs.tobytes().translate(None, _NOT_DRAWING_BYTES):
             return []
-        return [FillBatch(fills, *arrays, opts, pool)]
+        extremes = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+        if not all(map(math.isfinite, extremes[0] + extremes[1])):
+            return []
+        return [FillBatch(fills, *arrays, opts, pool, extremes)]
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
     keep = drawing[voff[1:]] > drawing[voff[:-1]]
