@@ -1185,3 +1185,44 @@ def test_colourless_and_uniform_results_give_the_general_paths_bytes(name, monke
     assert short[..., 3].any()
     monkeypatch.setattr(F, "_kind_of_result", lambda e, inputs: (False, False))
     assert np.array_equal(short, render_svg_array(doc))
+
+
+def test_conversion_of_runs_of_one_pixel_is_each_pixels_own():
+    """convert_space takes a pixel equal to the one before it from that one (flat colours
+    give long runs): every pixel, in runs, after a different one, with 0 and -0 told apart,
+    converted in place or not, is what converting it alone gives."""
+    rng = np.random.default_rng(11)
+    colours = rng.uniform(0, 1, (6, 4)).astype(np.float32)
+    colours[:, :3] *= colours[:, 3:]
+    colours[1, 0] = 0.0
+    colours[2] = colours[1]
+    colours[2, 0] = -0.0
+    colours[3] = (0.0, 0.0, 0.0, 0.0)
+    img = colours[rng.integers(0, 6, (13, 17))]
+    img[4, 5:12] = colours[0]                  # a run
+    for to_linear in (True, False):
+        alone = np.stack([[F.convert_space(img[y:y + 1, x:x + 1], to_linear)[0, 0]
+                           for x in range(img.shape[1])] for y in range(img.shape[0])])
+        bits = alone.view(np.uint32)
+        assert np.array_equal(F.convert_space(img, to_linear).view(np.uint32), bits)
+        assert np.array_equal(F.convert_space(img.copy(), to_linear, out=None).view(np.uint32),
+                              bits)
+        inplace = img.copy()
+        F.convert_space(inplace, to_linear, out=inplace)
+        assert np.array_equal(inplace.view(np.uint32), bits)
+
+
+def test_merge_is_its_nodes_in_turn_over_transparent_black():
+    """feMerge: each node over the result so far, starting from transparent black (the first
+    node is taken as it is)."""
+    from vecmsaa.scene.nodes import Filter, Flood, Merge, Primitive
+    box = (0, 0, 7, 5)
+    src = np.zeros((5, 7, 4), np.float32)
+    flt = Filter(box, [Primitive(Flood((0.2, 0.6, 0.9, 0.7)), (), box, False),
+                       Primitive(Flood((0.9, 0.1, 0.3, 0.45)), (), (2, 1, 6, 4), False),
+                       Primitive(Merge(), (0, 1), box, False)])
+    a = F.flood(src.shape, (0.2, 0.6, 0.9, 0.7))
+    b = np.zeros_like(src)
+    b[1:4, 2:6] = F.flood((3, 4), (0.9, 0.1, 0.3, 0.45))
+    want = F.over(b, F.over(a, np.zeros_like(src)))
+    assert np.array_equal(F.apply_filter(src, flt), want)

@@ -49,18 +49,36 @@ def linear_to_srgb(c: float) -> float:
 
 
 @njit(cache=True)
+def _same(a, b):
+    """a and b are the same float: equal, with the same sign (0 and -0 are told apart)."""
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
+@njit(cache=True)
 def _convert_space(img, out, to_linear):
+    # a pixel equal to the one converted before it takes that one's colour: the conversion
+    # is a function of the pixel alone, and its powers were most of a filter's cost where
+    # shapes are flat colours (runs of the same pixel along their rows)
     h, w = img.shape[:2]
+    pr = pg = pb = pa = np.float32(0.0)
+    qr = qg = qb = np.float32(0.0)
+    have = False
     for y in range(h):
         for x in range(w):
-            a = img[y, x, 3]
+            r, g, b, a = img[y, x, 0], img[y, x, 1], img[y, x, 2], img[y, x, 3]
             out[y, x, 3] = a
-            for c in range(3):
-                if a <= 0.0:
-                    out[y, x, c] = 0.0
-                    continue
-                v = min(max(img[y, x, c] / a, 0.0), 1.0)
-                out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
+            if a <= 0.0:
+                out[y, x, 0] = out[y, x, 1] = out[y, x, 2] = 0.0
+                continue
+            if not (have and _same(r, pr) and _same(g, pg) and _same(b, pb) and _same(a, pa)):
+                for c in range(3):
+                    v = min(max(img[y, x, c] / a, 0.0), 1.0)
+                    out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
+                pr, pg, pb, pa = r, g, b, a
+                qr, qg, qb = out[y, x, 0], out[y, x, 1], out[y, x, 2]
+                have = True
+                continue
+            out[y, x, 0], out[y, x, 1], out[y, x, 2] = qr, qg, qb
 
 
 def convert_space(img: np.ndarray, to_linear: bool, out: np.ndarray | None = None):
@@ -730,8 +748,12 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, Offset):
         return offset(inputs[0].img, e.dx, e.dy), inputs[0].linear
     if isinstance(e, Merge):
-        out = np.zeros(shape, dtype=np.float32)
-        for inp in inputs:
+        if not inputs:
+            return np.zeros(shape, dtype=np.float32), cs
+        # the first node over transparent black is that node (0·(1 - a) + x is x): a copy
+        first = inputs[0].in_space(cs)
+        out = first if _writable(inputs[0], first) else first.astype(np.float32)
+        for inp in inputs[1:]:
             out = over(inp.in_space(cs), out, True)
         return out, cs
     if isinstance(e, (Composite, Blend)):
