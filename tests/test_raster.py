@@ -803,3 +803,70 @@ def test_an_edge_reaching_far_off_the_canvas_draws_what_it_covers(mode, far):
                                 width=300, mode=mode)
     assert np.array_equal(draw(f"M 20 20 L {far} 20 L 100 100 Z"),
                           draw("M 20 20 L 300 20 L 300 100 L 100 100 Z"))
+
+
+#: groups holding one filtered group and nothing else: clipped, masked, translucent, around
+#: the canvas edge, a clip with a filtered shape of its own, and markers with a blurred dot
+SOLE_FILTERED_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="70">'
+    '<filter id="b" x="-50%" y="-50%" width="200%" height="200%">'
+    '<feGaussianBlur stdDeviation="2.5"/></filter>'
+    '<clipPath id="c"><circle cx="20" cy="20" r="13"/></clipPath>'
+    '<clipPath id="e"><rect x="-5" y="45" width="30" height="30"/></clipPath>'
+    '<clipPath id="f"><rect x="60" y="5" width="30" height="25" filter="url(#b)"/></clipPath>'
+    '<mask id="m"><rect x="40" y="0" width="30" height="70" fill="#fff" fill-opacity="0.6"/>'
+    '</mask>'
+    '<marker id="k" markerWidth="8" markerHeight="8" refX="4" refY="4" '
+    'markerUnits="userSpaceOnUse"><circle cx="4" cy="4" r="3" fill="#c33" filter="url(#b)"/>'
+    '</marker>'
+    '<rect width="100" height="70" fill="#ddd"/>'
+    '<g clip-path="url(#c)"><g filter="url(#b)"><rect x="10" y="8" width="22" height="20" '
+    'fill="#36c"/></g></g>'
+    '<g mask="url(#m)" opacity="0.7"><g filter="url(#b)"><circle cx="50" cy="35" r="14" '
+    'fill="#393"/></g></g>'
+    '<g clip-path="url(#e)" opacity="0.5"><g filter="url(#b)"><rect x="-3" y="48" width="20" '
+    'height="30" fill="#c60"/></g></g>'
+    '<g clip-path="url(#f)"><g filter="url(#b)"><rect x="62" y="8" width="30" height="18" '
+    'fill="#909"/></g></g>'
+    '<polyline points="10,60 40,52 70,64 95,40" fill="none" stroke="#333" '
+    'marker-mid="url(#k)"/></svg>')
+
+
+def test_a_group_of_one_filtered_group_composites_its_filtered_pixels(monkeypatch):
+    """A layer holding one filtered layer and nothing else composites that layer's filtered
+    pixels with its own clip, mask and opacity, without drawing them onto a buffer first
+    (render._sole_filtered): the bytes of drawing them onto one, at any band size and thread
+    count."""
+    from vecmsaa.api import load_svg
+    scene = load_svg(SOLE_FILTERED_SVG.encode(), width=200)
+    short = render_scene_rgba8(scene)
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    assert sum(isinstance(i, render_module.Layer) and i.sole is not None for i in items) >= 4
+    for budget, threads in ((200 * 16 * 5, 2), (200 * 16 * 33, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              short)
+    monkeypatch.setattr(render_module, "_sole_filtered", lambda layer: None)
+    assert np.array_equal(render_scene_rgba8(scene), short)
+    assert np.array_equal(render_scene_rgba8(scene, band_budget=200 * 16 * 5, threads=2), short)
+
+
+def test_filtered_fills_moved_as_batched_draw_as_the_moved_group(monkeypatch):
+    """Plain fills of a flat colour under filters placing nothing by device position are
+    moved into the filter region as they are batched (render._flat_solid), not as a moved
+    copy of the group: the same bytes, for regions at the canvas corner (no move) and off it,
+    and for a filter with a light (moved as a group either way)."""
+    from vecmsaa.api import load_svg
+    corner = ('<svg xmlns="http://www.w3.org/2000/svg" width="60" height="40">'
+              '<filter id="b" x="0" y="0" width="40" height="30" filterUnits="userSpaceOnUse">'
+              '<feGaussianBlur stdDeviation="1.5"/><feOffset dx="-2" dy="3"/></filter>'
+              '<filter id="l"><feDiffuseLighting><fePointLight x="30" y="10" z="20"/>'
+              '</feDiffuseLighting><feComposite in2="SourceGraphic" operator="in"/></filter>'
+              '<path d="M-0 0 L 20.5 0 L 0 15.25 Z" fill="#c60" filter="url(#b)"/>'
+              '<circle cx="42" cy="22" r="9" fill="#36c" filter="url(#l)"/></svg>')
+    scenes = [load_svg(doc.encode(), width=width) for doc, width in
+              ((corner, 60), (corner, 137), (MANY_FILTERED_SVG, 240), (SOLE_FILTERED_SVG, 200))]
+    batched = [render_scene_rgba8(s) for s in scenes]
+    assert all(b[..., 3].any() for b in batched)
+    monkeypatch.setattr(render_module, "_flat_solid", lambda group: False)
+    for scene, want in zip(scenes, batched):
+        assert np.array_equal(render_scene_rgba8(scene), want)
