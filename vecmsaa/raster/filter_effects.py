@@ -569,48 +569,50 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     def live():
         return [r for r in list(sources.values()) + results if r is not None]
 
-    for k, prim in enumerate(flt.primitives):
-        x0, y0, x1, y1 = prim.subregion
-        rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
-        inputs = [get(i) for i in prim.inputs]
-        if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
-            # resvg: feOffset's image is not confined to a subregion; the subregion it passes
-            # on (to feTile, which repeats it) is its input's when that is a result, its own
-            # when it reads SourceGraphic or SourceAlpha
-            rect = inputs[0].rect
-        for i, r in zip(prim.inputs, inputs):
-            # read for the last time, by this primitive alone, and nothing else shares it
-            r.consume = (r.owned and last_read[i] == k and prim.inputs.count(i) == 1
-                         and not any(_shares(a, [o for o in live() if o is not r])
-                                     for a in r.arrays()))
-            if r.consume and i == SOURCE_GRAPHIC and last_read.get(SOURCE_ALPHA, -1) > k:
-                get(SOURCE_ALPHA)        # made from the source before it is overwritten
-        if isinstance(prim.effect, Image):
-            img, linear = draw_content(prim.effect.content), False
-        else:
-            with np.errstate(all="ignore"):      # extreme parameters: cleaned up below
+    # extreme parameters: cleaned up below (one context for all the primitives: entering
+    # it cost as much as a small image's primitive)
+    with np.errstate(all="ignore"):
+        for k, prim in enumerate(flt.primitives):
+            x0, y0, x1, y1 = prim.subregion
+            rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
+            inputs = [get(i) for i in prim.inputs]
+            if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
+                # resvg: feOffset's image is not confined to a subregion; the subregion it passes
+                # on (to feTile, which repeats it) is its input's when that is a result, its own
+                # when it reads SourceGraphic or SourceAlpha
+                rect = inputs[0].rect
+            for i, r in zip(prim.inputs, inputs):
+                # read for the last time, by this primitive alone, and nothing else shares it
+                r.consume = (r.owned and last_read[i] == k and prim.inputs.count(i) == 1
+                             and not any(_shares(a, [o for o in live() if o is not r])
+                                         for a in r.arrays()))
+                if r.consume and i == SOURCE_GRAPHIC and last_read.get(SOURCE_ALPHA, -1) > k:
+                    get(SOURCE_ALPHA)        # made from the source before it is overwritten
+            if isinstance(prim.effect, Image):
+                img, linear = draw_content(prim.effect.content), False
+            else:
                 img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
-            img = img.astype(np.float32, copy=False)
-        # let go of the inputs read for the last time; the result is apply_filter's to write
-        # when it shares no array with what is left (nor with the caller's source)
-        for i in prim.inputs:
-            if last_read[i] == k and i != last:
-                if i < 0:
-                    sources.pop(i, None)
-                else:
-                    results[i] = None
-        colourless, uniform = _kind_of_result(prim.effect, inputs)
-        inputs = None
-        foreign = [] if own_source else [_Result(source, False, full)]
-        owned = not _shares(img, live() + foreign)
-        if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
-            img, owned = _cleaned(img, owned)
-        if rect != full and not isinstance(prim.effect, Offset):
-            if not owned:
-                img, owned = img.copy(), True
-            _clear_outside(img, rect)
-        results.append(_Result(img, linear, rect, owned, colourless, uniform and rect == full)
-                       if k == last or k in last_read else None)
+                img = img.astype(np.float32, copy=False)
+            # let go of the inputs read for the last time; the result is apply_filter's to write
+            # when it shares no array with what is left (nor with the caller's source)
+            for i in prim.inputs:
+                if last_read[i] == k and i != last:
+                    if i < 0:
+                        sources.pop(i, None)
+                    else:
+                        results[i] = None
+            colourless, uniform = _kind_of_result(prim.effect, inputs)
+            inputs = None
+            foreign = [] if own_source else [_Result(source, False, full)]
+            owned = not _shares(img, live() + foreign)
+            if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
+                img, owned = _cleaned(img, owned)
+            if rect != full and not isinstance(prim.effect, Offset):
+                if not owned:
+                    img, owned = img.copy(), True
+                _clear_outside(img, rect)
+            results.append(_Result(img, linear, rect, owned, colourless, uniform and rect == full)
+                           if k == last or k in last_read else None)
     if not results:
         return np.zeros_like(source)
     final = results[-1]
@@ -664,10 +666,11 @@ def _clear_outside(img: np.ndarray, rect) -> None:
 
 
 def _keeps_finite(e) -> bool:
-    """Whether a primitive's result is finite whenever its inputs are (moves, copies, fills and
-    Porter-Duff products of values in [0, 1]); the others' results are cleaned of NaN and
+    """Whether a primitive's result is finite whenever its inputs are (moves, copies, fills,
+    Porter-Duff products of values in [0, 1], and blurs: weighted means of such values, the
+    deviation capped at MAX_BLUR_SIGMA); the others' results are cleaned of NaN and
     infinities (40% of a long feComposite chain's time went to that)."""
-    return isinstance(e, (Offset, Merge, Tile, Flood)) or (
+    return isinstance(e, (Offset, Merge, Tile, Flood, GaussianBlur)) or (
         isinstance(e, Composite) and e.operator != "arithmetic")
 
 
