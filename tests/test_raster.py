@@ -712,6 +712,18 @@ def test_one_path_alone_has_the_arrays_it_has_in_a_batch():
             a, b = getattr(alone, name), getattr(together, name)[i:i + 1]
             assert a.dtype == b.dtype and a.flags.c_contiguous and np.array_equal(a, b), name
         assert alone.rows == (alone.box[0, 1], alone.box[0, 3])
+    # a few fills together (a shortcut below SMALL_BATCH fills): their rows of the batch of
+    # all, those that draw nothing or hold a NaN left out as there
+    index = {id(f): i for i, f in enumerate(kept)}
+    for group in (fills[3:5], fills[5:8], fills[-5:], fills[:3], fills[8:16]):
+        few = render_module._fill_batches(group, opts)
+        rows = [index[id(f)] for f in group if id(f) in index]
+        assert len(few) == (1 if rows else 0)
+        if rows:
+            for name in ("box", "rules", "aa", "kinds", "params"):
+                a, b = getattr(few[0], name), getattr(together, name)[rows]
+                assert a.dtype == b.dtype and a.flags.c_contiguous and np.array_equal(a, b), name
+            assert few[0].rows == (few[0].box[:, 1].min(), few[0].box[:, 3].max())
 
 
 #: shapes filtered alone, of a few widths (the same width again and again, as markers are),
@@ -870,3 +882,50 @@ def test_filtered_fills_moved_as_batched_draw_as_the_moved_group(monkeypatch):
     monkeypatch.setattr(render_module, "_flat_solid", lambda group: False)
     for scene, want in zip(scenes, batched):
         assert np.array_equal(render_scene_rgba8(scene), want)
+
+
+def test_content_outside_its_clip_is_not_prepared_and_not_drawn(monkeypatch):
+    """Groups whose clip or mask misses their content draw nothing: their content is not
+    prepared (render.Layer's bound), and the image is the one without them. Batches and
+    nested groups outside the clip's rows are left out: the same bytes as keeping them, at
+    any band size and thread count."""
+    from vecmsaa.api import load_svg
+    head = ('<svg xmlns="http://www.w3.org/2000/svg" width="90" height="80">'
+            '<clipPath id="c"><circle cx="20" cy="15" r="9"/></clipPath>'
+            '<clipPath id="d"><rect x="40" y="30" width="40" height="14"/></clipPath>'
+            '<mask id="m"><rect x="0" y="60" width="90" height="20" fill="#fff"/></mask>'
+            '<rect width="90" height="80" fill="#eee"/>'
+            '<path d="M5 75 L85 5" stroke="#333" stroke-width="3"/>')
+    seen = ('<g clip-path="url(#d)"><rect x="30" y="5" width="50" height="8" fill="#c00"/>'
+            '<rect x="35" y="25" width="50" height="12" fill="#0a0"/>'
+            '<g opacity="0.5"><circle cx="60" cy="70" r="6" fill="#00c"/>'
+            '<circle cx="60" cy="40" r="6" fill="#00c"/></g>'
+            '<g clip-path="url(#c)"><rect x="40" y="38" width="9" height="9" fill="#fa0"/>'
+            '</g></g>'
+            '<g mask="url(#m)"><rect x="10" y="20" width="20" height="20" fill="#0cc"/>'
+            '<path d="M10 50 L 40 78" stroke="#c0c" stroke-width="4" shape-rendering='
+            '"crispEdges"/></g>')
+    unseen = ''.join(f'<g clip-path="url(#c)"><rect x="{50 + k}" y="{40 + 3 * k}" width="9" '
+                     f'height="9" fill="#00f"/><path d="M{50 + k} {40 + 3 * k}l9 9" '
+                     f'stroke="#fff"/></g>' for k in range(8)) + \
+        '<g mask="url(#m)"><circle cx="30" cy="20" r="9" fill="#f0f"/></g>'
+    doc = head + seen + unseen + '</svg>'
+    scene = load_svg(doc.encode(), width=180)
+    image = render_scene_rgba8(scene)
+    assert np.array_equal(image, render_svg_rgba8(head + seen + '</svg>', 180))
+    opts = RenderOptions()
+    layers = [i for i in render_module.prepare_items(scene.root, opts)
+              if isinstance(i, render_module.Layer)]
+    assert len(layers) == 11 and all(not l.items and l.rows is None for l in layers[2:])
+    assert len(layers[0].items) < 4          # the red rectangle left out
+    for budget, threads in ((180 * 16 * 3, 2), (180 * 16 * 40, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              image)
+    monkeypatch.setattr(render_module, "_beyond", lambda lo, hi, bound: False)
+    assert np.array_equal(render_scene_rgba8(scene), image)
+    assert np.array_equal(render_scene_rgba8(scene, band_budget=180 * 16 * 3, threads=2), image)
+
+
+def render_svg_rgba8(doc: str, width: int) -> np.ndarray:
+    from vecmsaa.api import load_svg
+    return render_scene_rgba8(load_svg(doc.encode(), width=width))

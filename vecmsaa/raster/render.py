@@ -708,26 +708,29 @@ class FillBatch:
         built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
-        if len(fills) == 1 and len(pts):
-            # one path (a clip's, a filtered marker's content): its box from two reductions
-            # (or its points' ``extremes`` as _fill_batches found them) and Python floats (the
-            # same values), where the general case's numpy calls on arrays of one row cost
-            # several times the path's geometry
-            if extremes is None or moved is not pts:
-                extremes = moved.min(axis=0).tolist(), moved.max(axis=0).tolist()
-            (x0, y0), (x1, y1) = extremes
+        if extremes is None or moved is not pts:
+            extremes = _extremes(moved, poff) if len(fills) == 1 and len(pts) else None
+        if extremes is not None:
+            # a few small paths (a clip's, a marker's content): their boxes from their
+            # points' ``extremes`` as _fill_batches found them, Python floats (the same
+            # values), where the general case's numpy calls on arrays of a few rows cost
+            # several times the paths' geometry
             tol = QUAD_FALLBACK_TOL
-            box = np.array([[x0 - tol, y0 - tol, x1 + tol, y1 + tol]])
-            lo, hi = (x0 - tol, y0 - tol), (0.0, 0.0, x1 + tol, y1 + tol)
-            self._one_fill(fills[0], box, lo, hi, built, opts)
-            return
-        starts = poff[:-1]
-        box = np.empty((len(fills), 4))
-        box[:, :2] = np.minimum.reduceat(moved, starts, axis=0) - QUAD_FALLBACK_TOL
-        box[:, 2:] = np.maximum.reduceat(moved, starts, axis=0) + QUAD_FALLBACK_TOL
-        # (the columns' extremes in two reductions: a batch of one small fill costs its
-        # reductions more than its geometry)
-        lo, hi = box.min(axis=0), box.max(axis=0)
+            box = np.array([(x0 - tol, y0 - tol, x1 + tol, y1 + tol)
+                            for x0, y0, x1, y1 in extremes])
+            lo = (min(e[0] for e in extremes) - tol, min(e[1] for e in extremes) - tol)
+            hi = (0.0, 0.0, max(e[2] for e in extremes) + tol, max(e[3] for e in extremes) + tol)
+            if len(fills) == 1:
+                self._one_fill(fills[0], box, lo, hi, built, opts)
+                return
+        else:
+            starts = poff[:-1]
+            box = np.empty((len(fills), 4))
+            box[:, :2] = np.minimum.reduceat(moved, starts, axis=0) - QUAD_FALLBACK_TOL
+            box[:, 2:] = np.maximum.reduceat(moved, starts, axis=0) + QUAD_FALLBACK_TOL
+            # (the columns' extremes in two reductions: a batch of one small fill costs its
+            # reductions more than its geometry)
+            lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
         self.rows = (lo[1], hi[3])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
@@ -966,14 +969,24 @@ class Layer:
     it can be non-zero — inside its content (or its filter region), its clip and its mask — or
     None. A filtered layer is rendered and filtered whole, once, the first time a band needs it
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
-    sample images of raster/resolve.py each have their own)."""
+    sample images of raster/resolve.py each have their own).
 
-    def __init__(self, group: Group, opts: RenderOptions, pool=None):
-        # a filtered layer's content is prepared when it is filtered (moved to its region)
-        self.group = group if group.filters else None
-        self.items = [] if group.filters else prepare_items(group, opts, pool)
+    ``bound``: the device y range outside which the layer is not drawn (its parent's clip and
+    mask rows), or None: content outside it, and the whole content when its clip or mask draws
+    nothing, is not prepared (draw_items would skip it)."""
+
+    def __init__(self, group: Group, opts: RenderOptions, pool=None, bound=None):
         self.clip = Layer(group.clip, opts, pool) if group.clip is not None else None
         self.mask = Layer(group.mask.content, opts, pool) if group.mask is not None else None
+        for part in (self.clip, self.mask):
+            if part is not None:
+                bound = part.rows if bound is None else _intersection(bound, part.rows)
+                if bound is None:
+                    break
+        hidden = bound is None and (self.clip is not None or self.mask is not None)
+        # a filtered layer's content is prepared when it is filtered (moved to its region)
+        self.group = group if group.filters else None
+        self.items = [] if group.filters or hidden else prepare_items(group, opts, pool, bound)
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
@@ -986,10 +999,8 @@ class Layer:
             rows = (box[1], box[3])
         else:
             rows = _union([item.rows for item in self.items])
-        for part in (self.clip, self.mask):
-            if part is not None:
-                rows = _intersection(rows, part.rows)
-        self.rows = rows
+        self.rows = None if hidden or bound is None and rows is None else \
+            rows if bound is None else _intersection(rows, bound)
         #: the filtered layer that is all this layer holds, when draw_layer may take its
         #: filtered pixels as this layer's (see _sole_filtered), else None
         self.sole = _sole_filtered(self)
@@ -1054,11 +1065,13 @@ def _intersection(a, b):
     return max(a[0], b[0]), min(a[1], b[1])
 
 
-def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
+def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None) -> list:
     """The group's content as FillBatch and Layer items in paint order: fills and layer
     groups in paint order, plain groups flattened away (walked with a stack of iterators, not
     generators: map data yields tens of thousands of fills through them). ``pool``: an
-    executor whose threads help build the batches' geometry (band_pool)."""
+    executor whose threads help build the batches' geometry (band_pool). ``bound``: the
+    device y range the items are drawn in (a clipped layer's), or None: batches of fills
+    wholly outside it are left out (_fill_batches)."""
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -1067,9 +1080,9 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
             if isinstance(node, Group):
                 if node.needs_layer():
                     if batch:
-                        items.extend(_fill_batches(batch, opts, pool))
+                        items.extend(_fill_batches(batch, opts, pool, None, bound))
                         batch = []
-                    items.append(Layer(node, opts, pool))
+                    items.append(Layer(node, opts, pool, bound))
                 else:
                     stack.append(iter(node.children))
                     break
@@ -1078,7 +1091,7 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None) -> list:
         else:
             stack.pop()
     if batch:
-        items.extend(_fill_batches(batch, opts, pool))
+        items.extend(_fill_batches(batch, opts, pool, None, bound))
     return items
 
 
@@ -1087,26 +1100,33 @@ _NOT_DRAWING[[MOVE, CLOSE]] = True
 _NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
 
 
-def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None) -> list:
+def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None) -> list:
     """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
     Emptiness and finiteness are found on the batch's arrays, per path from running sums.
     ``shift``: (dx, dy), the fills moved by that many device pixels, as nodes.translated
-    moves them (see _shifted_arrays)."""
+    moves them (see _shifted_arrays). ``bound``: a device y range outside which the batch is
+    not drawn (prepare_items), or None: a batch whose points all lie beyond it is left out."""
     fills = [f for f in fills if f.opacity > 0]
     if not fills:
         return []
     arrays = _shifted_arrays(fills, shift)
     verbs, pts, voff, poff = arrays
-    if len(fills) == 1:
-        # (one path: the tests below without their running sums or numpy passes: a verb
-        # besides MOVE and CLOSE found in its bytes, and its points finite where their
-        # extremes are, which FillBatch takes as its box)
-        if not verbs.tobytes().translate(None, _NOT_DRAWING_BYTES):
+    if len(fills) == 1 or len(fills) <= SMALL_BATCH and len(pts) <= SMALL_POINTS:
+        # (one path, or a few short ones: the tests below without their running sums or
+        # numpy passes: a verb besides MOVE and CLOSE found in each path's bytes, and the
+        # points' extremes, finite, which FillBatch takes as the boxes)
+        vb, vo = verbs.tobytes(), voff.tolist()
+        drawing = all(vb[a:b].translate(None, _NOT_DRAWING_BYTES) for a, b in zip(vo, vo[1:]))
+        extremes = _extremes(pts, poff) if drawing else None
+        if extremes is not None:
+            if bound is not None and _beyond(min(e[1] for e in extremes),
+                                             max(e[3] for e in extremes), bound):
+                return []
+            return [FillBatch(fills, *arrays, opts, pool, extremes)]
+        if len(fills) == 1:
             return []
-        extremes = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
-        if not all(map(math.isfinite, extremes[0] + extremes[1])):
-            return []
-        return [FillBatch(fills, *arrays, opts, pool, extremes)]
+    if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
+        return []
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
     keep = drawing[voff[1:]] > drawing[voff[:-1]]
@@ -1120,6 +1140,39 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None) -> list:
             return []
         arrays = _shifted_arrays(fills, shift)
     return [FillBatch(fills, *arrays, opts, pool)]
+
+
+#: batches of at most this many fills and points take _fill_batches' shortcut
+SMALL_BATCH = 8
+SMALL_POINTS = 64
+
+
+def _extremes(pts, poff):
+    """[(x0, y0, x1, y1)] of each path's points, Python floats, or None if one of them is
+    not finite. One path by two numpy reductions (NaN propagates through them), a few short
+    ones in Python (pts holds at most SMALL_POINTS)."""
+    if len(poff) == 2:
+        (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+        out = [(x0, y0, x1, y1)]
+        return out if all(map(math.isfinite, out[0])) else None
+    flat = pts.ravel().tolist()
+    if not all(map(math.isfinite, flat)):
+        return None
+    out, po = [], poff.tolist()
+    for a, b in zip(po, po[1:]):
+        xs, ys = flat[2 * a:2 * b:2], flat[2 * a + 1:2 * b:2]
+        out.append((min(xs), min(ys), max(xs), max(ys)))
+    return out
+
+
+def _beyond(lo: float, hi: float, bound) -> bool:
+    """Whether points with y in lo..hi make a batch that draw_items never draws in the rows
+    of ``bound``: its box (the points grown by QUAD_FALLBACK_TOL, and under a pixel more
+    where aliased fills are moved onto sample centres) misses the device rows
+    floor(bound[0]) .. floor(bound[1]) a layer of those rows is drawn in, with a pixel to
+    spare. (NaN compares false: kept.)"""
+    margin = QUAD_FALLBACK_TOL + 2.0
+    return hi + margin < bound[0] or lo - margin > bound[1]
 
 
 def _shifted_arrays(fills, shift):
