@@ -761,7 +761,7 @@ def test_filtered_layers_on_kept_strip_buffers_draw_as_on_fresh_ones(monkeypatch
                               kept)
     monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 0)
     assert np.array_equal(render_scene_rgba8(scene), kept)
-    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 2 << 20)
+    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 4 << 20)
     monkeypatch.setattr(render_module, "LOCAL_KITS", 1)      # every other width evicts
     assert np.array_equal(render_scene_rgba8(scene, threads=2), kept)
 

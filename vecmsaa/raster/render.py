@@ -578,9 +578,11 @@ def band_layout(W: int, samples: int, band_budget: int,
 
 
 #: widths of filtered layers' rasters whose strip buffers a render keeps (Raster.local), and
-#: the bytes one may hold (about 600 px wide at 8 samples)
+#: the bytes one may hold (about 60 px wide at 8 samples: small layers are the ones whose
+#: allocation counts, and a kept set is held while the layer is filtered, where a 400 px
+#: region's 1.5 MB was half a canvas more at the filter's peak)
 LOCAL_KITS = 8
-LOCAL_KIT_BYTES = 2 << 20
+LOCAL_KIT_BYTES = 1 << 18
 
 
 class _Kit:
