@@ -1129,3 +1129,100 @@ def test_writing_in_place_never_changes_a_result(monkeypatch):
         assert np.array_equal(out, want), f"graph {trial}: {prims}"
         given = F.apply_filter(src.copy(), flt, own_source=True)
         assert np.array_equal(given, want), f"source given up, graph {trial}: {prims}"
+
+
+def test_colour_conversion_keeps_colourless_pixels_and_is_per_pixel():
+    """What apply_filter's shortcuts rely on: convert_space maps a pixel of colour 0 to itself
+    (0 stays 0, alpha is kept) in both directions, and converts each pixel on its own, so a
+    flood converts as its one pixel does."""
+    rng = np.random.default_rng(3)
+    alpha = np.zeros((9, 7, 4), np.float32)
+    alpha[..., 3] = rng.uniform(0, 1, (9, 7))
+    alpha[2, 3, 3] = 0.0
+    for to_linear in (True, False):
+        assert np.array_equal(F.convert_space(alpha, to_linear), alpha)
+    flood = F.flood((5, 6), (0.9, 0.3, 0.05, 0.6))
+    for to_linear in (True, False):
+        one = F.convert_space(flood[:1, :1], to_linear)
+        assert np.array_equal(F.convert_space(flood, to_linear),
+                              np.broadcast_to(one, flood.shape))
+
+
+@pytest.mark.parametrize("sx, sy", [(0.8, 0.8), (0.3, 1.7), (2.0, 2.0), (3.5, 0.6), (0, 5.0)])
+def test_blurring_alpha_alone_gives_the_blurs_alpha(sx, sy):
+    """_blurred_alpha (feDropShadow, blurs of colourless images) blurs the alpha channel on
+    its own: the alpha of blurring all four channels, recursive and box blurs alike."""
+    rng = np.random.default_rng(5)
+    img = rng.uniform(0, 1, (23, 31, 4)).astype(np.float32)
+    img[..., :3] *= img[..., 3:]
+    assert np.array_equal(F._blurred_alpha(img, sx, sy), F.gaussian_blur(img, sx, sy)[..., 3:4])
+
+
+SHORTCUT_FILTERS = {
+    # SourceAlpha blurred, moved, a black flood in it, merged under the source (linearRGB)
+    "shadow": '<feGaussianBlur in="SourceAlpha" stdDeviation="2"/><feOffset dx="2" dy="2" '
+              'result="o"/><feFlood flood-color="#000" flood-opacity="0.4"/><feComposite '
+              'in2="o" operator="in"/><feMerge><feMergeNode/><feMergeNode in="SourceGraphic"/>'
+              '</feMerge>',
+    # a coloured flood read in linearRGB by two primitives, and after a subregion
+    "flood": '<feFlood flood-color="#c84" flood-opacity="0.7" result="f"/><feComposite '
+             'in="f" in2="SourceAlpha" operator="in" result="a"/><feBlend in="f" in2="a" '
+             'mode="multiply"/><feFlood flood-color="#3a9" x="30" y="20" width="20" '
+             'height="30"/><feComposite in2="SourceGraphic" operator="atop"/>',
+    "shadow-srgb": '<feMorphology in="SourceAlpha" operator="dilate" radius="1.5"/>'
+                   '<feGaussianBlur stdDeviation="1.2 0.4" color-interpolation-filters="sRGB"/>'
+                   '<feComposite in="SourceGraphic" operator="over"/>',
+    "drop": '<feDropShadow dx="3" dy="-2" stdDeviation="2.5" flood-color="#246"/>',
+}
+
+
+@pytest.mark.parametrize("name", list(SHORTCUT_FILTERS))
+def test_colourless_and_uniform_results_give_the_general_paths_bytes(name, monkeypatch):
+    """Results known to be colourless (never converted between colour spaces, blurred in
+    alpha alone) or uniform (converted as one pixel) give the bytes of the general path."""
+    doc = _filtered_doc(SHORTCUT_FILTERS[name])
+    short = render_svg_array(doc)
+    assert short[..., 3].any()
+    monkeypatch.setattr(F, "_kind_of_result", lambda e, inputs: (False, False))
+    assert np.array_equal(short, render_svg_array(doc))
+
+
+def test_conversion_of_runs_of_one_pixel_is_each_pixels_own():
+    """convert_space takes a pixel equal to the one before it from that one (flat colours
+    give long runs): every pixel, in runs, after a different one, with 0 and -0 told apart,
+    converted in place or not, is what converting it alone gives."""
+    rng = np.random.default_rng(11)
+    colours = rng.uniform(0, 1, (6, 4)).astype(np.float32)
+    colours[:, :3] *= colours[:, 3:]
+    colours[1, 0] = 0.0
+    colours[2] = colours[1]
+    colours[2, 0] = -0.0
+    colours[3] = (0.0, 0.0, 0.0, 0.0)
+    img = colours[rng.integers(0, 6, (13, 17))]
+    img[4, 5:12] = colours[0]                  # a run
+    for to_linear in (True, False):
+        alone = np.stack([[F.convert_space(img[y:y + 1, x:x + 1], to_linear)[0, 0]
+                           for x in range(img.shape[1])] for y in range(img.shape[0])])
+        bits = alone.view(np.uint32)
+        assert np.array_equal(F.convert_space(img, to_linear).view(np.uint32), bits)
+        assert np.array_equal(F.convert_space(img.copy(), to_linear, out=None).view(np.uint32),
+                              bits)
+        inplace = img.copy()
+        F.convert_space(inplace, to_linear, out=inplace)
+        assert np.array_equal(inplace.view(np.uint32), bits)
+
+
+def test_merge_is_its_nodes_in_turn_over_transparent_black():
+    """feMerge: each node over the result so far, starting from transparent black (the first
+    node is taken as it is)."""
+    from vecmsaa.scene.nodes import Filter, Flood, Merge, Primitive
+    box = (0, 0, 7, 5)
+    src = np.zeros((5, 7, 4), np.float32)
+    flt = Filter(box, [Primitive(Flood((0.2, 0.6, 0.9, 0.7)), (), box, False),
+                       Primitive(Flood((0.9, 0.1, 0.3, 0.45)), (), (2, 1, 6, 4), False),
+                       Primitive(Merge(), (0, 1), box, False)])
+    a = F.flood(src.shape, (0.2, 0.6, 0.9, 0.7))
+    b = np.zeros_like(src)
+    b[1:4, 2:6] = F.flood((3, 4), (0.9, 0.1, 0.3, 0.45))
+    want = F.over(b, F.over(a, np.zeros_like(src)))
+    assert np.array_equal(F.apply_filter(src, flt), want)

@@ -113,6 +113,11 @@ def test_a_kernel_bound_to_its_last_argument_gives_the_kernels_answer():
     assert np.allclose(jit.bind_last(kernel, -7)(pts, a, b, c, d, e), expected)
     # a plain function (numba's JIT kernels under VECMSAA_JIT=1) is called as it is
     assert jit.bind_last(lambda *args: args, 3)(1, 2) == (1, 2, 3)
+    # several trailing arguments bound (jit.bind_tail), a view among the others
+    for p in (pts, view):
+        assert np.allclose(jit.bind_tail(kernel, (d, e, f))(p, a, b, c), expected)
+    assert np.allclose(jit.bind_tail(kernel, (d, e, -7))(pts, a, b, c), expected)
+    assert jit.bind_tail(lambda *args: args, (3, 4))(1, 2) == (1, 2, 3, 4)
 
 
 def test_every_manifest_line_names_a_kernel_with_that_many_parameters():

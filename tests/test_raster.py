@@ -723,6 +723,65 @@ def test_one_path_alone_has_the_arrays_it_has_in_a_batch():
     kept = [f for f in fills if render_module._fill_batches([f], opts)]
     assert len(kept) == len(together.rules) < len(fills)
     assert not any(k is fills[-1] or k is fills[-2] for k in kept)     # NaN, empty
+    # a lone fill's batch (its box from a shortcut) has the row it has in the batch of all
+    for i, fill in enumerate(kept):
+        alone = render_module._fill_batches([fill], opts)[0]
+        for name in ("box", "rules", "aa", "kinds", "params"):
+            a, b = getattr(alone, name), getattr(together, name)[i:i + 1]
+            assert a.dtype == b.dtype and a.flags.c_contiguous and np.array_equal(a, b), name
+        assert alone.rows == (alone.box[0, 1], alone.box[0, 3])
+    # a few fills together (a shortcut below SMALL_BATCH fills): their rows of the batch of
+    # all, those that draw nothing or hold a NaN left out as there
+    index = {id(f): i for i, f in enumerate(kept)}
+    for group in (fills[3:5], fills[5:8], fills[-5:], fills[:3], fills[8:16]):
+        few = render_module._fill_batches(group, opts)
+        rows = [index[id(f)] for f in group if id(f) in index]
+        assert len(few) == (1 if rows else 0)
+        if rows:
+            for name in ("box", "rules", "aa", "kinds", "params"):
+                a, b = getattr(few[0], name), getattr(together, name)[rows]
+                assert a.dtype == b.dtype and a.flags.c_contiguous and np.array_equal(a, b), name
+            assert few[0].rows == (few[0].box[:, 1].min(), few[0].box[:, 3].max())
+
+
+#: shapes filtered alone, of a few widths (the same width again and again, as markers are),
+#: one filtered group inside another of the same width, and a clip around a filtered group
+MANY_FILTERED_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="120" height="90">'
+    '<filter id="b" x="-50%" y="-50%" width="200%" height="200%">'
+    '<feGaussianBlur stdDeviation="0.8"/></filter>'
+    '<filter id="s" x="-20%" y="-20%" width="150%" height="150%">'
+    '<feGaussianBlur in="SourceAlpha" stdDeviation="2"/><feOffset dx="2" dy="2" result="o"/>'
+    '<feFlood flood-color="#000" flood-opacity="0.4"/><feComposite in2="o" operator="in"/>'
+    '<feMerge><feMergeNode/><feMergeNode in="SourceGraphic"/></feMerge></filter>'
+    '<clipPath id="c"><rect x="60" y="50" width="14" height="12"/></clipPath>'
+    + "".join(f'<circle cx="{8 + 11.3 * k % 100}" cy="{6 + 7.1 * k % 40}" r="{3 + k % 3}" '
+              f'fill="#c{k % 10}3" filter="url(#b)"/>' for k in range(24))
+    + '<g filter="url(#b)"><g filter="url(#b)"><rect x="20" y="60" width="9" height="9" '
+      'fill="#3a6"/></g></g>'
+      '<g clip-path="url(#c)"><g filter="url(#s)"><rect x="62" y="52" width="12" height="9" '
+      'rx="2" fill="#eef" stroke="#336"/></g></g>'
+    + "".join(f'<rect x="{70 + 9 * (k % 5)}" y="{50 + 8 * (k // 5)}" width="6" height="5" '
+              f'fill="#e{k}f" filter="url(#s)"/>' for k in range(10))
+    + '</svg>')
+
+
+def test_filtered_layers_on_kept_strip_buffers_draw_as_on_fresh_ones(monkeypatch):
+    """Filtered layers take their rasters' strip buffers from a few kept for the render, by
+    width (Raster.local): nested ones of one width included, on any band size and thread
+    count, they draw what rasters of fresh buffers draw."""
+    from vecmsaa.api import load_svg
+    scene = load_svg(MANY_FILTERED_SVG.encode(), width=240)
+    kept = render_scene_rgba8(scene)
+    assert kept[..., 3].any()
+    for budget, threads in ((scene.width * 16 * 7, 2), (scene.width * 16 * 40, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              kept)
+    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 0)
+    assert np.array_equal(render_scene_rgba8(scene), kept)
+    monkeypatch.setattr(render_module, "LOCAL_KIT_BYTES", 4 << 20)
+    monkeypatch.setattr(render_module, "LOCAL_KITS", 1)      # every other width evicts
+    assert np.array_equal(render_scene_rgba8(scene, threads=2), kept)
 
 
 def test_bands_are_taken_heaviest_first_unless_a_layer_is_filtered():
@@ -774,3 +833,117 @@ def test_an_edge_reaching_far_off_the_canvas_draws_what_it_covers(mode, far):
                                 width=300, mode=mode)
     assert np.array_equal(draw(f"M 20 20 L {far} 20 L 100 100 Z"),
                           draw("M 20 20 L 300 20 L 300 100 L 100 100 Z"))
+
+
+#: groups holding one filtered group and nothing else: clipped, masked, translucent, around
+#: the canvas edge, a clip with a filtered shape of its own, and markers with a blurred dot
+SOLE_FILTERED_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="70">'
+    '<filter id="b" x="-50%" y="-50%" width="200%" height="200%">'
+    '<feGaussianBlur stdDeviation="2.5"/></filter>'
+    '<clipPath id="c"><circle cx="20" cy="20" r="13"/></clipPath>'
+    '<clipPath id="e"><rect x="-5" y="45" width="30" height="30"/></clipPath>'
+    '<clipPath id="f"><rect x="60" y="5" width="30" height="25" filter="url(#b)"/></clipPath>'
+    '<mask id="m"><rect x="40" y="0" width="30" height="70" fill="#fff" fill-opacity="0.6"/>'
+    '</mask>'
+    '<marker id="k" markerWidth="8" markerHeight="8" refX="4" refY="4" '
+    'markerUnits="userSpaceOnUse"><circle cx="4" cy="4" r="3" fill="#c33" filter="url(#b)"/>'
+    '</marker>'
+    '<rect width="100" height="70" fill="#ddd"/>'
+    '<g clip-path="url(#c)"><g filter="url(#b)"><rect x="10" y="8" width="22" height="20" '
+    'fill="#36c"/></g></g>'
+    '<g mask="url(#m)" opacity="0.7"><g filter="url(#b)"><circle cx="50" cy="35" r="14" '
+    'fill="#393"/></g></g>'
+    '<g clip-path="url(#e)" opacity="0.5"><g filter="url(#b)"><rect x="-3" y="48" width="20" '
+    'height="30" fill="#c60"/></g></g>'
+    '<g clip-path="url(#f)"><g filter="url(#b)"><rect x="62" y="8" width="30" height="18" '
+    'fill="#909"/></g></g>'
+    '<polyline points="10,60 40,52 70,64 95,40" fill="none" stroke="#333" '
+    'marker-mid="url(#k)"/></svg>')
+
+
+def test_a_group_of_one_filtered_group_composites_its_filtered_pixels(monkeypatch):
+    """A layer holding one filtered layer and nothing else composites that layer's filtered
+    pixels with its own clip, mask and opacity, without drawing them onto a buffer first
+    (render._sole_filtered): the bytes of drawing them onto one, at any band size and thread
+    count."""
+    from vecmsaa.api import load_svg
+    scene = load_svg(SOLE_FILTERED_SVG.encode(), width=200)
+    short = render_scene_rgba8(scene)
+    items = render_module.prepare_items(scene.root, RenderOptions())
+    assert sum(isinstance(i, render_module.Layer) and i.sole is not None for i in items) >= 4
+    for budget, threads in ((200 * 16 * 5, 2), (200 * 16 * 33, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              short)
+    monkeypatch.setattr(render_module, "_sole_filtered", lambda layer: None)
+    assert np.array_equal(render_scene_rgba8(scene), short)
+    assert np.array_equal(render_scene_rgba8(scene, band_budget=200 * 16 * 5, threads=2), short)
+
+
+def test_filtered_fills_moved_as_batched_draw_as_the_moved_group(monkeypatch):
+    """Plain fills of a flat colour under filters placing nothing by device position are
+    moved into the filter region as they are batched (render._flat_solid), not as a moved
+    copy of the group: the same bytes, for regions at the canvas corner (no move) and off it,
+    and for a filter with a light (moved as a group either way)."""
+    from vecmsaa.api import load_svg
+    corner = ('<svg xmlns="http://www.w3.org/2000/svg" width="60" height="40">'
+              '<filter id="b" x="0" y="0" width="40" height="30" filterUnits="userSpaceOnUse">'
+              '<feGaussianBlur stdDeviation="1.5"/><feOffset dx="-2" dy="3"/></filter>'
+              '<filter id="l"><feDiffuseLighting><fePointLight x="30" y="10" z="20"/>'
+              '</feDiffuseLighting><feComposite in2="SourceGraphic" operator="in"/></filter>'
+              '<path d="M-0 0 L 20.5 0 L 0 15.25 Z" fill="#c60" filter="url(#b)"/>'
+              '<circle cx="42" cy="22" r="9" fill="#36c" filter="url(#l)"/></svg>')
+    scenes = [load_svg(doc.encode(), width=width) for doc, width in
+              ((corner, 60), (corner, 137), (MANY_FILTERED_SVG, 240), (SOLE_FILTERED_SVG, 200))]
+    batched = [render_scene_rgba8(s) for s in scenes]
+    assert all(b[..., 3].any() for b in batched)
+    monkeypatch.setattr(render_module, "_flat_solid", lambda group: False)
+    for scene, want in zip(scenes, batched):
+        assert np.array_equal(render_scene_rgba8(scene), want)
+
+
+def test_content_outside_its_clip_is_not_prepared_and_not_drawn(monkeypatch):
+    """Groups whose clip or mask misses their content draw nothing: their content is not
+    prepared (render.Layer's bound), and the image is the one without them. Batches and
+    nested groups outside the clip's rows are left out: the same bytes as keeping them, at
+    any band size and thread count."""
+    from vecmsaa.api import load_svg
+    head = ('<svg xmlns="http://www.w3.org/2000/svg" width="90" height="80">'
+            '<clipPath id="c"><circle cx="20" cy="15" r="9"/></clipPath>'
+            '<clipPath id="d"><rect x="40" y="30" width="40" height="14"/></clipPath>'
+            '<mask id="m"><rect x="0" y="60" width="90" height="20" fill="#fff"/></mask>'
+            '<rect width="90" height="80" fill="#eee"/>'
+            '<path d="M5 75 L85 5" stroke="#333" stroke-width="3"/>')
+    seen = ('<g clip-path="url(#d)"><rect x="30" y="5" width="50" height="8" fill="#c00"/>'
+            '<rect x="35" y="25" width="50" height="12" fill="#0a0"/>'
+            '<g opacity="0.5"><circle cx="60" cy="70" r="6" fill="#00c"/>'
+            '<circle cx="60" cy="40" r="6" fill="#00c"/></g>'
+            '<g clip-path="url(#c)"><rect x="40" y="38" width="9" height="9" fill="#fa0"/>'
+            '</g></g>'
+            '<g mask="url(#m)"><rect x="10" y="20" width="20" height="20" fill="#0cc"/>'
+            '<path d="M10 50 L 40 78" stroke="#c0c" stroke-width="4" shape-rendering='
+            '"crispEdges"/></g>')
+    unseen = ''.join(f'<g clip-path="url(#c)"><rect x="{50 + k}" y="{40 + 3 * k}" width="9" '
+                     f'height="9" fill="#00f"/><path d="M{50 + k} {40 + 3 * k}l9 9" '
+                     f'stroke="#fff"/></g>' for k in range(8)) + \
+        '<g mask="url(#m)"><circle cx="30" cy="20" r="9" fill="#f0f"/></g>'
+    doc = head + seen + unseen + '</svg>'
+    scene = load_svg(doc.encode(), width=180)
+    image = render_scene_rgba8(scene)
+    assert np.array_equal(image, render_svg_rgba8(head + seen + '</svg>', 180))
+    opts = RenderOptions()
+    layers = [i for i in render_module.prepare_items(scene.root, opts)
+              if isinstance(i, render_module.Layer)]
+    assert len(layers) == 11 and all(not l.items and l.rows is None for l in layers[2:])
+    assert len(layers[0].items) < 4          # the red rectangle left out
+    for budget, threads in ((180 * 16 * 3, 2), (180 * 16 * 40, 3)):
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              image)
+    monkeypatch.setattr(render_module, "_beyond", lambda lo, hi, bound: False)
+    assert np.array_equal(render_scene_rgba8(scene), image)
+    assert np.array_equal(render_scene_rgba8(scene, band_budget=180 * 16 * 3, threads=2), image)
+
+
+def render_svg_rgba8(doc: str, width: int) -> np.ndarray:
+    from vecmsaa.api import load_svg
+    return render_scene_rgba8(load_svg(doc.encode(), width=width))

@@ -82,17 +82,24 @@ def bind_last(kernel, last):
     here, once: a raster's scratch buffers are a tuple of fifteen arrays, whose key took 5 µs
     of every fill (documents of many small layers make tens of thousands). ``last`` must keep
     its types (the arrays their dtypes, dimensions, layouts and write access)."""
+    return bind_tail(kernel, (last,))
+
+
+def bind_tail(kernel, tail: tuple):
+    """``lambda *args: kernel(*args, *tail)`` with the tail's part of the call key computed
+    here, once (as bind_last: a fill's sample positions, weights and flags are the render's,
+    seven more arguments to key on every call). The tail must keep its types."""
     if not isinstance(kernel, Kernel):
-        return lambda *args: kernel(*args, last)
-    last_key = arg_key(last)
-    nargs = kernel.nargs - 1
+        return lambda *args: kernel(*args, *tail)
+    tail_key = _call_key(tail)
+    nargs = kernel.nargs - len(tail)
 
     def call(*args):
         if len(args) == nargs:
-            entry = kernel.entries.get(_call_key(args) + (last_key,))
+            entry = kernel.entries.get(_call_key(args) + tail_key)
             if entry is not None:
-                return entry(*args, last)
-        return kernel(*args, last)
+                return entry(*args, *tail)
+        return kernel(*args, *tail)
     return call
 
 

@@ -13,6 +13,7 @@ rendered into the region by the caller's ``draw_content``.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -48,18 +49,36 @@ def linear_to_srgb(c: float) -> float:
 
 
 @njit(cache=True)
+def _same(a, b):
+    """a and b are the same float: equal, with the same sign (0 and -0 are told apart)."""
+    return a == b and math.copysign(1.0, a) == math.copysign(1.0, b)
+
+
+@njit(cache=True)
 def _convert_space(img, out, to_linear):
+    # a pixel equal to the one converted before it takes that one's colour: the conversion
+    # is a function of the pixel alone, and its powers were most of a filter's cost where
+    # shapes are flat colours (runs of the same pixel along their rows)
     h, w = img.shape[:2]
+    pr = pg = pb = pa = np.float32(0.0)
+    qr = qg = qb = np.float32(0.0)
+    have = False
     for y in range(h):
         for x in range(w):
-            a = img[y, x, 3]
+            r, g, b, a = img[y, x, 0], img[y, x, 1], img[y, x, 2], img[y, x, 3]
             out[y, x, 3] = a
-            for c in range(3):
-                if a <= 0.0:
-                    out[y, x, c] = 0.0
-                    continue
-                v = min(max(img[y, x, c] / a, 0.0), 1.0)
-                out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
+            if a <= 0.0:
+                out[y, x, 0] = out[y, x, 1] = out[y, x, 2] = 0.0
+                continue
+            if not (have and _same(r, pr) and _same(g, pg) and _same(b, pb) and _same(a, pa)):
+                for c in range(3):
+                    v = min(max(img[y, x, c] / a, 0.0), 1.0)
+                    out[y, x, c] = (srgb_to_linear(v) if to_linear else linear_to_srgb(v)) * a
+                pr, pg, pb, pa = r, g, b, a
+                qr, qg, qb = out[y, x, 0], out[y, x, 1], out[y, x, 2]
+                have = True
+                continue
+            out[y, x, 0], out[y, x, 1], out[y, x, 2] = qr, qg, qb
 
 
 def convert_space(img: np.ndarray, to_linear: bool, out: np.ndarray | None = None):
@@ -141,6 +160,12 @@ def _iir_reach(sigma: float) -> int:
 
 
 def box_sizes(sigma: float, passes: int = BOX_PASSES) -> list[int]:
+    """_box_sizes as a list."""
+    return list(_box_sizes(sigma, passes))
+
+
+@functools.lru_cache(maxsize=256)
+def _box_sizes(sigma: float, passes: int = BOX_PASSES) -> tuple:
     """Odd box widths whose ``passes`` successive box blurs have variance close to sigma²
     (the smaller width wl for the first m passes, wl + 2 for the rest), derived as resvg
     derives them (its port of fastblur): in f32, the ideal width sqrt(12·sigma² / passes) + 1
@@ -159,7 +184,7 @@ def box_sizes(sigma: float, passes: int = BOX_PASSES) -> list[int]:
     m_ideal = float((f(12.0) * s * s - n * w * w - f(4.0) * n * w - f(3.0) * n)
                     / (f(-4.0) * w - f(4.0)))
     m = math.copysign(math.floor(abs(m_ideal) + 0.5), m_ideal)
-    return [wl if i < m else wl + 2 for i in range(passes)]
+    return tuple(wl if i < m else wl + 2 for i in range(passes))
 
 
 @njit(cache=True)
@@ -270,10 +295,17 @@ def gaussian_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False)
         out = img
         for axis, s in ((1, sx), (0, sy)):
             if s > 0:
-                out = box_blur_axis(out, box_sizes(s), axis,
+                out = box_blur_axis(out, _box_sizes(s), axis,
                                     out if (in_place or out is not img) else None)
         return out
     return iir_blur(img, sx, sy, in_place)
+
+
+def _blurred_alpha(img: np.ndarray, sx: float, sy: float) -> np.ndarray:
+    """gaussian_blur(img, sx, sy)[..., 3:4], blurring the alpha channel alone (the kernels
+    blur each channel on its own: the same values, a quarter of the work)."""
+    alpha = np.ascontiguousarray(img[..., 3:4], dtype=np.float32)
+    return gaussian_blur(alpha, sx, sy, True)
 
 
 def offset(img: np.ndarray, dx: float, dy: float) -> np.ndarray:
@@ -461,22 +493,38 @@ class _Result:
     SourceGraphic in linearRGB would otherwise convert it again. Primitives never write to
     their inputs, except one reading its input for the last time when ``consume`` is set
     (apply_filter: the arrays are apply_filter's own and no other result shares them): the
-    conversion is then made in place, and the primitive may write into the array it gets."""
-    __slots__ = ("img", "linear", "rect", "_other", "owned", "consume")
+    conversion is then made in place, and the primitive may write into the array it gets.
 
-    def __init__(self, img, linear, rect, owned=False):
+    ``colourless``: the colour channels are all zero (SourceAlpha, a black flood, what blurs,
+    moves and Porter-Duff products make of them): its pixels are the same in either space
+    (convert_space maps colour 0 to 0 and keeps alpha), so it is never converted.
+    ``uniform``: every pixel is the same (a flood filling its image): the other space's image
+    is that one pixel converted, which is what converting each pixel gives."""
+    __slots__ = ("img", "linear", "rect", "_other", "owned", "consume", "colourless", "uniform")
+
+    def __init__(self, img, linear, rect, owned=False, colourless=False, uniform=False):
         self.img, self.linear, self.rect = img, linear, rect
         self._other = None
         self.owned = owned          # img is apply_filter's to overwrite
         self.consume = False
+        self.colourless, self.uniform = colourless, uniform
 
     def arrays(self):
         return (self.img,) if self._other is None else (self.img, self._other)
 
     def in_space(self, linear: bool) -> np.ndarray:
-        if self.linear == linear:
+        if self.linear == linear or self.colourless:
             return self.img
         if self._other is None:
+            if self.uniform and self.img.size:
+                pixel = convert_space(self.img[:1, :1], linear)[0, 0]
+                if self.consume:
+                    self.img[...] = pixel
+                    self.linear = linear
+                    return self.img
+                self._other = np.empty_like(self.img)
+                self._other[...] = pixel
+                return self._other
             if self.consume:
                 self.img, self.linear = convert_space(self.img, linear, out=self.img), linear
                 return self.img
@@ -515,58 +563,81 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
             # made when first read: most filters never read it
             alpha = np.zeros_like(source)
             alpha[..., 3] = source[..., 3]
-            sources[i] = _Result(alpha, False, full, True)
+            sources[i] = _Result(alpha, False, full, True, colourless=True)
         return sources[i] if i < 0 else results[i]
 
     def live():
         return [r for r in list(sources.values()) + results if r is not None]
 
-    for k, prim in enumerate(flt.primitives):
-        x0, y0, x1, y1 = prim.subregion
-        rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
-        inputs = [get(i) for i in prim.inputs]
-        if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
-            # resvg: feOffset's image is not confined to a subregion; the subregion it passes
-            # on (to feTile, which repeats it) is its input's when that is a result, its own
-            # when it reads SourceGraphic or SourceAlpha
-            rect = inputs[0].rect
-        for i, r in zip(prim.inputs, inputs):
-            # read for the last time, by this primitive alone, and nothing else shares it
-            r.consume = (r.owned and last_read[i] == k and prim.inputs.count(i) == 1
-                         and not any(_shares(a, [o for o in live() if o is not r])
-                                     for a in r.arrays()))
-            if r.consume and i == SOURCE_GRAPHIC and last_read.get(SOURCE_ALPHA, -1) > k:
-                get(SOURCE_ALPHA)        # made from the source before it is overwritten
-        if isinstance(prim.effect, Image):
-            img, linear = draw_content(prim.effect.content), False
-        else:
-            with np.errstate(all="ignore"):      # extreme parameters: cleaned up below
+    # extreme parameters: cleaned up below (one context for all the primitives: entering
+    # it cost as much as a small image's primitive)
+    with np.errstate(all="ignore"):
+        for k, prim in enumerate(flt.primitives):
+            x0, y0, x1, y1 = prim.subregion
+            rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
+            inputs = [get(i) for i in prim.inputs]
+            if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
+                # resvg: feOffset's image is not confined to a subregion; the subregion it passes
+                # on (to feTile, which repeats it) is its input's when that is a result, its own
+                # when it reads SourceGraphic or SourceAlpha
+                rect = inputs[0].rect
+            for i, r in zip(prim.inputs, inputs):
+                # read for the last time, by this primitive alone, and nothing else shares it
+                r.consume = (r.owned and last_read[i] == k and prim.inputs.count(i) == 1
+                             and not any(_shares(a, [o for o in live() if o is not r])
+                                         for a in r.arrays()))
+                if r.consume and i == SOURCE_GRAPHIC and last_read.get(SOURCE_ALPHA, -1) > k:
+                    get(SOURCE_ALPHA)        # made from the source before it is overwritten
+            if isinstance(prim.effect, Image):
+                img, linear = draw_content(prim.effect.content), False
+            else:
                 img, linear = run_primitive(prim, inputs, source.shape, (rx0, ry0))
-            img = img.astype(np.float32, copy=False)
-        # let go of the inputs read for the last time; the result is apply_filter's to write
-        # when it shares no array with what is left (nor with the caller's source)
-        for i in prim.inputs:
-            if last_read[i] == k and i != last:
-                if i < 0:
-                    sources.pop(i, None)
-                else:
-                    results[i] = None
-        inputs = None
-        foreign = [] if own_source else [_Result(source, False, full)]
-        owned = not _shares(img, live() + foreign)
-        if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
-            img, owned = _cleaned(img, owned)
-        if rect != full and not isinstance(prim.effect, Offset):
-            if not owned:
-                img, owned = img.copy(), True
-            _clear_outside(img, rect)
-        results.append(_Result(img, linear, rect, owned) if k == last or k in last_read
-                       else None)
+                img = img.astype(np.float32, copy=False)
+            # let go of the inputs read for the last time; the result is apply_filter's to write
+            # when it shares no array with what is left (nor with the caller's source)
+            for i in prim.inputs:
+                if last_read[i] == k and i != last:
+                    if i < 0:
+                        sources.pop(i, None)
+                    else:
+                        results[i] = None
+            colourless, uniform = _kind_of_result(prim.effect, inputs)
+            inputs = None
+            foreign = [] if own_source else [_Result(source, False, full)]
+            owned = not _shares(img, live() + foreign)
+            if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
+                img, owned = _cleaned(img, owned)
+            if rect != full and not isinstance(prim.effect, Offset):
+                if not owned:
+                    img, owned = img.copy(), True
+                _clear_outside(img, rect)
+            results.append(_Result(img, linear, rect, owned, colourless, uniform and rect == full)
+                           if k == last or k in last_read else None)
     if not results:
         return np.zeros_like(source)
     final = results[-1]
     final.consume = final.owned
     return final.in_space(False)
+
+
+def _kind_of_result(e, inputs) -> tuple[bool, bool]:
+    """(colourless, uniform) of primitive ``e``'s result given its inputs (_Result), as
+    _Result takes them before any subregion is cleared: colourless where its colour channels
+    are all exactly zero (a flood of black; Porter-Duff products, moves, blurs and extremes of
+    such images: colour 0 times or plus colour 0 is 0), uniform for a flood."""
+    if isinstance(e, Flood):
+        r, g, b, a = e.color
+        return r * a == 0 and g * a == 0 and b * a == 0, True
+    if isinstance(e, (GaussianBlur, Offset, Tile, Morphology)):
+        return inputs[0].colourless, False
+    if isinstance(e, Merge):
+        return all(r.colourless for r in inputs), False
+    if isinstance(e, Composite):
+        if e.operator in ("in", "out"):
+            return inputs[0].colourless, False
+        return (e.operator != "arithmetic" and inputs[0].colourless
+                and inputs[1].colourless), False
+    return False, False
 
 
 def _cleaned(img: np.ndarray, owned: bool):
@@ -595,10 +666,11 @@ def _clear_outside(img: np.ndarray, rect) -> None:
 
 
 def _keeps_finite(e) -> bool:
-    """Whether a primitive's result is finite whenever its inputs are (moves, copies, fills and
-    Porter-Duff products of values in [0, 1]); the others' results are cleaned of NaN and
+    """Whether a primitive's result is finite whenever its inputs are (moves, copies, fills,
+    Porter-Duff products of values in [0, 1], and blurs: weighted means of such values, the
+    deviation capped at MAX_BLUR_SIGMA); the others' results are cleaned of NaN and
     infinities (40% of a long feComposite chain's time went to that)."""
-    return isinstance(e, (Offset, Merge, Tile, Flood)) or (
+    return isinstance(e, (Offset, Merge, Tile, Flood, GaussianBlur)) or (
         isinstance(e, Composite) and e.operator != "arithmetic")
 
 
@@ -643,6 +715,7 @@ def _own_reach(e) -> int | None:
     return None
 
 
+@functools.lru_cache(maxsize=256)     # (a document's blurs share a few deviations)
 def _blur_reach(sx: float, sy: float) -> int:
     """The half-width, in pixels, of what gaussian_blur spreads a pixel over."""
     sx = sx if sx >= 0.05 else 0.0
@@ -652,7 +725,7 @@ def _blur_reach(sx: float, sy: float) -> int:
         if s <= 0:
             return 0
         if max(sx, sy) >= BOX_BLUR_SIGMA:
-            return sum((size - 1) // 2 for size in box_sizes(s))
+            return sum((size - 1) // 2 for size in _box_sizes(s))
         return _iir_reach(s)
     return max(axis(sx), axis(sy))
 
@@ -678,8 +751,12 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, Offset):
         return offset(inputs[0].img, e.dx, e.dy), inputs[0].linear
     if isinstance(e, Merge):
-        out = np.zeros(shape, dtype=np.float32)
-        for inp in inputs:
+        if not inputs:
+            return np.zeros(shape, dtype=np.float32), cs
+        # the first node over transparent black is that node (0·(1 - a) + x is x): a copy
+        first = inputs[0].in_space(cs)
+        out = first if _writable(inputs[0], first) else first.astype(np.float32)
+        for inp in inputs[1:]:
             out = over(inp.in_space(cs), out, True)
         return out, cs
     if isinstance(e, (Composite, Blend)):
@@ -690,6 +767,13 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
                          _writable(inputs[1], i2)), cs
     img = inputs[0].in_space(cs)
     if isinstance(e, GaussianBlur):
+        if inputs[0].colourless:
+            # the colour channels stay zero: only alpha is blurred (each channel is blurred
+            # on its own, so alpha's values are the same)
+            alpha = _blurred_alpha(img, e.sx, e.sy)
+            out = img if _writable(inputs[0], img) else np.zeros_like(img)
+            out[..., 3:4] = alpha
+            return out, cs
         return gaussian_blur(img, e.sx, e.sy, inputs[0].consume), cs
     if isinstance(e, ColorMatrix):
         return color_matrix(img, e.matrix, inputs[0].consume), cs
@@ -700,10 +784,8 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
             return np.zeros_like(img), cs
         return morphology(img, e.operator, e.rx, e.ry), cs
     if isinstance(e, DropShadow):
-        blurred = gaussian_blur(img, e.sx, e.sy)
         shadow = flood(shape, e.color)
-        shadow *= blurred[..., 3:4]          # (in place: one image fewer at a time)
-        blurred = None
+        shadow *= _blurred_alpha(img, e.sx, e.sy)     # (in place: one image fewer at a time)
         if cs:
             shadow = convert_space(shadow, True, out=shadow)
         return over(img, offset(shadow, e.dx, e.dy), True), cs

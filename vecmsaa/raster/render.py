@@ -24,7 +24,6 @@ import math
 import os
 import sys
 import threading
-from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -33,7 +32,7 @@ from .blend import blend_premultiplied, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
-from ..jit import bind_last
+from ..jit import bind_tail
 from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
 from ..geometry.primitives import NO_CULL, QUAD_FALLBACK_TOL, batch_arrays, build_batch
 from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
@@ -44,7 +43,7 @@ from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analyti
                    msaa_scratch, render_analytic, render_msaa)
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
-from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, translated
+from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated
 from .shaders import PaintTable
 
 #: flattening tolerance of the exact modes (pixels)
@@ -125,6 +124,8 @@ class RenderOptions:
         self.flatten_tol = EXACT_TOLERANCE if mode in EXACT_MODES else 0.0
         #: rendered pattern tiles, by content group: see pattern_tile
         self.tiles = {}
+        #: paint tables of one solid fill by (paint id, opacity): see FillBatch._one_fill
+        self.solid_tables = {}
         #: the options small tiles render with, made when first needed (tile_options)
         self.tile_opts = None
         #: the options pattern tiles render with (a sample render's are its parent's)
@@ -302,7 +303,7 @@ def render_bands(scene: Scene, opts: RenderOptions, consume, band_budget: int = 
         return
     threads = available_cores() if threads is None else max(1, int(threads))
     with band_pool(threads) as pool:
-        items = prepare_items(scene.root, opts, pool, (0, 0, scene.width, scene.height))
+        items = prepare_items(scene.root, opts, pool, canvas=(0, 0, scene.width, scene.height))
         _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, items, pool)
 
 
@@ -497,7 +498,7 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
     H, W = scene.height, scene.width
     R = (opts.resolve.shape[1] - 1) // 2
     WR = W + 2 * R
-    items = prepare_items(translated(scene.root, R, 0), opts, None, (0, -R, WR, H + R))
+    items = prepare_items(translated(scene.root, R, 0), opts, canvas=(0, -R, WR, H + R))
     threads = available_cores() if threads is None else max(1, int(threads))
     band_rows, strip_rows = band_layout(WR, opts.sample_opts[0][0].samples, band_budget)
     band_rows = max(1, min(band_rows, H))
@@ -576,17 +577,39 @@ def band_layout(W: int, samples: int, band_budget: int,
     return band_rows // strip_rows * strip_rows, strip_rows
 
 
+#: widths of filtered layers' rasters whose strip buffers a render keeps (Raster.local), and
+#: the bytes one may hold (about 60 px wide at 8 samples: small layers are the ones whose
+#: allocation counts, and a kept set is held while the layer is filtered, where a 400 px
+#: region's 1.5 MB was half a canvas more at the filter's peak)
+LOCAL_KITS = 8
+LOCAL_KIT_BYTES = 1 << 18
+
+
+class _Kit:
+    """A Raster's strip buffers and its fill kernel bound to them (Raster.local)."""
+    __slots__ = ("scratch", "fill")
+
+    def __init__(self, scratch, fill):
+        self.scratch, self.fill = scratch, fill
+
+
 class Raster:
     """The raster kernels and their strip buffers for one image width: allocated once, reused
     by every band and batch (the kernels leave them clean), so no band pays for fresh pages."""
 
     def __init__(self, opts: RenderOptions, width: int, height: int, strip_rows: int,
-                 scratch=None):
+                 scratch=None, kits=None):
         self.opts = opts
         self.width, self.height = width, height
         #: kept layer buffers by nesting depth (layer_buffer)
         self.layer_buffers = []
         self.depth = 0
+        #: the strip buffers and bound kernels of filtered layers' rasters (Raster.local),
+        #: shared with the rasters made from this one
+        self.kits = {} if kits is None else kits
+        if isinstance(scratch, _Kit):
+            self.scratch, self._fill = scratch.scratch, scratch.fill
+            return
         if scratch is not None:
             # another Raster's buffers (same width, strips and sample count), used in turn
             self.scratch = scratch
@@ -597,10 +620,27 @@ class Raster:
                                         opts.lens_stats)
         else:
             self.scratch = msaa_scratch(strip_rows, width, opts.samples, opts.lens_stats)
-        # the kernel with the scratch's part of its call key worked out once (jit.bind_last)
-        self._kernel = bind_last(
-            render_analytic if opts.mode == "analytic" else
-            render_csaa if opts.color_samples < opts.samples else render_msaa, self.scratch)
+        self._fill = None
+
+    def local(self, width: int, height: int) -> "Raster":
+        """A raster for a filtered layer's region of width x height pixels, with this one's
+        options: its strip buffers and bound kernel are kept for the render, by width (a
+        document's many filtered elements come in a few sizes; allocating them and binding
+        the kernel took a sixth of a small blurred marker's time), up to LOCAL_KITS of them,
+        each of at most LOCAL_KIT_BYTES. The kernels leave the buffers clean, and a nested
+        filtered layer of the same width uses them only between its parent's kernel calls."""
+        opts = self.opts
+        strip_rows = band_layout(width, opts.samples, BAND_BUDGET, opts.mode == "analytic")[1]
+        key = (width, strip_rows)
+        kit = self.kits.get(key)
+        if kit is not None:
+            return Raster(opts, width, height, strip_rows, kit, self.kits)
+        local = Raster(opts, width, height, strip_rows, kits=self.kits)
+        if LOCAL_KITS > 0 and sum(a.nbytes for a in local.scratch) <= LOCAL_KIT_BYTES:
+            while len(self.kits) >= LOCAL_KITS:
+                del self.kits[next(iter(self.kits))]        # the oldest
+            self.kits[key] = _Kit(local.scratch, local.fill_kernel())
+        return local
 
     def layer_buffer(self, rows: int, c: int, d: int) -> np.ndarray:
         """The (rows, width, 4) buffer of the layer, clip or mask drawn at the current
@@ -627,21 +667,34 @@ class Raster:
             self.depth -= 1
         return buf[:, c:d].copy()
 
+    def fill_kernel(self):
+        """The kernel bound to the options' arguments and the scratch buffers, their part of
+        the call key worked out once (jit.bind_tail): made on the first fill."""
+        if self._fill is None:
+            o = self.opts
+            if o.mode == "analytic":
+                tail = (self.scratch,)
+            elif o.color_samples < o.samples:
+                tail = (o.sx, o.sy, o.weights, o.kernel_mode, o.a2c_bits, o.saturate,
+                        self.scratch)
+            else:
+                tail = (o.sx, o.sy, o.weights, o.kernel_mode, o.a2c_bits, o.occlude,
+                        o.saturate, self.scratch)
+            self._fill = bind_tail(
+                render_analytic if o.mode == "analytic" else
+                render_csaa if o.color_samples < o.samples else render_msaa, tail)
+        return self._fill
+
     def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
         b, o = batch, self.opts
+        kernel = self._fill or self.fill_kernel()
         if o.mode == "analytic":
-            self._kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
-                         b.params, b.lut, b.tex)
+            kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
+                   b.params, b.lut, b.tex)
             return
         out = np.zeros_like(target) if o.saturate else target
-        if o.color_samples < o.samples:
-            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
-                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                         o.kernel_mode, o.a2c_bits, o.saturate)
-        else:
-            self._kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules,
-                         b.aa, b.kinds, b.params, b.lut, b.tex, o.sx, o.sy, o.weights,
-                         o.kernel_mode, o.a2c_bits, o.occlude, o.saturate)
+        kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
+               b.kinds, b.params, b.lut, b.tex)
         if o.saturate:
             composite(out, target)
 
@@ -651,20 +704,36 @@ class FillBatch:
     ``rows``: the device y range its fills lie in."""
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
-                 canvas=NO_CULL):
-        pts = _crisp_at_centres(fills, pts, poff, opts)
+                 extremes=None, canvas=NO_CULL):
+        moved = _crisp_at_centres(fills, pts, poff, opts)
         # the geometry is built on the pool's threads while this one does the rest
-        built = build_in_parts(verbs, pts, voff, poff, opts.flatten_tol, pool, canvas)
+        built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool, canvas)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
-        starts = poff[:-1]
-        box = np.empty((len(fills), 4))
-        box[:, :2] = np.minimum.reduceat(pts, starts, axis=0) - QUAD_FALLBACK_TOL
-        box[:, 2:] = np.maximum.reduceat(pts, starts, axis=0) + QUAD_FALLBACK_TOL
+        if extremes is None or moved is not pts:
+            extremes = _extremes(moved, poff) if len(fills) == 1 and len(pts) else None
+        if extremes is not None:
+            # a few small paths (a clip's, a marker's content): their boxes from their
+            # points' ``extremes`` as _fill_batches found them, Python floats (the same
+            # values), where the general case's numpy calls on arrays of a few rows cost
+            # several times the paths' geometry
+            tol = QUAD_FALLBACK_TOL
+            box = np.array([(x0 - tol, y0 - tol, x1 + tol, y1 + tol)
+                            for x0, y0, x1, y1 in extremes])
+            lo = (min(e[0] for e in extremes) - tol, min(e[1] for e in extremes) - tol)
+            hi = (0.0, 0.0, max(e[2] for e in extremes) + tol, max(e[3] for e in extremes) + tol)
+            if len(fills) == 1:
+                self._one_fill(fills[0], box, lo, hi, built, opts)
+                return
+        else:
+            starts = poff[:-1]
+            box = np.empty((len(fills), 4))
+            box[:, :2] = np.minimum.reduceat(moved, starts, axis=0) - QUAD_FALLBACK_TOL
+            box[:, 2:] = np.maximum.reduceat(moved, starts, axis=0) + QUAD_FALLBACK_TOL
+            # (the columns' extremes in two reductions: a batch of one small fill costs its
+            # reductions more than its geometry)
+            lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
-        # (the columns' extremes in two reductions: a batch of one small fill costs its
-        # reductions more than its geometry)
-        lo, hi = box.min(axis=0), box.max(axis=0)
         self.rows = (lo[1], hi[3])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
@@ -677,6 +746,39 @@ class FillBatch:
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
         if len(box) and not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+
+    def _one_fill(self, fill, box, lo, hi, built, opts) -> None:
+        """The rest of __init__ for a batch of one fill: its rule and antialiasing as arrays
+        shared by such batches, and a solid paint's table made once per render (shared by
+        the fills of that paint and opacity: a marker's every instance), as the kernels only
+        read them."""
+        self.box = box
+        self.rows = (lo[1], hi[3])
+        self.rules = _ONE_RULE[fill.rule == "evenodd"]
+        self.aa = _ONE_AA[bool(fill.antialias)]
+        paint = fill.paint
+        if type(paint) is Solid:
+            key = (id(paint), fill.opacity)
+            hit = opts.solid_tables.get(key)
+            if hit is None:
+                table = PaintTable()
+                table.add(paint, fill.opacity)
+                # (the paint is kept with its table: its id stays unique while the entry lives)
+                hit = opts.solid_tables[key] = (paint, *table.arrays())
+            _, self.kinds, self.params, self.lut, self.tex = hit
+        else:
+            table = PaintTable()
+            table.add_fills([fill], lambda paint: pattern_tile(paint, opts))
+            self.kinds, self.params, self.lut, self.tex = table.arrays()
+        self.edges, self.edge_off, self.prims, self.prim_off = built()
+        if not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
+            self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
+
+
+#: a one-fill batch's rules (by whether even-odd) and antialiasing arrays (FillBatch._one_fill)
+_ONE_RULE = {True: np.array([RULE_EVENODD], np.int64),
+             False: np.array([RULE_NONZERO], np.int64)}
+_ONE_AA = {True: np.array([True]), False: np.array([False])}
 
 
 #: device x beyond which an edge is moved onto the line x = ±FAR_X (see clamp_far_edges)
@@ -871,37 +973,89 @@ class Layer:
     it can be non-zero — inside its content (or its filter region), its clip and its mask — or
     None. A filtered layer is rendered and filtered whole, once, the first time a band needs it
     (``filtered``: (x0, y0, x1, y1) device rect and its pixels, by the options drawing it: the
-    sample images of raster/resolve.py each have their own)."""
+    sample images of raster/resolve.py each have their own).
 
-    def __init__(self, group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL):
+    ``bound``: the device y range outside which the layer is not drawn (its parent's clip and
+    mask rows), or None: content outside it, and the whole content when its clip or mask draws
+    nothing, is not prepared (draw_items would skip it)."""
+
+    def __init__(self, group: Group, opts: RenderOptions, pool=None, bound=None,
+                 canvas=NO_CULL):
+        self.clip = (Layer(group.clip, opts, pool, canvas=canvas) if group.clip is not None
+                     else None)
+        self.mask = (Layer(group.mask.content, opts, pool, canvas=canvas)
+                     if group.mask is not None else None)
+        for part in (self.clip, self.mask):
+            if part is not None:
+                bound = part.rows if bound is None else _intersection(bound, part.rows)
+                if bound is None:
+                    break
+        hidden = bound is None and (self.clip is not None or self.mask is not None)
         # a filtered layer's content is prepared when it is filtered (moved to its region)
         self.group = group if group.filters else None
-        self.items = [] if group.filters else prepare_items(group, opts, pool, canvas)
-        self.clip = Layer(group.clip, opts, pool, canvas) if group.clip is not None else None
-        self.mask = (Layer(group.mask.content, opts, pool, canvas) if group.mask is not None
-                     else None)
+        self.items = ([] if group.filters or hidden
+                      else prepare_items(group, opts, pool, bound, canvas))
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
         self.filters = group.filters
-        self.filtered = {}
-        self.filtering = threading.Lock()   # bands on threads: one of them filters
         if self.filters:
-            rows = _union([(f.region[1], f.region[3]) for f in self.filters])
+            self.filtered = {}
+            self.filtering = threading.Lock()   # bands on threads: one of them filters
+            #: the device box of its filter regions (filter_box)
+            self.box = box = _filter_regions(self.filters)
+            rows = (box[1], box[3])
         else:
             rows = _union([item.rows for item in self.items])
-        for part in (self.clip, self.mask):
-            if part is not None:
-                rows = _intersection(rows, part.rows)
-        self.rows = rows
+        self.rows = None if hidden or bound is None and rows is None else \
+            rows if bound is None else _intersection(rows, bound)
+        #: the filtered layer that is all this layer holds, when draw_layer may take its
+        #: filtered pixels as this layer's (see _sole_filtered), else None
+        self.sole = _sole_filtered(self)
         #: layer buffers drawing it holds at once (layer_depth)
         self.depth = 1 + max([layer_depth(self.items)]
                              + [part.depth for part in (self.clip, self.mask) if part is not None])
 
 
+def _sole_filtered(layer: Layer):
+    """The one item of a layer that holds nothing but a filtered layer of plain pixels
+    (normal blend, opacity 1, no clip or mask of its own), the layer itself composited
+    normally and its clip and mask free of filters: drawn onto a transparent buffer, that
+    item's filtered pixels are the buffer's (0·(1 - a) + x is x), so draw_layer composites
+    them as they are, with this layer's clip, mask and opacity, and no buffer (a marker's
+    viewport clip around its filtered content, a clipped group around a filtered one). None
+    otherwise. (Clips and masks with filters inside keep the general path: it draws them
+    on every band, which lets go of their filtered pixels.)"""
+    if layer.filters or layer.blend != "normal" or len(layer.items) != 1:
+        return None
+    inner = layer.items[0]
+    if not (isinstance(inner, Layer) and inner.filters and inner.blend == "normal"
+            and inner.opacity == 1.0 and inner.clip is None and inner.mask is None):
+        return None
+    if _holds_filters(layer.clip) or _holds_filters(layer.mask):
+        return None
+    return inner
+
+
+def _holds_filters(layer) -> bool:
+    """Whether a layer (or None), its nested layers, clips or masks have filters."""
+    if layer is None:
+        return False
+    return bool(layer.filters) or any(_holds_filters(item) for item in layer.items
+                                      if isinstance(item, Layer)) \
+        or _holds_filters(layer.clip) or _holds_filters(layer.mask)
+
+
 def filter_box(layer: "Layer") -> tuple:
     """(x0, y0, x1, y1): the device box of the union of a filtered layer's filter regions."""
-    regions = [f.region for f in layer.filters]
+    return layer.box
+
+
+def _filter_regions(filters) -> tuple:
+    """The box of the union of the filters' regions."""
+    if len(filters) == 1:
+        return tuple(filters[0].region)
+    regions = [f.region for f in filters]
     return (min(r[0] for r in regions), min(r[1] for r in regions),
             max(r[2] for r in regions), max(r[3] for r in regions))
 
@@ -919,13 +1073,14 @@ def _intersection(a, b):
     return max(a[0], b[0]), min(a[1], b[1])
 
 
-def prepare_items(group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL) -> list:
+def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
+                  canvas=NO_CULL) -> list:
     """The group's content as FillBatch and Layer items in paint order: fills and layer
     groups in paint order, plain groups flattened away (walked with a stack of iterators, not
     generators: map data yields tens of thousands of fills through them). ``pool``: an
-    executor whose threads help build the batches' geometry (band_pool). ``canvas``: the
-    device rect (x0, y0, x1, y1) the items are drawn in (geometry beyond it is culled,
-    build_batch), NO_CULL for anywhere."""
+    executor whose threads help build the batches' geometry (band_pool). ``bound``: the
+    device y range the items are drawn in (a clipped layer's), or None: batches of fills
+    wholly outside it are left out (_fill_batches)."""
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -933,9 +1088,10 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL) 
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
-                    items.extend(_fill_batches(batch, opts, pool, canvas))
-                    batch = []
-                    items.append(Layer(node, opts, pool, canvas))
+                    if batch:
+                        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+                        batch = []
+                    items.append(Layer(node, opts, pool, bound, canvas))
                 else:
                     stack.append(iter(node.children))
                     break
@@ -943,27 +1099,44 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, canvas=NO_CULL) 
                 batch.append(node)
         else:
             stack.pop()
-    items.extend(_fill_batches(batch, opts, pool, canvas))
+    if batch:
+        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
     return items
 
 
 _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
+_NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
 
 
-def _fill_batches(fills, opts: RenderOptions, pool=None, canvas=NO_CULL) -> list:
+def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
+                  canvas=NO_CULL) -> list:
     """[FillBatch] of the fills that can draw something (non-empty, visible, finite), or [].
-    Emptiness and finiteness are found on the batch's arrays, per path from running sums."""
+    Emptiness and finiteness are found on the batch's arrays, per path from running sums.
+    ``shift``: (dx, dy), the fills moved by that many device pixels, as nodes.translated
+    moves them (see _shifted_arrays). ``bound``: a device y range outside which the batch is
+    not drawn (prepare_items), or None: a batch whose points all lie beyond it is left out."""
     fills = [f for f in fills if f.opacity > 0]
     if not fills:
         return []
-    arrays = batch_arrays([f.path for f in fills])
+    arrays = _shifted_arrays(fills, shift)
     verbs, pts, voff, poff = arrays
-    if len(fills) == 1:
-        # (one path: the tests below without their running sums)
-        if _NOT_DRAWING[verbs].all() or not np.isfinite(pts).all():
+    if len(fills) == 1 or len(fills) <= SMALL_BATCH and len(pts) <= SMALL_POINTS:
+        # (one path, or a few short ones: the tests below without their running sums or
+        # numpy passes: a verb besides MOVE and CLOSE found in each path's bytes, and the
+        # points' extremes, finite, which FillBatch takes as the boxes)
+        vb, vo = verbs.tobytes(), voff.tolist()
+        drawing = all(vb[a:b].translate(None, _NOT_DRAWING_BYTES) for a, b in zip(vo, vo[1:]))
+        extremes = _extremes(pts, poff) if drawing else None
+        if extremes is not None:
+            if bound is not None and _beyond(min(e[1] for e in extremes),
+                                             max(e[3] for e in extremes), bound):
+                return []
+            return [FillBatch(fills, *arrays, opts, pool, extremes, canvas)]
+        if len(fills) == 1:
             return []
-        return [FillBatch(fills, *arrays, opts, pool, canvas)]
+    if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
+        return []
     drawing = np.zeros(len(verbs) + 1, np.int64)
     np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
     keep = drawing[voff[1:]] > drawing[voff[:-1]]
@@ -975,8 +1148,52 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, canvas=NO_CULL) -> list
         fills = [f for f, k in zip(fills, keep.tolist()) if k]
         if not fills:
             return []
-        arrays = batch_arrays([f.path for f in fills])
-    return [FillBatch(fills, *arrays, opts, pool, canvas)]
+        arrays = _shifted_arrays(fills, shift)
+    return [FillBatch(fills, *arrays, opts, pool, None, canvas)]
+
+
+#: batches of at most this many fills and points take _fill_batches' shortcut
+SMALL_BATCH = 8
+SMALL_POINTS = 64
+
+
+def _extremes(pts, poff):
+    """[(x0, y0, x1, y1)] of each path's points, Python floats, or None if one of them is
+    not finite. One path by two numpy reductions (NaN propagates through them), a few short
+    ones in Python (pts holds at most SMALL_POINTS)."""
+    if len(poff) == 2:
+        (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
+        out = [(x0, y0, x1, y1)]
+        return out if all(map(math.isfinite, out[0])) else None
+    flat = pts.ravel().tolist()
+    if not all(map(math.isfinite, flat)):
+        return None
+    out, po = [], poff.tolist()
+    for a, b in zip(po, po[1:]):
+        xs, ys = flat[2 * a:2 * b:2], flat[2 * a + 1:2 * b:2]
+        out.append((min(xs), min(ys), max(xs), max(ys)))
+    return out
+
+
+def _beyond(lo: float, hi: float, bound) -> bool:
+    """Whether points with y in lo..hi make a batch that draw_items never draws in the rows
+    of ``bound``: its box (the points grown by QUAD_FALLBACK_TOL, and under a pixel more
+    where aliased fills are moved onto sample centres) misses the device rows
+    floor(bound[0]) .. floor(bound[1]) a layer of those rows is drawn in, with a pixel to
+    spare. (NaN compares false: kept.)"""
+    margin = QUAD_FALLBACK_TOL + 2.0
+    return hi + margin < bound[0] or lo - margin > bound[1]
+
+
+def _shifted_arrays(fills, shift):
+    """batch_arrays of the fills' paths, moved by ``shift`` (dx, dy) unless None: the points
+    nodes.translated gives (Path.transformed by (1, 0, 0, 1, dx, dy): 1·x + 0·y + dx is x + dx,
+    zeros' signs included, and no move at all for (0, 0))."""
+    arrays = batch_arrays([f.path for f in fills])
+    if shift is not None and shift != (0, 0):
+        # (batch_arrays' points are its own: one path's a copy, several a concatenation)
+        arrays[1][...] += np.array(shift, dtype=np.float64)
+    return arrays
 
 
 def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
@@ -1010,10 +1227,19 @@ def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> Non
         b = min(h, math.floor(layer.rows[1]) - y0 + 1)
         if a >= b:
             return
-        c, d = layer_columns(layer, w)
-        if c >= d:
-            return
-        img = raster.draw_into(layer.items, raster.layer_buffer(b - a, c, d), y0 + a, c, d)
+        if layer.sole is not None:
+            # its filtered layer's pixels, as drawing it onto a buffer of rows a..b - 1 takes
+            # them (filtered_part, which lets them go after the last band, is called alike)
+            part = filtered_part(layer.sole, y0 + a, b - a, w, raster)
+            if part is None:
+                return
+            (pa, pb, c, d), img = part
+            a, b = a + pa, a + pb
+        else:
+            c, d = layer_columns(layer, w)
+            if c >= d:
+                return
+            img = raster.draw_into(layer.items, raster.layer_buffer(b - a, c, d), y0 + a, c, d)
     factor = None
     for part in _clip_and_mask(layer, b - a, c, d, y0 + a, raster):
         factor = part if factor is None else factor * part
@@ -1056,21 +1282,32 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     return (a - y0, b - y0, c, d), part.copy()
 
 
+_filter_effects = None
+
+
+def _effects():
+    """The filter_effects module, imported on first use: the effects and their scene classes
+    cost start-up that a render without filters does not need."""
+    global _filter_effects
+    if _filter_effects is None:
+        from . import filter_effects
+        _filter_effects = filter_effects
+    return _filter_effects
+
+
 def render_filtered(layer: Layer, raster: Raster):
     """(rect, pixels): the layer's content rendered in the union of its filter regions and put
     through its filters in order, each taking the previous one's result. Like resvg, content
     up to two image sizes beyond the image's edges takes part (a blur pulls it in); a region
     too large for MAX_FILTER_PIXELS is cut to the image, and not drawn if still too large."""
-    # (imported here: the effects and their scene classes cost start-up that a render without
-    # filters does not need)
-    from .filter_effects import apply_filter, transparent_reach
+    fe = _filter_effects or _effects()
 
     W, H = raster.width, raster.height
     box = filter_box(layer)
     # where the filters keep transparent pixels transparent, only the content's box grown by
     # their reach can come out non-transparent: compute there, not in the whole region (an
     # element with a full-canvas drop shadow costs its own size, not the canvas's)
-    reaches = [transparent_reach(f) for f in layer.filters]
+    reaches = [fe.transparent_reach(f) for f in layer.filters]
     if None not in reaches:
         content = content_box(layer.group)
         if content is None:
@@ -1091,9 +1328,25 @@ def render_filtered(layer: Layer, raster: Raster):
     else:
         return (0, 0, 0, 0), None
     w, h = x1 - x0, y1 - y0
-    moved = translated(replace(layer.group, clip=None, mask=None), -x0, -y0)
+    if _flat_solid(layer.group) and not any(_placed(f) for f in layer.filters):
+        # plain fills of flat colour under filters that place nothing by device position:
+        # their points moved as they are batched, the filters read at the region's offset
+        # (integer pixels: the same rectangles), not copied (a small filtered marker spent
+        # a tenth of its time moving its fill and filter)
+        fills, filters = layer.group.children, [(f, x0, y0) for f in layer.filters]
+    else:
+        # (a shallow copy without clip and mask, which the layer applies after filtering:
+        # dataclasses.replace cost as much as moving the content)
+        unclipped = copy.copy(layer.group)
+        unclipped.clip = unclipped.mask = None
+        moved = translated(unclipped, -x0, -y0)
+        fills, filters = None, [(f, 0, 0) for f in moved.filters]
+
     def draw(group, top, rows):
-        items = prepare_items(group, raster.opts, None, (0, 0, w, h))
+        if group is None:
+            items = _fill_batches(fills, raster.opts, None, (-x0, -y0), None, (0, 0, w, h))
+        else:
+            items = prepare_items(group, raster.opts, canvas=(0, 0, w, h))
         # the first filtered group inside is filtered before this buffer and the rasteriser's
         # strip buffers exist (filtered_part then finds it done): groups with filters nested N
         # deep held N of each at once, now about two
@@ -1102,24 +1355,25 @@ def render_filtered(layer: Layer, raster: Raster):
             with inner.filtering:
                 if id(raster.opts) not in inner.filtered:
                     inner.filtered[id(raster.opts)] = render_filtered(
-                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h))
+                        inner, SimpleNamespace(opts=raster.opts, width=w, height=h,
+                                               local=raster.local))
         img = np.zeros((rows, w, 4), dtype=np.float32)
-        local = Raster(raster.opts, w, h, band_layout(w, raster.opts.samples, BAND_BUDGET,
-                                                         raster.opts.mode == "analytic")[1])
+        local = raster.local(w, h)
         # in bands when nested layers would hold more than LAYERS_BUDGET at the region's size
         # (the same pixels: a band's do not depend on where it begins)
         step = layer_rows(w, layer_depth(items))
         for r in range(0, rows, step):
             draw_items(items, img[r:r + step], top + r, local)
         return img
-    if any(i < 0 for prim in moved.filters[0].primitives for i in prim.inputs):
-        pixels = draw(Group(children=moved.children), 0, h)
+    if any(i < 0 for prim in filters[0][0].primitives for i in prim.inputs):
+        pixels = draw(None if fills is not None else Group(children=moved.children), 0, h)
     else:
         # nothing reads the content (a turbulence or a flood alone): not drawn, no buffer
         pixels = np.broadcast_to(np.float32(0), (h, w, 4))
-    for f in moved.filters:
-        fx0, fy0 = max(f.region[0], 0), max(f.region[1], 0)
-        fx1, fy1 = min(f.region[2], w), min(f.region[3], h)
+    for f, ox, oy in filters:
+        rx0, ry0, rx1, ry1 = f.region
+        fx0, fy0 = max(rx0 - ox, 0), max(ry0 - oy, 0)
+        fx1, fy1 = min(rx1 - ox, w), min(ry1 - oy, h)
         if fx1 <= fx0 or fy1 <= fy0:
             pixels = np.zeros_like(pixels)
             continue
@@ -1130,8 +1384,8 @@ def render_filtered(layer: Layer, raster: Raster):
         def draw_content(group, fx0=fx0, fy0=fy0, fx1=fx1, fy1=fy1):
             return draw(group, fy0, fy1 - fy0)[:, fx0:fx1]
         # the content is not read again: the filter may write into it (a blur in place)
-        done = apply_filter(part, f, (fx0, fy0), draw_content,
-                            own_source=part.flags.writeable)
+        done = fe.apply_filter(part, f, (fx0 + ox, fy0 + oy), draw_content,
+                               own_source=part.flags.writeable)
         part = None
         if (fx0, fy0, fx1, fy1) == (0, 0, w, h):
             pixels = done           # the region is the whole buffer: nothing to copy
@@ -1148,6 +1402,19 @@ def render_filtered(layer: Layer, raster: Raster):
         held, pixels = [pixels], None       # _cropped holds the only reference
         pixels = _cropped(held, cy0 - y0, cy1 - y0, cx0 - x0, cx1 - x0)
     return (cx0, cy0, cx1, cy1), pixels
+
+
+def _flat_solid(group: Group) -> bool:
+    """Whether a group's children are all fills of a flat colour (no groups)."""
+    return all(type(c) is Fill and type(c.paint) is Solid for c in group.children)
+
+
+def _placed(flt) -> bool:
+    """Whether a filter has a primitive drawing by device position (feImage's content,
+    turbulence, a light): moving its content means moving it too (render_filtered)."""
+    fe = _filter_effects or _effects()
+    return any(isinstance(p.effect, (fe.Image, fe.Turbulence, fe.Lighting))
+               for p in flt.primitives)
 
 
 def _sole_reference_count() -> int:
@@ -1210,8 +1477,9 @@ def content_box(group: Group):
         # one reduction over all the points: a group of 20,000 small paths took 0.2 s of
         # per-path min/max calls, and filter functions ask for this box when building too
         p = np.concatenate(points) if len(points) > 1 else points[0]
-        box = bounds.union(box, (float(p[:, 0].min()), float(p[:, 1].min()),
-                                 float(p[:, 0].max()), float(p[:, 1].max())))
+        x0, y0 = p.min(axis=0).tolist()
+        x1, y1 = p.max(axis=0).tolist()
+        box = bounds.union(box, (x0, y0, x1, y1))
     return box
 
 

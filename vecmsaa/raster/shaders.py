@@ -128,14 +128,25 @@ class PaintTable:
         self.params.append(f)
 
     def arrays(self):
-        kinds = np.asarray(self.row_kinds, dtype=np.int64)
-        params = np.asarray(self.params, dtype=np.float64).reshape(-1, PAINT_FIELDS)
+        kinds = np.array(self.row_kinds, dtype=np.int64)
+        if len(self.params) == 1:
+            # (one row, as a layer's clip or a filtered marker's content has: its own array
+            # as a row, where stacking a list of one cost as much as the rest of the table)
+            params = self.params[0].reshape(1, PAINT_FIELDS)
+        else:
+            params = np.asarray(self.params, dtype=np.float64).reshape(-1, PAINT_FIELDS)
         if len(params) != len(self.rows):     # rows shared: expand them to one per fill
             rows = np.asarray(self.rows, dtype=np.int64)
             kinds, params = kinds[rows], params[rows]
-        lut = np.concatenate(self.luts) if self.luts else np.zeros((1, 4), np.float32)
-        tex = np.concatenate(self.images) if self.images else np.zeros(4, np.float32)
+        lut = np.concatenate(self.luts) if self.luts else _NO_LUT
+        tex = np.concatenate(self.images) if self.images else _NO_TEX
         return kinds, params, lut, tex
+
+
+#: the tables of a batch without gradients or images: the kernels index neither then, and
+#: never write them, so every such batch shares these
+_NO_LUT = np.zeros((1, 4), np.float32)
+_NO_TEX = np.zeros(4, np.float32)
 
 
 @njit(cache=True, inline="always")
