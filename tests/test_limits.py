@@ -860,3 +860,30 @@ def test_the_part_of_a_filter_region_inside_the_image_is_kept_in_its_own_buffer(
     first = view.copy()
     got = _cropped([shared], 150, 450, 100, 400)
     assert np.array_equal(got, want) and np.array_equal(view, first)
+
+
+def test_an_image_drawn_many_times_is_in_the_texture_once():
+    """One <image> used 30 times (and drawn once more by a second <image> of the same URL)
+    puts its texels in the kernels' texture once: the texture of the batch holding the 31
+    draws is one 512 x 512 RGBA float32 image (4 MiB), not 31 of them (130 MiB; 30 uses of a
+    2048² PNG took 2 GB)."""
+    import base64
+    import io
+
+    from PIL import Image
+
+    from vecmsaa.api import load_svg
+    from vecmsaa.raster.render import FillBatch, RenderOptions, prepare_items
+
+    texels = (np.random.RandomState(1).rand(512, 512, 4) * 255).astype(np.uint8)
+    png = io.BytesIO()
+    Image.fromarray(texels).save(png, "PNG")
+    uri = "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()
+    uses = "".join(f'<use href="#i" x="{5 * i}" y="{5 * i}"/>' for i in range(30))
+    scene = load_svg(('<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400">'
+                      f'<defs><image id="i" width="200" height="200" href="{uri}"/></defs>'
+                      f'{uses}<image width="50" height="50" href="{uri}"/></svg>').encode())
+    batches = [i for i in prepare_items(scene.root, RenderOptions()) if isinstance(i, FillBatch)]
+    assert sum(len(b.kinds) for b in batches) == 31
+    one_image = 512 * 512 * 4 * 4
+    assert sum(b.tex.nbytes for b in batches) < 1.1 * one_image

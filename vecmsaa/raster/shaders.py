@@ -61,6 +61,11 @@ class PaintTable:
         self.lut_size = 0
         self.images: list[np.ndarray] = []
         self.image_size = 0
+        # id(rgba) -> its offset in the texture, the arrays kept alive in images: an image
+        # drawn many times (one <image> used 30 times, a pattern tile on many fills) is in
+        # the texture once, not once per fill (30 uses of a 2048² PNG took 2 GB)
+        self._image_offsets: dict = {}
+        self._image_sources: list = []
 
     def add_fills(self, fills, pattern_tile) -> None:
         """add() the paint and opacity of each fill; ``pattern_tile`` turns a PatternPaint
@@ -115,12 +120,15 @@ class PaintTable:
                                             paint.fr)
             elif isinstance(paint, ImagePaint):
                 kind = KIND_IMAGE
-                img = np.ascontiguousarray(paint.rgba, dtype=np.float32)
-                h, w = img.shape[:2]
-                f[F_GEOM:F_GEOM + 5] = (self.image_size, h, w, float(paint.repeat),
-                                        float(paint.smooth))
-                self.images.append(img.reshape(-1))
-                self.image_size += img.size
+                h, w = paint.rgba.shape[:2]
+                offset = self._image_offsets.get(id(paint.rgba))
+                if offset is None:
+                    img = np.ascontiguousarray(paint.rgba, dtype=np.float32)
+                    offset = self._image_offsets[id(paint.rgba)] = self.image_size
+                    self._image_sources.append(paint.rgba)
+                    self.images.append(img.reshape(-1))
+                    self.image_size += img.size
+                f[F_GEOM:F_GEOM + 5] = (offset, h, w, float(paint.repeat), float(paint.smooth))
             else:
                 raise TypeError(f"unknown paint {paint!r}")
         self.rows.append(len(self.params))
