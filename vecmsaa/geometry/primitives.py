@@ -29,6 +29,7 @@ import math
 import numpy as np
 from ..jit import njit
 
+from ..scene.bounds import _conic_weight
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 
 # -- curve primitive record layout (float64 row) ----------------------------------------------
@@ -560,17 +561,6 @@ def _conic_pieces(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w, tol, flatten,
             edges, ne, prims, nc = _emit_conic_piece(edges, ne, prims, nc, ax, ay, bx, by,
                                                      ex, ey, wt)
     return edges, ne, prims, nc
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _conic_weight(x0, y0, x1, y1, mx, my, x2, y2):
-    """scene.path.conic_weight for one conic (its point at t = ½ is (mx, my))."""
-    cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
-    dx, dy = x1 - cx, y1 - cy
-    dd = dx * dx + dy * dy
-    lam = ((mx - cx) * dx + (my - cy) * dy) / dd if dd > 0 else 0.0
-    lam = min(max(lam, 1e-12), 0.5)
-    return lam / (1.0 - lam)
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
