@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_raster import polygon_path
 
 from vecmsaa.geometry.primitives import NO_CULL, batch_arrays, build_batch
 from vecmsaa.raster import render as render_module
 from vecmsaa.raster.render import EXACT_TOLERANCE, MAX_SAGITTA, render_scene
 from vecmsaa.raster.sample_patterns import pattern_offsets
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
-from vecmsaa.scene.path import Path
 from vecmsaa.svg.pathdata import parse_path_data
 from vecmsaa.svg.shapes import ellipse_path
 
@@ -60,19 +60,12 @@ def test_edges_above_below_and_right_of_the_canvas_are_left_out():
     """Lines wholly above, below or right of the canvas add no winding to any sample in it and
     are dropped; those left of it count (a sample's winding is its row's crossings to its
     left) and are kept."""
-    def lines(*pts):
-        p = Path()
-        p.moveTo(pts[0])
-        for q in pts[1:]:
-            p.lineTo(q)
-        p.closePath()
-        return p
-    assert built(lines((10, -50), (190, -60), (100, -5)), CANVAS)[0] == 0          # above
-    assert built(lines((10, 250), (190, 260), (100, 205)), CANVAS)[0] == 0         # below
-    assert built(lines((210, 10), (260, 190), (300, 100)), CANVAS)[0] == 0         # right
-    assert built(lines((-10, 10), (-60, 190), (-30, 100)), CANVAS)[0] == 3         # left
+    assert built(polygon_path([(10, -50), (190, -60), (100, -5)]), CANVAS)[0] == 0   # above
+    assert built(polygon_path([(10, 250), (190, 260), (100, 205)]), CANVAS)[0] == 0   # below
+    assert built(polygon_path([(210, 10), (260, 190), (300, 100)]), CANVAS)[0] == 0   # right
+    assert built(polygon_path([(-10, 10), (-60, 190), (-30, 100)]), CANVAS)[0] == 3   # left
     # a triangle over the canvas's right edge: its edge right of it goes
-    assert built(lines((150, 10), (300, 10), (300, 150)), CANVAS)[0] == 2
+    assert built(polygon_path([(150, 10), (300, 10), (300, 150)]), CANVAS)[0] == 2
 
 
 def _render(path, w, h, mode="approx", samples=16):
