@@ -49,3 +49,43 @@ def test_point_and_tangent_at_an_arc_length():
     x, y, angle = walker.at(8.0)
     assert (x, y) == pytest.approx((3.0, 7.0), abs=1e-4) and angle == pytest.approx(90.0)
     assert walker.at(-1) is None and walker.at(11.5) is None
+
+
+def bezier(c):
+    return lambda t: ((1 - t) ** 3 * c[0] + 3 * t * (1 - t) ** 2 * c[1]
+                      + 3 * t * t * (1 - t) * c[2] + t ** 3 * c[3])
+
+
+def test_dash_parameters_sit_at_their_arc_lengths():
+    # the dasher's batched search (one kernel call for a subpath's curves): at each returned
+    # parameter, the brute-force length of the curve up to it is the requested arc length
+    from vecmsaa.geometry.arclength import cubic_exact_params, cubic_lengths, cubic_rows, gl_nodes
+    rng = np.random.default_rng(7)
+    cubics = [rng.uniform(-50, 50, (4, 2)) for _ in range(5)]
+    cubics.append(np.array([[0, 0], [0, 0], [0, 0], [0, 0]], float))    # degenerate: length 0
+    rows = cubic_rows(cubics)
+    lengths = cubic_lengths(rows, gl_nodes())
+    for c, L in zip(cubics, lengths):
+        assert L == pytest.approx(polyline_length(bezier(c), 20_000), rel=1e-6, abs=1e-9)
+    which = np.repeat(np.arange(len(cubics)), 4)
+    arcs = np.concatenate([[0.0, L * 0.3, L * 0.77, L * 1.5] for L in lengths])
+    ts = cubic_exact_params(rows, lengths, which, arcs, 1e-7, gl_nodes())
+    for i, arc, t in zip(which, arcs, ts):
+        if lengths[i] == 0 or arc <= 0:
+            assert t == 0.0
+        elif arc >= lengths[i]:
+            assert t == 1.0
+        else:
+            f = bezier(cubics[i])
+            assert polyline_length(lambda u: f(u * t), 20_000) == pytest.approx(arc, abs=1e-4)
+
+
+def test_text_on_a_curve_at_an_arc_length():
+    c = np.array([[0, 0], [0, 40], [30, -20], [30, 20]], dtype=float)
+    walker = PathWalker(parse_path_data("M0 0 C0 40 30 -20 30 20"), scale=1e4)
+    pts = np.array([bezier(c)(t) for t in np.linspace(0, 1, 100_001)])
+    run = np.concatenate([[0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    for s in (1.0, 17.5, 31.0):
+        x, y, _ = walker.at(s)
+        assert (x, y) == pytest.approx((np.interp(s, run, pts[:, 0]), np.interp(s, run, pts[:, 1])),
+                                       abs=1e-3)

@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from . import stroke_kernels as kernels
-from .arclength import as_cubic, cubic_exact_param_at, cubic_length
+from .arclength import as_cubic, cubic_exact_params, cubic_lengths, cubic_rows, gl_nodes
 from .arclength import cubic_derivative as _cubic_deriv
 from ..scene.path import CLOSE, CONIC, LINE, MOVE, VERB_POINTS, Path, conic_weight
 
@@ -307,28 +307,23 @@ DASH_ACCURACY = 1 / 4096
 
 
 class _Measured:
-    """A segment measured by geometry/arclength.py: where it is after an arc length."""
+    """A straight or cubic segment (a quadratic is raised exactly) measured by
+    geometry/arclength.py's kernels; ``row`` is its row among the cubics of :func:`_measure`."""
 
-    def __init__(self, seg, tol):
+    def __init__(self, seg):
         if len(seg) == 3:            # quadratic: raised exactly
             seg = tuple((float(x), float(y)) for x, y in as_cubic(seg[0], seg[1:]))
         self.seg = seg
+        self.row = -1
         if len(seg) == 2:
             self.length = math.hypot(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1])
-        else:
-            self.length = cubic_length(seg)
-            self.accuracy = tol * DASH_ACCURACY
 
-    def t_at(self, s):
-        """Parameter at arc length s."""
-        if len(self.seg) == 2:
-            return s / self.length if self.length > 0 else 0.0
-        if self.length <= 0:
-            return 0.0
-        return cubic_exact_param_at(self.seg, self.length, s, self.accuracy)
+    def line_t(self, s):
+        """Parameter at arc length s of a straight segment."""
+        return s / self.length if self.length > 0 else 0.0
 
-    def part(self, s0, s1):
-        t0, t1 = self.t_at(s0), self.t_at(s1)
+    def part(self, t0, t1):
+        """The segment between parameters t0 and t1."""
         seg = self.seg
         if len(seg) == 2:
             (x0, y0), (x1, y1) = seg
@@ -336,11 +331,38 @@ class _Measured:
                     (x0 + (x1 - x0) * t1, y0 + (y1 - y0) * t1))
         return _sub_cubic(seg, t0, t1)
 
-    def direction(self, s):
+    def direction(self, t):
         seg = self.seg
         if len(seg) == 2:
             return _unit(seg[1][0] - seg[0][0], seg[1][1] - seg[0][1]) or (1.0, 0.0)
-        return _unit(*_cubic_deriv(seg, self.t_at(s))) or (segment_tangents(seg) or ((1.0, 0.0),))[0]
+        return _unit(*_cubic_deriv(seg, t)) or (segment_tangents(seg) or ((1.0, 0.0),))[0]
+
+
+def _measure(segs, tol):
+    """The segments measured, and a function giving the parameters at arc lengths of many
+    (segment index, arc length) requests at once (one kernel call for all of a subpath's
+    curves: per request in Python, Newton's search cost ~75 µs)."""
+    measured = [_MeasuredArc(s) if isinstance(s, _Conic) else _Measured(s) for s in segs]
+    curves = [m for m in measured if isinstance(m, _Measured) and len(m.seg) == 4]
+    if curves:
+        rows = cubic_rows([m.seg for m in curves])
+        lengths = cubic_lengths(rows, gl_nodes())
+        for i, m in enumerate(curves):
+            m.row, m.length = i, float(lengths[i])
+
+    def params(requests):
+        """Parameters for (index, arc length) requests on straight and cubic segments."""
+        which = [measured[j].row for j, _ in requests]
+        out = [measured[j].line_t(s) if w < 0 else 0.0 for (j, s), w in zip(requests, which)]
+        on_curves = [k for k, w in enumerate(which) if w >= 0]
+        if on_curves:
+            ts = cubic_exact_params(rows, lengths, np.array([which[k] for k in on_curves], np.int64),
+                                    np.array([requests[k][1] for k in on_curves], np.float64),
+                                    float(tol * DASH_ACCURACY), gl_nodes())
+            for k, t in zip(on_curves, ts.tolist()):
+                out[k] = t
+        return out
+    return measured, params
 
 
 class _MeasuredArc:
@@ -393,15 +415,15 @@ def dash_length(path: Path) -> float:
     closing lines included, the gaps between subpaths not): the user agent's path length that
     a ``pathLength`` attribute calibrates dashes against, so that a pattern dividing the
     author's length divides this one exactly."""
-    return sum((_MeasuredArc(s) if isinstance(s, _Conic) else _Measured(s, 0.25)).length
-               for segs, _ in _subpaths(exact_conics(path, 0.0)) for s in segs)
+    return sum(m.length for segs, _ in _subpaths(exact_conics(path, 0.0))
+               for m in _measure(segs, 0.25)[0])
 
 
 def _dash_subpath(segs, closed, pattern, offset, tol):
     """Dashes of one subpath: lists of segments, or (point, direction) for zero-length dashes.
     On a closed subpath a dash running through the start point is one dash (as in Skia, and so
     in browsers and resvg), joined there rather than capped twice."""
-    measured = [_MeasuredArc(s) if isinstance(s, _Conic) else _Measured(s, tol) for s in segs]
+    measured, params = _measure(segs, tol)
     total = sum(m.length for m in measured)
     period = sum(pattern)
     # position within the pattern at the subpath's start
@@ -432,16 +454,14 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
                 seg_i += 1
             if b == a:
                 m = measured[seg_i]
-                s = min(max(a - seg_start, 0.0), m.length)
-                seg = m.part(s, s)
-                dashes.append((seg[0], m.direction(s)))
+                dashes.append((seg_i, min(max(a - seg_start, 0.0), m.length)))
             else:
                 j, js = seg_i, seg_start
                 while j < len(measured) and js < b:
                     m = measured[j]
                     lo, hi = max(a - js, 0.0), min(b - js, m.length)
                     if hi > lo:
-                        dash.append(m.part(lo, hi))
+                        dash.append((j, lo, hi))
                     js += m.length
                     j += 1
                 if dash:
@@ -451,6 +471,7 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
                     last_at_end = b >= total
         pos += length
         k = (k + 1) % len(pattern)
+    dashes = _cut(dashes, measured, params)
     if closed and first_at_start and last_at_end and isinstance(dashes[-1], list):
         # the last dash runs on into the first one of segments (a zero-length dash, a dot,
         # may come before it at the start: the compiled dasher merges past it too)
@@ -458,6 +479,32 @@ def _dash_subpath(segs, closed, pattern, offset, tol):
         if first < len(dashes) - 1:
             dashes[first] = dashes.pop() + dashes[first]
     return dashes
+
+
+def _cut(plan, measured, params):
+    """The dashes of a plan (lists of (segment, from, to) arc lengths; (segment, at) for a
+    zero-length dash) as segments, and (point, direction) for zero-length dashes, with every
+    parameter on the subpath's curves found in one call."""
+    requests = []
+    for d in plan:
+        for piece in (d if isinstance(d, list) else (d,)):
+            if not isinstance(measured[piece[0]], _MeasuredArc):
+                requests.extend((piece[0], s) for s in piece[1:])
+    ts = iter(params(requests))
+    out = []
+    for d in plan:
+        if isinstance(d, list):
+            out.append([measured[j].part(lo, hi) if isinstance(measured[j], _MeasuredArc)
+                        else measured[j].part(next(ts), next(ts)) for j, lo, hi in d])
+            continue
+        j, at = d
+        m = measured[j]
+        if isinstance(m, _MeasuredArc):
+            out.append((m.part(at, at)[0], m.direction(at)))
+        else:
+            t = next(ts)
+            out.append((m.part(t, t)[0], m.direction(t)))
+    return out
 
 
 # -- markers --------------------------------------------------------------------------------
