@@ -626,8 +626,21 @@ def test_dash_ends_at_exact_arc_lengths(d, cubics):
     run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     pattern, offset = [9.0, 4.5, 2.5, 4.5], 3.0
     ends = []
-    for dash in stroke._dash_subpath(segs, False, pattern, offset, 0.25):
-        ends += [dash[0][0], dash[-1][-1]]
+    if any(isinstance(seg, stroke._Conic) for seg in segs):
+        # circular arcs: measured by the Python dasher
+        for dash in stroke._dash_subpath(segs, False, pattern, offset, 0.25):
+            ends += [dash[0][0], dash[-1][-1]]
+    else:
+        # lines and curves: the compiled dasher (the path taken as open, like the above)
+        from vecmsaa.geometry import stroke_kernels as sk
+        from vecmsaa.geometry.arclength import gl_nodes
+        kinds, rows, subs, flags = sk.path_segments(path.verbs, path.points)
+        kinds, rows, subs, flags = sk.dash_segments(kinds, rows, subs, flags * 0,
+                                                    np.array(pattern), offset,
+                                                    0.25 * stroke.DASH_ACCURACY, gl_nodes())
+        for a, b in zip(subs[:-1], subs[1:]):
+            last = 2 * kinds[b - 1] - 2
+            ends += [tuple(rows[a, :2]), tuple(rows[b - 1, last:last + 2])]
     # where the pattern switches on and off along the path
     expected, s, k = [], -offset, 0
     while s < run[-1]:
@@ -653,6 +666,21 @@ def test_dash_through_start_of_closed_subpath_is_joined():
     out = stroke_path(line((0, 0), (10, 0), (10, 10), (0, 10), (0, 0)), 2, join="miter",
                       dashes=[10, 5])
     assert not inside(out, [(-0.9, -0.9)])[0]
+
+
+def test_dashes_of_curves_join_through_the_start_and_make_dots():
+    # the square above with its first side a cubic (straight, so its arc lengths are known):
+    # the compiled curve dasher joins the dash through (0, 0) as the polyline dasher does
+    square = parse_path_data("M0 0 C 2 0 8 0 10 0 L10 10 L0 10 Z")
+    out = stroke_path(square, 2, join="miter", dashes=[10, 5])
+    assert inside(out, [(-0.9, -0.9)])[0]
+    assert not inside(out, [(10, 12.5 - 10), (30 - 27, 10)]).any()  # gaps (10, 15), (25, 30)
+    assert inside(out, [(10, 18 - 10), (30 - 22, 10)]).all()        # the dash (15, 25)
+    # zero-length dashes on a curve are dots with round caps, at 0, 10, 20 ... of its length
+    curve = parse_path_data("M0 0 C 10 0 20 0 30 0")
+    dots = stroke_path(curve, 2, cap="round", dashes=[0, 10])
+    assert inside(dots, [(0.5, 0), (10, 0.9), (20, -0.9)]).all()
+    assert not inside(dots, [(5, 0), (15, 0), (25, 0)]).any()
 
 
 def test_dashes_invalid_or_zero_draw_solid():

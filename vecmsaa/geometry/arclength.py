@@ -79,39 +79,41 @@ def cubic_lengths(c, nodes):
     return out
 
 
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _exact_t(c, i, total, arc, accuracy, nodes):
+    """The parameter where cubic ``i`` of ``c`` (of length ``total``) has run ``arc``, to
+    within ``accuracy`` of length: Newton's method on the arc length, kept inside a shrinking
+    bracket (bisection where a step would leave it), usually 2-4 length evaluations."""
+    if total <= 0 or arc <= 0:
+        return 0.0
+    if arc >= total:
+        return 1.0
+    a, b = 0.0, 1.0
+    t = arc / total
+    for _ in range(60):
+        err = _length_to(c, i, t, nodes) - arc
+        if abs(err) <= accuracy:
+            return t
+        if err > 0:
+            b = t
+        else:
+            a = t
+        v = 1 - t
+        p, q, r = 3 * v * v, 6 * t * v, 3 * t * t
+        speed = math.hypot(p * (c[i, 2] - c[i, 0]) + q * (c[i, 4] - c[i, 2]) + r * (c[i, 6] - c[i, 4]),
+                           p * (c[i, 3] - c[i, 1]) + q * (c[i, 5] - c[i, 3]) + r * (c[i, 7] - c[i, 5]))
+        step = t - err / speed if speed > 0 else -1.0
+        t = step if a < step < b else 0.5 * (a + b)
+    return t
+
+
 @njit(cache=True)
 def cubic_exact_params(c, lengths, which, arcs, accuracy, nodes):
-    """For each request k, the parameter where cubic ``which[k]`` of ``c`` (of length
-    ``lengths[which[k]]``) has run ``arcs[k]``, to within ``accuracy`` of length: Newton's
-    method on the arc length, kept inside a shrinking bracket (bisection where a step would
-    leave it), usually 2-4 length evaluations."""
+    """For each request k, the parameter where cubic ``which[k]`` of ``c`` has run
+    ``arcs[k]`` (_exact_t; ``lengths`` the cubics' lengths)."""
     out = np.empty(arcs.shape[0])
     for k in range(arcs.shape[0]):
-        i = which[k]
-        total, arc = lengths[i], arcs[k]
-        if total <= 0 or arc <= 0:
-            out[k] = 0.0
-            continue
-        if arc >= total:
-            out[k] = 1.0
-            continue
-        a, b = 0.0, 1.0
-        t = arc / total
-        for _ in range(60):
-            err = _length_to(c, i, t, nodes) - arc
-            if abs(err) <= accuracy:
-                break
-            if err > 0:
-                b = t
-            else:
-                a = t
-            v = 1 - t
-            p, q, r = 3 * v * v, 6 * t * v, 3 * t * t
-            speed = math.hypot(p * (c[i, 2] - c[i, 0]) + q * (c[i, 4] - c[i, 2]) + r * (c[i, 6] - c[i, 4]),
-                               p * (c[i, 3] - c[i, 1]) + q * (c[i, 5] - c[i, 3]) + r * (c[i, 7] - c[i, 5]))
-            step = t - err / speed if speed > 0 else -1.0
-            t = step if a < step < b else 0.5 * (a + b)
-        out[k] = t
+        out[k] = _exact_t(c, which[k], lengths[which[k]], arcs[k], accuracy, nodes)
     return out
 
 

@@ -257,12 +257,20 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
         segments = kernels.path_segments(np.ascontiguousarray(verbs, dtype=np.uint8),
                                          np.ascontiguousarray(path.points, dtype=np.float64))
     else:
-        # (the kernels keep circular arcs exact and stroke other conics as their cubics; the
-        # dasher measures the arcs here)
-        segments = _segment_arrays(
-            dash if isinstance(dash, tuple) else (dash, False)
-            for segs, closed in _subpaths(exact_conics(path, hw))
-            for dash in _dash_subpath(segs, closed, pattern, dash_offset, tolerance))
+        # (the kernels keep circular arcs exact and stroke other conics as their cubics)
+        exact = exact_conics(path, hw)
+        if CONIC not in exact.verbs.tobytes():
+            segments = kernels.dash_segments(
+                *kernels.path_segments(np.ascontiguousarray(exact.verbs, dtype=np.uint8),
+                                       np.ascontiguousarray(exact.points, dtype=np.float64)),
+                np.asarray(pattern, np.float64), float(dash_offset),
+                float(tolerance * DASH_ACCURACY), gl_nodes())
+        else:
+            # (circular arcs are measured here, exactly)
+            segments = _segment_arrays(
+                dash if isinstance(dash, tuple) else (dash, False)
+                for segs, closed in _subpaths(exact)
+                for dash in _dash_subpath(segs, closed, pattern, dash_offset, tolerance))
     return Path._of_arrays(*_segments_outline(segments, hw, tolerance, join, cap, miterlimit))
 
 

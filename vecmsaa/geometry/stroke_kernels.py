@@ -14,6 +14,7 @@ import numpy as np
 from ..jit import njit
 
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
+from .arclength import _exact_t, _length_to
 from .primitives import _conic_weight
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
@@ -1351,3 +1352,215 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         verbs[cnt[0]] = CLOSE
         cnt[0] += 1
     return verbs[:cnt[0]], pts[:cnt[1]]
+
+
+# -- dashes of curves -----------------------------------------------------------------------
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _dash_t(mk, mrow, mlen, j, s, accuracy, nodes):
+    """Parameter at arc length s on measured segment j (a line, or a cubic: Newton's search
+    of geometry/arclength._exact_t)."""
+    if mk[j] == 2:
+        return s / mlen[j] if mlen[j] > 0 else 0.0
+    return _exact_t(mrow, j, mlen[j], s, accuracy, nodes)
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _split_at(c, t, left):
+    """de Casteljau at t of the cubic row c (8 values) in place: its left part, or its right
+    (the arithmetic of geometry/stroke._split_cubic)."""
+    x0, y0, x1, y1, x2, y2, x3, y3 = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]
+    ax, ay = x0 + (x1 - x0) * t, y0 + (y1 - y0) * t
+    bx, by = x1 + (x2 - x1) * t, y1 + (y2 - y1) * t
+    cx, cy = x2 + (x3 - x2) * t, y2 + (y3 - y2) * t
+    dx, dy = ax + (bx - ax) * t, ay + (by - ay) * t
+    ex, ey = bx + (cx - bx) * t, by + (cy - by) * t
+    fx, fy = dx + (ex - dx) * t, dy + (ey - dy) * t
+    if left:
+        c[2], c[3], c[4], c[5], c[6], c[7] = ax, ay, dx, dy, fx, fy
+    else:
+        c[0], c[1], c[2], c[3], c[4], c[5] = fx, fy, ex, ey, cx, cy
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _dash_piece(mk, mrow, j, t0, t1, out):
+    """The part of measured segment j between parameters t0 and t1 into out (8 values); its
+    kind (2 a line, 4 a cubic). Same arithmetic as geometry/stroke._Measured.part."""
+    if mk[j] == 2:
+        x0, y0, x1, y1 = mrow[j, 0], mrow[j, 1], mrow[j, 2], mrow[j, 3]
+        out[:] = 0.0
+        out[0], out[1] = x0 + (x1 - x0) * t0, y0 + (y1 - y0) * t0
+        out[2], out[3] = x0 + (x1 - x0) * t1, y0 + (y1 - y0) * t1
+        return 2
+    out[:] = mrow[j]
+    if t1 < 1.0:
+        _split_at(out, t1, True)
+        t0 = t0 / t1 if t1 > 0 else 0.0
+    if t0 > 0.0:
+        _split_at(out, t0, False)
+    return 4
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _unit_or_none(dx, dy):
+    n = math.hypot(dx, dy)
+    if n == 0.0 or not math.isfinite(n):
+        return False, 0.0, 0.0
+    return True, dx / n, dy / n
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _dot_direction(mk, mrow, j, t):
+    """Direction of a zero-length dash at parameter t of segment j (geometry/stroke's
+    _Measured.direction: the tangent there, else the segment's start tangent, else +x)."""
+    c = mrow[j]
+    if mk[j] == 2:
+        ok, ux, uy = _unit_or_none(c[2] - c[0], c[3] - c[1])
+        return (ux, uy) if ok else (1.0, 0.0)
+    v = 1 - t
+    p, q, r = 3 * v * v, 6 * t * v, 3 * t * t
+    ok, ux, uy = _unit_or_none(p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
+                               p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
+    if ok:
+        return ux, uy
+    # segment_tangents: the first control point away from the start, if the end has one too
+    for i in (1, 2, 3):
+        ok, sx, sy = _unit_or_none(c[2 * i] - c[0], c[2 * i + 1] - c[1])
+        if ok:
+            break
+    if ok:
+        for i in (2, 1, 0):
+            ok2, ex, ey = _unit_or_none(c[6] - c[2 * i], c[7] - c[2 * i + 1])
+            if ok2:
+                return sx, sy
+    return 1.0, 0.0
+
+
+@njit(cache=True)
+def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
+    """The dashes of subpaths of lines, quadratics and cubics (path_segments' arrays; no
+    conics), in the same arrays: a dash is an open subpath, a zero-length dash a dot (its
+    point and direction). geometry/stroke's _dash_subpath written as a kernel, to the same
+    numbers: the pattern walked along each subpath's arc length (quadratics raised to cubics,
+    cubics measured and cut by geometry/arclength's search); on a closed subpath a dash running
+    through the start point is one dash, joined there."""
+    period = 0.0
+    for v in pattern:
+        period += v
+    npat = len(pattern)
+    cap = len(kinds) * 4 + 16
+    okind = np.empty(cap, np.int64)
+    oseg = np.zeros((cap, 8))
+    osub = np.empty(cap + 1, np.int64)
+    oflag = np.empty(cap, np.int64)
+    no = nsub = 0
+    mk = np.empty(len(kinds), np.int64)
+    mrow = np.zeros((len(kinds), 8))
+    mlen = np.empty(len(kinds))
+    piece = np.empty(8)
+    tmp_kind = np.empty(0, np.int64)
+    tmp_seg = np.empty((0, 8))
+    for sp in range(len(subs) - 1):
+        lo, hi = subs[sp], subs[sp + 1]
+        m = hi - lo
+        closed = flags[sp] == SUB_CLOSED
+        total = 0.0
+        for j in range(m):
+            c = segs[lo + j]
+            mrow[j] = c
+            if kinds[lo + j] == 2:
+                mk[j] = 2
+                mlen[j] = math.hypot(c[2] - c[0], c[3] - c[1])
+            else:
+                mk[j] = 4
+                if kinds[lo + j] == 3:       # quadratic: raised exactly (arclength.as_cubic)
+                    mrow[j, 2] = c[0] + 2 / 3 * (c[2] - c[0])
+                    mrow[j, 3] = c[1] + 2 / 3 * (c[3] - c[1])
+                    mrow[j, 4] = c[4] + 2 / 3 * (c[2] - c[4])
+                    mrow[j, 5] = c[5] + 2 / 3 * (c[3] - c[5])
+                    mrow[j, 6], mrow[j, 7] = c[4], c[5]
+                mlen[j] = _length_to(mrow, j, 1.0, nodes)
+            total += mlen[j]
+        phase = offset % period
+        if phase >= period:
+            phase -= period
+        k = 0
+        while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
+            phase -= pattern[k]
+            k = (k + 1) % npat
+        pos = -phase
+        seg_i, seg_start = 0, 0.0
+        guard = 0
+        first_sub = nsub             # this subpath's first dash
+        first_at_start = last_at_end = False
+        while pos < total and guard < 1_000_000:
+            guard += 1
+            length = pattern[k]
+            on = k % 2 == 0
+            a, b = max(pos, 0.0), min(pos + length, total)
+            if on and b >= a and (b > a or pos >= 0):
+                while seg_i < m - 1 and seg_start + mlen[seg_i] < a:
+                    seg_start += mlen[seg_i]
+                    seg_i += 1
+                if no + m + 1 > okind.shape[0] or nsub + 2 > oflag.shape[0]:
+                    okind = _grow(okind, 2 * (no + m + 1))
+                    oseg = _grow_points(oseg, 2 * (no + m + 1))
+                    osub = _grow(osub, 2 * (nsub + 2) + 1)
+                    oflag = _grow(oflag, 2 * (nsub + 2))
+                if b == a:
+                    s = min(max(a - seg_start, 0.0), mlen[seg_i])
+                    t = _dash_t(mk, mrow, mlen, seg_i, s, accuracy, nodes)
+                    _dash_piece(mk, mrow, seg_i, t, t, piece)
+                    dx, dy = _dot_direction(mk, mrow, seg_i, t)
+                    osub[nsub], oflag[nsub] = no, SUB_DOT
+                    nsub += 1
+                    okind[no] = 0
+                    oseg[no] = 0.0
+                    oseg[no, 0], oseg[no, 1], oseg[no, 2], oseg[no, 3] = piece[0], piece[1], dx, dy
+                    no += 1
+                else:
+                    start = no
+                    j, js = seg_i, seg_start
+                    while j < m and js < b:
+                        plo, phi = max(a - js, 0.0), min(b - js, mlen[j])
+                        if phi > plo:
+                            t0 = _dash_t(mk, mrow, mlen, j, plo, accuracy, nodes)
+                            t1 = _dash_t(mk, mrow, mlen, j, phi, accuracy, nodes)
+                            okind[no] = _dash_piece(mk, mrow, j, t0, t1, piece)
+                            oseg[no] = piece
+                            no += 1
+                        js += mlen[j]
+                        j += 1
+                    if no > start:
+                        osub[nsub], oflag[nsub] = start, SUB_OPEN
+                        nsub += 1
+                        if a == 0.0:
+                            first_at_start = True
+                        last_at_end = b >= total
+            pos += length
+            k = (k + 1) % npat
+        if closed and first_at_start and last_at_end and nsub > first_sub and \
+                oflag[nsub - 1] == SUB_OPEN:
+            first = first_sub
+            while oflag[first] != SUB_OPEN:
+                first += 1
+            if first < nsub - 1:
+                # the last dash runs on into the first one: its segments move in front of
+                # the first's (a rotation of the rows from the first dash on)
+                r0, last0 = osub[first], osub[nsub - 1]
+                n_last = no - last0
+                if tmp_kind.shape[0] < no - r0:
+                    tmp_kind = np.empty(no - r0, np.int64)
+                    tmp_seg = np.empty((no - r0, 8))
+                for i in range(no - r0):
+                    src = last0 + i if i < n_last else r0 + i - n_last
+                    tmp_kind[i] = okind[src]
+                    tmp_seg[i] = oseg[src]
+                for i in range(no - r0):
+                    okind[r0 + i] = tmp_kind[i]
+                    oseg[r0 + i] = tmp_seg[i]
+                nsub -= 1
+                for d in range(first + 1, nsub):
+                    osub[d] += n_last
+    osub[nsub] = no
+    return okind[:no], oseg[:no], osub[:nsub + 1], oflag[:nsub]
