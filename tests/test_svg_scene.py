@@ -622,8 +622,9 @@ def test_paint_transforms_and_coordinates_through_href():
     # radialGradient and pattern: gradientTransform/patternTransform are among the attributes
     # copied from the template when the element does not define them (a template of either
     # gradient kind); one the element defines, even empty or malformed, is its own (and then
-    # the identity). Coordinates come, as usvg resolves them, from the gradients of its kind up
-    # to the first of another kind.
+    # the identity: SVG 2 "Attribute syntax", an attribute that fails to parse "is assumed to
+    # have been specified as the given initial value"). Coordinates come, as usvg resolves
+    # them, from the gradients of its kind up to the first of another kind.
     def paint(body):
         return only_fill(scene(body + '<rect width="100" height="10" fill="url(#b)"/>')).paint
     stops = '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
