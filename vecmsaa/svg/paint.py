@@ -102,14 +102,16 @@ ZERO_SCALE = 2.0 ** -23
 
 
 def _units_transform(builder, chain, attr, el_style, ctx):
-    """gradientTransform/patternTransform with transform-origin, from the element itself (as
-    in resvg; SVG would inherit it through href). A malformed list is ignored;
+    """gradientTransform/patternTransform with transform-origin. The attribute is the first
+    one the href chain defines: SVG 2 (paint servers as templates) copies it from the
+    template like x1 or spreadMethod (usvg reads only the element's own). transform-origin
+    is a property, the element's own. A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
     matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
     decided on this matrix, not on its product with the element's: under a skew or rotation
     the product's determinant is rounding noise, not zero, and would paint a smear."""
-    text = chain[0].get(attr)    # not inherited through href: usvg reads the element's own
+    text = inherited_attr(chain, attr)
     m = parse_transform(text) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
