@@ -617,16 +617,20 @@ def test_gradient_href_inherits_stops_and_attributes():
     assert p.stops[:, 0].tolist() == [0.2, 0.2 + 1e-6] or p.stops[:, 0].tolist()[1] >= 0.2
 
 
-def test_paint_transforms_and_coordinates_through_href_as_usvg_reads_them():
-    # usvg takes gradientTransform/patternTransform from the element itself only, and
-    # coordinates from the gradients of its kind up to the first of another kind
+def test_paint_transforms_and_coordinates_through_href():
+    # SVG 2 copies gradientTransform/patternTransform from the template like the other
+    # attributes (usvg takes only the element's own); coordinates come, as usvg reads them,
+    # from the gradients of its kind up to the first of another kind
     def paint(body):
         return only_fill(scene(body + '<rect width="100" height="10" fill="url(#b)"/>')).paint
     stops = '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
     own = paint(f'<linearGradient id="b" x2="0.5">{stops}</linearGradient>')
+    turned = paint(f'<linearGradient id="b" x2="0.5" gradientTransform="rotate(45)">{stops}'
+                   '</linearGradient>')
     linked = paint(f'<linearGradient id="a" gradientTransform="rotate(45)">{stops}'
                    '</linearGradient><linearGradient id="b" href="#a" x2="0.5"/>')
-    assert np.allclose(linked.to_paint, own.to_paint)
+    assert np.allclose(linked.to_paint, turned.to_paint)
+    assert not np.allclose(turned.to_paint, own.to_paint)
     assert np.allclose(paint(f'<linearGradient id="b" x2="0.5" gradientTransform="scale(2)">'
                              f'{stops}</linearGradient>').to_paint[0], own.to_paint[0] / 2)
     chained = paint(f'<radialGradient id="c" cx="0.1" r="0.2">{stops}</radialGradient>'
