@@ -618,24 +618,59 @@ def test_gradient_href_inherits_stops_and_attributes():
 
 
 def test_paint_transforms_and_coordinates_through_href():
-    # SVG 2 copies gradientTransform/patternTransform from the template like the other
-    # attributes (usvg takes only the element's own); coordinates come, as usvg reads them,
-    # from the gradients of its kind up to the first of another kind
+    # SVG 2, "Using paint servers as templates" and the href attributes of linearGradient,
+    # radialGradient and pattern: gradientTransform/patternTransform are among the attributes
+    # copied from the template when the element does not define them (a template of either
+    # gradient kind); one the element defines, even empty or malformed, is its own (and then
+    # the identity: SVG 2 "Attribute syntax", an attribute that fails to parse "is assumed to
+    # have been specified as the given initial value"). Coordinates come, as usvg resolves
+    # them, from the gradients of its kind up to the first of another kind.
     def paint(body):
         return only_fill(scene(body + '<rect width="100" height="10" fill="url(#b)"/>')).paint
     stops = '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
     own = paint(f'<linearGradient id="b" x2="0.5">{stops}</linearGradient>')
-    turned = paint(f'<linearGradient id="b" x2="0.5" gradientTransform="rotate(45)">{stops}'
-                   '</linearGradient>')
-    linked = paint(f'<linearGradient id="a" gradientTransform="rotate(45)">{stops}'
-                   '</linearGradient><linearGradient id="b" href="#a" x2="0.5"/>')
-    assert np.allclose(linked.to_paint, turned.to_paint)
-    assert not np.allclose(turned.to_paint, own.to_paint)
+    explicit = paint(f'<linearGradient id="b" x2="0.5" gradientTransform="rotate(45)">{stops}'
+                     '</linearGradient>')
+    assert not np.allclose(explicit.to_paint, own.to_paint)
+    for kind in ("linearGradient", "radialGradient"):
+        linked = paint(f'<{kind} id="a" gradientTransform="rotate(45)">{stops}</{kind}>'
+                       '<linearGradient id="b" href="#a" x2="0.5"/>')
+        assert np.allclose(linked.to_paint, explicit.to_paint), kind
+    two_deep = paint(f'<linearGradient id="c" gradientTransform="rotate(45)">{stops}'
+                     '</linearGradient><linearGradient id="a" href="#c"/>'
+                     '<linearGradient id="b" href="#a" x2="0.5"/>')
+    assert np.allclose(two_deep.to_paint, explicit.to_paint)
+    for present in ('""', '" "', '"bogus"'):
+        blocked = paint(f'<linearGradient id="a" gradientTransform="rotate(45)">{stops}'
+                        f'</linearGradient><linearGradient id="b" href="#a" x2="0.5" '
+                        f'gradientTransform={present}/>')
+        assert np.allclose(blocked.to_paint, own.to_paint), present
     assert np.allclose(paint(f'<linearGradient id="b" x2="0.5" gradientTransform="scale(2)">'
                              f'{stops}</linearGradient>').to_paint[0], own.to_paint[0] / 2)
     chained = paint(f'<radialGradient id="c" cx="0.1" r="0.2">{stops}</radialGradient>'
                     '<linearGradient id="a" href="#c"/><radialGradient id="b" href="#a"/>')
     assert (chained.cx, chained.r) == (0.5, 0.5)     # the defaults: c is past a linear one
+
+
+def test_pattern_transform_through_href():
+    # SVG 2 pattern 'href': patternTransform is copied from the template like x, y, width...
+    from vecmsaa.api import render_svg_array
+
+    def render(defs):
+        return render_svg_array(f'<svg {NS} width="40" height="40">{defs}'
+                                '<rect width="40" height="40" fill="url(#b)"/></svg>',
+                                mode="analytic")
+    tile = ('patternUnits="userSpaceOnUse" width="10" height="10"><rect width="5" height="10"'
+            ' fill="green"/></pattern>')
+    explicit = render(f'<pattern id="b" patternTransform="rotate(90)" {tile}')
+    plain = render(f'<pattern id="b" {tile}')
+    assert not np.array_equal(explicit, plain)
+    linked = render(f'<pattern id="a" patternTransform="rotate(90)" {tile}'
+                    '<pattern id="b" href="#a"/>')
+    assert np.array_equal(linked, explicit)
+    blocked = render(f'<pattern id="a" patternTransform="rotate(90)" {tile}'
+                     '<pattern id="b" href="#a" patternTransform=""/>')
+    assert np.array_equal(blocked, plain)
 
 
 def test_radial_gradient_focal_and_transform():

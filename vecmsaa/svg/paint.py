@@ -102,10 +102,10 @@ ZERO_SCALE = 2.0 ** -23
 
 
 def _units_transform(builder, chain, attr, el_style, ctx):
-    """gradientTransform/patternTransform with transform-origin. The attribute is the first
-    one the href chain defines: SVG 2 (paint servers as templates) copies it from the
-    template like x1 or spreadMethod (usvg reads only the element's own). transform-origin
-    is a property, the element's own. A malformed list is ignored;
+    """gradientTransform/patternTransform with transform-origin. The attribute comes through
+    href like the others (SVG 2 "Using paint servers as templates": both are among the
+    attributes copied from the template; resvg reads only the element's own), and a present
+    one stops that even when empty or malformed. A malformed list is ignored;
     so is, as in resvg (usvg reads such a value as the identity), a matrix with a zero scale
     along an axis (a row norm under f32's epsilon: scale(0), scale(1 0)). Other singular
     matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
