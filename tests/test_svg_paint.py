@@ -134,6 +134,61 @@ def test_gradient_href_chain_takes_each_attribute_from_the_nearest_element():
         assert img[y, 90, 0] == pytest.approx(img[y, 10, 0], abs=1)
 
 
+@pytest.mark.parametrize("link", ['href', 'xmlns:xlink="http://www.w3.org/1999/xlink" xlink:href'])
+@pytest.mark.parametrize("kind", ["linearGradient", "radialGradient"])
+def test_gradient_transform_comes_through_href(link, kind):
+    """SVG 2 14.2.2 (linearGradient's href): the attributes copied from the template are x1,
+    y1, x2, y2, gradientTransform, gradientUnits and spreadMethod, from a linear or a radial
+    template. a runs its ramp down y from 0 to 0.5 of the box; rotate(90) about the box's
+    origin (x, y) -> (-y, x) turns it to run along -x from x = 0 to -0.5. b takes that
+    transform, and sets reflect: at x (pixel centre) t = -2 (x + 0.5) / 100, reflected into
+    [0, 1]: a horizontal ramp, black at x = 0, white at 50, black at 100, the same in every
+    row (without the transform it would be vertical)."""
+    img = render(f'<linearGradient id="a" x1="0" y1="0" x2="0" y2="0.5" '
+                 'gradientTransform="rotate(90)"><stop offset="0" stop-color="black"/>'
+                 '<stop offset="1" stop-color="white"/></linearGradient>'
+                 f'<{kind} id="b" {link}="#a" spreadMethod="reflect"/>'
+                 '<rect width="100" height="100" fill="url(#b)"/>')
+    if kind == "radialGradient":
+        # coordinates come from gradients of the same kind only: b is the default circle
+        # (centre (0.5, 0.5), r 0.5) turned about the box origin to centre (-0.5, 0.5)
+        for x, y in ((10, 50), (40, 20), (70, 90)):
+            d = np.hypot((x + 0.5) / 100 + 0.5, (y + 0.5) / 100 - 0.5) / 0.5
+            t = d % 2 if d % 2 <= 1 else 2 - d % 2
+            assert img[y, x, 0] == pytest.approx(255 * t, abs=2)
+        return
+    for x in (5, 20, 45, 55, 80, 95):
+        t = abs(-2 * (x + 0.5) / 100)
+        t = t if t <= 1 else 2 - t
+        for y in (10, 50, 90):
+            assert img[y, x, 0] == pytest.approx(255 * t, abs=2)
+
+
+def test_own_gradient_transform_overrides_the_template():
+    # an element that defines the attribute keeps its own (here the identity): a vertical ramp
+    img = render('<linearGradient id="a" x2="0" y2="1" gradientTransform="rotate(90)">'
+                 '<stop offset="0" stop-color="black"/><stop offset="1" stop-color="white"/>'
+                 '</linearGradient><linearGradient id="b" href="#a" gradientTransform="scale(1)"/>'
+                 '<rect width="100" height="100" fill="url(#b)"/>')
+    for y in (10, 50, 90):
+        assert img[y, 20, 0] == pytest.approx(255 * (y + 0.5) / 100, abs=2)
+        assert img[y, 80, 0] == pytest.approx(img[y, 20, 0], abs=1)
+
+
+def test_pattern_transform_comes_through_href():
+    """SVG 2 14.3 (pattern's href): patternTransform is one of the attributes copied from the
+    template, with x, y, width, height and the tile's content. a's 20x20 tile is blue in its
+    left half; translate(10) moves the tile's origin to x = 10, so b is blue where
+    (x - 10) mod 20 < 10: pixels 10-19, 30-39, ... and green in 0-9, 20-29, ..."""
+    img = render('<pattern id="a" patternUnits="userSpaceOnUse" width="20" height="20" '
+                 'patternTransform="translate(10)"><rect width="10" height="20" fill="#00f"/>'
+                 '<rect x="10" width="10" height="20" fill="#0f0"/></pattern>'
+                 '<pattern id="b" href="#a"/><rect width="100" height="100" fill="url(#b)"/>')
+    for x in range(2, 100, 5):
+        want = (0, 0, 255) if (x - 10) % 20 < 10 else (0, 255, 0)
+        assert (img[50, x, :3] == want).all(), x
+
+
 @pytest.mark.parametrize("offsets, colour_at", [
     # SVG 2 14.3.4: offsets clamp to [0, 1], and one below its predecessor takes the
     # predecessor's value
