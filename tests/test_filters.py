@@ -276,6 +276,23 @@ def test_lighting_of_a_flat_surface_follows_lamberts_and_phongs_laws():
     assert np.isclose(point[0, 0, 0], want)
 
 
+@pytest.mark.parametrize("cif", ["linearRGB", "sRGB"])
+@pytest.mark.parametrize("light", ['<feDistantLight elevation="90"/>',
+                                   '<fePointLight x="20" y="20" z="1e8"/>',
+                                   '<feSpotLight x="20" y="20" z="1e8"/>'])
+def test_a_surface_facing_the_light_shows_the_lighting_color_in_either_space(cif, light):
+    # Filter Effects 1, feDiffuseLighting: the result is kd · N.L · the light's colour, in
+    # the space color-interpolation-filters names. lighting-color is a CSS (sRGB) colour, so
+    # in linearRGB the light is its linear value: with N.L = 1 (a flat opaque surface lit from
+    # straight above) and kd = 1 the result is the colour given, rgb(0, 128, 0) in either
+    # space (it was rgb(0, 188, 0) in linearRGB, 128/255 taken as a linear value)
+    img = render(f'<filter id="f" color-interpolation-filters="{cif}" x="0" y="0" width="1" '
+                 f'height="1"><feDiffuseLighting lighting-color="rgb(0, 128, 0)">{light}'
+                 '</feDiffuseLighting></filter>'
+                 '<rect width="40" height="40" filter="url(#f)"/>')
+    assert np.abs(img[20, 20] - (0, 128, 0, 255)).max() <= 1
+
+
 def test_lighting_normals_see_a_ramp():
     # alpha rising to the right by 0.1 a pixel; the spec's interior kernel (factor 1/4 on
     # differences two pixels apart, weights 1 2 1) gives 2 · 0.1 · 255
@@ -1226,3 +1243,4 @@ def test_merge_is_its_nodes_in_turn_over_transparent_black():
     b[1:4, 2:6] = F.flood((3, 4), (0.9, 0.1, 0.3, 0.45))
     want = F.over(b, F.over(a, np.zeros_like(src)))
     assert np.array_equal(F.apply_filter(src, flt), want)
+
