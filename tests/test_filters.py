@@ -1281,3 +1281,11 @@ def test_a_primitive_without_x_y_width_height_takes_the_union_of_its_inputs_subr
     # feTile fills the filter region from its input's subregion
     img = _subregion_case(flood + '<feTile/>')
     assert tuple(img[35, 35]) == green
+    # primitiveUnits="objectBoundingBox": the flood covers the box's first half (0..20 of the
+    # 40-unit rect), the dilation (radius 1/8 of the box, 5 units) is held to it
+    img = render('<filter id="f" primitiveUnits="objectBoundingBox" x="0" y="0" width="1" '
+                 'height="1"><feFlood flood-color="#00ff00" x="0" y="0" width="0.5" '
+                 'height="0.5"/><feMorphology operator="dilate" radius="0.125"/></filter>'
+                 '<rect width="40" height="40" fill="#0000ff" filter="url(#f)"/>')
+    assert tuple(img[10, 15]) == green
+    assert img[10, 22, 3] == 0 and img[22, 10, 3] == 0
