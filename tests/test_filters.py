@@ -276,6 +276,23 @@ def test_lighting_of_a_flat_surface_follows_lamberts_and_phongs_laws():
     assert np.isclose(point[0, 0, 0], want)
 
 
+@pytest.mark.parametrize("cif", ["linearRGB", "sRGB"])
+@pytest.mark.parametrize("light", ['<feDistantLight elevation="90"/>',
+                                   '<fePointLight x="20" y="20" z="1e8"/>',
+                                   '<feSpotLight x="20" y="20" z="1e8"/>'])
+def test_a_surface_facing_the_light_shows_the_lighting_color_in_either_space(cif, light):
+    # Filter Effects 1, feDiffuseLighting: the result is kd · N.L · the light's colour, in
+    # the space color-interpolation-filters names. lighting-color is a CSS (sRGB) colour, so
+    # in linearRGB the light is its linear value: with N.L = 1 (a flat opaque surface lit from
+    # straight above) and kd = 1 the result is the colour given, rgb(0, 128, 0) in either
+    # space (it was rgb(0, 188, 0) in linearRGB, 128/255 taken as a linear value)
+    img = render(f'<filter id="f" color-interpolation-filters="{cif}" x="0" y="0" width="1" '
+                 f'height="1"><feDiffuseLighting lighting-color="rgb(0, 128, 0)">{light}'
+                 '</feDiffuseLighting></filter>'
+                 '<rect width="40" height="40" filter="url(#f)"/>')
+    assert np.abs(img[20, 20] - (0, 128, 0, 255)).max() <= 1
+
+
 def test_lighting_normals_see_a_ramp():
     # alpha rising to the right by 0.1 a pixel; the spec's interior kernel (factor 1/4 on
     # differences two pixels apart, weights 1 2 1) gives 2 · 0.1 · 255
@@ -1226,3 +1243,49 @@ def test_merge_is_its_nodes_in_turn_over_transparent_black():
     b[1:4, 2:6] = F.flood((3, 4), (0.9, 0.1, 0.3, 0.45))
     want = F.over(b, F.over(a, np.zeros_like(src)))
     assert np.array_equal(F.apply_filter(src, flt), want)
+
+
+def _subregion_case(primitives):
+    return render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="40" '
+                  f'height="40">{primitives}</filter>'
+                  '<rect width="40" height="40" fill="#0000ff" filter="url(#f)"/>')
+
+
+def test_a_primitive_without_x_y_width_height_takes_the_union_of_its_inputs_subregions():
+    # Filter Effects 1, filter primitive subregion: x, y, width and height default to the
+    # union of the subregions of the nodes a primitive references; to the filter region when
+    # it references a standard input (SourceGraphic...), none, or is feTile. Each missing
+    # attribute takes the union's value. (feOffset is left out: as resvg, its image is not
+    # confined to a subregion.)
+    flood = '<feFlood flood-color="#00ff00" x="0" y="0" width="20" height="20" result="a"/>'
+    green = (0, 255, 0, 255)
+    # the dilated flood would cover 0..25 but is clipped to its input's subregion 0..20
+    img = _subregion_case(flood + '<feMorphology operator="dilate" radius="5"/>')
+    assert tuple(img[10, 15]) == green
+    assert img[10, 22, 3] == 0 and img[22, 10, 3] == 0
+    # only width given: x, y and height are the union's (0, 0, 20)
+    img = _subregion_case(flood + '<feMorphology operator="dilate" radius="5" width="40"/>')
+    assert tuple(img[10, 22]) == green
+    assert img[22, 10, 3] == 0
+    # SourceGraphic referenced as well: the filter region
+    img = _subregion_case(flood + '<feOffset in="SourceGraphic" dx="10" dy="10" result="b"/>'
+                          '<feMerge><feMergeNode in="b"/><feMergeNode in="a"/></feMerge>')
+    assert tuple(img[35, 35]) == (0, 0, 255, 255)
+    # two referenced subregions: their bounding box (0..20 and 25..35: 0..35 in both axes)
+    img = _subregion_case(flood + '<feFlood flood-color="#ff0000" x="25" y="25" width="10" '
+                          'height="10" result="c"/><feComposite in="a" in2="c" '
+                          'operator="xor"/><feMorphology operator="dilate" radius="2"/>')
+    assert tuple(img[21, 21]) == green          # flood a grown to 0..22, in the union
+    assert tuple(img[34, 34]) == (255, 0, 0, 255)
+    assert img[36, 36, 3] == 0                  # flood c grown to 23..37, cut at 35
+    # feTile fills the filter region from its input's subregion
+    img = _subregion_case(flood + '<feTile/>')
+    assert tuple(img[35, 35]) == green
+    # primitiveUnits="objectBoundingBox": the flood covers the box's first half (0..20 of the
+    # 40-unit rect), the dilation (radius 1/8 of the box, 5 units) is held to it
+    img = render('<filter id="f" primitiveUnits="objectBoundingBox" x="0" y="0" width="1" '
+                 'height="1"><feFlood flood-color="#00ff00" x="0" y="0" width="0.5" '
+                 'height="0.5"/><feMorphology operator="dilate" radius="0.125"/></filter>'
+                 '<rect width="40" height="40" fill="#0000ff" filter="url(#f)"/>')
+    assert tuple(img[10, 15]) == green
+    assert img[10, 22, 3] == 0 and img[22, 10, 3] == 0

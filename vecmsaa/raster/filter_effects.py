@@ -743,7 +743,11 @@ def run_primitive(prim, inputs, shape, origin=(0, 0)):
     if isinstance(e, Lighting):
         # device pixels → the image's pixels
         light = shifted_light(e.light, -origin[0], -origin[1])
-        return lighting(inputs[0].img, replace(e, light=light)), cs
+        # lighting-color is an sRGB colour: in linearRGB the light's colour is its linear
+        # value (as a drop shadow's flood), so a surface facing the light at full strength
+        # shows the colour given once the result is back in sRGB
+        color = tuple(srgb_to_linear(c) for c in e.color) if cs else e.color
+        return lighting(inputs[0].img, replace(e, light=light, color=color)), cs
     if isinstance(e, Flood):
         return flood(shape, e.color), False
     if isinstance(e, Tile):

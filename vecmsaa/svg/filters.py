@@ -253,15 +253,18 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
                 PrimitiveResolver(builder, el, ctx, None, obb_box).effects(holder))
         effects = iter(resolved)
     primitives = []
+    users = []                                      # each primitive's user-space subregion
     for tag, spec in subs:
-        user = _user_subregion(tag, spec, (x, y, w, h), obb_box)
+        effect, inputs, linear = next(effects)
+        default = _default_subregion(tag, inputs, users, (x, y, w, h))
+        user = _user_subregion(tag, spec, (x, y, w, h), obb_box, default)
         if user is None:
             break                                   # usvg stops at an invalid subregion
         # (a primitive without x, y, width and height has the region's rectangle)
         sub = whole if user == (x, y, w, h) else layer_rect(*user, layer)
         if sub is None:
             break
-        effect, inputs, linear = next(effects)
+        users.append(user)
         primitives.append(Primitive(effect, inputs, sub, linear))
     if not primitives:
         return None
@@ -304,24 +307,46 @@ def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
 
 
 def _subregion_spec(builder, fe, prim_obb, viewport):
-    """A primitive's x, y, width and height: fractions with primitiveUnits=objectBoundingBox
-    (defaults 0%, 0%, 100%, 100%), else user-space lengths, None where not given."""
+    """A primitive's x, y, width and height: fractions with primitiveUnits=objectBoundingBox,
+    else user-space lengths, None where not given."""
     style = builder.doc.document_style(fe)
     names = ("x", "y", "width", "height")
     if prim_obb:
-        return tuple(box_coord(builder, fe.get(n), a, True, style, viewport, d)
+        return tuple(None if fe.get(n) is None
+                     else box_coord(builder, fe.get(n), a, True, style, viewport, d)
                      for n, a, d in zip(names, "xyxy", ("0%", "0%", "100%", "100%")))
     return tuple(builder.length(fe.get(n), a, style, viewport) for n, a in zip(names, "xyxy"))
 
 
-def _user_subregion(tag, spec, region, obb_box):
+#: primitives whose subregion defaults to the filter region whatever their inputs
+_REGION_DEFAULT = frozenset(("feTile", "feImage", "feFlood", "feTurbulence"))
+
+
+def _default_subregion(tag, inputs, users, region):
+    """The user-space rectangle a primitive's missing x, y, width, height come from. Filter
+    Effects 1 (filter primitive subregion): the union of the subregions of the primitives it
+    references; the filter region when it references none, a standard input (SourceGraphic,
+    SourceAlpha...), or for feTile. (usvg takes the filter region in every case.)"""
+    if tag in _REGION_DEFAULT or not inputs or any(i < 0 or i >= len(users) for i in inputs):
+        return region
+    rects = [users[i] for i in inputs]
+    x0 = min(r[0] for r in rects)
+    y0 = min(r[1] for r in rects)
+    x1 = max(r[0] + r[2] for r in rects)
+    y1 = max(r[1] + r[3] for r in rects)
+    return x0, y0, x1 - x0, y1 - y0
+
+
+def _user_subregion(tag, spec, region, obb_box, default=None):
     """(x, y, width, height) of a primitive subregion in user space from its _subregion_spec
     and the filter region's user-space rectangle, or None when empty. ``obb_box``: the
-    bounding box with primitiveUnits=objectBoundingBox."""
+    bounding box with primitiveUnits=objectBoundingBox; ``default``: where a value not given
+    comes from (_default_subregion; the region when None)."""
+    given = spec
     if obb_box is not None:
         bx, by = obb_box[0], obb_box[1]
         bw, bh = obb_box[2] - bx, obb_box[3] - by
-        fx, fy, fw, fh = spec
+        fx, fy, fw, fh = [d if v is None else v for v, d in zip(spec, (0.0, 0.0, 1.0, 1.0))]
         if tag in ("feFlood", "feImage"):
             # usvg: fractions of the bounding box
             x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
@@ -331,6 +356,8 @@ def _user_subregion(tag, spec, region, obb_box):
             x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
     else:
         x, y, w, h = [d if v is None else v for v, d in zip(spec, region)]
+    if default is not None and default != region:
+        x, y, w, h = [d if g is None else v for v, g, d in zip((x, y, w, h), given, default)]
     if not (w > 0 and h > 0):
         return None
     return x, y, w, h
