@@ -975,6 +975,41 @@ def test_text_length_counts_the_characters_of_descendants_in_the_chunk():
     assert np.array_equal(styled, plain)
 
 
+def test_text_length_of_a_descendant_is_taken_out_of_its_ancestors_length():
+    # SVG 2 §11.5.3: a tspan with its own textLength keeps it, and the rest of the ancestor's
+    # content gets the ancestor's length less the tspan's: 120 - 40 = 80 for "Ab", wherever
+    # the tspan is (here a chunk of its own).
+    nested = render('<text x="10" y="40" font-size="30" textLength="120" '
+                    'lengthAdjust="spacingAndGlyphs">Ab<tspan x="10" y="80" textLength="40" '
+                    'lengthAdjust="spacingAndGlyphs">Cd</tspan></text>', width=200)
+    apart = render('<text x="10" y="40" font-size="30" textLength="80" '
+                   'lengthAdjust="spacingAndGlyphs">Ab</text><text x="10" y="80" '
+                   'font-size="30" textLength="40" lengthAdjust="spacingAndGlyphs">Cd</text>',
+                   width=200)
+    assert np.array_equal(nested, apart)
+
+
+def test_a_descendant_with_text_length_is_one_character_of_its_ancestors_spacing():
+    # SVG 2 §11.5.5 "resolve text length": the tspan is spread to its own 60 first; the text
+    # then spreads its length less that over 4 own digits and the tspan counted as one
+    # character: delta = (200 - 60 - 4w)/4 after each, the tspan's inner gap its own.
+    # Digits of Noto Sans all advance 0.572 em, unkerned.
+    w = 0.572 * 20
+    d_in = 60 - 2 * w
+    d = (200 - 60 - 4 * w) / 4
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d, 10 + 3 * w + 2 * d + d_in,
+          10 + 2 * w + 60 + 3 * d, 10 + 3 * w + 60 + 4 * d]
+    nested = render('<text x="10" y="60" font-size="20" textLength="200">12<tspan '
+                    'textLength="60">34</tspan>56</text>', width=240)
+    placed = render(f'<text x="{" ".join(map(repr, xs))}" y="60" font-size="20">123456</text>',
+                    width=240)
+    assert np.abs(nested.astype(int) - placed.astype(int)).max() <= 1
+    # and without the tspan's length, the text spreads all six digits alike
+    flat = render('<text x="10" y="60" font-size="20" textLength="200">12<tspan>34</tspan>56'
+                  '</text>', width=240)
+    assert np.abs(flat.astype(int) - placed.astype(int)).max() > 100
+
+
 @needs_suite_fonts
 @pytest.mark.parametrize("attrs", ['baseline-shift="super"', 'dominant-baseline="central"'])
 def test_baselines_come_from_the_elements_font_not_a_fallback_face(attrs):
