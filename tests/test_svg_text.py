@@ -1296,3 +1296,87 @@ def test_fill_rule_and_clip_rule_do_not_apply_to_text(clip):
     plain = draw("")
     assert plain[..., 3].any()
     assert np.array_equal(draw('fill-rule="evenodd"'), plain)
+
+
+# -- text-transform (CSS Text 3 §2.1) ----------------------------------------------------------
+
+def _css_render(css, body, **kw):
+    return render(f'<style>{css}</style>{body}', width=300, **kw)
+
+
+@pytest.mark.parametrize("css, text, literal", [
+    ("svg { text-transform: uppercase }", "Word one", "WORD ONE"),
+    ("text { text-transform: lowercase }", "WoRD One", "word one"),
+    ("text { text-transform: capitalize }", "word one (two) 3rd", "Word One (Two) 3rd"),
+    # words as UAX #29 bounds them: a hyphen ends one, an apostrophe does not
+    ("text { text-transform: capitalize }", "two-three don't", "Two-Three Don't"),
+    ("text { text-transform: UPPERCASE }", "ab", "AB"),            # keywords: any case
+    ("text { text-transform: none }", "Ab", "Ab"),
+])
+def test_text_transform_draws_the_transformed_characters(css, text, literal):
+    transformed = _css_render(css, f'<text x="10" y="60">{text}</text>')
+    plain = render(f'<text x="10" y="60">{literal}</text>', width=300)
+    assert np.array_equal(transformed, plain)
+    assert not np.array_equal(transformed, render(f'<text x="10" y="60">{text}</text>',
+                                                  width=300)) or text == literal
+
+
+def test_text_transform_is_inherited_and_an_invalid_value_is_ignored():
+    # an invalid declaration is dropped (CSS Syntax), so the inherited value applies; two
+    # case keywords are invalid too
+    for bad in ("upper", "uppercase lowercase", "full-width full-width", "none uppercase"):
+        inner = _css_render(f'g {{ text-transform: uppercase }} text {{ text-transform: {bad} }}',
+                            '<g><text x="10" y="60">ab<tspan>cd</tspan></text></g>')
+        assert np.array_equal(inner, render('<text x="10" y="60">ABCD</text>', width=300)), bad
+
+
+def test_text_transform_is_not_a_presentation_attribute():
+    # SVG 2 §6.6 lists the presentation attributes; text-transform is not among them
+    attr = render('<text x="10" y="60" text-transform="uppercase">ab</text>', width=300)
+    assert np.array_equal(attr, render('<text x="10" y="60">ab</text>', width=300))
+
+
+def test_capitalize_finds_words_across_elements():
+    # CSS Text 3: words are the text's, whatever elements split them
+    split = _css_render('text { text-transform: capitalize }',
+                        '<text x="10" y="60">he<tspan>llo</tspan> <tspan>w</tspan>orld</text>')
+    assert np.array_equal(split, render('<text x="10" y="60">Hello World</text>', width=300))
+
+
+def test_position_lists_address_characters_before_text_transform():
+    # SVG 2 §11.1 (addressable character): indexes are determined before text-transform, so
+    # the two letters of the upper-case eszett share its x, and 'a' and 'b' keep theirs.
+    transformed = _css_render('text { text-transform: uppercase }',
+                              '<text x="10 100 160" y="60">\u00dfab</text>')
+    placed = render('<text y="60"><tspan x="10">SS</tspan><tspan x="100">A</tspan>'
+                    '<tspan x="160">B</tspan></text>', width=300)
+    assert np.array_equal(transformed, placed)
+
+
+@needs_suite_fonts
+@pytest.mark.parametrize("value, text, literal", [
+    ("full-width", "A1 b", "\uff21\uff11\u3000\uff42"),
+    ("uppercase full-width", "ab", "\uff21\uff22"),
+    ("full-size-kana", "\u30a1\u3063\uff6f", "\u30a2\u3064\uff82"),
+])
+def test_text_transform_width_and_kana(value, text, literal):
+    # full-width: the <wide> compatibility forms (the space's is U+3000); full-size-kana: small
+    # kana to full size (CSS Text 3 §2.1 and its appendix), with the suite's CJK font
+    transformed = render_with_suite_fonts(f'<style>text {{ text-transform: {value} }}</style>'
+                                          f'<text x="10" y="60">{text}</text>')
+    assert np.array_equal(transformed,
+                          render_with_suite_fonts(f'<text x="10" y="60">{literal}</text>'))
+    assert not np.array_equal(transformed,
+                              render_with_suite_fonts(f'<text x="10" y="60">{text}</text>'))
+
+
+@needs_suite_fonts
+def test_lowercase_sigma_is_final_at_the_end_of_a_word():
+    # Unicode full case mapping (CSS Text 3 §2.1.1): capital sigma lowercases to the final
+    # form after a cased letter when no cased letter follows.
+    transformed = render_with_suite_fonts(
+        '<style>text { text-transform: lowercase }</style>'
+        '<text x="10" y="60">\u039f\u0394\u039f\u03a3 \u03a3\u0391</text>')
+    literal = render_with_suite_fonts(
+        '<text x="10" y="60">\u03bf\u03b4\u03bf\u03c2 \u03c3\u03b1</text>')
+    assert np.array_equal(transformed, literal)

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, collapse_white_space, collect_chars
+from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
 from .font_match import assign_faces, face_location, font_database, font_spec
 from .on_path import path_walker, position_on_path
@@ -497,6 +497,7 @@ def build_text(element, ctx):
     if not chars:
         return []
     apply_positions(element, chars, ctx, styles)
+    chars = apply_text_transform(chars, styles, ctx.style)
     # A textPath in error renders none of its characters (SVG 2 textPath): they take no
     # place in the text either, so the text around it is one chunk, as if the textPath were
     # not there (SVG 2 leaves the position after it open; resvg drops it so). They have
