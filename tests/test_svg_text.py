@@ -989,6 +989,30 @@ def test_text_length_of_a_descendant_is_taken_out_of_its_ancestors_length():
     assert np.array_equal(nested, apart)
 
 
+def test_spacing_and_glyphs_of_a_text_and_its_tspan_in_one_chunk_follow_each_other():
+    # SVG 2 §11.5.3: "ab" takes 160 - 40 = 120 and the tspan's "cd" its own 40, squeezed with
+    # their glyphs; "cd" starts where "ab" ends, as two texts placed by hand
+    one = render('<text x="10" y="60" font-size="30" textLength="160" '
+                 'lengthAdjust="spacingAndGlyphs">ab<tspan textLength="40" '
+                 'lengthAdjust="spacingAndGlyphs">cd</tspan></text>', width=200)
+    two = render('<text x="10" y="60" font-size="30" textLength="120" '
+                 'lengthAdjust="spacingAndGlyphs">ab</text><text x="130" y="60" font-size="30" '
+                 'textLength="40" lengthAdjust="spacingAndGlyphs">cd</text>', width=200)
+    assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
+
+
+def test_text_after_a_squeezed_span_starts_where_it_ends():
+    # a chunk started by y alone continues from the end of the text before it, which
+    # spacingAndGlyphs made 100 long
+    one = render('<text x="10" y="40" font-size="30"><tspan textLength="100" '
+                 'lengthAdjust="spacingAndGlyphs">abc</tspan><tspan y="80">d</tspan></text>',
+                 width=200)
+    two = render('<text x="10" y="40" font-size="30" textLength="100" '
+                 'lengthAdjust="spacingAndGlyphs">abc</text><text x="110" y="80" '
+                 'font-size="30">d</text>', width=200)
+    assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
+
+
 def test_a_descendant_with_text_length_is_one_character_of_its_ancestors_spacing():
     # SVG 2 §11.5.5 "resolve text length": the tspan is spread to its own 60 first; the text
     # then spreads its length less that over 4 own digits and the tspan counted as one

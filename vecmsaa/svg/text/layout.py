@@ -362,24 +362,27 @@ def anchor_shift(anchor, width):
 
 def position_linear(clusters, chars, anchor, vertical):
     """Cluster transforms of a chunk laid along x from 0 (the anchor moves the start);
-    returns the pen at its end."""
-    x = anchor_shift(anchor, sum(c.advance for c in clusters))
+    returns the pen at its end. A cluster squeezed by lengthAdjust=spacingAndGlyphs (``sx``)
+    takes its advance and its dx scaled with its glyphs: a chunk scaled alike throughout is
+    that chunk scaled about its start, and spans of a text and of a tspan with lengths of
+    their own follow each other."""
+    x = anchor_shift(anchor, sum(c.advance * c.sx for c in clusters))
     y = 0.0
     for c in clusters:
         ch = chars[c.char]
         if vertical:
             y -= ch.dx
-            x += ch.dy
+            x += ch.dy * c.sx
         else:
-            x += ch.dx
+            x += ch.dx * c.sx
             y += ch.dy
         c.shifted = c.shifted or bool(ch.dx or ch.dy)
-        frame = compose(compose(c.pre, (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0)), translate(x, y))
+        frame = compose(compose(c.pre, translate(x, y)), (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0))
         if ch.rotate:
             frame = compose(frame, rotate_at(ch.rotate, 0.0, 0.0))
             c.shifted = True
         c.frame = frame
-        x += c.advance
+        x += c.advance * c.sx
     return x, y
 
 
