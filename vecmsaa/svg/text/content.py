@@ -288,13 +288,15 @@ def apply_text_transform(chars, styles, default_style):
     case is ``SS``) keeps its values on the first and the others follow it. Returns the new
     character list."""
     cache = {}
+    for c in chars:
+        if id(c.el) not in cache:
+            cache[id(c.el)] = text_transform(styles.get(id(c.el), default_style))
+    if not any(cache.values()):
+        return chars
     out = []
     word_start = True
     for i, c in enumerate(chars):
-        key = id(c.el)
-        tt = cache.get(key)
-        if tt is None:
-            tt = cache[key] = text_transform(styles.get(key, default_style))
+        tt = cache[id(c.el)]
         ch = c.ch
         new = ch
         if "uppercase" in tt:
