@@ -975,6 +975,65 @@ def test_text_length_counts_the_characters_of_descendants_in_the_chunk():
     assert np.array_equal(styled, plain)
 
 
+def test_text_length_of_a_descendant_is_taken_out_of_its_ancestors_length():
+    # SVG 2 §11.5.3: a tspan with its own textLength keeps it, and the rest of the ancestor's
+    # content gets the ancestor's length less the tspan's: 120 - 40 = 80 for "Ab", wherever
+    # the tspan is (here a chunk of its own).
+    nested = render('<text x="10" y="40" font-size="30" textLength="120" '
+                    'lengthAdjust="spacingAndGlyphs">Ab<tspan x="10" y="80" textLength="40" '
+                    'lengthAdjust="spacingAndGlyphs">Cd</tspan></text>', width=200)
+    apart = render('<text x="10" y="40" font-size="30" textLength="80" '
+                   'lengthAdjust="spacingAndGlyphs">Ab</text><text x="10" y="80" '
+                   'font-size="30" textLength="40" lengthAdjust="spacingAndGlyphs">Cd</text>',
+                   width=200)
+    assert np.array_equal(nested, apart)
+
+
+def test_spacing_and_glyphs_of_a_text_and_its_tspan_in_one_chunk_follow_each_other():
+    # SVG 2 §11.5.3: "ab" takes 160 - 40 = 120 and the tspan's "cd" its own 40, squeezed with
+    # their glyphs; "cd" starts where "ab" ends, as two texts placed by hand
+    one = render('<text x="10" y="60" font-size="30" textLength="160" '
+                 'lengthAdjust="spacingAndGlyphs">ab<tspan textLength="40" '
+                 'lengthAdjust="spacingAndGlyphs">cd</tspan></text>', width=200)
+    two = render('<text x="10" y="60" font-size="30" textLength="120" '
+                 'lengthAdjust="spacingAndGlyphs">ab</text><text x="130" y="60" font-size="30" '
+                 'textLength="40" lengthAdjust="spacingAndGlyphs">cd</text>', width=200)
+    assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
+
+
+def test_text_after_a_squeezed_span_starts_where_it_ends():
+    # a chunk started by y alone continues from the end of the text before it, which
+    # spacingAndGlyphs made 100 long
+    one = render('<text x="10" y="40" font-size="30"><tspan textLength="100" '
+                 'lengthAdjust="spacingAndGlyphs">abc</tspan><tspan y="80">d</tspan></text>',
+                 width=200)
+    two = render('<text x="10" y="40" font-size="30" textLength="100" '
+                 'lengthAdjust="spacingAndGlyphs">abc</text><text x="110" y="80" '
+                 'font-size="30">d</text>', width=200)
+    assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
+
+
+def test_a_descendant_with_text_length_is_one_character_of_its_ancestors_spacing():
+    # SVG 2 §11.5.5 "resolve text length": the tspan is spread to its own 60 first; the text
+    # then spreads its length less that over 4 own digits and the tspan counted as one
+    # character: delta = (200 - 60 - 4w)/4 after each, the tspan's inner gap its own.
+    # Digits of Noto Sans all advance 0.572 em, unkerned.
+    w = 0.572 * 20
+    d_in = 60 - 2 * w
+    d = (200 - 60 - 4 * w) / 4
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d, 10 + 3 * w + 2 * d + d_in,
+          10 + 2 * w + 60 + 3 * d, 10 + 3 * w + 60 + 4 * d]
+    nested = render('<text x="10" y="60" font-size="20" textLength="200">12<tspan '
+                    'textLength="60">34</tspan>56</text>', width=240)
+    placed = render(f'<text x="{" ".join(map(repr, xs))}" y="60" font-size="20">123456</text>',
+                    width=240)
+    assert np.abs(nested.astype(int) - placed.astype(int)).max() <= 1
+    # and without the tspan's length, the text spreads all six digits alike
+    flat = render('<text x="10" y="60" font-size="20" textLength="200">12<tspan>34</tspan>56'
+                  '</text>', width=240)
+    assert np.abs(flat.astype(int) - placed.astype(int)).max() > 100
+
+
 @needs_suite_fonts
 @pytest.mark.parametrize("attrs", ['baseline-shift="super"', 'dominant-baseline="central"'])
 def test_baselines_come_from_the_elements_font_not_a_fallback_face(attrs):
@@ -1261,3 +1320,87 @@ def test_fill_rule_and_clip_rule_do_not_apply_to_text(clip):
     plain = draw("")
     assert plain[..., 3].any()
     assert np.array_equal(draw('fill-rule="evenodd"'), plain)
+
+
+# -- text-transform (CSS Text 3 §2.1) ----------------------------------------------------------
+
+def _css_render(css, body, **kw):
+    return render(f'<style>{css}</style>{body}', width=300, **kw)
+
+
+@pytest.mark.parametrize("css, text, literal", [
+    ("svg { text-transform: uppercase }", "Word one", "WORD ONE"),
+    ("text { text-transform: lowercase }", "WoRD One", "word one"),
+    ("text { text-transform: capitalize }", "word one (two) 3rd", "Word One (Two) 3rd"),
+    # words as UAX #29 bounds them: a hyphen ends one, an apostrophe does not
+    ("text { text-transform: capitalize }", "two-three don't", "Two-Three Don't"),
+    ("text { text-transform: UPPERCASE }", "ab", "AB"),            # keywords: any case
+    ("text { text-transform: none }", "Ab", "Ab"),
+])
+def test_text_transform_draws_the_transformed_characters(css, text, literal):
+    transformed = _css_render(css, f'<text x="10" y="60">{text}</text>')
+    plain = render(f'<text x="10" y="60">{literal}</text>', width=300)
+    assert np.array_equal(transformed, plain)
+    assert not np.array_equal(transformed, render(f'<text x="10" y="60">{text}</text>',
+                                                  width=300)) or text == literal
+
+
+def test_text_transform_is_inherited_and_an_invalid_value_is_ignored():
+    # an invalid declaration is dropped (CSS Syntax), so the inherited value applies; two
+    # case keywords are invalid too
+    for bad in ("upper", "uppercase lowercase", "full-width full-width", "none uppercase"):
+        inner = _css_render(f'g {{ text-transform: uppercase }} text {{ text-transform: {bad} }}',
+                            '<g><text x="10" y="60">ab<tspan>cd</tspan></text></g>')
+        assert np.array_equal(inner, render('<text x="10" y="60">ABCD</text>', width=300)), bad
+
+
+def test_text_transform_is_not_a_presentation_attribute():
+    # SVG 2 §6.6 lists the presentation attributes; text-transform is not among them
+    attr = render('<text x="10" y="60" text-transform="uppercase">ab</text>', width=300)
+    assert np.array_equal(attr, render('<text x="10" y="60">ab</text>', width=300))
+
+
+def test_capitalize_finds_words_across_elements():
+    # CSS Text 3: words are the text's, whatever elements split them
+    split = _css_render('text { text-transform: capitalize }',
+                        '<text x="10" y="60">he<tspan>llo</tspan> <tspan>w</tspan>orld</text>')
+    assert np.array_equal(split, render('<text x="10" y="60">Hello World</text>', width=300))
+
+
+def test_position_lists_address_characters_before_text_transform():
+    # SVG 2 §11.1 (addressable character): indexes are determined before text-transform, so
+    # the two letters of the upper-case eszett share its x, and 'a' and 'b' keep theirs.
+    transformed = _css_render('text { text-transform: uppercase }',
+                              '<text x="10 100 160" y="60">\u00dfab</text>')
+    placed = render('<text y="60"><tspan x="10">SS</tspan><tspan x="100">A</tspan>'
+                    '<tspan x="160">B</tspan></text>', width=300)
+    assert np.array_equal(transformed, placed)
+
+
+@needs_suite_fonts
+@pytest.mark.parametrize("value, text, literal", [
+    ("full-width", "A1 b", "\uff21\uff11\u3000\uff42"),
+    ("uppercase full-width", "ab", "\uff21\uff22"),
+    ("full-size-kana", "\u30a1\u3063\uff6f", "\u30a2\u3064\uff82"),
+])
+def test_text_transform_width_and_kana(value, text, literal):
+    # full-width: the <wide> compatibility forms (the space's is U+3000); full-size-kana: small
+    # kana to full size (CSS Text 3 §2.1 and its appendix), with the suite's CJK font
+    transformed = render_with_suite_fonts(f'<style>text {{ text-transform: {value} }}</style>'
+                                          f'<text x="10" y="60">{text}</text>')
+    assert np.array_equal(transformed,
+                          render_with_suite_fonts(f'<text x="10" y="60">{literal}</text>'))
+    assert not np.array_equal(transformed,
+                              render_with_suite_fonts(f'<text x="10" y="60">{text}</text>'))
+
+
+@needs_suite_fonts
+def test_lowercase_sigma_is_final_at_the_end_of_a_word():
+    # Unicode full case mapping (CSS Text 3 §2.1.1): capital sigma lowercases to the final
+    # form after a cased letter when no cased letter follows.
+    transformed = render_with_suite_fonts(
+        '<style>text { text-transform: lowercase }</style>'
+        '<text x="10" y="60">\u039f\u0394\u039f\u03a3 \u03a3\u0391</text>')
+    literal = render_with_suite_fonts(
+        '<text x="10" y="60">\u03bf\u03b4\u03bf\u03c2 \u03c3\u03b1</text>')
+    assert np.array_equal(transformed, literal)

@@ -57,11 +57,13 @@ PROPERTIES = {
     "unicode-bidi",
     "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
     "inline-size", "text-orientation", "font-synthesis", "line-height", "background-color",
+    "text-transform",
 }
 
 #: properties settable from CSS only, not as presentation attributes
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
+            "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
             "transform-box",  # not in SVG 2's list of presentation attributes
             # CSS Transforms 2's individual transforms (a rotate attribute is text's glyph
@@ -94,6 +96,7 @@ INHERITED = {
     "stroke-linecap", "stroke-linejoin", "stroke-miterlimit", "stroke-opacity",
     "stroke-width", "text-anchor", "text-rendering", "visibility", "white-space",
     "word-spacing", "writing-mode", "text-orientation", "font-synthesis", "line-height",
+    "text-transform",
 }
 
 #: initial values of the properties the front end reads
@@ -898,8 +901,8 @@ KEYWORD_PROPERTIES = {
     "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
     "font-variant-numeric", "font-variant-position", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",
-    "text-anchor", "text-decoration", "text-orientation", "text-rendering", "unicode-bidi",
-    "white-space", "word-spacing", "writing-mode",
+    "text-anchor", "text-decoration", "text-orientation", "text-rendering", "text-transform",
+    "unicode-bidi", "white-space", "word-spacing", "writing-mode",
 }
 _CSS_WIDE_INITIALS = frozenset("iIuUrR")   # of inherit, initial, unset, revert: any property
 #: properties whose ``initial`` is replaced by their initial value in the cascade (text

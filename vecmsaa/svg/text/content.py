@@ -8,7 +8,8 @@ absolute ``x`` or ``y`` (or the first of a ``textPath``) starts a text chunk (:m
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import unicodedata
+from dataclasses import dataclass, replace
 
 from ..builder import conditions_pass
 from ..units import parse_length_list, parse_number_list
@@ -208,3 +209,121 @@ def apply_positions(text_el, chars, ctx, styles):
             for j, k in enumerate(idx):
                 chars[k].rotate = rot[min(j, len(rot) - 1)]
 
+
+
+# -- text-transform (CSS Text 3 §2.1) --------------------------------------------------------
+_CASES = {"capitalize", "uppercase", "lowercase"}
+#: UAX #29's MidLetter, MidNumLet and ExtendNumLet characters: inside a word
+_IN_WORD = frozenset("'.:\u00b7\u2018\u2019\u2024\ufe52\uff07\uff0e\u2027\ufe13\ufe55"
+                     "\uff1a_\u203f\u2040\u2054\ufe33\ufe34\ufe4d\ufe4e\ufe4f\uff3f")
+
+
+def _parse_text_transform(value):
+    """none | [capitalize | uppercase | lowercase] || full-width || full-size-kana, as a set
+    of keywords (empty for none); None when invalid or a CSS-wide keyword."""
+    words = value.split()
+    if words == ["none"]:
+        return frozenset()
+    if not words or len(set(words)) != len(words):
+        return None
+    if any(w not in _CASES | {"full-width", "full-size-kana"} for w in words):
+        return None
+    if len(_CASES.intersection(words)) > 1:
+        return None
+    return frozenset(words)
+
+
+def text_transform(style):
+    """The computed text-transform of an element: inherited, an invalid declaration is
+    ignored (so the parent's applies), ``initial`` is none."""
+    s = style
+    while s is not None:
+        v = (s.specified.get("text-transform") or "inherit").strip()
+        if v == "initial":
+            return frozenset()
+        parsed = _parse_text_transform(v)
+        if parsed is not None:
+            return parsed
+        s = s.parent
+    return frozenset()
+
+
+_FULL_WIDTH = None
+
+
+def _full_width(ch):
+    """The character's fullwidth form: the character whose compatibility decomposition is
+    ``<wide>`` of it (U+FF01-FF5E, U+FFE0-FFE6; the space's is U+3000), else itself."""
+    global _FULL_WIDTH
+    if _FULL_WIDTH is None:
+        table = {}
+        for cp in [0x3000] + list(range(0xFF01, 0xFFEF)):
+            d = unicodedata.decomposition(chr(cp))
+            if d.startswith("<wide> "):
+                table[chr(int(d.split()[1], 16))] = chr(cp)
+        _FULL_WIDTH = table
+    return _FULL_WIDTH.get(ch, ch)
+
+
+def _full_size_kana(ch):
+    """Small kana to their full-size forms (CSS Text 3 appendix: the small letters of the
+    hiragana, katakana, halfwidth katakana and small kana extension blocks)."""
+    name = unicodedata.name(ch, "")
+    if " LETTER SMALL " in name and ("KATAKANA" in name or "HIRAGANA" in name):
+        try:
+            return unicodedata.lookup(name.replace(" SMALL ", " "))
+        except KeyError:
+            return ch
+    return ch
+
+
+def _cased(ch):
+    return ch != ch.lower() or ch != ch.upper() or unicodedata.category(ch) == "Lt"
+
+
+def apply_text_transform(chars, styles, default_style):
+    """Case and width transforms of each character by its element's text-transform, after
+    white space collapsing and after the position lists took their values: SVG 2 addresses
+    characters before any text-transform, so a character that maps to several (``ß`` upper
+    case is ``SS``) keeps its values on the first and the others follow it. Returns the new
+    character list."""
+    cache = {}
+    for c in chars:
+        if id(c.el) not in cache:
+            cache[id(c.el)] = text_transform(styles.get(id(c.el), default_style))
+    if not any(cache.values()):
+        return chars
+    out = []
+    word_start = True
+    for i, c in enumerate(chars):
+        tt = cache[id(c.el)]
+        ch = c.ch
+        new = ch
+        if "uppercase" in tt:
+            new = ch.upper()
+        elif "lowercase" in tt:
+            new = ch.lower()
+            if ch == "\u03a3":
+                # Unicode's Final_Sigma context: after a cased letter, before none
+                before = any(_cased(p.ch) for p in chars[max(0, i - 1):i])
+                after = i + 1 < len(chars) and _cased(chars[i + 1].ch)
+                if before and not after:
+                    new = "\u03c2"
+        elif "capitalize" in tt and word_start and unicodedata.category(ch)[0] == "L":
+            new = ch.title()
+        # words as UAX #29 bounds them (CSS Text 3 suggests it): letters, digits and marks,
+        # joined by apostrophes, periods, colons and connectors; anything else ends one
+        if ch not in _IN_WORD:
+            word_start = unicodedata.category(ch)[0] not in "LMN"
+        if "full-width" in tt:
+            new = "".join(_full_width(x) for x in new)
+        if "full-size-kana" in tt:
+            new = "".join(_full_size_kana(x) for x in new)
+        if new == ch:
+            out.append(c)
+            continue
+        c.ch = new[0]
+        out.append(c)
+        for extra in new[1:]:
+            out.append(replace(c, ch=extra, x=None, y=None, dx=0.0, dy=0.0, new_chunk=False))
+    return out

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, collapse_white_space, collect_chars
+from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
 from .font_match import assign_faces, face_location, font_database, font_spec
 from .on_path import path_walker, position_on_path
@@ -296,10 +296,39 @@ def apply_length_adjust(clusters, chars, text_length, on_path):
     (SVG 2 §11.5.3), in each chunk that holds characters of its own. A chunk whose characters
     all belong to descendants (a ``tspan`` with its own ``x`` or ``y``) is not adjusted to the
     ancestor's length: SVG does not define textLength over several chunks, and there resvg
-    adjusts only the element's own characters."""
-    for el_id, (target, adjust) in text_length.items():
-        idx = [i for i, c in enumerate(clusters)
-               if any(id(e) == el_id for e in chars[c.char].chain)]
+    adjusts only the element's own characters.
+
+    A descendant with a textLength of its own (SVG 2's "resolved descendant node") keeps it:
+    descendants are adjusted before their ancestors, and an ancestor's length less its resolved
+    descendants' lengths (wherever they are) is the length of the rest of its content
+    (§11.5.3: "the total advance values for the other content within that ancestor is the
+    difference"). Each resolved descendant in the chunk counts as one character for the
+    ancestor's spacing: the gap after it is the ancestor's (§11.5.5, "resolve text length")."""
+    if not text_length:
+        return
+    # for each element with a length: its depth, and its resolved descendants' ids
+    depth, resolved = {}, {k: set() for k in text_length}
+    for c in chars:
+        own = [id(e) for e in c.chain if id(e) in text_length]
+        for i, k in enumerate(own):
+            depth[k] = max(depth.get(k, 0), i)
+            if i + 1 < len(own):
+                resolved[k].add(own[i + 1])
+    for el_id in sorted(text_length, key=lambda k: -depth.get(k, 0)):
+        target, adjust = text_length[el_id]
+        if resolved[el_id]:
+            target -= sum(text_length[d][0] for d in resolved[el_id])
+        idx, blocks = [], {}
+        for i, c in enumerate(clusters):
+            chain = chars[c.char].chain
+            ids = [id(e) for e in chain]
+            if el_id not in ids:
+                continue
+            inner = [k for k in ids[ids.index(el_id) + 1:] if k in resolved[el_id]]
+            if inner:
+                blocks.setdefault(inner[0], []).append(i)
+            else:
+                idx.append(i)
         if not any(id(chars[clusters[i].char].el) == el_id for i in idx):
             continue
         width = sum(clusters[i].width for i in idx)
@@ -316,9 +345,15 @@ def apply_length_adjust(clusters, chars, text_length, on_path):
                     clusters[i].width *= factor
                     clusters[i].widest *= factor
         else:
-            factor = (target - width) / (len(idx) - 1) if len(idx) > 1 else 0.0
+            n = len(idx) + len(blocks)
+            factor = (target - width) / (n - 1) if n > 1 else 0.0
             for i in idx:
                 clusters[i].advance = clusters[i].width + factor
+            if n > 1:
+                for members in blocks.values():
+                    # the block's own trailing gap becomes the ancestor's gap after it
+                    last = clusters[max(members, key=lambda i: clusters[i].char)]
+                    last.advance = last.width + factor
 
 
 def anchor_shift(anchor, width):
@@ -327,24 +362,27 @@ def anchor_shift(anchor, width):
 
 def position_linear(clusters, chars, anchor, vertical):
     """Cluster transforms of a chunk laid along x from 0 (the anchor moves the start);
-    returns the pen at its end."""
-    x = anchor_shift(anchor, sum(c.advance for c in clusters))
+    returns the pen at its end. A cluster squeezed by lengthAdjust=spacingAndGlyphs (``sx``)
+    takes its advance and its dx scaled with its glyphs: a chunk scaled alike throughout is
+    that chunk scaled about its start, and spans of a text and of a tspan with lengths of
+    their own follow each other."""
+    x = anchor_shift(anchor, sum(c.advance * c.sx for c in clusters))
     y = 0.0
     for c in clusters:
         ch = chars[c.char]
         if vertical:
             y -= ch.dx
-            x += ch.dy
+            x += ch.dy * c.sx
         else:
-            x += ch.dx
+            x += ch.dx * c.sx
             y += ch.dy
         c.shifted = c.shifted or bool(ch.dx or ch.dy)
-        frame = compose(compose(c.pre, (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0)), translate(x, y))
+        frame = compose(compose(c.pre, translate(x, y)), (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0))
         if ch.rotate:
             frame = compose(frame, rotate_at(ch.rotate, 0.0, 0.0))
             c.shifted = True
         c.frame = frame
-        x += c.advance
+        x += c.advance * c.sx
     return x, y
 
 
@@ -462,6 +500,7 @@ def build_text(element, ctx):
     if not chars:
         return []
     apply_positions(element, chars, ctx, styles)
+    chars = apply_text_transform(chars, styles, ctx.style)
     # A textPath in error renders none of its characters (SVG 2 textPath): they take no
     # place in the text either, so the text around it is one chunk, as if the textPath were
     # not there (SVG 2 leaves the position after it open; resvg drops it so). They have
