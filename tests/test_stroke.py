@@ -483,19 +483,18 @@ def test_lone_moveto_not_stroked():
 
 def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
     """The same stroke through the general (curve) stroker: every line a separate piece,
-    dashes walked by the pure-Python dash walker."""
+    dashes walked by the curve dasher (kernels.dash_segments)."""
     from vecmsaa.geometry import stroke
+    from vecmsaa.geometry.arclength import gl_nodes
 
     pattern = dash_pattern(dashes)
-    parts = []
-    for segs, closed in stroke._subpaths(path):
-        if pattern is None:
-            parts.append((segs, closed))
-        else:
-            parts += [d if isinstance(d, tuple) else (d, False)
-                      for d in stroke._dash_subpath(segs, closed, pattern, offset, tol)]
+    segments = stroke._path_segments(path)
+    if pattern is not None:
+        segments = stroke.kernels.dash_segments(*segments, np.asarray(pattern, np.float64),
+                                                float(offset), tol * stroke.DASH_ACCURACY,
+                                                gl_nodes())
     return Path.from_arrays(*stroke._segments_outline(
-        stroke._segment_arrays(parts), w / 2, tol, join, cap, max(1.0, miterlimit), general=True))
+        segments, w / 2, tol, join, cap, max(1.0, miterlimit), general=True))
 
 
 @settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -614,33 +613,26 @@ def test_dash_ends_at_exact_arc_lengths(d, cubics):
     """Every dash starts and ends where the path has run the pattern's lengths, measured on
     a brute-force polyline of 200 000 points per curve (independent of the dasher)."""
     from vecmsaa.geometry import stroke
+    from vecmsaa.geometry.arclength import gl_nodes
 
     path = parse_path_data(d)
     if cubics:
         path = path.without_conics()
-    (segs, closed), = stroke._subpaths(path)
+    kinds, rows, subs, flags = stroke._path_segments(stroke.exact_conics(path, 0.0))
     ts = np.linspace(0, 1, 200_001)
-    pts = np.concatenate([(_conic(*np.array(seg), ts) if isinstance(seg, stroke._Conic)
-                           else _bezier(np.array(seg), ts))[:-1]
-                          for seg in segs] + [np.array(segs[-1][-1:])])
+    pts = np.concatenate([(_conic(*row.reshape(4, 2), ts) if kind == 5
+                           else _bezier(row[:2 * kind].reshape(-1, 2), ts))[:-1]
+                          for kind, row in zip(kinds, rows)] + [rows[-1:, 2:4]])
     run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
     pattern, offset = [9.0, 4.5, 2.5, 4.5], 3.0
+    # the subpath taken as open: a dash through its start is not joined
+    kinds, rows, subs, flags = stroke.kernels.dash_segments(
+        kinds, rows, subs, flags * 0, np.array(pattern), offset, 0.25 * stroke.DASH_ACCURACY,
+        gl_nodes())
     ends = []
-    if any(isinstance(seg, stroke._Conic) for seg in segs):
-        # circular arcs: measured by the Python dasher
-        for dash in stroke._dash_subpath(segs, False, pattern, offset, 0.25):
-            ends += [dash[0][0], dash[-1][-1]]
-    else:
-        # lines and curves: the compiled dasher (the path taken as open, like the above)
-        from vecmsaa.geometry import stroke_kernels as sk
-        from vecmsaa.geometry.arclength import gl_nodes
-        kinds, rows, subs, flags = sk.path_segments(path.verbs, path.points)
-        kinds, rows, subs, flags = sk.dash_segments(kinds, rows, subs, flags * 0,
-                                                    np.array(pattern), offset,
-                                                    0.25 * stroke.DASH_ACCURACY, gl_nodes())
-        for a, b in zip(subs[:-1], subs[1:]):
-            last = 2 * kinds[b - 1] - 2
-            ends += [tuple(rows[a, :2]), tuple(rows[b - 1, last:last + 2])]
+    for a, b in zip(subs[:-1], subs[1:]):
+        last = 6 if kinds[b - 1] == 5 else 2 * kinds[b - 1] - 2
+        ends += [tuple(rows[a, :2]), tuple(rows[b - 1, last:last + 2])]
     # where the pattern switches on and off along the path
     expected, s, k = [], -offset, 0
     while s < run[-1]:

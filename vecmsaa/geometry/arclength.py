@@ -5,8 +5,8 @@ Every segment is measured as a cubic (a line becomes a cubic with its inner cont
 quadrature. The parameter at an arc length is found two ways: for text on a path with kurbo's
 ITP root finder stopped at resvg's coarse accuracy (:func:`cubic_param_at`, since the
 references show where that puts glyphs), for stroke dashing (geometry/stroke.py) by Newton's
-method to a fine accuracy (:func:`cubic_exact_params`): dashes sit at their exact arc
-lengths.
+method to a fine accuracy (:func:`_exact_t`, in geometry/stroke_kernels' dasher): dashes sit
+at their exact arc lengths.
 
 The searches are compiled kernels over cubics stored as rows (x0 y0 x1 y1 x2 y2 x3 y3): in
 Python, each length is 24 hypotenuses, and a curve cut into thousands of dashes or glyphs
@@ -105,16 +105,6 @@ def _exact_t(c, i, total, arc, accuracy, nodes):
         step = t - err / speed if speed > 0 else -1.0
         t = step if a < step < b else 0.5 * (a + b)
     return t
-
-
-@njit(cache=True)
-def cubic_exact_params(c, lengths, which, arcs, accuracy, nodes):
-    """For each request k, the parameter where cubic ``which[k]`` of ``c`` has run
-    ``arcs[k]`` (_exact_t; ``lengths`` the cubics' lengths)."""
-    out = np.empty(arcs.shape[0])
-    for k in range(arcs.shape[0]):
-        out[k] = _exact_t(c, which[k], lengths[which[k]], arcs[k], accuracy, nodes)
-    return out
 
 
 @njit(cache=True)

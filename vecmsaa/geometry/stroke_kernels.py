@@ -1367,8 +1367,8 @@ def _dash_t(mk, mrow, mlen, j, s, accuracy, nodes):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _split_at(c, t, left):
-    """de Casteljau at t of the cubic row c (8 values) in place: its left part, or its right
-    (the arithmetic of geometry/stroke._split_cubic)."""
+    """de Casteljau at t of the cubic row c (8 values) in place: its left part, or its
+    right."""
     x0, y0, x1, y1, x2, y2, x3, y3 = c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]
     ax, ay = x0 + (x1 - x0) * t, y0 + (y1 - y0) * t
     bx, by = x1 + (x2 - x1) * t, y1 + (y2 - y1) * t
@@ -1436,14 +1436,100 @@ def _dot_direction(mk, mrow, j, t):
     return 1.0, 0.0
 
 
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_measure(c, out):
+    """A circular conic (b0, b1, point at t = ½, b2) measured exactly into out: centre x, y,
+    radius, the angle it spans, its start angle, its sense (+1 towards increasing angles, y
+    down); its length is radius × angle. The centre and radius as stroke.circular_conics
+    finds them."""
+    x0, y0, x1, y1, x2, y2 = c[0], c[1], c[2], c[3], c[6], c[7]
+    l0 = math.hypot(x1 - x0, y1 - y0)
+    l1 = math.hypot(x2 - x1, y2 - y1)
+    ex, ey = 0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1
+    f = l0 * l1 / (ex * ex + ey * ey)
+    cx, cy = x1 + ex * f, y1 + ey * f
+    r = 0.5 * (math.hypot(x0 - cx, y0 - cy) + math.hypot(x2 - cx, y2 - cy))
+    # the half angle φ: between the chord and the tangent at b0
+    half = math.hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0))
+    rise = math.hypot(0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1)
+    out[0], out[1], out[2] = cx, cy, r
+    out[3] = 2.0 * math.atan2(rise, half)
+    out[4] = math.atan2(y0 - cy, x0 - cx)
+    out[5] = 1.0 if (x1 - x0) * (y0 - cy) - (y1 - y0) * (x0 - cx) < 0 else -1.0
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_piece(c, a, s0, s1, out):
+    """The part of the measured arc (row c, measures a) between arc lengths s0 and s1 into
+    out: the arc itself where it spans it all (kind 5), a line where the part is flat to
+    rounding (2), else the conic of the sub-arc (5), from the centre, radius and angles."""
+    cx, cy, r, angle, start, sense = a[0], a[1], a[2], a[3], a[4], a[5]
+    a0 = min(max(s0 / r, 0.0), angle)
+    a1 = min(max(s1 / r, 0.0), angle)
+    if a0 <= 0.0 and a1 >= angle:
+        out[:] = c
+        return 5
+    out[:] = 0.0
+    if a0 <= 0.0:
+        out[0], out[1] = c[0], c[1]
+    else:
+        out[0], out[1] = cx + r * math.cos(start + sense * a0), cy + r * math.sin(start + sense * a0)
+    if a1 >= angle:
+        px, py = c[6], c[7]
+    else:
+        px, py = cx + r * math.cos(start + sense * a1), cy + r * math.sin(start + sense * a1)
+    half = 0.5 * (a1 - a0)
+    if r * (1.0 - math.cos(half)) <= 1e-9 * r:
+        out[2], out[3] = px, py
+        return 2
+    b = start + sense * (a0 + half)
+    mx, my = cx + r * math.cos(b), cy + r * math.sin(b)
+    k = 1.0 / math.cos(half)
+    out[2], out[3] = cx + k * (mx - cx), cy + k * (my - cy)
+    out[4], out[5], out[6], out[7] = mx, my, px, py
+    return 5
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _measure_segment(kind, c, row, arc, nodes):
+    """(kind as the dasher cuts it, length) of a segment (path_segments' kind and row c),
+    with its row for cutting in ``row`` (a quadratic raised exactly to a cubic, as
+    arclength.as_cubic raises it) and a circular arc's measures in ``arc``."""
+    row[:] = c
+    if kind == 2:
+        return 2, math.hypot(c[2] - c[0], c[3] - c[1])
+    if kind == 5:
+        _arc_measure(c, arc)
+        return 5, arc[2] * arc[3]
+    if kind == 3:
+        row[2] = c[0] + 2 / 3 * (c[2] - c[0])
+        row[3] = c[1] + 2 / 3 * (c[3] - c[1])
+        row[4] = c[4] + 2 / 3 * (c[2] - c[4])
+        row[5] = c[5] + 2 / 3 * (c[3] - c[5])
+        row[6], row[7] = c[4], c[5]
+    return 4, _length_to(row.reshape(1, 8), 0, 1.0, nodes)
+
+
+@njit(cache=True)
+def dash_length(kinds, segs, nodes):
+    """The total length of path_segments' subpaths as the dasher measures it."""
+    row = np.empty(8)
+    arc = np.empty(6)
+    total = 0.0
+    for i in range(len(kinds)):
+        total += _measure_segment(kinds[i], segs[i], row, arc, nodes)[1]
+    return total
+
+
 @njit(cache=True)
 def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
-    """The dashes of subpaths of lines, quadratics and cubics (path_segments' arrays; no
-    conics), in the same arrays: a dash is an open subpath, a zero-length dash a dot (its
-    point and direction). geometry/stroke's _dash_subpath written as a kernel, to the same
-    numbers: the pattern walked along each subpath's arc length (quadratics raised to cubics,
-    cubics measured and cut by geometry/arclength's search); on a closed subpath a dash running
-    through the start point is one dash, joined there."""
+    """The dashes of subpaths (path_segments' arrays, whose conics are circular arcs: see
+    stroke.exact_conics), in the same arrays: a dash is an open subpath, a zero-length dash a
+    dot (its point and direction). The pattern is walked along each subpath's arc length:
+    lines exactly, circular arcs exactly (r·θ; their parts are the conics of the sub-arcs),
+    quadratics raised to cubics, cubics measured and cut by geometry/arclength's search to
+    ``accuracy``. On a closed subpath a dash running through the start point is one dash
+    (as in Skia, and so in browsers and resvg), joined there rather than capped twice."""
     period = 0.0
     for v in pattern:
         period += v
@@ -1457,6 +1543,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
     mk = np.empty(len(kinds), np.int64)
     mrow = np.zeros((len(kinds), 8))
     mlen = np.empty(len(kinds))
+    arcs = np.zeros((len(kinds), 6))
     piece = np.empty(8)
     tmp_kind = np.empty(0, np.int64)
     tmp_seg = np.empty((0, 8))
@@ -1466,20 +1553,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
         closed = flags[sp] == SUB_CLOSED
         total = 0.0
         for j in range(m):
-            c = segs[lo + j]
-            mrow[j] = c
-            if kinds[lo + j] == 2:
-                mk[j] = 2
-                mlen[j] = math.hypot(c[2] - c[0], c[3] - c[1])
-            else:
-                mk[j] = 4
-                if kinds[lo + j] == 3:       # quadratic: raised exactly (arclength.as_cubic)
-                    mrow[j, 2] = c[0] + 2 / 3 * (c[2] - c[0])
-                    mrow[j, 3] = c[1] + 2 / 3 * (c[3] - c[1])
-                    mrow[j, 4] = c[4] + 2 / 3 * (c[2] - c[4])
-                    mrow[j, 5] = c[5] + 2 / 3 * (c[3] - c[5])
-                    mrow[j, 6], mrow[j, 7] = c[4], c[5]
-                mlen[j] = _length_to(mrow, j, 1.0, nodes)
+            mk[j], mlen[j] = _measure_segment(kinds[lo + j], segs[lo + j], mrow[j], arcs[j], nodes)
             total += mlen[j]
         phase = offset % period
         if phase >= period:
@@ -1509,9 +1583,15 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
                     oflag = _grow(oflag, 2 * (nsub + 2))
                 if b == a:
                     s = min(max(a - seg_start, 0.0), mlen[seg_i])
-                    t = _dash_t(mk, mrow, mlen, seg_i, s, accuracy, nodes)
-                    _dash_piece(mk, mrow, seg_i, t, t, piece)
-                    dx, dy = _dot_direction(mk, mrow, seg_i, t)
+                    if mk[seg_i] == 5:
+                        _arc_piece(mrow[seg_i], arcs[seg_i], s, s, piece)
+                        ac = arcs[seg_i]
+                        bb = ac[4] + ac[5] * min(max(s / ac[2], 0.0), ac[3])
+                        dx, dy = -ac[5] * math.sin(bb), ac[5] * math.cos(bb)
+                    else:
+                        t = _dash_t(mk, mrow, mlen, seg_i, s, accuracy, nodes)
+                        _dash_piece(mk, mrow, seg_i, t, t, piece)
+                        dx, dy = _dot_direction(mk, mrow, seg_i, t)
                     osub[nsub], oflag[nsub] = no, SUB_DOT
                     nsub += 1
                     okind[no] = 0
@@ -1523,7 +1603,11 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
                     j, js = seg_i, seg_start
                     while j < m and js < b:
                         plo, phi = max(a - js, 0.0), min(b - js, mlen[j])
-                        if phi > plo:
+                        if phi > plo and mk[j] == 5:
+                            okind[no] = _arc_piece(mrow[j], arcs[j], plo, phi, piece)
+                            oseg[no] = piece
+                            no += 1
+                        elif phi > plo:
                             t0 = _dash_t(mk, mrow, mlen, j, plo, accuracy, nodes)
                             t1 = _dash_t(mk, mrow, mlen, j, phi, accuracy, nodes)
                             okind[no] = _dash_piece(mk, mrow, j, t0, t1, piece)
