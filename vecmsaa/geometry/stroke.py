@@ -26,8 +26,9 @@ curve by f moves its whole stroke by up to f, so the joins and caps at a chord's
 within the rest of the tolerance (tolerance − f, at least half of it).
 
 Strokes are drawn by the compiled kernels in :mod:`vecmsaa.geometry.stroke_kernels`: paths of
-straight lines only (map data), dashes and all, by stroke_lines; paths with curves, and the
-dashes of curves (measured and cut here), by stroke_segments.
+straight lines only (map data), dashes and all, by stroke_lines; paths with curves by
+stroke_segments, their dashes first cut by dash_segments (circular arcs at exact arc lengths,
+other curves by geometry/arclength's measure).
 
 Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offsets are P + w/2·n.
 """
