@@ -287,6 +287,18 @@ def test_database_generic_families_and_fallback():
     assert info is not None and info.load().has_char("z")
 
 
+def test_database_answers_follow_loaded_faces_and_generics():
+    # queries are remembered; loading faces or mapping a generic starts afresh
+    db = FontDatabase()
+    assert db.query("Roboto Flex") is None and db.query("serif") is None
+    db.load_dir(FIXTURES)
+    assert db.query("Roboto Flex").family == "Roboto Flex"
+    db.set_generic("serif", "Roboto Flex")
+    assert db.query("serif").family == "Roboto Flex"
+    db.set_generic("serif", "Noto Sans")
+    assert db.query("serif").family == "Noto Sans"
+
+
 def test_collection_faces():
     from vecmsaa.fonts import face_count
 

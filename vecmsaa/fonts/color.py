@@ -67,8 +67,20 @@ def palette_color(face, index: int):
     return (c.red / 255.0, c.green / 255.0, c.blue / 255.0, c.alpha / 255.0)
 
 
+def has_color_glyphs(face) -> bool:
+    """Whether any glyph of the face draws its own colours; cached on the face (asked per
+    glyph of every text, where most faces have none)."""
+    found = getattr(face, "_has_color", None)
+    if found is None:
+        found = face._has_color = bool(colr_layers(face) or colr_v1_glyphs(face)
+                                       or has_bitmaps(face))
+    return found
+
+
 def is_color_glyph(face, gid) -> bool:
     """Whether a glyph draws its own colours (COLR layers or paints, an sbix/CBDT bitmap)."""
+    if not has_color_glyphs(face):
+        return False
     gid = int(gid)
     return (gid in colr_layers(face) or gid in colr_v1_glyphs(face)
             or (has_bitmaps(face) and bitmap_glyph(face, gid) is not None))

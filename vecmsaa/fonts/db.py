@@ -139,6 +139,7 @@ class FontDatabase:
 
     def __post_init__(self):
         self._by_family = None
+        self._queries = {}
         self._seen = set()
 
     # -- loading ---------------------------------------------------------------------------
@@ -149,6 +150,7 @@ class FontDatabase:
         self._seen.add(path)
         self.faces.extend(read_face_infos(path))
         self._by_family = None
+        self._queries = {}
 
     def load_dir(self, folder):
         folder = os.path.expanduser(os.fspath(folder))
@@ -167,6 +169,7 @@ class FontDatabase:
     def set_generic(self, generic: str, family: str):
         """Map a generic family to one family name (e.g. ``--serif-family``)."""
         self.generics[generic] = [family]
+        self._queries = {}
 
     # -- queries ---------------------------------------------------------------------------
     def _index(self):
@@ -197,11 +200,18 @@ class FontDatabase:
         """The best FaceInfo for a CSS family list, or None when no family exists."""
         if isinstance(families, str):
             families = parse_family_list(families)
+        # (answers are kept until faces or generics change: a document's texts ask the same
+        # few questions, each a sort of a family's faces)
+        key = (tuple(families), weight, style, stretch)
+        if key in self._queries:
+            return self._queries[key]
+        found = None
         for family in families:
-            match = best_match(self.family_faces(family), weight, style, stretch)
-            if match is not None:
-                return match
-        return None
+            found = best_match(self.family_faces(family), weight, style, stretch)
+            if found is not None:
+                break
+        self._queries[key] = found
+        return found
 
     def query_or_default(self, families, weight=400, style="normal", stretch=100.0):
         """Like :meth:`query`, falling back to the default family and then to any face."""
