@@ -436,6 +436,20 @@ def _grow(a, need):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _pattern_at(pattern, period, phase):
+    """(interval, how far into it) at a subpath's start, ``phase`` being the offset reduced
+    to the period (a tiny negative offset can round to the period itself). Intervals are half
+    open, except that a zero-length dash right at the phase is drawn."""
+    if phase >= period:
+        phase -= period
+    k = 0
+    while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
+        phase -= pattern[k]
+        k = (k + 1) % len(pattern)
+    return k, phase
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _dash_polylines(src, starts, closed, pattern, offset):
     """Dashes of polylines: (dash points, dash start offsets, dots, dot directions). A dash
     is an open polyline; a zero-length dash is a dot with the direction it lies on. On a
@@ -460,15 +474,7 @@ def _dash_polylines(src, starts, closed, pattern, offset):
             seglen[i] = math.hypot(src[lo + i + 1, 0] - src[lo + i, 0],
                                    src[lo + i + 1, 1] - src[lo + i, 1])
             total += seglen[i]
-        # position within the pattern at the subpath's start; intervals are half open,
-        # except that a zero-length dash right at the phase is drawn
-        phase = offset - math.floor(offset / period) * period
-        if phase >= period:
-            phase -= period
-        k = 0
-        while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
-            phase -= pattern[k]
-            k = (k + 1) % npat
+        k, phase = _pattern_at(pattern, period, offset - math.floor(offset / period) * period)
         pos = -phase                 # subpath arc length where the current interval starts
         seg_i, seg_start = 0, 0.0    # current segment and the arc length where it starts
         first_dash = nd              # this subpath's first dash
@@ -1555,13 +1561,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
         for j in range(m):
             mk[j], mlen[j] = _measure_segment(kinds[lo + j], segs[lo + j], mrow[j], arcs[j], nodes)
             total += mlen[j]
-        phase = offset % period
-        if phase >= period:
-            phase -= period
-        k = 0
-        while phase > pattern[k] or (phase == pattern[k] and pattern[k] > 0):
-            phase -= pattern[k]
-            k = (k + 1) % npat
+        k, phase = _pattern_at(pattern, period, offset % period)
         pos = -phase
         seg_i, seg_start = 0, 0.0
         guard = 0
