@@ -141,19 +141,20 @@ def keeps_every_sample(corners, nodes) -> bool:
     A group blending with what is below it (mix-blend-mode) keeps the clip: the layer is its
     transparent backdrop."""
     xy, boxes = [], []              # the fills' points as x, y, x, y...; filter regions
-    stack = list(nodes)
-    while stack:
-        node = stack.pop()
-        if type(node) is Fill:
-            # (Python floats: numpy's reductions over a marker's few points cost more than
-            # the rest of the test)
-            xy += node.path.points.ravel().tolist()
-        elif node.blend != "normal":
-            return False
-        elif node.filters:
-            boxes += [f.region for f in node.filters]
-        else:
-            stack.extend(node.children)     # (its own clip and mask only take away)
+    while nodes:
+        inner = []
+        for node in nodes:
+            if type(node) is Fill:
+                # (Python floats: numpy's reductions over a marker's few points cost more
+                # than the rest of the test)
+                xy += node.path.points.ravel().tolist()
+            elif node.blend != "normal":
+                return False
+            elif node.filters:
+                boxes += [f.region for f in node.filters]
+            else:
+                inner += node.children      # (its own clip and mask only take away)
+        nodes = inner
     if xy:
         if not math.isfinite(sum(xy)):      # (NaN would slip through min and max)
             return False
@@ -171,8 +172,11 @@ def keeps_every_sample(corners, nodes) -> bool:
         if xy:
             boxes.append((math.floor(x0 - _slack(x0)), math.floor(y0 - _slack(y0)),
                           math.floor(x1 + _slack(x1)) + 1, math.floor(y1 + _slack(y1)) + 1))
-        return all(left <= math.floor(b[0]) and top <= math.floor(b[1])
-                   and math.ceil(b[2]) <= right and math.ceil(b[3]) <= bottom for b in boxes)
+        for b in boxes:
+            if not (left <= math.floor(b[0]) and top <= math.floor(b[1])
+                    and math.ceil(b[2]) <= right and math.ceil(b[3]) <= bottom):
+                return False
+        return True
     # rotated or skewed: by the distance to each edge along its inward unit normal n, which
     # is least at a point or a corner of a filter region; the samples of a pixel holding a
     # point q are within |nx| + |ny| of q that way, those of a region inside it
