@@ -1074,6 +1074,39 @@ def test_a_blending_marker_child_keeps_the_clipped_marker_as_its_backdrop():
     assert img[50, 50].tolist() == [255, 0, 0, 255]
 
 
+def test_a_filter_region_inside_a_turned_clip_is_told_exactly():
+    # a filtered group's result is cut to its region, whole pixels: the clip keeps it all
+    # exactly when the region's corners are inside the turned (or skewed) clip rectangle
+    from vecmsaa.scene.effects import Filter
+    from vecmsaa.scene.path import rect_path
+    from vecmsaa.svg.markers import keeps_every_sample
+    rng = np.random.default_rng(7)
+    seen = set()
+    for _ in range(400):
+        r = math.radians(float(rng.uniform(-180, 180)))
+        m = (math.cos(r), math.sin(r), -math.sin(r) + float(rng.choice([0, 0.4])),
+             math.cos(r), 40.0, 30.0)
+        corners = rect_path(-10.0, -8.0, 20.0, 16.0).transformed(m).points
+        x, y = (int(v) for v in rng.integers(25, 45, 2))
+        box = (x, y, x + int(rng.integers(1, 12)), y + int(rng.integers(1, 12)))
+        node = Group(children=[Fill(rect_path(x, y, 1, 1))], filters=[Filter(box, [])])
+        # inside: on the inner side of all four edges (cross products, the corners in order
+        # round a convex quadrilateral)
+        def cross(u, v):
+            return u[0] * v[1] - u[1] * v[0]
+        turn = np.sign(cross(corners[1] - corners[0], corners[3] - corners[0]))
+        margins = [turn * cross(corners[(k + 1) % 4] - corners[k], np.array(q) - corners[k])
+                   / np.hypot(*(corners[(k + 1) % 4] - corners[k]))
+                   for k in range(4) for q in ((box[0], box[1]), (box[2], box[1]),
+                                               (box[2], box[3]), (box[0], box[3]))]
+        if abs(min(margins)) < 1e-6:
+            continue
+        want = min(margins) > 0
+        assert keeps_every_sample(corners, [node]) == want, (m, box)
+        seen.add(want)
+    assert seen == {True, False}
+
+
 def test_the_clip_is_dropped_only_when_it_changes_no_sample():
     """markers.keeps_every_sample against brute force: random content near the edges of
     random clip rectangles (axis-aligned, scaled, flipped, turned, skewed); wherever it says
@@ -1110,11 +1143,14 @@ def test_the_clip_is_dropped_only_when_it_changes_no_sample():
         path.closePath()
         nodes = [Fill(path.transformed(m), Solid((0.2, 0.4, 0.9, 1.0)))]
         if trial % 5 == 0:
-            # a filtered dot whose region is a few whole pixels
-            x, y = (int(v) + 2 for v in m[4:])
-            region = (x, y, x + int(rng.integers(2, 9)), y + int(rng.integers(2, 7)))
-            nodes.append(Group(children=[Fill(rect_path(x + 1, y + 1, 1, 1))], filters=[
-                Filter(region, [Primitive(GaussianBlur(0.5, 0.5), (-1,), region)])]))
+            # a blurred rectangle whose region is a few whole pixels round the clip's centre
+            w, h = int(rng.integers(2, 12)), int(rng.integers(2, 10))
+            x = math.floor(m[0] * 6 + m[2] * 5 + m[4]) - w // 2
+            y = math.floor(m[1] * 6 + m[3] * 5 + m[5]) - h // 2
+            region = (x, y, x + w, y + h)
+            blurred = Group(children=[Fill(rect_path(x, y, w, h))], filters=[
+                Filter(region, [Primitive(GaussianBlur(0.5, 0.5), (-1,), region)])])
+            nodes = [blurred] if trial % 10 == 0 else nodes + [blurred]
         drop = keeps_every_sample(clip.children[0].path.points, nodes)
         if not drop:
             kept += 1

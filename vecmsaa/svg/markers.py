@@ -4,8 +4,6 @@ from __future__ import annotations
 import math
 import re
 
-import numpy as np
-
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
@@ -177,25 +175,29 @@ def keeps_every_sample(corners, nodes) -> bool:
                     and math.ceil(b[2]) <= right and math.ceil(b[3]) <= bottom):
                 return False
         return True
-    # rotated or skewed: by the distance to each edge along its inward unit normal n, which
-    # is least at a point or a corner of a filter region; the samples of a pixel holding a
-    # point q are within |nx| + |ny| of q that way, those of a region inside it
+    # rotated or skewed (a parallelogram): along the inward unit normal n of an edge, every
+    # sample s must have n·s between the edge's n·p and the opposite edge's n·o; a pixel
+    # holding a point q has its samples within |nx| + |ny| of n·q, a filter region's within it
     turn = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
     if not (turn != 0 and math.isfinite(turn)):
         return False
     sign = 1.0 if turn > 0 else -1.0
-    c = ((ax, ay), (bx, by), (cx, cy), (dx, dy))
-    slack = _slack(max(abs(v) for q in c for v in q))
-    tests = [(np.array(xy).reshape(-1, 2), True)] if xy else []
-    tests += [(np.array(((b[0], b[1]), (b[2], b[1]), (b[2], b[3]), (b[0], b[3])), np.float64),
-               False) for b in boxes]
-    for (px, py), (qx, qy) in zip(c, c[1:] + c[:1]):
+    slack = _slack(max(abs(ax), abs(ay), abs(bx), abs(by), abs(cx), abs(cy), abs(dx), abs(dy)))
+    it = iter(xy)
+    pairs = list(zip(it, it))
+    for px, py, qx, qy, ox, oy in ((ax, ay, bx, by, cx, cy), (bx, by, cx, cy, dx, dy)):
         ex, ey = qx - px, qy - py
         length = math.hypot(ex, ey)
         nx, ny = -ey * sign / length, ex * sign / length
-        for t, pixels in tests:
-            reach = abs(nx) + abs(ny) if pixels else 0.0
-            if not float(((t[:, 0] - px) * nx + (t[:, 1] - py) * ny).min()) >= reach + slack:
+        low, high = nx * px + ny * py, nx * ox + ny * oy
+        if pairs:
+            along = [nx * x + ny * y for x, y in pairs]
+            reach = abs(nx) + abs(ny) + slack
+            if not (min(along) - low >= reach and high - max(along) >= reach):
+                return False
+        for b in boxes:
+            along = [nx * x + ny * y for x in (b[0], b[2]) for y in (b[1], b[3])]
+            if not (min(along) - low >= slack and high - max(along) >= slack):
                 return False
     return True
 
