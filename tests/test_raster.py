@@ -568,8 +568,28 @@ HUGE_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="90" height="70">'
             '100 40 Z" fill="#909"/></g></svg>')
 
 
-@pytest.mark.parametrize("source", ["layered", "filtered", "huge", "Ghostscript_Tiger",
-                                    "alexandria-city-1"])
+# markers drawn in the path's pass (content inside the viewport: m, the turned n) and in
+# clipped layers (crossing it: k), over one another, a gradient and each other's strokes
+MARKERS_SVG = (
+    '<svg xmlns="http://www.w3.org/2000/svg" width="90" height="70">'
+    '<linearGradient id="g"><stop stop-color="#fc0"/><stop offset="1" stop-color="#09c"/>'
+    '</linearGradient><filter id="b"><feGaussianBlur stdDeviation="0.7"/></filter>'
+    '<marker id="m" markerUnits="userSpaceOnUse" markerWidth="10" markerHeight="10" refX="5" '
+    'refY="5"><circle cx="5" cy="5" r="3.3" fill="#c33" fill-opacity="0.8"/><path d="M2.5 5h5"'
+    ' stroke="#fff"/></marker>'
+    '<marker id="n" markerWidth="7" markerHeight="5" refX="3" refY="2.5" orient="auto">'
+    '<path d="M1 1.2 L5.5 2.5 L1 3.8 Z" fill="#036"/></marker>'
+    '<marker id="k" markerUnits="userSpaceOnUse" markerWidth="8" markerHeight="8" refX="4" '
+    'refY="4"><circle cx="4" cy="4" r="5" fill="#393" filter="url(#b)"/></marker>'
+    '<rect x="5" y="5" width="80" height="60" fill="url(#g)"/>'
+    '<polyline points="8,10 30.3,12.7 31.1,14.2 52,40 60.5,20.25 84,61 20,58 8,10" fill="none"'
+    ' stroke="#333" stroke-width="1.5" marker-mid="url(#m)" marker-end="url(#k)"/>'
+    '<path d="M10 30 C 30 5 60 65 80 30" fill="none" stroke="#906" stroke-width="1.2" '
+    'marker-start="url(#n)" marker-mid="url(#n)" marker-end="url(#n)"/></svg>')
+
+
+@pytest.mark.parametrize("source", ["layered", "filtered", "huge", "markers",
+                                    "Ghostscript_Tiger", "alexandria-city-1"])
 def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     """Bands rendered on 1, 2 or 3 threads with several band budgets, and kernel strips
     smaller than the bands: the same image, byte for byte (each thread has its own kernel
@@ -581,6 +601,10 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
         scene = load_svg(FILTERED_SVG)
     elif source == "huge":
         scene = load_svg(HUGE_SVG)
+    elif source == "markers":
+        scene = load_svg(MARKERS_SVG, width=211)
+        clipped = [g for g in scene.root.children if isinstance(g, Group) and g.clip]
+        assert len(clipped) == 1 and len(scene.root.children) == 18
     else:
         path = request.getfixturevalue("shared_dir") / "corpus" / f"{source}.svg"
         if not path.is_file():

@@ -997,6 +997,214 @@ def test_marker_overflow_inherit_takes_the_parents_value(parent, clipped):
     assert img[45, 45, 3] == (0 if clipped else 255)
 
 
+def _clipped_groups(s):
+    stack, out = [s.root], []
+    while stack:
+        node = stack.pop()
+        if isinstance(node, Group):
+            out += [node] if node.clip is not None else []
+            stack.extend(node.children)
+    return out
+
+
+# marker content that stays inside its 20 x 20 viewport: a miter join 1.5 px from its top
+# (the join's tip at y = 1.5), a pixel-aligned square, a filtered dot whose region is inside,
+# and a nested marker inside too
+INSIDE_CONTENT = (
+    '<path d="M4 12 L10 4 L16 12" fill="none" stroke="#c60" stroke-width="2" '
+    'stroke-miterlimit="10"/><rect x="6" y="13" width="8" height="4" fill="#06c"/>'
+    '<circle cx="12" cy="9" r="1" fill="#0a0" filter="url(#f)"/>'
+    '<path d="M3 16 L5 16" stroke="#808" marker-end="url(#n)"/>')
+INSIDE_DEFS = (
+    '<filter id="f" x="-0.5" y="-0.5" width="2" height="2"><feGaussianBlur '
+    'stdDeviation="0.3"/></filter><marker id="n" markerUnits="userSpaceOnUse" '
+    'markerWidth="6" markerHeight="6" refX="3" refY="3"><circle cx="3" cy="3" r="1" '
+    'fill="#c0c"/></marker>')
+
+
+@pytest.mark.parametrize("orient, at", [("0", (30, 40)), ("0", (30.375, 40.625)),
+                                        ("30", (50, 50)), ("-145", (47.3, 52.1))])
+@pytest.mark.parametrize("mode, samples", [("approx", 8), ("approx", 16), ("analytic", 8)])
+def test_a_marker_inside_its_viewport_draws_as_its_content_unmarked(orient, at, mode,
+                                                                    samples):
+    # SVG 2 §11.6.2: the viewport clip cuts only what crosses it; content inside draws in
+    # the path's own pass (no layer), pixel for pixel as the same content placed by a
+    # transform (translate to the vertex, rotate by orient, translate by -refX, -refY)
+    from vecmsaa.raster.render import render_scene_rgba8
+    x, y = at
+    marked = scene(f'<defs>{INSIDE_DEFS}<marker id="m" markerUnits="userSpaceOnUse" '
+                   f'markerWidth="20" markerHeight="20" refX="10" refY="10" orient="{orient}">'
+                   f'{INSIDE_CONTENT}</marker></defs>'
+                   f'<path d="M{x} {y} h0.001" marker-start="url(#m)"/>')
+    placed = scene(f'<defs>{INSIDE_DEFS}</defs><g transform="translate({x} {y}) '
+                   f'rotate({orient}) translate(-10 -10)">{INSIDE_CONTENT}</g>')
+    assert not _clipped_groups(marked)
+    want = render_scene_rgba8(placed, mode=mode, samples=samples)
+    assert want[..., 3].any()
+    assert np.array_equal(render_scene_rgba8(marked, mode=mode, samples=samples), want)
+    if orient == "0" and x == 30:
+        # exact geometry: the rectangle's 32 pixels (x 26-34, y 43-47) are whole, the rows
+        # below it empty (left of the blurred dot's reach)
+        assert np.all(want[43:47, 26:34, 3] == 255) and not want[47:49, 26:32, 3].any()
+
+
+@pytest.mark.parametrize("content, cut", [
+    # square caps: the stroke's outline reaches 1 px past each side of the viewport
+    ('<path d="M2 10 H18" stroke="#000" stroke-width="8" stroke-linecap="square"/>',
+     (0, 6, 20, 14)),
+    # a miter join whose tip (y = -4.1) crosses the top while its path stays inside
+    ('<path d="M2 19 L10 3 L18 19" fill="none" stroke="#000" stroke-width="6"/>', None),
+    # a blur spreading past the edges of a square that fits
+    ('<rect x="1" y="1" width="18" height="18" filter="url(#f)"/>', None),
+    # a nested marker crossing, on a path inside
+    ('<path d="M10 10 h1" marker-start="url(#n)"/>', (0, 0, 20, 20)),
+])
+def test_a_marker_crossing_its_viewport_is_still_clipped(content, cut):
+    from vecmsaa.api import render_svg_array
+    defs = ('<filter id="f" x="-1" y="-1" width="3" height="3"><feGaussianBlur '
+            'stdDeviation="2"/></filter><marker id="n" markerUnits="userSpaceOnUse" '
+            'markerWidth="40" markerHeight="40" refX="20" refY="20" overflow="visible">'
+            '<rect width="40" height="40"/></marker>')
+    doc = (f'<svg {NS} width="100" height="100"><defs>{defs}<marker id="m" '
+           'markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="20" refX="10" '
+           f'refY="10">{content}</marker></defs><path d="M50 50 h1" marker-start="url(#m)"/>'
+           '</svg>')
+    img = render_svg_array(doc, mode="analytic")
+    alpha = img[..., 3].astype(np.float64) / 255
+    # nothing outside the viewport 40..60 x 40..60, something right inside its edge
+    outside = np.ones((100, 100), bool)
+    outside[40:60, 40:60] = False
+    assert not alpha[outside].any()
+    assert alpha[40:60, 40:60].any()
+    if cut is not None:
+        # the clipped shape's area exactly: the part inside the viewport
+        x0, y0, x1, y1 = cut
+        assert alpha.sum() == pytest.approx((x1 - x0) * (y1 - y0), abs=1e-6)
+
+
+def test_a_turned_marker_crossing_its_viewport_is_clipped_to_the_turned_square():
+    # orient 30°: the viewport is a turned 20 x 20 square; the content, a 40 x 40 square
+    # around it, covers it whole: exact area per pixel is the square's coverage of it
+    from truth import polygon_pixel_coverage
+    from vecmsaa.api import render_svg_array
+    doc = (f'<svg {NS} width="100" height="100"><marker id="m" orient="30" '
+           'markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="20" refX="10" '
+           'refY="10"><rect x="-10" y="-10" width="40" height="40"/></marker>'
+           '<path d="M50 50 h1" marker-start="url(#m)"/></svg>')
+    img = render_svg_array(doc, mode="analytic")
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    square = [(50 + c * u - s * v, 50 + s * u + c * v)
+              for u, v in ((-10, -10), (10, -10), (10, 10), (-10, 10))]
+    want = polygon_pixel_coverage(square, 100, 100)
+    assert np.abs(img[..., 3] / 255 - want).max() <= 1.5 / 255
+
+
+def test_a_blending_marker_child_keeps_the_clipped_marker_as_its_backdrop():
+    # the viewport clip makes the marker a group of its own (CSS Masking: clip-path makes a
+    # stacking context; Compositing 1 §3.2: a child blends within it), so a multiplying
+    # square inside the viewport blends with nothing there: red over the blue, not black
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100"><rect width="100" height="100" fill="#00f"/>'
+        '<marker id="m" markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="20" '
+        'refX="10" refY="10"><rect x="5" y="5" width="10" height="10" fill="#f00" '
+        'style="mix-blend-mode: multiply"/></marker>'
+        '<path d="M50 50 h1" marker-start="url(#m)"/></svg>')
+    assert img[50, 50].tolist() == [255, 0, 0, 255]
+
+
+def test_a_filter_region_inside_a_turned_clip_is_told_exactly():
+    # a filtered group's result is cut to its region, whole pixels: the clip keeps it all
+    # exactly when the region's corners are inside the turned (or skewed) clip rectangle
+    from vecmsaa.scene.effects import Filter
+    from vecmsaa.scene.path import rect_path
+    from vecmsaa.svg.markers import keeps_every_sample
+    rng = np.random.default_rng(7)
+    seen = set()
+    for _ in range(400):
+        r = math.radians(float(rng.uniform(-180, 180)))
+        m = (math.cos(r), math.sin(r), -math.sin(r) + float(rng.choice([0, 0.4])),
+             math.cos(r), 40.0, 30.0)
+        corners = rect_path(-10.0, -8.0, 20.0, 16.0).transformed(m).points
+        x, y = (int(v) for v in rng.integers(25, 45, 2))
+        box = (x, y, x + int(rng.integers(1, 12)), y + int(rng.integers(1, 12)))
+        node = Group(children=[Fill(rect_path(x, y, 1, 1))], filters=[Filter(box, [])])
+        # inside: on the inner side of all four edges (cross products, the corners in order
+        # round a convex quadrilateral)
+        def cross(u, v):
+            return u[0] * v[1] - u[1] * v[0]
+        turn = np.sign(cross(corners[1] - corners[0], corners[3] - corners[0]))
+        margins = [turn * cross(corners[(k + 1) % 4] - corners[k], np.array(q) - corners[k])
+                   / np.hypot(*(corners[(k + 1) % 4] - corners[k]))
+                   for k in range(4) for q in ((box[0], box[1]), (box[2], box[1]),
+                                               (box[2], box[3]), (box[0], box[3]))]
+        if abs(min(margins)) < 1e-6:
+            continue
+        want = min(margins) > 0
+        assert keeps_every_sample(corners, [node]) == want, (m, box)
+        seen.add(want)
+    assert seen == {True, False}
+
+
+def test_the_clip_is_dropped_only_when_it_changes_no_sample():
+    """markers.keeps_every_sample against brute force: random content near the edges of
+    random clip rectangles (axis-aligned, scaled, flipped, turned, skewed); wherever it says
+    the clip keeps everything, the content drawn in a clipped layer and drawn alone are the
+    same bytes, in every coverage mode and sample count that a pixel's own samples give."""
+    from vecmsaa.raster.render import render_scene_rgba8
+    from vecmsaa.scene.effects import Filter, GaussianBlur, Primitive
+    from vecmsaa.scene.nodes import Scene
+    from vecmsaa.scene.path import Path, rect_path
+    from vecmsaa.svg.markers import keeps_every_sample
+    rng = np.random.default_rng(19)
+    kept = dropped = 0
+    for trial in range(160):
+        kind = trial % 4
+        a = float(rng.choice([0.0, 30.0, 90.0, 180.0, -61.0])) if kind >= 2 else 0.0
+        sx, sy = (float(rng.choice([1.0, 1.5, -1.0, 0.5])) for _ in range(2))
+        r = math.radians(a)
+        m = (sx * math.cos(r), sx * math.sin(r), -sy * math.sin(r), sy * math.cos(r),
+             float(rng.integers(10, 30)) + float(rng.choice([0.0, 0.5, 0.25, 0.1])),
+             float(rng.integers(10, 30)) + float(rng.choice([0.0, 0.5, 0.375])))
+        if kind == 3:
+            m = (m[0], m[1], m[2] + 0.3, m[3], m[4], m[5])     # skewed
+        clip = Group(children=[Fill(rect_path(0.0, 0.0, 12.0, 10.0).transformed(m))])
+        # a curved triangle whose corners come near the edges (some past), or within a few
+        # pixels of them
+        lo, hi = (-0.5, 2.5) if trial // 4 % 2 else (0.5, 3.5)
+        pts = [(float(rng.uniform(lo, hi)), float(rng.uniform(lo, hi))),
+               (float(rng.uniform(12 - hi, 12 - lo)), float(rng.uniform(3, 7))),
+               (float(rng.uniform(3, 9)), float(rng.uniform(10 - hi, 10 - lo)))]
+        pts = [(round(px * 8) / 8, round(py * 8) / 8) for px, py in pts]
+        path = Path()
+        path.moveTo(pts[0])
+        path.curveTo(pts[1], (pts[1][0], pts[2][1]), pts[2])
+        path.closePath()
+        nodes = [Fill(path.transformed(m), Solid((0.2, 0.4, 0.9, 1.0)))]
+        if trial % 5 == 0:
+            # a blurred rectangle whose region is a few whole pixels round the clip's centre
+            w, h = int(rng.integers(2, 12)), int(rng.integers(2, 10))
+            x = math.floor(m[0] * 6 + m[2] * 5 + m[4]) - w // 2
+            y = math.floor(m[1] * 6 + m[3] * 5 + m[5]) - h // 2
+            region = (x, y, x + w, y + h)
+            blurred = Group(children=[Fill(rect_path(x, y, w, h))], filters=[
+                Filter(region, [Primitive(GaussianBlur(0.5, 0.5), (-1,), region)])])
+            nodes = [blurred] if trial % 10 == 0 else nodes + [blurred]
+        drop = keeps_every_sample(clip.children[0].path.points, nodes)
+        if not drop:
+            kept += 1
+            continue
+        dropped += 1
+        for mode, samples in (("approx", 8), ("approx", 16), ("analytic", 8),
+                              ("persample", 4)):
+            layered = render_scene_rgba8(Scene(50, 50, Group(children=[
+                Group(children=nodes, clip=clip)])), mode=mode, samples=samples)
+            alone = render_scene_rgba8(Scene(50, 50, Group(children=nodes)), mode=mode,
+                                       samples=samples)
+            assert np.array_equal(layered, alone), (trial, mode, samples, m, pts)
+    assert kept > 30 and dropped > 30, (kept, dropped)
+
+
 def test_mid_markers_go_between_the_pieces_of_an_arc():
     # resvg: a semicircle is two 90° cubics, and the joint at its top gets a mid marker
     s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '

@@ -3,10 +3,11 @@ from __future__ import annotations
 
 import math
 import re
+
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
-from ..scene.nodes import Group
+from ..scene.nodes import Fill, Group
 from .units import (ANGLE_DEG, NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
                     viewbox_transform)
 
@@ -113,8 +114,98 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
         return []
     if clip_rect is not None:
         clip = builder.viewport_clip(*clip_rect, ctx_with(ctx, transform=inner.transform))
-        nodes = [Group(children=nodes, clip=clip)]
+        if not keeps_every_sample(clip.children[0].path.points, nodes):
+            nodes = [Group(children=nodes, clip=clip)]
     return nodes
+
+
+def keeps_every_sample(corners, nodes) -> bool:
+    """Whether the clip rectangle with device ``corners`` (4 x 2, in order round it) covers
+    every sample of every pixel that ``nodes`` can draw in, so that it clips nothing and the
+    nodes may draw in their parent's pass instead of a layer (SVG 2 §11.6.2: the clip is there
+    to cut content crossing the viewport; a layer costs about 0.2 ms of raster a marker).
+
+    A layer is resolved, then multiplied by its clip's resolved coverage: at a pixel the
+    clip's edge crosses, content drawn inside the clip would still be scaled by the covered
+    fraction. So the test is on whole pixels, not on geometry alone. A pixel's samples lie in
+    [i, i + 1) × [j, j + 1) (the per-pixel patterns; the scan converter counts a sample on an
+    edge's crossing as right of it, so a rectangle [x0, x1) × [y0, y1) covers exactly the
+    samples in it). What the nodes can draw in: their fills' points (curves and stroke
+    outlines lie in their control points' hull) and filtered groups' regions (the filter
+    result is cut to them). Patterns sharing samples with the neighbours (quincunx,
+    FLIPQUAD) and resolve filters reaching into them (tent1, gaussian, mitchell) still see
+    the clip's edge in pixels near it; there drawing without the clip is the per-sample
+    product itself (content times clip is the content), which the layer approximated.
+    A group blending with what is below it (mix-blend-mode) keeps the clip: the layer is its
+    transparent backdrop."""
+    xy, boxes = [], []              # the fills' points as x, y, x, y...; filter regions
+    while nodes:
+        inner = []
+        for node in nodes:
+            if type(node) is Fill:
+                # (Python floats: numpy's reductions over a marker's few points cost more
+                # than the rest of the test)
+                xy += node.path.points.ravel().tolist()
+            elif node.blend != "normal":
+                return False
+            elif node.filters:
+                boxes += [f.region for f in node.filters]
+            else:
+                inner += node.children      # (its own clip and mask only take away)
+        nodes = inner
+    if xy:
+        if not math.isfinite(sum(xy)):      # (NaN would slip through min and max)
+            return False
+        x0, x1 = min(xy[0::2]), max(xy[0::2])
+        y0, y1 = min(xy[1::2]), max(xy[1::2])
+    elif not boxes:
+        return True                         # nothing drawn
+    ax, ay, bx, by, cx, cy, dx, dy = corners.ravel().tolist()
+    if (ax == bx and cx == dx and ay == dy and by == cy) or \
+            (ay == by and cy == dy and ax == dx and bx == cx):
+        # axis-aligned: the pixels the content reaches inside [left, right) × [top, bottom)
+        # (a hair of slack where a point sits on a pixel's edge)
+        left, right = min(ax, cx), max(ax, cx)
+        top, bottom = min(ay, cy), max(ay, cy)
+        if xy:
+            boxes.append((math.floor(x0 - _slack(x0)), math.floor(y0 - _slack(y0)),
+                          math.floor(x1 + _slack(x1)) + 1, math.floor(y1 + _slack(y1)) + 1))
+        for b in boxes:
+            if not (left <= math.floor(b[0]) and top <= math.floor(b[1])
+                    and math.ceil(b[2]) <= right and math.ceil(b[3]) <= bottom):
+                return False
+        return True
+    # rotated or skewed (a parallelogram): along the inward unit normal n of an edge, every
+    # sample s must have n·s between the edge's n·p and the opposite edge's n·o; a pixel
+    # holding a point q has its samples within |nx| + |ny| of n·q, a filter region's within it
+    turn = (bx - ax) * (dy - ay) - (by - ay) * (dx - ax)
+    if not (turn != 0 and math.isfinite(turn)):
+        return False
+    sign = 1.0 if turn > 0 else -1.0
+    slack = _slack(max(abs(ax), abs(ay), abs(bx), abs(by), abs(cx), abs(cy), abs(dx), abs(dy)))
+    it = iter(xy)
+    pairs = list(zip(it, it))
+    for px, py, qx, qy, ox, oy in ((ax, ay, bx, by, cx, cy), (bx, by, cx, cy, dx, dy)):
+        ex, ey = qx - px, qy - py
+        length = math.hypot(ex, ey)
+        nx, ny = -ey * sign / length, ex * sign / length
+        low, high = nx * px + ny * py, nx * ox + ny * oy
+        if pairs:
+            along = [nx * x + ny * y for x, y in pairs]
+            reach = abs(nx) + abs(ny) + slack
+            if not (min(along) - low >= reach and high - max(along) >= reach):
+                return False
+        for b in boxes:
+            along = [nx * x + ny * y for x in (b[0], b[2]) for y in (b[1], b[3])]
+            if not (min(along) - low >= slack and high - max(along) >= slack):
+                return False
+    return True
+
+
+def _slack(v):
+    """Far more than the rounding of a device coordinate of magnitude |v| in float64 (or once
+    in float32), far less than a sample's spacing."""
+    return 2.0 ** -20 * max(1.0, abs(v))
 
 
 def marker_layout(builder, marker, stroke_width, ctx):
