@@ -332,6 +332,48 @@ def test_convolve_matrix_is_the_specs_sum():
     assert np.allclose(out[:, :-1], img[:, 1:], atol=1e-6) and not out[:, -1].any()
 
 
+@pytest.mark.parametrize("edge_mode", ["duplicate", "wrap", "none"])
+@pytest.mark.parametrize("preserve", [False, True])
+def test_convolve_matrix_reads_beyond_the_image_by_its_edge_mode(edge_mode, preserve):
+    """Filter Effects 1 §feConvolveMatrix, edgeMode: duplicate extends the image by its edge
+    pixels, wrap by the opposite edge's (the image tiled), none by transparent black. A
+    kernel larger than the image (4 rows, 5 columns over 3 x 2, target (3, 1)) reads beyond
+    every side, more than once around when wrapping; preserveAlpha convolves straight
+    colour and keeps the alpha."""
+    rng = np.random.default_rng(11)
+    img = rng.random((2, 3, 4)).astype(np.float32)
+    img[..., :3] *= img[..., 3:]
+    kernel = rng.random((4, 5)) - 0.4
+    kernel[1, 2] = 0.0
+    p = ConvolveMatrix(kernel=kernel, target=(3, 1), divisor=2.0, bias=0.0,
+                       edge_mode=edge_mode, preserve_alpha=preserve)
+    got = F.convolve_matrix(img, p)
+    h, w = img.shape[:2]
+    a = img[..., 3:].astype(np.float64)
+    src = np.where(a > 0, img / np.where(a > 0, a, 1), 0) if preserve else img.astype(np.float64)
+    for y in range(h):
+        for x in range(w):
+            s = np.zeros(4)
+            for i in range(4):
+                for j in range(5):
+                    sx, sy = x - 3 + j, y - 1 + i
+                    if edge_mode == "duplicate":
+                        v = src[min(max(sy, 0), h - 1), min(max(sx, 0), w - 1)]
+                    elif edge_mode == "wrap":
+                        v = src[sy % h, sx % w]
+                    else:
+                        v = src[sy, sx] if 0 <= sx < w and 0 <= sy < h else np.zeros(4)
+                    s += v * kernel[3 - i, 4 - j]
+            s /= 2.0
+            if preserve:
+                al = img[y, x, 3]
+                want = list(np.clip(s[:3], 0, 1) * al) + [al]
+            else:
+                al = min(max(s[3], 0), 1)
+                want = list(np.clip(s[:3], 0, al)) + [al]
+            assert np.allclose(got[y, x], want, atol=1e-5)
+
+
 def test_displacement_map_moves_by_channel_times_scale():
     img = np.random.default_rng(7).random((6, 8, 4)).astype(np.float32)
     img[..., 3] = 1.0

@@ -887,3 +887,46 @@ def test_an_image_drawn_many_times_is_in_the_texture_once():
     assert sum(len(b.kinds) for b in batches) == 31
     one_image = 512 * 512 * 4 * 4
     assert sum(b.tex.nbytes for b in batches) < 1.1 * one_image
+
+
+# -- feConvolveMatrix -------------------------------------------------------------------------
+def _convolved(order, values, size):
+    """A size x size teal rect through feConvolveMatrix over exactly its own pixels."""
+    return (f'<svg {SVG} width="{size}" height="{size}"><filter id="f" x="0" y="0" width="1" '
+            f'height="1"><feConvolveMatrix order="{order}" kernelMatrix="{values}"/></filter>'
+            f'<rect width="{size}" height="{size}" fill="teal" filter="url(#f)"/></svg>').encode()
+
+
+def test_a_convolution_past_the_work_limit_is_transparent_with_a_warning():
+    """order="300" with 90,000 nonzero entries over an 800^2 region is 5.8 x 10^10 products a
+    channel (minutes); Filter Effects 1 recommends small orders and sets no bound. Past
+    filter_effects.MAX_CONVOLVE_WORK the primitive is what an invalid kernel is (transparent
+    black, as usvg's) and one line says so. The same order with one nonzero entry (the
+    identity: Filter Effects 1's sum gives each pixel itself) is within the limit and exact."""
+    ones = " ".join(["1"] * 90000)
+    with pytest.warns(UserWarning, match="convolution limit") as caught:
+        img = render_svg_array(_convolved(300, ones, 800))
+    assert len(caught) == 1 and not img.any()
+    identity = ["0"] * 90000
+    identity[150 * 300 + 150] = "1"           # the target's own entry (targetX = targetY = 150)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        img = render_svg_array(_convolved(300, " ".join(identity), 800))
+    plain = render_svg_array(f'<svg {SVG} width="800" height="800"><rect width="800" '
+                             f'height="800" fill="teal"/></svg>'.encode())
+    assert np.abs(img.astype(int) - plain).max() <= 1
+
+
+def test_the_convolution_limit_counts_nonzero_entries_times_pixels(monkeypatch):
+    """Eight nonzero entries of nine over a 40^2 region are 12,800 entry-pixels: drawn (a
+    mean of equal pixels, the rect itself) with the limit at 12,800, transparent below it."""
+    from vecmsaa.raster import filter_effects
+    doc = _convolved(3, "1 1 1 1 1 1 1 1 0", 40)
+    plain = render_svg_array(f'<svg {SVG} width="40" height="40"><rect width="40" height="40" '
+                             f'fill="teal"/></svg>'.encode())
+    monkeypatch.setattr(filter_effects, "MAX_CONVOLVE_WORK", 8 * 40 * 40)
+    img = render_svg_array(doc)
+    assert img.any() and np.abs(img.astype(int) - plain).max() <= 1
+    monkeypatch.setattr(filter_effects, "MAX_CONVOLVE_WORK", 8 * 40 * 40 - 1)
+    with pytest.warns(UserWarning, match="convolution limit"):
+        assert not render_svg_array(doc).any()

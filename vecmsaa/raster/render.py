@@ -867,8 +867,8 @@ def build_in_parts(verbs, pts, voff, poff, flatten_tol: float, pool=None, canvas
     thread goes on, in parts of consecutive paths that the function joins: a path's edges
     and primitives depend only on the path, so they are the same bytes in one part or
     several. PARTS_PER_THREAD parts a thread, taken in turn, since the cost per verb is only
-    a guess (a cubic's pieces grow with its size). ``canvas``: build_batch's."""
-    canvas = np.asarray(canvas, np.float64)
+    a guess (a cubic's pieces grow with its size). ``canvas``: build_batch's (a float64
+    array, as prepare_items makes it once for all its batches)."""
     parts = 1 if pool is None else pool.threads * PARTS_PER_THREAD
     if parts > 1:
         cost = np.zeros(len(verbs) + 1, np.int64)
@@ -1080,7 +1080,10 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
     generators: map data yields tens of thousands of fills through them). ``pool``: an
     executor whose threads help build the batches' geometry (band_pool). ``bound``: the
     device y range the items are drawn in (a clipped layer's), or None: batches of fills
-    wholly outside it are left out (_fill_batches)."""
+    wholly outside it are left out (_fill_batches). ``canvas``: build_batch's, as a tuple or
+    array."""
+    # (one array for all the batches: converting it per batch cost a map's thousands of them)
+    canvas = np.asarray(canvas, np.float64)
     items = []
     batch: list[Fill] = []
     stack = [iter(group.children)]
@@ -1344,7 +1347,8 @@ def render_filtered(layer: Layer, raster: Raster):
 
     def draw(group, top, rows):
         if group is None:
-            items = _fill_batches(fills, raster.opts, None, (-x0, -y0), None, (0, 0, w, h))
+            items = _fill_batches(fills, raster.opts, None, (-x0, -y0), None,
+                                  np.array((0.0, 0.0, w, h)))
         else:
             items = prepare_items(group, raster.opts, canvas=(0, 0, w, h))
         # the first filtered group inside is filtered before this buffer and the rasteriser's
