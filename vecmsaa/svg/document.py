@@ -1050,8 +1050,6 @@ def _break_reference_cycles(doc):
 def _cascade(reader, stylesheet):
     """The specified styles of a document with CSS: its rules matched on the ElementTree
     mirror of the tree."""
-    import cssselect2
-
     xml_root = reader.mirror
     default_ns = xml_root.tag[1:].partition("}")[0] if xml_root.tag[0] == "{" else ""
     sheets = Stylesheets()
