@@ -191,6 +191,8 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
         for kind, decl in outer.items():
             kinds.setdefault(kind, decl)
         span_kinds[id(el)] = kinds
+    if not any(span_kinds.values()):
+        return out                  # (most texts: no line to run over the clusters)
     # a hidden span's characters are not painted, and neither is a decoration under them
     # (a decoration is drawn with the text it decorates; a visible span inside a hidden
     # decorating one keeps its line)
