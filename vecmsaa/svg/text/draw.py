@@ -3,6 +3,8 @@
 under/over the glyphs; the object bounding box of text as resvg computes it."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ...fonts.color import color_glyph_fills, is_color_glyph
@@ -15,7 +17,7 @@ from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 def text_bbox(clusters):
     """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
     (ascent to descent over the advance), not of the glyph outlines."""
-    corners = []
+    xs, ys = [], []                 # (plain floats: a text has a few clusters)
     for c in clusters:
         if not c.visible:
             continue
@@ -23,12 +25,13 @@ def text_bbox(clusters):
         a, b, cc, d, e, f = compose(c.frame, c.path_ts)
         for x, y in ((0.0, -c.ascent), (adv, -c.ascent), (0.0, -c.descent),
                      (adv, -c.descent)):
-            corners.append((a * x + cc * y + e, b * x + d * y + f))
-    if not corners:
+            xs.append(a * x + cc * y + e)
+            ys.append(b * x + d * y + f)
+    if not xs:
         return None
-    pts = np.asarray(corners)
-    return (float(pts[:, 0].min()), float(pts[:, 1].min()), float(pts[:, 0].max()),
-            float(pts[:, 1].max()))
+    if any(v != v for v in xs + ys):
+        return (math.nan,) * 4      # (a NaN wins, as in numpy's min and max)
+    return (float(min(xs)), float(min(ys)), float(max(xs)), float(max(ys)))
 
 
 def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
