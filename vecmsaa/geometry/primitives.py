@@ -81,8 +81,11 @@ def _grow(arr, n):
     return new
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _push_edge(edges, ne, x0, y0, x1, y1):
+@njit(cache=True, inline="always")
+def _append_edge(edges, ne, x0, y0, x1, y1):
+    """Edge ne of ``edges`` (grown if need be), unless it is a point. (Inlined in numba's IR
+    into _push_edge and _push_line: as a call, its array arguments' reference counts cost a
+    map's batch a third more time.)"""
     if y0 == y1 and x0 == x1:
         return edges, ne
     # horizontal edges cross no scanline but still split a pixel's samples: keep them
@@ -92,6 +95,11 @@ def _push_edge(edges, ne, x0, y0, x1, y1):
     edges[ne, 2] = x1
     edges[ne, 3] = y1
     return edges, ne + 1
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _push_edge(edges, ne, x0, y0, x1, y1):
+    return _append_edge(edges, ne, x0, y0, x1, y1)
 
 
 # -- culling: geometry outside the canvas ----------------------------------------------------
@@ -167,19 +175,10 @@ def _adds_winding(x0, y0, x1, y1, top, bottom, right):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _push_line(edges, ne, x0, y0, x1, y1, top, bottom, right):
-    """_push_edge of an edge that can add winding to a sample of the rect (_adds_winding).
-    (One call for both: a _push_edge call of its own under the test was not inlined, and
-    its reference counts cost a map's batch a third more time.)"""
+    """_push_edge of an edge that can add winding to a sample of the rect (_adds_winding)."""
     if not _adds_winding(x0, y0, x1, y1, top, bottom, right):
         return edges, ne
-    if y0 == y1 and x0 == x1:
-        return edges, ne
-    edges = _grow(edges, ne)
-    edges[ne, 0] = x0
-    edges[ne, 1] = y0
-    edges[ne, 2] = x1
-    edges[ne, 3] = y1
-    return edges, ne + 1
+    return _append_edge(edges, ne, x0, y0, x1, y1)
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
