@@ -906,6 +906,20 @@ def _line_piece(tab, kinds, n, x0, y0, x1, y1, dx, dy, hw, err):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _circle_centre(x0, y0, x1, y1, x2, y2):
+    """(centre x, y, radius) of the circular arc with the isosceles control triangle b0 b1 b2
+    (its chord's midpoint m not at b1): the centre lies on the line from b1 through m, at
+    |b1 b0|·|b1 b2| / |b1 m| over |b1 m| (right angles at b0 and b2); the radius is the mean
+    of its distances from b0 and b2."""
+    l0 = _hypot(x1 - x0, y1 - y0)
+    l1 = _hypot(x2 - x1, y2 - y1)
+    ex, ey = 0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1
+    k = l0 * l1 / (ex * ex + ey * ey)
+    cx, cy = x1 + ex * k, y1 + ey * k
+    return cx, cy, 0.5 * (_hypot(x0 - cx, y0 - cy) + _hypot(x2 - cx, y2 - cy))
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _circle_piece(tab, kinds, n, seg, hw):
     """Append the piece of a conic segment (seg: b0, b1, its point at t = ½, b2) that is a
     circular arc of radius above hw: its offsets are the concentric arcs of radius r ± hw,
@@ -927,15 +941,10 @@ def _circle_piece(tab, kinds, n, seg, hw):
     if not abs(_conic_weight(x0, y0, x1, y1, xm, ym, x2, y2) -
                _hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0)) / l0) <= CIRCLE_RTOL:
         return tab, kinds, n, False
-    # the centre: on the line from b1 through the chord's midpoint m, at |b1 b0|·|b1 b2| / |b1 m|
-    # over |b1 m| (right angles at b0 and b2 in the isosceles control triangle)
     ex, ey = 0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1
-    e2 = ex * ex + ey * ey
-    if not e2 > 0.0:
+    if not ex * ex + ey * ey > 0.0:
         return tab, kinds, n, False
-    k = l0 * l1 / e2
-    cx, cy = x1 + ex * k, y1 + ey * k
-    r = 0.5 * (_hypot(x0 - cx, y0 - cy) + _hypot(x2 - cx, y2 - cy))
+    cx, cy, r = _circle_centre(x0, y0, x1, y1, x2, y2)
     if not (math.isfinite(r) and r > hw):
         return tab, kinds, n, False
     # the centre on the left of the start direction: the left offset is the inner arc
@@ -1391,7 +1400,7 @@ def _split_at(c, t, left):
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _dash_piece(mk, mrow, j, t0, t1, out):
     """The part of measured segment j between parameters t0 and t1 into out (8 values); its
-    kind (2 a line, 4 a cubic). Same arithmetic as geometry/stroke._Measured.part."""
+    kind (2 a line, 4 a cubic)."""
     if mk[j] == 2:
         x0, y0, x1, y1 = mrow[j, 0], mrow[j, 1], mrow[j, 2], mrow[j, 3]
         out[:] = 0.0
@@ -1408,53 +1417,27 @@ def _dash_piece(mk, mrow, j, t0, t1, out):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _unit_or_none(dx, dy):
-    n = math.hypot(dx, dy)
-    if n == 0.0 or not math.isfinite(n):
-        return False, 0.0, 0.0
-    return True, dx / n, dy / n
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _dot_direction(mk, mrow, j, t):
-    """Direction of a zero-length dash at parameter t of segment j (geometry/stroke's
-    _Measured.direction: the tangent there, else the segment's start tangent, else +x)."""
+    """Direction of a zero-length dash at parameter t of segment j: the tangent there, else
+    the segment's start tangent, else +x."""
     c = mrow[j]
     if mk[j] == 2:
-        ok, ux, uy = _unit_or_none(c[2] - c[0], c[3] - c[1])
+        ok, ux, uy = _unit(c[2] - c[0], c[3] - c[1])
         return (ux, uy) if ok else (1.0, 0.0)
-    v = 1 - t
-    p, q, r = 3 * v * v, 6 * t * v, 3 * t * t
-    ok, ux, uy = _unit_or_none(p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
-                               p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
+    ok, ux, uy = _unit(*_cubic_velocity(c, t))
     if ok:
         return ux, uy
-    # segment_tangents: the first control point away from the start, if the end has one too
-    for i in (1, 2, 3):
-        ok, sx, sy = _unit_or_none(c[2 * i] - c[0], c[2 * i + 1] - c[1])
-        if ok:
-            break
-    if ok:
-        for i in (2, 1, 0):
-            ok2, ex, ey = _unit_or_none(c[6] - c[2 * i], c[7] - c[2 * i + 1])
-            if ok2:
-                return sx, sy
-    return 1.0, 0.0
+    ok, sx, sy, _, _ = _cubic_tangents(c)
+    return (sx, sy) if ok else (1.0, 0.0)
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _arc_measure(c, out):
     """A circular conic (b0, b1, point at t = ½, b2) measured exactly into out: centre x, y,
     radius, the angle it spans, its start angle, its sense (+1 towards increasing angles, y
-    down); its length is radius × angle. The centre and radius as stroke.circular_conics
-    finds them."""
+    down); its length is radius × angle."""
     x0, y0, x1, y1, x2, y2 = c[0], c[1], c[2], c[3], c[6], c[7]
-    l0 = math.hypot(x1 - x0, y1 - y0)
-    l1 = math.hypot(x2 - x1, y2 - y1)
-    ex, ey = 0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1
-    f = l0 * l1 / (ex * ex + ey * ey)
-    cx, cy = x1 + ex * f, y1 + ey * f
-    r = 0.5 * (math.hypot(x0 - cx, y0 - cy) + math.hypot(x2 - cx, y2 - cy))
+    cx, cy, r = _circle_centre(x0, y0, x1, y1, x2, y2)
     # the half angle φ: between the chord and the tangent at b0
     half = math.hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0))
     rise = math.hypot(0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1)
@@ -1499,21 +1482,18 @@ def _arc_piece(c, a, s0, s1, out):
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _measure_segment(kind, c, row, arc, nodes):
     """(kind as the dasher cuts it, length) of a segment (path_segments' kind and row c),
-    with its row for cutting in ``row`` (a quadratic raised exactly to a cubic, as
-    arclength.as_cubic raises it) and a circular arc's measures in ``arc``."""
-    row[:] = c
+    with its row for cutting in ``row`` (a quadratic raised exactly to a cubic: _as_cubic)
+    and a circular arc's measures in ``arc``."""
+    row2 = row.reshape(1, 8)
     if kind == 2:
+        row[:] = c
         return 2, math.hypot(c[2] - c[0], c[3] - c[1])
     if kind == 5:
+        row[:] = c
         _arc_measure(c, arc)
         return 5, arc[2] * arc[3]
-    if kind == 3:
-        row[2] = c[0] + 2 / 3 * (c[2] - c[0])
-        row[3] = c[1] + 2 / 3 * (c[3] - c[1])
-        row[4] = c[4] + 2 / 3 * (c[2] - c[4])
-        row[5] = c[5] + 2 / 3 * (c[3] - c[5])
-        row[6], row[7] = c[4], c[5]
-    return 4, _length_to(row.reshape(1, 8), 0, 1.0, nodes)
+    _as_cubic(row2, c, kind)
+    return 4, _length_to(row2, 0, 1.0, nodes)
 
 
 @njit(cache=True)
