@@ -80,6 +80,15 @@ def cubic_lengths(c, nodes):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _cubic_velocity(c, t):
+    """B'(t) of the cubic row c (x0, y0, ..., x3, y3), as (dx, dy)."""
+    v = 1.0 - t
+    p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
+    return (p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
+            p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _exact_t(c, i, total, arc, accuracy, nodes):
     """The parameter where cubic ``i`` of ``c`` (of length ``total``) has run ``arc``, to
     within ``accuracy`` of length: Newton's method on the arc length, kept inside a shrinking
@@ -98,10 +107,7 @@ def _exact_t(c, i, total, arc, accuracy, nodes):
             b = t
         else:
             a = t
-        v = 1 - t
-        p, q, r = 3 * v * v, 6 * t * v, 3 * t * t
-        speed = math.hypot(p * (c[i, 2] - c[i, 0]) + q * (c[i, 4] - c[i, 2]) + r * (c[i, 6] - c[i, 4]),
-                           p * (c[i, 3] - c[i, 1]) + q * (c[i, 5] - c[i, 3]) + r * (c[i, 7] - c[i, 5]))
+        speed = math.hypot(*_cubic_velocity(c[i], t))
         step = t - err / speed if speed > 0 else -1.0
         t = step if a < step < b else 0.5 * (a + b)
     return t

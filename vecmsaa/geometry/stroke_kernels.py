@@ -14,7 +14,7 @@ import numpy as np
 from ..jit import njit
 
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
-from .arclength import _exact_t, _length_to
+from .arclength import _cubic_velocity, _exact_t, _length_to
 from .primitives import _conic_weight
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
@@ -762,14 +762,6 @@ def _cubic_at(c, t):
     a, b, cc, d = u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t
     return (a * c[0] + b * c[2] + cc * c[4] + d * c[6],
             a * c[1] + b * c[3] + cc * c[5] + d * c[7])
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _cubic_velocity(c, t):
-    v = 1.0 - t
-    p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
-    return (p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
-            p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
