@@ -859,10 +859,11 @@ def test_a_nested_span_moves_with_the_span_that_sets_alignment_baseline(value):
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
 @pytest.mark.parametrize("prop, value", [("font-family", "Noto Mono"),
                                          ("dominant-baseline", "hanging"),
-                                         ("font-variant", "small-caps")])
+                                         ("font-variant", "small-caps"),
+                                         ("font-feature-settings", "'smcp'")])
 def test_css_wide_initial_and_unset_on_text_properties(prop, value):
-    # CSS Cascade 4: initial is the property's initial value (serif, auto, normal), unset on
-    # an inherited property inherits
+    # CSS Cascade 4: initial is the property's initial value (serif, auto, normal),
+    # unset on an inherited property inherits
     draw = render_with_suite_fonts
     plain = draw('<text x="10" y="60">Hxg ab</text>')
     parent = draw(f'<g {prop}="{value}"><text x="10" y="60">Hxg ab</text></g>')

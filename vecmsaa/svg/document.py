@@ -238,6 +238,27 @@ class Style:
             style.cache[name] = value
         return value
 
+    def get_valid(self, name, parse, initial):
+        """The computed value of an inherited property whose declarations are validated by
+        ``parse`` (the parsed value, or None for an invalid one): an invalid declaration is
+        ignored as a whole, so the nearest ancestor's valid one applies (CSS Syntax 3 §8);
+        ``inherit`` and ``unset`` (an inherited property's, CSS Cascade 4 §7.3) take the
+        parent's; ``initial``, or no declaration up to the root, gives ``initial``."""
+        assert name in INHERITED, name
+        style = self
+        while style is not None:
+            v = style.specified.get(name)
+            if v is not None:
+                v = v.strip()
+                if v == "initial":
+                    return initial
+                if v not in ("inherit", "unset"):
+                    parsed = parse(v)
+                    if parsed is not None:
+                        return parsed
+            style = style.parent
+        return initial
+
     def has_own(self, name):
         return name in self.specified
 

@@ -234,18 +234,9 @@ def _parse_text_transform(value):
 
 
 def text_transform(style):
-    """The computed text-transform of an element: inherited, an invalid declaration is
-    ignored (so the parent's applies), ``initial`` is none."""
-    s = style
-    while s is not None:
-        v = (s.specified.get("text-transform") or "inherit").strip()
-        if v == "initial":
-            return frozenset()
-        parsed = _parse_text_transform(v)
-        if parsed is not None:
-            return parsed
-        s = s.parent
-    return frozenset()
+    """The computed text-transform of an element (inherited; an invalid declaration is
+    ignored; the initial value is none)."""
+    return style.get_valid("text-transform", _parse_text_transform, frozenset())
 
 
 _FULL_WIDTH = None

@@ -196,17 +196,10 @@ def _quoted_settings(text, variations=False):
 
 
 def _settings(style, name):
-    """The computed font-feature-settings or font-variation-settings: the nearest valid
-    declaration up the ancestors (an invalid one is ignored), else normal."""
-    s = style
-    while s is not None:
-        v = s.specified.get(name)
-        if v is not None and v.strip() != "inherit":
-            got = _quoted_settings(v, name == "font-variation-settings")
-            if got is not None:
-                return got
-        s = s.parent
-    return []
+    """The computed font-feature-settings or font-variation-settings (inherited; an invalid
+    declaration is ignored; ``normal``, the initial value, is no settings)."""
+    variations = name == "font-variation-settings"
+    return style.get_valid(name, lambda v: _quoted_settings(v, variations), [])
 
 
 def font_spec(style, ctx, chain=()) -> FontSpec:
@@ -409,21 +402,17 @@ def valid_family_list(text):
 
 
 def _family_list(style):
-    """The computed font-family list: an invalid value (CSS) is ignored, so the nearest
-    ancestor's valid value applies, else the initial ``serif``, which ``initial`` asks for
-    (``unset`` inherits, as ``inherit`` does)."""
-    s = style
-    while s is not None:
-        v = s.specified.get("font-family")
-        if v is not None and v.strip() == "initial":
-            break
-        if v is not None and v.strip() not in ("inherit", "unset"):
-            names = family_names(v)
-            if names is not None:
-                return names
-            warn(f"font-family: {v.strip()[:40]} is not a valid family list: ignored")
-        s = s.parent
-    return parse_family_list("serif")
+    """The computed font-family list (inherited; an invalid value is ignored with a warning;
+    the initial value is ``serif``)."""
+    names = style.get_valid("font-family", _valid_family_names, None)
+    return parse_family_list("serif") if names is None else names   # a new list each call
+
+
+def _valid_family_names(value):
+    names = family_names(value)
+    if names is None:
+        warn(f"font-family: {value[:40]} is not a valid family list: ignored")
+    return names
 
 
 def _spacing(value, ctx, style):

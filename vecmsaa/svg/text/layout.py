@@ -467,18 +467,15 @@ DOMINANT_BASELINES = frozenset((
 
 
 def _dominant_baseline(style):
-    """dominant-baseline (inherited), with SVG 1.1's no-change/reset-size taking the parent's
-    value; an invalid value is ignored, so the parent's applies too (CSS; resvg takes auto
-    on a span); ``initial`` is auto (``unset``, on an inherited property, inherits)."""
-    s = style
-    while s is not None:
-        v = (s.specified.get("dominant-baseline") or "inherit").strip()
-        if v == "initial":
-            return "auto"
-        if v in DOMINANT_BASELINES and v not in ("no-change", "reset-size"):
-            return v
-        s = s.parent
-    return "auto"
+    """dominant-baseline (inherited; initial auto), with SVG 1.1's no-change and reset-size
+    taking the parent's value, as an invalid value does (CSS; resvg takes auto on a span)."""
+    return style.get_valid("dominant-baseline", _own_dominant_baseline, "auto")
+
+
+def _own_dominant_baseline(value):
+    if value in DOMINANT_BASELINES and value not in ("no-change", "reset-size"):
+        return value
+    return None
 
 
 def _os2(face, name, default):
