@@ -75,3 +75,19 @@ def test_text_on_a_curve_at_an_arc_length():
         x, y, _ = walker.at(s)
         assert (x, y) == pytest.approx((np.interp(s, run, pts[:, 0]), np.interp(s, run, pts[:, 1])),
                                        abs=1e-3)
+
+
+@pytest.mark.parametrize("scale", [1e12, 1e300, math.inf])
+def test_a_point_at_an_arc_length_under_a_huge_scale(scale):
+    # the search's accuracy is 0.5 device units; under scale(1e300) that is 5e-301 user units,
+    # below the floats' resolution of the length: the search stops at the finest parameter
+    # step the floats hold instead of dividing by a zero difference (found by the fuzzer: a
+    # textPath in a text with transform="scale(1e300)")
+    c = np.array([[0, 0], [0, 40], [30, -20], [30, 20]], dtype=float)
+    walker = PathWalker(parse_path_data("M0 0 C0 40 30 -20 30 20"), scale=scale)
+    half = walker.length / 2
+    x, y, _ = walker.at(half)
+    ts = np.linspace(0.0, 1.0, 200_001)
+    pts = np.array([bezier(c)(t) for t in ts])
+    run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+    assert (x, y) == pytest.approx(tuple(pts[np.searchsorted(run, half)]), abs=1e-3)

@@ -113,6 +113,10 @@ def _exact_t(c, i, total, arc, accuracy, nodes):
     return t
 
 
+#: the finest parameter step cubic_param_at searches to
+_FINEST_PARAMETER = 2.0 ** -40
+
+
 @njit(cache=True)
 def cubic_param_at(c, i, total, arc, accuracy, nodes):
     """The parameter where cubic ``i`` of ``c`` (of length ``total``) has run ``arc``, found by
@@ -122,6 +126,10 @@ def cubic_param_at(c, i, total, arc, accuracy, nodes):
     if arc >= total:
         return 1.0
     eps = accuracy / total
+    if not eps >= _FINEST_PARAMETER:
+        # past ~2^-40 the parameter is below the floats' resolution of the length (a text
+        # under scale(1e300) asks for 1e-303): the search would never narrow to it
+        eps = _FINEST_PARAMETER
     a, b = 0.0, 1.0
     ya, yb = -arc, total - arc
     n_half = max(math.ceil(math.log2((b - a) / eps)) - 1, 0)
@@ -130,7 +138,7 @@ def cubic_param_at(c, i, total, arc, accuracy, nodes):
     while b - a > 2 * eps:
         mid = 0.5 * (a + b)
         r = scaled - 0.5 * (b - a)
-        xf = (yb * a - ya * b) / (yb - ya)
+        xf = (yb * a - ya * b) / (yb - ya) if yb != ya else mid
         sigma = mid - xf
         delta = k1 * (b - a) ** 2
         xt = xf + math.copysign(delta, sigma) if delta <= abs(mid - xf) else mid
