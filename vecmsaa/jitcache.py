@@ -11,7 +11,6 @@ modification times makes the usual case (nothing changed) cost one ``stat`` per 
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import re
@@ -56,6 +55,7 @@ def _imports(path: Path, package: Path, source: str) -> set[str]:
 def kernel_stamps(package: Path = PACKAGE) -> dict[str, str]:
     """Source file (relative path) → hash of it and of every package module it imports
     (transitively), for each file that defines numba kernels."""
+    import hashlib      # here: only after an edit (OpenSSL's library is 3.4 MB, 4 ms to load)
     files = {_module_name(p, package): p for p in package.rglob("*.py")}
     sources = {name: p.read_text(encoding="utf-8") for name, p in files.items()}
     graph = {name: {m for m in _imports(files[name], package, src) if m in files}
@@ -77,8 +77,21 @@ def kernel_stamps(package: Path = PACKAGE) -> dict[str, str]:
 
 
 def _file_times(package: Path) -> dict[str, list[int]]:
-    return {p.relative_to(package).as_posix(): [st.st_size, st.st_mtime_ns]
-            for p in package.rglob("*.py") for st in (p.stat(),)}
+    """Relative path → [size, modification time] of every ``.py`` file under ``package``:
+    every process asks, so os.scandir (0.7 ms for the package's 93 files, where
+    Path.rglob and Path.stat took 3.4 ms)."""
+    times = {}
+    folders = [("", os.fspath(package))]
+    while folders:
+        rel, folder = folders.pop()
+        with os.scandir(folder) as entries:
+            for e in entries:
+                if e.is_dir() and e.name != "__pycache__":
+                    folders.append((f"{rel}{e.name}/", e.path))
+                elif e.name.endswith(".py") and e.is_file():
+                    st = e.stat()
+                    times[rel + e.name] = [st.st_size, st.st_mtime_ns]
+    return times
 
 
 def drop_entries(source: Path) -> None:
