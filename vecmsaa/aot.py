@@ -30,17 +30,29 @@ module as a whole, and its machine code); ``build`` keeps numba from doing the w
 """
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import sys
-import sysconfig
 import time
+from importlib.machinery import EXTENSION_SUFFIXES
 from pathlib import Path
+
+# SHA-256 for the key every process computes: CPython's own where it has it, as hashlib
+# falls back to; hashlib loads OpenSSL's library first (4 ms of CPU and 3.4 MB of a 16 px
+# render's 38 MB)
+try:
+    from _sha2 import sha256            # CPython 3.12 on
+except ImportError:
+    try:
+        from _sha256 import sha256      # CPython 3.10, 3.11
+    except ImportError:
+        from hashlib import sha256
 
 PACKAGE = Path(__file__).resolve().parent
 MANIFEST = PACKAGE / "kernels.manifest"
-SUFFIX = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
+#: the ending of this Python's extension modules, sysconfig's EXT_SUFFIX (sysconfig and its
+#: configuration data take 1.6 ms to import)
+SUFFIX = EXTENSION_SUFFIXES[0]
 
 
 def _cpu() -> str:
@@ -49,9 +61,9 @@ def _cpu() -> str:
     try:
         with open("/proc/cpuinfo", "rb") as f:
             head = f.read(8192).split(b"\n\n")[0]
-        return hashlib.sha256(b"".join(line for line in head.split(b"\n")
-                                       if line.startswith((b"model name", b"flags", b"vendor_id",
-                                                           b"cpu family", b"model\t")))).hexdigest()
+        return sha256(b"".join(line for line in head.split(b"\n")
+                               if line.startswith((b"model name", b"flags", b"vendor_id",
+                                                   b"cpu family", b"model\t")))).hexdigest()
     except OSError:
         import platform
         return f"{platform.machine()} {platform.processor()}"
@@ -67,7 +79,7 @@ def _numba_stamp() -> str:
 
 
 def key(stamps: dict[str, str]) -> str:
-    h = hashlib.sha256()
+    h = sha256()
     # the build itself (this file) and the keys jit.py computes are part of what is compiled
     for part in (json.dumps(stamps, sort_keys=True), MANIFEST.read_text(), _numba_stamp(),
                  sys.version, _cpu(), Path(__file__).read_text(),
