@@ -134,12 +134,13 @@ def _render_imports(tmp_path, body):
 
 #: what a plain render's start-up does without (measured in docs/bench.md, "Session 20, the
 #: start-up floor"): OpenSSL's hashing (the kernels' module key uses CPython's own SHA-256),
-#: sysconfig (the extension suffix comes from importlib), and the thread pool's
-#: concurrent.futures and logging while nothing is submitted to it
-START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging")
+#: sysconfig (the extension suffix comes from importlib), the thread pool's
+#: concurrent.futures and logging while nothing is submitted to it, and shutil (argparse's
+#: help formatter is told the terminal's width)
+START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging", "shutil")
 
 
-def test_a_small_render_starts_without_openssl_sysconfig_or_the_thread_pool(tmp_path):
+def test_a_small_render_starts_without_modules_it_does_not_use(tmp_path):
     """A 16 px shape on two threads: one band and one path, nothing for the pool's threads;
     only modules the render itself imported count (the interpreter's site may bring some)."""
     svg = tmp_path / "a.svg"
