@@ -135,9 +135,10 @@ def _render_imports(tmp_path, body):
 #: what a plain render's start-up does without (measured in docs/bench.md, "Session 20, the
 #: start-up floor"): OpenSSL's hashing (the kernels' module key uses CPython's own SHA-256),
 #: sysconfig (the extension suffix comes from importlib), the thread pool's
-#: concurrent.futures and logging while nothing is submitted to it, and shutil (argparse's
-#: help formatter is told the terminal's width)
-START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging", "shutil")
+#: concurrent.futures and logging while nothing is submitted to it, shutil (argparse's help
+#: formatter is told the terminal's width) and json (the kernels' index and the sources'
+#: stamps are in marshal's format)
+START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging", "shutil", "json")
 
 
 def test_a_small_render_starts_without_modules_it_does_not_use(tmp_path):
