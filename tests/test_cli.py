@@ -141,6 +141,18 @@ def _render_imports(tmp_path, body):
 START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging", "shutil", "json")
 
 
+def test_help_is_wrapped_to_the_columns_the_environment_gives():
+    """The width argparse's formatter would take (shutil.get_terminal_size: COLUMNS first),
+    now computed without shutil: the description's lines fill COLUMNS less two."""
+    def lines(columns):
+        env = dict(os.environ, COLUMNS=str(columns))
+        out = vecmsaa("render", "--help", env=env, check=True).stdout
+        return out.split("\n\n")[1].splitlines()      # the description paragraph
+    narrow, wide = lines(50), lines(120)
+    assert max(map(len, narrow)) <= 48 < max(map(len, wide)) <= 118
+    assert " ".join(narrow) == " ".join(wide)
+
+
 def test_a_small_render_starts_without_modules_it_does_not_use(tmp_path):
     """A 16 px shape on two threads: one band and one path, nothing for the pool's threads;
     only modules the render itself imported count (the interpreter's site may bring some)."""
