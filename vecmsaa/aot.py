@@ -173,7 +173,11 @@ def load(paths: list[Path]):
         spec = importlib.util.spec_from_file_location(name, str(path), loader=loader)
         module = importlib.util.module_from_spec(spec)
         loader.exec_module(module)
-        for kernel, entries in marshal.loads(path.with_suffix(INDEX).read_bytes()).items():
+        try:
+            part_index = marshal.loads(path.with_suffix(INDEX).read_bytes())
+        except EOFError as exc:     # cut short: a broken index, as a malformed one (ValueError)
+            raise ValueError(f"{path.with_suffix(INDEX)}: {exc}") from exc
+        for kernel, entries in part_index.items():
             index.setdefault(kernel, []).extend(entries)
             functions.update((symbol, getattr(module, symbol)) for symbol, _ in entries)
     return types.SimpleNamespace(**functions), index
