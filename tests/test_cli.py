@@ -132,6 +132,48 @@ def _render_imports(tmp_path, body):
     return [rc] + [m for m in modules if aot == "True" or not m.startswith("numba")]
 
 
+#: what a plain render's start-up does without (measured in docs/bench.md, "Session 20, the
+#: start-up floor"): OpenSSL's hashing (the kernels' module key uses CPython's own SHA-256),
+#: sysconfig (the extension suffix comes from importlib), the thread pool's
+#: concurrent.futures and logging while nothing is submitted to it, shutil (argparse's help
+#: formatter is told the terminal's width) and json (the kernels' index and the sources'
+#: stamps are in marshal's format)
+START_UP_MODULES = ("_hashlib", "sysconfig", "concurrent.futures", "logging", "shutil", "json")
+
+
+def test_help_is_wrapped_to_the_columns_the_environment_gives():
+    """The width argparse's formatter would take (shutil.get_terminal_size: COLUMNS first),
+    now computed without shutil: the description's lines fill COLUMNS less two."""
+    def lines(columns):
+        env = dict(os.environ, COLUMNS=str(columns))
+        out = vecmsaa("render", "--help", env=env, check=True).stdout
+        return out.split("\n\n")[1].splitlines()      # the description paragraph
+    narrow, wide = lines(50), lines(120)
+    assert max(map(len, narrow)) <= 48 < max(map(len, wide)) <= 118
+    assert " ".join(narrow) == " ".join(wide)
+
+
+def test_a_small_render_starts_without_modules_it_does_not_use(tmp_path):
+    """A 16 px shape on two threads: one band and one path, nothing for the pool's threads;
+    only modules the render itself imported count (the interpreter's site may bring some)."""
+    svg = tmp_path / "a.svg"
+    svg.write_text('<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16">'
+                   '<path d="M2 2 L14 2 L8 14 Z" fill="#c33" stroke="#000"/></svg>')
+    code = ("import sys; before = set(sys.modules); from vecmsaa.cli.main import main; "
+            "import vecmsaa.jit; "
+            f"rc = main(['render', {str(svg)!r}, '-o', {str(tmp_path / 'a.png')!r}, "
+            "'--threads', '2']); "
+            f"print(rc, vecmsaa.jit.AOT, *sorted(m for m in set(sys.modules) - before "
+            f"if m.startswith({START_UP_MODULES!r})))")
+    env = {k: v for k, v in os.environ.items() if k != "VECMSAA_JIT"}
+    rc, aot, *modules = subprocess.run([sys.executable, "-c", code], capture_output=True,
+                                       text=True, check=True, env=env).stdout.split()
+    assert rc == "0"
+    # (numba's JIT, standing in where the compiled module could not be built, imports them)
+    assert modules == [] or aot == "False"
+    assert (tmp_path / "a.png").read_bytes().startswith(b"\x89PNG")
+
+
 def test_render_imports_no_module_of_a_feature_the_document_lacks(tmp_path):
     """A fill, a stroke and a path: no filters, text, fonts, clip paths, masks, gradients,
     images, CSS, numba (the compiled kernels run without it). A filter brings its modules in,

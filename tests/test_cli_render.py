@@ -172,12 +172,17 @@ def test_fifo_and_device_outputs_are_written_through(svg, tmp_path):
 
 
 def test_a_temporary_file_left_by_a_killed_run_is_removed_by_the_next(svg, tmp_path):
+    """The first write into a folder removes the temporary files of every name there whose
+    process is gone (a batch lists the folder once, not at each write); a running process's
+    stays."""
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()                                          # a pid that no longer runs
-    stale = tmp_path / f".out.png.{dead.pid}.vecmsaa-tmp"
-    stale.write_bytes(b"half")
+    for name in ("out.png", "other.png"):
+        (tmp_path / f".{name}.{dead.pid}.vecmsaa-tmp").write_bytes(b"half")
+    live = f".third.png.{os.getppid()}.vecmsaa-tmp"
+    (tmp_path / live).write_bytes(b"being written")
     assert run(svg, "-o", tmp_path / "out.png") == 0
-    assert sorted(os.listdir(tmp_path)) == ["in.svg", "out.png"]
+    assert sorted(os.listdir(tmp_path)) == sorted([live, "in.svg", "out.png"])
 
 
 def test_output_onto_a_folder_is_one_clear_line(svg, tmp_path, capsys):

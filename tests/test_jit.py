@@ -164,6 +164,10 @@ def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
     _run(RENDER, jit=False)                 # builds the modules where they are missing
     # the first CSAA render builds the lazy part (not numba's JIT: no numba in the process)
     assert _run(CSAA, jit=False) == ["False"]
+    # built, the lazy part is still loaded only by a process that calls one of its kernels
+    loaded = "\nprint(sum(m.startswith('vecmsaa_kernels_') for m in sys.modules))"
+    assert _run(RENDER + loaded, jit=False)[-1] == str(len(aot.parts()))
+    assert _run(CSAA + loaded, jit=False)[-1] == str(len(aot.parts()) + 1)
     k = aot.key(ensure_fresh_cache())
     paths, lazy = aot.find(k), aot.find(k, aot.parts(lazy=True))
     assert paths is not None and len(paths) == len(aot.parts()) == 2

@@ -11,14 +11,15 @@ modification times makes the usual case (nothing changed) cost one ``stat`` per 
 """
 from __future__ import annotations
 
-import hashlib
-import json
+import marshal
 import os
 import re
 from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parent
-MANIFEST = "kernels.stamps.json"
+#: the stamps and the sources' sizes and times, in marshal's format: every process reads it,
+#: and json's import took 2 ms
+MANIFEST = "kernels.stamps"
 
 
 def _module_name(path: Path, package: Path) -> str:
@@ -56,6 +57,7 @@ def _imports(path: Path, package: Path, source: str) -> set[str]:
 def kernel_stamps(package: Path = PACKAGE) -> dict[str, str]:
     """Source file (relative path) → hash of it and of every package module it imports
     (transitively), for each file that defines numba kernels."""
+    import hashlib      # here: only after an edit (OpenSSL's library is 3.4 MB, 4 ms to load)
     files = {_module_name(p, package): p for p in package.rglob("*.py")}
     sources = {name: p.read_text(encoding="utf-8") for name, p in files.items()}
     graph = {name: {m for m in _imports(files[name], package, src) if m in files}
@@ -77,8 +79,21 @@ def kernel_stamps(package: Path = PACKAGE) -> dict[str, str]:
 
 
 def _file_times(package: Path) -> dict[str, list[int]]:
-    return {p.relative_to(package).as_posix(): [st.st_size, st.st_mtime_ns]
-            for p in package.rglob("*.py") for st in (p.stat(),)}
+    """Relative path → [size, modification time] of every ``.py`` file under ``package``:
+    every process asks, so os.scandir (0.7 ms for the package's 93 files, where
+    Path.rglob and Path.stat took 3.4 ms)."""
+    times = {}
+    folders = [("", os.fspath(package))]
+    while folders:
+        rel, folder = folders.pop()
+        with os.scandir(folder) as entries:
+            for e in entries:
+                if e.is_dir() and e.name != "__pycache__":
+                    folders.append((f"{rel}{e.name}/", e.path))
+                elif e.name.endswith(".py") and e.is_file():
+                    st = e.stat()
+                    times[rel + e.name] = [st.st_size, st.st_mtime_ns]
+    return times
 
 
 def drop_entries(source: Path) -> None:
@@ -102,8 +117,10 @@ def ensure_fresh_cache(package: Path = PACKAGE) -> dict[str, str]:
     try:
         times = _file_times(package)
         try:
-            old = json.loads(manifest.read_text())
-        except (OSError, ValueError):
+            old = marshal.loads(manifest.read_bytes())
+            if not isinstance(old, dict):
+                old = {}
+        except (OSError, ValueError, EOFError, TypeError):
             old = {}
         if old.get("times") == times and "stamps" in old:
             stamps = old["stamps"]
@@ -116,7 +133,7 @@ def ensure_fresh_cache(package: Path = PACKAGE) -> dict[str, str]:
             try:
                 manifest.parent.mkdir(exist_ok=True)
                 tmp = manifest.with_suffix(f".{os.getpid()}.tmp")
-                tmp.write_text(json.dumps({"times": times, "stamps": stamps}))
+                tmp.write_bytes(marshal.dumps({"times": times, "stamps": stamps}, 4))
                 os.replace(tmp, manifest)
             except OSError:
                 pass  # read-only install: numba keeps its cache elsewhere, nothing stale to drop

@@ -123,8 +123,12 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
 
 
 #: temporary files are named ``.<target>.<pid>`` + this; one left by a killed process is
-#: removed by the next write to the same target (see :func:`write_bytes_atomic`)
+#: removed by the next process that writes into its folder (see :func:`write_bytes_atomic`)
 TEMP_SUFFIX = ".vecmsaa-tmp"
+#: folders this process has removed stale temporary files from: each is listed once, not at
+#: every write (a batch of 2000 icons into one folder listed it 2000 times, a third of the
+#: batch's CPU)
+_swept: set[str] = set()
 
 
 def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
@@ -135,8 +139,8 @@ def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
     written, the link stays. Anything else that exists and is not a folder (a FIFO, a device
     such as ``/dev/null`` or ``/dev/stdout``) is written through, never replaced. A missing
     folder is an error (as for rsvg-convert) unless ``make_folders``. A process killed between
-    write and rename leaves ``.<name>.<pid>.vecmsaa-tmp``; the next write to that name removes
-    it once that process is gone."""
+    write and rename leaves ``.<name>.<pid>.vecmsaa-tmp``; the first write into that folder by
+    a later process removes it."""
     if str(path) == "-":
         sys.stdout.buffer.write(data)
         sys.stdout.buffer.flush()
@@ -157,7 +161,9 @@ def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
         os.makedirs(folder, exist_ok=True)
     elif not os.path.isdir(folder):
         raise FileNotFoundError(errno.ENOENT, "no such folder", folder)
-    _remove_stale_temps(folder, name)
+    if folder not in _swept:
+        _swept.add(folder)
+        _remove_stale_temps(folder)
     tmp = os.path.join(folder, f".{name}.{os.getpid()}{TEMP_SUFFIX}")
     # O_EXCL: never write through a file (or link) someone else put at that name; the mode
     # is the one a plain open() would give (0666 less the umask)
@@ -174,17 +180,17 @@ def write_bytes_atomic(data: bytes, path, make_folders: bool = False) -> None:
         raise
 
 
-def _remove_stale_temps(folder: str, name: str) -> None:
-    """Remove ``.<name>.<pid>.vecmsaa-tmp`` files whose process no longer exists."""
-    prefix = f".{name}."
+def _remove_stale_temps(folder: str) -> None:
+    """Remove the ``.<name>.<pid>.vecmsaa-tmp`` files in ``folder`` whose process no longer
+    exists."""
     try:
         entries = os.listdir(folder)
     except OSError:
         return
     for entry in entries:
-        if not (entry.startswith(prefix) and entry.endswith(TEMP_SUFFIX)):
+        if not (entry.startswith(".") and entry.endswith(TEMP_SUFFIX)):
             continue
-        pid = entry[len(prefix):-len(TEMP_SUFFIX)]
+        pid = entry[:-len(TEMP_SUFFIX)].rpartition(".")[2]
         if not pid.isdigit() or _process_exists(int(pid)):
             continue
         try:

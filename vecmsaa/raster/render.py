@@ -461,10 +461,33 @@ def band_pool(threads: int):
     if threads <= 1:
         yield None
         return
-    from concurrent.futures import ThreadPoolExecutor   # 20-60 ms: only threaded renders
-    with ThreadPoolExecutor(threads) as pool:
-        pool.threads = threads
+    pool = _LazyPool(threads)
+    try:
         yield pool
+    finally:
+        pool.shutdown()
+
+
+class _LazyPool:
+    """A ThreadPoolExecutor of ``threads`` threads made on the first ``submit``: a small image
+    is one band with little geometry and submits nothing, and concurrent.futures takes 7 ms
+    of CPU to import (with logging), a twentieth of a 16 px render."""
+
+    def __init__(self, threads: int):
+        self.threads = threads
+        self._executor = None
+        self._lock = threading.Lock()
+
+    def submit(self, fn, *args):
+        with self._lock:
+            if self._executor is None:
+                from concurrent.futures import ThreadPoolExecutor
+                self._executor = ThreadPoolExecutor(self.threads)
+        return self._executor.submit(fn, *args)
+
+    def shutdown(self) -> None:
+        if self._executor is not None:
+            self._executor.shutdown()
 
 
 def run_bands(draw_bands, starts, threads: int, pool=None) -> None:
