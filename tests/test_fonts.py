@@ -92,6 +92,28 @@ def test_outlines_are_cached_per_glyph_and_location():
     assert face.outline(gid, heavy)[1].shape == face.outline(gid)[1].shape
 
 
+@pytest.mark.parametrize("block", [1, 5, 64, 1 << 15])
+def test_placed_glyphs_are_each_outline_through_its_own_matrix(block, monkeypatch):
+    """glyphs_arrays (blocks of PLACE_BLOCK points, each point's matrix repeated from its
+    glyph's) gives every glyph's outline, in order, each point mapped by its glyph's affine
+    matrix x' = a x + c y + e, y' = b x + d y + f in plain floats, bit for bit: blocks of one
+    glyph, of a few, and all at once; empty glyphs (the space) among them."""
+    import vecmsaa.fonts.layout as font_layout
+    monkeypatch.setattr(font_layout, "PLACE_BLOCK", block)
+    face = load_face(TTF)
+    rng = np.random.default_rng(3)
+    gids = [face.glyph_for_char(ch) for ch in "Hxg Ho g"] * 3
+    mats = [tuple(float(v) for v in rng.normal(size=6) * 20) for _ in gids]
+    verbs, points = font_layout.glyphs_arrays(face, (), gids, mats)
+    want_verbs, want_points = [], []
+    for gid, (a, b, c, d, e, f) in zip(gids, mats):
+        v, p = face.outline(gid)
+        want_verbs.extend(v.tolist())
+        want_points.extend([a * x + c * y + e, b * x + d * y + f] for x, y in p.tolist())
+    assert verbs.tolist() == want_verbs
+    assert points.tolist() == want_points and len(want_points) > 4 * 64
+
+
 def test_variable_location_matches_freetype():
     """Outline bounds at wght=900, wdth=60 agree with FreeType's variation engine."""
     freetype = pytest.importorskip("freetype")

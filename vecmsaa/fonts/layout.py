@@ -30,29 +30,39 @@ def placement(origins, scale: float, skew: float = 0.0) -> np.ndarray:
     return m
 
 
+#: points placed per block by glyphs_arrays: each point holds a copy of its glyph's matrix,
+#: six times its own size, only for a block at a time
+PLACE_BLOCK = 1 << 15
+
+
 def glyphs_arrays(face, location, gids, matrices):
     """Concatenated (verbs, points) of many glyphs, glyph i transformed by matrices[i]."""
-    verbs, points, counts = [], [], []
     outline = face.outline
-    for gid in gids:
-        v, p = outline(int(gid), location)
-        verbs.append(v)
-        points.append(p)
-        counts.append(len(p))
-    if not verbs or not sum(counts):
+    outlines = [outline(int(gid), location) for gid in gids]
+    counts = [len(p) for _, p in outlines]
+    total = sum(counts)
+    if not total:
         return np.zeros(0, np.uint8), np.zeros((0, 2))
     m = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
-    p = np.concatenate(points)
-    del points
+    p = np.concatenate([p for _, p in outlines])
     out = np.empty_like(p)
-
-    def column(k):
-        # one matrix entry per point at a time: the whole (points, 6) repeat of the matrices
-        # was three times the points themselves (200,000 characters: 400 MB)
-        return np.repeat(m[:, k], counts)
-    out[:, 0] = column(0) * p[:, 0] + column(2) * p[:, 1] + column(4)
-    out[:, 1] = column(1) * p[:, 0] + column(3) * p[:, 1] + column(5)
-    return np.concatenate(verbs), out
+    # the glyphs in blocks of about PLACE_BLOCK points, each point's matrix repeated from its
+    # glyph's: one repeat a block, where a repeat per matrix entry over all the points cost a
+    # text of a few glyphs more than its arithmetic
+    first = a = 0
+    while first < len(counts):
+        last, size = len(counts), total - a
+        if size > PLACE_BLOCK:
+            last, size = first, 0
+            while last < len(counts) and (size == 0 or size + counts[last] <= PLACE_BLOCK):
+                size += counts[last]
+                last += 1
+        q = p[a:a + size]
+        r = np.repeat(m[first:last], counts[first:last], axis=0)
+        out[a:a + size, 0] = r[:, 0] * q[:, 0] + r[:, 2] * q[:, 1] + r[:, 4]
+        out[a:a + size, 1] = r[:, 1] * q[:, 0] + r[:, 3] * q[:, 1] + r[:, 5]
+        first, a = last, a + size
+    return np.concatenate([v for v, _ in outlines]), out
 
 
 def glyphs_path(face, location, gids, matrices) -> Path:
