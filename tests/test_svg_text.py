@@ -1237,6 +1237,20 @@ def test_regional_indicator_pairs_and_zwj_sequences_join():
     assert not _joined(zwj, 3, 4) and not _joined(zwj, 4, 6)   # letters are no pictographs
 
 
+def test_ascii_text_continues_no_grapheme_cluster():
+    """_shape_clusters skips its grapheme test on ASCII runs: no ASCII character extends a
+    cluster (UAX #29 Extend, ZWJ: general category M and the joiners), and none after any
+    ASCII character joins one (GB11 needs a zero width joiner before it, GB12/13 regional
+    indicators), checked over every ASCII character and pair."""
+    import unicodedata
+    from vecmsaa.svg.text.layout import _extends, _joined
+    ascii_chars = [chr(i) for i in range(128)]
+    assert not any(unicodedata.category(ch).startswith("M") for ch in ascii_chars)
+    assert not any(_extends(ch) for ch in ascii_chars)
+    assert not any(_joined(a + b, 0, 1) for a in ascii_chars for b in ascii_chars)
+    assert _extends("\u0301") and _joined("\u200d\U0001F308", 0, 1)   # (the tests can fail)
+
+
 @pytest.mark.parametrize("attr, same", [('dx="1e400"', ''), ('dy="-1e400"', ''),
                                         ('dx="5 1e400 5"', 'dx="5"'), ('rotate="1e400"', ''),
                                         ('rotate="30 1e400"', '')])
