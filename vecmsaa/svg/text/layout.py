@@ -79,37 +79,63 @@ def shape_chunk(chars, faces, specs, start, end, text=None):
     clusters = []
     for s, e, d in visual_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
-        keys = {}
+        # each character's shaping key, found once per (face, spec) pair (by which
+        # _pick_clusters looks a character's up again)
+        keys, key_of, missing = {}, {}, False
         for k in range(s, e):
-            if faces[k] is not None:
-                keys.setdefault(_shaping_key(faces[k], specs[k]), k)
+            face = faces[k]
+            if face is None:
+                missing = True
+                continue
+            pair = id(face), id(specs[k])
+            if pair not in key_of:
+                key = key_of[pair] = _shaping_key(face, specs[k])
+                keys.setdefault(key, k)
         if not keys:
             continue
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k, chunk)
                   for key, k in keys.items()}
-        base_key = next(iter(keys))
-        index = {key: _ClusterIndex(got) for key, got in shaped.items()}
-        base = index[base_key]
-        covered = set()
-        for cl in base.clusters:
-            # Characters of this base cluster, each taken from the shaping by its own face
-            # (a ligature of the base font may split into several clusters of another).
-            end = base.end(cl, e)
-            picked = []
-            for k in range(cl.char, end):
-                face = faces[k]
-                if k in covered or face is None:   # None: a zero or negative size
+        if len(keys) == 1 and not missing and _distinct_starts(shaped):
+            # one shaping, every character drawn, clusters at distinct characters: the
+            # picking takes each of them alone, in their order
+            clusters.extend(*shaped.values())
+        else:
+            clusters.extend(_pick_clusters(shaped, key_of, faces, specs, e, d))
+    return clusters
+
+
+def _distinct_starts(shaped):
+    (got,) = shaped.values()
+    return len({c.char for c in got}) == len(got)
+
+
+def _pick_clusters(shaped, key_of, faces, specs, e, d):
+    """The clusters of a run (ending at ``e``, direction ``d``) shaped with each of its keys
+    (``shaped``: {key: clusters}, the first key the base), each character's taken from the
+    shaping of its own key (``key_of``: by (id(face), id(spec)))."""
+    index = {key: _ClusterIndex(got) for key, got in shaped.items()}
+    base = index[next(iter(shaped))]
+    covered = set()
+    clusters = []
+    for cl in base.clusters:
+        # Characters of this base cluster, each taken from the shaping by its own face
+        # (a ligature of the base font may split into several clusters of another).
+        end = base.end(cl, e)
+        picked = []
+        for k in range(cl.char, end):
+            face = faces[k]
+            if k in covered or face is None:   # None: a zero or negative size
+                continue
+            own = index.get(key_of[id(face), id(specs[k])], base)
+            pick = own.first.get(k)
+            if pick is None:
+                if k == cl.char:
+                    pick, own = cl, base
+                else:
                     continue
-                own = index.get(_shaping_key(face, specs[k]), base)
-                pick = own.first.get(k)
-                if pick is None:
-                    if k == cl.char:
-                        pick, own = cl, base
-                    else:
-                        continue
-                picked.append(pick)
-                covered.update(range(k, own.end(pick, e)))
-            clusters.extend(reversed(picked) if d == "rtl" else picked)
+            picked.append(pick)
+            covered.update(range(k, own.end(pick, e)))
+        clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
 
 
