@@ -45,24 +45,28 @@ def glyphs_arrays(face, location, gids, matrices):
         return np.zeros(0, np.uint8), np.zeros((0, 2))
     m = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
     p = np.concatenate([p for _, p in outlines])
+    verbs = np.concatenate([v for v, _ in outlines])
+    if total <= PLACE_BLOCK:
+        return verbs, _placed(m, counts, p)
+    # the glyphs in blocks of about PLACE_BLOCK points
     out = np.empty_like(p)
-    # the glyphs in blocks of about PLACE_BLOCK points, each point's matrix repeated from its
-    # glyph's: one repeat a block, where a repeat per matrix entry over all the points cost a
-    # text of a few glyphs more than its arithmetic
     first = a = 0
     while first < len(counts):
-        last, size = len(counts), total - a
-        if size > PLACE_BLOCK:
-            last, size = first, 0
-            while last < len(counts) and (size == 0 or size + counts[last] <= PLACE_BLOCK):
-                size += counts[last]
-                last += 1
-        q = p[a:a + size]
-        r = np.repeat(m[first:last], counts[first:last], axis=0)
-        out[a:a + size, 0] = r[:, 0] * q[:, 0] + r[:, 2] * q[:, 1] + r[:, 4]
-        out[a:a + size, 1] = r[:, 1] * q[:, 0] + r[:, 3] * q[:, 1] + r[:, 5]
+        last, size = first, 0
+        while last < len(counts) and (size == 0 or size + counts[last] <= PLACE_BLOCK):
+            size += counts[last]
+            last += 1
+        out[a:a + size] = _placed(m[first:last], counts[first:last], p[a:a + size])
         first, a = last, a + size
-    return np.concatenate([v for v, _ in outlines]), out
+    return verbs, out
+
+
+def _placed(m, counts, p):
+    """Points p, counts[i] of them placed by matrix m[i]: (a x + c y + e, b x + d y + f), both
+    coordinates at once from each point's copy of its glyph's matrix (one repeat, where one a
+    matrix entry cost a text of a few glyphs more than its arithmetic)."""
+    r = np.repeat(m, counts, axis=0)
+    return r[:, :2] * p[:, :1] + r[:, 2:4] * p[:, 1:] + r[:, 4:]
 
 
 def glyphs_path(face, location, gids, matrices) -> Path:

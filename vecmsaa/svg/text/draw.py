@@ -22,10 +22,12 @@ def text_bbox(clusters):
             continue
         adv = c.advance if c.advance > 0 else 1.0
         a, b, cc, d, e, f = c.placed
-        for x, y in ((0.0, -c.ascent), (adv, -c.ascent), (0.0, -c.descent),
-                     (adv, -c.descent)):
-            xs.append(a * x + cc * y + e)
-            ys.append(b * x + d * y + f)
+        # the corners (0, top), (adv, top), (0, bottom), (adv, bottom), mapped written out
+        top, bottom = -c.ascent, -c.descent
+        xs += (a * 0.0 + cc * top + e, a * adv + cc * top + e,
+               a * 0.0 + cc * bottom + e, a * adv + cc * bottom + e)
+        ys += (b * 0.0 + d * top + f, b * adv + d * top + f,
+               b * 0.0 + d * bottom + f, b * adv + d * bottom + f)
     if not xs:
         return None
     if any(map(math.isnan, xs)) or any(map(math.isnan, ys)):
