@@ -98,6 +98,8 @@ def _glyph_path(glyphs):
         v, p = glyphs_arrays(face, loc, gids, mats)
         verbs.append(v)
         points.append(p)
+    if len(verbs) == 1:             # (one face, as most texts: its arrays, not copies)
+        return Path.from_arrays(verbs[0], points[0])
     return Path.from_arrays(np.concatenate(verbs), np.concatenate(points))
 
 

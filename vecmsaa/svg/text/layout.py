@@ -614,8 +614,12 @@ def build_text(element, ctx):
             y = first.y if first.y is not None else last_y
             cx, cy = position_linear(clusters, chars, anchor, vertical)
             chunk_ts = rotate_at(90.0, x, y) if vertical else IDENTITY
+            spans = {}      # by the shift itself: shifts holds one object per element and face
             for c in clusters:
-                span = compose(chunk_ts, translate(x, y + shifts[c.char]))
+                shift = shifts[c.char]
+                span = spans.get(id(shift))
+                if span is None:
+                    span = spans[id(shift)] = compose(chunk_ts, translate(x, y + shift))
                 c.frame = compose(span, c.frame)
             if vertical:
                 cx, cy = cy, cx
