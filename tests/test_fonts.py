@@ -114,6 +114,31 @@ def test_placed_glyphs_are_each_outline_through_its_own_matrix(block, monkeypatc
     assert points.tolist() == want_points and len(want_points) > 4 * 64
 
 
+def test_fixed_pitch_is_the_post_tables_flag():
+    """read_face_infos reads isFixedPitch from the post header's bytes; fontTools decoding the
+    whole table says the same for every fixture and suite font (a monospaced one among them),
+    and a truncated header is an error (the face is skipped, as when fontTools fails)."""
+    import glob
+    from fontTools.ttLib import TTFont
+    from vecmsaa.fonts.db import _fixed_pitch
+    paths = sorted(glob.glob(os.path.join(FIXTURES, "*.[ot]t[fc]")) +
+                   glob.glob(os.path.join(SUITE_FONTS, "*.[ot]t[fc]")))
+    answers = []
+    for path in paths:
+        font = TTFont(path, lazy=True, fontNumber=0)
+        answers.append(_fixed_pitch(font))
+        assert answers[-1] == bool("post" in font and font["post"].isFixedPitch), path
+    assert len(paths) > 4 and (True in answers or not os.path.isdir(SUITE_FONTS))
+
+    class Truncated:
+        reader = {"post": b"\0" * 20}
+
+        def __contains__(self, tag):
+            return tag == "post"
+    with pytest.raises(ValueError):
+        _fixed_pitch(Truncated())
+
+
 def test_variable_location_matches_freetype():
     """Outline bounds at wght=900, wdth=60 agree with FreeType's variation engine."""
     freetype = pytest.importorskip("freetype")
