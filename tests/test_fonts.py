@@ -92,6 +92,53 @@ def test_outlines_are_cached_per_glyph_and_location():
     assert face.outline(gid, heavy)[1].shape == face.outline(gid)[1].shape
 
 
+@pytest.mark.parametrize("block", [1, 5, 64, 1 << 15])
+def test_placed_glyphs_are_each_outline_through_its_own_matrix(block, monkeypatch):
+    """glyphs_arrays (blocks of PLACE_BLOCK points, each point's matrix repeated from its
+    glyph's) gives every glyph's outline, in order, each point mapped by its glyph's affine
+    matrix x' = a x + c y + e, y' = b x + d y + f in plain floats, bit for bit: blocks of one
+    glyph, of a few, and all at once; empty glyphs (the space) among them."""
+    import vecmsaa.fonts.layout as font_layout
+    monkeypatch.setattr(font_layout, "PLACE_BLOCK", block)
+    face = load_face(TTF)
+    rng = np.random.default_rng(3)
+    gids = [face.glyph_for_char(ch) for ch in "Hxg Ho g"] * 3
+    mats = [tuple(float(v) for v in rng.normal(size=6) * 20) for _ in gids]
+    verbs, points = font_layout.glyphs_arrays(face, (), gids, mats)
+    want_verbs, want_points = [], []
+    for gid, (a, b, c, d, e, f) in zip(gids, mats):
+        v, p = face.outline(gid)
+        want_verbs.extend(v.tolist())
+        want_points.extend([a * x + c * y + e, b * x + d * y + f] for x, y in p.tolist())
+    assert verbs.tolist() == want_verbs
+    assert points.tolist() == want_points and len(want_points) > 4 * 64
+
+
+def test_fixed_pitch_is_the_post_tables_flag():
+    """read_face_infos reads isFixedPitch from the post header's bytes; fontTools decoding the
+    whole table says the same for every fixture and suite font (a monospaced one among them),
+    and a truncated header is an error (the face is skipped, as when fontTools fails)."""
+    import glob
+    from fontTools.ttLib import TTFont
+    from vecmsaa.fonts.db import _fixed_pitch
+    paths = sorted(glob.glob(os.path.join(FIXTURES, "*.[ot]t[fc]")) +
+                   glob.glob(os.path.join(SUITE_FONTS, "*.[ot]t[fc]")))
+    answers = []
+    for path in paths:
+        font = TTFont(path, lazy=True, fontNumber=0)
+        answers.append(_fixed_pitch(font))
+        assert answers[-1] == bool("post" in font and font["post"].isFixedPitch), path
+    assert len(paths) > 4 and (True in answers or not os.path.isdir(SUITE_FONTS))
+
+    class Truncated:
+        reader = {"post": b"\0" * 20}
+
+        def __contains__(self, tag):
+            return tag == "post"
+    with pytest.raises(ValueError):
+        _fixed_pitch(Truncated())
+
+
 def test_variable_location_matches_freetype():
     """Outline bounds at wght=900, wdth=60 agree with FreeType's variation engine."""
     freetype = pytest.importorskip("freetype")

@@ -1238,6 +1238,57 @@ def test_regional_indicator_pairs_and_zwj_sequences_join():
     assert not _joined(zwj, 3, 4) and not _joined(zwj, 4, 6)   # letters are no pictographs
 
 
+def test_ascii_text_continues_no_grapheme_cluster():
+    """_shape_clusters skips its grapheme test on ASCII runs: no ASCII character extends a
+    cluster (UAX #29 Extend, ZWJ: general category M and the joiners), and none after any
+    ASCII character joins one (GB11 needs a zero width joiner before it, GB12/13 regional
+    indicators), checked over every ASCII character and pair."""
+    import unicodedata
+    from vecmsaa.svg.text.layout import _extends, _joined
+    ascii_chars = [chr(i) for i in range(128)]
+    assert not any(unicodedata.category(ch).startswith("M") for ch in ascii_chars)
+    assert not any(_extends(ch) for ch in ascii_chars)
+    assert not any(_joined(a + b, 0, 1) for a in ascii_chars for b in ascii_chars)
+    assert _extends("\u0301") and _joined("\u200d\U0001F308", 0, 1)   # (the tests can fail)
+
+
+@needs_suite_fonts
+@pytest.mark.parametrize("font, text", [
+    ("NotoSans-Regular.ttf", "office affluent fjord"),          # ligatures (fi, ffl)
+    ("NotoSans-Regular.ttf", "e\u0301a\u0308\u0323 x"),          # combining marks
+    ("NotoSans-Regular.ttf", "AV Wa To 1/2"),                   # kerning
+    ("Amiri-Regular.ttf", "\u0645\u0631\u062d\u0628\u0627 \u0644\u0644\u0647"),     # joining, RTL, lam-alef
+    ("NotoSansDevanagari-Regular.ttf", "\u0915\u094d\u0937\u093f \u0939\u093f\u0928\u094d\u0926\u0940"),  # reordering
+    ("TwitterColorEmoji.subset.ttf", "\U0001F3F3\ufe0f\u200d\U0001F308\U0001F1EB\U0001F1F7"),
+])
+def test_one_shaping_run_takes_its_clusters_as_the_picking_does(font, text):
+    """shape_chunk takes a run's clusters as shaped when one face and setting draws all its
+    characters and the clusters start at distinct characters; the general picking
+    (_pick_clusters, each character's cluster from its own shaping) gives the same clusters
+    in the same order there: ligatures, marks, joining right-to-left text, Indic
+    reordering, emoji sequences."""
+    from types import SimpleNamespace
+    from vecmsaa.fonts.face import load_face
+    from vecmsaa.fonts.shape import visual_runs
+    from vecmsaa.svg.text import layout
+    from vecmsaa.svg.text.font_match import FontSpec
+    face = load_face(os.path.join(SUITE, "fonts", font))
+    spec = FontSpec(("x",), 400, "normal", 100.0, 20.0, (), (), 0.0, 0.0, False)
+    chars = [SimpleNamespace(ch=ch) for ch in text]
+    faces, specs = [face] * len(text), [spec] * len(text)
+    whole = layout.shape_chunk(chars, faces, specs, 0, len(text))
+    picked = []
+    for s, e, d in visual_runs(text, "ltr"):
+        got = layout._shape_clusters(chars, faces, specs, text, s, e, d, s, (0, len(text)))
+        key_of = {(id(face), id(spec)): layout._shaping_key(face, spec)}
+        picked += layout._pick_clusters({key_of[id(face), id(spec)]: got}, key_of, faces,
+                                        specs, e, d)
+        assert layout._distinct_starts({0: got})
+    assert [(c.char, [g.gid for g in c.glyphs]) for c in whole] == \
+        [(c.char, [g.gid for g in c.glyphs]) for c in picked]
+    assert len(whole) > 1
+
+
 @pytest.mark.parametrize("attr, same", [('dx="1e400"', ''), ('dy="-1e400"', ''),
                                         ('dx="5 1e400 5"', 'dx="5"'), ('rotate="1e400"', ''),
                                         ('rotate="30 1e400"', '')])

@@ -30,29 +30,43 @@ def placement(origins, scale: float, skew: float = 0.0) -> np.ndarray:
     return m
 
 
+#: points placed per block by glyphs_arrays: each point holds a copy of its glyph's matrix,
+#: six times its own size, only for a block at a time
+PLACE_BLOCK = 1 << 15
+
+
 def glyphs_arrays(face, location, gids, matrices):
     """Concatenated (verbs, points) of many glyphs, glyph i transformed by matrices[i]."""
-    verbs, points, counts = [], [], []
     outline = face.outline
-    for gid in gids:
-        v, p = outline(int(gid), location)
-        verbs.append(v)
-        points.append(p)
-        counts.append(len(p))
-    if not verbs or not sum(counts):
+    outlines = [outline(int(gid), location) for gid in gids]
+    counts = [len(p) for _, p in outlines]
+    total = sum(counts)
+    if not total:
         return np.zeros(0, np.uint8), np.zeros((0, 2))
     m = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
-    p = np.concatenate(points)
-    del points
+    p = np.concatenate([p for _, p in outlines])
+    verbs = np.concatenate([v for v, _ in outlines])
+    if total <= PLACE_BLOCK:
+        return verbs, _placed(m, counts, p)
+    # the glyphs in blocks of about PLACE_BLOCK points
     out = np.empty_like(p)
+    first = a = 0
+    while first < len(counts):
+        last, size = first, 0
+        while last < len(counts) and (size == 0 or size + counts[last] <= PLACE_BLOCK):
+            size += counts[last]
+            last += 1
+        out[a:a + size] = _placed(m[first:last], counts[first:last], p[a:a + size])
+        first, a = last, a + size
+    return verbs, out
 
-    def column(k):
-        # one matrix entry per point at a time: the whole (points, 6) repeat of the matrices
-        # was three times the points themselves (200,000 characters: 400 MB)
-        return np.repeat(m[:, k], counts)
-    out[:, 0] = column(0) * p[:, 0] + column(2) * p[:, 1] + column(4)
-    out[:, 1] = column(1) * p[:, 0] + column(3) * p[:, 1] + column(5)
-    return np.concatenate(verbs), out
+
+def _placed(m, counts, p):
+    """Points p, counts[i] of them placed by matrix m[i]: (a x + c y + e, b x + d y + f), both
+    coordinates at once from each point's copy of its glyph's matrix (one repeat, where one a
+    matrix entry cost a text of a few glyphs more than its arithmetic)."""
+    r = np.repeat(m, counts, axis=0)
+    return r[:, :2] * p[:, :1] + r[:, 2:4] * p[:, 1:] + r[:, 4:]
 
 
 def glyphs_path(face, location, gids, matrices) -> Path:

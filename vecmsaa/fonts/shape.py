@@ -200,9 +200,9 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
     n = len(infos)
     gids = np.fromiter((i.codepoint for i in infos), np.int64, n)
     clusters = np.fromiter((i.cluster for i in infos), np.int64, n) + lo
-    pos = np.array([(p.x_advance, p.y_advance, p.x_offset, p.y_offset) for p in positions],
-                   dtype=np.float64).reshape(-1, 4)
-    return ShapedRun(face, location, gids, clusters, pos[:, :2].copy(), pos[:, 2:].copy(),
+    # (``position``: x_offset, y_offset, x_advance, y_advance in one attribute)
+    pos = np.array([p.position for p in positions], dtype=np.float64).reshape(-1, 4)
+    return ShapedRun(face, location, gids, clusters, pos[:, 2:].copy(), pos[:, :2].copy(),
                      direction, start, end)
 
 

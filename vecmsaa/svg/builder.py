@@ -242,6 +242,7 @@ class Builder:
         # the ids of the fills that draw text, when a set (sizing.py's drawing_extent sizes
         # a document by text's object bounding box rather than its ink, as resvg does)
         self.text_fills = None
+        self.text_cache = {}           # the text modules' memo for this document (font_match)
         self.root_scale = 1.0
         self.paint_stack = []          # patterns being built (recursion guard)
         self.ref_stack = []            # clip paths / masks / markers being built
@@ -1525,6 +1526,7 @@ class TextContext:
       ``font_family``, ``serif_family``, ``sans_serif_family``, ``cursive_family``,
       ``fantasy_family``, ``monospace_family``, ``skip_system_fonts``).
     - ``in_clip`` / ``geometry_only``: booleans, in case the text module wants to skip work.
+    - ``cache``: a dict kept for the whole document (the font database, loaded faces).
     - ``count_characters(n)``: charge n characters to the document's MAX_TEXT_CHARS budget.
     - ``wrap(element, style, nodes)``: apply opacity/clip-path/mask/blend of a tspan-level
       element if needed.
@@ -1538,6 +1540,8 @@ class TextContext:
         self.viewport = ctx.viewport
         self.root_scale = builder.root_scale
         self.font_options = dict(builder.options.font_options)
+        #: a dict the text modules keep what they found for the whole document in
+        self.cache = builder.text_cache
         self.in_clip = ctx.clip
         self.geometry_only = ctx.geometry
 

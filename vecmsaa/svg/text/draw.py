@@ -11,7 +11,6 @@ from ...fonts.color import color_glyph_fills, is_color_glyph
 from ...fonts.layout import glyphs_arrays
 from ...scene.nodes import Fill, ImagePaint, Solid
 from ...scene.path import Path, rect_path
-from ...scene.transform import compose
 from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 
 def text_bbox(clusters):
@@ -22,14 +21,16 @@ def text_bbox(clusters):
         if not c.visible:
             continue
         adv = c.advance if c.advance > 0 else 1.0
-        a, b, cc, d, e, f = compose(c.frame, c.path_ts)
-        for x, y in ((0.0, -c.ascent), (adv, -c.ascent), (0.0, -c.descent),
-                     (adv, -c.descent)):
-            xs.append(a * x + cc * y + e)
-            ys.append(b * x + d * y + f)
+        a, b, cc, d, e, f = c.placed
+        # the corners (0, top), (adv, top), (0, bottom), (adv, bottom), mapped written out
+        top, bottom = -c.ascent, -c.descent
+        xs += (a * 0.0 + cc * top + e, a * adv + cc * top + e,
+               a * 0.0 + cc * bottom + e, a * adv + cc * bottom + e)
+        ys += (b * 0.0 + d * top + f, b * adv + d * top + f,
+               b * 0.0 + d * bottom + f, b * adv + d * bottom + f)
     if not xs:
         return None
-    if any(v != v for v in xs + ys):
+    if any(map(math.isnan, xs)) or any(map(math.isnan, ys)):
         return (math.nan,) * 4      # (a NaN wins, as in numpy's min and max)
     return (float(min(xs)), float(min(ys)), float(max(xs)), float(max(ys)))
 
@@ -97,6 +98,8 @@ def _glyph_path(glyphs):
         v, p = glyphs_arrays(face, loc, gids, mats)
         verbs.append(v)
         points.append(p)
+    if len(verbs) == 1:             # (one face, as most texts: its arrays, not copies)
+        return Path.from_arrays(verbs[0], points[0])
     return Path.from_arrays(np.concatenate(verbs), np.concatenate(points))
 
 

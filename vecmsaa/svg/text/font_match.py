@@ -425,7 +425,20 @@ def _spacing(value, ctx, style):
 
 
 def font_database(ctx) -> FontDatabase:
-    return database_from_options(ctx.font_options)
+    """The database of the document's font options (looked up once per document: building
+    the options' key per text cost a map of labels more than its shaping)."""
+    db = ctx.cache.get("font database")
+    if db is None:
+        db = ctx.cache["font database"] = database_from_options(ctx.font_options)
+    return db
+
+
+def document_faces(ctx) -> dict:
+    """{id(FaceInfo): (FaceInfo, Face or None)}: the faces loaded for the document's texts
+    (load_face checks the file's time each call; a document is rendered from the files as
+    they were when it first needed them). Keyed by id, the info kept alive beside its face:
+    hashing a FaceInfo hashes all its fields."""
+    return ctx.cache.setdefault("faces", {})
 
 
 def face_location(face, spec):
@@ -456,7 +469,7 @@ def warn_font_fallback(db, spec, info):
         warn(f"font family {names} not found, using '{info.family}'")
 
 
-def assign_faces(chars, specs, db, bounds=None):
+def assign_faces(chars, specs, db, bounds=None, loaded=None):
     """Face for every character. Each character's ``primary_face`` is its family list's best
     match (text decorations and baselines use its metrics). Faces are chosen per text chunk
     (``bounds``: the chunks' first indices and the end) and per font of the chunk: a
@@ -465,21 +478,27 @@ def assign_faces(chars, specs, db, bounds=None):
     makes resvg's: the face for the first such character draws every one it can, and when
     it can draw the whole chunk it draws all of it, so a chunk of Latin and CJK text under a
     Latin font is one CJK run; else the next missing character picks the next face.
-    Combining marks stay with their base character's face."""
-    primary, loaded, keys = {}, {}, []
+    Combining marks stay with their base character's face. ``loaded``: a document_faces
+    dict to load faces through (else one for this call)."""
+    primary, keys = {}, []
+    loaded = {} if loaded is None else loaded
 
     def load(info):
-        if info not in loaded:
-            loaded[info] = _load(info)
-        return loaded[info]
+        hit = loaded.get(id(info))
+        if hit is None:
+            hit = loaded[id(info)] = (info, _load(info))
+        return hit[1]
 
+    primary_faces = {}                      # (per key: hashing a FaceInfo per character cost)
     for c, spec in zip(chars, specs):
         key = (spec.families, spec.weight, spec.style, spec.stretch)
-        if key not in primary:
+        face = primary_faces.get(key, primary_faces)
+        if face is primary_faces:
             primary[key] = db.query_or_default(list(spec.families), spec.weight, spec.style,
                                                spec.stretch)
             warn_font_fallback(db, spec, primary[key])
-        c.primary_face = load(primary[key])
+            face = primary_faces[key] = load(primary[key])
+        c.primary_face = face
         keys.append(key)
     faces = [c.primary_face for c in chars]
     bounds = bounds or [0, len(chars)]

@@ -18,7 +18,8 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import assign_faces, face_location, font_database, font_spec
+from .font_match import (assign_faces, document_faces, face_location, font_database,
+                         font_spec)
 from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -29,7 +30,7 @@ NO_LETTER_SPACING = ((0x0600, 0x08FF), (0x0900, 0x0A7F), (0x1680, 0x169F), (0x18
 WORD_SEPARATORS = {0x20, 0xA0, 0x1361, 0x10100, 0x10101, 0x1039F, 0x1091F}
 
 
-@dataclass
+@dataclass(slots=True)
 class Glyph:
     face: object
     location: tuple
@@ -40,7 +41,7 @@ class Glyph:
     matrix: tuple | None = None
 
 
-@dataclass
+@dataclass(slots=True)
 class Cluster:
     """Glyphs of one typographic character (ligature, base + marks): the unit that SVG
     positions, rotates and spaces (as resvg's GlyphCluster)."""
@@ -56,6 +57,7 @@ class Cluster:
     path_ts: tuple = IDENTITY   # vertical writing: upright clusters turned back
     sx: float = 1.0           # lengthAdjust=spacingAndGlyphs
     frame: tuple = IDENTITY     # cluster transform in user units (without path_ts)
+    placed: tuple = IDENTITY    # frame after path_ts: its em box and glyphs in user units
     visible: bool = True
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
@@ -77,37 +79,63 @@ def shape_chunk(chars, faces, specs, start, end, text=None):
     clusters = []
     for s, e, d in visual_runs(text[start:end], "ltr"):
         s, e = s + start, e + start
-        keys = {}
+        # each character's shaping key, found once per (face, spec) pair (by which
+        # _pick_clusters looks a character's up again)
+        keys, key_of, missing = {}, {}, False
         for k in range(s, e):
-            if faces[k] is not None:
-                keys.setdefault(_shaping_key(faces[k], specs[k]), k)
+            face = faces[k]
+            if face is None:
+                missing = True
+                continue
+            pair = id(face), id(specs[k])
+            if pair not in key_of:
+                key = key_of[pair] = _shaping_key(face, specs[k])
+                keys.setdefault(key, k)
         if not keys:
             continue
         shaped = {key: _shape_clusters(chars, faces, specs, text, s, e, d, k, chunk)
                   for key, k in keys.items()}
-        base_key = next(iter(keys))
-        index = {key: _ClusterIndex(got) for key, got in shaped.items()}
-        base = index[base_key]
-        covered = set()
-        for cl in base.clusters:
-            # Characters of this base cluster, each taken from the shaping by its own face
-            # (a ligature of the base font may split into several clusters of another).
-            end = base.end(cl, e)
-            picked = []
-            for k in range(cl.char, end):
-                face = faces[k]
-                if k in covered or face is None:   # None: a zero or negative size
+        if len(keys) == 1 and not missing and _distinct_starts(shaped):
+            # one shaping, every character drawn, clusters at distinct characters: the
+            # picking takes each of them alone, in their order
+            clusters.extend(*shaped.values())
+        else:
+            clusters.extend(_pick_clusters(shaped, key_of, faces, specs, e, d))
+    return clusters
+
+
+def _distinct_starts(shaped):
+    (got,) = shaped.values()
+    return len({c.char for c in got}) == len(got)
+
+
+def _pick_clusters(shaped, key_of, faces, specs, e, d):
+    """The clusters of a run (ending at ``e``, direction ``d``) shaped with each of its keys
+    (``shaped``: {key: clusters}, the first key the base), each character's taken from the
+    shaping of its own key (``key_of``: by (id(face), id(spec)))."""
+    index = {key: _ClusterIndex(got) for key, got in shaped.items()}
+    base = index[next(iter(shaped))]
+    covered = set()
+    clusters = []
+    for cl in base.clusters:
+        # Characters of this base cluster, each taken from the shaping by its own face
+        # (a ligature of the base font may split into several clusters of another).
+        end = base.end(cl, e)
+        picked = []
+        for k in range(cl.char, end):
+            face = faces[k]
+            if k in covered or face is None:   # None: a zero or negative size
+                continue
+            own = index.get(key_of[id(face), id(specs[k])], base)
+            pick = own.first.get(k)
+            if pick is None:
+                if k == cl.char:
+                    pick, own = cl, base
+                else:
                     continue
-                own = index.get(_shaping_key(face, specs[k]), base)
-                pick = own.first.get(k)
-                if pick is None:
-                    if k == cl.char:
-                        pick, own = cl, base
-                    else:
-                        continue
-                picked.append(pick)
-                covered.update(range(k, own.end(pick, e)))
-            clusters.extend(reversed(picked) if d == "rtl" else picked)
+            picked.append(pick)
+            covered.update(range(k, own.end(pick, e)))
+        clusters.extend(reversed(picked) if d == "rtl" else picked)
     return clusters
 
 
@@ -152,7 +180,8 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     # the cluster of the character it extends.
     owner = {}
     base = None
-    for i in range(s, e):
+    # (ASCII text extends no cluster: most labels skip the test per character)
+    for i in range(s, e) if not text[s:e].isascii() else ():
         if base is not None and (_extends(text[i]) or _joined(text, base, i)):
             owner[i] = base
         else:
@@ -160,23 +189,26 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     out = []
     current = None
     pen = 0.0
-    for gid, cl, adv, off in zip(run.gids, run.clusters, run.advances, run.offsets):
-        cl = int(cl)
+    upem = face.units_per_em
+    m = face.metrics
+    # (Python numbers from the arrays at once: numpy scalars per glyph cost more than the rest)
+    for gid, cl, adv, off_x, off_y in zip(run.gids.tolist(), run.clusters.tolist(),
+                                          run.advances[:, 0].tolist(),
+                                          run.offsets[:, 0].tolist(), run.offsets[:, 1].tolist()):
         cl = owner.get(cl, cl)
-        size = specs[cl].size
-        scale = size / face.units_per_em
         if current is None or current.char != cl:
-            m = face.metrics
+            size = specs[cl].size
+            scale = size / upem
             current = Cluster(cl, [], face, size, 0.0, 0.0, m.ascender * scale,
                               m.descender * scale)
             out.append(current)
             pen = 0.0
-        current.glyphs.append(Glyph(face, loc, int(gid), pen + float(off[0]) * scale,
-                                    -float(off[1]) * scale, scale))
-        width = float(adv[0]) * scale
+        current.glyphs.append(Glyph(face, loc, gid, pen + off_x * scale, -off_y * scale, scale))
+        width = adv * scale
         pen += width
         current.width = current.advance = pen
-        current.widest = max(current.widest, width)
+        if width > current.widest:
+            current.widest = width
     return out
 
 
@@ -523,7 +555,7 @@ def build_text(element, ctx):
               if i == 0 or c.x is not None or c.y is not None
               or c.text_path is not chars[i - 1].text_path]
     bounds.append(len(chars))
-    faces = assign_faces(chars, specs, db, bounds)
+    faces = assign_faces(chars, specs, db, bounds, document_faces(ctx))
     # a zero, negative or non-finite size draws nothing
     faces = [f if math.isfinite(sp.size) and sp.size > 0 else None
              for f, sp in zip(faces, specs)]
@@ -579,15 +611,23 @@ def build_text(element, ctx):
             y = first.y if first.y is not None else last_y
             cx, cy = position_linear(clusters, chars, anchor, vertical)
             chunk_ts = rotate_at(90.0, x, y) if vertical else IDENTITY
+            spans = {}      # by the shift itself: shifts holds one object per element and face
             for c in clusters:
-                span = compose(chunk_ts, translate(x, y + shifts[c.char]))
+                shift = shifts[c.char]
+                span = spans.get(id(shift))
+                if span is None:
+                    span = spans[id(shift)] = compose(chunk_ts, translate(x, y + shift))
                 c.frame = compose(span, c.frame)
             if vertical:
                 cx, cy = cy, cx
             last_x, last_y = x + cx, y + cy
         all_clusters.extend(clusters)
     for c in all_clusters:
-        base = compose(c.frame, c.path_ts)
+        c.placed = a, b, cc, d, e, f = compose(c.frame, c.path_ts)
         for g in c.glyphs:
-            g.matrix = compose(base, (g.scale, 0.0, 0.0, -g.scale, g.dx, g.dy))
+            # compose(c.placed, (s, 0, 0, -s, dx, dy)) written out: a call per glyph cost
+            # more than its arithmetic
+            s, dx, dy = g.scale, g.dx, g.dy
+            g.matrix = (a * s + cc * 0.0, b * s + d * 0.0, a * 0.0 + cc * -s,
+                        b * 0.0 + d * -s, a * dx + cc * dy + e, b * dx + d * dy + f)
     return draw_clusters(element, chars, all_clusters, ctx, styles, vertical)
