@@ -971,3 +971,55 @@ def test_content_outside_its_clip_is_not_prepared_and_not_drawn(monkeypatch):
 def render_svg_rgba8(doc: str, width: int) -> np.ndarray:
     from vecmsaa.api import load_svg
     return render_scene_rgba8(load_svg(doc.encode(), width=width))
+
+
+_RECT_CLIPS_SVG = b'''<svg xmlns="http://www.w3.org/2000/svg" width="120" height="90">
+<clipPath id="big"><rect x="5.3" y="4.7" width="60" height="40"/></clipPath>
+<clipPath id="tight"><rect x="20.5" y="50.2" width="31" height="21"/></clipPath>
+<clipPath id="turned"><rect x="70" y="5" width="40" height="30" transform="rotate(20 90 20)"/>
+</clipPath>
+<clipPath id="crisp"><rect x="70.4" y="45.6" width="45" height="40" shape-rendering="crispEdges"/>
+</clipPath>
+<clipPath id="bbox" clipPathUnits="objectBoundingBox"><rect x="-0.2" y="-0.2" width="1.4"
+ height="1.4"/></clipPath>
+<mask id="m"><circle cx="10" cy="77" r="5" fill="#ccc"/></mask>
+<mask id="obb" maskContentUnits="objectBoundingBox"><rect width="1" height="1" fill="#fff"
+ opacity="0.6"/><circle cx=".5" cy=".5" r=".3"/></mask>
+<g clip-path="url(#big)"><rect x="12" y="10" width="30" height="20" fill="#c30"/>
+<g opacity="0.5"><circle cx="40" cy="25" r="9" fill="#03c"/></g></g>
+<g clip-path="url(#tight)"><rect x="21" y="51" width="30" height="20" fill="#3a3"/></g>
+<g clip-path="url(#turned)"><circle cx="90" cy="20" r="8" fill="#a0a"/></g>
+<g clip-path="url(#crisp)"><circle cx="92" cy="65" r="10" fill="#0aa"/></g>
+<g clip-path="url(#bbox)"><circle cx="30" cy="80" r="6" fill="#fa0" stroke="#000"/></g>
+<g mask="url(#obb)"><rect x="75" y="55" width="40" height="30" fill="#f0f"/></g>
+<g mask="url(#m)"><rect x="2" y="68" width="20" height="18" fill="#00f"/></g>
+</svg>'''
+
+
+@pytest.mark.parametrize("mode", ["approx", "persample", "alpha", "a2c", "analytic"])
+def test_rectangle_clips_around_their_content_are_left_out_without_changing_a_pixel(
+        mode, monkeypatch):
+    # brute force: the same pixels with every rectangle clip drawn (the shortcut refused) and
+    # with those that cover their content left out; the shortcut is taken where the content
+    # lies a pixel inside (the big clip, the bounding-box clip, the masks' regions) and
+    # refused where it reaches the rectangle's edge pixels (tight), for turned and aliased
+    # rectangles, and in the exact modes
+    from vecmsaa.api import load_svg
+    scene = load_svg(_RECT_CLIPS_SVG, width=240)
+    covers = render_module._clip_covers
+    taken = []
+
+    def counting(rect, items):
+        got = covers(rect, items)
+        taken.append(got)
+        return got
+    monkeypatch.setattr(render_module, "_clip_covers", counting)
+    shortcut = render_scene(scene, mode, 8)
+    if mode == "analytic":
+        assert taken == []
+    else:
+        # big, bbox, the two masks' regions (and the obb mask's opacity layer has none);
+        # tight refused
+        assert taken.count(True) == 4 and taken.count(False) == 1, taken
+    monkeypatch.setattr(render_module, "_clip_covers", lambda rect, items: False)
+    assert np.array_equal(render_scene(scene, mode, 8), shortcut)

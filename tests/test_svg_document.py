@@ -1,6 +1,7 @@
 """SVG front end: XML safety, CSS cascade, colours, units and transforms."""
 import math
 
+import numpy as np
 import pytest
 
 from vecmsaa.svg import SvgError
@@ -643,3 +644,70 @@ def test_svg_colour_answers_kept_by_text_stay_right():
             assert parse_svg_color(text) == (r / 255, g / 255, b / 255, 1.0)
     assert parse_svg_color(" currentColor ") == "currentColor"
     assert parse_svg_color("#12345") is None and parse_svg_color("#12345") is None
+
+
+#: shapes under groups that specify only compositing or placement (Style.child shares their
+#: styles past those groups), with what could tell the difference: inherited values from above
+#: the groups, em lengths, currentColor, markers, CSS, <use>, and the inherit keyword (which
+#: must read the group itself)
+_SHARED_STYLE_DOCS = [
+    '<g fill="#0a0" stroke="#00c" stroke-width="3" font-size="8" color="#c0c">'
+    '<g clip-path="url(#a)"><rect x="2" y="2" width="30" height="20" stroke-width="0.5em"/>'
+    '<path d="M2 2L40 30" stroke="currentColor"/></g>'
+    '<g clip-path="url(#b)" opacity="0.7"><rect x="22" y="12" width="30" height="20"/>'
+    '<circle cx="30" cy="30" r="9" stroke-dasharray="2 1"/></g>'
+    '<g transform="translate(5 3)"><g><path d="M10 40L50 44" marker-mid="url(#m)" '
+    'marker-end="url(#m)" fill="none"/></g></g></g>'
+    '<defs><clipPath id="a"><circle cx="20" cy="15" r="14"/></clipPath>'
+    '<clipPath id="b"><rect x="20" y="10" width="25" height="30"/></clipPath>'
+    '<marker id="m" markerWidth="4" markerHeight="4" refX="2" refY="2">'
+    '<circle cx="2" cy="2" r="2" fill="context-stroke"/></marker></defs>',
+    # the inherit keyword on a shape reads the group it is in: opacity, clip and mask twice
+    '<g opacity="0.5"><rect width="30" height="30" fill="#f00" opacity="inherit"/></g>'
+    '<g clip-path="url(#c)"><rect x="20" y="20" width="30" height="30" '
+    'clip-path="inherit"/></g>'
+    '<g mask="url(#k)"><circle cx="15" cy="45" r="12" mask="inherit"/></g>'
+    '<g fill="#00f"><g opacity="0.6"><rect x="30" width="20" height="20" fill="inherit"/>'
+    '</g></g>'
+    '<defs><clipPath id="c"><circle cx="35" cy="35" r="15"/></clipPath>'
+    '<mask id="k"><rect width="60" height="60" fill="#888"/></mask></defs>',
+    # CSS rules and <use> of shapes under groups with their own filter or transform
+    '<style>.s { stroke: #a50; stroke-width: 4 } g.o { opacity: 0.5 }</style>'
+    '<g class="o"><path class="s" d="M5 5L55 20"/><use href="#u" x="5"/></g>'
+    '<g style="transform: translate(3px, 30px)"><use href="#u"/></g>'
+    '<defs><polygon id="u" points="5 30 30 50 50 35" fill="#08f" stroke="#000"/></defs>',
+]
+
+
+@pytest.mark.parametrize("body", _SHARED_STYLE_DOCS)
+def test_shapes_share_styles_past_layer_only_groups_without_changing_a_pixel(body, monkeypatch):
+    # brute force: the same bytes with the sharing (Style.child) and without it
+    from vecmsaa.api import render_svg_array
+    from vecmsaa.svg import document
+    source = f'<svg {SVG} width="60" height="60">{body}</svg>'.encode()
+    shared = render_svg_array(source, width=120)
+    monkeypatch.setattr(document, "LAYER_PROPERTIES", frozenset())
+    assert np.array_equal(render_svg_array(source, width=120), shared)
+
+
+def test_a_shape_saying_inherit_reads_its_own_group():
+    # SVG / CSS: opacity="inherit" takes the parent's 0.5 (the group's opacity then applies
+    # on top: 0.25 in all); fill="inherit" through a group with only opacity takes the fill
+    # of the group above it
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="10" height="10"><g fill="#00f"><g opacity="0.5">'
+                           '<rect width="10" height="10" opacity="inherit" fill="inherit"/>'
+                           '</g></g></svg>'.encode(), width=10)
+    assert tuple(int(v) for v in img[5, 5]) == pytest.approx((0, 0, 255, 64), abs=1)
+
+
+def test_shapes_under_groups_differing_only_by_clip_share_one_style():
+    d = doc('<g id="a" clip-path="url(#x)"><path id="p" stroke="#000"/></g>'
+            '<g id="b" clip-path="url(#y)"><path id="q" stroke="#000"/></g>'
+            '<g id="c" fill="red"><path id="r" stroke="#000"/></g>')
+    from vecmsaa.svg.document import Style
+    root = Style(d.root.specified)
+    style = root.child(d.ids["a"]).child(d.ids["p"])
+    assert root.child(d.ids["b"]).child(d.ids["q"]) is style
+    assert root.child(d.ids["c"]).child(d.ids["r"]) is not style     # fill is inherited
+    assert style.get("stroke") == "#000" and style.get("fill") == "black"

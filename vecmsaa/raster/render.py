@@ -33,9 +33,9 @@ from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from ..jit import bind_tail
-from .modes import EXACT_MODES, FILTERS, MODES, SATURATE_MODES
+from .modes import EXACT_MODES, FILTERS, MODES, MSAA_MODES, SATURATE_MODES
 from ..geometry.primitives import NO_CULL, QUAD_FALLBACK_TOL, batch_arrays, build_batch
-from ..scene.path import CLOSE, CONIC, CUBIC, MOVE, QUAD
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
                               stratified_pattern)
@@ -1014,20 +1014,27 @@ class Layer:
 
     def __init__(self, group: Group, opts: RenderOptions, pool=None, bound=None,
                  canvas=NO_CULL):
-        self.clip = (Layer(group.clip, opts, pool, canvas=canvas) if group.clip is not None
-                     else None)
+        # a clip that is one rectangle is prepared only if it does not cover the content
+        # (_clip_covers); its rows are those its batch would have
+        rect = _rectangle_clip(group.clip, opts) if group.clip is not None else None
+        self.clip = (Layer(group.clip, opts, pool, canvas=canvas)
+                     if group.clip is not None and rect is None else None)
         self.mask = (Layer(group.mask.content, opts, pool, canvas=canvas)
                      if group.mask is not None else None)
-        for part in (self.clip, self.mask):
-            if part is not None:
-                bound = part.rows if bound is None else _intersection(bound, part.rows)
-                if bound is None:
-                    break
-        hidden = bound is None and (self.clip is not None or self.mask is not None)
+        parts = [p.rows for p in (self.clip, self.mask) if p is not None]
+        if rect is not None:
+            parts.insert(0, (rect[1] - QUAD_FALLBACK_TOL, rect[3] + QUAD_FALLBACK_TOL))
+        for rows in parts:
+            bound = rows if bound is None else _intersection(bound, rows)
+            if bound is None:
+                break
+        hidden = bound is None and bool(parts)
         # a filtered layer's content is prepared when it is filtered (moved to its region)
         self.group = group if group.filters else None
         self.items = ([] if group.filters or hidden
                       else prepare_items(group, opts, pool, bound, canvas))
+        if rect is not None and (hidden or not _clip_covers(rect, self.items)):
+            self.clip = Layer(group.clip, opts, pool, canvas=canvas)
         self.mask_kind = group.mask.kind if group.mask is not None else None
         self.opacity = group.opacity
         self.blend = group.blend
@@ -1048,6 +1055,87 @@ class Layer:
         #: layer buffers drawing it holds at once (layer_depth)
         self.depth = 1 + max([layer_depth(self.items)]
                              + [part.depth for part in (self.clip, self.mask) if part is not None])
+
+
+def _rectangle_clip(clip: Group, opts: RenderOptions):
+    """(x0, y0, x1, y1) of a clip that is one opaque, antialiased, axis-aligned rectangle,
+    drawn by a multisample kernel: its coverage is exactly 1 at a pixel whose samples are
+    all inside (the opaque colour itself), so _clip_covers can tell where drawing it
+    changes nothing. None for any other clip, and in the exact modes (an area summed in
+    floats) and CSAA."""
+    if opts.mode not in MSAA_MODES or opts.color_samples != opts.samples \
+            or clip.clip is not None or clip.mask is not None or clip.filters \
+            or len(clip.children) != 1 or type(clip.children[0]) is not Fill:
+        return None
+    fill = clip.children[0]
+    if type(fill.paint) is not Solid or fill.paint.color[3] != 1.0 or fill.opacity != 1.0 \
+            or not fill.antialias:
+        return None
+    return _axis_rectangle(fill.path)
+
+
+def _clip_covers(rect, items) -> bool:
+    """Whether a rectangle clip (_rectangle_clip) has coverage 1 at every pixel the items
+    can draw in (their boxes, with the pixels a kernel can write beyond them, and one to
+    spare on every side): it multiplies the layer by exactly 1 wherever the layer is not
+    transparent, so drawing it changes no pixel (a mask's region around its content, a
+    marker's viewport around its drawing)."""
+    box = _items_box(items)
+    if box is None:
+        return False
+    x0, y0, x1, y1 = rect
+    # a kernel writes in columns floor(box x0) .. floor(box x1) + 1 and rows floor(box y0) ..
+    # floor(box y1); a pixel px has its samples inside when x0 < px and px + 1 < x1
+    return (x0 + 1.0 < math.floor(box[0]) and math.floor(box[2]) + 3.0 < x1
+            and y0 + 1.0 < math.floor(box[1]) and math.floor(box[3]) + 2.0 < y1)
+
+
+_RECT_VERBS = (bytes((MOVE, LINE, LINE, LINE, CLOSE)), bytes((MOVE, LINE, LINE, LINE, LINE, CLOSE)))
+
+
+def _axis_rectangle(path):
+    """(x0, y0, x1, y1) of a path that is one axis-aligned rectangle of positive size (four
+    sides, the last one closed or drawn), else None."""
+    verbs, pts = path.verbs, path.points
+    if verbs.tobytes() not in _RECT_VERBS:
+        return None
+    p = pts.reshape(-1, 2).tolist()
+    if len(p) == 5 and p[4] != p[0]:
+        return None
+    (ax, ay), (bx, by), (cx, cy), (dx, dy) = p[:4]
+    sides = ((ax == bx and by == cy and cx == dx and dy == ay)
+             or (ay == by and bx == cx and cy == dy and dx == ax))
+    x0, x1 = min(ax, cx), max(ax, cx)
+    y0, y1 = min(ay, cy), max(ay, cy)
+    if not sides or not (x0 < x1 and y0 < y1) or not all(map(math.isfinite, (x0, y0, x1, y1))):
+        return None
+    return x0, y0, x1, y1
+
+
+def _items_box(items):
+    """(x0, y0, x1, y1) of the boxes of prepared items' fills (nested layers' content, a
+    filtered layer's filter box), None when there are none or one is not finite."""
+    lo_x = lo_y = math.inf
+    hi_x = hi_y = -math.inf
+    for item in items:
+        if isinstance(item, FillBatch):
+            if len(item.box) <= SMALL_BATCH:
+                boxes = item.box.tolist()
+                box = (min(b[0] for b in boxes), item.rows[0], max(b[2] for b in boxes),
+                       item.rows[1])
+            else:
+                box = (float(item.box[:, 0].min()), item.rows[0],
+                       float(item.box[:, 2].max()), item.rows[1])
+        elif item.filters:
+            box = filter_box(item)
+        else:
+            box = _items_box(item.items)
+            if box is None:
+                return None
+        lo_x, lo_y = min(lo_x, box[0]), min(lo_y, box[1])
+        hi_x, hi_y = max(hi_x, box[2]), max(hi_y, box[3])
+    box = (lo_x, lo_y, hi_x, hi_y)
+    return box if all(map(math.isfinite, box)) else None
 
 
 def _sole_filtered(layer: Layer):

@@ -298,12 +298,33 @@ class Style:
         """The style of ``element`` under this one. Siblings specifying the same values share
         one Style, and with it every value computed from it (map data repeats one style over
         thousands of elements). The shared Style keeps a copy of the values, as the text
-        module expands ``font`` in an element's own dict."""
+        module expands ``font`` in an element's own dict.
+
+        A basic shape (no children, no text) takes its style under the nearest ancestor
+        style that specifies more than LAYER_PROPERTIES: those are not inherited, so such a
+        style passes on exactly its parent's values, and a shape that says ``inherit`` for
+        none of its values never reads them. Shapes under groups that differ only by their
+        clip path, mask, opacity, filter or transform (each group of a sheet of symbols
+        with its own clip) then share one Style, and the stroke parameters, paints and
+        plans computed from it, instead of one each."""
         key = tuple(element.specified.items())
-        style = self._children.get(key)
+        owner = self
+        if element.tag in _SHAPE_TAGS and not any("inherit" in v.lower() for _, v in key):
+            while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
+                owner = owner.parent
+        style = owner._children.get(key)
         if style is None:
-            style = self._children[key] = Style(dict(key), self)
+            style = owner._children[key] = Style(dict(key), owner)
         return style
+
+
+#: properties that are not inherited and that nothing reads up a shape's ancestors (see
+#: Style.child): a group's compositing and placement
+LAYER_PROPERTIES = frozenset((
+    "clip-path", "mask", "opacity", "filter", "mix-blend-mode", "isolation", "transform",
+    "transform-origin", "transform-box", "translate", "rotate", "scale"))
+#: elements whose style no other element's derives from (see Style.child)
+_SHAPE_TAGS = frozenset(("rect", "circle", "ellipse", "line", "polyline", "polygon", "path"))
 
 
 # -- XML ------------------------------------------------------------------------------------------
