@@ -13,7 +13,7 @@ from numba import njit
 from vecmsaa.scene.path import (CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path,
                                conic_weight)
 from vecmsaa.svg.markers import auto_angle, marker_vertices
-from vecmsaa.geometry import stroke_kernels
+from vecmsaa.geometry import hypot
 from vecmsaa.geometry.stroke import dash_pattern, stroke_path
 from vecmsaa.svg.pathdata import parse_path_data, parse_path_data_with_commands
 
@@ -244,7 +244,7 @@ def test_distance_property_curves_tiny_and_huge(scale):
 
 
 # (the kernel has no CPython wrapper: only other kernels call it)
-_hypot = njit(lambda x, y: stroke_kernels._hypot(x, y))
+_hypot = njit(lambda x, y: hypot._hypot(x, y))
 
 
 @settings(max_examples=200, deadline=None)
