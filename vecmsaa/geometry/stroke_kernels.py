@@ -253,10 +253,11 @@ def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, miterlimit,
-                     q, dirs, lens, rv, rp, lv, lp):
+                     q, dirs, lens, rv, rp, lv, lp, rc, lc):
     """One subpath of straight lines, src[lo:hi] (a closed one without its closing point
     repeated): one contour when open, two loops when closed, joins and caps inline.
-    q, dirs, lens and the side buffers rv/rp, lv/lp are scratch space.
+    q, dirs, lens and the side buffers rv/rp, lv/lp with their counts rc, lc are scratch
+    space.
 
     As chains this outline is exactly the sum of separate positive pieces (a rectangle per
     segment, a wedge per join, the caps): on the outer side the wedge and the rectangles' butt
@@ -283,8 +284,7 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
         dirs[i, 0] = dx / ln
         dirs[i, 1] = dy / ln
         lens[i] = ln
-    rc = np.zeros(2, np.int64)
-    lc = np.zeros(2, np.int64)
+    rc[0] = rc[1] = lc[0] = lc[1] = 0
     px, py = q[0, 0], q[0, 1]
     _point(rp, rc, px + dirs[0, 1] * hw, py - dirs[0, 0] * hw)
     _point(lp, lc, px - dirs[0, 1] * hw, py + dirs[0, 0] * hw)
@@ -586,12 +586,14 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     lv = np.empty(_SIDE_VERBS_PER_VERTEX * longest + 4, np.uint8)
     rp = np.empty((side_pts, 2))
     lp = np.empty((side_pts, 2))
+    rc = np.zeros(2, np.int64)
+    lc = np.zeros(2, np.int64)
     for s in range(nsub):
         lo, hi = starts[s], starts[s + 1]
         if hi <= lo:
             continue
         _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed[s], hw, tol, join, cap,
-                         miterlimit, q, dirs, lens, rv, rp, lv, lp)
+                         miterlimit, q, dirs, lens, rv, rp, lv, lp, rc, lc)
     for i in range(ndot):
         dot_contour(verbs, pts, cnt, dots[2 * i, 0], dots[2 * i, 1], dots[2 * i + 1, 0],
                     dots[2 * i + 1, 1], hw, cap, tol)
@@ -1121,7 +1123,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
             rp = _grow_points(rp, side_pts)
             lp = _grow_points(lp, side_pts)
             _stroke_polyline(verbs, pts, cnt, src, np.int64(0), m, closed, hw, tol, join, cap,
-                             miterlimit, q, dirs, lens, rv, rp, lv, lp)
+                             miterlimit, q, dirs, lens, rv, rp, lv, lp, rc, lc)
             continue
         firsts = _grow(firsts, hi - lo + 1)     # each segment's first piece, then n
         # each segment's own end directions (start x, y, end x, y): where a bend tighter than
