@@ -13,7 +13,7 @@ from numba import njit
 from vecmsaa.scene.path import (CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD, VERB_POINTS, Path,
                                conic_weight)
 from vecmsaa.svg.markers import auto_angle, marker_vertices
-from vecmsaa.geometry import stroke_kernels
+from vecmsaa.geometry import hypot
 from vecmsaa.geometry.stroke import dash_pattern, stroke_path
 from vecmsaa.svg.pathdata import parse_path_data, parse_path_data_with_commands
 
@@ -244,7 +244,7 @@ def test_distance_property_curves_tiny_and_huge(scale):
 
 
 # (the kernel has no CPython wrapper: only other kernels call it)
-_hypot = njit(lambda x, y: stroke_kernels._hypot(x, y))
+_hypot = njit(lambda x, y: hypot._hypot(x, y))
 
 
 @settings(max_examples=200, deadline=None)
@@ -673,6 +673,43 @@ def test_dashes_of_curves_join_through_the_start_and_make_dots():
     dots = stroke_path(curve, 2, cap="round", dashes=[0, 10])
     assert inside(dots, [(0.5, 0), (10, 0.9), (20, -0.9)]).all()
     assert not inside(dots, [(5, 0), (15, 0), (25, 0)]).any()
+
+
+@pytest.mark.parametrize("dashes", [None, [3.0, 1.0, 0.0, 2.0]])
+@pytest.mark.parametrize("join, cap", [("round", "round"), ("miter", "butt")])
+def test_every_subpath_strokes_as_it_would_alone(dashes, join, cap):
+    # the curve stroker keeps its scratch (piece table, stack, side buffers and their
+    # counts, run tables) from one subpath to the next and grows it for a longer one: each
+    # subpath's outline must be the one it gets alone, whatever came before it (a long tight
+    # curve of many pieces, then short ones; lines only; closed; a lone point; dashes, dots;
+    # a line's end directions, which the miter limit judges, where a curve's were before)
+    from vecmsaa.geometry import stroke, stroke_kernels
+    from vecmsaa.geometry.arclength import gl_nodes
+    ds = ["M 0 0 C 300 0 -200 90 100 100 S 0 300 90 260", "M 5 5 L 20 5 L 20 30",
+          "M 40 40 Q 60 10 80 40 Z", "M 10 90 C 12 91 14 91 16 90", "M 50 50 Z",
+          "M 0 120 L 40 120 L 40 160 C 60 160 60 120 80 120 L 80 80 Z",
+          "M 0 400 C 10 400 20 400 30 400 L 0 403"]
+    segments = stroke._path_segments(parse_path_data(" ".join(ds)))
+    if dashes:
+        segments = stroke_kernels.dash_segments(*segments, np.array(dashes), 0.5, 1e-5,
+                                                gl_nodes())
+    kinds, segs, subs, flags = segments
+    assert len(flags) >= len(ds)
+    verbs, pts = stroke._segments_outline(segments, 1.5, 0.05, join, cap, 4.0)
+    alone_verbs, alone_pts = [], []
+    for k in range(len(flags)):
+        lo, hi = subs[k], subs[k + 1]
+        v, p = stroke._segments_outline((kinds[lo:hi].copy(), segs[lo:hi].copy(),
+                                         np.array([0, hi - lo]), flags[k:k + 1].copy()),
+                                        1.5, 0.05, join, cap, 4.0)
+        alone_verbs.append(v)
+        alone_pts.append(p)
+    assert bytes(verbs) == b"".join(map(bytes, alone_verbs))
+    assert np.array_equal(pts, np.vstack(alone_pts))
+    if join == "miter":
+        # the U-turn at (30, 400) is over the miter limit: beveled, its corners 0.15 beyond
+        # x = 30 (a clipped miter would reach 31.4 or more)
+        assert pts[pts[:, 1] > 350, 0].max() < 30.2
 
 
 def test_dashes_invalid_or_zero_draw_solid():

@@ -15,6 +15,7 @@ from ..jit import njit
 
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 from .arclength import _cubic_velocity, _exact_t, _length_to
+from .hypot import _hypot
 from .primitives import _conic_weight
 
 JOIN_CODES = {"miter": 0, "arcs": 0, "miter-clip": 1, "round": 2, "bevel": 3}
@@ -252,10 +253,11 @@ def _emit_closed_sides(verbs, pts, cnt, rv, rp, rc, lv, lp, lc):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, miterlimit,
-                     q, dirs, lens, rv, rp, lv, lp):
+                     q, dirs, lens, rv, rp, lv, lp, rc, lc):
     """One subpath of straight lines, src[lo:hi] (a closed one without its closing point
     repeated): one contour when open, two loops when closed, joins and caps inline.
-    q, dirs, lens and the side buffers rv/rp, lv/lp are scratch space.
+    q, dirs, lens and the side buffers rv/rp, lv/lp with their counts rc, lc are scratch
+    space.
 
     As chains this outline is exactly the sum of separate positive pieces (a rectangle per
     segment, a wedge per join, the caps): on the outer side the wedge and the rectangles' butt
@@ -282,8 +284,7 @@ def _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed, hw, tol, join, cap, m
         dirs[i, 0] = dx / ln
         dirs[i, 1] = dy / ln
         lens[i] = ln
-    rc = np.zeros(2, np.int64)
-    lc = np.zeros(2, np.int64)
+    rc[0] = rc[1] = lc[0] = lc[1] = 0
     px, py = q[0, 0], q[0, 1]
     _point(rp, rc, px + dirs[0, 1] * hw, py - dirs[0, 0] * hw)
     _point(lp, lc, px - dirs[0, 1] * hw, py + dirs[0, 0] * hw)
@@ -585,12 +586,14 @@ def _stroke_polylines(src, starts, closed, dots, hw, tol, join, cap, miterlimit)
     lv = np.empty(_SIDE_VERBS_PER_VERTEX * longest + 4, np.uint8)
     rp = np.empty((side_pts, 2))
     lp = np.empty((side_pts, 2))
+    rc = np.zeros(2, np.int64)
+    lc = np.zeros(2, np.int64)
     for s in range(nsub):
         lo, hi = starts[s], starts[s + 1]
         if hi <= lo:
             continue
         _stroke_polyline(verbs, pts, cnt, src, lo, hi, closed[s], hw, tol, join, cap,
-                         miterlimit, q, dirs, lens, rv, rp, lv, lp)
+                         miterlimit, q, dirs, lens, rv, rp, lv, lp, rc, lc)
     for i in range(ndot):
         dot_contour(verbs, pts, cnt, dots[2 * i, 0], dots[2 * i, 1], dots[2 * i + 1, 0],
                     dots[2 * i + 1, 1], hw, cap, tol)
@@ -683,69 +686,6 @@ _JOIN_SIDE_VERBS = 2 + _MAX_ARC_CHORDS
 _JOIN_SIDE_PTS = 8
 
 
-_DBL_MIN = 2.2250738585072014e-308      # the smallest normal double
-
-
-@njit(cache=True, inline="always")
-def _square(x):
-    """x·x exactly, as (hi, lo) (Dekker's product of Veltkamp halves)."""
-    t = x * 134217729.0
-    hi = t - (t - x)
-    lo = x - hi
-    p = hi * hi
-    q = hi * lo + lo * hi
-    z = p + q
-    return z, p - z + q + lo * lo
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _hypot(x, y):
-    """math.hypot as CPython computes it (the square root of an exactly summed sum of squares,
-    corrected by one step): libm's hypot, which numba calls, differs in the last bit now and
-    then, and the offsets' fits and flatness tests magnify that; so the curve stroker keeps
-    the outlines it drew in Python, bit for bit (subnormal lengths aside)."""
-    x, y = abs(x), abs(y)
-    m = 0.0
-    if x > m:
-        m = x
-    if y > m:
-        m = y
-    if math.isinf(m):
-        return m
-    if math.isnan(x) or math.isnan(y):
-        return math.nan
-    if m == 0.0:
-        return m
-    factor = 1.0
-    # frexp's exponent and 2**-e from m's bits where both are normal numbers (m in
-    # [2**-1022, 2**1022)): frexp and ldexp are calls into libm, this is its most frequent case
-    biased = (np.float64(m).view(np.int64) >> 52) & 0x7FF
-    if 0 < biased < 2045:
-        scale = np.int64((2045 - biased) << 52).view(np.float64)
-    else:
-        e = math.frexp(m)[1]
-        if e < -1023:           # subnormal: scaled up first
-            x, y, m, factor = x / _DBL_MIN, y / _DBL_MIN, m / _DBL_MIN, _DBL_MIN
-            e = math.frexp(m)[1]
-        scale = math.ldexp(1.0, -e)
-    csum, frac1, frac2 = 1.0, 0.0, 0.0
-    for v in (x * scale, y * scale):
-        hi, lo = _square(v)
-        s = csum + hi
-        frac2 += (csum - s) + hi
-        csum = s
-        frac1 += lo
-    h = math.sqrt(csum - 1.0 + (frac1 + frac2))
-    hi, lo = _square(h)
-    s = csum - hi
-    frac2 += (csum - s) - hi
-    csum = s
-    frac1 -= lo
-    v = csum - 1.0 + (frac1 + frac2)
-    h += v / (2.0 * h)
-    return factor * (h / scale)
-
-
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _unit(dx, dy):
     """(ok, ux, uy): the direction of (dx, dy); not ok for a zero or non-finite length."""
@@ -778,25 +718,29 @@ def _curvature(c, t):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _offset_at(c, t, off):
-    """(ok, x, y): the true offset's point at t (off: signed distance along the left normal)."""
-    dx, dy = _cubic_velocity(c, t)
-    ok, ux, uy = _unit(dx, dy)
-    if not ok:
-        return False, 0.0, 0.0
-    x, y = _cubic_at(c, t)
-    return True, x - uy * off, y + ux * off
+def _offset_probes(c, probes):
+    """Where the true offsets of c are compared with their fits, at t = ¼, ½, ¾: rows (ok,
+    x, y, ux, uy), the point and the unit tangent (ok 0 where the speed vanishes); the offset
+    by off is (x − uy·off, y + ux·off). Both sides' fits share them."""
+    for i in range(3):
+        t = 0.25 * (i + 1)
+        ok, ux, uy = _unit(*_cubic_velocity(c, t))
+        x, y = _cubic_at(c, t)
+        probes[i, 0] = 1.0 if ok else 0.0
+        probes[i, 1], probes[i, 2], probes[i, 3], probes[i, 4] = x, y, ux, uy
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
+def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit, probes):
     """Write into fit the cubic approximating the offset of c by off: end points and tangents
-    exact, handle lengths chosen so the midpoints agree. Returns whether they do: where the
-    end tangents are parallel or the handles would point backwards, the handles are the
-    source's scaled instead, and the midpoint is wherever that puts it."""
+    exact, handle lengths chosen so the midpoints agree (the midpoint from _offset_probes'
+    probes). Returns whether they do: where the end tangents are parallel or the handles
+    would point backwards, the handles are the source's scaled instead, and the midpoint is
+    wherever that puts it."""
     q0x, q0y = c[0] - t0y * off, c[1] + t0x * off
     q3x, q3y = c[6] - t1y * off, c[7] + t1x * off
-    ok, mx, my = _offset_at(c, 0.5, off)
+    ok = probes[1, 0] != 0.0
+    mx, my = probes[1, 1] - probes[1, 4] * off, probes[1, 2] + probes[1, 3] * off
     det = t1x * t0y - t0x * t1y             # det of [t0, -t1]
     a = b = 0.0
     solved = False
@@ -826,20 +770,20 @@ def _fit_offset(c, t0x, t0y, t1x, t1y, off, fit):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _offset_error(c, fit, off, mid):
-    """Distance of the fitted offset from the true one at the quarter points, and at the
-    midpoint unless the fit matched it there (mid: it did not). The scaled handles of an
-    S-shaped piece with parallel end tangents can be off most in the middle: for (0,0) (5,0)
-    (0,1) (7,1) at half width 0.5 by 0.34 there (0.116 from the true offset's points) and
-    0.098 and 0.049 at the quarter points."""
+def _offset_error(fit, off, mid, probes):
+    """Distance of the fitted offset from the true one (_offset_probes' probes) at the quarter
+    points, and at the midpoint unless the fit matched it there (mid: it did not). The scaled
+    handles of an S-shaped piece with parallel end tangents can be off most in the middle: for
+    (0,0) (5,0) (0,1) (7,1) at half width 0.5 by 0.34 there (0.116 from the true offset's
+    points) and 0.098 and 0.049 at the quarter points."""
     err = 0.0
-    for t in (0.25, 0.5, 0.75):
-        if t == 0.5 and not mid:
+    for i in range(3):
+        if i == 1 and not mid:
             continue
-        ok, tx, ty = _offset_at(c, t, off)
-        if not ok:
+        if probes[i, 0] == 0.0:
             return math.inf
-        x, y = _cubic_at(fit, t)
+        tx, ty = probes[i, 1] - probes[i, 4] * off, probes[i, 2] + probes[i, 3] * off
+        x, y = _cubic_at(fit, 0.25 * (i + 1))
         e = _hypot(x - tx, y - ty)
         if e > err:
             err = e
@@ -1120,6 +1064,33 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
     verbs = np.empty(64, np.uint8)
     pts = np.empty((64, 2))
     cnt = np.zeros(2, np.int64)
+    # scratch for every subpath, grown as a longer one needs (dashes make thousands of short
+    # subpaths, and twenty small allocations each took a third of the stroker's time)
+    src = np.empty((16, 2))
+    q = np.empty((16, 2))
+    dirs = np.empty((16, 2))
+    lens = np.empty(16)
+    tab = np.empty((16, _PIECE_COLS))
+    pk = np.empty(16, np.uint8)
+    stack = np.empty((_MAX_DEPTH + 2, 9))
+    cur = np.empty(8)
+    right = np.empty(8)
+    left = np.empty(8)
+    probes = np.empty((3, 5))
+    firsts = np.empty(16, np.int64)
+    ends = np.empty((16, 4))
+    piece_seg = np.empty(16, np.int64)
+    run_lo = np.empty(16, np.int64)
+    run_join = np.empty(16, np.int64)
+    rv = np.empty(64, np.uint8)
+    lv = np.empty(64, np.uint8)
+    rp = np.empty((64, 2))
+    lp = np.empty((64, 2))
+    rc = np.zeros(2, np.int64)
+    lc = np.zeros(2, np.int64)
+    tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
+    tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
+    tc = np.zeros(2, np.int64)
     for k in range(len(flags)):
         lo, hi = subs[k], subs[k + 1]
         if flags[k] == SUB_DOT:
@@ -1134,7 +1105,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
             lines = lines and kinds[s] == 2
         if lines:
             m = hi - lo + 1
-            src = np.empty((m, 2))
+            src = _grow_points(src, m)
             for s in range(lo, hi):
                 src[s - lo, 0], src[s - lo, 1] = segs[s, 0], segs[s, 1]
             src[m - 1, 0], src[m - 1, 1] = segs[hi - 1, 2], segs[hi - 1, 3]
@@ -1142,23 +1113,26 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                                 2 * _CAP_VERBS + 4 + _DOT_VERBS)
             pts = _grow_points(pts, cnt[1] + 2 * (_SIDE_PTS_PER_VERTEX * m + 2) + 2 * _CAP_PTS +
                                4 + _DOT_PTS + 1)
+            side_verbs = _SIDE_VERBS_PER_VERTEX * m + 4
             side_pts = _SIDE_PTS_PER_VERTEX * m + 4
+            q = _grow_points(q, m)
+            dirs = _grow_points(dirs, m)
+            lens = _grow(lens, m)
+            rv = _grow(rv, side_verbs)
+            lv = _grow(lv, side_verbs)
+            rp = _grow_points(rp, side_pts)
+            lp = _grow_points(lp, side_pts)
             _stroke_polyline(verbs, pts, cnt, src, np.int64(0), m, closed, hw, tol, join, cap,
-                             miterlimit, np.empty((m, 2)), np.empty((m, 2)), np.empty(m),
-                             np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
-                             np.empty((side_pts, 2)),
-                             np.empty(_SIDE_VERBS_PER_VERTEX * m + 4, np.uint8),
-                             np.empty((side_pts, 2)))
+                             miterlimit, q, dirs, lens, rv, rp, lv, lp, rc, lc)
             continue
-        tab = np.empty((16, _PIECE_COLS))
-        pk = np.empty(16, np.uint8)
-        stack = np.empty((_MAX_DEPTH + 2, 9))
-        cur = np.empty(8)
-        firsts = np.empty(hi - lo + 1, np.int64)    # each segment's first piece, then n
+        firsts = _grow(firsts, hi - lo + 1)     # each segment's first piece, then n
         # each segment's own end directions (start x, y, end x, y): where a bend tighter than
         # the half width makes a curve's end pieces chords, their directions are off its tangent,
         # and a join's miter limit must judge the tangents (SVG 2 path directionality)
-        ends = np.zeros((hi - lo, 4))
+        ends = _grow_points(ends, hi - lo)
+        for s in range(hi - lo):
+            for j in range(4):
+                ends[s, j] = 0.0
         n = np.int64(0)         # (not a literal 0: that would compile the helpers twice)
         for s in range(lo, hi):
             firsts[s - lo] = n
@@ -1176,8 +1150,9 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 _as_cubic(stack, seg, kinds[s])
                 for j in range(8):
                     cur[j] = stack[0, j]
-                ok, ends[s - lo, 0], ends[s - lo, 1], ends[s - lo, 2], ends[s - lo, 3] = \
-                    _cubic_tangents(cur)
+                ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
+                ends[s - lo, 0], ends[s - lo, 1], ends[s - lo, 2], ends[s - lo, 3] = \
+                    t0x, t0y, t1x, t1y
                 # The cubic in stack[0] becomes pieces (written out here, not a kernel of its
                 # own: each call level is linked, optimised and compiled again in its caller):
                 # offset cubics where they fit within tol, else halves (depth first, the first
@@ -1189,8 +1164,6 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 # itself. The joins' and caps' arcs may lie inside the disc by their own
                 # tolerance, which adds to the chord's: they get what the chord leaves (see
                 # _shape_tol). stack rows: 8 coordinates and the depth; cur: one cubic.
-                right = np.empty(8)
-                left = np.empty(8)
                 stack[0, 8] = 0.0
                 top = 1
                 while top > 0:
@@ -1198,7 +1171,8 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                     for j in range(8):
                         cur[j] = stack[top, j]
                     depth = int(stack[top, 8])
-                    ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
+                    if depth > 0:       # (the whole cubic's were found above)
+                        ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
                     if not ok:
                         continue
                     # a piece turning by more than 90° is split so the midpoint fit stays well
@@ -1212,11 +1186,12 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                                 fits = False
                                 break
                     if fits:
-                        mid = not _fit_offset(cur, t0x, t0y, t1x, t1y, -hw, right)
-                        fits = not _offset_error(cur, right, -hw, mid) > tol
+                        _offset_probes(cur, probes)
+                        mid = not _fit_offset(cur, t0x, t0y, t1x, t1y, -hw, right, probes)
+                        fits = not _offset_error(right, -hw, mid, probes) > tol
                     if fits:
-                        mid = not _fit_offset(cur, t0x, t0y, t1x, t1y, hw, left)
-                        fits = not _offset_error(cur, left, hw, mid) > tol
+                        mid = not _fit_offset(cur, t0x, t0y, t1x, t1y, hw, left, probes)
+                        fits = not _offset_error(left, hw, mid, probes) > tol
                     if fits:
                         tab = _grow_points(tab, n + 1)
                         pk = _grow(pk, n + 1)
@@ -1266,7 +1241,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                         tab, pk, n = _line_piece(tab, pk, n, mx, my, cur[6], cur[7], dx, dy,
                                                  hw, flat)
         firsts[hi - lo] = n
-        piece_seg = np.empty(n + 1, np.int64)
+        piece_seg = _grow(piece_seg, n + 1)
         for s in range(hi - lo):
             if firsts[s + 1] > firsts[s] and ends[s, 0] == 0.0 and ends[s, 1] == 0.0:
                 # a line or an exact arc: its pieces' own directions
@@ -1275,8 +1250,8 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 ends[s, 3] = tab[firsts[s + 1] - 1, _PT1 + 1]
             for j in range(firsts[s], firsts[s + 1]):
                 piece_seg[j] = s
-        run_lo = np.empty(n + 1, np.int64)
-        run_join = np.empty(n + 1, np.int64)
+        run_lo = _grow(run_lo, n + 1)
+        run_join = _grow(run_join, n + 1)
         nruns = 0
         for s in range(hi - lo):
             first = firsts[s]
@@ -1298,15 +1273,11 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         # explained in _stroke_polyline, so the nonzero fill is their union.
         side_verbs = 2 * n + _JOIN_SIDE_VERBS * (nruns + 1) + 4
         side_pts = 4 * n + _JOIN_SIDE_PTS * (nruns + 1) + 4
-        rv = np.empty(side_verbs, np.uint8)
-        lv = np.empty(side_verbs, np.uint8)
-        rp = np.empty((side_pts, 2))
-        lp = np.empty((side_pts, 2))
-        rc = np.zeros(2, np.int64)
-        lc = np.zeros(2, np.int64)
-        tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
-        tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
-        tc = np.zeros(2, np.int64)
+        rv = _grow(rv, side_verbs)
+        lv = _grow(lv, side_verbs)
+        rp = _grow_points(rp, side_pts)
+        lp = _grow_points(lp, side_pts)
+        rc[0] = rc[1] = lc[0] = lc[1] = 0
         _point(rp, rc, tab[0, _PR], tab[0, _PR + 1])
         _point(lp, lc, tab[0, _PL], tab[0, _PL + 1])
         # (np.int64: an int literal argument would compile a specialisation of its own)
