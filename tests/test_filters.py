@@ -1414,3 +1414,10 @@ def test_a_lone_blur_of_the_source_written_in_place_is_the_general_path(sigma, l
             want = F.apply_filter(make(), flt, own_source=False)
             got = F.apply_filter(make(), flt, own_source=True)
             assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_blurring_an_empty_image_gives_it_back_empty():
+    for shape in ((0, 5, 4), (4, 0, 4), (0, 0, 1)):
+        for sigma in (0.8, 3.0):
+            got = F.gaussian_blur(np.zeros(shape, np.float32), sigma, sigma)
+            assert got.shape == shape

@@ -93,6 +93,8 @@ def convert_space(img: np.ndarray, to_linear: bool, out: np.ndarray | None = Non
 
 # -- primitives -----------------------------------------------------------------------------
 IIR_STEPS = 4
+#: rows the recursive blur along rows runs side by side (_iir_scan)
+ROW_BLOCK = 8
 
 
 def _iir_coefficients(sigma: float):
@@ -119,13 +121,19 @@ def _iir_scan(a, nu, axis):
                     for c in range(nc):
                         a[i - 1, j, c] += nu * a[i, j, c]
         else:
-            for j in range(n0):
+            # ROW_BLOCK rows side by side: each row's recursion is a chain of dependent
+            # operations, and one row's four channels kept the processor waiting on it
+            # (the same operations in the same order for each row)
+            for j0 in range(0, n0, ROW_BLOCK):
+                j1 = min(j0 + ROW_BLOCK, n0)
                 for i in range(1, n1):
-                    for c in range(nc):
-                        a[j, i, c] += nu * a[j, i - 1, c]
+                    for j in range(j0, j1):
+                        for c in range(nc):
+                            a[j, i, c] += nu * a[j, i - 1, c]
                 for i in range(n1 - 1, 0, -1):
-                    for c in range(nc):
-                        a[j, i - 1, c] += nu * a[j, i, c]
+                    for j in range(j0, j1):
+                        for c in range(nc):
+                            a[j, i - 1, c] += nu * a[j, i, c]
 
 
 @njit(cache=True)
@@ -315,7 +323,7 @@ def gaussian_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False)
         if not (len(rx) or len(ry)):
             return img
         out = src if in_place else np.empty_like(src)
-        _box_blur(src, out, rx, dx, ry, dy, min(BLUR_BLOCK, w))
+        _box_blur(src, out, rx, dx, ry, dy, max(1, min(BLUR_BLOCK, w)))
         return out
     return iir_blur(img, sx, sy, in_place)
 
