@@ -1354,9 +1354,9 @@ def _iir_reference(img, sx, sy):
 
 
 @pytest.mark.parametrize("sx, sy", [(0.8, 0.8), (0.3, 1.9), (1.2, 0.0), (0.0, 0.6)])
-def test_recursive_blur_in_one_kernel_call_is_the_recursion_written_out(sx, sy):
-    """iir_blur scans, scales and stores in one kernel call: the same bytes as the passes
-    written out in numpy, in place or not, for f32, f64 and strided input."""
+def test_recursive_blur_is_the_recursion_written_out(sx, sy):
+    """iir_blur (its scan along rows runs ROW_BLOCK rows side by side): the same bytes as
+    the passes written out in numpy, in place or not, for f32, f64 and strided input."""
     rng = np.random.default_rng(11)
     img = rng.uniform(0, 1, (13, 17, 4)).astype(np.float32)
     img[rng.random((13, 17)) < 0.4] = 0.0
@@ -1369,10 +1369,11 @@ def test_recursive_blur_in_one_kernel_call_is_the_recursion_written_out(sx, sy):
 
 
 @pytest.mark.parametrize("sx, sy", [(2.0, 2.0), (3.7, 2.5), (2.0, 0.0), (0.0, 9.0), (60.0, 3.0)])
-def test_box_blur_of_both_axes_in_one_call_is_each_axis_in_turn(sx, sy):
-    """The box blur does its rows and then its columns in one kernel call: the same bytes as
-    blurring the rows alone and then the columns alone; and each box pass is the mean over
-    its width (zeros outside), within f32 rounding of the passes computed directly."""
+def test_box_blur_is_each_axis_in_turn_and_each_box_a_mean(sx, sy):
+    """The box blur (its passes' radii and divisors kept per deviation and size): the same
+    bytes as blurring the rows alone and then the columns alone, in place or not; and each
+    box pass is the mean over its width (zeros outside, radii past the image's size
+    included), within f32 rounding of the passes computed directly."""
     rng = np.random.default_rng(12)
     for shape in ((9, 70, 4), (40, 23, 1), (1, 5, 4)):
         img = rng.uniform(0, 1, shape).astype(np.float32)

@@ -136,36 +136,25 @@ def _iir_scan(a, nu, axis):
                             a[j, i - 1, c] += nu * a[j, i, c]
 
 
-@njit(cache=True)
-def _iir_blur(a, out, nx, ny, scan_x, scan_y, gain):
-    """iir_blur's scans of the f64 image ``a`` (in place), its gain, and the f32 store into
-    ``out``, in one call (a small blurred marker paid four Python-level steps around them)."""
-    if scan_x:
-        _iir_scan(a, nx, 1)
-    if scan_y:
-        _iir_scan(a, ny, 0)
-    h, w, nc = a.shape
-    for i in range(h):
-        for j in range(w):
-            for c in range(nc):
-                out[i, j, c] = a[i, j, c] * gain
-
-
 def iir_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False) -> np.ndarray:
     """resvg's blur below sigma 2 (its port of Getreuer's gaussianiir): the Gaussian as a
     cascade of first-order recursive filters, in f64, the image's ends taken as nothing. A
     sampled Gaussian kernel gave up to 44 levels more than resvg at an edge at sigma 0.3.
     Both scans run in place on one f64 copy (each element sees the same sums in the same
     order as along a transposed copy); ``in_place``: the result is written into ``img``."""
-    a = img.astype(np.float64, order="C")
+    a = img.astype(np.float64)
     lx, nx = _iir_coefficients(sx) if sx > 0 else (1.0, 1.0)
     ly, ny = _iir_coefficients(sy) if sy > 0 else (1.0, 1.0)
+    if sx > 0:
+        _iir_scan(a, nx, 1)
+    if sy > 0:
+        _iir_scan(a, ny, 0)
     # each pass's gain is 1 / (1 - nu) and nu / lambda = (1 - nu)²: this keeps the mass
-    gain = (math.sqrt(nx * ny) / math.sqrt(lx * ly)) ** (2 * IIR_STEPS)
-    out = img if in_place and img.dtype == np.float32 and img.flags.c_contiguous \
-        else np.empty(img.shape, np.float32)
-    _iir_blur(a, out, nx, ny, sx > 0, sy > 0, gain)
-    return out
+    a *= (math.sqrt(nx * ny) / math.sqrt(lx * ly)) ** (2 * IIR_STEPS)
+    if in_place and img.dtype == np.float32:
+        img[...] = a
+        return img
+    return a.astype(np.float32)
 
 
 def _iir_reach(sigma: float) -> int:
@@ -276,54 +265,55 @@ def _box_blur_columns(src, dst, radii, divs, a, b):
 BLUR_BLOCK = 64
 
 
-@njit(cache=True)
-def _box_blur(src, dst, rx, dx, ry, dy, block):
-    """Box blurs along rows (radii ``rx``, divisors ``dx``; none when empty), then along
-    columns (``ry``, ``dy``), from ``src`` into ``dst`` (which may be ``src``), with their
-    scratch rows and blocks: one call for both axes."""
-    h, w, nc = src.shape
-    if len(rx):
-        _box_blur_rows(src, dst, rx, dx, np.empty((w, nc), np.float32),
-                       np.empty((w, nc), np.float32))
-        src = dst
-    if len(ry):
-        _box_blur_columns(src, dst, ry, dy, np.empty((h, block, nc), np.float32),
-                          np.empty((h, block, nc), np.float32))
-
-
 @functools.lru_cache(maxsize=256)
-def _box_passes(sigma: float, n: int):
-    """(radii, divisors) of the box blurs of deviation ``sigma`` (> 0) along an axis of
-    ``n`` pixels: width-1 boxes, which leave the image alone, left out; a radius past the
-    axis's length is that length (the same sums). Arrays the kernels only read."""
-    widths = [s for s in _box_sizes(sigma) if s > 1]
+def _box_passes(sizes: tuple, n: int):
+    """(radii, divisors) of box blurs of the odd widths ``sizes`` along an axis of ``n``
+    pixels: width-1 boxes, which leave the image alone, left out; a radius past the axis's
+    length is that length (the same sums). Arrays the kernels only read, made once per
+    document's deviations and sizes (they were a tenth of a small shadow's blur)."""
+    widths = [s for s in sizes if s > 1]
     return (np.array([min((s - 1) // 2, n) for s in widths], dtype=np.int64),
             np.array(widths, dtype=np.float64))
 
 
-_NO_BOXES = (np.zeros(0, np.int64), np.zeros(0, np.float64))
+def box_blur_axis(img: np.ndarray, sizes, axis: int, out: np.ndarray | None = None):
+    """Box blurs of the odd widths ``sizes`` one after another along ``axis`` (zeros outside),
+    into ``out`` (a new array when None; it may be ``img``): a width-w box is the mean over the
+    w pixels centred on each pixel. Width-1 boxes leave the image alone."""
+    src = np.ascontiguousarray(img, dtype=np.float32)
+    h, w, nc = src.shape
+    radii, divs = _box_passes(tuple(sizes), src.shape[axis])
+    if not len(radii):
+        return img
+    if out is None:
+        out = np.empty_like(src)
+    if axis == 1:
+        _box_blur_rows(src, out, radii, divs, np.empty((w, nc), np.float32),
+                       np.empty((w, nc), np.float32))
+    else:
+        # (a block of at least one column: range() takes no step of 0)
+        block = max(1, min(BLUR_BLOCK, w))
+        _box_blur_columns(src, out, radii, divs, np.empty((h, block, nc), np.float32),
+                          np.empty((h, block, nc), np.float32))
+    return out
 
 
 def gaussian_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False) -> np.ndarray:
     """Gaussian blur with standard deviations (sx, sy) pixels; a non-positive one leaves that
     axis alone, tiny ones (< 0.05) too. As resvg: five box blurs on both axes when either
-    deviation is at least BOX_BLUR_SIGMA (each a mean over the box's pixels, zeros outside),
-    the recursive Gaussian otherwise. ``in_place``: the result may be written into ``img``
-    (the caller no longer needs it): no image-sized copy."""
+    deviation is at least BOX_BLUR_SIGMA, the recursive Gaussian otherwise. ``in_place``: the
+    result may be written into ``img`` (the caller no longer needs it): no image-sized copy."""
     sx = sx if sx >= 0.05 else 0.0
     sy = sy if sy >= 0.05 else 0.0
     if sx <= 0 and sy <= 0:
         return img
     in_place = in_place and img.dtype == np.float32 and img.flags.c_contiguous
     if max(sx, sy) >= BOX_BLUR_SIGMA:
-        src = np.ascontiguousarray(img, dtype=np.float32)
-        h, w = src.shape[:2]
-        rx, dx = _box_passes(sx, w) if sx > 0 else _NO_BOXES
-        ry, dy = _box_passes(sy, h) if sy > 0 else _NO_BOXES
-        if not (len(rx) or len(ry)):
-            return img
-        out = src if in_place else np.empty_like(src)
-        _box_blur(src, out, rx, dx, ry, dy, max(1, min(BLUR_BLOCK, w)))
+        out = img
+        for axis, s in ((1, sx), (0, sy)):
+            if s > 0:
+                out = box_blur_axis(out, _box_sizes(s), axis,
+                                    out if (in_place or out is not img) else None)
         return out
     return iir_blur(img, sx, sy, in_place)
 
