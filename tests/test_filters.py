@@ -1331,3 +1331,94 @@ def test_a_primitive_without_x_y_width_height_takes_the_union_of_its_inputs_subr
                  '<rect width="40" height="40" fill="#0000ff" filter="url(#f)"/>')
     assert tuple(img[10, 15]) == green
     assert img[10, 22, 3] == 0 and img[22, 10, 3] == 0
+
+
+def _iir_reference(img, sx, sy):
+    """iir_blur written out in numpy: an f64 copy, IIR_STEPS forward and backward passes of
+    y[i] += nu·y[i - 1] along x then y (the recursion of Alvarez and Mazorra's steps), the
+    mass-keeping gain, rounded to f32."""
+    a = img.astype(np.float64)
+    lx, nx = F._iir_coefficients(sx) if sx > 0 else (1.0, 1.0)
+    ly, ny = F._iir_coefficients(sy) if sy > 0 else (1.0, 1.0)
+    for axis, nu, on in ((1, nx, sx > 0), (0, ny, sy > 0)):
+        if not on:
+            continue
+        b = np.moveaxis(a, axis, 0)                 # a view: the passes write into a
+        for _ in range(F.IIR_STEPS):
+            for i in range(1, len(b)):
+                b[i] += nu * b[i - 1]
+            for i in range(len(b) - 1, 0, -1):
+                b[i - 1] += nu * b[i]
+    a *= (math.sqrt(nx * ny) / math.sqrt(lx * ly)) ** (2 * F.IIR_STEPS)
+    return a.astype(np.float32)
+
+
+@pytest.mark.parametrize("sx, sy", [(0.8, 0.8), (0.3, 1.9), (1.2, 0.0), (0.0, 0.6)])
+def test_recursive_blur_is_the_recursion_written_out(sx, sy):
+    """iir_blur (its scan along rows runs ROW_BLOCK rows side by side): the same bytes as
+    the passes written out in numpy, in place or not, for f32, f64 and strided input."""
+    rng = np.random.default_rng(11)
+    img = rng.uniform(0, 1, (13, 17, 4)).astype(np.float32)
+    img[rng.random((13, 17)) < 0.4] = 0.0
+    want = _iir_reference(img, sx, sy)
+    assert np.array_equal(F.iir_blur(img, sx, sy), want)
+    assert np.array_equal(F.iir_blur(img.astype(np.float64), sx, sy), want)
+    assert np.array_equal(F.iir_blur(img[:, ::2], sx, sy), _iir_reference(img[:, ::2], sx, sy))
+    own = img.copy()
+    assert F.iir_blur(own, sx, sy, in_place=True) is own and np.array_equal(own, want)
+
+
+@pytest.mark.parametrize("sx, sy", [(2.0, 2.0), (3.7, 2.5), (2.0, 0.0), (0.0, 9.0), (60.0, 3.0)])
+def test_box_blur_is_each_axis_in_turn_and_each_box_a_mean(sx, sy):
+    """The box blur (its passes' radii and divisors kept per deviation and size): the same
+    bytes as blurring the rows alone and then the columns alone, in place or not; and each
+    box pass is the mean over its width (zeros outside, radii past the image's size
+    included), within f32 rounding of the passes computed directly."""
+    rng = np.random.default_rng(12)
+    for shape in ((9, 70, 4), (40, 23, 1), (1, 5, 4)):
+        img = rng.uniform(0, 1, shape).astype(np.float32)
+        got = F.gaussian_blur(img, sx, sy)
+        rows = F.gaussian_blur(img, sx, 0.0) if sx >= F.BOX_BLUR_SIGMA else img
+        want = F.gaussian_blur(rows, 0.0, sy) if sy >= F.BOX_BLUR_SIGMA else rows
+        assert np.array_equal(got, want)
+        own = img.copy()
+        assert F.gaussian_blur(own, sx, sy, in_place=True) is own and np.array_equal(own, got)
+        direct = img.astype(np.float64)
+        for axis, s in ((1, sx), (0, sy)):
+            for width in (F.box_sizes(s) if s > 0 else []):
+                r = (width - 1) // 2
+                moved = np.moveaxis(direct, axis, -1)
+                padded = np.pad(moved, [(0, 0)] * (moved.ndim - 1) + [(r, r)])
+                sums = sum(padded[..., k:k + moved.shape[-1]] for k in range(width))
+                direct = np.moveaxis(sums / width, -1, axis)
+        assert np.abs(got - direct).max() < 1e-5
+
+
+@pytest.mark.parametrize("sigma", [0.8, 1.6, 2.0, 3.5])
+@pytest.mark.parametrize("linear", [True, False])
+def test_a_lone_blur_of_the_source_written_in_place_is_the_general_path(sigma, linear):
+    """apply_filter computes a filter of one feGaussianBlur of SourceGraphic covering the
+    region in place when it owns the source (_lone_blur): the same bytes as its general path
+    (taken when the source is not its own), for f32, f64 and strided sources; a subregion
+    smaller than the region is left to the general path."""
+    from vecmsaa.scene.nodes import GaussianBlur
+    rng = np.random.default_rng(13)
+    src = rng.uniform(0, 1, (15, 19, 4)).astype(np.float32)
+    src[..., :3] *= src[..., 3:]
+    src[rng.random((15, 19)) < 0.3] = 0.0
+    for sub in ((10, 20, 29, 35), (8, 18, 40, 40), (12, 20, 29, 35)):
+        flt = Filter(region=(10, 20, 29, 35), primitives=[
+            Primitive(GaussianBlur(sigma, sigma * 0.7), (SOURCE_GRAPHIC,), sub, linear)])
+        assert F._lone_blur(flt, flt.region) == (sub != (12, 20, 29, 35))
+        for make in (src.copy, lambda: src.astype(np.float64),
+                     lambda: np.repeat(src, 2, axis=1)[:, ::2]):
+            want = F.apply_filter(make(), flt, own_source=False)
+            got = F.apply_filter(make(), flt, own_source=True)
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+
+
+def test_blurring_an_empty_image_gives_it_back_empty():
+    for shape in ((0, 5, 4), (4, 0, 4), (0, 0, 1)):
+        for sigma in (0.8, 3.0):
+            got = F.gaussian_blur(np.zeros(shape, np.float32), sigma, sigma)
+            assert got.shape == shape

@@ -93,6 +93,8 @@ def convert_space(img: np.ndarray, to_linear: bool, out: np.ndarray | None = Non
 
 # -- primitives -----------------------------------------------------------------------------
 IIR_STEPS = 4
+#: rows the recursive blur along rows runs side by side (_iir_scan)
+ROW_BLOCK = 8
 
 
 def _iir_coefficients(sigma: float):
@@ -119,13 +121,19 @@ def _iir_scan(a, nu, axis):
                     for c in range(nc):
                         a[i - 1, j, c] += nu * a[i, j, c]
         else:
-            for j in range(n0):
+            # ROW_BLOCK rows side by side: each row's recursion is a chain of dependent
+            # operations, and one row's four channels kept the processor waiting on it
+            # (the same operations in the same order for each row)
+            for j0 in range(0, n0, ROW_BLOCK):
+                j1 = min(j0 + ROW_BLOCK, n0)
                 for i in range(1, n1):
-                    for c in range(nc):
-                        a[j, i, c] += nu * a[j, i - 1, c]
+                    for j in range(j0, j1):
+                        for c in range(nc):
+                            a[j, i, c] += nu * a[j, i - 1, c]
                 for i in range(n1 - 1, 0, -1):
-                    for c in range(nc):
-                        a[j, i - 1, c] += nu * a[j, i, c]
+                    for j in range(j0, j1):
+                        for c in range(nc):
+                            a[j, i - 1, c] += nu * a[j, i, c]
 
 
 def iir_blur(img: np.ndarray, sx: float, sy: float, in_place: bool = False) -> np.ndarray:
@@ -257,25 +265,34 @@ def _box_blur_columns(src, dst, radii, divs, a, b):
 BLUR_BLOCK = 64
 
 
+@functools.lru_cache(maxsize=256)
+def _box_passes(sizes: tuple, n: int):
+    """(radii, divisors) of box blurs of the odd widths ``sizes`` along an axis of ``n``
+    pixels: width-1 boxes, which leave the image alone, left out; a radius past the axis's
+    length is that length (the same sums). Arrays the kernels only read, made once per
+    document's deviations and sizes (they were a tenth of a small shadow's blur)."""
+    widths = [s for s in sizes if s > 1]
+    return (np.array([min((s - 1) // 2, n) for s in widths], dtype=np.int64),
+            np.array(widths, dtype=np.float64))
+
+
 def box_blur_axis(img: np.ndarray, sizes, axis: int, out: np.ndarray | None = None):
     """Box blurs of the odd widths ``sizes`` one after another along ``axis`` (zeros outside),
     into ``out`` (a new array when None; it may be ``img``): a width-w box is the mean over the
     w pixels centred on each pixel. Width-1 boxes leave the image alone."""
     src = np.ascontiguousarray(img, dtype=np.float32)
     h, w, nc = src.shape
-    n = src.shape[axis]
-    widths = [s for s in sizes if s > 1]
-    if not widths:
+    radii, divs = _box_passes(tuple(sizes), src.shape[axis])
+    if not len(radii):
         return img
     if out is None:
         out = np.empty_like(src)
-    radii = np.array([min((s - 1) // 2, n) for s in widths], dtype=np.int64)
-    divs = np.array(widths, dtype=np.float64)
     if axis == 1:
         _box_blur_rows(src, out, radii, divs, np.empty((w, nc), np.float32),
                        np.empty((w, nc), np.float32))
     else:
-        block = min(BLUR_BLOCK, w)
+        # (a block of at least one column: range() takes no step of 0)
+        block = max(1, min(BLUR_BLOCK, w))
         _box_blur_columns(src, out, radii, divs, np.empty((h, block, nc), np.float32),
                           np.empty((h, block, nc), np.float32))
     return out
@@ -322,9 +339,9 @@ def offset(img: np.ndarray, dx: float, dy: float) -> np.ndarray:
 
 def flood(shape, color) -> np.ndarray:
     r, g, b, a = color
-    out = np.empty(shape[:2] + (4,), dtype=np.float32)
-    out[:] = (r * a, g * a, b * a, a)
-    return out
+    # (its pixel repeated: assigning the 4-tuple to every pixel cost four times as long)
+    pixel = np.array((r * a, g * a, b * a, a), dtype=np.float32)
+    return np.tile(pixel, shape[:2] + (1,))
 
 
 def over(src: np.ndarray, dst: np.ndarray, in_place: bool = False) -> np.ndarray:
@@ -551,6 +568,8 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     h, w = source.shape[:2]
     full = (0, 0, w, h)
     rx0, ry0 = flt.region[:2] if origin is None else origin
+    if own_source and _lone_blur(flt, (rx0, ry0, rx0 + w, ry0 + h)):
+        return _blurred_source(source, flt.primitives[0])
     sources = {SOURCE_GRAPHIC: _Result(source, False, full, own_source)}
     results: list[_Result | None] = []
     # the last primitive reading each result (or source): after it the result is let go, so
@@ -618,6 +637,27 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
     final = results[-1]
     final.consume = final.owned
     return final.in_space(False)
+
+
+def _lone_blur(flt: Filter, region) -> bool:
+    """Whether the filter is one feGaussianBlur of SourceGraphic over the whole ``region``
+    (device x0, y0, x1, y1 of the source): a blurred marker's or shape's filter, which
+    _blurred_source computes without apply_filter's bookkeeping."""
+    if len(flt.primitives) != 1:
+        return False
+    prim = flt.primitives[0]
+    x0, y0, x1, y1 = prim.subregion
+    return (type(prim.effect) is GaussianBlur and prim.inputs == (SOURCE_GRAPHIC,)
+            and x0 <= region[0] and y0 <= region[1] and x1 >= region[2] and y1 >= region[3])
+
+
+def _blurred_source(source: np.ndarray, prim) -> np.ndarray:
+    """What apply_filter makes of a _lone_blur filter when it may write ``source``: the
+    source converted to the blur's colour space in place (when f32 in C order: else into a
+    new array), blurred in place, converted back in place (a blur's values are finite)."""
+    img = convert_space(source, True, out=source) if prim.linear else source
+    img = gaussian_blur(img, prim.effect.sx, prim.effect.sy, True).astype(np.float32, copy=False)
+    return convert_space(img, False, out=img) if prim.linear else img
 
 
 def _kind_of_result(e, inputs) -> tuple[bool, bool]:
