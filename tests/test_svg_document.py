@@ -711,3 +711,67 @@ def test_shapes_under_groups_differing_only_by_clip_share_one_style():
     assert root.child(d.ids["b"]).child(d.ids["q"]) is style
     assert root.child(d.ids["c"]).child(d.ids["r"]) is not style     # fill is inherited
     assert style.get("stroke") == "#000" and style.get("fill") == "black"
+
+
+def _cycles_broken_one_hit_a_walk(doc):
+    """The reference: the rule as written before session 20, walking Q again from its start for
+    each element that loses its reference (quadratic in Q's size)."""
+    from vecmsaa.svg.document import _LINKS, _URL_ID, _descendants
+
+    def link(el, name):
+        value = el.specified.get(name) if el.specified else None
+        m = _URL_ID.match(value) if value else None
+        return m.group(1) if m else None
+
+    for tag, name in _LINKS:
+        for container in doc.link_containers:
+            if container.tag != tag:
+                continue
+            cid = container.attrs.get("id")
+            if cid is None or doc.ids.get(cid) is not container:
+                continue
+            for node in _descendants(container):
+                while (target := link(node, name)) is not None:
+                    if target == cid:
+                        node.specified[name] = "none"
+                        continue
+                    linked = doc.ids.get(target)
+                    hit = None if linked is None else next(
+                        (n for n in _descendants(linked) if link(n, name) == cid), None)
+                    if hit is None:
+                        break
+                    hit.specified[name] = "none"
+
+
+def test_reference_cycles_are_broken_as_one_hit_a_walk_breaks_them():
+    # random documents of patterns, clip paths and masks nested in and referencing each other
+    # (several back-references in one container, a container inside another, an element both
+    # in P and in Q): one walk over Q breaks exactly what walking Q again for each hit broke
+    import random
+    from vecmsaa.svg import document
+    rng = random.Random(20)
+    kinds = [("pattern", "fill"), ("pattern", "stroke"), ("clipPath", "clip-path"),
+             ("mask", "mask")]
+
+    def element(depth, ids):
+        tag, prop = rng.choice(kinds) if depth < 2 and rng.random() < 0.4 else ("rect", None)
+        attrs = [f'{p}="url(#{rng.choice(ids)})"' for _, p in kinds if rng.random() < 0.35]
+        if tag == "rect":
+            return f'<rect width="4" height="4" {" ".join(attrs)}/>'
+        inner = "".join(element(depth + 1, ids) for _ in range(rng.randrange(1, 4)))
+        return f'<{tag} id="{rng.choice(ids)}" {" ".join(attrs)}>{inner}</{tag}>'
+
+    for _ in range(300):
+        ids = [f"i{k}" for k in range(rng.randrange(1, 5))]
+        body = "".join(element(0, ids) for _ in range(rng.randrange(2, 6)))
+        src = f'<svg xmlns="http://www.w3.org/2000/svg">{body}</svg>'.encode()
+        original = document._break_reference_cycles
+        try:
+            document._break_reference_cycles = _cycles_broken_one_hit_a_walk
+            want = load_document(src)
+        finally:
+            document._break_reference_cycles = original
+        got = load_document(src)
+        w = [dict(e.specified or {}) for e in document._descendants(want.root)]
+        g = [dict(e.specified or {}) for e in document._descendants(got.root)]
+        assert g == w, src
