@@ -1069,26 +1069,24 @@ def _break_reference_cycles(doc):
             cid = container.attrs.get("id")
             reached = None
             for node in _descendants(container):
-                while True:
-                    target = link(node, name)
-                    if target is None:
-                        break
-                    if reached is None:
-                        reached = cid is not None and doc.ids.get(cid) is container
-                    if not reached:
-                        break
-                    if target == cid:
-                        node.specified[name] = "none"
-                        continue
-                    # every element in Q referencing P loses the reference (``node`` is not
-                    # one: its reference is Q's), in one walk over Q; taking the first and
-                    # walking Q again for the next was quadratic (15,000 such rects: 100 s)
-                    linked = doc.ids.get(target)
-                    if linked is not None:
-                        for n in _descendants(linked):
-                            if link(n, name) == cid:
-                                n.specified[name] = "none"
+                target = link(node, name)
+                if target is None:
+                    continue
+                if reached is None:
+                    reached = cid is not None and doc.ids.get(cid) is container
+                if not reached:
                     break
+                if target == cid:
+                    node.specified[name] = "none"
+                    continue
+                # every element in Q referencing P loses the reference (``node`` is not one:
+                # its reference is Q's), in one walk over Q; taking the first and walking Q
+                # again for the next was quadratic (15,000 such rects: 100 s)
+                linked = doc.ids.get(target)
+                if linked is not None:
+                    for n in _descendants(linked):
+                        if link(n, name) == cid:
+                            n.specified[name] = "none"
 
 
 def _cascade(reader, stylesheet):
