@@ -845,6 +845,48 @@ def many_layers_scene(size=97, count=60, seed=7):
     return Scene(size, size, Group(groups), background=(1, 1, 1, 1))
 
 
+@pytest.mark.parametrize("decision", ["join", "alone"])
+@pytest.mark.parametrize("source", ["many", "layered", "filtered", "markers"])
+def test_paced_band_threads_give_the_same_bytes(source, decision, monkeypatch):
+    """Whether the first band says the other threads join (and take the bands left heaviest
+    first) or says this thread draws the rest alone (the bands left regrouped, up to the
+    one-thread band size), the image is the one thread's, byte for byte."""
+    from vecmsaa.api import load_svg
+    scene = {"many": many_layers_scene, "layered": lambda: layered_scene(61),
+             "filtered": lambda: load_svg(FILTERED_SVG),
+             "markers": lambda: load_svg(MARKERS_SVG, width=211)}[source]()
+    one = render_scene_rgba8(scene, threads=1)
+    assert one[..., 3].any()
+    monkeypatch.setattr(render_module, "ITEMS_PER_BAND_AT_ONCE", 0)
+    monkeypatch.setattr(render_module, "PARALLEL_ITEM_SECONDS",
+                        0.0 if decision == "join" else math.inf)
+    seen = []
+    decide = render_module.BandPace.band_drawn
+
+    def band_drawn(pace, seconds, drawn):
+        seen.append(drawn)
+        decide(pace, seconds, drawn)
+    monkeypatch.setattr(render_module.BandPace, "band_drawn", band_drawn)
+    # budgets of 5 rows (the threads' bands and one thread's alike), 64 and the default (one
+    # thread's bands larger than the threads': the bands left are joined)
+    for threads in (2, 3):
+        for budget in (5 * scene.width * 16, 64 * scene.width * 16, render_module.BAND_BUDGET):
+            assert np.array_equal(render_scene_rgba8(scene, threads=threads,
+                                                     band_budget=budget), one), (threads, budget)
+    assert seen and seen[-1] > 0        # the pace decided (on a band that drew something)
+    assert np.array_equal(render_scene(scene, threads=2, band_budget=5 * scene.width * 16),
+                          render_scene(scene))
+
+
+def test_regrouped_bands_cover_every_row_once_in_bands_of_at_most_the_solo_rows():
+    pace = render_module.BandPace([], range(0, 100, 10), 10, 35)
+    left = [(90, 10), (20, 10), (0, 10), (30, 10), (40, 10), (70, 10), (60, 10), (50, 10)]
+    bands = pace.regroup(left)
+    assert bands == [(0, 10), (20, 30), (50, 30), (90, 10)]
+    assert sorted(y for y0, rows in bands for y in range(y0, y0 + rows)) == \
+        sorted(y for y0, rows in left for y in range(y0, y0 + rows))
+
+
 def test_heaviest_first_weighs_every_fill_of_nested_layers():
     """heaviest_first's order against the weights summed fill by fill in plain Python: a fill's
     edges and lenses spread evenly over the bands its box reaches, plus AREA_COST for each

@@ -24,6 +24,7 @@ import math
 import os
 import sys
 import threading
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -68,6 +69,17 @@ BAND_BUDGET = 1 << 24
 #: threads: bands of 512 rows took 26, 66, 41 and 18 ms, so one thread drew 84 ms and the
 #: other 67; of 256 rows, at most 29 ms each)
 BANDS_PER_THREAD = 4
+#: seconds an item (a fill batch or a layer, nested ones counted) takes to draw on average,
+#: at least, for band threads beyond the first to pay (BandPace). Below it a band is mostly
+#: short kernel calls with Python between them, and threads handing the GIL back and forth at
+#: every call cost more than the second core gives. The draw in process on 2 threads against
+#: 1 (wall, both cores free; docs/bench.md, session 21): 1.14-1.69 times as long at 34-39 µs
+#: an item (1000-4000 small clipped or masked groups), 0.79 at 60 µs (1000 faded groups),
+#: 0.98 at 82 µs, 0.51-0.58 with few items (the corpus at 2048 px)
+PARALLEL_ITEM_SECONDS = 50e-6
+#: items a band at most, on average, for the band threads to start at once; with more, one
+#: thread draws until BandPace has seen whether they are slow enough to share
+ITEMS_PER_BAND_AT_ONCE = 8
 #: bytes the buffers of nested layers, clips and masks may hold together: each nesting level
 #: keeps a buffer of the band's rows (layer_buffer), so 1,000 nested groups with opacity would
 #: hold 16 GB in bands of BAND_BUDGET; deeper nesting draws in thinner bands instead
@@ -311,7 +323,7 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     """render_bands once the items are prepared (``pool``: the band threads' executor)."""
     H, W = scene.height, scene.width
     band_rows, strip_rows = band_layout(W, opts.samples, band_budget, opts.mode == "analytic")
-    band_rows = max(1, min(band_rows, H))
+    band_rows = solo_rows = max(1, min(band_rows, H))
     if threads > 1 and band_rows > strip_rows:
         # at least BANDS_PER_THREAD bands a thread, so that a thread with a light band is not
         # left idle
@@ -320,23 +332,28 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     if band_rows < H and held_filtered_pixels(items, W, H) > W * H:
         # band by band, each filtered layer is kept from the first band that needs it to its
         # last; when those would outweigh the whole image, one band holds one at a time
-        band_rows = H
-    band_rows = min(band_rows, layer_rows(W, layer_depth(items)))
+        band_rows = solo_rows = H
+    most_rows = layer_rows(W, layer_depth(items))
+    band_rows, solo_rows = min(band_rows, most_rows), min(solo_rows, most_rows)
     starts = range(0, H, band_rows)
-    if threads > 1 and len(starts) > threads:
+    pace = BandPace(items, starts, band_rows, solo_rows) if threads > 1 and len(starts) > 1 \
+        else None
+    if threads > 1 and len(starts) > threads and not (pace is not None and pace.wait):
         starts = heaviest_first(items, starts, band_rows)
+    bands = [(y0, min(band_rows, H - y0)) for y0 in starts]
     background = premultiplied(scene.background)
 
     refill = np.asarray(background, dtype=np.float32) if refills and target is None else None
 
-    kit_key = (W, strip_rows, opts.samples, band_rows, target is None)
+    # a band drawn alone after the pace's first may have solo_rows (BandPace.regroup)
+    buffer_rows = solo_rows if pace is not None and pace.wait else band_rows
+    kit_key = (W, strip_rows, opts.samples, buffer_rows, target is None)
 
-    def draw_bands(next_start):
+    def draw_bands(next_band):
         # filled: rows of the buffer that hold the background already (a kept buffer's last
         # band refilled them)
         raster, buffer, filled = _take_kit(kit_key, opts, H, background)
-        for y0 in iter(next_start, None):
-            rows = min(band_rows, H - y0)
+        for y0, rows in iter(next_band, None):
             band = buffer[:rows] if target is None else target[y0:y0 + rows]
             if filled < rows:
                 # one row from the colour, the others copied from it: broadcasting the 4
@@ -345,7 +362,12 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 band[0] = background
                 band[1:] = band[0]
                 filled = rows
-            draw_items(items, band, y0, raster)
+            if pace is not None and pace.decide is not None:
+                began, drawn = time.perf_counter(), raster.drawn
+                draw_items(items, band, y0, raster)
+                pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn)
+            else:
+                draw_items(items, band, y0, raster)
             if refill is None:
                 consume(y0, band)
                 filled = 0
@@ -353,7 +375,58 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 consume(y0, band, refill)
         # only a thread that finished its bands gives its buffers back: clean
         _keep_kit(kit_key, raster, buffer, filled, background)
-    run_bands(draw_bands, starts, threads, pool)
+    run_bands(draw_bands, bands, threads, pool, pace)
+
+
+class BandPace:
+    """Whether band threads beyond the first join in. At once when the items are few for the
+    bands (ITEMS_PER_BAND_AT_ONCE); otherwise the first band one thread draws that draws any
+    items decides (``band_drawn``): at PARALLEL_ITEM_SECONDS an item or more the others
+    join, taking the bands left heaviest first (``share``), below it the same thread draws
+    them, in bands of up to ``solo_rows`` (``regroup``: a layer crossing a band's edge is
+    drawn once in each band). The image depends neither on the threads nor on the bands."""
+
+    def __init__(self, items, starts, band_rows: int, solo_rows: int):
+        self.items, self.starts, self.band_rows = items, starts, band_rows
+        self.solo_rows = solo_rows
+        self.wait = item_count(items) > ITEMS_PER_BAND_AT_ONCE * len(starts)
+        #: (join, alone) from run_bands while undecided, then None
+        self.decide = None
+
+    def band_drawn(self, seconds: float, drawn: int) -> None:
+        if drawn == 0:
+            return          # a band with nothing in it tells nothing
+        join, alone = self.decide
+        self.decide = None
+        (join if seconds >= PARALLEL_ITEM_SECONDS * drawn else alone)()
+
+    def share(self, bands: list) -> list:
+        """The (y0, rows) bands heaviest first (heaviest_first), for threads taking turns."""
+        rows = dict(bands)
+        return [(y0, rows[y0]) for y0 in heaviest_first(self.items, self.starts,
+                                                         self.band_rows) if y0 in rows]
+
+    def regroup(self, bands: list) -> list:
+        """The (y0, rows) bands top down, neighbours joined up to solo_rows rows."""
+        out = []
+        for y0, rows in sorted(bands):
+            if out and out[-1][0] + out[-1][1] == y0 and out[-1][1] + rows <= self.solo_rows:
+                out[-1] = (out[-1][0], out[-1][1] + rows)
+            else:
+                out.append((y0, rows))
+        return out
+
+
+def item_count(items) -> int:
+    """Fill batches and layers among ``items``, those in layers, clips and masks too."""
+    n, todo = 0, [items]
+    while todo:
+        for item in todo.pop():
+            n += 1
+            if not isinstance(item, FillBatch):
+                todo.append(item.items)
+                todo.extend([part.items for part in (item.clip, item.mask) if part is not None])
+    return n
 
 
 #: heaviest_first's cost of a pixel of a fill's box, against 1 for an edge or lens: with the
@@ -504,25 +577,46 @@ class _LazyPool:
             self._executor.shutdown()
 
 
-def run_bands(draw_bands, starts, threads: int, pool=None) -> None:
-    """``draw_bands(next_start)`` on ``threads`` threads sharing the band starts (those of
-    ``pool``, a band_pool of at least as many, if given)."""
-    threads = min(threads, len(starts))
+def run_bands(draw_bands, bands, threads: int, pool=None, pace: BandPace | None = None) -> None:
+    """``draw_bands(next_band)`` on ``threads`` threads sharing ``bands`` (``next_band()``
+    gives each once, then None), on ``pool``'s threads (a band_pool of at least as many) if
+    given, this thread being one of them. With a ``pace`` that waits, the others start when it
+    says so (BandPace.band_drawn), or this thread draws the bands left as it regroups them."""
+    threads = min(threads, len(bands))
     if threads == 1:
-        todo = iter(starts)
+        todo = iter(bands)
         draw_bands(lambda: next(todo, None))
         return
     if pool is None:
         with band_pool(threads) as pool:
-            run_bands(draw_bands, starts, threads, pool)
+            run_bands(draw_bands, bands, threads, pool, pace)
         return
-    todo = iter(starts)
+    todo = list(reversed(bands))        # popped from the end
     lock = threading.Lock()
 
-    def next_start():
+    def next_band():
         with lock:
-            return next(todo, None)
-    for future in [pool.submit(draw_bands, next_start) for _ in range(threads)]:
+            return todo.pop() if todo else None
+    futures = []
+
+    def join():
+        futures.extend(pool.submit(draw_bands, next_band) for _ in range(threads - 1))
+
+    def join_paced():
+        with lock:
+            todo[:] = reversed(pace.share(todo))
+        join()
+
+    def alone():
+        with lock:
+            todo[:] = reversed(pace.regroup(todo))
+    if pace is not None and pace.wait:
+        pace.decide = (join_paced, alone)
+    else:
+        join()
+    draw_bands(next_band)
+    # (join, if it was called, was called by this thread, inside draw_bands)
+    for future in futures:
         future.result()
 
 
@@ -638,6 +732,8 @@ class Raster:
                  scratch=None, kits=None):
         self.opts = opts
         self.width, self.height = width, height
+        #: items draw_items has drawn with it (BandPace)
+        self.drawn = 0
         #: kept layer buffers by nesting depth (layer_buffer)
         self.layer_buffers = []
         self.depth = 0
@@ -1344,6 +1440,7 @@ def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
     for item in items:
         if item.rows is None or item.rows[1] < y0 or item.rows[0] >= y1:
             continue
+        raster.drawn += 1
         if isinstance(item, FillBatch):
             raster.fill(item, target, y0)
         else:
