@@ -1,11 +1,11 @@
 """Write the benchmark documents of many small parts into DIR (the same files every run:
 seeded): session 17's many-layer family (markers with and without a blur, drop-shadowed
 boxes, clipped groups, opacity and mask groups), 2000 text labels, 1000 dashed cubics and
-300 dashed circles. docs/bench.md's session 20 sections time them.
+300 dashed circles, faded and clipped groups of 1 and 3 shapes. docs/bench.md times them.
 
     python tools/many_docs.py DIR
 """
-import os, random, sys
+import math, os, random, sys
 out = sys.argv[1]; os.makedirs(out, exist_ok=True)
 HEAD = '<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="1000" viewBox="0 0 1000 1000">\n'
 def w(name, body):
@@ -72,3 +72,22 @@ R = random.Random(27); s = []
 for i in range(300):
     s.append(f'<circle cx="{R.uniform(0,1000):.1f}" cy="{R.uniform(0,1000):.1f}" r="{R.uniform(5,60):.1f}" fill="none" stroke="navy" stroke-width="1.5" stroke-dasharray="4 2"/>')
 w('dashed_circles_300', '\n'.join(s) + '\n')
+# 4000 small stars and discs in groups of k, each group faded (opacity) or clipped by a disc:
+# the items a band grows as k shrinks (session 21's band threads)
+for k in (1, 3):
+    for kind in ('faded', 'clipped'):
+        R = random.Random(100 + k); s = []
+        for g in range(4000 // k):
+            cx, cy = R.uniform(50, 950), R.uniform(50, 950)
+            if kind == 'clipped':
+                s.append(f'<clipPath id="c{g}"><circle cx="{cx:.1f}" cy="{cy:.1f}" r="{R.uniform(20, 80):.1f}"/></clipPath><g clip-path="url(#c{g})">')
+            else:
+                s.append('<g opacity="0.7">')
+            for i in range(k):
+                x, y, r = cx + R.uniform(-60, 60), cy + R.uniform(-60, 60), R.uniform(5, 40)
+                pts = ' '.join(f'{x + r * math.cos(math.pi * j / 6) * (1 if j % 2 else .5):.1f},'
+                               f'{y + r * math.sin(math.pi * j / 6) * (1 if j % 2 else .5):.1f}' for j in range(12))
+                s.append(f'<polygon points="{pts}" fill="#{R.randrange(1<<24):06x}"/>'
+                         f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r / 3:.1f}" fill="#{R.randrange(1<<24):06x}"/>')
+            s.append('</g>')
+        w(f'{kind}_groups_k{k}', '\n'.join(s) + '\n')
