@@ -948,23 +948,113 @@ def test_a_fallback_face_draws_only_what_the_font_lacks_when_it_cannot_draw_all(
 
 # -- textLength over several text chunks ------------------------------------------------------
 
-def test_text_length_leaves_a_chunk_of_descendants_alone():
-    # The tspan's own x/y starts a chunk holding only the tspan's characters: it is laid out
-    # as a text of its own (as resvg does), and the first chunk still gets the length.
-    both = render('<text x="10" y="40" textLength="180" font-size="30">Text'
-                  '<tspan x="10" y="80">More</tspan></text>', width=200)
-    apart = render('<text x="10" y="40" textLength="180" font-size="30">Text</text>'
-                   '<text x="10" y="80" font-size="30">More</text>', width=200)
-    assert np.array_equal(both, apart)
+def digit_advance(size):
+    """The advance of a digit of the test font at ``size``, read from its hmtx table with
+    fontTools (every digit of Noto Sans advances alike and none is kerned)."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    cmap = font.getBestCmap()
+    widths = {font["hmtx"][cmap[ord(d)]][0] for d in "0123456789"}
+    assert len(widths) == 1
+    return widths.pop() / font["head"].unitsPerEm * size
 
 
-def test_text_length_applies_to_each_chunk_of_the_elements_own_characters():
-    # x="10 10" on the text splits its own characters into two chunks, each adjusted.
-    chunks = render('<text x="10 10" y="40 80" textLength="180" font-size="30">TMore</text>',
-                    width=200)
-    apart = render('<text x="10" y="40" textLength="180" font-size="30">T</text>'
-                   '<text x="10" y="80" textLength="180" font-size="30">More</text>', width=200)
-    assert np.array_equal(chunks, apart)
+def placed_digits(xs, ys, text, width=240, extra=""):
+    """The digits placed one by one at the positions the specification gives them."""
+    return render(f'<text x="{" ".join(map(repr, xs))}" y="{" ".join(map(repr, ys))}" '
+                  f'font-size="20"{extra}>{text}</text>', width=width)
+
+
+def close(a, b, level=1):
+    return np.abs(a.astype(int) - b.astype(int)).max() <= level
+
+
+def test_text_length_spaces_an_elements_characters_across_its_chunks():
+    # SVG 2 §11.5.5: textLength is applied before the absolute x/y positions, to the
+    # element's characters on the line they make together: one delta = (L - 4w) / 3 after
+    # each of the four digits, the tspan's chunk included, and the x of the tspan keeps its
+    # place (resvg spreads "12" to the whole 200 and leaves "34" alone).
+    w = digit_advance(20)
+    d = (200 - 4 * w) / 3
+    both = render('<text x="10" y="40" font-size="20" textLength="200">12<tspan x="120">34'
+                  '</tspan></text>', width=240)
+    assert close(both, placed_digits([10, 10 + w + d, 120, 120 + w + d], [40], "1234"))
+
+
+def test_text_length_over_chunks_of_its_own_characters():
+    # x="10 10" y="40 80" cuts the text's own characters into two chunks; the five digits are
+    # still spaced as one line: delta = (150 - 5w) / 4, the second chunk's four digits w + delta
+    # apart from x = 10 (so no chunk is 150 long)
+    w = digit_advance(20)
+    d = (150 - 5 * w) / 4
+    chunks = render('<text x="10 10" y="40 80" font-size="20" textLength="150">12345</text>',
+                    width=240)
+    xs = [10, 10] + [10 + k * (w + d) for k in (1, 2, 3)]
+    assert close(chunks, placed_digits(xs, [40, 80, 80, 80, 80], "12345"))
+
+
+def test_text_length_measures_the_dx_between_its_characters():
+    # SVG 2 §11.5.5: dx/dy are applied before textLength, whose extent is that of the
+    # positions: the 30 of dx is part of the 150 (resvg adds it after spreading)
+    w = digit_advance(20)
+    d = (150 - 4 * w - 30) / 3
+    shifted = render('<text x="10" y="40" font-size="20" textLength="150" dx="0 0 30">1234'
+                     '</text>', width=240)
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d + 30, 10 + 3 * w + 3 * d + 30]
+    assert close(shifted, placed_digits(xs, [40], "1234"))
+    assert xs[-1] + w == pytest.approx(160)
+
+
+@pytest.mark.parametrize("anchor, x, start", [("end", 190, 40), ("middle", 115, 40)])
+def test_text_anchor_takes_the_text_length_as_the_chunks_extent(anchor, x, start):
+    # SVG 2 anchoring measures a chunk from its first character's position to its last
+    # one's position plus its advance: textLength's spacing after the last digit is no part
+    # of it, so the text spans exactly the 150 before x (end) or around it (middle); resvg
+    # counts that spacing too and ends the text a delta early
+    w = digit_advance(20)
+    d = (150 - 4 * w) / 3
+    anchored = render(f'<text x="{x}" y="40" font-size="20" textLength="150" '
+                      f'text-anchor="{anchor}">1234</text>', width=240)
+    assert close(anchored, placed_digits([start + k * (w + d) for k in range(4)], [40],
+                                         "1234"))
+
+
+def test_spacing_and_glyphs_squeezes_the_dx_with_the_glyphs():
+    # the extent of "12" with dx 30 between the digits is 2w + 30; spacingAndGlyphs scales the
+    # positions and the glyphs alike by 100 / (2w + 30) about the start, as a scale(f, 1) would
+    w = digit_advance(20)
+    f = 100 / (2 * w + 30)
+    squeezed = render('<text x="10" y="40" font-size="20" textLength="100" '
+                      'lengthAdjust="spacingAndGlyphs" dx="0 30">12</text>', width=240)
+    scaled = render(f'<g transform="translate(10 0) scale({f!r} 1)"><text y="40" font-size="20" '
+                    f'dx="0 30">12</text></g>', width=240)
+    assert close(squeezed, scaled)
+
+
+def test_text_length_across_chunks_in_vertical_text():
+    # the same rule along the column: y starts the tspan's chunk, one delta for all four
+    w = digit_advance(20)
+    d = (150 - 4 * w) / 3
+    both = render('<text x="40" y="10" writing-mode="tb" font-size="20" textLength="150">12'
+                  '<tspan y="120">34</tspan></text>', width=100, height=240)
+    one_by_one = render(f'<text x="40" y="{10!r} {10 + w + d!r} 120 {120 + w + d!r}" '
+                        f'writing-mode="tb" font-size="20">1234</text>', width=100, height=240)
+    assert close(both, one_by_one)
+
+
+def test_text_length_on_a_text_path_is_that_of_the_line():
+    # on a straight path the characters take the places of the same text laid on a line: the
+    # dx inside counts in the extent and the length spans the descendant's digits too
+    w = digit_advance(20)
+    d = (150 - 4 * w - 30) / 3
+    on_path = render('<path id="p" d="M10 40 H230"/><text font-size="20"><textPath href="#p" '
+                     'textLength="150">12<tspan dx="30">34</tspan></textPath></text>', width=240)
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d + 30, 10 + 3 * w + 3 * d + 30]
+    line = placed_digits(xs, [40], "1234")
+    # (the path walker finds arc lengths to resvg's accuracy: a quarter pixel at most)
+    assert np.abs(ink_box(alpha(on_path))[0] - ink_box(alpha(line))[0]) <= 1
+    assert np.abs(ink_box(alpha(on_path))[2] - ink_box(alpha(line))[2]) <= 1
+    assert np.abs(alpha(on_path).sum(0) - alpha(line).sum(0)).max() < 3
 
 
 def test_text_length_counts_the_characters_of_descendants_in_the_chunk():

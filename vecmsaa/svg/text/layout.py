@@ -61,6 +61,7 @@ class Cluster:
     visible: bool = True
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
+    gap: float = 0.0          # textLength's spacing in its advance (after it)
 
 
 def shape_chunk(chars, faces, specs, start, end, text=None):
@@ -322,22 +323,43 @@ def _is_upright(cp):
             or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
 
 
-def apply_length_adjust(clusters, chars, text_length, on_path):
-    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}), in one
-    chunk: an element's length is that of its characters in the chunk, descendants' included
-    (SVG 2 §11.5.3), in each chunk that holds characters of its own. A chunk whose characters
-    all belong to descendants (a ``tspan`` with its own ``x`` or ``y``) is not adjusted to the
-    ancestor's length: SVG does not define textLength over several chunks, and there resvg
-    adjusts only the element's own characters.
+def apply_length_adjust(chunks, chars, text_length, vertical):
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}) over
+    the text's chunks (``chunks``: (index of the first character, clusters) in text order),
+    by SVG 2's text layout algorithm (§11.5.5, "apply 'textLength' attribute"), which comes
+    after the dx/dy adjustment and before the absolute x/y positions and the anchoring: an
+    element's characters are adjusted together wherever they are, their extent measured on
+    the line they would make without their absolute positions (advances and the dx
+    accumulated since the last absolute x), and every typographic character of the element,
+    in every chunk, is spaced by one ``delta``. A chunk that an absolute position starts keeps
+    its place: the length is that of the line before it is cut into chunks, not of each chunk.
 
     A descendant with a textLength of its own (SVG 2's "resolved descendant node") keeps it:
-    descendants are adjusted before their ancestors, and an ancestor's length less its resolved
-    descendants' lengths (wherever they are) is the length of the rest of its content
-    (§11.5.3: "the total advance values for the other content within that ancestor is the
-    difference"). Each resolved descendant in the chunk counts as one character for the
-    ancestor's spacing: the gap after it is the ancestor's (§11.5.5, "resolve text length")."""
+    descendants are adjusted before their ancestors, each resolved descendant counts as one
+    character of the ancestor's spacing, the gap after it is the ancestor's, and the rest of
+    the ancestor's content gets the ancestor's length less its resolved descendants' (§11.5.3:
+    "the total advance values for the other content within that ancestor is the
+    difference"). The spacing after an element's last character (``gap``) moves the text
+    after it in its chunk but is no part of the chunk's extent for text-anchor."""
     if not text_length:
         return
+    # the line: every cluster in order with the inline offset (dx, or dy in vertical text)
+    # accumulated at it, which an absolute inline position or a textPath restarts
+    line, offset = [], {}
+    total = 0.0
+    previous_path = None
+    for first, clusters in chunks:
+        start = chars[first]
+        on_path = start.text_path is not None
+        if ((start.y if vertical and not on_path else start.x) is not None
+                or start.text_path is not previous_path):
+            total = 0.0
+        previous_path = start.text_path
+        for c in clusters:
+            ch = chars[c.char]
+            total += ch.dy if vertical and not on_path else ch.dx
+            offset[id(c)] = total
+            line.append((c, on_path))
     # for each element with a length: its depth, and its resolved descendants' ids
     depth, resolved = {}, {k: set() for k in text_length}
     for c in chars:
@@ -348,44 +370,64 @@ def apply_length_adjust(clusters, chars, text_length, on_path):
                 resolved[k].add(own[i + 1])
     for el_id in sorted(text_length, key=lambda k: -depth.get(k, 0)):
         target, adjust = text_length[el_id]
-        if resolved[el_id]:
-            target -= sum(text_length[d][0] for d in resolved[el_id])
-        idx, blocks = [], {}
-        for i, c in enumerate(clusters):
-            chain = chars[c.char].chain
-            ids = [id(e) for e in chain]
+        # the element's units in line order: its own clusters (and those of descendants
+        # without a length), and its resolved descendants, each one unit of its length
+        units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
+        for c, on_path in line:
+            ids = [id(e) for e in chars[c.char].chain]
             if el_id not in ids:
                 continue
             inner = [k for k in ids[ids.index(el_id) + 1:] if k in resolved[el_id]]
-            if inner:
-                blocks.setdefault(inner[0], []).append(i)
+            if not inner:
+                units.append([c, c, c.width, False, on_path])
+            elif inner[0] not in blocks:
+                blocks[inner[0]] = unit = [c, c, text_length[inner[0]][0], True, on_path]
+                units.append(unit)
             else:
-                idx.append(i)
-        if not any(id(chars[clusters[i].char].el) == el_id for i in idx):
+                blocks[inner[0]][1] = c
+        if not units:
             continue
-        width = sum(clusters[i].width for i in idx)
+        # SVG 2: a = min(pos, pos + advance), b = max(...) over the element's characters, at
+        # their places on the line (a resolved descendant: its length from its first one,
+        # which covers the offsets inside it)
+        lo, hi = math.inf, -math.inf
+        pen = 0.0
+        for c0, c1, length, _, _ in units:
+            pos = pen + offset[id(c0)]
+            lo, hi = min(lo, pos, pos + length), max(hi, pos, pos + length)
+            pen += length - (offset[id(c1)] - offset[id(c0)])
+        extent = hi - lo
+        own = [(u[0], u[4]) for u in units if not u[3]]
         if adjust == "spacingAndGlyphs":
-            if width <= 0:
+            # the element's own clusters (with the dx between them) take the length its
+            # resolved descendants leave
+            kept = sum(text_length[k][0] for k in blocks)
+            if extent - kept <= 0:
                 continue
-            factor = target / width
+            factor = (target - kept) / (extent - kept)
             if factor < 0.001:
                 continue
-            for i in idx:
-                clusters[i].sx = factor
+            for c, on_path in own:
+                c.sx = factor
                 if on_path:
-                    clusters[i].advance *= factor
-                    clusters[i].width *= factor
-                    clusters[i].widest *= factor
+                    c.advance *= factor
+                    c.width *= factor
+                    c.widest *= factor
         else:
-            n = len(idx) + len(blocks)
-            factor = (target - width) / (n - 1) if n > 1 else 0.0
-            for i in idx:
-                clusters[i].advance = clusters[i].width + factor
+            n = len(units)
+            delta = (target - extent) / (n - 1) if n > 1 else 0.0
+            for c, _ in own:
+                c.advance, c.gap = c.width + delta, delta
             if n > 1:
-                for members in blocks.values():
+                for _, last, _, _, _ in blocks.values():
                     # the block's own trailing gap becomes the ancestor's gap after it
-                    last = clusters[max(members, key=lambda i: clusters[i].char)]
-                    last.advance = last.width + factor
+                    last.advance, last.gap = last.width + delta, delta
+
+
+def chunk_extent(clusters):
+    """A chunk's length for text-anchor: its advances without textLength's spacing after its
+    last character (SVG 2 anchoring measures to the last character's own advance)."""
+    return sum(c.advance * c.sx for c in clusters) - clusters[-1].gap * clusters[-1].sx
 
 
 def anchor_shift(anchor, width):
@@ -398,7 +440,7 @@ def position_linear(clusters, chars, anchor, vertical):
     takes its advance and its dx scaled with its glyphs: a chunk scaled alike throughout is
     that chunk scaled about its start, and spans of a text and of a tspan with lengths of
     their own follow each other."""
-    x = anchor_shift(anchor, sum(c.advance * c.sx for c in clusters))
+    x = anchor_shift(anchor, chunk_extent(clusters))
     y = 0.0
     for c in clusters:
         ch = chars[c.char]
@@ -585,12 +627,10 @@ def build_text(element, ctx):
                                                vertical) if face is not None else 0.0
         shifts.append(shift_cache[key])
 
-    all_clusters = []
-    last_x = last_y = 0.0
+    # every chunk shaped and spaced first: textLength spans the chunks of its element
+    chunks = []
     text = "".join(c.ch for c in chars)
     for a, b in zip(bounds[:-1], bounds[1:]):
-        first = chars[a]
-        on_path = first.text_path is not None
         clusters = shape_chunk(chars, faces, specs, a, b, text)
         if not clusters:
             continue
@@ -598,11 +638,18 @@ def build_text(element, ctx):
         if vertical:
             apply_writing_mode(clusters, chars)
         apply_spacing(clusters, chars, specs)
-        apply_length_adjust(clusters, chars, text_length, on_path)
+        chunks.append((a, clusters))
+    apply_length_adjust(chunks, chars, text_length, vertical)
+
+    all_clusters = []
+    last_x = last_y = 0.0
+    for a, clusters in chunks:
+        first = chars[a]
+        on_path = first.text_path is not None
         anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
-            start = chunk_x + anchor_shift(anchor, sum(c.advance for c in clusters))
+            start = chunk_x + anchor_shift(anchor, chunk_extent(clusters))
             last_x, last_y = position_on_path(clusters, chars, first.text_path,
                                               walkers[id(first.text_path)], start, ctx,
                                               styles, shifts)

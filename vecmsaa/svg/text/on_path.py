@@ -64,7 +64,7 @@ def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shi
     last = (0.0, 0.0)
     for c in clusters:
         ch = chars[c.char]
-        advance += ch.dx
+        advance += ch.dx * c.sx      # (squeezed with its cluster by spacingAndGlyphs)
         # placed and turned at the middle of its widest glyph (as resvg, whose cluster width
         # is that glyph's; the pen moves by the whole advance)
         hw = c.widest / 2
