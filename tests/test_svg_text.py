@@ -763,6 +763,25 @@ def test_a_base_and_its_combining_marks_are_one_typographic_character():
 
 
 @pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "NotoSansDevanagari-Regular.ttf")),
+                    reason="needs the suite's Noto Sans Devanagari")
+@pytest.mark.parametrize("lists", ['rotate="0 30 60 90"', 'dy="0 0 -15 10"',
+                                   'rotate="0 0 45" letter-spacing="10"'])
+def test_a_grapheme_whose_base_a_ligature_took_is_one_typographic_character_with_it(lists):
+    # श्री: the conjunct श्र is one glyph of SHA, VIRAMA and RA, and the matra ी extends RA:
+    # the ligature and the grapheme share RA, so the four characters are one typographic
+    # character (SVG 2), placed and turned by the first one's values alone (resvg 0.48.1
+    # draws them so); the matra was drawn apart, turned or moved by RA's values
+    def draw(attrs):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Sans Devanagari" font-size="40"><text x="20" y="60" {attrs}>'
+               '\u0936\u094d\u0930\u0940</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    assert np.array_equal(draw(lists), draw(""))
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
                                                     "TwitterColorEmoji.subset.ttf")),
                     reason="needs the suite's Twitter Color Emoji")
 def test_letter_spacing_keeps_zwj_sequences_joined():

@@ -179,12 +179,19 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     # it did not merge with its base on its own, which then turned about its own origin, got
     # letter-spacing between it and its base, and kept its own font size. Its glyphs join
     # the cluster of the character it extends.
+    # A grapheme whose base character a ligature took (the र of the conjunct श्र, whose
+    # matra ी HarfBuzz leaves in a cluster of its own) joins the ligature's cluster: the
+    # ligature and the grapheme share a character, so they are one typographic character.
     owner = {}
     base = None
+    starts = None
     # (ASCII text extends no cluster: most labels skip the test per character)
     for i in range(s, e) if not text[s:e].isascii() else ():
         if base is not None and (_extends(text[i]) or _joined(text, base, i)):
-            owner[i] = base
+            if starts is None:
+                starts = sorted(set(run.clusters.tolist()))
+            k = bisect_right(starts, base) - 1
+            owner[i] = starts[k] if k >= 0 else base
         else:
             base = i
     out = []
