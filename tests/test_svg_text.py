@@ -781,6 +781,29 @@ def test_a_grapheme_whose_base_a_ligature_took_is_one_typographic_character_with
     assert np.array_equal(draw(lists), draw(""))
 
 
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "NotoSerif-Regular.ttf")),
+                    reason="needs the suite's Noto Serif")
+@pytest.mark.parametrize("lists, spans", [
+    ('dx="0 0 20"', 'offi<tspan dx="20">ce</tspan>'),
+    ('dx="0 0 0 20"', 'offi<tspan dx="20">ce</tspan>'),
+    ('dy="0 0 12 -4"', 'offi<tspan dy="8">ce</tspan>'),
+    ('dx="0 5 5 5 5"', 'o<tspan dx="5">ffi</tspan><tspan dx="15">ce</tspan>')])
+def test_offsets_of_a_ligatures_later_characters_move_the_text_after_it(lists, spans):
+    # "office" in Noto Serif: o, the ffi ligature, c, e. SVG 2 ("adjust positions: dx, dy")
+    # adds the dx and dy of every addressable character to the shift of the characters after
+    # it, while the ligature itself is placed by its first f's values: so the values of the
+    # second f and the i move "ce" as a span's dx or dy would (resvg 0.48.1 drops them)
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Serif" font-size="30">{body}</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    lig = draw(f'<text x="20" y="60" {lists}>office</text>')
+    assert np.abs(lig.astype(int) - draw(f'<text x="20" y="60">{spans}</text>').astype(int)
+                  ).max() <= 1
+    assert not np.array_equal(lig, draw('<text x="20" y="60">office</text>'))
+
+
 @pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
                                                     "TwitterColorEmoji.subset.ttf")),
                     reason="needs the suite's Twitter Color Emoji")

@@ -62,6 +62,7 @@ class Cluster:
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
     gap: float = 0.0          # textLength's spacing in its advance (after it)
+    carry: tuple = (0.0, 0.0)   # dx, dy of its characters after the first: move what follows
 
 
 def shape_chunk(chars, faces, specs, start, end, text=None):
@@ -366,6 +367,7 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
             ch = chars[c.char]
             total += ch.dy if vertical and not on_path else ch.dx
             offset[id(c)] = total
+            total += c.carry[1] if vertical and not on_path else c.carry[0]
             line.append((c, on_path))
     # for each element with a length: its depth, and its resolved descendants' ids
     depth, resolved = {}, {k: set() for k in text_length}
@@ -437,6 +439,25 @@ def chunk_extent(clusters):
     return sum(c.advance * c.sx for c in clusters) - clusters[-1].gap * clusters[-1].sx
 
 
+NO_CARRY = (0.0, 0.0)
+
+
+def carry_offsets(clusters, chars, end):
+    """The dx and dy of the characters of a typographic character after its first (a
+    ligature's, a conjunct's): the character is placed by its first character's values, and
+    SVG 2 ("adjust positions: dx, dy") adds every addressable character's to the shift of
+    the characters after it. ``end``: the chunk's end."""
+    starts = sorted(c.char for c in clusters)
+    for c in clusters:
+        i = bisect_right(starts, c.char)
+        stop = starts[i] if i < len(starts) else end
+        if stop - c.char > 1:
+            dx = sum(chars[k].dx for k in range(c.char + 1, stop))
+            dy = sum(chars[k].dy for k in range(c.char + 1, stop))
+            if dx or dy:
+                c.carry = (dx, dy)
+
+
 def anchor_shift(anchor, width):
     return {"middle": -width / 2, "end": -width}.get(anchor, 0.0)
 
@@ -464,6 +485,13 @@ def position_linear(clusters, chars, anchor, vertical):
             c.shifted = True
         c.frame = frame
         x += c.advance * c.sx
+        if c.carry is not NO_CARRY:
+            if vertical:
+                y -= c.carry[0]
+                x += c.carry[1] * c.sx
+            else:
+                x += c.carry[0] * c.sx
+                y += c.carry[1]
     return x, y
 
 
@@ -636,6 +664,7 @@ def build_text(element, ctx):
 
     # every chunk shaped and spaced first: textLength spans the chunks of its element
     chunks = []
+    has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
     for a, b in zip(bounds[:-1], bounds[1:]):
         clusters = shape_chunk(chars, faces, specs, a, b, text)
@@ -645,6 +674,8 @@ def build_text(element, ctx):
         if vertical:
             apply_writing_mode(clusters, chars)
         apply_spacing(clusters, chars, specs)
+        if has_offsets:
+            carry_offsets(clusters, chars, b)
         chunks.append((a, clusters))
     apply_length_adjust(chunks, chars, text_length, vertical)
 
