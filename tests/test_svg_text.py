@@ -1061,6 +1061,26 @@ def test_text_anchor_takes_the_text_length_as_the_chunks_extent(anchor, x, start
                                          "1234"))
 
 
+@pytest.mark.parametrize("anchor, lists, xs", [
+    # the dx inside the chunk is part of its extent: "1234" with 30 between 2 and 3 ends at x
+    ("end", 'dx="0 0 30"', lambda w: [150 - 4 * w - 30 + p for p in (0, w, 2 * w + 30,
+                                                                      3 * w + 30)]),
+    ("middle", 'dx="0 0 30"', lambda w: [150 - 2 * w - 15 + p for p in (0, w, 2 * w + 30,
+                                                                         3 * w + 30)]),
+    # the first character's own dx moves the anchored chunk with it
+    ("end", 'dx="10 0 30"', lambda w: [160 - 4 * w - 30 + p for p in (0, w, 2 * w + 30,
+                                                                      3 * w + 30)]),
+])
+def test_text_anchor_measures_the_chunk_where_its_characters_are(anchor, lists, xs):
+    # SVG 2 "apply anchoring": a = min(pos, pos + advance), b = max(...) over the chunk's
+    # characters after dx/dy; end puts b, middle (a + b) / 2 at the first character's
+    # position. resvg anchors by the sum of the advances and adds the dx after.
+    w = digit_advance(20)
+    anchored = render(f'<text x="150" y="40" font-size="20" text-anchor="{anchor}" {lists}>'
+                      '1234</text>', width=240)
+    assert close(anchored, placed_digits(xs(w), [40], "1234"))
+
+
 def test_spacing_and_glyphs_squeezes_the_dx_with_the_glyphs():
     # the extent of "12" with dx 30 between the digits is 2w + 30; spacingAndGlyphs scales the
     # positions and the glyphs alike by 100 / (2w + 30) about the start, as a scale(f, 1) would

@@ -433,10 +433,27 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
                     last.advance, last.gap = last.width + delta, delta
 
 
-def chunk_extent(clusters):
-    """A chunk's length for text-anchor: its advances without textLength's spacing after its
-    last character (SVG 2 anchoring measures to the last character's own advance)."""
-    return sum(c.advance * c.sx for c in clusters) - clusters[-1].gap * clusters[-1].sx
+def anchor_shift(anchor, clusters, chars, inline_dy=False):
+    """The move of a chunk laid from 0 that text-anchor makes (SVG 2 "apply anchoring"): the
+    chunk's extent is that of its characters where they are, each from its position (its dx
+    included) to that plus its own advance, so the dx between characters counts and the
+    spacing textLength puts after the last does not; start puts the extent's start, end its
+    end and middle its middle where the first character is (its own dx kept). The inline
+    offsets are dy in vertical text (``inline_dy``)."""
+    if anchor not in ("middle", "end"):
+        return 0.0
+    pos = 0.0
+    lo, hi = math.inf, -math.inf
+    k = 1 if inline_dy else 0
+    for c in clusters:
+        ch = chars[c.char]
+        pos += (ch.dy if inline_dy else ch.dx) * c.sx
+        end = pos + (c.advance - c.gap) * c.sx
+        lo, hi = min(lo, pos, end), max(hi, pos, end)
+        pos += (c.advance + c.carry[k]) * c.sx
+    first = chars[clusters[0].char]
+    first = (first.dy if inline_dy else first.dx) * clusters[0].sx
+    return first - (hi if anchor == "end" else (lo + hi) / 2)
 
 
 NO_CARRY = (0.0, 0.0)
@@ -458,17 +475,13 @@ def carry_offsets(clusters, chars, end):
                 c.carry = (dx, dy)
 
 
-def anchor_shift(anchor, width):
-    return {"middle": -width / 2, "end": -width}.get(anchor, 0.0)
-
-
 def position_linear(clusters, chars, anchor, vertical):
     """Cluster transforms of a chunk laid along x from 0 (the anchor moves the start);
     returns the pen at its end. A cluster squeezed by lengthAdjust=spacingAndGlyphs (``sx``)
     takes its advance and its dx scaled with its glyphs: a chunk scaled alike throughout is
     that chunk scaled about its start, and spans of a text and of a tspan with lengths of
     their own follow each other."""
-    x = anchor_shift(anchor, chunk_extent(clusters))
+    x = anchor_shift(anchor, clusters, chars, vertical)
     y = 0.0
     for c in clusters:
         ch = chars[c.char]
@@ -687,7 +700,7 @@ def build_text(element, ctx):
         anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
-            start = chunk_x + anchor_shift(anchor, chunk_extent(clusters))
+            start = chunk_x + anchor_shift(anchor, clusters, chars)
             last_x, last_y = position_on_path(clusters, chars, first.text_path,
                                               walkers[id(first.text_path)], start, ctx,
                                               styles, shifts)
