@@ -369,31 +369,31 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
             offset[id(c)] = total
             total += c.carry[1] if vertical and not on_path else c.carry[0]
             line.append((c, on_path))
-    # for each element with a length: its depth, and its resolved descendants' ids
-    depth, resolved = {}, {k: set() for k in text_length}
-    for c in chars:
-        own = [id(e) for e in c.chain if id(e) in text_length]
+    # each element's clusters in line order, each with the element with a length next below
+    # it in the cluster's chain (the resolved descendant the cluster is in; None: its own)
+    depth, members, lengths_of = {}, {}, {}
+    for c, on_path in line:
+        chain = chars[c.char].chain
+        own = lengths_of.get(id(chain))
+        if own is None:
+            own = lengths_of[id(chain)] = [id(e) for e in chain if id(e) in text_length]
         for i, k in enumerate(own):
             depth[k] = max(depth.get(k, 0), i)
-            if i + 1 < len(own):
-                resolved[k].add(own[i + 1])
-    for el_id in sorted(text_length, key=lambda k: -depth.get(k, 0)):
+            members.setdefault(k, []).append((c, on_path, own[i + 1] if i + 1 < len(own)
+                                              else None))
+    for el_id in sorted(members, key=lambda k: -depth[k]):
         target, adjust = text_length[el_id]
         # the element's units in line order: its own clusters (and those of descendants
         # without a length), and its resolved descendants, each one unit of its length
         units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
-        for c, on_path in line:
-            ids = [id(e) for e in chars[c.char].chain]
-            if el_id not in ids:
-                continue
-            inner = [k for k in ids[ids.index(el_id) + 1:] if k in resolved[el_id]]
-            if not inner:
+        for c, on_path, inner in members[el_id]:
+            if inner is None:
                 units.append([c, c, c.width, False, on_path])
-            elif inner[0] not in blocks:
-                blocks[inner[0]] = unit = [c, c, text_length[inner[0]][0], True, on_path]
+            elif inner not in blocks:
+                blocks[inner] = unit = [c, c, text_length[inner][0], True, on_path]
                 units.append(unit)
             else:
-                blocks[inner[0]][1] = c
+                blocks[inner][1] = c
         if not units:
             continue
         # SVG 2: a = min(pos, pos + advance), b = max(...) over the element's characters, at
