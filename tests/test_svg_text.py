@@ -1093,6 +1093,18 @@ def test_spacing_and_glyphs_squeezes_the_dx_with_the_glyphs():
     assert close(squeezed, scaled)
 
 
+def test_a_squeezed_text_on_a_path_is_anchored_by_its_squeezed_length():
+    # spacingAndGlyphs squeezes "1234" to 60 on the path; text-anchor end at startOffset 210
+    # puts its end at 10 + 210 along the straight path: as the text squeezed by a scale
+    w = digit_advance(20)
+    on_path = render('<path id="p" d="M10 40 H290"/><text font-size="20" text-anchor="end">'
+                     '<textPath href="#p" startOffset="210" textLength="60" '
+                     'lengthAdjust="spacingAndGlyphs">1234</textPath></text>', width=300)
+    scaled = render(f'<g transform="translate(160 0) scale({60 / (4 * w)!r} 1)"><text y="40" '
+                    'font-size="20">1234</text></g>', width=300)
+    assert np.abs(np.array(ink_box(alpha(on_path))) - ink_box(alpha(scaled))).max() <= 1
+
+
 def test_text_length_across_chunks_in_vertical_text():
     # the same rule along the column: y starts the tspan's chunk, one delta for all four
     w = digit_advance(20)

@@ -433,13 +433,14 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
                     last.advance, last.gap = last.width + delta, delta
 
 
-def anchor_shift(anchor, clusters, chars, inline_dy=False):
+def anchor_shift(anchor, clusters, chars, inline_dy=False, on_path=False):
     """The move of a chunk laid from 0 that text-anchor makes (SVG 2 "apply anchoring"): the
     chunk's extent is that of its characters where they are, each from its position (its dx
     included) to that plus its own advance, so the dx between characters counts and the
     spacing textLength puts after the last does not; start puts the extent's start, end its
     end and middle its middle where the first character is (its own dx kept). The inline
-    offsets are dy in vertical text (``inline_dy``)."""
+    offsets are dy in vertical text (``inline_dy``); on a path (``on_path``) a squeezed
+    cluster's advance already holds its lengthAdjust scale."""
     if anchor not in ("middle", "end"):
         return 0.0
     pos = 0.0
@@ -447,10 +448,12 @@ def anchor_shift(anchor, clusters, chars, inline_dy=False):
     k = 1 if inline_dy else 0
     for c in clusters:
         ch = chars[c.char]
-        pos += (ch.dy if inline_dy else ch.dx) * c.sx
-        end = pos + (c.advance - c.gap) * c.sx
+        sx = c.sx
+        pos += (ch.dy if inline_dy else ch.dx) * sx
+        advance = c.advance if on_path else c.advance * sx
+        end = pos + advance - c.gap * sx
         lo, hi = min(lo, pos, end), max(hi, pos, end)
-        pos += (c.advance + c.carry[k]) * c.sx
+        pos += advance + c.carry[k] * sx
     first = chars[clusters[0].char]
     first = (first.dy if inline_dy else first.dx) * clusters[0].sx
     return first - (hi if anchor == "end" else (lo + hi) / 2)
@@ -700,7 +703,7 @@ def build_text(element, ctx):
         anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
-            start = chunk_x + anchor_shift(anchor, clusters, chars)
+            start = chunk_x + anchor_shift(anchor, clusters, chars, on_path=True)
             last_x, last_y = position_on_path(clusters, chars, first.text_path,
                                               walkers[id(first.text_path)], start, ctx,
                                               styles, shifts)
