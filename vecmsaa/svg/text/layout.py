@@ -41,6 +41,10 @@ class Glyph:
     matrix: tuple | None = None
 
 
+#: a cluster's carry when its later characters have no dx or dy (compared by identity)
+NO_CARRY = (0.0, 0.0)
+
+
 @dataclass(slots=True)
 class Cluster:
     """Glyphs of one typographic character (ligature, base + marks): the unit that SVG
@@ -62,7 +66,7 @@ class Cluster:
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
     gap: float = 0.0          # textLength's spacing in its advance (after it)
-    carry: tuple = (0.0, 0.0)   # dx, dy of its characters after the first: move what follows
+    carry: tuple = NO_CARRY   # dx, dy of its characters after the first: move what follows
 
 
 def shape_chunk(chars, faces, specs, start, end, text=None):
@@ -457,9 +461,6 @@ def anchor_shift(anchor, clusters, chars, inline_dy=False, on_path=False):
     first = chars[clusters[0].char]
     first = (first.dy if inline_dy else first.dx) * clusters[0].sx
     return first - (hi if anchor == "end" else (lo + hi) / 2)
-
-
-NO_CARRY = (0.0, 0.0)
 
 
 def carry_offsets(clusters, chars, end):
