@@ -763,6 +763,48 @@ def test_a_base_and_its_combining_marks_are_one_typographic_character():
 
 
 @pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "NotoSansDevanagari-Regular.ttf")),
+                    reason="needs the suite's Noto Sans Devanagari")
+@pytest.mark.parametrize("lists", ['rotate="0 30 60 90"', 'dy="0 0 -15 10"',
+                                   'rotate="0 0 45" letter-spacing="10"'])
+def test_a_grapheme_whose_base_a_ligature_took_is_one_typographic_character_with_it(lists):
+    # श्री: the conjunct श्र is one glyph of SHA, VIRAMA and RA, and the matra ी extends RA:
+    # the ligature and the grapheme share RA, so the four characters are one typographic
+    # character (SVG 2), placed and turned by the first one's values alone (resvg 0.48.1
+    # draws them so); the matra was drawn apart, turned or moved by RA's values
+    def draw(attrs):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Sans Devanagari" font-size="40"><text x="20" y="60" {attrs}>'
+               '\u0936\u094d\u0930\u0940</text></svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    assert np.array_equal(draw(lists), draw(""))
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "NotoSerif-Regular.ttf")),
+                    reason="needs the suite's Noto Serif")
+@pytest.mark.parametrize("lists, spans", [
+    ('dx="0 0 20"', 'offi<tspan dx="20">ce</tspan>'),
+    ('dx="0 0 0 20"', 'offi<tspan dx="20">ce</tspan>'),
+    ('dy="0 0 12 -4"', 'offi<tspan dy="8">ce</tspan>'),
+    ('dx="0 5 5 5 5"', 'o<tspan dx="5">ffi</tspan><tspan dx="15">ce</tspan>')])
+def test_offsets_of_a_ligatures_later_characters_move_the_text_after_it(lists, spans):
+    # "office" in Noto Serif: o, the ffi ligature, c, e. SVG 2 ("adjust positions: dx, dy")
+    # adds the dx and dy of every addressable character to the shift of the characters after
+    # it, while the ligature itself is placed by its first f's values: so the values of the
+    # second f and the i move "ce" as a span's dx or dy would (resvg 0.48.1 drops them)
+    def draw(body):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
+               f'font-family="Noto Serif" font-size="30">{body}</svg>').encode()
+        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
+                                skip_system_fonts=True, width=200, mode="analytic")
+    lig = draw(f'<text x="20" y="60" {lists}>office</text>')
+    assert np.abs(lig.astype(int) - draw(f'<text x="20" y="60">{spans}</text>').astype(int)
+                  ).max() <= 1
+    assert not np.array_equal(lig, draw('<text x="20" y="60">office</text>'))
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
                                                     "TwitterColorEmoji.subset.ttf")),
                     reason="needs the suite's Twitter Color Emoji")
 def test_letter_spacing_keeps_zwj_sequences_joined():
@@ -948,23 +990,145 @@ def test_a_fallback_face_draws_only_what_the_font_lacks_when_it_cannot_draw_all(
 
 # -- textLength over several text chunks ------------------------------------------------------
 
-def test_text_length_leaves_a_chunk_of_descendants_alone():
-    # The tspan's own x/y starts a chunk holding only the tspan's characters: it is laid out
-    # as a text of its own (as resvg does), and the first chunk still gets the length.
-    both = render('<text x="10" y="40" textLength="180" font-size="30">Text'
-                  '<tspan x="10" y="80">More</tspan></text>', width=200)
-    apart = render('<text x="10" y="40" textLength="180" font-size="30">Text</text>'
-                   '<text x="10" y="80" font-size="30">More</text>', width=200)
-    assert np.array_equal(both, apart)
+def digit_advance(size):
+    """The advance of a digit of the test font at ``size``, read from its hmtx table with
+    fontTools (every digit of Noto Sans advances alike and none is kerned)."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    cmap = font.getBestCmap()
+    widths = {font["hmtx"][cmap[ord(d)]][0] for d in "0123456789"}
+    assert len(widths) == 1
+    return widths.pop() / font["head"].unitsPerEm * size
 
 
-def test_text_length_applies_to_each_chunk_of_the_elements_own_characters():
-    # x="10 10" on the text splits its own characters into two chunks, each adjusted.
-    chunks = render('<text x="10 10" y="40 80" textLength="180" font-size="30">TMore</text>',
-                    width=200)
-    apart = render('<text x="10" y="40" textLength="180" font-size="30">T</text>'
-                   '<text x="10" y="80" textLength="180" font-size="30">More</text>', width=200)
-    assert np.array_equal(chunks, apart)
+def placed_digits(xs, ys, text, width=240, extra=""):
+    """The digits placed one by one at the positions the specification gives them."""
+    return render(f'<text x="{" ".join(map(repr, xs))}" y="{" ".join(map(repr, ys))}" '
+                  f'font-size="20"{extra}>{text}</text>', width=width)
+
+
+def close(a, b, level=1):
+    return np.abs(a.astype(int) - b.astype(int)).max() <= level
+
+
+def test_text_length_spaces_an_elements_characters_across_its_chunks():
+    # SVG 2 §11.5.5: textLength is applied before the absolute x/y positions, to the
+    # element's characters on the line they make together: one delta = (L - 4w) / 3 after
+    # each of the four digits, the tspan's chunk included, and the x of the tspan keeps its
+    # place (resvg spreads "12" to the whole 200 and leaves "34" alone).
+    w = digit_advance(20)
+    d = (200 - 4 * w) / 3
+    both = render('<text x="10" y="40" font-size="20" textLength="200">12<tspan x="120">34'
+                  '</tspan></text>', width=240)
+    assert close(both, placed_digits([10, 10 + w + d, 120, 120 + w + d], [40], "1234"))
+
+
+def test_text_length_over_chunks_of_its_own_characters():
+    # x="10 10" y="40 80" cuts the text's own characters into two chunks; the five digits are
+    # still spaced as one line: delta = (150 - 5w) / 4, the second chunk's four digits w + delta
+    # apart from x = 10 (so no chunk is 150 long)
+    w = digit_advance(20)
+    d = (150 - 5 * w) / 4
+    chunks = render('<text x="10 10" y="40 80" font-size="20" textLength="150">12345</text>',
+                    width=240)
+    xs = [10, 10] + [10 + k * (w + d) for k in (1, 2, 3)]
+    assert close(chunks, placed_digits(xs, [40, 80, 80, 80, 80], "12345"))
+
+
+def test_text_length_measures_the_dx_between_its_characters():
+    # SVG 2 §11.5.5: dx/dy are applied before textLength, whose extent is that of the
+    # positions: the 30 of dx is part of the 150 (resvg adds it after spreading)
+    w = digit_advance(20)
+    d = (150 - 4 * w - 30) / 3
+    shifted = render('<text x="10" y="40" font-size="20" textLength="150" dx="0 0 30">1234'
+                     '</text>', width=240)
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d + 30, 10 + 3 * w + 3 * d + 30]
+    assert close(shifted, placed_digits(xs, [40], "1234"))
+    assert xs[-1] + w == pytest.approx(160)
+
+
+@pytest.mark.parametrize("anchor, x, start", [("end", 190, 40), ("middle", 115, 40)])
+def test_text_anchor_takes_the_text_length_as_the_chunks_extent(anchor, x, start):
+    # SVG 2 anchoring measures a chunk from its first character's position to its last
+    # one's position plus its advance: textLength's spacing after the last digit is no part
+    # of it, so the text spans exactly the 150 before x (end) or around it (middle); resvg
+    # counts that spacing too and ends the text a delta early
+    w = digit_advance(20)
+    d = (150 - 4 * w) / 3
+    anchored = render(f'<text x="{x}" y="40" font-size="20" textLength="150" '
+                      f'text-anchor="{anchor}">1234</text>', width=240)
+    assert close(anchored, placed_digits([start + k * (w + d) for k in range(4)], [40],
+                                         "1234"))
+
+
+@pytest.mark.parametrize("anchor, lists, xs", [
+    # the dx inside the chunk is part of its extent: "1234" with 30 between 2 and 3 ends at x
+    ("end", 'dx="0 0 30"', lambda w: [150 - 4 * w - 30 + p for p in (0, w, 2 * w + 30,
+                                                                      3 * w + 30)]),
+    ("middle", 'dx="0 0 30"', lambda w: [150 - 2 * w - 15 + p for p in (0, w, 2 * w + 30,
+                                                                         3 * w + 30)]),
+    # the first character's own dx moves the anchored chunk with it
+    ("end", 'dx="10 0 30"', lambda w: [160 - 4 * w - 30 + p for p in (0, w, 2 * w + 30,
+                                                                      3 * w + 30)]),
+])
+def test_text_anchor_measures_the_chunk_where_its_characters_are(anchor, lists, xs):
+    # SVG 2 "apply anchoring": a = min(pos, pos + advance), b = max(...) over the chunk's
+    # characters after dx/dy; end puts b, middle (a + b) / 2 at the first character's
+    # position. resvg anchors by the sum of the advances and adds the dx after.
+    w = digit_advance(20)
+    anchored = render(f'<text x="150" y="40" font-size="20" text-anchor="{anchor}" {lists}>'
+                      '1234</text>', width=240)
+    assert close(anchored, placed_digits(xs(w), [40], "1234"))
+
+
+def test_spacing_and_glyphs_squeezes_the_dx_with_the_glyphs():
+    # the extent of "12" with dx 30 between the digits is 2w + 30; spacingAndGlyphs scales the
+    # positions and the glyphs alike by 100 / (2w + 30) about the start, as a scale(f, 1) would
+    w = digit_advance(20)
+    f = 100 / (2 * w + 30)
+    squeezed = render('<text x="10" y="40" font-size="20" textLength="100" '
+                      'lengthAdjust="spacingAndGlyphs" dx="0 30">12</text>', width=240)
+    scaled = render(f'<g transform="translate(10 0) scale({f!r} 1)"><text y="40" font-size="20" '
+                    f'dx="0 30">12</text></g>', width=240)
+    assert close(squeezed, scaled)
+
+
+def test_a_squeezed_text_on_a_path_is_anchored_by_its_squeezed_length():
+    # spacingAndGlyphs squeezes "1234" to 60 on the path; text-anchor end at startOffset 210
+    # puts its end at 10 + 210 along the straight path: as the text squeezed by a scale
+    w = digit_advance(20)
+    on_path = render('<path id="p" d="M10 40 H290"/><text font-size="20" text-anchor="end">'
+                     '<textPath href="#p" startOffset="210" textLength="60" '
+                     'lengthAdjust="spacingAndGlyphs">1234</textPath></text>', width=300)
+    scaled = render(f'<g transform="translate(160 0) scale({60 / (4 * w)!r} 1)"><text y="40" '
+                    'font-size="20">1234</text></g>', width=300)
+    assert np.abs(np.array(ink_box(alpha(on_path))) - ink_box(alpha(scaled))).max() <= 1
+
+
+def test_text_length_across_chunks_in_vertical_text():
+    # the same rule along the column: y starts the tspan's chunk, one delta for all four
+    w = digit_advance(20)
+    d = (150 - 4 * w) / 3
+    both = render('<text x="40" y="10" writing-mode="tb" font-size="20" textLength="150">12'
+                  '<tspan y="120">34</tspan></text>', width=100, height=240)
+    one_by_one = render(f'<text x="40" y="{10!r} {10 + w + d!r} 120 {120 + w + d!r}" '
+                        f'writing-mode="tb" font-size="20">1234</text>', width=100, height=240)
+    assert close(both, one_by_one)
+
+
+def test_text_length_on_a_text_path_is_that_of_the_line():
+    # on a straight path the characters take the places of the same text laid on a line: the
+    # dx inside counts in the extent and the length spans the descendant's digits too
+    w = digit_advance(20)
+    d = (150 - 4 * w - 30) / 3
+    on_path = render('<path id="p" d="M10 40 H230"/><text font-size="20"><textPath href="#p" '
+                     'textLength="150">12<tspan dx="30">34</tspan></textPath></text>', width=240)
+    xs = [10, 10 + w + d, 10 + 2 * w + 2 * d + 30, 10 + 3 * w + 3 * d + 30]
+    line = placed_digits(xs, [40], "1234")
+    # (the path walker finds arc lengths to resvg's accuracy: a quarter pixel at most)
+    assert np.abs(ink_box(alpha(on_path))[0] - ink_box(alpha(line))[0]) <= 1
+    assert np.abs(ink_box(alpha(on_path))[2] - ink_box(alpha(line))[2]) <= 1
+    assert np.abs(alpha(on_path).sum(0) - alpha(line).sum(0)).max() < 3
 
 
 def test_text_length_counts_the_characters_of_descendants_in_the_chunk():

@@ -41,6 +41,10 @@ class Glyph:
     matrix: tuple | None = None
 
 
+#: a cluster's carry when its later characters have no dx or dy (compared by identity)
+NO_CARRY = (0.0, 0.0)
+
+
 @dataclass(slots=True)
 class Cluster:
     """Glyphs of one typographic character (ligature, base + marks): the unit that SVG
@@ -61,6 +65,8 @@ class Cluster:
     visible: bool = True
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
+    gap: float = 0.0          # textLength's spacing in its advance (after it)
+    carry: tuple = NO_CARRY   # dx, dy of its characters after the first: move what follows
 
 
 def shape_chunk(chars, faces, specs, start, end, text=None):
@@ -178,12 +184,19 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     # it did not merge with its base on its own, which then turned about its own origin, got
     # letter-spacing between it and its base, and kept its own font size. Its glyphs join
     # the cluster of the character it extends.
+    # A grapheme whose base character a ligature took (the र of the conjunct श्र, whose
+    # matra ी HarfBuzz leaves in a cluster of its own) joins the ligature's cluster: the
+    # ligature and the grapheme share a character, so they are one typographic character.
     owner = {}
     base = None
+    starts = None
     # (ASCII text extends no cluster: most labels skip the test per character)
     for i in range(s, e) if not text[s:e].isascii() else ():
         if base is not None and (_extends(text[i]) or _joined(text, base, i)):
-            owner[i] = base
+            if starts is None:
+                starts = sorted(set(run.clusters.tolist()))
+            k = bisect_right(starts, base) - 1
+            owner[i] = starts[k] if k >= 0 else base
         else:
             base = i
     out = []
@@ -322,74 +335,148 @@ def _is_upright(cp):
             or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
 
 
-def apply_length_adjust(clusters, chars, text_length, on_path):
-    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}), in one
-    chunk: an element's length is that of its characters in the chunk, descendants' included
-    (SVG 2 §11.5.3), in each chunk that holds characters of its own. A chunk whose characters
-    all belong to descendants (a ``tspan`` with its own ``x`` or ``y``) is not adjusted to the
-    ancestor's length: SVG does not define textLength over several chunks, and there resvg
-    adjusts only the element's own characters.
+def apply_length_adjust(chunks, chars, text_length, vertical):
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}) over
+    the text's chunks (``chunks``: (index of the first character, clusters) in text order),
+    by SVG 2's text layout algorithm (§11.5.5, "apply 'textLength' attribute"), which comes
+    after the dx/dy adjustment and before the absolute x/y positions and the anchoring: an
+    element's characters are adjusted together wherever they are, their extent measured on
+    the line they would make without their absolute positions (advances and the dx
+    accumulated since the last absolute x), and every typographic character of the element,
+    in every chunk, is spaced by one ``delta``. A chunk that an absolute position starts keeps
+    its place: the length is that of the line before it is cut into chunks, not of each chunk.
 
     A descendant with a textLength of its own (SVG 2's "resolved descendant node") keeps it:
-    descendants are adjusted before their ancestors, and an ancestor's length less its resolved
-    descendants' lengths (wherever they are) is the length of the rest of its content
-    (§11.5.3: "the total advance values for the other content within that ancestor is the
-    difference"). Each resolved descendant in the chunk counts as one character for the
-    ancestor's spacing: the gap after it is the ancestor's (§11.5.5, "resolve text length")."""
+    descendants are adjusted before their ancestors, each resolved descendant counts as one
+    character of the ancestor's spacing, the gap after it is the ancestor's, and the rest of
+    the ancestor's content gets the ancestor's length less its resolved descendants' (§11.5.3:
+    "the total advance values for the other content within that ancestor is the
+    difference"). The spacing after an element's last character (``gap``) moves the text
+    after it in its chunk but is no part of the chunk's extent for text-anchor."""
     if not text_length:
         return
-    # for each element with a length: its depth, and its resolved descendants' ids
-    depth, resolved = {}, {k: set() for k in text_length}
-    for c in chars:
-        own = [id(e) for e in c.chain if id(e) in text_length]
+    # the line: every cluster in order with the inline offset (dx, or dy in vertical text)
+    # accumulated at it, which an absolute inline position or a textPath restarts
+    line, offset = [], {}
+    total = 0.0
+    previous_path = None
+    for first, clusters in chunks:
+        start = chars[first]
+        on_path = start.text_path is not None
+        if ((start.y if vertical and not on_path else start.x) is not None
+                or start.text_path is not previous_path):
+            total = 0.0
+        previous_path = start.text_path
+        for c in clusters:
+            ch = chars[c.char]
+            total += ch.dy if vertical and not on_path else ch.dx
+            offset[id(c)] = total
+            total += c.carry[1] if vertical and not on_path else c.carry[0]
+            line.append((c, on_path))
+    # each element's clusters in line order, each with the element with a length next below
+    # it in the cluster's chain (the resolved descendant the cluster is in; None: its own)
+    depth, members, lengths_of = {}, {}, {}
+    for c, on_path in line:
+        chain = chars[c.char].chain
+        own = lengths_of.get(id(chain))
+        if own is None:
+            own = lengths_of[id(chain)] = [id(e) for e in chain if id(e) in text_length]
         for i, k in enumerate(own):
             depth[k] = max(depth.get(k, 0), i)
-            if i + 1 < len(own):
-                resolved[k].add(own[i + 1])
-    for el_id in sorted(text_length, key=lambda k: -depth.get(k, 0)):
+            members.setdefault(k, []).append((c, on_path, own[i + 1] if i + 1 < len(own)
+                                              else None))
+    for el_id in sorted(members, key=lambda k: -depth[k]):
         target, adjust = text_length[el_id]
-        if resolved[el_id]:
-            target -= sum(text_length[d][0] for d in resolved[el_id])
-        idx, blocks = [], {}
-        for i, c in enumerate(clusters):
-            chain = chars[c.char].chain
-            ids = [id(e) for e in chain]
-            if el_id not in ids:
-                continue
-            inner = [k for k in ids[ids.index(el_id) + 1:] if k in resolved[el_id]]
-            if inner:
-                blocks.setdefault(inner[0], []).append(i)
+        # the element's units in line order: its own clusters (and those of descendants
+        # without a length), and its resolved descendants, each one unit of its length
+        units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
+        for c, on_path, inner in members[el_id]:
+            if inner is None:
+                units.append([c, c, c.width, False, on_path])
+            elif inner not in blocks:
+                blocks[inner] = unit = [c, c, text_length[inner][0], True, on_path]
+                units.append(unit)
             else:
-                idx.append(i)
-        if not any(id(chars[clusters[i].char].el) == el_id for i in idx):
+                blocks[inner][1] = c
+        if not units:
             continue
-        width = sum(clusters[i].width for i in idx)
+        # SVG 2: a = min(pos, pos + advance), b = max(...) over the element's characters, at
+        # their places on the line (a resolved descendant: its length from its first one,
+        # which covers the offsets inside it)
+        lo, hi = math.inf, -math.inf
+        pen = 0.0
+        for c0, c1, length, _, _ in units:
+            pos = pen + offset[id(c0)]
+            lo, hi = min(lo, pos, pos + length), max(hi, pos, pos + length)
+            pen += length - (offset[id(c1)] - offset[id(c0)])
+        extent = hi - lo
+        own = [(u[0], u[4]) for u in units if not u[3]]
         if adjust == "spacingAndGlyphs":
-            if width <= 0:
+            # the element's own clusters (with the dx between them) take the length its
+            # resolved descendants leave
+            kept = sum(text_length[k][0] for k in blocks)
+            if extent - kept <= 0:
                 continue
-            factor = target / width
+            factor = (target - kept) / (extent - kept)
             if factor < 0.001:
                 continue
-            for i in idx:
-                clusters[i].sx = factor
+            for c, on_path in own:
+                c.sx = factor
                 if on_path:
-                    clusters[i].advance *= factor
-                    clusters[i].width *= factor
-                    clusters[i].widest *= factor
+                    c.advance *= factor
+                    c.width *= factor
+                    c.widest *= factor
         else:
-            n = len(idx) + len(blocks)
-            factor = (target - width) / (n - 1) if n > 1 else 0.0
-            for i in idx:
-                clusters[i].advance = clusters[i].width + factor
+            n = len(units)
+            delta = (target - extent) / (n - 1) if n > 1 else 0.0
+            for c, _ in own:
+                c.advance, c.gap = c.width + delta, delta
             if n > 1:
-                for members in blocks.values():
+                for _, last, _, _, _ in blocks.values():
                     # the block's own trailing gap becomes the ancestor's gap after it
-                    last = clusters[max(members, key=lambda i: clusters[i].char)]
-                    last.advance = last.width + factor
+                    last.advance, last.gap = last.width + delta, delta
 
 
-def anchor_shift(anchor, width):
-    return {"middle": -width / 2, "end": -width}.get(anchor, 0.0)
+def anchor_shift(anchor, clusters, chars, inline_dy=False, on_path=False):
+    """The move of a chunk laid from 0 that text-anchor makes (SVG 2 "apply anchoring"): the
+    chunk's extent is that of its characters where they are, each from its position (its dx
+    included) to that plus its own advance, so the dx between characters counts and the
+    spacing textLength puts after the last does not; start puts the extent's start, end its
+    end and middle its middle where the first character is (its own dx kept). The inline
+    offsets are dy in vertical text (``inline_dy``); on a path (``on_path``) a squeezed
+    cluster's advance already holds its lengthAdjust scale."""
+    if anchor not in ("middle", "end"):
+        return 0.0
+    pos = 0.0
+    lo, hi = math.inf, -math.inf
+    k = 1 if inline_dy else 0
+    for c in clusters:
+        ch = chars[c.char]
+        sx = c.sx
+        pos += (ch.dy if inline_dy else ch.dx) * sx
+        advance = c.advance if on_path else c.advance * sx
+        end = pos + advance - c.gap * sx
+        lo, hi = min(lo, pos, end), max(hi, pos, end)
+        pos += advance + c.carry[k] * sx
+    first = chars[clusters[0].char]
+    first = (first.dy if inline_dy else first.dx) * clusters[0].sx
+    return first - (hi if anchor == "end" else (lo + hi) / 2)
+
+
+def carry_offsets(clusters, chars, end):
+    """The dx and dy of the characters of a typographic character after its first (a
+    ligature's, a conjunct's): the character is placed by its first character's values, and
+    SVG 2 ("adjust positions: dx, dy") adds every addressable character's to the shift of
+    the characters after it. ``end``: the chunk's end."""
+    starts = sorted(c.char for c in clusters)
+    for c in clusters:
+        i = bisect_right(starts, c.char)
+        stop = starts[i] if i < len(starts) else end
+        if stop - c.char > 1:
+            dx = sum(chars[k].dx for k in range(c.char + 1, stop))
+            dy = sum(chars[k].dy for k in range(c.char + 1, stop))
+            if dx or dy:
+                c.carry = (dx, dy)
 
 
 def position_linear(clusters, chars, anchor, vertical):
@@ -398,7 +485,7 @@ def position_linear(clusters, chars, anchor, vertical):
     takes its advance and its dx scaled with its glyphs: a chunk scaled alike throughout is
     that chunk scaled about its start, and spans of a text and of a tspan with lengths of
     their own follow each other."""
-    x = anchor_shift(anchor, sum(c.advance * c.sx for c in clusters))
+    x = anchor_shift(anchor, clusters, chars, vertical)
     y = 0.0
     for c in clusters:
         ch = chars[c.char]
@@ -415,6 +502,13 @@ def position_linear(clusters, chars, anchor, vertical):
             c.shifted = True
         c.frame = frame
         x += c.advance * c.sx
+        if c.carry is not NO_CARRY:
+            if vertical:
+                y -= c.carry[0]
+                x += c.carry[1] * c.sx
+            else:
+                x += c.carry[0] * c.sx
+                y += c.carry[1]
     return x, y
 
 
@@ -585,12 +679,11 @@ def build_text(element, ctx):
                                                vertical) if face is not None else 0.0
         shifts.append(shift_cache[key])
 
-    all_clusters = []
-    last_x = last_y = 0.0
+    # every chunk shaped and spaced first: textLength spans the chunks of its element
+    chunks = []
+    has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
     for a, b in zip(bounds[:-1], bounds[1:]):
-        first = chars[a]
-        on_path = first.text_path is not None
         clusters = shape_chunk(chars, faces, specs, a, b, text)
         if not clusters:
             continue
@@ -598,11 +691,20 @@ def build_text(element, ctx):
         if vertical:
             apply_writing_mode(clusters, chars)
         apply_spacing(clusters, chars, specs)
-        apply_length_adjust(clusters, chars, text_length, on_path)
+        if has_offsets:
+            carry_offsets(clusters, chars, b)
+        chunks.append((a, clusters))
+    apply_length_adjust(chunks, chars, text_length, vertical)
+
+    all_clusters = []
+    last_x = last_y = 0.0
+    for a, clusters in chunks:
+        first = chars[a]
+        on_path = first.text_path is not None
         anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
-            start = chunk_x + anchor_shift(anchor, sum(c.advance for c in clusters))
+            start = chunk_x + anchor_shift(anchor, clusters, chars, on_path=True)
             last_x, last_y = position_on_path(clusters, chars, first.text_path,
                                               walkers[id(first.text_path)], start, ctx,
                                               styles, shifts)

@@ -64,15 +64,16 @@ def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shi
     last = (0.0, 0.0)
     for c in clusters:
         ch = chars[c.char]
-        advance += ch.dx
+        advance += ch.dx * c.sx      # (squeezed with its cluster by spacingAndGlyphs)
         # placed and turned at the middle of its widest glyph (as resvg, whose cluster width
         # is that glyph's; the pen moves by the whole advance)
         hw = c.widest / 2
         at = walker.at(advance + hw)
-        advance += c.advance
+        advance += c.advance + c.carry[0] * c.sx
         dy += ch.dy
         if at is None:
             c.visible = False
+            dy += c.carry[1]
             continue
         px, py, ang = at
         frame = compose(translate(px - hw, py), rotate_at(ang, hw, 0.0))
@@ -81,5 +82,6 @@ def position_on_path(clusters, chars, text_path, walker, start, ctx, styles, shi
             frame = compose(frame, rotate_at(ch.rotate, 0.0, 0.0))
         c.frame = compose(frame, compose(c.pre, (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0)))
         c.shifted = True
+        dy += c.carry[1]
         last = (px + c.advance, py)
     return last
