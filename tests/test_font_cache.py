@@ -194,7 +194,7 @@ def test_a_cache_folder_that_cannot_be_written_means_no_cache(tmp_path, monkeypa
 
     def refuse(*args, **kwargs):
         raise PermissionError(13, "Permission denied")
-    monkeypatch.setattr(facecache.tempfile, "mkstemp", refuse)
+    monkeypatch.setattr("tempfile.mkstemp", refuse)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error")
