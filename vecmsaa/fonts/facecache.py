@@ -35,9 +35,8 @@ from array import array
 #: the environment variable: ``0`` for no cache, or an absolute folder to keep it in
 CACHE_ENV = "VECMSAA_FONT_CACHE"
 FORMAT = "vecmsaa font cache 1"
-#: a cache file larger than this is not read (a folder of 10,000 faces with every coverage
-#: takes a few megabytes)
-MAX_CACHE_BYTES = 256 << 20
+#: a cache file larger than this is not read (1261 faces with every coverage take 1.4 MB)
+MAX_CACHE_BYTES = 64 << 20
 _VERSION = None
 
 
@@ -222,9 +221,7 @@ class FolderCache:
     def save(self):
         """Write the cache when it changed (the files asked for, no others); any failure
         leaves it unwritten."""
-        if not self.changed and self._new.keys() == self._old.keys():
-            return
-        if self.file is None:
+        if self.file is None or (not self.changed and self._new.keys() == self._old.keys()):
             return
         self._old = dict(self._new)
         self.changed = False
