@@ -35,3 +35,18 @@ def outside_the_source_tree(tmp_path_factory):
     os.chdir(tmp_path_factory.mktemp("cwd"))
     yield
     os.chdir(old)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def font_cache_in_scratch(tmp_path_factory):
+    """The font face cache (vecmsaa/fonts/facecache.py) in a scratch folder, for this process
+    and the commands the tests run, so that tests never write the user's ~/.cache."""
+    from vecmsaa.fonts.facecache import CACHE_ENV
+
+    old = os.environ.get(CACHE_ENV)
+    os.environ[CACHE_ENV] = str(tmp_path_factory.mktemp("font-cache"))
+    yield
+    if old is None:
+        os.environ.pop(CACHE_ENV, None)
+    else:
+        os.environ[CACHE_ENV] = old

@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass, field
 
 from .face import FontError, WIDTH_CLASS_PERCENT, load_face
+from .facecache import FolderCache, covers, read_coverage
 
 FONT_EXTENSIONS = (".ttf", ".otf", ".ttc", ".otc")
 GENERIC_FAMILIES = ("serif", "sans-serif", "cursive", "fantasy", "monospace")
@@ -154,24 +155,40 @@ class FontDatabase:
         self._by_family = None
         self._queries = {}
         self._seen = set()
+        self._caches = {}           # font file path -> the FolderCache its faces came from
+        self._coverage = {}         # (path, index) -> coverage of faces from single files
 
     # -- loading ---------------------------------------------------------------------------
     def load_file(self, path):
-        path = os.path.abspath(os.fspath(path))
+        self._add_file(os.path.abspath(os.fspath(path)), None)
+
+    def _add_file(self, path, cache):
+        """The faces of a font file (absolute path), through a folder's cache when given."""
         if path in self._seen:
             return
         self._seen.add(path)
-        self.faces.extend(read_face_infos(path))
+        if cache is None:
+            self.faces.extend(read_face_infos(path))
+        else:
+            self.faces.extend(cache.faces(path, read_face_infos))
+            self._caches[path] = cache
         self._by_family = None
         self._queries = {}
 
     def load_dir(self, folder):
+        """Every font file under a folder, in name order, its faces read through the folder's
+        cache (vecmsaa/fonts/facecache.py)."""
         folder = os.path.expanduser(os.fspath(folder))
+        cache = FolderCache(folder)
         for root, dirs, files in os.walk(folder):
             dirs.sort()
             for fn in sorted(files):
                 if fn.lower().endswith(FONT_EXTENSIONS):
-                    self.load_file(os.path.join(root, fn))
+                    path = os.path.abspath(os.path.join(root, fn))
+                    if path in self._seen:     # (listed through another folder: kept in this
+                        cache.faces(path, read_face_infos)   # one's cache all the same)
+                    self._add_file(path, cache)
+        cache.save()
 
     def load_system_fonts(self):
         for folder in SYSTEM_FONT_DIRS:
@@ -242,21 +259,61 @@ class FontDatabase:
         the text asked for (``exclude[0]``, else the given ones), else any face that has it.
         That is fontdb's order as resvg's fallback walks it; which face covers a character
         no listed family has is the renderer's choice (CSS Fonts 4 §5.2 step 7)."""
-        cp = ord(char)
+        try:
+            return self._fallback(ord(char), families, weight, style, stretch, exclude)
+        finally:
+            self.save_caches()        # the coverage read on the way, when any was
+
+    def save_caches(self):
+        """Write the folder caches that learnt something since they were written."""
+        for cache in set(self._caches.values()):
+            cache.save()
+
+    def _fallback(self, cp, families, weight, style, stretch, exclude):
         tried = set(exclude)
         for family in families:
             info = best_match(self.family_faces(family), weight, style, stretch)
             if info is not None and info not in tried:
                 tried.add(info)
-                if _has_cp(info, cp):
+                if self.has_char(info, cp):
                     return info
         base = exclude[0] if exclude else None
         if base is not None:
             style, weight, stretch = base.style, base.weight, base.stretch
-        candidates = [f for f in self.faces if f not in tried and _has_cp(f, cp)]
-        alike = [f for f in candidates
-                 if f.style == style or f.weight == weight or f.stretch == stretch]
-        return (alike or candidates or [None])[0]
+        # the first face that has it and is alike, else the first that has it: faces are
+        # loaded only when their coverage holds the character, alike ones first
+        unlike = []
+        for f in self.faces:
+            if not covers(self.coverage(f), cp) or f in tried:
+                continue
+            if f.style == style or f.weight == weight or f.stretch == stretch:
+                if self.has_char(f, cp):
+                    return f
+            else:
+                unlike.append(f)
+        return next((f for f in unlike if self.has_char(f, cp)), None)
+
+    def coverage(self, info: FaceInfo) -> list:
+        """The characters of a face's cmap as range boundaries (facecache.read_coverage),
+        through its folder's cache."""
+        cache = self._caches.get(info.path)
+        if cache is not None:
+            return cache.coverage(info)
+        key = (info.path, info.index)
+        bounds = self._coverage.get(key)
+        if bounds is None:
+            bounds = self._coverage[key] = read_coverage(info.path, info.index)
+        return bounds
+
+    def has_char(self, info: FaceInfo, cp: int) -> bool:
+        """Whether a face draws a character: its coverage holds it and the face loads (the
+        coverage spares loading faces that lack it)."""
+        if not covers(self.coverage(info), cp):
+            return False
+        try:
+            return info.load().has_char(cp)
+        except FontError:
+            return False
 
 
 def _family_names(name) -> list:
@@ -278,13 +335,6 @@ def _family_names(name) -> list:
         if families:
             return families
     return []
-
-
-def _has_cp(info: FaceInfo, cp: int) -> bool:
-    try:
-        return info.load().has_char(cp)
-    except FontError:
-        return False
 
 
 def parse_family_list(text: str) -> list:
