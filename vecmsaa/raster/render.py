@@ -44,7 +44,7 @@ from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analyti
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
 from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated
-from .shaders import PaintTable
+from .shaders import PaintTable, solid_arrays, solid_row
 
 #: flattening tolerance of the exact modes (pixels)
 EXACT_TOLERANCE = 1.0 / 256.0
@@ -680,15 +680,18 @@ class Raster:
         buf[:, c:d] = 0.0
         return buf
 
-    def draw_into(self, items, buf: np.ndarray, y0: int, c: int, d: int) -> np.ndarray:
+    def draw_into(self, items, buf: np.ndarray, y0: int, c: int, d: int,
+                  copy: bool = True) -> np.ndarray:
         """draw_items onto ``buf`` one nesting depth down (nested layers take the next
-        buffer), then a copy of its columns c..d - 1, so that ``buf`` is free again."""
+        buffer), then a copy of its columns c..d - 1, so that ``buf`` is free again (without
+        ``copy`` those columns themselves: the caller copies what it needs before the buffer
+        is drawn in again)."""
         self.depth += 1
         try:
             draw_items(items, buf, y0, self)
         finally:
             self.depth -= 1
-        return buf[:, c:d].copy()
+        return buf[:, c:d].copy() if copy else buf[:, c:d]
 
     def fill_kernel(self):
         """The kernel bound to the options' arguments and the scratch buffers, their part of
@@ -724,7 +727,7 @@ class Raster:
 
 class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
-    ``rows``: the device y range its fills lie in."""
+    ``rows``, ``cols``: the device y and x ranges of its fills' boxes."""
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
                  extremes=None, canvas=NO_CULL):
@@ -758,12 +761,17 @@ class FillBatch:
             lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
         self.rows = (lo[1], hi[3])
+        self.cols = (lo[0], hi[2])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
-        table = PaintTable()
-        table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
-        self.kinds, self.params, self.lut, self.tex = table.arrays()
+        if extremes is not None and all(type(f.paint) is Solid for f in fills):
+            self.kinds, self.params, self.lut, self.tex = solid_arrays(
+                [solid_row(f.paint, f.opacity) for f in fills])
+        else:
+            table = PaintTable()
+            table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
+            self.kinds, self.params, self.lut, self.tex = table.arrays()
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
@@ -777,6 +785,7 @@ class FillBatch:
         read them."""
         self.box = box
         self.rows = (lo[1], hi[3])
+        self.cols = (lo[0], hi[2])
         self.rules = _ONE_RULE[fill.rule == "evenodd"]
         self.aa = _ONE_AA[bool(fill.antialias)]
         paint = fill.paint
@@ -784,10 +793,9 @@ class FillBatch:
             key = (id(paint), fill.opacity)
             hit = opts.solid_tables.get(key)
             if hit is None:
-                table = PaintTable()
-                table.add(paint, fill.opacity)
                 # (the paint is kept with its table: its id stays unique while the entry lives)
-                hit = opts.solid_tables[key] = (paint, *table.arrays())
+                hit = opts.solid_tables[key] = (paint, *solid_arrays([solid_row(paint,
+                                                                                fill.opacity)]))
             _, self.kinds, self.params, self.lut, self.tex = hit
         else:
             table = PaintTable()
@@ -1119,13 +1127,7 @@ def _items_box(items):
     hi_x = hi_y = -math.inf
     for item in items:
         if isinstance(item, FillBatch):
-            if len(item.box) <= SMALL_BATCH:
-                boxes = item.box.tolist()
-                box = (min(b[0] for b in boxes), item.rows[0], max(b[2] for b in boxes),
-                       item.rows[1])
-            else:
-                box = (float(item.box[:, 0].min()), item.rows[0],
-                       float(item.box[:, 2].max()), item.rows[1])
+            box = (item.cols[0], item.rows[0], item.cols[1], item.rows[1])
         elif item.filters:
             box = filter_box(item)
         else:
@@ -1315,9 +1317,9 @@ SMALL_POINTS = 64
 
 def _extremes(pts, poff):
     """[(x0, y0, x1, y1)] of each path's points, Python floats, or None if one of them is
-    not finite. One path by two numpy reductions (NaN propagates through them), a few short
-    ones in Python (pts holds at most SMALL_POINTS)."""
-    if len(poff) == 2:
+    not finite. A long path by two numpy reductions (NaN propagates through them), a few short
+    ones in Python (at most SMALL_POINTS points: the reductions cost more)."""
+    if len(pts) > SMALL_POINTS:
         (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
         out = [(x0, y0, x1, y1)]
         return out if all(map(math.isfinite, out[0])) else None
@@ -1649,7 +1651,7 @@ def layer_columns(layer: Layer, w: int) -> tuple[int, int]:
         lo, hi = math.inf, -math.inf
         for item in layer.items:
             if isinstance(item, FillBatch):
-                lo, hi = min(lo, item.box[:, 0].min()), max(hi, item.box[:, 2].max())
+                lo, hi = min(lo, item.cols[0]), max(hi, item.cols[1])
             elif item.filters:
                 x0, _, x1, _ = filter_box(item)
                 lo, hi = min(lo, x0), max(hi, x1)
@@ -1679,7 +1681,9 @@ def render_coverage(layer: Layer, kind: str, rows: int, c: int, d: int, y0: int,
     """A clip's coverage (``clip``: the alpha of its content drawn opaque) or a mask's values
     (``alpha`` or ``luminance``), each times the layer's own clip and mask, in columns
     c..d - 1 of the rows from device row y0."""
-    img = raster.draw_into(layer.items, raster.layer_buffer(rows, c, d), y0, c, d)
+    img = raster.draw_into(layer.items, raster.layer_buffer(rows, c, d), y0, c, d, copy=False)
+    # (the coverage is a new array, made before the layer's own clip and mask draw in the
+    # buffer)
     if kind == "luminance":
         # luminance of the premultiplied colour = luminance × alpha (sRGB coefficients)
         cov = img[..., 0] * 0.2125 + img[..., 1] * 0.7154 + img[..., 2] * 0.0721
