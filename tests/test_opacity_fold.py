@@ -202,3 +202,61 @@ def test_what_is_folded():
         while not layer.needs_layer():
             layer = layer.children[-1]
         assert _fold(layer) is None, body
+
+
+def _scattered(seed: int) -> str:
+    """Many small folded elements, crowded enough that some share pixels (edge to edge,
+    a pixel apart, overlapping) and others not, with plain fills between some of them."""
+    r = random.Random(seed)
+    out = []
+    for i in range(60):
+        x, y = r.uniform(-3, W), r.uniform(-3, H)
+        s = r.choice((1.5, 3, 6))
+        d = (f"M{x:.2f} {y:.2f} l{s:.2f} {r.uniform(0, s):.2f} q{-s:.2f} {s:.2f} "
+             f"{r.uniform(-s, 0):.2f} {r.uniform(0, s):.2f}Z" if r.random() < 0.7 else
+             f"M{round(x)} {round(y)}h{round(s)}v{round(s)}h{-round(s)}Z")
+        crisp = ' shape-rendering="crispEdges"' if r.random() < 0.2 else ""
+        extra = f' opacity="{r.uniform(0.2, 0.9):.2f}"' if r.random() < 0.85 else ""
+        out.append(f'<path d="{d}" fill="{_paint(r)}"{crisp}{extra}/>')
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}">{DEFS}'
+            f'<rect width="{W}" height="{H}" fill="#f4f0e0"/>{"".join(out)}</svg>')
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=IDS)
+def test_folded_fills_sharing_no_pixel_draw_as_one_batch_to_the_same_bytes(config, monkeypatch):
+    # brute force: runs of folded fills whose pixel boxes are disjoint, drawn as one batch,
+    # against each drawn as a batch of its own (DISJOINT_RUN = 1); and the runs taken
+    sizes = []
+    make = render_module._fill_batches
+
+    def counting(fills, *args):
+        sizes.append(len(fills))
+        return make(fills, *args)
+    for seed in range(4):
+        svg = _scattered(seed)
+        monkeypatch.setattr(render_module, "_fill_batches", counting)
+        runs = _render(svg, config)
+        monkeypatch.setattr(render_module, "_fill_batches", make)
+        monkeypatch.setattr(render_module, "DISJOINT_RUN", 1)
+        assert np.array_equal(_render(svg, config), runs), seed
+        monkeypatch.setattr(render_module, "DISJOINT_RUN", 32)
+    if config[0] != "analytic":
+        assert max(sizes) >= 4
+
+
+@pytest.mark.parametrize("config", CONFIGS[:2], ids=IDS[:2])
+def test_a_pixel_box_too_small_is_caught(config, monkeypatch):
+    # the comparison above fails when fills that share pixels are drawn as one batch
+    box = render_module._pixel_box
+
+    def shrunk(fill):
+        got = box(fill)
+        return got and (got[0] + 3, got[1] + 3, got[2] - 3, got[3] - 3)
+    differ = 0
+    for seed in range(4):
+        svg = _scattered(seed)
+        monkeypatch.setattr(render_module, "_pixel_box", shrunk)
+        wrong = _render(svg, config)
+        monkeypatch.setattr(render_module, "_pixel_box", box)
+        differ += not np.array_equal(_render(svg, config), wrong)
+    assert differ >= 2

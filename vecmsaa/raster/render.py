@@ -1209,6 +1209,9 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
     canvas = np.asarray(canvas, np.float64)
     items = []
     batch: list[Fill] = []
+    # folded fills whose pixels no other of them touches, drawn as one batch (boxes: their
+    # pixel boxes, _pixel_box); None while ``batch`` holds other fills
+    boxes = None
     stack = [iter(group.children)]
     while stack:
         for node in stack[-1]:
@@ -1219,20 +1222,34 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                         # the analytic kernel composites each fill on its own per pixel
                         batch.extend(fills)
                         continue
+                    if fills is not None:
+                        # a batch of fills that share no pixel draws each pixel as the one
+                        # fill touching it would alone; the multisample kernels keep a split
+                        # pixel's samples apart from one fill of a batch to the next, where
+                        # a layer composites the resolved pixel
+                        box = _pixel_box(fills[0]) if len(fills) == 1 else _EVERYWHERE
+                        if boxes is None or len(boxes) >= DISJOINT_RUN \
+                                or any(box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3]
+                                       and b[1] <= box[3] for b in boxes):
+                            if batch:
+                                items.extend(_fill_batches(batch, opts, pool, None, bound,
+                                                           canvas))
+                            batch, boxes = [], []
+                        batch.extend(fills)
+                        boxes.append(box)
+                        continue
                     if batch:
                         items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
-                        batch = []
-                    if fills is not None:
-                        # its own batch: the multisample kernels keep a split pixel's samples
-                        # apart from one fill of a batch to the next, where a layer composites
-                        # the resolved pixel
-                        items.extend(_fill_batches(fills, opts, pool, None, bound, canvas))
-                    else:
-                        items.append(Layer(node, opts, pool, bound, canvas))
+                        batch, boxes = [], None
+                    items.append(Layer(node, opts, pool, bound, canvas))
                 else:
                     stack.append(iter(node.children))
                     break
             else:
+                if boxes is not None:
+                    if batch:
+                        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+                    batch, boxes = [], None
                 batch.append(node)
         else:
             stack.pop()
@@ -1260,6 +1277,25 @@ def _opacity_fold(group: Group):
     if type(node) is not Fill:
         return None
     return [Fill(node.path, node.paint, node.rule, node.opacity * opacity, node.antialias)]
+
+
+#: folded fills drawn as one batch at most (prepare_items tests each against the others)
+DISJOINT_RUN = 32
+#: _pixel_box of a fill whose pixels are not known: it shares them with any other
+_EVERYWHERE = (-math.inf, -math.inf, math.inf, math.inf)
+
+
+def _pixel_box(fill: Fill):
+    """(x0, y0, x1, y1): bounds of the pixels a kernel can write drawing ``fill`` alone
+    (_EVERYWHERE if unknown): its points' extremes (a curve lies in its control hull) grown
+    by a pixel each way for the one a kernel writes beyond its box, and one more for
+    QUAD_FALLBACK_TOL and an aliased fill's move onto sample centres."""
+    flat = (fill.path._arrays or fill.path._freeze())[1].ravel().tolist()
+    if not 0 < len(flat) <= 2 * SMALL_POINTS or not all(map(math.isfinite, flat)):
+        return _EVERYWHERE
+    xs, ys = flat[0::2], flat[1::2]
+    return (math.floor(min(xs)) - 2, math.floor(min(ys)) - 2, math.floor(max(xs)) + 2,
+            math.floor(max(ys)) + 2)
 
 
 _NOT_DRAWING = np.zeros(256, np.bool_)
