@@ -1,7 +1,8 @@
 """Write the benchmark documents of many small parts into DIR (the same files every run:
 seeded): session 17's many-layer family (markers with and without a blur, drop-shadowed
 boxes, clipped groups, opacity and mask groups), 2000 text labels, 1000 dashed cubics and
-300 dashed circles. docs/bench.md's session 20 sections time them.
+300 dashed circles; 3000 small paths with `opacity` and their twin with `fill-opacity`
+(session 21). docs/bench.md's session 20 and 21 sections time them.
 
     python tools/many_docs.py DIR
 """
@@ -72,3 +73,11 @@ R = random.Random(27); s = []
 for i in range(300):
     s.append(f'<circle cx="{R.uniform(0,1000):.1f}" cy="{R.uniform(0,1000):.1f}" r="{R.uniform(5,60):.1f}" fill="none" stroke="navy" stroke-width="1.5" stroke-dasharray="4 2"/>')
 w('dashed_circles_300', '\n'.join(s) + '\n')
+for name, attr in (('paths_opacity', 'opacity'), ('paths_fill_opacity', 'fill-opacity')):
+    R = random.Random(21); s = []
+    for i in range(3000):
+        x, y = R.uniform(0, 960), R.uniform(0, 960)
+        p = [R.uniform(0, 40) for _ in range(6)]
+        s.append(f'<path d="M{x:.1f} {y:.1f} q{p[0]:.1f} {p[1]:.1f} {p[2]:.1f} {p[3]:.1f} l{p[4]-20:.1f} {p[5]:.1f} z" '
+                 f'fill="#{R.randrange(1<<24):06x}" {attr}=".5"/>')
+    w(name, '\n'.join(s) + '\n')
