@@ -1116,3 +1116,28 @@ def test_rectangle_clips_around_their_content_are_left_out_without_changing_a_pi
         assert taken.count(True) == 4 and taken.count(False) == 1, taken
     monkeypatch.setattr(render_module, "_clip_covers", lambda rect, items: False)
     assert np.array_equal(render_scene(scene, mode, 8), shortcut)
+
+
+def test_small_batches_tables_and_boxes_are_the_general_ones():
+    # a small batch's solid paint table (shaders.solid_arrays), its boxes from Python floats
+    # (render._extremes) and its x range (FillBatch.cols) against PaintTable and numpy's
+    # reductions over the same fills
+    from vecmsaa.raster.shaders import PaintTable, solid_arrays, solid_row
+    rng = np.random.default_rng(21)
+    for n in (1, 2, 5):
+        fills = [Fill(Path.from_arrays(np.array([0, 1, 1, 4], np.uint8),
+                                       rng.uniform(-50, 50, (3, 2))),
+                      Solid(tuple(rng.uniform(0, 1, 4))), opacity=float(rng.uniform(0, 1)))
+                 for _ in range(n)]
+        table = PaintTable()
+        table.add_fills(fills, None)
+        for got, want in zip(solid_arrays([solid_row(f.paint, f.opacity) for f in fills]),
+                             table.arrays()):
+            assert got.dtype == want.dtype and np.array_equal(got, want)
+        arrays = render_module._shifted_arrays(fills, None)
+        pts, poff = arrays[1], arrays[3]
+        ext = render_module._extremes(pts, poff)
+        for (x0, y0, x1, y1), a, b in zip(ext, poff[:-1], poff[1:]):
+            assert (x0, y0, x1, y1) == (*pts[a:b].min(axis=0), *pts[a:b].max(axis=0))
+        batch = render_module.FillBatch(fills, *arrays, RenderOptions(), extremes=ext)
+        assert batch.cols == (batch.box[:, 0].min(), batch.box[:, 2].max())

@@ -1,7 +1,9 @@
 """Write the benchmark documents of many small parts into DIR (the same files every run:
 seeded): session 17's many-layer family (markers with and without a blur, drop-shadowed
 boxes, clipped groups, opacity and mask groups), 2000 text labels, 1000 dashed cubics and
-300 dashed circles, faded and clipped groups of 1 and 3 shapes. docs/bench.md times them.
+300 dashed circles; faded and clipped groups of 1 and 3 shapes, 3000 small paths with
+`opacity` and their twin with `fill-opacity` (session 21). docs/bench.md's session 20 and 21
+sections time them.
 
     python tools/many_docs.py DIR
 """
@@ -91,3 +93,11 @@ for k in (1, 3):
                          f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r / 3:.1f}" fill="#{R.randrange(1<<24):06x}"/>')
             s.append('</g>')
         w(f'{kind}_groups_k{k}', '\n'.join(s) + '\n')
+for name, attr in (('paths_opacity', 'opacity'), ('paths_fill_opacity', 'fill-opacity')):
+    R = random.Random(21); s = []
+    for i in range(3000):
+        x, y = R.uniform(0, 960), R.uniform(0, 960)
+        p = [R.uniform(0, 40) for _ in range(6)]
+        s.append(f'<path d="M{x:.1f} {y:.1f} q{p[0]:.1f} {p[1]:.1f} {p[2]:.1f} {p[3]:.1f} l{p[4]-20:.1f} {p[5]:.1f} z" '
+                 f'fill="#{R.randrange(1<<24):06x}" {attr}=".5"/>')
+    w(name, '\n'.join(s) + '\n')

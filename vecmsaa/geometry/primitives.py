@@ -25,6 +25,7 @@ Everything here runs in numba over flat arrays for a whole batch of paths at onc
 from __future__ import annotations
 
 import math
+from itertools import accumulate
 
 import numpy as np
 from ..jit import njit
@@ -1059,13 +1060,19 @@ def batch_arrays(paths):
         verbs, pts = arrays[0]
         return (verbs.astype(np.uint8), pts.reshape(-1, 2).astype(np.float64),
                 np.array([0, len(verbs)], np.int64), np.array([0, len(pts)], np.int64))
-    verb_off = np.zeros(n + 1, dtype=np.int64)
-    pt_off = np.zeros(n + 1, dtype=np.int64)
     if n == 0:
-        return np.zeros(0, np.uint8), np.zeros((0, 2)), verb_off, pt_off
+        none = np.zeros(1, np.int64)
+        return np.zeros(0, np.uint8), np.zeros((0, 2)), none, none.copy()
     verbs, pts = zip(*arrays)
-    np.cumsum(np.fromiter(map(len, verbs), np.int64, n), out=verb_off[1:])
-    np.cumsum(np.fromiter(map(len, pts), np.int64, n), out=pt_off[1:])
+    if n <= 16:
+        # (a few paths, a small layer's: the offsets summed in Python, one numpy call each)
+        verb_off = np.array(list(accumulate(map(len, verbs), initial=0)), np.int64)
+        pt_off = np.array(list(accumulate(map(len, pts), initial=0)), np.int64)
+    else:
+        verb_off = np.zeros(n + 1, dtype=np.int64)
+        pt_off = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.fromiter(map(len, verbs), np.int64, n), out=verb_off[1:])
+        np.cumsum(np.fromiter(map(len, pts), np.int64, n), out=pt_off[1:])
     all_verbs = np.concatenate(verbs).astype(np.uint8, copy=False)
     all_pts = np.concatenate(pts).reshape(-1, 2).astype(np.float64, copy=False)
     return all_verbs, all_pts, verb_off, pt_off

@@ -45,7 +45,7 @@ from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analyti
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
 from ..scene.nodes import Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated
-from .shaders import PaintTable
+from .shaders import PaintTable, solid_arrays, solid_row
 
 #: flattening tolerance of the exact modes (pixels)
 EXACT_TOLERANCE = 1.0 / 256.0
@@ -790,15 +790,18 @@ class Raster:
         buf[:, c:d] = 0.0
         return buf
 
-    def draw_into(self, items, buf: np.ndarray, y0: int, c: int, d: int) -> np.ndarray:
+    def draw_into(self, items, buf: np.ndarray, y0: int, c: int, d: int,
+                  copy: bool = True) -> np.ndarray:
         """draw_items onto ``buf`` one nesting depth down (nested layers take the next
-        buffer), then a copy of its columns c..d - 1, so that ``buf`` is free again."""
+        buffer), then a copy of its columns c..d - 1, so that ``buf`` is free again (without
+        ``copy`` those columns themselves: the caller copies what it needs before the buffer
+        is drawn in again)."""
         self.depth += 1
         try:
             draw_items(items, buf, y0, self)
         finally:
             self.depth -= 1
-        return buf[:, c:d].copy()
+        return buf[:, c:d].copy() if copy else buf[:, c:d]
 
     def fill_kernel(self):
         """The kernel bound to the options' arguments and the scratch buffers, their part of
@@ -834,7 +837,7 @@ class Raster:
 
 class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
-    ``rows``: the device y range its fills lie in."""
+    ``rows``, ``cols``: the device y and x ranges of its fills' boxes."""
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
                  extremes=None, canvas=NO_CULL):
@@ -868,12 +871,17 @@ class FillBatch:
             lo, hi = box.min(axis=0), box.max(axis=0)
         self.box = box
         self.rows = (lo[1], hi[3])
+        self.cols = (lo[0], hi[2])
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
-        table = PaintTable()
-        table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
-        self.kinds, self.params, self.lut, self.tex = table.arrays()
+        if extremes is not None and all(type(f.paint) is Solid for f in fills):
+            self.kinds, self.params, self.lut, self.tex = solid_arrays(
+                [solid_row(f.paint, f.opacity) for f in fills])
+        else:
+            table = PaintTable()
+            table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
+            self.kinds, self.params, self.lut, self.tex = table.arrays()
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
@@ -887,6 +895,7 @@ class FillBatch:
         read them."""
         self.box = box
         self.rows = (lo[1], hi[3])
+        self.cols = (lo[0], hi[2])
         self.rules = _ONE_RULE[fill.rule == "evenodd"]
         self.aa = _ONE_AA[bool(fill.antialias)]
         paint = fill.paint
@@ -894,10 +903,9 @@ class FillBatch:
             key = (id(paint), fill.opacity)
             hit = opts.solid_tables.get(key)
             if hit is None:
-                table = PaintTable()
-                table.add(paint, fill.opacity)
                 # (the paint is kept with its table: its id stays unique while the entry lives)
-                hit = opts.solid_tables[key] = (paint, *table.arrays())
+                hit = opts.solid_tables[key] = (paint, *solid_arrays([solid_row(paint,
+                                                                                fill.opacity)]))
             _, self.kinds, self.params, self.lut, self.tex = hit
         else:
             table = PaintTable()
@@ -1231,13 +1239,7 @@ def _items_box(items):
     hi_x = hi_y = -math.inf
     for item in items:
         if isinstance(item, FillBatch):
-            if len(item.box) <= SMALL_BATCH:
-                boxes = item.box.tolist()
-                box = (min(b[0] for b in boxes), item.rows[0], max(b[2] for b in boxes),
-                       item.rows[1])
-            else:
-                box = (float(item.box[:, 0].min()), item.rows[0],
-                       float(item.box[:, 2].max()), item.rows[1])
+            box = (item.cols[0], item.rows[0], item.cols[1], item.rows[1])
         elif item.filters:
             box = filter_box(item)
         else:
@@ -1319,25 +1321,93 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
     canvas = np.asarray(canvas, np.float64)
     items = []
     batch: list[Fill] = []
+    # folded fills whose pixels no other of them touches, drawn as one batch (boxes: their
+    # pixel boxes, _pixel_box); None while ``batch`` holds other fills
+    boxes = None
     stack = [iter(group.children)]
     while stack:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
+                    fills = _opacity_fold(node)
+                    if fills is not None and opts.mode == "analytic":
+                        # the analytic kernel composites each fill on its own per pixel
+                        batch.extend(fills)
+                        continue
+                    if fills is not None:
+                        # a batch of fills that share no pixel draws each pixel as the one
+                        # fill touching it would alone; the multisample kernels keep a split
+                        # pixel's samples apart from one fill of a batch to the next, where
+                        # a layer composites the resolved pixel
+                        box = _pixel_box(fills[0]) if len(fills) == 1 else _EVERYWHERE
+                        if boxes is None or len(boxes) >= DISJOINT_RUN \
+                                or any(box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3]
+                                       and b[1] <= box[3] for b in boxes):
+                            if batch:
+                                items.extend(_fill_batches(batch, opts, pool, None, bound,
+                                                           canvas))
+                            batch, boxes = [], []
+                        batch.extend(fills)
+                        boxes.append(box)
+                        continue
                     if batch:
                         items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
-                        batch = []
+                        batch, boxes = [], None
                     items.append(Layer(node, opts, pool, bound, canvas))
                 else:
                     stack.append(iter(node.children))
                     break
             else:
+                if boxes is not None:
+                    if batch:
+                        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+                    batch, boxes = [], None
                 batch.append(node)
         else:
             stack.pop()
     if batch:
         items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
     return items
+
+
+def _opacity_fold(group: Group):
+    """[the one fill a layer draws], with the layer's opacity taken into the fill's own, when
+    opacity is all the layer does (normal blend, no clip, mask, filter or isolation; plain or
+    opacity-only groups of one child down to the fill), else None. Drawn alone onto the target
+    it gives what the layer's composite gives, in exact arithmetic: a kernel puts a fill of
+    premultiplied colour c, alpha a at coverage f over T as T(1 - f·a) + f·c, and the layer,
+    f·c on transparent composited with opacity o, as T(1 - o·f·a) + o·f·c, which is the fill
+    with o·c, o·a; no layer buffer, copy or composite (3000 `<path opacity>`s)."""
+    opacity = 1.0
+    node = group
+    while type(node) is Group:
+        if len(node.children) != 1 or node.clip is not None or node.mask is not None \
+                or node.blend != "normal" or node.isolate or node.filters:
+            return None
+        opacity *= node.opacity
+        node = node.children[0]
+    if type(node) is not Fill:
+        return None
+    return [Fill(node.path, node.paint, node.rule, node.opacity * opacity, node.antialias)]
+
+
+#: folded fills drawn as one batch at most (prepare_items tests each against the others)
+DISJOINT_RUN = 32
+#: _pixel_box of a fill whose pixels are not known: it shares them with any other
+_EVERYWHERE = (-math.inf, -math.inf, math.inf, math.inf)
+
+
+def _pixel_box(fill: Fill):
+    """(x0, y0, x1, y1): bounds of the pixels a kernel can write drawing ``fill`` alone
+    (_EVERYWHERE if unknown): its points' extremes (a curve lies in its control hull) grown
+    by a pixel each way for the one a kernel writes beyond its box, and one more for
+    QUAD_FALLBACK_TOL and an aliased fill's move onto sample centres."""
+    flat = (fill.path._arrays or fill.path._freeze())[1].ravel().tolist()
+    if not 0 < len(flat) <= 2 * SMALL_POINTS or not all(map(math.isfinite, flat)):
+        return _EVERYWHERE
+    xs, ys = flat[0::2], flat[1::2]
+    return (math.floor(min(xs)) - 2, math.floor(min(ys)) - 2, math.floor(max(xs)) + 2,
+            math.floor(max(ys)) + 2)
 
 
 _NOT_DRAWING = np.zeros(256, np.bool_)
@@ -1395,9 +1465,9 @@ SMALL_POINTS = 64
 
 def _extremes(pts, poff):
     """[(x0, y0, x1, y1)] of each path's points, Python floats, or None if one of them is
-    not finite. One path by two numpy reductions (NaN propagates through them), a few short
-    ones in Python (pts holds at most SMALL_POINTS)."""
-    if len(poff) == 2:
+    not finite. A long path by two numpy reductions (NaN propagates through them), a few short
+    ones in Python (at most SMALL_POINTS points: the reductions cost more)."""
+    if len(pts) > SMALL_POINTS:
         (x0, y0), (x1, y1) = pts.min(axis=0).tolist(), pts.max(axis=0).tolist()
         out = [(x0, y0, x1, y1)]
         return out if all(map(math.isfinite, out[0])) else None
@@ -1730,7 +1800,7 @@ def layer_columns(layer: Layer, w: int) -> tuple[int, int]:
         lo, hi = math.inf, -math.inf
         for item in layer.items:
             if isinstance(item, FillBatch):
-                lo, hi = min(lo, item.box[:, 0].min()), max(hi, item.box[:, 2].max())
+                lo, hi = min(lo, item.cols[0]), max(hi, item.cols[1])
             elif item.filters:
                 x0, _, x1, _ = filter_box(item)
                 lo, hi = min(lo, x0), max(hi, x1)
@@ -1760,7 +1830,9 @@ def render_coverage(layer: Layer, kind: str, rows: int, c: int, d: int, y0: int,
     """A clip's coverage (``clip``: the alpha of its content drawn opaque) or a mask's values
     (``alpha`` or ``luminance``), each times the layer's own clip and mask, in columns
     c..d - 1 of the rows from device row y0."""
-    img = raster.draw_into(layer.items, raster.layer_buffer(rows, c, d), y0, c, d)
+    img = raster.draw_into(layer.items, raster.layer_buffer(rows, c, d), y0, c, d, copy=False)
+    # (the coverage is a new array, made before the layer's own clip and mask draw in the
+    # buffer)
     if kind == "luminance":
         # luminance of the premultiplied colour = luminance × alpha (sRGB coefficients)
         cov = img[..., 0] * 0.2125 + img[..., 1] * 0.7154 + img[..., 2] * 0.0721

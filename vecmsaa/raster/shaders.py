@@ -91,16 +91,14 @@ class PaintTable:
             self.add(paint, f.opacity)
 
     def add(self, paint, opacity: float = 1.0) -> None:
-        f = np.zeros(PAINT_FIELDS)
-        f[F_OPACITY] = opacity
         if isinstance(paint, Solid):
             kind = KIND_SOLID
-            r, g, b, a = paint.color
-            a = a * opacity
-            f[F_COLOR:F_COLOR + 4] = (r * a, g * a, b * a, a)
+            f = np.array(solid_row(paint, opacity))
             self._solid_rows[(id(paint), opacity)] = len(self.params)
             self._solids.append(paint)
         else:
+            f = np.zeros(PAINT_FIELDS)
+            f[F_OPACITY] = opacity
             try:
                 f[F_MAT:F_MAT + 6] = paint.to_paint
             except (TypeError, ValueError):
@@ -155,6 +153,23 @@ class PaintTable:
 #: never write them, so every such batch shares these
 _NO_LUT = np.zeros((1, 4), np.float32)
 _NO_TEX = np.zeros(4, np.float32)
+
+
+def solid_row(paint: Solid, opacity: float) -> list:
+    """A solid paint's parameter row as Python floats: its colour premultiplied by its alpha
+    times ``opacity``, and the opacity."""
+    r, g, b, a = paint.color
+    a = a * opacity
+    row = [0.0] * PAINT_FIELDS
+    row[F_COLOR:F_COLOR + 4] = r * a, g * a, b * a, a
+    row[F_OPACITY] = opacity
+    return row
+
+
+def solid_arrays(rows: list):
+    """PaintTable.arrays of fills of solid paints, from their solid_rows, without a table
+    (a small layer's batch: the table's bookkeeping cost more than its arrays)."""
+    return np.zeros(len(rows), np.int64), np.array(rows, np.float64), _NO_LUT, _NO_TEX
 
 
 @njit(cache=True, inline="always")
