@@ -410,7 +410,17 @@ def _lean_callees():
     own is an ``AOTCodeLibrary``) a callee's library is linked IR and never made into
     machine code; its entry point is a placeholder nothing in the build calls, and the
     dispatchers cache nothing (none is then loaded from numba's cache either: a cached callee
-    has machine code but no IR to link). On the stroke kernels: 18.9 → 15.4 s of CPU."""
+    has machine code but no IR to link). On the stroke kernels: 18.9 → 15.4 s of CPU.
+
+    The machine code is about as fast as numba's JIT makes it, kernel by kernel, but not the
+    same: LLVM's inliner, weighing the callees as it finds them, keeps some small ones as
+    calls the JIT inlines (its callees arrive optimised by their own libraries). Same
+    arguments, one process: build_batch 1.04–1.23 of the JIT's time (``_push_line`` and
+    ``_push_edge`` stay calls), dash_segments 0.86–0.96, the blurs, render_msaa and the rest
+    0.89–1.11 (noise), calls of a few µs 0.5–0.8 (pycc's wrapper costs less).
+    Running the callees' function passes, or numba's whole pipeline, before linking gives
+    build_batch back its 10–16 % and costs dash_segments 5–14 %, with no change a whole
+    render shows (docs/bench.md, session 21): not done."""
     from numba.core import codegen, dispatcher
     dispatcher.Dispatcher.enable_caching = lambda self: None
     library = codegen.JITCodeLibrary
