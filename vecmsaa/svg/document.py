@@ -126,7 +126,7 @@ class Element:
     specified style properties, children, and the text around it (for ``<text>``)."""
 
     __slots__ = ("tag", "attrs", "specified", "children", "parent", "text", "tail", "index",
-                 "source")
+                 "source", "memo")
 
     def __init__(self, tag, attrs, parent, index, source=None, specified=None):
         self.tag = tag
@@ -138,6 +138,7 @@ class Element:
         self.tail = ""
         self.index = index
         self.source = source   # the Document this element belongs to
+        self.memo = None       # values computed down the document tree (computed)
 
     def get(self, name, default=None):
         return self.attrs.get(name, default)
@@ -151,6 +152,23 @@ class Element:
         value = (self.attrs.get("href") or "").strip()
         # the fragment as written: '# r' names ' r', which no element is
         return value[1:] if value.startswith("#") and value[1:2].strip() else None
+
+    def computed(self, key, own, root=None):
+        """``own(element, its parent's value)`` computed down the document tree from the
+        nearest ancestor that has it memoised (``root`` above the root), and memoised on
+        every element passed: what a text needs from all its ancestors (xml:space, the
+        decorations they declare) costs each element once, not once per text below it."""
+        passed = []
+        el = self
+        while el is not None and (el.memo is None or key not in el.memo):
+            passed.append(el)
+            el = el.parent
+        value = root if el is None else el.memo[key]
+        for el in reversed(passed):
+            if el.memo is None:
+                el.memo = {}
+            value = el.memo[key] = own(el, value)
+        return value
 
     def ancestors(self):
         node = self.parent
@@ -185,6 +203,10 @@ def _absolute_em(value: str, font_size: float) -> str:
     """``value`` with its em and ex lengths written in px for ``font_size``."""
     return _EM_LENGTH.sub(
         lambda m: f"{to_px(float(m.group(1)), m.group(2).lower(), font_size)!r}px", value)
+
+
+#: no cached value (Style.get_valid; None may be one)
+_UNSET = object()
 
 
 class Style:
@@ -243,21 +265,47 @@ class Style:
         ``parse`` (the parsed value, or None for an invalid one): an invalid declaration is
         ignored as a whole, so the nearest ancestor's valid one applies (CSS Syntax 3 §8);
         ``inherit`` and ``unset`` (an inherited property's, CSS Cascade 4 §7.3) take the
-        parent's; ``initial``, or no declaration up to the root, gives ``initial``."""
+        parent's; ``initial``, or no declaration up to the root, gives ``initial``. Cached on
+        every style passed (a property has one ``parse`` and ``initial``), so texts nested a
+        thousand deep do not each walk to the root."""
         assert name in INHERITED, name
-        style = self
+        key = ("valid", name)
+        passed = []
+        style, value = self, initial
         while style is not None:
+            cached = style.cache.get(key, _UNSET)
+            if cached is not _UNSET:
+                value = cached
+                break
+            passed.append(style)
             v = style.specified.get(name)
             if v is not None:
                 v = v.strip()
                 if v == "initial":
-                    return initial
+                    break
                 if v not in ("inherit", "unset"):
                     parsed = parse(v)
                     if parsed is not None:
-                        return parsed
+                        value = parsed
+                        break
             style = style.parent
-        return initial
+        for style in passed:
+            style.cache[key] = value
+        return value
+
+    def computed(self, key, own):
+        """``own(style, parent's value)`` (the root's parent's value None) computed down the
+        chain from the nearest style that has it cached, and cached on every style passed:
+        a property whose computed value needs its parent's (font-weight's ``bolder``)."""
+        passed = []
+        style = self
+        while style is not None and key not in style.cache:
+            passed.append(style)
+            style = style.parent
+        value = None if style is None else style.cache[key]
+        for style in reversed(passed):
+            value = style.cache[key] = own(style, value)
+        return value
 
     def has_own(self, name):
         return name in self.specified

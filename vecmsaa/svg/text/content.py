@@ -93,11 +93,7 @@ def collect_chars(text_el, ctx, styles):
                         walk(child, chain + (child,), cstyle, cpres, tp, depth + 1)
             add(child.tail, el, chain, depth, preserve, text_path)
 
-    preserve = False
-    for el in [text_el] + list(text_el.ancestors()):
-        if el.get("xml:space", el.get("space")) is not None:
-            preserve = _space_preserved(el, False)
-            break
+    preserve = text_el.computed("xml:space", _space_preserved, False)
     walk(text_el, (text_el,), ctx.style, preserve, None, 0)
     return nodes
 

@@ -166,6 +166,14 @@ def _fills_of(nodes):
     return out
 
 
+def _declared_decorations(el, above):
+    """The decoration kinds ``el`` or an ancestor declares (``above``: its ancestors')."""
+    value = (el.specified.get("text-decoration") or "").split()
+    own = tuple(kind for kind in ("underline", "overline", "line-through")
+                if kind in value and kind not in above)
+    return above + own if own else above
+
+
 def text_decorations(text_el, chars, clusters, styles, vertical):
     """{kind: [(style of the declaring element, user-space path)]}.
 
@@ -177,12 +185,9 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
     dx/dy/rotate, placed on a path or starting a chunk.
     """
     out = {}
-    outer = {}
-    for anc in text_el.ancestors():
-        value = (anc.specified.get("text-decoration") or "").split()
-        for kind in ("underline", "overline", "line-through"):
-            if kind in value:
-                outer.setdefault(kind, text_el)
+    declared = () if text_el.parent is None else \
+        text_el.parent.computed("decorations", _declared_decorations, ())
+    outer = {kind: text_el for kind in declared}
     span_kinds = {}
     for c in clusters:
         el = chars[c.char].el

@@ -135,8 +135,16 @@ def _weight(style):
     for 650); ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100 away (200 from 400),
     within 100..900, as resvg (usvg's resolve_font_weight) computes them; an invalid value
     (1500, 0) keeps the parent's."""
+    return style.computed(("computed", "font-weight"), _own_weight)
+
+
+def _nearest_kerning(el, above):
+    return el.get("kerning", above)
+
+
+def _own_weight(style, parent):
+    parent = 400 if parent is None else parent
     v = (style.specified.get("font-weight") or "").strip()
-    parent = _weight(style.parent) if style.parent is not None else 400
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
@@ -202,9 +210,9 @@ def _settings(style, name):
     return style.get_valid(name, lambda v: _quoted_settings(v, variations), [])
 
 
-def font_spec(style, ctx, chain=()) -> FontSpec:
-    """Font settings of a text content element; ``chain`` is it and its ancestors, innermost
-    last (the SVG 1.1 ``kerning`` attribute is looked up along it)."""
+def font_spec(style, ctx, el=None) -> FontSpec:
+    """Font settings of a text content element ``el`` (the SVG 1.1 ``kerning`` attribute is
+    looked up from it up the document tree)."""
     families = _family_list(style)
     # CSS Fonts 4 §7.2: the font-variant features first, font-feature-settings over them.
     features, small_caps = variant_features(style)
@@ -213,13 +221,10 @@ def font_spec(style, ctx, chain=()) -> FontSpec:
     # font-kerning comes from CSS only (the cascade ignores the attribute, as resvg does).
     if (style.get("font-kerning") or "auto").strip() == "none":
         features["kern"] = 0
-    # resvg also honours the SVG 1.1 kerning="0" attribute.
-    for el in reversed(chain):
-        kerning = el.get("kerning")
-        if kerning is not None:
-            if kerning.strip() in ("0", "0px"):
-                features["kern"] = 0
-            break
+    # resvg also honours the SVG 1.1 kerning="0" attribute (the nearest one).
+    kerning = None if el is None else el.computed("kerning", _nearest_kerning)
+    if kerning is not None and kerning.strip() in ("0", "0px"):
+        features["kern"] = 0
     variations = dict(_settings(style, "font-variation-settings"))
     size = style.font_size()
     letter = _spacing(style.get("letter-spacing"), ctx, style)
@@ -308,38 +313,40 @@ def variant_features(style):
     """(OpenType features the font-variant properties ask for, small caps on?). The shorthand
     sets every longhand; a longhand given on the same element or below overrides its part."""
     features = {}
-    chain = []
-    s = style
-    while s is not None:
-        chain.append(s)
-        s = s.parent
-    # walk from the root down so that a descendant's declaration overrides its ancestors'
-    parts = {}
-    for s in reversed(chain):
-        spec = s.specified
-        short = spec.get("font-variant")
-        if short is not None and short.strip() == "initial":
-            short = "normal"        # CSS-wide keywords: initial is normal, unset inherits
-        if short is not None and short.strip() not in ("inherit", "unset", ""):
-            f = _variant_shorthand(short.strip())
-            if f is not None:
-                # the shorthand resets every longhand, then sets those it names
-                parts = {prop: {t: v for t, v in f.items() if t in _tags(prop)}
-                         for prop in VARIANT_KEYWORDS}
-                if f == NO_LIGATURES:
-                    parts["font-variant-ligatures"] = dict(NO_LIGATURES)
-        for prop in VARIANT_KEYWORDS:
-            v = spec.get(prop)
-            if v is None or v.strip() in ("inherit", "unset", ""):
-                continue
-            if v.strip() == "initial":
-                v = "normal"
-            f = _variant_value(prop, v.strip())
-            if f is not None:
-                parts[prop] = f
-    for f in parts.values():
+    for f in style.computed(("computed", "font-variant"), _own_variant_parts).values():
         features.update(f)
     return features, features.get("smcp") == 1
+
+
+def _own_variant_parts(style, parent):
+    """{longhand: its features} of a style, from its parent's (None at the root): a
+    descendant's declaration overrides its ancestors'. The dicts are shared down the chain,
+    never changed."""
+    parts = {} if parent is None else parent
+    spec = style.specified
+    short = spec.get("font-variant")
+    if short is not None and short.strip() == "initial":
+        short = "normal"        # CSS-wide keywords: initial is normal, unset inherits
+    if short is not None and short.strip() not in ("inherit", "unset", ""):
+        f = _variant_shorthand(short.strip())
+        if f is not None:
+            # the shorthand resets every longhand, then sets those it names
+            parts = {prop: {t: v for t, v in f.items() if t in _tags(prop)}
+                     for prop in VARIANT_KEYWORDS}
+            if f == NO_LIGATURES:
+                parts["font-variant-ligatures"] = dict(NO_LIGATURES)
+    for prop in VARIANT_KEYWORDS:
+        v = spec.get(prop)
+        if v is None or v.strip() in ("inherit", "unset", ""):
+            continue
+        if v.strip() == "initial":
+            v = "normal"
+        f = _variant_value(prop, v.strip())
+        if f is not None:
+            if parts is parent:
+                parts = dict(parent)
+            parts[prop] = f
+    return parts
 
 
 def _tags(prop):
@@ -405,7 +412,8 @@ def _family_list(style):
     """The computed font-family list (inherited; an invalid value is ignored with a warning;
     the initial value is ``serif``)."""
     names = style.get_valid("font-family", _valid_family_names, None)
-    return parse_family_list("serif") if names is None else names   # a new list each call
+    # a new list each call (get_valid's value is cached on the styles)
+    return parse_family_list("serif") if names is None else list(names)
 
 
 def _valid_family_names(value):

@@ -639,11 +639,10 @@ def build_text(element, ctx):
     db = font_database(ctx)
     spec_cache = {}
     specs = []
-    outer = tuple(reversed(list(element.ancestors())))
     for c in chars:
         s = spec_cache.get(id(c.el))
         if s is None:
-            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, outer + c.chain)
+            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, c.el)
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
               if i == 0 or c.x is not None or c.y is not None
