@@ -1620,3 +1620,69 @@ def test_lowercase_sigma_is_final_at_the_end_of_a_word():
     literal = render_with_suite_fonts(
         '<text x="10" y="60">\u03bf\u03b4\u03bf\u03c2 \u03c3\u03b1</text>')
     assert np.array_equal(transformed, literal)
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_a_node_s_white_space_collapsed_before_its_characters_are_made_keeps_the_characters():
+    """collect_chars collapses each node's own white space on the string: the characters left
+    after collapse_white_space are those of the old way (every raw character a Char, then
+    collapsed), for random nodes of spaces, tabs, newlines and letters, with and without
+    xml:space="preserve", nested and side by side."""
+    import random
+    from vecmsaa.svg.document import load_document
+    from vecmsaa.svg.text import content
+
+    class Ctx:
+        style = None
+    rng = random.Random(3)
+    for _ in range(200):
+        def node():
+            return "".join(rng.choice(" \t\n\r ab") for _ in range(rng.randrange(0, 9)))
+        keep = ' xml:space="preserve"'
+        inner = "".join(f"<tspan{rng.choice(['', keep])}>{node()}</tspan>{node()}"
+                        for _ in range(rng.randrange(0, 4)))
+        space = rng.choice(["", keep])
+        data = f'<svg xmlns="http://www.w3.org/2000/svg"><text{space}>{node()}{inner}</text></svg>'
+        doc = load_document(data.encode())
+        text = doc.root.children[0]
+        from vecmsaa.svg.document import Style
+        ctx = Ctx()
+        ctx.style = Style(text.specified)
+        nodes = content.collect_chars(text, ctx, {})
+        # the old way: the raw strings' characters, white space as the document has it
+        raw = [([content.Char(ch, c[0].el, c[0].chain, preserve) for ch in string], depth,
+                preserve)
+               for (c, depth, preserve), string in zip(nodes, _raw_strings(text))]
+        got = "".join(c.ch for c in content.collapse_white_space(nodes))
+        want = "".join(c.ch for c in content.collapse_white_space(raw))
+        assert got == want, data
+
+
+def _raw_strings(text):
+    """The text nodes of a <text> element with content, in collect_chars' order."""
+    out = []
+
+    def walk(el):
+        if el.text:
+            out.append(el.text)
+        for child in el.children:
+            walk(child)
+            if child.tail:
+                out.append(child.tail)
+    walk(text)
+    return out
+
+
+def test_a_text_past_the_character_limit_is_refused_before_its_characters_are_made(
+        monkeypatch):
+    """One node of 250,000 letters: the one-line error, and no Char made for it (a fuzzed
+    document of 14 MB of indented spans held 2.3 GB of characters before the limit)."""
+    from vecmsaa.svg import SvgError
+    from vecmsaa.svg.text import content
+    made = []
+    monkeypatch.setattr(content, "Char", lambda *a, **k: made.append(1))
+    data = ('<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><text>'
+            + "ab" * 125_000 + "</text></svg>").encode()
+    with pytest.raises(SvgError, match="longer than 200000 characters"):
+        render_svg_array(data)
+    assert not made
