@@ -1686,3 +1686,18 @@ def test_a_text_past_the_character_limit_is_refused_before_its_characters_are_ma
     with pytest.raises(SvgError, match="longer than 200000 characters"):
         render_svg_array(data)
     assert not made
+
+
+def test_one_letter_spans_past_the_character_limit_are_refused_before_they_are_all_made(
+        monkeypatch):
+    """250,000 spans of one letter each: a letter is no space that collapsing could take, so
+    the text is refused once 200,000 are made, not after all of them."""
+    from vecmsaa.svg import SvgError
+    from vecmsaa.svg.text import content
+    made = []
+    monkeypatch.setattr(content, "Char", lambda *a, **k: made.append(1))
+    data = ('<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"><text>'
+            + "<tspan>a</tspan>" * 250_000 + "</text></svg>").encode()
+    with pytest.raises(SvgError, match="longer than 200000 characters"):
+        render_svg_array(data)
+    assert len(made) <= 200_000
