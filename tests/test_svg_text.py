@@ -1701,3 +1701,56 @@ def test_one_letter_spans_past_the_character_limit_are_refused_before_they_are_a
     with pytest.raises(SvgError, match="longer than 200000 characters"):
         render_svg_array(data)
     assert len(made) <= 200_000
+
+
+@pytest.mark.filterwarnings("ignore")
+def test_position_lists_reach_the_characters_inside_their_element():
+    """apply_positions (chains looked through once each, only elements with a position
+    attribute kept) against the lists applied by brute force: each element, outer first, gives
+    its x, y, dx, dy values to the characters whose chain holds it, in order, and its rotate
+    list to all of them (the last value repeated), on random nested spans."""
+    import random
+    from vecmsaa.svg.document import Style, load_document
+    from vecmsaa.svg.text import content
+
+    class Ctx:
+        style = None
+
+        def length(self, value, axis, style):
+            return float(value)
+    rng = random.Random(8)
+    names = ("x", "y", "dx", "dy", "rotate")
+    for _ in range(60):
+        def attrs():
+            return "".join(f' {n}="{" ".join(str(rng.randrange(-9, 9)) for _ in range(rng.randrange(1, 4)))}"'
+                           for n in names if rng.random() < 0.3)
+
+        def span(depth):
+            if depth == 0 or rng.random() < 0.3:
+                return "ab"[: rng.randrange(1, 3)]
+            return "".join(f"<tspan{attrs()}>{span(depth - 1)}</tspan>c"
+                           for _ in range(rng.randrange(1, 3)))
+        data = f'<svg xmlns="http://www.w3.org/2000/svg"><text{attrs()}>{span(4)}</text></svg>'
+        text = load_document(data.encode()).root.children[0]
+        ctx = Ctx()
+        ctx.style = Style(text.specified)
+        chars = content.collapse_white_space(content.collect_chars(text, ctx, {}))
+        content.apply_positions(text, chars, ctx, {})
+        got = [tuple(getattr(c, n) for n in names) for c in chars]
+        want = [[None, None, 0.0, 0.0, 0.0] for _ in chars]
+        order, todo = [], [text]
+        while todo:
+            el = todo.pop(0)
+            order.append(el)
+            todo[:0] = [c for c in el.children if c.tag == "tspan"]
+        for el in order:
+            idx = [i for i, c in enumerate(chars) if any(e is el for e in c.chain)]
+            for k, n in enumerate(names):
+                values = [float(v) for v in (el.get(n) or "").split()]
+                if n == "rotate":
+                    for j, i in enumerate(idx if values else ()):
+                        want[i][k] = values[min(j, len(values) - 1)]
+                else:
+                    for i, v in zip(idx, values):
+                        want[i][k] = v
+        assert got == [tuple(w) for w in want], data

@@ -205,10 +205,17 @@ def apply_positions(text_el, chars, ctx, styles):
             if c.tag in TEXT_CONTENT:
                 walk(c)
     walk(text_el)
-    by_el = {}
+    # each element with a position attribute: the characters inside it, in order (chains are
+    # looked through once each, not once a character: spans nested a thousand deep)
+    positioned = {id(el) for el in order
+                  if any(el.get(name) is not None for name in ("x", "y", "dx", "dy", "rotate"))}
+    by_el, inside = {}, {}
     for i, c in enumerate(chars):
-        for e in c.chain:
-            by_el.setdefault(id(e), []).append(i)
+        ids = inside.get(id(c.chain))
+        if ids is None:
+            ids = inside[id(c.chain)] = [id(e) for e in c.chain if id(e) in positioned]
+        for e in ids:
+            by_el.setdefault(e, []).append(i)
     for el in order:
         idx = by_el.get(id(el))
         if not idx:

@@ -657,7 +657,8 @@ def build_text(element, ctx):
     writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
     text_length = {}
-    for el in [element] + [e for c in chars for e in c.chain[1:]]:
+    chains = {id(c.chain): c.chain for c in chars}     # (one per element, not per character)
+    for el in [element] + [e for chain in chains.values() for e in chain[1:]]:
         value = el.get("textLength")
         if value is None or id(el) in text_length:
             continue
