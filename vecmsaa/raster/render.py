@@ -362,12 +362,10 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 band[0] = background
                 band[1:] = band[0]
                 filled = rows
+            began, drawn = time.perf_counter(), raster.drawn
+            draw_items(items, band, y0, raster)
             if pace is not None and pace.decide is not None:
-                began, drawn = time.perf_counter(), raster.drawn
-                draw_items(items, band, y0, raster)
                 pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn)
-            else:
-                draw_items(items, band, y0, raster)
             if refill is None:
                 consume(y0, band)
                 filled = 0
@@ -419,14 +417,19 @@ class BandPace:
 
 def item_count(items) -> int:
     """Fill batches and layers among ``items``, those in layers, clips and masks too."""
-    n, todo = 0, [items]
+    return sum(1 for _ in nested_items(items))
+
+
+def nested_items(items):
+    """``items`` and every item in their layers, the layers' clips and masks (as layers) and
+    theirs, each once (without recursion)."""
+    todo = [items]
     while todo:
         for item in todo.pop():
-            n += 1
+            yield item
             if not isinstance(item, FillBatch):
                 todo.append(item.items)
-                todo.extend([part.items for part in (item.clip, item.mask) if part is not None])
-    return n
+                todo.append([part for part in (item.clip, item.mask) if part is not None])
 
 
 #: heaviest_first's cost of a pixel of a fill's box, against 1 for an edge or lens: with the
@@ -450,18 +453,13 @@ def heaviest_first(items, starts, band_rows: int):
     # each batch's few rows took 80 ms of 2000 clipped groups' 250 ms draw (two threads were
     # slower than one there, session 21)
     boxes, edge_offs, prim_offs = [], [], []
-    todo = [items]
-    while todo:
-        for item in todo.pop():
-            if isinstance(item, FillBatch):
-                boxes.append(item.box)
-                edge_offs.append(item.edge_off)
-                prim_offs.append(item.prim_off)
-            elif item.filters:
-                return starts
-            else:
-                todo.append(item.items)
-                todo.append([part for part in (item.clip, item.mask) if part is not None])
+    for item in nested_items(items):
+        if isinstance(item, FillBatch):
+            boxes.append(item.box)
+            edge_offs.append(item.edge_off)
+            prim_offs.append(item.prim_off)
+        elif item.filters:
+            return starts
     if not boxes:
         return starts
     box = np.concatenate(boxes)

@@ -169,7 +169,7 @@ def solid_row(paint: Solid, opacity: float) -> list:
 def solid_arrays(rows: list):
     """PaintTable.arrays of fills of solid paints, from their solid_rows, without a table
     (a small layer's batch: the table's bookkeeping cost more than its arrays)."""
-    return np.zeros(len(rows), np.int64), np.array(rows, np.float64), _NO_LUT, _NO_TEX
+    return np.full(len(rows), KIND_SOLID, np.int64), np.array(rows, np.float64), _NO_LUT, _NO_TEX
 
 
 @njit(cache=True, inline="always")
