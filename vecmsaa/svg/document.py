@@ -154,21 +154,10 @@ class Element:
         return value[1:] if value.startswith("#") and value[1:2].strip() else None
 
     def computed(self, key, own, root=None):
-        """``own(element, its parent's value)`` computed down the document tree from the
-        nearest ancestor that has it memoised (``root`` above the root), and memoised on
-        every element passed: what a text needs from all its ancestors (xml:space, the
-        decorations they declare) costs each element once, not once per text below it."""
-        passed = []
-        el = self
-        while el is not None and (el.memo is None or key not in el.memo):
-            passed.append(el)
-            el = el.parent
-        value = root if el is None else el.memo[key]
-        for el in reversed(passed):
-            if el.memo is None:
-                el.memo = {}
-            value = el.memo[key] = own(el, value)
-        return value
+        """computed_down the document tree: what a text needs from all its ancestors
+        (xml:space, the decorations they declare, kerning) costs each element once, not once
+        per text below it."""
+        return computed_down(self, key, own, root)
 
     def ancestors(self):
         node = self.parent
@@ -203,6 +192,23 @@ def _absolute_em(value: str, font_size: float) -> str:
     """``value`` with its em and ex lengths written in px for ``font_size``."""
     return _EM_LENGTH.sub(
         lambda m: f"{to_px(float(m.group(1)), m.group(2).lower(), font_size)!r}px", value)
+
+
+def computed_down(node, key, own, root=None):
+    """``own(node, its parent's value)`` computed down the ``parent`` links from the nearest
+    node whose ``memo`` has ``key`` (``root`` above the topmost), and memoised on every node
+    passed (a node's ``memo`` None: none yet). Elements and styles alike: each node is
+    computed once, however many nodes below it ask."""
+    passed = []
+    while node is not None and (node.memo is None or key not in node.memo):
+        passed.append(node)
+        node = node.parent
+    value = root if node is None else node.memo[key]
+    for node in reversed(passed):
+        if node.memo is None:
+            node.memo = {}
+        value = node.memo[key] = own(node, value)
+    return value
 
 
 #: no cached value (Style.get_valid; None may be one)
@@ -294,18 +300,14 @@ class Style:
         return value
 
     def computed(self, key, own):
-        """``own(style, parent's value)`` (the root's parent's value None) computed down the
-        chain from the nearest style that has it cached, and cached on every style passed:
-        a property whose computed value needs its parent's (font-weight's ``bolder``)."""
-        passed = []
-        style = self
-        while style is not None and key not in style.cache:
-            passed.append(style)
-            style = style.parent
-        value = None if style is None else style.cache[key]
-        for style in reversed(passed):
-            value = style.cache[key] = own(style, value)
-        return value
+        """computed_down the styles (the root's parent's value None): a property whose
+        computed value needs its parent's (font-weight's ``bolder``)."""
+        return computed_down(self, key, own)
+
+    @property
+    def memo(self):
+        """The computed values (computed_down's name for them)."""
+        return self.cache
 
     def has_own(self, name):
         return name in self.specified
