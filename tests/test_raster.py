@@ -997,6 +997,70 @@ def test_a_group_of_one_filtered_group_composites_its_filtered_pixels(monkeypatc
     assert np.array_equal(render_scene_rgba8(scene, band_budget=200 * 16 * 5, threads=2), short)
 
 
+def test_each_filtered_layer_is_filtered_once_a_render_for_any_bands(monkeypatch):
+    """A layer is rendered and filtered once a render, whatever the bands: its filter regions
+    (twice the content's size) reach rows below the pixels its blur can touch, and the bands
+    there asked for its pixels after the band of their last row had let them go, filtering
+    it again (200 bands: 24 times). The bytes are the one-band image's."""
+    from collections import Counter
+    from vecmsaa.api import load_svg
+    scene = load_svg('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">'
+                     '<filter id="b" x="-50%" y="-50%" width="200%" height="200%">'
+                     '<feGaussianBlur stdDeviation="2"/></filter>'
+                     '<rect x="75" y="50" width="50" height="50" fill="teal" filter="url(#b)"/>'
+                     '<g opacity="0.5"><circle cx="40" cy="120" r="20" fill="#c60" '
+                     'filter="url(#b)"/></g></svg>')
+    calls = Counter()
+    filtered = render_module.render_filtered
+
+    def counted(layer, raster):
+        calls[id(layer)] += 1
+        return filtered(layer, raster)
+    monkeypatch.setattr(render_module, "render_filtered", counted)
+    whole = render_scene_rgba8(scene, band_budget=1 << 30)
+    assert len(calls) == 2
+    for budget, threads in ((200 * 16, 1), (200 * 16 * 5, 1), (200 * 16 * 5, 2),
+                            (200 * 16 * 33, 3)):
+        calls.clear()
+        assert np.array_equal(render_scene_rgba8(scene, band_budget=budget, threads=threads),
+                              whole)
+        assert max(calls.values()) == 1, (budget, threads)
+
+
+def test_a_band_above_finds_the_pixels_the_band_of_their_last_row_was_done_with(monkeypatch):
+    """Bands on threads: the band holding a filtered layer's last rows can be done with it
+    before a band above has reached it. That band gets the same pixels, without filtering it
+    again, and they go once it is drawn (BandsDrawn)."""
+    from vecmsaa.api import load_svg
+    scene = load_svg('<svg xmlns="http://www.w3.org/2000/svg" width="60" height="60">'
+                     '<filter id="f"><feGaussianBlur '
+                     'stdDeviation="3"/></filter><rect x="10" y="10" width="40" height="40" '
+                     'fill="#36c" filter="url(#f)"/></svg>')
+    opts = RenderOptions()
+    (a, b, c, d), whole = render_module.filtered_part(
+        render_module.prepare_items(scene.root, opts)[0], 0, 60, 60,
+        render_module.Raster(opts, 60, 60, 4))
+    layer, = render_module.prepare_items(scene.root, opts)
+    count = []
+    filtered = render_module.render_filtered
+    monkeypatch.setattr(render_module, "render_filtered",
+                        lambda *a: count.append(1) or filtered(*a))
+    drawn = render_module.BandsDrawn(60)
+    lower, upper = (render_module.Raster(opts, 60, 60, 4) for _ in range(2))
+    for raster, start in ((lower, 30), (upper, 0)):
+        raster.bands, raster.band_start = drawn, start
+    low = render_module.filtered_part(layer, 30, 30, 60, lower)
+    drawn.band_done(30, 30)
+    assert layer.filtered[id(opts)][1] is not None      # kept for the band above
+    high = render_module.filtered_part(layer, 0, 30, 60, upper)
+    assert len(count) == 1 and high is not None and low is not None
+    for y0, ((pa, pb, pc, pd), pixels) in ((0, high), (30, low)):
+        # the one-band pixels of the same device rows
+        assert (pc, pd) == (c, d) and np.array_equal(pixels, whole[y0 + pa - a:y0 + pb - a])
+    drawn.band_done(0, 30)
+    assert layer.filtered[id(opts)][1] is None          # let go, its box kept
+
+
 def test_filtered_fills_moved_as_batched_draw_as_the_moved_group(monkeypatch):
     """Plain fills of a flat colour under filters placing nothing by device position are
     moved into the filter region as they are batched (render._flat_solid), not as a moved

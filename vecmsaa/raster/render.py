@@ -347,13 +347,16 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
 
     # a band drawn alone after the pace's first may have solo_rows (BandPace.regroup)
     buffer_rows = solo_rows if pace is not None and pace.wait else band_rows
+    drawn_rows = BandsDrawn(H)
     kit_key = (W, strip_rows, opts.samples, buffer_rows, target is None)
 
     def draw_bands(next_band):
         # filled: rows of the buffer that hold the background already (a kept buffer's last
         # band refilled them)
         raster, buffer, filled = _take_kit(kit_key, opts, H, background)
+        raster.bands = drawn_rows
         for y0, rows in iter(next_band, None):
+            raster.band_start = y0
             band = buffer[:rows] if target is None else target[y0:y0 + rows]
             if filled < rows:
                 # one row from the colour, the others copied from it: broadcasting the 4
@@ -366,14 +369,56 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
             draw_items(items, band, y0, raster)
             if pace is not None and pace.decide is not None:
                 pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn)
+            drawn_rows.band_done(y0, rows)
             if refill is None:
                 consume(y0, band)
                 filled = 0
             else:
                 consume(y0, band, refill)
+        raster.bands = None
         # only a thread that finished its bands gives its buffers back: clean
         _keep_kit(kit_key, raster, buffer, filled, background)
     run_bands(draw_bands, bands, threads, pool, pace)
+
+
+#: Raster.bands of draw_sampled_bands' rasters: each band is drawn with an apron of rows of
+#: the bands beside it
+APRON_BANDS = "apron"
+
+
+class BandsDrawn:
+    """The rows of a render's bands drawn so far: a filtered layer's pixels go once every band
+    that can need them is drawn (filtered_part). Threads take bands top down where a layer is
+    filtered, but the band holding its last row may be done with it while one above has yet
+    to reach it; that one filtered it again (two threads, a blurred disc over 200 rectangles:
+    one render in four)."""
+
+    def __init__(self, height: int):
+        self.done = np.zeros(height, dtype=bool)
+        self.lock = threading.Lock()
+        #: (layer, key, first row, band start) of filtered pixels kept for bands above
+        self.waiting = []
+
+    def let_go(self, layer, key, first: int, band_start: int) -> bool:
+        """Whether the rows from ``first`` to the band at ``band_start`` are drawn, so that the
+        layer's filtered pixels (its ``filtered[key]``, with ``layer.filtering`` held) may go
+        now; if not, they go when those rows are (band_done)."""
+        with self.lock:
+            if self.done[max(first, 0):band_start].all():
+                return True
+            self.waiting.append((layer, key, first, band_start))
+            return False
+
+    def band_done(self, y0: int, rows: int) -> None:
+        with self.lock:
+            self.done[y0:y0 + rows] = True
+            ready = [w for w in self.waiting if self.done[max(w[2], 0):w[3]].all()]
+            if ready:
+                self.waiting = [w for w in self.waiting if w not in ready]
+        # (outside self.lock: filtered_part takes the layer's lock, then this one)
+        for layer, key, _, _ in ready:
+            with layer.filtering:
+                _let_go(layer, key)
 
 
 class BandPace:
@@ -642,6 +687,8 @@ def draw_sampled_bands(scene: Scene, opts: RenderOptions, consume, band_budget: 
         first = Raster(opts.sample_opts[0][0], WR, H, strip_rows)
         rasters = [[Raster(o, WR, H, strip_rows, first.scratch) for o in per_class]
                    for per_class in opts.sample_opts]
+        for raster in (r for per_class in rasters for r in per_class):
+            raster.bands = APRON_BANDS
         for y0 in iter(next_start, None):
             rows = min(band_rows, H - y0)
             band = np.empty((rows, W, 4), np.float32) if target is None else target[y0:y0 + rows]
@@ -732,6 +779,10 @@ class Raster:
         self.width, self.height = width, height
         #: items draw_items has drawn with it (BandPace)
         self.drawn = 0
+        #: the render's BandsDrawn and the device row of the band being drawn, while
+        #: render_bands draws with it; None: bands one after another that do not overlap;
+        #: APRON_BANDS (filtered_part)
+        self.bands, self.band_start = None, 0
         #: kept layer buffers by nesting depth (layer_buffer)
         self.layer_buffers = []
         self.depth = 0
@@ -1567,16 +1618,19 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     """((a, b, c, d), pixels): a copy of the layer's filtered pixels in rows a..b - 1 and
     columns c..d - 1 of the band of ``h`` x ``w`` pixels from device row y0, or None where
     they miss it. The band holding the filtered box's last row lets go of it, so a document
-    of many filtered elements holds one filtered buffer at a time, not all of them. (With
-    bands on threads a band above it may still be on its way; it then filters again, to the
-    same pixels.)"""
+    of many filtered elements holds one filtered buffer at a time, not all of them; with
+    bands on threads, once the bands above it are drawn too (BandsDrawn)."""
     with layer.filtering:
         key = id(raster.opts)
         if key not in layer.filtered:
             layer.filtered[key] = render_filtered(layer, raster)
         (x0, fy0, x1, fy1), pixels = layer.filtered[key]
-        if y0 + h >= fy1:
-            del layer.filtered[key]
+        if pixels is not None and y0 + h >= fy1:
+            bands = raster.bands
+            if bands is APRON_BANDS:
+                del layer.filtered[key]     # the next band draws these rows again
+            elif bands is None or bands.let_go(layer, key, fy0, raster.band_start):
+                _let_go(layer, key)
     a, b = max(y0, fy0), min(y0 + h, fy1)
     c, d = max(x0, 0), min(x1, w)
     if pixels is None or a >= b or c >= d:
@@ -1585,6 +1639,15 @@ def filtered_part(layer: Layer, y0: int, h: int, w: int, raster: Raster):
     if layer.blend == "normal" and part.flags.c_contiguous:
         return (a - y0, b - y0, c, d), part        # draw_layer only reads it then
     return (a - y0, b - y0, c, d), part.copy()
+
+
+def _let_go(layer: Layer, key) -> None:
+    """Drop the layer's filtered pixels (``layer.filtering`` held), keeping their box: the
+    bands below it that its filter region reaches still ask for them (the region is cut to
+    the content's reach when filtered), and without the box they filtered it again, each
+    (a blurred square in a region twice its size, 200 bands: 24 times)."""
+    box, _ = layer.filtered[key]
+    layer.filtered[key] = box, None
 
 
 _filter_effects = None
