@@ -491,8 +491,8 @@ def heaviest_first(items, starts, band_rows: int):
     each pixel of its box in the band. So threads taking bands in turn do not end with one of
     them drawing a heavy band alone: the tiger's 256-row bands at 2048 px took 7, 9, 15, 25,
     24, 13, 9 and 5 ms top down, and two threads ended 8 ms apart. Top down where a filtered
-    layer takes part (filtered_part lets go of its pixels after the band holding its last
-    row, and a band above drawn later would filter it again)."""
+    layer takes part (its filtered pixels are kept until the bands from its first row to its
+    last are drawn: BandsDrawn; top down keeps that short)."""
     n = len(starts)
     # the fills' boxes and offsets gathered, then one computation for all: numpy's calls on
     # each batch's few rows took 80 ms of 2000 clipped groups' 250 ms draw (two threads were
