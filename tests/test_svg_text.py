@@ -18,6 +18,8 @@ TTF = os.path.join(FIXTURES, "NotoSans-Subset.ttf")
 SUITE = suite_from_environment(os.path.join(os.path.dirname(__file__), "..", "..", "shared",
                                             "resvg-suite"))
 FONTS = dict(use_fonts_dir=FIXTURES, skip_system_fonts=True, font_family="Noto Sans")
+#: the resvg suite's fonts alone
+SUITE_FONTS = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True)
 
 
 def render(body, width=200, height=100, mode="analytic", **kw):
@@ -33,9 +35,13 @@ def render_with_suite_fonts(body):
     being Noto Serif, in exact coverage."""
     svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
            f'{body}</svg>').encode()
-    return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                            skip_system_fonts=True, serif_family="Noto Serif", width=200,
-                            mode="analytic")
+    return render_suite(svg, serif_family="Noto Serif")
+
+
+def render_suite(svg, width=200, **kw):
+    """``svg`` drawn with the resvg suite's fonts alone, in exact coverage (``width`` None:
+    the document's own)."""
+    return render_svg_array(svg, width=width, mode="analytic", **SUITE_FONTS, **kw)
 
 
 def alpha(img):
@@ -428,9 +434,9 @@ def test_matches_resvg_reference(name):
         pytest.skip(f"{name} not in this copy of the suite")
     ref = np.asarray(Image.open(svg[:-4] + ".png").convert("RGBA"))
     out = render_svg_array(svg, width=ref.shape[1], mode="analytic",
-                           use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                           serif_family="Noto Serif", sans_serif_family="Noto Sans",
-                           cursive_family="Yellowtail", fantasy_family="Sedgwick Ave Display",
+                           **SUITE_FONTS, serif_family="Noto Serif",
+                           sans_serif_family="Noto Sans", cursive_family="Yellowtail",
+                           fantasy_family="Sedgwick Ave Display",
                            monospace_family="Noto Mono", font_family="Noto Serif")
     cmp = compare_images(out, ref)
     assert cmp.passed(), cmp.describe()
@@ -560,8 +566,7 @@ def test_an_absolute_position_breaks_arabic_joining_like_separate_texts():
     # Every character with its own x starts a text chunk, and a chunk is shaped on its own
     # (as resvg does): x="20 70 120" on three behs draws what three <text>s of one beh draw,
     # isolated forms, not the initial/medial/final forms of the joined word.
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                width=200, mode="analytic")
+    opts = dict(SUITE_FONTS, width=200, mode="analytic")
 
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
@@ -617,7 +622,7 @@ def test_font_variant_longhand_inherits_and_invalid_value_is_ignored():
 @pytest.mark.skipif(not os.path.isdir(SUITE), reason="../shared/resvg-suite not present")
 def test_font_variant_ligatures_none_turns_ligatures_off():
     # Noto Serif has an "fi" ligature (liga); none = liga, clig, dlig, hlig and calt off
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True)
+    opts = dict(SUITE_FONTS)
 
     def text(style):
         return render_svg_array(
@@ -721,8 +726,7 @@ def test_a_cluster_advances_by_all_its_glyphs():
     hb.shape(hb.Font(face), buf, {})
     assert len(buf.glyph_positions) == 2 and all(p.x_advance > 0 for p in buf.glyph_positions)
     advance = sum(p.x_advance for p in buf.glyph_positions) * 40 / face.upem
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                width=200, mode="analytic")
+    opts = dict(SUITE_FONTS, width=200, mode="analytic")
 
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
@@ -742,8 +746,7 @@ def test_a_base_and_its_combining_marks_are_one_typographic_character():
     # SVG 2 positions, rotates and spaces typographic characters (grapheme clusters): q with
     # two combining marks (no precomposed glyph) turns about the base's origin as the whole
     # text turned by a transform would, and letter-spacing comes after the marks only
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                width=200, mode="analytic")
+    opts = dict(SUITE_FONTS, width=200, mode="analytic")
 
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
@@ -776,8 +779,7 @@ def test_a_grapheme_whose_base_a_ligature_took_is_one_typographic_character_with
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
                f'font-family="Noto Sans Devanagari" font-size="40"><text x="20" y="60" {attrs}>'
                '\u0936\u094d\u0930\u0940</text></svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, width=200, mode="analytic")
+        return render_suite(svg)
     assert np.array_equal(draw(lists), draw(""))
 
 
@@ -796,8 +798,7 @@ def test_offsets_of_a_ligatures_later_characters_move_the_text_after_it(lists, s
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
                f'font-family="Noto Serif" font-size="30">{body}</svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, width=200, mode="analytic")
+        return render_suite(svg)
     lig = draw(f'<text x="20" y="60" {lists}>office</text>')
     assert np.abs(lig.astype(int) - draw(f'<text x="20" y="60">{spans}</text>').astype(int)
                   ).max() <= 1
@@ -811,8 +812,7 @@ def test_letter_spacing_keeps_zwj_sequences_joined():
     # letter-spacing turns optional ligatures off (CSS Text 3 §8.2), but a zero width joiner
     # asks for the joined form (Unicode §23.2): the rainbow flag (white flag, VS16, ZWJ,
     # rainbow; a 'liga' ligature in this font) stays one glyph, one grapheme, unspaced
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                width=200)
+    opts = dict(SUITE_FONTS, width=200)
 
     def draw(style):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" '
@@ -854,8 +854,7 @@ def test_a_cluster_on_a_path_sits_at_the_middle_of_its_widest_glyph():
     # by all its glyphs): ni (pre-base matra 259 + na 555 units at 40 px: widest 22.2, all
     # 32.6) on a path that turns down at arc length 14 has its middle, 11.1, on the first,
     # horizontal leg, so it is drawn as the same text on a straight line
-    opts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True,
-                width=200, mode="analytic")
+    opts = dict(SUITE_FONTS, width=200, mode="analytic")
 
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200" '
@@ -925,7 +924,7 @@ def test_css_wide_initial_and_unset_on_text_properties(prop, value):
 def test_a_bitmap_glyph_has_no_geometry_in_a_clip_path(family, text):
     # a clip path takes its children's raw geometry; a bitmap glyph (CBDT, sbix) is an image
     # and clips nothing, even where the font also has an outline for it (the sbix font's "A")
-    fonts = dict(use_fonts_dir=os.path.join(SUITE, "fonts"), skip_system_fonts=True)
+    fonts = dict(SUITE_FONTS)
     glyph = f'<text x="10" y="80" font-size="60" font-family="{family}">{text}</text>'
 
     def draw(body):
@@ -946,8 +945,7 @@ def test_a_bitmap_glyph_has_no_geometry_in_a_clip_path(family, text):
 def _suite_draw(body, width=200):
     svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100" font-size="24">'
            f'{body}</svg>').encode()
-    return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                            skip_system_fonts=True, width=width, mode="analytic")
+    return render_suite(svg, width=width)
 
 
 needs_suite_fonts = pytest.mark.skipif(
@@ -1323,8 +1321,7 @@ def test_escaped_and_unterminated_family_names_in_attributes():
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
                f'<g font-family="Noto Mono"><text x="10" y="60" font-size="26" '
                f'font-family="{family}">Family Wg</text></g></svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, width=200, mode="analytic")
+        return render_suite(svg)
     sans = draw("Noto Sans")
     assert not np.array_equal(sans, draw("Noto Serif"))
     for form in (r"\4E oto Sans", r"Noto\ Sans", "'Noto Sans", "Noto/**/Sans"):
@@ -1342,8 +1339,7 @@ def test_colour_and_outline_glyphs_paint_in_text_order(chars, xs, rotate):
     def draw(body):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
                '<rect width="200" height="100" fill="#8cf"/>' + body + '</svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, mode="analytic")
+        return render_suite(svg, width=None)
     font = 'font-family="CFF Outlines and SBIX" font-size="40" y="70"'
     one = draw(f'<text {font} x="{xs}" rotate="{rotate}">{chars}</text>')
     separate = draw("".join(f'<text {font} x="{x}" rotate="{r}">{c}</text>'
@@ -1366,8 +1362,7 @@ def test_font_weight_numbers_match_faces_by_css_fonts(weight, face):
                 f'font-family="Noto Sans" font-size="36" font-weight="{w}"')
         svg = (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 100">'
                f'<text x="5" y="60" {attr}>Weight</text></svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, width=200, mode="analytic")
+        return render_suite(svg)
     assert np.array_equal(draw(weight, "attr"), draw(str(face), "attr"))
     assert np.array_equal(draw(weight, "css"), draw(str(face), "attr"))
     if face != 400:
@@ -1386,8 +1381,7 @@ def test_an_emoji_zwj_sequence_is_one_typographic_character(attrs):
         svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">'
                f'<text {a} y="70" font-family="Twitter Color Emoji" font-size="36">'
                '&#x1F600;&#x200D;&#x1F601;</text></svg>').encode()
-        return render_svg_array(svg, use_fonts_dir=os.path.join(SUITE, "fonts"),
-                                skip_system_fonts=True, mode="analytic")
+        return render_suite(svg, width=None)
     assert np.array_equal(draw('x="10" ' + attrs), draw('x="10"'))
 
 
