@@ -194,7 +194,7 @@ def test_a_cache_folder_that_cannot_be_written_means_no_cache(tmp_path, monkeypa
 
     def refuse(*args, **kwargs):
         raise PermissionError(13, "Permission denied")
-    monkeypatch.setattr("tempfile.mkstemp", refuse)
+    monkeypatch.setattr("os.open", refuse)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("error")
@@ -202,6 +202,21 @@ def test_a_cache_folder_that_cannot_be_written_means_no_cache(tmp_path, monkeypa
     finally:
         os.chmod(folder, 0o755)
     assert os.listdir(folder) == []
+
+
+def test_a_temporary_file_a_killed_writer_left_is_removed_by_the_next_write(cache_dir):
+    done = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)
+    name = os.path.basename(FolderCache(FIXTURES).file)
+    cache_dir.mkdir(parents=True)
+    left = cache_dir / f".{name}.{done.stdout.strip()}.vecmsaa-tmp"     # its process is gone
+    left.write_text("{half a cache")
+    mine = cache_dir / f".{name}.{os.getppid()}.vecmsaa-tmp"             # still running
+    mine.write_text("{being written")
+    db = database(FIXTURES)
+    db.save_caches()
+    assert not left.exists() and mine.exists()
+    assert FolderCache(FIXTURES)._read() is not None
 
 
 def test_the_cache_can_be_turned_off(cache_dir, monkeypatch):

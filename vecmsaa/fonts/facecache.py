@@ -16,7 +16,8 @@ another version wrote is ignored and rewritten.
 
 JSON, so loading a cache file can run no code; one that is corrupt, truncated, foreign or
 larger than :data:`MAX_CACHE_BYTES` is ignored (and rewritten). Writing is a temporary file in
-the same folder renamed over the old one: readers see the old or the new file whole, and of
+the same folder renamed over the old one (write_bytes_atomic, as for images: one a killed
+process left is removed by the next write): readers see the old or the new file whole, and of
 processes writing at once the last rename wins (each file complete and true for the folder as
 its writer saw it). A cache folder that cannot be created or written means no cache, silently.
 ``VECMSAA_FONT_CACHE=0`` turns the cache off; ``VECMSAA_FONT_CACHE=/some/folder`` puts it
@@ -230,25 +231,12 @@ class FolderCache:
                          for p, (stamp, infos, coverage) in self._new.items()}}
         # (ASCII: a file name that is not UTF-8 is kept as escaped surrogates)
         data = json.dumps(doc, separators=(",", ":")).encode("ascii")
-        import tempfile
+        from ..output.png import write_bytes_atomic
 
-        tmp = None
         try:
-            folder = os.path.dirname(self.file)
-            os.makedirs(folder, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=folder, prefix=".fonts-", suffix=".tmp")
-            with os.fdopen(fd, "wb") as f:
-                f.write(data)
-            os.replace(tmp, self.file)
-            tmp = None
+            write_bytes_atomic(data, self.file, make_folders=True)
         except OSError:
             pass                   # a read-only or full cache folder: no cache
-        finally:
-            if tmp is not None:
-                try:
-                    os.unlink(tmp)
-                except OSError:
-                    pass
 
 
 def _face_record(info) -> list:
