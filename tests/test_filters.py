@@ -436,6 +436,25 @@ def test_feimage_file_drops_rotation_and_skew_like_an_element():
     assert (img[6:14, 13:21, 1] == 255).all() and not img[..., 0].any()
 
 
+@pytest.mark.parametrize("subregion", ['x="-1e308%" width="50%"', 'x="1e308%"',
+                                       'x="10%" width="1e308%"'])
+def test_feimage_whose_subregion_overflows_ends_the_chain(subregion):
+    """A subregion beyond any device rectangle is invalid, and usvg keeps the primitives
+    before it: the flood alone (resvg 0.48.1 draws these so). The image's effect read the
+    missing device rectangle and raised (the fuzzer)."""
+    image = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42"
+             "mP8z8DwHwAFBQIAX8jx0gAAAABJRU5ErkJggg==")
+
+    def draw(primitive):
+        return render('<filter id="f" primitiveUnits="objectBoundingBox" x="0" y="0" '
+                      f'width="1" height="1"><feFlood flood-color="#00ff00"/>{primitive}'
+                      '</filter><rect x="10" y="10" width="20" height="20" fill="red" '
+                      'filter="url(#f)"/>')
+    flood = draw("")
+    assert tuple(flood[20, 20]) == (0, 255, 0, 255)
+    assert np.array_equal(draw(f'<feImage {subregion} href="{image}"/>'), flood)
+
+
 def test_flood_subregion_in_bounding_box_units():
     img = render('<filter id="f" primitiveUnits="objectBoundingBox">'
                  '<feFlood flood-color="#0000ff" x="0.5" width="0.5"/></filter>'

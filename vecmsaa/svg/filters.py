@@ -614,8 +614,10 @@ class PrimitiveResolver:
         if not href:
             return None
         style = b.doc.document_style(fe)
-        x, y, w, h = self.user_subregion(fe)
-        sub = self.subregion(fe)
+        user, sub = self.user_subregion(fe), self.subregion(fe)
+        if user is None or sub is None:
+            return None             # (filter_element stops at this primitive)
+        x, y, w, h = user
         sx, sy = device_scale(self.ctx)
         if href.startswith("#"):
             target = b.doc.lookup(href)
