@@ -23,6 +23,7 @@ from .units import split_length, to_px
 SVG_NS = "http://www.w3.org/2000/svg"
 XLINK_NS = "http://www.w3.org/1999/xlink"
 XML_NS = "http://www.w3.org/XML/1998/namespace"
+_XML_LANG = "{%s}lang" % XML_NS
 
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
 MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
@@ -1259,6 +1260,19 @@ def _counted_matching(matcher):
         @functools.cached_property
         def etree_children(self):
             return Siblings(cssselect2.ElementWrapper.etree_children.func(self))
+
+        @functools.cached_property
+        def lang(self):
+            # `:lang()`: SVG 2 takes HTML's `lang` attribute on every element, `xml:lang`
+            # first where both are set (HTML, "the lang and xml:lang attributes"); cssselect2
+            # reads `lang` on HTML elements only
+            el = self.etree_element
+            value = el.get(_XML_LANG)
+            if value is None:
+                value = el.get("lang")
+            if value is not None:
+                return value.strip().lower()
+            return "" if self.parent is None else self.parent.lang
 
         def iter_children(self):
             charge(len(self.etree_children))
