@@ -272,6 +272,23 @@ def test_style_attribute_beats_css_and_important_beats_style_attribute():
     assert r.specified["stroke"] == "red"
 
 
+@pytest.mark.parametrize("attrs, prop, want", [
+    # SVG 2 parses presentation attributes as CSS values: CSS Syntax 3 drops comments while
+    # tokenizing, except inside strings and url() (Mozilla's comments-in-pres-attrs reftest)
+    ('fill="/* comment */lime/* also comment */"', "fill", "lime"),
+    ('stroke-width=" 2/**/"', "stroke-width", "2"),
+    ('stroke-dasharray="5/**/6"', "stroke-dasharray", "5 6"),
+    ('stroke-dasharray="5,/* a, b */6"', "stroke-dasharray", "5,6"),
+    ('font-family="\'a/*b*/c\', serif"', "font-family", "'a/*b*/c', serif"),
+    ('fill="url(#a/*b*/c) /*d*/ red"', "fill", "url(#a/*b*/c) red"),
+    ('opacity="/*.5*/"', "opacity", ""),
+])
+def test_comments_in_presentation_attributes(attrs, prop, want):
+    d = doc(f'<rect id="r" {attrs}/>')
+    got = d.ids["r"].specified[prop]
+    assert " ".join(got.replace('"', "'").split()) == want     # white space as CSS reads it
+
+
 @pytest.mark.parametrize("root, rect, fill", [
     # Selectors 4 :lang(): the element's language, inherited from its nearest ancestor that
     # sets one; SVG 2 takes HTML's lang attribute on SVG elements, xml:lang first when both

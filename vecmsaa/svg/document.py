@@ -773,18 +773,35 @@ def _declarations(tokens_or_text):
     for d in decls:
         if d.type != "declaration":
             continue
-        value = tinycss2.serialize(d.value).strip()
-        if "/**/" in value and '"' not in value and "'" not in value:
-            # tinycss2 writes an empty comment between tokens that would run together
-            # (`translate(-10-10)` → `-10/**/-10`); the SVG number grammars the values are
-            # read with take a space there
-            value = value.replace("/**/", " ")
+        value = _value_text(d.value)
         if not value:
             # no property takes an empty value: CSS drops the declaration, and what it would
             # have overridden (a presentation attribute, an earlier rule) applies
             continue
         out.append((d.lower_name, value, bool(d.important)))
     return out
+
+
+def _value_text(tokens):
+    import tinycss2
+
+    value = tinycss2.serialize(tokens).strip()
+    if "/**/" in value and '"' not in value and "'" not in value:
+        # tinycss2 writes an empty comment between tokens that would run together
+        # (`translate(-10-10)` → `-10/**/-10`); the SVG number grammars the values are
+        # read with take a space there
+        value = value.replace("/**/", " ")
+    return value
+
+
+def _without_comments(value):
+    """A presentation attribute's value without its CSS comments: SVG 2 parses presentation
+    attributes as CSS values (styling, "Presentation attributes"), and CSS Syntax 3 drops
+    comments as it tokenizes (not inside strings or url()); the tokens they separate stay
+    apart."""
+    import tinycss2
+
+    return _value_text(tinycss2.parse_component_value_list(value, skip_comments=True))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -1029,6 +1046,8 @@ def _specified(spec, found, style_attr, warnings):
                     (important if imp else spec)[pname] = pval
         spec.update(important)
     for name, value in spec.items():
+        if "/*" in value and name != "transform":   # the transform attribute has SVG's grammar
+            spec[name] = value = _without_comments(value)
         if name in KEYWORD_PROPERTIES or value[:1] in _CSS_WIDE_INITIALS:
             low = _ascii_lower(value)
             if name in KEYWORD_PROPERTIES or low in _NO_WARNING:
