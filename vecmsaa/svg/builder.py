@@ -836,7 +836,7 @@ class Builder:
                 return []
             group.clip = clip
         if has_mask:
-            masks = self.masks(mask_ref, ctx, bbox)
+            masks = self.masks(mask_ref, ctx, bbox, el.specified.get("mask-mode"))
             if masks is False:
                 return []
             if masks:
@@ -1479,9 +1479,9 @@ class Builder:
         from .masking import clip_path
         return clip_path(self, value, ctx, bbox_fn)
 
-    def masks(self, value, ctx, bbox_fn):
+    def masks(self, value, ctx, bbox_fn, mode=None):
         from .masking import masks
-        return masks(self, value, ctx, bbox_fn)
+        return masks(self, value, ctx, bbox_fn, mode)
 
     # -- images and text -------------------------------------------------------------------
     def image(self, el, ctx, style):

@@ -49,7 +49,7 @@ PROPERTIES = {
     "font-variant-numeric", "font-variant-position", "font-variation-settings", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
     "isolation", "letter-spacing", "lighting-color", "marker", "marker-end", "marker-mid",
-    "marker-start", "mask", "mask-type", "mix-blend-mode", "opacity", "overflow",
+    "marker-start", "mask", "mask-mode", "mask-type", "mix-blend-mode", "opacity", "overflow",
     "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
     "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
     "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
@@ -62,7 +62,7 @@ PROPERTIES = {
 }
 
 #: properties settable from CSS only, not as presentation attributes
-CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
+CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font", "mask-mode",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
