@@ -1447,3 +1447,24 @@ def test_fe_color_matrix_saturate_above_one_oversaturates(amount):
     assert np.abs(got - want).max() <= 1
     css = render(body.replace('filter="url(#f)"', f'style="filter: saturate({amount})"'))
     assert np.abs(css - want).max() <= 1
+
+
+@pytest.mark.parametrize("shape, drawn", [
+    ('<rect filter="url(#f)"/>', False),
+    ('<rect width="30" height="0" filter="url(#f)"/>', False),
+    ('<rect width="0" height="30" filter="url(#f)"/>', False),
+    ('<circle cx="20" cy="20" r="0" filter="url(#f)"/>', False),
+    ('<ellipse cx="20" cy="20" rx="0" ry="5" filter="url(#f)"/>', False),
+    ('<ellipse cx="20" cy="20" rx="5" filter="url(#f)"/>', True),      # ry auto: rx
+    ('<rect width="0.01" height="0.01" filter="url(#f)"/>', True),
+    ('<g filter="url(#f)"/>', True),
+    ('<line filter="url(#f)"/>', True),
+])
+def test_a_disabled_basic_shape_draws_no_filter(shape, drawn):
+    """SVG 2, rect, circle and ellipse: a zero width or height, or radius, "disables rendering
+    of the element", so a filter on it draws nothing, even one whose user-space region a
+    flood fills; an empty group, a line and a tiny rect are rendered and get the flood."""
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="40" '
+                 'height="40"><feFlood flood-color="#00ff00"/></filter>' + shape)
+    assert (tuple(img[20, 20]) == (0, 255, 0, 255)) == drawn
+    assert drawn or not img.any()
