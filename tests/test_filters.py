@@ -1441,3 +1441,49 @@ def test_blurring_an_empty_image_gives_it_back_empty():
         for sigma in (0.8, 3.0):
             got = F.gaussian_blur(np.zeros(shape, np.float32), sigma, sigma)
             assert got.shape == shape
+
+
+@pytest.mark.parametrize("amount", [1.0, 1.5, 3.0, 11.0])
+def test_fe_color_matrix_saturate_above_one_oversaturates(amount):
+    """Filter Effects 1 (feColorMatrix, type saturate): values outside 0..1 under- or
+    oversaturate, and the saturate() function is defined as this primitive: both draw the
+    specification's matrix, written out here with its own coefficients (0.213, 0.715, 0.072
+    against the code's 0.2126, 0.7152, 0.0722: within one level)."""
+    s = amount
+    m = [0.213 + 0.787 * s, 0.715 - 0.715 * s, 0.072 - 0.072 * s, 0, 0,
+         0.213 - 0.213 * s, 0.715 + 0.285 * s, 0.072 - 0.072 * s, 0, 0,
+         0.213 - 0.213 * s, 0.715 - 0.715 * s, 0.072 + 0.928 * s, 0, 0,
+         0, 0, 0, 1, 0]
+    values = " ".join(f"{v:.6f}" for v in m)
+    srgb = 'color-interpolation-filters="sRGB"'
+    colors = ("#00A654", "#7f3f9f", "#204060", "#c8c8c8")
+    body = "".join(f'<rect x="{10 * i}" width="10" height="40" fill="{c}" filter="url(#f)"/>'
+                   for i, c in enumerate(colors))
+    def drawn(primitive):
+        return render(f'<filter id="f" {srgb}>{primitive}</filter>{body}')
+    want = drawn(f'<feColorMatrix type="matrix" values="{values}"/>')
+    got = drawn(f'<feColorMatrix type="saturate" values="{amount}"/>')
+    assert np.abs(got - want).max() <= 1
+    css = render(body.replace('filter="url(#f)"', f'style="filter: saturate({amount})"'))
+    assert np.abs(css - want).max() <= 1
+
+
+@pytest.mark.parametrize("shape, drawn", [
+    ('<rect filter="url(#f)"/>', False),
+    ('<rect width="30" height="0" filter="url(#f)"/>', False),
+    ('<rect width="0" height="30" filter="url(#f)"/>', False),
+    ('<circle cx="20" cy="20" r="0" filter="url(#f)"/>', False),
+    ('<ellipse cx="20" cy="20" rx="0" ry="5" filter="url(#f)"/>', False),
+    ('<ellipse cx="20" cy="20" rx="5" filter="url(#f)"/>', True),      # ry auto: rx
+    ('<rect width="0.01" height="0.01" filter="url(#f)"/>', True),
+    ('<g filter="url(#f)"/>', True),
+    ('<line filter="url(#f)"/>', True),
+])
+def test_a_disabled_basic_shape_draws_no_filter(shape, drawn):
+    """SVG 2, rect, circle and ellipse: a zero width or height, or radius, "disables rendering
+    of the element", so a filter on it draws nothing, even one whose user-space region a
+    flood fills; an empty group, a line and a tiny rect are rendered and get the flood."""
+    img = render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="40" '
+                 'height="40"><feFlood flood-color="#00ff00"/></filter>' + shape)
+    assert (tuple(img[20, 20]) == (0, 255, 0, 255)) == drawn
+    assert drawn or not img.any()

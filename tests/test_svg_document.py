@@ -272,6 +272,47 @@ def test_style_attribute_beats_css_and_important_beats_style_attribute():
     assert r.specified["stroke"] == "red"
 
 
+@pytest.mark.parametrize("attrs, prop, want", [
+    # SVG 2 parses presentation attributes as CSS values: CSS Syntax 3 drops comments while
+    # tokenizing, except inside strings and url() (Mozilla's comments-in-pres-attrs reftest)
+    ('fill="/* comment */lime/* also comment */"', "fill", "lime"),
+    ('stroke-width=" 2/**/"', "stroke-width", "2"),
+    ('stroke-dasharray="5/**/6"', "stroke-dasharray", "5 6"),
+    ('stroke-dasharray="5,/* a, b */6"', "stroke-dasharray", "5,6"),
+    ('font-family="\'a/*b*/c\', serif"', "font-family", "'a/*b*/c', serif"),
+    ('fill="url(#a/*b*/c) /*d*/ red"', "fill", "url(#a/*b*/c) red"),
+    ('opacity="/*.5*/"', "opacity", ""),
+])
+def test_comments_in_presentation_attributes(attrs, prop, want):
+    d = doc(f'<rect id="r" {attrs}/>')
+    got = d.ids["r"].specified[prop]
+    assert " ".join(got.replace('"', "'").split()) == want     # white space as CSS reads it
+
+
+@pytest.mark.parametrize("root, rect, fill", [
+    # Selectors 4 :lang(): the element's language, inherited from its nearest ancestor that
+    # sets one; SVG 2 takes HTML's lang attribute on SVG elements, xml:lang first when both
+    # are set; "" is an unknown language; ranges match by prefix up to a hyphen
+    ('lang="foo"', '', "green"),
+    ('xml:lang="foo"', '', "green"),
+    ('', 'lang="FOO"', "green"),
+    ('lang="foo-BAR"', '', "green"),
+    ('lang="foobar"', '', "red"),
+    ('lang="it"', '', "red"),
+    ('lang="foo"', 'lang="it"', "red"),
+    ('xml:lang="it"', 'lang="foo"', "green"),
+    ('', 'xml:lang="it" lang="foo"', "red"),
+    ('', 'xml:lang="foo" lang="it"', "green"),
+    ('lang="foo"', 'lang=""', "red"),
+    ('', '', "red"),
+])
+def test_css_lang_pseudo_class_reads_lang_and_xml_lang(root, rect, fill):
+    d = load_document(f'<svg xmlns="http://www.w3.org/2000/svg" {root}><style>'
+                      f'rect {{ fill: red }} rect:lang(foo) {{ fill: green }}</style>'
+                      f'<g><rect id="r" {rect}/></g></svg>'.encode())
+    assert d.ids["r"].specified["fill"] == fill
+
+
 @pytest.mark.parametrize("css, fill", [
     # CSS Namespaces 3 §2: a prefix declared by @namespace qualifies type and attribute
     # selectors; declared for another URL it matches nothing

@@ -685,3 +685,33 @@ def test_focal_point_just_outside_paints_as_on_the_circle(spread):
     on, off = draw(10), draw(9.996)
     far = np.abs(np.arange(100) + 0.5 - 10) > 3
     assert np.abs(on - off)[:, far].max() <= 8
+
+
+@pytest.mark.parametrize("mask_type", [None, "alpha", "luminance"])
+@pytest.mark.parametrize("mode", [None, "alpha", "luminance", "match-source", "Alpha, luminance"])
+def test_mask_mode_of_the_masked_element_overrides_mask_type(mask_type, mode):
+    """CSS Masking 1, mask-mode: on the element with the mask, alpha or luminance decides how
+    the mask element's content is read; match-source (the initial value) takes the mask
+    element's mask-type. Truth: the same drawing with mask-mode left out and mask-type set to
+    the kind the specification picks, on a masked element and inside another mask."""
+    from vecmsaa.api import render_svg_array
+
+    want = mode.split(",")[0].strip().lower() if mode else None
+    if want not in ("alpha", "luminance"):
+        want = mask_type or "luminance"
+
+    def doc(kind, mode):
+        own = f' style="mask-type: {kind}"' if kind else ""
+        css = f' style="mask-mode: {mode}"' if mode else ""
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="20">'
+                f'<mask id="m"{own}><rect width="40" height="20" fill="#804020" '
+                'fill-opacity="0.6"/></mask>'
+                '<mask id="outer"><rect width="40" height="20" fill="white" '
+                f'mask="url(#m)"{css}/></mask>'
+                f'<rect width="20" height="20" fill="blue" mask="url(#m)"{css}/>'
+                '<rect x="20" width="20" height="20" fill="blue" mask="url(#outer)"/></svg>')
+    got = render_svg_array(doc(mask_type, mode))
+    truth = render_svg_array(doc(want, None))
+    assert np.array_equal(got, truth)
+    if want == "alpha":     # and the two kinds do differ here
+        assert not np.array_equal(got, render_svg_array(doc("luminance", None)))

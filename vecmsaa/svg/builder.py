@@ -604,8 +604,13 @@ class Builder:
         c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m),
                                               chain=ctx.chain + (m,))
         tag = el.tag
+        disabled = False
         if tag in SHAPES:
             nodes = self.shape(el, c, style)
+            # SVG 2: a zero width or height (rect), radius (circle, ellipse) "disables
+            # rendering of the element", so its filter draws nothing either (as in Gecko)
+            disabled = not nodes and tag in _BOXED_SHAPES and \
+                shape_box(el, self.length_getter(el, style, c)) is None
         elif tag == "switch":
             nodes = self.switch(el, c, style)
         elif tag in CONTAINERS:
@@ -626,7 +631,7 @@ class Builder:
             nodes = self.text(el, c, style)
         else:
             nodes = []
-        nodes = self.wrap(el, style, c, nodes)
+        nodes = [] if disabled else self.wrap(el, style, c, nodes)
         if self.nodes_by_id is not None and el.id is not None:
             self.nodes_by_id.setdefault(el.id, nodes)
         return nodes
@@ -836,7 +841,7 @@ class Builder:
                 return []
             group.clip = clip
         if has_mask:
-            masks = self.masks(mask_ref, ctx, bbox)
+            masks = self.masks(mask_ref, ctx, bbox, el.specified.get("mask-mode"))
             if masks is False:
                 return []
             if masks:
@@ -1479,9 +1484,9 @@ class Builder:
         from .masking import clip_path
         return clip_path(self, value, ctx, bbox_fn)
 
-    def masks(self, value, ctx, bbox_fn):
+    def masks(self, value, ctx, bbox_fn, mode=None):
         from .masking import masks
-        return masks(self, value, ctx, bbox_fn)
+        return masks(self, value, ctx, bbox_fn, mode)
 
     # -- images and text -------------------------------------------------------------------
     def image(self, el, ctx, style):

@@ -23,6 +23,7 @@ from .units import split_length, to_px
 SVG_NS = "http://www.w3.org/2000/svg"
 XLINK_NS = "http://www.w3.org/1999/xlink"
 XML_NS = "http://www.w3.org/XML/1998/namespace"
+_XML_LANG = "{%s}lang" % XML_NS
 
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
 MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
@@ -48,7 +49,7 @@ PROPERTIES = {
     "font-variant-numeric", "font-variant-position", "font-variation-settings", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
     "isolation", "letter-spacing", "lighting-color", "marker", "marker-end", "marker-mid",
-    "marker-start", "mask", "mask-type", "mix-blend-mode", "opacity", "overflow",
+    "marker-start", "mask", "mask-mode", "mask-type", "mix-blend-mode", "opacity", "overflow",
     "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
     "stroke-dasharray", "stroke-dashoffset", "stroke-linecap", "stroke-linejoin",
     "stroke-miterlimit", "stroke-opacity", "stroke-width", "text-anchor", "text-decoration",
@@ -61,7 +62,7 @@ PROPERTIES = {
 }
 
 #: properties settable from CSS only, not as presentation attributes
-CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
+CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font", "mask-mode",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
@@ -772,18 +773,35 @@ def _declarations(tokens_or_text):
     for d in decls:
         if d.type != "declaration":
             continue
-        value = tinycss2.serialize(d.value).strip()
-        if "/**/" in value and '"' not in value and "'" not in value:
-            # tinycss2 writes an empty comment between tokens that would run together
-            # (`translate(-10-10)` → `-10/**/-10`); the SVG number grammars the values are
-            # read with take a space there
-            value = value.replace("/**/", " ")
+        value = _value_text(d.value)
         if not value:
             # no property takes an empty value: CSS drops the declaration, and what it would
             # have overridden (a presentation attribute, an earlier rule) applies
             continue
         out.append((d.lower_name, value, bool(d.important)))
     return out
+
+
+def _value_text(tokens):
+    import tinycss2
+
+    value = tinycss2.serialize(tokens).strip()
+    if "/**/" in value and '"' not in value and "'" not in value:
+        # tinycss2 writes an empty comment between tokens that would run together
+        # (`translate(-10-10)` → `-10/**/-10`); the SVG number grammars the values are
+        # read with take a space there
+        value = value.replace("/**/", " ")
+    return value
+
+
+def _without_comments(value):
+    """A presentation attribute's value without its CSS comments: SVG 2 parses presentation
+    attributes as CSS values (styling, "Presentation attributes"), and CSS Syntax 3 drops
+    comments as it tokenizes (not inside strings or url()); the tokens they separate stay
+    apart."""
+    import tinycss2
+
+    return _value_text(tinycss2.parse_component_value_list(value, skip_comments=True))
 
 
 @functools.lru_cache(maxsize=4096)
@@ -1028,6 +1046,8 @@ def _specified(spec, found, style_attr, warnings):
                     (important if imp else spec)[pname] = pval
         spec.update(important)
     for name, value in spec.items():
+        if "/*" in value and name != "transform":   # the transform attribute has SVG's grammar
+            spec[name] = value = _without_comments(value)
         if name in KEYWORD_PROPERTIES or value[:1] in _CSS_WIDE_INITIALS:
             low = _ascii_lower(value)
             if name in KEYWORD_PROPERTIES or low in _NO_WARNING:
@@ -1259,6 +1279,19 @@ def _counted_matching(matcher):
         @functools.cached_property
         def etree_children(self):
             return Siblings(cssselect2.ElementWrapper.etree_children.func(self))
+
+        @functools.cached_property
+        def lang(self):
+            # `:lang()`: SVG 2 takes HTML's `lang` attribute on every element, `xml:lang`
+            # first where both are set (HTML, "the lang and xml:lang attributes"); cssselect2
+            # reads `lang` on HTML elements only
+            el = self.etree_element
+            value = el.get(_XML_LANG)
+            if value is None:
+                value = el.get("lang")
+            if value is not None:
+                return value.strip().lower()
+            return "" if self.parent is None else self.parent.lang
 
         def iter_children(self):
             charge(len(self.etree_children))

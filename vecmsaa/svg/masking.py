@@ -84,9 +84,9 @@ def clip_path(builder, value, ctx, bbox_fn):
     return group
 
 
-def masks(builder, value, ctx, bbox_fn):
+def masks(builder, value, ctx, bbox_fn, mode=None):
     """mask value → list of Mask (the element's, then its mask's mask...), [] for none, or
-    False when the element is not drawn."""
+    False when the element is not drawn. ``mode``: the masked element's ``mask-mode``."""
     from .builder import bbox_matrix
 
     el = _target(builder, value, "mask")
@@ -126,13 +126,17 @@ def masks(builder, value, ctx, bbox_fn):
         nodes = builder.children(el, inner, style)
         region = Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
         content = Group(children=nodes, clip=region)
-        kind = "alpha" if (style.get("mask-type") or "").strip() == "alpha" else "luminance"
+        # CSS Masking 1: the masked element's mask-mode (its first layer's) decides, and
+        # match-source (the initial value) leaves it to the mask element's mask-type
+        kind = (mode or "").split(",")[0].strip().lower()
+        if kind not in ("alpha", "luminance"):
+            kind = "alpha" if (style.get("mask-type") or "").strip() == "alpha" else "luminance"
         if kind == "luminance" and (style.get("color-interpolation") or "").strip() == "linearRGB":
             to_linear_rgb(content)
         out = [Mask(content=content, kind=kind)]
         own = el.specified.get("mask")
         if own and own.strip() != "none":
-            more = masks(builder, own, ctx, bbox_fn)
+            more = masks(builder, own, ctx, bbox_fn, el.specified.get("mask-mode"))
             if more is False:
                 return False
             out.extend(more)
