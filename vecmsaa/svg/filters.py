@@ -681,9 +681,7 @@ def color_matrix_of(fe):
     if kind == "saturate":
         if values is None:
             return IDENTITY_MATRIX
-        # Filter Effects 1: values above 1 oversaturate (as saturate() does, which it
-        # defines as this primitive); a negative one is clamped to 0 as in resvg's suite
-        return saturate_matrix(max(values[0], 0.0) if values else 1.0)
+        return saturate_matrix(min(max(values[0], 0.0), 1.0) if values else 1.0)
     if kind == "hueRotate":
         if values is None:
             return IDENTITY_MATRIX
