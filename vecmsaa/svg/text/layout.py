@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
+from .content import (apply_positions, apply_text_transform, collapse_white_space,
+                      collect_chars, linked, linked_if)
 from .draw import draw_clusters
 from .font_match import (assign_faces, document_faces, face_location, font_database,
                          font_spec)
@@ -335,8 +336,9 @@ def _is_upright(cp):
             or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
 
 
-def apply_length_adjust(chunks, chars, text_length, vertical):
-    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}) over
+def apply_length_adjust(chunks, chars, text_length, inside, vertical):
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}; each
+    character's ``inside``: the spans of those it is in, linked innermost first) over
     the text's chunks (``chunks``: (index of the first character, clusters) in text order),
     by SVG 2's text layout algorithm (§11.5.5, "apply 'textLength' attribute"), which comes
     after the dx/dy adjustment and before the absolute x/y positions and the anchoring: an
@@ -373,18 +375,42 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
             offset[id(c)] = total
             total += c.carry[1] if vertical and not on_path else c.carry[0]
             line.append((c, on_path))
-    # each element's clusters in line order, each with the element with a length next below
-    # it in the cluster's chain (the resolved descendant the cluster is in; None: its own)
-    depth, members, lengths_of = {}, {}, {}
-    for c, on_path in line:
-        chain = chars[c.char].chain
-        own = lengths_of.get(id(chain))
-        if own is None:
-            own = lengths_of[id(chain)] = [id(e) for e in chain if id(e) in text_length]
-        for i, k in enumerate(own):
-            depth[k] = max(depth.get(k, 0), i)
-            members.setdefault(k, []).append((c, on_path, own[i + 1] if i + 1 < len(own)
-                                              else None))
+    # each element's members in line order: its own clusters (and those of descendants
+    # without a length) and, at its first cluster, each resolved descendant next below it;
+    # a cluster is a member of its nearest element with a length, and starts a block in the
+    # ancestors' of those it is the first of (a cluster's ancestors are looked at only there,
+    # not all of them for each cluster: spans nested a thousand deep)
+    members, above, last_of = {}, {}, {}     # last_of: (line index, cluster)
+    for i, (c, on_path) in enumerate(line):
+        link = inside[c.char]
+        if link is None:
+            continue
+        inner = id(link[0].el)
+        members.setdefault(inner, []).append((c, on_path, None))
+        last_of[inner] = i, c
+        while inner not in above:
+            link = link[1]
+            above[inner] = outer = None if link is None else id(link[0].el)
+            if outer is None:
+                break
+            members.setdefault(outer, []).append((c, on_path, inner))
+            inner = outer
+    depth = {}
+    for k in above:
+        path = []
+        while k is not None and k not in depth:
+            path.append(k)
+            k = above[k]
+        d = -1 if k is None else depth[k]
+        for k in reversed(path):
+            d += 1
+            depth[k] = d
+    # a resolved descendant's last cluster (in line order) is the later of its own last and
+    # its resolved descendants' last
+    for k in sorted(depth, key=lambda k: -depth[k]):
+        outer = above[k]
+        if outer is not None and last_of[k][0] > last_of.get(outer, (-1,))[0]:
+            last_of[outer] = last_of[k]
     for el_id in sorted(members, key=lambda k: -depth[k]):
         target, adjust = text_length[el_id]
         # the element's units in line order: its own clusters (and those of descendants
@@ -393,11 +419,10 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
         for c, on_path, inner in members[el_id]:
             if inner is None:
                 units.append([c, c, c.width, False, on_path])
-            elif inner not in blocks:
-                blocks[inner] = unit = [c, c, text_length[inner][0], True, on_path]
-                units.append(unit)
             else:
-                blocks[inner][1] = c
+                blocks[inner] = unit = [c, last_of[inner][1], text_length[inner][0], True,
+                                        on_path]
+                units.append(unit)
         if not units:
             continue
         # SVG 2: a = min(pos, pos + advance), b = max(...) over the element's characters, at
@@ -513,14 +538,14 @@ def position_linear(clusters, chars, anchor, vertical):
 
 
 
-def baseline_offset(style, face, spec, root_style, vertical=False):
+def baseline_offset(span, face, spec, vertical=False):
     """Shift (user units, positive = down) of the baseline for dominant-/alignment-baseline
-    and baseline-shift of this element and its ancestors."""
+    and baseline-shift of this span's element and its ancestors."""
     m = face.metrics
     scale = spec.size / face.units_per_em
     shift = 0.0
-    align = _alignment_baseline(style, root_style)
-    base = align if align not in ("auto", "baseline") else _dominant_baseline(style)
+    align = span.computed("alignment-baseline", _alignment_baseline, "auto")
+    base = align if align not in ("auto", "baseline") else _dominant_baseline(span.style)
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
         "hanging": m.ascender * 0.8, "mathematical": m.ascender * 0.5,
@@ -530,51 +555,47 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     }
     if base in table and not vertical:
         shift += table[base] * scale
-    # baseline-shift accumulates over the ancestors that set it
-    s = style
+    # baseline-shift accumulates over the ancestors that set it, innermost first
     total = 0.0
-    # baseline-shift of the text content elements; on <text> itself it is ignored (resvg)
-    while s is not None and s is not root_style:
-        v = (s.specified.get("baseline-shift") or "").strip()
-        if v and v not in ("baseline", "inherit"):
-            fs = s.font_size()
-            if v == "sub":
-                total -= _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
-                    / face.units_per_em
-            elif v == "super":
-                total += _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
-                    / face.units_per_em
-            elif v.endswith("%"):
-                try:
-                    total += float(v[:-1]) / 100 * fs
-                except ValueError:
-                    pass
-            else:
-                parsed = split_length(v)
-                if parsed is not None:
-                    total += to_px(parsed[0], parsed[1], fs)
-        s = s.parent
+    for shifted in linked(span.computed("baseline-shift", _shifting)):
+        s = shifted.style
+        v = s.specified["baseline-shift"].strip()
+        fs = s.font_size()
+        if v == "sub":
+            total -= _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
+                / face.units_per_em
+        elif v == "super":
+            total += _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
+                / face.units_per_em
+        elif v.endswith("%"):
+            try:
+                total += float(v[:-1]) / 100 * fs
+            except ValueError:
+                pass
+        else:
+            parsed = split_length(v)
+            if parsed is not None:
+                total += to_px(parsed[0], parsed[1], fs)
     return shift - total
 
 
-def _alignment_baseline(style, root_style):
+#: the spans that set baseline-shift; on <text> itself it is ignored (resvg)
+_shifting = linked_if(lambda span: span.parent is not None and (
+    span.style.specified.get("baseline-shift") or "").strip() not in ("", "baseline", "inherit"))
+
+
+def _alignment_baseline(span, enclosing):
     """alignment-baseline for the characters of an element: its own, else that of the nearest
-    enclosing text content element (up to <text>) that sets one. The property is not
-    inherited, but it aligns the element's whole box, so the characters of a nested span
-    without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4); one
-    level down this is also where resvg looks (the element, then its parent)."""
-    s = style
-    while s is not None:
-        # an invalid value is ignored, as if not specified (CSS: the declaration is dropped),
-        # so the enclosing span's or the dominant baseline applies
-        v = (s.get("alignment-baseline") or "").strip().lower() \
-            if "alignment-baseline" in s.specified else ""
-        if v in ALIGNMENT_BASELINES:
-            return v
-        if s is root_style:
-            break
-        s = s.parent
-    return "auto"
+    enclosing text content element (up to <text>) that sets one (``enclosing``). The property
+    is not inherited, but it aligns the element's whole box, so the characters of a nested
+    span without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4);
+    one level down this is also where resvg looks (the element, then its parent)."""
+    s = span.style
+    # an invalid value is ignored, as if not specified (CSS: the declaration is dropped),
+    # so the enclosing span's or the dominant baseline applies
+    v = (s.get("alignment-baseline") or "").strip().lower() \
+        if "alignment-baseline" in s.specified else ""
+    return v if v in ALIGNMENT_BASELINES else enclosing
 
 
 #: alignment-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom)
@@ -613,6 +634,25 @@ def _os2(face, name, default):
     return default
 
 
+
+def text_lengths(chars, ctx):
+    """{element id: (textLength, lengthAdjust)} of the elements with a valid textLength that
+    hold characters, and for each character the spans of those it is in, linked (span,
+    rest) innermost first (Span.computed: each span once)."""
+    text_length = {}
+
+    def own(span, above):
+        value = span.el.get("textLength")
+        if value is not None:
+            # (a percentage: of the viewport's normalized diagonal, as for the spacings)
+            length = ctx.length(value, "xy", span.style)
+            if length is not None and length >= 0:
+                adjust = (span.el.get("lengthAdjust") or "spacing").strip()
+                text_length[id(span.el)] = (length, adjust)
+                return span, above
+        return above
+    inside = [c.span.computed("lengths", own) for c in chars]
+    return text_length, inside
 
 
 def build_text(element, ctx):
@@ -656,16 +696,7 @@ def build_text(element, ctx):
         return []
     writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
-    text_length = {}
-    chains = {id(c.chain): c.chain for c in chars}     # (one per element, not per character)
-    for el in [element] + [e for chain in chains.values() for e in chain[1:]]:
-        value = el.get("textLength")
-        if value is None or id(el) in text_length:
-            continue
-        # (a percentage: of the viewport's normalized diagonal, as for the spacings)
-        length = ctx.length(value, "xy", styles.get(id(el), ctx.style))
-        if length is not None and length >= 0:
-            text_length[id(el)] = (length, (el.get("lengthAdjust") or "spacing").strip())
+    text_length, inside = text_lengths(chars, ctx)
     # baseline shift of every character (positive moves down)
     # from the element's first available font (CSS Inline 3 §4), not a fallback face: a
     # superscript CJK character in Latin text shifts as its Latin neighbours do (as resvg)
@@ -675,8 +706,8 @@ def build_text(element, ctx):
         face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
-            shift_cache[key] = baseline_offset(styles[id(c.el)], face, spec, ctx.style,
-                                               vertical) if face is not None else 0.0
+            shift_cache[key] = baseline_offset(c.span, face, spec, vertical) \
+                if face is not None else 0.0
         shifts.append(shift_cache[key])
 
     # every chunk shaped and spaced first: textLength spans the chunks of its element
@@ -694,7 +725,7 @@ def build_text(element, ctx):
         if has_offsets:
             carry_offsets(clusters, chars, b)
         chunks.append((a, clusters))
-    apply_length_adjust(chunks, chars, text_length, vertical)
+    apply_length_adjust(chunks, chars, text_length, inside, vertical)
 
     all_clusters = []
     last_x = last_y = 0.0
