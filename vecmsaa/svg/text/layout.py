@@ -19,8 +19,8 @@ from ..units import split_length, to_px
 from .content import (apply_positions, apply_text_transform, collapse_white_space,
                       collect_chars, linked, linked_if)
 from .draw import draw_clusters
-from .font_match import (assign_faces, document_faces, face_location, font_database,
-                         font_spec)
+from .font_match import (_nearest_kerning, assign_faces, document_faces, face_location,
+                         font_database, font_spec)
 from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -677,12 +677,19 @@ def build_text(element, ctx):
     if not chars:
         return []
     db = font_database(ctx)
-    spec_cache = {}
+    spec_of, spec_cache = {}, {}
     specs = []
     for c in chars:
-        s = spec_cache.get(id(c.el))
+        s = spec_of.get(id(c.el))
         if s is None:
-            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, c.el)
+            # a spec by style and kerning attribute: siblings that specify the same values
+            # share a Style (document.Style.child), and so one spec (not one per span)
+            style = styles[id(c.el)]
+            key = id(style), c.el.computed("kerning", _nearest_kerning)
+            s = spec_cache.get(key)
+            if s is None:
+                s = spec_cache[key] = font_spec(style, ctx, c.el)
+            spec_of[id(c.el)] = s
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
               if i == 0 or c.x is not None or c.y is not None
