@@ -1825,3 +1825,51 @@ def test_nested_spans_are_read_once_each_not_once_per_span_inside(monkeypatch):
     many = _ancestor_reads(monkeypatch, 200, 400)
     assert many == few
     assert many < 200 * 100
+
+
+def test_length_members_are_those_of_each_cluster_s_whole_chain():
+    """layout.length_members (a cluster joins its nearest element with a textLength; blocks
+    start in the ancestors' only at a descendant's first cluster, last clusters carried up
+    once) against brute force: every cluster looked up in each element with a length around
+    it, outermost first, as its own member or in the block of the next one below, on random
+    trees of elements, some with a length, their clusters in a random line order."""
+    import random
+    from types import SimpleNamespace
+    from vecmsaa.svg.text.layout import length_members
+    rng = random.Random(22)
+    for _ in range(300):
+        # a tree: each node's parent is an earlier node; some nodes have a length
+        n = rng.randrange(1, 30)
+        parent = [None] + [rng.randrange(i) for i in range(1, n)]
+        has_length = [rng.random() < 0.4 for _ in range(n)]
+        els = [SimpleNamespace(el=object()) for _ in range(n)]
+        chains = []                 # each node's elements with a length, outermost first
+        for i in range(n):
+            chains.append((chains[parent[i]] if i else []) + ([i] if has_length[i] else []))
+        links = []
+        for chain in chains:
+            link = None
+            for k in chain:
+                link = (els[k], link)
+            links.append(link)
+        # each cluster's node (the line in any order, as bidi reordering makes it)
+        nodes = [rng.randrange(n) for _ in range(rng.randrange(1, 40))]
+        line = [(SimpleNamespace(char=j), rng.random() < 0.3) for j in range(len(nodes))]
+        inside = [links[k] for k in nodes]
+        got, depth = length_members(line, inside)
+        want = {}
+        for c, on_path in line:
+            chain = [id(els[k].el) for k in chains[nodes[c.char]]]
+            for i, k in enumerate(chain):
+                inner = chain[i + 1] if i + 1 < len(chain) else None
+                units = want.setdefault(k, [])
+                block = next((u for u in units if inner is not None and u[2] == inner), None)
+                if block is None:
+                    units.append([c, c, inner, on_path])
+                else:
+                    block[1] = c
+                assert depth[k] == i
+        assert got.keys() == want.keys()
+        for k in want:
+            assert [[id(u[0]), id(u[1]), u[2], u[3]] for u in got[k]] == \
+                [[id(u[0]), id(u[1]), u[2], u[3]] for u in want[k]]

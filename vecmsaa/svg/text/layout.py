@@ -375,53 +375,17 @@ def apply_length_adjust(chunks, chars, text_length, inside, vertical):
             offset[id(c)] = total
             total += c.carry[1] if vertical and not on_path else c.carry[0]
             line.append((c, on_path))
-    # each element's members in line order: its own clusters (and those of descendants
-    # without a length) and, at its first cluster, each resolved descendant next below it;
-    # a cluster is a member of its nearest element with a length, and starts a block in the
-    # ancestors' of those it is the first of (a cluster's ancestors are looked at only there,
-    # not all of them for each cluster: spans nested a thousand deep)
-    members, above, last_of = {}, {}, {}     # last_of: (line index, cluster)
-    for i, (c, on_path) in enumerate(line):
-        link = inside[c.char]
-        if link is None:
-            continue
-        inner = id(link[0].el)
-        members.setdefault(inner, []).append((c, on_path, None))
-        last_of[inner] = i, c
-        while inner not in above:
-            link = link[1]
-            above[inner] = outer = None if link is None else id(link[0].el)
-            if outer is None:
-                break
-            members.setdefault(outer, []).append((c, on_path, inner))
-            inner = outer
-    depth = {}
-    for k in above:
-        path = []
-        while k is not None and k not in depth:
-            path.append(k)
-            k = above[k]
-        d = -1 if k is None else depth[k]
-        for k in reversed(path):
-            d += 1
-            depth[k] = d
-    # a resolved descendant's last cluster (in line order) is the later of its own last and
-    # its resolved descendants' last
-    for k in sorted(depth, key=lambda k: -depth[k]):
-        outer = above[k]
-        if outer is not None and last_of[k][0] > last_of.get(outer, (-1,))[0]:
-            last_of[outer] = last_of[k]
+    members, depth = length_members(line, inside)
     for el_id in sorted(members, key=lambda k: -depth[k]):
         target, adjust = text_length[el_id]
         # the element's units in line order: its own clusters (and those of descendants
         # without a length), and its resolved descendants, each one unit of its length
         units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
-        for c, on_path, inner in members[el_id]:
+        for c0, c1, inner, on_path in members[el_id]:
             if inner is None:
-                units.append([c, c, c.width, False, on_path])
+                units.append([c0, c0, c0.width, False, on_path])
             else:
-                blocks[inner] = unit = [c, last_of[inner][1], text_length[inner][0], True,
-                                        on_path]
+                blocks[inner] = unit = [c0, c1, text_length[inner][0], True, on_path]
                 units.append(unit)
         if not units:
             continue
@@ -633,6 +597,53 @@ def _os2(face, name, default):
             return abs(v)
     return default
 
+
+
+def length_members(line, inside):
+    """The members of each element with a length (by id) in line order (``line``: (cluster,
+    on a path) in order; ``inside``: for each character the spans of those elements it is
+    in, linked innermost first), as [first cluster, last cluster, the resolved descendant's
+    id or None, on a path]: its own clusters (and those of descendants without a length;
+    first = last) and each resolved descendant next below it, at its first cluster and with
+    its last; and each element's depth (the number of elements with a length around it).
+
+    A cluster is a member of its nearest element with a length, and starts a block in the
+    ancestors' only where it is the first cluster of those it is in: a cluster's ancestors
+    are looked at there alone, not all of them for each cluster (spans nested a thousand
+    deep). Last clusters are carried up once, innermost elements first."""
+    members, above, last_of, blocks = {}, {}, {}, {}   # last_of: (line index, cluster)
+    for i, (c, on_path) in enumerate(line):
+        link = inside[c.char]
+        if link is None:
+            continue
+        inner = id(link[0].el)
+        members.setdefault(inner, []).append([c, c, None, on_path])
+        last_of[inner] = i, c
+        while inner not in above:
+            link = link[1]
+            above[inner] = outer = None if link is None else id(link[0].el)
+            if outer is None:
+                break
+            blocks[inner] = block = [c, c, inner, on_path]
+            members.setdefault(outer, []).append(block)
+            inner = outer
+    depth = {}
+    for k in above:
+        path = []
+        while k is not None and k not in depth:
+            path.append(k)
+            k = above[k]
+        d = -1 if k is None else depth[k]
+        for k in reversed(path):
+            d += 1
+            depth[k] = d
+    for k in sorted(depth, key=lambda k: -depth[k]):
+        outer = above[k]
+        if outer is not None:
+            blocks[k][1] = last_of[k][1]
+            if last_of[k][0] > last_of.get(outer, (-1,))[0]:
+                last_of[outer] = last_of[k]
+    return members, depth
 
 
 def text_lengths(chars, ctx):
