@@ -16,8 +16,7 @@ from dataclasses import dataclass
 from ...fonts.shape import shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import (apply_positions, apply_text_transform, collapse_white_space,
-                      collect_chars, linked, linked_if)
+from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
 from .font_match import (_nearest_kerning, assign_faces, document_faces, face_location,
                          font_database, font_spec)
@@ -519,33 +518,33 @@ def baseline_offset(span, face, spec, vertical=False):
     }
     if base in table and not vertical:
         shift += table[base] * scale
-    # baseline-shift accumulates over the ancestors that set it, innermost first
-    total = 0.0
-    for shifted in linked(span.computed("baseline-shift", _shifting)):
-        s = shifted.style
-        v = s.specified["baseline-shift"].strip()
-        fs = s.font_size()
-        if v == "sub":
-            total -= _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
-                / face.units_per_em
-        elif v == "super":
-            total += _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
-                / face.units_per_em
-        elif v.endswith("%"):
-            try:
-                total += float(v[:-1]) / 100 * fs
-            except ValueError:
-                pass
-        else:
-            parsed = split_length(v)
-            if parsed is not None:
-                total += to_px(parsed[0], parsed[1], fs)
-    return shift - total
+    # baseline-shift accumulates over the ancestors that set it
+    return shift - span.computed(("baseline-shift", id(face)),
+                                 lambda span, above: _baseline_shift(span, face, above), 0.0)
 
 
-#: the spans that set baseline-shift; on <text> itself it is ignored (resvg)
-_shifting = linked_if(lambda span: span.parent is not None and (
-    span.style.specified.get("baseline-shift") or "").strip() not in ("", "baseline", "inherit"))
+def _baseline_shift(span, face, above):
+    """The baseline shifts (user units, positive = up) of a span and its ancestors, from
+    theirs (``above``), with ``face``'s sub- and superscript offsets; on <text> itself
+    baseline-shift is ignored (resvg)."""
+    s = span.style
+    v = (s.specified.get("baseline-shift") or "").strip()
+    if span.parent is None or v in ("", "baseline", "inherit"):
+        return above
+    fs = s.font_size()
+    if v == "sub":
+        return above - _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
+            / face.units_per_em
+    if v == "super":
+        return above + _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
+            / face.units_per_em
+    if v.endswith("%"):
+        try:
+            return above + float(v[:-1]) / 100 * fs
+        except ValueError:
+            return above
+    parsed = split_length(v)
+    return above if parsed is None else above + to_px(parsed[0], parsed[1], fs)
 
 
 def _alignment_baseline(span, enclosing):
