@@ -29,11 +29,11 @@ SVG_ELEMENTS = {"svg", "g", "defs", "symbol", "use", "switch", "a", "rect", "cir
 class Span:
     """A text content element (or ``<text>``) as its characters see it: the element, its
     computed style and the span it is in (None for ``<text>``). What an element takes from
-    its ancestors up to ``<text>`` (those with position lists or textLength, the decorations
-    they declare, baseline shifts) is computed down the spans, each span once (``computed``),
-    and shared by every span below that adds nothing: each element keeping the tuple of
-    elements from ``<text>`` to it, looked through by each step, made 150,000 one-letter
-    spans under 800 nested ones 3 GB and a minute."""
+    its ancestors up to ``<text>`` (the nearest rotate list, the elements with a textLength,
+    the decorations they declare, baseline shifts, alignment-baseline) is computed down the
+    spans, each span once (``computed``), and shared by every span below that adds nothing:
+    each element keeping the tuple of elements from ``<text>`` to it, looked through by each
+    step, made 150,000 one-letter spans under 800 nested ones 3 GB and a minute."""
 
     __slots__ = ("el", "style", "parent", "memo")
 
