@@ -1644,8 +1644,7 @@ def test_a_node_s_white_space_collapsed_before_its_characters_are_made_keeps_the
         ctx.style = Style(text.specified)
         nodes = content.collect_chars(text, ctx, {})
         # the old way: the raw strings' characters, white space as the document has it
-        raw = [([content.Char(ch, c[0].el, c[0].chain, preserve) for ch in string], depth,
-                preserve)
+        raw = [([content.Char(ch, c[0].span, preserve) for ch in string], depth, preserve)
                for (c, depth, preserve), string in zip(nodes, _raw_strings(text))]
         got = "".join(c.ch for c in content.collapse_white_space(nodes))
         want = "".join(c.ch for c in content.collapse_white_space(raw))
@@ -1699,9 +1698,10 @@ def test_one_letter_spans_past_the_character_limit_are_refused_before_they_are_a
 
 @pytest.mark.filterwarnings("ignore")
 def test_position_lists_reach_the_characters_inside_their_element():
-    """apply_positions (chains looked through once each, only elements with a position
-    attribute kept) against the lists applied by brute force: each element, outer first, gives
-    its x, y, dx, dy values to the characters whose chain holds it, in order, and its rotate
+    """apply_positions (the elements with a position attribute passed down the spans)
+    against the lists applied by brute force: each element, outer first, gives its x, y, dx,
+    dy values to the characters inside it (the element or one of its descendants holds
+    them: the document's parent links), in order, and its rotate
     list to all of them (the last value repeated), on random nested spans."""
     import random
     from vecmsaa.svg.document import Style, load_document
@@ -1738,7 +1738,8 @@ def test_position_lists_reach_the_characters_inside_their_element():
             order.append(el)
             todo[:0] = [c for c in el.children if c.tag == "tspan"]
         for el in order:
-            idx = [i for i, c in enumerate(chars) if any(e is el for e in c.chain)]
+            idx = [i for i, c in enumerate(chars)
+                   if any(e is el for e in (c.el, *c.el.ancestors()))]
             for k, n in enumerate(names):
                 values = [float(v) for v in (el.get(n) or "").split()]
                 if n == "rotate":
@@ -1748,3 +1749,121 @@ def test_position_lists_reach_the_characters_inside_their_element():
                     for i, v in zip(idx, values):
                         want[i][k] = v
         assert got == [tuple(w) for w in want], data
+
+
+class _CountingDict(dict):
+    """A dict that counts the lookups made in it (``reads[0]``)."""
+
+    def __init__(self, items, reads):
+        super().__init__(items)
+        self.reads = reads
+
+    def get(self, key, default=None):
+        self.reads[0] += 1
+        return super().get(key, default)
+
+    def __getitem__(self, key):
+        self.reads[0] += 1
+        return super().__getitem__(key)
+
+    def __contains__(self, key):
+        self.reads[0] += 1
+        return super().__contains__(key)
+
+
+def _ancestor_reads(monkeypatch, depth, leaves):
+    """Lookups in the attributes and properties (the element's and its style's) of ``depth``
+    nested spans, declaring nothing, over ``leaves`` one-letter spans, while the text is laid
+    out and drawn."""
+    from vecmsaa.svg import document, sizing
+    reads = [0]
+    nested = set()
+    load, child = sizing.load_document, document.Style.child
+
+    def counted_load(*args, **kwargs):
+        doc = load(*args, **kwargs)
+        el = doc.root.children[0]                   # <text>
+        for _ in range(depth):
+            el = el.children[0]
+            el.attrs = _CountingDict(el.attrs, reads)
+            el.specified = _CountingDict(el.specified, reads)
+            nested.add(id(el))
+        return doc
+
+    def counted_child(self, element):
+        style = child(self, element)
+        if id(element) in nested and not isinstance(style.specified, _CountingDict):
+            style.specified = _CountingDict(style.specified, reads)
+        return style
+    monkeypatch.setattr(sizing, "load_document", counted_load)
+    monkeypatch.setattr(document.Style, "child", counted_child)
+    data = ('<svg xmlns="http://www.w3.org/2000/svg" width="100" height="20" font-size="4" '
+            'font-family="Noto Sans">'
+            '<text x="1" y="10" textLength="90" text-decoration="underline">'
+            + "<tspan>" * depth
+            + '<tspan dx="1" baseline-shift="2">a</tspan><tspan rotate="3">b</tspan>' * (leaves // 2)
+            + "</tspan>" * depth + "</text></svg>").encode()
+    render_svg_array(data, **FONTS)
+    return reads[0]
+
+
+def test_nested_spans_are_read_once_each_not_once_per_span_inside(monkeypatch):
+    """What an element takes from its ancestors up to <text> (position lists, textLength,
+    declared decorations, baseline shifts, alignment) is passed down the spans: 200 nested
+    spans that declare nothing are each read a bounded number of times, the same for 40 and
+    400 one-letter spans inside them that position, shift and decorate (each span looking
+    through its whole chain of elements read each nested span once per span inside it, and
+    per character)."""
+    few = _ancestor_reads(monkeypatch, 200, 40)
+    monkeypatch.undo()
+    many = _ancestor_reads(monkeypatch, 200, 400)
+    assert many == few
+    assert many < 200 * 100
+
+
+def test_length_members_are_those_of_each_cluster_s_whole_chain():
+    """layout.length_members (a cluster joins its nearest element with a textLength; blocks
+    start in the ancestors' only at a descendant's first cluster, last clusters carried up
+    once) against brute force: every cluster looked up in each element with a length around
+    it, outermost first, as its own member or in the block of the next one below, on random
+    trees of elements, some with a length, their clusters in a random line order."""
+    import random
+    from types import SimpleNamespace
+    from vecmsaa.svg.text.layout import length_members
+    rng = random.Random(22)
+    for _ in range(300):
+        # a tree: each node's parent is an earlier node; some nodes have a length
+        n = rng.randrange(1, 30)
+        parent = [None] + [rng.randrange(i) for i in range(1, n)]
+        has_length = [rng.random() < 0.4 for _ in range(n)]
+        els = [SimpleNamespace(el=object()) for _ in range(n)]
+        chains = []                 # each node's elements with a length, outermost first
+        for i in range(n):
+            chains.append((chains[parent[i]] if i else []) + ([i] if has_length[i] else []))
+        links = []
+        for chain in chains:
+            link = None
+            for k in chain:
+                link = (els[k], link)
+            links.append(link)
+        # each cluster's node (the line in any order, as bidi reordering makes it)
+        nodes = [rng.randrange(n) for _ in range(rng.randrange(1, 40))]
+        line = [(SimpleNamespace(char=j), rng.random() < 0.3) for j in range(len(nodes))]
+        inside = [links[k] for k in nodes]
+        got, depth = length_members(line, inside)
+        want = {}
+        for c, on_path in line:
+            chain = [id(els[k].el) for k in chains[nodes[c.char]]]
+            for i, k in enumerate(chain):
+                inner = chain[i + 1] if i + 1 < len(chain) else None
+                units = want.setdefault(k, [])
+                block = next((u for u in units if inner is not None and u[2] == inner), None)
+                if block is None:
+                    units.append([c, c, inner, on_path])
+                else:
+                    block[1] = c
+                assert depth[k] == i
+        assert got.keys() == want.keys()
+        for k in want:
+            assert [[id(u[0]), id(u[1]), u[2], u[3]] for u in got[k]] == \
+                [[id(u[0]), id(u[1]), u[2], u[3]] for u in want[k]]

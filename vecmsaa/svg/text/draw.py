@@ -174,6 +174,15 @@ def _declared_decorations(el, above):
     return above + own if own else above
 
 
+def _span_decorations(span, above):
+    """{kind: the element declaring it} for a span's characters: the innermost of the span
+    and its ancestors that declares each kind (``above``: its parent's; at <text>, the text
+    for the kinds declared outside it), shared by the spans below that declare none."""
+    value = (span.el.specified.get("text-decoration") or "").split()
+    own = [kind for kind in ("underline", "overline", "line-through") if kind in value]
+    return {**above, **{kind: span.el for kind in own}} if own else above
+
+
 def text_decorations(text_el, chars, clusters, styles, vertical):
     """{kind: [(style of the declaring element, user-space path)]}.
 
@@ -190,18 +199,9 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
     outer = {kind: text_el for kind in declared}
     span_kinds = {}
     for c in clusters:
-        el = chars[c.char].el
-        if id(el) in span_kinds:
-            continue
-        kinds = {}
-        for anc in reversed(chars[c.char].chain):
-            value = (anc.specified.get("text-decoration") or "").split()
-            for kind in ("underline", "overline", "line-through"):
-                if kind in value and kind not in kinds:
-                    kinds[kind] = anc
-        for kind, decl in outer.items():
-            kinds.setdefault(kind, decl)
-        span_kinds[id(el)] = kinds
+        span = chars[c.char].span
+        if id(span.el) not in span_kinds:
+            span_kinds[id(span.el)] = span.computed("decorations", _span_decorations, outer)
     if not any(span_kinds.values()):
         return out                  # (most texts: no line to run over the clusters)
     # a hidden span's characters are not painted, and neither is a decoration under them

@@ -18,8 +18,8 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import (assign_faces, document_faces, face_location, font_database,
-                         font_spec)
+from .font_match import (_nearest_kerning, assign_faces, document_faces, face_location,
+                         font_database, font_spec)
 from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -335,8 +335,9 @@ def _is_upright(cp):
             or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
 
 
-def apply_length_adjust(chunks, chars, text_length, vertical):
-    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}) over
+def apply_length_adjust(chunks, chars, text_length, inside, vertical):
+    """textLength on the elements of ``text_length`` ({element id: (length, adjust)}; each
+    character's ``inside``: the spans of those it is in, linked innermost first) over
     the text's chunks (``chunks``: (index of the first character, clusters) in text order),
     by SVG 2's text layout algorithm (§11.5.5, "apply 'textLength' attribute"), which comes
     after the dx/dy adjustment and before the absolute x/y positions and the anchoring: an
@@ -373,31 +374,18 @@ def apply_length_adjust(chunks, chars, text_length, vertical):
             offset[id(c)] = total
             total += c.carry[1] if vertical and not on_path else c.carry[0]
             line.append((c, on_path))
-    # each element's clusters in line order, each with the element with a length next below
-    # it in the cluster's chain (the resolved descendant the cluster is in; None: its own)
-    depth, members, lengths_of = {}, {}, {}
-    for c, on_path in line:
-        chain = chars[c.char].chain
-        own = lengths_of.get(id(chain))
-        if own is None:
-            own = lengths_of[id(chain)] = [id(e) for e in chain if id(e) in text_length]
-        for i, k in enumerate(own):
-            depth[k] = max(depth.get(k, 0), i)
-            members.setdefault(k, []).append((c, on_path, own[i + 1] if i + 1 < len(own)
-                                              else None))
+    members, depth = length_members(line, inside)
     for el_id in sorted(members, key=lambda k: -depth[k]):
         target, adjust = text_length[el_id]
         # the element's units in line order: its own clusters (and those of descendants
         # without a length), and its resolved descendants, each one unit of its length
         units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
-        for c, on_path, inner in members[el_id]:
+        for c0, c1, inner, on_path in members[el_id]:
             if inner is None:
-                units.append([c, c, c.width, False, on_path])
-            elif inner not in blocks:
-                blocks[inner] = unit = [c, c, text_length[inner][0], True, on_path]
-                units.append(unit)
+                units.append([c0, c0, c0.width, False, on_path])
             else:
-                blocks[inner][1] = c
+                blocks[inner] = unit = [c0, c1, text_length[inner][0], True, on_path]
+                units.append(unit)
         if not units:
             continue
         # SVG 2: a = min(pos, pos + advance), b = max(...) over the element's characters, at
@@ -513,14 +501,14 @@ def position_linear(clusters, chars, anchor, vertical):
 
 
 
-def baseline_offset(style, face, spec, root_style, vertical=False):
+def baseline_offset(span, face, spec, vertical=False):
     """Shift (user units, positive = down) of the baseline for dominant-/alignment-baseline
-    and baseline-shift of this element and its ancestors."""
+    and baseline-shift of this span's element and its ancestors."""
     m = face.metrics
     scale = spec.size / face.units_per_em
     shift = 0.0
-    align = _alignment_baseline(style, root_style)
-    base = align if align not in ("auto", "baseline") else _dominant_baseline(style)
+    align = span.computed("alignment-baseline", _alignment_baseline, "auto")
+    base = align if align not in ("auto", "baseline") else _dominant_baseline(span.style)
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
         "hanging": m.ascender * 0.8, "mathematical": m.ascender * 0.5,
@@ -531,50 +519,46 @@ def baseline_offset(style, face, spec, root_style, vertical=False):
     if base in table and not vertical:
         shift += table[base] * scale
     # baseline-shift accumulates over the ancestors that set it
-    s = style
-    total = 0.0
-    # baseline-shift of the text content elements; on <text> itself it is ignored (resvg)
-    while s is not None and s is not root_style:
-        v = (s.specified.get("baseline-shift") or "").strip()
-        if v and v not in ("baseline", "inherit"):
-            fs = s.font_size()
-            if v == "sub":
-                total -= _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
-                    / face.units_per_em
-            elif v == "super":
-                total += _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
-                    / face.units_per_em
-            elif v.endswith("%"):
-                try:
-                    total += float(v[:-1]) / 100 * fs
-                except ValueError:
-                    pass
-            else:
-                parsed = split_length(v)
-                if parsed is not None:
-                    total += to_px(parsed[0], parsed[1], fs)
-        s = s.parent
-    return shift - total
+    return shift - span.computed(("baseline-shift", id(face)),
+                                 lambda span, above: _baseline_shift(span, face, above), 0.0)
 
 
-def _alignment_baseline(style, root_style):
+def _baseline_shift(span, face, above):
+    """The baseline shifts (user units, positive = up) of a span and its ancestors, from
+    theirs (``above``), with ``face``'s sub- and superscript offsets; on <text> itself
+    baseline-shift is ignored (resvg)."""
+    s = span.style
+    v = (s.specified.get("baseline-shift") or "").strip()
+    if span.parent is None or v in ("", "baseline", "inherit"):
+        return above
+    fs = s.font_size()
+    if v == "sub":
+        return above - _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
+            / face.units_per_em
+    if v == "super":
+        return above + _os2(face, "ySuperscriptYOffset", 0.34 * face.units_per_em) * fs \
+            / face.units_per_em
+    if v.endswith("%"):
+        try:
+            return above + float(v[:-1]) / 100 * fs
+        except ValueError:
+            return above
+    parsed = split_length(v)
+    return above if parsed is None else above + to_px(parsed[0], parsed[1], fs)
+
+
+def _alignment_baseline(span, enclosing):
     """alignment-baseline for the characters of an element: its own, else that of the nearest
-    enclosing text content element (up to <text>) that sets one. The property is not
-    inherited, but it aligns the element's whole box, so the characters of a nested span
-    without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4); one
-    level down this is also where resvg looks (the element, then its parent)."""
-    s = style
-    while s is not None:
-        # an invalid value is ignored, as if not specified (CSS: the declaration is dropped),
-        # so the enclosing span's or the dominant baseline applies
-        v = (s.get("alignment-baseline") or "").strip().lower() \
-            if "alignment-baseline" in s.specified else ""
-        if v in ALIGNMENT_BASELINES:
-            return v
-        if s is root_style:
-            break
-        s = s.parent
-    return "auto"
+    enclosing text content element (up to <text>) that sets one (``enclosing``). The property
+    is not inherited, but it aligns the element's whole box, so the characters of a nested
+    span without its own move with the span that sets it (SVG 1.1 §10.9.2, CSS Inline 3 §4);
+    one level down this is also where resvg looks (the element, then its parent)."""
+    s = span.style
+    # an invalid value is ignored, as if not specified (CSS: the declaration is dropped),
+    # so the enclosing span's or the dominant baseline applies
+    v = (s.get("alignment-baseline") or "").strip().lower() \
+        if "alignment-baseline" in s.specified else ""
+    return v if v in ALIGNMENT_BASELINES else enclosing
 
 
 #: alignment-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom)
@@ -614,6 +598,72 @@ def _os2(face, name, default):
 
 
 
+def length_members(line, inside):
+    """The members of each element with a length (by id) in line order (``line``: (cluster,
+    on a path) in order; ``inside``: for each character the spans of those elements it is
+    in, linked innermost first), as [first cluster, last cluster, the resolved descendant's
+    id or None, on a path]: its own clusters (and those of descendants without a length;
+    first = last) and each resolved descendant next below it, at its first cluster and with
+    its last; and each element's depth (the number of elements with a length around it).
+
+    A cluster is a member of its nearest element with a length, and starts a block in the
+    ancestors' only where it is the first cluster of those it is in: a cluster's ancestors
+    are looked at there alone, not all of them for each cluster (spans nested a thousand
+    deep). Last clusters are carried up once, innermost elements first."""
+    members, above, last_of, blocks = {}, {}, {}, {}   # last_of: (line index, cluster)
+    for i, (c, on_path) in enumerate(line):
+        link = inside[c.char]
+        if link is None:
+            continue
+        inner = id(link[0].el)
+        members.setdefault(inner, []).append([c, c, None, on_path])
+        last_of[inner] = i, c
+        while inner not in above:
+            link = link[1]
+            above[inner] = outer = None if link is None else id(link[0].el)
+            if outer is None:
+                break
+            blocks[inner] = block = [c, c, inner, on_path]
+            members.setdefault(outer, []).append(block)
+            inner = outer
+    depth = {}
+    for k in above:
+        path = []
+        while k is not None and k not in depth:
+            path.append(k)
+            k = above[k]
+        d = -1 if k is None else depth[k]
+        for k in reversed(path):
+            d += 1
+            depth[k] = d
+    for k in sorted(depth, key=lambda k: -depth[k]):
+        outer = above[k]
+        if outer is not None:
+            blocks[k][1] = last_of[k][1]
+            if last_of[k][0] > last_of.get(outer, (-1,))[0]:
+                last_of[outer] = last_of[k]
+    return members, depth
+
+
+def text_lengths(chars, ctx):
+    """{element id: (textLength, lengthAdjust)} of the elements with a valid textLength that
+    hold characters, and for each character the spans of those it is in, linked (span,
+    rest) innermost first (Span.computed: each span once)."""
+    text_length = {}
+
+    def own(span, above):
+        value = span.el.get("textLength")
+        if value is not None:
+            # (a percentage: of the viewport's normalized diagonal, as for the spacings)
+            length = ctx.length(value, "xy", span.style)
+            if length is not None and length >= 0:
+                adjust = (span.el.get("lengthAdjust") or "spacing").strip()
+                text_length[id(span.el)] = (length, adjust)
+                return span, above
+        return above
+    inside = [c.span.computed("lengths", own) for c in chars]
+    return text_length, inside
+
 
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
@@ -637,12 +687,19 @@ def build_text(element, ctx):
     if not chars:
         return []
     db = font_database(ctx)
-    spec_cache = {}
+    spec_of, spec_cache = {}, {}
     specs = []
     for c in chars:
-        s = spec_cache.get(id(c.el))
+        s = spec_of.get(id(c.el))
         if s is None:
-            s = spec_cache[id(c.el)] = font_spec(styles[id(c.el)], ctx, c.el)
+            # a spec by style and kerning attribute: siblings that specify the same values
+            # share a Style (document.Style.child), and so one spec (not one per span)
+            style = styles[id(c.el)]
+            key = id(style), c.el.computed("kerning", _nearest_kerning)
+            s = spec_cache.get(key)
+            if s is None:
+                s = spec_cache[key] = font_spec(style, ctx, c.el)
+            spec_of[id(c.el)] = s
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
               if i == 0 or c.x is not None or c.y is not None
@@ -656,16 +713,7 @@ def build_text(element, ctx):
         return []
     writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
-    text_length = {}
-    chains = {id(c.chain): c.chain for c in chars}     # (one per element, not per character)
-    for el in [element] + [e for chain in chains.values() for e in chain[1:]]:
-        value = el.get("textLength")
-        if value is None or id(el) in text_length:
-            continue
-        # (a percentage: of the viewport's normalized diagonal, as for the spacings)
-        length = ctx.length(value, "xy", styles.get(id(el), ctx.style))
-        if length is not None and length >= 0:
-            text_length[id(el)] = (length, (el.get("lengthAdjust") or "spacing").strip())
+    text_length, inside = text_lengths(chars, ctx)
     # baseline shift of every character (positive moves down)
     # from the element's first available font (CSS Inline 3 §4), not a fallback face: a
     # superscript CJK character in Latin text shifts as its Latin neighbours do (as resvg)
@@ -675,8 +723,8 @@ def build_text(element, ctx):
         face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
-            shift_cache[key] = baseline_offset(styles[id(c.el)], face, spec, ctx.style,
-                                               vertical) if face is not None else 0.0
+            shift_cache[key] = baseline_offset(c.span, face, spec, vertical) \
+                if face is not None else 0.0
         shifts.append(shift_cache[key])
 
     # every chunk shaped and spaced first: textLength spans the chunks of its element
@@ -694,7 +742,7 @@ def build_text(element, ctx):
         if has_offsets:
             carry_offsets(clusters, chars, b)
         chunks.append((a, clusters))
-    apply_length_adjust(chunks, chars, text_length, vertical)
+    apply_length_adjust(chunks, chars, text_length, inside, vertical)
 
     all_clusters = []
     last_x = last_y = 0.0
