@@ -27,11 +27,13 @@ ALLOWED = {
     "aot": {"jitcache"},
     "jit": {"aot", "jitcache"},
     "diagnostics": set(),
+    "files": set(),
 }
 #: what every module may import: the package's own __init__ (the version), the numba cache
-#: check it runs, njit (jit: the compiled kernels' module of aot, or numba's JIT), and the
-#: warnings channel (diagnostics.warn: imports nothing)
-SHARED = {"vecmsaa", "jitcache", "jit", "aot", "diagnostics"}
+#: check it runs, njit (jit: the compiled kernels' module of aot, or numba's JIT), the
+#: warnings channel (diagnostics.warn: imports nothing) and whole-or-nothing file writes
+#: (files: imports nothing)
+SHARED = {"vecmsaa", "jitcache", "jit", "aot", "diagnostics", "files"}
 
 
 def module_name(path: Path) -> str:

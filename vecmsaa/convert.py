@@ -44,7 +44,7 @@ def _write(data: bytes, write_to):
     if hasattr(write_to, "write"):
         write_to.write(data)
         return None
-    from .output.png import write_bytes_atomic
+    from .files import write_bytes_atomic
     write_bytes_atomic(data, write_to)
     return None
 

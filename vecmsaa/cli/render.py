@@ -219,7 +219,7 @@ def render_one(job):
     try:
         from vecmsaa.api import read_bounded, render_svg_array, render_svg_png
         from vecmsaa.output.formats import encode
-        from vecmsaa.output.png import write_bytes_atomic
+        from vecmsaa.files import write_bytes_atomic
         with diagnostics.collecting(found):
             source = read_bounded(sys.stdin.buffer, "standard input") if src == "-" else src
             if fmt == "png":    # encoded band by band as the bands are rendered

@@ -95,6 +95,6 @@ def run(args) -> int:
     print(summarize(results, args.features))
     if args.write_passing:
         passing = sorted(n for n, r in results.items() if r.passed)
-        from vecmsaa.output.png import write_bytes_atomic
+        from vecmsaa.files import write_bytes_atomic
         write_bytes_atomic(("\n".join(passing) + "\n").encode(), args.write_passing)
     return 0

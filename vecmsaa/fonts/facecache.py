@@ -231,7 +231,7 @@ class FolderCache:
                          for p, (stamp, infos, coverage) in self._new.items()}}
         # (ASCII: a file name that is not UTF-8 is kept as escaped surrogates)
         data = json.dumps(doc, separators=(",", ":")).encode("ascii")
-        from ..output.png import write_bytes_atomic
+        from ..files import write_bytes_atomic
 
         try:
             write_bytes_atomic(data, self.file, make_folders=True)

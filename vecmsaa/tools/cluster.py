@@ -335,7 +335,7 @@ def render_files(jobs: list, address: str, failure_text: Callable[[BaseException
         -> Iterator[tuple[str, str | None]]:
     """``vecmsaa render ... --scheduler``: for each ``(svg path, png path, options)`` render on
     the cluster and write the PNG here; yields (svg path, None or the failure as one line)."""
-    from ..output.png import write_bytes_atomic
+    from ..files import write_bytes_atomic
 
     with Cluster(address) as cluster:
         pngs = cluster.render_pngs((src, options) for src, _dst, options in jobs)

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..output.png import encode_png, write_bytes_atomic
+from ..files import write_bytes_atomic
+from ..output.png import encode_png
 
 THRESHOLD = 48
 MAX_FRACTION = 0.002

@@ -32,7 +32,8 @@ from .. import __version__
 from ..raster.modes import DEFAULT_MODE, FILTERS, MODES, PATTERN_NAMES
 from .compare import (FLAT_THRESHOLD, MAX_FRACTION, NEAR_COLOR, OFF_COLOR, THRESHOLD, Comparison,
                       compare_images, write_triptych)
-from ..output.png import encode_png, write_bytes_atomic
+from ..files import write_bytes_atomic
+from ..output.png import encode_png
 
 MANIFEST_NAME = "vecmsaa-golden.json"
 MANIFEST_FORMAT = 1

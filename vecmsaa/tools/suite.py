@@ -205,7 +205,8 @@ def _write_diff(actual, ref, ref_label, path):
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from vecmsaa.output.png import encode_png, write_bytes_atomic
+    from vecmsaa.files import write_bytes_atomic
+    from vecmsaa.output.png import encode_png
     from vecmsaa.tools.compare import PANEL_GAP, triptych
 
     body = triptych(ref, actual)
