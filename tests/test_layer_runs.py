@@ -1,7 +1,8 @@
 """Layers of fills alone whose footprints do not meet, drawn together (render.LayerRun):
 against each layer drawn into its own buffer and composited (render.LAYER_RUNS off), on
 random documents of small clipped and faded groups, crowded and spread, in every kind of
-mode; and the same bytes for any band and thread count."""
+mode; and the same bytes for any band and thread count. Layer buffers that end at the last
+column read (render.NARROW_LAYERS) against full-width ones, the same way."""
 import random
 
 import numpy as np
@@ -64,7 +65,7 @@ def _group(r: random.Random, i: int, crowded: bool) -> tuple[str, str]:
                      for _ in range(r.randint(1, 3)))
     opacity = f' opacity="{r.uniform(0.2, 0.95):.2f}"' if r.random() < 0.5 else ""
     # apart, mostly groups a run may take (the rest end a run)
-    kind = r.randrange(10) if crowded or r.random() < 0.3 else r.randrange(6)
+    kind = r.randrange(11) if crowded or r.random() < 0.3 else r.randrange(6)
     if kind <= 2:
         # about as tall as the content, or (now and then) much taller
         cr = size / 2 + r.uniform(1, 2.5) if r.random() < 0.8 else size * 1.5
@@ -90,6 +91,13 @@ def _group(r: random.Random, i: int, crowded: bool) -> tuple[str, str]:
     if kind == 8:
         return (f'<mask id="m{i}"><circle cx="{x:.2f}" cy="{y:.2f}" r="{size / 2:.2f}" '
                 f'fill="#ccc"/></mask>', f'<g mask="url(#m{i})">{shapes}</g>')
+    if kind == 9:
+        # a wide clip about a clipped group (nested layer buffers)
+        return (f'<clipPath id="c{i}"><ellipse cx="{x:.2f}" cy="{y:.2f}" rx="{size * 3:.2f}" '
+                f'ry="{size / 2 + 1:.2f}"/></clipPath><clipPath id="d{i}"><circle '
+                f'cx="{x + 1:.2f}" cy="{y:.2f}" r="{size / 2:.2f}"/></clipPath>',
+                f'<g clip-path="url(#c{i})"><g clip-path="url(#d{i})"{opacity}>{shapes}</g>'
+                f'{_shape(r, x - 3, y, size)}</g>')
     return "", shapes
 
 
@@ -139,7 +147,7 @@ def test_runs_draw_what_the_layers_draw(config, monkeypatch):
         monkeypatch.setattr(render_module, "LAYER_RUNS", False)
         assert np.array_equal(got, _render(scene, config)), (seed, crowded)
         monkeypatch.setattr(render_module, "LAYER_RUNS", True)
-    assert in_runs >= 100
+    assert in_runs >= 80
 
 
 def _shrunk(group, opts):
@@ -157,12 +165,26 @@ def _shrunk(group, opts):
 _run_layer = render_module._run_layer
 
 
+def _overlapping(seed: int) -> str:
+    """Faded and clipped groups a run may take, many of them overlapping their neighbours."""
+    r = random.Random(seed)
+    body = []
+    for _ in range(24):
+        x, y, size = r.uniform(8, W - 8), r.uniform(8, H - 8), r.uniform(5, 10)
+        shapes = "".join(_shape(r, x + r.uniform(-2, 2), y + r.uniform(-2, 2), size)
+                         for _ in range(r.randint(1, 2)))
+        body.append(f'<g opacity="{r.uniform(0.3, 0.9):.2f}">{shapes}</g>' if r.random() < 0.5
+                    else f'<g clip-path="url(#bb)">{shapes}</g>')
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}">{DEFS}'
+            f'{"".join(body)}</svg>')
+
+
 @pytest.mark.parametrize("config", CONFIGS[:3], ids=IDS[:3])
 def test_a_footprint_too_small_is_caught(config, monkeypatch):
     _take_more(monkeypatch)
     worst = 0
-    for seed, crowded in SEEDS:
-        scene = load_svg(_document(seed, crowded))
+    for seed in range(4):
+        scene = load_svg(_overlapping(seed))
         monkeypatch.setattr(render_module, "_run_layer", _shrunk)
         bad = _render(scene, config)
         monkeypatch.setattr(render_module, "_run_layer", _run_layer)
@@ -205,3 +227,37 @@ def test_what_a_run_takes():
                  f'<g opacity="0.5"><g opacity="0.5">{circle}</g>{circle}</g>',
                  f'<g opacity="0.5" style="mix-blend-mode:multiply">{circle}{circle}</g>'):
         assert render_module._run_layer(group(body), opts) is None, body
+
+
+@pytest.mark.parametrize("config", CONFIGS, ids=IDS)
+def test_narrow_layer_buffers_draw_what_full_ones_draw(config, monkeypatch):
+    # brute force: clips and masks reaching right of their content (a wide ellipse about a
+    # clipped group, circles larger than their shapes), drawn into buffers ending at the
+    # content's last column and into buffers of the whole width; the same bytes
+    for seed, crowded in SEEDS:
+        scene = load_svg(_document(seed, crowded))
+        got = _render(scene, config)
+        monkeypatch.setattr(render_module, "NARROW_LAYERS", False)
+        assert np.array_equal(got, _render(scene, config)), (seed, crowded)
+        monkeypatch.setattr(render_module, "NARROW_LAYERS", True)
+
+
+def test_a_buffer_too_narrow_is_caught(monkeypatch):
+    # buffers ending three columns before the last one read (an error in where a layer's
+    # columns end) lose pixels of the content
+    layer_buffer = render_module.Raster.layer_buffer
+
+    def short(self, rows, c, d):
+        buf = layer_buffer(self, rows, c, d)
+        if d < 4 or buf.shape[1] != d:
+            return buf
+        return buf.reshape(-1)[:rows * (d - 3) * 4].reshape(rows, d - 3, 4)
+    worst = 0.0
+    for seed, crowded in SEEDS:
+        scene = load_svg(_document(seed, crowded))
+        good = render_scene(scene)
+        monkeypatch.setattr(render_module.Raster, "layer_buffer", short)
+        bad = render_scene(scene)
+        monkeypatch.setattr(render_module.Raster, "layer_buffer", layer_buffer)
+        worst = max(worst, float(np.abs(bad - good).max()))
+    assert worst > 0.05

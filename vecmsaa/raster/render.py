@@ -498,6 +498,12 @@ def _kits_kept(opts: RenderOptions) -> bool:
     return opts.mode != "analytic" and opts.color_samples == opts.samples
 
 
+def _draws_with_msaa(opts: RenderOptions) -> bool:
+    """Whether the options' fills are drawn by render_msaa (not the analytic or CSAA kernel:
+    Raster.layer_buffer narrows only its buffers)."""
+    return opts.mode != "analytic" and opts.color_samples == opts.samples
+
+
 def _drop_other_kits(key) -> None:
     """Forget the kept buffers of every other key (with _kits_lock held)."""
     for other in [k for k in _kits if k != key]:
@@ -779,13 +785,20 @@ class Raster:
         nesting depth, transparent in columns c..d - 1 (the only ones its content can draw
         in, and the only ones read back): kept from band to band, where np.zeros gave fresh
         pages of the whole width each time (NASA's two clipped layers at 8192 px: 655 MB of
-        pages cleared a render for content 1300 px wide)."""
+        pages cleared a render for content 1300 px wide). With render_msaa, (rows, d, 4):
+        what lies right of column d - 1 is never read."""
         while len(self.layer_buffers) <= self.depth:
             self.layer_buffers.append(np.empty((0, self.width, 4), dtype=np.float32))
         buf = self.layer_buffers[self.depth]
         if buf.shape[0] < rows:
             buf = self.layer_buffers[self.depth] = np.empty((rows, self.width, 4), np.float32)
         buf = buf[:rows]
+        if d < self.width and NARROW_LAYERS and _draws_with_msaa(self.opts):
+            # only columns 0..d - 1, one contiguous array: render_msaa draws a pixel the same
+            # for any width of target beyond it (crossings and lenses right of its last
+            # column are dropped, not moved onto it), and a clip or mask reaching far to the
+            # right of the content it multiplies is then not drawn there
+            buf = buf.reshape(-1)[:rows * d * 4].reshape(rows, d, 4)
         buf[:, c:d] = 0.0
         return buf
 
@@ -1459,6 +1472,8 @@ _NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
 RUN_LAYERS = 64
 #: whether prepare_items draws disjoint layers of fills as LayerRuns (off only to test them)
 LAYER_RUNS = True
+#: whether layer buffers end at the last column read (Raster.layer_buffer; off only to test)
+NARROW_LAYERS = True
 #: layers refused a run for each one taken, at most, before prepare_items stops trying
 RUN_TRIES = 8
 
@@ -1589,15 +1604,17 @@ def draw_run(run: LayerRun, target: np.ndarray, y0: int, raster: Raster) -> None
     raster.drawn += len(shown) - 1
     top = min(s[0] for s in shown)
     rows = max(s[1] for s in shown) - top
-    # each layer's rectangle transparent (the rest of the buffers is never read)
-    img = raster.layer_buffer(rows, 0, 0)
+    # each layer's rectangle transparent (the rest of the buffers is never read; the
+    # buffers end where the last rectangle does: c = d clears nothing)
+    right = max(s[3] for s in shown)
+    img = raster.layer_buffer(rows, right, right)
     for a, b, c, d, _, _ in shown:
         img[a - top:b - top, c:d] = 0.0
     raster.depth += 1
     try:
         draw_items(run.items, img, y0 + top, raster)
         if run.clip is not None:
-            cov = raster.layer_buffer(rows, 0, 0)
+            cov = raster.layer_buffer(rows, right, right)
             for a, b, c, d, _, clipped in shown:
                 if clipped:
                     cov[a - top:b - top, c:d] = 0.0
