@@ -261,3 +261,23 @@ def test_a_buffer_too_narrow_is_caught(monkeypatch):
         monkeypatch.setattr(render_module.Raster, "layer_buffer", layer_buffer)
         worst = max(worst, float(np.abs(bad - good).max()))
     assert worst > 0.05
+
+
+def test_solid_rows_are_the_paint_tables_arrays():
+    # a batch of solid fills takes its paint arrays from solid_rows (a run's batch of many
+    # small layers' fills); they are PaintTable's arrays exactly, shared paints, repeated
+    # opacities and all
+    from vecmsaa.raster.shaders import PaintTable, solid_arrays, solid_row
+    from vecmsaa.scene.nodes import Fill, Solid
+    from vecmsaa.scene.path import Path
+    r = random.Random(7)
+    paints = [Solid((r.random(), r.random(), r.random(), r.choice([1.0, r.random()])))
+              for _ in range(5)]
+    fills = [Fill(Path(), r.choice(paints), "nonzero", r.choice([1.0, 0.5, r.random()]), True)
+             for _ in range(40)]
+    table = PaintTable()
+    table.add_fills(fills, None)
+    for want, got in zip(table.arrays(), solid_arrays([solid_row(f.paint, f.opacity)
+                                                       for f in fills])):
+        assert want.dtype == got.dtype and want.shape == got.shape
+        assert np.array_equal(want.view(np.uint8), got.view(np.uint8))

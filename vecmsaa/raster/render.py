@@ -890,7 +890,10 @@ class FillBatch:
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
-        if extremes is not None and all(type(f.paint) is Solid for f in fills):
+        if (extremes is not None or len(fills) <= SOLID_ROWS) \
+                and all(type(f.paint) is Solid for f in fills):
+            # (PaintTable.arrays of solid paints, without its bookkeeping: a LayerRun's
+            # batch of 64 small layers' fills spent more on the table than on its geometry)
             self.kinds, self.params, self.lut, self.tex = solid_arrays(
                 [solid_row(f.paint, f.opacity) for f in fills])
         else:
@@ -931,6 +934,9 @@ class FillBatch:
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
 
 
+#: fills of solid paints a batch makes its paint table of from their solid_rows, at most (the
+#: same arrays as PaintTable's; beyond, the table's sharing of rows pays)
+SOLID_ROWS = 256
 #: a one-fill batch's rules (by whether even-odd) and antialiasing arrays (FillBatch._one_fill)
 _ONE_RULE = {True: np.array([RULE_EVENODD], np.int64),
              False: np.array([RULE_NONZERO], np.int64)}
