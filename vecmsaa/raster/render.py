@@ -29,7 +29,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .blend import blend_premultiplied, over_scaled
+from .blend import blend_premultiplied, over_rects, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
@@ -1627,9 +1627,9 @@ def draw_run(run: LayerRun, target: np.ndarray, y0: int, raster: Raster) -> None
             draw_items([run.clip], cov, y0 + top, raster)
     finally:
         raster.depth -= 1
-    for a, b, c, d, opacity, clipped in shown:
-        factor = cov[a - top:b - top, c:d, 3].copy() if clipped else NO_FACTOR
-        over_scaled(img[a - top:b - top, c:d].copy(), target, a, c, factor, clipped, opacity)
+    over_rects(img, img if run.clip is None else cov, target, top,
+               np.array([s[:4] + (s[5],) for s in shown], np.int64),
+               np.array([s[4] for s in shown], np.float64))
 
 
 def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
