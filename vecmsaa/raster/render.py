@@ -29,7 +29,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from .blend import blend_premultiplied, over_scaled
+from .blend import blend_premultiplied, over_rects, over_scaled
 from ..output.png import PngStream
 from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
@@ -543,6 +543,12 @@ def _kits_kept(opts: RenderOptions) -> bool:
     return opts.mode != "analytic" and opts.color_samples == opts.samples
 
 
+def _draws_with_msaa(opts: RenderOptions) -> bool:
+    """Whether the options' fills are drawn by render_msaa (not the analytic or CSAA kernel:
+    Raster.layer_buffer narrows only its buffers)."""
+    return opts.mode != "analytic" and opts.color_samples == opts.samples
+
+
 def _drop_other_kits(key) -> None:
     """Forget the kept buffers of every other key (with _kits_lock held)."""
     for other in [k for k in _kits if k != key]:
@@ -732,7 +738,8 @@ def layer_depth(items) -> int:
     """How many layer buffers drawing ``items`` holds at once: the deepest nesting of layers
     and their clips and masks (a filtered layer's content is drawn apart, when it is
     filtered: filtered_part)."""
-    return max((item.depth for item in items if isinstance(item, Layer)), default=0)
+    return max((item.depth for item in items if isinstance(item, (Layer, LayerRun))),
+               default=0)
 
 
 def layer_rows(width: int, depth: int) -> int:
@@ -829,13 +836,20 @@ class Raster:
         nesting depth, transparent in columns c..d - 1 (the only ones its content can draw
         in, and the only ones read back): kept from band to band, where np.zeros gave fresh
         pages of the whole width each time (NASA's two clipped layers at 8192 px: 655 MB of
-        pages cleared a render for content 1300 px wide)."""
+        pages cleared a render for content 1300 px wide). With render_msaa, (rows, d, 4):
+        what lies right of column d - 1 is never read."""
         while len(self.layer_buffers) <= self.depth:
             self.layer_buffers.append(np.empty((0, self.width, 4), dtype=np.float32))
         buf = self.layer_buffers[self.depth]
         if buf.shape[0] < rows:
             buf = self.layer_buffers[self.depth] = np.empty((rows, self.width, 4), np.float32)
         buf = buf[:rows]
+        if d < self.width and NARROW_LAYERS and _draws_with_msaa(self.opts):
+            # only columns 0..d - 1, one contiguous array: render_msaa draws a pixel the same
+            # for any width of target beyond it (crossings and lenses right of its last
+            # column are dropped, not moved onto it), and a clip or mask reaching far to the
+            # right of the content it multiplies is then not drawn there
+            buf = buf.reshape(-1)[:rows * d * 4].reshape(rows, d, 4)
         buf[:, c:d] = 0.0
         return buf
 
@@ -881,7 +895,10 @@ class Raster:
         kernel(out, y0, b.edges, b.edge_off, b.prims, b.prim_off, b.box, b.rules, b.aa,
                b.kinds, b.params, b.lut, b.tex)
         if o.saturate:
-            composite(out, target)
+            # (over the whole buffer: a layer buffer's columns beyond its content hold what
+            # was drawn there before, which may be infinite, and are never read)
+            with np.errstate(invalid="ignore", over="ignore"):
+                composite(out, target)
 
 
 class FillBatch:
@@ -924,7 +941,10 @@ class FillBatch:
         self.rules = np.array([RULE_EVENODD if f.rule == "evenodd" else RULE_NONZERO
                                for f in fills], dtype=np.int64)
         self.aa = np.array([f.antialias for f in fills], dtype=np.bool_)
-        if extremes is not None and all(type(f.paint) is Solid for f in fills):
+        if (extremes is not None or len(fills) <= SOLID_ROWS) \
+                and all(type(f.paint) is Solid for f in fills):
+            # (PaintTable.arrays of solid paints, without its bookkeeping: a LayerRun's
+            # batch of 64 small layers' fills spent more on the table than on its geometry)
             self.kinds, self.params, self.lut, self.tex = solid_arrays(
                 [solid_row(f.paint, f.opacity) for f in fills])
         else:
@@ -965,6 +985,9 @@ class FillBatch:
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)
 
 
+#: fills of solid paints a batch makes its paint table of from their solid_rows, at most (the
+#: same arrays as PaintTable's; beyond, the table's sharing of rows pays)
+SOLID_ROWS = 256
 #: a one-fill batch's rules (by whether even-odd) and antialiasing arrays (FillBatch._one_fill)
 _ONE_RULE = {True: np.array([RULE_EVENODD], np.int64),
              False: np.array([RULE_NONZERO], np.int64)}
@@ -1373,12 +1396,47 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
     # folded fills whose pixels no other of them touches, drawn as one batch (boxes: their
     # pixel boxes, _pixel_box); None while ``batch`` holds other fills
     boxes = None
+    # layers of fills alone whose pixels no other of them touches, drawn as one LayerRun:
+    # [(group, content fills, clip fills or None)] and their footprints
+    run, run_boxes = [], []
+    # [layers taken into runs, refused]: the test costs about 15 µs a layer (its fills'
+    # boxes), so where it keeps failing (large clips about small shapes) it is given up
+    tried = [0, 0]
+
+    def end_run():
+        if len(run) == 1:
+            items.append(Layer(run[0][0], opts, pool, bound, canvas))
+        elif run:
+            items.append(LayerRun(run, opts, pool, canvas))
+        run.clear()
+        run_boxes.clear()
     stack = [iter(group.children)]
     while stack:
         for node in stack[-1]:
             if isinstance(node, Group):
                 if node.needs_layer():
                     fills = _opacity_fold(node)
+                    # (only where nothing bounds the rows drawn: a clipped layer's content
+                    # keeps Layer, which leaves out what its bound never shows)
+                    simple = None
+                    if fills is None and LAYER_RUNS and bound is None \
+                            and tried[1] <= RUN_TRIES * (tried[0] + 1):
+                        simple = _run_layer(node, opts)
+                        tried[simple is None] += 1
+                    if simple is not None:
+                        box = simple[3]
+                        if len(run) >= RUN_LAYERS or any(
+                                box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3]
+                                and b[1] <= box[3] for b in run_boxes):
+                            end_run()
+                        if batch:
+                            items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+                            batch, boxes = [], None
+                        run.append(simple[:3])
+                        run_boxes.append(box)
+                        continue
+                    if run:
+                        end_run()
                     if fills is not None and opts.mode == "analytic":
                         # the analytic kernel composites each fill on its own per pixel
                         batch.extend(fills)
@@ -1407,6 +1465,8 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                     stack.append(iter(node.children))
                     break
             else:
+                if run:
+                    end_run()
                 if boxes is not None:
                     if batch:
                         items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
@@ -1414,6 +1474,7 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                 batch.append(node)
         else:
             stack.pop()
+    end_run()
     if batch:
         items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
     return items
@@ -1462,6 +1523,164 @@ def _pixel_box(fill: Fill):
 _NOT_DRAWING = np.zeros(256, np.bool_)
 _NOT_DRAWING[[MOVE, CLOSE]] = True
 _NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
+
+
+#: layers one LayerRun draws at most (prepare_items tests each against the others)
+RUN_LAYERS = 64
+#: whether prepare_items draws disjoint layers of fills as LayerRuns (off only to test them)
+LAYER_RUNS = True
+#: whether layer buffers end at the last column read (Raster.layer_buffer; off only to test)
+NARROW_LAYERS = True
+#: layers refused a run for each one taken, at most, before prepare_items stops trying
+RUN_TRIES = 8
+
+
+def _run_layer(group: Group, opts: RenderOptions):
+    """(group, its fills, its clip's fills or None, footprint) of a layer that a LayerRun
+    can draw, else None: fills alone (no nested group) under opacity, normal blend and at most
+    a clip of fills alone (not a rectangle: Layer may leave that out, _rectangle_clip), each
+    fill short, finite, drawing something and visible, so that the batches made of them keep
+    every one (_fill_batches). The footprint holds every pixel a kernel writes drawing them
+    (_pixel_box) and every pixel draw_run reads for the layer (its rows and columns as Layer
+    and layer_columns find them, from boxes grown by QUAD_FALLBACK_TOL: a pixel more)."""
+    if group.blend != "normal" or group.filters or group.mask is not None \
+            or not group.children or any(type(c) is not Fill for c in group.children):
+        return None
+    clip = group.clip
+    if clip is not None:
+        if clip.clip is not None or clip.mask is not None or clip.filters \
+                or not clip.children or any(type(c) is not Fill for c in clip.children) \
+                or _rectangle_clip(clip, opts) is not None:
+            return None
+    box = _fills_box(group.children)
+    if box is None:
+        return None
+    if clip is not None:
+        clip_box = _fills_box(clip.children)
+        if clip_box is None:
+            return None
+        # a Layer draws its content and its clip in the rows they share; a run draws each
+        # whole, so only where that is not much more: a clip around its content, or within
+        # it, not a large circle about a small shape (2000 such clipped groups were slower
+        # in runs, and no faster with the clips drawn on their own in their layers' rows:
+        # one batch of many opaque fills sharing rows draws its spans slower, by the
+        # occlusion stamps of render_msaa)
+        shared = min(box[3], clip_box[3]) - max(box[1], clip_box[1])
+        if shared <= 0:
+            return None
+        width, clip_width = box[2] - box[0], clip_box[2] - clip_box[0]
+        more = ((box[3] - box[1] - shared) * width
+                + (clip_box[3] - clip_box[1] - shared) * clip_width)
+        if more > RUN_MORE * shared * (width + clip_width):
+            return None
+        box = (min(box[0], clip_box[0]), min(box[1], clip_box[1]),
+               max(box[2], clip_box[2]), max(box[3], clip_box[3]))
+    return (group, group.children, None if clip is None else clip.children,
+            (box[0] - 1, box[1] - 1, box[2] + 1, box[3] + 1))
+
+
+#: pixels a run may draw of a clipped layer beyond those a Layer draws, at most, as a part of
+#: the latter (_run_layer)
+RUN_MORE = 0.1
+
+
+def _fills_box(fills):
+    """The union of the fills' _pixel_box, or None if one of them is unknown, invisible or
+    draws nothing (_run_layer)."""
+    x0 = y0 = math.inf
+    x1 = y1 = -math.inf
+    for fill in fills:
+        if not fill.opacity > 0:
+            return None
+        box = _pixel_box(fill)
+        if box is _EVERYWHERE or not fill.path.verbs.tobytes().translate(None,
+                                                                          _NOT_DRAWING_BYTES):
+            return None
+        x0, y0 = min(x0, box[0]), min(y0, box[1])
+        x1, y1 = max(x1, box[2]), max(y1, box[3])
+    return x0, y0, x1, y1
+
+
+class LayerRun:
+    """Consecutive layers of fills alone (_run_layer) whose footprints do not meet, prepared
+    and drawn together: their fills as one batch, their clips' fills as another, each drawn
+    by one kernel call onto a shared buffer, then each layer composited from its own
+    rectangle of those buffers as draw_layer composites a Layer. A pixel of a layer's
+    rectangle is drawn by its own fills alone, in their order (the kernels draw a pixel from
+    the fills touching it; disjoint folded fills share batches the same way), so it holds
+    the bytes the layer's own buffer would; what the layers share is the per-batch and
+    per-call cost (2000 clipped groups made 4000 batches and 4000 kernel calls).
+    ``layers``: (rows, columns of its content's boxes, opacity, clipped) of each layer that
+    shows anywhere."""
+    filters = ()
+    mask = None
+
+    def __init__(self, run, opts: RenderOptions, pool=None, canvas=NO_CULL):
+        content = [f for _, fills, _ in run for f in fills]
+        clips = [f for _, _, fills in run if fills is not None for f in fills]
+        (self.content,) = _fill_batches(content, opts, pool, None, None, canvas)
+        self.clip = _fill_batches(clips, opts, pool, None, None, canvas)[0] if clips else None
+        #: (items, as a Layer's: what layer_columns, _items_box and nested_items read)
+        self.items = [self.content]
+        boxes = self.content.box.tolist()
+        clip_boxes = self.clip.box.tolist() if clips else None
+        self.layers = []
+        i = j = 0
+        for group, fills, clip in run:
+            box = boxes[i:i + len(fills)]
+            i += len(fills)
+            # a Layer's rows: its batch's (the boxes' extremes), within its clip's
+            rows = (min(b[1] for b in box), max(b[3] for b in box))
+            cols = (min(b[0] for b in box), max(b[2] for b in box))
+            if clip is not None:
+                box = clip_boxes[j:j + len(clip)]
+                j += len(clip)
+                rows = _intersection(rows, (min(b[1] for b in box), max(b[3] for b in box)))
+                if rows is None:
+                    continue
+            self.layers.append((rows, cols, group.opacity, clip is not None))
+        self.rows = _union([layer[0] for layer in self.layers])
+        #: layer buffers drawing it holds at once (layer_depth)
+        self.depth = 2 if clips else 1
+
+
+def draw_run(run: LayerRun, target: np.ndarray, y0: int, raster: Raster) -> None:
+    """Composite a LayerRun's layers onto ``target`` (device rows from y0), each in the rows
+    and columns draw_layer would composite it in."""
+    h, w = target.shape[:2]
+    shown = []
+    for rows, cols, opacity, clipped in run.layers:
+        a = max(0, math.floor(rows[0]) - y0)
+        b = min(h, math.floor(rows[1]) - y0 + 1)
+        c = max(0, min(w, math.floor(cols[0]) - 2))
+        d = max(0, min(w, math.floor(cols[1]) + 3))
+        if a < b and c < d:
+            shown.append((a, b, c, d, opacity, clipped))
+    if not shown:
+        return
+    raster.drawn += len(shown) - 1
+    top = min(s[0] for s in shown)
+    rows = max(s[1] for s in shown) - top
+    # each layer's rectangle transparent (the rest of the buffers is never read; the
+    # buffers end where the last rectangle does: c = d clears nothing)
+    right = max(s[3] for s in shown)
+    img = raster.layer_buffer(rows, right, right)
+    for a, b, c, d, _, _ in shown:
+        img[a - top:b - top, c:d] = 0.0
+    raster.depth += 1
+    try:
+        draw_items(run.items, img, y0 + top, raster)
+        if run.clip is not None:
+            cov = raster.layer_buffer(rows, right, right)
+            for a, b, c, d, _, clipped in shown:
+                if clipped:
+                    cov[a - top:b - top, c:d] = 0.0
+            draw_items([run.clip], cov, y0 + top, raster)
+    finally:
+        raster.depth -= 1
+    over_rects(img, img if run.clip is None else cov, target, top,
+               np.array([s[:4] + (s[5],) for s in shown], np.int64),
+               np.array([s[4] for s in shown], np.float64))
 
 
 def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
@@ -1562,6 +1781,8 @@ def draw_items(items, target: np.ndarray, y0: int, raster: Raster) -> None:
         raster.drawn += 1
         if isinstance(item, FillBatch):
             raster.fill(item, target, y0)
+        elif isinstance(item, LayerRun):
+            draw_run(item, target, y0, raster)
         else:
             draw_layer(item, target, y0, raster)
 
