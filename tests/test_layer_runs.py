@@ -11,16 +11,11 @@ import pytest
 from vecmsaa.api import load_svg
 from vecmsaa.raster import render as render_module
 from vecmsaa.raster.render import LayerRun, RenderOptions, prepare_items, render_scene
+# (mode, samples, filter, color samples): every kernel, as for the opacity folds
+from test_opacity_fold import CONFIGS, IDS
 
 W, H = 96, 64
 
-#: (mode, samples, filter, color samples), as test_opacity_fold's
-CONFIGS = [("approx", 8, None, None), ("persample", 8, None, None), ("analytic", 1, None, None),
-           ("alpha", 8, None, None), ("a2c", 8, None, None), ("alpha-sat", 8, None, None),
-           ("none", 1, None, None), ("reference", 256, None, None), ("approx", 8, None, 2),
-           ("approx", 4, "gaussian", None)]
-IDS = ["approx", "persample", "analytic", "alpha", "a2c", "alpha-sat", "none", "reference",
-       "csaa", "gaussian"]
 
 DEFS = ('<defs><linearGradient id="lg" x1="0" y1="0" x2="1" y2="0.4">'
         '<stop offset="0" stop-color="#e33"/><stop offset="1" stop-color="#33e" '

@@ -144,29 +144,11 @@ def over_rects(src, cov, dst, top, rects, opacities):
     """over_scaled of several layers drawn onto shared buffers (render.draw_run), in one call:
     layer i covers dst's rows rects[i, 0] .. rects[i, 1] - 1 and columns rects[i, 2] ..
     rects[i, 3] - 1, its pixels src[y - top, x], scaled by the clip coverage cov[y - top, x, 3]
-    where rects[i, 4] is not 0, and by opacities[i]: per pixel the arithmetic of over_scaled
-    (the coverage its factor, the same float32 steps), without a copy of each layer and its
-    coverage and a call each."""
-    one = np.float32(1.0)
+    where rects[i, 4] is not 0, and by opacities[i]: over_scaled on views of the shared
+    buffers (the coverage its factor), without a copy of each layer and its coverage and a
+    Python call each."""
     for i in range(rects.shape[0]):
-        op = np.float32(opacities[i])
-        scale = op < one
-        clipped = rects[i, 4] != 0
-        for ty in range(rects[i, 0], rects[i, 1]):
-            y = ty - top
-            for x in range(rects[i, 2], rects[i, 3]):
-                r, g, b, a = src[y, x, 0], src[y, x, 1], src[y, x, 2], src[y, x, 3]
-                if r == 0.0 and g == 0.0 and b == 0.0 and a == 0.0:
-                    continue
-                if clipped:
-                    f = cov[y, x, 3]
-                    if f == 0.0:
-                        continue
-                    r, g, b, a = r * f, g * f, b * f, a * f
-                if scale:
-                    r, g, b, a = r * op, g * op, b * op, a * op
-                k = one - a
-                dst[ty, x, 0] = dst[ty, x, 0] * k + r
-                dst[ty, x, 1] = dst[ty, x, 1] * k + g
-                dst[ty, x, 2] = dst[ty, x, 2] * k + b
-                dst[ty, x, 3] = dst[ty, x, 3] * k + a
+        y0, y1, x0, x1 = rects[i, 0] - top, rects[i, 1] - top, rects[i, 2], rects[i, 3]
+        # (views: over_scaled reads them in place)
+        over_scaled(src[y0:y1, x0:x1], dst, rects[i, 0], x0, cov[y0:y1, x0:x1, 3],
+                    rects[i, 4] != 0, opacities[i])
