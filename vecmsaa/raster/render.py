@@ -538,14 +538,10 @@ _kits: dict = {}
 _kits_lock = threading.Lock()
 
 
-def _kits_kept(opts: RenderOptions) -> bool:
-    """Whether a render's buffers are kept: only the multisample kernels' (render_msaa's)."""
-    return opts.mode != "analytic" and opts.color_samples == opts.samples
-
-
 def _draws_with_msaa(opts: RenderOptions) -> bool:
-    """Whether the options' fills are drawn by render_msaa (not the analytic or CSAA kernel:
-    Raster.layer_buffer narrows only its buffers)."""
+    """Whether the options' fills are drawn by render_msaa (not the analytic or CSAA kernel):
+    only its buffers are kept from render to render (_take_kit) and narrowed
+    (Raster.layer_buffer)."""
     return opts.mode != "analytic" and opts.color_samples == opts.samples
 
 
@@ -560,12 +556,12 @@ def _take_kit(key, opts: RenderOptions, height: int, background: np.ndarray):
     render_bands: the buffers a previous render with the same key gave back (the kernels
     leave them clean; its last band refilled its rows with its background: the tiger's first
     two bands at 2048 px spent 2 ms filling 16 MB with the colour they already held), or new
-    ones (see _kits_kept)."""
+    ones (see _draws_with_msaa)."""
     W, strip_rows, _, band_rows, own_buffer = key
     with _kits_lock:
         # another size's buffers go now, not after this render has allocated its own
         _drop_other_kits(key)
-        kits = _kits.get(key) if _kits_kept(opts) else None
+        kits = _kits.get(key) if _draws_with_msaa(opts) else None
         kit = kits.pop() if kits else None
     if kit is None:
         raster = Raster(opts, W, height, strip_rows)
@@ -580,7 +576,7 @@ def _take_kit(key, opts: RenderOptions, height: int, background: np.ndarray):
 def _keep_kit(key, raster: Raster, buffer, filled: int, colour: np.ndarray) -> None:
     """Give back a thread's buffers for the next render (see KEEP_BYTES), its band buffer's
     first ``filled`` rows holding ``colour``."""
-    if not _kits_kept(raster.opts):
+    if not _draws_with_msaa(raster.opts):
         return
     size = sum(a.nbytes for a in raster.scratch) + (0 if buffer is None else buffer.nbytes)
     with _kits_lock:
@@ -1403,6 +1399,14 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
     # boxes), so where it keeps failing (large clips about small shapes) it is given up
     tried = [0, 0]
 
+    def end_batch(new_boxes):
+        # the fills gathered so far as batches, then a new batch: of folded fills that share
+        # no pixel (``new_boxes`` []) or of any fills (None)
+        nonlocal batch, boxes
+        if batch:
+            items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+        batch, boxes = [], new_boxes
+
     def end_run():
         if len(run) == 1:
             items.append(Layer(run[0][0], opts, pool, bound, canvas))
@@ -1425,13 +1429,9 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                         tried[simple is None] += 1
                     if simple is not None:
                         box = simple[3]
-                        if len(run) >= RUN_LAYERS or any(
-                                box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3]
-                                and b[1] <= box[3] for b in run_boxes):
+                        if len(run) >= RUN_LAYERS or _meets(box, run_boxes):
                             end_run()
-                        if batch:
-                            items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
-                            batch, boxes = [], None
+                        end_batch(None)
                         run.append(simple[:3])
                         run_boxes.append(box)
                         continue
@@ -1447,19 +1447,12 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                         # pixel's samples apart from one fill of a batch to the next, where
                         # a layer composites the resolved pixel
                         box = _pixel_box(fills[0]) if len(fills) == 1 else _EVERYWHERE
-                        if boxes is None or len(boxes) >= DISJOINT_RUN \
-                                or any(box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3]
-                                       and b[1] <= box[3] for b in boxes):
-                            if batch:
-                                items.extend(_fill_batches(batch, opts, pool, None, bound,
-                                                           canvas))
-                            batch, boxes = [], []
+                        if boxes is None or len(boxes) >= DISJOINT_RUN or _meets(box, boxes):
+                            end_batch([])
                         batch.extend(fills)
                         boxes.append(box)
                         continue
-                    if batch:
-                        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
-                        batch, boxes = [], None
+                    end_batch(None)
                     items.append(Layer(node, opts, pool, bound, canvas))
                 else:
                     stack.append(iter(node.children))
@@ -1468,16 +1461,19 @@ def prepare_items(group: Group, opts: RenderOptions, pool=None, bound=None,
                 if run:
                     end_run()
                 if boxes is not None:
-                    if batch:
-                        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
-                    batch, boxes = [], None
+                    end_batch(None)
                 batch.append(node)
         else:
             stack.pop()
     end_run()
-    if batch:
-        items.extend(_fill_batches(batch, opts, pool, None, bound, canvas))
+    end_batch(None)
     return items
+
+
+def _meets(box, boxes) -> bool:
+    """Whether the (x0, y0, x1, y1) ``box`` meets any of ``boxes`` (edges included)."""
+    return any(box[0] <= b[2] and b[0] <= box[2] and box[1] <= b[3] and b[1] <= box[3]
+               for b in boxes)
 
 
 def _opacity_fold(group: Group):
