@@ -212,10 +212,6 @@ def computed_down(node, key, own, root=None):
     return value
 
 
-#: no cached value (Style.get_valid; None may be one)
-_UNSET = object()
-
-
 class Style:
     """Computed style: the element's specified values over its parent's computed style.
 
@@ -272,33 +268,23 @@ class Style:
         ``parse`` (the parsed value, or None for an invalid one): an invalid declaration is
         ignored as a whole, so the nearest ancestor's valid one applies (CSS Syntax 3 §8);
         ``inherit`` and ``unset`` (an inherited property's, CSS Cascade 4 §7.3) take the
-        parent's; ``initial``, or no declaration up to the root, gives ``initial``. Cached on
-        every style passed (a property has one ``parse`` and ``initial``), so texts nested a
-        thousand deep do not each walk to the root."""
+        parent's; ``initial``, or no declaration up to the root, gives ``initial``. Computed
+        down the styles (computed_down; a property has one ``parse`` and ``initial``), so
+        texts nested a thousand deep do not each walk to the root."""
         assert name in INHERITED, name
-        key = ("valid", name)
-        passed = []
-        style, value = self, initial
-        while style is not None:
-            cached = style.cache.get(key, _UNSET)
-            if cached is not _UNSET:
-                value = cached
-                break
-            passed.append(style)
+
+        def own(style, above):
             v = style.specified.get(name)
-            if v is not None:
-                v = v.strip()
-                if v == "initial":
-                    break
-                if v not in ("inherit", "unset"):
-                    parsed = parse(v)
-                    if parsed is not None:
-                        value = parsed
-                        break
-            style = style.parent
-        for style in passed:
-            style.cache[key] = value
-        return value
+            if v is None:
+                return above
+            v = v.strip()
+            if v == "initial":
+                return initial
+            if v in ("inherit", "unset"):
+                return above
+            parsed = parse(v)
+            return above if parsed is None else parsed
+        return computed_down(self, ("valid", name), own, initial)
 
     def computed(self, key, own):
         """computed_down the styles (the root's parent's value None): a property whose
