@@ -91,7 +91,10 @@ def file_stamp(path):
 
 
 # -- coverage: the characters a face maps, as sorted range boundaries ---------------------------
+#: read_coverage's stand-in glyph order (one name for every glyph id a font can have)
 _NO_NAMES = [""] * 65536
+
+
 def read_coverage(path: str, index: int) -> list:
     """The characters of a face's best Unicode cmap (the one :class:`vecmsaa.fonts.face.Face`
     answers ``has_char`` from, read by the same fontTools call) as range boundaries

@@ -166,11 +166,15 @@ def _fills_of(nodes):
     return out
 
 
+def _own_decorations(el):
+    """The decoration kinds ``el``'s text-decoration declares."""
+    value = (el.specified.get("text-decoration") or "").split()
+    return [kind for kind in ("underline", "overline", "line-through") if kind in value]
+
+
 def _declared_decorations(el, above):
     """The decoration kinds ``el`` or an ancestor declares (``above``: its ancestors')."""
-    value = (el.specified.get("text-decoration") or "").split()
-    own = tuple(kind for kind in ("underline", "overline", "line-through")
-                if kind in value and kind not in above)
+    own = tuple(kind for kind in _own_decorations(el) if kind not in above)
     return above + own if own else above
 
 
@@ -178,8 +182,7 @@ def _span_decorations(span, above):
     """{kind: the element declaring it} for a span's characters: the innermost of the span
     and its ancestors that declares each kind (``above``: its parent's; at <text>, the text
     for the kinds declared outside it), shared by the spans below that declare none."""
-    value = (span.el.specified.get("text-decoration") or "").split()
-    own = [kind for kind in ("underline", "overline", "line-through") if kind in value]
+    own = _own_decorations(span.el)
     return {**above, **{kind: span.el for kind in own}} if own else above
 
 
