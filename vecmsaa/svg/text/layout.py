@@ -747,8 +747,9 @@ def build_text(element, ctx):
     last_x = last_y = 0.0
     # {element id: how much shorter its spacingAndGlyphs made the line so far}: a chunk
     # started by y alone (x alone in vertical text) continues from the unsqueezed end of the
-    # elements it is not in (as resvg 0.48.1 and Chromium; SVG 2 moves the characters after
-    # an element by its textLength adjustment to the end of its chunk only)
+    # elements it is not in, as resvg 0.48.1 and Chromium place it (Chromium moves the text
+    # after an element by its textLength adjustment only to the end of their chunk; SVG 2's
+    # algorithm does not move it at all)
     squeezed = {}
     for a, clusters in chunks:
         first = chars[a]
@@ -790,11 +791,11 @@ def build_text(element, ctx):
             last_x, last_y = x + cx, y + cy
             # the unsqueezed end of an anchored chunk is anchored unsqueezed too (resvg):
             # middle moves it by half of what the squeeze took, end not at all
-            k, part = (1 if vertical else 0), {"middle": 0.5, "end": 0.0}.get(anchor, 1.0)
+            inline, part = (1 if vertical else 0), {"middle": 0.5, "end": 0.0}.get(anchor, 1.0)
             for c in clusters:
                 if c.squeezed_by is not None and part:
                     ch = chars[c.char]
-                    length = (ch.dy if vertical else ch.dx) + c.advance + c.carry[k]
+                    length = (ch.dy if vertical else ch.dx) + c.advance + c.carry[inline]
                     squeezed[c.squeezed_by] = (squeezed.get(c.squeezed_by, 0.0)
                                                + length * (1.0 - c.sx) * part)
         all_clusters.extend(clusters)
