@@ -1164,16 +1164,35 @@ def test_spacing_and_glyphs_of_a_text_and_its_tspan_in_one_chunk_follow_each_oth
     assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
 
 
-def test_text_after_a_squeezed_span_starts_where_it_ends():
-    # a chunk started by y alone continues from the end of the text before it, which
-    # spacingAndGlyphs made 100 long
+def test_a_chunk_after_a_squeezed_span_continues_from_its_unsqueezed_end():
+    # a chunk started by y alone after a span squeezed by spacingAndGlyphs starts where the
+    # span would end unsqueezed: 10 + the advances of "abc" (FreeType's, unkerned), as
+    # resvg 0.48.1 and Chromium place it (SVG 2 moves the characters after an element by its
+    # textLength adjustment only to the end of its chunk; session 23's three-way audit)
     one = render('<text x="10" y="40" font-size="30"><tspan textLength="100" '
                  'lengthAdjust="spacingAndGlyphs">abc</tspan><tspan y="80">d</tspan></text>',
                  width=200)
+    x = 10 + freetype_advance("abc", 30)
     two = render('<text x="10" y="40" font-size="30" textLength="100" '
-                 'lengthAdjust="spacingAndGlyphs">abc</text><text x="110" y="80" '
+                 f'lengthAdjust="spacingAndGlyphs">abc</text><text x="{x!r}" y="80" '
                  'font-size="30">d</text>', width=200)
     assert np.abs(one.astype(int) - two.astype(int)).max() <= 1
+    # the d of the same document squeezed to the end of abc is elsewhere
+    old = render('<text x="10" y="40" font-size="30" textLength="100" '
+                 'lengthAdjust="spacingAndGlyphs">abc</text><text x="110" y="80" '
+                 'font-size="30">d</text>', width=200)
+    assert np.abs(one.astype(int) - old.astype(int)).max() > 100
+    # in the squeezed element, the chunk continues squeezed: "d" of a text squeezed to 100
+    # over "abcd" starts at 10 + adv(abc) * 100 / adv(abcd), as the same text with x set so
+    f = 100 / freetype_advance("abcd", 30)
+    inside = render('<text x="10" y="40" font-size="30" textLength="100" '
+                    'lengthAdjust="spacingAndGlyphs">abc<tspan y="80">d</tspan></text>',
+                    width=200)
+    placed = render('<text x="10" y="40" font-size="30" textLength="100" '
+                    'lengthAdjust="spacingAndGlyphs">abc<tspan '
+                    f'x="{10 + freetype_advance("abc", 30) * f!r}" y="80">d</tspan></text>',
+                    width=200)
+    assert np.abs(inside.astype(int) - placed.astype(int)).max() <= 1
 
 
 def test_a_descendant_with_text_length_is_one_character_of_its_ancestors_spacing():
@@ -1867,3 +1886,35 @@ def test_length_members_are_those_of_each_cluster_s_whole_chain():
         for k in want:
             assert [[id(u[0]), id(u[1]), u[2], u[3]] for u in got[k]] == \
                 [[id(u[0]), id(u[1]), u[2], u[3]] for u in want[k]]
+
+
+def test_text_top_and_text_bottom_are_invalid_baselines():
+    # resvg 0.48.1 and Chromium read text-top and text-bottom (CSS Inline 3's) as invalid in
+    # dominant-baseline and alignment-baseline (session 23's three-way audit): the
+    # dominant-baseline of the parent applies (inherited), and alignment-baseline is
+    # dropped
+    for value in ("text-top", "text-bottom"):
+        assert np.array_equal(
+            render(f'<text x="10" y="60" dominant-baseline="hanging">A<tspan '
+                   f'dominant-baseline="{value}">g</tspan></text>'),
+            render('<text x="10" y="60" dominant-baseline="hanging">A<tspan>g</tspan></text>'))
+        assert np.array_equal(
+            render(f'<text x="10" y="60">A<tspan alignment-baseline="{value}">g</tspan></text>'),
+            render('<text x="10" y="60">A<tspan>g</tspan></text>'))
+    # (a valid value does move the g)
+    assert not np.array_equal(
+        render('<text x="10" y="60">A<tspan alignment-baseline="hanging">g</tspan></text>'),
+        render('<text x="10" y="60">A<tspan>g</tspan></text>'))
+
+
+def test_xml_space_other_than_preserve_collapses():
+    # an xml:space other than "preserve" (invalid, empty, upper case) inside a preserving
+    # element is "default", as resvg 0.48.1 and Chromium read it: "a   b" collapses to "a b"
+    collapsed = render('<text x="10" y="60">a b</text>')
+    for value in ("-", "", "PRESERVE", "bogus"):
+        assert np.array_equal(
+            render(f'<text x="10" y="60" xml:space="preserve"><tspan xml:space="{value}">'
+                   'a   b</tspan></text>'), collapsed), value
+    assert not np.array_equal(
+        render('<text x="10" y="60" xml:space="preserve"><tspan>a   b</tspan></text>'),
+        collapsed)

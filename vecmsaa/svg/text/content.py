@@ -69,12 +69,10 @@ class Char:
 
 
 def _space_preserved(el, inherited):
+    # a value other than preserve is default, as resvg 0.48.1 and Chromium read it (session
+    # 23's three-way audit: xml:space="-" in a preserving element collapses in both)
     v = el.get("xml:space", el.get("space"))
-    if v == "preserve":
-        return True
-    if v == "default":
-        return False
-    return inherited
+    return inherited if v is None else v == "preserve"
 
 
 def content_elements(text_el):

@@ -60,6 +60,7 @@ class Cluster:
     pre: tuple = IDENTITY   # vertical writing: shift of rotated clusters
     path_ts: tuple = IDENTITY   # vertical writing: upright clusters turned back
     sx: float = 1.0           # lengthAdjust=spacingAndGlyphs
+    squeezed_by: int | None = None  # the id of the element whose spacingAndGlyphs set sx
     frame: tuple = IDENTITY     # cluster transform in user units (without path_ts)
     placed: tuple = IDENTITY    # frame after path_ts: its em box and glyphs in user units
     visible: bool = True
@@ -409,7 +410,7 @@ def apply_length_adjust(chunks, chars, text_length, inside, vertical):
             if factor < 0.001:
                 continue
             for c, on_path in own:
-                c.sx = factor
+                c.sx, c.squeezed_by = factor, el_id
                 if on_path:
                     c.advance *= factor
                     c.width *= factor
@@ -512,8 +513,7 @@ def baseline_offset(span, face, spec, vertical=False):
     table = {
         "middle": m.x_height / 2, "central": (m.ascender + m.descender) / 2,
         "hanging": m.ascender * 0.8, "mathematical": m.ascender * 0.5,
-        "text-top": m.ascender, "text-before-edge": m.ascender,
-        "text-bottom": m.descender, "text-after-edge": m.descender,
+        "text-before-edge": m.ascender, "text-after-edge": m.descender,
         "ideographic": m.descender, "before-edge": m.ascender, "after-edge": m.descender,
     }
     if base in table and not vertical:
@@ -561,19 +561,18 @@ def _alignment_baseline(span, enclosing):
     return v if v in ALIGNMENT_BASELINES else enclosing
 
 
-#: alignment-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom)
+#: alignment-baseline's values: SVG 1.1's. CSS Inline 3's text-top and text-bottom are
+#: invalid here, as in resvg 0.48.1 and Chromium (session 23's three-way audit)
 ALIGNMENT_BASELINES = frozenset((
     "auto", "baseline", "before-edge", "text-before-edge", "middle", "central", "after-edge",
-    "text-after-edge", "ideographic", "alphabetic", "hanging", "mathematical", "text-top",
-    "text-bottom"))
+    "text-after-edge", "ideographic", "alphabetic", "hanging", "mathematical"))
 
 
-#: dominant-baseline's values: SVG 1.1's and CSS Inline 3's (text-top, text-bottom);
-#: before-edge and after-edge are alignment-baseline values only
+#: dominant-baseline's values: SVG 1.1's (before-edge and after-edge are alignment-baseline
+#: values only); text-top and text-bottom are invalid, as for alignment-baseline
 DOMINANT_BASELINES = frozenset((
     "auto", "use-script", "no-change", "reset-size", "ideographic", "alphabetic", "hanging",
-    "mathematical", "central", "middle", "text-after-edge", "text-before-edge", "text-top",
-    "text-bottom"))
+    "mathematical", "central", "middle", "text-after-edge", "text-before-edge"))
 
 
 def _dominant_baseline(style):
@@ -746,10 +745,29 @@ def build_text(element, ctx):
 
     all_clusters = []
     last_x = last_y = 0.0
+    # {element id: how much shorter its spacingAndGlyphs made the line so far}: a chunk
+    # started by y alone (x alone in vertical text) continues from the unsqueezed end of the
+    # elements it is not in, as resvg 0.48.1 and Chromium place it (Chromium moves the text
+    # after an element by its textLength adjustment only to the end of their chunk; SVG 2's
+    # algorithm does not move it at all)
+    squeezed = {}
     for a, clusters in chunks:
         first = chars[a]
         on_path = first.text_path is not None
         anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
+        if on_path or (first.y if vertical else first.x) is not None:
+            squeezed.clear()
+        elif squeezed:
+            around, link = set(), inside[a]
+            while link is not None:
+                around.add(id(link[0].el))
+                link = link[1]
+            undo = sum(v for k, v in squeezed.items() if k not in around)
+            squeezed = {k: v for k, v in squeezed.items() if k in around}
+            if vertical:
+                last_y += undo
+            else:
+                last_x += undo
         if on_path:
             chunk_x = (first.y if vertical else first.x) or 0.0
             start = chunk_x + anchor_shift(anchor, clusters, chars, on_path=True)
@@ -771,6 +789,15 @@ def build_text(element, ctx):
             if vertical:
                 cx, cy = cy, cx
             last_x, last_y = x + cx, y + cy
+            # the unsqueezed end of an anchored chunk is anchored unsqueezed too (resvg):
+            # middle moves it by half of what the squeeze took, end not at all
+            inline, part = (1 if vertical else 0), {"middle": 0.5, "end": 0.0}.get(anchor, 1.0)
+            for c in clusters:
+                if c.squeezed_by is not None and part:
+                    ch = chars[c.char]
+                    length = (ch.dy if vertical else ch.dx) + c.advance + c.carry[inline]
+                    squeezed[c.squeezed_by] = (squeezed.get(c.squeezed_by, 0.0)
+                                               + length * (1.0 - c.sx) * part)
         all_clusters.extend(clusters)
     for c in all_clusters:
         c.placed = a, b, cc, d, e, f = compose(c.frame, c.path_ts)
