@@ -375,6 +375,38 @@ def test_switch_takes_first_matching_child():
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
 
 
+@pytest.mark.parametrize("first", ['<linearGradient id="g"/>', '<defs/>', '<clipPath/>',
+                                   '<mask/>', '<marker/>', '<pattern/>', '<filter/>',
+                                   '<symbol/>', '<feFlood/>'])
+def test_switch_choosing_an_element_that_draws_nothing_draws_nothing(first):
+    """SVG 2 §5.8.2: a switch renders its first direct child whose conditions hold and
+    bypasses the others. A gradient, definition or filter element first is that child, and it
+    draws nothing where it stands, so the rect after it is not drawn (as in resvg 0.48.1 and
+    Chromium 150)."""
+    s = scene(f'<switch>{first}<rect width="3" height="3" fill="blue"/></switch>')
+    assert s.fills() == []
+
+
+@pytest.mark.parametrize("first", ['<title>t</title>', '<desc/>', '<metadata/>', '<style/>'])
+def test_switch_passes_over_descriptive_elements(first):
+    # as resvg, which keeps none of them in its tree (Chromium would choose them)
+    s = scene(f'<switch>{first}<rect width="3" height="3" fill="blue"/></switch>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 3, 3))
+
+
+@pytest.mark.parametrize("size", ['width="0" height="40"', 'width="40" height="0"',
+                                  'width="0" height="0"', 'width="0" height="40" viewBox="0 0 5 5"'])
+def test_nested_svg_of_no_area_with_visible_overflow_draws_its_content_at_x_y(size):
+    """SVG 2 has no rule that an empty viewport disables a nested svg (SVG 1.1's); with
+    overflow visible nothing clips its content, which resvg 0.48.1 and Chromium 150 draw
+    moved by x/y, a viewBox left out (its scale, 0 / 5, would collapse everything)."""
+    s = scene(f'<svg x="20" y="10" {size} overflow="visible">'
+              '<rect width="7" height="5"/></svg>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 10, 27, 15))
+    hidden = scene(f'<svg x="20" y="10" {size}><rect width="7" height="5"/></svg>')
+    assert hidden.fills() == []
+
+
 def test_switch_bounding_box_is_its_rendered_childs():
     """A switch renders only its first matching child, so its object bounding box is that
     child's (SVG 2: the bounding box of a container is of its rendered descendants): the
