@@ -181,6 +181,20 @@ def test_transform_box_reference_box(box, origin, expect):
     assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
 
 
+@pytest.mark.parametrize("text", ["rotate(10deg)", "translate(20px)", "translate(10%)",
+                                  "translate(1em)", "translateX(20)", "scaleX(2)", "skew(10)",
+                                  "scale(50%)", "translate(20),,scale(2)", ",translate(20)"])
+def test_transform_attribute_has_svgs_grammar(text):
+    """The transform attribute takes SVG's grammar (resvg 0.48.1 and Chromium 150): with
+    units, CSS-only functions or stray commas it is malformed and the 10 x 10 rect at (20, 30)
+    stays where it is; the CSS property with the same value moves it."""
+    s = scene(f'<rect x="20" y="30" width="10" height="10" transform="{text}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 30, 30, 40))
+    if "," not in text and text not in ("skew(10)", "translateX(20)", "scaleX(2)"):
+        s = scene(f'<rect x="20" y="30" width="10" height="10" style="transform: {text}"/>')
+        assert path_bounds(only_fill(s).path) != pytest.approx((20, 30, 30, 40))
+
+
 def test_font_relative_lengths_in_transform():
     # CSS Values 4: em is the element's font size; translate() takes lengths (CSS Transforms 1)
     s = scene('<g font-size="20"><rect width="10" height="10" '

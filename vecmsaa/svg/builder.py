@@ -679,7 +679,10 @@ class Builder:
                 or self.transform_box(el) != "view-box"):
             box = self.reference_box(el, style, ctx)
         size = ctx.viewport if box is None else box[2:]
-        m = parse_transform(text, size, style.font_size()) if text else IDENTITY
+        # the attribute has SVG's grammar, the CSS property CSS's (CSS Transforms 1 §7.1;
+        # resvg 0.48.1 and Chromium 150 read units in the attribute as malformed)
+        attribute = text == el.attrs.get("transform")
+        m = parse_transform(text, size, style.font_size(), attribute) if text else IDENTITY
         if m is None:
             m = IDENTITY
         if individual is not None:
