@@ -966,6 +966,23 @@ def test_files_outside_allowed_folders_are_not_read(tmp_path):
     assert len(load_svg(str(svg)).fills()) == 1
 
 
+@pytest.mark.parametrize("viewbox, scale", [("", 1), ('viewBox="0 0 20 20"', 1),
+                                            ('viewBox="0 0 10 10"', 2)])
+def test_marker_ref_percentages_are_of_the_viewport_it_is_used_in(viewbox, scale):
+    """refX="10%" refY="20%" in a 200 x 100 document are 20 and 20 marker units, whatever the
+    marker's viewBox (resvg 0.48.1 and Chromium 150; SVG 2 does not say which box): the
+    marker's 20-unit square, scaled by its viewBox, ends at the vertex (100, 50) minus
+    (20, 20) units."""
+    s = scene(f'<marker id="m" markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="20" '
+              f'refX="10%" refY="20%" overflow="visible" {viewbox}>'
+              '<rect width="20" height="20"/></marker>'
+              '<path d="M 100 50 L 150 50" marker-start="url(#m)"/>',
+              'width="200" height="100"')
+    (fill,) = [f for f in s.fills() if path_bounds(f.path)[2] - path_bounds(f.path)[0] > 1]
+    x0, y0 = 100 - 20 * scale, 50 - 20 * scale
+    assert path_bounds(fill.path) == pytest.approx((x0, y0, x0 + 20 * scale, y0 + 20 * scale))
+
+
 def test_markers_are_placed_on_vertices():
     s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
               'markerUnits="userSpaceOnUse" overflow="visible">'
