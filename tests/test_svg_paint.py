@@ -244,10 +244,15 @@ def test_stop_color_current_color_is_the_stops_and_inherit_the_gradients():
     ("rotate(0.25turn)", "rotate(90)"), ("rotate(100grad)", "rotate(90)"),
     ("skewX(0.5rad)", "skewX(28.64788976)"), ("translate(10px) scale(50%)",
                                                 "translate(10) scale(0.5)"),
+    ("skew(30)", "skewX(30)"), ("translateX(10)", "translate(10)"),
+    ("translate(10),,scale(0.5)", "translate(10),scale(0.5)"),
+    (",translate(10)", "translate(10)"),
 ])
-def test_paint_transforms_take_css_units(units, equivalent):
-    # CSS Transforms 1 section 12: the transform presentation attributes (gradientTransform
-    # and patternTransform among them) accept the transform property's syntax too.
+def test_paint_transform_attributes_have_svgs_grammar(units, equivalent):
+    """gradientTransform and patternTransform take SVG's transform grammar: units, CSS-only
+    functions, two commas between functions and a leading one make the list malformed, so the
+    paint is drawn untransformed (resvg 0.48.1 and Chromium 150 both; CSS Transforms 1 would
+    let the attributes take the property's syntax, neither renderer does)."""
     def draw(t):
         return render(f'<linearGradient id="g" gradientTransform="{t}" spreadMethod="reflect">'
                       '<stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/>'
@@ -256,8 +261,8 @@ def test_paint_transforms_take_css_units(units, equivalent):
                       '<rect width="10" height="10" fill="green"/></pattern>'
                       '<rect width="100" height="50" fill="url(#g)"/>'
                       '<rect y="50" width="100" height="50" fill="url(#p)"/>')
-    assert np.array_equal(draw(units), draw(equivalent))
-    assert not np.array_equal(draw(units), draw(""))
+    assert np.array_equal(draw(units), draw(""))
+    assert not np.array_equal(draw(equivalent), draw(""))
 
 
 # -- patterns ----------------------------------------------------------------------------------

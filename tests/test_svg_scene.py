@@ -181,6 +181,20 @@ def test_transform_box_reference_box(box, origin, expect):
     assert path_bounds(s.fills()[0].path) == pytest.approx(expect)
 
 
+@pytest.mark.parametrize("text", ["rotate(10deg)", "translate(20px)", "translate(10%)",
+                                  "translate(1em)", "translateX(20)", "scaleX(2)", "skew(10)",
+                                  "scale(50%)", "translate(20),,scale(2)", ",translate(20)"])
+def test_transform_attribute_has_svgs_grammar(text):
+    """The transform attribute takes SVG's grammar (resvg 0.48.1 and Chromium 150): with
+    units, CSS-only functions or stray commas it is malformed and the 10 x 10 rect at (20, 30)
+    stays where it is; the CSS property with the same value moves it."""
+    s = scene(f'<rect x="20" y="30" width="10" height="10" transform="{text}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 30, 30, 40))
+    if "," not in text and text not in ("skew(10)", "translateX(20)", "scaleX(2)"):
+        s = scene(f'<rect x="20" y="30" width="10" height="10" style="transform: {text}"/>')
+        assert path_bounds(only_fill(s).path) != pytest.approx((20, 30, 30, 40))
+
+
 def test_font_relative_lengths_in_transform():
     # CSS Values 4: em is the element's font size; translate() takes lengths (CSS Transforms 1)
     s = scene('<g font-size="20"><rect width="10" height="10" '
@@ -373,6 +387,38 @@ def test_switch_takes_first_matching_child():
               '<rect systemLanguage="en-US" width="2" height="2" fill="green"/>'
               '<rect width="3" height="3" fill="blue"/></switch>')
     assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 2, 2))
+
+
+@pytest.mark.parametrize("first", ['<linearGradient id="g"/>', '<defs/>', '<clipPath/>',
+                                   '<mask/>', '<marker/>', '<pattern/>', '<filter/>',
+                                   '<symbol/>', '<feFlood/>'])
+def test_switch_choosing_an_element_that_draws_nothing_draws_nothing(first):
+    """SVG 2 §5.8.2: a switch renders its first direct child whose conditions hold and
+    bypasses the others. A gradient, definition or filter element first is that child, and it
+    draws nothing where it stands, so the rect after it is not drawn (as in resvg 0.48.1 and
+    Chromium 150)."""
+    s = scene(f'<switch>{first}<rect width="3" height="3" fill="blue"/></switch>')
+    assert s.fills() == []
+
+
+@pytest.mark.parametrize("first", ['<title>t</title>', '<desc/>', '<metadata/>', '<style/>'])
+def test_switch_passes_over_descriptive_elements(first):
+    # as resvg, which keeps none of them in its tree (Chromium would choose them)
+    s = scene(f'<switch>{first}<rect width="3" height="3" fill="blue"/></switch>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((0, 0, 3, 3))
+
+
+@pytest.mark.parametrize("size", ['width="0" height="40"', 'width="40" height="0"',
+                                  'width="0" height="0"', 'width="0" height="40" viewBox="0 0 5 5"'])
+def test_nested_svg_of_no_area_with_visible_overflow_draws_its_content_at_x_y(size):
+    """SVG 2 has no rule that an empty viewport disables a nested svg (SVG 1.1's); with
+    overflow visible nothing clips its content, which resvg 0.48.1 and Chromium 150 draw
+    moved by x/y, a viewBox left out (its scale, 0 / 5, would collapse everything)."""
+    s = scene(f'<svg x="20" y="10" {size} overflow="visible">'
+              '<rect width="7" height="5"/></svg>')
+    assert path_bounds(only_fill(s).path) == pytest.approx((20, 10, 27, 15))
+    hidden = scene(f'<svg x="20" y="10" {size}><rect width="7" height="5"/></svg>')
+    assert hidden.fills() == []
 
 
 def test_switch_bounding_box_is_its_rendered_childs():
@@ -918,6 +964,23 @@ def test_files_outside_allowed_folders_are_not_read(tmp_path):
     svg.write_text(f'<svg {NS} width="10" height="10">'
                    '<image width="10" height="10" href="b.png"/></svg>')
     assert len(load_svg(str(svg)).fills()) == 1
+
+
+@pytest.mark.parametrize("viewbox, scale", [("", 1), ('viewBox="0 0 20 20"', 1),
+                                            ('viewBox="0 0 10 10"', 2)])
+def test_marker_ref_percentages_are_of_the_viewport_it_is_used_in(viewbox, scale):
+    """refX="10%" refY="20%" in a 200 x 100 document are 20 and 20 marker units, whatever the
+    marker's viewBox (resvg 0.48.1 and Chromium 150; SVG 2 does not say which box): the
+    marker's 20-unit square, scaled by its viewBox, ends at the vertex (100, 50) minus
+    (20, 20) units."""
+    s = scene(f'<marker id="m" markerUnits="userSpaceOnUse" markerWidth="20" markerHeight="20" '
+              f'refX="10%" refY="20%" overflow="visible" {viewbox}>'
+              '<rect width="20" height="20"/></marker>'
+              '<path d="M 100 50 L 150 50" marker-start="url(#m)"/>',
+              'width="200" height="100"')
+    (fill,) = [f for f in s.fills() if path_bounds(f.path)[2] - path_bounds(f.path)[0] > 1]
+    x0, y0 = 100 - 20 * scale, 50 - 20 * scale
+    assert path_bounds(fill.path) == pytest.approx((x0, y0, x0 + 20 * scale, y0 + 20 * scale))
 
 
 def test_markers_are_placed_on_vertices():

@@ -41,6 +41,17 @@ MARKABLE = SHAPES
 CONTAINERS = {"g", "a", "switch"}
 #: elements drawn where they appear in the tree
 RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
+#: elements that draw nothing where they stand but are still a <switch>'s choice when they come
+#: first (SVG 2 §5.8.2: the first direct child whose conditions hold is rendered, the others
+#: bypassed); resvg and Chromium both choose them (a <switch> whose first child is a gradient
+#: draws nothing); descriptive, animation and unknown elements are passed over as in resvg
+SWITCH_CHOICES_DRAWING_NOTHING = {
+    "defs", "clipPath", "mask", "marker", "pattern", "linearGradient", "radialGradient", "stop",
+    "filter", "symbol", "feBlend", "feColorMatrix", "feComponentTransfer", "feComposite",
+    "feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap", "feDropShadow", "feFlood",
+    "feGaussianBlur", "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting",
+    "feTile", "feTurbulence", "feMergeNode", "feFuncR", "feFuncG", "feFuncB", "feFuncA",
+    "feDistantLight", "fePointLight", "feSpotLight"}
 #: elements that would draw something but are not drawn (warned about, as resvg does)
 UNSUPPORTED = {"foreignObject", "animate", "animateMotion", "animateTransform", "set",
                "video", "audio", "iframe", "canvas"}
@@ -637,9 +648,11 @@ class Builder:
         return nodes
 
     def switch(self, el, ctx, style):
-        """The nodes of a <switch>: its first child that is rendered and whose conditions hold."""
+        """The nodes of a <switch>: those of its first child whose conditions hold, of the
+        elements it may choose (no nodes when that child draws nothing)."""
         for child in el.children:
-            if child.tag in RENDERED and conditions_pass(child):
+            if (child.tag in RENDERED or child.tag in SWITCH_CHOICES_DRAWING_NOTHING) \
+                    and conditions_pass(child):
                 return self.element(child, ctx, style)
         return []
 
@@ -666,7 +679,10 @@ class Builder:
                 or self.transform_box(el) != "view-box"):
             box = self.reference_box(el, style, ctx)
         size = ctx.viewport if box is None else box[2:]
-        m = parse_transform(text, size, style.font_size()) if text else IDENTITY
+        # the attribute has SVG's grammar, the CSS property CSS's (CSS Transforms 1 §7.1;
+        # resvg 0.48.1 and Chromium 150 read units in the attribute as malformed)
+        attribute = text == el.attrs.get("transform")
+        m = parse_transform(text, size, style.font_size(), attribute) if text else IDENTITY
         if m is None:
             m = IDENTITY
         if individual is not None:
@@ -960,9 +976,13 @@ class Builder:
             ow, oh = size_override
             w = w if ow is None else ow
             h = h if oh is None else oh
-        if w <= 0 or h <= 0:
-            return []
-        vb = parse_viewbox(el.get("viewBox"))
+        empty = w <= 0 or h <= 0
+        if empty and self.overflow_hidden(el, style):
+            return []           # clipped to an empty viewport
+        # an empty viewport disables nothing (SVG 2 dropped SVG 1.1's rule): with overflow
+        # visible, resvg and Chromium draw the content at x/y, the viewBox left out as
+        # its scale would be zero
+        vb = None if empty else parse_viewbox(el.get("viewBox"))
         m = translate(x, y)
         if vb is not None:
             # in f32 as usvg maps it: whole-pixel edges (filter regions, pattern tiles) then

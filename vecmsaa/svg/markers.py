@@ -245,8 +245,10 @@ def marker_layout(builder, marker, stroke_width, ctx):
         scaling = (scale, 0.0, 0.0, scale, 0.0, 0.0)
         clip_rect = (0.0, 0.0, mw, mh)
         viewport = ctx.viewport
-    ref_x = builder.length(marker.get("refX"), "x", style, viewport, 0.0)
-    ref_y = builder.length(marker.get("refY"), "y", style, viewport, 0.0)
+    # percentages of the viewport markerWidth's are of, not of the viewBox (SVG 2 leaves it
+    # unsaid; resvg 0.48.1 and Chromium 150 both take the viewport the marker is used in)
+    ref_x = get("refX", "x", 0.0)
+    ref_y = get("refY", "y", 0.0)
     if not builder.overflow_hidden(marker, style):
         clip_rect = None
     return style, orient, angle, scaling, translate(-ref_x, -ref_y), clip_rect, viewport

@@ -112,7 +112,7 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     decided on this matrix, not on its product with the element's: under a skew or rotation
     the product's determinant is rounding noise, not zero, and would paint a smear."""
     text = inherited_attr(chain, attr)
-    m = parse_transform(text) if text else IDENTITY
+    m = parse_transform(text, attribute=True) if text else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
     # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)

@@ -240,7 +240,9 @@ def to_px(value, unit, font_size=16.0, reference=0.0, dpi=96.0):
     return px * (dpi / 96.0) if unit in PHYSICAL_UNITS else px
 
 
-_TRANSFORM_FN = re.compile(r"\s*,?\s*([a-zA-Z]+)\s*\(([^)]*)\)\s*,?")
+# one comma at most between functions, none before the first (",," and a leading comma make
+# the list malformed, as in resvg 0.48.1 and Chromium 150; a trailing one is let pass, as resvg)
+_TRANSFORM_FN = re.compile(r"\s*([a-zA-Z]+)\s*\(([^)]*)\)\s*,?")
 # numbers may follow each other without a separator where SVG's grammar allows it ("10-5")
 _TRANSFORM_ARG = re.compile(rf"\s*({NUMBER_RE})([a-zA-Z%]*)\s*(?:,|(?=[\s+\-.])|$)")
 #: angle units of CSS Values 4, in degrees
@@ -250,13 +252,18 @@ _TRANSFORM_ARGS = {"matrix": (6, 6, "nnnnnn"), "translate": (1, 2, "ll"), "trans
                    "translateY": (1, 1, "l"), "scale": (1, 2, "nn"), "scaleX": (1, 1, "n"),
                    "scaleY": (1, 1, "n"), "rotate": (1, 3, "all"), "skew": (1, 2, "aa"),
                    "skewX": (1, 1, "a"), "skewY": (1, 1, "a")}
+#: the functions of the transform, gradientTransform and patternTransform attributes, whose
+#: arguments are numbers without units (SVG 1.1's grammar, which resvg 0.48.1 and Chromium 150
+#: both keep for the attributes: rotate(10deg), translate(20px), skew(10) make them malformed)
+SVG_TRANSFORM_FUNCTIONS = {"matrix", "translate", "scale", "rotate", "skewX", "skewY"}
 
 
-def _transform_args(name, text, box=None, font_size=None):
+def _transform_args(name, text, box=None, font_size=None, attribute=False):
     """The arguments of one transform function as floats (angles in degrees, lengths in px),
     or None when their number, kind or units are wrong. ``box``: the (width, height) of the
     reference box that percentages in translate functions are of (CSS Transforms 1 §7.1),
-    None where they are invalid; ``font_size`` what em is (None: em and ex are invalid)."""
+    None where they are invalid; ``font_size`` what em is (None: em and ex are invalid);
+    ``attribute``: SVG's attribute grammar, where any unit is wrong."""
     lo, hi, kinds = _TRANSFORM_ARGS[name]
     out = []
     pos = 0
@@ -267,6 +274,8 @@ def _transform_args(name, text, box=None, font_size=None):
             return None
         value, unit = float(m.group(1)), m.group(2).lower()
         kind = kinds[len(out)]
+        if attribute and unit:
+            return None
         if kind == "a" and unit in ANGLE_DEG:
             value *= ANGLE_DEG[unit]
         elif kind == "l" and unit in UNIT_PX:
@@ -287,7 +296,7 @@ def _transform_args(name, text, box=None, font_size=None):
 
 
 @functools.lru_cache(maxsize=4096)
-def parse_transform(text, box=None, font_size=None):
+def parse_transform(text, box=None, font_size=None, attribute=False):
     """A transform list → affine matrix; None when the text is malformed. Cached by its
     arguments: the bounding-box walks parse an element's transform once per walk that reaches
     it (quadratic in nesting depth), and documents repeat a few transforms many times.
@@ -295,7 +304,9 @@ def parse_transform(text, box=None, font_size=None):
     SVG's syntax (unitless numbers, spaces or commas) and CSS Transforms' (the functions
     translateX/Y, scaleX/Y, skew; angles in deg, grad, rad or turn; lengths with absolute units;
     scale factors as percentages; translations as percentages of ``box``, the (width, height)
-    of the element's reference box, or in em and ex of ``font_size``) are both read."""
+    of the element's reference box, or in em and ex of ``font_size``) are both read; with
+    ``attribute`` (the text of a transform, gradientTransform or patternTransform attribute)
+    only SVG's, :data:`SVG_TRANSFORM_FUNCTIONS` of unitless numbers."""
     m = IDENTITY
     if text is None:
         return IDENTITY
@@ -303,10 +314,10 @@ def parse_transform(text, box=None, font_size=None):
     pos = 0
     while pos < len(s):
         mt = _TRANSFORM_FN.match(s, pos)
-        if not mt or mt.group(1) not in _TRANSFORM_ARGS:
+        if not mt or mt.group(1) not in (SVG_TRANSFORM_FUNCTIONS if attribute else _TRANSFORM_ARGS):
             return None
         name = mt.group(1)
-        nums = _transform_args(name, mt.group(2), box, font_size)
+        nums = _transform_args(name, mt.group(2), box, font_size, attribute)
         if nums is None or not all(map(math.isfinite, nums)):
             return None   # an overflowing number (1e400 → inf) is malformed, as in resvg
         pos = mt.end()
