@@ -1691,6 +1691,26 @@ def test_nested_svg_effects_apply_in_its_viewport_coordinates(effect, defs):
     assert np.abs(nested.astype(int) - group.astype(int)).max() <= 1
 
 
+@pytest.mark.parametrize("via_use", [False, True])
+def test_a_clipping_nested_svg_blends_its_clipped_content_with_what_is_below(via_use):
+    # the viewport clip (overflow hidden, the UA default) cuts the svg's content; its own
+    # mix-blend-mode then mixes that with the backdrop (Compositing 1: the element's result
+    # blends with what is below it; an overflow clip makes no isolated group of its own).
+    # difference of rgb(50,150,250) over rgb(200,100,50) is rgb(150,50,200)
+    from vecmsaa.api import render_svg_array
+    svg = ('<svg {id} x="20" y="20" width="40" height="40" style="mix-blend-mode: difference">'
+           '<rect x="-10" y="-10" width="100" height="30" fill="rgb(50,150,250)"/></svg>')
+    if via_use:
+        body = '<defs>' + svg.format(id='id="v"') + '</defs><use href="#v"/>'
+    else:
+        body = svg.format(id="")
+    img = render_svg_array(f'<svg {NS} width="100" height="100"><rect width="100" height="100" '
+                           f'fill="rgb(200,100,50)"/>{body}</svg>')
+    assert img[30, 40].tolist() == [150, 50, 200, 255]      # inside the viewport
+    assert img[30, 70].tolist() == [200, 100, 50, 255]      # clipped away: the backdrop
+    assert img[50, 40].tolist() == [200, 100, 50, 255]      # no content: the backdrop
+
+
 def test_context_paints_take_the_paint_not_its_opacity():
     # SVG 2 "Specifying paint": context-fill is the context element's fill *paint*; how
     # opaque it is comes from the element's own fill-opacity. In <use> that is inherited

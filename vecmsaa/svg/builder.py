@@ -999,7 +999,13 @@ class Builder:
             nodes = self.wrap(el, style, inner, nodes)
         if nodes and not (ctx.geometry or ctx.clip) and self.overflow_hidden(el, style):
             # the viewport clips the filtered result too (a filter region may reach past it)
-            nodes = [Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))]
+            clipped = Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))
+            if (effects and len(nodes) == 1 and isinstance(nodes[0], Group)
+                    and (style.get("mix-blend-mode") or "normal").strip() != "normal"):
+                # the element's blend mixes its clipped result with what is below: inside
+                # the clip's layer it would mix with nothing (resvg 0.48.1 draws it so)
+                clipped.blend, nodes[0].blend = nodes[0].blend, "normal"
+            nodes = [clipped]
         return nodes
 
     def _svg_viewport(self, el, style, ctx):
