@@ -24,7 +24,7 @@ from ..geometry import stroke_kernels
 from ..geometry.stroke import dash_coverage, dash_length, dash_pattern, stroke_path
 from . import SvgError
 from .color import parse_svg_color as parse_color
-from .document import Document, Element, Style
+from .document import SVG_ELEMENT_NAMES, Document, Element, Style
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
@@ -44,14 +44,11 @@ RENDERED = SHAPES | CONTAINERS | {"svg", "use", "image", "text"}
 #: elements that draw nothing where they stand but are still a <switch>'s choice when they come
 #: first (SVG 2 §5.8.2: the first direct child whose conditions hold is rendered, the others
 #: bypassed); resvg and Chromium both choose them (a <switch> whose first child is a gradient
-#: draws nothing); descriptive, animation and unknown elements are passed over as in resvg
+#: draws nothing), and a filter's content too (every SVG element named fe...); descriptive,
+#: animation and unknown elements are passed over as in resvg
 SWITCH_CHOICES_DRAWING_NOTHING = {
     "defs", "clipPath", "mask", "marker", "pattern", "linearGradient", "radialGradient", "stop",
-    "filter", "symbol", "feBlend", "feColorMatrix", "feComponentTransfer", "feComposite",
-    "feConvolveMatrix", "feDiffuseLighting", "feDisplacementMap", "feDropShadow", "feFlood",
-    "feGaussianBlur", "feImage", "feMerge", "feMorphology", "feOffset", "feSpecularLighting",
-    "feTile", "feTurbulence", "feMergeNode", "feFuncR", "feFuncG", "feFuncB", "feFuncA",
-    "feDistantLight", "fePointLight", "feSpotLight"}
+    "filter", "symbol"} | {name for name in SVG_ELEMENT_NAMES if name.startswith("fe")}
 #: elements that would draw something but are not drawn (warned about, as resvg does)
 UNSUPPORTED = {"foreignObject", "animate", "animateMotion", "animateTransform", "set",
                "video", "audio", "iframe", "canvas"}
