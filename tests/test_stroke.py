@@ -740,7 +740,7 @@ def test_marker_vertices_open_path():
 
 @pytest.mark.parametrize("angle_in, angle_out, expected", [
     (0, 90, 45), (90, 0, 45), (350, 10, 0), (10, 350, 0), (-90, 180, 225),
-    # U-turns: both bisectors are as short; resvg and Chrome turn the incoming direction by +90°
+    # U-turns: both bisectors are as short (SVG 2 leaves the side open); +90° from the incoming
     (0, 180, 90), (180, 0, 90), (90, -90, 180), (45, 225, 135),
 ])
 def test_auto_orient_is_the_short_bisector(angle_in, angle_out, expected):
@@ -751,6 +751,19 @@ def test_auto_orient_at_a_u_turn_vertex_is_perpendicular():
     v = marker_vertices(parse_path_data("M 10 50 L 90 50 L 10 50"))
     assert v[1][2:4] == (0.0, 180.0)
     assert auto_angle(*v[1][2:4]) == pytest.approx(90.0)
+
+
+def test_a_trailing_lone_moveto_is_the_end_vertex():
+    # SVG 2: the moveto is the last vertex of the path data, so the subpath before it ends on
+    # a mid vertex (oriented along its last segment: the end of an open subpath), and the
+    # end marker's direction is the path's at its end, the last segment's (a moveto is no
+    # segment). resvg 0.48.1 and Chrome 150 both put marker-mid on (160, 60).
+    v = marker_vertices(parse_path_data("M 40 60 L 100 40 L 160 60 M 100 160"))
+    assert [(x, y, kind) for x, y, _i, _o, kind in v] == [
+        (40, 60, "start"), (100, 40, "mid"), (160, 60, "mid"), (100, 160, "end")]
+    down_right = math.degrees(math.atan2(20, 60))
+    assert v[2][2:4] == pytest.approx((down_right, down_right))
+    assert v[3][2:4] == pytest.approx((down_right, down_right))
 
 
 def test_marker_vertices_closed_path_uses_closing_segment():
