@@ -411,6 +411,40 @@ def test_miter_limit_judges_a_curve_by_its_tangent(ratio, bend):
     assert inside(out, [mid_miter])[0] == (ratio <= 4.0)
 
 
+@pytest.mark.parametrize("ratio", [2.0, 3.5, 8.0])
+@pytest.mark.parametrize("bend", [1, -1])
+def test_miter_at_a_tight_curve_end_is_shaped_by_its_tangent(ratio, bend):
+    # The same corner within the limit: the miter is the tangents' (SVG 2: the join's
+    # directions are the segments' at the vertex), its tip ratio · w/2 out along their
+    # bisector, and the whole wedge between the tangents' offset lines is covered, though
+    # the curve's first piece is a chord (it bends tighter than w/2 there).
+    w = 10.0
+    theta = _interior_angle(ratio)
+    a = math.radians(theta)
+    d1 = np.array([-math.cos(a), -math.sin(a)])
+    vertex, c2 = np.array([50.0, 50.0]), np.array([50.0, 50.0]) + 30 * d1
+    p3 = c2 + 30 * bend * np.array([-d1[1], d1[0]])
+    p = Path()
+    p.moveTo((0, 50))
+    p.lineTo(tuple(vertex))
+    p.curveTo(tuple(vertex), tuple(c2), tuple(p3))
+    p.endPath()
+    out = stroke_path(p, w, join="miter", miterlimit=10.0, tolerance=0.01)
+    b = _outer_bisector(theta)
+    tip = vertex + b * ratio * w / 2
+    assert inside(out, [vertex + b * ratio * w / 2 * 0.99])[0]
+    assert not inside(out, [vertex + b * ratio * w / 2 * 1.01])[0]
+    # the wedge: vertex, the incoming offset corner, the tip, the outgoing (tangent) one
+    n0 = np.array([0.0, math.copysign(1.0, b[1])])
+    n1 = np.array([-d1[1], d1[0]])
+    n1 = n1 if np.dot(n1, b) > 0 else -n1
+    u, v = np.meshgrid(np.linspace(0.02, 0.96, 12), np.linspace(0.02, 0.96, 12))
+    keep = (u + v) <= 0.97
+    for q0, q1 in ((vertex + n0 * w / 2, tip), (tip, vertex + n1 * w / 2)):
+        pts = vertex + u[keep, None] * (q0 - vertex) + v[keep, None] * (q1 - vertex)
+        assert inside(out, pts).all()
+
+
 def _interior_angle(ratio):
     """The interior angle (degrees) of a corner whose miter ratio is ratio: 1 / sin(θ/2)."""
     return math.degrees(2 * math.asin(1 / ratio))
@@ -740,7 +774,7 @@ def test_marker_vertices_open_path():
 
 @pytest.mark.parametrize("angle_in, angle_out, expected", [
     (0, 90, 45), (90, 0, 45), (350, 10, 0), (10, 350, 0), (-90, 180, 225),
-    # U-turns: both bisectors are as short; resvg and Chrome turn the incoming direction by +90°
+    # U-turns: both bisectors are as short (SVG 2 leaves the side open); +90° from the incoming
     (0, 180, 90), (180, 0, 90), (90, -90, 180), (45, 225, 135),
 ])
 def test_auto_orient_is_the_short_bisector(angle_in, angle_out, expected):
@@ -751,6 +785,19 @@ def test_auto_orient_at_a_u_turn_vertex_is_perpendicular():
     v = marker_vertices(parse_path_data("M 10 50 L 90 50 L 10 50"))
     assert v[1][2:4] == (0.0, 180.0)
     assert auto_angle(*v[1][2:4]) == pytest.approx(90.0)
+
+
+def test_a_trailing_lone_moveto_is_the_end_vertex():
+    # SVG 2: the moveto is the last vertex of the path data, so the subpath before it ends on
+    # a mid vertex (oriented along its last segment: the end of an open subpath), and the
+    # end marker's direction is the path's at its end, the last segment's (a moveto is no
+    # segment). resvg 0.48.1 and Chrome 150 both put marker-mid on (160, 60).
+    v = marker_vertices(parse_path_data("M 40 60 L 100 40 L 160 60 M 100 160"))
+    assert [(x, y, kind) for x, y, _i, _o, kind in v] == [
+        (40, 60, "start"), (100, 40, "mid"), (160, 60, "mid"), (100, 160, "end")]
+    down_right = math.degrees(math.atan2(20, 60))
+    assert v[2][2:4] == pytest.approx((down_right, down_right))
+    assert v[3][2:4] == pytest.approx((down_right, down_right))
 
 
 def test_marker_vertices_closed_path_uses_closing_segment():

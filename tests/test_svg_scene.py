@@ -1003,6 +1003,11 @@ def test_markers_are_placed_on_vertices():
     # nor a vertex where a subpath follows: the start marker is the first segment's
     ("M 20 30 M 60 70 L 80 70", [60, 70, 80, 70]),
     ("M 10 10 L 20 10 M 30 30 M 40 40 L 50 40", [10, 10, 20, 10, 40, 40, 50, 40]),
+    # a lone moveto at the end is the path's last vertex (SVG 2 paths, "Zero-length path
+    # segments": a marker on every vertex "even if moveto commands follow each other"); the
+    # vertex a closepath returns to then takes no mid marker, as before any other moveto
+    ("M 10 10 L 20 10 L 30 20 M 60 70", [10, 10, 20, 10, 30, 20, 60, 70]),
+    ("M 10 10 L 20 10 L 20 20 Z M 60 70", [10, 10, 20, 10, 20, 20, 60, 70]),
 ])
 def test_markers_on_zero_length_closed_subpaths(d, centres):
     # SVG 2: "M x y Z" is a subpath with a (zero-length) closing segment, so its vertex takes

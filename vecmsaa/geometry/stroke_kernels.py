@@ -1301,6 +1301,18 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 jtol = _shape_tol(tab, prev, a, tol)
                 e0, e1 = ends[piece_seg[prev]], ends[piece_seg[a]]
                 limit_dot = e0[2] * e1[0] + e0[3] * e1[1] if jn != _ROUND else dot
+                t_cross = e0[2] * e1[1] - e0[3] * e1[0]
+                if jn != _ROUND and limit_dot < dot and t_cross * cross > 0.0:
+                    # a join of segments takes its shape from their own tangents too (SVG 2:
+                    # the directions at the vertex) where they turn the same way as the
+                    # pieces, and more: the chord standing in for a curve's end that bends
+                    # tighter than the half width turns less, and would pull a miter's tip in
+                    # (M 159 146 L 80 88 C 80 88 99 93 174 46, width 20: 14 units short). The
+                    # chord's offset end then lies between the tip and the tangent's offset
+                    # end, in the chord's own stroke, so the join still meets it.
+                    d0x, d0y, d1x, d1y = e0[2], e0[3], e1[0], e1[1]
+                    cross = t_cross
+                    dot = limit_dot
                 if cross > 0:       # turning left: left side inner
                     _turn_sides(rv, rp, rc, lv, lp, lc, tv, tp, tc, px, py, d0x, d0y, d1x, d1y,
                                 -1.0, hw, jn, miterlimit, dot, limit_dot, jtol, r1x, r1y, l1x,
