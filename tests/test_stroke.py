@@ -397,15 +397,7 @@ def test_miter_limit_judges_a_curve_by_its_tangent(ratio, bend):
     # direction to its second (SVG 2 path directionality) and bends tighter than the half width
     # there; the miter limit (4) judges that tangent, whichever way the curve then bends.
     w = 10.0
-    a = math.radians(_interior_angle(ratio))
-    d1 = np.array([-math.cos(a), -math.sin(a)])
-    vertex, c2 = np.array([50.0, 50.0]), np.array([50.0, 50.0]) + 30 * d1
-    p3 = c2 + 30 * bend * np.array([-d1[1], d1[0]])
-    p = Path()
-    p.moveTo((0, 50))
-    p.lineTo(tuple(vertex))
-    p.curveTo(tuple(vertex), tuple(c2), tuple(p3))
-    p.endPath()
+    p, vertex, _ = _tight_curve_corner(ratio, bend)
     out = stroke_path(p, w, join="miter", miterlimit=4.0)
     mid_miter = vertex + _outer_bisector(_interior_angle(ratio)) * ratio * w / 2 * 0.6
     assert inside(out, [mid_miter])[0] == (ratio <= 4.0)
@@ -420,15 +412,7 @@ def test_miter_at_a_tight_curve_end_is_shaped_by_its_tangent(ratio, bend):
     # the curve's first piece is a chord (it bends tighter than w/2 there).
     w = 10.0
     theta = _interior_angle(ratio)
-    a = math.radians(theta)
-    d1 = np.array([-math.cos(a), -math.sin(a)])
-    vertex, c2 = np.array([50.0, 50.0]), np.array([50.0, 50.0]) + 30 * d1
-    p3 = c2 + 30 * bend * np.array([-d1[1], d1[0]])
-    p = Path()
-    p.moveTo((0, 50))
-    p.lineTo(tuple(vertex))
-    p.curveTo(tuple(vertex), tuple(c2), tuple(p3))
-    p.endPath()
+    p, vertex, d1 = _tight_curve_corner(ratio, bend)
     out = stroke_path(p, w, join="miter", miterlimit=10.0, tolerance=0.01)
     b = _outer_bisector(theta)
     tip = vertex + b * ratio * w / 2
@@ -443,6 +427,23 @@ def test_miter_at_a_tight_curve_end_is_shaped_by_its_tangent(ratio, bend):
     for q0, q1 in ((vertex + n0 * w / 2, tip), (tip, vertex + n1 * w / 2)):
         pts = vertex + u[keep, None] * (q0 - vertex) + v[keep, None] * (q1 - vertex)
         assert inside(out, pts).all()
+
+
+def _tight_curve_corner(ratio, bend):
+    """A line to (50, 50), then a cubic whose first control point is that vertex (an `S` after
+    an arc): it leaves along the direction to its second control point, at the interior angle
+    of a miter ``ratio``, and bends (1 left, -1 right) tighter than a 10-wide stroke's half
+    width there. → (path, vertex, the cubic's direction at the vertex)."""
+    a = math.radians(_interior_angle(ratio))
+    d1 = np.array([-math.cos(a), -math.sin(a)])
+    vertex, c2 = np.array([50.0, 50.0]), np.array([50.0, 50.0]) + 30 * d1
+    p3 = c2 + 30 * bend * np.array([-d1[1], d1[0]])
+    p = Path()
+    p.moveTo((0, 50))
+    p.lineTo(tuple(vertex))
+    p.curveTo(tuple(vertex), tuple(c2), tuple(p3))
+    p.endPath()
+    return p, vertex, d1
 
 
 def _interior_angle(ratio):
