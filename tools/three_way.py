@@ -25,6 +25,7 @@ import glob
 import io
 import json
 import os
+import pathlib
 import sys
 import tempfile
 
@@ -91,7 +92,7 @@ class Chromium:
         import numpy as np
         from PIL import Image
 
-        url = "file://" + os.path.abspath(path)
+        url = pathlib.Path(os.path.abspath(path)).as_uri()     # a # in a name is no fragment
         own = self._own_width(url)
         scale = width / own if own and abs(own - width) > 0.5 else 1.0
         page = self._page(scale)
