@@ -1646,10 +1646,8 @@ def draw_run(run: LayerRun, target: np.ndarray, y0: int, raster: Raster) -> None
     h, w = target.shape[:2]
     shown = []
     for rows, cols, opacity, clipped in run.layers:
-        a = max(0, math.floor(rows[0]) - y0)
-        b = min(h, math.floor(rows[1]) - y0 + 1)
-        c = max(0, min(w, math.floor(cols[0]) - 2))
-        d = max(0, min(w, math.floor(cols[1]) + 3))
+        a, b = band_rows(rows, y0, h)
+        c, d = drawn_columns(cols[0], cols[1], w)
         if a < b and c < d:
             shown.append((a, b, c, d, opacity, clipped))
     if not shown:
@@ -1795,9 +1793,7 @@ def draw_layer(layer: Layer, target: np.ndarray, y0: int, raster: Raster) -> Non
             return
         (a, b, c, d), img = part
     else:
-        # device rows floor(rows[0]) .. floor(rows[1]) can hold content (draw_items' test)
-        a = max(0, math.floor(layer.rows[0]) - y0)
-        b = min(h, math.floor(layer.rows[1]) - y0 + 1)
+        a, b = band_rows(layer.rows, y0, h)
         if a >= b:
             return
         if layer.sole is not None:
@@ -2089,9 +2085,21 @@ def layer_columns(layer: Layer, w: int) -> tuple[int, int]:
         if not (math.isfinite(lo) and math.isfinite(hi)):
             cols = (0, w) if lo <= hi else (0, 0)
         else:
-            cols = (max(0, min(w, math.floor(lo) - 2)), max(0, min(w, math.floor(hi) + 3)))
+            cols = drawn_columns(lo, hi, w)
         layer.columns = cols
     return cols
+
+
+def drawn_columns(lo: float, hi: float, w: int) -> tuple[int, int]:
+    """Columns c..d - 1 (within 0..w) that fills whose boxes span columns lo..hi can draw in:
+    a kernel writes at most a pixel beyond a box (layer_columns, draw_run)."""
+    return max(0, min(w, math.floor(lo) - 2)), max(0, min(w, math.floor(hi) + 3))
+
+
+def band_rows(rows, y0: int, h: int) -> tuple[int, int]:
+    """Rows a..b - 1 of a band of ``h`` rows from device row y0 that content spanning device
+    rows rows[0]..rows[1] can hold: floor(rows[0]) .. floor(rows[1]) (draw_items' test)."""
+    return max(0, math.floor(rows[0]) - y0), min(h, math.floor(rows[1]) - y0 + 1)
 
 
 def _clip_and_mask(layer: Layer, rows: int, c: int, d: int, y0: int, raster: Raster):
