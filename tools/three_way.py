@@ -21,7 +21,6 @@ R = C is the likely vecmsaa bug; V = C is resvg's; R's renders are the suite's r
 from __future__ import annotations
 
 import argparse
-import glob
 import io
 import json
 import os
@@ -32,8 +31,12 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
-FAMILIES = {"serif": "Noto Serif", "sans-serif": "Noto Sans", "cursive": "Yellowtail",
-            "fantasy": "Sedgwick Ave Display", "monospace": "Noto Mono"}
+from vecmsaa.tools.suite import EXACT_REFS, SUITE_FONTS, collect, suite_from_environment  # noqa: E402
+
+#: the generic families as the suite maps them (its ``serif_family`` ... options, which
+#: vecmsaa and resvg-py both take by those names)
+FAMILIES = {k[:-len("_family")].replace("_", "-"): v for k, v in SUITE_FONTS.items()
+            if k != "font_family"}
 #: Chromium's own default families on Linux, which standalone SVG text falls back to
 BROWSER_DEFAULTS = {"Times New Roman": "Noto Serif", "Arial": "Noto Sans",
                     "Courier New": "Noto Mono"}
@@ -107,10 +110,10 @@ class Chromium:
         return out
 
 
-def render_options(fonts_dir, path):
-    return dict(skip_system_fonts=True, font_family=FAMILIES["serif"],
-                resources_dir=os.path.dirname(os.path.abspath(path)),
-                **{k.replace("-", "_") + "_family": v for k, v in FAMILIES.items()})
+def render_options(path):
+    """The suite's fonts and families, resources beside the file."""
+    return dict(SUITE_FONTS, skip_system_fonts=True,
+                resources_dir=os.path.dirname(os.path.abspath(path)))
 
 
 def render_resvg(path, fonts_dir, width=None):
@@ -124,7 +127,7 @@ def render_resvg(path, fonts_dir, width=None):
         text = f.read().decode("utf-8", "replace")
     png = resvg_py.svg_to_bytes(svg_string=text, font_dirs=[fonts_dir], languages=["en"],
                                 dpi=96, font_size=12, width=width,
-                                **render_options(fonts_dir, path))
+                                **render_options(path))
     return np.asarray(Image.open(io.BytesIO(bytes(png))).convert("RGBA"))
 
 
@@ -134,7 +137,7 @@ def render_vecmsaa(path, fonts_dir, width, height):
     with open(path, "rb") as f:
         data = f.read()
     return render_svg_array(data, width=width, height=height, use_fonts_dir=fonts_dir,
-                            **render_options(fonts_dir, path))
+                            **render_options(path))
 
 
 def _premultiplied(image):
@@ -217,17 +220,17 @@ def calibrate(suite_dir, chromium, save=None):
 
     tests = os.path.join(suite_dir, "tests")
     counts, results = {}, {}
-    for svg in sorted(glob.glob(os.path.join(tests, "**", "*.svg"), recursive=True)):
-        name = os.path.relpath(svg, tests)[:-4]
+    for name in collect(tests):
+        svg = os.path.join(tests, name + ".svg")
         ref = np.asarray(Image.open(svg[:-4] + ".png").convert("RGBA"))
         drawn = _attempt(chromium.render, svg, ref.shape[1], ref.shape[0])
-        exact = os.path.join(suite_dir, "exact-refs", name + ".png")
+        exact = os.path.join(suite_dir, EXACT_REFS, name + ".png")
         passed = loose_off(drawn, ref) <= 0.002 or (
             os.path.exists(exact)
             and loose_off(drawn, np.asarray(Image.open(exact).convert("RGBA"))) <= 0.002)
         results[name] = passed
-        done, ok = counts.get(name.split(os.sep)[0], (0, 0))
-        counts[name.split(os.sep)[0]] = (done + 1, ok + passed)
+        done, ok = counts.get(name.split("/")[0], (0, 0))
+        counts[name.split("/")[0]] = (done + 1, ok + passed)
         if save and drawn is not None:
             out = os.path.join(save, name + ".png")
             os.makedirs(os.path.dirname(out), exist_ok=True)
@@ -240,8 +243,6 @@ def calibrate(suite_dir, chromium, save=None):
 
 
 def main(argv=None):
-    from vecmsaa.tools.suite import suite_from_environment
-
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("files", nargs="*", help="SVG files to draw three ways")
     parser.add_argument("--suite", help="calibrate: Chromium against this resvg suite's references")
