@@ -31,6 +31,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(HERE))
 
+from vecmsaa.tools.compare import MAX_FRACTION, THRESHOLD, premultiplied_u8  # noqa: E402
 from vecmsaa.tools.suite import EXACT_REFS, SUITE_FONTS, collect, suite_from_environment  # noqa: E402
 
 #: the generic families as the suite maps them (its ``serif_family`` ... options, which
@@ -140,16 +141,9 @@ def render_vecmsaa(path, fonts_dir, width, height):
                             **render_options(path))
 
 
-def _premultiplied(image):
-    import numpy as np
-
-    a = image.astype(np.int32)
-    alpha = a[..., 3:4]
-    return np.concatenate([(a[..., :3] * alpha + 127) // 255, alpha], axis=2)
-
-
-def _unmatched(a, b, slack, threshold=48):
-    """Pixels of ``a`` with no pixel of ``b`` within ``slack`` px inside ``threshold``."""
+def _unmatched(a, b, slack):
+    """Pixels of premultiplied ``a`` with no pixel of ``b`` within ``slack`` px inside the
+    criterion's threshold."""
     import numpy as np
 
     h, w = a.shape[:2]
@@ -159,15 +153,20 @@ def _unmatched(a, b, slack, threshold=48):
         for dx in range(2 * slack + 1):
             diff = np.abs(a - padded[dy:dy + h, dx:dx + w]).max(axis=2)
             best = np.minimum(best, diff)
-    return best > threshold
+    return best > THRESHOLD
 
 
 def loose_off(a, b, slack=SLACK_PX):
     """Fraction of pixels off, either way, when each may match within ``slack`` px."""
     if a is None or b is None or a.shape != b.shape:
         return 1.0
-    pa, pb = _premultiplied(a), _premultiplied(b)
+    pa, pb = premultiplied_u8(a).astype(int), premultiplied_u8(b).astype(int)
     return float((_unmatched(pa, pb, slack) | _unmatched(pb, pa, slack)).mean())
+
+
+def loose_pass(a, b):
+    """The suite's criterion on loose_off."""
+    return loose_off(a, b) <= MAX_FRACTION
 
 
 def strict_pass(a, b):
@@ -206,9 +205,9 @@ def compare_files(paths, fonts_dir, chromium, save=None):
         vr = strict_pass(v, r)
         vc, rc = loose_off(v, c), loose_off(r, c)
         sign = {True: "+", False: "-"}
-        print(f"{os.path.basename(path)}: V=R{sign[vr]} V=C{sign[vc <= 0.002]} "
-              f"R=C{sign[rc <= 0.002]} | V-C {vc:.3%} R-C {rc:.3%}", flush=True)
-        if save and not (vr and vc <= 0.002):
+        print(f"{os.path.basename(path)}: V=R{sign[vr]} V=C{sign[vc <= MAX_FRACTION]} "
+              f"R=C{sign[rc <= MAX_FRACTION]} | V-C {vc:.3%} R-C {rc:.3%}", flush=True)
+        if save and not (vr and vc <= MAX_FRACTION):
             os.makedirs(save, exist_ok=True)
             _save_strip((v, r, c), os.path.join(save, os.path.basename(path)[:-4] + ".vrc.png"))
 
@@ -225,9 +224,9 @@ def calibrate(suite_dir, chromium, save=None):
         ref = np.asarray(Image.open(svg[:-4] + ".png").convert("RGBA"))
         drawn = _attempt(chromium.render, svg, ref.shape[1], ref.shape[0])
         exact = os.path.join(suite_dir, EXACT_REFS, name + ".png")
-        passed = loose_off(drawn, ref) <= 0.002 or (
+        passed = loose_pass(drawn, ref) or (
             os.path.exists(exact)
-            and loose_off(drawn, np.asarray(Image.open(exact).convert("RGBA"))) <= 0.002)
+            and loose_pass(drawn, np.asarray(Image.open(exact).convert("RGBA"))))
         results[name] = passed
         done, ok = counts.get(name.split("/")[0], (0, 0))
         counts[name.split("/")[0]] = (done + 1, ok + passed)
