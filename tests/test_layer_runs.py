@@ -46,6 +46,12 @@ def _shape(r: random.Random, x: float, y: float, size: float) -> str:
     return f'<path d="{" ".join(d)} Z" fill="{paint}"{extra}/>'
 
 
+def _clipped(i: int, clip: str, opacity: str, shapes: str) -> tuple[str, str]:
+    """(defs, group) of a group with ``opacity`` clipped by a clipPath of ``clip``."""
+    return (f'<clipPath id="c{i}">{clip}</clipPath>',
+            f'<g clip-path="url(#c{i})"{opacity}>{shapes}</g>')
+
+
 def _group(r: random.Random, i: int, crowded: bool) -> tuple[str, str]:
     """(defs, element) of one small group: its shapes under a clip (around them, within
     them, of their bounding box) or opacity or both, or now and then a group a run must
@@ -64,9 +70,8 @@ def _group(r: random.Random, i: int, crowded: bool) -> tuple[str, str]:
     if kind <= 2:
         # about as tall as the content, or (now and then) much taller
         cr = size / 2 + r.uniform(1, 2.5) if r.random() < 0.8 else size * 1.5
-        return (f'<clipPath id="c{i}"><circle cx="{x + r.uniform(-0.5, 0.5):.2f}" '
-                f'cy="{y + r.uniform(-0.5, 0.5):.2f}" r="{cr:.2f}"/></clipPath>',
-                f'<g clip-path="url(#c{i})"{opacity}>{shapes}</g>')
+        return _clipped(i, f'<circle cx="{x + r.uniform(-0.5, 0.5):.2f}" '
+                           f'cy="{y + r.uniform(-0.5, 0.5):.2f}" r="{cr:.2f}"/>', opacity, shapes)
     if kind == 3:
         return "", f'<g clip-path="url(#bb)"{opacity}>{shapes}</g>'
     if kind == 4:
@@ -74,15 +79,13 @@ def _group(r: random.Random, i: int, crowded: bool) -> tuple[str, str]:
     if kind == 5:
         p = " ".join(f"{x + r.uniform(-size, size) * 0.6:.2f},{y + r.uniform(-size, size) * 0.6:.2f}"
                      for _ in range(5))
-        return (f'<clipPath id="c{i}"><polygon points="{p}" fill-rule="evenodd" '
-                f'clip-rule="evenodd"/></clipPath>',
-                f'<g clip-path="url(#c{i})"{opacity}>{shapes}</g>')
+        return _clipped(i, f'<polygon points="{p}" fill-rule="evenodd" clip-rule="evenodd"/>',
+                        opacity, shapes)
     if kind == 6:
         return "", f'<g opacity="0.6"><g opacity="0.8">{shapes}</g></g>'
     if kind == 7:
-        return (f'<clipPath id="c{i}"><rect x="{x - size:.2f}" y="{y - size:.2f}" '
-                f'width="{size * 1.5:.2f}" height="{size * 1.5:.2f}"/></clipPath>',
-                f'<g clip-path="url(#c{i})"{opacity}>{shapes}</g>')
+        return _clipped(i, f'<rect x="{x - size:.2f}" y="{y - size:.2f}" '
+                           f'width="{size * 1.5:.2f}" height="{size * 1.5:.2f}"/>', opacity, shapes)
     if kind == 8:
         return (f'<mask id="m{i}"><circle cx="{x:.2f}" cy="{y:.2f}" r="{size / 2:.2f}" '
                 f'fill="#ccc"/></mask>', f'<g mask="url(#m{i})">{shapes}</g>')
