@@ -852,7 +852,7 @@ def _text_values(doc, el, only=None):
               lambda: content.text_transform(style), lambda: layout._dominant_baseline(style),
               lambda: el.computed("xml:space", content._space_preserved, False),
               lambda: el.computed("decorations", draw._declared_decorations, ()),
-              lambda: el.computed("kerning", font_match._nearest_kerning))
+              lambda: font_match.kerning_attribute(el))
     return tuple(v() for v in values) if only is None else values[only]()
 
 

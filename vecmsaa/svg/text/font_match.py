@@ -142,6 +142,12 @@ def _nearest_kerning(el, above):
     return el.get("kerning", above)
 
 
+def kerning_attribute(el):
+    """The SVG 1.1 ``kerning`` attribute that applies to ``el``: its own, else the nearest
+    ancestor's (None: none), computed down the document tree."""
+    return el.computed("kerning", _nearest_kerning)
+
+
 def _own_weight(style, parent):
     parent = 400 if parent is None else parent
     v = (style.specified.get("font-weight") or "").strip()
@@ -222,7 +228,7 @@ def font_spec(style, ctx, el=None) -> FontSpec:
     if (style.get("font-kerning") or "auto").strip() == "none":
         features["kern"] = 0
     # resvg also honours the SVG 1.1 kerning="0" attribute (the nearest one).
-    kerning = None if el is None else el.computed("kerning", _nearest_kerning)
+    kerning = None if el is None else kerning_attribute(el)
     if kerning is not None and kerning.strip() in ("0", "0px"):
         features["kern"] = 0
     variations = dict(_settings(style, "font-variation-settings"))

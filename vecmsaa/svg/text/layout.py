@@ -18,8 +18,8 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import (_nearest_kerning, assign_faces, document_faces, face_location,
-                         font_database, font_spec)
+from .font_match import (assign_faces, document_faces, face_location, font_database,
+                         font_spec, kerning_attribute)
 from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -694,7 +694,7 @@ def build_text(element, ctx):
             # a spec by style and kerning attribute: siblings that specify the same values
             # share a Style (document.Style.child), and so one spec (not one per span)
             style = styles[id(c.el)]
-            key = id(style), c.el.computed("kerning", _nearest_kerning)
+            key = id(style), kerning_attribute(c.el)
             s = spec_cache.get(key)
             if s is None:
                 s = spec_cache[key] = font_spec(style, ctx, c.el)
