@@ -463,6 +463,36 @@ def test_flood_subregion_in_bounding_box_units():
     assert img[15, 15, 3] == 0 and img[15, 31, 3] == 0
 
 
+@pytest.mark.parametrize("empty", ['width="0"', 'height="-5"', 'width="0%"'])
+def test_a_primitive_of_no_area_gives_transparent_black_and_the_chain_goes_on(empty):
+    """Filter Effects 1, a primitive's width and height: "A negative or zero value must
+    disable the effect of the given filter primitive (i.e., the result is a transparent black
+    image)"; the primitives after it still run (Chromium draws so; usvg stopped the chain at
+    it, and dropped a filter whose first primitive it was)."""
+    green = (0, 255, 0, 255)
+    rect = '<rect x="10" y="10" width="20" height="20" fill="red" filter="url(#f)"/>'
+    region = (slice(8, 32), slice(8, 32))          # the default region: the box + 10%
+    # the disabled primitive is the filter's result: nothing is drawn
+    img = render(f'<filter id="f"><feFlood flood-color="#00ff00"/><feOffset {empty}/>'
+                 f'</filter>{rect}')
+    assert not img[..., 3].any()
+    # a primitive after it runs: the flood fills the region
+    img = render(f'<filter id="f"><feOffset {empty}/><feFlood flood-color="#00ff00"/>'
+                 f'</filter>{rect}')
+    assert (img[region] == green).all() and img[..., 3].sum() == 255 * 24 * 24
+    # ... and reading it reads transparent black: the merge is the flood alone
+    img = render(f'<filter id="f"><feFlood flood-color="#00ff00" result="g"/>'
+                 f'<feFlood flood-color="red" {empty} result="none"/><feMerge>'
+                 f'<feMergeNode in="g"/><feMergeNode in="none"/></feMerge></filter>{rect}')
+    assert (img[region] == green).all()
+    # a filter of one such primitive is a filter (the element is drawn as nothing), so the
+    # next filter of a list works on transparent black: an offset of it draws nothing
+    img = render('<filter id="z"><feFlood flood-color="#00ff00" ' + empty + '/></filter>'
+                 '<filter id="o"><feOffset dx="1"/></filter><rect x="10" y="10" width="20" '
+                 'height="20" fill="red" filter="url(#z) url(#o)"/>')
+    assert not img[..., 3].any()
+
+
 @pytest.mark.parametrize("op", ["erode", "dilate"])
 def test_morphology_matches_a_direct_window_search(op):
     a = np.random.default_rng(0).random((13, 17, 4)).astype(np.float32)

@@ -178,8 +178,10 @@ def strict_pass(a, b):
 def _attempt(draw, *args):
     try:
         return draw(*args)
-    except Exception:       # a renderer refusing a file is a result, not a crash of the run
-        return None
+    except (KeyboardInterrupt, SystemExit):
+        raise
+    except BaseException:   # a renderer refusing a file, or resvg-py's panic (a BaseException),
+        return None         # is a result, not a crash of the run
 
 
 def _save_strip(images, path):

@@ -259,7 +259,12 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         default = _default_subregion(tag, inputs, users, (x, y, w, h))
         user = _user_subregion(tag, spec, (x, y, w, h), obb_box, default)
         if user is None:
-            break                                   # usvg stops at an invalid subregion
+            # Filter Effects 1: a zero or negative width or height disables the primitive,
+            # its result transparent black, and the primitives after it still run (usvg
+            # stops the chain there, and drops the filter when it is the first)
+            users.append(None)
+            primitives.append(Primitive(TRANSPARENT, (), (*region[:2], *region[:2]), linear))
+            continue
         # (a primitive without x, y, width and height has the region's rectangle)
         sub = whole if user == (x, y, w, h) else layer_rect(*user, layer)
         if sub is None:
@@ -326,10 +331,13 @@ def _default_subregion(tag, inputs, users, region):
     """The user-space rectangle a primitive's missing x, y, width, height come from. Filter
     Effects 1 (filter primitive subregion): the union of the subregions of the primitives it
     references; the filter region when it references none, a standard input (SourceGraphic,
-    SourceAlpha...), or for feTile. (usvg takes the filter region in every case.)"""
+    SourceAlpha...), or for feTile. A disabled primitive's empty subregion adds nothing.
+    (usvg takes the filter region in every case.)"""
     if tag in _REGION_DEFAULT or not inputs or any(i < 0 or i >= len(users) for i in inputs):
         return region
-    rects = [users[i] for i in inputs]
+    rects = [users[i] for i in inputs if users[i] is not None]
+    if not rects:
+        return region
     x0 = min(r[0] for r in rects)
     y0 = min(r[1] for r in rects)
     x1 = max(r[0] + r[2] for r in rects)
@@ -351,7 +359,9 @@ def _user_subregion(tag, spec, region, obb_box, default=None):
             # usvg: fractions of the bounding box
             x, y, w, h = bbox_fractions_f32(fx, fy, fw, fh, bx, by, bw, bh)
         else:
-            # usvg: the filter region scaled by the fractions (and x, y added as they are)
+            # usvg: the filter region scaled by the fractions (and x, y added as they are;
+            # Filter Effects 1 has x = bbox.x + x * bbox.width, but the suite's references,
+            # subregion-and-primitiveUnits=objectBoundingBox-2, are drawn by usvg's rule)
             rx, ry, rw, rh = region
             x, y, w, h = rx * fw + fx, ry * fh + fy, rw * fw, rh * fh
     else:
