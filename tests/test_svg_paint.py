@@ -189,6 +189,29 @@ def test_pattern_transform_comes_through_href():
         assert (img[50, x, :3] == want).all(), x
 
 
+@pytest.mark.parametrize("pattern_attrs, sheet, shift", [
+    ('style="transform: translate(10px)"', "", 10),
+    ('patternTransform="translate(5)" style="transform: translate(10px)"', "", 10),
+    ('patternTransform="translate(5)"', "#a { transform: translate(10px) }", 10),
+    ('patternTransform="translate(10)" style="transform: none"', "", 0),
+    ('transform="translate(10)"', "", 0),
+])
+def test_css_transform_property_is_the_pattern_transform(pattern_attrs, sheet, shift):
+    """SVG 2 (the transform presentation attribute): patternTransform is the pattern's
+    presentation attribute for the CSS transform property, so a style attribute or sheet
+    overrides it (also through href, b using a's) and `none` removes it; the `transform`
+    attribute is no presentation attribute there. a's 20x20 tile is blue in its left half:
+    moved by ``shift``, b is blue where (x - shift) mod 20 < 10, green elsewhere."""
+    img = render(f'<style>{sheet}</style>'
+                 f'<pattern id="a" patternUnits="userSpaceOnUse" width="20" height="20" '
+                 f'{pattern_attrs}><rect width="10" height="20" fill="#00f"/>'
+                 '<rect x="10" width="10" height="20" fill="#0f0"/></pattern>'
+                 '<pattern id="b" href="#a"/><rect width="100" height="100" fill="url(#b)"/>')
+    for x in range(2, 100, 5):
+        want = (0, 0, 255) if (x - shift) % 20 < 10 else (0, 255, 0)
+        assert (img[50, x, :3] == want).all(), x
+
+
 @pytest.mark.parametrize("viewbox, drawn", [("0 0 10 0", False), ("0 0 0 10", False),
                                             ("0 0 0 0", False), ("0 0 -10 10", True),
                                             ("0 0 10 -0", False)])

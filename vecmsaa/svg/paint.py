@@ -111,8 +111,9 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
     decided on this matrix, not on its product with the element's: under a skew or rotation
     the product's determinant is rounding noise, not zero, and would paint a smear."""
-    text = inherited_attr(chain, attr)
-    m = parse_transform(text, attribute=True) if text else IDENTITY
+    text, attribute = next((t for t in map(lambda e: _own_transform(e, attr), chain) if t),
+                           (None, True))
+    m = parse_transform(text, attribute=attribute) if text and text != "none" else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
     # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)
@@ -128,6 +129,19 @@ def _units_transform(builder, chain, attr, el_style, ctx):
         ox, oy = builder.transform_origin(origin, el_style, ctx.viewport)
         m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
     return m
+
+
+def _own_transform(el, attr):
+    """(text, whether it is the attribute's) of the element's transform: the CSS `transform`
+    property where a style attribute or sheet sets it, else the ``attr`` attribute; None when
+    neither is given. SVG 2 makes gradientTransform and patternTransform those elements'
+    presentation attributes for `transform`, so CSS overrides them (Chromium 150; resvg
+    0.48.1 reads the attribute only); a `transform` attribute is none there (all three ignore
+    it), and a CSS value equal to it is taken for it."""
+    css = el.specified.get("transform")
+    if css is not None and css != el.attrs.get("transform"):
+        return css, False
+    return (el.attrs[attr], True) if attr in el.attrs else None
 
 
 def paint_server(builder, el, ctx, bbox, user_style):
