@@ -102,7 +102,8 @@ ZERO_SCALE = 2.0 ** -23
 
 
 def _units_transform(builder, chain, attr, el_style, ctx):
-    """gradientTransform/patternTransform with transform-origin. The attribute comes through
+    """gradientTransform/patternTransform (or the CSS transform property, _own_transform) with
+    transform-origin. The attribute comes through
     href like the others (SVG 2 "Using paint servers as templates": both are among the
     attributes copied from the template; resvg reads only the element's own), and a present
     one stops that even when empty or malformed. A malformed list is ignored;
@@ -111,7 +112,7 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
     decided on this matrix, not on its product with the element's: under a skew or rotation
     the product's determinant is rounding noise, not zero, and would paint a smear."""
-    text, attribute = next((t for t in map(lambda e: _own_transform(e, attr), chain) if t),
+    text, attribute = next((t for t in (_own_transform(e, attr) for e in chain) if t),
                            (None, True))
     m = parse_transform(text, attribute=attribute) if text and text != "none" else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
@@ -358,8 +359,7 @@ def _is_child(el):
 def _zero_size_viewbox(text):
     """Whether ``text`` is a viewBox list with a zero width or height and no negative one."""
     nums = parse_number_list(text) if text else None
-    return (nums is not None and len(nums) == 4 and min(nums[2], nums[3]) == 0
-            and max(nums[2], nums[3]) >= 0)
+    return nums is not None and len(nums) == 4 and min(nums[2], nums[3]) == 0
 
 
 def _tile_pixels(length, scale):
