@@ -189,6 +189,50 @@ def test_pattern_transform_comes_through_href():
         assert (img[50, x, :3] == want).all(), x
 
 
+@pytest.mark.parametrize("pattern_attrs, sheet, shift", [
+    ('style="transform: translate(10px)"', "", 10),
+    ('patternTransform="translate(5)" style="transform: translate(10px)"', "", 10),
+    ('patternTransform="translate(5)"', "#a { transform: translate(10px) }", 10),
+    ('patternTransform="translate(10)" style="transform: none"', "", 0),
+    ('transform="translate(10)"', "", 0),
+])
+def test_css_transform_property_is_the_pattern_transform(pattern_attrs, sheet, shift):
+    """SVG 2 (the transform presentation attribute): patternTransform is the pattern's
+    presentation attribute for the CSS transform property, so a style attribute or sheet
+    overrides it (also through href, b using a's) and `none` removes it; the `transform`
+    attribute is no presentation attribute there. a's 20x20 tile is blue in its left half:
+    moved by ``shift``, b is blue where (x - shift) mod 20 < 10, green elsewhere."""
+    img = render(f'<style>{sheet}</style>'
+                 f'<pattern id="a" patternUnits="userSpaceOnUse" width="20" height="20" '
+                 f'{pattern_attrs}><rect width="10" height="20" fill="#00f"/>'
+                 '<rect x="10" width="10" height="20" fill="#0f0"/></pattern>'
+                 '<pattern id="b" href="#a"/><rect width="100" height="100" fill="url(#b)"/>')
+    for x in range(2, 100, 5):
+        want = (0, 0, 255) if (x - shift) % 20 < 10 else (0, 255, 0)
+        assert (img[50, x, :3] == want).all(), x
+
+
+@pytest.mark.parametrize("viewbox, drawn", [("0 0 10 0", False), ("0 0 0 10", False),
+                                            ("0 0 0 0", False), ("0 0 -10 10", True),
+                                            ("0 0 10 -0", False)])
+def test_pattern_viewbox_of_zero_size_disables_it(viewbox, drawn):
+    """SVG 2 viewBox: a zero width or height disables rendering, so the paint's fallback
+    applies (green, or nothing without one); a negative one is an error that only voids the
+    attribute, and the 20-unit tile's 10-unit blue square is drawn as without a viewBox:
+    blue where x mod 20 < 10 and y mod 20 < 10."""
+    img = render(f'<pattern id="p" patternUnits="userSpaceOnUse" width="20" height="20" '
+                 f'viewBox="{viewbox}"><rect width="10" height="10" fill="#00f"/></pattern>'
+                 '<rect width="50" height="100" fill="url(#p) #008000"/>'
+                 '<rect x="50" width="50" height="100" fill="url(#p)"/>')
+    for y in range(2, 100, 5):
+        for x in range(2, 100, 5):
+            if drawn:
+                want = (0, 0, 255, 255) if x % 20 < 10 and y % 20 < 10 else (0, 0, 0, 0)
+            else:
+                want = (0, 128, 0, 255) if x < 50 else (0, 0, 0, 0)
+            assert tuple(img[y, x]) == want, (x, y)
+
+
 @pytest.mark.parametrize("offsets, colour_at", [
     # SVG 2 14.3.4: offsets clamp to [0, 1], and one below its predecessor takes the
     # predecessor's value

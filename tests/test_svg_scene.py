@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from vecmsaa.api import load_svg
+from vecmsaa.api import load_svg, render_svg_array
 from vecmsaa.scene.transform import apply
 from vecmsaa.raster.render import RenderOptions, pattern_tile, render_scene
 from vecmsaa.scene.nodes import (Fill, Group, ImagePaint, LinearGradient, Offset, PatternPaint,
@@ -981,6 +981,39 @@ def test_marker_ref_percentages_are_of_the_viewport_it_is_used_in(viewbox, scale
     (fill,) = [f for f in s.fills() if path_bounds(f.path)[2] - path_bounds(f.path)[0] > 1]
     x0, y0 = 100 - 20 * scale, 50 - 20 * scale
     assert path_bounds(fill.path) == pytest.approx((x0, y0, x0 + 20 * scale, y0 + 20 * scale))
+
+
+@pytest.mark.parametrize("viewbox, scale", [("", 1), ('viewBox="0 0 40 40"', 1),
+                                            ('viewBox="0 0 20 20"', 2)])
+def test_marker_content_percentages_are_of_the_viewport_it_is_used_in(viewbox, scale):
+    """A marker establishes no viewport (SVG's list: svg, symbol, image, foreignObject), so
+    width="10%" height="20%" in it are 20 and 20 marker units in a 200 x 100 document, with
+    or without a viewBox (resvg 0.48.1 and Chromium 150 agree); the viewBox only scales them."""
+    s = scene(f'<marker id="m" markerUnits="userSpaceOnUse" markerWidth="40" markerHeight="40" '
+              f'overflow="visible" {viewbox}><rect width="10%" height="20%"/></marker>'
+              '<path d="M 100 50 L 150 50" marker-start="url(#m)"/>',
+              'width="200" height="100"')
+    (fill,) = [f for f in s.fills() if path_bounds(f.path)[2] - path_bounds(f.path)[0] > 1]
+    assert path_bounds(fill.path) == pytest.approx((100, 50, 100 + 20 * scale, 50 + 20 * scale))
+
+
+def test_pattern_percentages_in_a_marker_are_of_the_viewport_it_is_used_in():
+    """A userSpaceOnUse pattern of width="10%" height="20%" (20 x 20 units in a 200 x 100
+    document) filling a marker's 40-unit square, under a viewBox that halves nothing
+    (0 0 40 40 in a 40-unit viewport): four cells, each green in its top-left quarter."""
+    img = render_svg_array(
+        f'<svg {NS} width="200" height="100"><defs>'
+        '<pattern id="p" patternUnits="userSpaceOnUse" width="10%" height="20%">'
+        '<rect width="10" height="10" fill="#008000"/></pattern></defs>'
+        '<marker id="m" markerUnits="userSpaceOnUse" markerWidth="40" markerHeight="40" '
+        'viewBox="0 0 40 40"><rect width="40" height="40" fill="url(#p)"/></marker>'
+        '<path d="M 100 50 L 150 50" marker-start="url(#m)"/></svg>'.encode())
+    cell = np.zeros((40, 40), bool)
+    for y in (0, 20):
+        for x in (0, 20):
+            cell[y:y + 10, x:x + 10] = True
+    alpha = img[50:90, 100:140, 3]
+    assert (alpha[cell] == 255).all() and (alpha[~cell] == 0).all()
 
 
 def test_markers_are_placed_on_vertices():

@@ -19,8 +19,8 @@ from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, S
 from .color import parse_svg_color as parse_color
 from .document import inherited_attr
 from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
-                    row_scale_f32, parse_aspect, parse_opacity, parse_transform, parse_viewbox,
-                    split_length, viewbox_transform)
+                    row_scale_f32, parse_aspect, parse_number_list, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, viewbox_transform)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 #: what a paint server with a singular transform (element, gradientTransform, patternTransform)
@@ -102,7 +102,8 @@ ZERO_SCALE = 2.0 ** -23
 
 
 def _units_transform(builder, chain, attr, el_style, ctx):
-    """gradientTransform/patternTransform with transform-origin. The attribute comes through
+    """gradientTransform/patternTransform (or the CSS transform property, _own_transform) with
+    transform-origin. The attribute comes through
     href like the others (SVG 2 "Using paint servers as templates": both are among the
     attributes copied from the template; resvg reads only the element's own), and a present
     one stops that even when empty or malformed. A malformed list is ignored;
@@ -111,8 +112,9 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     matrices (matrix(1 2 2 4 0 0)) are None: the paint then paints nothing (NO_PAINT). That is
     decided on this matrix, not on its product with the element's: under a skew or rotation
     the product's determinant is rounding noise, not zero, and would paint a smear."""
-    text = inherited_attr(chain, attr)
-    m = parse_transform(text, attribute=True) if text else IDENTITY
+    text, attribute = next((t for t in (_own_transform(e, attr) for e in chain) if t),
+                           (None, True))
+    m = parse_transform(text, attribute=attribute) if text and text != "none" else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
     # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)
@@ -128,6 +130,19 @@ def _units_transform(builder, chain, attr, el_style, ctx):
         ox, oy = builder.transform_origin(origin, el_style, ctx.viewport)
         m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
     return m
+
+
+def _own_transform(el, attr):
+    """(text, whether it is the attribute's) of the element's transform: the CSS `transform`
+    property where a style attribute or sheet sets it, else the ``attr`` attribute; None when
+    neither is given. SVG 2 makes gradientTransform and patternTransform those elements'
+    presentation attributes for `transform`, so CSS overrides them (Chromium 150; resvg
+    0.48.1 reads the attribute only); a `transform` attribute is none there (all three ignore
+    it), and a CSS value equal to it is taken for it."""
+    css = el.specified.get("transform")
+    if css is not None and css != el.attrs.get("transform"):
+        return css, False
+    return (el.attrs[attr], True) if attr in el.attrs else None
 
 
 def paint_server(builder, el, ctx, bbox, user_style):
@@ -224,7 +239,13 @@ def pattern(builder, el, ctx, bbox):
     obb = inherited_attr(chain, "patternUnits", "objectBoundingBox") != "userSpaceOnUse"
     content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse")
                    == "objectBoundingBox")
-    vb = parse_viewbox(inherited_attr(chain, "viewBox"))
+    vb_text = inherited_attr(chain, "viewBox")
+    vb = parse_viewbox(vb_text)
+    if vb is None and _zero_size_viewbox(vb_text):
+        # SVG 2: a viewBox of zero width or height disables rendering (a negative one is an
+        # error that only voids the attribute); the paint's fallback then applies, as in
+        # Chromium 150 and Firefox (resvg 0.48.1 draws the content without the viewBox)
+        return None
     vp = ctx.viewport
 
     def attr(name, axis):
@@ -333,6 +354,12 @@ _TREE_ELEMENTS = frozenset(
 
 def _is_child(el):
     return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
+
+
+def _zero_size_viewbox(text):
+    """Whether ``text`` is a viewBox list with a zero width or height and no negative one."""
+    nums = parse_number_list(text) if text else None
+    return nums is not None and len(nums) == 4 and min(nums[2], nums[3]) == 0
 
 
 def _tile_pixels(length, scale):
