@@ -242,13 +242,14 @@ def marker_layout(builder, marker, stroke_width, ctx):
         sx, sy = matrix_scale(vb_m)
         scaling = (sx, 0.0, 0.0, sy, 0.0, 0.0)
         clip_rect = vb
-        viewport = (vb[2], vb[3])
     else:
         scaling = (scale, 0.0, 0.0, scale, 0.0, 0.0)
         clip_rect = (0.0, 0.0, mw, mh)
-        viewport = ctx.viewport
-    # percentages of the viewport markerWidth's are of, not of the viewBox (SVG 2 leaves it
-    # unsaid; resvg 0.48.1 and Chromium 150 both take the viewport the marker is used in)
+    # percentages, of refX and of the content alike, are of the viewport the marker is used
+    # in, not of its viewBox: SVG 2 (coords, "Elements that establish SVG viewports"): "the
+    # pattern and marker elements do not create a new viewport, despite accepting a viewBox
+    # attribute"; resvg 0.48.1 and Chromium 150 agree
+    viewport = ctx.viewport
     ref_x = get("refX", "x", 0.0)
     ref_y = get("refY", "y", 0.0)
     if not builder.overflow_hidden(marker, style):
