@@ -1015,6 +1015,24 @@ def test_pattern_percentages_in_a_marker_are_of_the_viewport_it_is_used_in():
     alpha = img[50:90, 100:140, 3]
     assert (alpha[cell] == 255).all() and (alpha[~cell] == 0).all()
 
+@pytest.mark.parametrize("viewbox, scale", [("", 1), ('viewBox="0 0 40 25"', 2)])
+def test_gradient_percentages_in_a_marker_are_of_the_viewport_it_is_used_in(viewbox, scale):
+    """SVG 2 (coords, "Elements that establish SVG viewports"): a marker creates no viewport
+    despite its viewBox, so percentages in its content are of the 200 x 100 document's: a
+    rect's width="50%" is 100 marker units (twice that in pixels under the viewBox's scale 2,
+    not 50% of the viewBox's 40), and so is a user-space gradient's x2="50%" (resvg 0.48.1
+    and Chromium 150 draw it so; it was 20 units under the viewBox)."""
+    s = scene('<linearGradient id="g" gradientUnits="userSpaceOnUse" x2="50%">'
+              '<stop offset="0" stop-color="blue"/><stop offset="1" stop-color="red"/>'
+              '</linearGradient>'
+              f'<marker id="m" markerUnits="userSpaceOnUse" markerWidth="80" markerHeight="50" '
+              f'overflow="visible" {viewbox}><rect width="50%" height="10" fill="url(#g)"/>'
+              '</marker><path d="M 0 0 L 150 50" marker-start="url(#m)"/>',
+              'width="200" height="100"')
+    (fill,) = [f for f in s.fills() if isinstance(f.paint, LinearGradient)]
+    assert path_bounds(fill.path) == pytest.approx((0, 0, 100 * scale, 10 * scale))
+    assert (fill.paint.x1, fill.paint.x2) == pytest.approx((0, 100))
+
 
 def test_markers_are_placed_on_vertices():
     s = scene('<marker id="m" markerWidth="2" markerHeight="2" refX="1" refY="1" '
