@@ -189,7 +189,10 @@ def _save_strip(images, path):
     import numpy as np
     from PIL import Image
 
-    h, w = next(i.shape[:2] for i in images if i is not None)
+    sizes = [i.shape[:2] for i in images if i is not None]
+    if not sizes:                   # every renderer refused the file: nothing to show
+        return
+    h, w = sizes[0]
     strip = Image.new("RGBA", (3 * w + 8, h), (255, 255, 255, 255))
     for k, image in enumerate(images):
         if image is not None and image.shape[:2] == (h, w):
