@@ -764,3 +764,19 @@ def test_mask_mode_of_the_masked_element_overrides_mask_type(mask_type, mode):
     assert np.array_equal(got, truth)
     if want == "alpha":     # and the two kinds do differ here
         assert not np.array_equal(got, render_svg_array(doc("luminance", None)))
+
+
+@pytest.mark.parametrize("how", ['mask-type="ALPHA"', 'mask-type="Alpha"',
+                                 'style="mask-type: ALPHA"', 'mask-type=" alpha "'])
+def test_mask_type_keywords_are_case_insensitive(how):
+    """mask-type is a CSS property (a presentation attribute too) and CSS keywords match
+    ASCII case-insensitively (CSS Values 4 §2.1). Truth: an alpha mask of a colour at
+    opacity 0.6 lets 0.6 of the element through, whatever the colour (a luminance mask of
+    #804020 would let 0.6 × its luminance, about 0.16, through)."""
+    from vecmsaa.api import render_svg_array
+
+    img = render_svg_array(
+        '<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">'
+        f'<mask id="m" {how}><rect width="20" height="20" fill="#804020" fill-opacity="0.6"/>'
+        '</mask><rect width="20" height="20" fill="blue" mask="url(#m)"/></svg>')
+    assert abs(int(img[10, 10, 3]) - round(0.6 * 255)) <= 1

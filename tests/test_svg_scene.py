@@ -755,17 +755,55 @@ def test_clip_path_object_bounding_box_units():
 
 
 @pytest.mark.parametrize("attr, drawn", [
-    ('clip-path="url(#r)"', False), ('mask="url(#r)"', False),     # another kind of element
+    ('clip-path="url(#r)"', True), ('mask="url(#r)"', False),     # another kind of element
     ('clip-path="url(#missing)"', True), ('mask="url(#missing)"', True),
     ('clip-path="url(#c)"', True), ('mask="url(#m)"', True)])
-def test_clip_and_mask_references_to_other_elements_hide_the_element(attr, drawn):
-    # usvg converts the reference as a clipPath / mask: another element fails, and so does
-    # the element using it; a missing one is no reference at all
+def test_clip_and_mask_references_to_other_elements(attr, drawn):
+    # CSS Masking 1: a clip-path URL to an element that is not a clipPath applies no clipping
+    # (§5.1), a mask reference to one that is not a mask is a transparent black layer (§7.1);
+    # a missing mask is no reference at all, as in resvg and browsers
     s = scene('<clipPath id="c"><rect width="9" height="9" clip-path="url(#c)"/></clipPath>'
               '<mask id="m"><rect width="9" height="9" fill="white" mask="url(#m)"/></mask>'
               f'<defs><rect id="r" width="5" height="5"/></defs><rect width="20" height="20" {attr}/>')
     assert bool(s.fills()) == drawn
 
+
+@pytest.mark.parametrize("where", ["element", "clipPath", "clip child"])
+def test_a_clip_path_naming_another_kind_of_element_clips_nothing(where):
+    # CSS Masking 1 §5.1: "If the URI reference is not valid (e.g it points to [...] an object
+    # that is not a clipPath element), no clipping is applied": the rect is drawn whole, or
+    # clipped by the clipPath's own child alone
+    bad = 'clip-path="url(#g)"'
+    clip = {"element": "", "clipPath": bad, "clip child": ""}[where]
+    child = bad if where == "clip child" else ""
+    s = scene(f'<linearGradient id="g"/><clipPath id="c" {clip}>'
+              f'<rect x="10" y="20" width="30" height="40" {child}/></clipPath>'
+              f'<rect width="100" height="100" fill="green" '
+              f'{bad if where == "element" else "clip-path=" + chr(34) + "url(#c)" + chr(34)}/>')
+    alpha = render_scene(s)[..., 3]
+    want = np.zeros((100, 100))
+    if where == "element":
+        want[:] = 1
+    else:
+        want[20:60, 10:40] = 1
+    assert np.allclose(alpha, want, atol=1e-6)
+
+
+@pytest.mark.parametrize("own, hole", [
+    ('clip-rule="bogus"', True), ('clip-rule="evenodd nonzero"', True),
+    ('clip-rule="EVENODD"', True), ('clip-rule="nonzero"', False), ('', True),
+    ('clip-rule="initial"', False)])
+def test_an_invalid_clip_rule_on_a_clip_child_inherits_the_clip_paths(own, hole):
+    # an invalid presentation attribute is dropped (CSS Syntax 3 §8, SVG 2 §6.8), so the
+    # inherited clip-rule of the clipPath applies; keywords match case-insensitively. The
+    # child: a 60-wide square with a 20-wide square inside it, both turning the same way,
+    # so evenodd leaves the inner square out and nonzero keeps it.
+    s = scene('<clipPath id="c" clip-rule="evenodd">'
+              f'<path d="M20 20 h60 v60 h-60 z M40 40 h20 v20 h-20 z" {own}/></clipPath>'
+              '<rect width="100" height="100" clip-path="url(#c)"/>')
+    alpha = render_scene(s)[..., 3]
+    assert alpha[30, 30] == pytest.approx(1)
+    assert alpha[50, 50] == pytest.approx(0 if hole else 1)
 
 def test_mask_region_and_kind():
     s = scene('<mask id="m" style="mask-type: alpha"><rect width="100" height="100" fill="white"/>'
@@ -1116,6 +1154,23 @@ def test_marker_overflow_inherit_takes_the_parents_value(parent, clipped):
     assert img[45, 45, 3] == (0 if clipped else 255)
 
 
+
+@pytest.mark.parametrize("target", ["symbol", "svg"])
+@pytest.mark.parametrize("use_overflow, clipped", [
+    ('overflow="hidden"', True), ('overflow="visible"', False), ("", False)])
+def test_overflow_inherit_in_a_use_takes_the_use_elements_value(target, use_overflow, clipped):
+    # a use's instance inherits from the use (SVG 2 §5.6.3, the rendering tree), so a symbol's
+    # or svg's overflow="inherit" takes the use's computed overflow (visible when not set,
+    # a use being no viewport element), not that of the defs it stands in
+    from vecmsaa.api import render_svg_array
+    tag = "symbol" if target == "symbol" else "svg"
+    img = render_svg_array(
+        f'<svg {NS} width="100" height="100"><defs><{tag} id="s" width="40" height="40" '
+        f'overflow="inherit"><rect x="-20" y="-20" width="80" height="80"/></{tag}></defs>'
+        f'<use href="#s" x="30" y="30" width="40" height="40" {use_overflow}/></svg>')
+    assert img[50, 50, 3] == 255                  # inside the viewport (30..70): drawn
+    assert img[20, 20, 3] == (0 if clipped else 255)   # at -10 from its corner: outside
+
 def _clipped_groups(s):
     stack, out = [s.root], []
     while stack:
@@ -1373,14 +1428,30 @@ def test_markers_ignore_display_on_the_marker():
     assert len(s.fills()) == 1
 
 
-def test_linear_rgb_mask_content():
-    s = scene('<mask id="m" color-interpolation="linearRGB">'
-              '<rect width="10" height="10" fill="#808080"/></mask>'
-              '<rect width="10" height="10" mask="url(#m)"/>')
-    (g,) = s.root.children
-    (f,) = g.mask.content.children
-    # sRGB 128/255 → linear ((0.50196 + 0.055) / 1.055) ** 2.4
-    assert f.paint.color[:3] == pytest.approx((0.21586,) * 3, abs=1e-4)
+def _srgb_to_linear(v):
+    # IEC 61966-2-1, written out here as the truth
+    return v / 12.92 if v <= 0.04045 else ((v + 0.055) / 1.055) ** 2.4
+
+
+@pytest.mark.parametrize("how", ['color-interpolation="linearRGB"',
+                                 'style="color-interpolation: LINEARRGB"'])
+def test_a_linear_rgb_mask_composites_and_takes_the_luminance_in_linear_rgb(how):
+    # SVG 1.1 §14.4: with color-interpolation linearRGB the luminance is of linearRGB values,
+    # and the property (inherited by the mask's children) makes them composite in linearRGB
+    # too; a gradient still interpolates in sRGB (its own color-interpolation, defined
+    # outside the mask), so its colours are converted after interpolation.
+    # Rows 0-9: white to black across 100 px; rows 10-19: #808080 at opacity 0.5 over white.
+    s = scene(f'<linearGradient id="g"><stop offset="0" stop-color="white"/>'
+              f'<stop offset="1" stop-color="black"/></linearGradient><mask id="m" {how}>'
+              '<rect width="100" height="10" fill="url(#g)"/>'
+              '<rect y="10" width="100" height="10" fill="white"/>'
+              '<rect y="10" width="100" height="10" fill="#808080" opacity="0.5"/></mask>'
+              '<rect width="100" height="20" fill="white" mask="url(#m)"/>',
+              attrs='width="100" height="20"')
+    alpha = render_scene(s)[..., 3]
+    for x in (10, 30, 50, 70, 90):
+        assert alpha[5, x] == pytest.approx(_srgb_to_linear(1 - (x + 0.5) / 100), abs=2e-3)
+    assert alpha[15, 50] == pytest.approx(0.5 * _srgb_to_linear(128 / 255) + 0.5, abs=2e-3)
 
 
 def test_element_with_a_broken_filter_reference_is_not_drawn():

@@ -948,19 +948,22 @@ class Builder:
     def viewport_clip(self, x, y, w, h, ctx) -> Group:
         return Group(children=[Fill(rect_path(x, y, w, h).transformed(ctx.transform))])
 
-    def overflow_hidden(self, el, style):
+    def overflow_hidden(self, el, style, parent=None):
+        """``parent``: the element ``inherit`` takes the value of when it is not the document
+        parent (the <use> of a symbol or svg: the parent in the rendering tree)."""
         v = (el.specified.get("overflow") or "").strip().lower()
         if v in ("visible", "auto", "initial", "unset"):   # SVG: auto is visible
             return False
         if v in ("hidden", "scroll", "clip"):
             return True
-        if v == "inherit" and el.parent is not None:
-            return self.overflow_hidden(el.parent, style)
+        parent = el.parent if parent is None else parent
+        if v == "inherit" and parent is not None:
+            return self.overflow_hidden(parent, style)
         # none or an invalid value (CSS drops the declaration): the UA style sheet's
         # `svg:not(:root), symbol, image, marker, pattern { overflow: hidden }`
         return el.tag in CLIPPING_BY_DEFAULT and el.parent is not None
 
-    def nested_svg(self, el, ctx, style, size_override=None, effects=False):
+    def nested_svg(self, el, ctx, style, size_override=None, effects=False, parent=None):
         """The content of a nested <svg> under its viewport transform (x/y, viewBox) and
         viewport clip. ``effects``: with its clip-path, mask, filter and opacity applied in
         that inner coordinate system, where the root <svg> has them too (and browsers and
@@ -974,7 +977,7 @@ class Builder:
             w = w if ow is None else ow
             h = h if oh is None else oh
         empty = w <= 0 or h <= 0
-        if empty and self.overflow_hidden(el, style):
+        if empty and self.overflow_hidden(el, style, parent):
             return []           # clipped to an empty viewport
         # an empty viewport disables nothing (SVG 2 dropped SVG 1.1's rule): with overflow
         # visible, resvg and Chromium draw the content at x/y, the viewBox left out as
@@ -994,7 +997,7 @@ class Builder:
         nodes = self.children(el, inner, style)
         if effects:
             nodes = self.wrap(el, style, inner, nodes)
-        if nodes and not (ctx.geometry or ctx.clip) and self.overflow_hidden(el, style):
+        if nodes and not (ctx.geometry or ctx.clip) and self.overflow_hidden(el, style, parent):
             # the viewport clips the filtered result too (a filter region may reach past it)
             clipped = Group(children=nodes, clip=self.viewport_clip(x, y, w, h, ctx))
             if (effects and len(nodes) == 1 and isinstance(nodes[0], Group)
@@ -1064,7 +1067,8 @@ class Builder:
                 return []
             if m is not IDENTITY:
                 c = replace(c, transform=compose(c.transform, m), chain=c.chain + (m,))
-            return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True)
+            return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True,
+                                   parent=el)
         return self.element(target, c, style)
 
     def symbol(self, sym, use_el, ctx, use_style):
@@ -1091,7 +1095,8 @@ class Builder:
         # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
         inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
         nodes = self.children(sym, inner, style)
-        if not nodes or ctx.geometry or ctx.clip or not self.overflow_hidden(sym, style):
+        if (not nodes or ctx.geometry or ctx.clip
+                or not self.overflow_hidden(sym, style, use_el)):
             return self.wrap(sym, style, ctx, nodes)
         nodes = [Group(children=nodes, clip=self.viewport_clip(sx, sy, w, h, ctx))]
         return self.wrap(sym, style, ctx, nodes)
@@ -1234,9 +1239,9 @@ class Builder:
         except KeyError:
             antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
         if ctx.clip:
-            rule = style.get("clip-rule").strip()
-            return [Fill(path.transformed(ctx.transform), Solid((0, 0, 0, 1)),
-                         rule="evenodd" if rule == "evenodd" else "nonzero",
+            # an invalid value is dropped, so the parent's applies (CSS Syntax 3 §8)
+            rule = style.get_valid("clip-rule", _clip_rule, "nonzero")
+            return [Fill(path.transformed(ctx.transform), Solid((0, 0, 0, 1)), rule=rule,
                          antialias=antialias)]
         if bbox is None:
             bbox = LazyBounds(path)
@@ -1694,6 +1699,11 @@ def conditions_pass(el):
 
 
 #: what Builder._draw_plan reads of a style (``marker`` in case a shorthand is kept as given)
+def _clip_rule(value):
+    value = value.lower()
+    return value if value in ("nonzero", "evenodd") else None
+
+
 _DRAW_PLAN_PROPERTIES = frozenset({"shape-rendering", "paint-order", "fill-rule", "marker",
                                    "marker-start", "marker-mid", "marker-end"})
 
