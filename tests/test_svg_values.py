@@ -70,3 +70,12 @@ def test_hidden_and_evenodd_in_capitals_draw_what_the_keywords_mean():
     # the star's centre is wound twice: inside for nonzero, outside for evenodd
     assert render(STAR.format('fill-rule="EVENODD"'))[30, 30, 3] == 0
     assert render(STAR.format(''))[30, 30, 3] == 255
+
+
+@pytest.mark.parametrize("decl", ['color="currentColor"', 'style="color: currentColor"'])
+def test_current_color_as_the_colour_property_is_inherit(decl):
+    """CSS Color 4 §4.4: ``color: currentColor`` is ``color: inherit``, so the shape's
+    currentColor fill is its parent's colour, blue."""
+    image = render(f'<g color="blue"><rect width="60" height="60" {decl} fill="currentColor"/>'
+                   '</g>')
+    assert tuple(image[30, 30]) == (0, 0, 255, 255)

@@ -1050,6 +1050,10 @@ def _specified(spec, found, style_attr, warnings):
                 spec[name] = value = "inherit" if name in INHERITED else "initial"
             if value == "initial" and name in _PAINT_INITIAL:   # §7.1
                 spec[name] = value = INITIAL[name]
+        if name == "color" and value.strip() == "currentColor":
+            # CSS Color 4 §4.4: currentColor as the color property's own value is inherit
+            # (resvg 0.48.1 takes it as invalid: black)
+            spec[name] = value = "inherit"
         if name in UNSUPPORTED_PROPERTIES:
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
