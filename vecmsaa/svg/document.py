@@ -987,7 +987,7 @@ class Document:
         return style
 
 
-#: text properties whose values are keywords, numbers and lengths only: CSS reads keywords
+#: properties whose values are keywords, numbers and lengths only: CSS reads keywords
 #: (and units) ASCII case-insensitively (CSS Values 4 §2.1), so their values are lower-cased
 #: here, once for attributes and declarations alike (``font-style="ITALIC"``,
 #: ``text-anchor="Middle"``; resvg 0.44 and 0.48.1 take such values as invalid)
@@ -999,6 +999,14 @@ KEYWORD_PROPERTIES = {
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",
     "text-anchor", "text-decoration", "text-orientation", "text-rendering", "text-transform",
     "unicode-bidi", "white-space", "word-spacing", "writing-mode",
+    # painting, compositing and display properties of lower-case keywords only
+    # (``visibility="HIDDEN"``, ``display: None``, ``fill-rule="EvenOdd"``: Chromium 150 reads
+    # them as CSS does, resvg 0.48.1 as invalid). The camel-case keywords of the rendering
+    # hints and colour spaces (crispEdges, linearRGB) stay as written: their readers compare
+    # them exactly, as resvg does.
+    "clip-rule", "display", "fill-rule", "isolation", "mask-mode", "mask-type", "mix-blend-mode",
+    "overflow", "paint-order", "stroke-linecap", "stroke-linejoin", "transform-box",
+    "vector-effect", "visibility",
 }
 _CSS_WIDE_INITIALS = frozenset("iIuUrR")   # of inherit, initial, unset, revert: any property
 #: properties whose ``initial`` is replaced by their initial value in the cascade (text
@@ -1042,6 +1050,10 @@ def _specified(spec, found, style_attr, warnings):
                 spec[name] = value = "inherit" if name in INHERITED else "initial"
             if value == "initial" and name in _PAINT_INITIAL:   # §7.1
                 spec[name] = value = INITIAL[name]
+        if name == "color" and value.strip() == "currentColor":
+            # CSS Color 4 §4.4: currentColor as the color property's own value is inherit
+            # (resvg 0.48.1 takes it as invalid: black)
+            spec[name] = value = "inherit"
         if name in UNSUPPORTED_PROPERTIES:
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:

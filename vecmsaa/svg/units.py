@@ -556,15 +556,18 @@ def viewbox_transform_f32(viewbox, aspect, width, height):
     return (float(sx), 0.0, 0.0, float(sy), float(tx), float(ty))
 
 
+#: an <alpha-value>: a number or a percentage, the ``%`` right after the number ("50 %" is two
+#: tokens, so no value: CSS Syntax 3 §4.3.3), whitespace around it
+_OPACITY = re.compile(rf"[ \t\n\r\f]*({NUMBER_RE})(%?)[ \t\n\r\f]*")
+
+
 @functools.lru_cache(maxsize=256)
 def parse_opacity(value):
-    if value is None:
+    """An opacity property's value clamped to [0, 1]; 1 when it is missing or invalid."""
+    m = _OPACITY.fullmatch(value) if value is not None else None
+    if m is None:
         return 1.0
-    v = value.strip()
-    try:
-        f = float(v[:-1]) / 100 if v.endswith("%") else float(v)
-    except ValueError:
-        return 1.0
+    f = float(m.group(1)) / (100 if m.group(2) else 1)
     if not math.isfinite(f):
         return 1.0
     return min(1.0, max(0.0, f))
