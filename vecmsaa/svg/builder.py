@@ -1700,8 +1700,7 @@ def conditions_pass(el):
 
 #: what Builder._draw_plan reads of a style (``marker`` in case a shorthand is kept as given)
 def _clip_rule(value):
-    value = value.lower()
-    return value if value in ("nonzero", "evenodd") else None
+    return value if value in ("nonzero", "evenodd") else None    # lower-cased by the cascade
 
 
 _DRAW_PLAN_PROPERTIES = frozenset({"shape-rendering", "paint-order", "fill-rule", "marker",

@@ -132,11 +132,10 @@ def masks(builder, value, ctx, bbox_fn, mode=None):
         content = Group(children=nodes, clip=region)
         # CSS Masking 1: the masked element's mask-mode (its first layer's) decides, and
         # match-source (the initial value) leaves it to the mask element's mask-type
-        kind = (mode or "").split(",")[0].strip().lower()
+        # (both keywords come lower-cased from the cascade: document.KEYWORD_PROPERTIES)
+        kind = (mode or "").split(",")[0].strip()
         if kind not in ("alpha", "luminance"):
-            # a CSS keyword, so ASCII case-insensitive (CSS Values 4 §2.1), as in Chromium
-            kind = ("alpha" if (style.get("mask-type") or "").strip().lower() == "alpha"
-                    else "luminance")
+            kind = "alpha" if (style.get("mask-type") or "").strip() == "alpha" else "luminance"
         if (kind == "luminance"
                 and (style.get("color-interpolation") or "").strip().lower() == "linearrgb"):
             to_linear_rgb(content)
