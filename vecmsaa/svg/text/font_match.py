@@ -136,9 +136,9 @@ def weight_number(value):
 def _weight(style):
     """Computed font-weight: the keywords and any number from 1 to 1000 (CSS Fonts 4 §2.2;
     resvg 0.44 and 0.48.1 take the nine multiples of 100 only, and keep the parent's weight
-    for 650); ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100 away (200 from 400),
-    within 100..900, as resvg (usvg's resolve_font_weight) computes them; an invalid value
-    (1500, 0) keeps the parent's."""
+    for 650); ``bolder`` and ``lighter`` by §2.2's table of the parent's weight (as Chromium
+    150; resvg adds or takes away 100, 300 from 400 up: lighter from 700 is 600, so Bold, where
+    the table gives 400); an invalid value (1500, 0) keeps the parent's."""
     return style.computed(("computed", "font-weight"), _own_weight)
 
 
@@ -152,15 +152,25 @@ def kerning_attribute(el):
     return el.computed("kerning", _nearest_kerning)
 
 
+def bolder(weight):
+    """CSS Fonts 4 §2.2's table of ``bolder`` from the inherited weight."""
+    return 400 if weight < 350 else 700 if weight < 550 else 900 if weight < 900 else weight
+
+
+def lighter(weight):
+    """CSS Fonts 4 §2.2's table of ``lighter`` from the inherited weight."""
+    return weight if weight < 100 else 100 if weight < 550 else 400 if weight < 750 else 700
+
+
 def _own_weight(style, parent):
     parent = 400 if parent is None else parent
     v = (style.specified.get("font-weight") or "").strip()
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
-        return parent if parent >= 900 else min(900, parent + (300 if parent == 400 else 100))
+        return bolder(parent)
     if v == "lighter":
-        return parent if parent <= 100 else max(100, parent - (200 if parent == 400 else 100))
+        return lighter(parent)
     w = weight_number(v)
     return parent if w is None else w
 
