@@ -123,3 +123,18 @@ def test_font_feature_properties_are_no_presentation_attributes(prop, value):
     attr = value.replace("'", "&apos;")
     assert np.array_equal(_text(f'{prop}="{attr}"', text, "Noto Serif"), plain)
     assert not np.array_equal(_text(f'style="{prop}: {value}"', text, "Noto Serif"), plain)
+
+
+@needs_suite
+def test_a_modifier_no_face_has_is_drawn_as_the_missing_glyph_after_its_emoji():
+    # U+1F3FD (a skin tone) is in none of the suite's fonts; after the COLR dog it is drawn as
+    # the first family's missing glyph, as an unassigned character (U+0378, no extender) is:
+    # not dropped into the dog's cluster of the COLR face (whose missing glyph is empty)
+    for name in os.listdir(FONTS):
+        if name.endswith((".ttf", ".otf")):
+            assert 0x1F3FD not in TTFont(os.path.join(FONTS, name)).getBestCmap(), name
+    family = "Noto Sans, Noto Color Emoji COLR"
+    dog = _text("", "&#x1F436;", family)
+    with_modifier = _text("", "&#x1F436;&#x1F3FD;", family)
+    assert not np.array_equal(with_modifier, dog)
+    assert np.array_equal(with_modifier, _text("", "&#x1F436;&#x378;", family))

@@ -544,8 +544,8 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
     makes resvg's: the face for the first such character draws every one it can, and when
     it can draw the whole chunk it draws all of it, so a chunk of Latin and CJK text under a
     Latin font is one CJK run; else the next missing character picks the next face.
-    Combining marks stay with their base character's face (when it has them), variation
-    selectors always do. ``loaded``: a document_faces
+    Combining marks and emoji modifiers stay with their base character's face (when it has
+    them), variation selectors always do. ``loaded``: a document_faces
     dict to load faces through (else one for this call)."""
     primary, keys = {}, []
     loaded = {} if loaded is None else loaded
@@ -578,9 +578,10 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                 if keys[i] == key and i in chosen:
                     faces[i] = chosen[i]
     for i in range(1, len(chars)):
-        if faces[i - 1] is not None and (_is_variation_selector(chars[i].ch) or (
-                unicodedata.category(chars[i].ch).startswith("M")
-                and faces[i - 1].has_char(chars[i].ch))):
+        ch = chars[i].ch
+        if faces[i - 1] is not None and (_is_variation_selector(ch) or (
+                (unicodedata.category(ch).startswith("M") or 0x1F3FB <= ord(ch) <= 0x1F3FF)
+                and faces[i - 1].has_char(ch))):
             faces[i] = faces[i - 1]
     return faces
 
@@ -631,6 +632,12 @@ def _is_control(ch):
     variation selectors (default ignorables, Unicode §5.21: a face that lacks a variation
     selector draws its base's default glyph; the selector picks no other face)."""
     return unicodedata.category(ch) in ("Cc", "Cf") or _is_variation_selector(ch)
+
+
+def needs_face(ch):
+    """Whether a character is drawn with a face of its own choosing (not a control, format
+    character or variation selector)."""
+    return not _is_control(ch)
 
 
 def _is_variation_selector(ch):
