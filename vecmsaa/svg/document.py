@@ -47,7 +47,7 @@ PROPERTIES = {
     "font-kerning", "font-size", "font-size-adjust", "font-stretch", "font-style",
     "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
     "font-variant-numeric", "font-variant-position", "font-variation-settings", "font-weight",
-    "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
+    "font-optical-sizing", "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
     "isolation", "letter-spacing", "lighting-color", "marker", "marker-end", "marker-mid",
     "marker-start", "mask", "mask-mode", "mask-type", "mix-blend-mode", "opacity", "overflow",
     "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
@@ -66,6 +66,10 @@ CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
+            # CSS Fonts 4's feature properties, none of SVG 2's presentation attributes
+            # (Chromium 150 ignores them as attributes too; resvg ignores them all)
+            "font-feature-settings", "font-variant-caps", "font-variant-east-asian",
+            "font-variant-ligatures", "font-variant-numeric", "font-variant-position",
             "transform-box",  # not in SVG 2's list of presentation attributes
             # CSS Transforms 2's individual transforms (a rotate attribute is text's glyph
             # rotation)
@@ -90,7 +94,7 @@ INHERITED = {
     "font-family", "font-feature-settings", "font-kerning", "font-size", "font-size-adjust",
     "font-stretch", "font-style", "font-variant", "font-variant-caps",
     "font-variant-east-asian", "font-variant-ligatures", "font-variant-numeric",
-    "font-variant-position", "font-variation-settings", "font-weight",
+    "font-variant-position", "font-variation-settings", "font-weight", "font-optical-sizing",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
     "letter-spacing", "marker-end", "marker-mid", "marker-start", "paint-order",
     "pointer-events", "shape-rendering", "stroke", "stroke-dasharray", "stroke-dashoffset",
@@ -993,7 +997,7 @@ class Document:
 #: ``text-anchor="Middle"``; resvg 0.44 and 0.48.1 take such values as invalid)
 KEYWORD_PROPERTIES = {
     "alignment-baseline", "baseline-shift", "direction", "dominant-baseline", "font-kerning",
-    "font-size", "font-size-adjust", "font-stretch", "font-style", "font-synthesis",
+    "font-optical-sizing", "font-size", "font-size-adjust", "font-stretch", "font-style", "font-synthesis",
     "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
     "font-variant-numeric", "font-variant-position", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",

@@ -32,7 +32,7 @@ FONT_SIZE_KEYWORDS = {"xx-small", "x-small", "small", "medium", "large", "x-larg
 FONT_RESETS = {"font-style": "normal", "font-variant": "normal", "font-weight": "normal",
                "font-stretch": "normal", "line-height": "normal", "font-kerning": "auto",
                "font-size-adjust": "none", "font-feature-settings": "normal",
-               "font-variation-settings": "normal"}
+               "font-variation-settings": "normal", "font-optical-sizing": "auto"}
 
 
 _SIZED = re.compile(r"(?i)[+]?(\d+\.?\d*|\.\d+)(px|pt|pc|mm|cm|in|em|ex|%)(/|$)|"
@@ -113,6 +113,10 @@ class FontSpec:
     letter_spacing: float
     word_spacing: float
     small_caps: bool
+    #: the angle of ``font-style: oblique`` in degrees (None for normal and italic)
+    oblique: float | None = None
+    #: font-optical-sizing: auto (opsz follows the font size)
+    optical_sizing: bool = True
 
 
 _NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
@@ -132,9 +136,9 @@ def weight_number(value):
 def _weight(style):
     """Computed font-weight: the keywords and any number from 1 to 1000 (CSS Fonts 4 §2.2;
     resvg 0.44 and 0.48.1 take the nine multiples of 100 only, and keep the parent's weight
-    for 650); ``bolder`` adds 100 (300 from 400), ``lighter`` takes 100 away (200 from 400),
-    within 100..900, as resvg (usvg's resolve_font_weight) computes them; an invalid value
-    (1500, 0) keeps the parent's."""
+    for 650); ``bolder`` and ``lighter`` by §2.2's table of the parent's weight (as Chromium
+    150; resvg adds or takes away 100, 300 from 400 up: lighter from 700 is 600, so Bold, where
+    the table gives 400); an invalid value (1500, 0) keeps the parent's."""
     return style.computed(("computed", "font-weight"), _own_weight)
 
 
@@ -148,15 +152,25 @@ def kerning_attribute(el):
     return el.computed("kerning", _nearest_kerning)
 
 
+def bolder(weight):
+    """CSS Fonts 4 §2.2's table of ``bolder`` from the inherited weight."""
+    return 400 if weight < 350 else 700 if weight < 550 else 900 if weight < 900 else weight
+
+
+def lighter(weight):
+    """CSS Fonts 4 §2.2's table of ``lighter`` from the inherited weight."""
+    return weight if weight < 100 else 100 if weight < 550 else 400 if weight < 750 else 700
+
+
 def _own_weight(style, parent):
     parent = 400 if parent is None else parent
     v = (style.specified.get("font-weight") or "").strip()
     if v in WEIGHTS:
         return WEIGHTS[v]
     if v == "bolder":
-        return parent if parent >= 900 else min(900, parent + (300 if parent == 400 else 100))
+        return bolder(parent)
     if v == "lighter":
-        return parent if parent <= 100 else max(100, parent - (200 if parent == 400 else 100))
+        return lighter(parent)
     w = weight_number(v)
     return parent if w is None else w
 
@@ -173,9 +187,38 @@ def _stretch(style):
     return 100.0
 
 
+#: degrees per unit of an <angle> (CSS Values 4 §7.1)
+_ANGLE_UNITS = {"deg": 1.0, "grad": 0.9, "rad": 180.0 / math.pi, "turn": 360.0}
+
+
+def parse_font_style(value):
+    """A font-style value → (style to match, oblique angle in degrees or None), or None when
+    it is not valid (CSS Fonts 4 §2.4: ``normal | italic | oblique <angle [-90deg,90deg]>?``;
+    ``italic 10deg`` is invalid). ``oblique`` alone is 14deg. Faces are matched by CSS Fonts 4
+    §5.2 step 4b with normal faces as oblique 0deg: ``oblique 0deg`` asks for exactly them,
+    and so does a negative angle, as no face here slants backwards (the negated steps check
+    oblique values of 0deg and up before any italic); positive angles take oblique, then
+    italic faces."""
+    words = value.strip().lower().split()
+    if words in (["normal"], ["italic"]):
+        return words[0], None
+    if not words or words[0] != "oblique" or len(words) > 2:
+        return None
+    if len(words) == 1:
+        return "oblique", 14.0
+    m = _OBLIQUE_ANGLE.match(words[1])
+    if not m:
+        return None
+    angle = float(words[1][:m.start(2)]) * _ANGLE_UNITS[m.group(2)]
+    if not -90.0 <= angle <= 90.0:
+        return None
+    return ("oblique" if angle > 0 else "normal"), angle
+
+
 def _font_style(style):
-    v = (style.get("font-style") or "normal").strip().split()
-    return v[0] if v and v[0] in ("italic", "oblique") else "normal"
+    """(style to match, oblique angle): the computed font-style (inherited; an invalid
+    declaration is ignored)."""
+    return style.get_valid("font-style", parse_font_style, ("normal", None))
 
 
 def _quoted_settings(text, variations=False):
@@ -209,6 +252,12 @@ def _quoted_settings(text, variations=False):
     return out
 
 
+def _optical_sizing(style):
+    """The computed font-optical-sizing: auto (True) or none (CSS Fonts 4 §7.4; inherited,
+    an invalid declaration ignored)."""
+    return style.get_valid("font-optical-sizing", {"auto": True, "none": False}.get, True)
+
+
 def _settings(style, name):
     """The computed font-feature-settings or font-variation-settings (inherited; an invalid
     declaration is ignored; ``normal``, the initial value, is no settings)."""
@@ -239,9 +288,10 @@ def font_spec(style, ctx, el=None) -> FontSpec:
         # CSS: letter-spacing turns off optional ligatures.
         features.setdefault("liga", 0)
         features.setdefault("clig", 0)
-    return FontSpec(tuple(families), _weight(style), _font_style(style), _stretch(style), size,
+    font_style, oblique = _font_style(style)
+    return FontSpec(tuple(families), _weight(style), font_style, _stretch(style), size,
                     tuple(sorted(features.items())), tuple(sorted(variations.items())), letter,
-                    word, small_caps)
+                    word, small_caps, oblique, _optical_sizing(style))
 
 
 #: CSS Fonts 4 §6.4–6.10: font-variant-* keywords → the OpenType features they turn on (1)
@@ -464,10 +514,12 @@ def face_location(face, spec):
         loc["wght"] = spec.weight
     if "wdth" in face.axes:
         loc["wdth"] = spec.stretch
-    if "opsz" in face.axes:
+    if "opsz" in face.axes and spec.optical_sizing:
         loc["opsz"] = spec.size
-    if spec.style == "oblique" and "slnt" in face.axes:
-        loc["slnt"] = -14.0          # CSS: oblique without an angle is 14deg
+    if spec.oblique and "slnt" in face.axes:
+        # CSS Fonts 4 §5.2: slnt set to the oblique angle (OpenType's slnt counts
+        # counter-clockwise, CSS's angle clockwise: oblique 10deg is slnt -10)
+        loc["slnt"] = -spec.oblique
     if spec.style == "italic" and "ital" in face.axes:
         loc["ital"] = 1.0
     loc.update(dict(spec.variations))
@@ -492,7 +544,8 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
     makes resvg's: the face for the first such character draws every one it can, and when
     it can draw the whole chunk it draws all of it, so a chunk of Latin and CJK text under a
     Latin font is one CJK run; else the next missing character picks the next face.
-    Combining marks stay with their base character's face. ``loaded``: a document_faces
+    Combining marks and emoji modifiers stay with their base character's face (when it has
+    them), variation selectors always do. ``loaded``: a document_faces
     dict to load faces through (else one for this call)."""
     primary, keys = {}, []
     loaded = {} if loaded is None else loaded
@@ -525,8 +578,10 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                 if keys[i] == key and i in chosen:
                     faces[i] = chosen[i]
     for i in range(1, len(chars)):
-        if unicodedata.category(chars[i].ch).startswith("M") and faces[i - 1] is not None \
-                and faces[i - 1].has_char(chars[i].ch):
+        ch = chars[i].ch
+        if faces[i - 1] is not None and (_is_variation_selector(ch) or (
+                (unicodedata.category(ch).startswith("M") or 0x1F3FB <= ord(ch) <= 0x1F3FF)
+                and faces[i - 1].has_char(ch))):
             faces[i] = faces[i - 1]
     return faces
 
@@ -573,7 +628,21 @@ def _draws(face, ch):
 
 
 def _is_control(ch):
-    return unicodedata.category(ch) in ("Cc", "Cf")
+    """Whether a character needs no face of its own: controls, format characters and
+    variation selectors (default ignorables, Unicode §5.21: a face that lacks a variation
+    selector draws its base's default glyph; the selector picks no other face)."""
+    return unicodedata.category(ch) in ("Cc", "Cf") or _is_variation_selector(ch)
+
+
+def needs_face(ch):
+    """Whether a character is drawn with a face of its own choosing (not a control, format
+    character or variation selector)."""
+    return not _is_control(ch)
+
+
+def _is_variation_selector(ch):
+    cp = ord(ch)
+    return 0xFE00 <= cp <= 0xFE0F or 0xE0100 <= cp <= 0xE01EF
 
 
 def _load(info):

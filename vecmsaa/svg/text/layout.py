@@ -18,7 +18,7 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import (assign_faces, document_faces, face_location, font_database,
+from .font_match import (assign_faces, needs_face, document_faces, face_location, font_database,
                          font_spec, kerning_attribute)
 from .on_path import path_walker, position_on_path
 
@@ -192,8 +192,13 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     base = None
     starts = None
     # (ASCII text extends no cluster: most labels skip the test per character)
+    # A mark or emoji modifier drawn by another face than its base's (the base's face lacks
+    # it) stays a cluster of its own, taken from its own face's shaping: a skin-tone modifier
+    # no face has is drawn as the missing glyph after its emoji (as resvg 0.48.1 and
+    # Chromium 150 draw it), not lost in the emoji's cluster.
     for i in range(s, e) if not text[s:e].isascii() else ():
-        if base is not None and (_extends(text[i]) or _joined(text, base, i)):
+        if base is not None and (_extends(text[i]) or _joined(text, base, i)) and (
+                faces[i] is faces[base] or not needs_face(text[i])):
             if starts is None:
                 starts = sorted(set(run.clusters.tolist()))
             k = bisect_right(starts, base) - 1
