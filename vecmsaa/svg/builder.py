@@ -1698,11 +1698,11 @@ def conditions_pass(el):
     return True
 
 
-#: what Builder._draw_plan reads of a style (``marker`` in case a shorthand is kept as given)
 def _clip_rule(value):
     return value if value in ("nonzero", "evenodd") else None    # lower-cased by the cascade
 
 
+#: what Builder._draw_plan reads of a style (``marker`` in case a shorthand is kept as given)
 _DRAW_PLAN_PROPERTIES = frozenset({"shape-rendering", "paint-order", "fill-rule", "marker",
                                    "marker-start", "marker-mid", "marker-end"})
 
