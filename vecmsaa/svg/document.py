@@ -47,7 +47,8 @@ PROPERTIES = {
     "font-kerning", "font-size", "font-size-adjust", "font-stretch", "font-style",
     "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
     "font-variant-numeric", "font-variant-position", "font-variation-settings", "font-weight",
-    "font-optical-sizing", "glyph-orientation-horizontal", "glyph-orientation-vertical", "image-rendering",
+    "font-optical-sizing", "glyph-orientation-horizontal", "glyph-orientation-vertical",
+    "image-rendering",
     "isolation", "letter-spacing", "lighting-color", "marker", "marker-end", "marker-mid",
     "marker-start", "mask", "mask-mode", "mask-type", "mix-blend-mode", "opacity", "overflow",
     "paint-order", "pointer-events", "shape-rendering", "stop-color", "stop-opacity", "stroke",
@@ -997,7 +998,8 @@ class Document:
 #: ``text-anchor="Middle"``; resvg 0.44 and 0.48.1 take such values as invalid)
 KEYWORD_PROPERTIES = {
     "alignment-baseline", "baseline-shift", "direction", "dominant-baseline", "font-kerning",
-    "font-optical-sizing", "font-size", "font-size-adjust", "font-stretch", "font-style", "font-synthesis",
+    "font-optical-sizing", "font-size", "font-size-adjust", "font-stretch", "font-style",
+    "font-synthesis",
     "font-variant", "font-variant-caps", "font-variant-east-asian", "font-variant-ligatures",
     "font-variant-numeric", "font-variant-position", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",
