@@ -923,6 +923,44 @@ def test_image_type_is_sniffed_unless_xml(mime, drawn):
     assert (len(s.fills()) == 1) == drawn
 
 
+@pytest.mark.parametrize("mime, drawn", [
+    ("", True), ("text/plain", True), ("image/svg+xml", True),   # no type, or SVG's
+    # MIME Sniffing's rules for images match image types only (PNG, JPEG, GIF, WebP...), not
+    # SVG: under another given type the bytes are that type, here no image it can decode
+    ("image/png", False), ("image/jpeg", False), ("application/octet-stream", False),
+])
+def test_svg_bytes_are_an_image_only_without_another_type(mime, drawn):
+    import base64
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">'
+             '<rect width="10" height="10"/></svg>')
+    url = f"data:{mime};base64," + base64.b64encode(inner.encode()).decode()
+    s = scene(f'<image width="40" height="40" href="{url}"/>')
+    assert (len(s.fills()) == 1) == drawn
+
+
+@pytest.mark.parametrize("par, box", [
+    # a 2 x 1 image in a 40 x 40 viewport at (10, 10)
+    ("xMaxYMax", (10, 30, 50, 50)),                 # meet: 40 x 20 at the bottom
+    ("xMaxYMax meet", (10, 30, 50, 50)),
+    (" xMaxYMax  slice ", (10, 10, 50, 50)),         # slice: clipped to the viewport
+    ("none", (10, 10, 50, 50)),
+    # SVG 2's grammar is `<align> [<meetOrSlice>]`: anything more, or else, is invalid,
+    # which is the initial value xMidYMid meet (40 x 20, centred)
+    ("xMaxYMax foo", (10, 20, 50, 40)), ("xMaxYMax meet slice", (10, 20, 50, 40)),
+    ("xMaxYMax slice x", (10, 20, 50, 40)), ("none meet x", (10, 20, 50, 40)),
+    ("XMAXYMAX", (10, 20, 50, 40)), ("", (10, 20, 50, 40)),
+])
+def test_image_preserve_aspect_ratio_grammar(par, box):
+    import base64
+
+    from PIL import Image
+    url = "data:image/png;base64," + base64.b64encode(
+        _png_bytes(Image.new("RGBA", (2, 1), (255, 0, 0, 255)))).decode()
+    s = scene(f'<image x="10" y="10" width="40" height="40" preserveAspectRatio="{par}" '
+              f'href="{url}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(box)
+
+
 def test_svg_image_inside_its_viewport_is_not_clipped_by_it():
     # an SVG image whose drawing stays inside its viewport draws as the same drawing inline:
     # a viewport clip along the drawing's own edge (turned 30°, so across pixels) would
