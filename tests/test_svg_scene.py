@@ -2179,3 +2179,37 @@ def test_translated_keeps_every_field():
     assert moved.filters[0].region == (3, -3, 53, 56)
     assert (p.effect, p.inputs, p.subregion, p.linear) == \
         (GaussianBlur(1.0, 2.0), (-2,), (4, -2, 33, 36), False)
+
+
+@pytest.mark.parametrize("size, origin", [
+    ("7.5", "10"), ("2.5", "0.5"), ("1.5", "3"), ("3.75", "1.25"), ("2.4", "2"), ("6.4", "0.2"),
+    ("1.2", "0.1"), ("5.5", "4.25"),
+])
+def test_nearest_texel_at_a_texel_boundary_is_the_one_after_it(size, origin):
+    # image-rendering: pixelated samples the texel holding the pixel centre, [k, k + 1) in
+    # texel units: a centre exactly on a boundary (e.g. 7.5 px texels from y = 10: row 122's
+    # centre is 15.0 texels in) takes texel k, whatever rounding the inverse transform has.
+    # Truth: exact rational arithmetic on the pixel centres, and the colours written.
+    import base64
+    from fractions import Fraction
+
+    from PIL import Image
+    from vecmsaa.api import render_svg_array
+    n = 24
+    colours = [((37 * i) % 256, (91 * i + 40) % 256, (151 * i + 7) % 256) for i in range(n)]
+    im = Image.new("RGB", (1, n))
+    for i, c in enumerate(colours):
+        im.putpixel((0, i), c)
+    url = "data:image/png;base64," + base64.b64encode(_png_bytes(im)).decode()
+    h = Fraction(size) * n
+    img = render_svg_array(f'<svg {NS} width="20" height="{math.ceil(float(Fraction(origin) + h)) + 1}">'
+                           f'<image x="0" y="{origin}" width="{size}" height="{h}" '
+                           f'preserveAspectRatio="none" style="image-rendering: pixelated" '
+                           f'href="{url}"/></svg>'.encode())
+    col = img[:, 0, :3]
+    scale, y0 = Fraction(size), Fraction(origin)
+    for row in range(img.shape[0]):
+        if not (y0 <= row and row + 1 <= y0 + h):
+            continue                     # whole pixels inside the image only
+        texel = math.floor((row + Fraction(1, 2) - y0) / scale)
+        assert tuple(int(v) for v in col[row]) == colours[texel], (row, texel)
