@@ -2202,7 +2202,8 @@ def test_nearest_texel_at_a_texel_boundary_is_the_one_after_it(size, origin):
         im.putpixel((0, i), c)
     url = "data:image/png;base64," + base64.b64encode(_png_bytes(im)).decode()
     h = Fraction(size) * n
-    img = render_svg_array(f'<svg {NS} width="20" height="{math.ceil(float(Fraction(origin) + h)) + 1}">'
+    height = math.ceil(float(Fraction(origin) + h)) + 1
+    img = render_svg_array(f'<svg {NS} width="20" height="{height}">'
                            f'<image x="0" y="{origin}" width="{size}" height="{h}" '
                            f'preserveAspectRatio="none" style="image-rendering: pixelated" '
                            f'href="{url}"/></svg>'.encode())
