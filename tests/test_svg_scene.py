@@ -2204,7 +2204,7 @@ def test_nearest_texel_at_a_texel_boundary_is_the_one_after_it(size, origin):
     h = Fraction(size) * n
     height = math.ceil(float(Fraction(origin) + h)) + 1
     img = render_svg_array(f'<svg {NS} width="20" height="{height}">'
-                           f'<image x="0" y="{origin}" width="{size}" height="{h}" '
+                           f'<image x="0" y="{origin}" width="{size}" height="{float(h)!r}" '
                            f'preserveAspectRatio="none" style="image-rendering: pixelated" '
                            f'href="{url}"/></svg>'.encode())
     col = img[:, 0, :3]
