@@ -923,6 +923,44 @@ def test_image_type_is_sniffed_unless_xml(mime, drawn):
     assert (len(s.fills()) == 1) == drawn
 
 
+@pytest.mark.parametrize("mime, drawn", [
+    ("", True), ("text/plain", True), ("image/svg+xml", True),   # no type, or SVG's
+    # MIME Sniffing's rules for images match image types only (PNG, JPEG, GIF, WebP...), not
+    # SVG: under another given type the bytes are that type, here no image it can decode
+    ("image/png", False), ("image/jpeg", False), ("application/octet-stream", False),
+])
+def test_svg_bytes_are_an_image_only_without_another_type(mime, drawn):
+    import base64
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10">'
+             '<rect width="10" height="10"/></svg>')
+    url = f"data:{mime};base64," + base64.b64encode(inner.encode()).decode()
+    s = scene(f'<image width="40" height="40" href="{url}"/>')
+    assert (len(s.fills()) == 1) == drawn
+
+
+@pytest.mark.parametrize("par, box", [
+    # a 2 x 1 image in a 40 x 40 viewport at (10, 10)
+    ("xMaxYMax", (10, 30, 50, 50)),                 # meet: 40 x 20 at the bottom
+    ("xMaxYMax meet", (10, 30, 50, 50)),
+    (" xMaxYMax  slice ", (10, 10, 50, 50)),         # slice: clipped to the viewport
+    ("none", (10, 10, 50, 50)),
+    # SVG 2's grammar is `<align> [<meetOrSlice>]`: anything more, or else, is invalid,
+    # which is the initial value xMidYMid meet (40 x 20, centred)
+    ("xMaxYMax foo", (10, 20, 50, 40)), ("xMaxYMax meet slice", (10, 20, 50, 40)),
+    ("xMaxYMax slice x", (10, 20, 50, 40)), ("none meet x", (10, 20, 50, 40)),
+    ("XMAXYMAX", (10, 20, 50, 40)), ("", (10, 20, 50, 40)),
+])
+def test_image_preserve_aspect_ratio_grammar(par, box):
+    import base64
+
+    from PIL import Image
+    url = "data:image/png;base64," + base64.b64encode(
+        _png_bytes(Image.new("RGBA", (2, 1), (255, 0, 0, 255)))).decode()
+    s = scene(f'<image x="10" y="10" width="40" height="40" preserveAspectRatio="{par}" '
+              f'href="{url}"/>')
+    assert path_bounds(only_fill(s).path) == pytest.approx(box)
+
+
 def test_svg_image_inside_its_viewport_is_not_clipped_by_it():
     # an SVG image whose drawing stays inside its viewport draws as the same drawing inline:
     # a viewport clip along the drawing's own edge (turned 30°, so across pixels) would
@@ -2141,3 +2179,38 @@ def test_translated_keeps_every_field():
     assert moved.filters[0].region == (3, -3, 53, 56)
     assert (p.effect, p.inputs, p.subregion, p.linear) == \
         (GaussianBlur(1.0, 2.0), (-2,), (4, -2, 33, 36), False)
+
+
+@pytest.mark.parametrize("size, origin", [
+    ("7.5", "10"), ("2.5", "0.5"), ("1.5", "3"), ("3.75", "1.25"), ("2.4", "2"), ("6.4", "0.2"),
+    ("1.2", "0.1"), ("5.5", "4.25"),
+])
+def test_nearest_texel_at_a_texel_boundary_is_the_one_after_it(size, origin):
+    # image-rendering: pixelated samples the texel holding the pixel centre, [k, k + 1) in
+    # texel units: a centre exactly on a boundary (e.g. 7.5 px texels from y = 10: row 122's
+    # centre is 15.0 texels in) takes texel k, whatever rounding the inverse transform has.
+    # Truth: exact rational arithmetic on the pixel centres, and the colours written.
+    import base64
+    from fractions import Fraction
+
+    from PIL import Image
+    from vecmsaa.api import render_svg_array
+    n = 24
+    colours = [((37 * i) % 256, (91 * i + 40) % 256, (151 * i + 7) % 256) for i in range(n)]
+    im = Image.new("RGB", (1, n))
+    for i, c in enumerate(colours):
+        im.putpixel((0, i), c)
+    url = "data:image/png;base64," + base64.b64encode(_png_bytes(im)).decode()
+    h = Fraction(size) * n
+    height = math.ceil(float(Fraction(origin) + h)) + 1
+    img = render_svg_array(f'<svg {NS} width="20" height="{height}">'
+                           f'<image x="0" y="{origin}" width="{size}" height="{float(h)!r}" '
+                           f'preserveAspectRatio="none" style="image-rendering: pixelated" '
+                           f'href="{url}"/></svg>'.encode())
+    col = img[:, 0, :3]
+    scale, y0 = Fraction(size), Fraction(origin)
+    for row in range(img.shape[0]):
+        if not (y0 <= row and row + 1 <= y0 + h):
+            continue                     # whole pixels inside the image only
+        texel = math.floor((row + Fraction(1, 2) - y0) / scale)
+        assert tuple(int(v) for v in col[row]) == colours[texel], (row, texel)

@@ -25,6 +25,10 @@ F_SPREAD = 16
 F_LUT = 17
 F_OPACITY = 18
 PAINT_FIELDS = 20
+#: Texel units a nearest-texel sample point may lie below a texel boundary and still be read
+#: as on it (the f64 rounding of device → texel maps is ~1e-15 per texel; no drawing puts a
+#: pixel centre this close to a boundary on purpose)
+NEAREST_SLACK = 1e-9
 
 
 def gradient_lut(stops: np.ndarray, opacity: float) -> np.ndarray:
@@ -302,7 +306,11 @@ def shade_span(kind, f, lut, tex, x0, x1, y, out):
         gy = m1 * (x + 0.5) + m3 * y + m5
         j = x - x0
         if not smooth:
-            o = _texel_offset(base, h, w, int(math.floor(gx)), int(math.floor(gy)), repeat)
+            # a centre exactly on a texel boundary belongs to the texel after it ([k, k + 1)),
+            # but the inverse transform's rounding can put it a hair below (7.5 px texels from
+            # 10: 122.5 maps to 14.999999999999998, not 15): read those as on the boundary
+            o = _texel_offset(base, h, w, int(math.floor(gx + NEAREST_SLACK)),
+                              int(math.floor(gy + NEAREST_SLACK)), repeat)
             out[j, 0], out[j, 1] = tex[o] * op, tex[o + 1] * op
             out[j, 2], out[j, 3] = tex[o + 2] * op, tex[o + 3] * op
             continue

@@ -31,13 +31,19 @@ _TEXEL_BAND = 1 << 16
 def sniff(data: bytes, mime=None):
     """'raster', 'svg' or None from the first bytes. The MIME type is only a hint, but an XML
     type is taken as given (MIME Sniffing's rules for images: `image/svg+xml` over PNG bytes
-    is an SVG document that does not parse, not a PNG)."""
+    is an SVG document that does not parse, not a PNG) and SVG is read only under no type,
+    `text/plain` or an SVG one."""
     if mime and (mime.endswith("+xml") or mime in ("text/xml", "application/xml")):
         return "svg"
     head = data[:16]
     if (head.startswith(b"\x89PNG") or head.startswith(b"\xff\xd8") or head.startswith(b"GIF8")
             or (head.startswith(b"RIFF") and data[8:12] == b"WEBP")):
         return "raster"
+    if mime and mime != "text/plain" and "svg" not in mime:
+        # MIME Sniffing matches image types only: SVG bytes under another given type
+        # (`image/png`, `application/octet-stream`) are that type, and no image. Without a type
+        # (a data: URL's default is text/plain) the document is read, as in resvg.
+        return None
     if head.startswith(b"\x1f\x8b"):
         return "svg"
     text = data[:2048].lstrip()

@@ -511,11 +511,11 @@ def parse_aspect(text):
     parts = (text or "").split()
     if parts and parts[0] == "defer":
         parts = parts[1:]
-    align = parts[0] if parts else "xMidYMid"
     valid = {"none"} | {f"x{a}Y{b}" for a in ("Min", "Mid", "Max") for b in ("Min", "Mid", "Max")}
-    if align not in valid:
-        align = "xMidYMid"
-    return align, len(parts) > 1 and parts[1] == "slice"
+    # `<align> [meet | slice]` and nothing more; anything else is invalid: the initial value
+    if not parts or parts[0] not in valid or parts[1:] not in ([], ["meet"], ["slice"]):
+        return "xMidYMid", False
+    return parts[0], parts[1:] == ["slice"]
 
 
 def viewbox_transform(viewbox, aspect, width, height):
