@@ -513,9 +513,9 @@ def parse_aspect(text):
         parts = parts[1:]
     align = parts[0] if parts else "xMidYMid"
     valid = {"none"} | {f"x{a}Y{b}" for a in ("Min", "Mid", "Max") for b in ("Min", "Mid", "Max")}
-    if align not in valid:
-        align = "xMidYMid"
-    return align, len(parts) > 1 and parts[1] == "slice"
+    if align not in valid or len(parts) > 2 or parts[1:] not in ([], ["meet"], ["slice"]):
+        return "xMidYMid", False     # not `<align> [meet | slice]`: ignored, the initial value
+    return align, parts[1:] == ["slice"]
 
 
 def viewbox_transform(viewbox, aspect, width, height):
