@@ -1,11 +1,13 @@
 """Safe XML parsing, the CSS cascade and computed styles.
 
 The XML is parsed by expat with defusedxml's guards: no entity declarations, no external
-entities, no network, no DTD processing. Documents that declare *internal* text entities in
-their DTD subset (``<!ENTITY name "value">``, common in files exported by old editors) are
-accepted through one bounded, non-recursive substitution pass before parsing: entity values may
-not reference other entities and the expanded document is capped, so there is no "billion
-laughs" amplification and nothing is read from outside.
+entities, no network. Documents that declare general entities in their DTD subset
+(``<!ENTITY name "value">``, common in files exported by old editors) are accepted through one
+bounded substitution pass before parsing: an entity's value may hold markup and other
+entities, each expanded once (a cycle is an error), and the expansion is capped, so there is no
+"billion laughs" amplification; external entities are never read (a reference to one is left
+out, with a warning). The rest of the subset stays for expat, which applies its attribute
+defaults (XML 1.0 §5.1).
 
 expat's events become :class:`Element` objects carrying the *specified* style of each
 element (presentation attributes < CSS rules by specificity and order < ``style=""`` <
@@ -366,42 +368,74 @@ _SHAPE_TAGS = frozenset(("rect", "circle", "ellipse", "line", "polyline", "polyg
 
 # -- XML ------------------------------------------------------------------------------------------
 _DOCTYPE_SUBSET = re.compile(rb"<!DOCTYPE[^\[>]*\[(.*?)\]\s*>", re.S)
-_ENTITY_DECL = re.compile(rb"<!ENTITY\s+([A-Za-z_][\w.-]*)\s+(\"([^\"]*)\"|'([^']*)')\s*>")
+#: an entity declaration: (%), name, then a quoted value or an external id
+_ANY_ENTITY_DECL = re.compile(
+    rb"<!ENTITY\s+(%\s+)?([A-Za-z_:][\w.:-]*)\s+(?:\"([^\"]*)\"|'([^']*)'|"
+    rb"(?:SYSTEM|PUBLIC)\s[^>]*)\s*>")
+_ENTITY_REF = re.compile(rb"&([A-Za-z_:][\w.:-]*);")
 _ENCODING_DECL = re.compile(rb"^(<\?xml[^>]*?)\s+encoding\s*=\s*[\"'][^\"']*[\"']", re.S)
 
 
 def _expand_internal_entities(data: bytes) -> bytes:
-    """Substitute simple internal entities once and drop the DTD subset (see module doc)."""
+    """Substitute the internal subset's general entities in the document body (see module
+    doc) and take every entity declaration out of the subset; the rest of it (attribute
+    defaults, element declarations) stays for expat, which applies the defaults as XML 1.0
+    §5.1 asks of any processor. An entity's value may hold markup and other entities, expanded
+    once each and capped in size; a cycle is an error. External entities are never read: their
+    declarations go, and a reference to one is skipped (XML 1.0 §4.4.3, "included if
+    validating": a non-validating processor may leave it out), as are parameter entities."""
     m = _DOCTYPE_SUBSET.search(data)
     if not m:
         return data
     subset = m.group(1)
-    entities = {}
-    for em in _ENTITY_DECL.finditer(subset):
-        value = em.group(3) if em.group(3) is not None else em.group(4)
-        if b"&" in value or b"%" in value:
-            raise SvgError("entity values that reference other entities are not supported")
-        entities[em.group(1)] = value
-    rest = _ENTITY_DECL.sub(b"", subset)
-    rest = re.sub(rb"<!--.*?-->", b"", rest, flags=re.S)
-    if rest.strip():
-        raise SvgError("unsupported DTD declarations (only internal text entities are allowed)")
-    head, body = data[:m.start()], data[m.end():]
-    out = []
-    total = 0
-    pos = 0
-    for rm in re.finditer(rb"&([A-Za-z_][\w.-]*);", body):
-        name = rm.group(1)
-        if name not in entities:
-            continue
-        out.append(body[pos:rm.start()])
-        out.append(entities[name])
-        total += len(entities[name])
-        if total > MAX_ENTITY_EXPANSION:
-            raise SvgError("document too large after entity expansion")
-        pos = rm.end()
-    out.append(body[pos:])
-    return head + b"".join(out)
+    declared = {}       # name -> value as written (bytes), None for an external entity
+    for em in _ANY_ENTITY_DECL.finditer(subset):
+        if em.group(1):
+            continue                                   # a parameter entity: not used here
+        name, value = em.group(2), em.group(3) if em.group(3) is not None else em.group(4)
+        if value is not None and b"%" in value:
+            raise SvgError("parameter entity references in an entity value are not allowed")
+        declared.setdefault(name, value)               # the first declaration binds (§4.2)
+    rest = _ANY_ENTITY_DECL.sub(b"", subset)
+    expanded = {}
+    busy = set()
+    skipped = set()
+
+    def expand(text: bytes) -> bytes:
+        out = []
+        total = 0
+        pos = 0
+        for rm in _ENTITY_REF.finditer(text):
+            name = rm.group(1)
+            if name not in declared:
+                continue                                # predefined or undefined: for expat
+            value = declared[name]
+            if value is None:
+                skipped.add(name.decode("ascii", "replace"))
+                value = b""
+            elif name in expanded:
+                value = expanded[name]
+            else:
+                if name in busy:
+                    raise SvgError(f"entity {name.decode('ascii', 'replace')} refers to itself")
+                busy.add(name)
+                value = expanded[name] = expand(value)
+                busy.discard(name)
+            out.append(text[pos:rm.start()])
+            out.append(value)
+            total += len(value)
+            if total > MAX_ENTITY_EXPANSION:
+                raise SvgError("document too large after entity expansion")
+            pos = rm.end()
+        out.append(text[pos:])
+        return b"".join(out)
+
+    body = expand(data[m.end():])
+    for name in sorted(skipped):
+        warn(f"external entity {name} is not read: left out")
+    subset_left = rest if rest.strip(b" \t\r\n") else b""
+    doctype = data[m.start():m.start(1)] + subset_left + data[m.end(1):m.end()]
+    return data[:m.start()] + doctype + body
 
 
 def _decode_to_utf8(data: bytes) -> bytes:
