@@ -81,3 +81,25 @@ def test_malformed_entities_fail_the_cli_in_one_line(tmp_path):
     assert run.returncode != 0
     assert run.stderr.strip().count("\n") == 0 and "refers to itself" in run.stderr
     assert not (tmp_path / "out.png").exists()
+
+
+def test_character_references_in_entity_values_expand_at_declaration():
+    # XML 1.0 Appendix D's example: the character references are expanded when the
+    # declaration is read, the entity references when the entity is used
+    d = load('<!ENTITY example "<text id=\'t\'>An ampersand (&#38;#38;) may be escaped '
+             'numerically (&#38;#38;#38;) or with a general entity (&amp;amp;).</text>">',
+             "&example;")
+    assert d.ids["t"].text == ("An ampersand (&) may be escaped numerically (&#38;) or with "
+                               "a general entity (&amp;).")
+
+
+def test_no_entity_is_recognised_in_cdata_comments_or_pis():
+    # §2.7: in a CDATA section "&" is a character; §2.5/§2.6 comments and PIs are no content
+    d = load('<!ENTITY c "green">', '<text id="t"><![CDATA[&c;]]><!-- &c; -->&c;</text>')
+    assert d.ids["t"].text == "&c;green"
+
+
+def test_unbalanced_entity_markup_is_an_error():
+    # §4.3.2 WFC: an element begun in an entity's replacement text ends there
+    with pytest.raises(SvgError, match="entity o is not well-formed"):
+        load('<!ENTITY o "<g fill=\'green\'>">', "&o;<rect/></g>")

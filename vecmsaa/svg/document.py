@@ -372,7 +372,34 @@ _DOCTYPE_SUBSET = re.compile(rb"<!DOCTYPE[^\[>]*\[(.*?)\]\s*>", re.S)
 _ANY_ENTITY_DECL = re.compile(
     rb"<!ENTITY\s+(%\s+)?([A-Za-z_:][\w.:-]*)\s+(?:\"([^\"]*)\"|'([^']*)'|"
     rb"(?:SYSTEM|PUBLIC)\s[^>]*)\s*>")
-_ENTITY_REF = re.compile(rb"&([A-Za-z_:][\w.:-]*);")
+#: an entity reference, or a section where none is recognised (CDATA, comment, PI: group 1
+#: None)
+_ENTITY_REF = re.compile(rb"<!\[CDATA\[.*?\]\]>|<!--.*?-->|<\?.*?\?>|&([A-Za-z_:][\w.:-]*);",
+                         re.S)
+_CHAR_REF = re.compile(rb"&#(?:([0-9]+)|x([0-9A-Fa-f]+));")
+
+
+def _char_ref_bytes(m) -> bytes:
+    """A character reference as the UTF-8 character it names (XML 1.0 §4.1 Char)."""
+    code = int(m.group(1)) if m.group(1) else int(m.group(2), 16)
+    if not (code in (0x9, 0xA, 0xD) or 0x20 <= code <= 0xD7FF or 0xE000 <= code <= 0xFFFD
+            or 0x10000 <= code <= 0x10FFFF):
+        raise SvgError(f"reference to invalid character number {code} in an entity value")
+    return chr(code).encode("utf-8")
+
+
+def _well_formed(name: bytes, value: bytes) -> bytes:
+    """``value``, the replacement text of entity ``name``, if it is balanced markup (XML 1.0
+    §4.3.2 WFC "Parsed Entity": an element starting in it ends in it)."""
+    if b"<" in value:
+        from xml.parsers import expat
+        try:
+            expat.ParserCreate().Parse(b"<e>" + value + b"</e>", True)
+        except expat.error as exc:
+            if exc.code != 11:       # XML_ERROR_UNDEFINED_ENTITY: reported in the document
+                raise SvgError(f"entity {name.decode('ascii', 'replace')} is not well-formed "
+                               f"markup: {expat.errors.messages[exc.code]}") from None
+    return value
 _ENCODING_DECL = re.compile(rb"^(<\?xml[^>]*?)\s+encoding\s*=\s*[\"'][^\"']*[\"']", re.S)
 
 
@@ -395,6 +422,8 @@ def _expand_internal_entities(data: bytes) -> bytes:
         name, value = em.group(2), em.group(3) if em.group(3) is not None else em.group(4)
         if value is not None and b"%" in value:
             raise SvgError("parameter entity references in an entity value are not allowed")
+        if value is not None:
+            value = _CHAR_REF.sub(_char_ref_bytes, value)   # §4.5: at declaration already
         declared.setdefault(name, value)               # the first declaration binds (§4.2)
     rest = _ANY_ENTITY_DECL.sub(b"", subset)
     expanded = {}
@@ -407,8 +436,8 @@ def _expand_internal_entities(data: bytes) -> bytes:
         pos = 0
         for rm in _ENTITY_REF.finditer(text):
             name = rm.group(1)
-            if name not in declared:
-                continue                                # predefined or undefined: for expat
+            if name is None or name not in declared:
+                continue    # CDATA, comment or PI; a predefined or undefined entity: expat's
             value = declared[name]
             if value is None:
                 skipped.add(name.decode("ascii", "replace"))
@@ -419,7 +448,7 @@ def _expand_internal_entities(data: bytes) -> bytes:
                 if name in busy:
                     raise SvgError(f"entity {name.decode('ascii', 'replace')} refers to itself")
                 busy.add(name)
-                value = expanded[name] = expand(value)
+                value = expanded[name] = _well_formed(name, expand(value))
                 busy.discard(name)
             out.append(text[pos:rm.start()])
             out.append(value)
