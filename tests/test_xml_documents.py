@@ -103,3 +103,19 @@ def test_unbalanced_entity_markup_is_an_error():
     # §4.3.2 WFC: an element begun in an entity's replacement text ends there
     with pytest.raises(SvgError, match="entity o is not well-formed"):
         load('<!ENTITY o "<g fill=\'green\'>">', "&o;<rect/></g>")
+
+
+def test_root_viewbox_of_zero_size_disables_rendering():
+    # SVG 2 (viewBox): "A negative value for <width> or <height> is an error and invalidates
+    # the viewBox attribute. A value of zero disables rendering of the element."
+    from vecmsaa.api import render_svg_array
+
+    def draw(viewbox):
+        return render_svg_array(
+            f'<svg width="40" height="40" viewBox="{viewbox}" {SVG} style="background-color:'
+            f'blue"><rect x="10" y="10" width="20" height="20" fill="green"/></svg>'.encode())
+    for zero in ("0 0 0 40", "0 0 40 0", "0,0,0,0"):
+        img = draw(zero)
+        assert img.shape[:2] == (40, 40) and not img[..., 3].any()
+    img = draw("0 0 -40 40")          # invalid: as if there were none, user units are pixels
+    assert tuple(img[20, 20]) == (0, 128, 0, 255) and tuple(img[5, 5]) == (0, 0, 255, 255)
