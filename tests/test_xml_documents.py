@@ -119,3 +119,25 @@ def test_root_viewbox_of_zero_size_disables_rendering():
         assert img.shape[:2] == (40, 40) and not img[..., 3].any()
     img = draw("0 0 -40 40")          # invalid: as if there were none, user units are pixels
     assert tuple(img[20, 20]) == (0, 128, 0, 255) and tuple(img[5, 5]) == (0, 0, 255, 255)
+
+
+def test_entity_nesting_is_bounded():
+    # a chain of entities each naming the next: refused cleanly past MAX_ENTITY_DEPTH,
+    # whatever the chain's length (no RecursionError), accepted within it
+    from vecmsaa.svg.document import MAX_ENTITY_DEPTH
+
+    def chain(n):
+        return '<!ENTITY e0 "x">' + "".join(f'<!ENTITY e{i} "&e{i - 1};">' for i in range(1, n))
+    assert load(chain(MAX_ENTITY_DEPTH), f'<text id="t">&e{MAX_ENTITY_DEPTH - 1};</text>'
+                ).ids["t"].text == "x"
+    for n in (MAX_ENTITY_DEPTH + 1, 5000):
+        with pytest.raises(SvgError, match="nest deeper"):
+            load(chain(n), f"<text>&e{n - 1};</text>")
+
+
+def test_unterminated_sections_after_entities_fail_as_malformed_xml():
+    # the substitution pass skips CDATA, comments and PIs; one left open ends it, and expat
+    # reports the document (many openers: each is looked at once)
+    for opener in ("<!--", "<![CDATA[", "<?"):
+        with pytest.raises(SvgError, match="malformed XML"):
+            load('<!ENTITY a "x">', "&a;" + opener * 10_000)

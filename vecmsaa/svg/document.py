@@ -29,6 +29,8 @@ _XML_LANG = "{%s}lang" % XML_NS
 
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
 MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
+#: Entities expanded inside one another at most (libxml2 stops at 40); each level is a frame
+MAX_ENTITY_DEPTH = 40
 MAX_ELEMENTS = 1_000_000
 #: Deepest element nesting accepted; building and drawing recurse per level, and vecmsaa's
 #: recursion limit (vecmsaa/__init__.py) leaves room for this many levels of filtered groups.
@@ -372,10 +374,32 @@ _DOCTYPE_SUBSET = re.compile(rb"<!DOCTYPE[^\[>]*\[(.*?)\]\s*>", re.S)
 _ANY_ENTITY_DECL = re.compile(
     rb"<!ENTITY\s+(%\s+)?([A-Za-z_:][\w.:-]*)\s+(?:\"([^\"]*)\"|'([^']*)'|"
     rb"(?:SYSTEM|PUBLIC)\s[^>]*)\s*>")
-#: an entity reference, or a section where none is recognised (CDATA, comment, PI: group 1
-#: None)
-_ENTITY_REF = re.compile(rb"<!\[CDATA\[.*?\]\]>|<!--.*?-->|<\?.*?\?>|&([A-Za-z_:][\w.:-]*);",
-                         re.S)
+#: an entity reference, or the start of a section where none is recognised (CDATA, comment,
+#: PI), whose end is then found with bytes.find: a regular expression matching the whole
+#: section would rescan the rest of the document from every unterminated opener
+_ENTITY_REF = re.compile(rb"(<!\[CDATA\[|<!--|<\?)|&([A-Za-z_:][\w.:-]*);")
+_SECTION_END = {b"<![CDATA[": b"]]>", b"<!--": b"-->", b"<?": b"?>"}
+
+
+def _entity_references(text: bytes):
+    """(start, end, name) of each entity reference outside CDATA sections, comments and
+    PIs, in one pass over ``text``; an unterminated section ends the search (expat then
+    reports the document malformed)."""
+    pos = 0
+    while True:
+        m = _ENTITY_REF.search(text, pos)
+        if m is None:
+            return
+        if m.group(1):
+            end = text.find(_SECTION_END[m.group(1)], m.end())
+            if end < 0:
+                return
+            pos = end + len(_SECTION_END[m.group(1)])
+        else:
+            yield m.start(), m.end(), m.group(2)
+            pos = m.end()
+
+
 _CHAR_REF = re.compile(rb"&#(?:([0-9]+)|x([0-9A-Fa-f]+));")
 
 
@@ -411,7 +435,8 @@ def _expand_internal_entities(data: bytes) -> bytes:
     once each and capped in size; a cycle is an error. External entities are never read: their
     declarations go, and a reference to one is skipped (XML 1.0 §4.4.3, "included if
     validating": a non-validating processor may leave it out), as are parameter entities."""
-    m = _DOCTYPE_SUBSET.search(data)
+    start = data.find(b"<!DOCTYPE")     # the first only: one attempt, not one per opener
+    m = _DOCTYPE_SUBSET.match(data, start) if start >= 0 else None
     if not m:
         return data
     subset = m.group(1)
@@ -434,10 +459,9 @@ def _expand_internal_entities(data: bytes) -> bytes:
         out = []
         total = 0
         pos = 0
-        for rm in _ENTITY_REF.finditer(text):
-            name = rm.group(1)
-            if name is None or name not in declared:
-                continue    # CDATA, comment or PI; a predefined or undefined entity: expat's
+        for start, end, name in _entity_references(text):
+            if name not in declared:
+                continue                                # predefined or undefined: expat's
             value = declared[name]
             if value is None:
                 skipped.add(name.decode("ascii", "replace"))
@@ -447,15 +471,17 @@ def _expand_internal_entities(data: bytes) -> bytes:
             else:
                 if name in busy:
                     raise SvgError(f"entity {name.decode('ascii', 'replace')} refers to itself")
+                if len(busy) >= MAX_ENTITY_DEPTH:
+                    raise SvgError(f"entities nest deeper than {MAX_ENTITY_DEPTH} levels")
                 busy.add(name)
                 value = expanded[name] = _well_formed(name, expand(value))
                 busy.discard(name)
-            out.append(text[pos:rm.start()])
+            out.append(text[pos:start])
             out.append(value)
             total += len(value)
             if total > MAX_ENTITY_EXPANSION:
                 raise SvgError("document too large after entity expansion")
-            pos = rm.end()
+            pos = end
         out.append(text[pos:])
         return b"".join(out)
 
