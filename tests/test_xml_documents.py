@@ -141,3 +141,13 @@ def test_unterminated_sections_after_entities_fail_as_malformed_xml():
     for opener in ("<!--", "<![CDATA[", "<?"):
         with pytest.raises(SvgError, match="malformed XML"):
             load('<!ENTITY a "x">', "&a;" + opener * 10_000)
+
+
+def test_an_entity_reference_cannot_stand_for_the_root_element():
+    # XML 1.0 §2.1: document ::= prolog element Misc*; a reference is content, which only an
+    # element holds (resvg and Chromium refuse the document)
+    root = f'<svg {SVG}><rect/></svg>'
+    with pytest.raises(SvgError):
+        load_document(f"<!DOCTYPE svg [<!ENTITY doc '{root}'>]><!-- c -->&doc;".encode())
+    assert load_document(f"<!DOCTYPE svg [<!ENTITY r '<rect/>'>]><!-- &r; --> <?p &r;?>"
+                         f"<svg {SVG}>&r;</svg>".encode()).root.children[0].tag == "rect"

@@ -378,6 +378,8 @@ _ANY_ENTITY_DECL = re.compile(
 #: PI), whose end is then found with bytes.find: a regular expression matching the whole
 #: section would rescan the rest of the document from every unterminated opener
 _ENTITY_REF = re.compile(rb"(<!\[CDATA\[|<!--|<\?)|&([A-Za-z_:][\w.:-]*);")
+#: what may come between the DOCTYPE and the root element: white space, comments, PIs
+_PROLOG_MISC = re.compile(rb"(?:\s|<!--.*?-->|<\?.*?\?>)*", re.S)
 _SECTION_END = {b"<![CDATA[": b"]]>", b"<!--": b"-->", b"<?": b"?>"}
 
 
@@ -485,7 +487,11 @@ def _expand_internal_entities(data: bytes) -> bytes:
         out.append(text[pos:])
         return b"".join(out)
 
-    body = expand(data[m.end():])
+    body = data[m.end():]
+    if body[_PROLOG_MISC.match(body).end():][:1] == b"<":
+        body = expand(body)
+    # else a reference stands where the root element must (XML 1.0 §2.1: document ::=
+    # prolog element Misc*; a reference is content): left for expat to refuse
     for name in sorted(skipped):
         warn(f"external entity {name} is not read: left out")
     subset_left = rest if rest.strip(b" \t\r\n") else b""
