@@ -33,7 +33,7 @@ from .shapes import author_path_length, shape_box, shape_path
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
                     parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
-                    viewbox_transform, viewbox_transform_f32)
+                    viewbox_transform, viewbox_transform_f32, zero_size_viewbox)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
 #: SVG 2 draws markers on every basic shape
@@ -309,7 +309,11 @@ class Builder:
         if expanded_size(self.doc) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
         style = self.doc.document_style(root)
-        if style.get("display").strip() == "none" or not conditions_pass(root):
+        if (style.get("display").strip() == "none" or not conditions_pass(root)
+                or zero_size_viewbox(root.get("viewBox"))):
+            # a root viewBox of zero width or height disables rendering (SVG 2 viewBox; as
+            # Chromium; resvg draws the content as if there were no viewBox): the document
+            # keeps the size it would have without the viewBox, and is empty
             return []
         ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,), geometry=geometry)
         nodes = self.wrap(root, style, ctx, self.children(root, ctx, style))

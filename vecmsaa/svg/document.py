@@ -1,11 +1,13 @@
 """Safe XML parsing, the CSS cascade and computed styles.
 
 The XML is parsed by expat with defusedxml's guards: no entity declarations, no external
-entities, no network, no DTD processing. Documents that declare *internal* text entities in
-their DTD subset (``<!ENTITY name "value">``, common in files exported by old editors) are
-accepted through one bounded, non-recursive substitution pass before parsing: entity values may
-not reference other entities and the expanded document is capped, so there is no "billion
-laughs" amplification and nothing is read from outside.
+entities, no network. Documents that declare general entities in their DTD subset
+(``<!ENTITY name "value">``, common in files exported by old editors) are accepted through one
+bounded substitution pass before parsing: an entity's value may hold markup and other
+entities, each expanded once (a cycle is an error), and the expansion is capped, so there is no
+"billion laughs" amplification; external entities are never read (a reference to one is left
+out, with a warning). The rest of the subset stays for expat, which applies its attribute
+defaults (XML 1.0 §5.1).
 
 expat's events become :class:`Element` objects carrying the *specified* style of each
 element (presentation attributes < CSS rules by specificity and order < ``style=""`` <
@@ -27,6 +29,8 @@ _XML_LANG = "{%s}lang" % XML_NS
 
 MAX_DOCUMENT_BYTES = 64 * 1024 * 1024
 MAX_ENTITY_EXPANSION = 8 * 1024 * 1024
+#: Entities expanded inside one another at most (libxml2 stops at 40); each level is a frame
+MAX_ENTITY_DEPTH = 40
 MAX_ELEMENTS = 1_000_000
 #: Deepest element nesting accepted; building and drawing recurse per level, and vecmsaa's
 #: recursion limit (vecmsaa/__init__.py) leaves room for this many levels of filtered groups.
@@ -371,42 +375,133 @@ _SHAPE_TAGS = frozenset(("rect", "circle", "ellipse", "line", "polyline", "polyg
 
 # -- XML ------------------------------------------------------------------------------------------
 _DOCTYPE_SUBSET = re.compile(rb"<!DOCTYPE[^\[>]*\[(.*?)\]\s*>", re.S)
-_ENTITY_DECL = re.compile(rb"<!ENTITY\s+([A-Za-z_][\w.-]*)\s+(\"([^\"]*)\"|'([^']*)')\s*>")
+#: an entity declaration: (%), name, then a quoted value or an external id
+_ANY_ENTITY_DECL = re.compile(
+    rb"<!ENTITY\s+(%\s+)?([A-Za-z_:][\w.:-]*)\s+(?:\"([^\"]*)\"|'([^']*)'|"
+    rb"(?:SYSTEM|PUBLIC)\s[^>]*)\s*>")
+#: an entity reference, or the start of a section where none is recognised (CDATA, comment,
+#: PI), whose end is then found with bytes.find: a regular expression matching the whole
+#: section would rescan the rest of the document from every unterminated opener
+_ENTITY_REF = re.compile(rb"(<!\[CDATA\[|<!--|<\?)|&([A-Za-z_:][\w.:-]*);")
+#: what may come between the DOCTYPE and the root element: white space, comments, PIs
+_PROLOG_MISC = re.compile(rb"(?:\s|<!--.*?-->|<\?.*?\?>)*", re.S)
+_SECTION_END = {b"<![CDATA[": b"]]>", b"<!--": b"-->", b"<?": b"?>"}
+
+
+def _entity_references(text: bytes):
+    """(start, end, name) of each entity reference outside CDATA sections, comments and
+    PIs, in one pass over ``text``; an unterminated section ends the search (expat then
+    reports the document malformed)."""
+    pos = 0
+    while True:
+        m = _ENTITY_REF.search(text, pos)
+        if m is None:
+            return
+        if m.group(1):
+            end = text.find(_SECTION_END[m.group(1)], m.end())
+            if end < 0:
+                return
+            pos = end + len(_SECTION_END[m.group(1)])
+        else:
+            yield m.start(), m.end(), m.group(2)
+            pos = m.end()
+
+
+_CHAR_REF = re.compile(rb"&#(?:([0-9]+)|x([0-9A-Fa-f]+));")
+
+
+def _char_ref_bytes(m) -> bytes:
+    """A character reference as the UTF-8 character it names (XML 1.0 §4.1 Char)."""
+    code = int(m.group(1)) if m.group(1) else int(m.group(2), 16)
+    if not (code in (0x9, 0xA, 0xD) or 0x20 <= code <= 0xD7FF or 0xE000 <= code <= 0xFFFD
+            or 0x10000 <= code <= 0x10FFFF):
+        raise SvgError(f"reference to invalid character number {code} in an entity value")
+    return chr(code).encode("utf-8")
+
+
+def _well_formed(name: bytes, value: bytes) -> bytes:
+    """``value``, the replacement text of entity ``name``, if it is balanced markup (XML 1.0
+    §4.3.2 WFC "Parsed Entity": an element starting in it ends in it)."""
+    if b"<" in value:
+        from xml.parsers import expat
+        try:
+            expat.ParserCreate().Parse(b"<e>" + value + b"</e>", True)
+        except expat.error as exc:
+            if exc.code != 11:       # XML_ERROR_UNDEFINED_ENTITY: reported in the document
+                raise SvgError(f"entity {name.decode('ascii', 'replace')} is not well-formed "
+                               f"markup: {expat.errors.messages[exc.code]}") from None
+    return value
 _ENCODING_DECL = re.compile(rb"^(<\?xml[^>]*?)\s+encoding\s*=\s*[\"'][^\"']*[\"']", re.S)
 
 
 def _expand_internal_entities(data: bytes) -> bytes:
-    """Substitute simple internal entities once and drop the DTD subset (see module doc)."""
-    m = _DOCTYPE_SUBSET.search(data)
+    """Substitute the internal subset's general entities in the document body (see module
+    doc) and take every entity declaration out of the subset; the rest of it (attribute
+    defaults, element declarations) stays for expat, which applies the defaults as XML 1.0
+    §5.1 asks of any processor. An entity's value may hold markup and other entities, expanded
+    once each and capped in size; a cycle is an error. External entities are never read: their
+    declarations go, and a reference to one is skipped (XML 1.0 §4.4.3, "included if
+    validating": a non-validating processor may leave it out), as are parameter entities."""
+    start = data.find(b"<!DOCTYPE")     # the first only: one attempt, not one per opener
+    m = _DOCTYPE_SUBSET.match(data, start) if start >= 0 else None
     if not m:
         return data
     subset = m.group(1)
-    entities = {}
-    for em in _ENTITY_DECL.finditer(subset):
-        value = em.group(3) if em.group(3) is not None else em.group(4)
-        if b"&" in value or b"%" in value:
-            raise SvgError("entity values that reference other entities are not supported")
-        entities[em.group(1)] = value
-    rest = _ENTITY_DECL.sub(b"", subset)
-    rest = re.sub(rb"<!--.*?-->", b"", rest, flags=re.S)
-    if rest.strip():
-        raise SvgError("unsupported DTD declarations (only internal text entities are allowed)")
-    head, body = data[:m.start()], data[m.end():]
-    out = []
-    total = 0
-    pos = 0
-    for rm in re.finditer(rb"&([A-Za-z_][\w.-]*);", body):
-        name = rm.group(1)
-        if name not in entities:
-            continue
-        out.append(body[pos:rm.start()])
-        out.append(entities[name])
-        total += len(entities[name])
-        if total > MAX_ENTITY_EXPANSION:
-            raise SvgError("document too large after entity expansion")
-        pos = rm.end()
-    out.append(body[pos:])
-    return head + b"".join(out)
+    declared = {}       # name -> value as written (bytes), None for an external entity
+    for em in _ANY_ENTITY_DECL.finditer(subset):
+        if em.group(1):
+            continue                                   # a parameter entity: not used here
+        name, value = em.group(2), em.group(3) if em.group(3) is not None else em.group(4)
+        if value is not None and b"%" in value:
+            raise SvgError("parameter entity references in an entity value are not allowed")
+        if value is not None:
+            value = _CHAR_REF.sub(_char_ref_bytes, value)   # §4.5: at declaration already
+        declared.setdefault(name, value)               # the first declaration binds (§4.2)
+    rest = _ANY_ENTITY_DECL.sub(b"", subset)
+    expanded = {}
+    busy = set()
+    skipped = set()
+
+    def expand(text: bytes) -> bytes:
+        out = []
+        total = 0
+        pos = 0
+        for start, end, name in _entity_references(text):
+            if name not in declared:
+                continue                                # predefined or undefined: expat's
+            value = declared[name]
+            if value is None:
+                skipped.add(name.decode("ascii", "replace"))
+                value = b""
+            elif name in expanded:
+                value = expanded[name]
+            else:
+                if name in busy:
+                    raise SvgError(f"entity {name.decode('ascii', 'replace')} refers to itself")
+                if len(busy) >= MAX_ENTITY_DEPTH:
+                    raise SvgError(f"entities nest deeper than {MAX_ENTITY_DEPTH} levels")
+                busy.add(name)
+                value = expanded[name] = _well_formed(name, expand(value))
+                busy.discard(name)
+            out.append(text[pos:start])
+            out.append(value)
+            total += len(value)
+            if total > MAX_ENTITY_EXPANSION:
+                raise SvgError("document too large after entity expansion")
+            pos = end
+        out.append(text[pos:])
+        return b"".join(out)
+
+    body = data[m.end():]
+    if body[_PROLOG_MISC.match(body).end():][:1] == b"<":
+        body = expand(body)
+    # else a reference stands where the root element must (XML 1.0 §2.1: document ::=
+    # prolog element Misc*; a reference is content): left for expat to refuse
+    for name in sorted(skipped):
+        warn(f"external entity {name} is not read: left out")
+    subset_left = rest if rest.strip(b" \t\r\n") else b""
+    doctype = data[m.start():m.start(1)] + subset_left + data[m.end(1):m.end()]
+    return data[:m.start()] + doctype + body
 
 
 def _decode_to_utf8(data: bytes) -> bytes:

@@ -19,8 +19,9 @@ from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, S
 from .color import parse_svg_color as parse_color
 from .document import inherited_attr
 from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
-                    row_scale_f32, parse_aspect, parse_number_list, parse_opacity,
-                    parse_transform, parse_viewbox, split_length, viewbox_transform)
+                    row_scale_f32, parse_aspect, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, viewbox_transform,
+                    zero_size_viewbox)
 
 GRADIENT_TAGS = ("linearGradient", "radialGradient")
 #: what a paint server with a singular transform (element, gradientTransform, patternTransform)
@@ -241,7 +242,7 @@ def pattern(builder, el, ctx, bbox):
                    == "objectBoundingBox")
     vb_text = inherited_attr(chain, "viewBox")
     vb = parse_viewbox(vb_text)
-    if vb is None and _zero_size_viewbox(vb_text):
+    if vb is None and zero_size_viewbox(vb_text):
         # SVG 2: a viewBox of zero width or height disables rendering (a negative one is an
         # error that only voids the attribute); the paint's fallback then applies, as in
         # Chromium 150 and Firefox (resvg 0.48.1 draws the content without the viewBox)
@@ -354,12 +355,6 @@ _TREE_ELEMENTS = frozenset(
 
 def _is_child(el):
     return el.tag in _TREE_ELEMENTS or (el.tag or "").startswith("fe")
-
-
-def _zero_size_viewbox(text):
-    """Whether ``text`` is a viewBox list with a zero width or height and no negative one."""
-    nums = parse_number_list(text) if text else None
-    return nums is not None and len(nums) == 4 and min(nums[2], nums[3]) == 0
 
 
 def _tile_pixels(length, scale):

@@ -506,6 +506,14 @@ def parse_viewbox(text):
     return tuple(nums)
 
 
+def zero_size_viewbox(text):
+    """Whether ``text`` is a viewBox list with a zero width or height and no negative one
+    (SVG 2: such a viewBox disables rendering of its element; a negative size only makes
+    the attribute invalid)."""
+    nums = parse_number_list(text) if text else None
+    return nums is not None and len(nums) == 4 and min(nums[2], nums[3]) == 0
+
+
 def parse_aspect(text):
     """preserveAspectRatio → (align, slice); align is 'none' or like 'xMidYMid'."""
     parts = (text or "").split()
