@@ -2214,3 +2214,29 @@ def test_nearest_texel_at_a_texel_boundary_is_the_one_after_it(size, origin):
             continue                     # whole pixels inside the image only
         texel = math.floor((row + Fraction(1, 2) - y0) / scale)
         assert tuple(int(v) for v in col[row]) == colours[texel], (row, texel)
+
+
+@pytest.mark.parametrize("kind", ["svg", "symbol", "marker"])
+@pytest.mark.parametrize("viewbox, drawn", [("0 0 0 50", False), ("0 0 50 0", False),
+                                            ("0 0 -10 50", True)])
+def test_zero_size_viewbox_disables_a_viewport_element(kind, viewbox, drawn):
+    """SVG 2 (viewBox): "A negative value for <width> or <height> is an error and invalidates
+    the viewBox attribute. A value of zero disables rendering of the element." For a nested
+    svg, a symbol drawn by use and a marker alike: nothing with a zero size; with a negative
+    one the 20 x 20 green square is drawn as without a viewBox, at the viewport's origin
+    (user units unscaled): (40, 40) to (60, 60)."""
+    square = '<rect width="20" height="20" fill="#008000"/>'
+    body = {
+        "svg": f'<svg x="40" y="40" width="100" height="100" viewBox="{viewbox}">{square}</svg>',
+        "symbol": f'<symbol id="s" viewBox="{viewbox}">{square}</symbol>'
+                  '<use href="#s" x="40" y="40" width="100" height="100"/>',
+        "marker": f'<marker id="m" markerUnits="userSpaceOnUse" markerWidth="100" '
+                  f'markerHeight="100" viewBox="{viewbox}">{square}</marker>'
+                  '<path d="M 40 40 L 41 40" marker-start="url(#m)"/>'}[kind]
+    img = render_svg_array(f'<svg {NS} width="200" height="200">{body}</svg>'.encode())
+    inside = img[41:59, 41:59]
+    if drawn:
+        assert (inside == (0, 128, 0, 255)).all()
+        assert not img[62:, :, 3].any() and not img[:, 62:, 3].any()
+    else:
+        assert not img[..., 3].any()

@@ -972,6 +972,8 @@ class Builder:
         viewport clip. ``effects``: with its clip-path, mask, filter and opacity applied in
         that inner coordinate system, where the root <svg> has them too (and browsers and
         resvg put them on a nested one)."""
+        if zero_size_viewbox(el.get("viewBox")):
+            return []           # SVG 2: a zero viewBox width or height disables rendering
         get = self.length_getter(el, style, ctx)
         x, y = get("x", "x", 0.0), get("y", "y", 0.0)
         w = get("width", "x", ctx.viewport[0])
@@ -1077,6 +1079,8 @@ class Builder:
 
     def symbol(self, sym, use_el, ctx, use_style):
         # 'display' does not apply to <symbol>: it is drawn through <use> regardless
+        if zero_size_viewbox(sym.get("viewBox")):
+            return []           # SVG 2: a zero viewBox width or height disables rendering
         style = use_style.child(sym)
         get = self.length_getter(use_el, use_style, ctx)
         w = get("width", "x", None)

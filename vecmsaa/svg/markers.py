@@ -9,7 +9,7 @@ from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
 from ..scene.nodes import Fill, Group
 from .units import (ANGLE_DEG, NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
-                    viewbox_transform)
+                    viewbox_transform, zero_size_viewbox)
 
 
 _ANGLE = re.compile(rf"({NUMBER_RE})(deg|grad|rad|turn)?", re.I)
@@ -235,6 +235,8 @@ def marker_layout(builder, marker, stroke_width, ctx):
         # a viewport of markerWidth·strokeWidth ≤ 0 disables rendering, as a zero marker
         # size does (a negative stroke-width, which draws no stroke, gave mirrored markers)
         return False
+    if zero_size_viewbox(marker.get("viewBox")):
+        return False        # SVG 2: a zero viewBox width or height disables rendering
     vb = parse_viewbox(marker.get("viewBox"))
     if vb is not None:
         vb_m = viewbox_transform(vb, parse_aspect(marker.get("preserveAspectRatio")),
