@@ -151,3 +151,23 @@ def test_an_entity_reference_cannot_stand_for_the_root_element():
         load_document(f"<!DOCTYPE svg [<!ENTITY doc '{root}'>]><!-- c -->&doc;".encode())
     assert load_document(f"<!DOCTYPE svg [<!ENTITY r '<rect/>'>]><!-- &r; --> <?p &r;?>"
                          f"<svg {SVG}>&r;</svg>".encode()).root.children[0].tag == "rect"
+
+
+def test_entity_expansion_is_capped_over_all_levels_together():
+    # every entity's expansion is kept for its next use, so the cap counts the bytes
+    # substituted at every level together: a 2 KB chain of distinct entities, each a copy of
+    # the one before an 8 MB value, would otherwise hold 8 MB once per level
+    from vecmsaa.svg.document import MAX_ENTITY_EXPANSION
+    half = MAX_ENTITY_EXPANSION // 2
+    doubling = ['<!ENTITY a0 "' + "x" * 1024 + '">']
+    level = 0
+    while 1024 << level < half:
+        level += 1
+        doubling.append(f'<!ENTITY a{level} "&a{level - 1};&a{level - 1};">')
+    copies = "".join(f'<!ENTITY b{i} "&{"a%d" % level if i == 0 else "b%d" % (i - 1)};">'
+                     for i in range(20))
+    with pytest.raises(SvgError, match="too large after entity expansion"):
+        load("".join(doubling) + copies, "<desc>&b19;</desc>")
+    # one value used many times within the cap is fine: 1000 uses of 1 KB
+    d = load('<!ENTITY k "' + "y" * 1024 + '">', '<desc id="d">' + "&k;" * 1000 + "</desc>")
+    assert d.ids["d"].text == "y" * 1024 * 1000

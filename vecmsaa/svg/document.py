@@ -461,10 +461,13 @@ def _expand_internal_entities(data: bytes) -> bytes:
     expanded = {}
     busy = set()
     skipped = set()
+    # bytes substituted so far, at every level together: each entity's expansion is kept
+    # (expanded), so a cap per expansion would let a chain of distinct entities, each a copy
+    # of the one before, hold the cap once per level (40 x 8 MB from a 2 KB file)
+    produced = [0]
 
     def expand(text: bytes) -> bytes:
         out = []
-        total = 0
         pos = 0
         for start, end, name in _entity_references(text):
             if name not in declared:
@@ -485,8 +488,8 @@ def _expand_internal_entities(data: bytes) -> bytes:
                 busy.discard(name)
             out.append(text[pos:start])
             out.append(value)
-            total += len(value)
-            if total > MAX_ENTITY_EXPANSION:
+            produced[0] += len(value)
+            if produced[0] > MAX_ENTITY_EXPANSION:
                 raise SvgError("document too large after entity expansion")
             pos = end
         out.append(text[pos:])
