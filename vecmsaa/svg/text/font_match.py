@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from ...diagnostics import warn
 from ...fonts import FontError
 from ...fonts.db import FontDatabase, database_from_options, parse_family_list
+from ..units import ANGLE_DEG
 
 WEIGHTS = {"normal": 400, "bold": 700, **{str(w): w for w in range(100, 1000, 100)}}
 STRETCHES = {"ultra-condensed": 50.0, "extra-condensed": 62.5, "condensed": 75.0,
@@ -187,10 +188,6 @@ def _stretch(style):
     return 100.0
 
 
-#: degrees per unit of an <angle> (CSS Values 4 §7.1)
-_ANGLE_UNITS = {"deg": 1.0, "grad": 0.9, "rad": 180.0 / math.pi, "turn": 360.0}
-
-
 def parse_font_style(value):
     """A font-style value → (style to match, oblique angle in degrees or None), or None when
     it is not valid (CSS Fonts 4 §2.4: ``normal | italic | oblique <angle [-90deg,90deg]>?``;
@@ -209,7 +206,7 @@ def parse_font_style(value):
     m = _OBLIQUE_ANGLE.match(words[1])
     if not m:
         return None
-    angle = float(words[1][:m.start(2)]) * _ANGLE_UNITS[m.group(2)]
+    angle = float(words[1][:m.start(2)]) * ANGLE_DEG[m.group(2)]
     if not -90.0 <= angle <= 90.0:
         return None
     return ("oblique" if angle > 0 else "normal"), angle
@@ -570,7 +567,7 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
     faces = [c.primary_face for c in chars]
     bounds = bounds or [0, len(chars)]
     for a, b in itertools.pairwise(bounds):
-        drawn = [i for i in range(a, b) if not _is_control(chars[i].ch)]
+        drawn = [i for i in range(a, b) if not needs_no_face(chars[i].ch)]
         for key in dict.fromkeys(keys[a:b]):
             spec = specs[keys.index(key, a)]
             chosen = _chunk_faces(chars, range(a, b), drawn, primary[key], spec, db, load)
@@ -627,17 +624,11 @@ def _draws(face, ch):
     return face.has_char(ch) or (unicodedata.category(ch) == "Zs" and face.has_char(" "))
 
 
-def _is_control(ch):
+def needs_no_face(ch):
     """Whether a character needs no face of its own: controls, format characters and
     variation selectors (default ignorables, Unicode §5.21: a face that lacks a variation
     selector draws its base's default glyph; the selector picks no other face)."""
     return unicodedata.category(ch) in ("Cc", "Cf") or _is_variation_selector(ch)
-
-
-def needs_face(ch):
-    """Whether a character is drawn with a face of its own choosing (not a control, format
-    character or variation selector)."""
-    return not _is_control(ch)
 
 
 def _is_variation_selector(ch):

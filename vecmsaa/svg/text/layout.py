@@ -18,8 +18,8 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
 from .draw import draw_clusters
-from .font_match import (assign_faces, needs_face, document_faces, face_location, font_database,
-                         font_spec, kerning_attribute)
+from .font_match import (assign_faces, document_faces, face_location, font_database,
+                         font_spec, kerning_attribute, needs_no_face)
 from .on_path import path_walker, position_on_path
 
 #: scripts where letter-spacing would break joining (CSS Text 3 "cursive scripts"), as
@@ -198,7 +198,7 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     # Chromium 150 draw it), not lost in the emoji's cluster.
     for i in range(s, e) if not text[s:e].isascii() else ():
         if base is not None and (_extends(text[i]) or _joined(text, base, i)) and (
-                faces[i] is faces[base] or not needs_face(text[i])):
+                faces[i] is faces[base] or needs_no_face(text[i])):
             if starts is None:
                 starts = sorted(set(run.clusters.tolist()))
             k = bisect_right(starts, base) - 1
