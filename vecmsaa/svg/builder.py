@@ -726,12 +726,13 @@ class Builder:
         box; the initial value (and that of an invalid one) is view-box. The root <svg> has a
         CSS box in a browser: it keeps the view-box here."""
         value = el.specified.get("transform-box")
-        while value is not None and value.strip().lower() == "inherit" and el.parent is not None:
+        # (lower-cased by the cascade: transform-box is among document.KEYWORD_PROPERTIES)
+        while value is not None and value.strip() == "inherit" and el.parent is not None:
             el = el.parent
             value = el.specified.get("transform-box")
         if value is None or el.parent is None:
             return "view-box"
-        value = value.strip().lower()
+        value = value.strip()
         if value in ("fill-box", "content-box"):
             return "fill-box"
         if value in ("stroke-box", "border-box"):
@@ -955,7 +956,8 @@ class Builder:
     def overflow_hidden(self, el, style, parent=None):
         """``parent``: the element ``inherit`` takes the value of when it is not the document
         parent (the <use> of a symbol or svg: the parent in the rendering tree)."""
-        v = (el.specified.get("overflow") or "").strip().lower()
+        # (lower-cased by the cascade: overflow is among document.KEYWORD_PROPERTIES)
+        v = (el.specified.get("overflow") or "").strip()
         if v in ("visible", "auto", "initial", "unset"):   # SVG: auto is visible
             return False
         if v in ("hidden", "scroll", "clip"):
