@@ -61,14 +61,15 @@ PROPERTIES = {
     "text-overflow", "text-rendering", "transform", "transform-box", "transform-origin",
     "translate", "rotate", "scale",
     "unicode-bidi",
-    "vector-effect", "visibility", "white-space", "word-spacing", "writing-mode",
-    "inline-size", "text-orientation", "font-synthesis", "line-height", "background-color",
-    "text-transform",
+    "vector-effect", "visibility", "white-space", "white-space-collapse", "word-spacing",
+    "writing-mode", "inline-size", "text-orientation", "font-synthesis", "line-height",
+    "background-color", "text-transform",
 }
 
 #: properties settable from CSS only, not as presentation attributes
 CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font", "mask-mode",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
+            "white-space-collapse",   # CSS Text 4 (text.content reads white-space's attribute)
             "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
             # CSS Fonts 4's feature properties, none of SVG 2's presentation attributes
@@ -88,7 +89,6 @@ PRESENTATION = PROPERTIES - CSS_ONLY
 UNSUPPORTED_PROPERTIES = {
     "inline-size": {"0", "auto"},                       # SVG 2 text wrapping
     "text-overflow": {"clip"},
-    "white-space": {"normal"},                          # xml:space is applied
 }
 _NO_WARNING = {"inherit", "initial", "unset", "revert"}
 
@@ -104,7 +104,7 @@ INHERITED = {
     "letter-spacing", "marker-end", "marker-mid", "marker-start", "paint-order",
     "pointer-events", "shape-rendering", "stroke", "stroke-dasharray", "stroke-dashoffset",
     "stroke-linecap", "stroke-linejoin", "stroke-miterlimit", "stroke-opacity",
-    "stroke-width", "text-anchor", "text-rendering", "visibility", "white-space",
+    "stroke-width", "text-anchor", "text-rendering", "visibility", "white-space-collapse",
     "word-spacing", "writing-mode", "text-orientation", "font-synthesis", "line-height",
     "text-transform",
 }
@@ -901,10 +901,12 @@ def _style_attribute(text):
 
 
 def _expand_shorthand(name, value):
-    """``marker`` sets all three marker properties; ``font`` sets the font longhands, in the
+    """``marker`` sets all three marker properties; ``font`` sets the font longhands and
+    ``white-space`` white-space-collapse (text-wrap-mode wraps nothing here), in the
     cascade as CSS expands any shorthand: over presentation attributes and earlier
     declarations, under later ones, and inherited from a group like the longhands (CSS Fonts 4
-    §2.9); an invalid ``font`` is dropped."""
+    §2.9); an invalid ``font``, ``white-space`` or ``white-space-collapse`` is dropped, so an
+    earlier declaration stays (CSS Syntax 3 §8)."""
     if name == "marker":
         return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
     if name == "font":
@@ -912,6 +914,14 @@ def _expand_shorthand(name, value):
         if value.strip().lower() == "inherit":
             return [(n, "inherit") for n in (*FONT_RESETS, "font-size", "font-family")]
         return list((parse_font_shorthand(value) or {}).items())
+    if name in ("white-space", "white-space-collapse"):
+        from .text.content import WHITE_SPACE_COLLAPSE, parse_white_space
+        low = value.strip().lower()
+        if low in _NO_WARNING:
+            return [("white-space-collapse", low)]
+        collapse = parse_white_space(low) if name == "white-space" else (
+            low if low in WHITE_SPACE_COLLAPSE else None)
+        return [("white-space-collapse", collapse)] if collapse else []
     return [(name, value)]
 
 
@@ -1102,7 +1112,7 @@ KEYWORD_PROPERTIES = {
     "font-variant-numeric", "font-variant-position", "font-weight",
     "glyph-orientation-horizontal", "glyph-orientation-vertical", "letter-spacing",
     "text-anchor", "text-decoration", "text-orientation", "text-rendering", "text-transform",
-    "unicode-bidi", "white-space", "word-spacing", "writing-mode",
+    "unicode-bidi", "white-space-collapse", "word-spacing", "writing-mode",
     # painting, compositing and display properties of lower-case keywords only
     # (``visibility="HIDDEN"``, ``display: None``, ``fill-rule="EvenOdd"``: Chromium 150 reads
     # them as CSS does, resvg 0.48.1 as invalid). The camel-case keywords of the rendering

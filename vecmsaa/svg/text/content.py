@@ -1,10 +1,11 @@
 """The characters of a ``<text>`` element (SVG 1.1 §10 steps 1–3, as resvg does them).
 
 *Collect* the characters with their innermost text content element (``tspan``, ``tref``,
-``textPath``, ``a``), collapse white space unless ``xml:space="preserve"``, and apply the
-position attributes: ``x``, ``y``, ``dx``, ``dy``, ``rotate`` lists address characters in order
-from the element that carries them, inner elements overriding outer ones. A character with an
-absolute ``x`` or ``y`` (or the first of a ``textPath``) starts a text chunk (:mod:`.layout`).
+``textPath``, ``a``), collapse white space unless ``xml:space="preserve"`` or CSS
+``white-space`` keeps it, and apply the position attributes: ``x``, ``y``, ``dx``, ``dy``,
+``rotate`` lists address characters in order from the element that carries them, inner
+elements overriding outer ones. A character with an absolute ``x`` or ``y`` (or the first of a
+``textPath``) starts a text chunk (:mod:`.layout`).
 """
 from __future__ import annotations
 
@@ -68,7 +69,58 @@ class Char:
         return self.span.el
 
 
+#: white-space-collapse (CSS Text 4 §3.1) by whether its spaces are kept. Without line boxes
+#: (SVG text has none unless inline-size, not supported) a segment break is a space for every
+#: value, as SVG 1.1's xml:space="preserve" makes it and as Chromium 150 draws it: so
+#: preserve-breaks (pre-line) collapses like collapse, and preserve-spaces (SVG 2's user agent
+#: style sheet maps xml:space="preserve" to it; Chromium 150 has no such value) keeps them
+WHITE_SPACE_COLLAPSE = {"collapse": False, "preserve-breaks": False, "preserve": True,
+                        "preserve-spaces": True, "break-spaces": True}
+#: white-space's keywords for both longhands (CSS Text 4 §3.3)
+_WHITE_SPACE_KEYWORDS = {"normal": "collapse", "pre": "preserve", "pre-wrap": "preserve",
+                         "pre-line": "preserve-breaks"}
+
+
+def parse_white_space(value):
+    """The white-space-collapse the ``white-space`` shorthand sets, or None when the value is
+    invalid: ``normal | pre | pre-wrap | pre-line | <white-space-collapse> || <text-wrap-mode>``
+    (CSS Text 4 §3.3, as Chromium 150 reads it: ``nowrap`` is collapse, ``preserve nowrap`` is
+    pre; text-wrap-mode only matters for wrapped lines)."""
+    words = value.strip().lower().split()
+    if len(words) == 1 and words[0] in _WHITE_SPACE_KEYWORDS:
+        return _WHITE_SPACE_KEYWORDS[words[0]]
+    collapse = [w for w in words if w in WHITE_SPACE_COLLAPSE]
+    wrap = [w for w in words if w in ("wrap", "nowrap")]
+    if not words or len(collapse) > 1 or len(wrap) > 1 or len(collapse) + len(wrap) != len(words):
+        return None
+    return collapse[0] if collapse else "collapse"
+
+
 def _space_preserved(el, inherited):
+    """Whether an element's white space is kept: its own white-space-collapse (the CSS
+    property, or the white-space shorthand's), then its white-space presentation attribute
+    (SVG 2 §6.6 lists it; Chromium 150 ignores it), then its own xml:space, then the
+    inherited value (SVG 2 §11.7.3: the property set on an element makes xml:space ignored;
+    the user agent style sheet's mapping of xml:space is under author declarations and over
+    inheritance). ``inherit``/``unset`` take the parent's value, ``initial`` collapses, and
+    ``revert`` or an invalid value leave the next source to decide."""
+    v = el.specified.get("white-space-collapse")
+    if v is not None:
+        v = v.strip()
+        if v == "initial":
+            return False
+        if v == "inherit":
+            return inherited
+        if v in WHITE_SPACE_COLLAPSE:
+            return WHITE_SPACE_COLLAPSE[v]
+    v = el.get("white-space")
+    if v is not None:
+        v = v.strip().lower()
+        if v in ("inherit", "unset"):
+            return inherited
+        v = "collapse" if v == "initial" else parse_white_space(v)
+        if v is not None:
+            return WHITE_SPACE_COLLAPSE[v]
     # a value other than preserve is default, as resvg 0.48.1 and Chromium read it (session
     # 23's three-way audit: xml:space="-" in a preserving element collapses in both)
     v = el.get("xml:space", el.get("space"))
