@@ -1161,6 +1161,36 @@ def test_text_length_of_a_descendant_is_taken_out_of_its_ancestors_length():
     assert np.array_equal(nested, apart)
 
 
+def space_advance(size):
+    """The advance of the test font's space at ``size``, from its hmtx table."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    return font["hmtx"][font.getBestCmap()[32]][0] / font["head"].unitsPerEm * size
+
+
+@pytest.mark.parametrize("adjust", ["spacing", "spacingAndGlyphs"])
+def test_text_length_keeps_the_word_spacing_in_the_advances(adjust):
+    # SVG 2 §11.5.3: textLength adjusts the advances the CSS layout gave the characters,
+    # word-spacing included (as Chromium; resvg measures the glyphs alone, which drops it):
+    # "1 23" with word-spacing 30 advances d + s + 30 + 2d (d a digit's, s the space's,
+    # from hmtx), and spacing adds one delta = (150 - that) / 3 after each of the first three
+    # characters; spacingAndGlyphs scales those advances and the glyphs by 150 / that
+    d, s = digit_advance(20), space_advance(20)
+    natural = 3 * d + s + 30
+    got = render(f'<text x="10" y="40" font-size="20" word-spacing="30" textLength="150" '
+                 f'lengthAdjust="{adjust}">1 23</text>', width=240)
+    if adjust == "spacing":
+        delta = (150 - natural) / 3
+        xs = [10, 10 + d + delta, 10 + d + s + 30 + 2 * delta, 10 + 2 * d + s + 30 + 3 * delta]
+        want = placed_digits(xs, [40] * 4, "1 23")
+    else:
+        f = 150 / natural
+        want = render(f'<g transform="matrix({f!r} 0 0 1 {10 * (1 - f)!r} 0)"><text '
+                      f'x="10 {10 + d!r} {10 + d + s + 30!r} {10 + 2 * d + s + 30!r}" y="40" '
+                      'font-size="20">1 23</text></g>', width=240)
+    assert close(got, want)
+
+
 def test_spacing_and_glyphs_of_a_text_and_its_tspan_in_one_chunk_follow_each_other():
     # SVG 2 §11.5.3: "ab" takes 160 - 40 = 120 and the tspan's "cd" its own 40, squeezed with
     # their glyphs; "cd" starts where "ab" ends, as two texts placed by hand

@@ -388,7 +388,10 @@ def apply_length_adjust(chunks, chars, text_length, inside, vertical):
         units, blocks = [], {}      # units: [first cluster, last cluster, length, block]
         for c0, c1, inner, on_path in members[el_id]:
             if inner is None:
-                units.append([c0, c0, c0.width, False, on_path])
+                # its advance as laid out, letter- and word-spacing included (SVG 2 measures
+                # the advances of the CSS layout; resvg takes the glyphs' alone, "discarding
+                # any word-spacing and letter-spacing", which Chromium keeps)
+                units.append([c0, c0, c0.advance, False, on_path])
             else:
                 blocks[inner] = unit = [c0, c1, text_length[inner][0], True, on_path]
                 units.append(unit)
@@ -424,11 +427,11 @@ def apply_length_adjust(chunks, chars, text_length, inside, vertical):
             n = len(units)
             delta = (target - extent) / (n - 1) if n > 1 else 0.0
             for c, _ in own:
-                c.advance, c.gap = c.width + delta, delta
+                c.advance, c.gap = c.advance + delta, delta
             if n > 1:
                 for _, last, _, _, _ in blocks.values():
                     # the block's own trailing gap becomes the ancestor's gap after it
-                    last.advance, last.gap = last.width + delta, delta
+                    last.advance, last.gap = last.advance - last.gap + delta, delta
 
 
 def anchor_shift(anchor, clusters, chars, inline_dy=False, on_path=False):
