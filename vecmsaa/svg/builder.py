@@ -1607,9 +1607,10 @@ class TextContext:
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
 
     def note_text_fills(self, fills):
-        """Record the fills that draw a text, when the builder collects them."""
+        """Record the fills that draw a text, when the builder collects them (kept with their
+        ids: a fill the scene replaces is freed, and a later fill may take its id)."""
         if self._builder.text_fills is not None:
-            self._builder.text_fills.update(id(f) for f in fills)
+            self._builder.text_fills.update((id(f), f) for f in fills)
 
     def path_of(self, element):
         """A shape's outline in the referencing text's user space: its own ``transform`` is

@@ -160,7 +160,7 @@ def drawing_extent(builder, viewport):
     # abs_bounding_box), every shape's outline painted or not and text by its object
     # bounding box (its glyphs' em boxes over their advances) rather than its ink
     identity = (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)
-    builder.text_fills = set()
+    builder.text_fills = {}
     try:
         drawn = Scene(1, 1, Group(children=builder.build_root(identity, viewport))).fills()
         text = builder.text_fills
