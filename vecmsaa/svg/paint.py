@@ -315,9 +315,10 @@ def pattern(builder, el, ctx, bbox):
                    context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
     # Shapes sharing a pattern at the same scale share its tile (it does not depend on
     # where the shape is): they get the same content group, which the raster renders once.
-    # The key holds everything the tile's content can depend on.
-    key = (id(el), tw, th, tile_ctx.transform, vp, id(ctx.context_fill),
-           id(ctx.context_stroke), ctx.use_stack, tuple(map(id, builder.paint_stack)),
+    # The key holds everything the tile's content can depend on (the context paints
+    # themselves, not their ids: the key keeps them alive, so no later one takes an id).
+    key = (id(el), tw, th, tile_ctx.transform, vp, ctx.context_fill,
+           ctx.context_stroke, ctx.use_stack, tuple(map(id, builder.paint_stack)),
            tuple(map(id, builder.ref_stack)))
     if key in builder.tile_cache:
         content = builder.tile_cache[key]
