@@ -282,3 +282,12 @@ def test_dots_on_a_circle_sit_where_the_chord_measure_puts_them():
         assert centre == pytest.approx((cx + r * math.cos(a), cy + r * math.sin(a)), abs=1e-9)
         side = sq[1] - sq[0]
         assert abs(side[0] * math.cos(a) + side[1] * math.sin(a)) < 1e-9     # along it
+
+
+@pytest.mark.parametrize("rx, ry", [(1e150, 1e150), (1e150, 3e149)])
+def test_huge_arcs_are_cut_into_a_bounded_number_of_cubics(rx, ry):
+    # kurbo's count grows as the radius^(1/6) without bound (3.5e25 cubics a turn here)
+    path = ellipse_path(0, 0, rx, ry)
+    assert len(arc_cubics(path).verbs) <= 2 + 4 * stroke.kernels.MAX_ARC_CUBICS
+    out = stroke.stroke_path(path, 1e148, dashes=[1e149, 1e149], resolution=1e-140)
+    assert not out.is_empty()

@@ -245,7 +245,8 @@ def arc_cubics(path: Path, keep=None) -> Path:
     cubic with its handles 4/3·tan(angle/4) along the tangents. Circles, rounded corners and
     path arcs reach usvg as such arcs, a conic here each (svg/shapes.py, svg/pathdata._arc
     cut them as usvg does), so for radii under ~367 units a conic is one cubic,
-    Path.without_conics's own."""
+    Path.without_conics's own. (At most kernels.MAX_ARC_CUBICS an arc: kurbo's count grows
+    without bound.)"""
     v, p = path._freeze()
     if CONIC not in v.tobytes():
         return path
@@ -298,8 +299,8 @@ def arc_pieces(b0, b1, mid, b2):
         det = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
         radius = np.sqrt(0.5 * (sq + np.sqrt(np.maximum(sq * sq - 4.0 * det * det, 0.0))))
         n = np.ceil(kurbo_arc_density(radius) * theta / (2.0 * math.pi))
-    n = np.where(np.isfinite(n) & (n > 1), n, 1).astype(np.int64)
-    return theta, n, chord_mid - w[:, None] * u, u, v
+    n = np.where(np.isfinite(n) & (n > 1), np.minimum(n, kernels.MAX_ARC_CUBICS), 1)
+    return theta, n.astype(np.int64), chord_mid - w[:, None] * u, u, v
 
 
 def kurbo_arc_density(radius):

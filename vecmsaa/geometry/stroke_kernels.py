@@ -1360,6 +1360,10 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
 #: units is 1024 or more, 20 times at most, as in Skia (whose kMaxTValue is 2^30 - 1, so its
 #: halves are labelled ~1e-9 off the parameters they are cut at; these are exact)
 _MAX_T = 1 << 30
+_MIN_SPAN = 1 << 10
+#: at most this many cubics an arc (kurbo's count grows as the radius^(1/6) without bound:
+#: 1024 is reached at radii of ~1e17 units)
+MAX_ARC_CUBICS = 1024
 #: usvg's tolerance for the cubics it makes of arcs (kurbo's Arc::to_cubic_beziers), in user
 #: units (see stroke.arc_cubics)
 ARC_TOLERANCE = 0.1
@@ -1407,12 +1411,13 @@ def _halve(kind, c, left, right):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _curve_chords(kind, c, tol, chords, n, length, u0, du):
+def _curve_chords(kind, c, tol, chords, n, length, u0, du, min_span):
     """Appends the chords a quadratic (kind 3: c = x0 y0 x1 y1 x2 y2) or cubic (4) is
     measured by to ``chords`` (rows: length from the segment's start, which is ``length`` at
     the curve's start, to the chord's end; the segment's parameter there, u0 + du·t at the
-    curve's t) from row n on: the curve halved while _too_curvy by tol; chords of zero
-    length add no row. Returns (chords, possibly grown; new n; length at the curve's end)."""
+    curve's t) from row n on: the curve halved while _too_curvy by tol and its span of
+    _MAX_T is min_span or more; chords of zero length add no row. Returns (chords, possibly
+    grown; new n; length at the curve's end)."""
     npts = 3 if kind == 3 else 4
     last = 2 * npts - 2
     stack = np.empty((24, 8))           # depth ≤ 20: span >> 10 ends the halving
@@ -1424,7 +1429,7 @@ def _curve_chords(kind, c, tol, chords, n, length, u0, du):
     while top > 0:
         top -= 1
         a, b = lo[top], hi[top]
-        if (b - a) >> 10 != 0 and _too_curvy(kind, stack[top], tol):
+        if b - a >= min_span and _too_curvy(kind, stack[top], tol):
             half = (a + b) >> 1
             # the right half goes below the left (in place: _halve reads c first), so the
             # left is measured first
@@ -1457,15 +1462,19 @@ def _segment_chords(kind, c, arc, tol, chords, n):
             n += 1
         return chords, n
     if kind != 5:
-        chords, n, _ = _curve_chords(kind, c, tol, chords, n, 0.0, 0.0, 1.0)
+        chords, n, _ = _curve_chords(kind, c, tol, chords, n, 0.0, 0.0, 1.0, _MIN_SPAN)
         return chords, n
     pieces = _arc_cubic_count(arc)
+    # (the arc's cubics together halved no finer than one curve: 2^20 chords at most)
+    min_span = _MIN_SPAN
+    while min_span < _MIN_SPAN * pieces:
+        min_span *= 2
     cubic = np.empty(8)
     length = 0.0
     for k in range(pieces):
         _arc_cubic(arc, k, pieces, cubic)
         chords, n, length = _curve_chords(4, cubic, tol, chords, n, length, k / pieces,
-                                          1.0 / pieces)
+                                          1.0 / pieces, min_span)
     return chords, n
 
 
@@ -1474,7 +1483,7 @@ def _arc_cubic_count(arc):
     """How many cubics kurbo cuts a circular arc (_arc_measure's ``arc``) into at usvg's
     tolerance (see stroke.arc_cubics)."""
     density = max((1.1163 * arc[2] / ARC_TOLERANCE) ** (1.0 / 6.0), 3.999999)
-    return max(1, int(math.ceil(density * arc[3] / (2.0 * math.pi))))
+    return max(1, int(math.ceil(min(density * arc[3] / (2.0 * math.pi), MAX_ARC_CUBICS))))
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -1666,8 +1675,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
     mk = np.empty(len(kinds), np.int64)
     mrow = np.zeros((len(kinds), 8))
     mlen = np.empty(len(kinds))
-    mch = np.empty(len(kinds) + 1, np.int64)        # segment j's chords: mch[j]:mch[j + 1]
-    chords = np.empty((4 * len(kinds) + 16, 2))
+    chords = np.empty((64, 2))      # one segment's chords, measured again where it is cut
     arcs = np.zeros((len(kinds), 6))
     piece = np.empty(8)
     tmp_kind = np.empty(0, np.int64)
@@ -1677,14 +1685,12 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
         m = hi - lo
         closed = flags[sp] == SUB_CLOSED
         total = 0.0
-        nch = 0
         for j in range(m):
             kind = kinds[lo + j]
-            mch[j] = nch
             if kind == 5:
                 _arc_measure(segs[lo + j], arcs[j])
-            chords, nch = _segment_chords(kind, segs[lo + j], arcs[j], tol, chords, nch)
-            mlen[j] = chords[nch - 1, 0] if nch > mch[j] else 0.0
+            chords, nch = _segment_chords(kind, segs[lo + j], arcs[j], tol, chords, 0)
+            mlen[j] = chords[nch - 1, 0] if nch > 0 else 0.0
             if kind == 2 or kind == 5:
                 mk[j] = kind
                 mrow[j] = segs[lo + j]
@@ -1692,7 +1698,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
                 mk[j] = 4
                 _as_cubic(mrow[j:j + 1], segs[lo + j], kind)
             total += mlen[j]
-        mch[m] = nch
+        measured = m - 1            # the segment whose chords are in chords[:nch]
         k, phase = _pattern_at(pattern, period, offset % period)
         pos = -phase
         seg_i, seg_start = 0, 0.0
@@ -1715,7 +1721,11 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
                     oflag = _grow(oflag, 2 * (nsub + 2))
                 if b == a:
                     s = min(max(a - seg_start, 0.0), mlen[seg_i])
-                    t = _param_at(chords, mch[seg_i], mch[seg_i + 1], s)
+                    if measured != seg_i:
+                        measured = seg_i
+                        chords, nch = _segment_chords(kinds[lo + seg_i], segs[lo + seg_i],
+                                                      arcs[seg_i], tol, chords, 0)
+                    t = _param_at(chords, 0, nch, s)
                     if mk[seg_i] == 5:
                         ac = arcs[seg_i]
                         turn = _arc_angle_at(ac, t)
@@ -1737,8 +1747,12 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
                     while j < m and js < b:
                         plo, phi = max(a - js, 0.0), min(b - js, mlen[j])
                         if phi > plo:
-                            t0 = _param_at(chords, mch[j], mch[j + 1], plo)
-                            t1 = _param_at(chords, mch[j], mch[j + 1], phi)
+                            if measured != j:
+                                measured = j
+                                chords, nch = _segment_chords(kinds[lo + j], segs[lo + j],
+                                                              arcs[j], tol, chords, 0)
+                            t0 = _param_at(chords, 0, nch, plo)
+                            t1 = _param_at(chords, 0, nch, phi)
                             if mk[j] == 5:
                                 okind[no] = _arc_piece(mrow[j], arcs[j], _arc_angle_at(arcs[j], t0),
                                                        _arc_angle_at(arcs[j], t1), piece)
