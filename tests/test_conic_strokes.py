@@ -1,10 +1,9 @@
 """Exact strokes of circular arcs (issue 15): the offset of an arc of radius r by ±w/2 is the
-concentric arc of radius r ± w/2, so a stroked circle is two exact circles and its dashes are
-cut at exact arc lengths (r·angle).
+concentric arc of radius r ± w/2, so a stroked circle is two exact circles. (Its dashes are
+placed as resvg places them: tests/test_dash_measure.py.)
 
 Truth here is the geometry: the two circles' equations, the exact area of a ring ∩ pixel (two
-discs' closed-form areas, tests/truth.py), the samples inside the ring, and dash ends from the
-arc-length formula; never the renderer's output.
+discs' closed-form areas, tests/truth.py), the samples inside the ring; never the renderer's output.
 """
 from __future__ import annotations
 
@@ -19,7 +18,6 @@ from vecmsaa.raster.render import EXACT_TOLERANCE, render_scene
 from vecmsaa.raster.sample_patterns import pattern_offsets
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
 from vecmsaa.scene.path import CLOSE, CONIC, LINE, MOVE, VERB_POINTS, conic_weight
-from vecmsaa.svg.pathdata import parse_path_data
 from vecmsaa.svg.shapes import ellipse_path, rounded_rect_path
 
 
@@ -144,57 +142,3 @@ def test_exact_area_mode_matches_the_ring_area_in_every_pixel(case):
     if r > 1000:
         cubic = _render(stroke_path(circle.without_conics(), width), w, h, "analytic")
         assert np.abs(cubic - truth).max() > 2 * tol
-
-
-@pytest.mark.parametrize("pattern, offset", [([9.0, 4.5, 2.5, 4.5], 3.0), ([20.0, 7.0], 12.0)])
-def test_dashes_on_a_circle_end_at_exact_arc_lengths(pattern, offset):
-    """Butt-capped dashes of a circle (from angle 0, increasing: y down, sweep 1) are annular
-    sectors whose ends lie at the angles s / r where the pattern switches at arc length s."""
-    r, hw, cx, cy = 30.0, 1.0, 50.0, 50.0
-    circle = parse_path_data(f"M {cx + r} {cy} A {r} {r} 0 0 1 {cx - r} {cy} "
-                             f"A {r} {r} 0 0 1 {cx + r} {cy} Z")
-    out = stroke_path(circle, 2 * hw, dashes=pattern, dash_offset=offset)
-    total = 2 * math.pi * r
-    # the pattern's switches along the circle
-    expected, s, k = [], -offset, 0
-    while s < total:
-        if k % 2 == 0:
-            expected.append((max(s, 0.0), min(s + pattern[k], total)))
-        s += pattern[k]
-        k = (k + 1) % len(pattern)
-    # a dash through the start of the closed circle is one dash
-    if expected[0][0] == 0.0 and expected[-1][1] == total:
-        first = expected.pop(0)
-        expected[-1] = (expected[-1][0], total + first[1])
-    got = []
-    for conics, lines in _pieces(out, np.linspace(0, 1, 9)):
-        pts = np.vstack(conics)
-        ang = np.unwrap(np.arctan2(pts[:, 1] - cy, pts[:, 0] - cx))    # contour order
-        ang -= 2 * math.pi * math.floor((ang.min() + 1e-9) / (2 * math.pi))
-        d = np.hypot(pts[:, 0] - cx, pts[:, 1] - cy)
-        assert np.all((np.abs(d - (r - hw)) < 1e-9) | (np.abs(d - (r + hw)) < 1e-9))
-        got.append((ang.min() * r, ang.max() * r))
-    got.sort()
-    assert len(got) == len(expected)
-    assert np.abs(np.array(got) - np.array(expected)).max() < 1e-9 * total
-
-
-def test_dots_on_a_circle_sit_at_exact_arc_lengths():
-    """Zero-length dashes with square caps are squares centred on the circle at arc lengths
-    k·period, turned along its tangent there (their sides parallel and normal to it)."""
-    r, hw, cx, cy, period = 30.0, 1.0, 50.0, 50.0, 7.0
-    circle = parse_path_data(f"M {cx + r} {cy} A {r} {r} 0 0 1 {cx - r} {cy} "
-                             f"A {r} {r} 0 0 1 {cx + r} {cy} Z")
-    out = stroke_path(circle, 2 * hw, cap="square", dashes=[0, period])
-    v, p = out.verbs, out.points
-    assert set(v.tolist()) == {MOVE, LINE, CLOSE}
-    squares = p.reshape(-1, 4, 2)           # MOVE + 3 LINEs + CLOSE each
-    n = int(2 * math.pi * r // period) + 1
-    assert len(squares) == n
-    for k, sq in enumerate(squares):
-        a = k * period / r
-        centre = sq.mean(0)
-        assert centre == pytest.approx((cx + r * math.cos(a), cy + r * math.sin(a)), abs=1e-9)
-        side = sq[1] - sq[0]
-        tangent = (-math.sin(a), math.cos(a))
-        assert abs(side[0] * tangent[1] - side[1] * tangent[0]) < 1e-9     # along it

@@ -520,14 +520,12 @@ def _pieces_stroke(path, w, join, cap, miterlimit, dashes, offset, tol):
     """The same stroke through the general (curve) stroker: every line a separate piece,
     dashes walked by the curve dasher (kernels.dash_segments)."""
     from vecmsaa.geometry import stroke
-    from vecmsaa.geometry.arclength import gl_nodes
 
     pattern = dash_pattern(dashes)
     segments = stroke._path_segments(path)
     if pattern is not None:
         segments = stroke.kernels.dash_segments(*segments, np.asarray(pattern, np.float64),
-                                                float(offset), tol * stroke.DASH_ACCURACY,
-                                                gl_nodes())
+                                                float(offset), 0.5)
     return Path.from_arrays(*stroke._segments_outline(
         segments, w / 2, tol, join, cap, max(1.0, miterlimit), general=True))
 
@@ -625,10 +623,13 @@ def test_dashes_on_line(pattern, offset):
 
 
 def test_dashes_follow_curves():
+    # (at a fine resolution the dasher's chords are within 0.005 of the curve: its lengths
+    # are the arc lengths to ~1e-4, see tests/test_dash_measure.py)
     r = 30.0
     circle = parse_path_data(f"M {50 + r} 50 A {r} {r} 0 0 1 {50 - r} 50 A {r} {r} 0 0 1 {50 + r} 50 Z")
     pattern, offset = [12, 7], 2.0
-    out = stroke_path(circle, 2, dashes=pattern, dash_offset=offset, tolerance=0.01)
+    out = stroke_path(circle, 2, dashes=pattern, dash_offset=offset, tolerance=0.01,
+                      resolution=100.0)
     s = np.arange(0.1, 2 * math.pi * r, 0.37)
     on = np.array([_dash_on(v, pattern, offset) for v in s])
     near = np.array([_dash_on(v - 0.2, pattern, offset) != _dash_on(v + 0.2, pattern, offset)
@@ -637,49 +638,6 @@ def test_dashes_follow_curves():
     q = np.column_stack([50 + r * np.cos(s / r), 50 + r * np.sin(s / r)])
     got = inside(out, q)
     assert np.array_equal(got[~near], on[~near])
-
-
-@pytest.mark.parametrize("d, cubics", [
-    ("M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z", False),     # a circle (conics)
-    ("M 80 50 A 30 30 0 0 1 20 50 A 30 30 0 0 1 80 50 Z", True),      # its cubics
-    ("M 10 80 Q 50 -40 90 80 C 60 60 40 100 10 80 Z", False),         # quadratic + cubic
-])
-def test_dash_ends_at_exact_arc_lengths(d, cubics):
-    """Every dash starts and ends where the path has run the pattern's lengths, measured on
-    a brute-force polyline of 200 000 points per curve (independent of the dasher)."""
-    from vecmsaa.geometry import stroke
-    from vecmsaa.geometry.arclength import gl_nodes
-
-    path = parse_path_data(d)
-    if cubics:
-        path = path.without_conics()
-    kinds, rows, subs, flags = stroke._path_segments(stroke.exact_conics(path, 0.0))
-    ts = np.linspace(0, 1, 200_001)
-    pts = np.concatenate([(_conic(*row.reshape(4, 2), ts) if kind == 5
-                           else _bezier(row[:2 * kind].reshape(-1, 2), ts))[:-1]
-                          for kind, row in zip(kinds, rows)] + [rows[-1:, 2:4]])
-    run = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
-    pattern, offset = [9.0, 4.5, 2.5, 4.5], 3.0
-    # the subpath taken as open: a dash through its start is not joined
-    kinds, rows, subs, flags = stroke.kernels.dash_segments(
-        kinds, rows, subs, flags * 0, np.array(pattern), offset, 0.25 * stroke.DASH_ACCURACY,
-        gl_nodes())
-    ends = []
-    for a, b in zip(subs[:-1], subs[1:]):
-        last = 6 if kinds[b - 1] == 5 else 2 * kinds[b - 1] - 2
-        ends += [tuple(rows[a, :2]), tuple(rows[b - 1, last:last + 2])]
-    # where the pattern switches on and off along the path
-    expected, s, k = [], -offset, 0
-    while s < run[-1]:
-        for v in (s, s + pattern[k]) if k % 2 == 0 else ():
-            if 0 < v < run[-1]:
-                expected.append((np.interp(v, run, pts[:, 0]), np.interp(v, run, pts[:, 1])))
-        s += pattern[k]
-        k = (k + 1) % len(pattern)
-    got = np.array([e for e in ends if 1e-9 < np.hypot(*(np.array(e) - pts[0]))
-                    and np.hypot(*(np.array(e) - pts[-1])) > 1e-9])
-    assert len(got) == len(expected)
-    assert np.abs(got - np.array(expected)).max() < 1e-4    # tolerance / 4096 = 6e-5
 
 
 def test_dash_through_start_of_closed_subpath_is_joined():
@@ -719,15 +677,13 @@ def test_every_subpath_strokes_as_it_would_alone(dashes, join, cap):
     # curve of many pieces, then short ones; lines only; closed; a lone point; dashes, dots;
     # a line's end directions, which the miter limit judges, where a curve's were before)
     from vecmsaa.geometry import stroke, stroke_kernels
-    from vecmsaa.geometry.arclength import gl_nodes
     ds = ["M 0 0 C 300 0 -200 90 100 100 S 0 300 90 260", "M 5 5 L 20 5 L 20 30",
           "M 40 40 Q 60 10 80 40 Z", "M 10 90 C 12 91 14 91 16 90", "M 50 50 Z",
           "M 0 120 L 40 120 L 40 160 C 60 160 60 120 80 120 L 80 80 Z",
           "M 0 400 C 10 400 20 400 30 400 L 0 403"]
     segments = stroke._path_segments(parse_path_data(" ".join(ds)))
     if dashes:
-        segments = stroke_kernels.dash_segments(*segments, np.array(dashes), 0.5, 1e-5,
-                                                gl_nodes())
+        segments = stroke_kernels.dash_segments(*segments, np.array(dashes), 0.5, 0.5)
     kinds, segs, subs, flags = segments
     assert len(flags) >= len(ds)
     verbs, pts = stroke._segments_outline(segments, 1.5, 0.05, join, cap, 4.0)

@@ -2,15 +2,14 @@
 
 Every segment is measured as a cubic (a line becomes a cubic with its inner control points at
 0.33 and 0.66, a quadratic is raised exactly), its length by 24-point Gauss–Legendre
-quadrature. The parameter at an arc length is found two ways: for text on a path with kurbo's
-ITP root finder stopped at resvg's coarse accuracy (:func:`cubic_param_at`, since the
-references show where that puts glyphs), for stroke dashing (geometry/stroke.py) by Newton's
-method to a fine accuracy (:func:`_exact_t`, in geometry/stroke_kernels' dasher): dashes sit
-at their exact arc lengths.
+quadrature; the parameter at an arc length is found with kurbo's ITP root finder stopped at
+resvg's coarse accuracy (:func:`cubic_param_at`, since the references show where that puts
+glyphs). (Stroke dashes are measured otherwise, by chords as tiny-skia measures them: see
+geometry/stroke_kernels' dasher.)
 
 The searches are compiled kernels over cubics stored as rows (x0 y0 x1 y1 x2 y2 x3 y3): in
 Python, each length is 24 hypotenuses, and a curve cut into thousands of dashes or glyphs
-took a second or more (dashes along 1000 short curves: 2.4 s, resvg 0.05 s).
+took a second or more.
 """
 from __future__ import annotations
 
@@ -86,31 +85,6 @@ def _cubic_velocity(c, t):
     p, q, r = 3.0 * v * v, 6.0 * t * v, 3.0 * t * t
     return (p * (c[2] - c[0]) + q * (c[4] - c[2]) + r * (c[6] - c[4]),
             p * (c[3] - c[1]) + q * (c[5] - c[3]) + r * (c[7] - c[5]))
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _exact_t(c, i, total, arc, accuracy, nodes):
-    """The parameter where cubic ``i`` of ``c`` (of length ``total``) has run ``arc``, to
-    within ``accuracy`` of length: Newton's method on the arc length, kept inside a shrinking
-    bracket (bisection where a step would leave it), usually 2-4 length evaluations."""
-    if total <= 0 or arc <= 0:
-        return 0.0
-    if arc >= total:
-        return 1.0
-    a, b = 0.0, 1.0
-    t = arc / total
-    for _ in range(60):
-        err = _length_to(c, i, t, nodes) - arc
-        if abs(err) <= accuracy:
-            return t
-        if err > 0:
-            b = t
-        else:
-            a = t
-        speed = math.hypot(*_cubic_velocity(c[i], t))
-        step = t - err / speed if speed > 0 else -1.0
-        t = step if a < step < b else 0.5 * (a + b)
-    return t
 
 
 #: the finest parameter step cubic_param_at searches to

@@ -14,9 +14,9 @@ over chains, every piece winds +1 over itself, so the fill is their union.
 Circular arcs (conics whose control triangle is isosceles with the weight of a circle: SVG
 arcs, circles, rounded corners under a similarity) are offset exactly: the offset of an arc
 of radius r by ±w/2 is the concentric arc of radius r ± w/2, the same conic scaled about the
-centre; their dashes are cut at exact arc lengths (r·angle). Elliptical arcs, and arcs no
-wider than the stroke's half width (whose inner offset folds), are stroked as the cubics of
-Path.without_conics, like every other curve:
+centre; their dashes are cut on the exact arc too. Elliptical arcs, and arcs no wider than
+the stroke's half width (whose inner offset folds), are stroked as cubics, like every other
+curve:
 
 Offsets of curves are cubic Béziers fitted to the true offset (exact end points and tangents, the
 midpoint matched), subdivided until within ``tolerance`` at the quarter points; where the offset
@@ -27,8 +27,9 @@ within the rest of the tolerance (tolerance − f, at least half of it).
 
 Strokes are drawn by the compiled kernels in :mod:`vecmsaa.geometry.stroke_kernels`: paths of
 straight lines only (map data), dashes and all, by stroke_lines; paths with curves by
-stroke_segments, their dashes first cut by dash_segments (circular arcs at exact arc lengths,
-other curves by geometry/arclength's measure).
+stroke_segments, their dashes first cut by dash_segments where resvg and Chromium cut them:
+along lengths measured by chords (tiny-skia's and Skia's contour measure), with arcs first
+turned into usvg's cubics (:func:`arc_cubics`).
 
 Conventions: for a direction d, the left normal is n = (-d.y, d.x); "left" offsets are P + w/2·n.
 """
@@ -39,7 +40,6 @@ import math
 import numpy as np
 
 from . import stroke_kernels as kernels
-from .arclength import gl_nodes
 from ..scene.path import CLOSE, CONIC, LINE, MOVE, VERB_POINTS, Path, conic_weight
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
@@ -130,32 +130,9 @@ def circular_conics(b0, b1, mid, b2):
     return ok, centre, radius
 
 
-def exact_conics(path: Path, hw: float) -> Path:
-    """``path`` with the conics that are circular arcs of radius above hw kept (their offsets
-    by ±hw are conics again) and every other conic replaced by Path.without_conics's cubic."""
-    v, p = path._freeze()
-    if CONIC not in v.tobytes():
-        return path
-    ends = np.cumsum(np.asarray(VERB_POINTS)[v])
-    conics = np.flatnonzero(v == CONIC)
-    at = ends[conics] - 3           # index of b1 of every conic
-    ok, _, radius = circular_conics(p[at - 1], p[at], p[at + 1], p[at + 2])
-    keep = ok & (radius > hw)
-    if keep.all():
-        return path
-    cubic = path.without_conics()
-    if not keep.any():
-        return cubic
-    cv, q = cubic.verbs.copy(), cubic.points.copy()
-    cv[conics[keep]] = CONIC
-    for k in (0, 1):
-        q[at[keep] + k] = p[at[keep] + k]
-    return Path._of_arrays(cv, q)
-
-
 def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt",
                 miterlimit: float = 4.0, dashes=None, dash_offset: float = 0.0,
-                tolerance: float = 0.25) -> Path:
+                tolerance: float = 0.25, resolution: float = 1.0) -> Path:
     """The outline of ``path`` stroked with ``width``, to be filled with the nonzero rule.
 
     ``tolerance`` bounds the distance between the approximated and the true offset curves, in
@@ -163,6 +140,8 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     ``join`` is one of JOINS ("arcs" falls back to "miter"), ``cap`` one of CAPS.
     ``dashes`` is the stroke-dasharray (odd counts repeat, negative values disable dashing,
     all zeros draw solid); ``dash_offset`` shifts the pattern's start (negative allowed).
+    ``resolution`` is the device pixels a path unit spans (:func:`dash_resolution`): the
+    dashes' lengths are measured with chords within half a device pixel, as resvg does.
     """
     hw = width / 2.0
     if not (hw > 0 and math.isfinite(hw)):
@@ -178,11 +157,11 @@ def stroke_path(path: Path, width: float, join: str = "miter", cap: str = "butt"
     if pattern is None:
         segments = _path_segments(path)
     else:
-        # (the kernels keep circular arcs exact, and cut their dashes at exact arc lengths;
-        # other conics are stroked as their cubics)
-        segments = kernels.dash_segments(*_path_segments(exact_conics(path, hw)),
+        # (circular arcs stay exact conics: the dasher measures them by usvg's cubics and
+        # cuts them at the angles of the cubics' points; other conics become those cubics)
+        segments = kernels.dash_segments(*_path_segments(dash_curves(path, hw)),
                                          np.asarray(pattern, np.float64), float(dash_offset),
-                                         float(tolerance * DASH_ACCURACY), gl_nodes())
+                                         _chord_tolerance(resolution))
     return Path._of_arrays(*_segments_outline(segments, hw, tolerance, join, cap, miterlimit))
 
 
@@ -222,17 +201,114 @@ def dash_coverage(pattern, path: Path, width: float, cap: str, device_scale: flo
     return min(1.0, covered / period)
 
 
-#: how exactly a dash end is placed along a curve, as a fraction of the flattening tolerance
-DASH_ACCURACY = 1 / 4096
+def dash_resolution(m) -> float:
+    """The device pixels a unit spans under the transform ``m`` (a, b, c, d, e, f), as
+    tiny-skia reckons it for dashing and stroking (PathStroker::compute_resolution_scale: the
+    longer of the lengths of (a, c) and (b, d); 1 when that is 0 or not finite)."""
+    a, b, c, d = m[:4]
+    scale = max(math.hypot(a, c), math.hypot(b, d))
+    return scale if scale > 0 and math.isfinite(scale) else 1.0
 
 
-def dash_length(path: Path) -> float:
-    """The total length of ``path`` as the dasher measures it (circular arcs exactly, r·θ;
-    closing lines included, the gaps between subpaths not): the user agent's path length that
-    a ``pathLength`` attribute calibrates dashes against, so that a pattern dividing the
-    author's length divides this one exactly."""
-    kinds, segs, _, _ = _path_segments(exact_conics(path, 0.0))
-    return float(kernels.dash_length(kinds, segs, gl_nodes()))
+def _chord_tolerance(resolution: float) -> float:
+    """How far the dasher's contour measure lets a curve's control points be off its chord
+    (tiny-skia's and Skia's CHEAP_DIST_LIMIT, half a device pixel), in path units."""
+    return 0.5 / resolution if resolution > 0 and math.isfinite(resolution) else 0.5
+
+
+def dash_length(path: Path, resolution: float = 1.0) -> float:
+    """The total length of ``path`` as the dasher measures it (chords within half a device
+    pixel, see stroke_path; closing lines included, the gaps between subpaths not): the user
+    agent's path length that a ``pathLength`` attribute calibrates dashes against, so that a
+    pattern dividing the author's length divides this one exactly."""
+    kinds, segs, _, _ = _path_segments(dash_curves(path, 0.0))
+    return float(kernels.dash_length(kinds, segs, _chord_tolerance(resolution)))
+
+
+def dash_curves(path: Path, hw: float) -> Path:
+    """``path`` as the dasher takes it: conics that are circular arcs of radius above hw
+    kept (exact: their offsets by ±hw are conics again), every other conic replaced by the
+    cubics usvg makes of that arc (:func:`arc_cubics`)."""
+    v, p = path._freeze()
+    if CONIC not in v.tobytes():
+        return path
+    at = np.cumsum(np.asarray(VERB_POINTS)[v])[v == CONIC] - 3    # index of every conic's b1
+    ok, _, radius = circular_conics(p[at - 1], p[at], p[at + 1], p[at + 2])
+    return arc_cubics(path, keep=ok & (radius > hw))
+
+
+def arc_cubics(path: Path, keep=None) -> Path:
+    """``path`` with every conic (but those ``keep`` marks, in the order of the path's
+    conics) replaced by the cubics usvg draws that arc as: kurbo's Arc::append_iter at
+    usvg's tolerance, which cuts an arc of the ellipse with radii rx, ry into
+    n = ⌈max(4, (1.1163·max(rx, ry)/0.1)^(1/6))·sweep/2π⌉ (less a hair) equal angles, each a
+    cubic with its handles 4/3·tan(angle/4) along the tangents. Circles, rounded corners and
+    path arcs reach usvg as such arcs, a conic here each (svg/shapes.py, svg/pathdata._arc
+    cut them as usvg does), so for radii under ~367 units a conic is one cubic,
+    Path.without_conics's own. (At most kernels.MAX_ARC_CUBICS an arc: kurbo's count grows
+    without bound.)"""
+    v, p = path._freeze()
+    if CONIC not in v.tobytes():
+        return path
+    conic_verbs = np.flatnonzero(v == CONIC)
+    keep = np.zeros(len(conic_verbs), bool) if keep is None else np.asarray(keep, bool)
+    if keep.all():
+        return path
+    at = np.cumsum(np.asarray(VERB_POINTS)[v])[conic_verbs] - 3
+    b0, b1, mid, b2 = p[at - 1], p[at], p[at + 1], p[at + 2]
+    theta, n, centre, u, w = arc_pieces(b0, b1, mid, b2)
+    cubic = path.without_conics()
+    cv, q = cubic.verbs.copy(), cubic.points.copy()
+    cv[conic_verbs[keep]] = CONIC
+    for k in (0, 1):
+        q[at[keep] + k] = p[at[keep] + k]
+    big = np.flatnonzero((n > 1) & ~keep)
+    if not len(big):
+        return Path._of_arrays(cv, q)
+    reps = np.ones(len(cv), np.int64)
+    reps[conic_verbs[big]] = n[big]
+    chunks, prev = [], 0
+    for i in big:
+        k = n[i]
+        phi = -0.5 * theta[i] + theta[i] / k * np.arange(k + 1)
+        cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        pt = centre[i] + u[i] * cos + w[i] * sin
+        tangent = w[i] * cos - u[i] * sin
+        pt[0], pt[-1] = b0[i], b2[i]
+        arm = 4.0 / 3.0 * math.tan(0.25 * theta[i] / k)
+        pieces = np.stack([pt[:-1] + arm * tangent[:-1], pt[1:] - arm * tangent[1:], pt[1:]], 1)
+        chunks += [q[prev:at[i]], pieces.reshape(-1, 2)]
+        prev = at[i] + 3
+    chunks.append(q[prev:])
+    return Path._of_arrays(np.repeat(cv, reps), np.concatenate(chunks))
+
+
+def arc_pieces(b0, b1, mid, b2):
+    """For conics (b0, b1, b2) with their points at t = ½ ((n, 2) arrays each), each the
+    affine image C + u·cos φ + v·sin φ of a circular arc with φ in ±θ/2 (its weight is
+    cos θ/2, its point at ½ is C + u, its chord's midpoint C + u·cos θ/2): (θ, the number of
+    cubics kurbo cuts that arc into (1 where that is not finite), C, u, v)."""
+    w = np.clip(conic_weight(b0, b1, mid, b2), -1.0, 1.0)
+    theta = 2.0 * np.arccos(w)
+    chord_mid = 0.5 * (b0 + b2)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        u = (mid - chord_mid) / (1.0 - w)[:, None]
+        v = (b2 - b0) / (2.0 * np.sqrt(1.0 - w * w))[:, None]
+        # the ellipse's larger radius: the larger singular value of [u v]
+        sq = (u * u).sum(-1) + (v * v).sum(-1)
+        det = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        radius = np.sqrt(0.5 * (sq + np.sqrt(np.maximum(sq * sq - 4.0 * det * det, 0.0))))
+        n = np.ceil(kurbo_arc_density(radius) * theta / (2.0 * math.pi))
+    n = np.where(np.isfinite(n) & (n > 1), np.minimum(n, kernels.MAX_ARC_CUBICS), 1)
+    return theta, n.astype(np.int64), chord_mid - w[:, None] * u, u, v
+
+
+def kurbo_arc_density(radius):
+    """Cubics per full turn kurbo cuts an arc of an ellipse with this larger radius into
+    at usvg's tolerance (Arc::append_iter; a hair under 4 at least, so a quarter is one; the
+    kernels' _arc_cubic_count for circular arcs)."""
+    return np.maximum((1.1163 * np.asarray(radius) / kernels.ARC_TOLERANCE) ** (1.0 / 6.0),
+                      3.999999)
 
 
 # -- markers --------------------------------------------------------------------------------

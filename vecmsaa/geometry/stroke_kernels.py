@@ -14,7 +14,7 @@ import numpy as np
 from ..jit import njit
 
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
-from .arclength import _cubic_velocity, _exact_t, _length_to
+from .arclength import _cubic_velocity
 from .hypot import _hypot
 from .primitives import _conic_weight
 
@@ -1345,14 +1345,245 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
 
 
 # -- dashes of curves -----------------------------------------------------------------------
+# Dashes are placed where resvg (tiny-skia's ContourMeasure) and Chromium (Skia's
+# SkContourMeasure) place them, not at exact arc lengths: a curve is halved until its control
+# points are within a tolerance of the chord's thirds (a quadratic's of the chord's midpoint),
+# its length is the sum of those chords, and a distance inside a chord maps to the parameter
+# linearly between the chord's end parameters. The chords undershoot the curve: on a circle
+# of 60 device px a dash ends ~0.5 px short of its exact arc length by the end of the turn,
+# visibly so in a dash's cap. usvg draws every arc as kurbo's cubics (stroke.arc_cubics):
+# circular arcs stay exact conics here (stroke.dash_curves), measured by those cubics and cut
+# at the angles of the cubics' points (the same places along the arc to within ~3e-4 of its
+# radius across it), so that dashed circles are the solid circle's pieces.
+
+#: the measure's parameter resolution: a curve is halved while its parameter span in these
+#: units is 1024 or more, 20 times at most, as in Skia (whose kMaxTValue is 2^30 - 1, so its
+#: halves are labelled ~1e-9 off the parameters they are cut at; these are exact)
+_MAX_T = 1 << 30
+_MIN_SPAN = 1 << 10
+#: at most this many cubics an arc (kurbo's count grows as the radius^(1/6) without bound:
+#: 1024 is reached at radii of ~1e17 units)
+MAX_ARC_CUBICS = 1024
+#: usvg's tolerance for the cubics it makes of arcs (kurbo's Arc::to_cubic_beziers), in user
+#: units (see stroke.arc_cubics)
+ARC_TOLERANCE = 0.1
+
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _dash_t(mk, mrow, mlen, j, s, accuracy, nodes):
-    """Parameter at arc length s on measured segment j (a line, or a cubic: Newton's search
-    of geometry/arclength._exact_t)."""
-    if mk[j] == 2:
-        return s / mlen[j] if mlen[j] > 0 else 0.0
-    return _exact_t(mrow, j, mlen[j], s, accuracy, nodes)
+def _too_curvy(kind, c, tol):
+    """Whether a quadratic (kind 3: c = x0 y0 x1 y1 x2 y2) or cubic (4) is to be halved again:
+    the control point off the midpoint of the chord and its ends' midpoint (half of its
+    distance from the chord's midpoint), or either cubic control point off the chord's third,
+    by more than tol in x or y (the measures' "cheap distance")."""
+    if kind == 3:
+        dx = 0.5 * c[2] - 0.25 * (c[0] + c[4])
+        dy = 0.5 * c[3] - 0.25 * (c[1] + c[5])
+        return max(abs(dx), abs(dy)) > tol
+    for k in range(1, 3):
+        f = k / 3.0
+        dx = c[0] + (c[6] - c[0]) * f - c[2 * k]
+        dy = c[1] + (c[7] - c[1]) * f - c[2 * k + 1]
+        if max(abs(dx), abs(dy)) > tol:
+            return True
+    return False
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _halve(kind, c, left, right):
+    """de Casteljau at ½ of a quadratic (kind 3) or cubic (4) row c into left and right."""
+    if kind == 3:
+        ax, ay = 0.5 * (c[0] + c[2]), 0.5 * (c[1] + c[3])
+        bx, by = 0.5 * (c[2] + c[4]), 0.5 * (c[3] + c[5])
+        mx, my = 0.5 * (ax + bx), 0.5 * (ay + by)
+        left[0], left[1], left[2], left[3], left[4], left[5] = c[0], c[1], ax, ay, mx, my
+        right[0], right[1], right[2], right[3], right[4], right[5] = mx, my, bx, by, c[4], c[5]
+        return
+    ax, ay = 0.5 * (c[0] + c[2]), 0.5 * (c[1] + c[3])
+    bx, by = 0.5 * (c[2] + c[4]), 0.5 * (c[3] + c[5])
+    cx, cy = 0.5 * (c[4] + c[6]), 0.5 * (c[5] + c[7])
+    dx, dy = 0.5 * (ax + bx), 0.5 * (ay + by)
+    ex, ey = 0.5 * (bx + cx), 0.5 * (by + cy)
+    mx, my = 0.5 * (dx + ex), 0.5 * (dy + ey)
+    left[0], left[1], left[2], left[3], left[4], left[5] = c[0], c[1], ax, ay, dx, dy
+    left[6], left[7] = mx, my
+    right[0], right[1], right[2], right[3], right[4], right[5] = mx, my, ex, ey, cx, cy
+    right[6], right[7] = c[6], c[7]
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _curve_chords(kind, c, tol, chords, n, length, u0, du, min_span):
+    """Appends the chords a quadratic (kind 3: c = x0 y0 x1 y1 x2 y2) or cubic (4) is
+    measured by to ``chords`` (rows: length from the segment's start, which is ``length`` at
+    the curve's start, to the chord's end; the segment's parameter there, u0 + du·t at the
+    curve's t) from row n on: the curve halved while _too_curvy by tol and its span of
+    _MAX_T is min_span or more; chords of zero length add no row. Returns (chords, possibly
+    grown; new n; length at the curve's end)."""
+    npts = 3 if kind == 3 else 4
+    last = 2 * npts - 2
+    stack = np.empty((24, 8))           # depth ≤ 20: span >> 10 ends the halving
+    lo = np.empty(24, np.int64)
+    hi = np.empty(24, np.int64)
+    stack[0] = c
+    lo[0], hi[0] = 0, _MAX_T
+    top = 1
+    while top > 0:
+        top -= 1
+        a, b = lo[top], hi[top]
+        if b - a >= min_span and _too_curvy(kind, stack[top], tol):
+            half = (a + b) >> 1
+            # the right half goes below the left (in place: _halve reads c first), so the
+            # left is measured first
+            _halve(kind, stack[top], stack[top + 1], stack[top])
+            lo[top], hi[top] = half, b
+            lo[top + 1], hi[top + 1] = a, half
+            top += 2
+            continue
+        q = stack[top]
+        d = _hypot(q[last] - q[0], q[last + 1] - q[1])
+        if length + d > length:
+            length += d
+            chords = _grow_points(chords, n + 1)
+            chords[n, 0], chords[n, 1] = length, u0 + du * (b / _MAX_T)
+            n += 1
+    return chords, n, length
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _segment_chords(kind, c, arc, tol, chords, n):
+    """Appends the chords a segment (path_segments' kind and row c: 2 a line, 3 a quadratic,
+    4 a cubic, 5 a circular arc with its _arc_measure in ``arc``) is measured by (see
+    _curve_chords); an arc by the cubics usvg makes of it (_arc_cubic), its parameter k + t
+    over their number n on the k-th's t. Returns (chords, possibly grown; new n)."""
+    if kind == 2:
+        d = _hypot(c[2] - c[0], c[3] - c[1])
+        if d > 0.0:
+            chords = _grow_points(chords, n + 1)
+            chords[n, 0], chords[n, 1] = d, 1.0
+            n += 1
+        return chords, n
+    if kind != 5:
+        chords, n, _ = _curve_chords(kind, c, tol, chords, n, 0.0, 0.0, 1.0, _MIN_SPAN)
+        return chords, n
+    pieces = _arc_cubic_count(arc)
+    # (the arc's cubics together halved no finer than one curve: 2^20 chords at most)
+    min_span = _MIN_SPAN
+    while min_span < _MIN_SPAN * pieces:
+        min_span *= 2
+    cubic = np.empty(8)
+    length = 0.0
+    for k in range(pieces):
+        _arc_cubic(arc, k, pieces, cubic)
+        chords, n, length = _curve_chords(4, cubic, tol, chords, n, length, k / pieces,
+                                          1.0 / pieces, min_span)
+    return chords, n
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_cubic_count(arc):
+    """How many cubics kurbo cuts a circular arc (_arc_measure's ``arc``) into at usvg's
+    tolerance (see stroke.arc_cubics)."""
+    density = max((1.1163 * arc[2] / ARC_TOLERANCE) ** (1.0 / 6.0), 3.999999)
+    return max(1, int(math.ceil(min(density * arc[3] / (2.0 * math.pi), MAX_ARC_CUBICS))))
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_cubic(arc, k, pieces, out):
+    """The k-th of the ``pieces`` cubics kurbo makes of a circular arc (_arc_measure's
+    ``arc``): equal angles, handles 4/3·tan(angle/4)·r along the tangents, into out."""
+    cx, cy, r, angle, start, sense = arc[0], arc[1], arc[2], arc[3], arc[4], arc[5]
+    step = sense * angle / pieces
+    arm = 4.0 / 3.0 * math.tan(0.25 * step) * r
+    a0, a1 = start + k * step, start + (k + 1) * step
+    c0, s0, c1, s1 = math.cos(a0), math.sin(a0), math.cos(a1), math.sin(a1)
+    out[0], out[1] = cx + r * c0, cy + r * s0
+    out[2], out[3] = out[0] - arm * s0, out[1] + arm * c0
+    out[6], out[7] = cx + r * c1, cy + r * s1
+    out[4], out[5] = out[6] + arm * s1, out[7] - arm * c1
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_angle_at(arc, u):
+    """The angle from a circular arc's start (_arc_measure's ``arc``), towards its end, of
+    the point at parameter u of its cubics (see _segment_chords): where usvg's curve is
+    there, projected on the exact arc."""
+    if u <= 0.0:
+        return 0.0
+    if u >= 1.0:
+        return arc[3]
+    pieces = _arc_cubic_count(arc)
+    k = min(int(u * pieces), pieces - 1)
+    cubic = np.empty(8)
+    _arc_cubic(arc, k, pieces, cubic)
+    x, y = _cubic_at(cubic, u * pieces - k)
+    turn = arc[5] * (math.atan2(y - arc[1], x - arc[0]) - arc[4])
+    turn -= 2.0 * math.pi * math.floor((turn + math.pi) / (2.0 * math.pi))   # to [-π, π)
+    return min(max(turn, 0.0), arc[3])
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_measure(c, out):
+    """A circular conic (b0, b1, point at t = ½, b2) measured exactly into out: centre x, y,
+    radius, the angle it spans, its start angle, its sense (+1 towards increasing angles, y
+    down); its length is radius × angle."""
+    x0, y0, x1, y1, x2, y2 = c[0], c[1], c[2], c[3], c[6], c[7]
+    cx, cy, r = _circle_centre(x0, y0, x1, y1, x2, y2)
+    # the half angle φ: between the chord and the tangent at b0
+    half = math.hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0))
+    rise = math.hypot(0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1)
+    out[0], out[1], out[2] = cx, cy, r
+    out[3] = 2.0 * math.atan2(rise, half)
+    out[4] = math.atan2(y0 - cy, x0 - cx)
+    out[5] = 1.0 if (x1 - x0) * (y0 - cy) - (y1 - y0) * (x0 - cx) < 0 else -1.0
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _arc_piece(c, a, a0, a1, out):
+    """The part of the measured arc (row c, measures a) between the angles a0 and a1 from its
+    start into out: the arc itself where it spans it all (kind 5), a line where the part is
+    flat to rounding (2), else the conic of the sub-arc (5), from the centre, radius and
+    angles."""
+    cx, cy, r, angle, start, sense = a[0], a[1], a[2], a[3], a[4], a[5]
+    if a0 <= 0.0 and a1 >= angle:
+        out[:] = c
+        return 5
+    out[:] = 0.0
+    if a0 <= 0.0:
+        out[0], out[1] = c[0], c[1]
+    else:
+        out[0], out[1] = cx + r * math.cos(start + sense * a0), cy + r * math.sin(start + sense * a0)
+    if a1 >= angle:
+        px, py = c[6], c[7]
+    else:
+        px, py = cx + r * math.cos(start + sense * a1), cy + r * math.sin(start + sense * a1)
+    half = 0.5 * (a1 - a0)
+    if r * (1.0 - math.cos(half)) <= 1e-9 * r:
+        out[2], out[3] = px, py
+        return 2
+    b = start + sense * (a0 + half)
+    mx, my = cx + r * math.cos(b), cy + r * math.sin(b)
+    k = 1.0 / math.cos(half)
+    out[2], out[3] = cx + k * (mx - cx), cy + k * (my - cy)
+    out[4], out[5], out[6], out[7] = mx, my, px, py
+    return 5
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _param_at(chords, lo, hi, s):
+    """The parameter at length s along a segment measured by chords[lo:hi]: linear between
+    the ends of the first chord reaching s (0 on a segment with no chords)."""
+    if hi <= lo:
+        return 0.0
+    a, b = lo, hi - 1
+    while a < b:
+        mid = (a + b) >> 1
+        if chords[mid, 0] < s:
+            a = mid + 1
+        else:
+            b = mid
+    d0 = chords[a - 1, 0] if a > lo else 0.0
+    t0 = chords[a - 1, 1] if a > lo else 0.0
+    t = t0 + (chords[a, 1] - t0) * (s - d0) / (chords[a, 0] - d0)
+    return min(max(t, 0.0), 1.0)
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -1406,91 +1637,31 @@ def _dot_direction(mk, mrow, j, t):
     return (sx, sy) if ok else (1.0, 0.0)
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _arc_measure(c, out):
-    """A circular conic (b0, b1, point at t = ½, b2) measured exactly into out: centre x, y,
-    radius, the angle it spans, its start angle, its sense (+1 towards increasing angles, y
-    down); its length is radius × angle."""
-    x0, y0, x1, y1, x2, y2 = c[0], c[1], c[2], c[3], c[6], c[7]
-    cx, cy, r = _circle_centre(x0, y0, x1, y1, x2, y2)
-    # the half angle φ: between the chord and the tangent at b0
-    half = math.hypot(0.5 * (x2 - x0), 0.5 * (y2 - y0))
-    rise = math.hypot(0.5 * (x0 + x2) - x1, 0.5 * (y0 + y2) - y1)
-    out[0], out[1], out[2] = cx, cy, r
-    out[3] = 2.0 * math.atan2(rise, half)
-    out[4] = math.atan2(y0 - cy, x0 - cx)
-    out[5] = 1.0 if (x1 - x0) * (y0 - cy) - (y1 - y0) * (x0 - cx) < 0 else -1.0
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _arc_piece(c, a, s0, s1, out):
-    """The part of the measured arc (row c, measures a) between arc lengths s0 and s1 into
-    out: the arc itself where it spans it all (kind 5), a line where the part is flat to
-    rounding (2), else the conic of the sub-arc (5), from the centre, radius and angles."""
-    cx, cy, r, angle, start, sense = a[0], a[1], a[2], a[3], a[4], a[5]
-    a0 = min(max(s0 / r, 0.0), angle)
-    a1 = min(max(s1 / r, 0.0), angle)
-    if a0 <= 0.0 and a1 >= angle:
-        out[:] = c
-        return 5
-    out[:] = 0.0
-    if a0 <= 0.0:
-        out[0], out[1] = c[0], c[1]
-    else:
-        out[0], out[1] = cx + r * math.cos(start + sense * a0), cy + r * math.sin(start + sense * a0)
-    if a1 >= angle:
-        px, py = c[6], c[7]
-    else:
-        px, py = cx + r * math.cos(start + sense * a1), cy + r * math.sin(start + sense * a1)
-    half = 0.5 * (a1 - a0)
-    if r * (1.0 - math.cos(half)) <= 1e-9 * r:
-        out[2], out[3] = px, py
-        return 2
-    b = start + sense * (a0 + half)
-    mx, my = cx + r * math.cos(b), cy + r * math.sin(b)
-    k = 1.0 / math.cos(half)
-    out[2], out[3] = cx + k * (mx - cx), cy + k * (my - cy)
-    out[4], out[5], out[6], out[7] = mx, my, px, py
-    return 5
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _measure_segment(kind, c, row, arc, nodes):
-    """(kind as the dasher cuts it, length) of a segment (path_segments' kind and row c),
-    with its row for cutting in ``row`` (a quadratic raised exactly to a cubic: _as_cubic)
-    and a circular arc's measures in ``arc``."""
-    row2 = row.reshape(1, 8)
-    if kind == 2:
-        row[:] = c
-        return 2, math.hypot(c[2] - c[0], c[3] - c[1])
-    if kind == 5:
-        row[:] = c
-        _arc_measure(c, arc)
-        return 5, arc[2] * arc[3]
-    _as_cubic(row2, c, kind)
-    return 4, _length_to(row2, 0, 1.0, nodes)
-
-
 @njit(cache=True)
-def dash_length(kinds, segs, nodes):
-    """The total length of path_segments' subpaths as the dasher measures it."""
-    row = np.empty(8)
-    arc = np.empty(6)
+def dash_length(kinds, segs, tol):
+    """The total length of path_segments' subpaths as the dasher measures it (its chords
+    within tol: _segment_chords)."""
+    chords = np.empty((64, 2))
+    arc = np.zeros(6)
     total = 0.0
     for i in range(len(kinds)):
-        total += _measure_segment(kinds[i], segs[i], row, arc, nodes)[1]
+        if kinds[i] == 5:
+            _arc_measure(segs[i], arc)
+        chords, n = _segment_chords(kinds[i], segs[i], arc, tol, chords, 0)
+        if n > 0:
+            total += chords[n - 1, 0]
     return total
 
 
 @njit(cache=True)
-def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
+def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
     """The dashes of subpaths (path_segments' arrays, whose conics are circular arcs: see
-    stroke.exact_conics), in the same arrays: a dash is an open subpath, a zero-length dash a
-    dot (its point and direction). The pattern is walked along each subpath's arc length:
-    lines exactly, circular arcs exactly (r·θ; their parts are the conics of the sub-arcs),
-    quadratics raised to cubics, cubics measured and cut by geometry/arclength's search to
-    ``accuracy``. On a closed subpath a dash running through the start point is one dash
-    (as in Skia, and so in browsers and resvg), joined there rather than capped twice."""
+    stroke.dash_curves), in the same arrays: a dash is an open subpath, a zero-length dash a dot (its point and
+    direction). The pattern is walked along each subpath's length as the contour measure
+    gives it (chords within ``tol``: _segment_chords), and a curve is cut at the parameters
+    _param_at maps its dash ends to (quadratics raised to cubics). On a closed subpath a dash
+    running through the start point is one dash (as in Skia, and so in browsers and resvg),
+    joined there rather than capped twice."""
     period = 0.0
     for v in pattern:
         period += v
@@ -1504,6 +1675,7 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
     mk = np.empty(len(kinds), np.int64)
     mrow = np.zeros((len(kinds), 8))
     mlen = np.empty(len(kinds))
+    chords = np.empty((64, 2))      # one segment's chords, measured again where it is cut
     arcs = np.zeros((len(kinds), 6))
     piece = np.empty(8)
     tmp_kind = np.empty(0, np.int64)
@@ -1514,8 +1686,19 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
         closed = flags[sp] == SUB_CLOSED
         total = 0.0
         for j in range(m):
-            mk[j], mlen[j] = _measure_segment(kinds[lo + j], segs[lo + j], mrow[j], arcs[j], nodes)
+            kind = kinds[lo + j]
+            if kind == 5:
+                _arc_measure(segs[lo + j], arcs[j])
+            chords, nch = _segment_chords(kind, segs[lo + j], arcs[j], tol, chords, 0)
+            mlen[j] = chords[nch - 1, 0] if nch > 0 else 0.0
+            if kind == 2 or kind == 5:
+                mk[j] = kind
+                mrow[j] = segs[lo + j]
+            else:
+                mk[j] = 4
+                _as_cubic(mrow[j:j + 1], segs[lo + j], kind)
             total += mlen[j]
+        measured = m - 1            # the segment whose chords are in chords[:nch]
         k, phase = _pattern_at(pattern, period, offset % period)
         pos = -phase
         seg_i, seg_start = 0, 0.0
@@ -1538,13 +1721,18 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
                     oflag = _grow(oflag, 2 * (nsub + 2))
                 if b == a:
                     s = min(max(a - seg_start, 0.0), mlen[seg_i])
+                    if measured != seg_i:
+                        measured = seg_i
+                        chords, nch = _segment_chords(kinds[lo + seg_i], segs[lo + seg_i],
+                                                      arcs[seg_i], tol, chords, 0)
+                    t = _param_at(chords, 0, nch, s)
                     if mk[seg_i] == 5:
-                        _arc_piece(mrow[seg_i], arcs[seg_i], s, s, piece)
                         ac = arcs[seg_i]
-                        bb = ac[4] + ac[5] * min(max(s / ac[2], 0.0), ac[3])
+                        turn = _arc_angle_at(ac, t)
+                        _arc_piece(mrow[seg_i], ac, turn, turn, piece)
+                        bb = ac[4] + ac[5] * turn
                         dx, dy = -ac[5] * math.sin(bb), ac[5] * math.cos(bb)
                     else:
-                        t = _dash_t(mk, mrow, mlen, seg_i, s, accuracy, nodes)
                         _dash_piece(mk, mrow, seg_i, t, t, piece)
                         dx, dy = _dot_direction(mk, mrow, seg_i, t)
                     osub[nsub], oflag[nsub] = no, SUB_DOT
@@ -1558,14 +1746,18 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, accuracy, nodes):
                     j, js = seg_i, seg_start
                     while j < m and js < b:
                         plo, phi = max(a - js, 0.0), min(b - js, mlen[j])
-                        if phi > plo and mk[j] == 5:
-                            okind[no] = _arc_piece(mrow[j], arcs[j], plo, phi, piece)
-                            oseg[no] = piece
-                            no += 1
-                        elif phi > plo:
-                            t0 = _dash_t(mk, mrow, mlen, j, plo, accuracy, nodes)
-                            t1 = _dash_t(mk, mrow, mlen, j, phi, accuracy, nodes)
-                            okind[no] = _dash_piece(mk, mrow, j, t0, t1, piece)
+                        if phi > plo:
+                            if measured != j:
+                                measured = j
+                                chords, nch = _segment_chords(kinds[lo + j], segs[lo + j],
+                                                              arcs[j], tol, chords, 0)
+                            t0 = _param_at(chords, 0, nch, plo)
+                            t1 = _param_at(chords, 0, nch, phi)
+                            if mk[j] == 5:
+                                okind[no] = _arc_piece(mrow[j], arcs[j], _arc_angle_at(arcs[j], t0),
+                                                       _arc_angle_at(arcs[j], t1), piece)
+                            else:
+                                okind[no] = _dash_piece(mk, mrow, j, t0, t1, piece)
                             oseg[no] = piece
                             no += 1
                         js += mlen[j]

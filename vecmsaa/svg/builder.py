@@ -21,7 +21,8 @@ from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
-from ..geometry.stroke import dash_coverage, dash_length, dash_pattern, stroke_path
+from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
+                               stroke_path)
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from .document import SVG_ELEMENT_NAMES, Document, Element, Style
@@ -1217,7 +1218,7 @@ class Builder:
         params = self.stroke_params(style, ctx) if author is not None else None
         if params is None or params[4] is None:
             return None
-        length = dash_length(path)
+        length = dash_length(path, dash_resolution(ctx.transform))
         if not length > 0:
             return None                 # no distance along the path to scale
         if author > 0:
@@ -1413,7 +1414,8 @@ class Builder:
             opacity *= fade
         tolerance = 0.25 / max(scale, 1e-9)
         outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
-                              dashes=dashes, dash_offset=offset, tolerance=tolerance)
+                              dashes=dashes, dash_offset=offset, tolerance=tolerance,
+                              resolution=dash_resolution(ctx.transform))
         return _stroke_fills(outline, ctx, ref, opacity, antialias)
 
     # -- paints ----------------------------------------------------------------------------

@@ -5,9 +5,9 @@ fonts (``fonts/``, generic families mapped as resvg does), compare with the proj
 The suite is the ``crates/resvg/tests`` folder of the resvg repository (tests/, fonts/,
 resources/). Where ``exact-refs/<test>.png`` exists beside ``tests/`` it holds the conflation-free
 truth of a test whose reference keeps resvg's antialiasing fringe (a red shape "should be covered"
-by an identical one: resvg's own render with the covered element removed). A few more tests
-whose references carry one of resvg's artifacts (dashes placed by an approximate arc length)
-have an exact reference computed from their geometry (:mod:`vecmsaa.tools.suite_truth`), and
+by an identical one: resvg's own render with the covered element removed). Two more tests
+whose references carry that fringe have an exact reference computed from their geometry
+(:mod:`vecmsaa.tools.suite_truth`), and
 tests whose references carry resvg's per-pixel compositing artifacts one rendered by resvg at 8x
 resolution and box-filtered (``vecmsaa/data/exact-refs``). A test with an exact reference passes when it matches its reference *or* its exact reference, and both
 counts are reported."""
