@@ -1171,6 +1171,41 @@ def test_marker_orient_angles(orient, angle):
     assert (x0, y0, x1, y1) == pytest.approx((min(xs), min(ys), max(xs), max(ys)), abs=1e-6)
 
 
+@pytest.mark.parametrize("orient, angle", [
+    ("auto", 90), ("auto-start-reverse", 270), (" 90", 90), ("90 ", 90),
+    (" auto", 0), ("auto ", 0), ("\tauto", 0), (" auto-start-reverse", 0),
+    ("auto-start-reverse ", 0), ("AUTO", 0),
+])
+def test_marker_orient_keywords_match_exactly(orient, angle):
+    # the start marker of a downward line (direction 90°); orient's keywords match exactly,
+    # as the other enumerated attributes (resvg 0.48.1 and Chromium 150 take " auto" as
+    # invalid: 0°), while an angle's whitespace is trimmed (Chromium)
+    s = scene(f'<marker id="m" orient="{orient}" markerUnits="userSpaceOnUse" '
+              'markerWidth="40" markerHeight="40" overflow="visible">'
+              '<rect width="20" height="2"/></marker>'
+              '<path d="M 50 50 L 50 90" marker-start="url(#m)"/>')
+    x0, y0, x1, y1 = path_bounds(s.fills()[0].path)
+    r = math.radians(angle)
+    corners = [(50 + 20 * math.cos(r) * u - 2 * math.sin(r) * v,
+                50 + 20 * math.sin(r) * u + 2 * math.cos(r) * v) for u in (0, 1) for v in (0, 1)]
+    xs, ys = zip(*corners)
+    assert (x0, y0, x1, y1) == pytest.approx((min(xs), min(ys), max(xs), max(ys)), abs=1e-6)
+
+
+@pytest.mark.parametrize("units, scale", [
+    ("userSpaceOnUse", 1), ("strokeWidth", 3), (" userSpaceOnUse", 3), ("userSpaceOnUse ", 3),
+    ("userspaceonuse", 3), ("", 3),
+])
+def test_marker_units_keyword_matches_exactly(units, scale):
+    # markerUnits is an enumerated attribute: anything but the exact "userSpaceOnUse" is
+    # the default strokeWidth, which scales the marker by the stroke width (3 here)
+    s = scene(f'<marker id="m" markerUnits="{units}" markerWidth="40" markerHeight="40" '
+              'overflow="visible"><rect width="4" height="2"/></marker>'
+              '<path d="M 50 50 L 90 50" stroke-width="3" marker-start="url(#m)"/>')
+    fill = [f for f in s.fills() if path_bounds(f.path)[0] == pytest.approx(50)][-1]
+    assert path_bounds(fill.path) == pytest.approx((50, 50, 50 + 4 * scale, 50 + 2 * scale))
+
+
 @pytest.mark.parametrize("parent, clipped", [
     ('<g overflow="hidden">', True), ('<g overflow="scroll">', True),
     ('<g overflow="visible">', False), ('<g>', False),          # a g's own default: visible

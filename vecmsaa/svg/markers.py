@@ -221,16 +221,18 @@ def marker_layout(builder, marker, stroke_width, ctx):
     mh = get("markerHeight", "y", 3.0)
     if mw <= 0 or mh <= 0:
         return False
-    orient = (marker.get("orient") or "0").strip()
+    # the keywords of orient and markerUnits match exactly, as the other enumerated
+    # attributes do (paint.py): resvg 0.48.1 and Chromium 150 both take " auto" or
+    # " userSpaceOnUse" as invalid (0° and strokeWidth); an angle's whitespace is trimmed
+    orient = marker.get("orient") or "0"
     angle = None
     if orient not in ("auto", "auto-start-reverse"):
         # an <angle> is a number with its unit right after it ('45 deg' is invalid: 0)
-        m = _ANGLE.fullmatch(orient)
+        m = _ANGLE.fullmatch(orient.strip())
         angle = float(m[1]) * ANGLE_DEG[(m[2] or "").lower()] if m else 0.0
         if not math.isfinite(angle):
             angle = 0.0
-    units = (marker.get("markerUnits") or "strokeWidth").strip()
-    scale = stroke_width if units != "userSpaceOnUse" else 1.0
+    scale = stroke_width if marker.get("markerUnits") != "userSpaceOnUse" else 1.0
     if not scale > 0:
         # a viewport of markerWidth·strokeWidth ≤ 0 disables rendering, as a zero marker
         # size does (a negative stroke-width, which draws no stroke, gave mirrored markers)
