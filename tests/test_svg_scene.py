@@ -1970,6 +1970,9 @@ def test_crisp_edges_on_pixel_centres_takes_the_right_and_bottom_ones():
 @pytest.mark.parametrize("value, ref", [
     ("url(#a)", ("#a", "")), ("url( '#a b' )", ("#a b", "")), ('url("#a") none', ("#a", "none")),
     ("url(#a);", ("#a", ";")),
+    # CSS Syntax 3 §4.3.4: "url" is matched ASCII case-insensitively (Chromium 150 draws
+    # fill="URL(#g)" with the gradient; resvg's parser wants "url(" as written)
+    ("URL(#a)", ("#a", "")), ("uRl( '#a' ) red", ("#a", "red")), ("urls(#a)", None),
     # CSS Syntax: whitespace, quotes, parentheses or a backslash inside an unquoted url
     # make a bad url, which is no url
     ("url(# a)", None), ("url(#a b)", None), ("url(#a'b)", None), ("url(#a(b)", None)])
