@@ -1329,6 +1329,29 @@ def test_a_marker_crossing_its_viewport_is_still_clipped(content, cut):
         assert alpha.sum() == pytest.approx((x1 - x0) * (y1 - y0), abs=1e-6)
 
 
+@pytest.mark.parametrize("aspect, box", [
+    ("xMidYMid meet", (40, 45, 60, 55)), ("xMinYMin meet", (45, 45, 65, 55)),
+    ("xMaxYMax meet", (35, 45, 55, 55)), ("xMidYMid slice", (40, 45, 60, 55)),
+    ("xMinYMax slice", (40, 50, 60, 60)), ("none", (40, 45, 60, 55)),
+])
+def test_a_marker_with_a_viewbox_is_clipped_to_its_viewport(aspect, box):
+    # SVG 2 ("Details on how markers are rendered"): the clip is at the bounds of the
+    # viewport, markerWidth x markerHeight (20 x 10 here), which 'meet' leaves wider than
+    # the 10 x 10 viewBox and 'slice' shorter. The viewBox maps x to s x + t (s = 1 meet,
+    # 2 slice, t the alignment's share of the spare room); refX/refY (5, 5) lands on the
+    # vertex (50, 50), so the viewport's left edge is at 50 - (5 s + tx), its top at
+    # 50 - (5 s + ty): the boxes above
+    from vecmsaa.api import render_svg_array
+    doc = (f'<svg {NS} width="100" height="100"><marker id="m" markerUnits="userSpaceOnUse" '
+           f'markerWidth="20" markerHeight="10" viewBox="0 0 10 10" preserveAspectRatio="{aspect}" '
+           'refX="5" refY="5"><rect x="-100" y="-100" width="300" height="300"/></marker>'
+           '<path d="M50 50 h1" marker-start="url(#m)"/></svg>')
+    alpha = render_svg_array(doc, mode="analytic")[..., 3].astype(np.float64) / 255
+    x0, y0, x1, y1 = box
+    assert alpha.sum() == pytest.approx(200, abs=1e-6)
+    assert np.all(alpha[y0:y1, x0:x1] == 1)
+
+
 def test_a_turned_marker_crossing_its_viewport_is_clipped_to_the_turned_square():
     # orient 30°: the viewport is a turned 20 x 20 square; the content, a 40 x 40 square
     # around it, covers it whole: exact area per pixel is the square's coverage of it

@@ -8,7 +8,7 @@ from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
 from ..scene.nodes import Fill, Group
-from .units import (ANGLE_DEG, NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
+from .units import (ANGLE_DEG, NUMBER_RE, parse_aspect, parse_viewbox,
                     viewbox_transform, zero_size_viewbox)
 
 
@@ -241,11 +241,18 @@ def marker_layout(builder, marker, stroke_width, ctx):
         return False        # SVG 2: a zero viewBox width or height disables rendering
     vb = parse_viewbox(marker.get("viewBox"))
     if vb is not None:
-        vb_m = viewbox_transform(vb, parse_aspect(marker.get("preserveAspectRatio")),
-                                 mw * scale, mh * scale)
-        sx, sy = matrix_scale(vb_m)
+        width, height = mw * scale, mh * scale
+        sx, _, _, sy, tx, ty = viewbox_transform(
+            vb, parse_aspect(marker.get("preserveAspectRatio")), width, height)
+        # (the alignment's translation drops out: refX/refY, in the content's coordinates,
+        # go to the vertex)
         scaling = (sx, 0.0, 0.0, sy, 0.0, 0.0)
-        clip_rect = vb
+        # the clip is the viewport, markerWidth x markerHeight, in the content's coordinates:
+        # wider or taller than the viewBox under 'meet', narrower or shorter under 'slice'
+        # (SVG 2's "Details on how markers are rendered": the clip is "at the bounds of the
+        # viewport", in its example 0.5 units past each side of a viewBox that xMidYMid meet
+        # centres; resvg 0.48.1 clips to the viewBox itself, Chromium 150 to the viewport)
+        clip_rect = (-tx / sx, -ty / sy, width / sx, height / sy)
     else:
         scaling = (scale, 0.0, 0.0, scale, 0.0, 0.0)
         clip_rect = (0.0, 0.0, mw, mh)
