@@ -96,8 +96,9 @@ _BOXED_SHAPES = frozenset(("rect", "circle", "ellipse"))
 _NOT_DRAWING = bytes((MOVE, CLOSE))
 
 #: url(...) and what follows it: the argument, a quoted string or text up to the first
-#: ')', is read by url_argument
-_URL = re.compile(r"^\s*url\(\s*('[^']*'|\"[^\"]*\"|[^)]*?)\s*\)\s*(.*)$", re.S)
+#: ')', is read by url_argument. "url" is ASCII case-insensitive (CSS Syntax 3 §4.3.4), in
+#: presentation attributes as in style sheets
+_URL = re.compile(r"^\s*[uU][rR][lL]\(\s*('[^']*'|\"[^\"]*\"|[^)]*?)\s*\)\s*(.*)$", re.S)
 
 
 @dataclass

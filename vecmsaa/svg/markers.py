@@ -8,7 +8,7 @@ from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
 from ..scene.transform import compose, translate
 from ..scene.nodes import Fill, Group
-from .units import (ANGLE_DEG, NUMBER_RE, matrix_scale, parse_aspect, parse_viewbox,
+from .units import (ANGLE_DEG, NUMBER_RE, parse_aspect, parse_viewbox,
                     viewbox_transform, zero_size_viewbox)
 
 
@@ -221,16 +221,18 @@ def marker_layout(builder, marker, stroke_width, ctx):
     mh = get("markerHeight", "y", 3.0)
     if mw <= 0 or mh <= 0:
         return False
-    orient = (marker.get("orient") or "0").strip()
+    # the keywords of orient and markerUnits match exactly, as the other enumerated
+    # attributes do (paint.py): resvg 0.48.1 and Chromium 150 both take " auto" or
+    # " userSpaceOnUse" as invalid (0° and strokeWidth); an angle's whitespace is trimmed
+    orient = marker.get("orient") or "0"
     angle = None
     if orient not in ("auto", "auto-start-reverse"):
         # an <angle> is a number with its unit right after it ('45 deg' is invalid: 0)
-        m = _ANGLE.fullmatch(orient)
+        m = _ANGLE.fullmatch(orient.strip())
         angle = float(m[1]) * ANGLE_DEG[(m[2] or "").lower()] if m else 0.0
         if not math.isfinite(angle):
             angle = 0.0
-    units = (marker.get("markerUnits") or "strokeWidth").strip()
-    scale = stroke_width if units != "userSpaceOnUse" else 1.0
+    scale = stroke_width if marker.get("markerUnits") != "userSpaceOnUse" else 1.0
     if not scale > 0:
         # a viewport of markerWidth·strokeWidth ≤ 0 disables rendering, as a zero marker
         # size does (a negative stroke-width, which draws no stroke, gave mirrored markers)
@@ -239,11 +241,18 @@ def marker_layout(builder, marker, stroke_width, ctx):
         return False        # SVG 2: a zero viewBox width or height disables rendering
     vb = parse_viewbox(marker.get("viewBox"))
     if vb is not None:
-        vb_m = viewbox_transform(vb, parse_aspect(marker.get("preserveAspectRatio")),
-                                 mw * scale, mh * scale)
-        sx, sy = matrix_scale(vb_m)
+        width, height = mw * scale, mh * scale
+        sx, _, _, sy, tx, ty = viewbox_transform(
+            vb, parse_aspect(marker.get("preserveAspectRatio")), width, height)
+        # (the alignment's translation drops out: refX/refY, in the content's coordinates,
+        # go to the vertex)
         scaling = (sx, 0.0, 0.0, sy, 0.0, 0.0)
-        clip_rect = vb
+        # the clip is the viewport, markerWidth x markerHeight, in the content's coordinates:
+        # wider or taller than the viewBox under 'meet', narrower or shorter under 'slice'
+        # (SVG 2's "Details on how markers are rendered": the clip is "at the bounds of the
+        # viewport", in its example 0.5 units past each side of a viewBox that xMidYMid meet
+        # centres; resvg 0.48.1 clips to the viewBox itself, Chromium 150 to the viewport)
+        clip_rect = (-tx / sx, -ty / sy, width / sx, height / sy)
     else:
         scaling = (scale, 0.0, 0.0, scale, 0.0, 0.0)
         clip_rect = (0.0, 0.0, mw, mh)
