@@ -115,6 +115,12 @@ def test_invalid_at_computed_value_time_inherited_property():
             '<rect x="40" width="20" height="20" fill="#ff0000" style="fill: var(--missing)"/>'
             '</g>')
     assert cells(body, 3) == [LIME, LIME, LIME]
+    # the same for a stroke width: the group's 20 covers the square's centre, where the
+    # initial 1 would leave it empty
+    body = ('<g stroke-width="20" stroke="#0000ff" fill="none">'
+            + squares("--w: red; stroke-width: var(--w)", "--w: 10 px; stroke-width: var(--w)",
+                      "stroke-width: var(--w)0px", "--w: 1; stroke-width: var(--w)") + '</g>')
+    assert cells(body, 4) == [BLUE, BLUE, BLUE, None]
 
 
 def test_invalid_at_computed_value_time_other_property():

@@ -331,9 +331,9 @@ _OPACITY_PROPERTIES = frozenset(("opacity", "fill-opacity", "stroke-opacity", "s
 
 
 def _valid(name, value):
-    """Whether a substituted value is valid for the property ``name``, for the paint, colour
-    and opacity properties, whose invalid values vecmsaa otherwise reads as resvg does (a
-    fill black, an opacity 1). A var() is checked once substituted, and an invalid result
+    """Whether a substituted value is valid for the property ``name``, for the paint, colour,
+    opacity and stroke number properties, whose invalid values vecmsaa otherwise reads as
+    resvg does (a fill black, an opacity 1, a stroke width 1). A var() is checked once substituted, and an invalid result
     unsets the property (§3.1): an invalid fill inherits its parent's. The other
     properties' readers take substituted values as they take declared ones."""
     if name in ("fill", "stroke"):
@@ -345,6 +345,15 @@ def _valid(name, value):
     if name in _OPACITY_PROPERTIES:
         from .units import valid_opacity
         return valid_opacity(value)
+    if name in ("stroke-width", "stroke-dashoffset"):
+        from .units import UNIT_PX, eval_calc, split_length
+
+        def length(v, unit):
+            return v if unit.lower() in UNIT_PX or unit in ("%", "em", "ex") else None
+        return split_length(value) is not None or eval_calc(value, length) is not None
+    if name == "stroke-miterlimit":
+        from .units import parse_number
+        return parse_number(value) is not None
     return True
 
 
