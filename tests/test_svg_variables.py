@@ -288,3 +288,25 @@ def test_substitute():
     assert substitute("var(--n)px", values.get, budget) == "5 px"
     assert substitute("var(--none)", values.get, budget) is None
     assert substitute("var(--none, var(--none2, a, b))", values.get, budget) == "a, b"
+
+
+def test_use_instances_substitute_their_own_layer_properties():
+    # clip-path, mask, filter, transform and opacity of instantiated content take the
+    # <use>'s custom properties too (each cell's centre: clipped, masked away, flooded red,
+    # moved onto the centre, transparent; the last <use> sets nothing: no clip)
+    body = ('<defs><clipPath id="c"><rect width="5" height="20"/></clipPath>'
+            '<mask id="m"><rect width="5" height="20" fill="white"/></mask>'
+            '<filter id="f"><feFlood flood-color="#ff0000"/></filter>'
+            '<g id="g1"><rect width="20" height="20" fill="#0000ff" clip-path="var(--c)"/></g>'
+            '<g id="g2"><rect width="20" height="20" fill="#0000ff" style="mask: var(--m)"/></g>'
+            '<g id="g3"><rect width="20" height="20" fill="#0000ff" style="filter: var(--f)"/></g>'
+            '<g id="g4"><rect width="10" height="20" fill="#0000ff" style="transform: var(--t)"/>'
+            '</g><g id="g5"><rect width="20" height="20" fill="#0000ff" style="opacity: var(--o)"/>'
+            '</g></defs>'
+            '<use xlink:href="#g1" style="--c: url(#c)"/>'
+            '<use xlink:href="#g2" x="20" style="--m: url(#m)"/>'
+            '<use xlink:href="#g3" x="40" style="--f: url(#f)"/>'
+            '<use xlink:href="#g4" x="60" style="--t: translateX(10px)"/>'
+            '<use xlink:href="#g5" x="80" style="--o: 0"/>'
+            '<use xlink:href="#g1" x="100"/>')
+    assert cells(body, 6) == [None, None, RED, BLUE, None, BLUE]
