@@ -264,8 +264,9 @@ def test_doubling_chain_is_capped():
 
 def test_total_substitution_is_bounded():
     # a capped value used by many elements: refused past MAX_VAR_EXPANSION characters
+    # (each declaration its own: equal ones are substituted once)
     n = MAX_VAR_EXPANSION // MAX_VAR_LENGTH + 2
-    uses = "".join('<rect style="fill: var(--v20, red)"/>' for _ in range(n))
+    uses = "".join(f'<rect style="fill: var(--v20, #{i:06x})"/>' for i in range(n))
     with pytest.raises(SvgError, match="MAX_VAR_EXPANSION"):
         load_document(f'<svg {SVG} style="{chain(20)}">{uses}</svg>'.encode())
 
@@ -310,3 +311,17 @@ def test_use_instances_substitute_their_own_layer_properties():
             '<use xlink:href="#g5" x="80" style="--o: 0"/>'
             '<use xlink:href="#g1" x="100"/>')
     assert cells(body, 6) == [None, None, RED, BLUE, None, BLUE]
+
+
+def test_equal_declarations_under_other_values():
+    # elements repeating one rule's declarations are substituted once per set of inherited
+    # values they use: each still gets its own ancestors' values
+    body = ('<style>.k { fill: var(--c) } .d { --d: var(--c); fill: var(--d) }</style>'
+            '<g style="--c: #0000ff"><rect class="k" width="20" height="20"/>'
+            '<rect class="d" x="20" width="20" height="20"/></g>'
+            '<g style="--c: #00ff00"><rect class="k" x="40" width="20" height="20"/>'
+            '<rect class="d" x="60" width="20" height="20"/>'
+            '<rect class="k" x="80" width="20" height="20" style="--c: #ff0000"/></g>'
+            '<g style="--c: #0000ff; --x: 1"><rect class="k" x="100" width="20" height="20"/>'
+            '<rect class="k" x="120" width="20" height="20" fill-opacity="0"/></g>')
+    assert cells(body, 7) == [BLUE, BLUE, LIME, LIME, RED, BLUE, None]

@@ -295,6 +295,16 @@ def resolve(base, own, props, inherited, budget, warnings):
     (its values without var()) with its custom properties ``own`` computed and its
     Unresolved values ``props`` substituted; a property invalid at computed-value time is
     left out (unset). ``inherited(name)``: the parent's custom property."""
+    customs, values = _resolved(own, props, inherited, budget, warnings)
+    out = dict(base)
+    for name, value in customs.items():
+        out[name] = INVALID if value is None else value
+    out.update(values)
+    return out, customs
+
+
+def _resolved(own, props, inherited, budget, warnings):
+    """resolve's computed custom properties and substituted values."""
     from .document import _expand_shorthand, _specified
 
     customs = custom_values(own, inherited, budget) if own else {}
@@ -317,11 +327,7 @@ def resolve(base, own, props, inherited, budget, warnings):
                 if text else {}
         if name in expanded:
             values[name] = expanded[name]
-    out = dict(base)
-    for name, value in customs.items():
-        out[name] = INVALID if value is None else value
-    out.update(_specified(values, None, None, warnings))
-    return out, customs
+    return customs, _specified(values, None, None, warnings)
 
 
 #: properties whose values are a colour (``currentColor`` included)
@@ -386,6 +392,9 @@ def substitute_document(doc, warnings):
     Style.child needs to resolve them again under a <use> in ``doc.var_raw``."""
     budget = doc.var_budget = Budget()
     visible = {}        # id(element) -> the custom properties its children inherit
+    # _resolved by what it depends on: elements repeat the same declarations under the same
+    # custom properties (a rule matching thousands), and substitute them once
+    memo = {}
 
     def above(el):
         node = el.parent
@@ -414,8 +423,16 @@ def substitute_document(doc, warnings):
                     if VAR.search(raw):
                         references(template(raw), names)
                 deps = {n: inherited.get(n) for n in names}
-                el.specified, customs = resolve(base, own, props, inherited.get, budget,
-                                                warnings)
+                key = (tuple(own.items()), tuple((n, v, v.shorthand) for n, v in props.items()),
+                       tuple(deps.items()))
+                got = memo.get(key)
+                if got is None:
+                    got = memo[key] = _resolved(own, props, inherited.get, budget, warnings)
+                customs, values = got
+                el.specified = dict(base)
+                for name, value in customs.items():
+                    el.specified[name] = INVALID if value is None else value
+                el.specified.update(values)
                 doc.var_raw[id(el)] = Pending(base, own, props, deps)
                 if customs:
                     inherited = visible[id(el)] = {**inherited, **customs}
