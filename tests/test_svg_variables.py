@@ -2,8 +2,6 @@
 Level 1): the specification's examples and rules, checked on the rendered colours of plain
 20 x 20 squares. Each expected colour follows from the specification's text (section cited);
 Chromium 150 draws the same (docs/svg.md, session 25, custom properties)."""
-import time
-
 import pytest
 
 from vecmsaa.api import render_svg_array
@@ -164,9 +162,8 @@ def test_cycles_make_every_property_on_them_invalid():
 
 
 def test_fallback_not_taken_makes_no_cycle():
-    # a fallback is substituted only when needed (CSS Values 5 "arbitrary substitution";
-    # Chromium 150 does so): --a takes --x, and its fallback's reference to --b is never
-    # followed, so --b is --a's value too
+    # a fallback is substituted only when needed (as Chromium 150 does): --a takes --x,
+    # and its fallback's reference to --b is never followed, so --b is --a's value too
     assert cells(squares("--a: var(--x, var(--b)); --b: var(--a); --x: #0000ff; "
                          "fill: var(--b, #ff0000)"), 1) == [BLUE]
 
@@ -252,9 +249,7 @@ def chain(n, first="0"):
 def test_doubling_chain_is_capped():
     # the "billion laughs" of variables: --v40 would be 2^40 tokens; each value over
     # MAX_VAR_LENGTH is invalid (the fallback applies), the work stays small
-    start = time.process_time()
     assert cells(squares(chain(40) + "; fill: var(--v40, #0000ff)"), 1) == [BLUE]
-    assert time.process_time() - start < 20       # (a bound on runaway work, not a timing)
     customs = custom_values(dict(x.split(": ") for x in chain(25).split("; ")),
                             lambda name: None, Budget())
     valid = [i for i in range(26) if customs[f"--v{i}"] is not None]
