@@ -660,8 +660,9 @@ class Builder:
         return []
 
     def element_transform(self, el, style, ctx):
-        """The element's own transform (with transform-origin), None when it is singular."""
-        spec = el.specified
+        """The element's own transform (with transform-origin), None when it is singular.
+        (Read from its style: under a <use>, var() there takes the use's custom properties.)"""
+        spec = style.specified
         text = spec.get("transform")
         if text == "none":
             text = None
@@ -808,12 +809,12 @@ class Builder:
             # an element its filter keeps from being drawn (a url to no filter, or to filters
             # that cannot apply to it) adds nothing to a bounding box either: SVG 2's
             # algorithm skips children that are not rendered, and usvg drops the element
-            f = el.specified.get("filter")
+            f = style.specified.get("filter")
             if nodes and f and f.strip() != "none" and self._filter_hides(el, ctx, style):
                 return []
             return nodes
         if ctx.clip:
-            clip_ref = el.specified.get("clip-path")
+            clip_ref = style.specified.get("clip-path")
             if clip_ref and clip_ref != "none" and nodes:
                 clip = self.clip_path(clip_ref, ctx, lambda: self.object_bbox(el, ctx, style))
                 if clip is False:
@@ -826,11 +827,11 @@ class Builder:
         opacity = parse_opacity(style.get("opacity"))
         blend = (style.get("mix-blend-mode") or "normal").strip()
         isolate = style.get("isolation").strip() == "isolate"
-        clip_ref = el.specified.get("clip-path")
-        mask_ref = el.specified.get("mask")
+        clip_ref = style.specified.get("clip-path")
+        mask_ref = style.specified.get("mask")
         has_clip = clip_ref and clip_ref.strip() != "none"
         has_mask = mask_ref and mask_ref.strip() != "none"
-        filter_ref = el.specified.get("filter")
+        filter_ref = style.specified.get("filter")
         has_filter = filter_ref and filter_ref.strip() != "none"
         if opacity <= 0 and not has_mask:
             return []
@@ -861,7 +862,7 @@ class Builder:
                 return []
             group.clip = clip
         if has_mask:
-            masks = self.masks(mask_ref, ctx, bbox, el.specified.get("mask-mode"))
+            masks = self.masks(mask_ref, ctx, bbox, style.specified.get("mask-mode"))
             if masks is False:
                 return []
             if masks:

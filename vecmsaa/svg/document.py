@@ -295,6 +295,12 @@ class Style:
             return above if parsed is None else parsed
         return computed_down(self, ("valid", name), own, initial)
 
+    def custom(self, name):
+        """The computed value of the custom property ``name`` (None: none, or the
+        guaranteed-invalid value); custom properties are always inherited."""
+        value = computed_down(self, name, lambda style, above: style.specified.get(name, above))
+        return None if value is None or value == "\0" else value   # variables.INVALID
+
     def computed(self, key, own):
         """computed_down the styles (the root's parent's value None): a property whose
         computed value needs its parent's (font-weight's ``bolder``)."""
@@ -353,7 +359,13 @@ class Style:
         clip path, mask, opacity, filter or transform (each group of a sheet of symbols
         with its own clip) then share one Style, and the stroke parameters, paints and
         plans computed from it, instead of one each."""
-        key = tuple(element.specified.items())
+        spec = element.specified
+        doc = element.source
+        if doc is not None and doc.var_raw:
+            pending = doc.var_raw.get(id(element))
+            if pending is not None:     # it uses custom properties: ours may differ
+                spec = pending.specified_under(element, self)
+        key = tuple(spec.items())
         owner = self
         if element.tag in _SHAPE_TAGS and not any("inherit" in v.lower() for _, v in key):
             while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
@@ -581,8 +593,9 @@ class _TreeReader:
     for CSS selector matching, and each element's specified style is left to
     :meth:`specify`."""
 
-    def __init__(self, doc, mirror: bool):
+    def __init__(self, doc, mirror: bool, custom: bool = False):
         self.doc = doc
+        self.custom = custom       # the document has var() (_specified)
         self.mirror = None
         self.pending = []          # (Element, its ElementTree twin, spec, style attribute)
         self.warnings = []         # unsupported values, warned about once the tree is read
@@ -661,7 +674,7 @@ class _TreeReader:
                 spec = {} if PRESENTATION.isdisjoint(attr) else \
                     {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
                 if spec or style_attr:
-                    spec = _specified(spec, None, style_attr, self.warnings)
+                    spec = _specified(spec, None, style_attr, self.warnings, self.custom)
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
@@ -767,7 +780,7 @@ class _TreeReader:
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
             elif spec or style_attr:
-                el.specified = _specified(spec, None, style_attr, self.warnings)
+                el.specified = _specified(spec, None, style_attr, self.warnings, self.custom)
             else:
                 el.specified = spec
             if parent is not None:
@@ -863,11 +876,15 @@ def _declarations(tokens_or_text):
         if d.type != "declaration":
             continue
         value = _value_text(d.value)
-        if not value:
+        name = d.lower_name
+        if name[:2] == "--":
+            # a custom property: its name is case-sensitive, its value may be empty
+            # (CSS Variables 1 §2)
+            out.append((d.name, value, bool(d.important)))
+        elif value:
             # no property takes an empty value: CSS drops the declaration, and what it would
             # have overridden (a presentation attribute, an earlier rule) applies
-            continue
-        out.append((d.lower_name, value, bool(d.important)))
+            out.append((name, value, bool(d.important)))
     return out
 
 
@@ -906,7 +923,18 @@ def _expand_shorthand(name, value):
     cascade as CSS expands any shorthand: over presentation attributes and earlier
     declarations, under later ones, and inherited from a group like the longhands (CSS Fonts 4
     §2.9); an invalid ``font``, ``white-space`` or ``white-space-collapse`` is dropped, so an
-    earlier declaration stays (CSS Syntax 3 §8)."""
+    earlier declaration stays (CSS Syntax 3 §8). A value holding var() is expanded once it is
+    substituted (variables.resolve)."""
+    if value.__class__ is not str:      # variables.Unresolved
+        from .variables import shorthand_pending
+        if name == "marker":
+            return shorthand_pending(name, value, ("marker-start", "marker-mid", "marker-end"))
+        if name == "font":
+            from .text.font_match import FONT_RESETS
+            return shorthand_pending(name, value, (*FONT_RESETS, "font-size", "font-family"))
+        if name in ("white-space", "white-space-collapse"):
+            return shorthand_pending(name, value, ("white-space-collapse",))
+        return [(name, value)]
     if name == "marker":
         return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
     if name == "font":
@@ -1027,6 +1055,8 @@ class Document:
         self.link_containers = []   # pattern, clipPath and mask elements in document order
         self.detached = []          # SVG elements inside foreign ones: referable, not drawn
         self._detached_ids = None
+        self.var_raw = {}           # id(element) -> variables.Pending, where var() is used
+        self.var_budget = None      # variables.Budget, in a document with var()
 
     @property
     def ids(self) -> dict:
@@ -1086,6 +1116,7 @@ class Document:
             styles.extend(style._children.values())
             style._children = {}
         self.root, self._ids, self.paths, self._doc_styles = None, {}, [], {}
+        self.var_raw = {}
         self.detached, self._detached_ids = [], None
 
     def document_style(self, el: Element) -> Style:
@@ -1133,10 +1164,14 @@ def _ascii_lower(value):
     return value.lower() if value.isascii() else value.translate(_ASCII_LOWER)
 
 
-def _specified(spec, found, style_attr, warnings):
+def _specified(spec, found, style_attr, warnings, custom=False):
     """An element's specified style: its presentation attributes ``spec`` (updated in place)
     under the CSS rules that match it (``found``: cssselect2 matches), its ``style``
-    attribute, then the ``!important`` declarations. Unsupported values go to ``warnings``."""
+    attribute, then the ``!important`` declarations. Unsupported values go to ``warnings``.
+    ``custom``: the document has var(); custom properties are then declarations too, and
+    values holding var() stay variables.Unresolved, for variables.substitute_document."""
+    if custom:
+        return _specified_with_variables(spec, found, style_attr, warnings)
     if found or style_attr:
         important = {}
         for match in sorted(found, key=lambda m: (m[0], m[1])) if found else ():
@@ -1175,6 +1210,51 @@ def _specified(spec, found, style_attr, warnings):
     return spec
 
 
+def _specified_with_variables(spec, found, style_attr, warnings):
+    """_specified for a document with var(): custom properties (``--*``) take part in the
+    cascade like the others (CSS Variables 1 §2), and values holding var() (presentation
+    attributes' too: SVG 2 parses them as the property's CSS value, and Chromium 150
+    substitutes them) are set aside, unchecked, as variables.Unresolved; a malformed var()
+    makes its declaration invalid, and it is ignored (§3)."""
+    from .variables import VAR, unresolved
+
+    for name, value in list(spec.items()):
+        if VAR.search(value):
+            value = unresolved(name, value)
+            if value is None:
+                del spec[name]
+            else:
+                spec[name] = value
+    important = {}
+    declared = [d for m in sorted(found, key=lambda m: (m[0], m[1])) for d in m[3][1]] \
+        if found else []
+    if style_attr:
+        declared.extend(_style_attribute(style_attr))
+    for name, value, imp in declared:
+        if name[:2] == "--":
+            if VAR.search(value) and unresolved(name, value) is None:
+                continue
+            (important if imp else spec)[name] = value
+            continue
+        if name not in PROPERTIES:
+            continue
+        if VAR.search(value):
+            value = unresolved(name, value)
+            if value is None:
+                continue
+        for pname, pval in _expand_shorthand(name, value):
+            (important if imp else spec)[pname] = pval
+    spec.update(important)
+    pending = {name: value for name, value in spec.items()
+               if name[:2] == "--" or value.__class__ is not str}
+    if pending:
+        for name in pending:
+            del spec[name]
+    spec = _specified(spec, None, None, warnings)
+    spec.update(pending)
+    return spec
+
+
 def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
                   root_defaults=None, languages=("en",)) -> Document:
     """Parse SVG bytes into a Document.
@@ -1191,12 +1271,18 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     # Only a document with CSS needs the ElementTree tree (cssselect2 matches on it).
     # (the substring test first: a regular expression search of a map costs milliseconds)
     has_css = b"style" in data and _STYLE_ELEMENT.search(data) is not None
-    reader = _TreeReader(doc, mirror=bool(stylesheet) or has_css)
+    # custom properties matter only where var() uses them (b"ar(" first: see has_css)
+    custom = (b"ar(" in data and _VAR_FUNCTION.search(data) is not None) or (
+        bool(stylesheet) and "ar(" in stylesheet)
+    reader = _TreeReader(doc, mirror=bool(stylesheet) or has_css, custom=custom)
     doc.root = reader.read(data)
     if reader.bad_root:
         raise SvgError("the root element is not <svg>")
     if reader.mirror is not None:
         _cascade(reader, stylesheet)
+    if custom and doc.root is not None and reader.error is None:
+        from .variables import substitute_document
+        substitute_document(doc, reader.warnings)
     for message in reader.warnings:
         warn(message)
     if reader.error is not None:
@@ -1207,6 +1293,7 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     return doc
 
 
+_VAR_FUNCTION = re.compile(rb"(?i)var\(")
 _URL_ID = re.compile(r"""^\s*url\(\s*["']?#([^"')\s]+)["']?\s*\)""")
 
 
@@ -1326,7 +1413,8 @@ def _cascade(reader, stylesheet):
             if found:
                 matches[id(w.etree_element)] = found
     for el, node, spec, style_attr in reader.pending:
-        el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings)
+        el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings,
+                                  reader.custom)
 
 
 def _counted_matching(matcher):

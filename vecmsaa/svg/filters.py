@@ -49,7 +49,7 @@ LUMA = (0.2126, 0.7152, 0.0722)
 def element_filters(builder, el, style, ctx, bbox_fn):
     """[Filter] for the element's ``filter`` value, [] when there is none (or it does not
     parse), False when the element is not drawn."""
-    value = (el.specified.get("filter") or "").strip()
+    value = (style.specified.get("filter") or "").strip()
     if not value or value == "none":
         return []
     # (parsed once per value; _draws_itself only where a <filter> it names has an feImage)

@@ -569,6 +569,11 @@ def viewbox_transform_f32(viewbox, aspect, width, height):
 _OPACITY = re.compile(rf"[ \t\n\r\f]*({NUMBER_RE})(%?)[ \t\n\r\f]*")
 
 
+def valid_opacity(value) -> bool:
+    """Whether ``value`` is an <alpha-value> (what parse_opacity reads as one)."""
+    return _OPACITY.fullmatch(value) is not None
+
+
 @functools.lru_cache(maxsize=256)
 def parse_opacity(value):
     """An opacity property's value clamped to [0, 1]; 1 when it is missing or invalid."""
