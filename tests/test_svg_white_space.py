@@ -105,6 +105,15 @@ def test_each_value_keeps_the_spaces_css_text_says(value, kept):
     ('<text white-space="pre">{}</text>', True),
     ('<text white-space="pre" style="white-space:normal">{}</text>', False),
     ('<text white-space="normal" xml:space="preserve">{}</text>', False),
+    # through a custom property (CSS Variables 1): substituted, then expanded and checked
+    ('<text style="--ws: pre; white-space: var(--ws)">{}</text>', True),
+    ('<g style="--ws: pre"><text style="white-space-collapse: var(--ws, collapse)">{}</text>'
+     '</g>', False),
+    ('<text style="--c: preserve; white-space-collapse: var(--c)">{}</text>', True),
+    # a var() invalid at computed-value time unsets the property (CSS Variables 1 §3.1):
+    # the parent's value, not xml:space's (Chromium 150 collapses too)
+    ('<text xml:space="preserve" style="white-space: var(--missing)">{}</text>', False),
+    ('<text xml:space="preserve" style="--w: bogus; white-space: var(--w)">{}</text>', False),
 ])
 def test_the_cascade_decides_between_white_space_and_xml_space(body, kept):
     assert _chars(body.format("  a  b  ")) == ["  a  b  " if kept else "a b"]

@@ -305,7 +305,7 @@ def resolve(base, own, props, inherited, budget, warnings):
 
 def _resolved(own, props, inherited, budget, warnings):
     """resolve's computed custom properties and substituted values."""
-    from .document import _expand_shorthand, _specified
+    from .document import INHERITED, _expand_shorthand, _specified
 
     customs = custom_values(own, inherited, budget) if own else {}
 
@@ -318,15 +318,20 @@ def _resolved(own, props, inherited, budget, warnings):
             text = substitute(raw, lookup, budget)
             if text and _valid(name, text):     # (no property takes an empty value)
                 values[name] = text
-            continue
-        key = (raw.shorthand, str(raw))
-        expanded = shorthands.get(key)
-        if expanded is None:
-            text = substitute(raw, lookup, budget)
-            expanded = shorthands[key] = dict(_expand_shorthand(raw.shorthand, text)) \
-                if text else {}
-        if name in expanded:
-            values[name] = expanded[name]
+        else:
+            key = (raw.shorthand, str(raw))
+            expanded = shorthands.get(key)
+            if expanded is None:
+                text = substitute(raw, lookup, budget)
+                expanded = shorthands[key] = dict(_expand_shorthand(raw.shorthand, text)) \
+                    if text else {}
+            if name in expanded:
+                values[name] = expanded[name]
+        if name not in values and name in INHERITED:
+            # invalid at computed-value time: unset (§3.1), which for an inherited property
+            # is its parent's value, over what lies outside the cascade (xml:space, which
+            # white-space's reader falls back on when the property is absent)
+            values[name] = "inherit"
     return customs, _specified(values, None, None, warnings)
 
 
