@@ -46,6 +46,12 @@ SVG_TOKENS = [
     b' transform="scale(1e300)"', b' transform="matrix(0 0 0 0 0 0)"',
     b' transform="rotate(45) skewX(90)"', b' stroke-width="1e300"', b' stroke-width="-5"',
     b' stroke-dasharray="0 0"', b' stroke-dasharray="1e-300"', b' opacity="NaN"',
+    # custom properties: cycles, self-reference, nested fallbacks, doubling chains, var() in
+    # shorthands and in presentation attributes
+    b' style="--a: var(--a); fill: var(--a, red)"', b' style="--b: var(--a) var(--a)"',
+    b' style="stroke-width: var(--w, var(--v, 1e308))"', b' fill="var(--b)"',
+    b' style="marker: var(--m); font: var(--f, bold 1e300px serif)"', b' style="--m: url(#a)"',
+    b' style="white-space: var(--a, pre); --a: pre-wrap"', b' stroke-dasharray="1e-9 1e9"',
     b' d="M0 0 A 1e308 1e308 0 1 1 1 1"', b' d="M0 0 L 1e308 1e308 Z"',
     b' d="M 0 0 C 0 0 0 0 0 0 Z"', b' d="M1 1 a0 0 0 0 0 5 5"', b' viewBox="0 0 0 0"',
     b' viewBox="0 0 1e-300 1e-300"', b' width="-1"', b' height="1e9"', b' href="#a"',
