@@ -214,6 +214,43 @@ def test_underline_follows_the_post_table():
     assert rows.max() + 1 - rows.min() == pytest.approx(thickness * size / upem, abs=1)
 
 
+@pytest.mark.parametrize("css, lines", [
+    ("text-decoration-line: underline", {"underline"}),
+    ("text-decoration-line: underline overline", {"underline", "overline"}),
+    ("text-decoration: underline; text-decoration-line: overline", {"overline"}),
+    ("text-decoration-line: overline; text-decoration: line-through", {"line-through"}),
+    ("text-decoration-line: none", set()),
+])
+def test_text_decoration_line_longhand_in_css(css, lines):
+    """CSS Text Decoration 3: text-decoration-line sets the lines, text-decoration is its
+    shorthand (SVG 2 §11.11), so in a style the later of the two wins. The bars are where the
+    font's tables put them (post underlinePosition, hhea ascender, OS/2 yStrikeoutPosition),
+    looked for under the space between two H, where nothing else is drawn."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    upem, size = font["head"].unitsPerEm, 100
+    centres = {"underline": 150 - font["post"].underlinePosition * size / upem,
+               "overline": 150 - font["hhea"].ascent * size / upem,
+               "line-through": 150 - font["OS/2"].yStrikeoutPosition * size / upem}
+    img = alpha(render(f'<text x="10" y="150" font-size="{size}" kerning="0" '
+                       f'style="{css}">H H</text>', width=300, height=200))
+    h, space = freetype_advance("H", size), freetype_advance(" ", size)
+    column = img[:, int(10 + h + 3):int(10 + h + space - 3)].max(axis=1)
+    rows = np.nonzero(column > 0.5)[0]
+    # the bars found: runs of inked rows, by their centres
+    runs = np.split(rows, np.nonzero(np.diff(rows) > 1)[0] + 1) if len(rows) else []
+    found = sorted((r.min() + r.max() + 1) / 2 for r in runs)
+    assert found == pytest.approx(sorted(centres[k] for k in lines), abs=0.6)
+
+
+def test_text_decoration_line_is_no_presentation_attribute():
+    """SVG 2's presentation attributes hold text-decoration, not its longhands (Chromium 150
+    ignores the attribute too): the attribute draws nothing."""
+    plain = render('<text x="10" y="60">H H</text>')
+    assert np.array_equal(render('<text x="10" y="60" text-decoration-line="underline">H H'
+                                 '</text>'), plain)
+
+
 @pytest.mark.parametrize("order, centre_colour", [("normal", (0, 128, 0)),
                                                    ("stroke", (255, 255, 0))])
 def test_paint_order_applies_to_text_decoration(order, centre_colour):
