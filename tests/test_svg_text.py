@@ -214,6 +214,37 @@ def test_underline_follows_the_post_table():
     assert rows.max() + 1 - rows.min() == pytest.approx(thickness * size / upem, abs=1)
 
 
+def test_sideways_text_orientation_sets_vertical_text_on_its_alphabetic_baseline():
+    """CSS Writing Modes 3: text-orientation: sideways sets vertical text as horizontal text
+    turned 90° clockwise, in horizontal typographic mode, so the alphabetic baseline (not the
+    central one) is on x. The ink of H is the glyf box of H turned: across from x to x + yMax,
+    along from y + xMin to y + xMax; an underline is at x + the post table's position (its
+    left, under the turned glyphs), in the space between two H."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    upem, size = font["head"].unitsPerEm, 100
+    s = size / upem
+    glyph = font["glyf"][font.getBestCmap()[ord("H")]]
+    a = alpha(render('<text x="150" y="20" writing-mode="tb" font-size="100" kerning="0" '
+                     'style="text-orientation: sideways">H</text>', width=300, height=300))
+    x0, y0, x1, y1 = ink_box(a)
+    assert x0 == pytest.approx(150 + glyph.yMin * s, abs=1)
+    assert x1 + 1 == pytest.approx(150 + glyph.yMax * s, abs=1)
+    assert y0 == pytest.approx(20 + glyph.xMin * s, abs=1)
+    assert y1 + 1 == pytest.approx(20 + glyph.xMax * s, abs=1)
+    # inherited from a group, and underlined where the turned horizontal text has its line
+    a = alpha(render('<g style="text-orientation: sideways"><text x="150" y="20" '
+                     'writing-mode="tb" font-size="100" kerning="0" text-decoration="underline">'
+                     'H H</text></g>', width=300, height=300))
+    h, space = freetype_advance("H", size), freetype_advance(" ", size)
+    row = a[int(20 + h + 3):int(20 + h + space - 3)].max(axis=0)
+    cols = np.nonzero(row > 0.5)[0]
+    post = font["post"]
+    assert (cols.min() + cols.max() + 1) / 2 == pytest.approx(150 + post.underlinePosition * s,
+                                                              abs=0.6)
+    assert cols.max() + 1 - cols.min() == pytest.approx(post.underlineThickness * s, abs=1)
+
+
 @pytest.mark.parametrize("css, lines", [
     ("text-decoration-line: underline", {"underline"}),
     ("text-decoration-line: underline overline", {"underline", "overline"}),

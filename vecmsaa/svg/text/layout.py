@@ -64,6 +64,7 @@ class Cluster:
     frame: tuple = IDENTITY     # cluster transform in user units (without path_ts)
     placed: tuple = IDENTITY    # frame after path_ts: its em box and glyphs in user units
     visible: bool = True
+    sideways: bool = False    # vertical writing, text-orientation: sideways
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
     gap: float = 0.0          # textLength's spacing in its advance (after it)
@@ -307,9 +308,12 @@ def apply_spacing(clusters, chars, specs):
 
 def apply_writing_mode(clusters, chars):
     """Vertical text: upright characters (CJK) are turned back upright about their centre,
-    others keep the rotated line, centred on the column."""
+    others keep the rotated line, centred on the column; under text-orientation: sideways
+    every character keeps the rotated line, on its alphabetic baseline."""
     for c in clusters:
-        if _is_upright(ord(chars[c.char].ch)):
+        if sideways(chars[c.char].span.style):
+            c.sideways = True
+        elif _is_upright(ord(chars[c.char].ch)):
             # turned back about the middle of its em box's height, then moved down by
             # that half: the top of the em box (the ascender) meets the pen position
             mid = (c.ascent + c.descent) / 2
@@ -318,6 +322,18 @@ def apply_writing_mode(clusters, chars):
         else:
             # Rotated characters sit on the central baseline (measured against resvg 0.48)
             c.pre = translate(0.0, (c.ascent + c.descent) / 2)
+
+
+def sideways(style):
+    """text-orientation: sideways (CSS Writing Modes 3 §5.1; inherited, CSS only): vertical
+    text set as horizontal text turned 90° clockwise, CJK included, in horizontal typographic
+    mode, whose dominant baseline is the alphabetic one (§4.2), not the central one. (upright,
+    which needs vertical advances, is drawn as mixed.)"""
+    return style.get_valid("text-orientation", _text_orientation, "mixed") == "sideways"
+
+
+def _text_orientation(value):
+    return value if value in ("mixed", "upright", "sideways") else None
 
 
 #: CJK punctuation and small kana that UTR #50 marks Tu/Tr (transformed): resvg rotates them
@@ -730,7 +746,8 @@ def build_text(element, ctx):
         face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
-            shift_cache[key] = baseline_offset(c.span, face, spec, vertical) \
+            shift_cache[key] = baseline_offset(
+                c.span, face, spec, vertical and not sideways(c.span.style)) \
                 if face is not None else 0.0
         shifts.append(shift_cache[key])
 
