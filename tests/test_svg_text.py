@@ -245,6 +245,16 @@ def test_sideways_text_orientation_sets_vertical_text_on_its_alphabetic_baseline
     assert cols.max() + 1 - cols.min() == pytest.approx(post.underlineThickness * s, abs=1)
 
 
+def test_sideways_right_is_sideways():
+    """sideways-right, sideways' name in CSS Writing Modes 3's drafts, is read as sideways
+    (Chromium 150; Gecko's reftest text/vertical-01), and differs from mixed."""
+    def draw(value):
+        return render(f'<text x="100" y="10" writing-mode="vertical-rl" font-size="30" '
+                      f'style="text-orientation: {value}">A B</text>', height=200)
+    assert np.array_equal(draw("sideways-right"), draw("sideways"))
+    assert not np.array_equal(draw("sideways"), draw("mixed"))
+
+
 @pytest.mark.parametrize("css, lines", [
     ("text-decoration-line: underline", {"underline"}),
     ("text-decoration-line: underline overline", {"underline", "overline"}),

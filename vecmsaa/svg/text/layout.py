@@ -333,6 +333,10 @@ def sideways(style):
 
 
 def _text_orientation(value):
+    # sideways-right: the name of sideways in CSS Writing Modes 3's drafts, which Chromium 150
+    # and Gecko (its reftest text/vertical-01) still read as sideways
+    if value == "sideways-right":
+        return "sideways"
     return value if value in ("mixed", "upright", "sideways") else None
 
 
