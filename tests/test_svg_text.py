@@ -214,6 +214,84 @@ def test_underline_follows_the_post_table():
     assert rows.max() + 1 - rows.min() == pytest.approx(thickness * size / upem, abs=1)
 
 
+def test_sideways_text_orientation_sets_vertical_text_on_its_alphabetic_baseline():
+    """CSS Writing Modes 3: text-orientation: sideways sets vertical text as horizontal text
+    turned 90° clockwise, in horizontal typographic mode, so the alphabetic baseline (not the
+    central one) is on x. The ink of H is the glyf box of H turned: across from x to x + yMax,
+    along from y + xMin to y + xMax; an underline is at x + the post table's position (its
+    left, under the turned glyphs), in the space between two H."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    upem, size = font["head"].unitsPerEm, 100
+    s = size / upem
+    glyph = font["glyf"][font.getBestCmap()[ord("H")]]
+    a = alpha(render('<text x="150" y="20" writing-mode="tb" font-size="100" kerning="0" '
+                     'style="text-orientation: sideways">H</text>', width=300, height=300))
+    x0, y0, x1, y1 = ink_box(a)
+    assert x0 == pytest.approx(150 + glyph.yMin * s, abs=1)
+    assert x1 + 1 == pytest.approx(150 + glyph.yMax * s, abs=1)
+    assert y0 == pytest.approx(20 + glyph.xMin * s, abs=1)
+    assert y1 + 1 == pytest.approx(20 + glyph.xMax * s, abs=1)
+    # inherited from a group, and underlined where the turned horizontal text has its line
+    a = alpha(render('<g style="text-orientation: sideways"><text x="150" y="20" '
+                     'writing-mode="tb" font-size="100" kerning="0" text-decoration="underline">'
+                     'H H</text></g>', width=300, height=300))
+    h, space = freetype_advance("H", size), freetype_advance(" ", size)
+    row = a[int(20 + h + 3):int(20 + h + space - 3)].max(axis=0)
+    cols = np.nonzero(row > 0.5)[0]
+    post = font["post"]
+    assert (cols.min() + cols.max() + 1) / 2 == pytest.approx(150 + post.underlinePosition * s,
+                                                              abs=0.6)
+    assert cols.max() + 1 - cols.min() == pytest.approx(post.underlineThickness * s, abs=1)
+
+
+def test_sideways_right_is_sideways():
+    """sideways-right, sideways' name in CSS Writing Modes 3's drafts, is read as sideways
+    (Chromium 150; Gecko's reftest text/vertical-01), and differs from mixed."""
+    def draw(value):
+        return render(f'<text x="100" y="10" writing-mode="vertical-rl" font-size="30" '
+                      f'style="text-orientation: {value}">A B</text>', height=200)
+    assert np.array_equal(draw("sideways-right"), draw("sideways"))
+    assert not np.array_equal(draw("sideways"), draw("mixed"))
+
+
+@pytest.mark.parametrize("css, lines", [
+    ("text-decoration-line: underline", {"underline"}),
+    ("text-decoration-line: underline overline", {"underline", "overline"}),
+    ("text-decoration: underline; text-decoration-line: overline", {"overline"}),
+    ("text-decoration-line: overline; text-decoration: line-through", {"line-through"}),
+    ("text-decoration-line: none", set()),
+])
+def test_text_decoration_line_longhand_in_css(css, lines):
+    """CSS Text Decoration 3: text-decoration-line sets the lines, text-decoration is its
+    shorthand (SVG 2 §11.11), so in a style the later of the two wins. The bars are where the
+    font's tables put them (post underlinePosition, hhea ascender, OS/2 yStrikeoutPosition),
+    looked for under the space between two H, where nothing else is drawn."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(TTF)
+    upem, size = font["head"].unitsPerEm, 100
+    centres = {"underline": 150 - font["post"].underlinePosition * size / upem,
+               "overline": 150 - font["hhea"].ascent * size / upem,
+               "line-through": 150 - font["OS/2"].yStrikeoutPosition * size / upem}
+    img = alpha(render(f'<text x="10" y="150" font-size="{size}" kerning="0" '
+                       f'style="{css}">H H</text>', width=300, height=200))
+    h, space = freetype_advance("H", size), freetype_advance(" ", size)
+    column = img[:, int(10 + h + 3):int(10 + h + space - 3)].max(axis=1)
+    rows = np.nonzero(column > 0.5)[0]
+    # the bars found: runs of inked rows, by their centres
+    runs = np.split(rows, np.nonzero(np.diff(rows) > 1)[0] + 1) if len(rows) else []
+    found = sorted((r.min() + r.max() + 1) / 2 for r in runs)
+    assert found == pytest.approx(sorted(centres[k] for k in lines), abs=0.6)
+
+
+def test_text_decoration_line_is_no_presentation_attribute():
+    """SVG 2's presentation attributes hold text-decoration, not its longhands (Chromium 150
+    ignores the attribute too): the attribute draws nothing."""
+    plain = render('<text x="10" y="60">H H</text>')
+    assert np.array_equal(render('<text x="10" y="60" text-decoration-line="underline">H H'
+                                 '</text>'), plain)
+
+
 @pytest.mark.parametrize("order, centre_colour", [("normal", (0, 128, 0)),
                                                    ("stroke", (255, 255, 0))])
 def test_paint_order_applies_to_text_decoration(order, centre_colour):
@@ -465,9 +543,10 @@ def test_text_antialiasing_follows_text_rendering_of_the_text_element_only():
                                   '</text>')) == 0
 
 
-def _square_cjk_font(path, family, underline=(-100, 50)):
-    """A font whose only glyph, U+65E5, is a square from (100, -100) to (900, 800) font units
-    (1000 per em, ascender 800, descender -200), with the given post underline metrics."""
+def _square_cjk_font(path, family, underline=(-100, 50), chars=(0x65E5,)):
+    """A font whose only glyph, for ``chars`` (U+65E5), is a square from (100, -100) to
+    (900, 800) font units (1000 per em, ascender 800, descender -200), with the given post
+    underline metrics."""
     from fontTools.fontBuilder import FontBuilder
     from fontTools.pens.ttGlyphPen import TTGlyphPen
 
@@ -477,7 +556,7 @@ def _square_cjk_font(path, family, underline=(-100, 50)):
     pen.closePath()
     fb = FontBuilder(1000, isTTF=True)
     fb.setupGlyphOrder([".notdef", "sun"])
-    fb.setupCharacterMap({0x65E5: "sun"})
+    fb.setupCharacterMap({cp: "sun" for cp in chars})
     fb.setupGlyf({".notdef": TTGlyphPen(None).glyph(), "sun": pen.glyph()})
     fb.setupHorizontalMetrics({".notdef": (1000, 0), "sun": (1000, 100)})
     fb.setupHorizontalHeader(ascent=800, descent=-200)
@@ -503,6 +582,56 @@ def test_upright_glyph_in_vertical_text_hangs_from_its_vertical_origin(tmp_path)
     gaps = np.nonzero(np.diff(rows) > 1)[0]
     assert len(gaps) == 1
     assert (rows.min(), rows[gaps[0]] + 1, rows[gaps[0] + 1], rows.max() + 1) == (20, 110, 120, 210)
+
+
+#: characters and their Vertical_Orientation (UAX #50, Unicode 15.0's VerticalOrientation.txt)
+VERTICAL_ORIENTATION = {
+    0x65E5: "U", 0x3042: "U", 0xAC00: "U", 0x1F600: "U", 0x2460: "U", 0x25A0: "U",
+    0x2605: "U", 0x2122: "U", 0x2162: "U", 0x2103: "U", 0x2030: "U", 0x221E: "U",
+    0x266A: "U", 0xFE19: "U", 0xFFE1: "U", 0x00A9: "U", 0x00D7: "U", 0x3000: "U",
+    0xE000: "U", 0x20BB7: "U",
+    0x0041: "R", 0x2013: "R", 0xFF0D: "R", 0xFE49: "R", 0x1F800: "R",
+    0x3001: "Tu", 0x3063: "Tu", 0xFF01: "Tu", 0x1F200: "Tu", 0x3127: "Tu",
+    0x30FC: "Tr", 0xFF5E: "Tr", 0xFF5C: "Tr", 0xFF08: "Tr", 0x3008: "Tr", 0x301C: "Tr",
+}
+
+
+@pytest.mark.parametrize("cp", sorted(VERTICAL_ORIENTATION))
+def test_only_vertical_orientation_u_is_upright(tmp_path, cp):
+    """Vertical text sets the characters UAX #50 marks U (upright: CJK, kana, circled digits,
+    squares, Roman numerals, ...) upright and turns the others as Latin, Tu and Tr included (as
+    resvg 0.48.1; Chromium 150 agrees on U and R). The test font draws every character as the
+    square (100, -100)-(900, 800): upright it hangs from its vertical origin, cols 60-140 and
+    rows 20-110 at size 100 (the test above); turned 90° clockwise, its central baseline
+    ((800 - 200) / 2 font units up) on x = 100, it spans x = 100 + (gy - 300) / 10: 60 to
+    150, and y = 20 + gx / 10: 30 to 110."""
+    _square_cjk_font(tmp_path / "square.ttf", "Square", chars=(cp,))
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="240">'
+           '<text x="100" y="20" font-size="100" font-family="Square" writing-mode="tb">'
+           f'{chr(cp)}</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True))
+    cols = np.nonzero(a.max(axis=0) > 0.5)[0]
+    rows = np.nonzero(a.max(axis=1) > 0.5)[0]
+    box = (cols.min(), cols.max() + 1, rows.min(), rows.max() + 1)
+    assert box == ((60, 140, 20, 110) if VERTICAL_ORIENTATION[cp] == "U" else
+                   (60, 150, 30, 110))
+
+
+def test_vertical_orientation_table_matches_the_unicode_data_file():
+    """Every code point against Unicode's VerticalOrientation.txt, where the system has it
+    (Debian's unicode-data)."""
+    path = "/usr/share/unicode/VerticalOrientation.txt"
+    if not os.path.isfile(path):
+        pytest.skip("needs " + path)
+    from vecmsaa.svg.text.layout import _is_upright
+    upright = set()
+    with open(path) as f:
+        for line in f:
+            fields = line.split("#")[0].split(";")
+            if len(fields) == 2 and fields[1].strip() == "U":
+                first, _, last = fields[0].strip().partition("..")
+                upright.update(range(int(first, 16), int(last or first, 16) + 1))
+    assert [cp for cp in range(0x110000) if _is_upright(cp) != (cp in upright)] == []
 
 
 @pytest.mark.parametrize("os2_version", [1, 4])

@@ -63,7 +63,7 @@ PROPERTIES = {
     "unicode-bidi",
     "vector-effect", "visibility", "white-space", "white-space-collapse", "word-spacing",
     "writing-mode", "inline-size", "text-orientation", "font-synthesis", "line-height",
-    "background-color", "text-transform",
+    "background-color", "text-transform", "text-decoration-line",
 }
 
 #: properties settable from CSS only, not as presentation attributes
@@ -71,6 +71,7 @@ CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
             "inline-size", "text-orientation", "font-synthesis", "line-height", "white-space",
             "white-space-collapse",   # CSS Text 4 (text.content reads white-space's attribute)
             "text-transform",   # CSS Text 3; not among SVG 2's presentation attributes
+            "text-decoration-line",     # CSS Text Decoration 3's longhand (expanded below)
             "font-kerning",   # resvg: font-kerning is not a presentation attribute
             # CSS Fonts 4's feature properties, none of SVG 2's presentation attributes
             # (Chromium 150 ignores them as attributes too; resvg ignores them all)
@@ -918,7 +919,8 @@ def _style_attribute(text):
 
 
 def _expand_shorthand(name, value):
-    """``marker`` sets all three marker properties; ``font`` sets the font longhands and
+    """``marker`` sets all three marker properties; ``text-decoration-line`` the lines
+    text-decoration sets; ``font`` sets the font longhands and
     ``white-space`` white-space-collapse (text-wrap-mode wraps nothing here), in the
     cascade as CSS expands any shorthand: over presentation attributes and earlier
     declarations, under later ones, and inherited from a group like the longhands (CSS Fonts 4
@@ -937,6 +939,11 @@ def _expand_shorthand(name, value):
         return [(name, value)]
     if name == "marker":
         return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
+    if name == "text-decoration-line":
+        # text-decoration is its shorthand (SVG 2 §11.11, CSS Text Decoration 3 §2.4): both
+        # set the lines, the only part SVG draws (the decoration's paint is the declaring
+        # element's fill and stroke, not text-decoration-color), so the later one wins
+        return [("text-decoration", value)]
     if name == "font":
         from .text.font_match import FONT_RESETS, parse_font_shorthand
         if value.strip().lower() == "inherit":

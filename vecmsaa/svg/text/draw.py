@@ -239,7 +239,7 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
             face = chars[c0.char].primary_face or c0.face
             m = face.metrics
             scale = c0.size / face.units_per_em
-            if vertical:
+            if vertical and not c0.sideways:
                 half = (m.ascender - m.descender) * scale / 2
                 dy = {"underline": half, "overline": -half}.get(kind, 0.0)
             elif kind == "underline":

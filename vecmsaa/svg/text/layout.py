@@ -64,6 +64,7 @@ class Cluster:
     frame: tuple = IDENTITY     # cluster transform in user units (without path_ts)
     placed: tuple = IDENTITY    # frame after path_ts: its em box and glyphs in user units
     visible: bool = True
+    sideways: bool = False    # vertical writing, text-orientation: sideways
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
     gap: float = 0.0          # textLength's spacing in its advance (after it)
@@ -307,9 +308,12 @@ def apply_spacing(clusters, chars, specs):
 
 def apply_writing_mode(clusters, chars):
     """Vertical text: upright characters (CJK) are turned back upright about their centre,
-    others keep the rotated line, centred on the column."""
+    others keep the rotated line, centred on the column; under text-orientation: sideways
+    every character keeps the rotated line, on its alphabetic baseline."""
     for c in clusters:
-        if _is_upright(ord(chars[c.char].ch)):
+        if sideways(chars[c.char].span.style):
+            c.sideways = True
+        elif _is_upright(ord(chars[c.char].ch)):
             # turned back about the middle of its em box's height, then moved down by
             # that half: the top of the em box (the ascender) meets the pen position
             mid = (c.ascent + c.descent) / 2
@@ -320,25 +324,63 @@ def apply_writing_mode(clusters, chars):
             c.pre = translate(0.0, (c.ascent + c.descent) / 2)
 
 
-#: CJK punctuation and small kana that UTR #50 marks Tu/Tr (transformed): resvg rotates them
-#: like Latin, since only Vertical_Orientation=U counts as upright there
-_TRANSFORMED = frozenset(
-    [0x3001, 0x3002, 0x3030, 0x30A0, 0x30FC, 0x309B, 0x309C, 0xFF01, 0xFF08, 0xFF09, 0xFF0C,
-     0xFF0E, 0xFF1A, 0xFF1B, 0xFF1F, 0xFF3B, 0xFF3D, 0xFF3F, 0xFF5B, 0xFF5D]
-    + list(range(0x3008, 0x3012)) + list(range(0x3014, 0x3020)) + list(range(0xFF1C, 0xFF1F))
-    + list(range(0xFF5F, 0xFF61)) + list(range(0x31F0, 0x3200))
-    + [0x3041, 0x3043, 0x3045, 0x3047, 0x3049, 0x3063, 0x3083, 0x3085, 0x3087, 0x308E, 0x3095,
-       0x3096, 0x30A1, 0x30A3, 0x30A5, 0x30A7, 0x30A9, 0x30C3, 0x30E3, 0x30E5, 0x30E7, 0x30EE,
-       0x30F5, 0x30F6])
+def sideways(style):
+    """text-orientation: sideways (CSS Writing Modes 3 §5.1; inherited, CSS only): vertical
+    text set as horizontal text turned 90° clockwise, CJK included, in horizontal typographic
+    mode, whose dominant baseline is the alphabetic one (§4.2), not the central one. (upright,
+    which needs vertical advances, is drawn as mixed.)"""
+    return style.get_valid("text-orientation", _text_orientation, "mixed") == "sideways"
+
+
+def _text_orientation(value):
+    # sideways-right: the name of sideways in CSS Writing Modes 3's drafts, which Chromium 150
+    # and Gecko (its reftest text/vertical-01) still read as sideways
+    if value == "sideways-right":
+        return "sideways"
+    return value if value in ("mixed", "upright", "sideways") else None
+
+
+#: Unicode's Vertical_Orientation=U characters (UAX #50; Unicode 15.0's
+#: VerticalOrientation.txt, adjacent ranges merged), as flat (first, last) pairs: CJK, kana,
+#: hangul, emoji, and the symbols set upright in vertical text (circled digits, Roman
+#: numerals, squares, stars, suits, ...). Tu and Tr characters (CJK punctuation, small kana,
+#: brackets, long vowel mark) are turned like Latin, as resvg 0.48.1 turns them (only U is
+#: upright there; Chromium sets them upright with the font's vertical forms).
+_UPRIGHT = (
+    0x00A7, 0x00A7, 0x00A9, 0x00A9, 0x00AE, 0x00AE, 0x00B1, 0x00B1, 0x00BC, 0x00BE,
+    0x00D7, 0x00D7, 0x00F7, 0x00F7, 0x02EA, 0x02EB, 0x1100, 0x11FF, 0x1401, 0x167F,
+    0x18B0, 0x18FF, 0x2016, 0x2016, 0x2020, 0x2021, 0x2030, 0x2031, 0x203B, 0x203C,
+    0x2042, 0x2042, 0x2047, 0x2049, 0x2051, 0x2051, 0x2065, 0x2065, 0x20DD, 0x20E0,
+    0x20E2, 0x20E4, 0x2100, 0x2101, 0x2103, 0x2109, 0x210F, 0x210F, 0x2113, 0x2114,
+    0x2116, 0x2117, 0x211E, 0x2123, 0x2125, 0x2125, 0x2127, 0x2127, 0x2129, 0x2129,
+    0x212E, 0x212E, 0x2135, 0x213F, 0x2145, 0x214A, 0x214C, 0x214D, 0x214F, 0x2189,
+    0x218C, 0x218F, 0x221E, 0x221E, 0x2234, 0x2235, 0x2300, 0x2307, 0x230C, 0x231F,
+    0x2324, 0x2328, 0x232B, 0x232B, 0x237D, 0x239A, 0x23BE, 0x23CD, 0x23CF, 0x23CF,
+    0x23D1, 0x23DB, 0x23E2, 0x2422, 0x2424, 0x24FF, 0x25A0, 0x2619, 0x2620, 0x2767,
+    0x2776, 0x2793, 0x2B12, 0x2B2F, 0x2B50, 0x2B59, 0x2B97, 0x2B97, 0x2BB8, 0x2BD1,
+    0x2BD3, 0x2BEB, 0x2BF0, 0x2BFF, 0x2E50, 0x2E51, 0x2E80, 0x3000, 0x3003, 0x3007,
+    0x3012, 0x3013, 0x3020, 0x302F, 0x3031, 0x3040, 0x3042, 0x3042, 0x3044, 0x3044,
+    0x3046, 0x3046, 0x3048, 0x3048, 0x304A, 0x3062, 0x3064, 0x3082, 0x3084, 0x3084,
+    0x3086, 0x3086, 0x3088, 0x308D, 0x308F, 0x3094, 0x3097, 0x309A, 0x309D, 0x309F,
+    0x30A2, 0x30A2, 0x30A4, 0x30A4, 0x30A6, 0x30A6, 0x30A8, 0x30A8, 0x30AA, 0x30C2,
+    0x30C4, 0x30E2, 0x30E4, 0x30E4, 0x30E6, 0x30E6, 0x30E8, 0x30ED, 0x30EF, 0x30F4,
+    0x30F7, 0x30FB, 0x30FD, 0x3126, 0x3128, 0x31EF, 0x3200, 0x32FE, 0x3358, 0x337A,
+    0x3380, 0xA4CF, 0xA960, 0xA97F, 0xAC00, 0xD7FF, 0xE000, 0xFAFF, 0xFE10, 0xFE1F,
+    0xFE30, 0xFE48, 0xFE53, 0xFE57, 0xFE5F, 0xFE62, 0xFE67, 0xFE6F, 0xFF02, 0xFF07,
+    0xFF0A, 0xFF0B, 0xFF0F, 0xFF19, 0xFF20, 0xFF3A, 0xFF3C, 0xFF3C, 0xFF3E, 0xFF3E,
+    0xFF40, 0xFF5A, 0xFFE0, 0xFFE2, 0xFFE4, 0xFFE7, 0xFFF0, 0xFFF8, 0xFFFC, 0xFFFD,
+    0x10980, 0x1099F, 0x11580, 0x115FF, 0x11A00, 0x11ABF, 0x13000, 0x1345F, 0x14400, 0x1467F,
+    0x16FE0, 0x18D7F, 0x1AFF0, 0x1B2FF, 0x1CF00, 0x1CFCF, 0x1D000, 0x1D1FF, 0x1D2E0, 0x1D37F,
+    0x1D800, 0x1DAAF, 0x1F000, 0x1F1FF, 0x1F202, 0x1F7FF, 0x1F900, 0x1FAFF, 0x20000, 0x2FFFD,
+    0x30000, 0x3FFFD, 0xF0000, 0xFFFFD, 0x100000, 0x10FFFD,
+)
+_UPRIGHT_STARTS = _UPRIGHT[0::2]
 
 
 def _is_upright(cp):
-    """Unicode Vertical_Orientation U (the common blocks): CJK, kana, hangul, emoji."""
-    if cp in _TRANSFORMED:
-        return False
-    return (0x1100 <= cp <= 0x11FF or 0x2E80 <= cp <= 0x2FFF or 0x3000 <= cp <= 0xA4CF
-            or 0xAC00 <= cp <= 0xD7AF or 0xF900 <= cp <= 0xFAFF or 0xFE30 <= cp <= 0xFE4F
-            or 0xFF01 <= cp <= 0xFF60 or 0x1F000 <= cp <= 0x1FAFF or 0x20000 <= cp <= 0x3FFFF)
+    """Unicode Vertical_Orientation U."""
+    i = bisect_right(_UPRIGHT_STARTS, cp) - 1
+    return i >= 0 and cp <= _UPRIGHT[2 * i + 1]
 
 
 def apply_length_adjust(chunks, chars, text_length, inside, vertical):
@@ -730,7 +772,8 @@ def build_text(element, ctx):
         face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
-            shift_cache[key] = baseline_offset(c.span, face, spec, vertical) \
+            shift_cache[key] = baseline_offset(
+                c.span, face, spec, vertical and not sideways(c.span.style)) \
                 if face is not None else 0.0
         shifts.append(shift_cache[key])
 
