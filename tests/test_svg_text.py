@@ -261,6 +261,8 @@ def test_sideways_right_is_sideways():
     ("text-decoration: underline; text-decoration-line: overline", {"overline"}),
     ("text-decoration-line: overline; text-decoration: line-through", {"line-through"}),
     ("text-decoration-line: none", set()),
+    # through a custom property: substituted, then expanded as written out (CSS Variables 1)
+    ("--l: underline; text-decoration-line: var(--l)", {"underline"}),
 ])
 def test_text_decoration_line_longhand_in_css(css, lines):
     """CSS Text Decoration 3: text-decoration-line sets the lines, text-decoration is its

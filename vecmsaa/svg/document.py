@@ -936,6 +936,8 @@ def _expand_shorthand(name, value):
             return shorthand_pending(name, value, (*FONT_RESETS, "font-size", "font-family"))
         if name in ("white-space", "white-space-collapse"):
             return shorthand_pending(name, value, ("white-space-collapse",))
+        if name == "text-decoration-line":
+            return shorthand_pending(name, value, ("text-decoration",))
         return [(name, value)]
     if name == "marker":
         return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
