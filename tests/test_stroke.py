@@ -191,10 +191,11 @@ def test_tight_circle_has_no_hole():
 
 # -- every point of the stroke within w/2 of the source, every such point covered ------------
 
-def check_distance_property(src_path, w, tol, rng, n=3000):
+def check_distance_property(src_path, w, tol, rng, n=3000, join="round"):
     """With round joins and caps the stroke is exactly the set of points within w/2 of the
-    source (the Minkowski sum with a disc), so it is checked point by point."""
-    out = stroke_path(src_path, w, join="round", cap="round", tolerance=tol)
+    source (the Minkowski sum with a disc), so it is checked point by point (any join where
+    the source's tangents are continuous)."""
+    out = stroke_path(src_path, w, join=join, cap="round", tolerance=tol)
     polys = source_polylines(src_path, per_curve=800)
     poly = np.vstack(polys)
     lo = poly.min(axis=0) - w
@@ -230,6 +231,20 @@ def test_cusp_cubic():
     # control polygon crossing itself symmetrically: a true cusp (zero derivative) at t = 0.5
     check_distance_property(parse_path_data("M 0 0 C 100 100 0 100 100 0"), 10, 0.05, rng)
     check_distance_property(parse_path_data("M 0 0 C 100 60 0 60 100 0"), 10, 0.05, rng)
+
+
+@pytest.mark.parametrize("join", ["miter", "miter-clip", "bevel", "arcs"])
+def test_smooth_junctions_of_tight_bends_take_no_join(join):
+    # segments meeting with continuous tangents, each bending tighter than the half width
+    # there, so the stroker draws their ends as chords that turn: the path's join does not
+    # apply (no tangent discontinuity), the stroke is the pen disc swept along the path
+    from vecmsaa.svg.shapes import ellipse_path, rounded_rect_path
+    rng = np.random.default_rng(4)
+    for src, w in ((rounded_rect_path(59, 21, 0.5, 60, 0.25, 30), 11.34),   # rx clamped
+                   (ellipse_path(52, 52, 0.5, 0.5), 40.0),                  # circle r < w/2
+                   (ellipse_path(50, 50, 0.3, 20), 8.0),
+                   (parse_path_data("M 0 0 L 50 0 C 60 0 60 1 50 1 L 0 1"), 10.0)):
+        check_distance_property(src, w, 0.05, rng, join=join)
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1e6])

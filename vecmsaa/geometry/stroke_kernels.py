@@ -1300,6 +1300,11 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 jn = run_join[i] if i < nruns else join
                 jtol = _shape_tol(tab, prev, a, tol)
                 e0, e1 = ends[piece_seg[prev]], ends[piece_seg[a]]
+                if e0[2] * e1[0] + e0[3] * e1[1] > SMOOTH_COS:
+                    # segments meeting smoothly, where a chord standing in for a bend tighter
+                    # than the half width turns: no join of the path's but the curve's own
+                    # (the stroke is the pen disc swept along it), round as inside a curve
+                    jn = _ROUND
                 limit_dot = e0[2] * e1[0] + e0[3] * e1[1] if jn != _ROUND else dot
                 t_cross = e0[2] * e1[1] - e0[3] * e1[0]
                 if jn != _ROUND and limit_dot < dot and t_cross * cross > 0.0:
