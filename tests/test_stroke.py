@@ -247,6 +247,56 @@ def test_smooth_junctions_of_tight_bends_take_no_join(join):
         check_distance_property(src, w, 0.05, rng, join=join)
 
 
+@pytest.mark.parametrize("join", ["bevel", "miter", "round"])
+@pytest.mark.parametrize("d, w", [
+    ("M 83 73 Q 128 83 168 148 C 168 148 93 51 164 78 L 85 89", 60.0),   # a control at a start
+    ("M 0 0 C 0 0 100 0 100 100", 60.0),
+    ("M 0 0 C 100 0 100 100 100 100 L 0 120", 40.0),                      # ... at an end
+    ("M 20 20 C 20 20 60 0 40 -10 C 30 -15 30 -15 0 0", 30.0)])
+def test_normals_at_segment_ends_are_covered(d, w, join):
+    # SVG 2's stroke shape holds the normal segment (length w, centred on the path) at every
+    # point, the segments' ends included, whatever the join and caps. Curves bending tighter
+    # than the half width at an end are drawn as chords there, whose direction is off the end
+    # tangent: the join or cap offset along the chord left part of the normal uncovered
+    # (0.5 units at 30 from the vertex, the first case, width 60)
+    # (square caps: at an open end a butt cap's edge is that normal, where the shape ends.
+    # The outline is within tol of the true one, and a normal point may lie on the true
+    # boundary (a bevel's edge), so each must have a covered point within tol of it.)
+    tol = 0.05
+    src = parse_path_data(d)
+    out = stroke_path(src, w, join=join, cap="square", tolerance=tol)
+    s = np.linspace(-(w / 2 - 2 * tol), w / 2 - 2 * tol, 201)[:, None]
+    near = tol * np.array([(0.0, 0.0)] + [(math.cos(a), math.sin(a))
+                                          for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)])
+    for p, t0, q, t1 in re_segments(src):
+        for pt, t in ((p, t0), (q, t1)):
+            n = np.array([-t[1], t[0]])
+            pts = np.asarray(pt) + s * n
+            covered = np.zeros(len(pts), bool)
+            for e in near:
+                covered |= inside(out, pts + e)
+            assert covered.all(), (pt, t, s[~covered, 0])
+
+
+def re_segments(path):
+    """(start, start tangent, end, end tangent) of each line, quadratic and cubic segment of
+    non-zero length (unit tangents: toward the first control point apart from the start)."""
+    from vecmsaa.geometry.stroke import segment_tangents
+    out, i, cur = [], 0, None
+    for v in path.verbs:
+        k = VERB_POINTS[v]
+        ctrl = [tuple(x) for x in path.points[i:i + k]]
+        i += k
+        if v == MOVE:
+            cur = ctrl[0]
+        elif v in (LINE, QUAD, CUBIC):
+            tt = segment_tangents([cur] + ctrl)
+            if tt:
+                out.append((cur, tt[0], ctrl[-1], tt[1]))
+            cur = ctrl[-1]
+    return out
+
+
 @pytest.mark.parametrize("scale", [1e-3, 1e6])
 def test_distance_property_curves_tiny_and_huge(scale):
     # the compiled curve stroker's tests (flatness, offset error, curvature against the half
