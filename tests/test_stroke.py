@@ -191,10 +191,11 @@ def test_tight_circle_has_no_hole():
 
 # -- every point of the stroke within w/2 of the source, every such point covered ------------
 
-def check_distance_property(src_path, w, tol, rng, n=3000):
+def check_distance_property(src_path, w, tol, rng, n=3000, join="round"):
     """With round joins and caps the stroke is exactly the set of points within w/2 of the
-    source (the Minkowski sum with a disc), so it is checked point by point."""
-    out = stroke_path(src_path, w, join="round", cap="round", tolerance=tol)
+    source (the Minkowski sum with a disc), so it is checked point by point (any join where
+    the source's tangents are continuous)."""
+    out = stroke_path(src_path, w, join=join, cap="round", tolerance=tol)
     polys = source_polylines(src_path, per_curve=800)
     poly = np.vstack(polys)
     lo = poly.min(axis=0) - w
@@ -230,6 +231,70 @@ def test_cusp_cubic():
     # control polygon crossing itself symmetrically: a true cusp (zero derivative) at t = 0.5
     check_distance_property(parse_path_data("M 0 0 C 100 100 0 100 100 0"), 10, 0.05, rng)
     check_distance_property(parse_path_data("M 0 0 C 100 60 0 60 100 0"), 10, 0.05, rng)
+
+
+@pytest.mark.parametrize("join", ["miter", "miter-clip", "bevel", "arcs"])
+def test_smooth_junctions_of_tight_bends_take_no_join(join):
+    # segments meeting with continuous tangents, each bending tighter than the half width
+    # there, so the stroker draws their ends as chords that turn: the path's join does not
+    # apply (no tangent discontinuity), the stroke is the pen disc swept along the path
+    from vecmsaa.svg.shapes import ellipse_path, rounded_rect_path
+    rng = np.random.default_rng(4)
+    for src, w in ((rounded_rect_path(59, 21, 0.5, 60, 0.25, 30), 11.34),   # rx clamped
+                   (ellipse_path(52, 52, 0.5, 0.5), 40.0),                  # circle r < w/2
+                   (ellipse_path(50, 50, 0.3, 20), 8.0),
+                   (parse_path_data("M 0 0 L 50 0 C 60 0 60 1 50 1 L 0 1"), 10.0)):
+        check_distance_property(src, w, 0.05, rng, join=join)
+
+
+@pytest.mark.parametrize("join", ["bevel", "miter", "round"])
+@pytest.mark.parametrize("d, w", [
+    ("M 83 73 Q 128 83 168 148 C 168 148 93 51 164 78 L 85 89", 60.0),   # a control at a start
+    ("M 0 0 C 0 0 100 0 100 100", 60.0),
+    ("M 0 0 C 100 0 100 100 100 100 L 0 120", 40.0),                      # ... at an end
+    ("M 20 20 C 20 20 60 0 40 -10 C 30 -15 30 -15 0 0", 30.0)])
+def test_normals_at_segment_ends_are_covered(d, w, join):
+    # SVG 2's stroke shape holds the normal segment (length w, centred on the path) at every
+    # point, the segments' ends included, whatever the join and caps. Curves bending tighter
+    # than the half width at an end are drawn as chords there, whose direction is off the end
+    # tangent: the join or cap offset along the chord left part of the normal uncovered
+    # (0.5 units at 30 from the vertex, the first case, width 60)
+    # (square caps: at an open end a butt cap's edge is that normal, where the shape ends.
+    # The outline is within tol of the true one, and a normal point may lie on the true
+    # boundary (a bevel's edge), so each must have a covered point within tol of it.)
+    tol = 0.05
+    src = parse_path_data(d)
+    out = stroke_path(src, w, join=join, cap="square", tolerance=tol)
+    s = np.linspace(-(w / 2 - 2 * tol), w / 2 - 2 * tol, 201)[:, None]
+    near = tol * np.array([(0.0, 0.0)] + [(math.cos(a), math.sin(a))
+                                          for a in np.linspace(0, 2 * math.pi, 8, endpoint=False)])
+    for p, t0, q, t1 in re_segments(src):
+        for pt, t in ((p, t0), (q, t1)):
+            n = np.array([-t[1], t[0]])
+            pts = np.asarray(pt) + s * n
+            covered = np.zeros(len(pts), bool)
+            for e in near:
+                covered |= inside(out, pts + e)
+            assert covered.all(), (pt, t, s[~covered, 0])
+
+
+def re_segments(path):
+    """(start, start tangent, end, end tangent) of each line, quadratic and cubic segment of
+    non-zero length (unit tangents: toward the first control point apart from the start)."""
+    from vecmsaa.geometry.stroke import segment_tangents
+    out, i, cur = [], 0, None
+    for v in path.verbs:
+        k = VERB_POINTS[v]
+        ctrl = [tuple(x) for x in path.points[i:i + k]]
+        i += k
+        if v == MOVE:
+            cur = ctrl[0]
+        elif v in (LINE, QUAD, CUBIC):
+            tt = segment_tangents([cur] + ctrl)
+            if tt:
+                out.append((cur, tt[0], ctrl[-1], tt[1]))
+            cur = ctrl[-1]
+    return out
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1e6])

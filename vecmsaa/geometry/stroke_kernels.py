@@ -927,6 +927,21 @@ def _shape_tol(tab, a, b, tol):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _meet_straight(tab, a, b, hw, tol):
+    """Whether piece b may follow piece a with their offsets joined by straight lines, no
+    join: they turn by under SMOOTH_COS's angle, the outer side's gap (hw times the turn) is
+    within tol, and the inner side's crossing (a lobe as long as hw, as wide as hw times the
+    turn at its end, winding -1) lies within both pieces' own strokes, which cover it +1 each
+    (not so for the short chords of a bend tighter than hw: a hole where nothing else covers)."""
+    d0x, d0y, d1x, d1y = tab[a, _PT1], tab[a, _PT1 + 1], tab[b, _PT0], tab[b, _PT0 + 1]
+    if not d0x * d1x + d0y * d1y > SMOOTH_COS:
+        return False
+    gap = hw * _hypot(d1x - d0x, d1y - d0y)
+    return gap <= tol and gap <= _hypot(tab[a, 2] - tab[a, 0], tab[a, 3] - tab[a, 1]) and \
+        gap <= _hypot(tab[b, 2] - tab[b, 0], tab[b, 3] - tab[b, 1])
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _append_side(sv, sp, sc, tab, kinds, lo, hi, col):
     """The offsets (columns col...) of pieces lo..hi-1 along one side, joined by straight
     lines where consecutive offsets do not quite meet; the side is at the first one's start."""
@@ -1165,6 +1180,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                 # tolerance, which adds to the chord's: they get what the chord leaves (see
                 # _shape_tol). stack rows: 8 coordinates and the depth; cur: one cubic.
                 stack[0, 8] = 0.0
+                sx0, sy0, sx3, sy3 = cur[0], cur[1], cur[6], cur[7]
                 top = 1
                 while top > 0:
                     top -= 1
@@ -1206,7 +1222,22 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                         n += 1
                         continue
                     flat = _flatness(cur)
-                    if depth < _MAX_DEPTH and flat > tol / 2.0:
+                    split = flat > tol / 2.0
+                    if not split and depth < _MAX_DEPTH:
+                        # a chord at the segment's end stands for it in the join or cap there,
+                        # whose shape is offset along the chord: halved until the chord's
+                        # offset end is within tol / 2 of the tangent's (a curve turning tighter
+                        # than the half width, e.g. from a control point at its start, turns
+                        # its first chord off the tangent by an angle that the flatness does
+                        # not bound, and a wide stroke's offset by hw times it)
+                        ok, dx, dy = _unit(cur[6] - cur[0], cur[7] - cur[1])
+                        if ok and cur[0] == sx0 and cur[1] == sy0:
+                            split = hw * _hypot(dx - ends[s - lo, 0],
+                                                dy - ends[s - lo, 1]) > tol / 2.0
+                        if ok and not split and cur[6] == sx3 and cur[7] == sy3:
+                            split = hw * _hypot(dx - ends[s - lo, 2],
+                                                dy - ends[s - lo, 3]) > tol / 2.0
+                    if depth < _MAX_DEPTH and split:
                         # the second half below the first, which is popped next
                         sa, sb = stack[top + 1], stack[top]
                         x0, y0, x1, y1, x2, y2, x3, y3 = (cur[0], cur[1], cur[2], cur[3],
@@ -1256,8 +1287,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
         for s in range(hi - lo):
             first = firsts[s]
             for j in range(first, firsts[s + 1]):
-                if j > first and tab[j - 1, _PT1] * tab[j, _PT0] + \
-                        tab[j - 1, _PT1 + 1] * tab[j, _PT0 + 1] > SMOOTH_COS:
+                if j > first and _meet_straight(tab, j - 1, j, hw, tol / 2.0):
                     continue            # on with the run
                 run_lo[nruns] = j
                 run_join[nruns] = join if j == first else _ROUND
@@ -1293,13 +1323,18 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
             l1x, l1y = tab[a, _PL], tab[a, _PL + 1]
             cross = d0x * d1y - d0y * d1x
             dot = d0x * d1x + d0y * d1y
-            if dot > SMOOTH_COS:
+            jtol = _shape_tol(tab, prev, a, tol)
+            if _meet_straight(tab, prev, a, hw, jtol):
                 _line(rv, rp, rc, r1x, r1y)
                 _line(lv, lp, lc, l1x, l1y)
             else:
                 jn = run_join[i] if i < nruns else join
-                jtol = _shape_tol(tab, prev, a, tol)
                 e0, e1 = ends[piece_seg[prev]], ends[piece_seg[a]]
+                if e0[2] * e1[0] + e0[3] * e1[1] > SMOOTH_COS:
+                    # segments meeting smoothly, where a chord standing in for a bend tighter
+                    # than the half width turns: no join of the path's but the curve's own
+                    # (the stroke is the pen disc swept along it), round as inside a curve
+                    jn = _ROUND
                 limit_dot = e0[2] * e1[0] + e0[3] * e1[1] if jn != _ROUND else dot
                 t_cross = e0[2] * e1[1] - e0[3] * e1[0]
                 if jn != _ROUND and limit_dot < dot and t_cross * cross > 0.0:
