@@ -249,7 +249,7 @@ class Builder:
         self.options = options
         self.nodes_made = 0
         self.text_chars = 0            # characters laid out so far (MAX_TEXT_CHARS)
-        # the ids of the fills that draw text, when a set (sizing.py's drawing_extent sizes
+        # the fills that draw text by their ids, when a dict (sizing.py's drawing_extent sizes
         # a document by text's object bounding box rather than its ink, as resvg does)
         self.text_fills = None
         self.text_cache = {}           # the text modules' memo for this document (font_match)

@@ -918,6 +918,24 @@ def _style_attribute(text):
     return tuple(_declarations(text))
 
 
+_MARKER_LONGHANDS = ("marker-start", "marker-mid", "marker-end")
+
+
+def _longhands(name):
+    """The properties the shorthand ``name`` sets (_expand_shorthand), None for any other
+    property."""
+    if name == "marker":
+        return _MARKER_LONGHANDS
+    if name == "font":
+        from .text.font_match import FONT_RESETS
+        return (*FONT_RESETS, "font-size", "font-family")
+    if name in ("white-space", "white-space-collapse"):
+        return ("white-space-collapse",)
+    if name == "text-decoration-line":
+        return ("text-decoration",)
+    return None
+
+
 def _expand_shorthand(name, value):
     """``marker`` sets all three marker properties; ``text-decoration-line`` the lines
     text-decoration sets; ``font`` sets the font longhands and
@@ -928,36 +946,26 @@ def _expand_shorthand(name, value):
     earlier declaration stays (CSS Syntax 3 §8). A value holding var() is expanded once it is
     substituted (variables.resolve)."""
     if value.__class__ is not str:      # variables.Unresolved
+        longhands = _longhands(name)
+        if longhands is None:
+            return [(name, value)]
         from .variables import shorthand_pending
-        if name == "marker":
-            return shorthand_pending(name, value, ("marker-start", "marker-mid", "marker-end"))
-        if name == "font":
-            from .text.font_match import FONT_RESETS
-            return shorthand_pending(name, value, (*FONT_RESETS, "font-size", "font-family"))
-        if name in ("white-space", "white-space-collapse"):
-            return shorthand_pending(name, value, ("white-space-collapse",))
-        if name == "text-decoration-line":
-            return shorthand_pending(name, value, ("text-decoration",))
-        return [(name, value)]
+        return shorthand_pending(name, value, longhands)
     if name == "marker":
-        return [("marker-start", value), ("marker-mid", value), ("marker-end", value)]
+        return [(n, value) for n in _MARKER_LONGHANDS]
     if name == "text-decoration-line":
         # text-decoration is its shorthand (SVG 2 §11.11, CSS Text Decoration 3 §2.4): both
         # set the lines, the only part SVG draws (the decoration's paint is the declaring
         # element's fill and stroke, not text-decoration-color), so the later one wins
         return [("text-decoration", value)]
     if name == "font":
-        from .text.font_match import FONT_RESETS, parse_font_shorthand
+        from .text.font_match import parse_font_shorthand
         if value.strip().lower() == "inherit":
-            return [(n, "inherit") for n in (*FONT_RESETS, "font-size", "font-family")]
+            return [(n, "inherit") for n in _longhands(name)]
         return list((parse_font_shorthand(value) or {}).items())
     if name in ("white-space", "white-space-collapse"):
-        from .text.content import WHITE_SPACE_COLLAPSE, parse_white_space
-        low = value.strip().lower()
-        if low in _NO_WARNING:
-            return [("white-space-collapse", low)]
-        collapse = parse_white_space(low) if name == "white-space" else (
-            low if low in WHITE_SPACE_COLLAPSE else None)
+        from .text.content import white_space_collapse
+        collapse = white_space_collapse(value, name == "white-space")
         return [("white-space-collapse", collapse)] if collapse else []
     return [(name, value)]
 
@@ -1183,19 +1191,11 @@ def _specified(spec, found, style_attr, warnings, custom=False):
         return _specified_with_variables(spec, found, style_attr, warnings)
     if found or style_attr:
         important = {}
-        for match in sorted(found, key=lambda m: (m[0], m[1])) if found else ():
-            _order, decls = match[3]
-            for name, value, imp in decls:
-                if name not in PROPERTIES:
-                    continue
-                for pname, pval in _expand_shorthand(name, value):
-                    (important if imp else spec)[pname] = pval
-        if style_attr:
-            for name, value, imp in _style_attribute(style_attr):
-                if name not in PROPERTIES:
-                    continue
-                for pname, pval in _expand_shorthand(name, value):
-                    (important if imp else spec)[pname] = pval
+        for name, value, imp in _in_cascade_order(found, style_attr):
+            if name not in PROPERTIES:
+                continue
+            for pname, pval in _expand_shorthand(name, value):
+                (important if imp else spec)[pname] = pval
         spec.update(important)
     for name, value in spec.items():
         if "/*" in value and name != "transform":   # the transform attribute has SVG's grammar
@@ -1219,6 +1219,18 @@ def _specified(spec, found, style_attr, warnings, custom=False):
     return spec
 
 
+def _in_cascade_order(found, style_attr):
+    """The declarations (name, value, important) of the CSS rules that match an element
+    (``found``: cssselect2 matches), by specificity and order, then of its ``style``
+    attribute."""
+    if not found:
+        return _style_attribute(style_attr) if style_attr else ()
+    declared = [d for m in sorted(found, key=lambda m: (m[0], m[1])) for d in m[3][1]]
+    if style_attr:
+        declared += _style_attribute(style_attr)
+    return declared
+
+
 def _specified_with_variables(spec, found, style_attr, warnings):
     """_specified for a document with var(): custom properties (``--*``) take part in the
     cascade like the others (CSS Variables 1 §2), and values holding var() (presentation
@@ -1235,11 +1247,7 @@ def _specified_with_variables(spec, found, style_attr, warnings):
             else:
                 spec[name] = value
     important = {}
-    declared = [d for m in sorted(found, key=lambda m: (m[0], m[1])) for d in m[3][1]] \
-        if found else []
-    if style_attr:
-        declared.extend(_style_attribute(style_attr))
-    for name, value, imp in declared:
+    for name, value, imp in _in_cascade_order(found, style_attr):
         if name[:2] == "--":
             if VAR.search(value) and unresolved(name, value) is None:
                 continue

@@ -96,6 +96,21 @@ def parse_white_space(value):
     return collapse[0] if collapse else "collapse"
 
 
+def white_space_collapse(value, shorthand):
+    """The white-space-collapse a ``white-space`` value (``shorthand``) or a
+    ``white-space-collapse`` one sets: a keyword of WHITE_SPACE_COLLAPSE or a CSS-wide
+    keyword, None when the value is invalid."""
+    low = value.strip().lower()
+    if low in _CSS_WIDE:
+        return low
+    if shorthand:
+        return parse_white_space(low)
+    return low if low in WHITE_SPACE_COLLAPSE else None
+
+
+_CSS_WIDE = frozenset(("inherit", "initial", "unset", "revert"))
+
+
 def _space_preserved(el, inherited):
     """Whether an element's white space is kept: its own white-space-collapse (the CSS
     property, or the white-space shorthand's), then its white-space presentation attribute
@@ -104,22 +119,17 @@ def _space_preserved(el, inherited):
     the user agent style sheet's mapping of xml:space is under author declarations and over
     inheritance). ``inherit``/``unset`` take the parent's value, ``initial`` collapses, and
     ``revert`` or an invalid value leave the next source to decide."""
-    v = el.specified.get("white-space-collapse")
-    if v is not None:
+    attribute = el.get("white-space")
+    for v in (el.specified.get("white-space-collapse"),
+              None if attribute is None else white_space_collapse(attribute, True)):
+        if v is None:
+            continue
         v = v.strip()
         if v == "initial":
             return False
-        if v == "inherit":
-            return inherited
-        if v in WHITE_SPACE_COLLAPSE:
-            return WHITE_SPACE_COLLAPSE[v]
-    v = el.get("white-space")
-    if v is not None:
-        v = v.strip().lower()
         if v in ("inherit", "unset"):
             return inherited
-        v = "collapse" if v == "initial" else parse_white_space(v)
-        if v is not None:
+        if v in WHITE_SPACE_COLLAPSE:
             return WHITE_SPACE_COLLAPSE[v]
     # a value other than preserve is default, as resvg 0.48.1 and Chromium read it (session
     # 23's three-way audit: xml:space="-" in a preserving element collapses in both)
