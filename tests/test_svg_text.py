@@ -184,6 +184,22 @@ def test_text_path_uses_the_referenced_shapes_transform(tag):
     assert np.allclose(ink_box(got), ink_box(want), atol=1)
 
 
+@pytest.mark.parametrize("scale", ["1e300", "1e305"])
+def test_text_on_a_path_in_a_sizeless_document_of_astronomic_extent(scale):
+    """A document without a size is drawn at its content's box: content scaled by 1e300 and
+    fitted to 100 px is the same picture as content scaled by 1e20 (a fuzzer's find: the
+    device scale's square, sx * sy, underflowed to 0 and text on a path divided by it)."""
+    def drawn(k):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" font-family="Noto Sans">'
+               f'<g transform="scale({k})"><path id="p" d="M 40 130 L 100 40 L 160 130 Z" '
+               'fill="none" stroke="gray"/><text font-size="24"><textPath href="#p">abcdefgh'
+               'ijklmnop</textPath></text></g></svg>')
+        return render_svg_array(svg, width=100, mode="analytic", **FONTS)
+    want = drawn("1e20")
+    assert alpha(want).sum() > 0
+    assert np.array_equal(drawn(scale), want)
+
+
 def test_text_path_transform_origin_and_singular_transform():
     # the referenced path's transform-origin applies (usvg's resolve_transform); a singular
     # transform is read as the identity, so the text follows the untransformed path

@@ -260,7 +260,9 @@ class _Loaded:
         sx, sy = w / doc_w, h / doc_h
         to_device = (sx, 0.0, 0.0, sy, -x0 * sx, -y0 * sy)
         found = {} if export_id is not None else None
-        nodes = self.build(to_device, math.sqrt(sx * sy), found)
+        # the geometric mean as a product of roots: sx * sy underflows to 0 for a content
+        # box of 1e302 units drawn 100 px wide, and the text-on-path tolerance divides by it
+        nodes = self.build(to_device, math.sqrt(sx) * math.sqrt(sy), found)
         if export_id is not None:
             nodes = found.get(export_id, [])
         return Scene(w, h, Group(children=nodes), bg)

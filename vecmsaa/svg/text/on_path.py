@@ -20,7 +20,7 @@ def path_walker(text_path, ctx):
     a, b, cc, d = ctx.transform[:4]
     # resvg's tolerance follows the text's transform in the SVG's own units, before the
     # output is scaled to its pixel size: divide that scaling out.
-    walker = PathWalker(path, math.sqrt(math.hypot(a, b) * math.hypot(cc, d)) / ctx.root_scale)
+    walker = PathWalker(path, math.sqrt(math.hypot(a, b)) * math.sqrt(math.hypot(cc, d)) / ctx.root_scale)
     return walker if math.isfinite(walker.length) else None
 
 
