@@ -780,3 +780,60 @@ def test_mask_type_keywords_are_case_insensitive(how):
         f'<mask id="m" {how}><rect width="20" height="20" fill="#804020" fill-opacity="0.6"/>'
         '</mask><rect width="20" height="20" fill="blue" mask="url(#m)"/></svg>')
     assert abs(int(img[10, 10, 3]) - round(0.6 * 255)) <= 1
+
+
+# -- pattern tiles past the size caps: laid out only where the element samples them -----------
+# An objectBoundingBox tile of width 20 on a 160-unit rect is 3200 x 3200 px in a 200 px
+# render, past MAX_TILE_PIXELS; laid out whole it was scaled down and its edges blurred.
+_BIG_TILE = ('<pattern id="p" {attrs}><rect width="10" height="10" fill="#808080"/>'
+             '<rect x="10" y="10" width="10" height="10" fill="#008000"/>'
+             '<rect x="{far}" y="0" width="30" height="60" fill="#0000ff"/></pattern>')
+
+
+def test_big_pattern_tile_keeps_its_contents_edges_exact():
+    body = (_BIG_TILE.format(attrs='width="20" height="20"', far=3170)
+            + '<rect x="20" y="20" width="160" height="160" fill="url(#p)"/>')
+    img = render(body, 200, 200)
+    # the squares' edges fall on pixel edges (SVG geometry: x 20-30 grey, 30-40 green)
+    assert np.allclose(img[20:30, 20:30], (128, 128, 128, 255))
+    assert np.allclose(img[30:40, 30:40], (0, 128, 0, 255))
+    assert np.all(img[20:30, 30:40, 3] == 0) and np.all(img[30:40, 20:30, 3] == 0)
+    assert np.all(img[40:180, 40:180, 3] == 0)
+
+
+@pytest.mark.parametrize("attrs, shape", [
+    # one copy of the tile, a fill
+    ('width="20" height="20"', '<rect x="20" y="20" width="160" height="160" fill="url(#p)"/>'),
+    # the window straddles copies: a wide stroke reaches before the tile's start
+    ('width="20" height="20"', '<rect x="20" y="20" width="160" height="160" fill="none" '
+     'stroke="url(#p)" stroke-width="30"/>'),
+    ('patternUnits="userSpaceOnUse" x="100" y="-50" width="3200" height="3000"',
+     '<circle cx="100" cy="100" r="80" fill="url(#p)" stroke="url(#p)" stroke-width="9"/>'),
+    # rotated and skewed: smooth sampling, the window a rotated box's bounds
+    ('patternUnits="userSpaceOnUse" x="3" width="3200" height="3000" '
+     'patternTransform="rotate(30 100 100)"',
+     '<path d="M20 100 L100 20 L180 100 L100 180" fill="none" stroke="url(#p)" '
+     'stroke-width="25" stroke-miterlimit="10"/>'),
+    ('patternUnits="userSpaceOnUse" width="3200" height="3000" patternTransform="rotate(180 100 100)"',
+     '<g transform="translate(100 100) scale(0.5) skewX(20)"><rect x="-150" y="-150" '
+     'width="300" height="300" fill="url(#p)"/></g>'),
+])
+def test_big_pattern_tile_window_equals_the_whole_tile(monkeypatch, attrs, shape):
+    """Brute force: the same document with the caps raised so that the tile is laid out
+    whole at full scale; equal in premultiplied RGBA (a fully transparent pixel's straight
+    colour is float residue)."""
+    import vecmsaa.svg.paint as paint
+
+    gradients = ('<linearGradient id="g" gradientUnits="userSpaceOnUse" x2="37" '
+                 'spreadMethod="repeat"><stop offset="0.5" stop-color="red"/>'
+                 '<stop offset="0.5" stop-color="teal"/></linearGradient>')
+    body = (gradients + _BIG_TILE.format(attrs=attrs, far=3170).replace(
+        '<rect width="10"', '<rect x="-10" y="-10" width="3300" height="3300" '
+        'fill="url(#g)" opacity="0.5"/><rect width="10"') + shape)
+    windowed = render(body, 200, 200)
+    monkeypatch.setattr(paint, "MAX_TILE_PIXELS", 4000 * 4000)
+    whole = render(body, 200, 200)
+    premultiplied = [im[..., :3] * im[..., 3:] / 255 for im in (windowed, whole)]
+    assert np.abs(premultiplied[0] - premultiplied[1]).max() <= 0.5
+    assert np.array_equal(windowed[..., 3], whole[..., 3])
+    assert (whole[..., 3] > 0).sum() > 3000

@@ -1459,7 +1459,9 @@ class Builder:
             style.cache[key] = ref
         return ref
 
-    def paint_from_value(self, value, style, ctx, bbox, opacity):
+    def paint_from_value(self, value, style, ctx, bbox, opacity, sampled_in_box=True):
+        """``sampled_in_box``: drawn on the element of ``style`` and ``bbox`` (see
+        paint.paint_server); a context paint is not."""
         if value == "none":
             return None
         if value in ("context-fill", "context-stroke"):
@@ -1468,7 +1470,8 @@ class Builder:
                 return None
             # the context element's paint only: opacity is the element's own fill-opacity
             # or stroke-opacity (SVG 2 "Specifying paint", as resvg)
-            return self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(), opacity)
+            return self.paint_from_value(got.value, got.style, got.ctx, got.bbox_fn(), opacity,
+                                         False)
         url = parse_url(value)
         if url is not None:
             ref, fallback = url
@@ -1479,16 +1482,18 @@ class Builder:
             if target is None or target.tag not in ("linearGradient", "radialGradient",
                                                     "pattern"):
                 if fallback and target is None:
-                    return self.paint_from_value(fallback, style, ctx, bbox, opacity)
+                    return self.paint_from_value(fallback, style, ctx, bbox, opacity,
+                                                 sampled_in_box)
                 return None
             from .paint import NO_PAINT, paint_server
-            paint = paint_server(self, target, ctx, resolve_bbox(bbox), style)
+            paint = paint_server(self, target, ctx, resolve_bbox(bbox), style, sampled_in_box)
             if paint is NO_PAINT:
                 return None
             if paint is None:
                 # no stops, or objectBoundingBox units on an empty box: the fallback applies
                 if fallback:
-                    return self.paint_from_value(fallback, style, ctx, bbox, opacity)
+                    return self.paint_from_value(fallback, style, ctx, bbox, opacity,
+                                                 sampled_in_box)
                 return None
             return PaintRef(paint, opacity)
         color = parse_color(value)

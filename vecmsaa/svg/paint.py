@@ -14,8 +14,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..scene.transform import IDENTITY, compose, invert, translate
-from ..scene.nodes import Group, LinearGradient, PatternPaint, RadialGradient, Solid
+from ..scene.transform import IDENTITY, apply, compose, invert, translate
+from ..scene.nodes import Fill, Group, LinearGradient, PatternPaint, RadialGradient, Solid
+from ..scene.path import rect_path
 from .color import parse_svg_color as parse_color
 from .document import inherited_attr
 from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
@@ -146,13 +147,16 @@ def _own_transform(el, attr):
     return (el.attrs[attr], True) if attr in el.attrs else None
 
 
-def paint_server(builder, el, ctx, bbox, user_style):
+def paint_server(builder, el, ctx, bbox, user_style, sampled_in_box=True):
     """A paint for a paint-server element, Solid for degenerate gradients, None where the
-    fallback applies (no stops, an empty box), NO_PAINT where nothing is painted."""
+    fallback applies (no stops, an empty box), NO_PAINT where nothing is painted.
+    ``sampled_in_box``: the paint is drawn only on the element ``bbox`` and ``user_style``
+    belong to (inside the box, widened by its stroke); not so for a context paint, which a
+    marker's shapes draw away from the context element."""
     if el.tag in GRADIENT_TAGS:
         return gradient(builder, el, ctx, bbox)
     if el.tag == "pattern":
-        return pattern(builder, el, ctx, bbox)
+        return pattern(builder, el, ctx, bbox, user_style if sampled_in_box else None)
     return None
 
 
@@ -230,7 +234,10 @@ def gradient(builder, el, ctx, bbox):
     return RadialGradient(cx, cy, r, fx, fy, stops, fr, spread, to_paint)
 
 
-def pattern(builder, el, ctx, bbox):
+def pattern(builder, el, ctx, bbox, user_style=None):
+    """``user_style``: the painted element's style, when the paint is drawn on that element
+    alone (see paint_server); a tile too large to render whole is then laid out only where
+    the element can sample it (_sampled_window)."""
     from .builder import Ctx
 
     if any(p is el for p in builder.paint_stack):
@@ -281,24 +288,30 @@ def pattern(builder, el, ctx, bbox):
     tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
     if tw is None or th is None:
         return None
-    # each side is bounded too: a tile far longer than the output is wide (a fuzzed height of
-    # 1e12) would otherwise become a 1-pixel sliver of millions of rows
-    if tw > MAX_TILE_SIDE:
-        sx *= MAX_TILE_SIDE / tw
-    if th > MAX_TILE_SIDE:
-        sy *= MAX_TILE_SIDE / th
-    tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
-    if tw * th > MAX_TILE_PIXELS:
-        f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
-        sx, sy = sx * f, sy * f
+    window = None
+    if tw > MAX_TILE_SIDE or th > MAX_TILE_SIDE or tw * th > MAX_TILE_PIXELS:
+        window = _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th)
+    if window is None:
+        # each side is bounded too: a tile far longer than the output is wide (a fuzzed
+        # height of 1e12) would otherwise become a 1-pixel sliver of millions of rows
+        if tw > MAX_TILE_SIDE:
+            sx *= MAX_TILE_SIDE / tw
+        if th > MAX_TILE_SIDE:
+            sy *= MAX_TILE_SIDE / th
         tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
-    # Like resvg, the tile is a whole number of pixels at the device scale, so the period
-    # drifts by under half a pixel per tile. Tiles under two pixels, where that error would
-    # dominate, get their scale adjusted instead so the period stays exact.
-    if w * sx < 2:
-        sx = tw / w
-    if h * sy < 2:
-        sy = th / h
+        if tw * th > MAX_TILE_PIXELS:
+            f = math.sqrt(MAX_TILE_PIXELS / (tw * th))
+            sx, sy = sx * f, sy * f
+            tw, th = _tile_pixels(w, sx), _tile_pixels(h, sy)
+        # Like resvg, the tile is a whole number of pixels at the device scale, so the period
+        # drifts by under half a pixel per tile. Tiles under two pixels, where that error
+        # would dominate, get their scale adjusted instead so the period stays exact.
+        if w * sx < 2:
+            sx = tw / w
+        if h * sy < 2:
+            sy = th / h
+        window = (0, 0, tw, th)
+    u0, v0, width, height = window
     if vb is not None:
         content = viewbox_transform(vb, parse_aspect(inherited_attr(chain, "preserveAspectRatio")),
                                     w, h)
@@ -310,27 +323,44 @@ def pattern(builder, el, ctx, bbox):
     # content are of the referencing element's, also under a viewBox (browsers, resvg).
     source = next((e for e in chain if any(_is_child(c) for c in e.children)), el)
     tile_scale = (sx, 0.0, 0.0, sy, 0.0, 0.0)
-    tile_ctx = Ctx(transform=compose(tile_scale, content), chain=(tile_scale, content),
-                   viewport=vp, use_stack=ctx.use_stack,
-                   context_fill=ctx.context_fill, context_stroke=ctx.context_stroke)
-    # Shapes sharing a pattern at the same scale share its tile (it does not depend on
-    # where the shape is): they get the same content group, which the raster renders once.
-    # The key holds everything the tile's content can depend on (the context paints
-    # themselves, not their ids: the key keeps them alive, so no later one takes an id).
-    key = (id(el), tw, th, tile_ctx.transform, vp, ctx.context_fill,
-           ctx.context_stroke, ctx.use_stack, tuple(map(id, builder.paint_stack)),
-           tuple(map(id, builder.ref_stack)))
-    if key in builder.tile_cache:
-        content = builder.tile_cache[key]
-    else:
-        content = builder.tile_cache[key] = _tile_content(builder, el, source, tile_ctx)
-    if content is None or content is NO_PAINT:
-        return content
+    # the content once for each copy of the tile the window overlaps (the whole tile: one; a
+    # window, at most two along each axis, as it is no larger than the tile), shifted to the
+    # window's corner and, when there are several, clipped to its copy
+    copies = [(i * tw - u0, j * th - v0)
+              for i in range(u0 // tw, (u0 + width - 1) // tw + 1)
+              for j in range(v0 // th, (v0 + height - 1) // th + 1)]
+    groups = []
+    for ox, oy in copies:
+        shifted = (translate(ox, oy),) if ox or oy else ()
+        transform = compose(tile_scale, content)
+        tile_ctx = Ctx(transform=compose(shifted[0], transform) if shifted else transform,
+                       chain=(*shifted, tile_scale, content), viewport=vp,
+                       use_stack=ctx.use_stack, context_fill=ctx.context_fill,
+                       context_stroke=ctx.context_stroke)
+        # Shapes sharing a pattern at the same scale share its tile (it does not depend on
+        # where the shape is): they get the same content group, which the raster renders
+        # once. The key holds everything the tile's content can depend on (the context
+        # paints themselves, not their ids: the key keeps them alive, so no later one takes
+        # an id).
+        key = (id(el), tw, th, tile_ctx.transform, vp, ctx.context_fill,
+               ctx.context_stroke, ctx.use_stack, tuple(map(id, builder.paint_stack)),
+               tuple(map(id, builder.ref_stack)), window)
+        if key not in builder.tile_cache:
+            builder.tile_cache[key] = _tile_content(builder, el, source, tile_ctx)
+        group = builder.tile_cache[key]
+        if group is None or group is NO_PAINT:
+            return group
+        if len(copies) > 1:
+            group = Group(children=[group],
+                          clip=Group(children=[Fill(rect_path(ox, oy, tw, th))]))
+        groups.append(group)
     tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
         to_paint = invert(tile_to_device)
     except ValueError:
         return NO_PAINT
+    if u0 or v0:
+        to_paint = compose(translate(-u0, -v0), to_paint)
     # The tile is rendered at device resolution and sampled as tiny-skia samples resvg's:
     # nearest only where the shader's matrix (the element's, then the pattern's transform,
     # x/y and the tile's 1/scale, concatenated in f32) is exactly a translation, filtered
@@ -343,7 +373,8 @@ def pattern(builder, el, ctx, bbox):
                         (float(f(1) / sx32), 0.0, 0.0, float(f(1) / sy32), 0.0, 0.0))
         total = concat_f32(element32, ts2)
     crisp = total[0] == 1.0 and total[3] == 1.0 and total[1] == 0.0 and total[2] == 0.0
-    return PatternPaint(content, tw, th, to_paint, smooth=not crisp)
+    return PatternPaint(groups[0] if len(groups) == 1 else Group(children=groups), width,
+                        height, to_paint, smooth=not crisp)
 
 
 #: the elements usvg's tree keeps (style, desc, title, metadata and unknown elements are not):
@@ -393,3 +424,54 @@ def _tile_content(builder, el, source, tile_ctx):
                                             style) else None
     finally:
         builder.paint_stack.pop()
+
+
+#: device pixels of slack around the sampled region of a windowed tile (bilinear reads one
+#: texel beyond a sample; partly covered edge pixels have their centres outside the box)
+WINDOW_SLACK = 3
+
+
+def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
+    """(u0, v0, width, height) in tile pixels: the part of a tw x th tile that the element can
+    sample, when that part is small enough to render whole at full scale; None otherwise.
+    ``full`` maps pattern space to device pixels; the tile lies at (x, y) with sx by sy
+    pixels per unit. A tile over the caps would else be laid out at a reduced scale and its
+    content's edges blurred (an objectBoundingBox pattern of width 20 on a 160-unit rect is
+    a 3200 px tile in a 200 px render). The element draws the paint inside its box widened
+    by half its stroke width times the miter limit (a square cap or a join reaches no
+    further); a quarter of the box's larger side more covers what a text's box may leave
+    out (decorations past the glyphs); a stroke that does not scale with the element has no
+    such bound here. The window is that box's device bounds mapped into unwrapped tile
+    pixels, so it may reach into the neighbouring copies of the tile (pattern draws those
+    too)."""
+    if user_style is None or bbox is None:
+        return None
+    if (user_style.get("vector-effect") or "").strip() == "non-scaling-stroke":
+        return None
+    x0, y0, x1, y1 = bbox
+    stroke = builder.stroke_params(user_style, ctx)
+    margin = stroke[0] / 2 * max(stroke[3], math.sqrt(2)) if stroke else 0.0
+    margin += max(x1 - x0, y1 - y0) / 4
+    corners = np.array([(x0 - margin, y0 - margin), (x1 + margin, y0 - margin),
+                        (x0 - margin, y1 + margin), (x1 + margin, y1 + margin)])
+    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
+    try:
+        to_tile = compose(invert(tile_to_device), ctx.transform)
+    except ValueError:
+        return None
+    with np.errstate(all="ignore"):
+        uv = apply(to_tile, corners)
+    if not np.isfinite(uv).all():
+        return None
+    # the slack in tile pixels: device pixels through the tile's scale (its largest stretch)
+    a, b, c, d = invert(tile_to_device)[:4]
+    slack = WINDOW_SLACK * max(1.0, math.hypot(a, b), math.hypot(c, d))
+    u0 = math.floor(uv[:, 0].min() - slack)
+    v0 = math.floor(uv[:, 1].min() - slack)
+    u1 = math.ceil(uv[:, 0].max() + slack)
+    v1 = math.ceil(uv[:, 1].max() + slack)
+    width, height = u1 - u0, v1 - v0
+    if (width > MAX_TILE_SIDE or height > MAX_TILE_SIDE or width * height > MAX_TILE_PIXELS
+            or width > tw or height > th):
+        return None
+    return u0, v0, width, height
