@@ -986,6 +986,42 @@ def test_svg_image_inside_its_viewport_is_not_clipped_by_it():
     assert path_bounds(g.clip.children[0].path) == pytest.approx((20, 20, 80, 80))
 
 
+@pytest.mark.parametrize("root, placed", [
+    ('transform="translate(20 10)"', 'transform="translate(20 10)"'),
+    # the root's transform applies outside its viewBox mapping, in the document's px, as
+    # at the top level (api.Document.build): scale(2) then viewBox 0 0 20 20 into 40 x 40
+    ('viewBox="0 0 20 20" transform="rotate(90 20 20)"', 'transform="rotate(90 20 20) scale(2)"'),
+])
+def test_svg_image_takes_its_root_transform(root, placed):
+    # an SVG image is its document drawn as on its own (SVG 2 §12.3), the root's transform
+    # (SVG 2: transform applies to svg elements) included: the same pixels as the drawing
+    # inline under that transform. Before, an image's root transform was dropped (resvg and
+    # Chromium apply it; vecmsaa did at the top level only)
+    import base64
+
+    drawing = '<rect x="2" y="4" width="6" height="10" fill="green"/>'     # inside, turned too
+    inner = (f'<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40" {root}>'
+             f'{drawing}</svg>')
+    url = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    doc = '<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">{}</svg>'
+    as_image = render_svg_array(doc.format(f'<image x="30" y="30" width="40" height="40" '
+                                           f'href="{url}"/>').encode())
+    inline = render_svg_array(doc.format(f'<g transform="translate(30 30)"><g {placed}>'
+                                         f'{drawing}</g></g>').encode())
+    assert as_image[..., 3].sum() > 0
+    assert np.abs(as_image.astype(int) - inline.astype(int)).max() <= 1
+
+
+def test_svg_image_with_a_singular_root_transform_draws_nothing():
+    import base64
+
+    inner = ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="40" '
+             'transform="scale(0)"><rect width="40" height="40"/></svg>')
+    url = "data:image/svg+xml;base64," + base64.b64encode(inner.encode()).decode()
+    s = scene(f'<image width="40" height="40" href="{url}"/>')
+    assert s.fills() == []
+
+
 @pytest.mark.parametrize("attrs, transform, smooth", [
     ('x="10.5" y="3.25"', "", False),          # a texel per pixel, moved: nearest texel
     ('x="10.5"', "translate(0.3 7)", False),
