@@ -2107,3 +2107,17 @@ def test_baseline_shift_inherit_takes_the_parents_value(outer, inner_size, expec
     plain = top(f'<tspan{inner_size}>H</tspan>')
     nested = top(f'<tspan baseline-shift="inherit"{inner_size}>H</tspan>')
     assert plain - nested == pytest.approx(expected, abs=0.5)
+
+
+@pytest.mark.parametrize("keyword", ["initial", "unset", "INITIAL"])
+def test_alignment_baseline_initial_and_unset_are_auto(keyword):
+    # alignment-baseline is not inherited and its initial value is auto (SVG 1.1 §10.9.2), so
+    # `initial` and `unset` (CSS Cascade 4 §7.1, §7.3) draw as an explicit `auto`: the span sits
+    # on its parent's baseline, not moved with a hanging parent as a span without one is
+    def draw(child):
+        return render(f'<text x="10" y="60" font-size="20">Ab<tspan alignment-baseline="hanging">'
+                      f'Cd<tspan {child}>Ef</tspan></tspan></text>', height=100)
+    auto = draw('alignment-baseline="auto"')
+    assert not np.array_equal(auto, draw(""))
+    assert np.array_equal(draw(f'alignment-baseline="{keyword}"'), auto)
+    assert np.array_equal(draw(f'style="alignment-baseline: {keyword}"'), auto)

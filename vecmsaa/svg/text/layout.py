@@ -625,6 +625,10 @@ def _alignment_baseline(span, enclosing):
     # so the enclosing span's or the dominant baseline applies
     v = (s.get("alignment-baseline") or "").strip().lower() \
         if "alignment-baseline" in s.specified else ""
+    if v in ("initial", "unset"):
+        # the initial value, auto, as explicitly set: the box sits on its parent's baseline
+        # (CSS Cascade 4 §7.1, §7.3: unset is initial for a property that is not inherited)
+        return "auto"
     return v if v in ALIGNMENT_BASELINES else enclosing
 
 
