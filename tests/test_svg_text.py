@@ -2104,3 +2104,36 @@ def test_xml_space_other_than_preserve_collapses():
     assert not np.array_equal(
         render('<text x="10" y="60" xml:space="preserve"><tspan>a   b</tspan></text>'),
         collapsed)
+
+
+@pytest.mark.parametrize("outer, inner_size, expected", [
+    ('baseline-shift="10"', "", 10),            # the parent's 10, applied again
+    ('baseline-shift="25%"', "", 10),           # a percentage of this element's font size, 40
+    ('baseline-shift="1em" font-size="10"', ' font-size="40"', 10),  # em computed where declared
+    ('baseline-shift="-5"', "", -5),
+    ('', "", 0),                                # no parent value: baseline
+])
+def test_baseline_shift_inherit_takes_the_parents_value(outer, inner_size, expected):
+    # baseline-shift is not inherited, but `inherit` takes the parent's computed value (CSS
+    # Cascade 4 §7.3): a keyword or percentage as specified, a length computed to absolute
+    # (CSS Inline 3 §4.3); it shifts again on top of the parent's own shift (1 px a unit)
+    def top(inner):
+        img = render(f'<text x="10" y="70"><tspan {outer}>{inner}</tspan></text>', height=120)
+        return ink_box(alpha(img))[1]
+    plain = top(f'<tspan{inner_size}>H</tspan>')
+    nested = top(f'<tspan baseline-shift="inherit"{inner_size}>H</tspan>')
+    assert plain - nested == pytest.approx(expected, abs=0.5)
+
+
+@pytest.mark.parametrize("keyword", ["initial", "unset", "INITIAL"])
+def test_alignment_baseline_initial_and_unset_are_auto(keyword):
+    # alignment-baseline is not inherited and its initial value is auto (SVG 1.1 §10.9.2), so
+    # `initial` and `unset` (CSS Cascade 4 §7.1, §7.3) draw as an explicit `auto`: the span sits
+    # on its parent's baseline, not moved with a hanging parent as a span without one is
+    def draw(child):
+        return render(f'<text x="10" y="60" font-size="20">Ab<tspan alignment-baseline="hanging">'
+                      f'Cd<tspan {child}>Ef</tspan></tspan></text>', height=100)
+    auto = draw('alignment-baseline="auto"')
+    assert not np.array_equal(auto, draw(""))
+    assert np.array_equal(draw(f'alignment-baseline="{keyword}"'), auto)
+    assert np.array_equal(draw(f'style="alignment-baseline: {keyword}"'), auto)

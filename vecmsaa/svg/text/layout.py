@@ -579,9 +579,11 @@ def _baseline_shift(span, face, above):
     baseline-shift is ignored (resvg)."""
     s = span.style
     v = (s.specified.get("baseline-shift") or "").strip()
-    if span.parent is None or v in ("", "baseline", "inherit"):
+    fs = length_fs = s.font_size()
+    if v == "inherit":
+        v, length_fs = _inherited_baseline_shift(s)
+    if span.parent is None or v in ("", "baseline"):
         return above
-    fs = s.font_size()
     if v == "sub":
         return above - _os2(face, "ySubscriptYOffset", 0.2 * face.units_per_em) * fs \
             / face.units_per_em
@@ -594,7 +596,22 @@ def _baseline_shift(span, face, above):
         except ValueError:
             return above
     parsed = split_length(v)
-    return above if parsed is None else above + to_px(parsed[0], parsed[1], fs)
+    return above if parsed is None else above + to_px(parsed[0], parsed[1], length_fs)
+
+
+def _inherited_baseline_shift(style):
+    """``baseline-shift: inherit``: the parent's computed value (the property is not
+    inherited otherwise, so a parent without one gives ``baseline``), with the font size its
+    lengths are computed in. A length is computed where it is declared (em of that element's
+    font size); keywords and percentages stay as specified and take this element's (CSS
+    Inline 3 §4.3: computed value "the specified keyword or a computed <length-percentage>")."""
+    parent = style.parent
+    while parent is not None:
+        v = (parent.specified.get("baseline-shift") or "").strip()
+        if v != "inherit":
+            return (v or "baseline"), parent.font_size()
+        parent = parent.parent
+    return "baseline", style.font_size()
 
 
 def _alignment_baseline(span, enclosing):
@@ -608,6 +625,10 @@ def _alignment_baseline(span, enclosing):
     # so the enclosing span's or the dominant baseline applies
     v = (s.get("alignment-baseline") or "").strip().lower() \
         if "alignment-baseline" in s.specified else ""
+    if v in ("initial", "unset"):
+        # the initial value, auto, as explicitly set: the box sits on its parent's baseline
+        # (CSS Cascade 4 §7.1, §7.3: unset is initial for a property that is not inherited)
+        return "auto"
     return v if v in ALIGNMENT_BASELINES else enclosing
 
 
