@@ -815,6 +815,24 @@ def test_mask_region_and_kind():
     assert path_bounds(region.path) == pytest.approx((8, 8, 32, 32))
 
 
+def test_a_user_space_mask_regions_percentages_take_the_referencing_elements_viewport():
+    # SVG 1.1 §14.4 (CSS Masking 1 likewise): with maskUnits="userSpaceOnUse" the region is
+    # in "the user coordinate system for the element referencing the mask". The mask is
+    # defined at the root (200 x 200), the rect using it in a 100 x 60 svg at (50, 50): the
+    # region is x = -10% of 100, y = -10% of 60, 50% x 50% = 50 x 30, so (40, 44)-(90, 74) on
+    # the canvas, cut at the nested viewport's (50, 50). Chromium 150 takes the root's 200 x
+    # 200 (pixel (95, 70) would be drawn); resvg 0.48.1 draws it as here.
+    alpha = render_svg_array(
+        '<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">'
+        '<mask id="m" maskUnits="userSpaceOnUse" width="50%" height="50%">'
+        '<rect width="200" height="200" fill="white"/></mask>'
+        '<svg x="50" y="50" width="100" height="60">'
+        '<rect width="200" height="200" mask="url(#m)"/></svg></svg>')[..., 3]
+    for x, y, inside in ((52, 52, True), (88, 72, True), (92, 72, False), (88, 76, False),
+                         (48, 60, False)):
+        assert alpha[y, x] == (255 if inside else 0), (x, y)
+
+
 def test_image_data_url_png(tmp_path):
     import base64
     import io
