@@ -230,6 +230,18 @@ def test_css_grayscale_function():
     assert abs(img[20, 20, 0] - v) <= 1 and img[20, 20, 0] == img[20, 20, 1] == img[20, 20, 2]
 
 
+def test_a_filter_function_keeps_what_the_filter_before_it_drew():
+    # Filter Effects 1, "Filter region for shorthands": a function's region covers the visual
+    # content it is given. The shadow (28 .. 48 px) lies inside drop-shadow()'s region (the
+    # box grown by half: 10 .. 50) but past invert()'s own (grown by a tenth: 18 .. 42), which
+    # must not cut it: the shadow's black, inverted, is white; the red square cyan.
+    img = render('<rect x="20" y="20" width="20" height="20" fill="#ff0000" '
+                 'filter="drop-shadow(black 8px 0 0) invert(1)"/>', size=80)
+    assert tuple(img[30, 45]) == (255, 255, 255, 255)
+    assert tuple(img[30, 30]) == (0, 255, 255, 255)
+    assert img[30, 49, 3] == 0 and img[45, 30, 3] == 0
+
+
 @pytest.mark.parametrize("std", ["1e9", "-5", "nan", "1 2 3"])
 def test_bad_blur_values_do_not_crash(std):
     img = render(f'<filter id="f"><feGaussianBlur stdDeviation="{std}"/></filter>'
