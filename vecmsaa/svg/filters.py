@@ -271,6 +271,10 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         if sub is None:
             break
         users.append(user)
+        if tag == "feOffset" and any(v is not None for v in spec):
+            # Filter Effects 1: a given subregion restricts the primitive's result (resvg
+            # takes an feOffset's region from its input whatever its own x, y, width, height)
+            effect = replace(effect, own_subregion=True)
         primitives.append(Primitive(effect, inputs, sub, linear))
     if not primitives:
         return None
