@@ -243,6 +243,14 @@ def test_an_offset_is_confined_to_the_subregion_it_is_given():
         assert tuple(img[40, 45]) == (0, 255, 0, 255), chain
         assert img[40, 55, 3] == 0 and img[50, 40, 3] == 0, chain
         assert img[22, 40, 3] == 0 and img[40, 27, 3] == 0, chain
+    # in objectBoundingBox units, where subregions follow usvg's rule, resvg's unconfined
+    # offset is kept: that rule puts x="0" width="2" at 2 x the region's x (16), from 32 px,
+    # and would cut the moved square (30 .. 70) at its left
+    img = render('<filter id="f" primitiveUnits="objectBoundingBox"><feOffset dx="0.25" '
+                 'dy="0.125" x="0" y="0" width="2" height="2"/></filter><rect x="20" y="20" '
+                 'width="40" height="40" fill="#00ff00" filter="url(#f)"/>', size=80)
+    assert tuple(img[40, 31]) == (0, 255, 0, 255) and tuple(img[60, 60]) == (0, 255, 0, 255)
+    assert img[40, 28, 3] == 0
 
 
 def test_a_filter_function_keeps_what_the_filter_before_it_drew():

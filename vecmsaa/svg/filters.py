@@ -271,9 +271,11 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         if sub is None:
             break
         users.append(user)
-        if tag == "feOffset" and any(v is not None for v in spec):
+        if tag == "feOffset" and not prim_obb and any(v is not None for v in spec):
             # Filter Effects 1: a given subregion restricts the primitive's result (resvg
-            # takes an feOffset's region from its input whatever its own x, y, width, height)
+            # takes an feOffset's region from its input whatever its own x, y, width, height).
+            # Not in objectBoundingBox units, where subregions follow usvg's rule, not the
+            # specification's (_user_subregion), and that rule's rectangle would cut it wrongly
             effect = replace(effect, own_subregion=True)
         primitives.append(Primitive(effect, inputs, sub, linear))
     if not primitives:
