@@ -230,6 +230,41 @@ def test_css_grayscale_function():
     assert abs(img[20, 20, 0] - v) <= 1 and img[20, 20, 0] == img[20, 20, 1] == img[20, 20, 2]
 
 
+def test_an_offset_is_confined_to_the_subregion_it_is_given():
+    # Filter Effects 1, filter primitive subregion: x, y, width, height restrict the
+    # primitive's result. The square (20 .. 60) moved by (10, 5) covers 30 .. 70 x 25 .. 65;
+    # the subregion 0 .. 50 x 0 .. 45 keeps 30 .. 50 x 25 .. 45 of it.
+    for chain in ('<feOffset dx="10" dy="5" x="0" y="0" width="50" height="45"/>',
+                  '<feFlood flood-color="#00ff00" x="20" y="20" width="40" height="40"/>'
+                  '<feOffset dx="10" dy="5" x="0" y="0" width="50" height="45"/>'):
+        img = render('<filter id="f" filterUnits="userSpaceOnUse" x="0" y="0" width="80" '
+                     f'height="80">{chain}</filter><rect x="20" y="20" width="40" height="40" '
+                     'fill="#00ff00" filter="url(#f)"/>', size=80)
+        assert tuple(img[40, 45]) == (0, 255, 0, 255), chain
+        assert img[40, 55, 3] == 0 and img[50, 40, 3] == 0, chain
+        assert img[22, 40, 3] == 0 and img[40, 27, 3] == 0, chain
+    # in objectBoundingBox units, where subregions follow usvg's rule, resvg's unconfined
+    # offset is kept: that rule puts x="0" width="2" at 2 x the region's x (16), from 32 px,
+    # and would cut the moved square (30 .. 70) at its left
+    img = render('<filter id="f" primitiveUnits="objectBoundingBox"><feOffset dx="0.25" '
+                 'dy="0.125" x="0" y="0" width="2" height="2"/></filter><rect x="20" y="20" '
+                 'width="40" height="40" fill="#00ff00" filter="url(#f)"/>', size=80)
+    assert tuple(img[40, 31]) == (0, 255, 0, 255) and tuple(img[60, 60]) == (0, 255, 0, 255)
+    assert img[40, 28, 3] == 0
+
+
+def test_a_filter_function_keeps_what_the_filter_before_it_drew():
+    # Filter Effects 1, "Filter region for shorthands": a function's region covers the visual
+    # content it is given. The shadow (28 .. 48 px) lies inside drop-shadow()'s region (the
+    # box grown by half: 10 .. 50) but past invert()'s own (grown by a tenth: 18 .. 42), which
+    # must not cut it: the shadow's black, inverted, is white; the red square cyan.
+    img = render('<rect x="20" y="20" width="20" height="20" fill="#ff0000" '
+                 'filter="drop-shadow(black 8px 0 0) invert(1)"/>', size=80)
+    assert tuple(img[30, 45]) == (255, 255, 255, 255)
+    assert tuple(img[30, 30]) == (0, 255, 255, 255)
+    assert img[30, 49, 3] == 0 and img[45, 30, 3] == 0
+
+
 @pytest.mark.parametrize("std", ["1e9", "-5", "nan", "1 2 3"])
 def test_bad_blur_values_do_not_crash(std):
     img = render(f'<filter id="f"><feGaussianBlur stdDeviation="{std}"/></filter>'

@@ -595,10 +595,11 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
             x0, y0, x1, y1 = prim.subregion
             rect = (max(x0 - rx0, 0), max(y0 - ry0, 0), min(x1 - rx0, w), min(y1 - ry0, h))
             inputs = [get(i) for i in prim.inputs]
-            if isinstance(prim.effect, Offset) and prim.inputs and prim.inputs[0] >= 0:
-                # resvg: feOffset's image is not confined to a subregion; the subregion it passes
-                # on (to feTile, which repeats it) is its input's when that is a result, its own
-                # when it reads SourceGraphic or SourceAlpha
+            unconfined = isinstance(prim.effect, Offset) and not prim.effect.own_subregion
+            if unconfined and prim.inputs and prim.inputs[0] >= 0:
+                # resvg: feOffset's image is not confined to a default subregion; the subregion
+                # it passes on (to feTile, which repeats it) is its input's when that is a
+                # result, its own when it reads SourceGraphic or SourceAlpha
                 rect = inputs[0].rect
             for i, r in zip(prim.inputs, inputs):
                 # read for the last time, by this primitive alone, and nothing else shares it
@@ -626,7 +627,7 @@ def apply_filter(source: np.ndarray, flt: Filter, origin=None, draw_content=None
             owned = not _shares(img, live() + foreign)
             if not (isinstance(prim.effect, Image) or _keeps_finite(prim.effect)):
                 img, owned = _cleaned(img, owned)
-            if rect != full and not isinstance(prim.effect, Offset):
+            if rect != full and not unconfined:
                 if not owned:
                     img, owned = img.copy(), True
                 _clear_outside(img, rect)

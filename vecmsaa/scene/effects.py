@@ -32,6 +32,7 @@ class GaussianBlur:
 class Offset:
     dx: float                    # whole pixels (truncated, as resvg)
     dy: float
+    own_subregion: bool = False  # x, y, width or height given: the result is confined to it
 
 
 @dataclass(frozen=True)

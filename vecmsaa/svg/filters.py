@@ -86,7 +86,8 @@ def element_filters(builder, el, style, ctx, bbox_fn):
             else:
                 out.append(flt)
         else:
-            flt = filter_function(builder, name, args, style, ctx, bbox_fn)
+            flt = filter_function(builder, name, args, style, ctx, bbox_fn,
+                                  out[-1].region if out else None)
             if flt is False:
                 return []
             if flt is not None:
@@ -270,6 +271,12 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
         if sub is None:
             break
         users.append(user)
+        if tag == "feOffset" and not prim_obb and any(v is not None for v in spec):
+            # Filter Effects 1: a given subregion restricts the primitive's result (resvg
+            # takes an feOffset's region from its input whatever its own x, y, width, height).
+            # Not in objectBoundingBox units, where subregions follow usvg's rule, not the
+            # specification's (_user_subregion), and that rule's rectangle would cut it wrongly
+            effect = replace(effect, own_subregion=True)
         primitives.append(Primitive(effect, inputs, sub, linear))
     if not primitives:
         return None
@@ -789,9 +796,10 @@ def device_scale(ctx):
     return row_scale_f32(f32_chain(ctx.chain, ctx.transform))
 
 
-def filter_function(builder, name, args, style, ctx, bbox_fn):
+def filter_function(builder, name, args, style, ctx, bbox_fn, input_region=None):
     """Filter for one CSS filter function; None when the element has no bounding box (the
-    function is skipped), False when it does not parse (the whole value is ignored)."""
+    function is skipped), False when it does not parse (the whole value is ignored).
+    ``input_region``: the region of the filter before it in the list, whose result it reads."""
     sx, sy = device_scale(ctx)
     linear = False                      # filter functions work in sRGB
     if name == "blur":
@@ -827,6 +835,12 @@ def filter_function(builder, name, args, style, ctx, bbox_fn):
     if region is None:
         return None
     region = layer_rect(*user, layer_matrix(ctx.transform, region)) or region
+    if input_region is not None:
+        # Filter Effects 1, "Filter region for shorthands": a function's region covers the
+        # visual content it is given, so it does not cut what the filter before it drew (a
+        # drop shadow before hue-rotate(); resvg and Chromium keep it whole)
+        region = (min(region[0], input_region[0]), min(region[1], input_region[1]),
+                  max(region[2], input_region[2]), max(region[3], input_region[3]))
     return Filter(region=region, primitives=[Primitive(effect, (SOURCE_GRAPHIC,), region, linear)])
 
 
