@@ -718,6 +718,29 @@ def test_dash_through_start_of_closed_subpath_is_joined():
     assert not inside(out, [(-0.9, -0.9)])[0]
 
 
+@pytest.mark.parametrize("on, off, curve", [
+    ("960/254", "1920/254", False),         # 1mm 2mm: 42 periods and a dash make 127 mm
+    ("960/254", "1920/254", True), ("0.4", "0.7", False), ("0.5", "0.2", True),
+    ("1.2", "3.0", False)])
+def test_a_dash_ending_exactly_at_a_closed_subpaths_end_joins_the_first(on, off, curve):
+    # a 120-unit square (perimeter 480): in exact arithmetic the last dash ends at the start
+    # point, where the first begins: one dash through the corner at (40, 40), mitred there as
+    # the solid square is. Summed in floats, the pattern's intervals fall 1e-13 to 1e-11
+    # short of the end, and the corner got two butt ends and a hole
+    from fractions import Fraction
+    n = (480 - Fraction(on)) / (Fraction(on) + Fraction(off))
+    assert n.denominator == 1                       # exactly: n periods and a dash
+    d = ("M 40 40 C 60 40 120 40 160 40 L 160 160 L 40 160 Z" if curve
+         else "M 40 40 L 160 40 L 160 160 L 40 160 Z")
+    dashes = [float(Fraction(on)), float(Fraction(off))]
+    out = stroke_path(parse_path_data(d), 20, join="miter", dashes=dashes)
+    assert inside(out, [(32, 32), (35, 38), (38, 35)]).all()
+    # and nothing beyond the solid square's outline there
+    solid = stroke_path(parse_path_data(d), 20, join="miter")
+    q = [(x, y) for x in np.linspace(28, 52, 13) for y in np.linspace(28, 52, 13)]
+    assert not (inside(out, q) & ~inside(solid, q)).any()
+
+
 def test_dashes_of_curves_join_through_the_start_and_make_dots():
     # the square above with its first side a cubic (straight, so its arc lengths are known):
     # the compiled curve dasher joins the dash through (0, 0) as the polyline dasher does

@@ -28,6 +28,12 @@ SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
 #: curve is then within ~1e-9 of its radius of the circle)
 CIRCLE_RTOL = 1e-9
 _MAX_DASH_STEPS = 1_000_000                # pattern intervals walked per subpath at most
+#: a dash interval starting or ending within this fraction of a subpath's length of its end
+#: (or start) does so exactly: the pattern's lengths summed in floats drift from their exact
+#: sum by ~1e-16 of the length a step (1mm 2mm on a 480-unit square: the last dash, exactly
+#: at the end, 6e-13 short), and a closed subpath's last dash reaching its end joins the
+#: first instead of leaving two butt ends and a hole at the corner
+_DASH_END_RTOL = 1e-9
 
 _MAX_ARC_CHORDS = 4     # an arc needing more chords within the tolerance is drawn as cubics
 # bounds of what one vertex's side, a cap or a dot adds (a round U-turn: a line and two
@@ -482,7 +488,8 @@ def _dash_polylines(src, starts, closed, pattern, offset):
         first_at_start = last_at_end = False
         last_is_dot = False
         steps = 0
-        while pos < total and steps < _MAX_DASH_STEPS:
+        near = total * _DASH_END_RTOL
+        while pos < total - near and steps < _MAX_DASH_STEPS:
             steps += 1
             length = pattern[k]
             a, b = max(pos, 0.0), min(pos + length, total)
@@ -527,9 +534,9 @@ def _dash_polylines(src, starts, closed, pattern, offset):
                         ostarts[nd] = begin
                         nd += 1
                         last_is_dot = False
-                        if a == 0.0:
+                        if a <= near:
                             first_at_start = True
-                        last_at_end = b >= total
+                        last_at_end = b >= total - near
             pos += length
             k = (k + 1) % npat
         if closed[s] and first_at_start and last_at_end and nd - first_dash > 1 and \
@@ -1740,7 +1747,8 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
         guard = 0
         first_sub = nsub             # this subpath's first dash
         first_at_start = last_at_end = False
-        while pos < total and guard < 1_000_000:
+        near = total * _DASH_END_RTOL
+        while pos < total - near and guard < 1_000_000:
             guard += 1
             length = pattern[k]
             on = k % 2 == 0
@@ -1800,9 +1808,9 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
                     if no > start:
                         osub[nsub], oflag[nsub] = start, SUB_OPEN
                         nsub += 1
-                        if a == 0.0:
+                        if a <= near:
                             first_at_start = True
-                        last_at_end = b >= total
+                        last_at_end = b >= total - near
             pos += length
             k = (k + 1) % npat
         if closed and first_at_start and last_at_end and nsub > first_sub and \
