@@ -278,6 +278,59 @@ def test_normals_at_segment_ends_are_covered(d, w, join):
             assert covered.all(), (pt, t, s[~covered, 0])
 
 
+def _chord_stroke_inside(q, p0, p1, hw, cap):
+    """(inside, margin) of points q for the stroke of the segment p0 → p1 (exact geometry)."""
+    q = np.asarray(q, float)
+    d = np.subtract(p1, p0) / math.dist(p0, p1)
+    rel = q - p0
+    s = rel @ d
+    lat = rel @ np.array([-d[1], d[0]])
+    length = math.dist(p0, p1)
+    if cap == "round":
+        dist = np.hypot(np.clip(s, 0, length) - s, lat)
+        return dist <= hw, np.abs(dist - hw)
+    ext = hw if cap == "square" else 0.0
+    margin = np.minimum(np.minimum(s + ext, length + ext - s), hw - np.abs(lat))
+    return margin >= 0, np.abs(margin)
+
+
+@pytest.mark.parametrize("cap", ["butt", "square", "round"])
+@pytest.mark.parametrize("d, w", [
+    ("M 20 160 C 20.1 160 160 20 160.1 20", 20.0),        # the suite's stroke/line-as-curve-2
+    ("M 20 160 C 20.0001 160 160 20 160.0001 20", 25.0),  # ... -1
+    ("M 60 40 C 60.01 40 67 33 67.07 32.93", 20.0),       # short: the control 0.01 off
+    ("M 10 10 Q 10.05 10 90 50", 12.0)])                  # a quadratic
+def test_a_curve_in_line_is_stroked_as_its_chord(d, w, cap):
+    # a curve whose control points lie within m·√1e-5 of the segment joining its two
+    # farthest points (m their larger coordinate difference) is a line to Skia's and
+    # tiny-skia's strokers (SkStroke: cubic_in_line, quad_in_line): resvg and Chromium draw
+    # the chord's stroke, caps square to the chord. Drawn exactly, the tangent at a control
+    # point 0.1 from the start is horizontal, so the cap turned 45° and a fan stuck out
+    # (the suite's line-as-curve-2 with square caps, dashes or width 25: 0.26-0.46% of
+    # pixels off resvg, which Chromium matched)
+    src = parse_path_data(d)
+    tol = 0.05
+    out = stroke_path(src, w, cap=cap, tolerance=tol)
+    p0, p1 = tuple(src.points[0]), tuple(src.points[-1])
+    lo = np.minimum(p0, p1) - w
+    hi = np.maximum(p0, p1) + w
+    g = np.random.default_rng(5).random((6000, 2)) * (hi - lo) + lo
+    truth, margin = _chord_stroke_inside(g, p0, p1, w / 2, cap)
+    keep = margin > 4 * tol
+    assert np.array_equal(inside(out, g)[keep], truth[keep])
+
+
+def test_a_curve_just_out_of_line_keeps_its_end_tangent():
+    # the control point 0.1 off a 10-unit curve is beyond Skia's line slop (0.022 here): the
+    # curve is stroked as such, the fan its normal sweeps at the start (from straight down
+    # to the chord's normal) inside the stroke, where the chord's stroke ends short of it
+    q = [(60.5, 49.0), (60.3, 45.0), (61.0, 47.0), (62.0, 48.0)]
+    out = stroke_path(parse_path_data("M 60 40 C 60.1 40 67 33 67.07 32.93"), 20.0,
+                      tolerance=0.01)
+    assert inside(out, q).all()
+    assert not _chord_stroke_inside(q, (60, 40), (67.07, 32.93), 10.0, "butt")[0].any()
+
+
 def re_segments(path):
     """(start, start tangent, end, end tangent) of each line, quadratic and cubic segment of
     non-zero length (unit tangents: toward the first control point apart from the start)."""
@@ -716,6 +769,29 @@ def test_dash_through_start_of_closed_subpath_is_joined():
     out = stroke_path(line((0, 0), (10, 0), (10, 10), (0, 10), (0, 0)), 2, join="miter",
                       dashes=[10, 5])
     assert not inside(out, [(-0.9, -0.9)])[0]
+
+
+@pytest.mark.parametrize("on, off, curve", [
+    ("960/254", "1920/254", False),         # 1mm 2mm: 42 periods and a dash make 127 mm
+    ("960/254", "1920/254", True), ("0.4", "0.7", False), ("0.5", "0.2", True),
+    ("1.2", "3.0", False)])
+def test_a_dash_ending_exactly_at_a_closed_subpaths_end_joins_the_first(on, off, curve):
+    # a 120-unit square (perimeter 480): in exact arithmetic the last dash ends at the start
+    # point, where the first begins: one dash through the corner at (40, 40), mitred there as
+    # the solid square is. Summed in floats, the pattern's intervals fall 1e-13 to 1e-11
+    # short of the end, and the corner got two butt ends and a hole
+    from fractions import Fraction
+    n = (480 - Fraction(on)) / (Fraction(on) + Fraction(off))
+    assert n.denominator == 1                       # exactly: n periods and a dash
+    d = ("M 40 40 C 60 40 120 40 160 40 L 160 160 L 40 160 Z" if curve
+         else "M 40 40 L 160 40 L 160 160 L 40 160 Z")
+    dashes = [float(Fraction(on)), float(Fraction(off))]
+    out = stroke_path(parse_path_data(d), 20, join="miter", dashes=dashes)
+    assert inside(out, [(32, 32), (35, 38), (38, 35)]).all()
+    # and nothing beyond the solid square's outline there
+    solid = stroke_path(parse_path_data(d), 20, join="miter")
+    q = [(x, y) for x in np.linspace(28, 52, 13) for y in np.linspace(28, 52, 13)]
+    assert not (inside(out, q) & ~inside(solid, q)).any()
 
 
 def test_dashes_of_curves_join_through_the_start_and_make_dots():

@@ -23,7 +23,10 @@ midpoint matched), subdivided until within ``tolerance`` at the quarter points; 
 folds (bends tighter than half the width) or will not fit, pieces are split until flat within
 half the tolerance and stroked as chords with round joins. Errors add up there: a chord off the
 curve by f moves its whole stroke by up to f, so the joins and caps at a chord's ends are drawn
-within the rest of the tolerance (tolerance − f, at least half of it).
+within the rest of the tolerance (tolerance − f, at least half of it). A quadratic or cubic
+in line (its control points within √1e-5, a quadratic's √5e-6, of its extent of the line
+through its farthest points) is stroked as the lines through its points of extreme speed instead, as Skia's and
+tiny-skia's strokers do (stroke_kernels._in_line).
 
 Strokes are drawn by the compiled kernels in :mod:`vecmsaa.geometry.stroke_kernels`: paths of
 straight lines only (map data), dashes and all, by stroke_lines; paths with curves by

@@ -28,6 +28,12 @@ SMOOTH_COS = math.cos(math.radians(0.5))   # tangents this close need no join
 #: curve is then within ~1e-9 of its radius of the circle)
 CIRCLE_RTOL = 1e-9
 _MAX_DASH_STEPS = 1_000_000                # pattern intervals walked per subpath at most
+#: a dash interval starting or ending within this fraction of a subpath's length of its end
+#: (or start) does so exactly: the pattern's lengths summed in floats drift from their exact
+#: sum by ~1e-16 of the length a step (1mm 2mm on a 480-unit square: the last dash, exactly
+#: at the end, 6e-13 short), and a closed subpath's last dash reaching its end joins the
+#: first instead of leaving two butt ends and a hole at the corner
+_DASH_END_RTOL = 1e-9
 
 _MAX_ARC_CHORDS = 4     # an arc needing more chords within the tolerance is drawn as cubics
 # bounds of what one vertex's side, a cap or a dot adds (a round U-turn: a line and two
@@ -482,7 +488,8 @@ def _dash_polylines(src, starts, closed, pattern, offset):
         first_at_start = last_at_end = False
         last_is_dot = False
         steps = 0
-        while pos < total and steps < _MAX_DASH_STEPS:
+        near = total * _DASH_END_RTOL
+        while pos < total - near and steps < _MAX_DASH_STEPS:
             steps += 1
             length = pattern[k]
             a, b = max(pos, 0.0), min(pos + length, total)
@@ -527,9 +534,9 @@ def _dash_polylines(src, starts, closed, pattern, offset):
                         ostarts[nd] = begin
                         nd += 1
                         last_is_dot = False
-                        if a == 0.0:
+                        if a <= near:
                             first_at_start = True
-                        last_at_end = b >= total
+                        last_at_end = b >= total - near
             pos += length
             k = (k + 1) % npat
         if closed[s] and first_at_start and last_at_end and nd - first_dash > 1 and \
@@ -985,6 +992,104 @@ def _turn_sides(ov, op, oc, iv, ip, ic, tv, tp, tc, px, py, d0x, d0y, d1x, d1y, 
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _in_line(c, npts):
+    """Whether the first npts points of the row c (a quadratic's 3, a cubic's 4) lie on a
+    line, as Skia's and tiny-skia's strokers judge it (SkStroke's cubic_in_line and
+    quad_in_line): the two points farthest apart by their larger coordinate difference m
+    are the line's ends, and every other point is within m·√1e-5 of that segment (a
+    quadratic's control m·√5e-6), or of its first end where it projects outside it. Such a
+    curve is stroked as the lines through its points of extreme speed: for a near-straight
+    curve whose control point nearly meets an end the tangent there turns by up to 90° in a
+    sliver of the curve, and the cap and joins would follow it (the resvg suite's
+    stroke/line-as-curve: a line is drawn)."""
+    best = -1.0
+    o1 = o2 = 0
+    for i in range(npts - 1):
+        for j in range(i + 1, npts):
+            m = max(abs(c[2 * j] - c[2 * i]), abs(c[2 * j + 1] - c[2 * i + 1]))
+            if best < m:
+                best, o1, o2 = m, i, j
+    slop = best * best * (1e-5 if npts == 4 else 5e-6)
+    ax, ay = c[2 * o1], c[2 * o1 + 1]
+    dx, dy = c[2 * o2] - ax, c[2 * o2 + 1] - ay
+    den = dx * dx + dy * dy
+    for k in range(npts):
+        if k == o1 or k == o2:
+            continue
+        ex, ey = c[2 * k] - ax, c[2 * k + 1] - ay
+        t = (dx * ex + dy * ey) / den if den > 0.0 else -1.0
+        if 0.0 <= t <= 1.0:
+            ex, ey = ex - t * dx, ey - t * dy
+        if ex * ex + ey * ey > slop:
+            return False
+    return True
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _speed_extrema(c, out):
+    """The parameters in (0, 1) where the cubic c's speed is extreme (F'·F'' = 0, a cubic
+    in t: Skia's points of maximum curvature for a curve in line), ascending, into out;
+    their count."""
+    ax = c[6] - 3.0 * c[4] + 3.0 * c[2] - c[0]
+    ay = c[7] - 3.0 * c[5] + 3.0 * c[3] - c[1]
+    bx, by = c[4] - 2.0 * c[2] + c[0], c[5] - 2.0 * c[3] + c[1]
+    cx, cy = c[2] - c[0], c[3] - c[1]
+    # (A t² + 2B t + C)·(A t + B)
+    k3 = ax * ax + ay * ay
+    k2 = 3.0 * (ax * bx + ay * by)
+    k1 = 2.0 * (bx * bx + by * by) + ax * cx + ay * cy
+    k0 = bx * cx + by * cy
+    # split (0, 1) where the polynomial turns (roots of its derivative), then bisect each
+    # piece whose ends differ in sign
+    cuts = np.empty(4)
+    cuts[0] = 0.0
+    nc = 1
+    qa, qb, qc = 3.0 * k3, 2.0 * k2, k1
+    if qa != 0.0:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc > 0.0:
+            r = math.sqrt(disc)
+            t0, t1 = (-qb - r) / (2.0 * qa), (-qb + r) / (2.0 * qa)
+            if t0 > t1:
+                t0, t1 = t1, t0
+            if 0.0 < t0 < 1.0:
+                cuts[nc] = t0
+                nc += 1
+            if 0.0 < t1 < 1.0:
+                cuts[nc] = t1
+                nc += 1
+    elif qb != 0.0:
+        t = -qc / qb
+        if 0.0 < t < 1.0:
+            cuts[nc] = t
+            nc += 1
+    cuts[nc] = 1.0
+    nc += 1
+    n = 0
+    for i in range(nc - 1):
+        lo, hi = cuts[i], cuts[i + 1]
+        glo = ((k3 * lo + k2) * lo + k1) * lo + k0
+        ghi = ((k3 * hi + k2) * hi + k1) * hi + k0
+        if glo == 0.0:
+            if 0.0 < lo < 1.0 and (n == 0 or out[n - 1] != lo):
+                out[n] = lo
+                n += 1
+            continue
+        if glo * ghi > 0.0 or ghi == 0.0:
+            continue
+        for _ in range(64):
+            mid = 0.5 * (lo + hi)
+            gm = ((k3 * mid + k2) * mid + k1) * mid + k0
+            if (gm > 0.0) == (glo > 0.0):
+                lo, glo = mid, gm
+            else:
+                hi = mid
+        out[n] = 0.5 * (lo + hi)
+        n += 1
+    return n
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _as_cubic(stack, seg, kind):
     """Write into stack[0] the cubic of a segment row: a cubic itself (kind 4), a quadratic
     raised exactly (3), or a conic (5) as the cubic Path.without_conics makes of it (handles at
@@ -1088,6 +1193,7 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
     tab = np.empty((16, _PIECE_COLS))
     pk = np.empty(16, np.uint8)
     stack = np.empty((_MAX_DEPTH + 2, 9))
+    roots = np.empty(3)
     cur = np.empty(8)
     right = np.empty(8)
     left = np.empty(8)
@@ -1163,6 +1269,24 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                     if ok:
                         continue
                 _as_cubic(stack, seg, kinds[s])
+                if kinds[s] != 5 and _in_line(seg, kinds[s]):
+                    # a curve in line: the lines through its points of extreme speed
+                    # (_in_line), their directions its ends' (ends[] stays unset)
+                    nr = _speed_extrema(stack[0], roots)
+                    px, py = stack[0, 0], stack[0, 1]
+                    for i in range(nr + 1):
+                        qx, qy = stack[0, 6], stack[0, 7]
+                        if i < nr:
+                            qx, qy = _cubic_at(stack[0], roots[i])
+                            if (qx == stack[0, 0] and qy == stack[0, 1]) or \
+                                    (qx == stack[0, 6] and qy == stack[0, 7]):
+                                continue
+                        ok, dx, dy = _unit(qx - px, qy - py)
+                        if ok:
+                            tab, pk, n = _line_piece(tab, pk, n, px, py, qx, qy, dx, dy, hw,
+                                                     0.0)
+                            px, py = qx, qy
+                    continue
                 for j in range(8):
                     cur[j] = stack[0, j]
                 ok, t0x, t0y, t1x, t1y = _cubic_tangents(cur)
@@ -1740,7 +1864,8 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
         guard = 0
         first_sub = nsub             # this subpath's first dash
         first_at_start = last_at_end = False
-        while pos < total and guard < 1_000_000:
+        near = total * _DASH_END_RTOL
+        while pos < total - near and guard < 1_000_000:
             guard += 1
             length = pattern[k]
             on = k % 2 == 0
@@ -1800,9 +1925,9 @@ def dash_segments(kinds, segs, subs, flags, pattern, offset, tol):
                     if no > start:
                         osub[nsub], oflag[nsub] = start, SUB_OPEN
                         nsub += 1
-                        if a == 0.0:
+                        if a <= near:
                             first_at_start = True
-                        last_at_end = b >= total
+                        last_at_end = b >= total - near
             pos += length
             k = (k + 1) % npat
         if closed and first_at_start and last_at_end and nsub > first_sub and \
