@@ -86,3 +86,25 @@ def test_bounded_fuzz_pass_finds_no_new_crash(warm):
     new = {key: info["message"] for t in report["targets"].values()
            for key, info in t["crashes"].items() if signature(key) not in OPEN_BUGS}
     assert not new, f"new crashes: {new}"
+
+
+def test_tree_mutations_stay_within_their_element_budget():
+    """Every copying operation of the svgtree target is cut to fit MAX_TREE_ELEMENTS: a seed
+    holding a 300-deep nest of 300 children, mutated again and again, never outgrows it (a
+    run took the fuzzer's own memory serialising a thousand copies of such a nest)."""
+    import copy
+    import random
+    import xml.etree.ElementTree as ET
+
+    wide = ET.Element("g")
+    for _ in range(300):
+        ET.SubElement(wide, "rect")
+    deep = root = ET.Element("svg")
+    for _ in range(300):
+        deep = ET.SubElement(deep, "g")
+    deep.append(wide)
+    rng = random.Random(7)
+    tree = root
+    for _ in range(10):        # it reaches the budget by the fifth
+        tree = fuzz.mutate_tree(copy.deepcopy(tree), rng, [root])
+        assert sum(1 for _ in tree.iter()) <= fuzz.MAX_TREE_ELEMENTS

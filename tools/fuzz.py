@@ -240,7 +240,7 @@ def mutate_tree(root, rng: random.Random, donors):
                     el.set(name, donor.attrib[name])
         elif op == 2 and el in parents:             # duplicate an element many times
             parent = parents[el]
-            n = rng.choice([2, 10, 100, 1000])
+            n = min(rng.choice([2, 10, 100, 1000]), _room(elements, el))
             at = list(parent).index(el)
             for i in range(n):
                 parent.insert(at + 1, copy.deepcopy(el))
@@ -248,7 +248,9 @@ def mutate_tree(root, rng: random.Random, donors):
             parents = {c: p for p in elements for c in p}
         elif op == 3 and el in parents:             # nest an element in copies of itself
             parent = parents[el]
-            depth = rng.choice([2, 8, 50, 300])
+            depth = min(rng.choice([2, 8, 50, 300]), _room(elements, el) - 1)
+            if depth < 0:
+                continue
             inner = copy.deepcopy(el)
             for _ in range(depth):
                 outer = copy.deepcopy(el)
@@ -259,16 +261,28 @@ def mutate_tree(root, rng: random.Random, donors):
             parents = {c: p for p in elements for c in p}
         elif op == 4:                               # graft an element of another seed
             donor_tree = rng.choice(donors) if donors else root
-            graft = copy.deepcopy(rng.choice(list(donor_tree.iter())))
+            graft = rng.choice(list(donor_tree.iter()))
+            if _room(elements, graft) < 1:
+                continue
+            graft = copy.deepcopy(graft)
             target = rng.choice(elements)
             target.append(graft)
-            if rng.random() < 0.5:                  # and make it a wrapper of its new parent
-                graft.append(copy.deepcopy(target))
             elements = list(root.iter())
+            if rng.random() < 0.5 and _room(elements, target) >= 1:
+                graft.append(copy.deepcopy(target))     # and make it a wrapper of its parent
+                elements = list(root.iter())
             parents = {c: p for p in elements for c in p}
-        if len(elements) > 200_000:
-            break
     return root
+
+
+#: elements a mutated tree may grow to: each copying operation is cut to fit (a thousand
+#: copies of an element holding a 300-deep nest would take the fuzzer's own memory)
+MAX_TREE_ELEMENTS = 200_000
+
+
+def _room(elements, el):
+    """How many more copies of ``el``'s subtree fit in a tree of ``elements``."""
+    return max(0, MAX_TREE_ELEMENTS - len(elements)) // sum(1 for _ in el.iter())
 
 
 # -- targets: each returns normally or raises; documented errors are filtered by the caller ---
