@@ -21,6 +21,7 @@ from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
+from ..geometry.hairline import hairline_coverage, hairline_outline, hairline_segments
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -183,13 +184,13 @@ def resolve_bbox(bbox):
 
 
 
-def _hairline(width, scale, antialias):
-    """(width to stroke, opacity factor or None). Wire antialiasing: a stroke thinner than a
-    device pixel is drawn 1 px wide and faded by its true width."""
-    device_width = width * scale
-    if 0 < device_width < 1 and antialias:
-        return width / device_width, device_width
-    return width, None
+def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
+    """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline)."""
+    rows = hairline_segments(path, m, cap, dash_pattern(dashes), offset, resolution)
+    outline = hairline_outline(rows)
+    if outline.is_empty():
+        return []
+    return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
 
 
 def _stroke_fills(outline, ctx, ref, opacity, antialias):
@@ -1372,8 +1373,10 @@ class Builder:
         width, join, cap, limit, dashes, offset = params
         if style.get("vector-effect").strip() == "non-scaling-stroke" or dashes:
             return (None,)
+        if hairline_coverage(width, ctx.transform, antialias) is not None:
+            return (None,)    # a hairline: _general_stroke draws it
         scale = mean_scale(ctx.transform)
-        stroke_width, fade = _hairline(width, scale, antialias)
+        stroke_width, fade = width, None
         tolerance = 0.25 / max(scale, 1e-9)
         hw = stroke_width / 2.0
         if not (hw > 0 and math.isfinite(hw)):
@@ -1400,9 +1403,10 @@ class Builder:
                 coverage = dash_coverage(dashes, device_path, dev_width, cap, 1.0)
                 if coverage is not None:
                     opacity, dashes = opacity * coverage, None
-            dev_width, fade = _hairline(dev_width, 1.0, antialias)
-            if fade is not None:
-                opacity *= fade
+            hair = hairline_coverage(dev_width, IDENTITY, antialias)
+            if hair is not None:
+                return _hairline_fills(device_path, IDENTITY, cap, dashes, offset, 1.0, ref,
+                                       opacity * hair, antialias)
             outline = stroke_path(device_path, dev_width, join=join, cap=cap, miterlimit=limit,
                                   dashes=dashes, dash_offset=offset, tolerance=0.25)
             return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
@@ -1411,11 +1415,12 @@ class Builder:
             coverage = dash_coverage(dashes, path, width, cap, scale)
             if coverage is not None:
                 opacity, dashes = opacity * coverage, None
-        stroke_width, fade = _hairline(width, scale, antialias)
-        if fade is not None:
-            opacity *= fade
+        hair = hairline_coverage(width, ctx.transform, antialias)
+        if hair is not None:
+            return _hairline_fills(path, ctx.transform, cap, dashes, offset,
+                                   dash_resolution(ctx.transform), ref, opacity * hair, antialias)
         tolerance = 0.25 / max(scale, 1e-9)
-        outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
+        outline = stroke_path(path, width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance,
                               resolution=dash_resolution(ctx.transform))
         return _stroke_fills(outline, ctx, ref, opacity, antialias)
