@@ -27,19 +27,18 @@ import math
 
 import numpy as np
 
-from . import stroke_kernels as kernels
-from ..scene.path import CLOSE, LINE, MOVE, Path
+from . import hairline_kernels, stroke_kernels as kernels
+from ..scene.path import Path
 
 #: how far a cap lengthens a hairline's end (device px): the area of a square or round cap on
 #: a line one pixel wide (Skia's extend_pts)
 CAP_OUTSET = {"butt": 0.0, "square": 0.5, "round": math.pi / 8.0}
 
 #: segments with |slope| (minor over major) below this are one parallelogram, not a staircase
-STAIR_SLOPE = 0.5
+STAIR_SLOPE = 0.25
 #: a staircase's steps per segment and per path at most; past them, parallelograms (bounded
 #: memory for absurd coordinates: the steps are per device pixel)
-MAX_STEPS_SEGMENT = 1 << 13
-MAX_STEPS_PATH = 1 << 19
+MAX_STEPS = np.array([1 << 13, 1 << 19], np.int64)      # (per segment, per path)
 
 
 def hairline_coverage(width, m, antialias):
@@ -66,32 +65,18 @@ def hairline_coverage(width, m, antialias):
 
 
 def _curve_chords(kind, s):
-    """Points along one curve segment (device coordinates, row of path_segments' segs), as
-    many chords as Skia's hairline subdivides it into (a power of two: chord error about an
-    eighth of a pixel)."""
+    """Points along one curve segment (device coordinates, a row of path_segments' segs) at
+    as many even steps of t as Skia's hairline cuts it into chords: a quadratic 2^level, the
+    level from the whole pixels between its control point and its chord's midpoint (4x closer
+    a halving, at most 32 chords); a cubic the least 2^i whose control points lie within
+    4^i / 8 px of the chord's thirds (at most 512)."""
     p = s[:8].reshape(4, 2)
-    if kind == 3:       # quadratic: Skia's compute_quad_level (4x closer per halving)
-        dx, dy = np.abs((p[0] + p[2]) / 2.0 - p[1])
-        dist = max(dx, dy) + min(dx, dy) / 2.0
-        level = 0 if dist <= 0 else min(5, max(0, math.ceil(math.log(max(dist, 1.0), 4))))
-        n = 1 << level
+    if kind == 3:
+        dx, dy = (int(min(math.ceil(v), 1 << 30)) for v in np.abs((p[0] + p[2]) / 2.0 - p[1]))
+        dist = max(dx, dy) + (min(dx, dy) >> 1)
+        n = 1 << min(5, (dist.bit_length() + 1) >> 1)
         t = np.linspace(0.0, 1.0, n + 1)[:, None]
         return (1 - t) ** 2 * p[0] + 2 * (1 - t) * t * p[1] + t ** 2 * p[2]
-    if kind == 5:       # conic (b0, b1, midpoint, b2): its weight from the midpoint
-        b0, b1, mid, b2 = p
-        chord_mid = (b0 + b2) / 2.0
-        den = np.dot(b1 - mid, b1 - mid)
-        # mid = (b0 + 2 w b1 + b2) / (2 + 2w): w / (1 + w) = |mid - chord_mid| / |b1 - chord_mid|
-        ratio = (math.sqrt(np.dot(mid - chord_mid, mid - chord_mid))
-                 / max(math.sqrt(np.dot(b1 - chord_mid, b1 - chord_mid)), 1e-300))
-        w = ratio / max(1.0 - ratio, 1e-12) if den > 0 else 1.0
-        dist = float(np.max(np.abs(chord_mid - mid))) * 2.0
-        level = 0 if dist <= 0 else min(9, max(0, math.ceil(math.log(max(dist * 8, 1.0), 4))))
-        n = 1 << level
-        t = np.linspace(0.0, 1.0, n + 1)[:, None]
-        wt = (1 - t) ** 2 + 2 * w * (1 - t) * t + t ** 2
-        return ((1 - t) ** 2 * b0 + 2 * w * (1 - t) * t * b1 + t ** 2 * b2) / wt
-    # cubic: Skia's compute_cubic_segments
     p13 = p[3] / 3.0 + p[0] * (2.0 / 3.0)
     p23 = p[0] / 3.0 + p[3] * (2.0 / 3.0)
     diff = float(max(np.max(np.abs(p[1] - p13)), np.max(np.abs(p[2] - p23))))
@@ -103,7 +88,8 @@ def _curve_chords(kind, s):
         tol *= 4.0
     t = np.linspace(0.0, 1.0, n + 1)[:, None]
     mt = 1 - t
-    return mt ** 3 * p[0] + 3 * mt ** 2 * t * p[1] + 3 * mt * t ** 2 * p[2] + t ** 3 * p[3]
+    pts = mt ** 3 * p[0] + 3 * mt ** 2 * t * p[1] + 3 * mt * t ** 2 * p[2] + t ** 3 * p[3]
+    return pts if np.isfinite(pts).all() else pts[:0]
 
 
 def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: float = 0.0,
@@ -112,9 +98,10 @@ def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: flo
     (user space) under the transform ``m``: dashed first in user space (``dashes`` an
     effective pattern, see stroke.dash_pattern), curves cut into chords, round and square
     caps lengthening the ends of open subpaths."""
-    from .stroke import _chord_tolerance, _path_segments, dash_curves
+    from .stroke import _chord_tolerance, _path_segments, arc_cubics
+    path = arc_cubics(path)         # conics as the cubics usvg makes of arcs
     if dashes:
-        segments = kernels.dash_segments(*_path_segments(dash_curves(path, 0.0)),
+        segments = kernels.dash_segments(*_path_segments(path),
                                          np.asarray(dashes, np.float64), float(offset),
                                          _chord_tolerance(resolution))
     else:
@@ -148,7 +135,10 @@ def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: flo
                 sub.append(dev[s:s + 1, :4])
             else:
                 pts = _curve_chords(int(kinds[s]), dev[s])
-                sub.append(np.column_stack((pts[:-1], pts[1:])))
+                if len(pts):
+                    sub.append(np.column_stack((pts[:-1], pts[1:])))
+        if not sub:
+            continue
         rows = np.concatenate(sub)
         if outset and flags[k] == kernels.SUB_OPEN:
             _extend(rows, np.array([0]), np.array([len(rows) - 1]), outset)
@@ -172,61 +162,14 @@ def _extend(rows, first, last, outset):
 
 def hairline_outline(rows) -> Path:
     """A path (nonzero) whose exact-area coverage is the antialiased hairline of the line
-    segments ``rows`` (see the module's docstring)."""
-    rows = np.asarray(rows, np.float64).reshape(-1, 4)
-    dx = rows[:, 2] - rows[:, 0]
-    dy = rows[:, 3] - rows[:, 1]
-    keep = ((dx != 0) | (dy != 0)) & np.isfinite(rows).all(axis=1)
-    rows, dx, dy = rows[keep], dx[keep], dy[keep]
-    if len(rows) == 0:
-        return Path.from_arrays(np.empty(0, np.uint8), np.empty((0, 2)))
-    # in the major axis' frame: u along it, v across; y-major rows have x and y swapped
-    ymaj = np.abs(dx) <= np.abs(dy)
-    u0 = np.where(ymaj, rows[:, 1], rows[:, 0])
-    v0 = np.where(ymaj, rows[:, 0], rows[:, 1])
-    u1 = np.where(ymaj, rows[:, 3], rows[:, 2])
-    v1 = np.where(ymaj, rows[:, 2], rows[:, 3])
-    back = u0 > u1
-    u0, u1 = np.where(back, u1, u0), np.where(back, u0, u1)
-    v0, v1 = np.where(back, v1, v0), np.where(back, v0, v1)
-    slope = (v1 - v0) / (u1 - u0)
-    first = np.floor(u0)
-    steps = (np.ceil(u1) - first).astype(np.int64)
-    stair = (np.abs(slope) >= STAIR_SLOPE) & (steps <= MAX_STEPS_SEGMENT)
-    if stair.any():
-        over = np.cumsum(np.where(stair, steps, 0)) > MAX_STEPS_PATH
-        stair &= ~over
-    n = np.where(stair, steps, 1)                   # "columns" per row
-    start = np.concatenate(([0], np.cumsum(n)[:-1]))
-    total = int(n.sum())
-    row = np.repeat(np.arange(len(rows)), n)
-    k = np.arange(total) - start[row]               # the step within its row
-    col = first[row] + k
-    st = stair[row]
-    lo = np.where(st, np.maximum(u0[row], col), u0[row])
-    hi = np.where(st, np.minimum(u1[row], col + 1.0), u1[row])
-    centre = v0[row] + slope[row] * (col + 0.5 - u0[row])
-    v_lo = np.where(st, centre, v0[row])
-    v_hi = np.where(st, centre, v1[row])
-    # per row: the step tops left to right, then the bottoms right to left (4 points a step)
-    nr = n[row]
-    pos = np.empty((total, 4), np.int64)
-    pos[:, 0] = 2 * k
-    pos[:, 1] = 2 * k + 1
-    pos[:, 2] = 2 * nr + 2 * (nr - 1 - k)
-    pos[:, 3] = pos[:, 2] + 1
-    # swapping x and y mirrors the polygon: y-major rows go round the other way, so that
-    # every polygon has the same orientation and nonzero unites them
-    flip = ymaj[row][:, None]
-    pos = np.where(flip, 4 * nr[:, None] - 1 - pos, pos) + 4 * start[row][:, None]
-    u = np.stack((lo, hi, hi, lo), axis=1)
-    v = np.stack((v_lo - 0.5, v_hi - 0.5, v_hi + 0.5, v_lo + 0.5), axis=1)
-    pts = np.empty((4 * total, 2))
-    ym = flip[:, 0]
-    pts[pos.ravel(), 0] = np.where(ym[:, None], v, u).ravel()
-    pts[pos.ravel(), 1] = np.where(ym[:, None], u, v).ravel()
-    verbs = np.full(4 * total + len(rows), LINE, np.uint8)
-    vstart = 4 * start + np.arange(len(rows))
-    verbs[vstart] = MOVE
-    verbs[vstart + 4 * n] = CLOSE
-    return Path.from_arrays(verbs, pts)
+    segments ``rows`` (N, 4: x0, y0, x1, y1, device px; see the module's docstring)."""
+    rows = np.ascontiguousarray(rows, np.float64).reshape(-1, 4)
+    return Path._of_arrays(*hairline_kernels.hairline_rows(rows, STAIR_SLOPE, MAX_STEPS))
+
+
+def hairline_batch(verbs, points, vstart, pstart, which, m, cap):
+    """hairline_outline(hairline_segments(path, m, cap)) for the paths ``which`` of a batch of
+    paths of lines, at once: (verbs, points, verb offsets, point offsets)."""
+    return hairline_kernels.hairline_lines_batch(
+        verbs, points, vstart, pstart, which, np.asarray(m, np.float64),
+        CAP_OUTSET.get(cap, 0.0), STAIR_SLOPE, MAX_STEPS)
