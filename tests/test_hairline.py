@@ -123,3 +123,14 @@ def test_very_long_hairline_is_bounded():
     so the outline stays a few points; inside the picture still one pixel of ink a column."""
     a = coverage(line(-1e8, -0.25e8 + 5.5, 1e8, 0.25e8 + 5.5))
     np.testing.assert_allclose(a.sum(axis=0), 1.0, atol=0.1)
+
+
+def test_overlapping_segments_of_one_path_add_up_as_skias_blend_each():
+    """Skia blends each segment of a hairline on its own: where two segments of one path
+    cross, a stroke of opacity ½ leaves 1 - ½ · ½ = ¾ there, ½ elsewhere on either."""
+    for d in ("M2 10.5 H20 M10.5 2 V20",            # two subpaths
+              "M2 10.5 H20 V2 H10.5 V20"):          # one, crossing itself
+        a = coverage(f'<path d="{d}" fill="none" stroke="black" stroke-opacity="0.5"/>')
+        assert a[10, 10] == pytest.approx(0.75, abs=TOL)
+        assert a[10, 5] == pytest.approx(0.5, abs=TOL)
+        assert a[15, 10] == pytest.approx(0.5, abs=TOL)

@@ -22,7 +22,7 @@ from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (hairline_batch, hairline_coverage, hairline_outline,
-                                 hairline_segments)
+                                 hairline_segments, runs_paths)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -187,11 +187,35 @@ def resolve_bbox(bbox):
 
 def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
     """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline)."""
-    rows = hairline_segments(path, m, cap, dash_pattern(dashes), offset, resolution)
-    outline = hairline_outline(rows)
-    if outline.is_empty():
-        return []
-    return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
+    runs = hairline_outline(*hairline_segments(path, m, cap, dash_pattern(dashes), offset,
+                                               resolution))
+    return [Fill(run, ref.paint, opacity=opacity, antialias=antialias) for run in runs]
+
+
+def _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias):
+    """_place_outlines for hairlines of which some paths are several runs (or none): each
+    path's place in out (pending: (index in out, path's index in the batch)) takes the Fills
+    of its runs (hairline_batch's outline, owner: each run's index in pending)."""
+    placed = {}
+    vo, po = vo.tolist(), po.tolist()
+    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
+    for w, v0, v1, p0, p1 in zip(owner.tolist(), vo, vo[1:], po, po[1:]):
+        if v1 > v0:
+            path = new_path(Path)
+            path._arrays = ov[v0:v1], op[p0:p1]
+            at = pending[w][0]
+            fill = Fill(path, paint, "nonzero", opacity, antialias)
+            if at in placed:
+                placed[at].append(fill)
+            else:
+                placed[at] = [fill]
+    nodes = []
+    for i, node in enumerate(out):
+        if node is not None:
+            nodes.append(node)
+        else:
+            nodes.extend(placed.get(i, ()))
+    out[:] = nodes
 
 
 def _stroke_fills(outline, ctx, ref, opacity, antialias):
@@ -535,9 +559,12 @@ class Builder:
         made in the device); the places of outlines that draw nothing are removed from out."""
         which = np.fromiter((i for _, i in pending), np.int64, len(pending))
         vstart, pstart = np.asarray(batch.vstart, np.int64), np.asarray(batch.pstart, np.int64)
-        if plan[0] == "hairline":
-            ov, op, vo, po = hairline_batch(batch.verbs, batch.points.points, vstart, pstart,
-                                            which, transform, plan[1])
+        if plan[0] == "hairline":       # (runs: a path's may be several, see hairline)
+            ov, op, vo, po, owner = hairline_batch(batch.verbs, batch.points.points, vstart,
+                                                   pstart, which, transform, plan[1])
+            if len(owner) != len(which) or (owner != np.arange(len(which))).any():
+                _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias)
+                return
         else:
             (join, cap, limit, offset), width, tolerance = plan
             ov, op, vo, po = stroke_kernels.stroke_lines_batch(
@@ -1345,12 +1372,11 @@ class Builder:
             if v.tobytes().translate(None, _LINE_VERBS):
                 return _hairline_fills(path, ctx.transform, cap, None, 0.0, 1.0, ref, opacity,
                                        antialias)
-            ov, op, _, _ = hairline_batch(v, p, np.array([0, len(v)]), np.array([0, len(p)]),
-                                          np.zeros(1, np.int64), ctx.transform, cap)
-            if not len(ov):
-                return []
-            return [Fill(Path._of_arrays(ov, op), ref.paint, opacity=opacity,
-                         antialias=antialias)]
+            ov, op, rv, rp, _ = hairline_batch(v, p, np.array([0, len(v)]),
+                                               np.array([0, len(p)]), np.zeros(1, np.int64),
+                                               ctx.transform, cap)
+            return [Fill(run, ref.paint, opacity=opacity, antialias=antialias)
+                    for run in runs_paths(ov, op, rv, rp)]
         codes, stroke_width, tolerance = plan
         opacity = ref.opacity
         if not v.tobytes().translate(None, _LINE_VERBS):
