@@ -21,6 +21,8 @@ from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
+from ..geometry.hairline import (hairline_batch, hairline_coverage, hairline_outline,
+                                 hairline_segments, runs_paths)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -183,13 +185,37 @@ def resolve_bbox(bbox):
 
 
 
-def _hairline(width, scale, antialias):
-    """(width to stroke, opacity factor or None). Wire antialiasing: a stroke thinner than a
-    device pixel is drawn 1 px wide and faded by its true width."""
-    device_width = width * scale
-    if 0 < device_width < 1 and antialias:
-        return width / device_width, device_width
-    return width, None
+def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
+    """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline)."""
+    runs = hairline_outline(*hairline_segments(path, m, cap, dash_pattern(dashes), offset,
+                                               resolution))
+    return [Fill(run, ref.paint, opacity=opacity, antialias=antialias) for run in runs]
+
+
+def _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias):
+    """_place_outlines for hairlines of which some paths are several runs (or none): each
+    path's place in out (pending: (index in out, path's index in the batch)) takes the Fills
+    of its runs (hairline_batch's outline, owner: each run's index in pending)."""
+    placed = {}
+    vo, po = vo.tolist(), po.tolist()
+    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
+    for w, v0, v1, p0, p1 in zip(owner.tolist(), vo, vo[1:], po, po[1:]):
+        if v1 > v0:
+            path = new_path(Path)
+            path._arrays = ov[v0:v1], op[p0:p1]
+            at = pending[w][0]
+            fill = Fill(path, paint, "nonzero", opacity, antialias)
+            if at in placed:
+                placed[at].append(fill)
+            else:
+                placed[at] = [fill]
+    nodes = []
+    for i, node in enumerate(out):
+        if node is not None:
+            nodes.append(node)
+        else:
+            nodes.extend(placed.get(i, ()))
+    out[:] = nodes
 
 
 def _stroke_fills(outline, ctx, ref, opacity, antialias):
@@ -420,11 +446,7 @@ class Builder:
             plan = self._cached_stroke_plan(style, ctx, antialias)
             if plan is not None and plan[0] is not None:
                 lines_plan = plan
-                (join, cap, limit, offset), stroke_width, tolerance, fade = plan
-                half = stroke_width / 2.0
-                stroke_opacity = stroke_ref.opacity
-                if fade is not None:
-                    stroke_opacity *= fade
+                stroke_opacity = stroke_ref.opacity * (plan[2] if plan[0] == "hairline" else 1)
         pending = []                            # (index in out, path's index in the batch)
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
@@ -527,23 +549,29 @@ class Builder:
             for el in run:
                 one(el)
         if pending:
-            self._place_outlines(pending, out, batch, lines_plan[0], half, tolerance, transform,
-                                 stroke_ref.paint, stroke_opacity, antialias)
+            self._place_outlines(pending, out, batch, lines_plan, transform, stroke_ref.paint,
+                                 stroke_opacity, antialias)
 
     @staticmethod
-    def _place_outlines(pending, out, batch, codes, half, tolerance, transform, paint,
-                        opacity, antialias):
+    def _place_outlines(pending, out, batch, plan, transform, paint, opacity, antialias):
         """The Fills of a run's stroke outlines (pending: (index in out, path's index in the
-        batch)), stroked in one kernel call and mapped to the device in one more; the places
-        of outlines that draw nothing are removed from out."""
-        join, cap, limit, offset = codes
+        batch)), stroked in one kernel call and mapped to the device in one more (hairlines:
+        made in the device); the places of outlines that draw nothing are removed from out."""
         which = np.fromiter((i for _, i in pending), np.int64, len(pending))
-        ov, op, vo, po = stroke_kernels.stroke_lines_batch(
-            batch.verbs, batch.points.points, np.asarray(batch.vstart, np.int64),
-            np.asarray(batch.pstart, np.int64), which, half, tolerance, join, cap, limit,
-            _SOLID, offset)
-        if transform != IDENTITY and len(op):
-            op = apply(transform, op)
+        vstart, pstart = np.asarray(batch.vstart, np.int64), np.asarray(batch.pstart, np.int64)
+        if plan[0] == "hairline":       # (runs: a path's may be several, see hairline)
+            ov, op, vo, po, owner = hairline_batch(batch.verbs, batch.points.points, vstart,
+                                                   pstart, which, transform, plan[1])
+            if len(owner) != len(which) or (owner != np.arange(len(which))).any():
+                _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias)
+                return
+        else:
+            (join, cap, limit, offset), width, tolerance = plan
+            ov, op, vo, po = stroke_kernels.stroke_lines_batch(
+                batch.verbs, batch.points.points, vstart, pstart, which, width / 2.0,
+                tolerance, join, cap, limit, _SOLID, offset)
+            if transform != IDENTITY and len(op):
+                op = apply(transform, op)
         vo, po = vo.tolist(), po.tolist()
         empty = False
         # Path._of_arrays written out: its call costs more than the Path (map data makes tens
@@ -1337,11 +1365,20 @@ class Builder:
         if plan[0] is None:
             return self._general_stroke(path, style, ctx, ref, antialias, dash_scale)
         # a solid, scaling stroke: everything but the path follows from style and transform
-        codes, stroke_width, tolerance, fade = plan
-        opacity = ref.opacity
-        if fade is not None:
-            opacity *= fade
         v, p = path._freeze()
+        if plan[0] == "hairline":
+            _, cap, coverage = plan
+            opacity = ref.opacity * coverage
+            if v.tobytes().translate(None, _LINE_VERBS):
+                return _hairline_fills(path, ctx.transform, cap, None, 0.0, 1.0, ref, opacity,
+                                       antialias)
+            ov, op, rv, rp, _ = hairline_batch(v, p, np.array([0, len(v)]),
+                                               np.array([0, len(p)]), np.zeros(1, np.int64),
+                                               ctx.transform, cap)
+            return [Fill(run, ref.paint, opacity=opacity, antialias=antialias)
+                    for run in runs_paths(ov, op, rv, rp)]
+        codes, stroke_width, tolerance = plan
+        opacity = ref.opacity
         if not v.tobytes().translate(None, _LINE_VERBS):
             # lines only: stroke_path's own dispatch, without its per-call conversions
             join, cap, limit, offset = codes
@@ -1364,23 +1401,27 @@ class Builder:
 
     def _stroke_plan(self, style, ctx, antialias):
         """What stroke() needs of a style under one transform: None for no stroke; (None,)
-        for strokes that depend on the path (non-scaling, dashed); else ((join code, cap code,
-        miterlimit, dash offset), stroke width, tolerance, opacity factor or None)."""
+        for strokes that depend on the path (non-scaling, dashed); ("hairline", cap, opacity
+        factor) for a stroke drawn as a hairline (geometry.hairline); else ((join code, cap
+        code, miterlimit, dash offset), stroke width, tolerance)."""
         params = self.stroke_params(style, ctx)
         if params is None:
             return None
         width, join, cap, limit, dashes, offset = params
         if style.get("vector-effect").strip() == "non-scaling-stroke" or dashes:
             return (None,)
+        coverage = hairline_coverage(width, ctx.transform, antialias)
+        if coverage is not None:
+            return ("hairline", cap, coverage)
         scale = mean_scale(ctx.transform)
-        stroke_width, fade = _hairline(width, scale, antialias)
+        stroke_width = width
         tolerance = 0.25 / max(scale, 1e-9)
         hw = stroke_width / 2.0
         if not (hw > 0 and math.isfinite(hw)):
             return None       # stroke_path draws nothing
         codes = (stroke_kernels.JOIN_CODES.get(join, 0), stroke_kernels.CAP_CODES.get(cap, 0),
                  float(max(1.0, limit)), float(offset))
-        return codes, stroke_width, tolerance, fade
+        return codes, stroke_width, tolerance
 
     def _general_stroke(self, path, style, ctx, ref, antialias, dash_scale=None):
         width, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
@@ -1400,9 +1441,10 @@ class Builder:
                 coverage = dash_coverage(dashes, device_path, dev_width, cap, 1.0)
                 if coverage is not None:
                     opacity, dashes = opacity * coverage, None
-            dev_width, fade = _hairline(dev_width, 1.0, antialias)
-            if fade is not None:
-                opacity *= fade
+            hair = hairline_coverage(dev_width, IDENTITY, antialias)
+            if hair is not None:
+                return _hairline_fills(device_path, IDENTITY, cap, dashes, offset, 1.0, ref,
+                                       opacity * hair, antialias)
             outline = stroke_path(device_path, dev_width, join=join, cap=cap, miterlimit=limit,
                                   dashes=dashes, dash_offset=offset, tolerance=0.25)
             return [Fill(outline, ref.paint, opacity=opacity, antialias=antialias)]
@@ -1411,11 +1453,12 @@ class Builder:
             coverage = dash_coverage(dashes, path, width, cap, scale)
             if coverage is not None:
                 opacity, dashes = opacity * coverage, None
-        stroke_width, fade = _hairline(width, scale, antialias)
-        if fade is not None:
-            opacity *= fade
+        hair = hairline_coverage(width, ctx.transform, antialias)
+        if hair is not None:
+            return _hairline_fills(path, ctx.transform, cap, dashes, offset,
+                                   dash_resolution(ctx.transform), ref, opacity * hair, antialias)
         tolerance = 0.25 / max(scale, 1e-9)
-        outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
+        outline = stroke_path(path, width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance,
                               resolution=dash_resolution(ctx.transform))
         return _stroke_fills(outline, ctx, ref, opacity, antialias)

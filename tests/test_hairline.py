@@ -1,0 +1,136 @@
+"""Strokes at most a device pixel wide as Skia's antialiased hairlines (geometry.hairline).
+
+The expected coverages are written out by hand from Skia's rule (SkScan_Antihair): per step
+of the major axis, the line's minor coordinate c at the step's centre; the band [c - ½, c + ½]
+across the step gives each pixel its overlap with the band, times the fraction of the step
+the segment covers. Images are drawn in the exact-area mode."""
+import math
+
+import numpy as np
+import pytest
+
+from vecmsaa.api import render_svg_array
+from vecmsaa.geometry.hairline import hairline_coverage
+from vecmsaa.scene.transform import IDENTITY
+
+TOL = 1.5 / 255
+
+
+def coverage(body, size=24, mode="analytic"):
+    svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{size}" height="{size}">'
+           f'{body}</svg>').encode()
+    return render_svg_array(svg, mode=mode)[..., 3] / 255.0
+
+
+def line(x0, y0, x1, y1, extra=""):
+    return (f'<path d="M{x0} {y0} L{x1} {y1}" fill="none" stroke="black" '
+            f'stroke-width="1" {extra}/>')
+
+
+def test_coverage_is_skias_fast_length_rule():
+    assert hairline_coverage(1.0, IDENTITY, True) == 1.0
+    # int(0.5 * 256) = 128, (255 * 128) >> 8 = 127: tiny-skia's pre-scaled alpha
+    assert hairline_coverage(0.5, IDENTITY, True) == pytest.approx(127 / 255)
+    assert hairline_coverage(1.01, IDENTITY, True) is None
+    assert hairline_coverage(0.5, IDENTITY, False) is None          # crispEdges
+    assert hairline_coverage(0.0, IDENTITY, True) is None           # no stroke in SVG
+    c, s = math.cos(math.pi / 4), math.sin(math.pi / 4)
+    # (0.707, 0.707): 0.707 + 0.354 > 1, so a 45° rotated 1-unit stroke is no hairline
+    assert hairline_coverage(1.0, (c, s, -s, c, 0, 0), True) is None
+    # (0.6, 0) and (0, 2.4) under scale(1 4) with width 0.6: the longer one decides
+    assert hairline_coverage(0.6, (1, 0, 0, 4, 0, 0), True) is None
+    # (0.4, 0.2): 0.4 + 0.1 = 0.5 each under rotate(atan(½)) · scale(0.4 · √5 / 2)
+    assert hairline_coverage(1.0, (0.4, 0.2, -0.2, 0.4, 3, 7), True) == \
+        pytest.approx(((255 * int(0.5 * 256)) >> 8) / 255)
+
+
+def test_45_degree_line_is_one_full_pixel_per_step():
+    """|dx| = |dy|: stepped by rows; x at each row's centre is that row's pixel centre."""
+    a = coverage(line(2, 2, 10, 10))
+    expected = np.zeros_like(a)
+    for r in range(2, 10):
+        expected[r, r] = 1.0
+    np.testing.assert_allclose(a, expected, atol=TOL)
+
+
+def test_shallow_line_splits_each_column_between_two_rows():
+    # slope ¼, from (0.5, 5.5) to (20.5, 10.5): the centre of column i is y = 5.5 + i / 4
+    a = coverage(line(0.5, 5.5, 20.5, 10.5))
+    assert a[5, 0] == pytest.approx(0.5, abs=TOL)          # half the column, band [5, 6]
+    assert a[:, 0].sum() == pytest.approx(0.5, abs=TOL)
+    assert (a[5, 1], a[6, 1]) == pytest.approx((0.75, 0.25), abs=TOL)   # band [5.25, 6.25]
+    assert (a[5, 2], a[6, 2]) == pytest.approx((0.5, 0.5), abs=TOL)
+    assert (a[5, 3], a[6, 3]) == pytest.approx((0.25, 0.75), abs=TOL)
+    assert a[6, 4] == pytest.approx(1.0, abs=TOL)          # band [6, 7]
+    assert a[10, 20] == pytest.approx(0.5, abs=TOL)        # the last half column, [10, 11]
+    # one pixel of ink in every whole column
+    np.testing.assert_allclose(a[:, 1:20].sum(axis=0), 1.0, atol=2 * TOL)
+    assert a[:, 21:].max() == 0
+
+
+def test_steep_line_with_fractional_ends():
+    # slope ¼ in x per row, from (3.25, 1.5) to (5.25, 9.5): row r's centre at
+    # x = 3.25 + (r - 1) / 4; the first and last rows half covered
+    a = coverage(line(3.25, 1.5, 5.25, 9.5))
+    assert (a[1, 2], a[1, 3]) == pytest.approx((0.125, 0.375), abs=TOL)   # [2.75, 3.75] · ½
+    assert (a[2, 3]) == pytest.approx(1.0, abs=TOL)                       # [3, 4]
+    assert (a[3, 3], a[3, 4]) == pytest.approx((0.75, 0.25), abs=TOL)     # [3.25, 4.25]
+    assert (a[9, 4], a[9, 5]) == pytest.approx((0.125, 0.375), abs=TOL)   # [4.75, 5.75] · ½
+    assert a[0].max() == 0 and a[10:].max() == 0
+
+
+def test_caps_lengthen_the_ends_by_half_a_pixel_or_pi_over_8():
+    a = coverage(line(2, 4.5, 6, 4.5, 'stroke-linecap="square"'))
+    np.testing.assert_allclose(a[4, 1:8], [0.5, 1, 1, 1, 1, 0.5, 0], atol=TOL)
+    a = coverage(line(2, 4.5, 6, 4.5, 'stroke-linecap="round"'))
+    np.testing.assert_allclose(a[4, 1:7], [math.pi / 8, 1, 1, 1, 1, math.pi / 8], atol=TOL)
+    a = coverage(line(2, 4.5, 6, 4.5))
+    np.testing.assert_allclose(a[4, 1:8], [0, 1, 1, 1, 1, 0, 0], atol=TOL)
+
+
+def test_thinner_stroke_is_the_same_hairline_faded():
+    a = coverage(line(0.5, 5.5, 20.5, 10.5).replace('stroke-width="1"',
+                                                     'stroke-width="0.5"'))
+    b = coverage(line(0.5, 5.5, 20.5, 10.5))
+    np.testing.assert_allclose(a, b * 127 / 255, atol=TOL)
+
+
+def test_segments_of_both_major_axes_unite():
+    """An x-major and a y-major segment meeting: their polygons have one orientation, so the
+    pixels both cover are covered (not cancelled by opposite windings), and never more."""
+    a = coverage('<path d="M2 2.5 L12 4.5 L14.5 16" fill="none" stroke="black"/>')
+    b = coverage(line(2, 2.5, 12, 4.5))
+    c = coverage(line(12, 4.5, 14.5, 16))
+    assert a.max() <= 1.0 + TOL
+    assert (a >= np.maximum(b, c) - TOL).all()
+
+
+def test_runs_of_paths_draw_what_single_paths_draw():
+    """Sibling paths sharing a style go to the batch kernel; the same paths with a style
+    attribute each go through stroke(): the same pixels."""
+    ds = ["M1 1 L30 9 L12 30", "M3 20 h20 v5 h-20 z", "M5 5 L5 5", "M2 28 L29 2 M4 4 l1 20"]
+    run = "".join(f'<path d="{d}"/>' for d in ds)
+    alone = "".join(f'<path d="{d}" style="stroke-linecap: round"/>' for d in ds)
+    g = '<g fill="none" stroke="black" stroke-width="0.7" {}>{}</g>'
+    a = coverage(g.format('stroke-linecap="round"', run), size=32, mode="persample")
+    b = coverage(g.format("", alone), size=32, mode="persample")
+    np.testing.assert_array_equal(a, b)
+    assert a.max() > 0
+
+
+def test_very_long_hairline_is_bounded():
+    """A line a hundred million pixels long: steps past the limits become one parallelogram,
+    so the outline stays a few points; inside the picture still one pixel of ink a column."""
+    a = coverage(line(-1e8, -0.25e8 + 5.5, 1e8, 0.25e8 + 5.5))
+    np.testing.assert_allclose(a.sum(axis=0), 1.0, atol=0.1)
+
+
+def test_overlapping_segments_of_one_path_add_up_as_skias_blend_each():
+    """Skia blends each segment of a hairline on its own: where two segments of one path
+    cross, a stroke of opacity ½ leaves 1 - ½ · ½ = ¾ there, ½ elsewhere on either."""
+    for d in ("M2 10.5 H20 M10.5 2 V20",            # two subpaths
+              "M2 10.5 H20 V2 H10.5 V20"):          # one, crossing itself
+        a = coverage(f'<path d="{d}" fill="none" stroke="black" stroke-opacity="0.5"/>')
+        assert a[10, 10] == pytest.approx(0.75, abs=TOL)
+        assert a[10, 5] == pytest.approx(0.5, abs=TOL)
+        assert a[15, 10] == pytest.approx(0.5, abs=TOL)

@@ -1,0 +1,120 @@
+"""Strokes at most a device pixel wide, as Skia (and so resvg's tiny-skia and Chromium) draws
+them: antialiased hairlines.
+
+With antialiasing on, Skia draws a stroke whose width vectors (w, 0) and (0, w), mapped by the
+transform, both have a "fast length" (max(|x|, |y|) + min / 2) of at most 1 as a hairline, its
+paint faded by the two lengths' mean (SkDrawTreatAAStrokeAsHairline). The antialiased hairline
+(SkScan_Antihair) walks each line segment one step of its major axis at a time (a column for a
+mostly horizontal line, a row for a mostly vertical one): the line's minor coordinate at the
+step's centre, c, splits one pixel of ink between the two nearest pixels across the step, as a
+band one pixel thick centred on c covers them; a step the segment covers only in part gets
+that fraction of the ink. So a 45° line puts one full pixel of ink in each column, where the
+exact area of a band one pixel wide gives three partly covered pixels.
+
+Here that coverage is geometry: per step an axis-aligned rectangle one pixel thick across the
+major axis, centred on c, as long as the segment's part of the step (a staircase polygon per
+segment), whose exact-area coverage is the hairline's. Round and square caps lengthen the
+subpath's ends by π/8 and ½ pixel (the area of the half disc or half square of a unit-wide
+cap); curves are flattened into chords as Skia subdivides them. Segments nearly along an axis
+take one parallelogram one pixel thick across the major axis instead of a staircase: its
+coverage differs from the steps' by at most a quarter of the slope per pixel, and it is 4
+points where the staircase is 4 per step. Skia blends each segment on its own, so where a path's
+segments overlap its ink adds up: the segments are grouped in runs going one way along one
+axis (whose steps never overlap), each run drawn on its own.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import hairline_kernels, stroke_kernels as kernels
+from ..scene.path import Path
+
+#: how far a cap lengthens a hairline's end (device px): the area of a square or round cap on
+#: a line one pixel wide (Skia's extend_pts)
+CAP_OUTSET = {"butt": 0.0, "square": 0.5, "round": math.pi / 8.0}
+
+#: segments with |slope| (minor over major) below this are one parallelogram, not a staircase
+STAIR_SLOPE = 0.25
+#: a staircase's steps per segment and per path at most; past them, parallelograms (bounded
+#: memory for absurd coordinates: the steps are per device pixel)
+MAX_STEPS = np.array([1 << 13, 1 << 19], np.int64)      # (per segment, per path)
+
+
+def hairline_coverage(width, m, antialias):
+    """The opacity factor of a stroke of ``width`` under the transform ``m`` drawn as an
+    antialiased hairline, or None when it is stroked as an outline (Skia's
+    SkDrawTreatAAStrokeAsHairline, with the coverage quantised as tiny-skia pre-scales the
+    paint's alpha by it)."""
+    if not antialias or not (width > 0 and math.isfinite(width)):
+        return None
+    a, b, c, d = m[:4]
+
+    def fast_len(x, y):
+        x, y = abs(x), abs(y)
+        return max(x, y) + min(x, y) / 2.0
+
+    l0 = fast_len(a * width, b * width)
+    l1 = fast_len(c * width, d * width)
+    if not (l0 <= 1.0 and l1 <= 1.0):
+        return None
+    coverage = (l0 + l1) / 2.0
+    if coverage >= 1.0:
+        return 1.0
+    return ((255 * int(coverage * 256.0)) >> 8) / 255.0
+
+
+def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: float = 0.0,
+                      resolution: float = 1.0):
+    """(rows, subs): the line segments (N, 4: x0, y0, x1, y1, device px) Skia's hairline
+    draws for ``path`` (user space) under the transform ``m``, subpath k being rows
+    subs[k]:subs[k + 1]: dashed first in user space (``dashes`` an effective pattern, see
+    stroke.dash_pattern), curves cut into chords, round and square caps lengthening the ends
+    of open subpaths."""
+    from .stroke import _chord_tolerance, _path_segments, arc_cubics
+    path = arc_cubics(path)         # conics as the cubics usvg makes of arcs
+    if dashes:
+        segments = kernels.dash_segments(*_path_segments(path),
+                                         np.asarray(dashes, np.float64), float(offset),
+                                         _chord_tolerance(resolution))
+    else:
+        segments = _path_segments(path)
+    kinds, segs, subs, flags = segments
+    if len(flags) == 0:
+        return np.empty((0, 4)), np.zeros(1, np.int64)
+    a, b, c, d, e, f = (float(v) for v in m)
+    xs, ys = segs[:, 0::2], segs[:, 1::2]
+    dev = np.empty_like(segs)
+    dev[:, 0::2] = a * xs + c * ys + e
+    dev[:, 1::2] = b * xs + d * ys + f
+    return hairline_kernels.hairline_chords(kinds, dev, np.ascontiguousarray(subs, np.int64),
+                                            np.ascontiguousarray(flags, np.int64),
+                                            CAP_OUTSET.get(cap, 0.0))
+
+
+def hairline_outline(rows, subs=None) -> list:
+    """Paths (nonzero, to be drawn one over the other) whose exact-area coverage is the
+    antialiased hairline of the line segments ``rows`` (N, 4: x0, y0, x1, y1, device px;
+    subpath k rows subs[k]:subs[k + 1], default one subpath; see the module's docstring)."""
+    rows = np.ascontiguousarray(rows, np.float64).reshape(-1, 4)
+    subs = np.array([0, len(rows)], np.int64) if subs is None else \
+        np.ascontiguousarray(subs, np.int64)
+    v, p, rv, rp = hairline_kernels.hairline_rows(rows, subs, STAIR_SLOPE, MAX_STEPS)
+    return runs_paths(v, p, rv, rp)
+
+
+def runs_paths(v, p, rv, rp) -> list:
+    """The Paths of the runs of a hairline kernel's outline."""
+    rv, rp = rv.tolist(), rp.tolist()
+    return [Path._of_arrays(v[v0:v1], p[p0:p1])
+            for v0, v1, p0, p1 in zip(rv, rv[1:], rp, rp[1:]) if v1 > v0]
+
+
+def hairline_batch(verbs, points, vstart, pstart, which, m, cap):
+    """hairline_outline(*hairline_segments(path, m, cap)) for the paths ``which`` of a batch
+    of paths of lines, at once: (verbs, points, run verb offsets, run point offsets, the
+    index in ``which`` of each run's path)."""
+    return hairline_kernels.hairline_lines_batch(
+        verbs, points, vstart, pstart, which, np.asarray(m, np.float64),
+        CAP_OUTSET.get(cap, 0.0), STAIR_SLOPE, MAX_STEPS)

@@ -1,0 +1,281 @@
+"""The compiled part of :mod:`vecmsaa.geometry.hairline`: hairline outlines of paths of lines
+(map data strokes thousands of them; numpy's per-call costs were ten times the stroke's)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..jit import njit
+from ..scene.path import CLOSE, LINE, MOVE
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps):
+    """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
+    hairline): per step of the major axis u a rectangle one pixel thick across it, centred on
+    the segment's v at the step's centre, as long as the segment's part of the step; one
+    parallelogram for a segment of |slope| below ``stair_slope``, or of more steps than
+    ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). Returns
+    (verbs, pts), grown as needed; cnt: [verbs used, points used, steps counted]."""
+    dx, dy = x1 - x0, y1 - y0
+    if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
+                                         and math.isfinite(x1) and math.isfinite(y1)):
+        return verbs, pts
+    ymaj = abs(dx) <= abs(dy)
+    if ymaj:
+        u0, v0, u1, v1 = y0, x0, y1, x1
+    else:
+        u0, v0, u1, v1 = x0, y0, x1, y1
+    if u0 > u1:
+        u0, u1, v0, v1 = u1, u0, v1, v0
+    slope = (v1 - v0) / (u1 - u0)
+    first = math.floor(u0)
+    steps = math.ceil(u1) - first
+    stair = abs(slope) >= stair_slope and steps <= max_steps[0]
+    if stair:
+        cnt[2] += int(steps)
+        stair = cnt[2] <= max_steps[1]
+    n = int(steps) if stair else 1
+    verbs = _grow(verbs, cnt[0] + 4 * n + 1)
+    pts = _grow_points(pts, cnt[1] + 4 * n)
+    base = cnt[1]
+    for k in range(n):
+        if stair:
+            col = first + k
+            lo, hi = max(u0, col), min(u1, col + 1.0)
+            v_lo = v_hi = v0 + slope * (col + 0.5 - u0)
+        else:
+            lo, hi, v_lo, v_hi = u0, u1, v0, v1
+        # the step's top left to right (points 2k, 2k + 1), its bottom in the second half,
+        # right to left; y-major polygons mirrored (reversed) to keep one orientation
+        for j in range(4):
+            if j == 0:
+                p, u, v = 2 * k, lo, v_lo - 0.5
+            elif j == 1:
+                p, u, v = 2 * k + 1, hi, v_hi - 0.5
+            elif j == 2:
+                p, u, v = 2 * n + 2 * (n - 1 - k), hi, v_hi + 0.5
+            else:
+                p, u, v = 2 * n + 2 * (n - 1 - k) + 1, lo, v_lo + 0.5
+            if ymaj:
+                p = 4 * n - 1 - p
+                pts[base + p, 0], pts[base + p, 1] = v, u
+            else:
+                pts[base + p, 0], pts[base + p, 1] = u, v
+    verbs[cnt[0]] = MOVE
+    for k in range(1, 4 * n):
+        verbs[cnt[0] + k] = LINE
+    verbs[cnt[0] + 4 * n] = CLOSE
+    cnt[0] += 4 * n + 1
+    cnt[1] += 4 * n
+    return verbs, pts
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _extend_ends(seg, lo, hi, outset):
+    """Lengthens seg[lo]'s start and seg[hi - 1]'s end by ``outset`` along their directions
+    (Skia's extend_pts); a zero-length segment along x, its start forwards, its end back."""
+    for end in range(2):
+        r = lo if end == 0 else hi - 1
+        ddx, ddy = seg[r, 2] - seg[r, 0], seg[r, 3] - seg[r, 1]
+        ln = math.sqrt(ddx * ddx + ddy * ddy)
+        sign = -1.0 if end == 0 else 1.0
+        if ln == 0.0:
+            ux, uy = -sign, 0.0
+        else:
+            ux, uy = ddx / ln, ddy / ln
+        k = 0 if end == 0 else 2
+        seg[r, k] += sign * ux * outset
+        seg[r, k + 1] += sign * uy * outset
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _chord_count(kind, s):
+    """How many chords Skia's hairline cuts a curve into: a quadratic 2^level, the level
+    from the whole pixels between its control point and its chord's midpoint (4x closer a
+    halving, at most 32 chords); a cubic the least 2^i whose control points lie within
+    4^i / 8 px of the chord's thirds (at most 512)."""
+    if kind == 3:
+        dx = min(math.ceil(abs((s[0] + s[4]) / 2.0 - s[2])), 1 << 30)
+        dy = min(math.ceil(abs((s[1] + s[5]) / 2.0 - s[3])), 1 << 30)
+        if not (dx >= 0 and dy >= 0):
+            return 1
+        idx, idy = int(dx), int(dy)
+        dist = max(idx, idy) + (min(idx, idy) >> 1)
+        bits = 0
+        while dist > 0:
+            bits += 1
+            dist >>= 1
+        return 1 << min(5, (bits + 1) >> 1)
+    diff = 0.0
+    for j in range(2):
+        p13 = s[6 + j] / 3.0 + s[j] * (2.0 / 3.0)
+        p23 = s[j] / 3.0 + s[6 + j] * (2.0 / 3.0)
+        diff = max(diff, abs(s[2 + j] - p13), abs(s[4 + j] - p23))
+    tol = 1.0 / 8.0
+    for i in range(9):
+        if diff < tol:
+            return 1 << i
+        tol *= 4.0
+    return 1 << 9
+
+
+@njit(cache=True)
+def hairline_chords(kinds, segs, subs, flags, outset):
+    """The line segments (rows (N, 4), subpath starts) of Skia's hairline of path_segments'
+    arrays in device coordinates (conics already cubics: stroke.arc_cubics): curves cut into
+    _chord_count chords at even steps of t, the ends of open subpaths lengthened by
+    ``outset``, a dot (SUB_DOT) a segment of 2 · outset along x (none for butt caps)."""
+    rows = np.empty((max(16, len(kinds)), 4))
+    rsubs = np.empty(len(flags) + 1, np.int64)
+    nr = nsub = 0
+    for k in range(len(flags)):
+        lo, hi = subs[k], subs[k + 1]
+        start = nr
+        if flags[k] == SUB_DOT:
+            if outset > 0.0:
+                rows = _grow_points(rows, nr + 1)
+                x, y = segs[lo, 0], segs[lo, 1]
+                rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = x + outset, y, x - outset, y
+                nr += 1
+        else:
+            for si in range(lo, hi):
+                kind = kinds[si]
+                s = segs[si]
+                if kind == 3 or kind == 4:
+                    n = _chord_count(kind, s)
+                    rows = _grow_points(rows, nr + n)
+                    px, py = s[0], s[1]
+                    for i in range(1, n + 1):
+                        if i == n:
+                            qx, qy = (s[4], s[5]) if kind == 3 else (s[6], s[7])
+                        else:
+                            t = i / n
+                            mt = 1.0 - t
+                            if kind == 3:
+                                qx = mt * mt * s[0] + 2 * mt * t * s[2] + t * t * s[4]
+                                qy = mt * mt * s[1] + 2 * mt * t * s[3] + t * t * s[5]
+                            else:
+                                qx = (mt * mt * mt * s[0] + 3 * mt * mt * t * s[2]
+                                      + 3 * mt * t * t * s[4] + t * t * t * s[6])
+                                qy = (mt * mt * mt * s[1] + 3 * mt * mt * t * s[3]
+                                      + 3 * mt * t * t * s[5] + t * t * t * s[7])
+                        rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = px, py, qx, qy
+                        nr += 1
+                        px, py = qx, qy
+                else:           # a line (a conic here would be its chord)
+                    rows = _grow_points(rows, nr + 1)
+                    e = 2 if kind == 2 else 6
+                    rows[nr, 0], rows[nr, 1] = s[0], s[1]
+                    rows[nr, 2], rows[nr, 3] = s[e], s[e + 1]
+                    nr += 1
+            if outset > 0.0 and flags[k] == SUB_OPEN and nr > start:
+                _extend_ends(rows, start, nr, outset)
+        if nr > start:
+            rsubs[nsub] = start
+            nsub += 1
+    rsubs[nsub] = nr
+    return rows[:nr].copy(), rsubs[:nsub + 1].copy()
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps):
+    """Appends the polygons of the segments seg[:ns] of one subpath, starting a run (runs:
+    [verb offsets, point offsets, owners], cnt[3] runs so far) at the subpath's start and
+    wherever the major axis or the direction along it changes: within a run the segments'
+    steps never overlap, so a run's union is the sum Skia's segment-by-segment blending
+    makes; where runs overlap (turns, crossings) the runs are drawn one over the other."""
+    key = -1
+    for r in range(ns):
+        dx, dy = seg[r, 2] - seg[r, 0], seg[r, 3] - seg[r, 1]
+        if dx == 0.0 and dy == 0.0:
+            continue
+        ymaj = abs(dx) <= abs(dy)
+        k = (2 if ymaj else 0) + (1 if (dy if ymaj else dx) > 0 else 0)
+        if k != key:
+            key = k
+            nr = cnt[3]
+            for j in range(3):
+                runs[j] = _grow(runs[j], nr + 2)
+            runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
+            cnt[3] += 1
+        ov, op = _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3],
+                           stair_slope, max_steps)
+    return ov, op
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _runs_out(ov, op, cnt, runs):
+    nr = cnt[3]
+    runs[0][nr], runs[1][nr] = cnt[0], cnt[1]
+    return (ov[:cnt[0]], op[:cnt[1]], runs[0][:nr + 1].copy(), runs[1][:nr + 1].copy(),
+            runs[2][:nr].copy())
+
+
+@njit(cache=True)
+def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_slope,
+                         max_steps):
+    """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
+    paths ``which`` of a batch of paths of lines (path i: verbs vstart[i]:vstart[i + 1],
+    points pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and
+    square caps lengthening open subpaths' ends by ``outset``. Returns (verbs, points, run
+    verb offsets, run point offsets, the index in ``which`` of each run's path): each path's
+    outline is its runs (_emit_rows), in order."""
+    a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
+    ov = np.empty(64, np.uint8)
+    op = np.empty((64, 2))
+    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    cnt = np.zeros(4, np.int64)
+    seg = np.empty((16, 4))
+    for w in range(len(which)):
+        cnt[2] = 0
+        i = which[w]
+        ip = pstart[i]
+        ns = 0
+        have_start = False
+        sx = sy = cx = cy = 0.0
+        for iv in range(vstart[i], vstart[i + 1] + 1):
+            # a subpath ends at a move, a close or the path's end: its segments are drawn
+            v = verbs[iv] if iv < vstart[i + 1] else MOVE
+            if v == MOVE or v == CLOSE:
+                if v == CLOSE and have_start:
+                    seg = _grow_points(seg, ns + 1)
+                    seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, sx, sy
+                    ns += 1
+                    cx, cy = sx, sy
+                elif v == MOVE and ns > 0 and outset > 0.0:
+                    _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
+                ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps)
+                ns = 0
+                if v == MOVE and iv < vstart[i + 1]:
+                    x, y = points[ip, 0], points[ip, 1]
+                    sx = cx = a * x + c * y + e
+                    sy = cy = b * x + d * y + f
+                    ip += 1
+                    have_start = True
+            else:                           # a line
+                x, y = points[ip, 0], points[ip, 1]
+                nx, ny = a * x + c * y + e, b * x + d * y + f
+                ip += 1
+                seg = _grow_points(seg, ns + 1)
+                seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
+                ns += 1
+                cx, cy = nx, ny
+    return _runs_out(ov, op, cnt, runs)
+
+
+@njit(cache=True)
+def hairline_rows(rows, subs, stair_slope, max_steps):
+    """The hairline outline (verbs, points, run verb offsets, run point offsets) of the
+    device segments ``rows`` (N, 4), subpath k being rows subs[k]:subs[k + 1]."""
+    verbs = np.empty(64, np.uint8)
+    pts = np.empty((64, 2))
+    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    cnt = np.zeros(4, np.int64)
+    for k in range(len(subs) - 1):
+        verbs, pts = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
+                                subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps)
+    out = _runs_out(verbs, pts, cnt, runs)
+    return out[0], out[1], out[2], out[3]
