@@ -24,7 +24,7 @@ from . import diagnostics
 from .raster.modes import DEFAULT_MODE, coverage, samples_for
 from .scene.bounds import path_bounds, union
 from .scene.nodes import Group, Scene
-from .scene.transform import IDENTITY, compose
+from .scene.transform import IDENTITY
 from .svg import SvgError
 
 if TYPE_CHECKING:
@@ -202,25 +202,17 @@ class _Loaded:
                                 languages=tuple(options.get("languages") or ("en",)))
         except RecursionError:
             raise SvgError("document nesting is too deep") from None
-        self.builder, self.doc_w, self.doc_h = document.builder, document.width, document.height
-        self.root_m, self.viewport = document.root_matrix, document.viewport
+        self.document, self.builder = document, document.builder
 
     def intrinsic_size(self):
-        return self.doc_w, self.doc_h
+        return self.document.width, self.document.height
 
     def build(self, to_device, root_scale=1.0, nodes_by_id=None) -> list:
         """The root's nodes under ``to_device`` (intrinsic px → device), [] when the root
         transform is singular."""
-        doc_w, doc_h = self.intrinsic_size()
-        root_transform = self.builder.root_transform(doc_w, doc_h)
-        if root_transform is None:
-            return []
         self.builder.nodes_by_id = nodes_by_id
         try:
-            return self.builder.build_root(compose(compose(to_device, root_transform),
-                                                   self.root_m), self.viewport,
-                                           root_scale=root_scale,
-                                           canvas=compose(to_device, self.root_m))
+            return self.document.build(to_device, root_scale)
         except RecursionError:
             raise SvgError("document nesting is too deep") from None
         finally:

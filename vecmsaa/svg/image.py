@@ -215,22 +215,13 @@ def image_nodes(builder, el, ctx, style):
                            to_paint)
         return [Fill(outline.transformed(ctx.transform),
                      ImagePaint(texels, to_paint, False, smooth))]
-    # the document as drawn on its own (api.Document.build): its root's transform in its px,
-    # outside the viewBox mapping; the canvas (its background) without it
-    root_transform = sub.builder.root_transform(sub.width, sub.height)
-    if root_transform is None:
-        return []
-    canvas = compose(ctx.transform, compose(image_to_user, sub.root_matrix))
-    sub_ctx = replace(ctx, transform=compose(compose(ctx.transform, image_to_user),
-                                             compose(root_transform, sub.root_matrix)),
-                      viewport=sub.viewport, use_stack=(), context_fill=None, context_stroke=None)
     # the nested document's elements and characters count against this document's limits
     # (MAX_NODES, MAX_TEXT_CHARS): counted apart, an image used a thousand times, of a
     # document using an image of another a thousand times, built a billion elements
     sub.builder.nodes_made, sub.builder.text_chars = builder.nodes_made, builder.text_chars
     try:
-        nodes = sub.builder.build_root(sub_ctx.transform, sub_ctx.viewport, builder.root_scale,
-                                       canvas=canvas)
+        # the document as drawn on its own, its root's transform included
+        nodes = sub.build(compose(ctx.transform, image_to_user), builder.root_scale)
     finally:
         builder.nodes_made = max(builder.nodes_made, sub.builder.nodes_made)
         builder.text_chars = max(builder.text_chars, sub.builder.text_chars)

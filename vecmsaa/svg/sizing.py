@@ -9,6 +9,7 @@ import urllib.parse
 from dataclasses import dataclass
 
 from ..scene.nodes import Group, Scene
+from ..scene.transform import compose
 from .builder import Builder, Options
 from .document import Document, Style, load_document
 from .resources import Resources
@@ -83,6 +84,18 @@ class SizedDocument:
     height: float
     root_matrix: tuple
     viewport: tuple
+
+    def build(self, to_device, root_scale=1.0) -> list:
+        """The root's nodes under ``to_device`` (the document's px → device): the root's own
+        transform in its px, outside the viewBox mapping, and the canvas (the background)
+        without it; [] when that transform is singular. As a top-level document and as an
+        SVG image alike."""
+        root_transform = self.builder.root_transform(self.width, self.height)
+        if root_transform is None:
+            return []
+        return self.builder.build_root(
+            compose(compose(to_device, root_transform), self.root_matrix), self.viewport,
+            root_scale=root_scale, canvas=compose(to_device, self.root_matrix))
 
 
 def apply_view(doc: Document, fragment: str) -> None:
