@@ -8,7 +8,7 @@ import numpy as np
 
 from ..jit import njit
 from ..scene.path import CLOSE, LINE, MOVE
-from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -158,10 +158,7 @@ def hairline_chords(kinds, segs, subs, flags, outset):
                                 qx = mt * mt * s[0] + 2 * mt * t * s[2] + t * t * s[4]
                                 qy = mt * mt * s[1] + 2 * mt * t * s[3] + t * t * s[5]
                             else:
-                                qx = (mt * mt * mt * s[0] + 3 * mt * mt * t * s[2]
-                                      + 3 * mt * t * t * s[4] + t * t * t * s[6])
-                                qy = (mt * mt * mt * s[1] + 3 * mt * mt * t * s[3]
-                                      + 3 * mt * t * t * s[5] + t * t * t * s[7])
+                                qx, qy = _cubic_at(s, t)
                         rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = px, py, qx, qy
                         nr += 1
                         px, py = qx, qy
