@@ -354,9 +354,8 @@ def pattern(builder, el, ctx, bbox, user_style=None):
             group = Group(children=[group],
                           clip=Group(children=[Fill(rect_path(ox, oy, tw, th))]))
         groups.append(group)
-    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
-        to_paint = invert(tile_to_device)
+        to_paint = invert(_tile_to_device(full, x, y, sx, sy))
     except ValueError:
         return NO_PAINT
     if u0 or v0:
@@ -431,6 +430,12 @@ def _tile_content(builder, el, source, tile_ctx):
 WINDOW_SLACK = 3
 
 
+def _tile_to_device(full, x, y, sx, sy):
+    """Tile pixels to device pixels: ``full`` (pattern space to device) after the tile's
+    origin (x, y) and its sx by sy pixels per unit."""
+    return compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
+
+
 def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
     """(u0, v0, width, height) in tile pixels: the part of a tw x th tile that the element can
     sample, when that part is small enough to render whole at full scale; None otherwise.
@@ -454,17 +459,17 @@ def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
     margin += max(x1 - x0, y1 - y0) / 4
     corners = np.array([(x0 - margin, y0 - margin), (x1 + margin, y0 - margin),
                         (x0 - margin, y1 + margin), (x1 + margin, y1 + margin)])
-    tile_to_device = compose(compose(full, translate(x, y)), (1 / sx, 0.0, 0.0, 1 / sy, 0.0, 0.0))
     try:
-        to_tile = compose(invert(tile_to_device), ctx.transform)
+        device_to_tile = invert(_tile_to_device(full, x, y, sx, sy))
     except ValueError:
         return None
+    to_tile = compose(device_to_tile, ctx.transform)
     with np.errstate(all="ignore"):
         uv = apply(to_tile, corners)
     if not np.isfinite(uv).all():
         return None
     # the slack in tile pixels: device pixels through the tile's scale (its largest stretch)
-    a, b, c, d = invert(tile_to_device)[:4]
+    a, b, c, d = device_to_tile[:4]
     slack = WINDOW_SLACK * max(1.0, math.hypot(a, b), math.hypot(c, d))
     u0 = math.floor(uv[:, 0].min() - slack)
     v0 = math.floor(uv[:, 1].min() - slack)
