@@ -128,6 +128,22 @@ def test_collapsing_across_elements_takes_only_a_space_after_a_collapsible_one()
     assert _chars('<text>a <tspan> b</tspan></text>') == ["a b"]
 
 
+
+@pytest.mark.parametrize("body, kept", [
+    # CSS Text 3 §4.1.2: the spaces at the ends of the text (its one line) are removed; a span
+    # that is not rendered (display: none, a failing conditional attribute) takes no part, so
+    # the ends are those of the rendered text around it
+    (' a<tspan display="none">b</tspan>c ', "ac"),
+    ('\n  Text<tspan display="none">Text</tspan>Text\n  ', "TextText"),
+    (' a<tspan systemLanguage="x-none">b</tspan>c ', "ac"),
+    ('<tspan display="none">b</tspan> a ', "a"),
+    (' a <tspan display="none">b</tspan>', "a"),
+    # §4.1.1: the spaces on both sides of it collapse into one (recorded: resvg keeps both)
+    ('a <tspan display="none">b</tspan> c', "a c"),
+])
+def test_a_span_not_rendered_leaves_the_text_s_end_spaces_removed(body, kept):
+    assert _chars(f"<text>{body}</text>") == [kept]
+
 def _advances():
     from fontTools.ttLib import TTFont
     font = TTFont(TTF)

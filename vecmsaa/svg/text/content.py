@@ -179,9 +179,18 @@ def collect_chars(text_el, ctx, styles):
         styles[id(el)] = style
         add(el.text, span, depth, preserve, text_path)
         for child in el.children:
-            if child.tag in TEXT_CONTENT and conditions_pass(child):
+            if child.tag in TEXT_CONTENT:
                 cstyle = style.child(child)
-                if cstyle.get("display").strip() != "none":
+                if not conditions_pass(child) or cstyle.get("display").strip() == "none":
+                    # a span that is not rendered keeps its place as a node without
+                    # characters: the text's end spaces are the ends of its first and last
+                    # nodes with text, not of the two nodes around it taken as the whole text
+                    # (' a<tspan display="none">b</tspan>c ' is "ac", as in CSS and resvg).
+                    # Before any text it is left out: standing first, it would keep the
+                    # leading space of the text after it, which CSS removes
+                    if nodes:
+                        nodes.append(([], depth + 1, preserve))
+                else:
                     cpres = _space_preserved(child, preserve)
                     tp = text_path
                     if child.tag == "textPath":
