@@ -2279,17 +2279,21 @@ def test_translated_keeps_every_field():
         return p
     assert [f.name for f in fields(Fill)] == ["path", "paint", "rule", "opacity", "antialias"]
     assert [f.name for f in fields(Group)] == ["children", "opacity", "clip", "mask", "blend",
-                                               "isolate", "filters"]
+                                               "isolate", "filters", "shift"]
     assert [f.name for f in fields(Mask)] == ["content", "kind"]
     assert [f.name for f in fields(Primitive)] == ["effect", "inputs", "subregion", "linear"]
     fill = Fill(path(), Solid((0.1, 0.2, 0.3, 0.4)), "evenodd", 0.5, False)
     prim = Primitive(GaussianBlur(1.0, 2.0), (-2,), (1, 2, 30, 40), False)
     group = Group([fill], 0.25, Group([Fill(path())]), Mask(Group([Fill(path())]), "alpha"),
                   "multiply", True, [Filter((0, 1, 50, 60), [prim])])
-    moved = translated(group, 3, -4)
+    moved = translated(translated(group, 1, -1), 2, -3)
     assert (moved.opacity, moved.blend, moved.isolate, moved.mask.kind) == \
         (0.25, "multiply", True, "alpha")
-    f = moved.children[0]
+    # a filtered group's children stay as they are, their move kept for the filter to make
+    assert moved.children == group.children and moved.shift == (3, -4)
+    unfiltered = Group([fill], 0.25, None, None, "multiply", True, [])
+    assert translated(unfiltered, 3, -4).shift == (0, 0)
+    f = translated(unfiltered, 3, -4).children[0]
     assert (f.paint, f.rule, f.opacity, f.antialias) == (fill.paint, "evenodd", 0.5, False)
     assert f.path.points.tolist() == [[4.0, -2.0], [8.0, -2.0], [4.0, 3.0]]
     assert moved.clip.children[0].path.points.tolist() == f.path.points.tolist()
