@@ -63,8 +63,9 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
         x0, y0, x1, y1 = bbox
         return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
-    if ctx.sampled is not None:
+    if ctx.sampled is not None and not _within(bbox, ctx.transform, ctx.sampled):
         # what cannot reach the image is left out once the bounding box (of all) is known
+        # (a text inside it is not looked at: culling is a saving, never needed)
         reach = _Reach(ctx, styles)
         runs = _reaching_runs(runs, reach, ctx)
         decorations = {kind: [(st, _reaching_rects(path, rects, reach(decl), ctx), rects, decl)
@@ -110,6 +111,15 @@ class _Reach:
         except KeyError:
             r = self.known[id(style)] = self.ctx.stroke_reach(style)
             return r
+
+
+def _within(box, m, rect):
+    """Whether a user-space box mapped by m lies inside the device rect."""
+    x0, y0, x1, y1 = box
+    a, b, c, d, e, f = m
+    xs = (a * x0 + c * y0 + e, a * x1 + c * y0 + e, a * x0 + c * y1 + e, a * x1 + c * y1 + e)
+    ys = (b * x0 + d * y0 + f, b * x1 + d * y0 + f, b * x0 + d * y1 + f, b * x1 + d * y1 + f)
+    return rect[0] <= min(xs) and max(xs) <= rect[2] and rect[1] <= min(ys) and max(ys) <= rect[3]
 
 
 def _misses(boxes, reach, rect):
