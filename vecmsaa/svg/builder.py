@@ -1158,6 +1158,8 @@ class Builder:
             viewport = (vb[2], vb[3])
         # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
         inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        if inner.sampled is not None and _has_filter(style):
+            inner = ctx_with(inner, sampled=None)   # (wrapped in the symbol's filter below)
         nodes = self.children(sym, inner, style)
         if (not nodes or ctx.geometry or ctx.clip
                 or not self.overflow_hidden(sym, style, use_el)):
