@@ -1,6 +1,7 @@
 """Text drawing: glyph outlines in runs of one element, filled and stroked through the builder
 (``ctx.draw``), colour glyphs drawn in their own colours, and text decorations as rectangles
-under/over the glyphs; the object bounding box of text as resvg computes it."""
+under/over the glyphs, those that cannot reach the image left out (ctx.sampled); the object
+bounding box of text as resvg computes it."""
 from __future__ import annotations
 
 import math
