@@ -147,16 +147,19 @@ DOCUMENT_OPTIONS = ("stylesheet", "languages", "font_size", "shape_rendering", "
 def load_svg(source: Source, width: float | None = None, height: float | None = None,
              zoom: float | None = None, dpi: float = 96, background: Background = None,
              resources_dir: str | os.PathLike | None = None, *, keep_aspect: bool = False,
-             size_limit: bool = True, export_id: str | None = None, **options) -> Scene:
+             size_limit: bool = True, export_id: str | None = None, cull: bool = True,
+             **options) -> Scene:
     """Parse an SVG document and resolve it into a Scene at the requested output size.
 
     ``options`` are the document options (DOCUMENT_OPTIONS) and the font options
-    (FONT_OPTIONS); see :func:`render_svg` for all of them."""
+    (FONT_OPTIONS); see :func:`render_svg` for all of them. ``cull``: leave out text glyphs
+    that cannot reach the image (no pixel changes, but the scene's bounds no longer hold
+    them: off where they are measured, as for ``export_area_drawing``)."""
     with collector_paused(), diagnostics.as_python_warnings():
         loaded = _Loaded(source, dpi, resources_dir, options)
         try:
             scene = loaded.scene(width, height, zoom, background, keep_aspect, size_limit,
-                                 export_id)
+                                 export_id, cull)
         finally:
             loaded.builder.doc.release()    # (see collector_paused)
         del loaded
@@ -207,12 +210,13 @@ class _Loaded:
     def intrinsic_size(self):
         return self.document.width, self.document.height
 
-    def build(self, to_device, root_scale=1.0, nodes_by_id=None) -> list:
+    def build(self, to_device, root_scale=1.0, nodes_by_id=None, image=None) -> list:
         """The root's nodes under ``to_device`` (intrinsic px → device), [] when the root
-        transform is singular."""
+        transform is singular; ``image``: (width, height) of the image they are drawn in,
+        to cull text with (Builder.build_root)."""
         self.builder.nodes_by_id = nodes_by_id
         try:
-            return self.document.build(to_device, root_scale)
+            return self.document.build(to_device, root_scale, image)
         except RecursionError:
             raise SvgError("document nesting is too deep") from None
         finally:
@@ -231,7 +235,7 @@ class _Loaded:
         return out
 
     def scene(self, width, height, zoom, background, keep_aspect, size_limit,
-              export_id=None) -> Scene:
+              export_id=None, cull=False) -> Scene:
         doc_w, doc_h = self.intrinsic_size()
         bg = _background(background)
         if not (doc_w > 0 and doc_h > 0):
@@ -254,7 +258,8 @@ class _Loaded:
         found = {} if export_id is not None else None
         # the geometric mean as a product of roots: sx * sy underflows to 0 for a content
         # box of 1e302 units drawn 100 px wide, and the text-on-path tolerance divides by it
-        nodes = self.build(to_device, math.sqrt(sx) * math.sqrt(sy), found)
+        nodes = self.build(to_device, math.sqrt(sx) * math.sqrt(sy), found,
+                           (w, h) if cull and export_id is None else None)
         if export_id is not None:
             nodes = found.get(export_id, [])
         return Scene(w, h, Group(children=nodes), bg)
@@ -314,7 +319,7 @@ def render_svg_array(source: Source, width: float | None = None, height: float |
         scene = load_svg(source, width=width, height=height, zoom=zoom, dpi=dpi,
                          background=background, resources_dir=resources_dir,
                          keep_aspect=keep_aspect, size_limit=size_limit, export_id=export_id,
-                         **options)
+                         cull=not export_area_drawing, **options)
         rgba = render_scene_rgba8(scene, mode=mode, threads=threads, progress=progress,
                                   samples=samples_for(samples, scene.width, scene.height),
                                   pattern=pattern, filter=filter, color_samples=color_samples)

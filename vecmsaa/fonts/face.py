@@ -127,6 +127,7 @@ class Face:
         self.num_glyphs = len(self.glyph_order)
         self._glyph_sets = {}
         self._outlines = {}
+        self._outline_boxes = {}
         self._component_sizes = {}
         self._hb_face = None
         self._hb_fonts = {}
@@ -319,6 +320,22 @@ class Face:
             hit = empty_outline()
         self._outlines[key] = hit
         return hit
+
+    def outline_box(self, gid: int, location: tuple = ()):
+        """(x0, y0, x1, y1): the bounds of a glyph outline's points, control points
+        included (so the outline lies inside), in font units; None when it is empty."""
+        key = (gid, location)
+        try:
+            return self._outline_boxes[key]
+        except KeyError:
+            pass
+        p = self.outline(gid, location)[1]
+        box = None
+        if len(p):
+            lo, hi = p.min(axis=0), p.max(axis=0)
+            box = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+        self._outline_boxes[key] = box
+        return box
 
     @staticmethod
     def _bound_charstring(gs, name):

@@ -122,6 +122,22 @@ class Ctx:
     geometry: bool = False                # only object geometry (bounding boxes)
     chain: tuple = ()                     # the matrices composed into transform, outermost
                                           # first (the root's, elements'; units.f32_chain)
+    # the device rect outside which nothing drawn here can show (the image grown by
+    # SAMPLED_MARGIN), or None where content may be moved or drawn elsewhere (a filter's
+    # region and offsets, a pattern's tile, a bounds pass): text culls its glyphs with it
+    sampled: tuple | None = field(default=None, compare=False)
+
+
+#: device px Ctx.sampled reaches beyond the image: the resolve filters' apron (raster.resolve,
+#: at most 2 px) plus the raster's own culling margin (geometry.primitives.CULL_MARGIN), with
+#: room to spare
+SAMPLED_MARGIN = 8.0
+
+
+def _has_filter(style) -> bool:
+    """Whether an element's style names a filter (valid or not: as wrap reads it)."""
+    f = style.specified.get("filter")
+    return bool(f) and f.strip() != "none"
 
 
 def ctx_with(ctx: Ctx, **changes) -> Ctx:
@@ -313,15 +329,17 @@ class Builder:
 
     # -- entry point -----------------------------------------------------------------------
     def build_root(self, transform, viewport, root_scale=1.0, canvas=None,
-                   geometry=False) -> list:
+                   geometry=False, image=None) -> list:
         """Nodes of the root <svg>'s content under ``transform`` (user → device).
         ``canvas``: user → device without the root's own ``transform`` (which the canvas
         background does not take), when it has one. ``geometry``: the object geometry
-        alone (see Ctx.geometry), unpainted shapes included."""
+        alone (see Ctx.geometry), unpainted shapes included. ``image``: (width, height) of
+        the device image the nodes are drawn in, when they are drawn nowhere else: text
+        then leaves out glyphs that cannot reach it (Ctx.sampled)."""
         self.root_scale = root_scale
         self._clear_memos()
         try:
-            return self._build_root(transform, viewport, canvas, geometry)
+            return self._build_root(transform, viewport, canvas, geometry, image)
         finally:
             self._clear_memos()     # the scene, drawn next, needs none of their geometry
 
@@ -332,7 +350,7 @@ class Builder:
         self._reference_boxes.clear()
         self._shape_memo.clear()
 
-    def _build_root(self, transform, viewport, canvas, geometry) -> list:
+    def _build_root(self, transform, viewport, canvas, geometry, image) -> list:
         root = self.doc.root
         if expanded_size(self.doc) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
@@ -343,7 +361,12 @@ class Builder:
             # Chromium; resvg draws the content as if there were no viewBox): the document
             # keeps the size it would have without the viewBox, and is empty
             return []
-        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,), geometry=geometry)
+        sampled = None
+        if image is not None and not geometry and not _has_filter(style):
+            sampled = (-SAMPLED_MARGIN, -SAMPLED_MARGIN, image[0] + SAMPLED_MARGIN,
+                       image[1] + SAMPLED_MARGIN)
+        ctx = Ctx(transform=transform, viewport=viewport, chain=(transform,), geometry=geometry,
+                  sampled=sampled)
         nodes = self.wrap(root, style, ctx, self.children(root, ctx, style))
         if geometry:
             return nodes
@@ -645,6 +668,8 @@ class Builder:
             return []
         c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m),
                                               chain=ctx.chain + (m,))
+        if c.sampled is not None and _has_filter(style):
+            c = ctx_with(c, sampled=None)   # (a filter's region and offsets reach anywhere)
         tag = el.tag
         disabled = False
         if tag in SHAPES:
@@ -837,8 +862,7 @@ class Builder:
             # an element its filter keeps from being drawn (a url to no filter, or to filters
             # that cannot apply to it) adds nothing to a bounding box either: SVG 2's
             # algorithm skips children that are not rendered, and usvg drops the element
-            f = style.specified.get("filter")
-            if nodes and f and f.strip() != "none" and self._filter_hides(el, ctx, style):
+            if nodes and _has_filter(style) and self._filter_hides(el, ctx, style):
                 return []
             return nodes
         if ctx.clip:
@@ -859,8 +883,7 @@ class Builder:
         mask_ref = style.specified.get("mask")
         has_clip = clip_ref and clip_ref.strip() != "none"
         has_mask = mask_ref and mask_ref.strip() != "none"
-        filter_ref = style.specified.get("filter")
-        has_filter = filter_ref and filter_ref.strip() != "none"
+        has_filter = _has_filter(style)
         if opacity <= 0 and not has_mask:
             return []
         if not (has_clip or has_mask or has_filter or opacity < 1 or blend != "normal"
@@ -1135,6 +1158,8 @@ class Builder:
             viewport = (vb[2], vb[3])
         # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
         inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        if inner.sampled is not None and _has_filter(style):
+            inner = ctx_with(inner, sampled=None)   # (wrapped in the symbol's filter below)
         nodes = self.children(sym, inner, style)
         if (not nodes or ctx.geometry or ctx.clip
                 or not self.overflow_hidden(sym, style, use_el)):
@@ -1391,6 +1416,25 @@ class Builder:
                                   dashes=dashes, dash_offset=offset, tolerance=tolerance)
         return _stroke_fills(outline, ctx, ref, opacity, antialias)
 
+    def stroke_reach(self, style, ctx):
+        """Device px beyond which a path's stroke draws nothing (0 for no stroke), None when
+        that depends on the path (dashes). A stroke's outline stays within half its width of
+        the path but at a miter join (miter limit times that; square caps and clipped or
+        arc joins stay inside it too, a square cap's corner at the square root of 2), in
+        user units, so under the transform within that times its largest stretch (at most
+        the root of the sum of its four squares); a hairline within a pixel."""
+        params = self.stroke_params(style, ctx)
+        if params is None:
+            return 0.0
+        width, _, _, limit, dashes, _ = params
+        if dashes:
+            return None                 # (dash_coverage and the phase follow the whole path)
+        reach = width / 2 * max(limit, math.sqrt(2.0))
+        if style.get("vector-effect").strip() == "non-scaling-stroke":
+            return reach * self.root_scale + 1.0
+        a, b, c, d, _, _ = ctx.transform
+        return reach * math.sqrt(a * a + b * b + c * c + d * d) + 1.0
+
     def _cached_stroke_plan(self, style, ctx, antialias):
         key = ("stroke-plan", ctx.transform, ctx.viewport, self.options.dpi, antialias)
         try:
@@ -1621,6 +1665,8 @@ class TextContext:
       ``font_family``, ``serif_family``, ``sans_serif_family``, ``cursive_family``,
       ``fantasy_family``, ``monospace_family``, ``skip_system_fonts``).
     - ``in_clip`` / ``geometry_only``: booleans, in case the text module wants to skip work.
+    - ``sampled``: the device rect outside which nothing drawn shows, or None (anywhere);
+      ``stroke_reach(style)``: device px the style's stroke reaches beyond a path, or None.
     - ``cache``: a dict kept for the whole document (the font database, loaded faces).
     - ``count_characters(n)``: charge n characters to the document's MAX_TEXT_CHARS budget.
     - ``wrap(element, style, nodes)``: apply opacity/clip-path/mask/blend of a tspan-level
@@ -1639,6 +1685,8 @@ class TextContext:
         self.cache = builder.text_cache
         self.in_clip = ctx.clip
         self.geometry_only = ctx.geometry
+        #: device rect (x0, y0, x1, y1) outside which nothing drawn can show, or None
+        self.sampled = ctx.sampled
 
     def style_of(self, element, parent_style=None):
         return (parent_style or self.style).child(element)
@@ -1657,6 +1705,10 @@ class TextContext:
 
     def resolve_paint(self, style, which, bbox=None):
         return self._builder.resolve_paint(style or self.style, which, self._ctx, bbox)
+
+    def stroke_reach(self, style):
+        """Device px a style's stroke reaches beyond its path, None when unknown (dashes)."""
+        return self._builder.stroke_reach(style, self._ctx)
 
     def note_text_fills(self, fills):
         """Record the fills that draw a text, when the builder collects them (kept with their

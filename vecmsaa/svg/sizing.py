@@ -85,17 +85,17 @@ class SizedDocument:
     root_matrix: tuple
     viewport: tuple
 
-    def build(self, to_device, root_scale=1.0) -> list:
+    def build(self, to_device, root_scale=1.0, image=None) -> list:
         """The root's nodes under ``to_device`` (the document's px → device): the root's own
         transform in its px, outside the viewBox mapping, and the canvas (the background)
         without it; [] when that transform is singular. As a top-level document and as an
-        SVG image alike."""
+        SVG image alike. ``image``: see Builder.build_root."""
         root_transform = self.builder.root_transform(self.width, self.height)
         if root_transform is None:
             return []
         return self.builder.build_root(
             compose(compose(to_device, root_transform), self.root_matrix), self.viewport,
-            root_scale=root_scale, canvas=compose(to_device, self.root_matrix))
+            root_scale=root_scale, canvas=compose(to_device, self.root_matrix), image=image)
 
 
 def apply_view(doc: Document, fragment: str) -> None:

@@ -1,6 +1,7 @@
 """Text drawing: glyph outlines in runs of one element, filled and stroked through the builder
 (``ctx.draw``), colour glyphs drawn in their own colours, and text decorations as rectangles
-under/over the glyphs; the object bounding box of text as resvg computes it."""
+under/over the glyphs, those that cannot reach the image left out (ctx.sampled); the object
+bounding box of text as resvg computes it."""
 from __future__ import annotations
 
 import math
@@ -11,6 +12,7 @@ from ...fonts.color import color_glyph_fills, is_color_glyph
 from ...fonts.layout import glyphs_arrays
 from ...scene.nodes import Fill, ImagePaint, Solid
 from ...scene.path import Path, rect_path
+from ...scene.transform import apply
 from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 
 def text_bbox(clusters):
@@ -53,7 +55,7 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         return []
     decorations = text_decorations(text_el, chars, clusters, styles, vertical)
     for kind in decorations:
-        for _, path in decorations[kind]:
+        for _, path, _, _ in decorations[kind]:
             b = path.bounds()
             if b is not None:
                 bbox = (min(bbox[0], b[0]), min(bbox[1], b[1]), max(bbox[2], b[2]),
@@ -62,10 +64,19 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         # The object bounding box of text is resvg's: the clusters' em boxes, not the ink.
         x0, y0, x1, y1 = bbox
         return ctx.draw(rect_path(x0, y0, x1 - x0, y1 - y0), ctx.style, bbox)
+    if ctx.sampled is not None and not _within(bbox, ctx.transform, ctx.sampled):
+        # what cannot reach the image is left out once the bounding box (of all) is known
+        # (a text inside it is not looked at: culling is a saving, never needed)
+        reach = _Reach(ctx, styles)
+        runs = _reaching_runs(runs, reach, ctx)
+        decorations = {kind: [(st, _reaching_rects(path, rects, reach(decl), ctx), rects, decl)
+                              for st, path, rects, decl in entries]
+                       for kind, entries in decorations.items()}
     out = []
     for kind in ("underline", "overline"):
-        for deco_style, path in decorations.get(kind, []):
-            out.extend(ctx.draw(path, deco_style, bbox))
+        for deco_style, path, _, _ in decorations.get(kind, []):
+            if not path.is_empty():
+                out.extend(ctx.draw(path, deco_style, bbox))
     # Like resvg, opacity, clip-path, mask and filter on tspan-level elements are not
     # applied (only on <text> itself, by the builder).
     for el, glyphs in runs:
@@ -73,8 +84,9 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         if not glyphs or style.get("visibility").strip() in ("hidden", "collapse"):
             continue
         out.extend(_color_or_plain(glyphs, _glyph_path(glyphs), style, ctx, bbox))
-    for deco_style, path in decorations.get("line-through", []):
-        out.extend(ctx.draw(path, deco_style, bbox))
+    for deco_style, path, _, _ in decorations.get("line-through", []):
+        if not path.is_empty():
+            out.extend(ctx.draw(path, deco_style, bbox))
     # Antialiasing of text, decorations included, is the <text> element's text-rendering
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
@@ -84,6 +96,108 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
         fill.antialias = antialias
     ctx.note_text_fills(fills)
     return out
+
+
+class _Reach:
+    """Device px each element's stroke reaches beyond its glyphs (None: unknown), once per
+    style."""
+
+    def __init__(self, ctx, styles):
+        self.ctx, self.styles, self.known = ctx, styles, {}
+
+    def __call__(self, el):
+        style = self.styles[id(el)]
+        try:
+            return self.known[id(style)]
+        except KeyError:
+            r = self.known[id(style)] = self.ctx.stroke_reach(style)
+            return r
+
+
+def _within(box, m, rect):
+    """Whether a user-space box mapped by m lies inside the device rect."""
+    x0, y0, x1, y1 = box
+    a, b, c, d, e, f = m
+    xs = (a * x0 + c * y0 + e, a * x1 + c * y0 + e, a * x0 + c * y1 + e, a * x1 + c * y1 + e)
+    ys = (b * x0 + d * y0 + f, b * x1 + d * y0 + f, b * x0 + d * y1 + f, b * x1 + d * y1 + f)
+    return rect[0] <= min(xs) and max(xs) <= rect[2] and rect[1] <= min(ys) and max(ys) <= rect[3]
+
+
+def _misses(boxes, reach, rect):
+    """Which of the device boxes (N, 4: x0, y0, x1, y1), each grown by ``reach`` px, miss
+    ``rect``; NaN misses nothing."""
+    x0, y0, x1, y1 = rect
+    return ((boxes[:, 2] + reach < x0) | (boxes[:, 0] - reach > x1)
+            | (boxes[:, 3] + reach < y0) | (boxes[:, 1] - reach > y1))
+
+
+def _reaching_runs(runs, reach, ctx):
+    """The runs without the glyphs whose drawing cannot touch ``ctx.sampled``: a plain
+    outline glyph lies in its points' box, placed by its matrix and the device transform
+    (the box's corners mapped: the centre, and the half sides' images' absolute values
+    summed), and its stroke within ``reach(element)`` px of it. Colour and SVG glyphs, with
+    extents of their own, are all kept, and so is everything under a stroke of unknown reach
+    (dashed). Leaving a glyph out leaves the winding of every sample in the rect, so its
+    pixels, as they were: a glyph is closed contours, stroked each on its own."""
+    where, boxes, mats, radii = [], [], [], []
+    special = {}
+    for k, (el, glyphs) in enumerate(runs):
+        r = reach(el)
+        if r is None:
+            continue
+        for i, g in enumerate(glyphs):
+            key = (id(g.face), g.gid)
+            own = special.get(key)
+            if own is None:
+                own = special[key] = (is_color_glyph(g.face, g.gid)
+                                      or has_svg_glyph(g.face, g.gid))
+            if own:
+                continue
+            box = g.face.outline_box(g.gid, g.location)
+            if box is None:
+                continue            # (an empty outline: kept, it draws nothing)
+            where.append((k, i))
+            boxes.append(box)
+            mats.append(g.matrix)
+            radii.append(r)
+    if not where:
+        return runs
+    b = np.array(boxes)
+    m = np.array(mats, dtype=np.float64)
+    ta, tb, tc, td, te, tf = ctx.transform
+    a = ta * m[:, 0] + tc * m[:, 1]
+    bb = tb * m[:, 0] + td * m[:, 1]
+    c = ta * m[:, 2] + tc * m[:, 3]
+    d = tb * m[:, 2] + td * m[:, 3]
+    e = ta * m[:, 4] + tc * m[:, 5] + te
+    f = tb * m[:, 4] + td * m[:, 5] + tf
+    cx, cy = (b[:, 0] + b[:, 2]) / 2, (b[:, 1] + b[:, 3]) / 2
+    hx, hy = (b[:, 2] - b[:, 0]) / 2, (b[:, 3] - b[:, 1]) / 2
+    x, y = a * cx + c * cy + e, bb * cx + d * cy + f
+    wx, wy = np.abs(a) * hx + np.abs(c) * hy, np.abs(bb) * hx + np.abs(d) * hy
+    missed = _misses(np.stack((x - wx, y - wy, x + wx, y + wy), axis=1), np.array(radii),
+                     ctx.sampled)
+    drop = {}
+    for n in np.flatnonzero(missed).tolist():
+        k, i = where[n]
+        drop.setdefault(k, set()).add(i)
+    return [(el, [g for i, g in enumerate(glyphs) if i not in drop[k]]) if k in drop
+            else (el, glyphs) for k, (el, glyphs) in enumerate(runs)]
+
+
+def _reaching_rects(path, rects, reach, ctx):
+    """``path``, the decoration rectangles ``rects`` (user space) joined, without those
+    that cannot touch ctx.sampled (their device corners' box grown by ``reach``)."""
+    if reach is None:
+        return path
+    corners = apply(ctx.transform, np.concatenate([r.points for r in rects]))
+    corners = corners.reshape(len(rects), 4, 2)
+    missed = _misses(np.concatenate((corners.min(axis=1), corners.max(axis=1)), axis=1),
+                     reach, ctx.sampled)
+    if not missed.any():
+        return path
+    kept = [r for r, out in zip(rects, missed.tolist()) if not out]
+    return _joined(kept) if kept else Path()
 
 
 def _glyph_path(glyphs):
@@ -187,7 +301,8 @@ def _span_decorations(span, above):
 
 
 def text_decorations(text_el, chars, clusters, styles, vertical):
-    """{kind: [(style of the declaring element, user-space path)]}.
+    """{kind: [(style of the declaring element, user-space path, its rectangles, the
+    declaring element)]}.
 
     As in resvg: a text span (characters of one innermost element) is decorated by every
     kind declared on it or an ancestor, painted with the declaring element's fill and stroke
@@ -250,7 +365,13 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
                 dy = -m.strikeout_position * scale
             thick = m.underline_thickness * scale
             rect = rect_path(0.0, dy - thick / 2, width, thick).transformed(c0.frame)
-            entry = by_decl.setdefault(id(decl), (styles[id(decl)], Path()))
-            entry[1].extend(rect)
-        out[kind] = list(by_decl.values())
+            by_decl.setdefault(id(decl), (styles[id(decl)], [], decl))[1].append(rect)
+        out[kind] = [(style, _joined(rects), rects, decl)
+                     for style, rects, decl in by_decl.values()]
     return out
+
+
+def _joined(paths):
+    """One path of the subpaths of ``paths`` in their order."""
+    return Path.from_arrays(np.concatenate([p.verbs for p in paths]),
+                            np.concatenate([p.points for p in paths]))
