@@ -208,3 +208,23 @@ def test_polylines_of_short_segments_are_skias_blend_of_each(seed, monkeypatch):
                  size=32)
     segs = [(*pts[i], *pts[i + 1]) for i in range(len(pts) - 1)]
     np.testing.assert_allclose(a, _skia_hairline(segs, 32, opacity), atol=TOL)
+
+
+@pytest.mark.parametrize("mode", ["approx", "analytic"])
+def test_long_staircases_cut_into_runs_draw_the_same_pixels(mode, monkeypatch):
+    """A staircase is cut into runs of about RUN_ROWS rows (the raster reads a fill's edges
+    once per strip of rows its box meets); the pieces share no pixel, so cutting every 3 rows
+    draws the bytes one run draws, at one and two threads."""
+    from vecmsaa.geometry import hairline
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="96">'
+           '<path d="M2.3 1.7 L90.6 80.2 L7.1 93.4 L60.5 3.3 L61.2 90" fill="none" '
+           'stroke="teal" stroke-width="0.7" stroke-opacity="0.8"/></svg>').encode()
+    rows = np.array([[2.3, 1.7, 90.6, 80.2], [90.6, 80.2, 7.1, 93.4]])
+    monkeypatch.setattr(hairline, "RUN_ROWS", 3)
+    assert len(hairline.hairline_outline(rows)) > 10
+    cut = [render_svg_array(svg, mode=mode, threads=t) for t in (1, 2)]
+    monkeypatch.setattr(hairline, "RUN_ROWS", 1 << 30)
+    assert len(hairline.hairline_outline(rows)) == 2
+    whole = render_svg_array(svg, mode=mode, threads=1)
+    for a in cut:
+        np.testing.assert_array_equal(a, whole)

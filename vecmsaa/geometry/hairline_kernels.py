@@ -15,7 +15,7 @@ from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points
 JOINT_PIXELS = 16
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, inline="always")
 def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     """Appends the rectangle [u_lo, u_hi] x [v_lo, v_hi] of the (u, v) plane (u along x, or
     along y when ymaj), wound as _emit_row's polygons."""
@@ -38,7 +38,7 @@ def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     return verbs, pts
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, inline="always")
 def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
     """Appends the pixels of the step shared by several segments of a run (joint: [column,
     rows used, y-major]; jrows: [row, product of (1 - alpha * coverage)] per pixel): one
@@ -54,7 +54,7 @@ def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
     return verbs, pts
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, inline="always")
 def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
     """Adds to the pending shared step the step of column ``col`` a segment covers a fraction
     ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
@@ -82,7 +82,7 @@ def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, shared1,
-              joint, jrows, alpha):
+              joint, jrows, alpha, runs, owner, run_rows):
     """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
     hairline): per step of the major axis u a rectangle one pixel thick across it, centred on
     the segment's v at the step's centre, as long as the segment's part of the step; one
@@ -110,39 +110,78 @@ def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, 
     total = int(steps)
     stair = abs(slope) >= stair_slope and steps <= max_steps[0]
     # the steps shared with the run's previous and next segments, in the path's order (the
-    # pending joint is the previous segment's), to the joint; the others kept: kept[0] to
-    # kept[1] - 1
-    kept = [0, total]
-    for i in range(2):
-        end = 1 - i if back else i
-        if (shared0 if end == 0 else shared1) and kept[1] > kept[0]:
-            col = first if end == 0 else first + steps - 1.0
-            lo, hi = max(u0, col), min(u1, col + 1.0)
-            verbs, pts, ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj,
-                                         hi - lo, v0 + slope * (col + 0.5 - u0))
-            if ok:
-                kept[end] += 1 - 2 * end
-    if kept[1] <= kept[0]:
-        return verbs, pts
-    first_kept, steps = first + kept[0], kept[1] - kept[0]
-    ua = u0 if kept[0] == 0 else first_kept
-    ub = u1 if kept[1] == total else first + kept[1]
+    # pending joint is the previous segment's), to the joint; the others kept: kept0 to
+    # kept1 - 1
+    kept0, kept1 = 0, total
+    if shared0 or shared1:
+        for i in range(2):
+            end = 1 - i if back else i
+            if (shared0 if end == 0 else shared1) and kept1 > kept0:
+                col = first if end == 0 else first + steps - 1.0
+                lo, hi = max(u0, col), min(u1, col + 1.0)
+                verbs, pts, ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj,
+                                             hi - lo, v0 + slope * (col + 0.5 - u0))
+                if ok and end == 0:
+                    kept0 += 1
+                elif ok:
+                    kept1 -= 1
+        if kept1 <= kept0:
+            return verbs, pts
+    first_kept, steps = first + kept0, kept1 - kept0
+    ua = u0 if kept0 == 0 else first_kept
+    ub = u1 if kept1 == total else first + kept1
     if stair:
         cnt[2] += int(steps)
         stair = cnt[2] <= max_steps[1]
-    n = int(steps) if stair else 1
+    if not stair:
+        v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
+        v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
+        return _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+    # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across, see
+    # hairline.RUN_ROWS), each a run of its own
+    chunk = run_rows if ymaj else int(run_rows / max(abs(slope), 0.25))
+    n = int(steps)
+    k0 = 0
+    while k0 < n:
+        room = chunk - (cnt[1] - runs[1][cnt[3] - 1]) // 4
+        if room <= 0:
+            _new_run(runs, cnt, owner)
+            room = chunk
+        k1 = min(n, k0 + room)
+        verbs, pts = _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1,
+                                 v0, 0.0, slope, ymaj, True)
+        k0 = k1
+    return verbs, pts
+
+
+@njit(cache=True, inline="always")
+def _new_run(runs, cnt, owner):
+    """Starts a run (runs: [verb offsets, point offsets, owners], cnt[3] runs so far)."""
+    nr = cnt[3]
+    for j in range(3):
+        runs[j] = _grow(runs[j], nr + 2)
+    runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
+    cnt[3] += 1
+
+
+@njit(cache=True, inline="always")
+def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
+    """Appends one polygon: with ``stair``, the steps of columns c0 .. c1 - 1 of the segment
+    from u0 to u1 whose v is v0 at u0 (slope: dv/du), each one pixel thick across the axis
+    centred on the segment's v at the column's centre and as long as the segment's part of
+    the column; else the parallelogram one pixel thick across the axis from (u0, v0) to
+    (u1, v1)."""
+    n = int(c1 - c0) if stair else 1
     verbs = _grow(verbs, cnt[0] + 4 * n + 1)
     pts = _grow_points(pts, cnt[1] + 4 * n)
     base = cnt[1]
     for k in range(n):
         if stair:
-            col = first_kept + k
+            col = c0 + k
             lo, hi = max(u0, col), min(u1, col + 1.0)
             v_lo = v_hi = v0 + slope * (col + 0.5 - u0)
         else:
-            lo, hi = ua, ub
-            v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
-            v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
+            lo, hi, v_lo, v_hi = u0, u1, v0, v1
         # the step's top left to right (points 2k, 2k + 1), its bottom in the second half,
         # right to left; y-major polygons mirrored (reversed) to keep one orientation
         for j in range(4):
@@ -272,7 +311,7 @@ def hairline_chords(kinds, segs, subs, flags, outset):
     return rows[:nr].copy(), rsubs[:nsub + 1].copy()
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, inline="always")
 def _run_key(seg, r):
     """The run of segment r: its major axis and direction along it (0-3), -1 if a point."""
     dx, dy = seg[r, 2] - seg[r, 0], seg[r, 3] - seg[r, 1]
@@ -284,7 +323,7 @@ def _run_key(seg, r):
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint, jrows,
-               alpha):
+               alpha, run_rows):
     """Appends the polygons of the segments seg[:ns] of one subpath, starting a run (runs:
     [verb offsets, point offsets, owners], cnt[3] runs so far) at the subpath's start and
     wherever the major axis or the direction along it changes: within a run the segments'
@@ -304,11 +343,7 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
                 ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
             key = k
             shared0 = False
-            nr = cnt[3]
-            for j in range(3):
-                runs[j] = _grow(runs[j], nr + 2)
-            runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
-            cnt[3] += 1
+            _new_run(runs, cnt, owner)
         nxt = r + 1
         while nxt < ns and _run_key(seg, nxt) < 0:
             nxt += 1
@@ -316,7 +351,8 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
         u_end = seg[r, 3] if k >= 2 else seg[r, 2]
         shared1 = nxt < ns and _run_key(seg, nxt) == k and u_end != math.floor(u_end)
         ov, op = _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3],
-                           stair_slope, max_steps, shared0, shared1, joint, jrows, alpha)
+                           stair_slope, max_steps, shared0, shared1, joint, jrows, alpha, runs,
+                           owner, run_rows)
         shared0 = shared1
         r = nxt
     if joint[1] > 0:
@@ -334,7 +370,7 @@ def _runs_out(ov, op, cnt, runs):
 
 @njit(cache=True)
 def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_slope,
-                         max_steps, alpha):
+                         max_steps, alpha, run_rows):
     """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
     paths ``which`` of a batch of paths of lines (path i: verbs vstart[i]:vstart[i + 1],
     points pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and
@@ -367,7 +403,7 @@ def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_
                 elif v == MOVE and ns > 0 and outset > 0.0:
                     _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
                 ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
-                                    joint, jrows, alpha)
+                                    joint, jrows, alpha, run_rows)
                 ns = 0
                 if v == MOVE and iv < vstart[i + 1]:
                     x, y = points[ip, 0], points[ip, 1]
@@ -387,7 +423,7 @@ def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_
 
 
 @njit(cache=True)
-def hairline_rows(rows, subs, stair_slope, max_steps, alpha):
+def hairline_rows(rows, subs, stair_slope, max_steps, alpha, run_rows):
     """The hairline outline (verbs, points, run verb offsets, run point offsets) of the
     device segments ``rows`` (N, 4), subpath k being rows subs[k]:subs[k + 1]."""
     verbs = np.empty(64, np.uint8)
@@ -398,6 +434,6 @@ def hairline_rows(rows, subs, stair_slope, max_steps, alpha):
     for k in range(len(subs) - 1):
         verbs, pts = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
                                 subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
-                                joint, jrows, alpha)
+                                joint, jrows, alpha, run_rows)
     out = _runs_out(verbs, pts, cnt, runs)
     return out[0], out[1], out[2], out[3]
