@@ -58,9 +58,11 @@ def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
 def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
     """Adds to the pending shared step the step of column ``col`` a segment covers a fraction
     ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
-    Returns False, adding nothing, when the step has more pixels than jrows holds."""
+    Returns False, adding nothing, when jrows has no room for two more pixels."""
     if joint[1] > 0 and joint[0] != col:
         verbs, pts = _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
+    if joint[1] + 2 > jrows.shape[0]:
+        return verbs, pts, False
     joint[0], joint[2] = int(col), 1 if ymaj else 0
     r0 = math.floor(v - 0.5)
     share = (r0 + 1.0) - (v - 0.5)          # of row r0; the rest falls in row r0 + 1
@@ -72,8 +74,6 @@ def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
         while i < joint[1] and jrows[i, 0] != row:
             i += 1
         if i == joint[1]:
-            if i == jrows.shape[0]:
-                return verbs, pts, False
             jrows[i, 0], jrows[i, 1] = row, 1.0
             joint[1] += 1
         jrows[i, 1] *= 1.0 - alpha * f * a
