@@ -134,3 +134,97 @@ def test_overlapping_segments_of_one_path_add_up_as_skias_blend_each():
         assert a[10, 10] == pytest.approx(0.75, abs=TOL)
         assert a[10, 5] == pytest.approx(0.5, abs=TOL)
         assert a[15, 10] == pytest.approx(0.5, abs=TOL)
+
+
+def test_segments_meeting_within_a_step_blend_as_skias_each():
+    """Skia blends each segment on its own, so where two segments of one path share a step
+    the pixel is a + b - ab (with the paint's alpha in a and b), not a + b: a straight line
+    cut at x = 3.5 leaves ½ + ½ - ¼ = ¾ in column 3, ¼ + ¼ - 1/16 = 7/16 at opacity ½."""
+    a = coverage('<path d="M0 5.5 L3.5 5.5 L8 5.5" fill="none" stroke="black"/>')
+    np.testing.assert_allclose(a[5, :9], [1, 1, 1, 0.75, 1, 1, 1, 1, 0], atol=TOL)
+    a = coverage('<path d="M0 5.5 L3.5 5.5 L8 5.5" fill="none" stroke="black" '
+                 'stroke-opacity="0.5"/>')
+    assert a[5, 3] == pytest.approx(7 / 16, abs=TOL)
+    assert a[5, 2] == pytest.approx(0.5, abs=TOL)
+    # three segments in column 3 (0.2, 0.4 and 0.4 of it): 1 - 0.8 · 0.6 · 0.6
+    a = coverage('<path d="M0 5.5 L3.2 5.5 L3.6 5.5 L8 5.5" fill="none" stroke="black"/>')
+    assert a[5, 3] == pytest.approx(1 - 0.8 * 0.6 * 0.6, abs=TOL)
+    # a bend in the step: the second segment's band at the column's centre (x = 3.5) is
+    # [5, 6], so row 5 takes ½ from each; in column 4 its centre y = 5.5 + 4/9 splits it
+    a = coverage('<path d="M0 5.5 L3.5 5.5 L8 7.5" fill="none" stroke="black"/>')
+    assert (a[5, 3], a[6, 3]) == pytest.approx((0.75, 0), abs=TOL)
+    assert (a[5, 4], a[6, 4]) == pytest.approx((5 / 9, 4 / 9), abs=TOL)
+
+
+def test_closed_subpath_has_no_caps():
+    """A closed subpath has no ends to cap (SVG's stroke-linecap; Chromium draws it so):
+    the rectangle's left side is the closing line x = 2 alone with any cap. (tiny-skia
+    lengthens the first line's start and the last line's end, and closes to the moved start,
+    which slants the closing line: resvg's departure.)"""
+    d = '<path d="M2 4.5 H10 V6.5 H2 Z" fill="none" stroke="black" {}/>'
+    butt = coverage(d.format(""))
+    assert (butt[5, 1], butt[5, 2]) == pytest.approx((0.5, 0.5), abs=TOL)
+    for cap in ("round", "square"):
+        np.testing.assert_array_equal(coverage(d.format(f'stroke-linecap="{cap}"')), butt)
+
+
+def _skia_hairline(segments, size, alpha):
+    """Skia's rule written out in floating point: per segment and step of its major axis,
+    one pixel of ink split between the two pixels the band [c - ½, c + ½] overlaps (c at the
+    step's centre), times the part of the step the segment covers; each segment blended on
+    its own with ``alpha``."""
+    out = np.zeros((size, size))
+    for x0, y0, x1, y1 in segments:
+        cov = np.zeros((size, size))
+        ymaj = abs(x1 - x0) <= abs(y1 - y0)
+        u0, v0, u1, v1 = (y0, x0, y1, x1) if ymaj else (x0, y0, x1, y1)
+        if u0 > u1:
+            u0, v0, u1, v1 = u1, v1, u0, v0
+        for col in range(math.floor(u0), math.ceil(u1)):
+            f = min(u1, col + 1) - max(u0, col)
+            c = v0 + (v1 - v0) / (u1 - u0) * (col + 0.5 - u0)
+            r = math.floor(c - 0.5)
+            for row, share in ((r, r + 1 - (c - 0.5)), (r + 1, (c - 0.5) - r)):
+                cov[(col, row) if ymaj else (row, col)] += f * share
+        out += alpha * cov * (1 - out)
+    return out
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_polylines_of_short_segments_are_skias_blend_of_each(seed, monkeypatch):
+    """Brute force: random polylines of 0.3-2 px segments turning a little (many meet within
+    a step), drawn with staircases only (no parallelograms), against Skia's rule computed
+    segment by segment (_skia_hairline)."""
+    from vecmsaa.geometry import hairline
+    monkeypatch.setattr(hairline, "STAIR_SLOPE", 0.0)
+    rng = np.random.default_rng(seed)
+    ang = rng.uniform(0, 2 * np.pi) + np.cumsum(rng.uniform(-0.3, 0.3, 40))
+    step = rng.uniform(0.3, 2.0, 40)
+    pts = np.c_[16 + np.cumsum(step * np.cos(ang)), 16 + np.cumsum(step * np.sin(ang))]
+    pts = np.clip(pts, 2, 30)
+    opacity = [1.0, 0.6][seed % 2]
+    d = "M" + " L".join(f"{x:.6f} {y:.6f}" for x, y in pts)
+    a = coverage(f'<path d="{d}" fill="none" stroke="black" stroke-opacity="{opacity}"/>',
+                 size=32)
+    segs = [(*pts[i], *pts[i + 1]) for i in range(len(pts) - 1)]
+    np.testing.assert_allclose(a, _skia_hairline(segs, 32, opacity), atol=TOL)
+
+
+@pytest.mark.parametrize("mode", ["approx", "analytic"])
+def test_long_staircases_cut_into_runs_draw_the_same_pixels(mode, monkeypatch):
+    """A staircase is cut into runs of about RUN_ROWS rows (the raster reads a fill's edges
+    once per strip of rows its box meets); the pieces share no pixel, so cutting every 3 rows
+    draws the bytes one run draws, at one and two threads."""
+    from vecmsaa.geometry import hairline
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="96">'
+           '<path d="M2.3 1.7 L90.6 80.2 L7.1 93.4 L60.5 3.3 L61.2 90" fill="none" '
+           'stroke="teal" stroke-width="0.7" stroke-opacity="0.8"/></svg>').encode()
+    rows = np.array([[2.3, 1.7, 90.6, 80.2], [90.6, 80.2, 7.1, 93.4]])
+    monkeypatch.setattr(hairline, "RUN_ROWS", 3)
+    assert len(hairline.hairline_outline(rows)) > 10
+    cut = [render_svg_array(svg, mode=mode, threads=t) for t in (1, 2)]
+    monkeypatch.setattr(hairline, "RUN_ROWS", 1 << 30)
+    assert len(hairline.hairline_outline(rows)) == 2
+    whole = render_svg_array(svg, mode=mode, threads=1)
+    for a in cut:
+        np.testing.assert_array_equal(a, whole)

@@ -592,7 +592,9 @@ def test_many_strokes_of_one_style_are_the_geometry_strokers_outlines(attrs):
     expected = []
     for d in paths:
         if fade is not None:
-            expected.extend(hairline_outline(*hairline_segments(parse_path_data(d), m, cap)))
+            # (drawn with opacity `fade`, which the joints' pixels are made for)
+            expected.extend(hairline_outline(*hairline_segments(parse_path_data(d), m, cap),
+                                             fade))
             continue
         outline = stroke_path(parse_path_data(d), width, join=join, cap=cap,
                               miterlimit=1.0 if "miterlimit" in attrs else 4.0,

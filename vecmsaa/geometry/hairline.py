@@ -19,8 +19,12 @@ cap); curves are flattened into chords as Skia subdivides them. Segments nearly 
 take one parallelogram one pixel thick across the major axis instead of a staircase: its
 coverage differs from the steps' by at most a quarter of the slope per pixel, and it is 4
 points where the staircase is 4 per step. Skia blends each segment on its own, so where a path's
-segments overlap its ink adds up: the segments are grouped in runs going one way along one
-axis (whose steps never overlap), each run drawn on its own.
+segments overlap a pixel takes 1 - (1 - αa)(1 - αb) (α the paint's alpha): the segments are
+grouped in runs going one way along one axis, each run drawn on its own; within a run steps
+overlap only where one segment ends and the next begins inside a step, and that step's pixels
+are one rectangle each whose coverage drawn with α is the blend of the segments' (so the
+outline depends on α: blend_alpha). A closed subpath has no caps (SVG; Chromium), where
+tiny-skia lengthens its first and last lines as an open subpath's.
 """
 from __future__ import annotations
 
@@ -40,6 +44,10 @@ STAIR_SLOPE = 0.25
 #: a staircase's steps per segment and per path at most; past them, parallelograms (bounded
 #: memory for absurd coordinates: the steps are per device pixel)
 MAX_STEPS = np.array([1 << 13, 1 << 19], np.int64)      # (per segment, per path)
+#: a staircase is cut into runs (Fills) of about this many rows across: the raster reads every
+#: edge of a fill for each strip of rows its box meets, so one long staircase of 4 edges a
+#: step costs its length squared; the pieces are pixel-disjoint, so the image is the same
+RUN_ROWS = 64
 
 
 def hairline_coverage(width, m, antialias):
@@ -93,15 +101,30 @@ def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: flo
                                             CAP_OUTSET.get(cap, 0.0))
 
 
-def hairline_outline(rows, subs=None) -> list:
+def hairline_outline(rows, subs=None, alpha: float = 1.0) -> list:
     """Paths (nonzero, to be drawn one over the other) whose exact-area coverage is the
     antialiased hairline of the line segments ``rows`` (N, 4: x0, y0, x1, y1, device px;
-    subpath k rows subs[k]:subs[k + 1], default one subpath; see the module's docstring)."""
+    subpath k rows subs[k]:subs[k + 1], default one subpath; see the module's docstring),
+    when drawn with the opacity ``alpha`` (see blend_alpha)."""
     rows = np.ascontiguousarray(rows, np.float64).reshape(-1, 4)
     subs = np.array([0, len(rows)], np.int64) if subs is None else \
         np.ascontiguousarray(subs, np.int64)
-    v, p, rv, rp = hairline_kernels.hairline_rows(rows, subs, STAIR_SLOPE, MAX_STEPS)
+    v, p, rv, rp = hairline_kernels.hairline_rows(rows, subs, STAIR_SLOPE, MAX_STEPS,
+                                                  _alpha(alpha), RUN_ROWS)
     return runs_paths(v, p, rv, rp)
+
+
+def blend_alpha(paint, opacity: float) -> float:
+    """The alpha Skia blends each segment of a hairline with: the opacity (hairline_coverage
+    included) times a flat colour's own alpha (a gradient's varies: its opacity alone)."""
+    color = getattr(paint, "color", None)
+    return opacity * (color[3] if color is not None else 1.0)
+
+
+def _alpha(alpha):
+    # where steps of several segments meet, the coverage that blends as Skia's segments one
+    # over the other depends on it (hairline_kernels._flush_joint); 0 draws nothing anyway
+    return float(alpha) if 0.0 < alpha <= 1.0 else 1.0
 
 
 def runs_paths(v, p, rv, rp) -> list:
@@ -111,10 +134,10 @@ def runs_paths(v, p, rv, rp) -> list:
             for v0, v1, p0, p1 in zip(rv, rv[1:], rp, rp[1:]) if v1 > v0]
 
 
-def hairline_batch(verbs, points, vstart, pstart, which, m, cap):
-    """hairline_outline(*hairline_segments(path, m, cap)) for the paths ``which`` of a batch
-    of paths of lines, at once: (verbs, points, run verb offsets, run point offsets, the
-    index in ``which`` of each run's path)."""
+def hairline_batch(verbs, points, vstart, pstart, which, m, cap, alpha: float = 1.0):
+    """hairline_outline(*hairline_segments(path, m, cap), alpha) for the paths ``which`` of
+    a batch of paths of lines, at once: (verbs, points, run verb offsets, run point offsets,
+    the index in ``which`` of each run's path)."""
     return hairline_kernels.hairline_lines_batch(
         verbs, points, vstart, pstart, which, np.asarray(m, np.float64),
-        CAP_OUTSET.get(cap, 0.0), STAIR_SLOPE, MAX_STEPS)
+        CAP_OUTSET.get(cap, 0.0), STAIR_SLOPE, MAX_STEPS, _alpha(alpha), RUN_ROWS)

@@ -10,15 +10,87 @@ from ..jit import njit
 from ..scene.path import CLOSE, LINE, MOVE
 from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points
 
+#: pixels a step shared by several segments of a run may hold (a step's band covers two
+#: pixels, and the segments sharing a step lie within a pixel of each other across it)
+JOINT_PIXELS = 16
+
+
+@njit(cache=True, inline="always")
+def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
+    """Appends the rectangle [u_lo, u_hi] x [v_lo, v_hi] of the (u, v) plane (u along x, or
+    along y when ymaj), wound as _emit_row's polygons."""
+    verbs = _grow(verbs, cnt[0] + 5)
+    pts = _grow_points(pts, cnt[1] + 4)
+    base = cnt[1]
+    for j in range(4):
+        u = u_lo if j == 0 or j == 3 else u_hi
+        v = v_lo if j < 2 else v_hi
+        if ymaj:
+            pts[base + 3 - j, 0], pts[base + 3 - j, 1] = v, u
+        else:
+            pts[base + j, 0], pts[base + j, 1] = u, v
+    verbs[cnt[0]] = MOVE
+    for k in range(1, 4):
+        verbs[cnt[0] + k] = LINE
+    verbs[cnt[0] + 4] = CLOSE
+    cnt[0] += 5
+    cnt[1] += 4
+    return verbs, pts
+
+
+@njit(cache=True, inline="always")
+def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
+    """Appends the pixels of the step shared by several segments of a run (joint: [column,
+    rows used, y-major]; jrows: [row, product of (1 - alpha * coverage)] per pixel): one
+    rectangle a pixel, as wide as the coverage whose ink blended with ``alpha`` is Skia's
+    segments blended one over the other, (1 - product) / alpha."""
+    col, ymaj = float(joint[0]), joint[2] == 1
+    for i in range(joint[1]):
+        cov = min((1.0 - jrows[i, 1]) / alpha, 1.0)
+        if cov > 0.0:
+            verbs, pts = _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0],
+                                    jrows[i, 0] + 1.0, ymaj)
+    joint[1] = 0
+    return verbs, pts
+
+
+@njit(cache=True, inline="always")
+def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
+    """Adds to the pending shared step the step of column ``col`` a segment covers a fraction
+    ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
+    Returns False, adding nothing, when jrows has no room for two more pixels."""
+    if joint[1] > 0 and joint[0] != col:
+        verbs, pts = _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
+    if joint[1] + 2 > jrows.shape[0]:
+        return verbs, pts, False
+    joint[0], joint[2] = int(col), 1 if ymaj else 0
+    r0 = math.floor(v - 0.5)
+    share = (r0 + 1.0) - (v - 0.5)          # of row r0; the rest falls in row r0 + 1
+    for j in range(2):
+        row, a = (r0, share) if j == 0 else (r0 + 1.0, 1.0 - share)
+        if a <= 0.0:
+            continue
+        i = 0
+        while i < joint[1] and jrows[i, 0] != row:
+            i += 1
+        if i == joint[1]:
+            jrows[i, 0], jrows[i, 1] = row, 1.0
+            joint[1] += 1
+        jrows[i, 1] *= 1.0 - alpha * f * a
+    return verbs, pts, True
+
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps):
+def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, shared1,
+              joint, jrows, alpha, runs, owner, run_rows):
     """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
     hairline): per step of the major axis u a rectangle one pixel thick across it, centred on
     the segment's v at the step's centre, as long as the segment's part of the step; one
     parallelogram for a segment of |slope| below ``stair_slope``, or of more steps than
-    ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). Returns
-    (verbs, pts), grown as needed; cnt: [verbs used, points used, steps counted]."""
+    ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). The step
+    at the start (``shared0``) or the end (``shared1``) that another segment of the run shares
+    goes to the pending joint (_joint_step) instead. Returns (verbs, pts), grown as needed;
+    cnt: [verbs used, points used, steps counted]."""
     dx, dy = x1 - x0, y1 - y0
     if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
                                          and math.isfinite(x1) and math.isfinite(y1)):
@@ -28,22 +100,84 @@ def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps):
         u0, v0, u1, v1 = y0, x0, y1, x1
     else:
         u0, v0, u1, v1 = x0, y0, x1, y1
-    if u0 > u1:
+    back = u0 > u1
+    if back:
         u0, u1, v0, v1 = u1, u0, v1, v0
+        shared0, shared1 = shared1, shared0
     slope = (v1 - v0) / (u1 - u0)
     first = math.floor(u0)
     steps = math.ceil(u1) - first
+    total = int(steps)
     stair = abs(slope) >= stair_slope and steps <= max_steps[0]
+    # the steps shared with the run's previous and next segments, in the path's order (the
+    # pending joint is the previous segment's), to the joint; the others kept: kept0 to
+    # kept1 - 1
+    kept0, kept1 = 0, total
+    if shared0 or shared1:
+        for i in range(2):
+            end = 1 - i if back else i
+            if (shared0 if end == 0 else shared1) and kept1 > kept0:
+                col = first if end == 0 else first + steps - 1.0
+                lo, hi = max(u0, col), min(u1, col + 1.0)
+                verbs, pts, ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj,
+                                             hi - lo, v0 + slope * (col + 0.5 - u0))
+                if ok and end == 0:
+                    kept0 += 1
+                elif ok:
+                    kept1 -= 1
+        if kept1 <= kept0:
+            return verbs, pts
+    first_kept, steps = first + kept0, kept1 - kept0
+    ua = u0 if kept0 == 0 else first_kept
+    ub = u1 if kept1 == total else first + kept1
     if stair:
         cnt[2] += int(steps)
         stair = cnt[2] <= max_steps[1]
-    n = int(steps) if stair else 1
+    if not stair:
+        v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
+        v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
+        return _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+    # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across, see
+    # hairline.RUN_ROWS), each a run of its own
+    chunk = run_rows if ymaj else int(run_rows / max(abs(slope), 0.25))
+    n = int(steps)
+    k0 = 0
+    while k0 < n:
+        room = chunk - (cnt[1] - runs[1][cnt[3] - 1]) // 4
+        if room <= 0:
+            _new_run(runs, cnt, owner)
+            room = chunk
+        k1 = min(n, k0 + room)
+        verbs, pts = _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1,
+                                 v0, 0.0, slope, ymaj, True)
+        k0 = k1
+    return verbs, pts
+
+
+@njit(cache=True, inline="always")
+def _new_run(runs, cnt, owner):
+    """Starts a run (runs: [verb offsets, point offsets, owners], cnt[3] runs so far)."""
+    nr = cnt[3]
+    for j in range(3):
+        runs[j] = _grow(runs[j], nr + 2)
+    runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
+    cnt[3] += 1
+
+
+@njit(cache=True, inline="always")
+def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
+    """Appends one polygon: with ``stair``, the steps of columns c0 .. c1 - 1 of the segment
+    from u0 to u1 whose v is v0 at u0 (slope: dv/du), each one pixel thick across the axis
+    centred on the segment's v at the column's centre and as long as the segment's part of
+    the column; else the parallelogram one pixel thick across the axis from (u0, v0) to
+    (u1, v1)."""
+    n = int(c1 - c0) if stair else 1
     verbs = _grow(verbs, cnt[0] + 4 * n + 1)
     pts = _grow_points(pts, cnt[1] + 4 * n)
     base = cnt[1]
     for k in range(n):
         if stair:
-            col = first + k
+            col = c0 + k
             lo, hi = max(u0, col), min(u1, col + 1.0)
             v_lo = v_hi = v0 + slope * (col + 0.5 - u0)
         else:
@@ -177,29 +311,52 @@ def hairline_chords(kinds, segs, subs, flags, outset):
     return rows[:nr].copy(), rsubs[:nsub + 1].copy()
 
 
+@njit(cache=True, inline="always")
+def _run_key(seg, r):
+    """The run of segment r: its major axis and direction along it (0-3), -1 if a point."""
+    dx, dy = seg[r, 2] - seg[r, 0], seg[r, 3] - seg[r, 1]
+    if dx == 0.0 and dy == 0.0:
+        return -1
+    ymaj = abs(dx) <= abs(dy)
+    return (2 if ymaj else 0) + (1 if (dy if ymaj else dx) > 0 else 0)
+
+
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps):
+def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint, jrows,
+               alpha, run_rows):
     """Appends the polygons of the segments seg[:ns] of one subpath, starting a run (runs:
     [verb offsets, point offsets, owners], cnt[3] runs so far) at the subpath's start and
     wherever the major axis or the direction along it changes: within a run the segments'
-    steps never overlap, so a run's union is the sum Skia's segment-by-segment blending
-    makes; where runs overlap (turns, crossings) the runs are drawn one over the other."""
+    steps overlap only where one ends and the next begins within a step, and there the
+    shared step's pixels are Skia's segment-by-segment blending (_joint_step); where runs
+    overlap (turns, crossings) the runs are drawn one over the other."""
     key = -1
-    for r in range(ns):
-        dx, dy = seg[r, 2] - seg[r, 0], seg[r, 3] - seg[r, 1]
-        if dx == 0.0 and dy == 0.0:
+    shared0 = False
+    r = 0
+    while r < ns:
+        k = _run_key(seg, r)
+        if k < 0:
+            r += 1
             continue
-        ymaj = abs(dx) <= abs(dy)
-        k = (2 if ymaj else 0) + (1 if (dy if ymaj else dx) > 0 else 0)
         if k != key:
+            if joint[1] > 0:
+                ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
             key = k
-            nr = cnt[3]
-            for j in range(3):
-                runs[j] = _grow(runs[j], nr + 2)
-            runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
-            cnt[3] += 1
+            shared0 = False
+            _new_run(runs, cnt, owner)
+        nxt = r + 1
+        while nxt < ns and _run_key(seg, nxt) < 0:
+            nxt += 1
+        # the next segment of the run starts within the step this one ends in
+        u_end = seg[r, 3] if k >= 2 else seg[r, 2]
+        shared1 = nxt < ns and _run_key(seg, nxt) == k and u_end != math.floor(u_end)
         ov, op = _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3],
-                           stair_slope, max_steps)
+                           stair_slope, max_steps, shared0, shared1, joint, jrows, alpha, runs,
+                           owner, run_rows)
+        shared0 = shared1
+        r = nxt
+    if joint[1] > 0:
+        ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
     return ov, op
 
 
@@ -213,7 +370,7 @@ def _runs_out(ov, op, cnt, runs):
 
 @njit(cache=True)
 def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_slope,
-                         max_steps):
+                         max_steps, alpha, run_rows):
     """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
     paths ``which`` of a batch of paths of lines (path i: verbs vstart[i]:vstart[i + 1],
     points pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and
@@ -226,6 +383,7 @@ def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_
     runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
     cnt = np.zeros(4, np.int64)
     seg = np.empty((16, 4))
+    joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
     for w in range(len(which)):
         cnt[2] = 0
         i = which[w]
@@ -244,7 +402,8 @@ def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_
                     cx, cy = sx, sy
                 elif v == MOVE and ns > 0 and outset > 0.0:
                     _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
-                ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps)
+                ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
+                                    joint, jrows, alpha, run_rows)
                 ns = 0
                 if v == MOVE and iv < vstart[i + 1]:
                     x, y = points[ip, 0], points[ip, 1]
@@ -264,15 +423,17 @@ def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_
 
 
 @njit(cache=True)
-def hairline_rows(rows, subs, stair_slope, max_steps):
+def hairline_rows(rows, subs, stair_slope, max_steps, alpha, run_rows):
     """The hairline outline (verbs, points, run verb offsets, run point offsets) of the
     device segments ``rows`` (N, 4), subpath k being rows subs[k]:subs[k + 1]."""
     verbs = np.empty(64, np.uint8)
     pts = np.empty((64, 2))
     runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
     cnt = np.zeros(4, np.int64)
+    joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
     for k in range(len(subs) - 1):
         verbs, pts = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
-                                subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps)
+                                subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
+                                joint, jrows, alpha, run_rows)
     out = _runs_out(verbs, pts, cnt, runs)
     return out[0], out[1], out[2], out[3]

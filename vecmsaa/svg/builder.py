@@ -21,8 +21,8 @@ from ..scene.transform import IDENTITY, apply, compose, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
-from ..geometry.hairline import (hairline_batch, hairline_coverage, hairline_outline,
-                                 hairline_segments, runs_paths)
+from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
+                                 hairline_outline, hairline_segments, runs_paths)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -204,7 +204,7 @@ def resolve_bbox(bbox):
 def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
     """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline)."""
     runs = hairline_outline(*hairline_segments(path, m, cap, dash_pattern(dashes), offset,
-                                               resolution))
+                                               resolution), blend_alpha(ref.paint, opacity))
     return [Fill(run, ref.paint, opacity=opacity, antialias=antialias) for run in runs]
 
 
@@ -584,7 +584,8 @@ class Builder:
         vstart, pstart = np.asarray(batch.vstart, np.int64), np.asarray(batch.pstart, np.int64)
         if plan[0] == "hairline":       # (runs: a path's may be several, see hairline)
             ov, op, vo, po, owner = hairline_batch(batch.verbs, batch.points.points, vstart,
-                                                   pstart, which, transform, plan[1])
+                                                   pstart, which, transform, plan[1],
+                                                   blend_alpha(paint, opacity))
             if len(owner) != len(which) or (owner != np.arange(len(which))).any():
                 _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias)
                 return
@@ -1399,7 +1400,8 @@ class Builder:
                                        antialias)
             ov, op, rv, rp, _ = hairline_batch(v, p, np.array([0, len(v)]),
                                                np.array([0, len(p)]), np.zeros(1, np.int64),
-                                               ctx.transform, cap)
+                                               ctx.transform, cap,
+                                               blend_alpha(ref.paint, opacity))
             return [Fill(run, ref.paint, opacity=opacity, antialias=antialias)
                     for run in runs_paths(ov, op, rv, rp)]
         codes, stroke_width, tolerance = plan
