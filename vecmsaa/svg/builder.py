@@ -1418,20 +1418,24 @@ class Builder:
                                   dashes=dashes, dash_offset=offset, tolerance=tolerance)
         return _stroke_fills(outline, ctx, ref, opacity, antialias)
 
+    @staticmethod
+    def outline_reach(params):
+        """User units beyond its path within which a stroke (stroke_params) draws: half its
+        width, but at a miter join the miter limit times that (square caps and clipped or
+        arc joins stay inside it too, a square cap's corner at the square root of 2)."""
+        return params[0] / 2 * max(params[3], math.sqrt(2.0))
+
     def stroke_reach(self, style, ctx):
         """Device px beyond which a path's stroke draws nothing (0 for no stroke), None when
-        that depends on the path (dashes). A stroke's outline stays within half its width of
-        the path but at a miter join (miter limit times that; square caps and clipped or
-        arc joins stay inside it too, a square cap's corner at the square root of 2), in
-        user units, so under the transform within that times its largest stretch (at most
-        the root of the sum of its four squares); a hairline within a pixel."""
+        that depends on the path (dashes): the outline's reach (outline_reach) under the
+        transform times its largest stretch (at most the root of the sum of its four
+        squares); a hairline within a pixel."""
         params = self.stroke_params(style, ctx)
         if params is None:
             return 0.0
-        width, _, _, limit, dashes, _ = params
-        if dashes:
+        if params[4]:
             return None                 # (dash_coverage and the phase follow the whole path)
-        reach = width / 2 * max(limit, math.sqrt(2.0))
+        reach = self.outline_reach(params)
         if style.get("vector-effect").strip() == "non-scaling-stroke":
             return reach * self.root_scale + 1.0
         a, b, c, d, _, _ = ctx.transform

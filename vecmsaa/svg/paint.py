@@ -443,8 +443,7 @@ def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
     pixels per unit. A tile over the caps would else be laid out at a reduced scale and its
     content's edges blurred (an objectBoundingBox pattern of width 20 on a 160-unit rect is
     a 3200 px tile in a 200 px render). The element draws the paint inside its box widened
-    by half its stroke width times the miter limit (a square cap or a join reaches no
-    further); a quarter of the box's larger side more covers what a text's box may leave
+    by its stroke's reach (Builder.outline_reach); a quarter of the box's larger side more covers what a text's box may leave
     out (decorations past the glyphs); a stroke that does not scale with the element has no
     such bound here. The window is that box's device bounds mapped into unwrapped tile
     pixels, so it may reach into the neighbouring copies of the tile (pattern draws those
@@ -455,7 +454,7 @@ def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
         return None
     x0, y0, x1, y1 = bbox
     stroke = builder.stroke_params(user_style, ctx)
-    margin = stroke[0] / 2 * max(stroke[3], math.sqrt(2)) if stroke else 0.0
+    margin = builder.outline_reach(stroke) if stroke else 0.0
     margin += max(x1 - x0, y1 - y0) / 4
     corners = np.array([(x0 - margin, y0 - margin), (x1 + margin, y0 - margin),
                         (x0 - margin, y1 + margin), (x1 + margin, y1 + margin)])
