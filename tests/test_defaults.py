@@ -25,9 +25,10 @@ FINE = 64
 
 def test_small_outputs_default_to_16_samples():
     assert default_samples(16, 16) == 16
-    assert default_samples(128, 128) == 16
-    assert default_samples(256, 64) == 16        # by pixel count, not by side
-    assert default_samples(129, 128) == 8
+    assert default_samples(300, 300) == 16       # the resvg suite's size
+    assert default_samples(512, 512) == 16
+    assert default_samples(1024, 256) == 16      # by pixel count, not by side
+    assert default_samples(513, 512) == 8
     assert default_samples(2048, 2048) == 8
     assert coverage(None, 4, 16, 16) == {"mode": "approx", "samples": 4}   # explicit wins
     assert coverage(None, None, 16, 16, analytic_exact=True)["mode"] == "analytic"

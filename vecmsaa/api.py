@@ -385,7 +385,7 @@ def render_svg(source: Source, width: float | None = None, height: float | None 
     with ``keep_aspect=True``), ``zoom`` (ignored with a width or height), ``dpi`` for
     physical units; ``size_limit=False`` lifts the 32768 px / 2^28 pixel cap.
     ``background``: a CSS colour or an RGB(A) tuple. ``mode``/``samples``: coverage (see
-    docs/modes.md; without ``samples``, 16 for outputs of at most 128 x 128 pixels, else 8).
+    docs/modes.md; without ``samples``, 16 for outputs of at most 512 x 512 pixels, else 8).
     ``pattern`` (``d3d``, ``grid``, ``rgss``, ``rooks``, ``jittered``, ``poisson``,
     ``quincunx``, ``flipquad``, ``interleaved``) and ``filter`` (``box``, ``tent``, ``tent1``,
     ``gaussian``, ``mitchell``; None: the pattern's own): where a pixel's samples lie and how

@@ -19,12 +19,15 @@ PATTERN_NAMES = ("d3d", "grid", "rgss", "rooks", "jittered", "poisson", "quincun
 #: radius 1 px, Gaussian and Mitchell–Netravali, which weigh the neighbouring pixels' samples
 FILTERS = ("box", "tent", "tent1", "gaussian", "mitchell")
 DEFAULT_SAMPLES = 8
-#: outputs of at most this many pixels (128 x 128, or any shape of that area) default to
+#: outputs of at most this many pixels (512 x 512, or any shape of that area) default to
 #: SMALL_OUTPUT_SAMPLES: at icon sizes one pixel is a visible part of the image (at 16 px one
 #: pixel off fails an icon by the suite's criterion) and 8 samples quantise a pixel's coverage
-#: to 1/8, which fails 10% of real icons at 16 px, 16 samples none (docs/modes.md); the cost
-#: per pixel roughly doubles, which below 16384 pixels is a fraction of a millisecond.
-SMALL_OUTPUT_PIXELS = 128 * 128
+#: to 1/8, which fails 10% of real icons at 16 px, 16 samples none; at thumbnail and test-suite
+#: sizes (300 px) thin features and glyph stems still show the eighths (a 0.7 px band at 45°
+#: off by 69/255), and 16 samples leave 855 of the suite's 1282 tests with no pixel off its
+#: reference where 8 leave 736 (docs/modes.md). The raster's cost per pixel grows by about a
+#: third, a few milliseconds a document at these sizes; larger outputs keep 8.
+SMALL_OUTPUT_PIXELS = 512 * 512
 SMALL_OUTPUT_SAMPLES = 16
 
 

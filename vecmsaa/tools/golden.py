@@ -40,7 +40,7 @@ MANIFEST_FORMAT = 1
 #: render options a manifest records, with the values used when an option is not given
 DEFAULT_RENDER_OPTIONS = {
     "width": None, "height": None, "zoom": None, "dpi": 96,
-    # samples None: the renderer's default for the output's size (16 up to 128 x 128 pixels,
+    # samples None: the renderer's default for the output's size (16 up to 512 x 512 pixels,
     # else 8), so goldens made at the default keep being checked at the default
     "mode": DEFAULT_MODE, "samples": None, "background": None,
     # where a pixel's samples lie, how they are weighed (None: the pattern's own), CSAA colours

@@ -24,7 +24,7 @@ from ..raster.render import RenderOptions, render_float
 from .accuracy import GROUND_TRUTH_SAMPLES, edge_error, edge_mask
 from .compare import compare_images, premultiplied_u8
 
-#: (label, mode, samples); None is the renderer's default (16 samples up to 128 x 128 px)
+#: (label, mode, samples); None is the renderer's default (16 samples up to 512 x 512 px)
 CONFIGS = (("default", None, None), ("approx 8", "approx", 8), ("persample 8", "persample", 8),
            ("approx 16", "approx", 16), ("persample 16", "persample", 16),
            ("analytic", "analytic", 1))
