@@ -88,10 +88,12 @@ def test_bounded_fuzz_pass_finds_no_new_crash(warm):
     assert not new, f"new crashes: {new}"
 
 
-def test_tree_mutations_stay_within_their_element_budget():
-    """Every copying operation of the svgtree target is cut to fit MAX_TREE_ELEMENTS: a seed
-    holding a 300-deep nest of 300 children, mutated again and again, never outgrows it (a
-    run took the fuzzer's own memory serialising a thousand copies of such a nest)."""
+def test_tree_mutations_stay_within_their_size_budget():
+    """Every copying operation of the svgtree target is cut to fit MAX_TREE_CHARS, measured
+    on the serialised tree: a seed holding a 300-deep nest of 300 children, or a few elements
+    carrying a 100,000-character attribute, mutated again and again, never outgrows it (runs
+    took the fuzzer's own memory serialising a thousand copies of such a nest, and 200,000
+    elements with a donor's long path data)."""
     import copy
     import random
     import xml.etree.ElementTree as ET
@@ -99,12 +101,16 @@ def test_tree_mutations_stay_within_their_element_budget():
     wide = ET.Element("g")
     for _ in range(300):
         ET.SubElement(wide, "rect")
-    deep = root = ET.Element("svg")
+    deep = nest = ET.Element("svg")
     for _ in range(300):
         deep = ET.SubElement(deep, "g")
     deep.append(wide)
-    rng = random.Random(7)
-    tree = root
-    for _ in range(10):        # it reaches the budget by the fifth
-        tree = fuzz.mutate_tree(copy.deepcopy(tree), rng, [root])
-        assert sum(1 for _ in tree.iter()) <= fuzz.MAX_TREE_ELEMENTS
+    long = ET.Element("svg")
+    for _ in range(3):
+        ET.SubElement(ET.SubElement(long, "g"), "path", d="M0 0 L1 1 " * 10_000)
+    for seed, root in ((7, nest), (8, long)):
+        rng = random.Random(seed)
+        tree = root
+        for _ in range(12):        # each reaches the budget within these
+            tree = fuzz.mutate_tree(copy.deepcopy(tree), rng, [root])
+            assert len(fuzz.serialize_tree(tree)) <= fuzz.MAX_TREE_CHARS * 1.05

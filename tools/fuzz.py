@@ -275,14 +275,23 @@ def mutate_tree(root, rng: random.Random, donors):
     return root
 
 
-#: elements a mutated tree may grow to: each copying operation is cut to fit (a thousand
-#: copies of an element holding a 300-deep nest would take the fuzzer's own memory)
-MAX_TREE_ELEMENTS = 200_000
+#: characters a mutated tree may grow to when serialised (about): each copying operation is
+#: cut to fit. Counted in characters, not elements: a thousand copies of an element holding a
+#: 300-deep nest took the fuzzer's own memory, and so did 200,000 elements (the budget when it
+#: counted elements) carrying a donor's long `d` or `style` (seed 2801 under --memory-mb 2048)
+MAX_TREE_CHARS = 20_000_000
+
+
+def _chars(el) -> int:
+    """About how many characters ``el``'s subtree serialises to."""
+    return sum(2 * len(e.tag) + 5 + len(e.text or "") + len(e.tail or "")
+               + sum(len(k) + len(v) + 4 for k, v in e.attrib.items()) for e in el.iter())
 
 
 def _room(elements, el):
-    """How many more copies of ``el``'s subtree fit in a tree of ``elements``."""
-    return max(0, MAX_TREE_ELEMENTS - len(elements)) // sum(1 for _ in el.iter())
+    """How many more copies of ``el``'s subtree fit in a tree of ``elements`` (the root's
+    ``iter()``, the root first)."""
+    return max(0, MAX_TREE_CHARS - _chars(elements[0])) // max(1, _chars(el))
 
 
 # -- targets: each returns normally or raises; documented errors are filtered by the caller ---
