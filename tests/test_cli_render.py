@@ -378,7 +378,7 @@ def test_jobs_means_the_same_everywhere(capsys):
 
 @pytest.mark.parametrize("flags, covered", [
     # a vertical edge 0.3 px into column 10: the samples left of it, by the patterns' tables
-    ([], 5 / 16),                         # D3D 16: x offsets -5, -4, -6, -8, -7 (1/16 px)
+    ([], 5 / 16),                         # D3D 16 centred: x offsets -4.5, -3.5, -5.5, -7.5, -6.5 (1/16 px)
     (["--pattern", "grid"], 4 / 16),      # 4 x 4 grid: the first column, at 1/8
 ])
 def test_pattern_flag_picks_where_the_samples_lie(tmp_path, flags, covered):
@@ -394,9 +394,9 @@ def test_pattern_flag_picks_where_the_samples_lie(tmp_path, flags, covered):
 
 def test_filter_flag_weighs_samples_by_the_tent(tmp_path):
     # tent weights (1 - |dx|)(1 - |dy|) over the D3D 16 offsets: the covered ones' share
-    from vecmsaa.raster.sample_patterns import D3D_PATTERNS
+    from vecmsaa.raster.sample_patterns import standard_pattern
 
-    offsets = np.asarray(D3D_PATTERNS[16]) / 16.0
+    offsets = standard_pattern(16)
     w = (1 - abs(offsets[:, 0])) * (1 - abs(offsets[:, 1]))
     covered = w[offsets[:, 0] + 0.5 < 0.3].sum() / w.sum()
     svg = tmp_path / "edge.svg"

@@ -325,6 +325,26 @@ def test_d3d_standard_patterns():
         assert np.abs(offs).max() <= 0.5
 
 
+@pytest.mark.parametrize("samples", [2, 4, 8, 16])
+def test_standard_patterns_draw_edges_where_they_are(samples):
+    """A rectangle at many sub-pixel positions: the alpha-weighted centroid of its render is
+    its exact centroid on average (an unbiased pattern). The D3D 16 table's own offsets have
+    the mean (-1/32, -1/32) px and drew every rectangle 1/32 px right and down."""
+    from vecmsaa.api import render_svg_array
+
+    steps = 37          # prime: no position puts an edge exactly on a sample
+    bias = np.zeros(2)
+    for i in range(steps):
+        x, y = 3 + i / steps, 4 + ((i * 5) % steps) / steps
+        svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="24" height="24">'
+               f'<rect x="{x}" y="{y}" width="10.5" height="9.25"/></svg>')
+        alpha = render_svg_array(svg.encode(), samples=samples)[..., 3].astype(np.float64)
+        ys, xs = np.mgrid[0:24, 0:24] + 0.5
+        centroid = np.array([(alpha * xs).sum(), (alpha * ys).sum()]) / alpha.sum()
+        bias += centroid - (x + 10.5 / 2, y + 9.25 / 2)
+    assert np.abs(bias / steps).max() < 0.008
+
+
 def figure1(size=64):
     """Paper's Figure 1: red and green share one curved boundary; blue overlaps both."""
     s = size / 64.0
