@@ -959,6 +959,15 @@ def test_quarter_turns_are_exact(text, matrix):
     assert parse_transform(text) == matrix
 
 
+@pytest.mark.parametrize("rotate, matrix", [
+    ("90deg", (0, 1, -1, 0, 0, 0)), ("0.5turn", (-1, 0, 0, -1, 0, 0)),
+    ("z 180deg", (-1, 0, 0, -1, 0, 0)), ("-100grad", (0, -1, 1, 0, 0, 0)),
+])
+def test_the_rotate_property_s_quarter_turns_are_exact(rotate, matrix):
+    from vecmsaa.svg.units import individual_transform
+    assert individual_transform(None, rotate, None, (10, 10)) == matrix
+
+
 def test_a_rect_turned_half_a_turn_covers_whole_pixels():
     # edges on pixel boundaries cover each pixel wholly or not at all (exact geometry): the
     # 16-sample pattern has samples on the boundary (offset -8/16), which the float noise of
