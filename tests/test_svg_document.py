@@ -945,3 +945,38 @@ def test_nested_patterns_are_looked_through_once_for_reference_cycles(monkeypatc
     assert Counting.calls <= 8 * elements, Counting.calls
     # the rect in p399 (and in every pattern around it) filled with p399 itself: the fill goes
     assert doc.lookup("#r").specified["fill"] == "none"
+
+
+@pytest.mark.parametrize("text, matrix", [
+    ("rotate(90)", (0, 1, -1, 0, 0, 0)), ("rotate(180)", (-1, 0, 0, -1, 0, 0)),
+    ("rotate(-90)", (0, -1, 1, 0, 0, 0)), ("rotate(270)", (0, -1, 1, 0, 0, 0)),
+    ("rotate(450)", (0, 1, -1, 0, 0, 0)), ("rotate(180 100 100)", (-1, 0, 0, -1, 200, 200)),
+    ("rotate(0.5turn)", (-1, 0, 0, -1, 0, 0)),
+])
+def test_quarter_turns_are_exact(text, matrix):
+    # the rotation matrix [cos a, sin a, -sin a, cos a] at whole quarter turns holds 0 and +-1
+    # exactly (not sin(radians(180)) = 1.2e-16), so a turned point on the grid stays on it
+    assert parse_transform(text) == matrix
+
+
+@pytest.mark.parametrize("rotate, matrix", [
+    ("90deg", (0, 1, -1, 0, 0, 0)), ("0.5turn", (-1, 0, 0, -1, 0, 0)),
+    ("z 180deg", (-1, 0, 0, -1, 0, 0)), ("-100grad", (0, -1, 1, 0, 0, 0)),
+])
+def test_the_rotate_property_s_quarter_turns_are_exact(rotate, matrix):
+    from vecmsaa.svg.units import individual_transform
+    assert individual_transform(None, rotate, None, (10, 10)) == matrix
+
+
+def test_a_rect_turned_half_a_turn_covers_whole_pixels():
+    # edges on pixel boundaries cover each pixel wholly or not at all (exact geometry): the
+    # 16-sample pattern has samples on the boundary (offset -8/16), which the float noise of
+    # a turn computed in radians put inside the rect, one row and column of 1/16 beyond it
+    from vecmsaa.api import render_svg_array
+    a = render_svg_array(b'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 200">'
+                         b'<g transform="rotate(180 100 100)"><rect x="20" y="20" width="160"'
+                         b' height="150" transform="rotate(90 100 100) rotate(-90 100 100)"/>'
+                         b'</g></svg>', width=200, height=200, samples=16)[..., 3]
+    expected = np.zeros((200, 200), np.uint8)
+    expected[30:180, 20:180] = 255
+    assert np.array_equal(a, expected)

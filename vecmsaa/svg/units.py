@@ -295,6 +295,18 @@ def _transform_args(name, text, box=None, font_size=None, attribute=False):
     return out
 
 
+def cos_sin_degrees(degrees):
+    """cos and sin of an angle in degrees, exact at whole quarter turns. math.radians(180) is
+    not pi, so its sine is 1.2e-16: a shape turned by rotate(180) or rotate(90) would have its
+    edges at 180 +- 3e-14 instead of on the pixel boundary, where the 16-sample pattern has
+    samples (its offsets -8/16), and a row beyond the edge would get 1/16 coverage."""
+    quarter, rest = divmod(degrees, 90.0)
+    if rest == 0.0:
+        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4]
+    a = math.radians(degrees)
+    return math.cos(a), math.sin(a)
+
+
 @functools.lru_cache(maxsize=4096)
 def parse_transform(text, box=None, font_size=None, attribute=False):
     """A transform list → affine matrix; None when the text is malformed. Cached by its
@@ -333,8 +345,7 @@ def parse_transform(text, box=None, font_size=None, attribute=False):
                 (nums[0], 1.0) if name == "scaleX" else (1.0, nums[0]))
             t = (sx, 0, 0, sy, 0, 0)
         elif name == "rotate":
-            a = math.radians(nums[0])
-            c, sn = math.cos(a), math.sin(a)
+            c, sn = cos_sin_degrees(nums[0])
             t = (c, sn, -sn, c, 0, 0)
             if n == 3:
                 cx, cy = nums[1], nums[2]
@@ -400,10 +411,9 @@ def individual_transform(translate_text, rotate_text, scale_text, box, font_size
         vector = [p[0] for p in parts[:3] if p[1] == ""] if len(parts) == 4 else [0, 0, 1]
         if ((unit in ANGLE_DEG and (unit or v == 0)) and len(vector) == 3
                 and any(vector)):
-            a = math.radians(v * ANGLE_DEG[unit])
             n = math.sqrt(sum(c * c for c in vector))
             x, y, z = (c / n for c in vector)
-            c, sn = math.cos(a), math.sin(a)
+            c, sn = cos_sin_degrees(v * ANGLE_DEG[unit])
             # Rodrigues' rotation matrix, rows x and y, columns x and y
             r00, r01 = c + x * x * (1 - c), x * y * (1 - c) - z * sn
             r10, r11 = y * x * (1 - c) + z * sn, c + y * y * (1 - c)
