@@ -202,7 +202,7 @@ def test_an_edge_beyond_the_int64_range_crosses_no_visible_pixel():
         edges = np.array([c.ravel() for _, c in segs])
         delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, len(sx))[:5]
         scan_edges(edges, 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist, dcount,
-                   np.zeros(rows, dtype=np.bool_))
+                   np.zeros(rows, dtype=np.bool_), np.zeros(len(sx), dtype=np.int64))
         winding = np.cumsum(delta[:, :W], axis=1)
         for py in range(rows):
             for px in range(W):
@@ -582,6 +582,40 @@ def test_a_kept_band_buffer_takes_the_next_renders_background(monkeypatch):
             assert render_scene_png(scenes[k], threads=threads, band_budget=7 * 61 * 16) == \
                 fresh[k]
             assert render_module._kits
+
+
+@pytest.mark.parametrize("mode,samples", [("persample", 8), ("approx", 16), ("alpha", 16),
+                                          ("a2c", 16), ("none", 1)])
+def test_strip_buffers_are_left_clean_by_curved_fills(mode, samples):
+    """The sweeps read and clear a pixel's lens windings only where scan_lenses flagged it
+    (scan.DIRTY_LENS): after a render of overlapping curved fills, translucent ones and runs
+    of opaque ones, every strip buffer given back holds no winding and no dirty pixel, as
+    msaa_scratch promises the next render (a lens winding left behind would be added to a
+    later fill's samples)."""
+    fills = [Fill(circle_path((30 + 9 * math.cos(k), 30 + 9 * math.sin(k)), 5 + 3 * k),
+                  Solid((0.1 * k, 0.4, 0.6, 1.0 if k % 3 else 0.7)),
+                  rule="evenodd" if k % 2 else "nonzero") for k in range(7)]
+    render_module._kits.clear()
+    render_scene(Scene(61, 61, Group(fills)), mode=mode, samples=samples,
+                 band_budget=7 * 61 * 16)
+    kits = [kit for kept in render_module._kits.values() for kit in kept]
+    assert kits
+    for scratch, *_ in kits:
+        delta, local, dirty, _, dcount = scratch[:5]
+        assert not delta.any() and not local.any()
+        assert not dirty.any() and not dcount.any()
+
+
+def test_strip_buffers_begin_on_a_cache_line():
+    from vecmsaa.raster.scan import CACHE_LINE, line_aligned, msaa_scratch
+    for n in (1, 8, 16):
+        scratch = msaa_scratch(3, 37, n)
+        for buf, shape in ((scratch[0], (3, 38, n)), (scratch[1], (3, 38, n)),
+                           (scratch[8], (3 * 37, n, 4))):
+            assert buf.shape == shape and buf.dtype == np.float32
+            assert buf.ctypes.data % CACHE_LINE == 0 and buf.flags.c_contiguous
+    ones = line_aligned((5, 7), np.int32, fill=-1)
+    assert ones.ctypes.data % CACHE_LINE == 0 and (ones == -1).all()
 
 
 FILTERED_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="96" height="80">'

@@ -278,7 +278,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             r_first = max(0, _floor_int(path_box[k, 1]) - sy0)
             r_last = min(rows - 1, _floor_int(path_box[k, 3]) - sy0)
             scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta, dirty,
-                       dlist, dcount, hidden)
+                       dlist, dcount, hidden, lo)
             if prim_off[k + 1] > prim_off[k]:
                 scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
                             mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,

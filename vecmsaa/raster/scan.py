@@ -39,6 +39,10 @@ MODE_NONE, MODE_ALPHA, MODE_A2C, MODE_PERSAMPLE, MODE_APPROX = 0, 1, 2, 3, 4
 MODE_IDS = {"none": MODE_NONE, "alpha": MODE_ALPHA, "a2c": MODE_A2C,
             "persample": MODE_PERSAMPLE, "approx": MODE_APPROX}
 RULE_NONZERO, RULE_EVENODD = 0, 1
+#: the dirty flag of a pixel a lens touched (its samples may hold lens windings in ``local``);
+#: an edge alone sets 1. The sweeps read and clear ``local`` only where this is set: elsewhere
+#: it is all zero, and the read was half of a dirty pixel's memory traffic
+DIRTY_LENS = 2
 BIG = 1 << 40
 #: run numbers stamp int32 (2·run + 1): past this the stamps are cleared and numbering restarts
 RUN_LIMIT = (1 << 30) - 1
@@ -208,10 +212,11 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span, 
 
 
 @njit(cache=True, error_model="numpy")
-def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount, hidden):
+def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount, hidden, col):
     """Winding deltas of the straight edges e0..e1 (one fill) on the sample rows of strip
     [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows). Written out in one loop nest: an array handed to a helper costs a
-    reference count per call, here per edge and per marked pixel."""
+    reference count per call, here per edge and per marked pixel. ``col``: n int64, where
+    each sample's crossing of a row lands."""
     n = sx.shape[0]
     for e in range(e0, e1):
         x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
@@ -247,17 +252,18 @@ def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount,
             if hidden[r]:
                 continue
             py = sy0 + r
+            # each sample's pixel first, W for none (arithmetic alone: it vectorises), then
+            # the deltas (a scatter: it does not)
             for s in range(n):
                 ys = py + sy[s]
-                if ys < yt or ys >= yb:
-                    continue
                 # the sample's pixel is ceil(v); compared as a float first (ceil(v) >= W
                 # exactly when v > W - 1): an edge reaching 1e19 px converts to no int64
                 v = crossing_x(xt, yt, dxdy, ys) - sx[s]
-                if v > W - 1.0:
-                    continue
-                px = int(math.ceil(v)) if v > 0.0 else 0
-                delta[r, px, s] += d
+                c = _ceil_int(v) if v > 0.0 else 0
+                col[s] = W if (ys < yt) | (ys >= yb) | (v > W - 1.0) else c
+            for s in range(n):
+                if col[s] < W:
+                    delta[r, col[s], s] += d
             # every pixel box this edge touches in the row becomes dirty (plus one to the
             # right, where crossings of samples left of the edge land)
             ya = max(yt, py)
@@ -446,10 +452,12 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                     for s in range(n):
                         if (bits >> np.uint64(s)) & np.uint64(1):
                             local[r, px, s] += w32
-                if dirty[r, px] == 0:
-                    dirty[r, px] = 1
-                    dlist[r, dcount[r]] = px
-                    dcount[r] += 1
+                touched = dirty[r, px]
+                if touched < DIRTY_LENS:
+                    if touched == 0:
+                        dlist[r, dcount[r]] = px
+                        dcount[r] += 1
+                    dirty[r, px] = touched | DIRTY_LENS
     lens_stats[0] += evaluated
 
 
@@ -527,14 +535,23 @@ def sweep_rows(r0, r1, sy0, W, rule, aa, kind, f, lut, tex, delta, local, dirty,
                                 span, s0, s1)
             if i == cnt:
                 break
+            lens = dirty[r, px] & DIRTY_LENS
             dirty[r, px] = 0
+            if lens:
+                for s in range(n):
+                    wrun[s] += delta[r, px, s]
+                    delta[r, px, s] = 0.0
+                    cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
+                    local[r, px, s] = 0.0
+            else:
+                for s in range(n):
+                    wrun[s] += delta[r, px, s]
+                    delta[r, px, s] = 0.0
+                    cov[s] = coverage_of(wrun[s], rule)
             uniform = True
-            for s in range(n):
-                wrun[s] += delta[r, px, s]
-                delta[r, px, s] = 0.0
-                cov[s] = coverage_of(wrun[s] + local[r, px, s], rule)
-                local[r, px, s] = 0.0
-                if cov[s] != cov[0]:
+            c0 = cov[0]
+            for s in range(1, n):
+                if cov[s] != c0:
                     uniform = False
             if not aa:
                 # crispEdges: one sample decides for the whole pixel
@@ -731,14 +748,22 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
                     nxt[r, t] = root
             if i == cnt:
                 break
+            lens = dirty[r, px] & DIRTY_LENS
             dirty[r, px] = 0
             bits = np.uint64(0)
-            for s in range(n):
-                wrun[s] += delta[r, px, s]
-                delta[r, px, s] = 0.0
-                if coverage_of(wrun[s] + local[r, px, s], rule) > 0.0:
-                    bits |= one << np.uint64(s)
-                local[r, px, s] = 0.0
+            if lens:
+                for s in range(n):
+                    wrun[s] += delta[r, px, s]
+                    delta[r, px, s] = 0.0
+                    if coverage_of(wrun[s] + local[r, px, s], rule) > 0.0:
+                        bits |= one << np.uint64(s)
+                    local[r, px, s] = 0.0
+            else:
+                for s in range(n):
+                    wrun[s] += delta[r, px, s]
+                    delta[r, px, s] = 0.0
+                    if coverage_of(wrun[s], rule) > 0.0:
+                        bits |= one << np.uint64(s)
             if not aa:
                 # crispEdges: one sample decides for the whole pixel
                 bits = full if bits & one else np.uint64(0)
@@ -786,13 +811,31 @@ def sweep_rows_behind(r0, r1, W, rule, aa, f, delta, local, dirty, dlist, dcount
     return npool
 
 
+#: bytes of a cache line: the per-sample buffers start on one, so that a pixel's samples (64
+#: bytes of winding deltas at 16 samples) fill whole lines instead of straddling two
+CACHE_LINE = 64
+
+
+def line_aligned(shape, dtype, fill=None):
+    """An array of ``shape`` whose first element begins a cache line (numpy's large
+    allocations begin 16 bytes into one), zeroed or set to ``fill``."""
+    dtype = np.dtype(dtype)
+    size = int(np.prod(shape)) * dtype.itemsize
+    raw = np.zeros(size + CACHE_LINE, dtype=np.uint8)
+    skip = -raw.ctypes.data % CACHE_LINE
+    out = raw[skip:skip + size].view(dtype).reshape(shape)
+    if fill is not None:
+        out[...] = fill
+    return out
+
+
 def msaa_scratch(strip_rows, W, n, lens_stats=None):
     """render_msaa's per-strip buffers, allocated once per image and reused by every call:
     the kernel leaves them as it found them (zero deltas, nothing dirty, no split pixels),
     but for the occlusion stamps, which hold the numbers of past runs (no later run's).
     ``lens_stats``: where scan_lenses counts (1 int64), e.g. shared by a whole render."""
-    return (np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # delta
-            np.zeros((strip_rows, W + 1, n), dtype=np.float32),     # local
+    return (line_aligned((strip_rows, W + 1, n), np.float32),       # delta
+            line_aligned((strip_rows, W + 1, n), np.float32),       # local
             np.zeros((strip_rows, W + 1), dtype=np.uint8),          # dirty
             np.empty((strip_rows, W + 1), dtype=np.int64),          # dlist
             np.zeros(strip_rows, dtype=np.int64),                   # dcount
@@ -802,7 +845,7 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.full((strip_rows, W), -1, dtype=np.int32),           # cplx
             np.full((strip_rows, W), -1, dtype=np.int32),           # slot_of
             np.empty(strip_rows * W, dtype=np.int64),               # slot_pixel
-            np.empty((strip_rows * W, n, 4), dtype=np.float32),     # pool
+            line_aligned((strip_rows * W, n, 4), np.float32),       # pool
             np.zeros(1, dtype=np.int64) if lens_stats is None else lens_stats,
             # runs of opaque fills (sweep_rows_behind): samples painted so far, whose they
             # are (the run's number), the next pixel not full, and the last run's number
@@ -843,6 +886,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    col = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
     # what each run has stamped in each row (sweep_rows_behind); run numbers start at 1
     extent = np.zeros((strip_rows, 3), dtype=np.int64)
@@ -898,7 +942,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                         hidden[r_first:r_last + 1] = False
                         continue
                 scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
-                           dirty, dlist, dcount, hidden)
+                           dirty, dlist, dcount, hidden, col)
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx,
                                 sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
@@ -921,11 +965,16 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             r = slot_pixel[slot] // W
             px = slot_pixel[slot] - r * W
             if cplx[r, px] == slot:
-                for ch in range(4):
-                    acc = 0.0
-                    for s in range(n):
-                        acc += pool[slot, s, ch] * weights[s]
-                    fb[r, px, ch] = acc
+                # the four channels side by side, each summed in sample order: one pass over
+                # the slot's samples (a channel at a time strode through them four times)
+                a0 = a1 = a2 = a3 = 0.0
+                for s in range(n):
+                    w = weights[s]
+                    a0 += pool[slot, s, 0] * w
+                    a1 += pool[slot, s, 1] * w
+                    a2 += pool[slot, s, 2] * w
+                    a3 += pool[slot, s, 3] * w
+                fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = a0, a1, a2, a3
             cplx[r, px] = -1
             slot_of[r, px] = -1
 
