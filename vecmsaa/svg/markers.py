@@ -6,7 +6,7 @@ import re
 
 from ..geometry.stroke import segment_tangents
 from ..scene.path import CLOSE, CUBIC, MOVE, VERB_POINTS, Path
-from ..scene.transform import compose, translate
+from ..scene.transform import compose, rotate_at, translate
 from ..scene.nodes import Fill, Group
 from .units import (ANGLE_DEG, NUMBER_RE, parse_aspect, parse_viewbox,
                     viewbox_transform, zero_size_viewbox)
@@ -99,8 +99,7 @@ def one_marker(builder, marker, x, y, angle_in, angle_out, kind, stroke_width, c
         angle = fixed_angle
     m = translate(x, y)
     if angle:
-        r = math.radians(angle)
-        m = compose(m, (math.cos(r), math.sin(r), -math.sin(r), math.cos(r), 0.0, 0.0))
+        m = compose(m, rotate_at(angle, 0.0, 0.0))
     m = compose(m, scaling)
     m = compose(m, ref)
     # Marker content is a fresh instantiation: the <use> cycle guard restarts (recursion

@@ -5,7 +5,7 @@ import functools
 import math
 import re
 
-from ..scene.transform import IDENTITY, compose
+from ..scene.transform import IDENTITY, compose, cos_sin_degrees
 
 NUMBER_RE = r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?"
 #: a CSS <length>: the unit follows the number directly ("50 px" is two tokens, no length)
@@ -293,18 +293,6 @@ def _transform_args(name, text, box=None, font_size=None, attribute=False):
     if not lo <= len(out) <= hi or (name == "rotate" and len(out) == 2):
         return None
     return out
-
-
-def cos_sin_degrees(degrees):
-    """cos and sin of an angle in degrees, exact at whole quarter turns. math.radians(180) is
-    not pi, so its sine is 1.2e-16: a shape turned by rotate(180) or rotate(90) would have its
-    edges at 180 +- 3e-14 instead of on the pixel boundary, where the 16-sample pattern has
-    samples (its offsets -8/16), and a row beyond the edge would get 1/16 coverage."""
-    quarter, rest = divmod(degrees, 90.0)
-    if rest == 0.0:
-        return ((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4]
-    a = math.radians(degrees)
-    return math.cos(a), math.sin(a)
 
 
 @functools.lru_cache(maxsize=4096)
