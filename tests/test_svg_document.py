@@ -968,6 +968,17 @@ def test_the_rotate_property_s_quarter_turns_are_exact(rotate, matrix):
     assert individual_transform(None, rotate, None, (10, 10)) == matrix
 
 
+@pytest.mark.parametrize("degrees, matrix", [
+    (90, (0, 1, -1, 0, 10, -10)), (180, (-1, 0, 0, -1, 20, 0)), (-90, (0, -1, 1, 0, 10, 10)),
+    (450, (0, 1, -1, 0, 10, -10)),
+])
+def test_rotate_at_is_exact_at_quarter_turns(degrees, matrix):
+    # the rotation a glyph's rotate list, a textPath glyph and a marker's angle are turned by
+    # (scene.transform.rotate_at), about (10, 0): exact, as the transform attribute's
+    from vecmsaa.scene.transform import rotate_at
+    assert rotate_at(degrees, 10, 0) == matrix
+
+
 def test_a_rect_turned_half_a_turn_covers_whole_pixels():
     # edges on pixel boundaries cover each pixel wholly or not at all (exact geometry): the
     # 16-sample pattern has samples on the boundary (offset -8/16), which the float noise of
