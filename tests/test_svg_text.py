@@ -271,6 +271,246 @@ def test_sideways_right_is_sideways():
     assert not np.array_equal(draw("sideways"), draw("mixed"))
 
 
+def _vertical_metrics_font(path, family, vertical=None, cff=False, vorg=None):
+    """A font drawing A as the rectangle (100, 0)-(500, 700) and B as (50, -200)-(550, 500),
+    each 600 units wide (1000 per em, ascender 800, descender -200, underline 50 thick),
+    with the vertical advances and top side bearings ``vertical`` ({name: (advance, tsb)})
+    in vhea/vmtx, or none; ``cff``: CFF outlines; ``vorg``: VORG's vertical origins
+    ({name: y})."""
+    from fontTools.fontBuilder import FontBuilder
+    from fontTools.pens.t2CharStringPen import T2CharStringPen
+    from fontTools.pens.ttGlyphPen import TTGlyphPen
+    from fontTools.ttLib import newTable
+
+    boxes = {"A": (100, 0, 500, 700), "B": (50, -200, 550, 500)}
+    fb = FontBuilder(1000, isTTF=not cff)
+    fb.setupGlyphOrder([".notdef", "A", "B"])
+    fb.setupCharacterMap({ord("A"): "A", ord("B"): "B"})
+    glyphs = {}
+    for name, box in {".notdef": None, **boxes}.items():
+        pen = T2CharStringPen(600, None) if cff else TTGlyphPen(None)
+        if box is not None:
+            x0, y0, x1, y1 = box
+            pen.moveTo((x0, y0))
+            pen.lineTo((x0, y1))
+            pen.lineTo((x1, y1))
+            pen.lineTo((x1, y0))
+            pen.closePath()
+        glyphs[name] = pen.getCharString() if cff else pen.glyph()
+    if cff:
+        fb.setupCFF(family, {"FullName": family}, glyphs, {})
+    else:
+        fb.setupGlyf(glyphs)
+    fb.setupHorizontalMetrics({".notdef": (600, 0), "A": (600, 100), "B": (600, 50)})
+    fb.setupHorizontalHeader(ascent=800, descent=-200)
+    if vertical is not None:
+        fb.setupVerticalMetrics({".notdef": (1000, 0), **vertical})
+        fb.setupVerticalHeader(ascent=500, descent=-500)
+    if vorg is not None:
+        table = newTable("VORG")
+        table.majorVersion, table.minorVersion = 1, 0
+        table.defaultVertOriginY = 880
+        table.VOriginRecords = dict(vorg)
+        table.numVertOriginYMetrics = len(vorg)
+        fb.font["VORG"] = table
+    fb.setupNameTable({"familyName": family, "styleName": "Regular"})
+    fb.setupOS2(sTypoAscender=800, sTypoDescender=-200, usWinAscent=800, usWinDescent=200)
+    fb.setupPost(underlinePosition=-100, underlineThickness=50)
+    fb.save(str(path))
+
+
+def _draw_vertical(tmp_path, family, text, style="text-orientation: upright", extra="",
+                   **fonts):
+    """``text`` at (100, 20), 100 px, in vertical text (style on <text>), drawn with the
+    fonts of ``tmp_path``; the alpha as floats."""
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="300">'
+           f'<text x="100" y="20" font-size="100" font-family="{family}" writing-mode="tb" '
+           f'style="{style}" {extra}>{text}</text></svg>')
+    return alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True,
+                                  **fonts))
+
+
+def _ink_runs(a, axis_rows=True, level=0.5):
+    """[(start, end)] of the inked stretches of rows (or columns) of ``a``."""
+    inked = (a.max(axis=1) if axis_rows else a.max(axis=0)) > level
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], inked.astype(int), [0]))))
+    return [(int(s), int(e)) for s, e in zip(edges[0::2], edges[1::2])]
+
+
+@pytest.mark.parametrize("kind", ["vmtx", "none", "cff-vorg"])
+def test_upright_text_orientation_sets_every_character_upright_on_vertical_metrics(
+        tmp_path, kind):
+    """CSS Writing Modes 3 §5.1 text-orientation: upright sets every character upright, Latin
+    included, in vertical typographic mode: each glyph is drawn unturned, half its horizontal
+    advance left of the column's middle, hanging from its vertical origin, and the pen moves
+    down by its vertical advance. With vmtx (OpenType): the origin is yMax + the top side
+    bearing above the glyph, the advance vmtx's (A: 900, tsb 150; B: 1100, tsb 250); a CFF
+    font's VORG gives the origin (A 900, B 650; vmtx advances); without either: every glyph
+    advances by the ascender-to-descender height (1000) and hangs from the ascender (800),
+    as Chromium (OpenTypeVerticalData) and HarfBuzz's advances do. At 100 px from (100, 20):
+    A's rectangle (100, 0)-(500, 700) spans columns 100 - 30 + 10 to + 50; B's (50, -200)-
+    (550, 500) columns 75 to 125. glyph-orientation-vertical (SVG 1.1's, which SVG 2 drops)
+    does not set it."""
+    vertical = {"A": (900, 150), "B": (1100, 250)}
+    if kind == "vmtx":
+        _vertical_metrics_font(tmp_path / "v.ttf", "V", vertical)
+        a_top, pen_b, b_top = 20 + 15, 20 + 90, 20 + 90 + 25
+    elif kind == "none":
+        _vertical_metrics_font(tmp_path / "v.ttf", "V")
+        a_top, pen_b, b_top = 20 + 10, 20 + 100, 20 + 100 + 30
+    else:
+        _vertical_metrics_font(tmp_path / "v.otf", "V", vertical, cff=True,
+                               vorg={"A": 900, "B": 650})
+        a_top, pen_b, b_top = 20 + 20, 20 + 90, 20 + 90 + 15
+    a = _draw_vertical(tmp_path, "V", "AB")
+    assert _ink_runs(a) == [(a_top, a_top + 70), (b_top, b_top + 70)]
+    assert _ink_runs(a[:pen_b], axis_rows=False) == [(80, 120)]
+    assert _ink_runs(a[pen_b:], axis_rows=False) == [(75, 125)]
+    mixed = _draw_vertical(tmp_path, "V", "AB", style="text-orientation: mixed")
+    assert not np.array_equal(mixed, a)
+    for old in ('glyph-orientation-vertical="0"', ''):
+        assert np.array_equal(_draw_vertical(
+            tmp_path, "V", "AB", style="glyph-orientation-vertical: 0", extra=old), mixed)
+
+
+def test_upright_text_orientation_is_inherited_and_css_only(tmp_path):
+    """text-orientation is inherited (a group's applies to its text, ``inherit`` takes it,
+    an invalid value leaves the inherited one) and has no presentation attribute (SVG 2
+    lists none; as Chromium)."""
+    _vertical_metrics_font(tmp_path / "v.ttf", "V", {"A": (900, 150), "B": (1100, 250)})
+
+    def draw(body, css=""):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="300">'
+               f'<style>{css}</style>{body}</svg>')
+        return render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True)
+    text = '<text x="100" y="20" font-size="100" font-family="V" writing-mode="tb"'
+    upright = draw(f'{text} style="text-orientation: upright">AB</text>')
+    mixed = draw(f'{text}>AB</text>')
+    assert not np.array_equal(upright, mixed)
+    assert np.array_equal(draw(f'<g style="text-orientation: upright">{text}>AB</text></g>'),
+                          upright)
+    assert np.array_equal(draw(f'{text} class="u">AB</text>', ".u { text-orientation: upright }"),
+                          upright)
+    assert np.array_equal(draw(f'<g style="text-orientation: upright">{text} '
+                               'style="text-orientation: inherit">AB</text></g>'), upright)
+    assert np.array_equal(draw(f'<g style="text-orientation: upright">{text} '
+                               'style="text-orientation: upwards">AB</text></g>'), upright)
+    assert np.array_equal(draw(f'{text} text-orientation="upright">AB</text>'), mixed)
+    # on a span: its characters alone, the A before it turned as mixed turns it (its
+    # horizontal advance, 60 px, down the column), B upright below
+    span = alpha(draw(f'{text}>A<tspan style="text-orientation: upright">B</tspan></text>'))
+    assert _ink_runs(span)[-1] == (80 + 25, 80 + 95)
+    assert _ink_runs(span[80:], axis_rows=False) == [(75, 125)]
+
+
+@pytest.mark.parametrize("anchor, spacing, start", [
+    ("start", 0, 200), ("middle", 0, 200 - 100), ("end", 0, 200 - 200),
+    ("start", 10, 200), ("end", 10, 200 - 210)])
+def test_upright_text_anchors_and_spaces_its_vertical_advances(tmp_path, anchor, spacing,
+                                                               start):
+    """text-anchor and letter-spacing on upright text measure its vertical advances (A 90 px,
+    B 110 px at 100 px per em): the chunk "AB" is 200 long (210 with 10 of letter-spacing
+    after A), its start, middle or end at y = 200 (SVG 2 anchoring along the inline axis)."""
+    _vertical_metrics_font(tmp_path / "v.ttf", "V", {"A": (900, 150), "B": (1100, 250)})
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="420">'
+           '<text x="100" y="200" font-size="100" font-family="V" writing-mode="tb" '
+           f'text-anchor="{anchor}" letter-spacing="{spacing}" '
+           'style="text-orientation: upright">AB</text></svg>')
+    a = alpha(render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True))
+    b = start + 90 + spacing
+    assert _ink_runs(a) == [(start + 15, start + 85), (b + 25, b + 95)]
+
+
+def test_upright_text_decoration_and_bounding_box_follow_the_column(tmp_path):
+    """Under upright the decorations run down the column over the vertical advances (y 20
+    to 220 for AB: 90 + 110), at the em box's edges about its middle, as for upright CJK
+    (the underline on the left: x = 100 - (800 + 200) / 2 / 10, 5 px thick from post; the
+    overline on the right); the object bounding box is the em boxes on the column: x from
+    50 to 150, y from 20 to 220 (Chromium's getBBox gives the same), so a gradient's 30%
+    stop along y falls at y = 80, inside A (rows 35-105)."""
+    _vertical_metrics_font(tmp_path / "v.ttf", "V", {"A": (900, 150), "B": (1100, 250)})
+    a = _draw_vertical(tmp_path, "V", "AB", extra='text-decoration="underline overline"')
+    lines = a[:, :70].max(axis=1) > 0.5, a[:, 130:].max(axis=1) > 0.5
+    for inked in lines:
+        assert np.flatnonzero(inked).min() == 20 and np.flatnonzero(inked).max() + 1 == 220
+    for band, centre in ((a[100, :70], 50), (a[100, 130:], 150 - 130)):
+        # (row 100: the lines left and right of A's ink)
+        assert band.sum() == pytest.approx(5, abs=0.01)
+        assert (band * np.arange(len(band))).sum() / band.sum() + 0.5 == pytest.approx(centre)
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="300">'
+           '<linearGradient id="g" x2="0" y2="1"><stop offset="0.3" stop-color="#00f"/>'
+           '<stop offset="0.3" stop-color="#0f0"/></linearGradient>'
+           '<text x="100" y="20" font-size="100" font-family="V" writing-mode="tb" '
+           'fill="url(#g)" style="text-orientation: upright">AB</text></svg>')
+    img = render_svg_array(svg, use_fonts_dir=str(tmp_path), skip_system_fonts=True)
+    assert tuple(img[78, 100, :3]) == (0, 0, 255)
+    assert tuple(img[82, 100, :3]) == (0, 255, 0)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "MPLUS1p-Regular.ttf")),
+                    reason="needs the resvg suite's fonts")
+@pytest.mark.parametrize("family, file", [("Noto Sans", "NotoSans-Regular.ttf"),
+                                          ("'Mplus 1p'", "MPLUS1p-Regular.ttf")])
+def test_upright_latin_digits_and_cjk_on_the_suite_fonts(family, file):
+    """Latin, digits and (Mplus 1p) kana upright in the suite's fonts, each glyph's ink from
+    its glyf box: Mplus 1p has vmtx (its ink top at the pen + the top side bearing, the pen
+    moving by its vertical advances); Noto Sans has none (the ink top at the pen + hhea's
+    ascender - yMax, the pen moving by ascender - descender)."""
+    from fontTools.ttLib import TTFont
+    font = TTFont(os.path.join(SUITE, "fonts", file))
+    text = "A1" + ("\u3042" if "vmtx" in font else "") + "g"
+    s = 100 / font["head"].unitsPerEm
+    cmap, glyf, hmtx = font.getBestCmap(), font["glyf"], font["hmtx"]
+    pen, rows, cols = 20.0, [], []
+    for ch in text:
+        name = cmap[ord(ch)]
+        g = glyf[name]
+        if "vmtx" in font:
+            advance, tsb = font["vmtx"][name]
+            top = pen + tsb * s
+        else:
+            advance = font["hhea"].ascent - font["hhea"].descent
+            top = pen + (font["hhea"].ascent - g.yMax) * s
+        rows.append((top, top + (g.yMax - g.yMin) * s))
+        left = 150 - hmtx[name][0] / 2 * s
+        cols.append((left + g.xMin * s, left + g.xMax * s))
+        pen += advance * s
+    svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="300" height="500">'
+           f'<text x="150" y="20" font-size="100" font-family="{family}" writing-mode="tb" '
+           f'style="text-orientation: upright">{text}</text></svg>')
+    a = alpha(render_svg_array(svg, **SUITE_FONTS))
+    got = _ink_runs(a)
+    assert len(got) == len(text)
+    for (r0, r1), (e0, e1), (x0, x1) in zip(got, rows, cols):
+        assert r0 == pytest.approx(e0, abs=1) and r1 == pytest.approx(e1, abs=1)
+        inked = _ink_runs(a[r0:r1], axis_rows=False)
+        assert inked[0][0] == pytest.approx(x0, abs=1)
+        assert inked[-1][1] == pytest.approx(x1, abs=1)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts", "Amiri-Regular.ttf")),
+                    reason="needs the resvg suite's Amiri")
+def test_upright_text_is_left_to_right_for_bidi():
+    """CSS Writing Modes 3 §5.1: under upright every character counts as strong LTR for bidi
+    reordering, so Arabic runs down the column in logical order (Chromium 150 reverses it):
+    "سل" is drawn as its س over its ل, each as drawn alone in its own cell."""
+    def draw(text, y):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="200" height="300">'
+               f'<text x="100" y="{y}" font-size="60" font-family="Amiri" writing-mode="tb" '
+               f'style="text-orientation: upright">{text}</text></svg>')
+        return alpha(render_svg_array(svg, **SUITE_FONTS))
+    from fontTools.ttLib import TTFont
+    font = TTFont(os.path.join(SUITE, "fonts", "Amiri-Regular.ttf"))
+    assert "vmtx" not in font
+    m = font["hhea"]
+    advance = (m.ascent - m.descent) * 60 / font["head"].unitsPerEm
+    pair = draw("\u0633\u0644", 20)
+    alone = np.maximum(draw("\u0633", 20), draw("\u0644", 20 + advance))
+    assert np.abs(pair - alone).max() < 0.02
+    swapped = np.maximum(draw("\u0644", 20), draw("\u0633", 20 + advance))
+    assert np.abs(pair - swapped).max() > 0.5
+
+
 @pytest.mark.parametrize("css, lines", [
     ("text-decoration-line: underline", {"underline"}),
     ("text-decoration-line: underline overline", {"underline", "overline"}),

@@ -124,6 +124,9 @@ class Face:
             raise FontError(f"unsupported font {self.path}: no glyf, CFF or CFF2 outlines")
         self.units_per_em = int(head.unitsPerEm) or 1000
         self.has_outlines = any(t in self.ttfont for t in ("glyf", "CFF ", "CFF2"))
+        # vertical advances (vhea + vmtx) or origins (VORG) of its own, for vertical shaping
+        self.has_vertical_metrics = (("vhea" in self.ttfont and "vmtx" in self.ttfont)
+                                     or "VORG" in self.ttfont)
         self.num_glyphs = len(self.glyph_order)
         self._glyph_sets = {}
         self._outlines = {}

@@ -194,7 +194,8 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
         buf.script = script
     if language:
         buf.language = language
-    hb.shape(face.hb_font(location), buf, features or {})
+    font = face.hb_font(location)
+    hb.shape(font, buf, features or {})
     infos = buf.glyph_infos
     positions = buf.glyph_positions
     n = len(infos)
@@ -202,6 +203,14 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
     clusters = np.fromiter((i.cluster for i in infos), np.int64, n) + lo
     # (``position``: x_offset, y_offset, x_advance, y_advance in one attribute)
     pos = np.array([p.position for p in positions], dtype=np.float64).reshape(-1, 4)
+    if direction in ("ttb", "btt") and not face.has_vertical_metrics:
+        # A face without vmtx or VORG advances by its ascender-to-descender height (HarfBuzz's
+        # fallback) and hangs every glyph from the ascender, its vertical origin half the
+        # advance across and the ascender up, as Chromium does (OpenTypeVerticalData): the
+        # em box fills the advance. HarfBuzz centres each glyph's ink in the advance instead,
+        # so its origin (subtracted in the offsets) is swapped for the ascender.
+        ascender = font.get_font_extents("ltr").ascender
+        pos[:, 1] += [font.get_glyph_v_origin(g)[1] - ascender for g in gids.tolist()]
     return ShapedRun(face, location, gids, clusters, pos[:, 2:].copy(), pos[:, :2].copy(),
                      direction, start, end)
 

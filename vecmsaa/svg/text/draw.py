@@ -17,13 +17,15 @@ from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
 
 def text_bbox(clusters):
     """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
-    (ascent to descent over the advance), not of the glyph outlines."""
+    (ascent to descent over the advance), not of the glyph outlines. A cluster of vertical
+    text under text-orientation: upright has its em box on the line (its vertical advance
+    along the column, the em height across), not turned back with its glyphs."""
     xs, ys = [], []                 # (plain floats: a text has a few clusters)
     for c in clusters:
         if not c.visible:
             continue
         adv = c.advance if c.advance > 0 else 1.0
-        a, b, cc, d, e, f = c.placed
+        a, b, cc, d, e, f = c.frame if c.upright else c.placed
         # the corners (0, top), (adv, top), (0, bottom), (adv, bottom), mapped written out
         top, bottom = -c.ascent, -c.descent
         xs += (a * 0.0 + cc * top + e, a * adv + cc * top + e,

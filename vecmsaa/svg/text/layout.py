@@ -28,6 +28,9 @@ from .on_path import path_walker, position_on_path
 NO_LETTER_SPACING = ((0x0600, 0x08FF), (0x0900, 0x0A7F), (0x1680, 0x169F), (0x1800, 0x18AF),
                      (0xA800, 0xA87F), (0xFB50, 0xFDFF), (0xFE70, 0xFEFF))
 WORD_SEPARATORS = {0x20, 0xA0, 0x1361, 0x10100, 0x10101, 0x1039F, 0x1091F}
+#: a quarter turn counter-clockwise: upright glyphs on the line of vertical text, which is
+#: turned clockwise
+TURNED_BACK = rotate_at(-90.0, 0.0, 0.0)
 
 
 @dataclass(slots=True)
@@ -65,15 +68,18 @@ class Cluster:
     placed: tuple = IDENTITY    # frame after path_ts: its em box and glyphs in user units
     visible: bool = True
     sideways: bool = False    # vertical writing, text-orientation: sideways
+    upright: bool = False     # vertical writing, text-orientation: upright: shaped top to bottom
     shifted: bool = False     # moved by dx/dy/rotate or on a path: restarts decorations
     widest: float = 0.0       # its widest glyph's advance: on a path, the cluster's middle
     gap: float = 0.0          # textLength's spacing in its advance (after it)
     carry: tuple = NO_CARRY   # dx, dy of its characters after the first: move what follows
 
 
-def shape_chunk(chars, faces, specs, start, end, text=None):
+def shape_chunk(chars, faces, specs, start, end, text=None, upright=None):
     """Clusters of chars[start:end] in visual order: the Unicode bidi algorithm's runs for a
-    left-to-right paragraph (resvg's, whatever the ``direction`` property says), reordered.
+    left-to-right paragraph (resvg's, whatever the ``direction`` property says), reordered;
+    the characters ``upright`` marks (vertical text under text-orientation: upright) in runs
+    of their own, shaped top to bottom (:func:`shaping_runs`).
 
     As resvg does, each bidi run is shaped whole with every face (and font settings) that
     its characters use, and each cluster is taken from the shaping by its own character's
@@ -85,8 +91,7 @@ def shape_chunk(chars, faces, specs, start, end, text=None):
         text = "".join(c.ch for c in chars)
     chunk = (start, end)
     clusters = []
-    for s, e, d in visual_runs(text[start:end], "ltr"):
-        s, e = s + start, e + start
+    for s, e, d in shaping_runs(text, start, end, upright):
         # each character's shaping key, found once per (face, spec) pair (by which
         # _pick_clusters looks a character's up again)
         keys, key_of, missing = {}, {}, False
@@ -110,6 +115,30 @@ def shape_chunk(chars, faces, specs, start, end, text=None):
         else:
             clusters.extend(_pick_clusters(shaped, key_of, faces, specs, e, d))
     return clusters
+
+
+def shaping_runs(text, start, end, upright):
+    """The runs of text[start:end] to shape, in visual order, as (start, end, direction):
+    each stretch of characters set upright (``upright[k]``; None: none) one run shaped top
+    to bottom, with the font's vertical metrics and forms (CSS Writing Modes 3 §5.1, §7.1:
+    HarfBuzz applies ``vert`` and the vertical advances and origins); the rest the bidi
+    algorithm's runs. Upright characters count as strong left-to-right for bidi (§5.1), in
+    a left-to-right paragraph: no reordering crosses them, so the stretches between them
+    are reordered alone."""
+    if upright is None or not any(upright[start:end]):
+        return [(s + start, e + start, d) for s, e, d in visual_runs(text[start:end], "ltr")]
+    runs = []
+    k = start
+    while k < end:
+        stop = k + 1
+        while stop < end and upright[stop] == upright[k]:
+            stop += 1
+        if upright[k]:
+            runs.append((k, stop, "ttb"))
+        else:
+            runs.extend((s + k, e + k, d) for s, e, d in visual_runs(text[k:stop], "ltr"))
+        k = stop
+    return runs
 
 
 def _distinct_starts(shaped):
@@ -211,19 +240,31 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     pen = 0.0
     upem = face.units_per_em
     m = face.metrics
+    # Top to bottom (upright vertical text): the pen moves down by the vertical advances
+    # (HarfBuzz's are negative, y up), each glyph placed upright from it by its offsets,
+    # which hold its vertical origin; the cluster is turned upright as a whole
+    # (apply_writing_mode), its em box the font's ascender-to-descender height across the
+    # column about its middle.
+    down = direction == "ttb"
+    advances = (-run.advances[:, 1] if down else run.advances[:, 0]).tolist()
     # (Python numbers from the arrays at once: numpy scalars per glyph cost more than the rest)
-    for gid, cl, adv, off_x, off_y in zip(run.gids.tolist(), run.clusters.tolist(),
-                                          run.advances[:, 0].tolist(),
+    for gid, cl, adv, off_x, off_y in zip(run.gids.tolist(), run.clusters.tolist(), advances,
                                           run.offsets[:, 0].tolist(), run.offsets[:, 1].tolist()):
         cl = owner.get(cl, cl)
         if current is None or current.char != cl:
             size = specs[cl].size
             scale = size / upem
-            current = Cluster(cl, [], face, size, 0.0, 0.0, m.ascender * scale,
-                              m.descender * scale)
+            if down:
+                top = (m.ascender - m.descender) * scale / 2
+                bottom = -top
+            else:
+                top, bottom = m.ascender * scale, m.descender * scale
+            current = Cluster(cl, [], face, size, 0.0, 0.0, top, bottom, upright=down)
             out.append(current)
             pen = 0.0
-        current.glyphs.append(Glyph(face, loc, gid, pen + off_x * scale, -off_y * scale, scale))
+        dx, dy = off_x * scale, -off_y * scale
+        current.glyphs.append(Glyph(face, loc, gid, dx, pen + dy, scale) if down else
+                              Glyph(face, loc, gid, pen + dx, dy, scale))
         width = adv * scale
         pen += width
         current.width = current.advance = pen
@@ -306,30 +347,38 @@ def apply_spacing(clusters, chars, specs):
             c.advance += specs[c.char].word_spacing
 
 
-def apply_writing_mode(clusters, chars):
-    """Vertical text: upright characters (CJK) are turned back upright about their centre,
-    others keep the rotated line, centred on the column; under text-orientation: sideways
-    every character keeps the rotated line, on its alphabetic baseline."""
+def apply_writing_mode(clusters, chars, orientations):
+    """Vertical text (``orientations``: each character's text-orientation): characters set
+    upright are turned back upright, the pen on the middle of the column; the others keep
+    the rotated line, centred on the column; under text-orientation: sideways every
+    character keeps the rotated line, on its alphabetic baseline. Under upright every
+    character is set upright, shaped top to bottom with its own vertical origin and
+    advance; under mixed the Vertical_Orientation U ones (CJK) are, with their horizontal
+    advance and their em box centred on it (as resvg 0.48.1)."""
     for c in clusters:
-        if sideways(chars[c.char].span.style):
+        if orientations[c.char] == "sideways":
             c.sideways = True
+        elif c.upright:
+            c.path_ts = TURNED_BACK
         elif _is_upright(ord(chars[c.char].ch)):
-            # turned back about the middle of its em box's height, then moved down by
-            # that half: the top of the em box (the ascender) meets the pen position
+            # its em box centred on the advance: the glyph origin half the advance left of
+            # the column's middle and half the advance plus the middle of the em box's
+            # height down from the pen
             mid = (c.ascent + c.descent) / 2
-            c.path_ts = compose(translate(0.0, mid), rotate_at(-90.0, c.width / 2, -mid))
+            c.path_ts = compose(TURNED_BACK, translate(-c.width / 2, c.width / 2 + mid))
             c.ascent, c.descent = c.width / 2, -c.width / 2
         else:
             # Rotated characters sit on the central baseline (measured against resvg 0.48)
             c.pre = translate(0.0, (c.ascent + c.descent) / 2)
 
 
-def sideways(style):
-    """text-orientation: sideways (CSS Writing Modes 3 §5.1; inherited, CSS only): vertical
-    text set as horizontal text turned 90° clockwise, CJK included, in horizontal typographic
-    mode, whose dominant baseline is the alphabetic one (§4.2), not the central one. (upright,
-    which needs vertical advances, is drawn as mixed.)"""
-    return style.get_valid("text-orientation", _text_orientation, "mixed") == "sideways"
+def text_orientation(style):
+    """text-orientation (CSS Writing Modes 3 §5.1; inherited, CSS only): mixed, upright or
+    sideways. sideways sets vertical text as horizontal text turned 90° clockwise, CJK
+    included, in horizontal typographic mode, whose dominant baseline is the alphabetic one
+    (§4.2), not the central one; upright sets every character upright, in vertical
+    typographic mode, as mixed sets the CJK ones."""
+    return style.get_valid("text-orientation", _text_orientation, "mixed")
 
 
 def _text_orientation(value):
@@ -783,18 +832,20 @@ def build_text(element, ctx):
         return []
     writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
+    orientations = [text_orientation(c.span.style) for c in chars] if vertical else None
+    upright = [o == "upright" for o in orientations] if vertical else None
     text_length, inside = text_lengths(chars, ctx)
     # baseline shift of every character (positive moves down)
     # from the element's first available font (CSS Inline 3 §4), not a fallback face: a
     # superscript CJK character in Latin text shifts as its Latin neighbours do (as resvg)
     shift_cache = {}
     shifts = []
-    for c, spec, face in zip(chars, specs, faces):
+    for k, (c, spec, face) in enumerate(zip(chars, specs, faces)):
         face = c.primary_face if face is not None and c.primary_face is not None else face
         key = (id(c.el), id(face))
         if key not in shift_cache:
             shift_cache[key] = baseline_offset(
-                c.span, face, spec, vertical and not sideways(c.span.style)) \
+                c.span, face, spec, vertical and orientations[k] != "sideways") \
                 if face is not None else 0.0
         shifts.append(shift_cache[key])
 
@@ -803,12 +854,12 @@ def build_text(element, ctx):
     has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
     for a, b in zip(bounds[:-1], bounds[1:]):
-        clusters = shape_chunk(chars, faces, specs, a, b, text)
+        clusters = shape_chunk(chars, faces, specs, a, b, text, upright)
         if not clusters:
             continue
         clusters[0].shifted = True       # a chunk starts a new decoration line
         if vertical:
-            apply_writing_mode(clusters, chars)
+            apply_writing_mode(clusters, chars, orientations)
         apply_spacing(clusters, chars, specs)
         if has_offsets:
             carry_offsets(clusters, chars, b)
