@@ -271,6 +271,44 @@ def test_rtl_run_is_reversed_and_ligated():
     assert lam != alone
 
 
+@needs_suite
+def test_runs_see_harfbuzz_context_only_next_to_them(monkeypatch):
+    """Each bidi run hands HarfBuzz its own characters and at most CONTEXT_CHARS either side
+    (HarfBuzz keeps 5: hb-buffer.hh), not the whole line: a long line of many runs was
+    quadratic in its length. Every run still shapes as HarfBuzz shapes it with the whole line as context
+    (Arabic joining across a run's edge, ZWJ ligature ranges under liga=0), read here
+    straight from uharfbuzz."""
+    import uharfbuzz as hb
+    face = load_face(os.path.join(SUITE_FONTS, "Amiri-Regular.ttf"))
+    # (x + ZWJ before an Arabic run: the ZWJ ends the Latin run and is the Arabic run's
+    # pre-context, which makes its first letter join)
+    text = "ab \u0644\u0627\u0645 12 x\u200d\u0628\u0628 x\u200dy \u0639\u0627 3 " * 40
+    added = []
+    real = hb.Buffer.add_codepoints
+
+    class Recording(hb.Buffer):
+        def add_codepoints(self, codepoints, *args):
+            added.append(len(codepoints))
+            return real(self, codepoints, *args)
+
+    monkeypatch.setattr(hb, "Buffer", Recording)
+    runs = shape_text(face, text, features={"liga": 0})
+    monkeypatch.undo()
+    assert len(runs) > 100
+    # linear in the line: each run and a few characters either side (16 is generous)
+    assert sum(added) <= len(text) + 2 * 16 * len(runs)
+    font = face.hb_font(())
+    for r in runs:
+        buf = hb.Buffer()
+        buf.cluster_level = hb.BufferClusterLevel.MONOTONE_CHARACTERS
+        buf.add_codepoints([ord(c) for c in text], r.start, r.end - r.start)
+        buf.guess_segment_properties()
+        buf.direction = r.direction
+        hb.shape(font, buf, {"liga": 0})
+        assert list(r.gids) == [i.codepoint for i in buf.glyph_infos]
+        assert list(r.clusters) == [i.cluster for i in buf.glyph_infos]
+        assert r.advances[:, 0].tolist() == [p.x_advance for p in buf.glyph_positions]
+
 def test_line_fills_share_one_path_and_sit_on_the_baseline():
     face = load_face(TTF)
     line = layout_line(face, "Hxg", 50)

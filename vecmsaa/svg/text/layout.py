@@ -208,7 +208,7 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     spec = specs[k]
     loc = face_location(face, spec)
     run = shape_run(face, text, s, e, location=loc,
-                    features=_joined_ligatures(dict(spec.features), text, s, e, context[0]),
+                    features=_joined_ligatures(dict(spec.features), text, s, e),
                     direction=direction, context=context)
     # One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
     # rotates, spaces and sizes): HarfBuzz's character-level clusters leave a combining mark
@@ -273,10 +273,10 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     return out
 
 
-def _joined_ligatures(features, text, s, e, lo):
+def _joined_ligatures(features, text, s, e):
     """Ligatures turned off (letter-spacing does so, CSS Text 3 §8.2) stay on across a zero
     width joiner, which asks for the joined form (Unicode §23.2): emoji ZWJ sequences are
-    ligatures. HarfBuzz takes a feature on cluster ranges; clusters count from ``lo``."""
+    ligatures. HarfBuzz takes a feature on cluster ranges; shape_run's count from ``s``."""
     off = [t for t in ("liga", "clig") if features.get(t) == 0]
     if not off or "\u200d" not in text[s:e]:
         return features
@@ -288,10 +288,10 @@ def _joined_ligatures(features, text, s, e, lo):
                 a -= 1
             while b < e and _extends(text[b]):
                 b += 1
-            ranges.append((a - lo, b - lo, 1))
+            ranges.append((a - s, b - s, 1))
     if ranges:
         for t in off:
-            features[t] = [(0, e - lo, 0)] + ranges
+            features[t] = [(0, e - s, 0)] + ranges
     return features
 
 
