@@ -611,6 +611,28 @@ def test_nested_references_within_the_limit_render():
     assert (render_svg_array(doc)[..., 3] == 255).all()
 
 
+
+def mask_chain(n, nested_content=0):
+    """A rect under a chain of ``n`` masks, each mask's own ``mask`` the next; the last one's
+    white rect under ``nested_content`` groups."""
+    masks = "".join(f'<mask id="k{i}" mask="url(#k{i + 1})"><rect width="10" height="10" '
+                    f'fill="white"/></mask>' for i in range(n - 1))
+    last = ('<g>' * nested_content + '<rect width="10" height="10" fill="white"/>'
+            + '</g>' * nested_content)
+    return (f'<svg {SVG} width="10" height="10">{masks}<mask id="k{n - 1}">{last}</mask>'
+            f'<rect width="10" height="10" mask="url(#k0)"/></svg>')
+
+
+def test_reference_chains_longer_than_element_nesting_are_a_clean_error():
+    """A chain of masks nests layers as deep as it is long (5,000 raised RecursionError while
+    drawing); chains as long as elements may nest, the last mask's content nested as deep
+    again, render (every mask white: the rect is drawn)."""
+    from vecmsaa.svg.document import MAX_DEPTH
+    with pytest.raises(SvgError, match="nest deeper"):
+        render_svg_array(mask_chain(MAX_DEPTH + 1))
+    assert (render_svg_array(mask_chain(MAX_DEPTH, MAX_DEPTH - 4))[..., 3] == 255).all()
+
+
 # -- filters ----------------------------------------------------------------------------------
 def render_peak(scene, **options):
     """(RGBA8 image, tracemalloc's peak in bytes) of rendering ``scene`` once its kernels are

@@ -27,6 +27,7 @@ from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_re
                                stroke_path)
 from . import SvgError
 from .color import parse_svg_color as parse_color
+from . import document
 from .document import SVG_ELEMENT_NAMES, Document, Element, Style
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
@@ -66,6 +67,8 @@ MAX_TEXT_CHARS = 200_000
 MAX_IMAGE_NESTING = 4
 #: Clip paths, masks, markers and feImage targets built inside another one: fan-out multiplies
 #: (a mask whose content uses two masks, 14 deep, is 2^14 layers), so these count per document.
+#: Their chain (a mask's mask's mask...) nests layers as elements do, so its length is held to
+#: the elements' (svg.document.MAX_DEPTH): the drawing recurses a few frames per level.
 MAX_NESTED_REFERENCES = 4096
 
 #: the verbs of a path of lines only, and the dash pattern of a solid stroke, as
@@ -325,6 +328,9 @@ class Builder:
             if self.nested_references > MAX_NESTED_REFERENCES:
                 raise SvgError(f"more than {MAX_NESTED_REFERENCES} clip paths, masks and "
                                f"markers inside others (reference fan-out)")
+            if len(self.ref_stack) >= document.MAX_DEPTH:
+                raise SvgError(f"clip paths, masks and markers nest deeper than "
+                               f"{document.MAX_DEPTH} levels")
         self.ref_stack.append(el)
 
     # -- entry point -----------------------------------------------------------------------
