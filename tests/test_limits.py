@@ -982,3 +982,40 @@ def test_the_convolution_limit_counts_nonzero_entries_times_pixels(monkeypatch):
     monkeypatch.setattr(filter_effects, "MAX_CONVOLVE_WORK", 8 * 40 * 40 - 1)
     with pytest.warns(UserWarning, match="convolution limit"):
         assert not render_svg_array(doc).any()
+
+
+# -- work growing with the document -----------------------------------------------------------
+def python_calls(fn):
+    """Python function calls (generators' resumptions included) made running ``fn``: the
+    work, counted without timing anything."""
+    count = [0]
+
+    def profile(frame, event, arg):
+        if event == "call":
+            count[0] += 1
+    sys.setprofile(profile)
+    try:
+        fn()
+    finally:
+        sys.setprofile(None)
+    return count[0]
+
+
+def linear_work(doc_of, n, run=None):
+    """Whether building ``doc_of(2 n)`` (or ``run`` on it) takes at most 2.5 times the Python
+    calls of ``doc_of(n)`` (twice: linear; four times: quadratic)."""
+    from vecmsaa.api import load_svg
+    run = run or (lambda doc: load_svg(doc))
+    run(doc_of(4))                  # imports, kernels
+    small, large = (python_calls(lambda: run(doc_of(k))) for k in (n, 2 * n))
+    return large < 2.5 * small
+
+
+def test_filter_href_chains_are_followed_in_linear_work():
+    """A rect filtered by the last of n filters each referencing the one before (a chain of
+    4,000: 1.6 s, every link checked against all before it)."""
+    def doc(n):
+        chain = "".join(f'<filter id="f{i}" href="#f{i - 1}"/>' for i in range(1, n))
+        return (f'<svg {SVG} width="10" height="10"><filter id="f0"><feOffset dx="1"/></filter>'
+                f'{chain}<rect width="5" height="5" filter="url(#f{n - 1})"/></svg>')
+    assert linear_work(doc, 1000)
