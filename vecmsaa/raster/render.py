@@ -1245,6 +1245,12 @@ class Layer:
         self.depth = 1 + max([layer_depth(self.items)]
                              + [part.depth for part in (self.clip, self.mask) if part is not None])
 
+    @functools.cached_property
+    def items_box(self):
+        """_items_box of its items, once: each layer around it asks (n nested layers under
+        rectangle clips, as nested <svg>s are, walked n^2/2 layers)."""
+        return _items_box(self.items)
+
 
 def _rectangle_clip(clip: Group, opts: RenderOptions):
     """(x0, y0, x1, y1) of a clip that is one opaque, antialiased, axis-aligned rectangle,
@@ -1312,7 +1318,7 @@ def _items_box(items):
         elif item.filters:
             box = filter_box(item)
         else:
-            box = _items_box(item.items)
+            box = item.items_box
             if box is None:
                 return None
         lo_x, lo_y = min(lo_x, box[0]), min(lo_y, box[1])
@@ -1639,6 +1645,10 @@ class LayerRun:
         self.rows = _union([layer[0] for layer in self.layers])
         #: layer buffers drawing it holds at once (layer_depth)
         self.depth = 2 if clips else 1
+
+    @property
+    def items_box(self):
+        return _items_box(self.items)   # (its one batch)
 
 
 def draw_run(run: LayerRun, target: np.ndarray, y0: int, raster: Raster) -> None:
