@@ -51,6 +51,36 @@ def test_point_and_tangent_at_an_arc_length():
     assert walker.at(-1) is None and walker.at(11.5) is None
 
 
+def test_points_along_a_long_polyline_are_found_without_walking_it():
+    # A staircase of 2,000 unit segments, then a zero-length one: the point at arc length s
+    # is exact, and each position looks at its own segment, not at every one before it (the
+    # walk made a long text on a long path quadratic: 8,000 characters on 8,000 segments
+    # took 40 s). (Where segments meet, the lengths' last bits decide.)
+    d = "M0 0 " + " ".join(f"L{(k + 1) // 2} {k // 2}" for k in range(1, 2001)) + " L1000 1000"
+    walker = PathWalker(parse_path_data(d), scale=1e4)
+    touched = []
+
+    class Counted(list):
+        def __getitem__(self, i):
+            touched.append(i)
+            return list.__getitem__(self, i)
+
+        def __iter__(self):
+            for i in range(len(self)):
+                touched.append(i)
+                yield list.__getitem__(self, i)
+
+    walker.cubics = Counted(walker.cubics)
+    for s in (0.0, 0.5, 1.25, 1.5, 999.25, 1000.5, 1998.5, 1999.75):
+        k = int(s)                            # the segment that holds s
+        f = s - k
+        x, y = (k + 1) // 2, k // 2           # its start: horizontal from even k, else up
+        exact = (x + f, y, 0.0) if k % 2 == 0 else (x, y + f, 90.0)
+        assert walker.at(s) == pytest.approx(exact, abs=1e-4)
+    assert walker.at(2000.5) is None and walker.at(-0.5) is None
+    assert len(touched) <= 8
+
+
 def bezier(c):
     return lambda t: ((1 - t) ** 3 * c[0] + 3 * t * (1 - t) ** 2 * c[1]
                       + 3 * t * t * (1 - t) * c[2] + t ** 3 * c[3])

@@ -10,7 +10,7 @@ import struct
 import numpy as np
 import pytest
 
-from vecmsaa.api import render_svg_array
+from vecmsaa.api import query_bounds, render_svg_array
 from vecmsaa.tools.suite import suite_from_environment
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
@@ -1227,6 +1227,41 @@ def test_letter_spacing_keeps_zwj_sequences_joined():
     plain = draw("")
     assert plain[..., 3].any()
     assert np.array_equal(draw('letter-spacing="10"'), plain)
+
+
+@pytest.mark.skipif(not os.path.isfile(os.path.join(SUITE, "fonts",
+                                                    "TwitterColorEmoji.subset.ttf")),
+                    reason="needs the suite's Twitter Color Emoji")
+def test_many_zwj_sequences_under_letter_spacing_each_join(monkeypatch):
+    # Each ZWJ sequence keeps ligatures on over its own range while letter-spacing turns them
+    # off: HarfBuzz sets every range's mask over the whole buffer, so thousands of ranges in
+    # one call were quadratic and then failed (3,000 rainbow flags: MemoryError). Every flag
+    # is still one typographic character (one letter-spacing each; the font joins it, see
+    # the test above), and each HarfBuzz call gets a few dozen ranges.
+    hb = pytest.importorskip("uharfbuzz")
+    flag = "\U0001F3F3\uFE0F\u200D\U0001F308"
+    calls = []
+    real = hb.shape
+
+    def spy(font, buf, features):
+        calls.append(max((len(v) for v in features.values() if isinstance(v, list)),
+                         default=0))
+        return real(font, buf, features)
+
+    monkeypatch.setattr(hb, "shape", spy)
+
+    def width(count, spacing):
+        svg = ('<svg xmlns="http://www.w3.org/2000/svg" width="400" height="50" '
+               'font-family="Twitter Color Emoji" font-size="10"><text id="t" y="30" '
+               f'letter-spacing="{spacing}">{(flag + " ") * count}</text></svg>')
+        return dict(query_bounds(svg.encode(), **SUITE_FONTS))["t"][2]
+
+    first = width(1, 2) - width(1, 0)
+    calls.clear()
+    # letter-spacing adds 2 per typographic character and nothing else (the flags drawn
+    # joined, as with ligatures on): each further flag and space adds 4
+    assert width(300, 2) - width(300, 0) == pytest.approx(first + 299 * 4, abs=1e-6)
+    assert calls and max(calls) <= 100
 
 
 @pytest.mark.parametrize("size", ["0", "-20"])

@@ -227,6 +227,19 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
                      direction, start, end)
 
 
+def join_runs(runs):
+    """Runs shaped apart from consecutive pieces of one run (same face, direction) as one,
+    its glyphs in visual order: right to left (and bottom to top) the last piece's first."""
+    if len(runs) == 1:
+        return runs[0]
+    first, last = runs[0], runs[-1]
+    ordered = runs[::-1] if first.direction in ("rtl", "btt") else runs
+    return ShapedRun(first.face, first.location,
+                     *(np.concatenate([getattr(r, f) for r in ordered])
+                       for f in ("gids", "clusters", "advances", "offsets")),
+                     first.direction, first.start, last.end)
+
+
 def shape_text(face, text: str, *, location=(), features=None, direction=None, script=None,
                language=None):
     """Shape a line: bidi split, HarfBuzz per run, runs in visual order.

@@ -14,7 +14,9 @@ took a second or more.
 from __future__ import annotations
 
 import functools
+import itertools
 import math
+from bisect import bisect_left
 
 import numpy as np
 
@@ -166,22 +168,26 @@ class PathWalker:
         self.rows = cubic_rows(self.cubics)
         self.lengths = cubic_lengths(self.rows, gl_nodes()).tolist()
         self.length = float(sum(self.lengths))
+        # where each segment ends along the path, summed in order (a search per position
+        # instead of a walk from the start: a long text on a long path was quadratic)
+        self.ends = list(itertools.accumulate(self.lengths))
 
     def at(self, s):
-        """(x, y, tangent angle in degrees) at arc length s, or None off the path."""
+        """(x, y, tangent angle in degrees) at arc length s, or None off the path: on the
+        first segment that holds it (a position where segments meet is on the earlier)."""
         if s < 0:
             return None
-        length = 0.0
-        for i, (c, L) in enumerate(zip(self.cubics, self.lengths)):
-            if length <= s <= length + L:
-                t = cubic_param_at(self.rows, i, L, float(s - length), self.accuracy, gl_nodes())
-                t = min(max(t, 0.0), 1.0)
-                u = 1 - t
-                pt = u ** 3 * c[0] + 3 * u * u * t * c[1] + 3 * u * t * t * c[2] + t ** 3 * c[3]
-                d = cubic_derivative(c, t)
-                return float(pt[0]), float(pt[1]), math.degrees(math.atan2(d[1], d[0]))
-            length += L
-        return None
+        i = bisect_left(self.ends, s)
+        start = self.ends[i - 1] if i else 0.0
+        if i == len(self.ends) or not start <= s <= self.ends[i]:
+            return None
+        c, L = self.cubics[i], self.lengths[i]
+        t = cubic_param_at(self.rows, i, L, float(s - start), self.accuracy, gl_nodes())
+        t = min(max(t, 0.0), 1.0)
+        u = 1 - t
+        pt = u ** 3 * c[0] + 3 * u * u * t * c[1] + 3 * u * t * t * c[2] + t ** 3 * c[3]
+        d = cubic_derivative(c, t)
+        return float(pt[0]), float(pt[1]), math.degrees(math.atan2(d[1], d[0]))
 
 
 def path_length(path: Path) -> float:

@@ -13,7 +13,7 @@ import unicodedata
 from bisect import bisect_right
 from dataclasses import dataclass
 
-from ...fonts.shape import shape_run, visual_runs
+from ...fonts.shape import join_runs, shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
@@ -31,6 +31,8 @@ WORD_SEPARATORS = {0x20, 0xA0, 0x1361, 0x10100, 0x10101, 0x1039F, 0x1091F}
 #: a quarter turn counter-clockwise: upright glyphs on the line of vertical text, which is
 #: turned clockwise
 TURNED_BACK = rotate_at(-90.0, 0.0, 0.0)
+#: ZWJ sequences shaped in one HarfBuzz call under ligatures turned off (_joined_ligatures)
+JOINED_PER_SHAPING = 64
 
 
 @dataclass(slots=True)
@@ -207,9 +209,9 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
     face = faces[k]
     spec = specs[k]
     loc = face_location(face, spec)
-    run = shape_run(face, text, s, e, location=loc,
-                    features=_joined_ligatures(dict(spec.features), text, s, e),
-                    direction=direction, context=context)
+    run = join_runs([shape_run(face, text, a, b, location=loc, features=features,
+                               direction=direction, context=context)
+                     for a, b, features in _joined_ligatures(spec.features, text, s, e)])
     # One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
     # rotates, spaces and sizes): HarfBuzz's character-level clusters leave a combining mark
     # it did not merge with its base on its own, which then turned about its own origin, got
@@ -274,13 +276,19 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
 
 
 def _joined_ligatures(features, text, s, e):
-    """Ligatures turned off (letter-spacing does so, CSS Text 3 §8.2) stay on across a zero
-    width joiner, which asks for the joined form (Unicode §23.2): emoji ZWJ sequences are
-    ligatures. HarfBuzz takes a feature on cluster ranges; shape_run's count from ``s``."""
+    """text[s:e] as pieces to shape, (start, end, features): ligatures turned off
+    (letter-spacing does so, CSS Text 3 §8.2) stay on across a zero width joiner, which asks
+    for the joined form (Unicode §23.2): emoji ZWJ sequences are ligatures. HarfBuzz takes a
+    feature on ranges (counted from the piece's start); it sets each range's mask over the
+    whole buffer, so a run with thousands of them was quadratic and then failed (3,000 ZWJ
+    sequences in Twitter Color Emoji: uharfbuzz's MemoryError). A run with more than
+    JOINED_PER_SHAPING sequences is cut between sequences into pieces holding that many
+    (kerning across a cut is lost: HarfBuzz sees the other side as context only)."""
+    features = dict(features)        # (a spec's features: (tag, value) pairs)
     off = [t for t in ("liga", "clig") if features.get(t) == 0]
     if not off or "\u200d" not in text[s:e]:
-        return features
-    ranges = []
+        return [(s, e, features)]
+    joined = []                      # the sequences: overlapping ranges around joiners merged
     for j in range(s + 1, e - 1):
         if text[j] == "\u200d":
             a, b = j - 1, j + 2
@@ -288,11 +296,18 @@ def _joined_ligatures(features, text, s, e):
                 a -= 1
             while b < e and _extends(text[b]):
                 b += 1
-            ranges.append((a - s, b - s, 1))
-    if ranges:
-        for t in off:
-            features[t] = [(0, e - s, 0)] + ranges
-    return features
+            if joined and a <= joined[-1][1]:
+                joined[-1][1] = max(joined[-1][1], b)
+            else:
+                joined.append([a, b])
+    pieces = []
+    for n in range(0, len(joined), JOINED_PER_SHAPING):
+        group = joined[n:n + JOINED_PER_SHAPING]
+        start = s if n == 0 else pieces[-1][1]
+        end = group[-1][1] if n + JOINED_PER_SHAPING < len(joined) else e
+        ranges = [(0, end - start, 0)] + [(a - start, b - start, 1) for a, b in group]
+        pieces.append((start, end, {**features, **{t: ranges for t in off}}))
+    return pieces
 
 
 def _extends(ch):
