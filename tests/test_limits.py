@@ -349,36 +349,6 @@ def test_selector_matching_within_the_limit_applies_the_rules(monkeypatch):
     assert (out[3, 1:3, 1] > 100).all() and (out[3, 1:3, 0] == 0).all()   # green stroke edge
 
 
-
-def test_of_type_pseudo_classes_match_in_steps_linear_in_the_siblings(monkeypatch):
-    """cssselect2 tests :nth-of-type and its kind by scanning each element's earlier or later
-    siblings (400 siblings: 80,000 steps a rule); each element's place among its type is
-    counted once a parent instead. 200 one-pixel rects with a <g/> after each (other
-    siblings, not counted among the rects) and a path, coloured by Selectors 4 §14.4."""
-    from vecmsaa.svg import document
-    monkeypatch.setattr(document, "MAX_SELECTOR_STEPS", 10_000)
-    n = 200
-    rules = ("rect:nth-of-type(2n) {fill: #00f} rect:nth-last-of-type(3) {fill: #0f0} "
-             "rect:first-of-type {fill: #f00} rect:last-of-type {fill: #ff0} "
-             "path:only-of-type {fill: #0ff} rect:only-of-type {fill: #f0f} "
-             "g:not(:nth-of-type(-n+190)) + rect:not(:nth-last-of-type(-n+2)) "
-             "{visibility: hidden}")
-    body = "".join(f'<rect x="{i}" width="1" height="1"/><g/>' for i in range(n))
-    doc = (f'<svg {SVG} width="{n + 1}" height="1"><style>{rules}</style>{body}'
-           f'<path d="M{n} 0h1v1h-1z"/></svg>')
-    out = render_svg_array(doc)[0]
-    expected = []
-    for i in range(n):              # i: the rect's place among the rects, from 0
-        colour = (0, 0, 255) if (i + 1) % 2 == 0 else (0, 0, 0)
-        if n - 1 - i == 2:
-            colour = (0, 255, 0)
-        colour = (255, 0, 0) if i == 0 else (255, 255, 0) if i == n - 1 else colour
-        # after the 191st <g> or later, and not among the last two rects
-        expected.append((0, 0, 0, 0) if 191 <= i <= n - 3 else (*colour, 255))
-    expected.append((0, 255, 255, 255))
-    assert out.tolist() == [list(c) for c in expected]
-
-
 # -- images -----------------------------------------------------------------------------------
 def _png(array, mode=None):
     import io

@@ -1016,43 +1016,6 @@ def _most_combinators(prelude) -> int:
     return most
 
 
-#: cssselect2's tests of the *-of-type pseudo-classes, exactly as it compiles them: each scans
-#: the element's earlier or later siblings, so n siblings cost n^2/2 steps a rule (20,000
-#: rects under :nth-of-type: past MAX_SELECTOR_STEPS). They become the element's count of
-#: earlier and later siblings of its type (ElementWrapper below), counted once a parent.
-_OF_TYPE_TESTS = {
-    "sum(1 for s in el.etree_siblings[:el.index]    if s.tag == el.etree_element.tag)":
-        "el.of_type_before",
-    "sum(1 for s in el.etree_siblings[el.index + 1:]    if s.tag == el.etree_element.tag)":
-        "el.of_type_after",
-    "all(s.tag != el.etree_element.tag    for s in el.etree_siblings[:el.index])":
-        "(el.of_type_before == 0)",
-    "all(s.tag != el.etree_element.tag    for s in el.etree_siblings[el.index + 1:])":
-        "(el.of_type_after == 0)",
-    "all(s.tag != el.etree_element.tag or i == el.index    for i, s in "
-    "enumerate(el.etree_siblings))": "(el.of_type_before == el.of_type_after == 0)",
-}
-
-
-def _compile_selector_list(prelude, namespaces):
-    """cssselect2.compile_selector_list, its *-of-type tests replaced (_OF_TYPE_TESTS)."""
-    import cssselect2
-    import tinycss2
-    from cssselect2 import compiler
-
-    selectors = cssselect2.compile_selector_list(prelude, namespaces)
-    if "of-type" not in tinycss2.serialize(prelude):
-        return selectors
-    for sel, parsed in zip(selectors, compiler.parser.parse(prelude, namespaces)):
-        source = compiler._compile_node(parsed.parsed_tree)
-        for slow, quick in _OF_TYPE_TESTS.items():
-            source = source.replace(slow, quick)
-        sel.test = eval("lambda el: " + source, {"split_whitespace": compiler.split_whitespace,
-                                                 "ascii_lower": compiler.ascii_lower,
-                                                 "urlparse": compiler.urlparse}, {})
-    return selectors
-
-
 class Stylesheets:
     """All CSS rules of a document, matched with cssselect2."""
 
@@ -1063,6 +1026,7 @@ class Stylesheets:
         self.count = 0
 
     def add(self, css_text):
+        import cssselect2
         import tinycss2
 
         rules = tinycss2.parse_stylesheet(css_text, skip_whitespace=True, skip_comments=True)
@@ -1082,7 +1046,7 @@ class Stylesheets:
             if _most_combinators(rule.prelude) > MAX_COMBINATORS:
                 continue
             try:
-                selectors = _compile_selector_list(rule.prelude, namespaces)
+                selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
             except Exception:   # cssselect2 raises its own SelectorError and others
                 continue
             decls = _declarations(rule.content)
@@ -1532,27 +1496,6 @@ def _counted_matching(matcher):
         @functools.cached_property
         def etree_children(self):
             return Siblings(cssselect2.ElementWrapper.etree_children.func(self))
-
-        @functools.cached_property
-        def type_places(self):
-            # each child's (earlier, later) siblings of its tag (_OF_TYPE_TESTS)
-            children = self.etree_children
-            charge(len(children))
-            total, seen, places = {}, {}, []
-            for child in children:
-                total[child.tag] = total.get(child.tag, 0) + 1
-            for child in children:
-                k = seen[child.tag] = seen.get(child.tag, -1) + 1
-                places.append((k, total[child.tag] - k - 1))
-            return places
-
-        @property
-        def of_type_before(self):
-            return 0 if self.parent is None else self.parent.type_places[self.index][0]
-
-        @property
-        def of_type_after(self):
-            return 0 if self.parent is None else self.parent.type_places[self.index][1]
 
         @functools.cached_property
         def lang(self):
