@@ -201,8 +201,8 @@ def test_an_edge_beyond_the_int64_range_crosses_no_visible_pixel():
         segs = segments(path)
         edges = np.array([c.ravel() for _, c in segs])
         delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, len(sx))[:5]
-        scan_edges(edges, 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist, dcount,
-                   np.zeros(rows, dtype=np.bool_), np.zeros(len(sx), dtype=np.int64))
+        scan_edges(edges, np.empty((0, 2)), 0, len(edges), 0, rows, W, sx, sy, delta, dirty,
+                   dlist, dcount, np.zeros(rows, dtype=np.bool_), np.zeros(len(sx), dtype=np.int64))
         winding = np.cumsum(delta[:, :W], axis=1)
         for py in range(rows):
             for px in range(W):
