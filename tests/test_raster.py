@@ -221,8 +221,8 @@ def _edges_across_strips(chunk):
     other edges lie strips below: the NaN edge adds windings at column 0 from row 0)."""
     polygons = []
     zigzag = [(0.3, 0.2)]
-    for i in range(1, 41):
-        zigzag.append((0.3 + 11.0 * (i % 2) + 0.01 * i, 0.2 + 47.5 * (i % 2) - 0.1 * i % 3))
+    for i in range(1, 241):
+        zigzag.append((0.3 + 11.0 * (i % 2) + 0.001 * i, 0.2 + 47.5 * (i % 2) - 0.1 * i % 3))
     polygons.append(zigzag)
     for y in (4.0, 8.0, 12.0, 16.0, 32.0):
         polygons.append([(1.25, y), (9.5, y - 4.0), (6.75, y + 4.0)])    # ends on boundaries
@@ -259,13 +259,18 @@ def _edges_across_strips(chunk):
 @pytest.mark.parametrize("samples", [8, 16])
 def test_edge_chunks_change_no_strip_and_give_the_exact_winding(samples):
     # scan_edges skips chunks of consecutive edges whose y extent misses the strip
-    # (scan.edge_chunks): each strip of each fill must get the same winding deltas and dirty
+    # (scan.band_chunks): each strip of each fill must get the same winding deltas and dirty
     # pixels as when it reads every edge, and the windings must be the exact ones (crossing
     # counts of the closed polygons' outlines at every sample)
-    from vecmsaa.raster.scan import EDGE_CHUNK, edge_chunks, msaa_scratch, scan_edges
+    from vecmsaa.raster.scan import (CHUNKED_EDGES, EDGE_CHUNK, band_chunks, msaa_scratch,
+                                     scan_edges)
     edges, fills, closed = _edges_across_strips(EDGE_CHUNK)
-    chunks = edge_chunks(edges)
+    assert len(edges) >= CHUNKED_EDGES
     W, H, rows = 12, 48, 4
+    # the chunks of a band holding every strip below, for one fill whose box holds them all
+    chunks = band_chunks(edges, np.array([0, len(edges)]), np.array([[0.0, -1e308, W, 1e308]]),
+                         -rows, H + 2 * rows, rows)
+    assert len(chunks) == -(-len(edges) // EDGE_CHUNK)
     offsets = standard_pattern(samples)
     sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
     n = len(sx)
@@ -323,8 +328,13 @@ def test_a_batch_of_tall_many_edged_fills_matches_its_samples_in_any_bands(sampl
         steps.lineTo((37.5 + 1e-3 * math.pi, y - 16.0))
         steps.lineTo((20.0 + 1e-3 * math.e, y + 16.0))
         steps.closePath()
+    foot = Path()      # in the lowest band only (of bands under 84 rows)
+    foot.moveTo((3.3, 84.2))
+    foot.lineTo((30.1, 90.7))
+    foot.lineTo((12.9, 95.6))
+    foot.closePath()
     fills = [Fill(zigzag, Solid((0.2, 0.4, 0.8, 1.0)), rule="evenodd"),
-             Fill(steps, Solid((0.9, 0.3, 0.1, 1.0)))]
+             Fill(steps, Solid((0.9, 0.3, 0.1, 1.0))), Fill(foot, Solid((0.1, 0.7, 0.2, 1.0)))]
     scene = Scene(W, H, Group(fills))
     edges = []
     for fill in fills:
@@ -339,13 +349,15 @@ def test_a_batch_of_tall_many_edged_fills_matches_its_samples_in_any_bands(sampl
     sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
     zig = _polygon_winding([c.ravel() for _, c in segments(zigzag)], W, H, sx, sy)
     tri = _polygon_winding([c.ravel() for _, c in segments(steps)], W, H, sx, sy)
+    in_foot = _polygon_winding([c.ravel() for _, c in segments(foot)], W, H, sx, sy) != 0
     in_zig = zig % 2 == 1
     in_tri = tri != 0
-    # the triangles are drawn over the zigzag, both opaque: per sample, the last one inside
-    colour = np.where(in_tri[..., None], [0.9, 0.3, 0.1],
-                      np.where(in_zig[..., None], [0.2, 0.4, 0.8], 0.0))
-    want = np.concatenate([colour.mean(axis=2), (in_tri | in_zig).mean(axis=2)[..., None]],
-                          axis=2)
+    # each drawn over the ones before, all opaque: per sample, the last one inside
+    colour = np.where(in_foot[..., None], [0.1, 0.7, 0.2],
+                      np.where(in_tri[..., None], [0.9, 0.3, 0.1],
+                               np.where(in_zig[..., None], [0.2, 0.4, 0.8], 0.0)))
+    cover = (in_foot | in_tri | in_zig).mean(axis=2)
+    want = np.concatenate([colour.mean(axis=2), cover[..., None]], axis=2)
     assert np.abs(one - want).max() < 1e-5
 
 

@@ -265,7 +265,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     uniq = np.zeros((n, 4), dtype=np.float32)
     counts = np.zeros(n, dtype=np.int64)
     key_entry = np.zeros(2 * colours.shape[1], dtype=np.int64)
-    chunk_y = band_chunks(edges, H, strip_rows)
+    chunk_y = band_chunks(edges, edge_off, path_box, y0, H, strip_rows)
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]

@@ -189,45 +189,49 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span, 
                 pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
-#: consecutive edges (of the batch's array) that share one y extent in edge_chunks
+#: consecutive edges (of the batch's array) that share one y extent in band_chunks
 EDGE_CHUNK = 16
-#: edges a batch has at least for render_msaa to work out its edge_chunks: below it, reading
+#: edges a batch has at least for render_msaa to work out its band_chunks: below it, reading
 #: the few edges of a fill that miss a strip costs less than the pass (a one-fill batch of a
 #: rectangle is drawn once per band)
 CHUNKED_EDGES = 256
 
 
 @njit(cache=True, error_model="numpy")
-def edge_chunks(edges):
-    """(C, 2) lowest and highest y of each EDGE_CHUNK consecutive edges (-inf, inf where one
-    is NaN): scan_edges skips a chunk that lies wholly above or below the strip. A fill's
-    edges follow its outline, so a strip of 16 rows meets few of its chunks: a city map's
-    big polygons were read whole by each of their strips (128 at 2048 px), which tested and
-    rejected edge after edge. A chunk may hold the ends of two fills: its extent covers both,
-    which only makes it skipped less often. One pass over the edges, in order."""
+def band_chunks(edges, edge_off, path_box, y0, H, strip_rows):
+    """(C, 2) lowest and highest y of each EDGE_CHUNK consecutive edges of the batch (-inf,
+    inf where one is NaN), for render_msaa's band of H rows from y0: scan_edges skips a chunk
+    that lies wholly above or below the strip. A fill's edges follow its outline, so a strip
+    of 16 rows meets few of its chunks, where it read every edge of every fill whose box meets
+    it (a city map's large polygons: each of their 128 strips at 2048 px). Only the chunks of
+    the fills whose box meets the band are worked out (the rest stay -inf, inf: never
+    skipped, never read): one pass over the band's edges, not the batch's, per band. A chunk
+    may hold the ends of two fills: its extent covers both, which only makes it skipped less
+    often. None (empty) where the band is one strip or the batch has under CHUNKED_EDGES
+    edges."""
     E = edges.shape[0]
-    out = np.empty(((E + EDGE_CHUNK - 1) // EDGE_CHUNK, 2))
-    for ch in range(out.shape[0]):
-        lo, hi = np.inf, -np.inf
-        nan = False
-        for e in range(ch * EDGE_CHUNK, min(E, (ch + 1) * EDGE_CHUNK)):
-            ya, yb = edges[e, 1], edges[e, 3]
-            nan |= not (ya == ya and yb == yb)
-            lo = min(lo, ya, yb)
-            hi = max(hi, ya, yb)
-        if nan:
-            lo, hi = -np.inf, np.inf
-        out[ch, 0], out[ch, 1] = lo, hi
-    return out
-
-
-@njit(cache=True, error_model="numpy")
-def band_chunks(edges, H, strip_rows):
-    """edge_chunks of a batch drawn in a band of H rows, or none (empty) where the band is
-    one strip or the batch has under CHUNKED_EDGES edges."""
-    if edges.shape[0] < CHUNKED_EDGES or H <= strip_rows:
+    if E < CHUNKED_EDGES or H <= strip_rows:
         return np.empty((0, 2))
-    return edge_chunks(edges)
+    out = np.empty(((E + EDGE_CHUNK - 1) // EDGE_CHUNK, 2))
+    out[:, 0] = -np.inf
+    out[:, 1] = np.inf
+    done = -1
+    for k in range(edge_off.shape[0] - 1):
+        if path_box[k, 3] < y0 or path_box[k, 1] >= y0 + H:
+            continue
+        for ch in range(max(done + 1, edge_off[k] // EDGE_CHUNK),
+                        (edge_off[k + 1] + EDGE_CHUNK - 1) // EDGE_CHUNK):
+            lo, hi = np.inf, -np.inf
+            nan = False
+            for e in range(ch * EDGE_CHUNK, min(E, (ch + 1) * EDGE_CHUNK)):
+                ya, yb = edges[e, 1], edges[e, 3]
+                nan |= not (ya == ya and yb == yb)
+                lo = min(lo, ya, yb)
+                hi = max(hi, ya, yb)
+            if not nan:
+                out[ch, 0], out[ch, 1] = lo, hi
+            done = ch
+    return out
 
 
 @njit(cache=True, error_model="numpy")
@@ -237,7 +241,7 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
     [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows).
     Written out in one loop nest: an array handed to a helper costs a reference count per
     call, here per edge and per marked pixel. ``col``: n int64, where each sample's crossing
-    of a row lands. ``chunk_y``: edge_chunks of ``edges``, or empty (no chunk skipped)."""
+    of a row lands. ``chunk_y``: band_chunks of ``edges``, or empty (no chunk skipped)."""
     n = sx.shape[0]
     chunked = chunk_y.shape[0] > 0
     ch_first = e0 // EDGE_CHUNK if chunked else 0
@@ -948,7 +952,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     extent = np.zeros((strip_rows, 3), dtype=np.int64)
     prim_y = prim_rows(prims)
     occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
-    chunk_y = band_chunks(edges, H, strip_rows)
+    chunk_y = band_chunks(edges, edge_off, path_box, y0, H, strip_rows)
     # where the run of opaque solid fills from each fill on ends (the fill itself where it is
     # not one): worked out once, where each strip tested every fill's paint again (two more
     # arrays through the caches per strip: a third of this kernel's own time on a city map)
