@@ -201,14 +201,164 @@ def test_an_edge_beyond_the_int64_range_crosses_no_visible_pixel():
         segs = segments(path)
         edges = np.array([c.ravel() for _, c in segs])
         delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, len(sx))[:5]
-        scan_edges(edges, 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist, dcount,
-                   np.zeros(rows, dtype=np.bool_), np.zeros(len(sx), dtype=np.int64))
+        scan_edges(edges, np.empty((0, 2)), 0, len(edges), 0, rows, W, sx, sy, delta, dirty,
+                   dlist, dcount, np.zeros(rows, dtype=np.bool_), np.zeros(len(sx), dtype=np.int64))
         winding = np.cumsum(delta[:, :W], axis=1)
         for py in range(rows):
             for px in range(W):
                 for s in range(len(sx)):
                     want = winding_at(segs, px + sx[s], py + sy[s])
                     assert winding[py, px, s] == want, (far, px, py, s)
+
+
+def _edges_across_strips(chunk):
+    """Edges for the strip tests below, as fills (edge ranges of one array, most not starting
+    on a chunk boundary): closed polygons (a zigzag whose every edge crosses many strips;
+    triangles and horizontal edges with their ends exactly on strip boundaries; a fan of
+    edges from one point; a chunk of its own whose lowest point is exactly a strip's top)
+    and, for the comparison without chunks only, edges no polygon closes: coordinates of
+    1e300 and -1e300, of 1e-300, vertical and NaN ones (one in a chunk of its own, whose
+    other edges lie strips below: the NaN edge adds windings at column 0 from row 0)."""
+    polygons = []
+    zigzag = [(0.3, 0.2)]
+    for i in range(1, 241):
+        zigzag.append((0.3 + 11.0 * (i % 2) + 0.001 * i, 0.2 + 47.5 * (i % 2) - 0.1 * i % 3))
+    polygons.append(zigzag)
+    for y in (4.0, 8.0, 12.0, 16.0, 32.0):
+        polygons.append([(1.25, y), (9.5, y - 4.0), (6.75, y + 4.0)])    # ends on boundaries
+        polygons.append([(0.5, y), (10.5, y), (10.5, y + 0.5), (0.5, y + 0.5)])
+    polygons.append([(6.0, 24.0)] + [(6.0 + 5.0 * math.cos(a), 24.0 + 23.0 * math.sin(a))
+                                     for a in np.linspace(0.0, 6.0, 30)])
+    fills, edges = [], []
+
+    def add(new_edges):
+        fills.append((len(edges), len(edges) + len(new_edges)))
+        edges.extend(new_edges)
+
+    def align():
+        if len(edges) % chunk:
+            add([(0.5, 44.25, 0.5, 44.25)] * (chunk - len(edges) % chunk))
+
+    for poly in polygons:
+        add([(*poly[i], *poly[(i + 1) % len(poly)]) for i in range(len(poly))])
+    align()
+    low = [(1.003 + 0.6 * i, 20.0 if i % 2 == 0 else 10.5 + 0.5 * i) for i in range(chunk)]
+    add([(*low[i], *low[(i + 1) % chunk]) for i in range(chunk)])
+    closed = len(edges)
+    add([(3.0, -1e300, 5.0, 1e300), (2.0, 1e-300, 7.0, 40.0), (1e30, 3.0, 2.0, 20.0),
+         (4.5, 0.0, 4.5, 48.0), (3.0, float("nan"), 5.0, 9.0), (8.0, 16.0, 2.0, -1e-300),
+         (float("nan"), 2.0, 3.0, 30.0), (5.0, 32.0, 5.0, 32.0), (1.0, 47.9, 9.0, 1e300)])
+    # a fill that shares its first chunk with the one before it
+    fills.append((fills[-1][0] - 3, fills[-1][0] + 2))
+    align()
+    add([(3.0, 9.0, 5.0, float("nan"))] + [(2.0, 44.0 + 0.1 * i, 9.0, 45.0)
+                                           for i in range(chunk - 1)])
+    return np.array(edges, dtype=np.float64), fills, closed
+
+
+@pytest.mark.parametrize("samples", [8, 16])
+def test_edge_chunks_change_no_strip_and_give_the_exact_winding(samples):
+    # scan_edges skips chunks of consecutive edges whose y extent misses the strip
+    # (scan.band_chunks): each strip of each fill must get the same winding deltas and dirty
+    # pixels as when it reads every edge, and the windings must be the exact ones (crossing
+    # counts of the closed polygons' outlines at every sample)
+    from vecmsaa.raster.scan import (CHUNKED_EDGES, EDGE_CHUNK, band_chunks, msaa_scratch,
+                                     scan_edges)
+    edges, fills, closed = _edges_across_strips(EDGE_CHUNK)
+    assert len(edges) >= CHUNKED_EDGES
+    W, H, rows = 12, 48, 4
+    # the chunks of a band holding every strip below, for one fill whose box holds them all
+    chunks = band_chunks(edges, np.array([0, len(edges)]), np.array([[0.0, -1e308, W, 1e308]]),
+                         -rows, H + 2 * rows, rows)
+    assert len(chunks) == -(-len(edges) // EDGE_CHUNK)
+    offsets = standard_pattern(samples)
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    n = len(sx)
+    winding = np.zeros((H, W, n))
+    for e0, e1 in fills:
+        for sy0 in range(-rows, H + rows, rows):
+            got = []
+            for chunk_y in (chunks, np.empty((0, 2))):
+                delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, n)[:5]
+                scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist,
+                           dcount, np.zeros(rows, dtype=np.bool_), np.zeros(n, dtype=np.int64))
+                got.append((delta.copy(), dirty.copy(),
+                            [sorted(dlist[r, :dcount[r]]) for r in range(rows)]))
+            (d_a, dirty_a, list_a), (d_b, dirty_b, list_b) = got
+            assert np.array_equal(d_a, d_b), (e0, e1, sy0)
+            assert np.array_equal(dirty_a, dirty_b) and list_a == list_b, (e0, e1, sy0)
+            if e1 <= closed and 0 <= sy0 < H:
+                winding[sy0:sy0 + rows] += np.cumsum(d_a[:, :W], axis=1)
+    assert np.array_equal(winding, _polygon_winding(edges[:closed], W, H, sx, sy))
+
+
+def _polygon_winding(edges, W, H, sx, sy):
+    """Winding number of straight edges (x0, y0, x1, y1) at every sample of a W x H image:
+    truth.winding_at's rule for straight segments (a crossing at t in [0, 1) left of or at the
+    sample, signed by the direction), every sample at once."""
+    X = np.arange(W)[None, :, None] + sx[None, None, :]
+    Y = np.arange(H)[:, None, None] + sy[None, None, :]
+    want = np.zeros((H, W, len(sx)))
+    for x0, y0, x1, y1 in edges:
+        if y0 == y1:
+            continue
+        t = (Y - y0) / (y1 - y0)
+        xt = x0 + t * (x1 - x0)
+        want += np.where((t >= 0) & (t < 1) & (xt <= X), 1 if y1 > y0 else -1, 0)
+    return want
+
+
+@pytest.mark.parametrize("samples", [8, 16])
+def test_a_batch_of_tall_many_edged_fills_matches_its_samples_in_any_bands(samples):
+    # a batch with enough edges that each band works out edge chunks (scan.CHUNKED_EDGES),
+    # its fills crossing every strip (a zigzag of 300 edges from top to bottom) or ending on
+    # strip boundaries (16 rows at this width): the same bytes for any band size and thread
+    # count, and each pixel's coverage the share of its samples inside (crossing counts)
+    from vecmsaa.raster.scan import CHUNKED_EDGES
+    W, H = 40, 96
+    zigzag = Path()
+    zigzag.moveTo((0.5 + 1e-3 * math.pi, 0.25))
+    for i in range(1, 300):
+        zigzag.lineTo((0.5 + 39.0 * (i % 2) + 0.013 * i + 1e-3 * math.pi,
+                       0.25 + 95.5 * (i % 2) - 0.3 * (i % 5)))
+    zigzag.closePath()
+    steps = Path()
+    for y in (16.0, 32.0, 48.0, 64.0):
+        steps.moveTo((2.0 + 1e-3 * math.e, y))
+        steps.lineTo((37.5 + 1e-3 * math.pi, y - 16.0))
+        steps.lineTo((20.0 + 1e-3 * math.e, y + 16.0))
+        steps.closePath()
+    foot = Path()      # in the lowest band only (of bands under 84 rows)
+    foot.moveTo((3.3, 84.2))
+    foot.lineTo((30.1, 90.7))
+    foot.lineTo((12.9, 95.6))
+    foot.closePath()
+    fills = [Fill(zigzag, Solid((0.2, 0.4, 0.8, 1.0)), rule="evenodd"),
+             Fill(steps, Solid((0.9, 0.3, 0.1, 1.0))), Fill(foot, Solid((0.1, 0.7, 0.2, 1.0)))]
+    scene = Scene(W, H, Group(fills))
+    edges = []
+    for fill in fills:
+        edges += [c.ravel() for _, c in segments(fill.path)]
+    assert len(edges) >= CHUNKED_EDGES
+    one = render_scene(scene, mode="persample", samples=samples)
+    for threads, band_rows in ((1, 16), (2, 16), (1, 32), (2, 48), (1, 80)):
+        assert np.array_equal(render_scene(scene, mode="persample", samples=samples,
+                                           threads=threads, band_budget=band_rows * W * 16),
+                              one), (threads, band_rows)
+    offsets = standard_pattern(samples)
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    zig = _polygon_winding([c.ravel() for _, c in segments(zigzag)], W, H, sx, sy)
+    tri = _polygon_winding([c.ravel() for _, c in segments(steps)], W, H, sx, sy)
+    in_foot = _polygon_winding([c.ravel() for _, c in segments(foot)], W, H, sx, sy) != 0
+    in_zig = zig % 2 == 1
+    in_tri = tri != 0
+    # each drawn over the ones before, all opaque: per sample, the last one inside
+    colour = np.where(in_foot[..., None], [0.1, 0.7, 0.2],
+                      np.where(in_tri[..., None], [0.9, 0.3, 0.1],
+                               np.where(in_zig[..., None], [0.2, 0.4, 0.8], 0.0)))
+    cover = (in_foot | in_tri | in_zig).mean(axis=2)
+    want = np.concatenate([colour.mean(axis=2), cover[..., None]], axis=2)
+    assert np.abs(one - want).max() < 1e-5
 
 
 def test_persample_on_a_loop_cubic_and_a_serpentine():

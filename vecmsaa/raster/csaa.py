@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..jit import njit
-from .scan import (_floor_int, _sort_row, coverage_of, prim_rows, saturated, scan_edges,
-                   scan_lenses)
+from .scan import (_floor_int, _sort_row, band_chunks, coverage_of, prim_rows, saturated,
+                   scan_edges, scan_lenses)
 from .shaders import shade_span
 
 
@@ -265,6 +265,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     uniq = np.zeros((n, 4), dtype=np.float32)
     counts = np.zeros(n, dtype=np.int64)
     key_entry = np.zeros(2 * colours.shape[1], dtype=np.int64)
+    chunk_y = band_chunks(edges, edge_off, path_box, y0, H, strip_rows)
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
@@ -277,8 +278,8 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 continue
             r_first = max(0, _floor_int(path_box[k, 1]) - sy0)
             r_last = min(rows - 1, _floor_int(path_box[k, 3]) - sy0)
-            scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta, dirty,
-                       dlist, dcount, hidden, lo)
+            scan_edges(edges, chunk_y, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
+                       dirty, dlist, dcount, hidden, lo)
             if prim_off[k + 1] > prim_off[k]:
                 scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
                             mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,

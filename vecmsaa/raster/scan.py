@@ -124,28 +124,6 @@ def _band_x_range(prim, y_lo, y_hi):
 
 
 @njit(cache=True, inline="always")
-def _clip_half_plane(lo, hi, a, b, c, sxs, ys):
-    """The pixel range [lo, hi] of a sample narrowed to a·x + b·y + c ≥ 0. Scalars in and
-    out: an array argument costs a reference count per call, here per sample and row."""
-    if a == 0.0 and b == 0.0:
-        return lo, hi
-    v = -(c + b * ys)
-    # clamped before the conversion to int (_ceil_int): a nearly horizontal tangent (tiny a)
-    # crosses the row far beyond the int64 range
-    if a > 0.0:
-        t = _ceil_int(v / a - sxs)
-        if t > lo:
-            lo = t
-    elif a < 0.0:
-        t = _floor_int(v / a - sxs)
-        if t < hi:
-            hi = t
-    elif v > 0.0:
-        lo = BIG
-    return lo, hi
-
-
-@njit(cache=True, inline="always")
 def saturated(sa, da):
     """The share of a source of alpha ``sa`` that the saturating (anti-correlated) blend adds
     over a destination of alpha ``da``: i = min(A_f, 1 - A_fb), as a factor of the source
@@ -211,74 +189,135 @@ def _blend_span(fb, cplx, pool, r, q0, q1, py, kind, f, lut, tex, c, sat, span, 
                 pool[slot, s, 3] = sa + pool[slot, s, 3] * k
 
 
+#: consecutive edges (of the batch's array) that share one y extent in band_chunks
+EDGE_CHUNK = 16
+#: edges a batch has at least for render_msaa to work out its band_chunks: below it, reading
+#: the few edges of a fill that miss a strip costs less than the pass (a one-fill batch of a
+#: rectangle is drawn once per band)
+CHUNKED_EDGES = 256
+
+
 @njit(cache=True, error_model="numpy")
-def scan_edges(edges, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount, hidden, col):
+def band_chunks(edges, edge_off, path_box, y0, H, strip_rows):
+    """(C, 2) lowest and highest y of each EDGE_CHUNK consecutive edges of the batch (-inf,
+    inf where one is NaN), for render_msaa's band of H rows from y0: scan_edges skips a chunk
+    that lies wholly above or below the strip. A fill's edges follow its outline, so a strip
+    of 16 rows meets few of its chunks, where it read every edge of every fill whose box meets
+    it (a city map's large polygons: each of their 128 strips at 2048 px). Only the chunks of
+    the fills whose box meets the band are worked out (the rest stay -inf, inf: never
+    skipped, never read): one pass over the band's edges, not the batch's, per band. A chunk
+    may hold the ends of two fills: its extent covers both, which only makes it skipped less
+    often. None (empty) where the band is one strip or the batch has under CHUNKED_EDGES
+    edges."""
+    E = edges.shape[0]
+    if E < CHUNKED_EDGES or H <= strip_rows:
+        return np.empty((0, 2))
+    out = np.empty(((E + EDGE_CHUNK - 1) // EDGE_CHUNK, 2))
+    out[:, 0] = -np.inf
+    out[:, 1] = np.inf
+    done = -1
+    for k in range(edge_off.shape[0] - 1):
+        if path_box[k, 3] < y0 or path_box[k, 1] >= y0 + H:
+            continue
+        for ch in range(max(done + 1, edge_off[k] // EDGE_CHUNK),
+                        (edge_off[k + 1] + EDGE_CHUNK - 1) // EDGE_CHUNK):
+            lo, hi = np.inf, -np.inf
+            nan = False
+            for e in range(ch * EDGE_CHUNK, min(E, (ch + 1) * EDGE_CHUNK)):
+                ya, yb = edges[e, 1], edges[e, 3]
+                nan |= not (ya == ya and yb == yb)
+                lo = min(lo, ya, yb)
+                hi = max(hi, ya, yb)
+            if not nan:
+                out[ch, 0], out[ch, 1] = lo, hi
+            done = ch
+    return out
+
+
+@njit(cache=True, error_model="numpy")
+def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist, dcount,
+               hidden, col):
     """Winding deltas of the straight edges e0..e1 (one fill) on the sample rows of strip
-    [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows). Written out in one loop nest: an array handed to a helper costs a
-    reference count per call, here per edge and per marked pixel. ``col``: n int64, where
-    each sample's crossing of a row lands."""
+    [sy0, sy0 + rows), except the rows where ``hidden`` is set (nothing of the fill shows).
+    Written out in one loop nest: an array handed to a helper costs a reference count per
+    call, here per edge and per marked pixel. ``col``: n int64, where each sample's crossing
+    of a row lands. ``chunk_y``: band_chunks of ``edges``, or empty (no chunk skipped)."""
     n = sx.shape[0]
-    for e in range(e0, e1):
-        x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
-        # most of a fill's edges lie above or below the strip: rejected before the row
-        # arithmetic (the rows they would give are empty; a NaN goes on to it, as before)
-        if (y0 < sy0 and y1 < sy0) or (y0 >= sy0 + rows and y1 >= sy0 + rows):
-            continue
-        if min(x0, x1) >= W:
-            continue
-        if y0 == y1:
-            # no crossing, but samples above and below it differ: the pixels it touches are
-            # dirty
-            r = _floor_int(y0) - sy0
-            if 0 <= r < rows and not hidden[r]:
-                lo_i = _pixel_index(min(x0, x1), W)
-                hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
+    chunked = chunk_y.shape[0] > 0
+    ch_first = e0 // EDGE_CHUNK if chunked else 0
+    ch_last = (e1 - 1) // EDGE_CHUNK if chunked else 0
+    for ch in range(ch_first, ch_last + 1):
+        if chunked:
+            # a chunk whose every edge the test below would reject: skipped whole (a NaN
+            # made its extent infinite)
+            if chunk_y[ch, 1] < sy0 or chunk_y[ch, 0] >= sy0 + rows:
+                continue
+            ea, ez = max(e0, ch * EDGE_CHUNK), min(e1, (ch + 1) * EDGE_CHUNK)
+        else:
+            ea, ez = e0, e1
+        for e in range(ea, ez):
+            x0, y0, x1, y1 = edges[e, 0], edges[e, 1], edges[e, 2], edges[e, 3]
+            # most of a fill's edges lie above or below the strip: rejected before the row
+            # arithmetic (the rows they would give are empty; a NaN goes on to it, as before)
+            if (y0 < sy0 and y1 < sy0) or (y0 >= sy0 + rows and y1 >= sy0 + rows):
+                continue
+            if min(x0, x1) >= W:
+                continue
+            if y0 == y1:
+                # no crossing, but samples above and below it differ: the pixels it touches
+                # are dirty
+                r = _floor_int(y0) - sy0
+                if 0 <= r < rows and not hidden[r]:
+                    lo_i = _pixel_index(min(x0, x1), W)
+                    hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
+                    for px in range(lo_i, hi_i + 1):
+                        if dirty[r, px] == 0:
+                            dirty[r, px] = 1
+                            dlist[r, dcount[r]] = px
+                            dcount[r] += 1
+                continue
+            # d in float32, as delta: the same sums (±1 on small integers is exact either
+            # way) without a conversion to double and back per sample
+            if y0 < y1:
+                xt, yt, xb, yb, d = x0, y0, x1, y1, np.float32(1.0)
+            else:
+                xt, yt, xb, yb, d = x1, y1, x0, y0, np.float32(-1.0)
+            r_lo = max(_floor_int(yt) - sy0, 0)
+            r_hi = min(_floor_int(yb) - sy0, rows - 1)
+            if r_lo > r_hi:
+                continue
+            dxdy = (xb - xt) / (yb - yt)
+            for r in range(r_lo, r_hi + 1):
+                if hidden[r]:
+                    continue
+                py = sy0 + r
+                # each sample's pixel first, W for none (arithmetic alone: it vectorises),
+                # then the deltas (a scatter: it does not)
+                for s in range(n):
+                    ys = py + sy[s]
+                    # the sample's pixel is ceil(v); compared as a float first (ceil(v) >= W
+                    # exactly when v > W - 1): an edge reaching 1e19 px converts to no int64
+                    v = crossing_x(xt, yt, dxdy, ys) - sx[s]
+                    c = _ceil_int(v) if v > 0.0 else 0
+                    col[s] = W if (ys < yt) | (ys >= yb) | (v > W - 1.0) else c
+                for s in range(n):
+                    if col[s] < W:
+                        delta[r, col[s], s] += d
+                # every pixel box this edge touches in the row becomes dirty (plus one to
+                # the right, where crossings of samples left of the edge land)
+                ya = max(yt, py)
+                yb_ = min(yb, py + 1.0)
+                xa = crossing_x(xt, yt, dxdy, ya)
+                xz = crossing_x(xt, yt, dxdy, yb_)
+                lo = _floor_int(min(xa, xz))
+                hi = _floor_int(max(xa, xz)) + 1
+                lo_i = _pixel_index(lo, W)
+                hi_i = _pixel_index(hi, W)
                 for px in range(lo_i, hi_i + 1):
                     if dirty[r, px] == 0:
                         dirty[r, px] = 1
                         dlist[r, dcount[r]] = px
                         dcount[r] += 1
-            continue
-        if y0 < y1:
-            xt, yt, xb, yb, d = x0, y0, x1, y1, 1.0
-        else:
-            xt, yt, xb, yb, d = x1, y1, x0, y0, -1.0
-        r_lo = max(_floor_int(yt) - sy0, 0)
-        r_hi = min(_floor_int(yb) - sy0, rows - 1)
-        if r_lo > r_hi:
-            continue
-        dxdy = (xb - xt) / (yb - yt)
-        for r in range(r_lo, r_hi + 1):
-            if hidden[r]:
-                continue
-            py = sy0 + r
-            # each sample's pixel first, W for none (arithmetic alone: it vectorises), then
-            # the deltas (a scatter: it does not)
-            for s in range(n):
-                ys = py + sy[s]
-                # the sample's pixel is ceil(v); compared as a float first (ceil(v) >= W
-                # exactly when v > W - 1): an edge reaching 1e19 px converts to no int64
-                v = crossing_x(xt, yt, dxdy, ys) - sx[s]
-                c = _ceil_int(v) if v > 0.0 else 0
-                col[s] = W if (ys < yt) | (ys >= yb) | (v > W - 1.0) else c
-            for s in range(n):
-                if col[s] < W:
-                    delta[r, col[s], s] += d
-            # every pixel box this edge touches in the row becomes dirty (plus one to the
-            # right, where crossings of samples left of the edge land)
-            ya = max(yt, py)
-            yb_ = min(yb, py + 1.0)
-            xa = crossing_x(xt, yt, dxdy, ya)
-            xz = crossing_x(xt, yt, dxdy, yb_)
-            lo = _floor_int(min(xa, xz))
-            hi = _floor_int(max(xa, xz)) + 1
-            lo_i = _pixel_index(lo, W)
-            hi_i = _pixel_index(hi, W)
-            for px in range(lo_i, hi_i + 1):
-                if dirty[r, px] == 0:
-                    dirty[r, px] = 1
-                    dlist[r, dcount[r]] = px
-                    dcount[r] += 1
 
 
 @njit(cache=True)
@@ -365,26 +404,47 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
             pxz = min(W - 1, _floor_int(xz))
             if pxa > pxz:
                 continue
-            # per sample: the pixel range where it is on the lens side of chord and tangents
+            # per sample: the pixel range where it is on the lens side of chord and tangents,
+            # each bound in a loop of its own with the tests on the primitive outside it, so
+            # that the loops vectorise (the tangents' divisions and roundings four or eight
+            # samples at once; one loop with the tests inside was 40% of this kernel's time
+            # at 16 samples). Each sample's arithmetic is the same as one at a time.
+            if horizontal:
+                for s in range(n):
+                    inside = (py + sy[s] >= yt) == right
+                    lo[s] = -BIG if inside else BIG
+                    hi[s] = BIG
+            else:
+                # a nearly horizontal chord crosses far rows beyond the int64 range: clamped
+                # before the conversion (_ceil_int)
+                for s in range(n):
+                    t = _ceil_int(crossing_x(xt, yt, dxdy, py + sy[s]) - sx[s])
+                    lo[s] = t if right else -BIG
+                    hi[s] = BIG if right else t - 1
+            for tangent in range(2 if tangents else 0):
+                # narrowed to a·x + b·y + c ≥ 0: x ≥ v / a (a > 0) or x ≤ v / a (a < 0),
+                # v = -(c + b·y), clamped before the conversion to int (_ceil_int): a nearly
+                # horizontal tangent (tiny a) crosses the row far beyond the int64 range;
+                # for a = 0 (or NaN) the whole row or none, and nothing for a = b = 0
+                if tangent == 0:
+                    a, b, c_ = t1a, t1b, t1c
+                else:
+                    a, b, c_ = t2a, t2b, t2c
+                if a > 0.0:
+                    for s in range(n):
+                        v = -(c_ + b * (py + sy[s]))
+                        lo[s] = max(lo[s], _ceil_int(v / a - sx[s]))
+                elif a < 0.0:
+                    for s in range(n):
+                        v = -(c_ + b * (py + sy[s]))
+                        hi[s] = min(hi[s], _floor_int(v / a - sx[s]))
+                elif not (a == 0.0 and b == 0.0):
+                    for s in range(n):
+                        if -(c_ + b * (py + sy[s])) > 0.0:
+                            lo[s] = BIG
             max_lo, min_hi = -BIG, BIG
             min_lo, max_hi = BIG, -BIG
             for s in range(n):
-                ys = py + sy[s]
-                if horizontal:
-                    inside = (ys >= yt) == right
-                    lo[s] = -BIG if inside else BIG
-                    hi[s] = BIG
-                else:
-                    # a nearly horizontal chord crosses far rows beyond the int64 range:
-                    # clamped before the conversion (_ceil_int)
-                    t = _ceil_int(crossing_x(xt, yt, dxdy, ys) - sx[s])
-                    if right:
-                        lo[s], hi[s] = t, BIG
-                    else:
-                        lo[s], hi[s] = -BIG, t - 1
-                if tangents:
-                    lo_s, hi_s = _clip_half_plane(lo[s], hi[s], t1a, t1b, t1c, sx[s], ys)
-                    lo[s], hi[s] = _clip_half_plane(lo_s, hi_s, t2a, t2b, t2c, sx[s], ys)
                 max_lo = max(max_lo, lo[s])
                 min_hi = min(min_hi, hi[s])
                 min_lo = min(min_lo, lo[s])
@@ -892,6 +952,14 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     extent = np.zeros((strip_rows, 3), dtype=np.int64)
     prim_y = prim_rows(prims)
     occlude = occlude and mode != MODE_ALPHA and n <= 64 and not saturate
+    chunk_y = band_chunks(edges, edge_off, path_box, y0, H, strip_rows)
+    # where the run of opaque solid fills from each fill on ends (the fill itself where it is
+    # not one): worked out once, where each strip tested every fill's paint again (two more
+    # arrays through the caches per strip: a third of this kernel's own time on a city map)
+    run_end = np.empty(P + 1, dtype=np.int64)
+    run_end[P] = P
+    for q in range(P - 1, -1, -1):
+        run_end[q] = run_end[q + 1] if paint_kind[q] == 0 and paint_f[q, 3] >= 1.0 else q
     for sy0 in range(y0, y0 + H, strip_rows):
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
@@ -901,9 +969,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
         p = 0
         while p < P:
             # a run of opaque solid fills p .. q - 1 (q = p + 1: one fill drawn as usual)
-            q = p
-            while occlude and q < P and paint_kind[q] == 0 and paint_f[q, 3] >= 1.0:
-                q += 1
+            q = run_end[p] if occlude else p
             run = q - p > 1
             if not run:
                 q = p + 1
@@ -941,8 +1007,8 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                     if shown == 0:
                         hidden[r_first:r_last + 1] = False
                         continue
-                scan_edges(edges, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,
-                           dirty, dlist, dcount, hidden, col)
+                scan_edges(edges, chunk_y, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy,
+                           delta, dirty, dlist, dcount, hidden, col)
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx,
                                 sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
