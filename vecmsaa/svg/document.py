@@ -190,6 +190,23 @@ _EM_LENGTH = re.compile(r"(?<![\w.])([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(
                         re.I)
 
 
+def href_chain(doc, el, tags):
+    """The element followed by what its href leads to (same kind of element only, ``tags``:
+    gradients, patterns, filters), no cycles."""
+    chain = [el]
+    seen = {id(el)}
+    node = el
+    while True:
+        ref = node.href()
+        nxt = doc.lookup(ref) if ref else None
+        if nxt is None or id(nxt) in seen or nxt.tag not in tags:
+            break
+        chain.append(nxt)
+        seen.add(id(nxt))
+        node = nxt
+    return chain
+
+
 def inherited_attr(chain, name, default=None):
     """The attribute of the first element of ``chain`` (an element and those its href leads
     to: gradients, patterns, filters) that has it, else ``default``."""

@@ -30,8 +30,7 @@ from ..scene.nodes import (SOURCE_ALPHA, SOURCE_GRAPHIC, Blend, ColorMatrix, Com
                            GaussianBlur, Group, Image, Lighting, Merge, Morphology, Offset,
                            Primitive, Tile, Turbulence)
 from .color import parse_svg_color as parse_color
-from .document import Element, inherited_attr
-from .paint import href_chain
+from .document import Element, href_chain, inherited_attr
 from .units import (ANGLE_DEG, box_coord, f32_chain, parse_number, parse_number_list,
                     parse_number_prefix, parse_opacity, row_scale_f32, split_length,
                     url_argument)
@@ -279,7 +278,7 @@ def filter_element(builder, fel, el, ctx, bbox_fn):
 def _filter_head(builder, fel):
     """(filterUnits is objectBoundingBox, primitiveUnits is, the element holding the
     primitives, whether a primitive's effect is the use's own: _PER_USE) of a <filter>."""
-    chain = href_chain(builder, fel, ("filter",))
+    chain = href_chain(builder.doc, fel, ("filter",))
     holder = next((e for e in chain if e.children), None)   # usvg: the first with children
     return ((inherited_attr(chain, "filterUnits") or "") != "userSpaceOnUse",
             (inherited_attr(chain, "primitiveUnits") or "") == "objectBoundingBox", holder,
@@ -290,7 +289,7 @@ def _filter_lengths(builder, fel, units_obb, prim_obb, holder, ctx):
     """A <filter>'s lengths in a viewport: its region (fractions of the bounding box, or
     user-space x, y, width, height), and for each primitive its tag and subregion
     (_subregion_spec)."""
-    chain = href_chain(builder, fel, ("filter",))
+    chain = href_chain(builder.doc, fel, ("filter",))
     attr = lambda name: inherited_attr(chain, name)  # noqa: E731
     style = builder.doc.document_style(fel)
     if units_obb:

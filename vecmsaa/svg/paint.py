@@ -18,7 +18,7 @@ from ..scene.transform import IDENTITY, apply, compose, invert, translate
 from ..scene.nodes import Fill, Group, LinearGradient, PatternPaint, RadialGradient, Solid
 from ..scene.path import rect_path
 from .color import parse_svg_color as parse_color
-from .document import inherited_attr
+from .document import href_chain, inherited_attr
 from .units import (NUMBER_RE, box_coord, concat_f32, f32_chain, f32_matrix, row_scale,
                     row_scale_f32, parse_aspect, parse_opacity,
                     parse_transform, parse_viewbox, split_length, viewbox_transform,
@@ -33,22 +33,6 @@ NO_PAINT = "no paint"
 _OFFSET = re.compile(rf"({NUMBER_RE})(%?)")
 MAX_TILE_PIXELS = 2048 * 2048
 MAX_TILE_SIDE = 8192
-
-
-def href_chain(builder, el, tags):
-    """The element followed by what its href leads to (same kind of element only), no cycles."""
-    chain = [el]
-    seen = {id(el)}
-    node = el
-    while True:
-        ref = node.href()
-        nxt = builder.doc.lookup(ref) if ref else None
-        if nxt is None or id(nxt) in seen or nxt.tag not in tags:
-            break
-        chain.append(nxt)
-        seen.add(id(nxt))
-        node = nxt
-    return chain
 
 
 def gradient_stops(builder, chain):
@@ -161,7 +145,7 @@ def paint_server(builder, el, ctx, bbox, user_style, sampled_in_box=True):
 
 
 def gradient(builder, el, ctx, bbox):
-    chain = href_chain(builder, el, GRADIENT_TAGS)
+    chain = href_chain(builder.doc, el, GRADIENT_TAGS)
     stops = gradient_stops(builder, chain)
     if len(stops) == 0:
         return None
@@ -242,7 +226,7 @@ def pattern(builder, el, ctx, bbox, user_style=None):
 
     if any(p is el for p in builder.paint_stack):
         return None
-    chain = href_chain(builder, el, ("pattern",))
+    chain = href_chain(builder.doc, el, ("pattern",))
     style = builder.doc.document_style(el)
     obb = inherited_attr(chain, "patternUnits", "objectBoundingBox") != "userSpaceOnUse"
     content_obb = (inherited_attr(chain, "patternContentUnits", "userSpaceOnUse")
