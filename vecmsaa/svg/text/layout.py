@@ -847,7 +847,14 @@ def build_text(element, ctx):
         return []
     writing = (ctx.style.get("writing-mode") or "lr").strip()
     vertical = writing in ("tb", "tb-rl", "vertical-rl", "vertical-lr")
-    orientations = [text_orientation(c.span.style) for c in chars] if vertical else None
+    orientations = None
+    if vertical:
+        # each character's text-orientation, read once per span (its characters share it)
+        by_span = {}
+        for c in chars:
+            if id(c.span) not in by_span:
+                by_span[id(c.span)] = text_orientation(c.span.style)
+        orientations = [by_span[id(c.span)] for c in chars]
     upright = [o == "upright" for o in orientations] if vertical else None
     text_length, inside = text_lengths(chars, ctx)
     # baseline shift of every character (positive moves down)
