@@ -153,32 +153,32 @@ def pattern_href_chain(n):
 def pattern_many_children(n):
     d = '<pattern id="p" width="200" height="200" patternUnits="userSpaceOnUse">' + ''.join(f'<rect x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="1" height="1"/>' for i in range(n)) + '</pattern>'
     return doc(f'<defs>{d}</defs><rect fill="url(#p)" width="200" height="200"/>')
-@shape
-def clips(n):
-    d = ''.join(f'<clipPath id="c{i}"><circle cx="{xy(i,n)[0]}" cy="{xy(i,n)[1]}" r="2"/></clipPath>' for i in range(n))
-    return doc(f'<defs>{d}</defs>' + ''.join(f'<rect clip-path="url(#c{i})" x="{xy(i,n)[0]-2}" y="{xy(i,n)[1]-2}" width="4" height="4"/>' for i in range(n)))
-@shape
-def clip_chain(n):
-    d = '<clipPath id="c0"><rect width="150" height="150"/></clipPath>'
-    d += ''.join(f'<clipPath id="c{i}" clip-path="url(#c{i-1})"><rect x="{i*0.01}" width="190" height="190"/></clipPath>' for i in range(1, n))
-    return doc(f'<defs>{d}</defs><rect clip-path="url(#c{n-1})" width="200" height="200"/>')
-@shape
-def clip_one_many_refs(n):
-    d = '<clipPath id="c"><circle cx="100" cy="100" r="90"/></clipPath>'
-    return doc(f'<defs>{d}</defs>' + ''.join(f'<rect clip-path="url(#c)" x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="3" height="3"/>' for i in range(n)))
+def reference_shapes(name, tag, attr, key, paint):
+    """The shapes of clip paths (name "clip") and masks ("mask"): one for each element
+    (NAMEs), a chain of them each referencing the one before (NAME_chain), one referenced by
+    every element (NAME_one_many_refs). ``paint``: what the content needs to show."""
+    def each(n):
+        d = ''.join(f'<{tag} id="{key}{i}"><circle cx="{xy(i,n)[0]}" cy="{xy(i,n)[1]}" r="2"{paint}/></{tag}>' for i in range(n))
+        return doc(f'<defs>{d}</defs>' + ''.join(f'<rect {attr}="url(#{key}{i})" x="{xy(i,n)[0]-2}" y="{xy(i,n)[1]-2}" width="4" height="4"/>' for i in range(n)))
+
+    def chain(n):
+        d = f'<{tag} id="{key}0"><rect width="150" height="150"{paint}/></{tag}>'
+        d += ''.join(f'<{tag} id="{key}{i}" {attr}="url(#{key}{i-1})"><rect x="{i*0.01}" width="190" height="190"{paint}/></{tag}>' for i in range(1, n))
+        return doc(f'<defs>{d}</defs><rect {attr}="url(#{key}{n-1})" width="200" height="200"/>')
+
+    def one_many_refs(n):
+        d = f'<{tag} id="{key}"><circle cx="100" cy="100" r="90"{paint}/></{tag}>'
+        return doc(f'<defs>{d}</defs>' + ''.join(f'<rect {attr}="url(#{key})" x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="3" height="3"/>' for i in range(n)))
+
+    S[f"{name}s"], S[f"{name}_chain"], S[f"{name}_one_many_refs"] = each, chain, one_many_refs
+
+
+reference_shapes("clip", "clipPath", "clip-path", "c", "")
+reference_shapes("mask", "mask", "mask", "m", ' fill="white"')
 @shape
 def clip_many_children(n):
     d = '<clipPath id="c">' + ''.join(f'<rect x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="2" height="2"/>' for i in range(n)) + '</clipPath>'
     return doc(f'<defs>{d}</defs><rect clip-path="url(#c)" width="200" height="200"/>')
-@shape
-def masks(n):
-    d = ''.join(f'<mask id="m{i}"><circle cx="{xy(i,n)[0]}" cy="{xy(i,n)[1]}" r="2" fill="white"/></mask>' for i in range(n))
-    return doc(f'<defs>{d}</defs>' + ''.join(f'<rect mask="url(#m{i})" x="{xy(i,n)[0]-2}" y="{xy(i,n)[1]-2}" width="4" height="4"/>' for i in range(n)))
-@shape
-def mask_chain(n):
-    d = '<mask id="m0"><rect width="150" height="150" fill="white"/></mask>'
-    d += ''.join(f'<mask id="m{i}" mask="url(#m{i-1})"><rect x="{i*0.01}" width="190" height="190" fill="white"/></mask>' for i in range(1, n))
-    return doc(f'<defs>{d}</defs><rect mask="url(#m{n-1})" width="200" height="200"/>')
 @shape
 def markers(n):
     pts = ' '.join(f'{xy(i,n)[0]},{xy(i,n)[1]}' for i in range(n))
@@ -321,10 +321,6 @@ def whitespace_comments(n):
 @shape
 def markers_many_paths(n):
     return doc('<marker id="m" markerWidth="3" markerHeight="3"><circle cx="1" cy="1" r="1"/></marker>' + ''.join(f'<line marker-end="url(#m)" stroke="black" x1="0" y1="0" x2="{xy(i,n)[0]}" y2="{xy(i,n)[1]}"/>' for i in range(n)))
-@shape
-def mask_one_many_refs(n):
-    d = '<mask id="m"><circle cx="100" cy="100" r="90" fill="white"/></mask>'
-    return doc(f'<defs>{d}</defs>' + ''.join(f'<rect mask="url(#m)" x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="3" height="3"/>' for i in range(n)))
 @shape
 def stroke_wide_many(n):
     return doc(''.join(f'<circle stroke="black" stroke-width="2" fill="none" cx="{xy(i,n)[0]}" cy="{xy(i,n)[1]}" r="3"/>' for i in range(n)))
