@@ -378,7 +378,8 @@ def test_jobs_means_the_same_everywhere(capsys):
 
 @pytest.mark.parametrize("flags, covered", [
     # a vertical edge 0.3 px into column 10: the samples left of it, by the patterns' tables
-    ([], 5 / 16),                         # D3D 16 centred: x offsets -4.5, -3.5, -5.5, -7.5, -6.5 (1/16 px)
+    # D3D 16 centred: x offsets -4.5, -3.5, -5.5, -7.5, -6.5 (1/16 px)
+    ([], 5 / 16),
     (["--pattern", "grid"], 4 / 16),      # 4 x 4 grid: the first column, at 1/8
 ])
 def test_pattern_flag_picks_where_the_samples_lie(tmp_path, flags, covered):

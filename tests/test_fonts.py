@@ -275,9 +275,9 @@ def test_rtl_run_is_reversed_and_ligated():
 def test_runs_see_harfbuzz_context_only_next_to_them(monkeypatch):
     """Each bidi run hands HarfBuzz its own characters and at most CONTEXT_CHARS either side
     (HarfBuzz keeps 5: hb-buffer.hh), not the whole line: a long line of many runs was
-    quadratic in its length. Every run still shapes as HarfBuzz shapes it with the whole line as context
-    (Arabic joining across a run's edge, ZWJ ligature ranges under liga=0), read here
-    straight from uharfbuzz."""
+    quadratic in its length. Every run still shapes as HarfBuzz shapes it with the whole
+    line as context (Arabic joining across a run's edge, ZWJ ligature ranges under liga=0),
+    read here straight from uharfbuzz."""
     import uharfbuzz as hb
     face = load_face(os.path.join(SUITE_FONTS, "Amiri-Regular.ttf"))
     # (x + ZWJ before an Arabic run: the ZWJ ends the Latin run and is the Arabic run's

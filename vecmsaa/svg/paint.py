@@ -428,10 +428,10 @@ def _sampled_window(builder, ctx, bbox, user_style, full, x, y, sx, sy, tw, th):
     content's edges blurred (an objectBoundingBox pattern of width 20 on a 160-unit rect is
     a 3200 px tile in a 200 px render). The element draws the paint inside its box widened
     by its stroke's reach (Builder.outline_reach); a quarter of the box's larger side more
-    covers what a text's box may leave out (decorations past the glyphs); a stroke that does not scale with the element has no
-    such bound here. The window is that box's device bounds mapped into unwrapped tile
-    pixels, so it may reach into the neighbouring copies of the tile (pattern draws those
-    too)."""
+    covers what a text's box may leave out (decorations past the glyphs); a stroke that does
+    not scale with the element has no such bound here. The window is that box's device
+    bounds mapped into unwrapped tile pixels, so it may reach into the neighbouring copies of
+    the tile (pattern draws those too)."""
     if user_style is None or bbox is None:
         return None
     if (user_style.get("vector-effect") or "").strip() == "non-scaling-stroke":

@@ -130,8 +130,8 @@ def crawl(mode: str, samples: int, pattern: str = "d3d", size: int = 64,
           count: int = FRAMES) -> tuple[float, float, float]:
     """(offset, crawl, jitter) of the moving edge, in pixels: the mean of its position error
     (a pattern whose samples are not centred on the pixel shifts the whole image, e.g. the
-    jittered and Poisson patterns, and the D3D 16 table by 1/32 px before it was centred), the RMS of the error about that mean, and the RMS of its
-    frame-to-frame change."""
+    jittered and Poisson patterns, and the D3D 16 table by 1/32 px before it was centred),
+    the RMS of the error about that mean, and the RMS of its frame-to-frame change."""
     alpha = render_frames(edge_frames(size, count), mode, samples, pattern)[..., 3]
     err = alpha.sum(axis=1) - exact_edge_columns(size, count)
     offset = float(err.mean())
