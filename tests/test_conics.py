@@ -9,12 +9,15 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from truth import ellipse_pixel_coverage, segments, winding_at
 from vecmsaa.raster.render import EXACT_TOLERANCE, render_scene
 from vecmsaa.raster.sample_patterns import pattern_offsets
 from vecmsaa.scene.nodes import Fill, Group, Scene, Solid
-from vecmsaa.scene.path import CONIC, CUBIC, conic_weight
+from vecmsaa.geometry.stroke import arc_cubics
+from vecmsaa.scene.path import CONIC, CUBIC, MOVE, Path, conic_weight
 from vecmsaa.svg.pathdata import parse_path_data
 from vecmsaa.svg.shapes import ellipse_path, rounded_rect_path
 
@@ -86,6 +89,59 @@ def test_consumers_of_beziers_get_the_cubic_that_the_arc_used_to_be():
     assert cubic.points[1] == pytest.approx((1.0, 4 / 3 * (math.sqrt(2) - 1)), abs=1e-15)
     rr = rounded_rect_path(0, 0, 10, 6, 2, 1).without_conics()
     assert CONIC not in rr.verbs
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-3.0, 5.0), st.floats(0.05, 1.0), st.floats(0.0, 2 * math.pi),
+       st.floats(0.1, math.pi / 2), st.floats(-1.0, 1.0), st.integers(0, 3))
+def test_arc_cubics_cut_each_arc_as_kurbo_and_stay_on_the_ellipse(log_r, aspect, start, sweep,
+                                                                   shear, keep_mask):
+    """Arcs of affine images of a circle (radii 1e-3 .. 1e5 units, sweeps up to 90°), as
+    stroke.arc_cubics cuts them: n = ⌈max((1.1163·R/0.1)^(1/6), 3.999999)·θ/2π⌉ cubics for an
+    arc of θ on an ellipse of larger radius R (kurbo's Arc::append_iter at usvg's tolerance,
+    R from the affine map's singular values here), every piece's ends on the ellipse and its
+    handles along the circle's tangents at 4/3·tan(θ/4n) (in the circle's frame); conics
+    ``keep`` marks stay as they are, and one cubic is Path.without_conics's."""
+    r = 10.0 ** log_r
+    a = np.array([[r, shear * r], [0.0, aspect * r]]) @ np.array(
+        [[math.cos(0.3), -math.sin(0.3)], [math.sin(0.3), math.cos(0.3)]])
+    big = np.linalg.svd(a, compute_uv=False)[0]
+    phis = [start, start + sweep, start + 2 * sweep]         # two arcs, one after the other
+    unit = [np.array((math.cos(f), math.sin(f))) for f in phis]
+    path = Path()
+    path.moveTo(tuple(a @ unit[0] + (7.0, -3.0)))
+    for f0, f1 in zip(phis, phis[1:]):
+        mid = 0.5 * (f0 + f1)
+        w = math.cos(0.5 * (f1 - f0))
+        corner = np.array((math.cos(mid), math.sin(mid))) / w
+        path.conicTo(tuple(a @ corner + (7.0, -3.0)), tuple(a @ np.array((math.cos(f1),
+                     math.sin(f1))) + (7.0, -3.0)), w)
+    keep = np.array([keep_mask & 1, keep_mask & 2], bool)
+    got = arc_cubics(path, keep=keep)
+    n = max(1, math.ceil(max((1.1163 * big / 0.1) ** (1 / 6), 3.999999) * sweep / (2 * math.pi)))
+    verbs = [MOVE] + sum(([CONIC] if k else [CUBIC] * n for k in keep), [])
+    assert got.verbs.tolist() == verbs
+    inv = np.linalg.inv(a)
+    pts, cur, k = got.points, 1, 0
+    for arc, (f0, f1) in enumerate(zip(phis, phis[1:])):
+        if keep[arc]:
+            np.testing.assert_array_equal(pts[cur:cur + 3], path.points[1 + 3 * arc:4 + 3 * arc])
+            cur += 3
+            continue
+        step = (f1 - f0) / n
+        for j in range(n):
+            c = (pts[cur:cur + 3] - (7.0, -3.0)) @ inv.T          # in the unit circle's frame
+            start_pt = (pts[cur - 1] - (7.0, -3.0)) @ inv.T
+            e = np.array((math.cos(f0 + (j + 1) * step), math.sin(f0 + (j + 1) * step)))
+            assert np.hypot(*(c[2] - e)) < 1e-9
+            arm = 4 / 3 * math.tan(step / 4)
+            t0 = np.array((-math.sin(f0 + j * step), math.cos(f0 + j * step)))
+            t1 = np.array((-math.sin(f0 + (j + 1) * step), math.cos(f0 + (j + 1) * step)))
+            assert np.hypot(*(c[0] - start_pt - arm * t0)) < 1e-9
+            assert np.hypot(*(c[1] - e + arm * t1)) < 1e-9
+            cur += 3
+    if n == 1 and not keep.any():
+        np.testing.assert_array_equal(got.points, path.without_conics().points)
 
 
 def _render(path, w, h, mode, samples=16):

@@ -43,7 +43,8 @@ import math
 import numpy as np
 
 from . import stroke_kernels as kernels
-from ..scene.path import CLOSE, CONIC, LINE, MOVE, VERB_POINTS, Path, conic_weight
+from ..scene.conics import conics_as_cubics
+from ..scene.path import _KEEP_NONE, CLOSE, CONIC, LINE, MOVE, VERB_POINTS, Path, conic_weight
 
 JOINS = ("miter", "miter-clip", "round", "bevel", "arcs")
 CAPS = ("butt", "round", "square")
@@ -253,65 +254,11 @@ def arc_cubics(path: Path, keep=None) -> Path:
     v, p = path._freeze()
     if CONIC not in v.tobytes():
         return path
-    conic_verbs = np.flatnonzero(v == CONIC)
-    keep = np.zeros(len(conic_verbs), bool) if keep is None else np.asarray(keep, bool)
-    if keep.all():
+    keep = _KEEP_NONE if keep is None else np.asarray(keep, np.bool_)
+    if len(keep) and keep.all():
         return path
-    at = np.cumsum(np.asarray(VERB_POINTS)[v])[conic_verbs] - 3
-    b0, b1, mid, b2 = p[at - 1], p[at], p[at + 1], p[at + 2]
-    theta, n, centre, u, w = arc_pieces(b0, b1, mid, b2)
-    cubic = path.without_conics()
-    cv, q = cubic.verbs.copy(), cubic.points.copy()
-    cv[conic_verbs[keep]] = CONIC
-    for k in (0, 1):
-        q[at[keep] + k] = p[at[keep] + k]
-    big = np.flatnonzero((n > 1) & ~keep)
-    if not len(big):
-        return Path._of_arrays(cv, q)
-    reps = np.ones(len(cv), np.int64)
-    reps[conic_verbs[big]] = n[big]
-    chunks, prev = [], 0
-    for i in big:
-        k = n[i]
-        phi = -0.5 * theta[i] + theta[i] / k * np.arange(k + 1)
-        cos, sin = np.cos(phi)[:, None], np.sin(phi)[:, None]
-        pt = centre[i] + u[i] * cos + w[i] * sin
-        tangent = w[i] * cos - u[i] * sin
-        pt[0], pt[-1] = b0[i], b2[i]
-        arm = 4.0 / 3.0 * math.tan(0.25 * theta[i] / k)
-        pieces = np.stack([pt[:-1] + arm * tangent[:-1], pt[1:] - arm * tangent[1:], pt[1:]], 1)
-        chunks += [q[prev:at[i]], pieces.reshape(-1, 2)]
-        prev = at[i] + 3
-    chunks.append(q[prev:])
-    return Path._of_arrays(np.repeat(cv, reps), np.concatenate(chunks))
-
-
-def arc_pieces(b0, b1, mid, b2):
-    """For conics (b0, b1, b2) with their points at t = ½ ((n, 2) arrays each), each the
-    affine image C + u·cos φ + v·sin φ of a circular arc with φ in ±θ/2 (its weight is
-    cos θ/2, its point at ½ is C + u, its chord's midpoint C + u·cos θ/2): (θ, the number of
-    cubics kurbo cuts that arc into (1 where that is not finite), C, u, v)."""
-    w = np.clip(conic_weight(b0, b1, mid, b2), -1.0, 1.0)
-    theta = 2.0 * np.arccos(w)
-    chord_mid = 0.5 * (b0 + b2)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        u = (mid - chord_mid) / (1.0 - w)[:, None]
-        v = (b2 - b0) / (2.0 * np.sqrt(1.0 - w * w))[:, None]
-        # the ellipse's larger radius: the larger singular value of [u v]
-        sq = (u * u).sum(-1) + (v * v).sum(-1)
-        det = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
-        radius = np.sqrt(0.5 * (sq + np.sqrt(np.maximum(sq * sq - 4.0 * det * det, 0.0))))
-        n = np.ceil(kurbo_arc_density(radius) * theta / (2.0 * math.pi))
-    n = np.where(np.isfinite(n) & (n > 1), np.minimum(n, kernels.MAX_ARC_CUBICS), 1)
-    return theta, n.astype(np.int64), chord_mid - w[:, None] * u, u, v
-
-
-def kurbo_arc_density(radius):
-    """Cubics per full turn kurbo cuts an arc of an ellipse with this larger radius into
-    at usvg's tolerance (Arc::append_iter; a hair under 4 at least, so a quarter is one; the
-    kernels' _arc_cubic_count for circular arcs)."""
-    return np.maximum((1.1163 * np.asarray(radius) / kernels.ARC_TOLERANCE) ** (1.0 / 6.0),
-                      3.999999)
+    return Path._of_arrays(*conics_as_cubics(v, p, keep, kernels.ARC_TOLERANCE,
+                                             kernels.MAX_ARC_CUBICS))
 
 
 # -- markers --------------------------------------------------------------------------------

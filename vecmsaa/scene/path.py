@@ -23,6 +23,8 @@ MOVE, LINE, QUAD, CUBIC, CLOSE, CONIC = 0, 1, 2, 3, 4, 5
 VERB_POINTS = (1, 1, 2, 3, 0, 3)
 
 _NOT_DRAWING = bytes((MOVE, CLOSE))
+#: conics_as_cubics' ``keep`` that keeps no conic
+_KEEP_NONE = np.zeros(0, np.bool_)
 
 
 class Path:
@@ -260,17 +262,8 @@ class Path:
         v, p = self._freeze()
         if CONIC not in v.tobytes():
             return self
-        ends = np.cumsum(np.asarray(VERB_POINTS)[v])
-        at = ends[v == CONIC] - 3           # index of b1 of every conic
-        b0, b1, mid, b2 = p[at - 1], p[at], p[at + 1], p[at + 2]
-        w = conic_weight(b0, b1, mid, b2)[:, None]
-        k = 4.0 * w / (3.0 * (1.0 + w))
-        q = p.copy()
-        q[at] = b0 + k * (b1 - b0)
-        q[at + 1] = b2 + k * (b1 - b2)
-        cv = v.copy()
-        cv[v == CONIC] = CUBIC
-        return Path._of_arrays(cv, q)
+        from .conics import conics_as_cubics     # (conics.py imports this module)
+        return Path._of_arrays(*conics_as_cubics(v, p, _KEEP_NONE, 0.0, 1))
 
     def draw(self, pen):
         """Replay into another pen (fontTools protocol; conics arrive as cubics)."""
