@@ -91,14 +91,9 @@ def hairline_segments(path: Path, m, cap: str = "butt", dashes=None, offset: flo
     kinds, segs, subs, flags = segments
     if len(flags) == 0:
         return np.empty((0, 4)), np.zeros(1, np.int64)
-    a, b, c, d, e, f = (float(v) for v in m)
-    xs, ys = segs[:, 0::2], segs[:, 1::2]
-    dev = np.empty_like(segs)
-    dev[:, 0::2] = a * xs + c * ys + e
-    dev[:, 1::2] = b * xs + d * ys + f
-    return hairline_kernels.hairline_chords(kinds, dev, np.ascontiguousarray(subs, np.int64),
+    return hairline_kernels.hairline_chords(kinds, segs, np.ascontiguousarray(subs, np.int64),
                                             np.ascontiguousarray(flags, np.int64),
-                                            CAP_OUTSET.get(cap, 0.0))
+                                            np.asarray(m, np.float64), CAP_OUTSET.get(cap, 0.0))
 
 
 def hairline_outline(rows, subs=None, alpha: float = 1.0) -> list:

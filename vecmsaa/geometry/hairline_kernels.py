@@ -257,11 +257,21 @@ def _chord_count(kind, s):
 
 
 @njit(cache=True)
-def hairline_chords(kinds, segs, subs, flags, outset):
+def hairline_chords(kinds, user, subs, flags, m, outset):
     """The line segments (rows (N, 4), subpath starts) of Skia's hairline of path_segments'
-    arrays in device coordinates (conics already cubics: stroke.arc_cubics): curves cut into
-    _chord_count chords at even steps of t, the ends of open subpaths lengthened by
-    ``outset``, a dot (SUB_DOT) a segment of 2 · outset along x (none for butt caps)."""
+    arrays (``user``: conics already cubics, stroke.arc_cubics) taken to device coordinates
+    by ``m`` (a, b, c, d, e, f): curves cut into _chord_count chords at even steps of t, the
+    ends of open subpaths lengthened by ``outset``, a dot (SUB_DOT) a segment of 2 · outset
+    along x (none for butt caps)."""
+    # (the transform here, not in numpy: ten array calls on a circle's four rows cost more
+    # than the rest of its hairline)
+    segs = np.empty_like(user)
+    a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
+    for i in range(user.shape[0]):
+        for j in range(0, user.shape[1], 2):
+            x, y = user[i, j], user[i, j + 1]
+            segs[i, j] = a * x + c * y + e
+            segs[i, j + 1] = b * x + d * y + f
     rows = np.empty((max(16, len(kinds)), 4))
     rsubs = np.empty(len(flags) + 1, np.int64)
     nr = nsub = 0
