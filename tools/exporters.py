@@ -1,0 +1,119 @@
+"""Documents in the shapes other programs write, for benchmarks against resvg: what a
+demanding user feeds a renderer, where the corpus (one drawing each) has large shapes.
+
+    python tools/exporters.py OUT_DIR [--fonts ../shared/resvg-suite/fonts]
+
+writes, seeded (the same bytes every run):
+
+- ``scatter.svg``: a D3 scatter plot, 20,000 ``<circle>``s, fill-opacity and a 0.5 stroke
+  (a hairline at 1000 px, a stroke at 3000);
+- ``classes.svg``: an Illustrator export, 8,000 curved paths styled by 200 CSS classes;
+- ``graph.svg``: a Graphviz layout, 1,500 nodes (ellipse and label) and their edges;
+- ``xlists.svg``: a PDF converter's text, 90 lines of 110 characters, each line one
+  ``<tspan>`` with an x for every character;
+- ``glyph_uses.svg`` (with ``--fonts``): cairo's SVG surface (pdftocairo, pdf2svg), every
+  glyph a ``<use>`` of a ``<symbol>`` holding its outline, 12,000 on an 800 x 1100 page.
+
+Render each with ``/usr/bin/time -f "%e s %U u %M KB" vecmsaa render F -o v.png -w W`` and
+``resvg -w W F r.png`` (add ``--use-fonts-dir FONTS --skip-system-fonts`` to both for text).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import random
+
+SVG = '<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" '
+CHARS = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.,;:()"
+
+
+def scatter(rng):
+    dots = "".join(f'<circle cx="{rng.uniform(0, 1000):.2f}" cy="{rng.uniform(0, 800):.2f}" '
+                   f'r="{rng.uniform(2, 6):.1f}" fill="steelblue" fill-opacity="0.6" '
+                   f'stroke="#333" stroke-width="0.5"/>' for _ in range(20000))
+    return f'{SVG}width="1000" height="800">{dots}</svg>'
+
+
+def classes(rng):
+    style = "".join(f".st{i}{{fill:#{rng.randrange(1 << 24):06x};stroke:#000;"
+                    f"stroke-miterlimit:10;}}" for i in range(200))
+    paths = []
+    for _ in range(8000):
+        x, y = rng.uniform(0, 1000), rng.uniform(0, 800)
+        paths.append(f'<path class="st{rng.randrange(200)}" d="M{x:.1f},{y:.1f}c5.2,-3.1 '
+                     f'10.4,2.2 12.1,8.3s-4.4,9.1 -9.9,6.6C{x - 3:.1f},{y + 12:.1f} '
+                     f'{x - 4:.1f},{y + 5:.1f} {x:.1f},{y:.1f}z"/>')
+    return f'{SVG}viewBox="0 0 1000 800"><style type="text/css">{style}</style>' \
+        f'{"".join(paths)}</svg>'
+
+
+def graph(rng):
+    out = []
+    for i in range(1500):
+        x, y = (i % 40) * 100 + 50, (i // 40) * 80 + 40
+        out.append(f'<g id="node{i}" class="node"><title>n{i}</title><ellipse fill="none" '
+                   f'stroke="black" cx="{x}" cy="{y}" rx="40" ry="18"/><text '
+                   f'text-anchor="middle" x="{x}" y="{y + 4}" font-family="Noto Sans" '
+                   f'font-size="14.00">node {i}</text></g>')
+        if i >= 40:
+            px, py = x + rng.choice([-100, 0, 100]), y - 80
+            out.append(f'<g class="edge"><title>a</title><path fill="none" stroke="black" '
+                       f'd="M{px},{py + 18}C{px},{py + 40} {x},{y - 40} {x},{y - 28}"/>'
+                       f'<polygon fill="black" stroke="black" points="{x - 3.5},{y - 28.5} '
+                       f'{x},{y - 18.5} {x + 3.5},{y - 28.5} {x - 3.5},{y - 28.5}"/></g>')
+    return f'{SVG}width="4050pt" height="3050pt" viewBox="0 0 4050 3050"><g class="graph">' \
+        f'<polygon fill="white" stroke="none" points="0,3050 4050,3050 4050,0 0,0"/>' \
+        f'{"".join(out)}</g></svg>'
+
+
+def xlists(rng):
+    lines = []
+    for y in range(20, 1100, 12):
+        s = "".join(rng.choice(CHARS[:26] + "    ") for _ in range(110))
+        xs = " ".join(f"{20 + 6.8 * i:.2f}" for i in range(len(s)))
+        lines.append(f'<tspan x="{xs}" y="{y}">{s.replace(" ", "&#160;")}</tspan>')
+    return f'{SVG}width="800" height="1100" viewBox="0 0 800 1100"><text ' \
+        f'font-family="Noto Sans" font-size="11" xml:space="preserve">{"".join(lines)}</text></svg>'
+
+
+def glyph_uses(rng, fonts):
+    from fontTools.pens.svgPathPen import SVGPathPen
+    from fontTools.ttLib import TTFont
+    font = TTFont(os.path.join(fonts, "NotoSans-Regular.ttf"))
+    glyphs, cmap = font.getGlyphSet(), font.getBestCmap()
+    symbols, advance = [], []
+    for i, c in enumerate(CHARS):
+        pen = SVGPathPen(glyphs)
+        glyphs[cmap[ord(c)]].draw(pen)
+        symbols.append(f'<symbol overflow="visible" id="glyph0-{i}"><path style="stroke:none;" '
+                       f'd="{pen.getCommands()}" transform="scale(0.01,-0.01)"/></symbol>')
+        advance.append(glyphs[cmap[ord(c)]].width * 0.01)
+    uses = []
+    for y in range(20, 1100, 12):
+        x = 20.0
+        while x < 780:
+            i = rng.randrange(len(CHARS))
+            uses.append(f'<use xlink:href="#glyph0-{i}" x="{x:.3f}" y="{y}"/>')
+            x += advance[i]
+    return f'{SVG}width="800pt" height="1100pt" viewBox="0 0 800 1100"><defs><g>' \
+        f'{"".join(symbols)}</g></defs><g style="fill:rgb(0%,0%,0%);fill-opacity:1;">' \
+        f'{"".join(uses)}</g></svg>'
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("out")
+    ap.add_argument("--fonts", help="the resvg suite's fonts/ (for glyph_uses.svg)")
+    args = ap.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    docs = {"scatter": scatter, "classes": classes, "graph": graph, "xlists": xlists}
+    if args.fonts:
+        docs["glyph_uses"] = lambda rng: glyph_uses(rng, args.fonts)
+    for name, make in docs.items():
+        with open(os.path.join(args.out, name + ".svg"), "w", encoding="utf-8") as f:
+            f.write(make(random.Random(30)))
+        print(os.path.join(args.out, name + ".svg"))
+
+
+if __name__ == "__main__":
+    main()
