@@ -342,6 +342,10 @@ def _joined_ligatures(features, text, s, e):
                 joined[-1][1] = max(joined[-1][1], b)
             else:
                 joined.append([a, b])
+    if not joined:
+        # joiners only at the run's ends (a chunk of its own, by an x per character): they
+        # join nothing in it
+        return [(s, e, features)]
     pieces = []
     for n in range(0, len(joined), JOINED_PER_SHAPING):
         group = joined[n:n + JOINED_PER_SHAPING]
