@@ -934,6 +934,9 @@ def build_text(element, ctx):
     has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
     shape_memo = {}
+    # (no spacing in any spec: apply_spacing would change nothing, a cluster's advance is
+    # never -0.0, to which adding 0.0 would give 0.0)
+    spaced = any(s.letter_spacing or s.word_spacing for s in {id(s): s for s in specs}.values())
     for a, b in zip(bounds[:-1], bounds[1:]):
         clusters = shape_chunk(chars, faces, specs, a, b, text, upright, shape_memo)
         if not clusters:
@@ -941,7 +944,8 @@ def build_text(element, ctx):
         clusters[0].shifted = True       # a chunk starts a new decoration line
         if vertical:
             apply_writing_mode(clusters, chars, orientations)
-        apply_spacing(clusters, chars, specs)
+        if spaced:
+            apply_spacing(clusters, chars, specs)
         if has_offsets:
             carry_offsets(clusters, chars, b)
         chunks.append((a, clusters))
