@@ -232,26 +232,3 @@ def test_list_lengths_in_user_units_and_other_units():
     xs = [x for x, _ in seen]
     assert xs == [1e-05, 2.0, 3.0, 96.0, 20.0, 200.0, 0.0, 7.25]
     assert [dx for _, dx in seen][:2] == [1.5, pytest.approx(0.5 * 4 / 3)]
-
-
-def test_glyph_arrays_of_many_glyphs_are_each_outline_placed():
-    # past GATHER_GLYPHS the outlines are gathered by index: the result is still every
-    # glyph's outline (fontTools' pen through the face) mapped by its own matrix, in order
-    from vecmsaa.fonts.face import load_face
-    from vecmsaa.fonts.layout import GATHER_GLYPHS, glyphs_arrays
-    face = load_face(TTF)
-    truth, _ = font_truth()
-    gids = [truth[ch][0] for ch in ("abc ab" * 40)]
-    assert len(gids) > GATHER_GLYPHS
-    rng = np.random.default_rng(30)
-    mats = [tuple(rng.normal(size=6)) for _ in gids]
-    verbs, points = glyphs_arrays(face, (), gids, mats)
-    want_v, want_p = [], []
-    for gid, (a, b, c, d, e, f) in zip(gids, mats):
-        v, p = face.outline(gid, ())
-        want_v.append(v)
-        want_p.append(np.stack([a * p[:, 0] + c * p[:, 1] + e,
-                                b * p[:, 0] + d * p[:, 1] + f], axis=1))
-    assert np.array_equal(verbs, np.concatenate(want_v))
-    assert np.allclose(points, np.concatenate(want_p), rtol=0, atol=1e-9)
-    assert len(points) > 0

@@ -38,19 +38,14 @@ PLACE_BLOCK = 1 << 15
 def glyphs_arrays(face, location, gids, matrices):
     """Concatenated (verbs, points) of many glyphs, glyph i transformed by matrices[i]."""
     outline = face.outline
-    if len(gids) > GATHER_GLYPHS:
-        verbs, p, counts = _gathered(outline, gids, location)
-        total = len(p)
-    else:
-        outlines = [outline(int(gid), location) for gid in gids]
-        counts = [len(p) for _, p in outlines]
-        total = sum(counts)
-        if total:
-            p = np.concatenate([p for _, p in outlines])
-            verbs = np.concatenate([v for v, _ in outlines])
+    outlines = [outline(int(gid), location) for gid in gids]
+    counts = [len(p) for _, p in outlines]
+    total = sum(counts)
     if not total:
         return np.zeros(0, np.uint8), np.zeros((0, 2))
     m = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
+    p = np.concatenate([p for _, p in outlines])
+    verbs = np.concatenate([v for v, _ in outlines])
     if total <= PLACE_BLOCK:
         return verbs, _placed(m, counts, p)
     # the glyphs in blocks of about PLACE_BLOCK points
@@ -64,37 +59,6 @@ def glyphs_arrays(face, location, gids, matrices):
         out[a:a + size] = _placed(m[first:last], counts[first:last], p[a:a + size])
         first, a = last, a + size
     return verbs, out
-
-
-#: glyphs past which glyphs_arrays gathers the outlines of the distinct glyphs by index (a
-#: text is mostly repeats of a few dozen glyphs) instead of concatenating one per glyph
-GATHER_GLYPHS = 64
-
-
-def _gathered(outline, gids, location):
-    """(verbs, points, points per glyph) of the glyphs ``gids`` one after another, as the
-    concatenations of their outlines', taken from those of the distinct glyphs by index."""
-    order = {}
-    for gid in gids:
-        order.setdefault(int(gid), len(order))
-    which = np.fromiter((order[int(g)] for g in gids), np.int64, len(gids))
-    outlines = [outline(gid, location) for gid in order]
-    counts = np.array([len(p) for _, p in outlines], np.int64)[which]
-    if not counts.sum():
-        return None, np.zeros((0, 2)), counts
-    verbs = _gather([v for v, _ in outlines], which)
-    points = _gather([p for _, p in outlines], which)
-    return verbs, points, counts.tolist()
-
-
-def _gather(arrays, which):
-    """arrays[which[0]], arrays[which[1]], ... concatenated."""
-    sizes = np.array([len(a) for a in arrays], np.int64)
-    counts = sizes[which]
-    # each piece: its array's first row in the stacked arrays, then on
-    shift = (np.cumsum(sizes) - sizes)[which] - (np.cumsum(counts) - counts)
-    index = np.arange(int(counts.sum()), dtype=np.int64) + np.repeat(shift, counts)
-    return np.concatenate(arrays)[index]
 
 
 def _placed(m, counts, p):
