@@ -329,12 +329,20 @@ def apply_positions(text_el, chars, ctx, styles):
         # a list's lengths before the first that does not parse, as resvg reads it
         for name, axis in (("x", "x"), ("y", "y"), ("dx", "x"), ("dy", "y")):
             for k, (v, unit) in zip(idx, parse_length_list(el.get(name))):
-                setattr(chars[k], name, ctx.length(f"{v!r}{unit}", axis, style))
+                # a number in user units or px is itself (what the length of its text gives):
+                # lists of thousands of them skip the text and its parsing
+                setattr(chars[k], name, v if unit in _USER_UNITS
+                        else ctx.length(f"{v!r}{unit}", axis, style))
     for i, c in enumerate(chars):
         rotating = c.span.computed("rotate", _rotate_list)
         if rotating is not None:
             el, rot = rotating
             c.rotate = rot[min(i - first[id(el)], len(rot) - 1)]
+
+
+#: units of a list's lengths that are user units as they stand (parse_length_list lowers none:
+#: "PX" is not a unit there)
+_USER_UNITS = frozenset(("", "px"))
 
 
 def _rotate_list(span, above):

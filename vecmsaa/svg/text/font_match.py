@@ -554,26 +554,47 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
         return hit[1]
 
     primary_faces = {}                      # (per key: hashing a FaceInfo per character cost)
+    by_spec, canon = {}, {}                 # id(spec) → (its key, face); key → that key
     for c, spec in zip(chars, specs):
-        key = (spec.families, spec.weight, spec.style, spec.stretch)
-        face = primary_faces.get(key, primary_faces)
-        if face is primary_faces:
-            primary[key] = db.query_or_default(list(spec.families), spec.weight, spec.style,
-                                               spec.stretch)
-            warn_font_fallback(db, spec, primary[key])
-            face = primary_faces[key] = load(primary[key])
-        c.primary_face = face
-        keys.append(key)
+        got = by_spec.get(id(spec))
+        if got is None:
+            key = (spec.families, spec.weight, spec.style, spec.stretch)
+            face = primary_faces.get(key, primary_faces)
+            if face is primary_faces:
+                primary[key] = db.query_or_default(list(spec.families), spec.weight,
+                                                   spec.style, spec.stretch)
+                warn_font_fallback(db, spec, primary[key])
+                face = primary_faces[key] = load(primary[key])
+            key = canon.setdefault(key, key)               # one object per value
+            got = by_spec[id(spec)] = key, face
+        c.primary_face = got[1]
+        keys.append(got[0])
     faces = [c.primary_face for c in chars]
     bounds = bounds or [0, len(chars)]
+    # A chunk's faces depend on its characters and their keys alone: a short chunk's are
+    # chosen once per distinct (characters, keys) and replayed (text where every character
+    # has its own x is mostly repeats of a few one-character chunks)
+    memo = {}
     for a, b in itertools.pairwise(bounds):
+        mkey = None
+        if b - a <= FACES_MEMO_CHUNK:
+            mkey = "".join([c.ch for c in chars[a:b]]), tuple(map(id, keys[a:b]))
+            chosen = memo.get(mkey)
+            if chosen is not None:
+                for k, face in chosen:
+                    faces[a + k] = face
+                continue
         drawn = [i for i in range(a, b) if not needs_no_face(chars[i].ch)]
+        picked = []
         for key in dict.fromkeys(keys[a:b]):
             spec = specs[keys.index(key, a)]
             chosen = _chunk_faces(chars, range(a, b), drawn, primary[key], spec, db, load)
             for i in range(a, b):
                 if keys[i] == key and i in chosen:
                     faces[i] = chosen[i]
+                    picked.append((i - a, chosen[i]))
+        if mkey is not None:
+            memo[mkey] = picked
     for i in range(1, len(chars)):
         ch = chars[i].ch
         if faces[i - 1] is not None and (_is_variation_selector(ch) or (
@@ -581,6 +602,10 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                 and faces[i - 1].has_char(ch))):
             faces[i] = faces[i - 1]
     return faces
+
+
+#: the longest chunk whose faces assign_faces memoises
+FACES_MEMO_CHUNK = 16
 
 
 def _chunk_faces(chars, chunk, drawn, info, spec, db, load):

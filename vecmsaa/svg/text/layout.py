@@ -77,7 +77,7 @@ class Cluster:
     carry: tuple = NO_CARRY   # dx, dy of its characters after the first: move what follows
 
 
-def shape_chunk(chars, faces, specs, start, end, text=None, upright=None):
+def shape_chunk(chars, faces, specs, start, end, text=None, upright=None, memo=None):
     """Clusters of chars[start:end] in visual order: the Unicode bidi algorithm's runs for a
     left-to-right paragraph (resvg's, whatever the ``direction`` property says), reordered;
     the characters ``upright`` marks (vertical text under text-orientation: upright) in runs
@@ -88,9 +88,26 @@ def shape_chunk(chars, faces, specs, start, end, text=None, upright=None):
     face: kerning and joining across tspans of different fonts come from the run's context.
     ``text`` is the characters joined (a caller shaping many chunks joins them once: joining
     per chunk made a text of one chunk per character quadratic).
+
+    ``memo`` (a dict kept by the caller for one text, whose faces and specs stay alive): a
+    chunk of at most MEMO_CHUNK characters is shaped once per distinct (characters, faces,
+    specs, upright marks) and copied after that. A chunk is shaped with nothing around it
+    (HarfBuzz's context is the chunk), so those are all its clusters depend on: text whose
+    every character has its own x (PDF converters' output) is a few distinct one-character
+    chunks repeated.
     """
     if text is None:
         text = "".join(c.ch for c in chars)
+    if memo is not None and end - start <= MEMO_CHUNK:
+        key = (text[start:end], tuple(map(id, faces[start:end])),
+               tuple(map(id, specs[start:end])),
+               None if upright is None else tuple(upright[start:end]))
+        template = memo.get(key)
+        if template is None:
+            clusters = shape_chunk(chars, faces, specs, start, end, text, upright)
+            memo[key] = _template(clusters, start)
+            return clusters
+        return _from_template(template, start)
     chunk = (start, end)
     clusters = []
     for s, e, d in shaping_runs(text, start, end, upright):
@@ -117,6 +134,31 @@ def shape_chunk(chars, faces, specs, start, end, text=None, upright=None):
         else:
             clusters.extend(_pick_clusters(shaped, key_of, faces, specs, e, d))
     return clusters
+
+
+#: the longest chunk shape_chunk's memo keeps (longer ones rarely repeat)
+MEMO_CHUNK = 16
+
+
+def _template(clusters, start):
+    """What shape_chunk's memo keeps of a chunk's clusters (fresh from the shaping): each
+    cluster's fields that the shaping sets, its character counted from the chunk's start."""
+    return [(c.char - start, [(g.face, g.location, g.gid, g.dx, g.dy, g.scale) for g in c.glyphs],
+             c.face, c.size, c.width, c.advance, c.ascent, c.descent, c.upright, c.widest)
+            for c in clusters]
+
+
+def _from_template(template, start):
+    """New clusters (and glyphs: the layout changes both) of a memo's template for the chunk
+    starting at ``start``."""
+    out = []
+    for k, glyphs, face, size, width, advance, ascent, descent, upright, widest in template:
+        c = Cluster(k + start, [Glyph(*g) for g in glyphs], face, size, width, advance, ascent,
+                    descent)
+        c.upright = upright
+        c.widest = widest
+        out.append(c)
+    return out
 
 
 def shaping_runs(text, start, end, upright):
@@ -300,6 +342,10 @@ def _joined_ligatures(features, text, s, e):
                 joined[-1][1] = max(joined[-1][1], b)
             else:
                 joined.append([a, b])
+    if not joined:
+        # joiners only at the run's ends (a chunk of its own, by an x per character): they
+        # join nothing in it
+        return [(s, e, features)]
     pieces = []
     for n in range(0, len(joined), JOINED_PER_SHAPING):
         group = joined[n:n + JOINED_PER_SHAPING]
@@ -799,6 +845,10 @@ def text_lengths(chars, ctx):
     return text_length, inside
 
 
+#: the part of what spacingAndGlyphs took from an anchored chunk that moves its end
+_UNSQUEEZED_PART = {"middle": 0.5, "end": 0.0}
+
+
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
     styles = {}
@@ -823,17 +873,21 @@ def build_text(element, ctx):
     db = font_database(ctx)
     spec_of, spec_cache = {}, {}
     specs = []
+    span = s = None
     for c in chars:
-        s = spec_of.get(id(c.el))
-        if s is None:
-            # a spec by style and kerning attribute: siblings that specify the same values
-            # share a Style (document.Style.child), and so one spec (not one per span)
-            style = styles[id(c.el)]
-            key = id(style), kerning_attribute(c.el)
-            s = spec_cache.get(key)
+        if c.span is not span:          # (a span's characters follow each other)
+            span = c.span
+            el = span.el
+            s = spec_of.get(id(el))
             if s is None:
-                s = spec_cache[key] = font_spec(style, ctx, c.el)
-            spec_of[id(c.el)] = s
+                # a spec by style and kerning attribute: siblings that specify the same values
+                # share a Style (document.Style.child), and so one spec (not one per span)
+                style = styles[id(el)]
+                key = id(style), kerning_attribute(el)
+                s = spec_cache.get(key)
+                if s is None:
+                    s = spec_cache[key] = font_spec(style, ctx, el)
+                spec_of[id(el)] = s
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
               if i == 0 or c.x is not None or c.y is not None
@@ -862,27 +916,36 @@ def build_text(element, ctx):
     # superscript CJK character in Latin text shifts as its Latin neighbours do (as resvg)
     shift_cache = {}
     shifts = []
+    span = used = shift = None
     for k, (c, spec, face) in enumerate(zip(chars, specs, faces)):
         face = c.primary_face if face is not None and c.primary_face is not None else face
-        key = (id(c.el), id(face))
-        if key not in shift_cache:
-            shift_cache[key] = baseline_offset(
-                c.span, face, spec, vertical and orientations[k] != "sideways") \
-                if face is not None else 0.0
-        shifts.append(shift_cache[key])
+        if c.span is not span or face is not used:    # (else the character before's)
+            span, used = c.span, face
+            key = (id(span.el), id(face))
+            if key not in shift_cache:
+                shift_cache[key] = baseline_offset(
+                    span, face, spec, vertical and orientations[k] != "sideways") \
+                    if face is not None else 0.0
+            shift = shift_cache[key]
+        shifts.append(shift)
 
     # every chunk shaped and spaced first: textLength spans the chunks of its element
     chunks = []
     has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
+    shape_memo = {}
+    # (no spacing in any spec: apply_spacing would change nothing, a cluster's advance is
+    # never -0.0, to which adding 0.0 would give 0.0)
+    spaced = any(s.letter_spacing or s.word_spacing for s in {id(s): s for s in specs}.values())
     for a, b in zip(bounds[:-1], bounds[1:]):
-        clusters = shape_chunk(chars, faces, specs, a, b, text, upright)
+        clusters = shape_chunk(chars, faces, specs, a, b, text, upright, shape_memo)
         if not clusters:
             continue
         clusters[0].shifted = True       # a chunk starts a new decoration line
         if vertical:
             apply_writing_mode(clusters, chars, orientations)
-        apply_spacing(clusters, chars, specs)
+        if spaced:
+            apply_spacing(clusters, chars, specs)
         if has_offsets:
             carry_offsets(clusters, chars, b)
         chunks.append((a, clusters))
@@ -896,10 +959,14 @@ def build_text(element, ctx):
     # after an element by its textLength adjustment only to the end of their chunk; SVG 2's
     # algorithm does not move it at all)
     squeezed = {}
+    anchors = {}                    # by element: a text of one chunk per character has few
     for a, clusters in chunks:
         first = chars[a]
         on_path = first.text_path is not None
-        anchor = (styles[id(first.el)].get("text-anchor") or "start").strip()
+        el = first.el
+        anchor = anchors.get(id(el))
+        if anchor is None:
+            anchor = anchors[id(el)] = (styles[id(el)].get("text-anchor") or "start").strip()
         if on_path or (first.y if vertical else first.x) is not None:
             squeezed.clear()
         elif squeezed:
@@ -936,9 +1003,9 @@ def build_text(element, ctx):
             last_x, last_y = x + cx, y + cy
             # the unsqueezed end of an anchored chunk is anchored unsqueezed too (resvg):
             # middle moves it by half of what the squeeze took, end not at all
-            inline, part = (1 if vertical else 0), {"middle": 0.5, "end": 0.0}.get(anchor, 1.0)
-            for c in clusters:
-                if c.squeezed_by is not None and part:
+            inline, part = (1 if vertical else 0), _UNSQUEEZED_PART.get(anchor, 1.0)
+            for c in clusters if text_length and part else ():
+                if c.squeezed_by is not None:
                     ch = chars[c.char]
                     length = (ch.dy if vertical else ch.dx) + c.advance + c.carry[inline]
                     squeezed[c.squeezed_by] = (squeezed.get(c.squeezed_by, 0.0)
