@@ -211,3 +211,13 @@ def test_the_count_stops_at_the_limit(monkeypatch):
     with pytest.raises(SvgError, match="too many"):
         loaded.build(IDENTITY)
     assert built.calls["shape"] == 0
+
+
+@pytest.mark.parametrize("attrs", ['xlink:href="#a" href="#b"', 'href="#b" xlink:href="#a"',
+                                   'xlink:href="#b"'])
+def test_a_plain_href_overrides_xlink_href_in_either_order(attrs):
+    """SVG 2 §5.6.2 (href over xlink:href), however the attributes are ordered; the parser's
+    fast path for elements whose one namespaced attribute is xlink:href reads them so."""
+    s = scene('<defs><rect id="a" width="1" height="1" fill="red"/><rect id="b" width="2" '
+              f'height="2" fill="lime"/></defs><use {attrs} x="3"/>')
+    assert colors(s) == [(0, 255, 0, 255)] and boxes(s) == [(3, 0, 5, 2)]

@@ -1105,8 +1105,9 @@ class Builder:
 
     def use_translated(self, el, style, ctx):
         """ctx with the <use> element's x/y translation appended to its transform."""
-        get = self.length_getter(el, style, ctx)
-        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
+        attrs = el.attrs
+        x = self.length(attrs.get("x"), "x", style, ctx.viewport, 0.0)
+        y = self.length(attrs.get("y"), "y", style, ctx.viewport, 0.0)
         if x == 0.0 and y == 0.0:
             return ctx
         return ctx_with(ctx, transform=compose(ctx.transform, translate(x, y)))
@@ -1335,7 +1336,7 @@ class Builder:
             top = compose(top, prepared.symbol_m)
         out = []
         last, t = (), top
-        of_arrays = Path._of_arrays
+        new_path = Path.__new__             # (Path._of_arrays written out, as _path_run)
         for matrices, fill, path, a, b, c, d in prepared.items:
             if matrices is not last:
                 t = top
@@ -1343,9 +1344,12 @@ class Builder:
                     t = compose(t, m)
                 last = matrices
             if fill is not None:
-                # (path.transformed(t))
-                out.append(Fill(path if t == IDENTITY else of_arrays(fill[0], apply(t, fill[1])),
-                                a, b, c, d))
+                if t == IDENTITY:                   # (path.transformed(t))
+                    device = path
+                else:
+                    device = new_path(Path)
+                    device._arrays = fill[0], apply(t, fill[1])
+                out.append(Fill(device, a, b, c, d))
             else:
                 out.extend(self.stroke(path, a, ctx_with(ctx, transform=t, viewport=c),
                                        LazyBounds(path), b))
@@ -1991,10 +1995,15 @@ class _UseCount:
         self.total += size
         if self.total > MAX_NODES or len(stack) >= MAX_USE_DEPTH:
             return min(self.total, MAX_NODES + 1)
+        subtrees = self.subtrees
         for use in uses:
             target = use_target(use, self.doc, self.targets, self.links)
             if target is not None and id(target) not in stack:
-                self.expand(target, stack + (id(target),))
+                got = subtrees.get(id(target))
+                if got is not None and not got[1]:
+                    self.total += got[0]        # (expand() for a target without <use>)
+                else:
+                    self.expand(target, stack + (id(target),))
                 if self.total > MAX_NODES:
                     break
         return min(self.total, MAX_NODES + 1)
