@@ -221,3 +221,19 @@ def test_a_plain_href_overrides_xlink_href_in_either_order(attrs):
     s = scene('<defs><rect id="a" width="1" height="1" fill="red"/><rect id="b" width="2" '
               f'height="2" fill="lime"/></defs><use {attrs} x="3"/>')
     assert colors(s) == [(0, 255, 0, 255)] and boxes(s) == [(3, 0, 5, 2)]
+
+
+def test_point_mapper_maps_as_apply_does():
+    """point_mapper(pts)(m) is apply(m, pts) to the bit (a·x + c·y + e per point, the same
+    kernel), for contiguous and strided points and integer matrix entries."""
+    import numpy as np
+
+    from vecmsaa.scene.transform import apply, point_mapper
+    rng = np.random.default_rng(7)
+    pts = rng.normal(size=(40, 2)) * 1e3
+    for p in (pts, pts[::3], pts[:0], pts[:, ::-1]):
+        mapper = point_mapper(p)
+        for m in [(1, 0, 0, 1, 5, -3), tuple(rng.normal(size=6)), (1.0, 0.0, 0.0, 1.0, 0.0, 0.0)]:
+            got, want = mapper(m), apply(m, p)
+            assert got.dtype == want.dtype and got.shape == want.shape
+            assert got.tobytes() == want.tobytes()

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..diagnostics import warn
-from ..scene.transform import IDENTITY, apply, compose, translate
+from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
@@ -1315,7 +1315,7 @@ class Builder:
                 # its own copy of the points (a path of the document's batch is a slice of
                 # all of them, whose transforms SharedPoints would count per matrix)
                 verbs, points = path._freeze()
-                prepared.items.append((matrices, (verbs, np.ascontiguousarray(points)),
+                prepared.items.append((matrices, (verbs, point_mapper(points)),
                                        path, ref.paint,
                                        "evenodd" if rule == "evenodd" else "nonzero",
                                        ref.opacity, antialias))
@@ -1348,7 +1348,7 @@ class Builder:
                     device = path
                 else:
                     device = new_path(Path)
-                    device._arrays = fill[0], apply(t, fill[1])
+                    device._arrays = fill[0], fill[1](t)
                 out.append(Fill(device, a, b, c, d))
             else:
                 out.extend(self.stroke(path, a, ctx_with(ctx, transform=t, viewport=c),
@@ -1832,10 +1832,10 @@ class _Instanced:
     """What one <use> key draws (Builder._prepare_instance): ``count`` elements (for
     MAX_NODES), the symbol's viewport transform (``symbol_m``, None for another target) and
     viewport clip rectangle (``clip_rect``, None when it does not clip), and ``items`` in
-    drawing order: (matrices, (verbs, points), user-space path, paint, fill rule, opacity,
-    antialias) for a fill, (matrices, None, path, style, antialias, viewport, None) for a stroke
-    (stroked per instance: its plan follows the transform), matrices being the element
-    transforms below the top, composed in order."""
+    drawing order: (matrices, (verbs, point_mapper of the points), user-space path, paint,
+    fill rule, opacity, antialias) for a fill, (matrices, None, path, style, antialias,
+    viewport, None) for a stroke (stroked per instance: its plan follows the transform),
+    matrices being the element transforms below the top, composed in order."""
     __slots__ = ("count", "symbol_m", "clip_rect", "items")
 
     def __init__(self):
