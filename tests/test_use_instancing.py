@@ -14,7 +14,9 @@ from vecmsaa.svg import SvgError, builder
 from vecmsaa.svg.builder import MAX_USE_DEPTH, Builder, expanded_size
 
 NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
-GLYPH = '<symbol id="g" overflow="visible"><path d="M0 0L4 0L4 3Z"/></symbol>'
+#: a glyph as pdftocairo writes it (the path (0, 0) (4, 0) (4, 3) in the symbol's space)
+GLYPH = ('<symbol id="g" overflow="visible"><path style="stroke:none;" d="M0 0L400 0L400 -300Z" '
+         'transform="scale(0.01,-0.01)"/></symbol>')
 
 
 def scene(body, size=200):
@@ -45,7 +47,8 @@ class Counting:
 
 def test_a_thousand_instances_build_the_glyph_once(monkeypatch):
     """1000 <use> of one symbol in one context: the symbol's path is prepared once, and no
-    instance builds it as an element (shape, draw_path) again; every instance is in place."""
+    instance builds it as an element (shape, draw_path: once per instance before) again;
+    every instance is in place."""
     count = Counting(monkeypatch, "shape", "draw_path", "_prepare_element")
     uses = "".join(f'<use xlink:href="#g" x="{i % 40 * 5}" y="{i // 40 * 5}"/>'
                    for i in range(1000))
