@@ -9,6 +9,7 @@ import pytest
 
 from vecmsaa.api import _Loaded, load_svg
 from vecmsaa.scene.bounds import path_bounds
+from vecmsaa.scene.nodes import Solid
 from vecmsaa.scene.transform import IDENTITY
 from vecmsaa.svg import SvgError, builder
 from vecmsaa.svg.builder import MAX_USE_DEPTH, Builder, expanded_size
@@ -240,3 +241,71 @@ def test_point_mapper_maps_as_apply_does():
             got, want = mapper(m), apply(m, p)
             assert got.dtype == want.dtype and got.shape == want.shape
             assert got.tobytes() == want.tobytes()
+
+
+#: <use> of prepared content in the contexts it may meet (the general build is the truth)
+CONTEXTS = '''<style>g.a use { fill: green } .b path { fill: blue }</style>
+<defs>
+<symbol id="s1" overflow="visible"><path style="stroke:none" d="M0 0L1000 0L1000 1000Z"
+ transform="scale(0.01,-0.01)"/></symbol>
+<symbol id="s2" viewBox="0 0 10 10" width="20" height="20"><circle cx="5" cy="5" r="6"
+ fill="currentColor"/></symbol>
+<symbol id="s4" class="b"><g transform="rotate(10)"><path d="M0 0L12 0L6 9Z"/>
+ <rect x="1" y="1" width="3" height="3" stroke="black" stroke-width="0.5"/></g></symbol>
+<symbol id="s5"><path d="M0 0L9 0L9 9Z" stroke="red" stroke-width="0.3"/>
+ <path d="M0 0L9 9" stroke="navy" stroke-width="1.5" stroke-linecap="round"/></symbol>
+<symbol id="s7" viewBox="0 0 10 10" width="50%" height="10%" overflow="hidden"
+ preserveAspectRatio="xMaxYMid slice"><rect x="-5" y="-5" width="20" height="20" fill="teal"/>
+ <ellipse cx="5" cy="5" rx="4" ry="2" fill="none" stroke="white"/></symbol>
+<g id="gg" class="inner"><rect width="5" height="5" fill-rule="evenodd"/>
+ <polygon points="0,0 5,9 9,0" stroke="black" stroke-dasharray="1 1"/></g>
+<path id="pp" d="M0 0h6v6z" transform="scale(2)"/>
+<symbol id="s9" viewBox="0.3 0.7 9.1 9.3"><g transform="rotate(7) translate(0.13 0.29)">
+ <path d="M0.1 0.2L8.7 0.3L4.4 7.9Z" transform="scale(1.13 0.91) rotate(-3)"/></g></symbol>
+</defs>
+<use xlink:href="#s9" x="150.3" y="60.7" width="33.3" height="27.1"/>
+<use xlink:href="#s9" x="150.3" y="90.7" width="33.3" height="27.1" transform="rotate(1.7)"/>
+<use xlink:href="#s1" x="5.5" y="5.25"/><use xlink:href="#s1" x="20" y="5" fill="red"/>
+<g class="a"><use xlink:href="#s1" x="35" y="5"/><use xlink:href="#s4" x="50" y="5"/>
+ <use xlink:href="#gg" x="65" y="5"/></g>
+<g fill="yellow" stroke="black" transform="skewX(10)"><use xlink:href="#s1" x="80" y="5"/>
+ <use xlink:href="#gg" x="95" y="5"/></g>
+<use xlink:href="#s2" x="5" y="30" color="red"/><g color="green"><use xlink:href="#s2" x="55"
+ y="30"/></g><use xlink:href="#s2" x="80" y="30" width="10" height="30"/>
+<use xlink:href="#s4" x="5" y="80"/><use xlink:href="#s4" x="25" y="80" font-size="30"/>
+<use xlink:href="#s5" x="5" y="100"/><use xlink:href="#s5" x="20" y="100"
+ transform="scale(0.2)"/><use xlink:href="#s5" x="40" y="100" transform="scale(3)"/>
+<use xlink:href="#s7" x="5" y="140"/><use xlink:href="#s7" x="100" y="140" width="20"/>
+<use xlink:href="#pp" x="5" y="170"/><use xlink:href="#pp" x="25" y="170" opacity="0.5"/>
+<svg x="120" y="20" width="60" height="60" viewBox="0 0 20 20"><use xlink:href="#s1" x="2"
+ y="2"/><use xlink:href="#s7"/></svg>
+<mask id="m"><use xlink:href="#s1" x="150" y="150" fill="white"/></mask>
+<pattern id="p" width="8" height="8" patternUnits="userSpaceOnUse"><use xlink:href="#s5"
+ transform="scale(0.5)"/></pattern>
+<rect x="140" y="140" width="50" height="50" fill="url(#p)" mask="url(#m)"/>
+<use xlink:href="#s1" x="170" y="150" style="fill:purple;stroke:orange;stroke-width:0.5"/>'''
+
+
+@pytest.mark.parametrize("width", [200, 333])
+def test_prepared_instances_draw_what_the_general_build_draws(monkeypatch, width):
+    """The same document built with the content prepared once and with every instance built
+    as it stands (no target instanceable): the same fills, point for point, the same pixels."""
+    import numpy as np
+
+    from vecmsaa.api import render_svg_array
+    doc = f'<svg {NS} width="200" height="200" viewBox="0 0 200 200">{CONTEXTS}</svg>'
+    prepared = Counting(monkeypatch, "_instance")
+    fast = load_svg(doc, width=width)
+    fast_pixels = render_svg_array(doc, width=width)
+    assert prepared.calls["_instance"] >= 30       # (both builds, most of the <use>)
+    monkeypatch.setattr(builder, "_INSTANCEABLE", frozenset())
+    slow = load_svg(doc, width=width)
+    assert len(fast.fills()) == len(slow.fills()) > 40
+    for a, b in zip(fast.fills(), slow.fills()):
+        assert a.path.verbs.tobytes() == b.path.verbs.tobytes()
+        assert a.path.points.tobytes() == b.path.points.tobytes()
+        assert (a.rule, a.opacity, a.antialias) == (b.rule, b.opacity, b.antialias)
+        assert type(a.paint) is type(b.paint)
+        if isinstance(a.paint, Solid):      # (a pattern's content: by the pixels below)
+            assert a.paint == b.paint
+    assert np.array_equal(fast_pixels, render_svg_array(doc, width=width))
