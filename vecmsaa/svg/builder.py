@@ -1312,8 +1312,8 @@ class Builder:
             if ref is None:
                 continue
             if item == "fill":
-                # its own copy of the points (a path of the document's batch is a slice of
-                # all of them, whose transforms SharedPoints would count per matrix)
+                # mapped by a point_mapper of its own, not through the document batch's
+                # SharedPoints (which would keep a count for every instance's matrix)
                 verbs, points = path._freeze()
                 prepared.items.append((matrices, (verbs, point_mapper(points)),
                                        path, ref.paint,
