@@ -72,6 +72,15 @@ def use_fanout(n):
     b += ''.join(f'<use xlink:href="#s" x="{xy(i,n)[0]}" y="{xy(i,n)[1]}"/>' for i in range(n))
     return doc(b)
 @shape
+def use_glyphs(n):  # pdftocairo's text: 50 glyph symbols, n <use> of them in lines
+    d = ''.join(f'<symbol overflow="visible" id="glyph0-{k}"><path style="stroke:none;" '
+                f'd="M{k} 0L{300 + 7 * k} 0Q520 {200 + k} {300 + 7 * k} 700L{k} 700Z'
+                f'M100 100L200 100L150 {400 + k}Z" transform="scale(0.01,-0.01)"/></symbol>'
+                for k in range(50))
+    b = ''.join(f'<use xlink:href="#glyph0-{(i * 7) % 50}" x="{(i % 40) * 4.9 + 2:.3f}" '
+                f'y="{(i // 40) % 190 + 8}"/>' for i in range(n))
+    return doc(f'<defs><g>{d}</g></defs><g style="fill:rgb(0%,0%,0%);fill-opacity:1;">{b}</g>')
+@shape
 def use_forward(n):
     b = ''.join(f'<use xlink:href="#r{i}"/>' for i in range(n))
     b += '<defs>' + ''.join(f'<rect id="r{i}" x="{xy(i,n)[0]}" y="{xy(i,n)[1]}" width="2" height="2"/>' for i in range(n)) + '</defs>'

@@ -12,12 +12,12 @@ import functools
 import itertools
 import math
 import re
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..diagnostics import warn
-from ..scene.transform import IDENTITY, apply, compose, translate
+from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
 from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
@@ -281,6 +281,14 @@ def _origin_values(text):
     return x, y
 
 
+#: the targets of <use> whose content may be prepared once for all instances (see
+#: Builder._prepare_instance)
+_INSTANCEABLE = SHAPES | {"symbol", "g", "a"}
+
+#: what Builder.length reads as a plain number without split_length (see there)
+_PLAIN_NUMBER_CHARS = "0123456789.+-"
+assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value)
+
 #: units a calc() may hold (those split_length reads)
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
@@ -306,6 +314,7 @@ class Builder:
         self.filter_cache = {}         # <filter> elements resolved, see filters.filter_element
         self.marker_cache = {}         # <marker> layouts, see markers.one_marker
         self._links_back_memo = {}     # see links_back()
+        self._use_targets = {}         # see use_target()
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
@@ -319,6 +328,7 @@ class Builder:
         self._hidden_memo = {}         # see _filter_hides
         self._reference_boxes = {}     # see reference_box
         self._shape_memo = {}          # see _shape_path
+        self._instanced = {}           # see use() and _Instanced
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -355,10 +365,11 @@ class Builder:
         self._hidden_memo.clear()
         self._reference_boxes.clear()
         self._shape_memo.clear()
+        self._instanced.clear()
 
     def _build_root(self, transform, viewport, canvas, geometry, image) -> list:
         root = self.doc.root
-        if expanded_size(self.doc) > MAX_NODES:
+        if expanded_size(self.doc, self._use_targets, self._links_back_memo) > MAX_NODES:
             raise SvgError("document expands to too many elements (<use> nesting)")
         style = self.doc.document_style(root)
         if (style.get("display").strip() == "none" or not conditions_pass(root)
@@ -396,6 +407,13 @@ class Builder:
     # -- lengths ---------------------------------------------------------------------------
     def length(self, value, axis, style, viewport, default=None):
         """A length attribute value → user units (axis: x, y or xy for the diagonal)."""
+        if value is not None and value and not value.strip(_PLAIN_NUMBER_CHARS):
+            # digits, signs and points only: a number in user units when float() reads it,
+            # which it does exactly when split_length does (no exponent, no white space)
+            try:
+                return float(value)
+            except ValueError:
+                pass
         parsed = split_length(value) if value is not None else None
         if parsed is None:
             # calc() (CSS Values 4 §10): SVG 2's lengths are CSS lengths
@@ -673,8 +691,8 @@ class Builder:
         m = self.element_transform(el, style, ctx)
         if m is None:
             return []
-        c = ctx if m is IDENTITY else replace(ctx, transform=compose(ctx.transform, m),
-                                              chain=ctx.chain + (m,))
+        c = ctx if m is IDENTITY else ctx_with(ctx, transform=compose(ctx.transform, m),
+                                               chain=ctx.chain + (m,))
         if c.sampled is not None and _has_filter(style):
             c = ctx_with(c, sampled=None)   # (a filter's region and offsets reach anywhere)
         tag = el.tag
@@ -947,7 +965,7 @@ class Builder:
             return self._hidden_memo[key]
         except KeyError:
             from .filters import element_filters
-            g = replace(ctx, transform=IDENTITY, chain=(), geometry=True, clip=False)
+            g = ctx_with(ctx, transform=IDENTITY, chain=(), geometry=True, clip=False)
             hidden = self._hidden_memo[key] = element_filters(
                 self, el, style, g, lambda: self.object_bbox(el, ctx, style)) is False
             return hidden
@@ -994,7 +1012,7 @@ class Builder:
             nodes = self.children(el, g, style)
         elif tag == "svg":
             # in the inner coordinate system its clip-path, mask and filter are applied in
-            nodes = self.children(el, replace(g, viewport=self._svg_viewport(el, style, ctx)),
+            nodes = self.children(el, ctx_with(g, viewport=self._svg_viewport(el, style, ctx)),
                                   style)
         elif tag == "use":
             nodes = self.use(el, g, style, translated=True)   # x, y are part of its transform
@@ -1061,8 +1079,8 @@ class Builder:
             viewport = (vb[2], vb[3])
         else:
             viewport = (w, h)
-        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport,
-                        chain=ctx.chain + (m,))
+        inner = ctx_with(ctx, transform=compose(ctx.transform, m), viewport=viewport,
+                         chain=ctx.chain + (m,))
         nodes = self.children(el, inner, style)
         if effects:
             nodes = self.wrap(el, style, inner, nodes)
@@ -1087,36 +1105,37 @@ class Builder:
 
     def use_translated(self, el, style, ctx):
         """ctx with the <use> element's x/y translation appended to its transform."""
-        get = self.length_getter(el, style, ctx)
-        x, y = get("x", "x", 0.0), get("y", "y", 0.0)
+        attrs = el.attrs
+        x = self.length(attrs.get("x"), "x", style, ctx.viewport, 0.0)
+        y = self.length(attrs.get("y"), "y", style, ctx.viewport, 0.0)
         if x == 0.0 and y == 0.0:
             return ctx
-        return replace(ctx, transform=compose(ctx.transform, translate(x, y)))
+        return ctx_with(ctx, transform=compose(ctx.transform, translate(x, y)))
 
     def use(self, el, ctx, style, translated=False):
         """The instantiated content of a <use>; ``translated``: ctx already holds its x/y."""
-        ref = el.get("href")
-        if ref is None:
+        target = use_target(el, self.doc, self._use_targets, self._links_back_memo)
+        if target is None or id(target) in ctx.use_stack or len(ctx.use_stack) >= MAX_USE_DEPTH:
             return []
-        target = self.doc.lookup(ref, detached=True) if ref.strip().startswith("#") else None
-        if target is None:
-            return []
-        if (target is el or id(target) in ctx.use_stack or len(ctx.use_stack) >= MAX_USE_DEPTH
-                or any(a is target for a in el.ancestors())):
-            return []
-        if contains(target, el):
-            return []
-        if links_back(el, target, self.doc, self._links_back_memo):
-            return []
-        get = self.length_getter(el, style, ctx)
         if not translated:
             ctx = self.use_translated(el, style, ctx)
-        c = replace(ctx, use_stack=ctx.use_stack + (id(target),))
+        if (target.tag in _INSTANCEABLE and not (ctx.geometry or ctx.clip)
+                and self.nodes_by_id is None):
+            # content that draws the same in every instance but for its placement is
+            # prepared once (see _Instanced)
+            key = (target, style, ctx.viewport, el.attrs.get("width"), el.attrs.get("height"))
+            got = self._instanced.get(key, self._instanced)
+            if got is self._instanced:
+                got = self._instanced[key] = self._prepare_instance(el, target, style, ctx)
+            if got is not None:
+                return self._instance(got, ctx)
+        get = self.length_getter(el, style, ctx)
+        c = ctx_with(ctx, use_stack=ctx.use_stack + (id(target),))
         if not ctx.geometry:
             def bbox_fn():
                 return self.object_bbox(el, ctx, style)
-            c = replace(c, context_fill=self.context_paint(style, "fill", ctx, bbox_fn),
-                        context_stroke=self.context_paint(style, "stroke", ctx, bbox_fn))
+            c = ctx_with(c, context_fill=self.context_paint(style, "fill", ctx, bbox_fn),
+                         context_stroke=self.context_paint(style, "stroke", ctx, bbox_fn))
         if ctx.clip and target.tag not in SHAPES | {"text"}:
             return []   # in a clipPath, <use> may only point at shapes and text
         if target.tag == "symbol":
@@ -1135,7 +1154,7 @@ class Builder:
             if m is None:
                 return []
             if m is not IDENTITY:
-                c = replace(c, transform=compose(c.transform, m), chain=c.chain + (m,))
+                c = ctx_with(c, transform=compose(c.transform, m), chain=c.chain + (m,))
             return self.nested_svg(target, c, tstyle, size_override=(w, h), effects=True,
                                    parent=el)
         return self.element(target, c, style)
@@ -1164,7 +1183,7 @@ class Builder:
                                              w, h))
             viewport = (vb[2], vb[3])
         # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
-        inner = replace(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        inner = ctx_with(ctx, transform=compose(ctx.transform, m), viewport=viewport)
         if inner.sampled is not None and _has_filter(style):
             inner = ctx_with(inner, sampled=None)   # (wrapped in the symbol's filter below)
         nodes = self.children(sym, inner, style)
@@ -1173,6 +1192,170 @@ class Builder:
             return self.wrap(sym, style, ctx, nodes)
         nodes = [Group(children=nodes, clip=self.viewport_clip(sx, sy, w, h, ctx))]
         return self.wrap(sym, style, ctx, nodes)
+
+    def _prepare_instance(self, use_el, target, use_style, ctx):
+        """What a <use> of ``target`` draws, as an _Instanced, when every instance with the
+        key use() files it under draws it alike but for its transform; None when it may not
+        (then each instance is built as it stands). The key holds all the content's build
+        reads besides the transform: the target, the use's computed style (the content's
+        styles are its descendants: Styles are shared by their values, so one Style object
+        is one set of inherited values, CSS having matched the original tree already), the
+        viewport, and the use's width and height (a symbol's viewport). The content may then
+        be shapes with colours (no paint server, context paint or marker) in groups without
+        effects; text, images, nested <use> and <svg>, switch and unsupported elements (each
+        instance warns) go the general way."""
+        prepared = _Instanced()
+        vctx = Ctx(viewport=ctx.viewport, use_stack=(id(target),))
+        tag = target.tag
+        if tag == "symbol":
+            if zero_size_viewbox(target.get("viewBox")):
+                return None
+            style = use_style.child(target)
+            if (not self._instance_plain(style)
+                    or (target.specified.get("overflow") or "").strip() == "inherit"):
+                return None
+            get = self.length_getter(use_el, use_style, vctx)
+            w, h = get("width", "x", None), get("height", "y", None)
+            sget = self.length_getter(target, style, vctx)
+            if w is None:
+                w = sget("width", "x", ctx.viewport[0])
+            if h is None:
+                h = sget("height", "y", ctx.viewport[1])
+            sx, sy = sget("x", "x", 0.0), sget("y", "y", 0.0)
+            vb = parse_viewbox(target.get("viewBox"))
+            m = translate(sx, sy)
+            viewport = (w, h)
+            if vb is not None:
+                if w <= 0 or h <= 0:
+                    return None
+                m = compose(m, viewbox_transform(
+                    vb, parse_aspect(target.get("preserveAspectRatio")), w, h))
+                viewport = (vb[2], vb[3])
+            prepared.symbol_m = m
+            if self.overflow_hidden(target, style, use_el):
+                prepared.clip_rect = (sx, sy, w, h)
+            inner = ctx_with(vctx, viewport=viewport)
+            for child in target.children:
+                if not self._prepare_element(child, style, inner, (), prepared):
+                    return None
+        elif tag in SHAPES or tag in ("g", "a"):
+            if not self._prepare_element(target, use_style, vctx, (), prepared):
+                return None
+        else:
+            return None
+        return prepared
+
+    def _instance_plain(self, style):
+        """Whether wrap() gives an element of this style its nodes as they are (and
+        _element() puts it in no other space): no filter, clip path or mask, opacity 1,
+        normal blending, no isolation."""
+        if _has_filter(style):
+            return False
+        for name in ("clip-path", "mask"):
+            value = style.specified.get(name)
+            if value and value.strip() != "none":
+                return False
+        return self._plain_wrap(style)
+
+    def _prepare_element(self, el, parent_style, ctx, matrices, prepared):
+        """_prepare_instance for one element of the content and what is below it, as
+        _element() would build it (``matrices``: the element transforms between the
+        content's top and ``el``); False when the content must be built per instance."""
+        tag = el.tag
+        if tag not in RENDERED:
+            return tag not in UNSUPPORTED
+        if not conditions_pass(el):
+            return True
+        prepared.count += 1
+        style = parent_style.child(el)
+        if style.get("display").strip() == "none":
+            return True
+        if (tag not in SHAPES and tag not in ("g", "a")) or not self._instance_plain(style):
+            return False
+        if self.transform_box(el) != "view-box":
+            return False        # (the transform's reference box is the element's own box)
+        m = self.element_transform(el, style, ctx)
+        if m is None:
+            return True
+        if m is not IDENTITY:
+            matrices = matrices + (m,)
+        if tag not in SHAPES:
+            for child in el.children:
+                if not self._prepare_element(child, style, ctx, matrices, prepared):
+                    return False
+            return True
+        if "pathLength" in el.attrs:
+            return False
+        path = (self.path_data(el) if tag == "path"
+                else shape_path(el, self.length_getter(el, style, ctx)))
+        if path is None:
+            return True
+        if path.is_empty():
+            return False        # (a dot, markers: see shape())
+        if style.get("visibility").strip() in ("hidden", "collapse"):
+            return True
+        try:
+            antialias, order, rule, marked = style.cache["draw-plan"]
+        except KeyError:
+            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
+        if marked:
+            return False
+        verbs = path.verbs
+        fillable = not (len(verbs) == 2 and verbs[1] == LINE)
+        for item in order:
+            if item == "markers" or (item == "fill" and not fillable):
+                continue
+            value = self.paint_value(style, item)
+            if value in ("context-fill", "context-stroke") or parse_url(value) is not None:
+                return False
+            ref = self.resolve_paint(style, item, ctx, None)
+            if ref is None:
+                continue
+            if item == "fill":
+                # mapped by a point_mapper of its own, not through the document batch's
+                # SharedPoints (which would keep a count for every instance's matrix)
+                verbs, points = path._freeze()
+                prepared.items.append((matrices, (verbs, point_mapper(points)),
+                                       path, ref.paint,
+                                       "evenodd" if rule == "evenodd" else "nonzero",
+                                       ref.opacity, antialias))
+            else:
+                prepared.items.append((matrices, None, path, style, antialias, ctx.viewport,
+                                       None))
+        return True
+
+    def _instance(self, prepared, ctx):
+        """The nodes of one instance of prepared content (_Instanced) under the <use>'s
+        context: the transforms composed as the build composes them, element by element,
+        so every point is where building the instance would put it."""
+        self.nodes_made += prepared.count
+        if self.nodes_made > MAX_NODES:
+            raise SvgError("document expands to too many elements")
+        top = ctx.transform
+        if prepared.symbol_m is not None:
+            top = compose(top, prepared.symbol_m)
+        out = []
+        last, t = (), top
+        new_path = Path.__new__             # (Path._of_arrays written out, as _path_run)
+        for matrices, fill, path, a, b, c, d in prepared.items:
+            if matrices is not last:
+                t = top
+                for m in matrices:
+                    t = compose(t, m)
+                last = matrices
+            if fill is not None:
+                if t == IDENTITY:                   # (path.transformed(t))
+                    device = path
+                else:
+                    device = new_path(Path)
+                    device._arrays = fill[0], fill[1](t)
+                out.append(Fill(device, a, b, c, d))
+            else:
+                out.extend(self.stroke(path, a, ctx_with(ctx, transform=t, viewport=c),
+                                       LazyBounds(path), b))
+        if out and prepared.clip_rect is not None:
+            out = [Group(children=out, clip=self.viewport_clip(*prepared.clip_rect, ctx))]
+        return out
 
     # -- shapes and painting -----------------------------------------------------------------
     def path_data(self, el) -> Path:
@@ -1645,6 +1828,23 @@ class Builder:
         return list(build_text(el, TextContext(self, ctx, style)))
 
 
+class _Instanced:
+    """What one <use> key draws (Builder._prepare_instance): ``count`` elements (for
+    MAX_NODES), the symbol's viewport transform (``symbol_m``, None for another target) and
+    viewport clip rectangle (``clip_rect``, None when it does not clip), and ``items`` in
+    drawing order: (matrices, (verbs, point_mapper of the points), user-space path, paint,
+    fill rule, opacity, antialias) for a fill, (matrices, None, path, style, antialias,
+    viewport, None) for a stroke (stroked per instance: its plan follows the transform),
+    matrices being the element transforms below the top, composed in order."""
+    __slots__ = ("count", "symbol_m", "clip_rect", "items")
+
+    def __init__(self):
+        self.count = 0
+        self.symbol_m = None
+        self.clip_rect = None
+        self.items = []
+
+
 class TextContext:
     """What ``vecmsaa.svg.text.build_text(element, ctx)`` gets besides the ``<text>`` element.
 
@@ -1747,35 +1947,83 @@ class TextContext:
 
 
 # -- helpers --------------------------------------------------------------------------------
-def expanded_size(doc) -> int:
-    """How many elements the document has once every <use> is instantiated (capped just above
-    MAX_NODES), computed without instantiating anything."""
+def expanded_size(doc, targets=None, links=None) -> int:
+    """How many elements the document has once every <use> is instantiated as the build
+    instantiates it (capped just above MAX_NODES), computed without instantiating anything:
+    the tree's elements, and for each <use> its target's once more with the <use> elements
+    in it followed in turn, cut where the build cuts them: a <use> drawing nothing whatever
+    its context (use_target), one whose target is being instantiated already (a cycle), and
+    below MAX_USE_DEPTH <use> levels. (Conditions and display only leave more out.)
+    ``targets`` and ``links``: the memos of use_target, when the caller keeps them."""
     if not doc.has_use:
         return min(doc.size, MAX_NODES + 1)
-    return _expanded_size(doc.root, doc, {}, set())
+    counter = _UseCount(doc, {} if targets is None else targets,
+                        {} if links is None else links)
+    return counter.expand(doc.root, ())
 
 
-def _expanded_size(el, doc, memo, active):
-    """expanded_size below ``el`` (a function of the module: a nested one calling itself
-    would be a reference cycle holding the document until the collector's next pass)."""
-    key = id(el)
-    if key in memo:
-        return memo[key]
-    if key in active:
-        return 0     # a cycle: cut when building, too
-    active.add(key)
-    total = 1
-    for child in el.children:
-        total += _expanded_size(child, doc, memo, active)
-        if total > MAX_NODES:
-            break
-    if el.tag == "use":
-        target = doc.lookup(el.get("href") or "", detached=True)
-        if target is not None:
-            total += _expanded_size(target, doc, memo, active)
-    active.discard(key)
-    memo[key] = min(total, MAX_NODES + 1)
-    return memo[key]
+class _UseCount:
+    """expanded_size's walk: ``expand(el, stack)`` is what building ``el`` with ``stack``
+    (the ids of the targets being instantiated, as Ctx.use_stack) makes, past MAX_NODES
+    at most a step (it stops there). An element's own elements and the <use> elements among
+    them are found once (``subtrees``); each instance then costs a step per <use> in it,
+    and the steps are at most the elements counted, so at most MAX_NODES + 1."""
+
+    def __init__(self, doc, targets, links):
+        self.doc, self.targets, self.links = doc, targets, links
+        self.subtrees = {}          # id(element) -> (elements, the <use> elements) below it
+        self.total = 0
+
+    def subtree(self, el):
+        key = id(el)
+        got = self.subtrees.get(key)
+        if got is None:
+            size, uses = 0, []
+            stack = [el]
+            while stack:
+                node = stack.pop()
+                size += 1
+                if node.tag == "use":
+                    uses.append(node)
+                if node.children:
+                    stack.extend(node.children)
+            got = self.subtrees[key] = (size, uses)
+        return got
+
+    def expand(self, el, stack):
+        size, uses = self.subtree(el)
+        self.total += size
+        if self.total > MAX_NODES or len(stack) >= MAX_USE_DEPTH:
+            return min(self.total, MAX_NODES + 1)
+        subtrees = self.subtrees
+        for use in uses:
+            target = use_target(use, self.doc, self.targets, self.links)
+            if target is not None and id(target) not in stack:
+                got = subtrees.get(id(target))
+                if got is not None and not got[1]:
+                    self.total += got[0]        # (expand() for a target without <use>)
+                else:
+                    self.expand(target, stack + (id(target),))
+                if self.total > MAX_NODES:
+                    break
+        return min(self.total, MAX_NODES + 1)
+
+
+def use_target(el, doc, memo, links):
+    """The element the <use> ``el`` instantiates, or None when it draws nothing whatever its
+    context: no or an unknown reference, itself or an ancestor (what contains() finds), or
+    an element whose content links back to it (see links_back; ``links`` is its memo).
+    Kept in ``memo`` by element: it depends on the tree alone."""
+    got = memo.get(el, memo)
+    if got is memo:
+        ref = el.attrs.get("href")
+        got = None
+        if ref is not None and ref.strip().startswith("#"):
+            got = doc.lookup(ref, detached=True)
+            if got is not None and (contains(got, el) or links_back(el, got, doc, links)):
+                got = None
+        memo[el] = got
+    return got
 
 
 def links_back(el, target, doc, memo) -> bool:
@@ -1783,21 +2031,23 @@ def links_back(el, target, doc, memo) -> bool:
     references ``el`` or ``target`` itself: then instantiating ``el`` would recurse, and the
     <use> ``el`` draws nothing, as resvg skips it. SVG 2 makes a <use> whose target is its
     ancestor an error but leaves the <use> that instantiates such a cycle open (w3c/svgwg
-    issue 770); the SVG 1.1 suite's struct-use-12-f renders none of them. ``memo`` caches
-    by element for the document."""
-    key = id(el)
-    got = memo.get(key)
-    if got is None:
-        got = False
+    issue 770); the SVG 1.1 suite's struct-use-12-f renders none of them. ``memo`` keeps,
+    per target for the document, the ids of the elements the <use> elements inside it
+    reference (a glyph symbol is used thousands of times, by as many <use> elements)."""
+    key = id(target)
+    linked = memo.get(key)
+    if linked is None:
+        linked = set()
         stack = list(target.children)
-        while stack and not got:
+        while stack:
             node = stack.pop()
             if node.tag == "use":
-                linked = doc.lookup(node.get("href") or "", detached=True)
-                got = linked is el or linked is target
+                found = doc.lookup(node.get("href") or "", detached=True)
+                if found is not None:
+                    linked.add(id(found))
             stack.extend(node.children)
-        memo[key] = got
-    return got
+        memo[key] = linked
+    return key in linked or id(el) in linked
 
 
 def contains(ancestor, el):

@@ -24,6 +24,8 @@ from .units import split_length, to_px
 
 SVG_NS = "http://www.w3.org/2000/svg"
 XLINK_NS = "http://www.w3.org/1999/xlink"
+#: xlink:href as expat names it (namespace, "}", local name)
+_XLINK_HREF = XLINK_NS + "}href"
 XML_NS = "http://www.w3.org/XML/1998/namespace"
 _XML_LANG = "{%s}lang" % XML_NS
 
@@ -682,6 +684,18 @@ class _TreeReader:
             parent = stack[-1]
             if parent.__class__ is not Element:      # skipped, or inside a foreign element
                 return start(name, attr, False)
+            if _XLINK_HREF in attr:
+                # xlink:href (a <use> of pdftocairo's glyphs): read as start() reads it, a
+                # plain href overriding it, where it is the only namespaced attribute
+                plain = {}
+                for k, v in attr.items():
+                    if k == _XLINK_HREF:
+                        plain.setdefault("href", v)
+                    else:
+                        plain[k] = v
+                if "}" in "".join(plain):
+                    return start(name, attr, False)
+                attr = plain
             if quiet.issuperset(attr):
                 spec = {}
             else:
