@@ -47,9 +47,13 @@ def _package(tmp_path, base=40):
 
 
 def _write(path, text):
-    """Write and move the modification time on, as an edit some time later would."""
+    """Write and move the modification time on, as an edit some time later would: seconds
+    past the file's own (which an earlier _write put 2 s ahead), as Python's bytecode cache
+    compares whole seconds and sizes ("BASE = 41" and "BASE = 50" are one size), and a fresh
+    process that ran within a second of the first write read its stale .pyc."""
+    before = path.stat().st_mtime_ns if path.exists() else 0
     path.write_text(text)
-    later = time.time_ns() + 2_000_000_000
+    later = max(time.time_ns(), before) + 2_000_000_000
     os.utime(path, ns=(later, later))
 
 
