@@ -970,7 +970,7 @@ def _streams(fills, verbs, opts: RenderOptions) -> bool:
     """Whether a batch is drawn as a streamed fill (FillBatch.runs): one fill of at least
     STREAM_CURVES curves, in a sample mode drawn by render_msaa."""
     return (len(fills) == 1 and len(verbs) >= STREAM_CURVES and opts.flatten_tol == 0
-            and _draws_with_msaa(opts) and hasattr(opts, "sx")
+            and _draws_with_msaa(opts)
             and int(np.count_nonzero(_IS_CURVE[verbs])) >= STREAM_CURVES)
 
 
