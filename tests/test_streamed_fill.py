@@ -175,6 +175,28 @@ def test_the_streamed_path_is_taken_in_runs_and_regions(monkeypatch):
     assert len(regions) >= 5 and len(calls) > len(regions)
 
 
+@pytest.mark.parametrize("region", [1, 2, 3])
+@pytest.mark.parametrize("run_verbs", [1, 2, 5])
+def test_runs_that_end_or_begin_inside_a_regions_first_or_last_row_are_drawn(region,
+                                                                             run_verbs,
+                                                                             monkeypatch):
+    """Small curved shapes whose tops and bottoms fall at every fraction of a row: a run's
+    y extent meeting a region by less than a row still adds its winding there."""
+    path = Path()
+    for i in range(40):
+        x, y = 1 + (i * 5) % 21, 0.3 + i * 0.55
+        path.moveTo((x, y))
+        path.qCurveTo((x + 3, y + 0.2), (x + 2.5, y + 0.9))
+        path.curveTo((x + 2, y + 1.3), (x + 0.4, y + 1.2), (x, y + 0.7))
+        path.closePath()
+    scene = Scene(SIZE, SIZE, Group([Fill(path, Solid((0.2, 0.4, 0.9, 1)))]))
+    for config in (dict(samples=8), dict(mode="alpha", samples=8)):
+        whole, _ = draw(scene, False, monkeypatch, **config)
+        streamed, calls = draw(scene, True, monkeypatch, run_verbs, region * SIZE * 8,
+                               **config)
+        assert calls and np.array_equal(whole.view(np.uint32), streamed.view(np.uint32))
+
+
 def glyph_row(n):
     """n small rings (a circle of four cubics around a square hole, like an 'o'), side by
     side on a 64 px line and over one another, as the glyphs of one text element."""
