@@ -1047,6 +1047,155 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
     return edges[:ne], edge_off, prims[:nc], prim_off
 
 
+#: verbs of a path a run of path_runs holds, about (see build_run): a run's edges and lenses are
+#: a few MB at most, built, drawn and let go one after another
+RUN_VERBS = 4096
+
+
+@njit(cache=True, nogil=True)
+def path_runs(verbs, points, run_verbs):
+    """Cut one path (all of verbs and points) into runs of about ``run_verbs`` verbs for
+    build_run: (R, 3) int64 (first verb, first point, subpath open) and (R, 6) float64 (sx,
+    sy, cx, cy: the subpath's start and the current point where the run begins, then the
+    lowest and highest y of the run's points and of those two, NaN where one is NaN). The
+    state is what build_batch's loop holds at that verb, so the runs' edges and lenses are
+    its own, in its order."""
+    nv = verbs.shape[0]
+    nr = max(1, (nv + run_verbs - 1) // run_verbs)
+    ints = np.zeros((nr, 3), np.int64)
+    flts = np.zeros((nr, 6))
+    sx = sy = cx = cy = 0.0
+    open_ = False
+    pi = 0
+    r = -1
+    for vi in range(nv):
+        if vi % run_verbs == 0:
+            r += 1
+            ints[r, 0], ints[r, 1], ints[r, 2] = vi, pi, 1 if open_ else 0
+            flts[r, 0], flts[r, 1], flts[r, 2], flts[r, 3] = sx, sy, cx, cy
+            flts[r, 4] = min(sy, cy)
+            flts[r, 5] = max(sy, cy)
+            if not (sy == sy and cy == cy):
+                flts[r, 4] = flts[r, 5] = np.nan
+        v = verbs[vi]
+        k = 1 if v == MOVE or v == LINE else 2 if v == QUAD else 3 if v == CUBIC or \
+            v == CONIC else 0
+        for j in range(k):
+            y = points[pi + j, 1]
+            if not (y == y):
+                flts[r, 4] = flts[r, 5] = np.nan
+            elif flts[r, 4] == flts[r, 4]:
+                flts[r, 4] = min(flts[r, 4], y)
+                flts[r, 5] = max(flts[r, 5], y)
+        if v == MOVE:
+            sx, sy = points[pi, 0], points[pi, 1]
+            cx, cy = sx, sy
+            open_ = True
+        elif v == CLOSE:
+            cx, cy = sx, sy
+            open_ = False
+        elif k > 0:
+            cx, cy = points[pi + k - 1, 0], points[pi + k - 1, 1]
+        pi += k
+    if r < 0:
+        ints[0, 0], ints[0, 1] = nv, pi
+        flts[0, 4], flts[0, 5] = np.inf, -np.inf
+    return ints, flts
+
+
+@njit(cache=True, inline="always")
+def _misses_rows(a, b, c, d, lo, hi):
+    """Whether the y values a..d (a curve's control points') all lie below ``lo`` or all
+    above ``hi`` (False for a NaN)."""
+    return (a < lo and b < lo and c < lo and d < lo) or (a > hi and b > hi and c > hi and d > hi)
+
+
+@njit(cache=True, nogil=True)
+def build_run(verbs, points, run, state, last, max_sagitta, canvas, ylo, yhi):
+    """build_batch's edges and curve primitives (sample modes) of the verbs run[0] .. run[1] - 1
+    of one path, from point run[2], continuing from ``state`` (sx, sy, cx, cy, open: what
+    path_runs gives): the same calls in the same order, so the same rows, but for the curves
+    whose control points lie wholly above ``ylo`` or below ``yhi`` (CULL_MARGIN beyond),
+    which are left out: their chords and lenses lie in their control points' hull (a
+    hopeless cubic's quadratics within QUAD_FALLBACK_TOL of it), so they add no winding to a
+    sample of the rows ylo .. yhi and mark none of their pixels. ``last``: the run ends the
+    path (its open subpath is closed, as build_batch closes it). Returns (edges, prims)."""
+    v0, v1, pi = run[0], run[1], run[2]
+    n = 0
+    curves = 0
+    for vi in range(v0, v1):
+        v = verbs[vi]
+        if v == CUBIC or v == QUAD or v == CONIC:
+            curves += 1
+            n += 3
+        else:
+            n += 1
+    edges = np.empty((max(16, 2 * n), 4))
+    prims = np.empty((max(16, 5 * curves), PRIM_FIELDS))
+    ne = np.int64(0)
+    nc = np.int64(0)
+    c = np.empty((4, 2))
+    w1, w2, w3, w4 = np.empty(6), np.empty((8, 2)), np.empty((71, 3)), np.empty((4, 4))
+    q = np.empty((4, 2))
+    clip = np.empty(4)
+    for k in range(4):
+        clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    top, bottom, right = clip[1], clip[3], clip[2]
+    lo, hi = ylo - CULL_MARGIN, yhi + CULL_MARGIN
+    sx, sy, cx, cy = state[0], state[1], state[2], state[3]
+    open_ = state[4] != 0.0
+    for vi in range(v0, v1):
+        v = verbs[vi]
+        if v == MOVE:
+            if open_:
+                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
+            sx, sy = points[pi, 0], points[pi, 1]
+            cx, cy = sx, sy
+            pi += 1
+            open_ = True
+        elif v == LINE:
+            x, y = points[pi, 0], points[pi, 1]
+            edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
+            cx, cy = x, y
+            pi += 1
+        elif v == QUAD:
+            x1, y1 = points[pi, 0], points[pi, 1]
+            x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
+            if not _misses_rows(cy, y1, y2, y2, lo, hi):
+                edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
+                                                  x2, y2, max_sagitta, clip, q)
+            cx, cy = x2, y2
+            pi += 2
+        elif v == CUBIC:
+            c[0, 0], c[0, 1] = cx, cy
+            for k in range(3):
+                c[k + 1, 0] = points[pi + k, 0]
+                c[k + 1, 1] = points[pi + k, 1]
+            if not _misses_rows(c[0, 1], c[1, 1], c[2, 1], c[3, 1], lo, hi):
+                edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
+                                                   w1, w2, w3, w4, clip, q)
+            cx, cy = c[3, 0], c[3, 1]
+            pi += 3
+        elif v == CONIC:
+            x1, y1 = points[pi, 0], points[pi, 1]
+            x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
+            if not _misses_rows(cy, y1, y2, y2, lo, hi):
+                w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2, y2)
+                edges, ne, prims, nc = _conic_pieces(
+                    edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w, max_sagitta, False,
+                    clip, q)
+            cx, cy = x2, y2
+            pi += 3
+        elif v == CLOSE:
+            if open_:
+                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
+            cx, cy = sx, sy
+            open_ = False
+    if last and open_:
+        edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
+    return edges[:ne], prims[:nc]
+
+
 def batch_arrays(paths):
     """Concatenate the verb/point arrays of several Paths for :func:`build_batch`: (verbs,
     points, verb offsets, point offsets). From each path's stored arrays, with no property

@@ -35,13 +35,14 @@ from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from ..jit import bind_tail
 from .modes import EXACT_MODES, FILTERS, MODES, MSAA_MODES, SATURATE_MODES
-from ..geometry.primitives import NO_CULL, QUAD_FALLBACK_TOL, batch_arrays, build_batch
+from ..geometry.primitives import (CULL_MARGIN, NO_CULL, QUAD_FALLBACK_TOL, RUN_VERBS,
+                                   batch_arrays, build_batch, build_run, path_runs)
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
                               stratified_pattern)
 from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analytic_scratch,
-                   msaa_scratch, render_analytic, render_msaa)
+                   msaa_scratch, render_analytic, render_msaa, scan_run, sweep_fill)
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
 from ..scene.nodes import (Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated,
@@ -793,6 +794,8 @@ class Raster:
         #: the strip buffers and bound kernels of filtered layers' rasters (Raster.local),
         #: shared with the rasters made from this one
         self.kits = {} if kits is None else kits
+        #: (rows, msaa_scratch of that many) for streamed fills (Raster.fill_streamed)
+        self.stream_kit = None
         if isinstance(scratch, _Kit):
             self.scratch, self._fill = scratch.scratch, scratch.fill
             return
@@ -883,6 +886,9 @@ class Raster:
 
     def fill(self, batch: "FillBatch", target: np.ndarray, y0: int) -> None:
         b, o = batch, self.opts
+        if b.runs is not None:
+            self.fill_streamed(b, target, y0)
+            return
         kernel = self._fill or self.fill_kernel()
         if o.mode == "analytic":
             kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
@@ -898,15 +904,102 @@ class Raster:
                 composite(out, target)
 
 
+    def fill_streamed(self, b: "FillBatch", target: np.ndarray, y0: int) -> None:
+        """Draw a streamed fill (FillBatch.runs) onto ``target`` (device rows from y0): in
+        regions of rows (stream_rows), each region's runs built (build_run: only the curves
+        meeting the region's rows) and scanned one at a time (scan_run), then the region swept
+        (sweep_fill). The same bytes as render_msaa drawing the whole geometry: see scan_run."""
+        o = self.opts
+        H, W = target.shape[0], target.shape[1]
+        x0, y_top, x1, y_bottom = b.box[0].tolist()
+        if x0 >= W or x1 < 0.0:
+            return
+        first, last = max(y0, math.floor(y_top)), min(y0 + H - 1, math.floor(y_bottom))
+        if first > last:
+            return
+        rows = stream_rows(self.width, o.samples)
+        if self.stream_kit is None or self.stream_kit[0] < min(rows, last + 1 - first):
+            kit_rows = min(rows, last + 1 - first)
+            self.stream_kit = (kit_rows, msaa_scratch(kit_rows, self.width, o.samples,
+                                                      o.lens_stats))
+        kit_rows, scratch = self.stream_kit
+        out = np.zeros_like(target) if o.saturate else target
+        ints, flts = b.runs
+        ymin, ymax = flts[:, 4], flts[:, 5]
+        nruns = len(ints)
+        ends = np.append(ints[1:, 0], len(b.verbs))
+        for a in range(first, last + 1, kit_rows):
+            n = min(kit_rows, last + 1 - a)
+            # (a NaN compares false: the run is built)
+            skip = (ymax < a - 2 * CULL_MARGIN) | (ymin > a + n + 2 * CULL_MARGIN)
+            for i in np.flatnonzero(~skip).tolist():
+                run = np.array((ints[i, 0], ends[i], ints[i, 1]), np.int64)
+                state = np.array((*flts[i, :4], float(ints[i, 2])))
+                edges, prims = build_run(b.verbs, b.points, run, state, i == nruns - 1,
+                                         MAX_SAGITTA, b.canvas, float(a), float(a + n))
+                scan_run(edges, prims, a, n, W, o.sx, o.sy, o.kernel_mode, o.a2c_bits, scratch)
+                del edges, prims
+            sweep_fill(out, y0, a, n, b.rules, b.aa, b.kinds, b.params, b.lut, b.tex,
+                       o.weights, o.saturate, scratch)
+        if o.saturate:
+            with np.errstate(invalid="ignore", over="ignore"):
+                composite(out, target)
+
+
+#: elements (rows x width x samples) of the per-sample buffers a streamed fill's region holds
+#: at most (Raster.fill_streamed): 128 rows at 2048 px, 16 samples; a region's runs are built
+#: again for each region they meet
+STREAM_BUDGET = 1 << 22
+#: curve segments of a fill from which it is streamed (FillBatch.runs): its edges and lenses
+#: (~310 bytes a lens, a few lenses a curve) are not all held at once
+STREAM_CURVES = 1 << 14
+#: rows of a streamed fill's region at least
+STREAM_MIN_ROWS = MSAA_STRIP_ROWS
+
+
+def stream_rows(width: int, samples: int) -> int:
+    """Rows of a streamed fill's region (Raster.fill_streamed) at that width and samples."""
+    return max(STREAM_MIN_ROWS, STREAM_BUDGET // max(1, width * samples))
+
+
+_IS_CURVE = np.zeros(256, np.bool_)
+_IS_CURVE[[QUAD, CUBIC, CONIC]] = True
+
+
+def _streams(fills, verbs, opts: RenderOptions) -> bool:
+    """Whether a batch is drawn as a streamed fill (FillBatch.runs): one fill of at least
+    STREAM_CURVES curves, in a sample mode drawn by render_msaa."""
+    return (len(fills) == 1 and len(verbs) >= STREAM_CURVES and opts.flatten_tol == 0
+            and _draws_with_msaa(opts)
+            and int(np.count_nonzero(_IS_CURVE[verbs])) >= STREAM_CURVES)
+
+
 class FillBatch:
     """Consecutive fills as the kernels take them: geometry and paints, built once per render.
-    ``rows``, ``cols``: the device y and x ranges of its fills' boxes."""
+    ``rows``, ``cols``: the device y and x ranges of its fills' boxes.
+
+    A single fill of many curves (_streams) holds no geometry: ``runs`` (path_runs) cut its
+    path into runs that Raster.fill_streamed builds and draws one at a time, so that its
+    edges and lenses (a text element of 100,000 glyphs: 118 MB and 840 MB) are never held
+    at once. Otherwise ``runs`` is None."""
+    runs = None
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
                  extremes=None, canvas=NO_CULL):
         moved = _crisp_at_centres(fills, pts, poff, opts)
-        # the geometry is built on the pool's threads while this one does the rest
-        built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool, canvas)
+        if _streams(fills, verbs, opts):
+            built = None
+            self.verbs, self.points = verbs, np.ascontiguousarray(moved)
+            self.canvas = np.asarray(canvas, np.float64)
+            self.runs = path_runs(verbs, self.points, RUN_VERBS)
+            curves = int(np.count_nonzero(_IS_CURVE[verbs]))
+            # (heaviest_first's guess at the work: the sizes build_batch reserves)
+            self.edge_off = np.array([0, 2 * len(pts)], np.int64)
+            self.prim_off = np.array([0, 5 * curves], np.int64)
+            self.edges = self.prims = None
+        else:
+            # the geometry is built on the pool's threads while this one does the rest
+            built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool, canvas)
         # per-fill bounds from the control points (a curve lies in its control hull, the
         # quadratics standing in for a hopeless cubic within QUAD_FALLBACK_TOL of it)
         if extremes is None or moved is not pts:
@@ -948,6 +1041,10 @@ class FillBatch:
             table = PaintTable()
             table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
             self.kinds, self.params, self.lut, self.tex = table.arrays()
+        if built is None:
+            # (a streamed fill is one fill with finite points: _one_fill's case; not reached)
+            self.runs = None
+            built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, None, canvas)
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
         # NaN) has any to move, and the test costs a pass over the fills, not the edges
@@ -977,6 +1074,14 @@ class FillBatch:
             table = PaintTable()
             table.add_fills([fill], lambda paint: pattern_tile(paint, opts))
             self.kinds, self.params, self.lut, self.tex = table.arrays()
+        if built is None:
+            if lo[0] >= -FAR_X and hi[2] <= FAR_X:
+                return
+            # (edges beyond FAR_X are moved: clamp_far_edges, on the whole geometry)
+            self.runs = None
+            built = build_in_parts(self.verbs, self.points, np.array([0, len(self.verbs)]),
+                                   np.array([0, len(self.points)]), opts.flatten_tol, None,
+                                   self.canvas)
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         if not (lo[0] >= -FAR_X and hi[2] <= FAR_X):
             self.edges, self.edge_off = clamp_far_edges(self.edges, self.edge_off)

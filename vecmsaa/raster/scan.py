@@ -1045,6 +1045,65 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
             slot_of[r, px] = -1
 
 
+# -- one fill drawn from runs of its geometry (render.StreamedFill) ---------------------------
+@njit(cache=True, nogil=True, error_model="numpy")
+def scan_run(edges, prims, sy0, rows, W, sx, sy, mode, a2c_bits, scratch):
+    """The winding deltas and lens samples of a run of one fill's edges and primitives on the
+    rows sy0 .. sy0 + rows - 1, added to what ``scratch`` (msaa_scratch of at least ``rows``
+    rows) holds: render_msaa's scan of a fill, by the same kernels, in pieces. Edges add ±1
+    and the sample modes' lenses ±1 to float32 sums of small integers (exact in any order);
+    alpha's fractions are added in the order of the primitives, runs taken in order; the
+    dirty lists are sorted by the sweep. So sweep_fill after every run of a fill gives what
+    render_msaa gives with all of them at once."""
+    (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats, occ,
+     stamp, nxt, runs, span) = scratch
+    n = sx.shape[0]
+    lo = np.zeros(n, dtype=np.int64)
+    hi = np.zeros(n, dtype=np.int64)
+    col = np.zeros(n, dtype=np.int64)
+    hidden = np.zeros(delta.shape[0], dtype=np.bool_)
+    # (np.int64, not literals: a literal argument compiles the scan kernels once more)
+    first, none = np.int64(0), np.int64(-1)
+    scan_edges(edges, np.empty((0, 2)), first, np.int64(edges.shape[0]), sy0, rows, W, sx, sy,
+               delta, dirty, dlist, dcount, hidden, col)
+    if prims.shape[0] > 0:
+        scan_lenses(prims, prim_rows(prims), first, np.int64(prims.shape[0]), sy0, rows, W, sx,
+                    sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats, hidden,
+                    stamp, none)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def sweep_fill(target, y0, sy0, rows, rules, aa, paint_kind, paint_f, lut, tex, weights,
+               saturate, scratch):
+    """render_msaa's sweep and resolve of one fill (row 0 of its arrays of rules, paints)
+    on the target rows sy0 .. sy0 + rows - 1 (``target`` holds the device rows from y0),
+    from what scan_run has added to ``scratch``, which it leaves clean."""
+    (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, pool, lens_stats, occ,
+     stamp, nxt, runs, span) = scratch
+    W = target.shape[1]
+    n = weights.shape[0]
+    wrun = np.zeros(n, dtype=np.float32)
+    cov = np.zeros(n, dtype=np.float32)
+    fb = target[sy0 - y0:sy0 - y0 + rows]
+    npool = sweep_rows(np.int64(0), rows - 1, sy0, W, rules[0], aa[0], paint_kind[0],
+                       paint_f[0], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,
+                       slot_of, slot_pixel, pool, np.int64(0), wrun, cov, saturate, span)
+    for slot in range(npool):
+        r = slot_pixel[slot] // W
+        px = slot_pixel[slot] - r * W
+        if cplx[r, px] == slot:
+            a0 = a1 = a2 = a3 = 0.0
+            for s in range(n):
+                w = weights[s]
+                a0 += pool[slot, s, 0] * w
+                a1 += pool[slot, s, 1] * w
+                a2 += pool[slot, s, 2] * w
+                a3 += pool[slot, s, 3] * w
+            fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = a0, a1, a2, a3
+        cplx[r, px] = -1
+        slot_of[r, px] = -1
+
+
 # -- analytic coverage (tiny-skia style exact area) -------------------------------------------
 @njit(cache=True)
 def _accumulate(acc, sy0, rows, W, x0, y0, x1, y1, xmin_row, xmax_row):
