@@ -122,7 +122,7 @@ def test_arc_cubics_cut_each_arc_as_kurbo_and_stay_on_the_ellipse(log_r, aspect,
     verbs = [MOVE] + sum(([CONIC] if k else [CUBIC] * n for k in keep), [])
     assert got.verbs.tolist() == verbs
     inv = np.linalg.inv(a)
-    pts, cur, k = got.points, 1, 0
+    pts, cur = got.points, 1
     for arc, (f0, f1) in enumerate(zip(phis, phis[1:])):
         if keep[arc]:
             np.testing.assert_array_equal(pts[cur:cur + 3], path.points[1 + 3 * arc:4 + 3 * arc])
