@@ -935,6 +935,74 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4, clip, q):
     return edges, ne, prims, nc
 
 
+@njit(cache=True, inline="always")
+def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, prims, nc,
+                 flatten_tol, max_sagitta, clip, lo, hi, c, w1, w2, w3, w4, q):
+    """build_batch's work on the verbs v0 .. v1 - 1 from point pi, in the state (subpath
+    start sx, sy; current point cx, cy; whether a subpath is open) the verbs before left:
+    edges and (flatten_tol 0) lenses appended, but for curves whose control points lie
+    wholly below ``lo`` or above ``hi`` (build_run's rows; -inf, inf: none left out).
+    Returns the arrays, their counts and the state after them (an open subpath left open).
+    Inlined into both builders: their loops over many small paths would pay a call, and
+    its arrays' reference counts, per path."""
+    top, bottom, right = clip[1], clip[3], clip[2]
+    for vi in range(v0, v1):
+        v = verbs[vi]
+        if v == MOVE:
+            if open_:
+                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
+            sx, sy = points[pi, 0], points[pi, 1]
+            cx, cy = sx, sy
+            pi += 1
+            open_ = True
+        elif v == LINE:
+            x, y = points[pi, 0], points[pi, 1]
+            edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
+            cx, cy = x, y
+            pi += 1
+        elif v == QUAD:
+            x1, y1 = points[pi, 0], points[pi, 1]
+            x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
+            if flatten_tol > 0:
+                edges, ne = _flatten_quad(edges, ne, cx, cy, x1, y1, x2, y2, flatten_tol,
+                                          clip, q)
+            elif not _misses_rows(cy, y1, y2, y2, lo, hi):
+                edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
+                                                  x2, y2, max_sagitta, clip, q)
+            cx, cy = x2, y2
+            pi += 2
+        elif v == CUBIC:
+            c[0, 0], c[0, 1] = cx, cy
+            for k in range(3):
+                c[k + 1, 0] = points[pi + k, 0]
+                c[k + 1, 1] = points[pi + k, 1]
+            if flatten_tol > 0:
+                edges, ne = _flatten_cubic(edges, ne, c, flatten_tol, clip, q)
+            elif not _misses_rows(c[0, 1], c[1, 1], c[2, 1], c[3, 1], lo, hi):
+                edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
+                                                   w1, w2, w3, w4, clip, q)
+            cx, cy = c[3, 0], c[3, 1]
+            pi += 3
+        elif v == CONIC:
+            x1, y1 = points[pi, 0], points[pi, 1]
+            x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
+            flatten = flatten_tol > 0
+            if flatten or not _misses_rows(cy, y1, y2, y2, lo, hi):
+                w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2,
+                                  y2)
+                edges, ne, prims, nc = _conic_pieces(
+                    edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w,
+                    flatten_tol if flatten else max_sagitta, flatten, clip, q)
+            cx, cy = x2, y2
+            pi += 3
+        elif v == CLOSE:
+            if open_:
+                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
+            cx, cy = sx, sy
+            open_ = False
+    return edges, ne, prims, nc, sx, sy, cx, cy, open_
+
+
 @njit(cache=True, nogil=True)   # a batch is built in parts on threads (render.build_in_parts)
 def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canvas):
     """Straight edges and curve primitives for a batch of paths.
@@ -976,61 +1044,10 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
         clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
     top, bottom, right = clip[1], clip[3], clip[2]
     for p in range(npaths):
-        pi = pt_off[p]
-        sx = sy = cx = cy = 0.0
-        open_ = False
-        for vi in range(verb_off[p], verb_off[p + 1]):
-            v = verbs[vi]
-            if v == MOVE:
-                if open_:
-                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-                sx, sy = points[pi, 0], points[pi, 1]
-                cx, cy = sx, sy
-                pi += 1
-                open_ = True
-            elif v == LINE:
-                x, y = points[pi, 0], points[pi, 1]
-                edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
-                cx, cy = x, y
-                pi += 1
-            elif v == QUAD:
-                x1, y1 = points[pi, 0], points[pi, 1]
-                x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
-                if flatten_tol > 0:
-                    edges, ne = _flatten_quad(edges, ne, cx, cy, x1, y1, x2, y2, flatten_tol,
-                                              clip, q)
-                else:
-                    edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
-                                                      x2, y2, max_sagitta, clip, q)
-                cx, cy = x2, y2
-                pi += 2
-            elif v == CUBIC:
-                c[0, 0], c[0, 1] = cx, cy
-                for k in range(3):
-                    c[k + 1, 0] = points[pi + k, 0]
-                    c[k + 1, 1] = points[pi + k, 1]
-                if flatten_tol > 0:
-                    edges, ne = _flatten_cubic(edges, ne, c, flatten_tol, clip, q)
-                else:
-                    edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
-                                                       w1, w2, w3, w4, clip, q)
-                cx, cy = c[3, 0], c[3, 1]
-                pi += 3
-            elif v == CONIC:
-                x1, y1 = points[pi, 0], points[pi, 1]
-                x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
-                w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2, y2)
-                flatten = flatten_tol > 0
-                edges, ne, prims, nc = _conic_pieces(
-                    edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w,
-                    flatten_tol if flatten else max_sagitta, flatten, clip, q)
-                cx, cy = x2, y2
-                pi += 3
-            elif v == CLOSE:
-                if open_:
-                    edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-                cx, cy = sx, sy
-                open_ = False
+        edges, ne, prims, nc, sx, sy, cx, cy, open_ = _build_verbs(
+            verbs, points, verb_off[p], verb_off[p + 1], pt_off[p], 0.0, 0.0, 0.0, 0.0, False,
+            edges, ne, prims, nc, flatten_tol, max_sagitta, clip, -np.inf, np.inf,
+            c, w1, w2, w3, w4, q)
         if open_:
             edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
         edge_off[p + 1] = ne
@@ -1142,55 +1159,9 @@ def build_run(verbs, points, run, state, last, max_sagitta, canvas, ylo, yhi):
         clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
     top, bottom, right = clip[1], clip[3], clip[2]
     lo, hi = ylo - CULL_MARGIN, yhi + CULL_MARGIN
-    sx, sy, cx, cy = state[0], state[1], state[2], state[3]
-    open_ = state[4] != 0.0
-    for vi in range(v0, v1):
-        v = verbs[vi]
-        if v == MOVE:
-            if open_:
-                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-            sx, sy = points[pi, 0], points[pi, 1]
-            cx, cy = sx, sy
-            pi += 1
-            open_ = True
-        elif v == LINE:
-            x, y = points[pi, 0], points[pi, 1]
-            edges, ne = _push_line(edges, ne, cx, cy, x, y, top, bottom, right)
-            cx, cy = x, y
-            pi += 1
-        elif v == QUAD:
-            x1, y1 = points[pi, 0], points[pi, 1]
-            x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
-            if not _misses_rows(cy, y1, y2, y2, lo, hi):
-                edges, ne, prims, nc = _emit_quad(edges, ne, prims, nc, cx, cy, x1, y1,
-                                                  x2, y2, max_sagitta, clip, q)
-            cx, cy = x2, y2
-            pi += 2
-        elif v == CUBIC:
-            c[0, 0], c[0, 1] = cx, cy
-            for k in range(3):
-                c[k + 1, 0] = points[pi + k, 0]
-                c[k + 1, 1] = points[pi + k, 1]
-            if not _misses_rows(c[0, 1], c[1, 1], c[2, 1], c[3, 1], lo, hi):
-                edges, ne, prims, nc = _emit_cubic(edges, ne, prims, nc, c, max_sagitta,
-                                                   w1, w2, w3, w4, clip, q)
-            cx, cy = c[3, 0], c[3, 1]
-            pi += 3
-        elif v == CONIC:
-            x1, y1 = points[pi, 0], points[pi, 1]
-            x2, y2 = points[pi + 2, 0], points[pi + 2, 1]
-            if not _misses_rows(cy, y1, y2, y2, lo, hi):
-                w = _conic_weight(cx, cy, x1, y1, points[pi + 1, 0], points[pi + 1, 1], x2, y2)
-                edges, ne, prims, nc = _conic_pieces(
-                    edges, ne, prims, nc, cx, cy, x1, y1, x2, y2, w, max_sagitta, False,
-                    clip, q)
-            cx, cy = x2, y2
-            pi += 3
-        elif v == CLOSE:
-            if open_:
-                edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-            cx, cy = sx, sy
-            open_ = False
+    edges, ne, prims, nc, sx, sy, cx, cy, open_ = _build_verbs(
+        verbs, points, v0, v1, pi, state[0], state[1], state[2], state[3], state[4] != 0.0,
+        edges, ne, prims, nc, 0.0, max_sagitta, clip, lo, hi, c, w1, w2, w3, w4, q)
     if last and open_:
         edges, ne = _push_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
     return edges[:ne], prims[:nc]

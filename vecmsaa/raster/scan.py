@@ -916,6 +916,32 @@ def msaa_scratch(strip_rows, W, n, lens_stats=None):
             np.empty((W + 1, 4), dtype=np.float64))                 # span: a span's paint
 
 
+@njit(cache=True)
+def resolve_pool(fb, cplx, slot_of, slot_pixel, pool, npool, weights):
+    """A strip's resolve: the pixels split into samples (pool slots 0 .. npool - 1) average
+    them with the resolve filter's weights into ``fb``; one-colour pixels are already there.
+    Every slot is let go (cplx and slot_of back to -1). Once a strip: its arrays' reference
+    counts cost nothing beside the loop."""
+    W = fb.shape[1]
+    n = weights.shape[0]
+    for slot in range(npool):
+        r = slot_pixel[slot] // W
+        px = slot_pixel[slot] - r * W
+        if cplx[r, px] == slot:
+            # the four channels side by side, each summed in sample order: one pass over
+            # the slot's samples (a channel at a time strode through them four times)
+            a0 = a1 = a2 = a3 = 0.0
+            for s in range(n):
+                w = weights[s]
+                a0 += pool[slot, s, 0] * w
+                a1 += pool[slot, s, 1] * w
+                a2 += pool[slot, s, 2] * w
+                a3 += pool[slot, s, 3] * w
+            fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = a0, a1, a2, a3
+        cplx[r, px] = -1
+        slot_of[r, px] = -1
+
+
 @njit(cache=True, nogil=True)   # bands render on threads
 def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, aa, paint_kind,
                 paint_f, lut, tex, sx, sy, weights, mode, a2c_bits, occlude, saturate, scratch):
@@ -1025,24 +1051,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                                        fb, cplx, slot_of, slot_pixel, pool, npool, wrun, cov,
                                        saturate, span)
             p = q
-        # resolve: split pixels average their samples (resolve filter weights); one-colour
-        # pixels are already in the target
-        for slot in range(npool):
-            r = slot_pixel[slot] // W
-            px = slot_pixel[slot] - r * W
-            if cplx[r, px] == slot:
-                # the four channels side by side, each summed in sample order: one pass over
-                # the slot's samples (a channel at a time strode through them four times)
-                a0 = a1 = a2 = a3 = 0.0
-                for s in range(n):
-                    w = weights[s]
-                    a0 += pool[slot, s, 0] * w
-                    a1 += pool[slot, s, 1] * w
-                    a2 += pool[slot, s, 2] * w
-                    a3 += pool[slot, s, 3] * w
-                fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = a0, a1, a2, a3
-            cplx[r, px] = -1
-            slot_of[r, px] = -1
+        resolve_pool(fb, cplx, slot_of, slot_pixel, pool, npool, weights)
 
 
 # -- one fill drawn from runs of its geometry (render.StreamedFill) ---------------------------
@@ -1088,20 +1097,7 @@ def sweep_fill(target, y0, sy0, rows, rules, aa, paint_kind, paint_f, lut, tex, 
     npool = sweep_rows(np.int64(0), rows - 1, sy0, W, rules[0], aa[0], paint_kind[0],
                        paint_f[0], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,
                        slot_of, slot_pixel, pool, np.int64(0), wrun, cov, saturate, span)
-    for slot in range(npool):
-        r = slot_pixel[slot] // W
-        px = slot_pixel[slot] - r * W
-        if cplx[r, px] == slot:
-            a0 = a1 = a2 = a3 = 0.0
-            for s in range(n):
-                w = weights[s]
-                a0 += pool[slot, s, 0] * w
-                a1 += pool[slot, s, 1] * w
-                a2 += pool[slot, s, 2] * w
-                a3 += pool[slot, s, 3] * w
-            fb[r, px, 0], fb[r, px, 1], fb[r, px, 2], fb[r, px, 3] = a0, a1, a2, a3
-        cplx[r, px] = -1
-        slot_of[r, px] = -1
+    resolve_pool(fb, cplx, slot_of, slot_pixel, pool, npool, weights)
 
 
 # -- analytic coverage (tiny-skia style exact area) -------------------------------------------

@@ -17,6 +17,19 @@ from .bounds import _conic_weight
 from .path import CONIC, CUBIC, VERB_POINTS
 
 
+@njit(cache=True, inline="always", error_model="numpy")   # (w = 1 divides by zero)
+def _arc_frame(b0x, b0y, mx, my, b2x, b2y, w):
+    """The conic (b0, b1, b2) of weight w (its point at ½ is m) as the affine image
+    C + u·cos φ + v·sin φ of a circular arc, φ in ±θ/2: the chord's midpoint c (C is
+    c − w·u), u and v."""
+    cx = 0.5 * (b0x + b2x)
+    cy = 0.5 * (b0y + b2y)
+    ux = (mx - cx) / (1.0 - w)
+    uy = (my - cy) / (1.0 - w)
+    s = 2.0 * math.sqrt(1.0 - w * w)
+    return cx, cy, ux, uy, (b2x - b0x) / s, (b2y - b0y) / s
+
+
 # (error_model="numpy": a degenerate conic divides by zero, as the numpy code it replaced did,
 # and comes out as one cubic)
 @njit(cache=True, error_model="numpy")
@@ -51,15 +64,9 @@ def conics_as_cubics(verbs, points, keep, tolerance, max_pieces):
             w = _conic_weight(b0x, b0y, b1x, b1y, mx, my, b2x, b2y)
             w = min(max(w, -1.0), 1.0) if w == w else w
             theta = 2.0 * math.acos(w) if w == w else w
-            cx = 0.5 * (b0x + b2x)
-            cy = 0.5 * (b0y + b2y)
-            ux = (mx - cx) / (1.0 - w)
-            uy = (my - cy) / (1.0 - w)
-            s = 2.0 * math.sqrt(1.0 - w * w)
-            wx = (b2x - b0x) / s
-            wy = (b2y - b0y) / s
-            sq = (ux * ux + uy * uy) + (wx * wx + wy * wy)
-            det = ux * wy - uy * wx
+            cx, cy, ux, uy, vx, vy = _arc_frame(b0x, b0y, mx, my, b2x, b2y, w)
+            sq = (ux * ux + uy * uy) + (vx * vx + vy * vy)
+            det = ux * vy - uy * vx
             disc = sq * sq - 4.0 * det * det
             if disc < 0.0:
                 disc = 0.0
@@ -118,13 +125,7 @@ def conics_as_cubics(verbs, points, keep, tolerance, max_pieces):
         theta = thetas[vi]
         w = _conic_weight(b0x, b0y, b1x, b1y, mx, my, b2x, b2y)
         w = min(max(w, -1.0), 1.0)
-        cx = 0.5 * (b0x + b2x)
-        cy = 0.5 * (b0y + b2y)
-        ux = (mx - cx) / (1.0 - w)
-        uy = (my - cy) / (1.0 - w)
-        s = 2.0 * math.sqrt(1.0 - w * w)
-        vx = (b2x - b0x) / s
-        vy = (b2y - b0y) / s
+        cx, cy, ux, uy, vx, vy = _arc_frame(b0x, b0y, mx, my, b2x, b2y, w)
         ox = cx - w * ux
         oy = cy - w * uy
         arm = 4.0 / 3.0 * math.tan(0.25 * theta / n)
