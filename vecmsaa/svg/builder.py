@@ -1164,9 +1164,28 @@ class Builder:
         if zero_size_viewbox(sym.get("viewBox")):
             return []           # SVG 2: a zero viewBox width or height disables rendering
         style = use_style.child(sym)
+        frame = self._symbol_frame(sym, style, use_el, use_style, ctx)
+        if frame is None:
+            return []
+        m, viewport, (sx, sy, w, h) = frame
+        # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
+        inner = ctx_with(ctx, transform=compose(ctx.transform, m), viewport=viewport)
+        if inner.sampled is not None and _has_filter(style):
+            inner = ctx_with(inner, sampled=None)   # (wrapped in the symbol's filter below)
+        nodes = self.children(sym, inner, style)
+        if (not nodes or ctx.geometry or ctx.clip
+                or not self.overflow_hidden(sym, style, use_el)):
+            return self.wrap(sym, style, ctx, nodes)
+        nodes = [Group(children=nodes, clip=self.viewport_clip(sx, sy, w, h, ctx))]
+        return self.wrap(sym, style, ctx, nodes)
+
+    def _symbol_frame(self, sym, style, use_el, use_style, ctx):
+        """Where a <use> puts a <symbol> (``style``: the symbol's): (its x/y and viewBox
+        transform, the viewport its content sees, the rectangle (x, y, w, h) its overflow
+        clips to); None where a viewBox meets a viewport of no size (nothing is drawn).
+        Width and height are the use's, else the symbol's, else the viewport's."""
         get = self.length_getter(use_el, use_style, ctx)
-        w = get("width", "x", None)
-        h = get("height", "y", None)
+        w, h = get("width", "x", None), get("height", "y", None)
         sget = self.length_getter(sym, style, ctx)
         if w is None:
             w = sget("width", "x", ctx.viewport[0])
@@ -1178,20 +1197,11 @@ class Builder:
         viewport = (w, h)
         if vb is not None:
             if w <= 0 or h <= 0:
-                return []
+                return None
             m = compose(m, viewbox_transform(vb, parse_aspect(sym.get("preserveAspectRatio")),
                                              w, h))
             viewport = (vb[2], vb[3])
-        # a transform on <symbol> is SVG 2 only; like resvg we follow SVG 1.1 and ignore it
-        inner = ctx_with(ctx, transform=compose(ctx.transform, m), viewport=viewport)
-        if inner.sampled is not None and _has_filter(style):
-            inner = ctx_with(inner, sampled=None)   # (wrapped in the symbol's filter below)
-        nodes = self.children(sym, inner, style)
-        if (not nodes or ctx.geometry or ctx.clip
-                or not self.overflow_hidden(sym, style, use_el)):
-            return self.wrap(sym, style, ctx, nodes)
-        nodes = [Group(children=nodes, clip=self.viewport_clip(sx, sy, w, h, ctx))]
-        return self.wrap(sym, style, ctx, nodes)
+        return m, viewport, (sx, sy, w, h)
 
     def _prepare_instance(self, use_el, target, use_style, ctx):
         """What a <use> of ``target`` draws, as an _Instanced, when every instance with the
@@ -1214,23 +1224,10 @@ class Builder:
             if (not self._instance_plain(style)
                     or (target.specified.get("overflow") or "").strip() == "inherit"):
                 return None
-            get = self.length_getter(use_el, use_style, vctx)
-            w, h = get("width", "x", None), get("height", "y", None)
-            sget = self.length_getter(target, style, vctx)
-            if w is None:
-                w = sget("width", "x", ctx.viewport[0])
-            if h is None:
-                h = sget("height", "y", ctx.viewport[1])
-            sx, sy = sget("x", "x", 0.0), sget("y", "y", 0.0)
-            vb = parse_viewbox(target.get("viewBox"))
-            m = translate(sx, sy)
-            viewport = (w, h)
-            if vb is not None:
-                if w <= 0 or h <= 0:
-                    return None
-                m = compose(m, viewbox_transform(
-                    vb, parse_aspect(target.get("preserveAspectRatio")), w, h))
-                viewport = (vb[2], vb[3])
+            frame = self._symbol_frame(target, style, use_el, use_style, vctx)
+            if frame is None:
+                return None
+            m, viewport, (sx, sy, w, h) = frame
             prepared.symbol_m = m
             if self.overflow_hidden(target, style, use_el):
                 prepared.clip_rect = (sx, sy, w, h)
