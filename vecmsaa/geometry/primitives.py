@@ -936,6 +936,17 @@ def _emit_cubic(edges, ne, prims, nc, c, max_sagitta, w1, w2, w3, w4, clip, q):
 
 
 @njit(cache=True, inline="always")
+def _build_scratch(canvas):
+    """The builders' work arrays for _build_verbs (a cubic's points, the splitter's and the
+    lens maker's rooms, a hull) and the culling rect: ``canvas`` CULL_MARGIN wider all round."""
+    clip = np.empty(4)
+    for k in range(4):
+        clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    return (np.empty((4, 2)), np.empty(6), np.empty((8, 2)), np.empty((71, 3)),
+            np.empty((4, 4)), np.empty((4, 2)), clip)
+
+
+@njit(cache=True, inline="always")
 def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, prims, nc,
                  flatten_tol, max_sagitta, clip, lo, hi, c, w1, w2, w3, w4, q):
     """build_batch's work on the verbs v0 .. v1 - 1 from point pi, in the state (subpath
@@ -1036,12 +1047,7 @@ def build_batch(verbs, points, verb_off, pt_off, flatten_tol, max_sagitta, canva
     # Literal[int](0) (a second specialisation of the whole batch builder)
     ne = np.int64(0)
     nc = np.int64(0)
-    c = np.empty((4, 2))
-    w1, w2, w3, w4 = np.empty(6), np.empty((8, 2)), np.empty((71, 3)), np.empty((4, 4))
-    q = np.empty((4, 2))
-    clip = np.empty(4)
-    for k in range(4):
-        clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    c, w1, w2, w3, w4, q, clip = _build_scratch(canvas)
     top, bottom, right = clip[1], clip[3], clip[2]
     for p in range(npaths):
         edges, ne, prims, nc, sx, sy, cx, cy, open_ = _build_verbs(
@@ -1151,12 +1157,7 @@ def build_run(verbs, points, run, state, last, max_sagitta, canvas, ylo, yhi):
     prims = np.empty((max(16, 5 * curves), PRIM_FIELDS))
     ne = np.int64(0)
     nc = np.int64(0)
-    c = np.empty((4, 2))
-    w1, w2, w3, w4 = np.empty(6), np.empty((8, 2)), np.empty((71, 3)), np.empty((4, 4))
-    q = np.empty((4, 2))
-    clip = np.empty(4)
-    for k in range(4):
-        clip[k] = canvas[k] - CULL_MARGIN if k < 2 else canvas[k] + CULL_MARGIN
+    c, w1, w2, w3, w4, q, clip = _build_scratch(canvas)
     top, bottom, right = clip[1], clip[3], clip[2]
     lo, hi = ylo - CULL_MARGIN, yhi + CULL_MARGIN
     edges, ne, prims, nc, sx, sy, cx, cy, open_ = _build_verbs(

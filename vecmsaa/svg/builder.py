@@ -647,10 +647,7 @@ class Builder:
             value = self.paint_value(style, which)
             if value in ("context-fill", "context-stroke") or parse_url(value) is not None:
                 return None                     # depends on the element
-        try:
-            antialias, order, rule, marked = style.cache["draw-plan"]
-        except KeyError:
-            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
+        antialias, order, rule, marked = self._draw_plan(style)
         if marked:
             return None
         if not self._plain_wrap(style):
@@ -1291,10 +1288,7 @@ class Builder:
             return False        # (a dot, markers: see shape())
         if style.get("visibility").strip() in ("hidden", "collapse"):
             return True
-        try:
-            antialias, order, rule, marked = style.cache["draw-plan"]
-        except KeyError:
-            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
+        antialias, order, rule, marked = self._draw_plan(style)
         if marked:
             return False
         verbs = path.verbs
@@ -1487,10 +1481,7 @@ class Builder:
         # a lone line segment encloses nothing
         verbs = path.verbs
         fillable = not (len(verbs) == 2 and verbs[1] == LINE)
-        try:
-            antialias, order, rule, marked = style.cache["draw-plan"]
-        except KeyError:
-            antialias, order, rule, marked = style.cache["draw-plan"] = self._draw_plan(style)
+        antialias, order, rule, marked = self._draw_plan(style)
         if ctx.clip:
             # an invalid value is dropped, so the parent's applies (CSS Syntax 3 §8)
             rule = style.get_valid("clip-rule", _clip_rule, "nonzero")
@@ -1519,6 +1510,9 @@ class Builder:
         inherited, so a style specifying none of them has its parent's plan (the tiger's
         styles differ in paint and stroke width only); found without recursion, as deep
         nesting must not reach Python's recursion limit."""
+        plan = style.cache.get("draw-plan")
+        if plan is not None:
+            return plan
         passed = []
         while style.parent is not None and _DRAW_PLAN_PROPERTIES.isdisjoint(style.specified):
             passed.append(style)
