@@ -97,8 +97,9 @@ def bidi_levels(text: str, base: str = "ltr") -> list[int]:
     ``debug`` output lists the levels; then rule L1 here. Characters that rule X9 removes
     take the level of the character before them (as the crate assigns them)."""
     base_level = 1 if base == "rtl" else 0
-    if base_level == 0 and not any(unicodedata.bidirectional(c) in _NOT_PLAIN_LTR
-                                   for c in text):
+    # (no ASCII character is of those classes: most labels skip the test per character)
+    if base_level == 0 and (text.isascii() or not any(
+            unicodedata.bidirectional(c) in _NOT_PLAIN_LTR for c in text)):
         return [0] * len(text)
     info = get_display(text, base_dir="R" if base_level else "L", debug=True)
     levels = _crate_levels(info, text)

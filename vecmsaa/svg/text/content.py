@@ -333,8 +333,11 @@ def apply_positions(text_el, chars, ctx, styles):
                 # lists of thousands of them skip the text and its parsing
                 setattr(chars[k], name, v if unit in _USER_UNITS
                         else ctx.length(f"{v!r}{unit}", axis, style))
+    span = rotating = None
     for i, c in enumerate(chars):
-        rotating = c.span.computed("rotate", _rotate_list)
+        if c.span is not span:          # (a span's characters follow each other)
+            span = c.span
+            rotating = span.computed("rotate", _rotate_list)
         if rotating is not None:
             el, rot = rotating
             c.rotate = rot[min(i - first[id(el)], len(rot) - 1)]

@@ -8,12 +8,12 @@ import math
 
 import numpy as np
 
-from ...fonts.color import color_glyph_fills, is_color_glyph
+from ...fonts.color import color_glyph_fills, has_color_glyphs, is_color_glyph
 from ...fonts.layout import glyphs_arrays
 from ...scene.nodes import Fill, ImagePaint, Solid
 from ...scene.path import Path, rect_path
 from ...scene.transform import apply
-from .svg_glyphs import has_svg_glyph, svg_glyph_nodes
+from .svg_glyphs import has_svg_glyph, has_svg_glyphs, svg_glyph_nodes
 
 def text_bbox(clusters):
     """Object bounding box of text as resvg computes it: the union of the clusters' em boxes
@@ -225,7 +225,11 @@ def _color_or_plain(glyphs, path, style, ctx, bbox):
     painted in their order (SVG 2, text rendering order: each glyph over the ones before
     it; an sbix bitmap's opaque background hides an outline glyph drawn before it, and one
     drawn after it goes over the bitmap), a run of outline glyphs as one path."""
-    special = [g for g in glyphs if is_color_glyph(g.face, g.gid) or has_svg_glyph(g.face, g.gid)]
+    # (faces without colour or SVG glyphs, most, asked once a run, not once a glyph)
+    faces = {id(g.face): g.face for g in glyphs}.values()
+    special = [g for g in glyphs if is_color_glyph(g.face, g.gid)
+               or has_svg_glyph(g.face, g.gid)] \
+        if any(has_color_glyphs(f) or has_svg_glyphs(f) for f in faces) else []
     if not special:
         return _nonzero(ctx.draw(path, style, bbox)) if not path.is_empty() else []
     ref = ctx.resolve_paint(style, "fill", bbox)

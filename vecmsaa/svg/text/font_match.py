@@ -584,7 +584,10 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                 for k, face in chosen:
                     faces[a + k] = face
                 continue
-        drawn = [i for i in range(a, b) if not needs_no_face(chars[i].ch)]
+        # (printable ASCII has no control, format character or selector)
+        drawn = list(range(a, b)) if mkey is not None and mkey[0].isascii() \
+            and mkey[0].isprintable() else \
+            [i for i in range(a, b) if not needs_no_face(chars[i].ch)]
         picked = []
         for key in dict.fromkeys(keys[a:b]):
             spec = specs[keys.index(key, a)]
@@ -595,7 +598,8 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                     picked.append((i - a, chosen[i]))
         if mkey is not None:
             memo[mkey] = picked
-    for i in range(1, len(chars)):
+    # (ASCII has no mark, selector or modifier: most texts skip the test per character)
+    for i in range(1, len(chars)) if not "".join([c.ch for c in chars]).isascii() else ():
         ch = chars[i].ch
         if faces[i - 1] is not None and (_is_variation_selector(ch) or (
                 (unicodedata.category(ch).startswith("M") or 0x1F3FB <= ord(ch) <= 0x1F3FF)

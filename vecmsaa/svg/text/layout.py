@@ -645,7 +645,12 @@ def position_linear(clusters, chars, anchor, vertical):
             x += ch.dx * c.sx
             y += ch.dy
         c.shifted = c.shifted or bool(ch.dx or ch.dy)
-        frame = compose(compose(c.pre, translate(x, y)), (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0))
+        if c.pre is IDENTITY and c.sx == 1.0 and math.isfinite(x) and math.isfinite(y):
+            # the two compositions below written out for most clusters (neither shifted
+            # by vertical writing nor squeezed): their products are exact here
+            frame = (1.0, 0.0, 0.0, 1.0, x + 0.0, y + 0.0)
+        else:
+            frame = compose(compose(c.pre, translate(x, y)), (c.sx, 0.0, 0.0, 1.0, 0.0, 0.0))
         if ch.rotate:
             frame = compose(frame, rotate_at(ch.rotate, 0.0, 0.0))
             c.shifted = True
@@ -841,7 +846,13 @@ def text_lengths(chars, ctx):
                 text_length[id(span.el)] = (length, adjust)
                 return span, above
         return above
-    inside = [c.span.computed("lengths", own) for c in chars]
+    inside = []
+    span = link = None
+    for c in chars:
+        if c.span is not span:          # (a span's characters follow each other)
+            span = c.span
+            link = span.computed("lengths", own)
+        inside.append(link)
     return text_length, inside
 
 
@@ -871,7 +882,11 @@ def build_text(element, ctx):
     if not chars:
         return []
     db = font_database(ctx)
-    spec_of, spec_cache = {}, {}
+    # specs by (style, kerning attribute, viewport: the spacings' percentages) for the whole
+    # document: siblings that specify the same values share a Style (document.Style.child),
+    # and so one spec, made once (a map of labels has thousands of texts in one style); the
+    # Style is the key itself, kept alive by it
+    spec_of, spec_cache = {}, ctx.cache.setdefault("font specs", {})
     specs = []
     span = s = None
     for c in chars:
@@ -880,10 +895,8 @@ def build_text(element, ctx):
             el = span.el
             s = spec_of.get(id(el))
             if s is None:
-                # a spec by style and kerning attribute: siblings that specify the same values
-                # share a Style (document.Style.child), and so one spec (not one per span)
                 style = styles[id(el)]
-                key = id(style), kerning_attribute(el)
+                key = style, kerning_attribute(el), ctx.viewport
                 s = spec_cache.get(key)
                 if s is None:
                     s = spec_cache[key] = font_spec(style, ctx, el)

@@ -40,6 +40,11 @@ def has_svg_glyph(face, gid) -> bool:
     return int(gid) in _documents(face)
 
 
+def has_svg_glyphs(face) -> bool:
+    """Whether the face has any glyph drawn by an SVG document."""
+    return bool(_documents(face))
+
+
 def _parsed(face, index):
     cache = face._svg_parsed
     if index not in cache:

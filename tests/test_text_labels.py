@@ -1,0 +1,97 @@
+"""Documents of many short texts (chart ticks, map and graph labels: Graphviz writes one
+``<text>`` per node): what a text costs is decided once per document where it can be (its
+font settings per style), and the shortcuts for plain ASCII text give what the general
+route gives."""
+from __future__ import annotations
+
+import math
+import os
+import struct
+
+from hypothesis import given, settings, strategies as st
+
+from vecmsaa.api import load_svg
+
+FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
+FONTS = dict(use_fonts_dir=FIXTURES, skip_system_fonts=True)
+
+
+def labels(n, styles, extra=""):
+    body = "".join(f'<text x="{10 + i % 20 * 19}" y="{20 + i // 20 * 12}" '
+                   f'font-size="{styles[i % len(styles)]}"{extra}>n{i}</text>'
+                   for i in range(n))
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
+            f'font-family="Noto Sans">{body}</svg>').encode()
+
+
+def test_font_settings_made_once_per_style(monkeypatch):
+    # 300 labels in two font sizes: two font specs for the document (one per text before)
+    from vecmsaa.svg.text import layout
+    made = []
+    real = layout.font_spec
+
+    def font_spec(style, ctx, el=None):
+        made.append(style)
+        return real(style, ctx, el)
+    monkeypatch.setattr(layout, "font_spec", font_spec)
+    load_svg(labels(300, (10, 12)), **FONTS)
+    assert len(made) == 2
+
+
+def test_font_settings_follow_each_viewport(monkeypatch):
+    # letter-spacing in percent is of the viewport's normalized diagonal (SVG 2 §8.9): the
+    # same style in two viewports gives two spacings, so two specs, each its own
+    from vecmsaa.svg.text import layout
+    seen = []
+    real = layout.font_spec
+
+    def font_spec(style, ctx, el=None):
+        spec = real(style, ctx, el)
+        seen.append((ctx.viewport, spec.letter_spacing))
+        return spec
+    monkeypatch.setattr(layout, "font_spec", font_spec)
+    text = '<text x="0" y="20" letter-spacing="10%">ab</text>'
+    doc = ('<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
+           'font-family="Noto Sans">'
+           f'<svg width="100" height="100">{text}{text}</svg>'
+           f'<svg width="300" height="300">{text}{text}</svg></svg>').encode()
+    load_svg(doc, **FONTS)
+    assert len(seen) == 2
+    for (w, h), spacing in seen:
+        assert math.isclose(spacing, 0.1 * math.sqrt((w * w + h * h) / 2), rel_tol=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.text(alphabet=st.characters(max_codepoint=0x7F), max_size=40))
+def test_ascii_bidi_levels_are_the_crates(text):
+    # no ASCII character can raise a level in a left-to-right paragraph: the shortcut gives
+    # the levels python-bidi's unicode-bidi crate resolves (then rule L1, which resets to
+    # the paragraph level anyway)
+    from bidi import get_display
+    from vecmsaa.fonts.shape import _crate_levels, bidi_levels
+    crate = _crate_levels(get_display(text, base_dir="L", debug=True), text) if text else []
+    assert bidi_levels(text) == [0] * len(text) == crate
+
+
+def _bits(values):
+    return [struct.pack("<d", v) for v in values]
+
+
+finite = st.floats(allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=500, deadline=None)
+@given(finite, finite)
+def test_cluster_frame_shortcut_is_the_composition(x, y):
+    # position_linear writes out the frame of a cluster neither shifted nor squeezed:
+    # bit for bit what composing the identity, the translation and the unit squeeze gives
+    from vecmsaa.scene.transform import IDENTITY, compose, translate
+    from vecmsaa.svg.text.content import Char
+    from vecmsaa.svg.text.layout import Cluster, position_linear
+    c = Cluster(0, [], None, 10.0, 0.0, 0.0)
+    ch = Char("a", None, False)
+    ch.dx = x
+    ch.dy = y
+    position_linear([c], [ch], "start", False)
+    want = compose(compose(IDENTITY, translate(x, y)), (1.0, 0.0, 0.0, 1.0, 0.0, 0.0))
+    assert _bits(c.frame) == _bits(want)
