@@ -35,7 +35,8 @@ def test_exporters_documents_hold_what_they_say(tmp_path):
     exporters.main(args)
     ns = "{http://www.w3.org/2000/svg}"
     counts = {"scatter": (f"{ns}circle", 20000), "classes": (f"{ns}path", 8000),
-              "graph": (f"{ns}ellipse", 1500), "xlists": (f"{ns}tspan", 90)}
+              "graph": (f"{ns}ellipse", 1500), "ticks": (f"{ns}text", 3000),
+              "xlists": (f"{ns}tspan", 90)}
     for name, (tag, n) in counts.items():
         root = ET.parse(tmp_path / f"{name}.svg").getroot()
         assert len(root.findall(f".//{tag}")) == n, name

@@ -9,6 +9,8 @@ writes, seeded (the same bytes every run):
   (a hairline at 1000 px, a stroke at 3000);
 - ``classes.svg``: an Illustrator export, 8,000 curved paths styled by 200 CSS classes;
 - ``graph.svg``: a Graphviz layout, 1,500 nodes (ellipse and label) and their edges;
+- ``ticks.svg``: D3 axes of 30 small multiples, 3,000 tick ``<g>``s each a line and a
+  short ``<text>`` label (half of them the same values in every chart);
 - ``xlists.svg``: a PDF converter's text, 90 lines of 110 characters, each line one
   ``<tspan>`` with an x for every character;
 - ``glyph_uses.svg`` (with ``--fonts``): cairo's SVG surface (pdftocairo, pdf2svg), every
@@ -66,6 +68,34 @@ def graph(rng):
         f'{"".join(out)}</g></svg>'
 
 
+def ticks(rng):
+    # D3's axes (d3-axis): a <g> per tick, translated, with its line and a label whose
+    # text-anchor, font and fill come from the axis group; 6 x 5 small multiples of two
+    # axes of 50 ticks, the same tick values in every chart
+    charts = []
+    for k in range(30):
+        ox, oy = 40 + (k % 6) * 190, 20 + (k // 6) * 160
+        axes = []
+        for axis, anchor in (("x", "middle"), ("y", "end")):
+            tks = []
+            for i in range(50):
+                v = i * 0.02
+                if axis == "x":
+                    tks.append(f'<g class="tick" opacity="1" transform="translate({3 * i + 0.5},0)">'
+                               f'<line stroke="currentColor" y2="6"></line><text fill="currentColor" '
+                               f'y="9" dy="0.71em">{v:.2f}</text></g>')
+                else:
+                    tks.append(f'<g class="tick" opacity="1" transform="translate(0,{2.4 * i + 0.5})">'
+                               f'<line stroke="currentColor" x2="-6"></line><text fill="currentColor" '
+                               f'x="-9" dy="0.32em">{rng.randrange(1000)}</text></g>')
+            move = f"translate(0,{120})" if axis == "x" else "translate(0,0)"
+            axes.append(f'<g transform="{move}" fill="none" font-size="4" font-family="Noto Sans" '
+                        f'text-anchor="{anchor}"><path class="domain" stroke="currentColor" '
+                        f'd="M0.5,6V0.5H150.5V6"></path>{"".join(tks)}</g>')
+        charts.append(f'<g transform="translate({ox},{oy})">{"".join(axes)}</g>')
+    return f'{SVG}width="1200" height="1000">{"".join(charts)}</svg>'
+
+
 def xlists(rng):
     lines = []
     for y in range(20, 1100, 12):
@@ -106,7 +136,8 @@ def main(argv=None):
     ap.add_argument("--fonts", help="the resvg suite's fonts/ (for glyph_uses.svg)")
     args = ap.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
-    docs = {"scatter": scatter, "classes": classes, "graph": graph, "xlists": xlists}
+    docs = {"scatter": scatter, "classes": classes, "graph": graph, "ticks": ticks,
+            "xlists": xlists}
     if args.fonts:
         docs["glyph_uses"] = lambda rng: glyph_uses(rng, args.fonts)
     for name, make in docs.items():
