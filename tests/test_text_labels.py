@@ -95,3 +95,61 @@ def test_cluster_frame_shortcut_is_the_composition(x, y):
     position_linear([c], [ch], "start", False)
     want = compose(compose(IDENTITY, translate(x, y)), (1.0, 0.0, 0.0, 1.0, 0.0, 0.0))
     assert _bits(c.frame) == _bits(want)
+
+
+def shape_calls(monkeypatch):
+    import uharfbuzz
+    calls = []
+    real = uharfbuzz.shape
+
+    def shape(font, buf, features=None):
+        calls.append(1)
+        return real(font, buf, features)
+    monkeypatch.setattr(uharfbuzz, "shape", shape)
+    return calls
+
+
+def test_repeated_labels_shaped_once_per_document(monkeypatch):
+    # 200 texts of the same two labels (an axis's ticks in each of many small charts): two
+    # HarfBuzz calls and two face choices for the document (one per text before)
+    from vecmsaa.svg.text import font_match
+    calls = shape_calls(monkeypatch)
+    chosen = []
+    real = font_match._chunk_faces
+
+    def chunk_faces(*args):
+        chosen.append(1)
+        return real(*args)
+    monkeypatch.setattr(font_match, "_chunk_faces", chunk_faces)
+    body = "".join(f'<text x="{i % 20 * 19}" y="{10 + i // 20 * 12}">{("0.5", "1.0")[i % 2]}'
+                   f'</text>' for i in range(200))
+    load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
+              f'font-family="Noto Sans">{body}</svg>').encode(), **FONTS)
+    assert len(calls) == 2 and len(chosen) == 2
+
+
+def test_repeated_labels_keep_their_own_fonts(monkeypatch):
+    # the same characters in two fonts, texts alternating: each text's glyphs are its own
+    # font's (cmap truth from fontTools), not the first text's
+    from fontTools.ttLib import TTFont
+    from vecmsaa.svg.text import layout
+    got = []
+    real = layout.draw_clusters
+
+    def draw(text_el, chars, clusters, *rest):
+        got.append([g.gid for c in clusters for g in c.glyphs])
+        return real(text_el, chars, clusters, *rest)
+    monkeypatch.setattr(layout, "draw_clusters", draw)
+    fonts = {"Noto Sans": "NotoSans-Subset.ttf", "Roboto Flex": "RobotoFlex-Subset.ttf"}
+    truth = {}
+    for family, name in fonts.items():
+        font = TTFont(os.path.join(FIXTURES, name))
+        cmap, order = font.getBestCmap(), font.getGlyphOrder()
+        truth[family] = [order.index(cmap[ord(ch)]) for ch in "Hen"]
+    assert truth["Noto Sans"] != truth["Roboto Flex"]
+    families = list(fonts) * 3
+    body = "".join(f'<text x="10" y="{20 + 20 * i}" font-family="{f}">Hen</text>'
+                   for i, f in enumerate(families))
+    load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">{body}'
+              f'</svg>').encode(), **FONTS)
+    assert got == [truth[f] for f in families]

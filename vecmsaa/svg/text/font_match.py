@@ -532,7 +532,7 @@ def warn_font_fallback(db, spec, info):
         warn(f"font family {names} not found, using '{info.family}'")
 
 
-def assign_faces(chars, specs, db, bounds=None, loaded=None):
+def assign_faces(chars, specs, db, bounds=None, loaded=None, memo=None):
     """Face for every character. Each character's ``primary_face`` is its family list's best
     match (text decorations and baselines use its metrics). Faces are chosen per text chunk
     (``bounds``: the chunks' first indices and the end) and per font of the chunk: a
@@ -543,9 +543,12 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
     Latin font is one CJK run; else the next missing character picks the next face.
     Combining marks and emoji modifiers stay with their base character's face (when it has
     them), variation selectors always do. ``loaded``: a document_faces
-    dict to load faces through (else one for this call)."""
+    dict to load faces through (else one for this call); ``memo``: a dict in which short
+    chunks' faces are kept for the calls that pass it (one per document, with ``loaded``:
+    the faces it holds are those), else for this call."""
     primary, keys = {}, []
     loaded = {} if loaded is None else loaded
+    memo = {} if memo is None else memo
 
     def load(info):
         hit = loaded.get(id(info))
@@ -554,7 +557,8 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
         return hit[1]
 
     primary_faces = {}                      # (per key: hashing a FaceInfo per character cost)
-    by_spec, canon = {}, {}                 # id(spec) → (its key, face); key → that key
+    by_spec = {}                            # id(spec) → (its key, face)
+    canon = memo.setdefault("keys", {})     # key → that key: one object per value, kept
     for c, spec in zip(chars, specs):
         got = by_spec.get(id(spec))
         if got is None:
@@ -573,13 +577,14 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
     bounds = bounds or [0, len(chars)]
     # A chunk's faces depend on its characters and their keys alone: a short chunk's are
     # chosen once per distinct (characters, keys) and replayed (text where every character
-    # has its own x is mostly repeats of a few one-character chunks)
-    memo = {}
+    # has its own x is mostly repeats of a few one-character chunks; chart ticks and map
+    # labels repeat across texts)
+    chunks = memo.setdefault("chunks", {})
     for a, b in itertools.pairwise(bounds):
         mkey = None
         if b - a <= FACES_MEMO_CHUNK:
             mkey = "".join([c.ch for c in chars[a:b]]), tuple(map(id, keys[a:b]))
-            chosen = memo.get(mkey)
+            chosen = chunks.get(mkey)
             if chosen is not None:
                 for k, face in chosen:
                     faces[a + k] = face
@@ -597,7 +602,7 @@ def assign_faces(chars, specs, db, bounds=None, loaded=None):
                     faces[i] = chosen[i]
                     picked.append((i - a, chosen[i]))
         if mkey is not None:
-            memo[mkey] = picked
+            chunks[mkey] = picked
     # (ASCII has no mark, selector or modifier: most texts skip the test per character)
     for i in range(1, len(chars)) if not "".join([c.ch for c in chars]).isascii() else ():
         ch = chars[i].ch

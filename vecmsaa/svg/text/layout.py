@@ -906,7 +906,8 @@ def build_text(element, ctx):
               if i == 0 or c.x is not None or c.y is not None
               or c.text_path is not chars[i - 1].text_path]
     bounds.append(len(chars))
-    faces = assign_faces(chars, specs, db, bounds, document_faces(ctx))
+    faces = assign_faces(chars, specs, db, bounds, document_faces(ctx),
+                         ctx.cache.setdefault("chunk faces", {}))
     # a zero, negative or non-finite size draws nothing
     faces = [f if math.isfinite(sp.size) and sp.size > 0 else None
              for f, sp in zip(faces, specs)]
@@ -946,7 +947,10 @@ def build_text(element, ctx):
     chunks = []
     has_offsets = any(c.dx or c.dy for c in chars)
     text = "".join(c.ch for c in chars)
-    shape_memo = {}
+    # (for the whole document: a chunk's clusters depend on its characters, faces and specs
+    # alone, and those are the document's, kept alive in ctx.cache: chart ticks and map
+    # labels repeat across texts)
+    shape_memo = ctx.cache.setdefault("shaped chunks", {})
     # (no spacing in any spec: apply_spacing would change nothing, a cluster's advance is
     # never -0.0, to which adding 0.0 would give 0.0)
     spaced = any(s.letter_spacing or s.word_spacing for s in {id(s): s for s in specs}.values())
