@@ -153,3 +153,14 @@ def test_repeated_labels_keep_their_own_fonts(monkeypatch):
     load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">{body}'
               f'</svg>').encode(), **FONTS)
     assert got == [truth[f] for f in families]
+
+
+def test_labels_in_styles_of_equal_fonts_shaped_once(monkeypatch):
+    # each chart's axis is a group of its own (its own Style), their fonts equal: the same
+    # tick label in 50 of them is shaped once
+    calls = shape_calls(monkeypatch)
+    body = "".join(f'<g fill="#{i:06x}" transform="translate({i},0)" font-size="10">'
+                   f'<text x="0" y="20">0.5</text></g>' for i in range(50))
+    load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
+              f'font-family="Noto Sans">{body}</svg>').encode(), **FONTS)
+    assert len(calls) == 1

@@ -887,6 +887,7 @@ def build_text(element, ctx):
     # and so one spec, made once (a map of labels has thousands of texts in one style); the
     # Style is the key itself, kept alive by it
     spec_of, spec_cache = {}, ctx.cache.setdefault("font specs", {})
+    spec_values = ctx.cache.setdefault("font spec values", {})
     specs = []
     span = s = None
     for c in chars:
@@ -899,7 +900,10 @@ def build_text(element, ctx):
                 key = style, kerning_attribute(el), ctx.viewport
                 s = spec_cache.get(key)
                 if s is None:
-                    s = spec_cache[key] = font_spec(style, ctx, el)
+                    # one object per value: the shaping memo below is keyed by identity, and
+                    # texts in other styles (each chart's axis its own) often have equal specs
+                    s = font_spec(style, ctx, el)
+                    s = spec_cache[key] = spec_values.setdefault(s, s)
                 spec_of[id(el)] = s
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
