@@ -1047,14 +1047,77 @@ def _most_combinators(prelude) -> int:
     return most
 
 
+def _split_selectors(prelude):
+    """The top-level comma-separated parts of a selector list's tokens, each without the
+    white space at its ends (a comma inside a function, ``:is(a, b)``, is not top-level)."""
+    parts = [[]]
+    for tok in prelude:
+        if tok.type == "literal" and tok.value == ",":
+            parts.append([])
+        else:
+            parts[-1].append(tok)
+    for part in parts:
+        while part and part[0].type == "whitespace":
+            del part[0]
+        while part and part[-1].type == "whitespace":
+            del part[-1]
+    return parts
+
+
+def _simple_selector(tokens, compiled):
+    """(kind, name) of a selector that is one class (``.a``), id (``#a``), type (``rect``) or
+    the universal selector (``*``) alone: ("class", "a"), ("id", "a"), ("tag", "rect") or
+    ("*", None); None for any other. ``compiled`` is cssselect2's compilation of the same
+    selector: the answer must agree with what it indexes and with its specificity (a type or
+    universal selector under a default @namespace tests the namespace too, and is not
+    simple)."""
+    if compiled.pseudo_element is not None or compiled.never_matches:
+        return None
+    n = len(tokens)
+    first = tokens[0] if n else None
+    if n == 1 and first.type == "ident":
+        kind, name, specificity = "tag", first.value, (0, 0, 1)
+    elif n == 1 and first.type == "hash" and first.is_identifier:
+        kind, name, specificity = "id", first.value, (1, 0, 0)
+    elif n == 1 and first.type == "literal" and first.value == "*":
+        kind, name, specificity = "*", None, (0, 0, 0)
+    elif (n == 2 and first.type == "literal" and first.value == "."
+          and tokens[1].type == "ident"):
+        kind, name, specificity = "class", tokens[1].value, (0, 1, 0)
+    else:
+        return None
+    if tuple(compiled.specificity) != specificity or compiled.namespace is not None or \
+            compiled.requires_lang_attr:
+        return None
+    if (compiled.id, compiled.class_name, compiled.local_name) != (
+            name if kind == "id" else None, name if kind == "class" else None,
+            name if kind == "tag" else None):
+        return None
+    return kind, name
+
+
+#: a class attribute's names (cssselect2's and Selectors 4's white space)
+_CLASS_NAMES = re.compile("[^ \t\r\n\f]+").findall
+
+
 class Stylesheets:
-    """All CSS rules of a document, matched with cssselect2."""
+    """All CSS rules of a document. Selectors that are a single class, id, type or the
+    universal selector (exporters' style sheets are all ``.st0{...}``) are indexed here and
+    looked up per element (:meth:`simple_matches`); the others are matched with cssselect2
+    (``matcher``). Both number their selectors in one sequence, cssselect2's ``order``, so
+    the cascade sorts the matches of both by specificity and order together."""
 
     def __init__(self):
         import cssselect2
 
         self.matcher = cssselect2.Matcher()
         self.count = 0
+        self.complex = 0            # selectors in ``matcher``
+        self.by_class = {}          # name -> [(specificity, order, None, payload)]
+        self.by_id = {}
+        self.by_tag = {}
+        self.universal = []
+        self._simple = {}           # (tag, id, class attribute) -> matches (simple_matches)
 
     def add(self, css_text):
         import cssselect2
@@ -1081,11 +1144,59 @@ class Stylesheets:
             except Exception:   # cssselect2 raises its own SelectorError and others
                 continue
             decls = _declarations(rule.content)
-            for sel in selectors:
+            parts = _split_selectors(rule.prelude)
+            if len(parts) != len(selectors):
+                parts = [()] * len(selectors)
+            for sel, tokens in zip(selectors, parts):
                 if sel.pseudo_element:
                     continue
-                self.matcher.add_selector(sel, (self.count, decls))
+                payload = (self.count, decls)
                 self.count += 1
+                simple = _simple_selector(tokens, sel)
+                if simple is None:
+                    self.matcher.add_selector(sel, payload)
+                    self.complex += 1
+                    continue
+                self.matcher.order += 1     # as add_selector numbers it
+                entry = (sel.specificity, self.matcher.order, None, payload)
+                kind, name = simple
+                if kind == "*":
+                    self.universal.append(entry)
+                else:
+                    index = self.by_class if kind == "class" else \
+                        self.by_id if kind == "id" else self.by_tag
+                    index.setdefault(name, []).append(entry)
+        self._simple.clear()
+
+    def simple_matches(self, tag, attrs, charge):
+        """The indexed selectors' matches for an element of local name ``tag`` and
+        attributes ``attrs`` (id and class without a namespace), as cssselect2's
+        Matcher.match gives them (specificity, order, pseudo-element, payload), unsorted
+        (_in_cascade_order sorts); an empty tuple for none. Elements alike in tag, id and class share one answer;
+        ``charge(n)`` is told of the n selectors gathered for each new one."""
+        ident = attrs.get("id")
+        if ident is not None and ident not in self.by_id:
+            ident = None
+        classes = attrs.get("class")
+        if tag not in self.by_tag:
+            tag = None
+        key = (tag, ident, classes)
+        found = self._simple.get(key)
+        if found is None:
+            found = list(self.universal)
+            if tag is not None:
+                found += self.by_tag[tag]
+            if ident is not None:
+                found += self.by_id[ident]
+            if classes:
+                by_class = self.by_class
+                for name in set(_CLASS_NAMES(classes)):
+                    got = by_class.get(name)
+                    if got is not None:
+                        found += got
+            charge(len(found) + 1)
+            found = self._simple[key] = tuple(found)
+        return found
 
 
 class Document:
@@ -1453,21 +1564,49 @@ def _cascade(reader, stylesheet):
             # the same text over and over (quadratic in memory)
             sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
     matches = {}
-    if sheets.count:
-        wrapper, matcher = _counted_matching(sheets.matcher)
+    wrapper, matcher, charge = _counted_matching(sheets.matcher)
+    if sheets.complex:
+        # cssselect2 walks the ElementTree mirror for the selectors not indexed
         wrapper = wrapper.from_xml_root(xml_root)
         for w in wrapper.iter_subtree():
             found = matcher.match(w)
             if found:
                 matches[id(w.etree_element)] = found
+    simple = sheets.simple_matches if sheets.count > sheets.complex else None
+    warnings = reader.warnings
+    custom = reader.custom
+    # the specified style of elements alike in their matches, presentation attributes and
+    # style attribute: made once, copied for each (an element's dict is its own: the
+    # cascade's later steps and the text module change it), with its warnings repeated
+    made = {}
     for el, node, spec, style_attr in reader.pending:
-        el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings,
-                                  reader.custom)
+        found = simple(el.tag, el.attrs, charge) if simple is not None else ()
+        more = matches.get(id(node)) if matches else None
+        if more:
+            found = (*found, *more)
+        if custom or more:
+            if found:
+                charge(len(found))
+            el.specified = _specified(spec, found, style_attr, warnings, custom)
+            continue
+        key = (id(found), tuple(spec.items()), style_attr)
+        got = made.get(key)
+        if got is None:
+            if found:
+                charge(len(found))      # the declarations are read once per key
+            before = len(warnings)
+            # the first element's dict stands for the others: nothing changes it in this loop
+            el.specified = _specified(spec, found, style_attr, warnings)
+            made[key] = (el.specified, warnings[before:])
+        else:
+            el.specified = dict(got[0])
+            warnings.extend(got[1])
 
 
 def _counted_matching(matcher):
-    """An ElementWrapper class and a Matcher (sharing ``matcher``'s rules) that count the
-    work of matching against MAX_SELECTOR_STEPS and raise SvgError past it. cssselect2 walks
+    """An ElementWrapper class, a Matcher (sharing ``matcher``'s rules) and a function
+    ``charge(steps)`` that count the work of matching against MAX_SELECTOR_STEPS and raise
+    SvgError past it. cssselect2 walks
     ancestors and earlier siblings through these attributes; its tuples of earlier siblings
     (one per element, of all its earlier siblings: quadratic memory for a long list of
     siblings) become walks along the previous-sibling links, and its tuples of ancestors one
@@ -1553,4 +1692,4 @@ def _counted_matching(matcher):
 
     counted = Matcher()
     counted.__dict__.update(matcher.__dict__)
-    return Wrapper, counted
+    return Wrapper, counted, charge
