@@ -170,6 +170,29 @@ def test_many_elements_alike_read_their_rules_once(monkeypatch):
     assert len({id(el.specified) for el in els}) == len(els)
 
 
+def test_elements_alike_in_their_attributes_are_specified_once(monkeypatch):
+    """20,000 circles of a chart, presentation attributes and style attributes repeating:
+    each pair of (presentation attributes, style attribute) is cascaded once, and each circle
+    has its own dict of the values SVG 2 §6.6 gives (the style attribute over the attributes,
+    values without their surrounding white space)."""
+    from vecmsaa.svg import document
+    made = []
+    real = document._specified
+    monkeypatch.setattr(document, "_specified", lambda *a, **k: made.append(1) or real(*a, **k))
+    kinds = [('fill="steelblue" stroke=" #333" stroke-width="0.5"',
+              {"fill": "steelblue", "stroke": "#333", "stroke-width": "0.5"}),
+             ('fill="red" style="fill: blue; opacity: .5"', {"fill": "blue", "opacity": ".5"}),
+             ('style="stroke: lime"', {"stroke": "lime"}),
+             ('fill="steelblue" stroke="#333"', {"fill": "steelblue", "stroke": "#333"})]
+    circles = "".join(f'<circle cx="{i}" cy="{i % 7}" r="2" {kinds[i % 4][0]}/>'
+                      for i in range(20000))
+    doc = load_document(f'<svg xmlns="{SVG}">{circles}</svg>'.encode())
+    assert len(made) == 4
+    els = doc.root.children
+    assert [el.specified for el in els] == [kinds[i % 4][1] for i in range(20000)]
+    assert len({id(el.specified) for el in els}) == len(els)
+
+
 @pytest.mark.parametrize("alike, refused", [(True, False), (False, True)])
 def test_simple_selectors_count_their_work_against_the_limit(monkeypatch, alike, refused):
     """100 universal rules over 200 rects: rects alike read the rules once; rects each with a

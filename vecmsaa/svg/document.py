@@ -647,6 +647,23 @@ class _TreeReader:
         names = {}                 # expat name -> (namespace, local name)
         own = {}                   # expat name -> local name, of the root's namespace
         quiet = set()              # attribute names seen that are no property, style or ns
+        seen = set()               # attribute names seen without a namespace
+        warnings = self.warnings
+        custom = self.custom
+        # the specified style by (presentation attributes as written, style attribute), with
+        # the warnings it gave (map data and charts repeat a few over thousands of elements):
+        # the first element's dict stands for the others, as nothing changes it while the
+        # document is read; each element gets a copy of its own
+        made = {}
+
+        def specify(given, style_attr):
+            """The specified style of an element without CSS rules (and not in a document
+            with var()): its presentation attributes ``given`` ((name, value as written)...)
+            under its style attribute; made once for each such pair."""
+            before = len(warnings)
+            spec = _specified({k: v.strip() for k, v in given}, None, style_attr, warnings)
+            made[given, style_attr] = spec, warnings[before:]
+            return spec
         tb = None
         if self._mirror:
             import xml.etree.ElementTree as ET
@@ -699,14 +716,27 @@ class _TreeReader:
             if quiet.issuperset(attr):
                 spec = {}
             else:
-                if "}" in "".join(attr):
-                    return start(name, attr, False)
-                quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
+                if not seen.issuperset(attr):
+                    if "}" in "".join(attr):
+                        return start(name, attr, False)
+                    seen.update(attr)
+                    quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
                 style_attr = attr.get("style")
-                spec = {} if PRESENTATION.isdisjoint(attr) else \
-                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
-                if spec or style_attr:
-                    spec = _specified(spec, None, style_attr, self.warnings, self.custom)
+                given = () if PRESENTATION.isdisjoint(attr) else \
+                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
+                if not (given or style_attr):
+                    spec = {}
+                elif custom:
+                    spec = _specified({k: v.strip() for k, v in given}, None, style_attr,
+                                      warnings, True)
+                else:
+                    got = made.get((given, style_attr))
+                    if got is None:
+                        spec = specify(given, style_attr)
+                    else:
+                        spec = dict(got[0])
+                        if got[1]:
+                            warnings.extend(got[1])
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
@@ -777,12 +807,14 @@ class _TreeReader:
                 # no namespaced attribute (map data: d and id): expat's dict as it is
                 attrs = attr
                 style_attr = attr.get("style")
-                spec = {} if PRESENTATION.isdisjoint(attr) else \
-                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
+                given = () if PRESENTATION.isdisjoint(attr) else \
+                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
+                spec = {k: v.strip() for k, v in given}
             else:
                 attrs = {}
                 style_attr = None
                 spec = {}
+                given = None
                 for key, value in attr.items():
                     if "}" in key:
                         ans, _, aname = key.partition("}")
@@ -812,7 +844,15 @@ class _TreeReader:
             if tb is not None:
                 self.pending.append((el, node, spec, style_attr))
             elif spec or style_attr:
-                el.specified = _specified(spec, None, style_attr, self.warnings, self.custom)
+                if given is None or custom:
+                    el.specified = _specified(spec, None, style_attr, warnings, custom)
+                else:
+                    got = made.get((given, style_attr))
+                    if got is None:
+                        el.specified = specify(given, style_attr)
+                    else:
+                        el.specified = dict(got[0])
+                        warnings.extend(got[1])
             else:
                 el.specified = spec
             if parent is not None:
