@@ -207,3 +207,48 @@ def test_simple_selectors_count_their_work_against_the_limit(monkeypatch, alike,
             load_document(text.encode())
     else:
         assert specified_by_load(text) == brute_force(text)
+
+
+@pytest.mark.parametrize("root_ns, body, sheets", [
+    # a <style> element's sheet is its child text content (HTML's and CSSOM's): the text of
+    # elements in it is not CSS, comments and CDATA sections are no boundary
+    (SVG, '<style>a{}<x:y xmlns:x="u">zz</x:y>b{}</style>', ["a{}b{}"]),
+    (SVG, '<style>a<rect/>b<circle>no</circle>c</style>', ["abc"]),
+    (SVG, "<style><![CDATA[.a{fill:red}]]></style>", [".a{fill:red}"]),
+    (SVG, "<style>a<!-- c -->b</style>", ["ab"]),
+    (SVG, "<style>outer<style>inner</style>tail</style>", ["outertail", "inner"]),
+    # only CSS: type text/css, or none, or empty
+    (SVG, '<style type="text/foo">x</style><style type=" text/css ">y</style>'
+          '<style type="">z</style>', ["y", "z"]),
+    # a style element anywhere in the document, inside unknown and foreign elements too;
+    # of SVG's namespace (or none, under a root of none), not of another
+    (SVG, '<x:y xmlns:x="u"><style>s1</style></x:y><unknown><style>s2</style></unknown>'
+          '<style xmlns="u">no</style>', ["s1", "s2"]),
+    ("", '<style>s1</style><s:style xmlns:s="http://www.w3.org/2000/svg">s2</s:style>',
+     ["s1", "s2"]),
+])
+def test_style_sheets_are_the_style_elements_child_text(monkeypatch, root_ns, body, sheets):
+    from vecmsaa.svg import document
+    added = []
+    real = document.Stylesheets.add
+    monkeypatch.setattr(document.Stylesheets, "add",
+                        lambda self, text: added.append(text) or real(self, text))
+    xmlns = f' xmlns="{root_ns}"' if root_ns else ""
+    load_document(f"<svg{xmlns}>{body}</svg>".encode())
+    assert added == sheets
+
+
+@pytest.mark.parametrize("css, reads", [(".a {fill: red} rect, #b {stroke: blue}", 1),
+                                        (".a {fill: red} g > rect {stroke: blue}", 2)])
+def test_the_elementtree_mirror_is_built_for_cssselect2_only(monkeypatch, css, reads):
+    """A document whose selectors are all indexed ones is read once, without ElementTree's
+    tree; one with another selector is read again with it, for cssselect2."""
+    from vecmsaa.svg import document
+    calls = []
+    real = document._TreeReader.read
+    monkeypatch.setattr(document._TreeReader, "read",
+                        lambda self, data: calls.append(self._mirror) or real(self, data))
+    text = (f'<svg xmlns="{SVG}"><style>{css}</style><g><rect class="a" width="1"/>'
+            f'<circle id="b" r="1"/></g></svg>')
+    assert specified_by_load(text) == brute_force(text)
+    assert calls == [False, True][:reads]

@@ -611,13 +611,19 @@ class _TreeReader:
     the text around them. The guards are defusedxml's (no entity declarations, no external
     entities), with its exceptions. With ``mirror`` the ElementTree tree is built as well,
     for CSS selector matching, and each element's specified style is left to
-    :meth:`specify`."""
+    :func:`_cascade`; with ``deferred`` too, without the ElementTree tree (the document's
+    selectors are all indexed ones, :class:`Stylesheets`), and its ``<style>`` elements are
+    listed in ``styles``."""
 
-    def __init__(self, doc, mirror: bool, custom: bool = False):
+    def __init__(self, doc, mirror: bool, custom: bool = False, deferred: bool = False):
         self.doc = doc
         self.custom = custom       # the document has var() (_specified)
         self.mirror = None
-        self.pending = []          # (Element, its ElementTree twin, spec, style attribute)
+        # (Element, its ElementTree twin or None, its presentation attributes as written
+        # ((name, value)...), its style attribute) of each element, for _cascade
+        self.pending = []
+        self.styles = []           # the <style> Elements in document order (deferred)
+        self.deferred = mirror or deferred
         self.warnings = []         # unsupported values, warned about once the tree is read
         self.error = None          # the first limit exceeded, in document order
         self.bad_root = False
@@ -650,6 +656,9 @@ class _TreeReader:
         seen = set()               # attribute names seen without a namespace
         warnings = self.warnings
         custom = self.custom
+        deferred = self.deferred and not self._mirror     # start_plain defers
+        pending = self.pending
+        styles = self.styles
         # the specified style by (presentation attributes as written, style attribute), with
         # the warnings it gave (map data and charts repeat a few over thousands of elements):
         # the first element's dict stands for the others, as nothing changes it while the
@@ -715,6 +724,8 @@ class _TreeReader:
                 attr = plain
             if quiet.issuperset(attr):
                 spec = {}
+                given = ()
+                style_attr = None
             else:
                 if not seen.issuperset(attr):
                     if "}" in "".join(attr):
@@ -724,7 +735,7 @@ class _TreeReader:
                 style_attr = attr.get("style")
                 given = () if PRESENTATION.isdisjoint(attr) else \
                     tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
-                if not (given or style_attr):
+                if deferred or not (given or style_attr):
                     spec = {}
                 elif custom:
                     spec = _specified({k: v.strip() for k, v in given}, None, style_attr,
@@ -740,6 +751,10 @@ class _TreeReader:
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
+            if deferred:
+                pending.append((el, None, given, style_attr))
+                if tag == "style":
+                    styles.append(el)
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
@@ -809,12 +824,10 @@ class _TreeReader:
                 style_attr = attr.get("style")
                 given = () if PRESENTATION.isdisjoint(attr) else \
                     tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
-                spec = {k: v.strip() for k, v in given}
             else:
                 attrs = {}
                 style_attr = None
-                spec = {}
-                given = None
+                given = []
                 for key, value in attr.items():
                     if "}" in key:
                         ans, _, aname = key.partition("}")
@@ -827,7 +840,8 @@ class _TreeReader:
                     if key == "style":
                         style_attr = value
                     elif key in PRESENTATION:
-                        spec[key] = value.strip()
+                        given.append((key, value))
+                given = tuple(given)
             parent = stack[-1] if stack else None
             if parent.__class__ is _Foreign:
                 el = Element(tag, attrs, parent.parent, 0, doc)
@@ -841,11 +855,14 @@ class _TreeReader:
                 doc.has_use = True
             elif tag in _LINK_CONTAINERS:
                 doc.link_containers.append(el)
-            if tb is not None:
-                self.pending.append((el, node, spec, style_attr))
-            elif spec or style_attr:
-                if given is None or custom:
-                    el.specified = _specified(spec, None, style_attr, warnings, custom)
+            if self.deferred:
+                pending.append((el, node if tb is not None else None, given, style_attr))
+                if tag == "style":
+                    styles.append(el)
+            elif given or style_attr:
+                if custom:
+                    el.specified = _specified({k: v.strip() for k, v in given}, None,
+                                              style_attr, warnings, True)
                 else:
                     got = made.get((given, style_attr))
                     if got is None:
@@ -853,8 +870,6 @@ class _TreeReader:
                     else:
                         el.specified = dict(got[0])
                         warnings.extend(got[1])
-            else:
-                el.specified = spec
             if parent is not None:
                 if parent.children:
                     parent.children.append(el)
@@ -1473,12 +1488,25 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     # custom properties matter only where var() uses them (b"ar(" first: see has_css)
     custom = (b"ar(" in data and _VAR_FUNCTION.search(data) is not None) or (
         bool(stylesheet) and "ar(" in stylesheet)
-    reader = _TreeReader(doc, mirror=bool(stylesheet) or has_css, custom=custom)
+    css = bool(stylesheet) or has_css
+    # A document with CSS is read first without the mirror, its elements' styles deferred:
+    # when all its selectors are indexed ones (exporters' sheets) the cascade needs no more.
+    reader = _TreeReader(doc, mirror=False, custom=custom, deferred=css)
     doc.root = reader.read(data)
     if reader.bad_root:
         raise SvgError("the root element is not <svg>")
-    if reader.mirror is not None:
-        _cascade(reader, stylesheet)
+    if css:
+        sheets = _tree_stylesheets(reader.styles, stylesheet) if reader.error is None else None
+        if sheets is None or sheets.complex:
+            # cssselect2 matches on ElementTree's tree: the document is read again, with it
+            # (past a limit, the sheets are read from it as before: the error is raised next)
+            doc = Document(None, None, base_dir)
+            doc.languages = tuple(x.strip().lower() for x in languages)
+            reader = _TreeReader(doc, mirror=True, custom=custom)
+            doc.root = reader.read(data)
+            if sheets is None:
+                sheets = _mirror_stylesheets(reader.mirror, stylesheet)
+        _cascade(reader, sheets)
     if custom and doc.root is not None and reader.error is None:
         from .variables import substitute_document
         substitute_document(doc, reader.warnings)
@@ -1584,10 +1612,16 @@ def _linking_elements(containers, link):
     return linking
 
 
-def _cascade(reader, stylesheet):
-    """The specified styles of a document with CSS: its rules matched on the ElementTree
-    mirror of the tree."""
-    xml_root = reader.mirror
+def _style_text(kind, text, sheets):
+    """Add a ``<style>`` element's sheet, of type attribute ``kind``, to ``sheets``."""
+    kind = (kind or "text/css").strip()
+    if kind in ("", "text/css"):
+        sheets.add(text)
+
+
+def _mirror_stylesheets(xml_root, stylesheet):
+    """The Stylesheets of a document read with the ElementTree mirror: ``stylesheet`` (the
+    user's), then its ``<style>`` elements'."""
     default_ns = xml_root.tag[1:].partition("}")[0] if xml_root.tag[0] == "{" else ""
     sheets = Stylesheets()
     if stylesheet:
@@ -1596,13 +1630,34 @@ def _cascade(reader, stylesheet):
     for node in xml_root.iter():
         nns, _, ntag = node.tag[1:].partition("}") if node.tag[0] == "{" else ("", "", node.tag)
         if ntag == "style" and (nns == default_ns or nns == SVG_NS):
-            kind = (node.get("type") or "text/css").strip()
-            if kind not in ("", "text/css"):
-                continue
             # its child text content (HTML/CSSOM), not its descendants' text: elements nested
             # in <style> are not CSS, and thousands of nested <style>s would otherwise read
             # the same text over and over (quadratic in memory)
-            sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
+            _style_text(node.get("type"), (node.text or "") + "".join(c.tail or "" for c in node),
+                        sheets)
+    return sheets
+
+
+def _tree_stylesheets(styles, stylesheet):
+    """The same from the Element tree of a document read without the mirror (and within
+    its limits): ``styles``, its <style> Elements in document order (those the reader
+    made, detached ones too, are the mirror's <style> elements of the root's namespace or
+    SVG's), each with its character data as the mirror's (the text after an element of
+    another namespace in it is in its text or its last child's tail)."""
+    sheets = Stylesheets()
+    if stylesheet:
+        sheets.add(stylesheet)
+    for el in styles:
+        _style_text(el.attrs.get("type"), el.text + "".join(c.tail for c in el.children),
+                    sheets)
+    return sheets
+
+
+def _cascade(reader, sheets):
+    """The specified styles of a document with CSS (``sheets``): the indexed selectors
+    looked up per element, the others matched by cssselect2 on the ElementTree mirror of the
+    tree (``reader.mirror``, there when ``sheets.complex``)."""
+    xml_root = reader.mirror
     matches = {}
     wrapper, matcher, charge = _counted_matching(sheets.matcher)
     if sheets.complex:
@@ -1619,7 +1674,7 @@ def _cascade(reader, stylesheet):
     # style attribute: made once, copied for each (an element's dict is its own: the
     # cascade's later steps and the text module change it), with its warnings repeated
     made = {}
-    for el, node, spec, style_attr in reader.pending:
+    for el, node, given, style_attr in reader.pending:
         found = simple(el.tag, el.attrs, charge) if simple is not None else ()
         more = matches.get(id(node)) if matches else None
         if more:
@@ -1627,16 +1682,18 @@ def _cascade(reader, stylesheet):
         if custom or more:
             if found:
                 charge(len(found))
-            el.specified = _specified(spec, found, style_attr, warnings, custom)
+            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
+                                      warnings, custom)
             continue
-        key = (id(found), tuple(spec.items()), style_attr)
+        key = (id(found), given, style_attr)
         got = made.get(key)
         if got is None:
             if found:
                 charge(len(found))      # the declarations are read once per key
             before = len(warnings)
             # the first element's dict stands for the others: nothing changes it in this loop
-            el.specified = _specified(spec, found, style_attr, warnings)
+            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
+                                      warnings)
             made[key] = (el.specified, warnings[before:])
         else:
             el.specified = dict(got[0])
