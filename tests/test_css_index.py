@@ -37,8 +37,8 @@ def brute_force(svg_text):
         namespaces = {}
         for rule in sheet:
             if rule.type == "at-rule" and rule.lower_at_keyword == "namespace":
-                prefix, url = [t for t in rule.prelude if t.type != "whitespace"]
-                namespaces[prefix.value] = url.value
+                *prefix, url = [t for t in rule.prelude if t.type != "whitespace"]
+                namespaces[prefix[0].value if prefix else None] = url.value
                 continue
             try:
                 selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
@@ -105,7 +105,9 @@ def random_document(rng, selectors, elements):
     body.append("</g>" * depth)
     first = "".join(rules[:cut])
     last = "".join(rules[cut:])
-    return (f'<svg xmlns="{SVG}"><style>@namespace svg url({SVG}); {first}</style>'
+    namespace = rng.choice((f"@namespace svg url({SVG});", "", f"@namespace url({SVG});",
+                            '@namespace "other";'))
+    return (f'<svg xmlns="{SVG}"><style>{namespace} {first}</style>'
             f'{"".join(body)}<style>{last}</style></svg>')
 
 

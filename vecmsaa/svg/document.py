@@ -1119,30 +1119,42 @@ def _split_selectors(prelude):
     return parts
 
 
+#: the specificity of each kind of simple selector (Selectors 4 §17)
+_SIMPLE_SPECIFICITY = {"id": (1, 0, 0), "class": (0, 1, 0), "tag": (0, 0, 1), "*": (0, 0, 0)}
+
+
+def _simple_tokens(tokens):
+    """(kind, name) of a selector's tokens (white space at the ends taken off) that are one
+    class (``.a``), id (``#a``), type (``rect``) or the universal selector (``*``) alone:
+    ("class", "a"), ("id", "a"), ("tag", "rect") or ("*", None); None for any other."""
+    n = len(tokens)
+    if n == 1:
+        first = tokens[0]
+        if first.type == "ident":
+            return "tag", first.value
+        if first.type == "hash" and first.is_identifier:
+            return "id", first.value
+        if first.type == "literal" and first.value == "*":
+            return "*", None
+    elif n == 2:
+        first = tokens[0]
+        if first.type == "literal" and first.value == "." and tokens[1].type == "ident":
+            return "class", tokens[1].value
+    return None
+
+
 def _simple_selector(tokens, compiled):
-    """(kind, name) of a selector that is one class (``.a``), id (``#a``), type (``rect``) or
-    the universal selector (``*``) alone: ("class", "a"), ("id", "a"), ("tag", "rect") or
-    ("*", None); None for any other. ``compiled`` is cssselect2's compilation of the same
-    selector: the answer must agree with what it indexes and with its specificity (a type or
-    universal selector under a default @namespace tests the namespace too, and is not
-    simple)."""
+    """_simple_tokens(tokens), where it agrees with ``compiled``, cssselect2's compilation
+    of the same selector: with what it indexes and with its specificity (a type or universal
+    selector under a default @namespace tests the namespace too, and is not simple)."""
     if compiled.pseudo_element is not None or compiled.never_matches:
         return None
-    n = len(tokens)
-    first = tokens[0] if n else None
-    if n == 1 and first.type == "ident":
-        kind, name, specificity = "tag", first.value, (0, 0, 1)
-    elif n == 1 and first.type == "hash" and first.is_identifier:
-        kind, name, specificity = "id", first.value, (1, 0, 0)
-    elif n == 1 and first.type == "literal" and first.value == "*":
-        kind, name, specificity = "*", None, (0, 0, 0)
-    elif (n == 2 and first.type == "literal" and first.value == "."
-          and tokens[1].type == "ident"):
-        kind, name, specificity = "class", tokens[1].value, (0, 1, 0)
-    else:
+    got = _simple_tokens(tokens)
+    if got is None:
         return None
-    if tuple(compiled.specificity) != specificity or compiled.namespace is not None or \
-            compiled.requires_lang_attr:
+    kind, name = got
+    if tuple(compiled.specificity) != _SIMPLE_SPECIFICITY[kind] or \
+            compiled.namespace is not None or compiled.requires_lang_attr:
         return None
     if (compiled.id, compiled.class_name, compiled.local_name) != (
             name if kind == "id" else None, name if kind == "class" else None,
@@ -1194,27 +1206,33 @@ class Stylesheets:
                 continue
             if _most_combinators(rule.prelude) > MAX_COMBINATORS:
                 continue
-            try:
-                selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
-            except Exception:   # cssselect2 raises its own SelectorError and others
-                continue
-            decls = _declarations(rule.content)
             parts = _split_selectors(rule.prelude)
-            if len(parts) != len(selectors):
-                parts = [()] * len(selectors)
-            for sel, tokens in zip(selectors, parts):
-                if sel.pseudo_element:
+            # a list of simple selectors only (without a default namespace, which a type
+            # selector tests too) is valid as it is: cssselect2 need not compile it
+            simple = None if None in namespaces else [_simple_tokens(p) for p in parts]
+            if simple is None or None in simple:
+                try:
+                    selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
+                except Exception:   # cssselect2 raises its own SelectorError and others
+                    continue
+                if len(parts) != len(selectors):
+                    parts = [()] * len(selectors)
+                simple = [_simple_selector(tokens, sel) for sel, tokens in zip(selectors, parts)]
+            else:
+                selectors = [None] * len(simple)
+            decls = _declarations(rule.content)
+            for sel, kind_name in zip(selectors, simple):
+                if sel is not None and sel.pseudo_element:
                     continue
                 payload = (self.count, decls)
                 self.count += 1
-                simple = _simple_selector(tokens, sel)
-                if simple is None:
+                if kind_name is None:
                     self.matcher.add_selector(sel, payload)
                     self.complex += 1
                     continue
                 self.matcher.order += 1     # as add_selector numbers it
-                entry = (sel.specificity, self.matcher.order, None, payload)
-                kind, name = simple
+                kind, name = kind_name
+                entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
                 if kind == "*":
                     self.universal.append(entry)
                 else:
