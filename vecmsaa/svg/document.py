@@ -387,7 +387,9 @@ class Style:
                 spec = pending.specified_under(element, self)
         key = tuple(spec.items())
         owner = self
-        if element.tag in _SHAPE_TAGS and not any("inherit" in v.lower() for _, v in key):
+        # (the values joined: one lower() and search instead of one per value; "inherit"
+        # cannot span the line break between two)
+        if element.tag in _SHAPE_TAGS and "inherit" not in "\n".join(spec.values()).lower():
             while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
                 owner = owner.parent
         style = owner._children.get(key)
