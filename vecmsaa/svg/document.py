@@ -249,7 +249,7 @@ class Style:
     is the ``<use>`` element, as the SVG specification requires.
     """
 
-    __slots__ = ("specified", "parent", "_font_size", "cache", "_children")
+    __slots__ = ("specified", "parent", "_font_size", "cache", "_children", "_layer")
 
     def __init__(self, specified, parent=None):
         self.specified = specified
@@ -257,6 +257,7 @@ class Style:
         self._font_size = None
         self.cache = {}   # computed values by name (styles are read many times, never changed)
         self._children = {}
+        self._layer = None      # whether it passes its parent's values on (see child)
 
     def get(self, name, default=None):
         try:
@@ -387,9 +388,15 @@ class Style:
                 spec = pending.specified_under(element, self)
         key = tuple(spec.items())
         owner = self
+        layer = self._layer
+        if layer is None:
+            layer = self._layer = (self.parent is not None
+                                   and LAYER_PROPERTIES.issuperset(self.specified))
         # (the values joined: one lower() and search instead of one per value; "inherit"
         # cannot span the line break between two)
-        if element.tag in _SHAPE_TAGS and "inherit" not in "\n".join(spec.values()).lower():
+        if layer and element.tag in _SHAPE_TAGS and \
+                "inherit" not in "\n".join(spec.values()).lower():
+            owner = self.parent
             while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
                 owner = owner.parent
         style = owner._children.get(key)
