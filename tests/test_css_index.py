@@ -254,3 +254,27 @@ def test_the_elementtree_mirror_is_built_for_cssselect2_only(monkeypatch, css, r
             f'<circle id="b" r="1"/></g></svg>')
     assert specified_by_load(text) == brute_force(text)
     assert calls == [False, True][:reads]
+
+
+def test_the_tree_read_before_the_mirror_goes_without_the_collector():
+    """A document read again for cssselect2: its first tree (a clip path in it, which the
+    document lists) is freed by reference counting, as the collector is paused while a
+    document renders: the collector finds none of its elements."""
+    import gc
+
+    from vecmsaa.svg.document import Element
+    text = (f'<svg xmlns="{SVG}"><style>g > rect {{fill: red}}</style><clipPath id="c">'
+            f'<rect width="1"/></clipPath><g><rect width="1"/></g></svg>')
+    gc.collect()
+    gc.disable()
+    gc.set_debug(gc.DEBUG_SAVEALL)
+    try:
+        doc = load_document(text.encode())
+        gc.collect()
+        left = [o for o in gc.garbage if isinstance(o, Element)]
+    finally:
+        gc.set_debug(0)
+        gc.garbage.clear()
+        gc.enable()
+    assert left == []
+    assert doc.root.children[2].children[0].specified == {"fill": "red"}

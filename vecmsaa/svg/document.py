@@ -1359,6 +1359,7 @@ class Document:
         self.root, self._ids, self.paths, self._doc_styles = None, {}, [], {}
         self.var_raw = {}
         self.detached, self._detached_ids = [], None
+        self.link_containers = []
 
     def document_style(self, el: Element) -> Style:
         """Computed style from the element's document ancestors (for paint servers, clip paths,
@@ -1526,7 +1527,10 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
         sheets = _tree_stylesheets(reader.styles, stylesheet) if reader.error is None else None
         if sheets is None or sheets.complex:
             # cssselect2 matches on ElementTree's tree: the document is read again, with it
-            # (past a limit, the sheets are read from it as before: the error is raised next)
+            # (past a limit, the sheets are read from it as before: the error is raised next);
+            # the first tree's reference cycles are broken, so it goes now, not at the
+            # collector's next pass (paused while rendering)
+            doc.release()
             doc = Document(None, None, base_dir)
             doc.languages = tuple(x.strip().lower() for x in languages)
             reader = _TreeReader(doc, mirror=True, custom=custom)
