@@ -41,7 +41,9 @@ MAX_DEPTH = 1024
 #: ancestor or sibling visited, an element wrapped): descendant combinators backtrack
 #: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
 #: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
-#: every element. Past it the document is refused.
+#: every element. Past it the document is refused. Indexed selectors (a class, id, type or
+#: ``*`` alone: Stylesheets) are charged their candidates once per distinct (tag, id,
+#: class) and their declarations once per distinct cascade.
 MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
