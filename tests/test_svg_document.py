@@ -743,6 +743,19 @@ def test_a_shape_saying_inherit_reads_its_own_group():
     assert tuple(int(v) for v in img[5, 5]) == pytest.approx((0, 0, 255, 64), abs=1)
 
 
+@pytest.mark.parametrize("attrs", ['stroke="none" fill="#00f" opacity="INHERIT"',
+                                   'fill="#00f" style="stroke: none; opacity: Inherit"',
+                                   'fill="#00f" stroke="none" opacity="inherit"'])
+def test_a_shape_saying_inherit_in_any_value_and_case_reads_its_own_group(attrs):
+    # opacity inherit (CSS-wide keywords are ASCII case-insensitive) after other values: the
+    # group's 0.5 twice, 0.25 in all
+    from vecmsaa.api import render_svg_array
+    img = render_svg_array(f'<svg {SVG} width="10" height="10"><g opacity="0.5">'
+                           f'<rect width="10" height="10" {attrs}/></g></svg>'.encode(),
+                           width=10)
+    assert tuple(int(v) for v in img[5, 5]) == pytest.approx((0, 0, 255, 64), abs=1)
+
+
 def test_shapes_under_groups_differing_only_by_clip_share_one_style():
     d = doc('<g id="a" clip-path="url(#x)"><path id="p" stroke="#000"/></g>'
             '<g id="b" clip-path="url(#y)"><path id="q" stroke="#000"/></g>'

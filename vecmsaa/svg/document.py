@@ -41,7 +41,9 @@ MAX_DEPTH = 1024
 #: ancestor or sibling visited, an element wrapped): descendant combinators backtrack
 #: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
 #: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
-#: every element. Past it the document is refused.
+#: every element. Past it the document is refused. Indexed selectors (a class, id, type or
+#: ``*`` alone: Stylesheets) are charged their candidates once per distinct (tag, id,
+#: class) and their declarations once per distinct cascade.
 MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
@@ -249,7 +251,7 @@ class Style:
     is the ``<use>`` element, as the SVG specification requires.
     """
 
-    __slots__ = ("specified", "parent", "_font_size", "cache", "_children")
+    __slots__ = ("specified", "parent", "_font_size", "cache", "_children", "_layer")
 
     def __init__(self, specified, parent=None):
         self.specified = specified
@@ -257,6 +259,7 @@ class Style:
         self._font_size = None
         self.cache = {}   # computed values by name (styles are read many times, never changed)
         self._children = {}
+        self._layer = None      # whether it passes its parent's values on (see child)
 
     def get(self, name, default=None):
         try:
@@ -387,7 +390,15 @@ class Style:
                 spec = pending.specified_under(element, self)
         key = tuple(spec.items())
         owner = self
-        if element.tag in _SHAPE_TAGS and not any("inherit" in v.lower() for _, v in key):
+        layer = self._layer
+        if layer is None:
+            layer = self._layer = (self.parent is not None
+                                   and LAYER_PROPERTIES.issuperset(self.specified))
+        # (the values joined: one lower() and search instead of one per value; "inherit"
+        # cannot span the line break between two)
+        if layer and element.tag in _SHAPE_TAGS and \
+                "inherit" not in "\n".join(spec.values()).lower():
+            owner = self.parent
             while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
                 owner = owner.parent
         style = owner._children.get(key)
@@ -611,13 +622,19 @@ class _TreeReader:
     the text around them. The guards are defusedxml's (no entity declarations, no external
     entities), with its exceptions. With ``mirror`` the ElementTree tree is built as well,
     for CSS selector matching, and each element's specified style is left to
-    :meth:`specify`."""
+    :func:`_cascade`; with ``deferred`` too, without the ElementTree tree (the document's
+    selectors are all indexed ones, :class:`Stylesheets`), and its ``<style>`` elements are
+    listed in ``styles``."""
 
-    def __init__(self, doc, mirror: bool, custom: bool = False):
+    def __init__(self, doc, mirror: bool, custom: bool = False, deferred: bool = False):
         self.doc = doc
         self.custom = custom       # the document has var() (_specified)
         self.mirror = None
-        self.pending = []          # (Element, its ElementTree twin, spec, style attribute)
+        # (Element, its ElementTree twin or None, its presentation attributes as written
+        # ((name, value)...), its style attribute) of each element, for _cascade
+        self.pending = []
+        self.styles = []           # the <style> Elements in document order (deferred)
+        self.deferred = mirror or deferred
         self.warnings = []         # unsupported values, warned about once the tree is read
         self.error = None          # the first limit exceeded, in document order
         self.bad_root = False
@@ -647,6 +664,26 @@ class _TreeReader:
         names = {}                 # expat name -> (namespace, local name)
         own = {}                   # expat name -> local name, of the root's namespace
         quiet = set()              # attribute names seen that are no property, style or ns
+        seen = set()               # attribute names seen without a namespace
+        warnings = self.warnings
+        custom = self.custom
+        deferred = self.deferred and not self._mirror     # start_plain defers
+        pending = self.pending
+        styles = self.styles
+        # the specified style by (presentation attributes as written, style attribute), with
+        # the warnings it gave (map data and charts repeat a few over thousands of elements):
+        # the first element's dict stands for the others, as nothing changes it while the
+        # document is read; each element gets a copy of its own
+        made = {}
+
+        def specify(given, style_attr):
+            """The specified style of an element without CSS rules (and not in a document
+            with var()): its presentation attributes ``given`` ((name, value as written)...)
+            under its style attribute; made once for each such pair."""
+            before = len(warnings)
+            spec = _specified({k: v.strip() for k, v in given}, None, style_attr, warnings)
+            made[given, style_attr] = spec, warnings[before:]
+            return spec
         tb = None
         if self._mirror:
             import xml.etree.ElementTree as ET
@@ -698,18 +735,37 @@ class _TreeReader:
                 attr = plain
             if quiet.issuperset(attr):
                 spec = {}
+                given = ()
+                style_attr = None
             else:
-                if "}" in "".join(attr):
-                    return start(name, attr, False)
-                quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
+                if not seen.issuperset(attr):
+                    if "}" in "".join(attr):
+                        return start(name, attr, False)
+                    seen.update(attr)
+                    quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
                 style_attr = attr.get("style")
-                spec = {} if PRESENTATION.isdisjoint(attr) else \
-                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
-                if spec or style_attr:
-                    spec = _specified(spec, None, style_attr, self.warnings, self.custom)
+                given = () if PRESENTATION.isdisjoint(attr) else \
+                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
+                if deferred or not (given or style_attr):
+                    spec = {}
+                elif custom:
+                    spec = _specified({k: v.strip() for k, v in given}, None, style_attr,
+                                      warnings, True)
+                else:
+                    got = made.get((given, style_attr))
+                    if got is None:
+                        spec = specify(given, style_attr)
+                    else:
+                        spec = dict(got[0])
+                        if got[1]:
+                            warnings.extend(got[1])
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
+            if deferred:
+                pending.append((el, None, given, style_attr))
+                if tag == "style":
+                    styles.append(el)
             if tag == "path":
                 paths.append(el)
             elif tag == "use":
@@ -777,12 +833,12 @@ class _TreeReader:
                 # no namespaced attribute (map data: d and id): expat's dict as it is
                 attrs = attr
                 style_attr = attr.get("style")
-                spec = {} if PRESENTATION.isdisjoint(attr) else \
-                    {k: v.strip() for k, v in attr.items() if k in PRESENTATION}
+                given = () if PRESENTATION.isdisjoint(attr) else \
+                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
             else:
                 attrs = {}
                 style_attr = None
-                spec = {}
+                given = []
                 for key, value in attr.items():
                     if "}" in key:
                         ans, _, aname = key.partition("}")
@@ -795,7 +851,8 @@ class _TreeReader:
                     if key == "style":
                         style_attr = value
                     elif key in PRESENTATION:
-                        spec[key] = value.strip()
+                        given.append((key, value))
+                given = tuple(given)
             parent = stack[-1] if stack else None
             if parent.__class__ is _Foreign:
                 el = Element(tag, attrs, parent.parent, 0, doc)
@@ -809,12 +866,21 @@ class _TreeReader:
                 doc.has_use = True
             elif tag in _LINK_CONTAINERS:
                 doc.link_containers.append(el)
-            if tb is not None:
-                self.pending.append((el, node, spec, style_attr))
-            elif spec or style_attr:
-                el.specified = _specified(spec, None, style_attr, self.warnings, self.custom)
-            else:
-                el.specified = spec
+            if self.deferred:
+                pending.append((el, node if tb is not None else None, given, style_attr))
+                if tag == "style":
+                    styles.append(el)
+            elif given or style_attr:
+                if custom:
+                    el.specified = _specified({k: v.strip() for k, v in given}, None,
+                                              style_attr, warnings, True)
+                else:
+                    got = made.get((given, style_attr))
+                    if got is None:
+                        el.specified = specify(given, style_attr)
+                    else:
+                        el.specified = dict(got[0])
+                        warnings.extend(got[1])
             if parent is not None:
                 if parent.children:
                     parent.children.append(el)
@@ -1047,14 +1113,89 @@ def _most_combinators(prelude) -> int:
     return most
 
 
+def _split_selectors(prelude):
+    """The top-level comma-separated parts of a selector list's tokens, each without the
+    white space at its ends (a comma inside a function, ``:is(a, b)``, is not top-level)."""
+    parts = [[]]
+    for tok in prelude:
+        if tok.type == "literal" and tok.value == ",":
+            parts.append([])
+        else:
+            parts[-1].append(tok)
+    for part in parts:
+        while part and part[0].type == "whitespace":
+            del part[0]
+        while part and part[-1].type == "whitespace":
+            del part[-1]
+    return parts
+
+
+#: the specificity of each kind of simple selector (Selectors 4 §17)
+_SIMPLE_SPECIFICITY = {"id": (1, 0, 0), "class": (0, 1, 0), "tag": (0, 0, 1), "*": (0, 0, 0)}
+
+
+def _simple_tokens(tokens):
+    """(kind, name) of a selector's tokens (white space at the ends taken off) that are one
+    class (``.a``), id (``#a``), type (``rect``) or the universal selector (``*``) alone:
+    ("class", "a"), ("id", "a"), ("tag", "rect") or ("*", None); None for any other."""
+    n = len(tokens)
+    if n == 1:
+        first = tokens[0]
+        if first.type == "ident":
+            return "tag", first.value
+        if first.type == "hash" and first.is_identifier:
+            return "id", first.value
+        if first.type == "literal" and first.value == "*":
+            return "*", None
+    elif n == 2:
+        first = tokens[0]
+        if first.type == "literal" and first.value == "." and tokens[1].type == "ident":
+            return "class", tokens[1].value
+    return None
+
+
+def _simple_selector(tokens, compiled):
+    """_simple_tokens(tokens), where it agrees with ``compiled``, cssselect2's compilation
+    of the same selector: with what it indexes and with its specificity (a type or universal
+    selector under a default @namespace tests the namespace too, and is not simple)."""
+    if compiled.pseudo_element is not None or compiled.never_matches:
+        return None
+    got = _simple_tokens(tokens)
+    if got is None:
+        return None
+    kind, name = got
+    if tuple(compiled.specificity) != _SIMPLE_SPECIFICITY[kind] or \
+            compiled.namespace is not None or compiled.requires_lang_attr:
+        return None
+    if (compiled.id, compiled.class_name, compiled.local_name) != (
+            name if kind == "id" else None, name if kind == "class" else None,
+            name if kind == "tag" else None):
+        return None
+    return kind, name
+
+
+#: a class attribute's names (cssselect2's and Selectors 4's white space)
+_CLASS_NAMES = re.compile("[^ \t\r\n\f]+").findall
+
+
 class Stylesheets:
-    """All CSS rules of a document, matched with cssselect2."""
+    """All CSS rules of a document. Selectors that are a single class, id, type or the
+    universal selector (exporters' style sheets are all ``.st0{...}``) are indexed here and
+    looked up per element (:meth:`simple_matches`); the others are matched with cssselect2
+    (``matcher``). Both number their selectors in one sequence, cssselect2's ``order``, so
+    the cascade sorts the matches of both by specificity and order together."""
 
     def __init__(self):
         import cssselect2
 
         self.matcher = cssselect2.Matcher()
         self.count = 0
+        self.complex = 0            # selectors in ``matcher``
+        self.by_class = {}          # name -> [(specificity, order, None, payload)]
+        self.by_id = {}
+        self.by_tag = {}
+        self.universal = []
+        self._simple = {}           # (tag, id, class attribute) -> matches (simple_matches)
 
     def add(self, css_text):
         import cssselect2
@@ -1076,16 +1217,70 @@ class Stylesheets:
                 continue
             if _most_combinators(rule.prelude) > MAX_COMBINATORS:
                 continue
-            try:
-                selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
-            except Exception:   # cssselect2 raises its own SelectorError and others
-                continue
-            decls = _declarations(rule.content)
-            for sel in selectors:
-                if sel.pseudo_element:
+            parts = _split_selectors(rule.prelude)
+            # a list of simple selectors only (without a default namespace, which a type
+            # selector tests too) is valid as it is: cssselect2 need not compile it
+            simple = None if None in namespaces else [_simple_tokens(p) for p in parts]
+            if simple is None or None in simple:
+                try:
+                    selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
+                except Exception:   # cssselect2 raises its own SelectorError and others
                     continue
-                self.matcher.add_selector(sel, (self.count, decls))
+                if len(parts) != len(selectors):
+                    parts = [()] * len(selectors)
+                simple = [_simple_selector(tokens, sel) for sel, tokens in zip(selectors, parts)]
+            else:
+                selectors = [None] * len(simple)
+            decls = _declarations(rule.content)
+            for sel, kind_name in zip(selectors, simple):
+                if sel is not None and sel.pseudo_element:
+                    continue
+                payload = (self.count, decls)
                 self.count += 1
+                if kind_name is None:
+                    self.matcher.add_selector(sel, payload)
+                    self.complex += 1
+                    continue
+                self.matcher.order += 1     # as add_selector numbers it
+                kind, name = kind_name
+                entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
+                if kind == "*":
+                    self.universal.append(entry)
+                else:
+                    index = self.by_class if kind == "class" else \
+                        self.by_id if kind == "id" else self.by_tag
+                    index.setdefault(name, []).append(entry)
+        self._simple.clear()
+
+    def simple_matches(self, tag, attrs, charge):
+        """The indexed selectors' matches for an element of local name ``tag`` and
+        attributes ``attrs`` (id and class without a namespace), as cssselect2's
+        Matcher.match gives them (specificity, order, pseudo-element, payload), unsorted
+        (_in_cascade_order sorts); an empty tuple for none. Elements alike in tag, id and class share one answer;
+        ``charge(n)`` is told of the n selectors gathered for each new one."""
+        ident = attrs.get("id")
+        if ident is not None and ident not in self.by_id:
+            ident = None
+        classes = attrs.get("class")
+        if tag not in self.by_tag:
+            tag = None
+        key = (tag, ident, classes)
+        found = self._simple.get(key)
+        if found is None:
+            found = list(self.universal)
+            if tag is not None:
+                found += self.by_tag[tag]
+            if ident is not None:
+                found += self.by_id[ident]
+            if classes:
+                by_class = self.by_class
+                for name in set(_CLASS_NAMES(classes)):
+                    got = by_class.get(name)
+                    if got is not None:
+                        found += got
+            charge(len(found) + 1)
+            found = self._simple[key] = tuple(found)
+        return found
 
 
 class Document:
@@ -1166,6 +1361,7 @@ class Document:
         self.root, self._ids, self.paths, self._doc_styles = None, {}, [], {}
         self.var_raw = {}
         self.detached, self._detached_ids = [], None
+        self.link_containers = []
 
     def document_style(self, el: Element) -> Style:
         """Computed style from the element's document ancestors (for paint servers, clip paths,
@@ -1322,12 +1518,28 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
     # custom properties matter only where var() uses them (b"ar(" first: see has_css)
     custom = (b"ar(" in data and _VAR_FUNCTION.search(data) is not None) or (
         bool(stylesheet) and "ar(" in stylesheet)
-    reader = _TreeReader(doc, mirror=bool(stylesheet) or has_css, custom=custom)
+    css = bool(stylesheet) or has_css
+    # A document with CSS is read first without the mirror, its elements' styles deferred:
+    # when all its selectors are indexed ones (exporters' sheets) the cascade needs no more.
+    reader = _TreeReader(doc, mirror=False, custom=custom, deferred=css)
     doc.root = reader.read(data)
     if reader.bad_root:
         raise SvgError("the root element is not <svg>")
-    if reader.mirror is not None:
-        _cascade(reader, stylesheet)
+    if css:
+        sheets = _tree_stylesheets(reader.styles, stylesheet) if reader.error is None else None
+        if sheets is None or sheets.complex:
+            # cssselect2 matches on ElementTree's tree: the document is read again, with it
+            # (past a limit, the sheets are read from it as before: the error is raised next);
+            # the first tree's reference cycles are broken, so it goes now, not at the
+            # collector's next pass (paused while rendering)
+            doc.release()
+            doc = Document(None, None, base_dir)
+            doc.languages = tuple(x.strip().lower() for x in languages)
+            reader = _TreeReader(doc, mirror=True, custom=custom)
+            doc.root = reader.read(data)
+            if sheets is None:
+                sheets = _mirror_stylesheets(reader.mirror, stylesheet)
+        _cascade(reader, sheets)
     if custom and doc.root is not None and reader.error is None:
         from .variables import substitute_document
         substitute_document(doc, reader.warnings)
@@ -1433,10 +1645,16 @@ def _linking_elements(containers, link):
     return linking
 
 
-def _cascade(reader, stylesheet):
-    """The specified styles of a document with CSS: its rules matched on the ElementTree
-    mirror of the tree."""
-    xml_root = reader.mirror
+def _style_text(kind, text, sheets):
+    """Add a ``<style>`` element's sheet, of type attribute ``kind``, to ``sheets``."""
+    kind = (kind or "text/css").strip()
+    if kind in ("", "text/css"):
+        sheets.add(text)
+
+
+def _mirror_stylesheets(xml_root, stylesheet):
+    """The Stylesheets of a document read with the ElementTree mirror: ``stylesheet`` (the
+    user's), then its ``<style>`` elements'."""
     default_ns = xml_root.tag[1:].partition("}")[0] if xml_root.tag[0] == "{" else ""
     sheets = Stylesheets()
     if stylesheet:
@@ -1445,29 +1663,80 @@ def _cascade(reader, stylesheet):
     for node in xml_root.iter():
         nns, _, ntag = node.tag[1:].partition("}") if node.tag[0] == "{" else ("", "", node.tag)
         if ntag == "style" and (nns == default_ns or nns == SVG_NS):
-            kind = (node.get("type") or "text/css").strip()
-            if kind not in ("", "text/css"):
-                continue
             # its child text content (HTML/CSSOM), not its descendants' text: elements nested
             # in <style> are not CSS, and thousands of nested <style>s would otherwise read
             # the same text over and over (quadratic in memory)
-            sheets.add((node.text or "") + "".join(c.tail or "" for c in node))
+            _style_text(node.get("type"), (node.text or "") + "".join(c.tail or "" for c in node),
+                        sheets)
+    return sheets
+
+
+def _tree_stylesheets(styles, stylesheet):
+    """The same from the Element tree of a document read without the mirror (and within
+    its limits): ``styles``, its <style> Elements in document order (those the reader
+    made, detached ones too, are the mirror's <style> elements of the root's namespace or
+    SVG's), each with its character data as the mirror's (the text after an element of
+    another namespace in it is in its text or its last child's tail)."""
+    sheets = Stylesheets()
+    if stylesheet:
+        sheets.add(stylesheet)
+    for el in styles:
+        _style_text(el.attrs.get("type"), el.text + "".join(c.tail for c in el.children),
+                    sheets)
+    return sheets
+
+
+def _cascade(reader, sheets):
+    """The specified styles of a document with CSS (``sheets``): the indexed selectors
+    looked up per element, the others matched by cssselect2 on the ElementTree mirror of the
+    tree (``reader.mirror``, there when ``sheets.complex``)."""
+    xml_root = reader.mirror
     matches = {}
-    if sheets.count:
-        wrapper, matcher = _counted_matching(sheets.matcher)
+    wrapper, matcher, charge = _counted_matching(sheets.matcher)
+    if sheets.complex:
+        # cssselect2 walks the ElementTree mirror for the selectors not indexed
         wrapper = wrapper.from_xml_root(xml_root)
         for w in wrapper.iter_subtree():
             found = matcher.match(w)
             if found:
                 matches[id(w.etree_element)] = found
-    for el, node, spec, style_attr in reader.pending:
-        el.specified = _specified(spec, matches.get(id(node)), style_attr, reader.warnings,
-                                  reader.custom)
+    simple = sheets.simple_matches if sheets.count > sheets.complex else None
+    warnings = reader.warnings
+    custom = reader.custom
+    # the specified style of elements alike in their matches, presentation attributes and
+    # style attribute: made once, copied for each (an element's dict is its own: the
+    # cascade's later steps and the text module change it), with its warnings repeated
+    made = {}
+    for el, node, given, style_attr in reader.pending:
+        found = simple(el.tag, el.attrs, charge) if simple is not None else ()
+        more = matches.get(id(node)) if matches else None
+        if more:
+            found = (*found, *more)
+        if custom or more:
+            if found:
+                charge(len(found))
+            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
+                                      warnings, custom)
+            continue
+        key = (id(found), given, style_attr)
+        got = made.get(key)
+        if got is None:
+            if found:
+                charge(len(found))      # the declarations are read once per key
+            before = len(warnings)
+            # the first element's dict stands for the others: nothing changes it in this loop
+            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
+                                      warnings)
+            made[key] = (el.specified, warnings[before:])
+        else:
+            el.specified = dict(got[0])
+            warnings.extend(got[1])
 
 
 def _counted_matching(matcher):
-    """An ElementWrapper class and a Matcher (sharing ``matcher``'s rules) that count the
-    work of matching against MAX_SELECTOR_STEPS and raise SvgError past it. cssselect2 walks
+    """An ElementWrapper class, a Matcher (sharing ``matcher``'s rules) and a function
+    ``charge(steps)`` that count the work of matching against MAX_SELECTOR_STEPS and raise
+    SvgError past it. cssselect2 walks
     ancestors and earlier siblings through these attributes; its tuples of earlier siblings
     (one per element, of all its earlier siblings: quadratic memory for a long list of
     siblings) become walks along the previous-sibling links, and its tuples of ancestors one
@@ -1553,4 +1822,4 @@ def _counted_matching(matcher):
 
     counted = Matcher()
     counted.__dict__.update(matcher.__dict__)
-    return Wrapper, counted
+    return Wrapper, counted, charge
