@@ -381,7 +381,10 @@ class Style:
         none of its values never reads them. Shapes under groups that differ only by their
         clip path, mask, opacity, filter or transform (each group of a sheet of symbols
         with its own clip) then share one Style, and the stroke parameters, paints and
-        plans computed from it, instead of one each."""
+        plans computed from it, instead of one each. So does a ``<text>`` without child
+        elements (a label: D3 puts each axis tick's in a translated group of its own), whose
+        style no other element's derives from either: its font settings, shaping and paints
+        are then the document's few, not one per tick."""
         spec = element.specified
         doc = element.source
         if doc is not None and doc.var_raw:
@@ -396,7 +399,8 @@ class Style:
                                    and LAYER_PROPERTIES.issuperset(self.specified))
         # (the values joined: one lower() and search instead of one per value; "inherit"
         # cannot span the line break between two)
-        if layer and element.tag in _SHAPE_TAGS and \
+        if layer and (element.tag in _SHAPE_TAGS or (element.tag == "text"
+                                                     and not element.children)) and \
                 "inherit" not in "\n".join(spec.values()).lower():
             owner = self.parent
             while owner.parent is not None and LAYER_PROPERTIES.issuperset(owner.specified):
