@@ -228,3 +228,88 @@ def test_long_staircases_cut_into_runs_draw_the_same_pixels(mode, monkeypatch):
     whole = render_svg_array(svg, mode=mode, threads=1)
     for a in cut:
         np.testing.assert_array_equal(a, whole)
+
+
+def _random_path_data(rng, size):
+    """A path of random lines, quadratics, cubics, arcs (conics, some large: several cubics
+    each), closes and moves, some subpaths a point or a zero-length segment."""
+    def pt():
+        return " ".join(f"{v:.3f}" for v in rng.uniform(-0.2 * size, 1.2 * size, 2))
+    out = [f"M{pt()}"]
+    for _ in range(rng.integers(1, 9)):
+        k = rng.integers(0, 9)
+        if k == 0:
+            out.append(f"L{pt()}")
+        elif k == 1:
+            out.append(f"Q{pt()} {pt()}")
+        elif k == 2:
+            out.append(f"C{pt()} {pt()} {pt()}")
+        elif k in (3, 4):
+            rx, ry = rng.uniform(0.2, 2.0 * size, 2)
+            out.append(f"A{rx:.3f} {ry:.3f} {rng.uniform(0, 360):.1f} {rng.integers(2)} "
+                       f"{rng.integers(2)} {pt()}")
+        elif k == 5:
+            out.append("Z")
+        elif k == 6:
+            out.append(f"M{pt()}")
+        elif k == 7:
+            out.append("l0 0")
+        else:
+            out.append(f"H{rng.uniform(0, size):.3f}")
+    return " ".join(out)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_batch_of_curved_paths_is_each_paths_outline(seed):
+    """hairline_batch on a batch of paths of every verb (conics of arcs and circles included)
+    gives, run for run and array for array, each path's hairline_outline of its
+    hairline_segments, under random transforms, caps and alphas, for any choice and order of
+    the batch's paths (the owner of each run says whose it is)."""
+    from vecmsaa.geometry import hairline, hairline_kernels
+    from vecmsaa.svg.pathdata import parse_path_data
+    from vecmsaa.svg.shapes import ellipse_path
+    rng = np.random.default_rng(seed)
+    paths = [parse_path_data(_random_path_data(rng, 40)) for _ in range(30)]
+    paths += [ellipse_path(*rng.uniform(0, 40, 2), *rng.uniform(0.1, 30, 2))
+              for _ in range(6)]
+    paths.append(parse_path_data("M1 1 L30 9 L12 30 Z"))        # lines alone
+    arrays = [p._freeze() for p in paths]
+    verbs = np.concatenate([v for v, _ in arrays])
+    points = np.concatenate([p for _, p in arrays])
+    vstart = np.cumsum([0] + [len(v) for v, _ in arrays])
+    pstart = np.cumsum([0] + [len(p) for _, p in arrays])
+    assert {2, 3, 5} <= set(verbs.tolist())         # quadratics, cubics, conics
+    for trial in range(6):
+        a, b, c, d = rng.uniform(-3, 3, 4) * (rng.uniform() < 0.8 or 0.01)
+        m = (a, b, c, d, *rng.uniform(-20, 20, 2))
+        cap = ("butt", "round", "square")[trial % 3]
+        alpha = (1.0, 0.5, 0.25)[trial // 2 % 3]
+        which = rng.permutation(len(paths))[:rng.integers(1, len(paths) + 1)]
+        ov, op, rv, rp, owner = hairline.hairline_batch(verbs, points, vstart, pstart, which,
+                                                        m, cap, alpha)
+        assert (np.diff(owner) >= 0).all() and len(rv) == len(owner) + 1
+        drawn = 0
+        for w, i in enumerate(which):
+            rows, subs = hairline.hairline_segments(paths[i], m, cap)
+            ev, ep, erv, erp = hairline_kernels.hairline_rows(
+                rows, subs, hairline.STAIR_SLOPE, hairline.MAX_STEPS, alpha,
+                hairline.RUN_ROWS)
+            mine = np.flatnonzero(owner == w)
+            assert len(mine) == len(erv) - 1
+            if len(mine) == 0:
+                continue
+            r0, r1 = mine[0], mine[-1] + 1
+            np.testing.assert_array_equal(rv[r0:r1 + 1] - rv[r0], erv)
+            np.testing.assert_array_equal(rp[r0:r1 + 1] - rp[r0], erp)
+            np.testing.assert_array_equal(ov[rv[r0]:rv[r1]], ev)
+            np.testing.assert_array_equal(op[rp[r0]:rp[r1]], ep)
+            drawn += len(ev) > 0
+        assert drawn > 0
+        # one path alone, as builder._hairline_fills draws it
+        i = which[0]
+        one = hairline.hairline_path(paths[i], m, cap, alpha)
+        rows, subs = hairline.hairline_segments(paths[i], m, cap)
+        for x, y in zip(one[:4], hairline_kernels.hairline_rows(
+                rows, subs, hairline.STAIR_SLOPE, hairline.MAX_STEPS, alpha,
+                hairline.RUN_ROWS)):
+            np.testing.assert_array_equal(x, y)
