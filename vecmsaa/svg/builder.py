@@ -208,15 +208,22 @@ def resolve_bbox(bbox):
 def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
     """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline); solid, in
     one kernel call from the path's arrays to the outline's (hairline_path)."""
-    dashes = dash_pattern(dashes)
-    alpha = blend_alpha(ref.paint, opacity)
-    if dashes:
-        runs = hairline_outline(*hairline_segments(path, m, cap, dashes, offset, resolution),
-                                alpha)
-    else:
-        runs = runs_paths(*hairline_path(path, m, cap, alpha)[:4])
     paint = ref.paint
-    return [Fill(run, paint, "nonzero", opacity, antialias) for run in runs]
+    alpha = blend_alpha(paint, opacity)
+    dashes = dash_pattern(dashes) if dashes else None
+    if dashes:
+        return [Fill(run, paint, "nonzero", opacity, antialias) for run in hairline_outline(
+            *hairline_segments(path, m, cap, dashes, offset, resolution), alpha)]
+    ov, op, rv, rp, _ = hairline_path(path, m, cap, alpha)
+    out = []
+    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
+    rv, rp = rv.tolist(), rp.tolist()
+    for v0, v1, p0, p1 in zip(rv, rv[1:], rp, rp[1:]):
+        if v1 > v0:
+            run = new_path(Path)
+            run._arrays = ov[v0:v1], op[p0:p1]
+            out.append(Fill(run, paint, "nonzero", opacity, antialias))
+    return out
 
 
 def _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias):
