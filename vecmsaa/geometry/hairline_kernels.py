@@ -423,8 +423,8 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
 
 
 @njit(cache=True)
-def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, stair_slope,
-                         max_steps, alpha, run_rows, arc_tolerance, max_arc):
+def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha, stair_slope,
+                         max_steps, run_rows, arc_tolerance, max_arc):
     """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
     paths ``which`` of a batch of paths (path i: verbs vstart[i]:vstart[i + 1], points
     pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and square caps
@@ -436,7 +436,7 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, stair_
     ``arc_tolerance``, at most ``max_arc`` cubics an arc: stroke.arc_cubics), the subpaths
     (stroke_kernels.path_segments), curves cut into chords in the device (hairline_chords),
     the chords' runs (_emit_rows, a path's steps counted against max_steps[1] together).
-    """
+    (The parameters that are the module hairline's constants come last: jit.bind_tail.)"""
     ov = np.empty(64, np.uint8)
     op = np.empty((64, 2))
     runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
