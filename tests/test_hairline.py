@@ -129,18 +129,19 @@ def _count_calls(monkeypatch, module, name):
     return calls
 
 
-def test_runs_of_curved_paths_draw_what_single_paths_draw(monkeypatch):
+@pytest.mark.parametrize("fill", ["none", "teal"])
+def test_runs_of_curved_paths_draw_what_single_paths_draw(fill, monkeypatch):
     """Sibling curved paths sharing a style (quadratics, cubics, arcs: conics) go to the
     batch kernel in one call, none through hairline_segments; the same paths with a style
-    attribute each go through stroke(): the same pixels. A circle's stroke alone is one
-    kernel call too."""
+    attribute each go through stroke(): the same pixels, filled or not. A circle's stroke
+    alone is one kernel call too."""
     from vecmsaa.geometry import hairline_kernels
     from vecmsaa.svg import builder
     ds = ["M1 1 Q30 2 12 30", "M3 20 C10 0 20 40 29 20 Z", "M16 16 A9 5 30 1 1 16 17",
           "M2 28 L29 2 M4 4 a4 4 0 0 0 8 0", "M5 5 L5 5"]
     run = "".join(f'<path d="{d}"/>' for d in ds)
     alone = "".join(f'<path d="{d}" style="stroke-linecap: square"/>' for d in ds)
-    g = '<g fill="none" stroke="black" stroke-width="0.7" {}>{}</g>'
+    g = f'<g fill="{fill}" stroke="black" stroke-width="0.7" {{}}>{{}}</g>'
     kernel = _count_calls(monkeypatch, hairline_kernels, "hairline_paths_batch")
     segments = _count_calls(monkeypatch, builder, "hairline_segments")
     a = coverage(g.format('stroke-linecap="square" stroke-opacity="0.7"', run), size=32)
