@@ -118,6 +118,44 @@ def test_runs_of_paths_draw_what_single_paths_draw():
     assert a.max() > 0
 
 
+def _count_calls(monkeypatch, module, name):
+    calls = []
+    original = getattr(module, name)
+
+    def counted(*args, **kws):
+        calls.append(name)
+        return original(*args, **kws)
+    monkeypatch.setattr(module, name, counted)
+    return calls
+
+
+@pytest.mark.parametrize("fill", ["none", "teal"])
+def test_runs_of_curved_paths_draw_what_single_paths_draw(fill, monkeypatch):
+    """Sibling curved paths sharing a style (quadratics, cubics, arcs: conics) go to the
+    batch kernel in one call, none through hairline_segments; the same paths with a style
+    attribute each go through stroke(): the same pixels, filled or not. A circle's stroke
+    alone is one kernel call too."""
+    from vecmsaa.geometry import hairline_kernels
+    from vecmsaa.svg import builder
+    ds = ["M1 1 Q30 2 12 30", "M3 20 C10 0 20 40 29 20 Z", "M16 16 A9 5 30 1 1 16 17",
+          "M2 28 L29 2 M4 4 a4 4 0 0 0 8 0", "M5 5 L5 5"]
+    run = "".join(f'<path d="{d}"/>' for d in ds)
+    alone = "".join(f'<path d="{d}" style="stroke-linecap: square"/>' for d in ds)
+    g = f'<g fill="{fill}" stroke="black" stroke-width="0.7" {{}}>{{}}</g>'
+    kernel = _count_calls(monkeypatch, hairline_kernels, "hairline_paths_batch")
+    segments = _count_calls(monkeypatch, builder, "hairline_segments")
+    a = coverage(g.format('stroke-linecap="square" stroke-opacity="0.7"', run), size=32)
+    assert (len(kernel), len(segments)) == (1, 0)
+    b = coverage(g.format('stroke-opacity="0.7"', alone), size=32)
+    assert (len(kernel), len(segments)) == (1 + len(ds), 0)
+    np.testing.assert_array_equal(a, b)
+    assert a.max() > 0
+    c = coverage('<circle cx="12" cy="12" r="7" fill="none" stroke="black" '
+                 'stroke-width="0.5"/>')
+    assert (len(kernel), len(segments)) == (2 + len(ds), 0)
+    assert c.max() > 0
+
+
 def test_very_long_hairline_is_bounded():
     """A line a hundred million pixels long: steps past the limits become one parallelogram,
     so the outline stays a few points; inside the picture still one pixel of ink a column."""
@@ -228,3 +266,88 @@ def test_long_staircases_cut_into_runs_draw_the_same_pixels(mode, monkeypatch):
     whole = render_svg_array(svg, mode=mode, threads=1)
     for a in cut:
         np.testing.assert_array_equal(a, whole)
+
+
+def _random_path_data(rng, size):
+    """A path of random lines, quadratics, cubics, arcs (conics, some large: several cubics
+    each), closes and moves, some subpaths a point or a zero-length segment."""
+    def pt():
+        return " ".join(f"{v:.3f}" for v in rng.uniform(-0.2 * size, 1.2 * size, 2))
+    out = [f"M{pt()}"]
+    for _ in range(rng.integers(1, 9)):
+        k = rng.integers(0, 9)
+        if k == 0:
+            out.append(f"L{pt()}")
+        elif k == 1:
+            out.append(f"Q{pt()} {pt()}")
+        elif k == 2:
+            out.append(f"C{pt()} {pt()} {pt()}")
+        elif k in (3, 4):
+            rx, ry = rng.uniform(0.2, 2.0 * size, 2)
+            out.append(f"A{rx:.3f} {ry:.3f} {rng.uniform(0, 360):.1f} {rng.integers(2)} "
+                       f"{rng.integers(2)} {pt()}")
+        elif k == 5:
+            out.append("Z")
+        elif k == 6:
+            out.append(f"M{pt()}")
+        elif k == 7:
+            out.append("l0 0")
+        else:
+            out.append(f"H{rng.uniform(0, size):.3f}")
+    return " ".join(out)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_batch_of_curved_paths_is_each_paths_outline(seed):
+    """hairline_batch on a batch of paths of every verb (conics of arcs and circles included)
+    gives, run for run and array for array, each path's hairline_outline of its
+    hairline_segments, under random transforms, caps and alphas, for any choice and order of
+    the batch's paths (the owner of each run says whose it is)."""
+    from vecmsaa.geometry import hairline, hairline_kernels
+    from vecmsaa.svg.pathdata import parse_path_data
+    from vecmsaa.svg.shapes import ellipse_path
+    rng = np.random.default_rng(seed)
+    paths = [parse_path_data(_random_path_data(rng, 40)) for _ in range(30)]
+    paths += [ellipse_path(*rng.uniform(0, 40, 2), *rng.uniform(0.1, 30, 2))
+              for _ in range(6)]
+    paths.append(parse_path_data("M1 1 L30 9 L12 30 Z"))        # lines alone
+    arrays = [p._freeze() for p in paths]
+    verbs = np.concatenate([v for v, _ in arrays])
+    points = np.concatenate([p for _, p in arrays])
+    vstart = np.cumsum([0] + [len(v) for v, _ in arrays])
+    pstart = np.cumsum([0] + [len(p) for _, p in arrays])
+    assert {2, 3, 5} <= set(verbs.tolist())         # quadratics, cubics, conics
+    for trial in range(6):
+        a, b, c, d = rng.uniform(-3, 3, 4) * (rng.uniform() < 0.8 or 0.01)
+        m = (a, b, c, d, *rng.uniform(-20, 20, 2))
+        cap = ("butt", "round", "square")[trial % 3]
+        alpha = (1.0, 0.5, 0.25)[trial // 2 % 3]
+        which = rng.permutation(len(paths))[:rng.integers(1, len(paths) + 1)]
+        ov, op, rv, rp, owner = hairline.hairline_batch(verbs, points, vstart, pstart, which,
+                                                        m, cap, alpha)
+        assert (np.diff(owner) >= 0).all() and len(rv) == len(owner) + 1
+        drawn = 0
+        for w, i in enumerate(which):
+            rows, subs = hairline.hairline_segments(paths[i], m, cap)
+            ev, ep, erv, erp = hairline_kernels.hairline_rows(
+                rows, subs, hairline.STAIR_SLOPE, hairline.MAX_STEPS, alpha,
+                hairline.RUN_ROWS)
+            mine = np.flatnonzero(owner == w)
+            assert len(mine) == len(erv) - 1
+            if len(mine) == 0:
+                continue
+            r0, r1 = mine[0], mine[-1] + 1
+            np.testing.assert_array_equal(rv[r0:r1 + 1] - rv[r0], erv)
+            np.testing.assert_array_equal(rp[r0:r1 + 1] - rp[r0], erp)
+            np.testing.assert_array_equal(ov[rv[r0]:rv[r1]], ev)
+            np.testing.assert_array_equal(op[rp[r0]:rp[r1]], ep)
+            drawn += len(ev) > 0
+        assert drawn > 0
+        # one path alone, as builder._hairline_fills draws it
+        i = which[0]
+        one = hairline.hairline_path(paths[i], m, cap, alpha)
+        rows, subs = hairline.hairline_segments(paths[i], m, cap)
+        for x, y in zip(one[:4], hairline_kernels.hairline_rows(
+                rows, subs, hairline.STAIR_SLOPE, hairline.MAX_STEPS, alpha,
+                hairline.RUN_ROWS)):
+            np.testing.assert_array_equal(x, y)

@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from . import hairline_kernels, stroke_kernels as kernels
+from ..jit import bind_tail
 from ..scene.path import Path
 
 #: how far a cap lengthens a hairline's end (device px): the area of a square or round cap on
@@ -130,9 +131,59 @@ def runs_paths(v, p, rv, rp) -> list:
 
 
 def hairline_batch(verbs, points, vstart, pstart, which, m, cap, alpha: float = 1.0):
-    """hairline_outline(*hairline_segments(path, m, cap), alpha) for the paths ``which`` of
-    a batch of paths of lines, at once: (verbs, points, run verb offsets, run point offsets,
-    the index in ``which`` of each run's path)."""
-    return hairline_kernels.hairline_lines_batch(
-        verbs, points, vstart, pstart, which, np.asarray(m, np.float64),
-        CAP_OUTSET.get(cap, 0.0), STAIR_SLOPE, MAX_STEPS, _alpha(alpha), RUN_ROWS)
+    """hairline_outline(*hairline_segments(path, m, cap), alpha) for the paths ``which`` of a
+    batch of paths, at once and array for array: path i is verbs[vstart[i]:vstart[i + 1]]
+    (uint8: MOVE, LINE, QUAD, CUBIC, CLOSE, CONIC, as Path stores them) with its points
+    points[pstart[i]:pstart[i + 1]] ((N, 2) float64, user space; a conic's three points as
+    Path stores them); ``m`` the transform to the device (a, b, c, d, e, f), ``cap`` the
+    SVG linecap, ``alpha`` the paint's (blend_alpha). No dashes (a dashed hairline goes
+    through hairline_segments). vstart, pstart and which int64 arrays. Returns (verbs,
+    points, run verb offsets, run point offsets, the index in ``which`` of each run's path):
+    run r is verbs[rv[r]:rv[r + 1]], points[rp[r]:rp[r + 1]], a nonzero fill drawn over the
+    runs before it; a path's runs are consecutive, in hairline_outline's order, and a path
+    that draws nothing has none."""
+    return _paths_kernel()(verbs, points, vstart, pstart, which, _matrix(m),
+                           CAP_OUTSET.get(cap, 0.0), _alpha(alpha))
+
+
+_ONE = np.zeros(1, np.int64)
+
+
+def hairline_path(path: Path, m, cap: str = "butt", alpha: float = 1.0):
+    """hairline_batch's arrays for one path (its whole outline: hairline_outline(
+    *hairline_segments(path, m, cap), alpha)), in one kernel call."""
+    v, p = path._freeze()
+    return _paths_kernel()(v, p, np.array([0, len(v)]), np.array([0, len(p)]), _ONE,
+                           _matrix(m), CAP_OUTSET.get(cap, 0.0), _alpha(alpha))
+
+
+#: the kernel with the module's constants bound (jit.bind_tail: their part of the call key
+#: computed once), for the constants and kernel it was made of (tests change them)
+_bound = {}
+
+
+def _paths_kernel():
+    kernel = hairline_kernels.hairline_paths_batch
+    key = (kernel, STAIR_SLOPE, id(MAX_STEPS), RUN_ROWS)
+    bound = _bound.get(key)
+    if bound is None:
+        _bound.clear()
+        bound = _bound[key] = bind_tail(kernel, (STAIR_SLOPE, MAX_STEPS, RUN_ROWS,
+                                                 kernels.ARC_TOLERANCE, kernels.MAX_ARC_CUBICS))
+    return bound
+
+
+_last_matrix = [(None, None)]
+
+
+def _matrix(m):
+    """m as the kernels take it; a tuple's array kept for the next call with the same tuple
+    (a document's paths share their context's: the conversion cost a tenth of a circle's
+    hairline). The pair is read and replaced whole (threads)."""
+    last = _last_matrix[0]
+    if m is last[0]:
+        return last[1]
+    a = np.asarray(m, np.float64)
+    if type(m) is tuple:
+        _last_matrix[0] = m, a      # (held: the tuple's id cannot be reused)
+    return a

@@ -1,5 +1,7 @@
-"""The compiled part of :mod:`vecmsaa.geometry.hairline`: hairline outlines of paths of lines
-(map data strokes thousands of them; numpy's per-call costs were ten times the stroke's)."""
+"""The compiled part of :mod:`vecmsaa.geometry.hairline`: hairline outlines of paths, many at
+once (map data strokes thousands of paths of lines, a scatter plot thousands of circles;
+numpy's per-call costs were ten times the stroke's, and four kernel calls a path from Python
+more than the kernels' own work)."""
 from __future__ import annotations
 
 import math
@@ -7,8 +9,9 @@ import math
 import numpy as np
 
 from ..jit import njit
-from ..scene.path import CLOSE, LINE, MOVE
-from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points
+from ..scene.conics import conics_as_cubics
+from ..scene.path import CLOSE, CONIC, LINE, MOVE
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points, path_segments
 
 #: pixels a step shared by several segments of a run may hold (a step's band covers two
 #: pixels, and the segments sharing a step lie within a pixel of each other across it)
@@ -378,57 +381,96 @@ def _runs_out(ov, op, cnt, runs):
             runs[2][:nr].copy())
 
 
-@njit(cache=True)
-def hairline_lines_batch(verbs, points, vstart, pstart, which, m, outset, stair_slope,
-                         max_steps, alpha, run_rows):
-    """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
-    paths ``which`` of a batch of paths of lines (path i: verbs vstart[i]:vstart[i + 1],
-    points pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and
-    square caps lengthening open subpaths' ends by ``outset``. Returns (verbs, points, run
-    verb offsets, run point offsets, the index in ``which`` of each run's path): each path's
-    outline is its runs (_emit_rows), in order."""
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs, w,
+                stair_slope, max_steps, joint, jrows, alpha, run_rows):
+    """Appends the hairline outline (runs owned by ``w``) of the path of lines verbs[v_lo:
+    v_hi], its points from points[ip] on, under the transform m (see hairline_paths_batch).
+    Returns (ov, op, seg), grown as needed (seg: scratch rows of a subpath's segments)."""
     a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
+    ns = 0
+    have_start = False
+    sx = sy = cx = cy = 0.0
+    for iv in range(v_lo, v_hi + 1):
+        # a subpath ends at a move, a close or the path's end: its segments are drawn
+        v = verbs[iv] if iv < v_hi else MOVE
+        if v == MOVE or v == CLOSE:
+            if v == CLOSE and have_start:
+                seg = _grow_points(seg, ns + 1)
+                seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, sx, sy
+                ns += 1
+                cx, cy = sx, sy
+            elif v == MOVE and ns > 0 and outset > 0.0:
+                _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
+            ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
+                                joint, jrows, alpha, run_rows)
+            ns = 0
+            if v == MOVE and iv < v_hi:
+                x, y = points[ip, 0], points[ip, 1]
+                sx = cx = a * x + c * y + e
+                sy = cy = b * x + d * y + f
+                ip += 1
+                have_start = True
+        else:                           # a line
+            x, y = points[ip, 0], points[ip, 1]
+            nx, ny = a * x + c * y + e, b * x + d * y + f
+            ip += 1
+            seg = _grow_points(seg, ns + 1)
+            seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
+            ns += 1
+            cx, cy = nx, ny
+    return ov, op, seg
+
+
+@njit(cache=True)
+def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha, stair_slope,
+                         max_steps, run_rows, arc_tolerance, max_arc):
+    """Hairline outlines (hairline.hairline_outline of hairline.hairline_segments) of the
+    paths ``which`` of a batch of paths (path i: verbs vstart[i]:vstart[i + 1], points
+    pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and square caps
+    lengthening open subpaths' ends by ``outset``. Returns (verbs, points, run verb offsets,
+    run point offsets, the index in ``which`` of each run's path): each path's outline is
+    its runs (_emit_rows), in order. A path of lines is read here (_lines_path, no arrays
+    of its own); any other (curves, conics) goes through the kernels hairline_segments
+    calls: conics as the cubics usvg makes of arcs (conics_as_cubics at
+    ``arc_tolerance``, at most ``max_arc`` cubics an arc: stroke.arc_cubics), the subpaths
+    (stroke_kernels.path_segments), curves cut into chords in the device (hairline_chords),
+    the chords' runs (_emit_rows, a path's steps counted against max_steps[1] together).
+    (The parameters that are the module hairline's constants come last: jit.bind_tail.)"""
     ov = np.empty(64, np.uint8)
     op = np.empty((64, 2))
     runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
     cnt = np.zeros(4, np.int64)
     seg = np.empty((16, 4))
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
+    keep = np.zeros(0, np.bool_)
     for w in range(len(which)):
         cnt[2] = 0
         i = which[w]
-        ip = pstart[i]
-        ns = 0
-        have_start = False
-        sx = sy = cx = cy = 0.0
-        for iv in range(vstart[i], vstart[i + 1] + 1):
-            # a subpath ends at a move, a close or the path's end: its segments are drawn
-            v = verbs[iv] if iv < vstart[i + 1] else MOVE
-            if v == MOVE or v == CLOSE:
-                if v == CLOSE and have_start:
-                    seg = _grow_points(seg, ns + 1)
-                    seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, sx, sy
-                    ns += 1
-                    cx, cy = sx, sy
-                elif v == MOVE and ns > 0 and outset > 0.0:
-                    _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
-                ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
-                                    joint, jrows, alpha, run_rows)
-                ns = 0
-                if v == MOVE and iv < vstart[i + 1]:
-                    x, y = points[ip, 0], points[ip, 1]
-                    sx = cx = a * x + c * y + e
-                    sy = cy = b * x + d * y + f
-                    ip += 1
-                    have_start = True
-            else:                           # a line
-                x, y = points[ip, 0], points[ip, 1]
-                nx, ny = a * x + c * y + e, b * x + d * y + f
-                ip += 1
-                seg = _grow_points(seg, ns + 1)
-                seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
-                ns += 1
-                cx, cy = nx, ny
+        v_lo, v_hi = vstart[i], vstart[i + 1]
+        curved = conic = False
+        for iv in range(v_lo, v_hi):
+            v = verbs[iv]
+            if v != MOVE and v != LINE and v != CLOSE:
+                curved = True
+                if v == CONIC:
+                    conic = True
+        if not curved:
+            ov, op, seg = _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
+                                      pstart[i], m, outset, runs, w, stair_slope, max_steps,
+                                      joint, jrows, alpha, run_rows)
+            continue
+        pv, pp = verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]]
+        if conic:
+            pv, pp = conics_as_cubics(pv, pp, keep, arc_tolerance, max_arc)
+        kinds, segs, subs, flags = path_segments(pv, pp)
+        if len(flags) == 0:
+            continue
+        rows, rsubs = hairline_chords(kinds, segs, subs, flags, m, outset)
+        for k in range(len(rsubs) - 1):
+            ov, op = _emit_rows(ov, op, cnt, rows[rsubs[k]:rsubs[k + 1]],
+                                rsubs[k + 1] - rsubs[k], runs, w, stair_slope, max_steps,
+                                joint, jrows, alpha, run_rows)
     return _runs_out(ov, op, cnt, runs)
 
 

@@ -22,7 +22,8 @@ from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
-                                 hairline_outline, hairline_segments, runs_paths)
+                                 hairline_outline, hairline_path, hairline_segments,
+                                 runs_paths)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -205,10 +206,24 @@ def resolve_bbox(bbox):
 
 
 def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, antialias):
-    """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline)."""
-    runs = hairline_outline(*hairline_segments(path, m, cap, dash_pattern(dashes), offset,
-                                               resolution), blend_alpha(ref.paint, opacity))
-    return [Fill(run, ref.paint, opacity=opacity, antialias=antialias) for run in runs]
+    """A stroke at most a device pixel wide, as Skia draws it (geometry.hairline); solid, in
+    one kernel call from the path's arrays to the outline's (hairline_path)."""
+    paint = ref.paint
+    alpha = blend_alpha(paint, opacity)
+    dashes = dash_pattern(dashes) if dashes else None
+    if dashes:
+        return [Fill(run, paint, "nonzero", opacity, antialias) for run in hairline_outline(
+            *hairline_segments(path, m, cap, dashes, offset, resolution), alpha)]
+    ov, op, rv, rp, _ = hairline_path(path, m, cap, alpha)
+    out = []
+    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
+    rv, rp = rv.tolist(), rp.tolist()
+    for v0, v1, p0, p1 in zip(rv, rv[1:], rp, rp[1:]):
+        if v1 > v0:
+            run = new_path(Path)
+            run._arrays = ov[v0:v1], op[p0:p1]
+            out.append(Fill(run, paint, "nonzero", opacity, antialias))
+    return out
 
 
 def _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias):
@@ -506,8 +521,9 @@ class Builder:
         moved = None if identity or "fill" not in order else \
             shared.all_transformed(transform, len(run))
         # which of the batch's paths are lines only, from the batch's verbs at once (a stroked
-        # path needs no verb slice of its own then)
-        curved = self._batch_curved() if lines_plan is not None else None
+        # path needs no verb slice of its own then); a hairline's kernel takes curves too
+        curved = self._batch_curved() if lines_plan is not None and \
+            lines_plan[0] != "hairline" else None
 
         def one(el):
             """The nodes of one path of the run, each decided on its own."""
@@ -543,7 +559,8 @@ class Builder:
                                                                                 p1))
                         out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
                                         antialias))
-                elif lines_plan is not None and path is None and not curved[i]:
+                elif lines_plan is not None and path is None and \
+                        (curved is None or not curved[i]):
                     pending.append((len(out), i))   # stroked after the loop, all together
                     out.append(None)
                 else:
@@ -566,7 +583,8 @@ class Builder:
             fill_opacity = fill_ref.opacity if filled else None
             new_path = Path.__new__             # (Path._of_arrays written out: see below)
             at = 0
-            for odd in self._odd_in_run(i0, n, filled, stroked) + [n]:
+            # (curved paths are odd for the lines stroke kernel, not for a hairline's)
+            for odd in self._odd_in_run(i0, n, filled, stroked and curved is not None) + [n]:
                 ia, ib = i0 + at, i0 + odd
                 if order == ("stroke",):
                     base = len(out)
