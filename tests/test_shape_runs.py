@@ -93,7 +93,7 @@ def random_document(rng):
         body.append(f"<g {group}>")
         for _ in range(rng.randint(1, 5)):
             shared = rng.choice(STYLES)
-            for _ in range(rng.randint(1, 12)):
+            for _ in range(rng.choice([rng.randint(1, 12), 40])):
                 style = shared if rng.random() < 0.7 else rng.choice(STYLES)
                 extra = rng.choice([""] * 12 + [' systemLanguage="xx"', ' pathLength="10"',
                                                 ' id="e"', ' requiredExtensions="x"'])
@@ -178,8 +178,10 @@ def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
     assert calls == {"element": 2 + 600, "shape_path": 600, "points": 2, "batch": 1 + 300}
 
 
-def test_a_circle_made_in_bulk_has_shapes_ellipse_path(monkeypatch):
-    """The bulk ellipse points are ellipse_path's to the bit, exactly representable or not."""
+def test_shapes_made_in_bulk_have_shapes_pens_points():
+    """The bulk ellipse and rectangle points, and those made row by row for a few shapes,
+    are ellipse_path's and rect_path's to the bit, exactly representable or not."""
+    from vecmsaa.scene.path import rect_path
     from vecmsaa.svg.shapes import ellipse_path
     rng = np.random.default_rng(3)
     params = np.column_stack([rng.uniform(-1e3, 1e3, 200), rng.uniform(-1e3, 1e3, 200),
@@ -189,3 +191,8 @@ def test_a_circle_made_in_bulk_has_shapes_ellipse_path(monkeypatch):
         want = ellipse_path(*row)
         assert want.verbs.tobytes() == builder_module._ELLIPSE_VERBS.tobytes()
         assert want.points.tobytes() == got.tobytes()
+        assert np.array(builder_module._ellipse_row(*row)).tobytes() == got.tobytes()
+    rects = builder_module._rect_points(params)
+    for row, got in zip(params.tolist(), rects):
+        assert rect_path(*row).points.tobytes() == got.tobytes()
+        assert np.array(builder_module._rect_row(*row)).tobytes() == got.tobytes()

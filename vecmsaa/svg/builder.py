@@ -311,8 +311,7 @@ def _ellipse_points(params):
     (n, 13, 2): its moveto and its four conics' control point, midpoint (Path.conicTo's,
     from the same operations in the same order) and end."""
     cx, cy, rx, ry = params.T
-    k = QUARTER_W / (1.0 + QUARTER_W)
-    a = (1.0 - k) * 0.5
+    k, a = _K, _A
     xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
     pts = np.empty((len(params), 13, 2))
     x, y = pts[:, :, 0], pts[:, :, 1]
@@ -332,6 +331,28 @@ def _ellipse_points(params):
     return pts
 
 
+#: Path.conicTo's λ = w / (1 + w) for ellipse_path's weight, and its (1 − λ) / 2
+_K = QUARTER_W / (1.0 + QUARTER_W)
+_A = (1.0 - _K) * 0.5
+
+
+def _ellipse_row(cx, cy, rx, ry):
+    """One row of _ellipse_points in Python floats (the same operations: for a few shapes,
+    which numpy's calls on arrays would cost more than)."""
+    k, a = _K, _A
+    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
+    return ((xr, cy), (xr, yb), (a * (xr + cx) + k * xr, a * (cy + yb) + k * yb), (cx, yb),
+            (xl, yb), (a * (cx + xl) + k * xl, a * (yb + cy) + k * yb), (xl, cy),
+            (xl, yt), (a * (xl + cx) + k * xl, a * (cy + yt) + k * yt), (cx, yt),
+            (xr, yt), (a * (cx + xr) + k * xr, a * (yt + cy) + k * yt), (xr, cy))
+
+
+def _rect_row(x, y, w, h):
+    """One row of _rect_points in Python floats."""
+    r, b = x + w, y + h
+    return (x, y), (r, y), (r, b), (x, b)
+
+
 def _rect_points(params):
     """The points scene.path.rect_path makes for each row (x, y, width, height), (n, 4, 2)."""
     x, y, w, h = params.T
@@ -342,6 +363,10 @@ def _rect_points(params):
     pts[:, 2, 0], pts[:, 2, 1] = r, b
     pts[:, 3, 0], pts[:, 3, 1] = x, b
     return pts
+
+
+#: below this many shapes of a kind, _ShapeBlock makes their points row by row
+_FEW_SHAPES = 16
 
 
 class _ShapeBlock:
@@ -358,9 +383,15 @@ class _ShapeBlock:
         self.params.append(params)
         return len(self.params) - 1
 
-    def finish(self, make, transform):
+    def finish(self, make, make_row, transform):
+        """The points, from make (the parameters' array) or, for a few shapes, make_row
+        (each row's)."""
         if self.params:
-            pts = self.points = make(np.array(self.params, np.float64))
+            if len(self.params) < _FEW_SHAPES:
+                pts = self.points = np.array([make_row(*row) for row in self.params],
+                                             np.float64)
+            else:
+                pts = self.points = make(np.array(self.params, np.float64))
             self.device = pts if transform == IDENTITY else \
                 apply(transform, pts.reshape(-1, 2)).reshape(pts.shape)
 
@@ -849,8 +880,8 @@ class Builder:
                     todo.append((el, style, plan, False, path))
         if not todo:
             return
-        ellipses.finish(_ellipse_points, transform)
-        rects.finish(_rect_points, transform)
+        ellipses.finish(_ellipse_points, _ellipse_row, transform)
+        rects.finish(_rect_points, _rect_row, transform)
         if batch is not None:
             vstart, pstart, drawing = batch.vstart, batch.pstart, batch.drawing()
             all_verbs, shared = batch.verbs, batch.points
