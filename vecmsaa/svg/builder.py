@@ -367,6 +367,8 @@ def _rect_points(params):
 
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
+#: below this many strokes of lines of one style, _shape_run strokes each through stroke()
+_FEW_STROKES = 4
 
 
 class _ShapeBlock:
@@ -855,7 +857,8 @@ class Builder:
                     length(el.attrs.get("cy"), "y", style, viewport, 0.0), r, r))))
             elif tag == "path":
                 if batch is None:
-                    self.path_data(el)          # (reads the path data, the first time)
+                    if self._path_index is None:
+                        self.path_data(el)      # (reads the path data, the first time)
                     batch = self._path_batch
                 i = self._path_index.get(el)
                 if i is None or batch.status[i]:
@@ -942,21 +945,21 @@ class Builder:
                 elif block is False:
                     curved = bool(verbs.tobytes().translate(None, _LINE_VERBS))
                 else:
-                    curved = block is ellipses
+                    curved = block.verbs is _ELLIPSE_VERBS
                 kind = stroke_plan[0]
                 if kind is not None and (not curved or (
                         kind == "hairline" and _HAIRLINE_BATCH_CURVES)):
                     key = (style, block is None)
                     got = queued.get(key)
                     if got is None:
-                        got = queued[key] = (stroke_plan, stroke_ref, antialias,
-                                             batch if block is None else None, [])
+                        got = queued[key] = (stroke_plan, stroke_ref, antialias, style,
+                                             block is None, [])
                     slot = []
                     nodes.append(slot)
                     if block is None:
-                        got[4].append((slot, i))
+                        got[5].append((slot, i))
                     else:
-                        got[4].append((slot, len(shapes_batch)))
+                        got[5].append((slot, len(shapes_batch)))
                         shapes_batch.append((verbs, user._freeze()[1] if block is False
                                              else block.points[at]))
                     continue
@@ -968,8 +971,21 @@ class Builder:
                         user._arrays = verbs, block.points[at]
                 nodes.extend(self.stroke(user, style, ctx, None, antialias))
         if queued:
-            local = _LocalBatch(shapes_batch) if shapes_batch else None
-            for stroke_plan, stroke_ref, antialias, got_batch, entries in queued.values():
+            local = None
+            for stroke_plan, stroke_ref, antialias, style, in_batch, entries in \
+                    queued.values():
+                if len(entries) < _FEW_STROKES:
+                    # (a kernel call for a few paths costs more than stroke()'s for each)
+                    for slot, index in entries:
+                        if in_batch:
+                            user = Path._of_shared(all_verbs[vstart[index]:vstart[index + 1]],
+                                                   shared, pstart[index], pstart[index + 1])
+                        else:
+                            user = Path._of_arrays(*shapes_batch[index])
+                        slot.extend(self.stroke(user, style, ctx, None, antialias))
+                    continue
+                if not in_batch and local is None:
+                    local = _LocalBatch(shapes_batch)
                 opacity = stroke_ref.opacity * (
                     stroke_plan[2] if stroke_plan[0] == "hairline" else 1)
                 # each entry's place in a list of its own, the places apart (_place_outlines
@@ -979,7 +995,7 @@ class Builder:
                 for j, (_, index) in enumerate(entries):
                     pending.append((2 * j, index))
                     places += (None, _SEPARATOR)
-                self._place_outlines(pending, places, local if got_batch is None else got_batch,
+                self._place_outlines(pending, places, batch if in_batch else local,
                                      stroke_plan, transform, stroke_ref.paint, opacity,
                                      antialias)
                 j = 0
