@@ -890,8 +890,9 @@ class Builder:
             all_verbs, shared = batch.verbs, batch.points
         curved_paths = None
         nodes = []
-        # strokes for _place_outlines, per style and batch: [plan, stroke PaintRef's paint,
-        # opacity, antialias, batch or None for the shapes', [(slot, index in batch)]]
+        # strokes for _place_outlines, per style and batch: (stroke plan, stroke PaintRef,
+        # antialias, style, whether in the document's path batch (else shapes_batch),
+        # [(slot: the list in nodes their Fills go to, index in the batch)])
         queued = {}
         shapes_batch = []                       # (verbs, points) of the shapes queued
         new_path = Path.__new__                 # (Path._of_arrays written out)
