@@ -573,6 +573,10 @@ class Builder:
             return out
         run = []        # consecutive plain <path> children (see _path_run)
         shapes = []     # consecutive other shapes of a plain shape plan (see _shape_run)
+        # not for content built again for each instance (a marker's on every vertex, a
+        # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
+        # path for the next instance (_shape_path)
+        shape_runs = not (self.ref_stack or ctx.use_stack)
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
@@ -587,11 +591,14 @@ class Builder:
                         shapes = []
                     run.append(child)
                     continue
-                child_style = style.child(child)
-                cache = child_style.cache
-                plan = cache.get("shape-plan", cache)
-                if plan is cache:
-                    plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
+                if shape_runs:
+                    child_style = style.child(child)
+                    cache = child_style.cache
+                    plan = cache.get("shape-plan", cache)
+                    if plan is cache:
+                        plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
+                else:
+                    plan = None
                 if plan is not None:
                     if run:
                         self._path_run(run, ctx, style, out)
