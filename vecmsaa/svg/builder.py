@@ -18,7 +18,7 @@ import numpy as np
 
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
-from ..scene.path import CLOSE, LINE, MOVE, Path, rect_path
+from ..scene.path import _RECT_VERBS, CLOSE, CONIC, LINE, MOVE, Path, SharedPoints, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
@@ -29,12 +29,13 @@ from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_re
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from . import document
-from .document import SVG_ELEMENT_NAMES, Document, Element, Style
+from .document import LAYER_PROPERTIES, SVG_ELEMENT_NAMES, Document, Element, Style
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
-from .shapes import author_path_length, shape_box, shape_path
+from .shapes import (QUARTER_W, _ellipse_params, _rect_params, author_path_length,
+                     rounded_rect_path, shape_box, shape_path)
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
                     parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
@@ -308,8 +309,131 @@ assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
+#: Whether geometry.hairline.hairline_batch strokes curved paths (conics as arc_cubics makes
+#: them cubics, as hairline_segments does): then _shape_run queues a curved hairline for
+#: _place_outlines as it does one of lines; until then it goes through stroke() alone.
+_HAIRLINE_BATCH_CURVES = False
+
+#: ellipse_path's verbs: a moveto, four quarter conics, a close
+_ELLIPSE_VERBS = np.array((MOVE, CONIC, CONIC, CONIC, CONIC, CLOSE), np.uint8)
+
+#: _shape_run's mark between the places of its queued strokes
+_SEPARATOR = object()
+
+
+def _ellipse_points(params):
+    """The points shapes.ellipse_path makes for each row (cx, cy, rx, ry) of ``params``,
+    (n, 13, 2): its moveto and its four conics' control point, midpoint (Path.conicTo's,
+    from the same operations in the same order) and end."""
+    cx, cy, rx, ry = params.T
+    k, a = _K, _A
+    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
+    pts = np.empty((len(params), 13, 2))
+    x, y = pts[:, :, 0], pts[:, :, 1]
+    x[:, 0], y[:, 0] = xr, cy
+    x[:, 1], y[:, 1] = xr, yb                                   # (xr, cy) -> (cx, yb)
+    x[:, 2], y[:, 2] = a * (xr + cx) + k * xr, a * (cy + yb) + k * yb
+    x[:, 3], y[:, 3] = cx, yb
+    x[:, 4], y[:, 4] = xl, yb                                   # (cx, yb) -> (xl, cy)
+    x[:, 5], y[:, 5] = a * (cx + xl) + k * xl, a * (yb + cy) + k * yb
+    x[:, 6], y[:, 6] = xl, cy
+    x[:, 7], y[:, 7] = xl, yt                                   # (xl, cy) -> (cx, yt)
+    x[:, 8], y[:, 8] = a * (xl + cx) + k * xl, a * (cy + yt) + k * yt
+    x[:, 9], y[:, 9] = cx, yt
+    x[:, 10], y[:, 10] = xr, yt                                 # (cx, yt) -> (xr, cy)
+    x[:, 11], y[:, 11] = a * (cx + xr) + k * xr, a * (yt + cy) + k * yt
+    x[:, 12], y[:, 12] = xr, cy
+    return pts
+
+
+#: Path.conicTo's λ = w / (1 + w) for ellipse_path's weight, and its (1 − λ) / 2
+_K = QUARTER_W / (1.0 + QUARTER_W)
+_A = (1.0 - _K) * 0.5
+
+
+def _ellipse_row(cx, cy, rx, ry):
+    """One row of _ellipse_points in Python floats (the same operations: for a few shapes,
+    which numpy's calls on arrays would cost more than)."""
+    k, a = _K, _A
+    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
+    return ((xr, cy), (xr, yb), (a * (xr + cx) + k * xr, a * (cy + yb) + k * yb), (cx, yb),
+            (xl, yb), (a * (cx + xl) + k * xl, a * (yb + cy) + k * yb), (xl, cy),
+            (xl, yt), (a * (xl + cx) + k * xl, a * (cy + yt) + k * yt), (cx, yt),
+            (xr, yt), (a * (cx + xr) + k * xr, a * (yt + cy) + k * yt), (xr, cy))
+
+
+def _rect_row(x, y, w, h):
+    """One row of _rect_points in Python floats."""
+    r, b = x + w, y + h
+    return (x, y), (r, y), (r, b), (x, b)
+
+
+def _rect_points(params):
+    """The points scene.path.rect_path makes for each row (x, y, width, height), (n, 4, 2)."""
+    x, y, w, h = params.T
+    r, b = x + w, y + h
+    pts = np.empty((len(params), 4, 2))
+    pts[:, 0, 0], pts[:, 0, 1] = x, y
+    pts[:, 1, 0], pts[:, 1, 1] = r, y
+    pts[:, 2, 0], pts[:, 2, 1] = r, b
+    pts[:, 3, 0], pts[:, 3, 1] = x, b
+    return pts
+
+
+#: below this many shapes of a kind, _ShapeBlock makes their points row by row
+_FEW_SHAPES = 16
+#: below this many strokes of lines of one style, _shape_run strokes each through stroke()
+_FEW_STROKES = 4
+
+
+class _ShapeBlock:
+    """_shape_run's shapes of one kind (one list of verbs): their parameters, then the points
+    of all of them made at once, in user space and on the device."""
+    __slots__ = ("verbs", "params", "points", "device")
+
+    def __init__(self, verbs):
+        self.verbs = verbs
+        self.params = []
+        self.points = self.device = None
+
+    def add(self, params) -> int:
+        self.params.append(params)
+        return len(self.params) - 1
+
+    def finish(self, make, make_row, transform):
+        """The points, from make (the parameters' array) or, for a few shapes, make_row
+        (each row's)."""
+        if self.params:
+            if len(self.params) < _FEW_SHAPES:
+                pts = self.points = np.array([make_row(*row) for row in self.params],
+                                             np.float64)
+            else:
+                pts = self.points = make(np.array(self.params, np.float64))
+            self.device = pts if transform == IDENTITY else \
+                apply(transform, pts.reshape(-1, 2)).reshape(pts.shape)
+
+
+class _LocalBatch:
+    """Paths (verbs, points) in one batch as pathdata.PathBatch holds a document's, for
+    Builder._place_outlines."""
+    __slots__ = ("verbs", "points", "vstart", "pstart")
+
+    def __init__(self, parts):
+        self.verbs = np.concatenate([v for v, _ in parts])
+        self.points = SharedPoints(np.concatenate([p for _, p in parts]))
+        self.vstart = np.zeros(len(parts) + 1, np.int64)
+        self.pstart = np.zeros(len(parts) + 1, np.int64)
+        np.cumsum([len(v) for v, _ in parts], out=self.vstart[1:])
+        np.cumsum([len(p) for _, p in parts], out=self.pstart[1:])
+
+
 class Builder:
     """Builds one document into scene nodes. Holds the document, resources and options."""
+
+    #: whether children() builds runs of sibling shapes with their styles' decisions made
+    #: once (_path_run, _shape_run); off, each element goes through element() (tests
+    #: compare the two)
+    shape_runs = True
 
     def __init__(self, doc: Document, resources: Resources, options: Options):
         self.doc = doc
@@ -458,23 +582,55 @@ class Builder:
             for child in el.children:
                 out.extend(self.element(child, ctx, style))
             return out
+        if not self.shape_runs:
+            for child in el.children:
+                out.extend(self.element(child, ctx, style))
+            return out
         run = []        # consecutive plain <path> children (see _path_run)
+        shapes = []     # consecutive other shapes of a plain shape plan (see _shape_run)
+        # not for content built again for each instance (a marker's on every vertex, a
+        # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
+        # path for the next instance (_shape_path)
+        shape_runs = not (self.ref_stack or ctx.use_stack)
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
             # call per path costs more than the test)
-            if (child.tag == "path" and not child.specified
-                    and "systemLanguage" not in child.attrs
+            tag = child.tag
+            if (tag in SHAPES and "systemLanguage" not in child.attrs
                     and "requiredExtensions" not in child.attrs
                     and "pathLength" not in child.attrs):
-                run.append(child)
-                continue
+                if tag == "path" and not child.specified:
+                    if shapes:
+                        self._shape_run(shapes, ctx, out)
+                        shapes = []
+                    run.append(child)
+                    continue
+                if shape_runs:
+                    child_style = style.child(child)
+                    cache = child_style.cache
+                    plan = cache.get("shape-plan", cache)
+                    if plan is cache:
+                        plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
+                else:
+                    plan = None
+                if plan is not None:
+                    if run:
+                        self._path_run(run, ctx, style, out)
+                        run = []
+                    shapes.append((child, child_style, plan))
+                    continue
             if run:
                 self._path_run(run, ctx, style, out)
                 run = []
+            if shapes:
+                self._shape_run(shapes, ctx, out)
+                shapes = []
             out.extend(self.element(child, ctx, style))
         if run:
             self._path_run(run, ctx, style, out)
+        if shapes:
+            self._shape_run(shapes, ctx, out)
         return out
 
     def _path_run(self, run, ctx, parent_style, out) -> None:
@@ -676,6 +832,211 @@ class Builder:
                       or (item == "stroke" and stroke_ref is not None))
         return (antialias, order, "evenodd" if rule == "evenodd" else "nonzero", fill_ref,
                 stroke_ref)
+
+    def _shape_plan(self, style, ctx):
+        """For _shape_run (kept with the style as "shape-plan"): _run_plan's, or None for the
+        general route when the style specifies one of LAYER_PROPERTIES (a transform, clip
+        path, mask, filter, opacity, blending or isolation of the element's own: those are
+        not inherited, so a style without them has none)."""
+        if not LAYER_PROPERTIES.isdisjoint(style.specified):
+            return None
+        return self._run_plan(style, ctx)
+
+    def _shape_run(self, items, ctx, out) -> None:
+        """Append the nodes of consecutive sibling shapes (basic shapes, and paths that
+        specify a style) whose styles need nothing of element() (_shape_plan: no transform,
+        clip, mask, filter or opacity of their own, no paint that depends on the element, no
+        markers) and that have no condition or pathLength: what element() makes of each.
+        items: (element, its Style, the style's plan). The styles may differ from one
+        element to the next (class-styled exports); each style's plan is decided once. The
+        geometry of circles, ellipses and rectangles is made for all of them at once
+        (_ShapeBlock, the points shapes.py's pens make), the fills mapped to the device in
+        one call, and strokes of lines (solid, scaling) stroked per style in one kernel call
+        (_place_outlines); other strokes go through stroke() path by path."""
+        n = len(items)
+        self.nodes_made += n
+        if self.nodes_made > MAX_NODES:
+            raise SvgError("document expands to too many elements")
+        transform = ctx.transform
+        identity = transform == IDENTITY
+        viewport = ctx.viewport
+        length = self.length
+        ellipses = _ShapeBlock(_ELLIPSE_VERBS)
+        rects = _ShapeBlock(_RECT_VERBS)
+        # per element: (element, style, plan, where its geometry is) with where one of
+        # (block, row), (None, batch index) for a path of the document's path batch, or
+        # (False, Path) for a path of its own
+        todo = []
+        batch = None
+        for el, style, plan in items:
+            if plan is False:                   # display: none, or invisible
+                continue
+            tag = el.tag
+            if tag == "circle":
+                # shapes._ellipse_params for a circle, written out
+                r = length(el.attrs.get("r"), "xy", style, viewport, 0.0)
+                if r <= 0:
+                    continue
+                todo.append((el, style, plan, ellipses, ellipses.add((
+                    length(el.attrs.get("cx"), "x", style, viewport, 0.0),
+                    length(el.attrs.get("cy"), "y", style, viewport, 0.0), r, r))))
+            elif tag == "path":
+                if batch is None:
+                    if self._path_index is None:
+                        self.path_data(el)      # (reads the path data, the first time)
+                    batch = self._path_batch
+                i = self._path_index.get(el)
+                if i is None or batch.status[i]:
+                    todo.append((el, style, plan, False, self.path_data(el)))
+                else:
+                    todo.append((el, style, plan, None, i))
+            elif tag == "ellipse":
+                e = _ellipse_params(tag, self.length_getter(el, style, ctx))
+                if e is not None:
+                    todo.append((el, style, plan, ellipses, ellipses.add(e)))
+            elif tag == "rect":
+                r = _rect_params(self.length_getter(el, style, ctx))
+                if r is None:
+                    continue
+                if r[4] <= 0:                   # (rounded_rect_path: rect_path)
+                    todo.append((el, style, plan, rects, rects.add(r[:4])))
+                else:
+                    todo.append((el, style, plan, False, rounded_rect_path(*r)))
+            else:
+                path = shape_path(el, self.length_getter(el, style, ctx))
+                if path is not None:
+                    todo.append((el, style, plan, False, path))
+        if not todo:
+            return
+        ellipses.finish(_ellipse_points, _ellipse_row, transform)
+        rects.finish(_rect_points, _rect_row, transform)
+        if batch is not None:
+            vstart, pstart, drawing = batch.vstart, batch.pstart, batch.drawing()
+            all_verbs, shared = batch.verbs, batch.points
+        curved_paths = None
+        nodes = []
+        # strokes for _place_outlines, per style and batch: (stroke plan, stroke PaintRef,
+        # antialias, style, whether in the document's path batch (else shapes_batch),
+        # [(slot: the list in nodes their Fills go to, index in the batch)])
+        queued = {}
+        shapes_batch = []                       # (verbs, points) of the shapes queued
+        new_path = Path.__new__                 # (Path._of_arrays written out)
+        for el, style, plan, block, at in todo:
+            antialias, order, rule, fill_ref, stroke_ref = plan
+            device = user = None
+            if block is None:                   # the document's path batch
+                i = at
+                if not drawing[i]:
+                    if _CLOSE_BYTE in all_verbs[vstart[i]:vstart[i + 1]].tobytes():
+                        nodes.extend(self.shape(el, ctx, style))    # (a dot, maybe)
+                    continue
+                verbs = all_verbs[vstart[i]:vstart[i + 1]]
+                p0, p1 = pstart[i], pstart[i + 1]
+            elif block is False:                # a Path of its own
+                user = at
+                verbs = user._freeze()[0]
+                if not verbs.tobytes().translate(None, _NOT_DRAWING):
+                    if _CLOSE_BYTE in verbs.tobytes():
+                        nodes.extend(self.shape(el, ctx, style))
+                    continue
+            else:
+                verbs = block.verbs
+            for item in order:
+                if item == "fill":
+                    if len(verbs) == 2 and verbs[1] == LINE:
+                        continue                # a lone line segment encloses nothing
+                    if block is None:
+                        device = new_path(Path)
+                        if identity:            # (Path._of_shared)
+                            device._arrays = verbs, shared.points[p0:p1]
+                            device._shared = shared, p0, p1
+                        else:
+                            device._arrays = verbs, shared.transformed(transform, p0, p1)
+                    elif block is False:
+                        device = user.transformed(transform)
+                    else:
+                        device = new_path(Path)
+                        device._arrays = verbs, block.device[at]
+                    nodes.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
+                                      antialias))
+                    continue
+                # the stroke
+                stroke_plan = self._cached_stroke_plan(style, ctx, antialias)
+                if stroke_plan is None:
+                    continue
+                if block is None:
+                    if curved_paths is None:
+                        curved_paths = self._batch_curved()
+                    curved = curved_paths[i]
+                elif block is False:
+                    curved = bool(verbs.tobytes().translate(None, _LINE_VERBS))
+                else:
+                    curved = block.verbs is _ELLIPSE_VERBS
+                kind = stroke_plan[0]
+                if kind is not None and (not curved or (
+                        kind == "hairline" and _HAIRLINE_BATCH_CURVES)):
+                    key = (style, block is None)
+                    got = queued.get(key)
+                    if got is None:
+                        got = queued[key] = (stroke_plan, stroke_ref, antialias, style,
+                                             block is None, [])
+                    slot = []
+                    nodes.append(slot)
+                    if block is None:
+                        got[5].append((slot, i))
+                    else:
+                        got[5].append((slot, len(shapes_batch)))
+                        shapes_batch.append((verbs, user._freeze()[1] if block is False
+                                             else block.points[at]))
+                    continue
+                if user is None:
+                    if block is None:
+                        user = Path._of_shared(verbs, shared, p0, p1)
+                    else:
+                        user = new_path(Path)
+                        user._arrays = verbs, block.points[at]
+                nodes.extend(self.stroke(user, style, ctx, None, antialias))
+        if queued:
+            local = None
+            for stroke_plan, stroke_ref, antialias, style, in_batch, entries in \
+                    queued.values():
+                if len(entries) < _FEW_STROKES:
+                    # (a kernel call for a few paths costs more than stroke()'s for each)
+                    for slot, index in entries:
+                        if in_batch:
+                            user = Path._of_shared(all_verbs[vstart[index]:vstart[index + 1]],
+                                                   shared, pstart[index], pstart[index + 1])
+                        else:
+                            user = Path._of_arrays(*shapes_batch[index])
+                        slot.extend(self.stroke(user, style, ctx, None, antialias))
+                    continue
+                if not in_batch and local is None:
+                    local = _LocalBatch(shapes_batch)
+                opacity = stroke_ref.opacity * (
+                    stroke_plan[2] if stroke_plan[0] == "hairline" else 1)
+                # each entry's place in a list of its own, the places apart (_place_outlines
+                # removes the places of outlines that draw nothing, and puts a hairline's
+                # runs in its place): then the Fills between two separators are the entry's
+                pending, places = [], []
+                for j, (_, index) in enumerate(entries):
+                    pending.append((2 * j, index))
+                    places += (None, _SEPARATOR)
+                self._place_outlines(pending, places, batch if in_batch else local,
+                                     stroke_plan, transform, stroke_ref.paint, opacity,
+                                     antialias)
+                j = 0
+                for node in places:
+                    if node is _SEPARATOR:
+                        j += 1
+                    else:
+                        entries[j][0].append(node)
+            for node in nodes:
+                if node.__class__ is list:
+                    out.extend(node)
+                else:
+                    out.append(node)
+        else:
+            out.extend(nodes)
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if ctx.geometry and ctx.transform is IDENTITY and el.tag not in SHAPES:

@@ -1,0 +1,198 @@
+"""Runs of sibling shapes (Builder._shape_run: basic shapes and styled paths whose styles need
+nothing of element() of their own) give the nodes that element() gives each of them alone:
+random runs of shapes and styles built both ways (Builder.shape_runs off: every element
+through element()) and their scenes compared exactly, paths' arrays to the bit."""
+import random
+
+import numpy as np
+import pytest
+
+from vecmsaa.api import load_svg
+from vecmsaa.scene.nodes import Fill, Group, Mask, Solid
+from vecmsaa.svg import builder as builder_module
+from vecmsaa.svg.builder import Builder
+
+NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
+
+DEFS = ('<defs><linearGradient id="g"><stop stop-color="red"/><stop offset="1"/>'
+        '</linearGradient><marker id="m" markerWidth="4" markerHeight="4">'
+        '<rect width="2" height="2"/></marker><clipPath id="c"><rect width="50" height="60"/>'
+        '</clipPath><style>.a { fill: teal; stroke: navy } .b { stroke-width: 3; '
+        'stroke-linejoin: round } .c { fill-opacity: 0.5; stroke: #333; stroke-width: 0.4 }'
+        '</style></defs>')
+
+#: styles a shape may specify: some shared by many siblings, some that send it element()'s way
+#: (transform, opacity, clip, markers, paint servers, context paints) or that stroke it other
+#: than with the lines kernels (dashes, non-scaling, hairlines, curves)
+STYLES = [
+    '', 'fill="steelblue" fill-opacity="0.6" stroke="#333" stroke-width="0.5"',
+    'fill="none" stroke="black"', 'fill="black" stroke="black"', 'class="a"', 'class="a b"',
+    'class="c"', 'stroke="red" stroke-width="4" stroke-linecap="square"',
+    'stroke="blue" stroke-width="2" stroke-linejoin="bevel" paint-order="stroke"',
+    'fill-rule="evenodd" stroke="green" stroke-width="0.05"',
+    'stroke="green" stroke-dasharray="3 1" stroke-width="2"',
+    'stroke="green" vector-effect="non-scaling-stroke" stroke-width="1.5"',
+    'shape-rendering="crispEdges" stroke="purple"', 'style="fill: orange; stroke: none"',
+    'transform="translate(3 4)" fill="red"', 'opacity="0.5" stroke="red"',
+    'clip-path="url(#c)" fill="olive"', 'marker-start="url(#m)" stroke="black"',
+    'fill="url(#g)"', 'stroke="url(#g)" stroke-width="3"', 'display="none"',
+    'visibility="hidden" stroke="red"', 'fill="currentColor" color="maroon"',
+    'stroke="black" stroke-width="1em" font-size="3"', 'stroke="black" stroke-width="2%"',
+    'stroke="black" stroke-linecap="round" stroke-width="6"',
+]
+
+PATHS = ["M10 10 L40 12 L30 35 Z", "", "M5 5 L25 5", "M10 40 C20 30 30 50 40 40",
+         "M60 10 l10 0 M80 10 l0 10 z", "M50 50", "M20 70 Z", "M0 0 h90 v90 h-90 z",
+         "M10 80 A 20 10 30 0 1 50 70", "M1e400 5 L 20 20", "M 5 5 Q 30 0 40 40 T 70 70"]
+
+
+def random_shape(rng):
+    """A random basic shape or path, its geometry attributes as exporters write them (and
+    some of the other ways SVG lets them be written)."""
+    def num(lo, hi):
+        v = rng.uniform(lo, hi)
+        return rng.choice([f"{v:.2f}", f"{v:.0f}", f"{v / 10:.3f}em", f"{v:.1f}%",
+                           f"{v * 0.2646:.3f}mm", f"calc({v:.1f}px + 1px)", f"{v:.2e}"]
+                          if rng.random() < 0.15 else [f"{v:.2f}"])
+    kind = rng.choice(["circle", "circle", "ellipse", "rect", "rect", "line", "polyline",
+                       "polygon", "path", "path"])
+    if kind == "circle":
+        r = rng.choice([num(0.5, 9), num(0.5, 9), "0", "-2", ""])
+        return f'<circle cx="{num(0, 100)}" cy="{num(0, 100)}" r="{r}"'
+    if kind == "ellipse":
+        rx = rng.choice([num(1, 20), "-1", "auto", None])
+        ry = rng.choice([num(1, 20), "0", None])
+        attrs = "".join(f' {k}="{v}"' for k, v in (("rx", rx), ("ry", ry)) if v is not None)
+        return f'<ellipse cx="{num(0, 100)}" cy="{num(0, 100)}"{attrs}'
+    if kind == "rect":
+        attrs = f'<rect x="{num(0, 80)}" y="{num(0, 80)}" width="{num(0, 40)}" ' \
+                f'height="{rng.choice([num(0, 40), num(0, 40), "0"])}"'
+        if rng.random() < 0.4:
+            attrs += f' rx="{rng.choice([num(0, 10), "0", "-3"])}"'
+        if rng.random() < 0.3:
+            attrs += f' ry="{rng.choice([num(0, 10), "0"])}"'
+        return attrs
+    if kind == "line":
+        return f'<line x1="{num(0, 100)}" y1="{num(0, 100)}" x2="{num(0, 100)}" ' \
+               f'y2="{num(0, 100)}"'
+    if kind in ("polyline", "polygon"):
+        pts = " ".join(f"{rng.uniform(0, 100):.1f},{rng.uniform(0, 100):.1f}"
+                       for _ in range(rng.choice([1, 2, 3, 5])))
+        return f'<{kind} points="{pts}"'
+    return f'<path d="{rng.choice(PATHS)}"'
+
+
+def random_document(rng):
+    """Runs of siblings sharing a style (a D3 scatter, class-styled exports), runs of mixed
+    styles, and now and then an element of its own (a condition, pathLength, text, a
+    group), in groups under random transforms."""
+    body = []
+    for _ in range(rng.randint(1, 4)):
+        group = rng.choice(['', 'transform="scale(1.7)"', 'transform="rotate(20 50 50)"',
+                            'fill="purple" stroke="gold"', 'transform="matrix(0 -1 1 0 0 100)"'])
+        body.append(f"<g {group}>")
+        for _ in range(rng.randint(1, 5)):
+            shared = rng.choice(STYLES)
+            for _ in range(rng.choice([rng.randint(1, 12), 40])):
+                style = shared if rng.random() < 0.7 else rng.choice(STYLES)
+                extra = rng.choice([""] * 12 + [' systemLanguage="xx"', ' pathLength="10"',
+                                                ' id="e"', ' requiredExtensions="x"'])
+                body.append(f"{random_shape(rng)} {style}{extra}/>")
+            if rng.random() < 0.2:
+                body.append(rng.choice(['<g><rect width="5" height="5"/></g>',
+                                        '<text x="5" y="20">a</text>', '<title>t</title>']))
+        body.append("</g>")
+    return f'<svg {NS} width="100" height="100">{DEFS}{"".join(body)}</svg>'
+
+
+def canon(node):
+    """A node as comparable values: a Fill's verbs and points as bytes (to the bit), its
+    paint, rule, opacity and antialiasing; a Group's effects and children."""
+    if isinstance(node, Fill):
+        v, p = node.path._freeze()
+        paint = node.paint.color if isinstance(node.paint, Solid) else repr(node.paint)
+        return ("fill", v.tobytes(), p.shape, p.tobytes(), paint, node.rule, node.opacity,
+                node.antialias)
+    if isinstance(node, Group):
+        return ("group", node.opacity, node.blend, node.isolate, canon(node.clip),
+                canon(node.mask), repr(node.filters), [canon(c) for c in node.children])
+    if isinstance(node, Mask):
+        return ("mask", node.kind, canon(node.content))
+    return node
+
+
+def both_ways(svg, monkeypatch, **kw):
+    scenes = []
+    for on in (True, False):
+        monkeypatch.setattr(Builder, "shape_runs", on)
+        scenes.append(canon(load_svg(svg, **kw).root))
+    return scenes
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_runs_of_shapes_draw_as_each_shape_alone(seed, monkeypatch):
+    rng = random.Random(seed)
+    svg = random_document(rng)
+    for width in (100, 37, 410):
+        runs, alone = both_ways(svg, monkeypatch, width=width)
+        assert runs == alone, (seed, width)
+
+
+def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
+    """A run of 300 circles and 300 rectangles sharing two styles: no element() call, no
+    pen path per shape (shapes.shape_path), both kinds' points made in one call each, and
+    the rectangles' strokes (lines, wider than a pixel) in one kernel call; the same nodes
+    as element() makes."""
+    rng = random.Random(7)
+    circles = "".join(f'<circle cx="{rng.uniform(0, 100):.2f}" cy="{rng.uniform(0, 100):.2f}" '
+                      f'r="{rng.uniform(1, 5):.1f}" fill="steelblue" fill-opacity="0.6"/>'
+                      for _ in range(300))
+    rects = "".join(f'<rect x="{rng.uniform(0, 90):.1f}" y="{rng.uniform(0, 90):.1f}" '
+                    f'width="5" height="3" class="r"/>' for _ in range(300))
+    svg = (f'<svg {NS} width="100" height="100"><style>.r {{ fill: red; stroke: blue; '
+           f'stroke-width: 2 }}</style>{circles}{rects}</svg>')
+    calls = {"element": 0, "shape_path": 0, "points": 0, "batch": 0}
+
+    def counting(name, f):
+        def wrapped(*a, **k):
+            calls[name] += 1
+            return f(*a, **k)
+        return wrapped
+    monkeypatch.setattr(Builder, "element", counting("element", Builder.element))
+    monkeypatch.setattr(builder_module, "shape_path", counting("shape_path",
+                                                               builder_module.shape_path))
+    monkeypatch.setattr(builder_module, "_ellipse_points",
+                        counting("points", builder_module._ellipse_points))
+    monkeypatch.setattr(builder_module, "_rect_points",
+                        counting("points", builder_module._rect_points))
+    kernels = builder_module.stroke_kernels
+    monkeypatch.setattr(kernels, "stroke_lines_batch", counting("batch",
+                                                                 kernels.stroke_lines_batch))
+    runs, alone = both_ways(svg, monkeypatch, width=200)
+    assert runs == alone
+    assert len(runs[-1]) == 900            # a fill per circle, a fill and a stroke per rect
+    # the runs: one call for each kind's points, one stroke kernel call; the second build
+    # (shape runs off) went through element() and shape_path once per shape, and stroked
+    # each rectangle alone (stroke_lines is stroke_lines_batch for one path); the <style>
+    # element goes through element() in both
+    assert calls == {"element": 2 + 600, "shape_path": 600, "points": 2, "batch": 1 + 300}
+
+
+def test_shapes_made_in_bulk_have_shapes_pens_points():
+    """The bulk ellipse and rectangle points, and those made row by row for a few shapes,
+    are ellipse_path's and rect_path's to the bit, exactly representable or not."""
+    from vecmsaa.scene.path import rect_path
+    from vecmsaa.svg.shapes import ellipse_path
+    rng = np.random.default_rng(3)
+    params = np.column_stack([rng.uniform(-1e3, 1e3, 200), rng.uniform(-1e3, 1e3, 200),
+                              rng.uniform(1e-3, 50, 200), rng.uniform(1e-3, 50, 200)])
+    bulk = builder_module._ellipse_points(params)
+    for row, got in zip(params.tolist(), bulk):
+        want = ellipse_path(*row)
+        assert want.verbs.tobytes() == builder_module._ELLIPSE_VERBS.tobytes()
+        assert want.points.tobytes() == got.tobytes()
+        assert np.array(builder_module._ellipse_row(*row)).tobytes() == got.tobytes()
+    rects = builder_module._rect_points(params)
+    for row, got in zip(params.tolist(), rects):
+        assert rect_path(*row).points.tobytes() == got.tobytes()
+        assert np.array(builder_module._rect_row(*row)).tobytes() == got.tobytes()
