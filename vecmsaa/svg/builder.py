@@ -309,11 +309,6 @@ assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
-#: Whether geometry.hairline.hairline_batch strokes curved paths (conics as arc_cubics makes
-#: them cubics, as hairline_segments does): then _shape_run queues a curved hairline for
-#: _place_outlines as it does one of lines; until then it goes through stroke() alone.
-_HAIRLINE_BATCH_CURVES = False
-
 #: ellipse_path's verbs: a moveto, four quarter conics, a close
 _ELLIPSE_VERBS = np.array((MOVE, CONIC, CONIC, CONIC, CONIC, CLOSE), np.uint8)
 
@@ -973,8 +968,9 @@ class Builder:
                 else:
                     curved = block.verbs is _ELLIPSE_VERBS
                 kind = stroke_plan[0]
-                if kind is not None and (not curved or (
-                        kind == "hairline" and _HAIRLINE_BATCH_CURVES)):
+                # (hairline_batch takes curves, conics included; the lines stroke kernel
+                # lines only: a curved outline stroke goes through stroke())
+                if kind is not None and (not curved or kind == "hairline"):
                     key = (style, block is None)
                     got = queued.get(key)
                     if got is None:
