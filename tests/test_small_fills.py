@@ -42,11 +42,11 @@ def polygon_paths(rng, n, shared=None):
 
 
 def test_batch_arrays_are_the_paths_arrays_joined():
-    """Many paths (the joined-bytes case), some of whose points are slices of one shared
-    array: the verbs and points are each path's in turn and the offsets their running
-    lengths, as uint8 and float64 (N, 2) arrays that are contiguous, aligned and writable
-    (the kernels' argument types, and _shifted_arrays moves the points in place). A path
-    whose points are not in the stored form (float32, a strided view) gives the same."""
+    """Many paths, some of whose points are slices of one shared array: the verbs and
+    points are each path's in turn and the offsets their running lengths, as uint8 and
+    float64 (N, 2) arrays that are contiguous, aligned and writable (the kernels' argument
+    types, and _shifted_arrays moves the points in place). A path whose points are not in
+    the stored form (float32, a strided view) gives the same."""
     rng = np.random.default_rng(31)
     for odd in (None, "float32", "strided"):
         paths = polygon_paths(rng, 40, shared=[[]])
