@@ -256,6 +256,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    terms = np.zeros((3, n))
     hidden = np.zeros(strip_rows, dtype=np.bool_)
     prim_y = prim_rows(prims)
     # no occlusion runs here: no pixel carries the stamp -1 that scan_lenses skips (passed as
@@ -282,7 +283,7 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                        dirty, dlist, dcount, hidden, lo)
             if prim_off[k + 1] > prim_off[k]:
                 scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx, sy,
-                            mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
+                            mode, a2c_bits, local, dirty, dlist, dcount, lo, hi, terms,
                             lens_stats, hidden, stamp, np.int64(-1))
             npool = sweep_csaa(r_first, r_last, sy0, W, rules[k], aa[k], paint_kind[k],
                                paint_f[k], lut, tex, delta, local, dirty, dlist, dcount, fb, cplx,

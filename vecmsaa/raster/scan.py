@@ -320,7 +320,7 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
                         dcount[r] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _lens_alpha(dist, bx0, by0, bx1, by1, px, py):
     """A lens's coverage of pixel (px, py) from its signed distance to the pixel centre, at
     most the overlap of the lens's box with the pixel: the one-evaluation distance of a
@@ -342,7 +342,7 @@ def prim_rows(prims):
 
 @njit(cache=True, error_model="numpy")
 def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, local, dirty,
-                dlist, dcount, lo, hi, lens_stats, hidden, stamp, full_id):
+                dlist, dcount, lo, hi, terms, lens_stats, hidden, stamp, full_id):
     """Lens contributions of the curve primitives c0..c1 (one fill) on the strip, by coverage
     mode, except in the rows where ``hidden`` is set and at the pixels stamped ``full_id``
     (covered whole by the fills in front of this one in its occlusion run: a lens's winding
@@ -356,13 +356,12 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
     surely to this same test), and cheaper than the one evaluation, gradient, table look-ups
     and undecided samples it took per pixel (the tiger at 2048 px: 45% of its curve pixels
     left samples undecided; docs/bench.md, session 13). alpha and a2c evaluate the distance at
-    the pixel centre. ``lens_stats[0]`` counts the curve pixels the sample modes evaluate."""
+    the pixel centre. ``lens_stats[0]`` counts the curve pixels the sample modes evaluate.
+    ``lo``, ``hi``: n int64 and ``terms``: (3, n) float64 of the caller's, to work in: the
+    kernel allocates nothing and calls no kernel (either makes numba keep the reference
+    counts of every array argument, at each of the batch's fills and strips)."""
     n = sx.shape[0]
     by_sample = mode == MODE_APPROX or mode == MODE_PERSAMPLE or mode == MODE_NONE
-    # per sample, the row's terms of k, l and m (see _eval_implicit)
-    k_row = np.empty(n)
-    l_row = np.empty(n)
-    m_row = np.empty(n)
     evaluated = 0
     for c in range(c0, c1):
         if prim_y[c, 1] < sy0 or prim_y[c, 0] >= sy0 + rows:
@@ -452,11 +451,12 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
             # only the pixels where some sample is on the lens side
             pxa = max(pxa, min_lo)
             pxz = min(pxz, max_hi)
+            # per sample, the row's terms of k, l and m (see _eval_implicit)
             for s in range(n):
                 Y = (py + sy[s] - oy) * inv
-                k_row[s] = kb * Y
-                l_row[s] = lb * Y
-                m_row[s] = mb * Y
+                terms[0, s] = kb * Y
+                terms[1, s] = lb * Y
+                terms[2, s] = mb * Y
             for px in range(pxa, pxz + 1):
                 if stamp[r, px] == full_id:
                     continue
@@ -499,9 +499,9 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
                     evaluated += 1
                     for s in range(n):
                         X = (px + sx[s] - ox) * inv
-                        k = ka * X + k_row[s] + kc
-                        l = la * X + l_row[s] + lc
-                        m = ma * X + m_row[s] + mc
+                        k = ka * X + terms[0, s] + kc
+                        l = la * X + terms[1, s] + lc
+                        m = ma * X + terms[2, s] + mc
                         kk = k * k
                         f = (kk * k if cubic else kk) - l * m
                         inside = (sigma * f < 0.0) & (lo[s] <= px) & (px <= hi[s])
@@ -521,12 +521,14 @@ def scan_lenses(prims, prim_y, c0, c1, sy0, rows, W, sx, sy, mode, a2c_bits, loc
     lens_stats[0] += evaluated
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _sort_row(a, r, cnt):
     """Sort a[r, :cnt] in place, by hand: numba's sort is a further 2.5 s of first-run compile
     (its quicksort kernels) and allocates its partition stack. A row's dirty list is short (a
-    few edge crossings): insertion sort; long lists (horizontal edges) get a heapsort. One
-    compiled kernel for both sweeps, called once per row."""
+    few edge crossings): insertion sort; long lists (horizontal edges) get a heapsort. Inlined
+    in numba's IR into the sweeps: a call to a kernel makes numba keep the reference counts
+    of all the caller's array arguments (sweep_rows_behind's, at each fill and strip; in
+    sweep_rows they stay, its size alone defeats numba's pruning of them)."""
     if cnt <= 64:
         for i in range(1, cnt):
             v = a[r, i]
@@ -972,6 +974,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     cov = np.zeros(n, dtype=np.float32)
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    terms = np.zeros((3, n))
     col = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(strip_rows, dtype=np.bool_)
     # what each run has stamped in each row (sweep_rows_behind); run numbers start at 1
@@ -1038,7 +1041,7 @@ def render_msaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
                 if prim_off[k + 1] > prim_off[k]:
                     scan_lenses(prims, prim_y, prim_off[k], prim_off[k + 1], sy0, rows, W, sx,
                                 sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi,
-                                lens_stats, hidden, stamp, full_id if run else -1)
+                                terms, lens_stats, hidden, stamp, full_id if run else -1)
                 if run:
                     npool = sweep_rows_behind(r_first, r_last, W, rules[k], aa[k], paint_f[k],
                                               delta, local, dirty, dlist, dcount, fb, cplx,
@@ -1069,6 +1072,7 @@ def scan_run(edges, prims, sy0, rows, W, sx, sy, mode, a2c_bits, scratch):
     n = sx.shape[0]
     lo = np.zeros(n, dtype=np.int64)
     hi = np.zeros(n, dtype=np.int64)
+    terms = np.zeros((3, n))
     col = np.zeros(n, dtype=np.int64)
     hidden = np.zeros(delta.shape[0], dtype=np.bool_)
     # (np.int64, not literals: a literal argument compiles the scan kernels once more)
@@ -1077,8 +1081,8 @@ def scan_run(edges, prims, sy0, rows, W, sx, sy, mode, a2c_bits, scratch):
                delta, dirty, dlist, dcount, hidden, col)
     if prims.shape[0] > 0:
         scan_lenses(prims, prim_rows(prims), first, np.int64(prims.shape[0]), sy0, rows, W, sx,
-                    sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi, lens_stats, hidden,
-                    stamp, none)
+                    sy, mode, a2c_bits, local, dirty, dlist, dcount, lo, hi, terms, lens_stats,
+                    hidden, stamp, none)
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
