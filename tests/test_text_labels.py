@@ -10,6 +10,7 @@ import struct
 
 from hypothesis import given, settings, strategies as st
 
+from test_text_chunks import shape_calls
 from vecmsaa.api import load_svg
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
@@ -24,16 +25,23 @@ def labels(n, styles, extra=""):
             f'font-family="Noto Sans">{body}</svg>').encode()
 
 
-def test_font_settings_made_once_per_style(monkeypatch):
-    # 300 labels in two font sizes: two font specs for the document (one per text before)
+def specs_made(monkeypatch):
+    """A list that gets (viewport, spec) for each font spec build_text makes."""
     from vecmsaa.svg.text import layout
     made = []
     real = layout.font_spec
 
     def font_spec(style, ctx, el=None):
-        made.append(style)
-        return real(style, ctx, el)
+        spec = real(style, ctx, el)
+        made.append((ctx.viewport, spec))
+        return spec
     monkeypatch.setattr(layout, "font_spec", font_spec)
+    return made
+
+
+def test_font_settings_made_once_per_style(monkeypatch):
+    # 300 labels in two font sizes: two font specs for the document (one per text before)
+    made = specs_made(monkeypatch)
     load_svg(labels(300, (10, 12)), **FONTS)
     assert len(made) == 2
 
@@ -41,15 +49,7 @@ def test_font_settings_made_once_per_style(monkeypatch):
 def test_font_settings_follow_each_viewport(monkeypatch):
     # letter-spacing in percent is of the viewport's normalized diagonal (SVG 2 §8.9): the
     # same style in two viewports gives two spacings, so two specs, each its own
-    from vecmsaa.svg.text import layout
-    seen = []
-    real = layout.font_spec
-
-    def font_spec(style, ctx, el=None):
-        spec = real(style, ctx, el)
-        seen.append((ctx.viewport, spec.letter_spacing))
-        return spec
-    monkeypatch.setattr(layout, "font_spec", font_spec)
+    seen = specs_made(monkeypatch)
     text = '<text x="0" y="20" letter-spacing="10%">ab</text>'
     doc = ('<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
            'font-family="Noto Sans">'
@@ -57,8 +57,9 @@ def test_font_settings_follow_each_viewport(monkeypatch):
            f'<svg width="300" height="300">{text}{text}</svg></svg>').encode()
     load_svg(doc, **FONTS)
     assert len(seen) == 2
-    for (w, h), spacing in seen:
-        assert math.isclose(spacing, 0.1 * math.sqrt((w * w + h * h) / 2), rel_tol=1e-12)
+    for (w, h), spec in seen:
+        assert math.isclose(spec.letter_spacing, 0.1 * math.sqrt((w * w + h * h) / 2),
+                            rel_tol=1e-12)
 
 
 @settings(max_examples=200, deadline=None)
@@ -95,18 +96,6 @@ def test_cluster_frame_shortcut_is_the_composition(x, y):
     position_linear([c], [ch], "start", False)
     want = compose(compose(IDENTITY, translate(x, y)), (1.0, 0.0, 0.0, 1.0, 0.0, 0.0))
     assert _bits(c.frame) == _bits(want)
-
-
-def shape_calls(monkeypatch):
-    import uharfbuzz
-    calls = []
-    real = uharfbuzz.shape
-
-    def shape(font, buf, features=None):
-        calls.append(1)
-        return real(font, buf, features)
-    monkeypatch.setattr(uharfbuzz, "shape", shape)
-    return calls
 
 
 def test_repeated_labels_shaped_once_per_document(monkeypatch):
@@ -171,16 +160,8 @@ def test_tick_labels_in_their_own_groups_share_one_style(monkeypatch):
     # does not inherit: one font spec for the 100 labels (one per group before), and the
     # groups' opacities still apply (half the ink under opacity 0.5, truth: the same label
     # drawn without it)
-    import numpy as np
     from vecmsaa.api import render_svg_array
-    from vecmsaa.svg.text import layout
-    made = []
-    real = layout.font_spec
-
-    def font_spec(style, ctx, el=None):
-        made.append(style)
-        return real(style, ctx, el)
-    monkeypatch.setattr(layout, "font_spec", font_spec)
+    made = specs_made(monkeypatch)
     body = "".join(f'<g class="tick" opacity="{0.5 if i == 0 else 1}" '
                    f'transform="translate({i % 10 * 40},{i // 10 * 40})">'
                    f'<text y="20" fill="black">{i}</text></g>' for i in range(100))
