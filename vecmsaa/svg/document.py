@@ -681,9 +681,17 @@ class _TreeReader:
         made = {}
 
         def specify(given, style_attr):
-            """The specified style of an element without CSS rules (and not in a document
-            with var()): its presentation attributes ``given`` ((name, value as written)...)
-            under its style attribute; made once for each such pair."""
+            """The specified style of an element without CSS rules: its presentation
+            attributes ``given`` ((name, value as written)...) under its style attribute;
+            made once for each such pair (in a document with var(), each time), its
+            warnings given again for each element."""
+            if custom:
+                return _specified({k: v.strip() for k, v in given}, None, style_attr,
+                                  warnings, True)
+            got = made.get((given, style_attr))
+            if got is not None:
+                warnings.extend(got[1])
+                return dict(got[0])
             before = len(warnings)
             spec = _specified({k: v.strip() for k, v in given}, None, style_attr, warnings)
             made[given, style_attr] = spec, warnings[before:]
@@ -750,19 +758,8 @@ class _TreeReader:
                 style_attr = attr.get("style")
                 given = () if PRESENTATION.isdisjoint(attr) else \
                     tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
-                if deferred or not (given or style_attr):
-                    spec = {}
-                elif custom:
-                    spec = _specified({k: v.strip() for k, v in given}, None, style_attr,
-                                      warnings, True)
-                else:
-                    got = made.get((given, style_attr))
-                    if got is None:
-                        spec = specify(given, style_attr)
-                    else:
-                        spec = dict(got[0])
-                        if got[1]:
-                            warnings.extend(got[1])
+                spec = {} if deferred or not (given or style_attr) else \
+                    specify(given, style_attr)
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
@@ -875,16 +872,7 @@ class _TreeReader:
                 if tag == "style":
                     styles.append(el)
             elif given or style_attr:
-                if custom:
-                    el.specified = _specified({k: v.strip() for k, v in given}, None,
-                                              style_attr, warnings, True)
-                else:
-                    got = made.get((given, style_attr))
-                    if got is None:
-                        el.specified = specify(given, style_attr)
-                    else:
-                        el.specified = dict(got[0])
-                        warnings.extend(got[1])
+                el.specified = specify(given, style_attr)
             if parent is not None:
                 if parent.children:
                     parent.children.append(el)
