@@ -573,11 +573,7 @@ class Builder:
     # -- traversal -------------------------------------------------------------------------
     def children(self, el, ctx, style) -> list:
         out = []
-        if ctx.geometry or ctx.clip or self.nodes_by_id is not None:
-            for child in el.children:
-                out.extend(self.element(child, ctx, style))
-            return out
-        if not self.shape_runs:
+        if ctx.geometry or ctx.clip or self.nodes_by_id is not None or not self.shape_runs:
             for child in el.children:
                 out.extend(self.element(child, ctx, style))
             return out
