@@ -50,6 +50,19 @@ class Span:
         return computed_down(self, key, own, root)
 
 
+def span_values(chars, key, own):
+    """Span.computed(key, own) of each character's span, asked once for each stretch of
+    characters of one span (a span's characters follow each other)."""
+    out = []
+    span = value = None
+    for c in chars:
+        if c.span is not span:
+            span = c.span
+            value = span.computed(key, own)
+        out.append(value)
+    return out
+
+
 @dataclass
 class Char:
     ch: str
@@ -333,11 +346,7 @@ def apply_positions(text_el, chars, ctx, styles):
                 # lists of thousands of them skip the text and its parsing
                 setattr(chars[k], name, v if unit in _USER_UNITS
                         else ctx.length(f"{v!r}{unit}", axis, style))
-    span = rotating = None
-    for i, c in enumerate(chars):
-        if c.span is not span:          # (a span's characters follow each other)
-            span = c.span
-            rotating = span.computed("rotate", _rotate_list)
+    for i, (c, rotating) in enumerate(zip(chars, span_values(chars, "rotate", _rotate_list))):
         if rotating is not None:
             el, rot = rotating
             c.rotate = rot[min(i - first[id(el)], len(rot) - 1)]

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 from ...fonts.shape import join_runs, shape_run, visual_runs
 from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
-from .content import apply_positions, apply_text_transform, collapse_white_space, collect_chars
+from .content import (apply_positions, apply_text_transform, collapse_white_space,
+                      collect_chars, span_values)
 from .draw import draw_clusters
 from .font_match import (assign_faces, document_faces, face_location, font_database,
                          font_spec, kerning_attribute, needs_no_face)
@@ -846,14 +847,7 @@ def text_lengths(chars, ctx):
                 text_length[id(span.el)] = (length, adjust)
                 return span, above
         return above
-    inside = []
-    span = link = None
-    for c in chars:
-        if c.span is not span:          # (a span's characters follow each other)
-            span = c.span
-            link = span.computed("lengths", own)
-        inside.append(link)
-    return text_length, inside
+    return text_length, span_values(chars, "lengths", own)
 
 
 #: the part of what spacingAndGlyphs took from an anchored chunk that moves its end
