@@ -66,14 +66,9 @@ def shape_calls(monkeypatch):
     return calls
 
 
-def test_one_character_chunks_shape_once_per_distinct_character(monkeypatch):
-    # 10,000 one-character chunks of 3 distinct characters: 3 HarfBuzz calls (one per
-    # distinct chunk), 3 face choices; each of them was made once per chunk
+def face_choices(monkeypatch):
+    """A list that gets one entry per chunk whose faces assign_faces chooses."""
     from vecmsaa.svg.text import font_match
-    n = 10_000
-    text = "".join("abc"[(i * 7) % 3] for i in range(n))
-    xs = " ".join(str(i % 390) for i in range(n))
-    calls = shape_calls(monkeypatch)
     chosen = []
     real = font_match._chunk_faces
 
@@ -81,6 +76,17 @@ def test_one_character_chunks_shape_once_per_distinct_character(monkeypatch):
         chosen.append(1)
         return real(*args)
     monkeypatch.setattr(font_match, "_chunk_faces", chunk_faces)
+    return chosen
+
+
+def test_one_character_chunks_shape_once_per_distinct_character(monkeypatch):
+    # 10,000 one-character chunks of 3 distinct characters: 3 HarfBuzz calls (one per
+    # distinct chunk), 3 face choices; each of them was made once per chunk
+    n = 10_000
+    text = "".join("abc"[(i * 7) % 3] for i in range(n))
+    xs = " ".join(str(i % 390) for i in range(n))
+    calls = shape_calls(monkeypatch)
+    chosen = face_choices(monkeypatch)
     load_svg(svg_doc(f'<text y="20" font-size="10" x="{xs}">{text}</text>'), width=400,
              **FONTS)
     assert len(calls) == 3

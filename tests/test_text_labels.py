@@ -10,7 +10,7 @@ import struct
 
 from hypothesis import given, settings, strategies as st
 
-from test_text_chunks import shape_calls
+from test_text_chunks import face_choices, shape_calls
 from vecmsaa.api import load_svg
 
 FIXTURES = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts")
@@ -101,15 +101,8 @@ def test_cluster_frame_shortcut_is_the_composition(x, y):
 def test_repeated_labels_shaped_once_per_document(monkeypatch):
     # 200 texts of the same two labels (an axis's ticks in each of many small charts): two
     # HarfBuzz calls and two face choices for the document (one per text before)
-    from vecmsaa.svg.text import font_match
     calls = shape_calls(monkeypatch)
-    chosen = []
-    real = font_match._chunk_faces
-
-    def chunk_faces(*args):
-        chosen.append(1)
-        return real(*args)
-    monkeypatch.setattr(font_match, "_chunk_faces", chunk_faces)
+    chosen = face_choices(monkeypatch)
     body = "".join(f'<text x="{i % 20 * 19}" y="{10 + i // 20 * 12}">{("0.5", "1.0")[i % 2]}'
                    f'</text>' for i in range(200))
     load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
