@@ -153,8 +153,8 @@ def hairline_path(path: Path, m, cap: str = "butt", alpha: float = 1.0):
     """hairline_batch's arrays for one path (its whole outline: hairline_outline(
     *hairline_segments(path, m, cap), alpha)), in one kernel call."""
     v, p = path._freeze()
-    return _paths_kernel()(v, p, np.array([0, len(v)]), np.array([0, len(p)]), _ONE,
-                           _matrix(m), CAP_OUTSET.get(cap, 0.0), _alpha(alpha))
+    return hairline_batch(v, p, np.array([0, len(v)], np.int64),
+                          np.array([0, len(p)], np.int64), _ONE, m, cap, alpha)
 
 
 #: the kernel with the module's constants bound (jit.bind_tail: their part of the call key
