@@ -92,14 +92,11 @@ def test_outlines_are_cached_per_glyph_and_location():
     assert face.outline(gid, heavy)[1].shape == face.outline(gid)[1].shape
 
 
-@pytest.mark.parametrize("block", [1, 5, 64, 1 << 15])
-def test_placed_glyphs_are_each_outline_through_its_own_matrix(block, monkeypatch):
-    """glyphs_arrays (blocks of PLACE_BLOCK points, each point's matrix repeated from its
-    glyph's) gives every glyph's outline, in order, each point mapped by its glyph's affine
-    matrix x' = a x + c y + e, y' = b x + d y + f in plain floats, bit for bit: blocks of one
-    glyph, of a few, and all at once; empty glyphs (the space) among them."""
+def test_placed_glyphs_are_each_outline_through_its_own_matrix():
+    """glyphs_arrays gives every glyph's outline, in order, each point mapped by its glyph's
+    affine matrix x' = a x + c y + e, y' = b x + d y + f in plain floats, bit for bit; empty
+    glyphs (the space) among them."""
     import vecmsaa.fonts.layout as font_layout
-    monkeypatch.setattr(font_layout, "PLACE_BLOCK", block)
     face = load_face(TTF)
     rng = np.random.default_rng(3)
     gids = [face.glyph_for_char(ch) for ch in "Hxg Ho g"] * 3

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene.path import Path
+from ..scene.transform import apply_each
 from ..scene.nodes import Solid
 from .shape import ShapedRun, shape_text
 
@@ -30,43 +31,16 @@ def placement(origins, scale: float, skew: float = 0.0) -> np.ndarray:
     return m
 
 
-#: points placed per block by glyphs_arrays: each point holds a copy of its glyph's matrix,
-#: six times its own size, only for a block at a time
-PLACE_BLOCK = 1 << 15
-
-
 def glyphs_arrays(face, location, gids, matrices):
     """Concatenated (verbs, points) of many glyphs, glyph i transformed by matrices[i]."""
     outline = face.outline
     outlines = [outline(int(gid), location) for gid in gids]
     counts = [len(p) for _, p in outlines]
-    total = sum(counts)
-    if not total:
+    if not sum(counts):
         return np.zeros(0, np.uint8), np.zeros((0, 2))
-    m = np.asarray(matrices, dtype=np.float64).reshape(-1, 6)
-    p = np.concatenate([p for _, p in outlines])
-    verbs = np.concatenate([v for v, _ in outlines])
-    if total <= PLACE_BLOCK:
-        return verbs, _placed(m, counts, p)
-    # the glyphs in blocks of about PLACE_BLOCK points
-    out = np.empty_like(p)
-    first = a = 0
-    while first < len(counts):
-        last, size = first, 0
-        while last < len(counts) and (size == 0 or size + counts[last] <= PLACE_BLOCK):
-            size += counts[last]
-            last += 1
-        out[a:a + size] = _placed(m[first:last], counts[first:last], p[a:a + size])
-        first, a = last, a + size
-    return verbs, out
-
-
-def _placed(m, counts, p):
-    """Points p, counts[i] of them placed by matrix m[i]: (a x + c y + e, b x + d y + f), both
-    coordinates at once from each point's copy of its glyph's matrix (one repeat, where one a
-    matrix entry cost a text of a few glyphs more than its arithmetic)."""
-    r = np.repeat(m, counts, axis=0)
-    return r[:, :2] * p[:, :1] + r[:, 2:4] * p[:, 1:] + r[:, 4:]
+    points = apply_each(np.asarray(matrices, dtype=np.float64).reshape(-1, 6), counts,
+                        np.concatenate([p for _, p in outlines]))
+    return np.concatenate([v for v, _ in outlines]), points
 
 
 def glyphs_path(face, location, gids, matrices) -> Path:

@@ -57,6 +57,14 @@ def apply(m, pts):
                   float(d), float(e), float(f))
 
 
+def apply_each(matrices, counts, pts):
+    """Points ``pts`` taken in groups, counts[i] of them mapped by matrices[i] (an (N, 6)
+    array): x' = a x + c y + e, y' = b x + d y + f, as apply() maps each group."""
+    return _apply_each(np.ascontiguousarray(matrices, dtype=np.float64),
+                       np.ascontiguousarray(counts, dtype=np.int64),
+                       np.ascontiguousarray(pts, dtype=np.float64))
+
+
 def point_mapper(pts):
     """A function m -> apply(m, pts) for one (N, 2) array that many matrices map (a glyph
     placed by thousands of <use>): the compiled kernel's entry for the array's types is
@@ -89,4 +97,26 @@ def _apply(pts, a, b, c, d, e, f):
         y = pts[i, 1]
         out[i, 0] = a * x + c * y + e
         out[i, 1] = b * x + d * y + f
+    return out
+
+
+# (a text's glyphs, each by its own matrix: numpy repeating each glyph's matrix onto its
+# points was most of a short label's placement)
+@njit(cache=True)
+def _apply_each(matrices, counts, pts):
+    out = np.empty_like(pts)
+    i = 0
+    for g in range(counts.shape[0]):
+        a = matrices[g, 0]
+        b = matrices[g, 1]
+        c = matrices[g, 2]
+        d = matrices[g, 3]
+        e = matrices[g, 4]
+        f = matrices[g, 5]
+        for _ in range(counts[g]):
+            x = pts[i, 0]
+            y = pts[i, 1]
+            out[i, 0] = a * x + c * y + e
+            out[i, 1] = b * x + d * y + f
+            i += 1
     return out
