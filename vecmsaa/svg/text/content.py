@@ -63,7 +63,7 @@ def span_values(chars, key, own):
     return out
 
 
-@dataclass
+@dataclass(slots=True)
 class Char:
     ch: str
     span: Span                 # its innermost text content element
