@@ -16,6 +16,7 @@ element (presentation attributes < CSS rules by specificity and order < ``style=
 from __future__ import annotations
 
 import functools
+import operator
 import re
 
 from ..diagnostics import warn
@@ -589,6 +590,39 @@ def _et_name(name):
     return "{" + name if "}" in name else name
 
 
+def _attribute_shape(names):
+    """What start_plain makes of an element whose attributes (expat's dict) have ``names``,
+    in this order: False when start() reads it (a namespaced attribute other than
+    xlink:href, or xlink:href and href both), else (the names with xlink:href as ``href``, or
+    None where none is; the presentation attributes' names; an operator.itemgetter of their
+    values, None for none; whether it has a style attribute). The getter gives a tuple for
+    one name too (the name twice: _given_dict pairs the names with as many values)."""
+    rename = None
+    if _XLINK_HREF in names:
+        if "href" in names:
+            return False
+        rename = tuple("href" if k == _XLINK_HREF else k for k in names)
+    if "}" in "".join(rename or names):
+        return False
+    pnames = tuple(k for k in names if k in PRESENTATION)
+    getter = None if not pnames else operator.itemgetter(*pnames) if len(pnames) > 1 else \
+        operator.itemgetter(pnames[0], pnames[0])
+    return rename, pnames, getter, "style" in names
+
+
+def _pairs_given(pairs):
+    """Presentation attributes [(name, value as written)...] as _attribute_shape's readers
+    give them: (names, values), None for none."""
+    if not pairs:
+        return None
+    return tuple(k for k, _ in pairs), tuple(v for _, v in pairs)
+
+
+def _given_dict(given):
+    """{name: value stripped} of presentation attributes ``given`` ((names, values) or None)."""
+    return {} if given is None else {k: v.strip() for k, v in zip(*given)}
+
+
 #: a <style> element (any prefix): the document needs the CSS cascade's element tree
 _STYLE_ELEMENT = re.compile(rb"<(?:[^\s<>/!?:]+:)?style[\s/>]")
 
@@ -667,8 +701,7 @@ class _TreeReader:
         error = None
         names = {}                 # expat name -> (namespace, local name)
         own = {}                   # expat name -> local name, of the root's namespace
-        quiet = set()              # attribute names seen that are no property, style or ns
-        seen = set()               # attribute names seen without a namespace
+        shapes = {}                # attribute names (expat's) -> _attribute_shape of them
         warnings = self.warnings
         custom = self.custom
         deferred = self.deferred and not self._mirror     # start_plain defers
@@ -682,18 +715,17 @@ class _TreeReader:
 
         def specify(given, style_attr):
             """The specified style of an element without CSS rules: its presentation
-            attributes ``given`` ((name, value as written)...) under its style attribute;
-            made once for each such pair (in a document with var(), each time), its
-            warnings given again for each element."""
+            attributes ``given`` (_given: (names, values as written) or None) under its style
+            attribute; made once for each such pair (in a document with var(), each time),
+            its warnings given again for each element."""
             if custom:
-                return _specified({k: v.strip() for k, v in given}, None, style_attr,
-                                  warnings, True)
+                return _specified(_given_dict(given), None, style_attr, warnings, True)
             got = made.get((given, style_attr))
             if got is not None:
                 warnings.extend(got[1])
                 return dict(got[0])
             before = len(warnings)
-            spec = _specified({k: v.strip() for k, v in given}, None, style_attr, warnings)
+            spec = _specified(_given_dict(given), None, style_attr, warnings)
             made[given, style_attr] = spec, warnings[before:]
             return spec
         tb = None
@@ -733,33 +765,36 @@ class _TreeReader:
             parent = stack[-1]
             if parent.__class__ is not Element:      # skipped, or inside a foreign element
                 return start(name, attr, False)
-            if _XLINK_HREF in attr:
-                # xlink:href (a <use> of pdftocairo's glyphs): read as start() reads it, a
-                # plain href overriding it, where it is the only namespaced attribute
-                plain = {}
-                for k, v in attr.items():
-                    if k == _XLINK_HREF:
-                        plain.setdefault("href", v)
-                    else:
-                        plain[k] = v
-                if "}" in "".join(plain):
-                    return start(name, attr, False)
-                attr = plain
-            if quiet.issuperset(attr):
+            # what an element's attribute names (in document order) make of it, worked out
+            # once per distinct list of names (scatter plots repeat cx cy r fill...)
+            names = tuple(attr)
+            shape = shapes.get(names)
+            if shape is None:
+                shape = shapes[names] = _attribute_shape(names)
+            if shape is False:
+                return start(name, attr, False)
+            rename, pnames, getter, has_style = shape
+            if rename is not None:
+                # xlink:href (a <use> of pdftocairo's glyphs) read as start() reads it: as
+                # href, at its place (with a plain href too, start() reads the element)
+                attr = dict(zip(rename, attr.values()))
+            if getter is None and not has_style:
                 spec = {}
-                given = ()
+                given = None
                 style_attr = None
             else:
-                if not seen.issuperset(attr):
-                    if "}" in "".join(attr):
-                        return start(name, attr, False)
-                    seen.update(attr)
-                    quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
-                style_attr = attr.get("style")
-                given = () if PRESENTATION.isdisjoint(attr) else \
-                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
-                spec = {} if deferred or not (given or style_attr) else \
-                    specify(given, style_attr)
+                style_attr = attr.get("style") if has_style else None
+                given = None if getter is None else (pnames, getter(attr))
+                if deferred or not (given or style_attr):
+                    spec = {}
+                else:
+                    got = None if custom else made.get((given, style_attr))
+                    if got is None:
+                        spec = specify(given, style_attr)
+                    else:
+                        spec = dict(got[0])
+                        if got[1]:
+                            warnings.extend(got[1])
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
@@ -834,8 +869,8 @@ class _TreeReader:
                 # no namespaced attribute (map data: d and id): expat's dict as it is
                 attrs = attr
                 style_attr = attr.get("style")
-                given = () if PRESENTATION.isdisjoint(attr) else \
-                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
+                given = None if PRESENTATION.isdisjoint(attr) else \
+                    _pairs_given([(k, v) for k, v in attr.items() if k in PRESENTATION])
             else:
                 attrs = {}
                 style_attr = None
@@ -853,7 +888,7 @@ class _TreeReader:
                         style_attr = value
                     elif key in PRESENTATION:
                         given.append((key, value))
-                given = tuple(given)
+                given = _pairs_given(given)
             parent = stack[-1] if stack else None
             if parent.__class__ is _Foreign:
                 el = Element(tag, attrs, parent.parent, 0, doc)
@@ -1707,8 +1742,7 @@ def _cascade(reader, sheets):
         if custom or more:
             if found:
                 charge(len(found))
-            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
-                                      warnings, custom)
+            el.specified = _specified(_given_dict(given), found, style_attr, warnings, custom)
             continue
         key = (id(found), given, style_attr)
         got = made.get(key)
@@ -1717,8 +1751,7 @@ def _cascade(reader, sheets):
                 charge(len(found))      # the declarations are read once per key
             before = len(warnings)
             # the first element's dict stands for the others: nothing changes it in this loop
-            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
-                                      warnings)
+            el.specified = _specified(_given_dict(given), found, style_attr, warnings)
             made[key] = (el.specified, warnings[before:])
         else:
             el.specified = dict(got[0])
