@@ -987,9 +987,50 @@ class _TreeReader:
         return self.root
 
 # -- CSS ------------------------------------------------------------------------------------------
+#: CSS's white space as tinycss2 tokenizes it (\r and \f are read as \n)
+_CSS_WS = "[ \t\n]"
+_IDENT = "-?[A-Za-z_][A-Za-z0-9_-]*"
+#: one token of a plain value (_plain_declarations): an identifier, a hash, a number with an
+#: optional percent sign or ASCII unit (not ``e`` alone, which tinycss2 writes escaped)
+_PLAIN_WORD = (_IDENT + "|#[A-Za-z0-9_-]+|[+-]?(?:[0-9]+(?:\\.[0-9]+)?|\\.[0-9]+)"
+               "(?:%|(?![eE](?![A-Za-z]))[A-Za-z]+)?")
+_PLAIN_DECLARATION = re.compile(
+    "%s*(%s)%s*:%s*((?:%s)(?:(?:%s*,%s*|%s+)(?:%s))*)?%s*" % (
+        _CSS_WS, _IDENT, _CSS_WS, _CSS_WS, _PLAIN_WORD, _CSS_WS, _CSS_WS, _CSS_WS, _PLAIN_WORD,
+        _CSS_WS), re.ASCII)
+_CSS_NEWLINES = re.compile("\r\n|[\r\f]")
+
+
+def _plain_declarations(text):
+    """_declarations(text) for a plain declaration list, without tinycss2: ``name: value``
+    separated by semicolons, the name an ASCII identifier (not a custom property), the value
+    identifiers, hashes and numbers (with a unit or %) separated by white space or commas,
+    nothing else (no comments, strings, functions, escapes, ``!important``): tinycss2 would
+    write such a value back as written, so the text is the value. None for any other text
+    (_declarations reads it with tinycss2)."""
+    if "\r" in text or "\f" in text:
+        text = _CSS_NEWLINES.sub("\n", text)
+    out = []
+    match = _PLAIN_DECLARATION.fullmatch
+    for part in text.split(";"):
+        m = match(part)
+        if m is None:
+            if part.strip(" \t\n"):
+                return None
+            continue
+        value = m.group(2)
+        if value:
+            out.append((m.group(1).lower(), value, False))
+    return out
+
+
 def _declarations(tokens_or_text):
     import tinycss2
 
+    if isinstance(tokens_or_text, str):
+        plain = _plain_declarations(tokens_or_text)
+        if plain is not None:
+            return plain
     if isinstance(tokens_or_text, str):
         decls = tinycss2.parse_declaration_list(tokens_or_text, skip_whitespace=True,
                                                 skip_comments=True)
@@ -1205,6 +1246,44 @@ def _simple_selector(tokens, compiled):
 _CLASS_NAMES = re.compile("[^ \t\r\n\f]+").findall
 
 
+_PLAIN_SIMPLE = "\\.%s|#%s|%s|\\*" % (_IDENT, _IDENT, _IDENT)
+#: a rule of a plain sheet (_plain_sheet): simple selectors separated by commas, then a block
+#: without braces (_plain_declarations reads it)
+_PLAIN_RULE = re.compile("%s*((?:%s)(?:%s*,%s*(?:%s))*)%s*\\{([^{}]*)\\}%s*" % (
+    _CSS_WS, _PLAIN_SIMPLE, _CSS_WS, _CSS_WS, _PLAIN_SIMPLE, _CSS_WS, _CSS_WS), re.ASCII)
+_PLAIN_SELECTOR = re.compile(_PLAIN_SIMPLE, re.ASCII)
+
+
+def _plain_sheet(css_text):
+    """[(its selectors as _simple_tokens gives them, its declarations)...] of each rule of a
+    plain style sheet, without tinycss2: every rule a list of simple selectors (a class, an
+    id, a type or ``*``) with a plain declaration block (_plain_declarations), nothing else
+    (exporters' sheets: ``.st0{fill:#94118e;stroke:#000;stroke-miterlimit:10;}``). None for
+    any other sheet (Stylesheets.add reads it with tinycss2)."""
+    if "\r" in css_text or "\f" in css_text:
+        css_text = _CSS_NEWLINES.sub("\n", css_text)
+    rules = []
+    pos = 0
+    end = len(css_text)
+    match = _PLAIN_RULE.match
+    while pos < end:
+        m = match(css_text, pos)
+        if m is None:
+            return None if css_text[pos:].strip(" \t\n") else rules
+        decls = _plain_declarations(m.group(2))
+        if decls is None:
+            return None
+        selectors = []
+        for sel in _PLAIN_SELECTOR.findall(m.group(1)):
+            first = sel[0]
+            selectors.append(("class", sel[1:]) if first == "." else ("id", sel[1:])
+                             if first == "#" else ("*", None) if first == "*" else
+                             ("tag", sel))
+        rules.append((selectors, decls))
+        pos = m.end()
+    return rules
+
+
 class Stylesheets:
     """All CSS rules of a document. Selectors that are a single class, id, type or the
     universal selector (exporters' style sheets are all ``.st0{...}``) are indexed here and
@@ -1225,6 +1304,12 @@ class Stylesheets:
         self._simple = {}           # (tag, id, class attribute) -> matches (simple_matches)
 
     def add(self, css_text):
+        plain = _plain_sheet(css_text)
+        if plain is not None:
+            for simple, decls in plain:
+                self._add_rule([None] * len(simple), simple, decls)
+            self._simple.clear()
+            return
         import cssselect2
         import tinycss2
 
@@ -1258,26 +1343,30 @@ class Stylesheets:
                 simple = [_simple_selector(tokens, sel) for sel, tokens in zip(selectors, parts)]
             else:
                 selectors = [None] * len(simple)
-            decls = _declarations(rule.content)
-            for sel, kind_name in zip(selectors, simple):
-                if sel is not None and sel.pseudo_element:
-                    continue
-                payload = (self.count, decls)
-                self.count += 1
-                if kind_name is None:
-                    self.matcher.add_selector(sel, payload)
-                    self.complex += 1
-                    continue
-                self.matcher.order += 1     # as add_selector numbers it
-                kind, name = kind_name
-                entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
-                if kind == "*":
-                    self.universal.append(entry)
-                else:
-                    index = self.by_class if kind == "class" else \
-                        self.by_id if kind == "id" else self.by_tag
-                    index.setdefault(name, []).append(entry)
+            self._add_rule(selectors, simple, _declarations(rule.content))
         self._simple.clear()
+
+    def _add_rule(self, selectors, simple, decls):
+        """A rule's selectors (cssselect2's compiled ones, None where not compiled), what
+        _simple_selector makes of them, and its declarations."""
+        for sel, kind_name in zip(selectors, simple):
+            if sel is not None and sel.pseudo_element:
+                continue
+            payload = (self.count, decls)
+            self.count += 1
+            if kind_name is None:
+                self.matcher.add_selector(sel, payload)
+                self.complex += 1
+                continue
+            self.matcher.order += 1     # as add_selector numbers it
+            kind, name = kind_name
+            entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
+            if kind == "*":
+                self.universal.append(entry)
+            else:
+                index = self.by_class if kind == "class" else \
+                    self.by_id if kind == "id" else self.by_tag
+                index.setdefault(name, []).append(entry)
 
     def simple_matches(self, tag, attrs, charge):
         """The indexed selectors' matches for an element of local name ``tag`` and
@@ -1730,6 +1819,9 @@ def _cascade(reader, sheets):
     simple = sheets.simple_matches if sheets.count > sheets.complex else None
     warnings = reader.warnings
     custom = reader.custom
+    if simple is not None and not sheets.complex and not custom:
+        _indexed_cascade(reader.pending, sheets, warnings, charge)
+        return
     # the specified style of elements alike in their matches, presentation attributes and
     # style attribute: made once, copied for each (an element's dict is its own: the
     # cascade's later steps and the text module change it), with its warnings repeated
@@ -1756,6 +1848,36 @@ def _cascade(reader, sheets):
         else:
             el.specified = dict(got[0])
             warnings.extend(got[1])
+
+
+def _indexed_cascade(pending, sheets, warnings, charge):
+    """_cascade's loop where all selectors are indexed ones and there is no var(): the
+    specified style made once per distinct (tag and id where the index has them, class
+    attribute, presentation attributes, style attribute) and copied for each element alike
+    (with its warnings repeated), the index asked only for a new one. The matches (and
+    with them the steps charged) are those simple_matches gives per (tag, id, class)."""
+    by_tag, by_id = sheets.by_tag, sheets.by_id
+    simple = sheets.simple_matches
+    made = {}
+    for el, _, given, style_attr in pending:
+        attrs = el.attrs
+        tag = el.tag
+        ident = attrs.get("id")
+        key = (tag if tag in by_tag else None, ident if ident in by_id else None,
+               attrs.get("class"), given, style_attr)
+        got = made.get(key)
+        if got is not None:
+            el.specified = dict(got[0])
+            if got[1]:
+                warnings.extend(got[1])
+            continue
+        found = simple(tag, attrs, charge)
+        if found:
+            charge(len(found))      # the declarations are read once per key
+        before = len(warnings)
+        # the first element's dict stands for the others: nothing changes it in this loop
+        el.specified = _specified(_given_dict(given), found, style_attr, warnings)
+        made[key] = (el.specified, warnings[before:])
 
 
 def _counted_matching(matcher):
