@@ -1202,24 +1202,63 @@ def _split_selectors(prelude):
 _SIMPLE_SPECIFICITY = {"id": (1, 0, 0), "class": (0, 1, 0), "tag": (0, 0, 1), "*": (0, 0, 0)}
 
 
+def _selector_key(tag, star, ids, classes):
+    """What Stylesheets indexes a compound selector of a type selector ``tag`` (or None),
+    the universal selector (``star``), ids and classes (lists, as written) under: ("class",
+    "a"), ("id", "a"), ("tag", "rect") or ("*", None) for one of them alone (``*`` with
+    one id or class is that one alone), ("compound", (tag or None, id or None, classes))
+    for more (``rect.a``, ``.a.b``, ``#x.a``: Selectors 4 §4, all of them tested on the
+    element); None for two ids (left to cssselect2) or nothing."""
+    if len(ids) > 1 or (tag is not None and star):
+        return None
+    parts = (tag is not None) + len(ids) + len(classes)
+    if parts == 0:
+        return ("*", None) if star else None
+    if parts == 1:
+        return ("tag", tag) if tag is not None else ("id", ids[0]) if ids else \
+            ("class", classes[0])
+    return "compound", (tag, ids[0] if ids else None, tuple(classes))
+
+
+def _key_specificity(kind, name):
+    """The specificity of an indexed selector (Selectors 4 §17)."""
+    if kind == "compound":
+        tag, ident, classes = name
+        return (ident is not None, len(classes), tag is not None)
+    return _SIMPLE_SPECIFICITY[kind]
+
+
 def _simple_tokens(tokens):
-    """(kind, name) of a selector's tokens (white space at the ends taken off) that are one
-    class (``.a``), id (``#a``), type (``rect``) or the universal selector (``*``) alone:
-    ("class", "a"), ("id", "a"), ("tag", "rect") or ("*", None); None for any other."""
+    """_selector_key of a selector's tokens (white space at the ends taken off) that are one
+    compound selector of a type or universal selector, ids (``#a``) and classes (``.a``);
+    None for any other."""
     n = len(tokens)
-    if n == 1:
-        first = tokens[0]
-        if first.type == "ident":
-            return "tag", first.value
-        if first.type == "hash" and first.is_identifier:
-            return "id", first.value
-        if first.type == "literal" and first.value == "*":
-            return "*", None
-    elif n == 2:
-        first = tokens[0]
-        if first.type == "literal" and first.value == "." and tokens[1].type == "ident":
-            return "class", tokens[1].value
-    return None
+    if n == 0:
+        return None
+    tag = None
+    star = False
+    ids = []
+    classes = []
+    i = 0
+    first = tokens[0]
+    if first.type == "ident":
+        tag = first.value
+        i = 1
+    elif first.type == "literal" and first.value == "*":
+        star = True
+        i = 1
+    while i < n:
+        tok = tokens[i]
+        if tok.type == "hash" and tok.is_identifier:
+            ids.append(tok.value)
+            i += 1
+        elif tok.type == "literal" and tok.value == "." and i + 1 < n and \
+                tokens[i + 1].type == "ident":
+            classes.append(tokens[i + 1].value)
+            i += 2
+        else:
+            return None
+    return _selector_key(tag, star, ids, classes)
 
 
 def _simple_selector(tokens, compiled):
@@ -1232,12 +1271,17 @@ def _simple_selector(tokens, compiled):
     if got is None:
         return None
     kind, name = got
-    if tuple(compiled.specificity) != _SIMPLE_SPECIFICITY[kind] or \
+    if tuple(compiled.specificity) != tuple(_key_specificity(kind, name)) or \
             compiled.namespace is not None or compiled.requires_lang_attr:
         return None
-    if (compiled.id, compiled.class_name, compiled.local_name) != (
-            name if kind == "id" else None, name if kind == "class" else None,
-            name if kind == "tag" else None):
+    if kind == "compound":
+        # cssselect2 keeps the last id and class and the type of a compound selector
+        tag, ident, classes = name
+        expect = (ident, classes[-1] if classes else None, tag)
+    else:
+        expect = (name if kind == "id" else None, name if kind == "class" else None,
+                  name if kind == "tag" else None)
+    if (compiled.id, compiled.class_name, compiled.local_name) != expect:
         return None
     return kind, name
 
@@ -1246,7 +1290,8 @@ def _simple_selector(tokens, compiled):
 _CLASS_NAMES = re.compile("[^ \t\r\n\f]+").findall
 
 
-_PLAIN_SIMPLE = "\\.%s|#%s|%s|\\*" % (_IDENT, _IDENT, _IDENT)
+_PLAIN_SIMPLE = "(?:%s|\\*)?(?:\\.%s|#%s)+|%s|\\*" % (_IDENT, _IDENT, _IDENT, _IDENT)
+_PLAIN_PART = re.compile("([.#]?)(%s|\\*)" % _IDENT, re.ASCII)
 #: a rule of a plain sheet (_plain_sheet): simple selectors separated by commas, then a block
 #: without braces (_plain_declarations reads it)
 _PLAIN_RULE = re.compile("%s*((?:%s)(?:%s*,%s*(?:%s))*)%s*\\{([^{}]*)\\}%s*" % (
@@ -1275,10 +1320,23 @@ def _plain_sheet(css_text):
             return None
         selectors = []
         for sel in _PLAIN_SELECTOR.findall(m.group(1)):
-            first = sel[0]
-            selectors.append(("class", sel[1:]) if first == "." else ("id", sel[1:])
-                             if first == "#" else ("*", None) if first == "*" else
-                             ("tag", sel))
+            tag = None
+            star = False
+            ids = []
+            classes = []
+            for mark, name in _PLAIN_PART.findall(sel):
+                if mark == ".":
+                    classes.append(name)
+                elif mark == "#":
+                    ids.append(name)
+                elif name == "*":
+                    star = True
+                else:
+                    tag = name
+            key = _selector_key(tag, star, ids, classes)
+            if key is None:
+                return None
+            selectors.append(key)
         rules.append((selectors, decls))
         pos = m.end()
     return rules
@@ -1301,6 +1359,12 @@ class Stylesheets:
         self.by_id = {}
         self.by_tag = {}
         self.universal = []
+        # compound selectors (rect.a, .a.b, #x.a): (tag or None, classes, entry) by their id,
+        # or by one of their classes where they have no id
+        self.compound_by_id = {}
+        self.compound_by_class = {}
+        self.key_tags = set()       # the types and ids a selector names (simple_matches' key)
+        self.key_ids = set()
         self._simple = {}           # (tag, id, class attribute) -> matches (simple_matches)
 
     def add(self, css_text):
@@ -1360,10 +1424,25 @@ class Stylesheets:
                 continue
             self.matcher.order += 1     # as add_selector numbers it
             kind, name = kind_name
-            entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
+            entry = (_key_specificity(kind, name), self.matcher.order, None, payload)
             if kind == "*":
                 self.universal.append(entry)
+            elif kind == "compound":
+                tag, ident, classes = name
+                if tag is not None:
+                    self.key_tags.add(tag)
+                if ident is not None:
+                    self.key_ids.add(ident)
+                    self.compound_by_id.setdefault(ident, []).append(
+                        (tag, frozenset(classes), entry))
+                else:
+                    self.compound_by_class.setdefault(classes[0], []).append(
+                        (tag, frozenset(classes[1:]), entry))
             else:
+                if kind == "tag":
+                    self.key_tags.add(name)
+                elif kind == "id":
+                    self.key_ids.add(name)
                 index = self.by_class if kind == "class" else \
                     self.by_id if kind == "id" else self.by_tag
                 index.setdefault(name, []).append(entry)
@@ -1375,26 +1454,39 @@ class Stylesheets:
         (_in_cascade_order sorts); an empty tuple for none. Elements alike in tag, id and class share one answer;
         ``charge(n)`` is told of the n selectors gathered for each new one."""
         ident = attrs.get("id")
-        if ident is not None and ident not in self.by_id:
+        if ident is not None and ident not in self.key_ids:
             ident = None
         classes = attrs.get("class")
-        if tag not in self.by_tag:
+        if tag not in self.key_tags:
             tag = None
         key = (tag, ident, classes)
         found = self._simple.get(key)
         if found is None:
             found = list(self.universal)
+            tested = 0      # compound selectors tested
+            names = set(_CLASS_NAMES(classes)) if classes else ()
             if tag is not None:
-                found += self.by_tag[tag]
+                found += self.by_tag.get(tag, ())
             if ident is not None:
-                found += self.by_id[ident]
-            if classes:
+                found += self.by_id.get(ident, ())
+                for ctag, cclasses, entry in self.compound_by_id.get(ident, ()):
+                    tested += 1
+                    if (ctag is None or ctag == tag) and cclasses.issubset(names):
+                        found.append(entry)
+            if names:
                 by_class = self.by_class
-                for name in set(_CLASS_NAMES(classes)):
+                compound = self.compound_by_class
+                for name in names:
                     got = by_class.get(name)
                     if got is not None:
                         found += got
-            charge(len(found) + 1)
+                    got = compound.get(name)
+                    if got is not None:
+                        for ctag, cclasses, entry in got:
+                            tested += 1
+                            if (ctag is None or ctag == tag) and cclasses.issubset(names):
+                                found.append(entry)
+            charge(len(found) + tested + 1)
             found = self._simple[key] = tuple(found)
         return found
 
@@ -1856,7 +1948,7 @@ def _indexed_cascade(pending, sheets, warnings, charge):
     attribute, presentation attributes, style attribute) and copied for each element alike
     (with its warnings repeated), the index asked only for a new one. The matches (and
     with them the steps charged) are those simple_matches gives per (tag, id, class)."""
-    by_tag, by_id = sheets.by_tag, sheets.by_id
+    by_tag, by_id = sheets.key_tags, sheets.key_ids
     simple = sheets.simple_matches
     made = {}
     for el, _, given, style_attr in pending:
