@@ -43,8 +43,9 @@ MAX_DEPTH = 1024
 #: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
 #: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
 #: every element. Past it the document is refused. Indexed selectors (a class, id, type or
-#: ``*`` alone: Stylesheets) are charged their candidates once per distinct (tag, id,
-#: class) and their declarations once per distinct cascade.
+#: ``*`` alone, or a compound of them: Stylesheets) are charged their candidates (and the
+#: compound ones tested) once per distinct (tag, id, class) and their declarations once per
+#: distinct cascade.
 MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
@@ -1344,7 +1345,8 @@ def _plain_sheet(css_text):
 
 class Stylesheets:
     """All CSS rules of a document. Selectors that are a single class, id, type or the
-    universal selector (exporters' style sheets are all ``.st0{...}``) are indexed here and
+    universal selector (exporters' style sheets are all ``.st0{...}``), or a compound of a
+    type, one id and classes (``rect.a``, ``.a.b``: _selector_key), are indexed here and
     looked up per element (:meth:`simple_matches`); the others are matched with cssselect2
     (``matcher``). Both number their selectors in one sequence, cssselect2's ``order``, so
     the cascade sorts the matches of both by specificity and order together."""
