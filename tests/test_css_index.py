@@ -23,6 +23,10 @@ SIMPLE = (".a", ".b", ".c", ".A", ".st1", "#x", "#y", "#z", "rect", "circle", "g
 COMPOUND = ("rect.a", ".a.b", "g > .a", "g .b", ":first-child", "rect:nth-child(2n)",
             "[fill]", ".a + rect", "circle ~ .c", "*:not(.a)", "#x.a", "g rect", "path:last-child",
             "circle:first-of-type", "svg|rect", "*|*", ".b::before", "[class~=st1]")
+#: compound selectors of a type or ``*``, ids and classes (indexed too: each part tested)
+INDEXED_COMPOUND = ("rect.a", ".a.b", "#x.a", "circle.b.c", ".A.a", "*.a", "g#x", "#y.b.c",
+                    "rect#x.st1", ".a.a", "*#z", "path.st1.a", "RECT.a", ".b.a.c", "g.a.b",
+                    "circle#y", "#x#x")
 
 
 def brute_force(svg_text):
@@ -122,12 +126,37 @@ def specified_by_load(svg_text):
 
 
 @pytest.mark.parametrize("seed", range(60))
-@pytest.mark.parametrize("kinds", ["simple", "mixed"])
+@pytest.mark.parametrize("kinds", ["simple", "mixed", "compound"])
 def test_indexed_selectors_cascade_as_cssselect2_matched_one_by_one(seed, kinds):
-    rng = random.Random(seed * 2 + (kinds == "mixed"))
-    text = random_document(rng, SIMPLE if kinds == "simple" else SIMPLE + COMPOUND,
-                           rng.randint(1, 60))
+    rng = random.Random(seed * 2 + (kinds == "mixed") + 1000 * (kinds == "compound"))
+    selectors = {"simple": SIMPLE, "mixed": SIMPLE + COMPOUND + INDEXED_COMPOUND,
+                 "compound": SIMPLE + INDEXED_COMPOUND}[kinds]
+    text = random_document(rng, selectors, rng.randint(1, 60))
     assert specified_by_load(text) == brute_force(text)
+
+
+def test_compound_selectors_need_no_cssselect2_matching(monkeypatch):
+    """A sheet of compound selectors of types, ids and classes (``rect.a``, ``.a.b``,
+    ``#x.a``) is looked up per element as the simple ones are: the document is read once,
+    without ElementTree's tree, and cssselect2 matches nothing."""
+    from vecmsaa.svg import document
+    reads = []
+    real = document._TreeReader.read
+    monkeypatch.setattr(document._TreeReader, "read",
+                        lambda self, data: reads.append(self._mirror) or real(self, data))
+    matched = []
+    monkeypatch.setattr(cssselect2.Matcher, "match",
+                        lambda self, el: matched.append(1) or [])
+    rng = random.Random(17)
+    for _ in range(20):
+        text = random_document(rng, SIMPLE + INDEXED_COMPOUND[:-1], 200)
+        if "@namespace url" in text or '@namespace "' in text:
+            # a default namespace: the types (and the implied universal) test it too
+            continue
+        reads.clear()
+        assert specified_by_load(text) == brute_force(text)
+        assert reads == [False]
+    assert matched == []
 
 
 def test_simple_selectors_need_no_cssselect2_matching(monkeypatch):

@@ -16,6 +16,7 @@ element (presentation attributes < CSS rules by specificity and order < ``style=
 from __future__ import annotations
 
 import functools
+import operator
 import re
 
 from ..diagnostics import warn
@@ -42,8 +43,9 @@ MAX_DEPTH = 1024
 #: (``a b b b b b b rect`` over deep nesting is exponential), ``~`` and ``:*-of-type``
 #: scan every earlier sibling, and rules with an unkeyed subject (``... *``) are tested on
 #: every element. Past it the document is refused. Indexed selectors (a class, id, type or
-#: ``*`` alone: Stylesheets) are charged their candidates once per distinct (tag, id,
-#: class) and their declarations once per distinct cascade.
+#: ``*`` alone, or a compound of them: Stylesheets) are charged their candidates (and the
+#: compound ones tested) once per distinct (tag, id, class) and their declarations once per
+#: distinct cascade.
 MAX_SELECTOR_STEPS = 50_000_000
 
 #: properties that CSS (and presentation attributes) may set
@@ -589,6 +591,39 @@ def _et_name(name):
     return "{" + name if "}" in name else name
 
 
+def _attribute_shape(names):
+    """What start_plain makes of an element whose attributes (expat's dict) have ``names``,
+    in this order: False when start() reads it (a namespaced attribute other than
+    xlink:href, or xlink:href and href both), else (the names with xlink:href as ``href``, or
+    None where none is; the presentation attributes' names; an operator.itemgetter of their
+    values, None for none; whether it has a style attribute). The getter gives a tuple for
+    one name too (the name twice: _given_dict pairs the names with as many values)."""
+    rename = None
+    if _XLINK_HREF in names:
+        if "href" in names:
+            return False
+        rename = tuple("href" if k == _XLINK_HREF else k for k in names)
+    if "}" in "".join(rename or names):
+        return False
+    pnames = tuple(k for k in names if k in PRESENTATION)
+    getter = None if not pnames else operator.itemgetter(*pnames) if len(pnames) > 1 else \
+        operator.itemgetter(pnames[0], pnames[0])
+    return rename, pnames, getter, "style" in names
+
+
+def _pairs_given(pairs):
+    """Presentation attributes [(name, value as written)...] as _attribute_shape's readers
+    give them: (names, values), None for none."""
+    if not pairs:
+        return None
+    return tuple(k for k, _ in pairs), tuple(v for _, v in pairs)
+
+
+def _given_dict(given):
+    """{name: value stripped} of presentation attributes ``given`` ((names, values) or None)."""
+    return {} if given is None else {k: v.strip() for k, v in zip(*given)}
+
+
 #: a <style> element (any prefix): the document needs the CSS cascade's element tree
 _STYLE_ELEMENT = re.compile(rb"<(?:[^\s<>/!?:]+:)?style[\s/>]")
 
@@ -667,8 +702,7 @@ class _TreeReader:
         error = None
         names = {}                 # expat name -> (namespace, local name)
         own = {}                   # expat name -> local name, of the root's namespace
-        quiet = set()              # attribute names seen that are no property, style or ns
-        seen = set()               # attribute names seen without a namespace
+        shapes = {}                # attribute names (expat's) -> _attribute_shape of them
         warnings = self.warnings
         custom = self.custom
         deferred = self.deferred and not self._mirror     # start_plain defers
@@ -682,18 +716,17 @@ class _TreeReader:
 
         def specify(given, style_attr):
             """The specified style of an element without CSS rules: its presentation
-            attributes ``given`` ((name, value as written)...) under its style attribute;
-            made once for each such pair (in a document with var(), each time), its
-            warnings given again for each element."""
+            attributes ``given`` (_given: (names, values as written) or None) under its style
+            attribute; made once for each such pair (in a document with var(), each time),
+            its warnings given again for each element."""
             if custom:
-                return _specified({k: v.strip() for k, v in given}, None, style_attr,
-                                  warnings, True)
+                return _specified(_given_dict(given), None, style_attr, warnings, True)
             got = made.get((given, style_attr))
             if got is not None:
                 warnings.extend(got[1])
                 return dict(got[0])
             before = len(warnings)
-            spec = _specified({k: v.strip() for k, v in given}, None, style_attr, warnings)
+            spec = _specified(_given_dict(given), None, style_attr, warnings)
             made[given, style_attr] = spec, warnings[before:]
             return spec
         tb = None
@@ -733,33 +766,36 @@ class _TreeReader:
             parent = stack[-1]
             if parent.__class__ is not Element:      # skipped, or inside a foreign element
                 return start(name, attr, False)
-            if _XLINK_HREF in attr:
-                # xlink:href (a <use> of pdftocairo's glyphs): read as start() reads it, a
-                # plain href overriding it, where it is the only namespaced attribute
-                plain = {}
-                for k, v in attr.items():
-                    if k == _XLINK_HREF:
-                        plain.setdefault("href", v)
-                    else:
-                        plain[k] = v
-                if "}" in "".join(plain):
-                    return start(name, attr, False)
-                attr = plain
-            if quiet.issuperset(attr):
+            # what an element's attribute names (in document order) make of it, worked out
+            # once per distinct list of names (scatter plots repeat cx cy r fill...)
+            names = tuple(attr)
+            shape = shapes.get(names)
+            if shape is None:
+                shape = shapes[names] = _attribute_shape(names)
+            if shape is False:
+                return start(name, attr, False)
+            rename, pnames, getter, has_style = shape
+            if rename is not None:
+                # xlink:href (a <use> of pdftocairo's glyphs) read as start() reads it: as
+                # href, at its place (with a plain href too, start() reads the element)
+                attr = dict(zip(rename, attr.values()))
+            if getter is None and not has_style:
                 spec = {}
-                given = ()
+                given = None
                 style_attr = None
             else:
-                if not seen.issuperset(attr):
-                    if "}" in "".join(attr):
-                        return start(name, attr, False)
-                    seen.update(attr)
-                    quiet.update(k for k in attr if k not in PRESENTATION and k != "style")
-                style_attr = attr.get("style")
-                given = () if PRESENTATION.isdisjoint(attr) else \
-                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
-                spec = {} if deferred or not (given or style_attr) else \
-                    specify(given, style_attr)
+                style_attr = attr.get("style") if has_style else None
+                given = None if getter is None else (pnames, getter(attr))
+                if deferred or not (given or style_attr):
+                    spec = {}
+                else:
+                    got = None if custom else made.get((given, style_attr))
+                    if got is None:
+                        spec = specify(given, style_attr)
+                    else:
+                        spec = dict(got[0])
+                        if got[1]:
+                            warnings.extend(got[1])
             count += 1
             siblings = parent.children
             el = Element(tag, attr, parent, len(siblings), doc, spec)
@@ -834,8 +870,8 @@ class _TreeReader:
                 # no namespaced attribute (map data: d and id): expat's dict as it is
                 attrs = attr
                 style_attr = attr.get("style")
-                given = () if PRESENTATION.isdisjoint(attr) else \
-                    tuple([(k, v) for k, v in attr.items() if k in PRESENTATION])
+                given = None if PRESENTATION.isdisjoint(attr) else \
+                    _pairs_given([(k, v) for k, v in attr.items() if k in PRESENTATION])
             else:
                 attrs = {}
                 style_attr = None
@@ -853,7 +889,7 @@ class _TreeReader:
                         style_attr = value
                     elif key in PRESENTATION:
                         given.append((key, value))
-                given = tuple(given)
+                given = _pairs_given(given)
             parent = stack[-1] if stack else None
             if parent.__class__ is _Foreign:
                 el = Element(tag, attrs, parent.parent, 0, doc)
@@ -952,9 +988,50 @@ class _TreeReader:
         return self.root
 
 # -- CSS ------------------------------------------------------------------------------------------
+#: CSS's white space as tinycss2 tokenizes it (\r and \f are read as \n)
+_CSS_WS = "[ \t\n]"
+_IDENT = "-?[A-Za-z_][A-Za-z0-9_-]*"
+#: one token of a plain value (_plain_declarations): an identifier, a hash, a number with an
+#: optional percent sign or ASCII unit (not ``e`` alone, which tinycss2 writes escaped)
+_PLAIN_WORD = (_IDENT + "|#[A-Za-z0-9_-]+|[+-]?(?:[0-9]+(?:\\.[0-9]+)?|\\.[0-9]+)"
+               "(?:%|(?![eE](?![A-Za-z]))[A-Za-z]+)?")
+_PLAIN_DECLARATION = re.compile(
+    "%s*(%s)%s*:%s*((?:%s)(?:(?:%s*,%s*|%s+)(?:%s))*)?%s*" % (
+        _CSS_WS, _IDENT, _CSS_WS, _CSS_WS, _PLAIN_WORD, _CSS_WS, _CSS_WS, _CSS_WS, _PLAIN_WORD,
+        _CSS_WS), re.ASCII)
+_CSS_NEWLINES = re.compile("\r\n|[\r\f]")
+
+
+def _plain_declarations(text):
+    """_declarations(text) for a plain declaration list, without tinycss2: ``name: value``
+    separated by semicolons, the name an ASCII identifier (not a custom property), the value
+    identifiers, hashes and numbers (with a unit or %) separated by white space or commas,
+    nothing else (no comments, strings, functions, escapes, ``!important``): tinycss2 would
+    write such a value back as written, so the text is the value. None for any other text
+    (_declarations reads it with tinycss2)."""
+    if "\r" in text or "\f" in text:
+        text = _CSS_NEWLINES.sub("\n", text)
+    out = []
+    match = _PLAIN_DECLARATION.fullmatch
+    for part in text.split(";"):
+        m = match(part)
+        if m is None:
+            if part.strip(" \t\n"):
+                return None
+            continue
+        value = m.group(2)
+        if value:
+            out.append((m.group(1).lower(), value, False))
+    return out
+
+
 def _declarations(tokens_or_text):
     import tinycss2
 
+    if isinstance(tokens_or_text, str):
+        plain = _plain_declarations(tokens_or_text)
+        if plain is not None:
+            return plain
     if isinstance(tokens_or_text, str):
         decls = tinycss2.parse_declaration_list(tokens_or_text, skip_whitespace=True,
                                                 skip_comments=True)
@@ -1126,24 +1203,63 @@ def _split_selectors(prelude):
 _SIMPLE_SPECIFICITY = {"id": (1, 0, 0), "class": (0, 1, 0), "tag": (0, 0, 1), "*": (0, 0, 0)}
 
 
+def _selector_key(tag, star, ids, classes):
+    """What Stylesheets indexes a compound selector of a type selector ``tag`` (or None),
+    the universal selector (``star``), ids and classes (lists, as written) under: ("class",
+    "a"), ("id", "a"), ("tag", "rect") or ("*", None) for one of them alone (``*`` with
+    one id or class is that one alone), ("compound", (tag or None, id or None, classes))
+    for more (``rect.a``, ``.a.b``, ``#x.a``: Selectors 4 §4, all of them tested on the
+    element); None for two ids (left to cssselect2) or nothing."""
+    if len(ids) > 1 or (tag is not None and star):
+        return None
+    parts = (tag is not None) + len(ids) + len(classes)
+    if parts == 0:
+        return ("*", None) if star else None
+    if parts == 1:
+        return ("tag", tag) if tag is not None else ("id", ids[0]) if ids else \
+            ("class", classes[0])
+    return "compound", (tag, ids[0] if ids else None, tuple(classes))
+
+
+def _key_specificity(kind, name):
+    """The specificity of an indexed selector (Selectors 4 §17)."""
+    if kind == "compound":
+        tag, ident, classes = name
+        return (ident is not None, len(classes), tag is not None)
+    return _SIMPLE_SPECIFICITY[kind]
+
+
 def _simple_tokens(tokens):
-    """(kind, name) of a selector's tokens (white space at the ends taken off) that are one
-    class (``.a``), id (``#a``), type (``rect``) or the universal selector (``*``) alone:
-    ("class", "a"), ("id", "a"), ("tag", "rect") or ("*", None); None for any other."""
+    """_selector_key of a selector's tokens (white space at the ends taken off) that are one
+    compound selector of a type or universal selector, ids (``#a``) and classes (``.a``);
+    None for any other."""
     n = len(tokens)
-    if n == 1:
-        first = tokens[0]
-        if first.type == "ident":
-            return "tag", first.value
-        if first.type == "hash" and first.is_identifier:
-            return "id", first.value
-        if first.type == "literal" and first.value == "*":
-            return "*", None
-    elif n == 2:
-        first = tokens[0]
-        if first.type == "literal" and first.value == "." and tokens[1].type == "ident":
-            return "class", tokens[1].value
-    return None
+    if n == 0:
+        return None
+    tag = None
+    star = False
+    ids = []
+    classes = []
+    i = 0
+    first = tokens[0]
+    if first.type == "ident":
+        tag = first.value
+        i = 1
+    elif first.type == "literal" and first.value == "*":
+        star = True
+        i = 1
+    while i < n:
+        tok = tokens[i]
+        if tok.type == "hash" and tok.is_identifier:
+            ids.append(tok.value)
+            i += 1
+        elif tok.type == "literal" and tok.value == "." and i + 1 < n and \
+                tokens[i + 1].type == "ident":
+            classes.append(tokens[i + 1].value)
+            i += 2
+        else:
+            return None
+    return _selector_key(tag, star, ids, classes)
 
 
 def _simple_selector(tokens, compiled):
@@ -1156,12 +1272,17 @@ def _simple_selector(tokens, compiled):
     if got is None:
         return None
     kind, name = got
-    if tuple(compiled.specificity) != _SIMPLE_SPECIFICITY[kind] or \
+    if tuple(compiled.specificity) != tuple(_key_specificity(kind, name)) or \
             compiled.namespace is not None or compiled.requires_lang_attr:
         return None
-    if (compiled.id, compiled.class_name, compiled.local_name) != (
-            name if kind == "id" else None, name if kind == "class" else None,
-            name if kind == "tag" else None):
+    if kind == "compound":
+        # cssselect2 keeps the last id and class and the type of a compound selector
+        tag, ident, classes = name
+        expect = (ident, classes[-1] if classes else None, tag)
+    else:
+        expect = (name if kind == "id" else None, name if kind == "class" else None,
+                  name if kind == "tag" else None)
+    if (compiled.id, compiled.class_name, compiled.local_name) != expect:
         return None
     return kind, name
 
@@ -1170,9 +1291,62 @@ def _simple_selector(tokens, compiled):
 _CLASS_NAMES = re.compile("[^ \t\r\n\f]+").findall
 
 
+_PLAIN_SIMPLE = "(?:%s|\\*)?(?:\\.%s|#%s)+|%s|\\*" % (_IDENT, _IDENT, _IDENT, _IDENT)
+_PLAIN_PART = re.compile("([.#]?)(%s|\\*)" % _IDENT, re.ASCII)
+#: a rule of a plain sheet (_plain_sheet): simple selectors separated by commas, then a block
+#: without braces (_plain_declarations reads it)
+_PLAIN_RULE = re.compile("%s*((?:%s)(?:%s*,%s*(?:%s))*)%s*\\{([^{}]*)\\}%s*" % (
+    _CSS_WS, _PLAIN_SIMPLE, _CSS_WS, _CSS_WS, _PLAIN_SIMPLE, _CSS_WS, _CSS_WS), re.ASCII)
+_PLAIN_SELECTOR = re.compile(_PLAIN_SIMPLE, re.ASCII)
+
+
+def _plain_sheet(css_text):
+    """[(its selectors as _simple_tokens gives them, its declarations)...] of each rule of a
+    plain style sheet, without tinycss2: every rule a list of simple selectors (a class, an
+    id, a type or ``*``) with a plain declaration block (_plain_declarations), nothing else
+    (exporters' sheets: ``.st0{fill:#94118e;stroke:#000;stroke-miterlimit:10;}``). None for
+    any other sheet (Stylesheets.add reads it with tinycss2)."""
+    if "\r" in css_text or "\f" in css_text:
+        css_text = _CSS_NEWLINES.sub("\n", css_text)
+    rules = []
+    pos = 0
+    end = len(css_text)
+    match = _PLAIN_RULE.match
+    while pos < end:
+        m = match(css_text, pos)
+        if m is None:
+            return None if css_text[pos:].strip(" \t\n") else rules
+        decls = _plain_declarations(m.group(2))
+        if decls is None:
+            return None
+        selectors = []
+        for sel in _PLAIN_SELECTOR.findall(m.group(1)):
+            tag = None
+            star = False
+            ids = []
+            classes = []
+            for mark, name in _PLAIN_PART.findall(sel):
+                if mark == ".":
+                    classes.append(name)
+                elif mark == "#":
+                    ids.append(name)
+                elif name == "*":
+                    star = True
+                else:
+                    tag = name
+            key = _selector_key(tag, star, ids, classes)
+            if key is None:
+                return None
+            selectors.append(key)
+        rules.append((selectors, decls))
+        pos = m.end()
+    return rules
+
+
 class Stylesheets:
     """All CSS rules of a document. Selectors that are a single class, id, type or the
-    universal selector (exporters' style sheets are all ``.st0{...}``) are indexed here and
+    universal selector (exporters' style sheets are all ``.st0{...}``), or a compound of a
+    type, one id and classes (``rect.a``, ``.a.b``: _selector_key), are indexed here and
     looked up per element (:meth:`simple_matches`); the others are matched with cssselect2
     (``matcher``). Both number their selectors in one sequence, cssselect2's ``order``, so
     the cascade sorts the matches of both by specificity and order together."""
@@ -1187,9 +1361,21 @@ class Stylesheets:
         self.by_id = {}
         self.by_tag = {}
         self.universal = []
+        # compound selectors (rect.a, .a.b, #x.a): (tag or None, classes, entry) by their id,
+        # or by one of their classes where they have no id
+        self.compound_by_id = {}
+        self.compound_by_class = {}
+        self.key_tags = set()       # the types and ids a selector names (simple_matches' key)
+        self.key_ids = set()
         self._simple = {}           # (tag, id, class attribute) -> matches (simple_matches)
 
     def add(self, css_text):
+        plain = _plain_sheet(css_text)
+        if plain is not None:
+            for simple, decls in plain:
+                self._add_rule([None] * len(simple), simple, decls)
+            self._simple.clear()
+            return
         import cssselect2
         import tinycss2
 
@@ -1223,26 +1409,45 @@ class Stylesheets:
                 simple = [_simple_selector(tokens, sel) for sel, tokens in zip(selectors, parts)]
             else:
                 selectors = [None] * len(simple)
-            decls = _declarations(rule.content)
-            for sel, kind_name in zip(selectors, simple):
-                if sel is not None and sel.pseudo_element:
-                    continue
-                payload = (self.count, decls)
-                self.count += 1
-                if kind_name is None:
-                    self.matcher.add_selector(sel, payload)
-                    self.complex += 1
-                    continue
-                self.matcher.order += 1     # as add_selector numbers it
-                kind, name = kind_name
-                entry = (_SIMPLE_SPECIFICITY[kind], self.matcher.order, None, payload)
-                if kind == "*":
-                    self.universal.append(entry)
-                else:
-                    index = self.by_class if kind == "class" else \
-                        self.by_id if kind == "id" else self.by_tag
-                    index.setdefault(name, []).append(entry)
+            self._add_rule(selectors, simple, _declarations(rule.content))
         self._simple.clear()
+
+    def _add_rule(self, selectors, simple, decls):
+        """A rule's selectors (cssselect2's compiled ones, None where not compiled), what
+        _simple_selector makes of them, and its declarations."""
+        for sel, kind_name in zip(selectors, simple):
+            if sel is not None and sel.pseudo_element:
+                continue
+            payload = (self.count, decls)
+            self.count += 1
+            if kind_name is None:
+                self.matcher.add_selector(sel, payload)
+                self.complex += 1
+                continue
+            self.matcher.order += 1     # as add_selector numbers it
+            kind, name = kind_name
+            entry = (_key_specificity(kind, name), self.matcher.order, None, payload)
+            if kind == "*":
+                self.universal.append(entry)
+            elif kind == "compound":
+                tag, ident, classes = name
+                if tag is not None:
+                    self.key_tags.add(tag)
+                if ident is not None:
+                    self.key_ids.add(ident)
+                    self.compound_by_id.setdefault(ident, []).append(
+                        (tag, frozenset(classes), entry))
+                else:
+                    self.compound_by_class.setdefault(classes[0], []).append(
+                        (tag, frozenset(classes[1:]), entry))
+            else:
+                if kind == "tag":
+                    self.key_tags.add(name)
+                elif kind == "id":
+                    self.key_ids.add(name)
+                index = self.by_class if kind == "class" else \
+                    self.by_id if kind == "id" else self.by_tag
+                index.setdefault(name, []).append(entry)
 
     def simple_matches(self, tag, attrs, charge):
         """The indexed selectors' matches for an element of local name ``tag`` and
@@ -1251,26 +1456,39 @@ class Stylesheets:
         (_in_cascade_order sorts); an empty tuple for none. Elements alike in tag, id and class share one answer;
         ``charge(n)`` is told of the n selectors gathered for each new one."""
         ident = attrs.get("id")
-        if ident is not None and ident not in self.by_id:
+        if ident is not None and ident not in self.key_ids:
             ident = None
         classes = attrs.get("class")
-        if tag not in self.by_tag:
+        if tag not in self.key_tags:
             tag = None
         key = (tag, ident, classes)
         found = self._simple.get(key)
         if found is None:
             found = list(self.universal)
+            tested = 0      # compound selectors tested
+            names = set(_CLASS_NAMES(classes)) if classes else ()
             if tag is not None:
-                found += self.by_tag[tag]
+                found += self.by_tag.get(tag, ())
             if ident is not None:
-                found += self.by_id[ident]
-            if classes:
+                found += self.by_id.get(ident, ())
+                for ctag, cclasses, entry in self.compound_by_id.get(ident, ()):
+                    tested += 1
+                    if (ctag is None or ctag == tag) and cclasses.issubset(names):
+                        found.append(entry)
+            if names:
                 by_class = self.by_class
-                for name in set(_CLASS_NAMES(classes)):
+                compound = self.compound_by_class
+                for name in names:
                     got = by_class.get(name)
                     if got is not None:
                         found += got
-            charge(len(found) + 1)
+                    got = compound.get(name)
+                    if got is not None:
+                        for ctag, cclasses, entry in got:
+                            tested += 1
+                            if (ctag is None or ctag == tag) and cclasses.issubset(names):
+                                found.append(entry)
+            charge(len(found) + tested + 1)
             found = self._simple[key] = tuple(found)
         return found
 
@@ -1695,6 +1913,9 @@ def _cascade(reader, sheets):
     simple = sheets.simple_matches if sheets.count > sheets.complex else None
     warnings = reader.warnings
     custom = reader.custom
+    if simple is not None and not sheets.complex and not custom:
+        _indexed_cascade(reader.pending, sheets, warnings, charge)
+        return
     # the specified style of elements alike in their matches, presentation attributes and
     # style attribute: made once, copied for each (an element's dict is its own: the
     # cascade's later steps and the text module change it), with its warnings repeated
@@ -1707,8 +1928,7 @@ def _cascade(reader, sheets):
         if custom or more:
             if found:
                 charge(len(found))
-            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
-                                      warnings, custom)
+            el.specified = _specified(_given_dict(given), found, style_attr, warnings, custom)
             continue
         key = (id(found), given, style_attr)
         got = made.get(key)
@@ -1717,12 +1937,41 @@ def _cascade(reader, sheets):
                 charge(len(found))      # the declarations are read once per key
             before = len(warnings)
             # the first element's dict stands for the others: nothing changes it in this loop
-            el.specified = _specified({k: v.strip() for k, v in given}, found, style_attr,
-                                      warnings)
+            el.specified = _specified(_given_dict(given), found, style_attr, warnings)
             made[key] = (el.specified, warnings[before:])
         else:
             el.specified = dict(got[0])
             warnings.extend(got[1])
+
+
+def _indexed_cascade(pending, sheets, warnings, charge):
+    """_cascade's loop where all selectors are indexed ones and there is no var(): the
+    specified style made once per distinct (tag and id where the index has them, class
+    attribute, presentation attributes, style attribute) and copied for each element alike
+    (with its warnings repeated), the index asked only for a new one. The matches (and
+    with them the steps charged) are those simple_matches gives per (tag, id, class)."""
+    by_tag, by_id = sheets.key_tags, sheets.key_ids
+    simple = sheets.simple_matches
+    made = {}
+    for el, _, given, style_attr in pending:
+        attrs = el.attrs
+        tag = el.tag
+        ident = attrs.get("id")
+        key = (tag if tag in by_tag else None, ident if ident in by_id else None,
+               attrs.get("class"), given, style_attr)
+        got = made.get(key)
+        if got is not None:
+            el.specified = dict(got[0])
+            if got[1]:
+                warnings.extend(got[1])
+            continue
+        found = simple(tag, attrs, charge)
+        if found:
+            charge(len(found))      # the declarations are read once per key
+        before = len(warnings)
+        # the first element's dict stands for the others: nothing changes it in this loop
+        el.specified = _specified(_given_dict(given), found, style_attr, warnings)
+        made[key] = (el.specified, warnings[before:])
 
 
 def _counted_matching(matcher):
