@@ -161,10 +161,8 @@ def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
     monkeypatch.setattr(Builder, "element", counting("element", Builder.element))
     monkeypatch.setattr(builder_module, "shape_path", counting("shape_path",
                                                                builder_module.shape_path))
-    monkeypatch.setattr(builder_module, "_ellipse_points",
-                        counting("points", builder_module._ellipse_points))
-    monkeypatch.setattr(builder_module, "_rect_points",
-                        counting("points", builder_module._rect_points))
+    monkeypatch.setattr(builder_module, "_bulk_points",
+                        counting("points", builder_module._bulk_points))
     kernels = builder_module.stroke_kernels
     monkeypatch.setattr(kernels, "stroke_lines_batch", counting("batch",
                                                                  kernels.stroke_lines_batch))
@@ -179,20 +177,43 @@ def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
 
 
 def test_shapes_made_in_bulk_have_shapes_pens_points():
-    """The bulk ellipse and rectangle points, and those made row by row for a few shapes,
-    are ellipse_path's and rect_path's to the bit, exactly representable or not."""
-    from vecmsaa.scene.path import rect_path
-    from vecmsaa.svg.shapes import ellipse_path
+    """ellipse_path and rect_path (made as arrays) record what the pen records for SVG's
+    outlines of the shapes (a moveto, four quarter conics weighted cos 45° through the box's
+    corners, a close; the corners clockwise), and the points a run makes of many shapes at
+    once (_bulk_points) or row by row are theirs, to the bit, exactly representable or not;
+    each conic's point at t = ½ is the ellipse's at 45°."""
+    from vecmsaa.scene.path import Path, rect_corners, rect_path
+    from vecmsaa.svg.shapes import QUARTER_W, ellipse_path, ellipse_points
     rng = np.random.default_rng(3)
     params = np.column_stack([rng.uniform(-1e3, 1e3, 200), rng.uniform(-1e3, 1e3, 200),
                               rng.uniform(1e-3, 50, 200), rng.uniform(1e-3, 50, 200)])
-    bulk = builder_module._ellipse_points(params)
+    params[:3] = [[1, 2, 3, 4], [0.1, 0.2, 0.3, 0.7], [-5.5, 1e-300, 1e300, 2.0]]
+    bulk = builder_module._bulk_points(ellipse_points, params.tolist())
     for row, got in zip(params.tolist(), bulk):
-        want = ellipse_path(*row)
-        assert want.verbs.tobytes() == builder_module._ELLIPSE_VERBS.tobytes()
-        assert want.points.tobytes() == got.tobytes()
-        assert np.array(builder_module._ellipse_row(*row)).tobytes() == got.tobytes()
-    rects = builder_module._rect_points(params)
+        cx, cy, rx, ry = row
+        pen = Path()
+        pen.moveTo((cx + rx, cy))
+        pen.conicTo((cx + rx, cy + ry), (cx, cy + ry), QUARTER_W)
+        pen.conicTo((cx - rx, cy + ry), (cx - rx, cy), QUARTER_W)
+        pen.conicTo((cx - rx, cy - ry), (cx, cy - ry), QUARTER_W)
+        pen.conicTo((cx + rx, cy - ry), (cx + rx, cy), QUARTER_W)
+        pen.closePath()
+        made = ellipse_path(*row)
+        assert made.verbs.tobytes() == pen.verbs.tobytes()
+        assert made.points.tobytes() == pen.points.tobytes() == got.tobytes()
+        assert np.array(ellipse_points(*row)).tobytes() == got.tobytes()
+        half = np.sqrt(0.5) * np.array([(rx, ry), (-rx, ry), (-rx, -ry), (rx, -ry)])
+        assert np.allclose(got[2::3], half + (cx, cy), rtol=0,
+                           atol=1e-14 * max(map(abs, row)))
+    rects = builder_module._bulk_points(rect_corners, params.tolist())
     for row, got in zip(params.tolist(), rects):
-        assert rect_path(*row).points.tobytes() == got.tobytes()
-        assert np.array(builder_module._rect_row(*row)).tobytes() == got.tobytes()
+        x, y, w, h = row
+        pen = Path()
+        pen.moveTo((x, y))
+        for q in ((x + w, y), (x + w, y + h), (x, y + h)):
+            pen.lineTo(q)
+        pen.closePath()
+        made = rect_path(*row)
+        assert made.verbs.tobytes() == pen.verbs.tobytes()
+        assert made.points.tobytes() == pen.points.tobytes() == got.tobytes()
+        assert np.array(rect_corners(*row)).tobytes() == got.tobytes()

@@ -18,7 +18,8 @@ import numpy as np
 
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
-from ..scene.path import _RECT_VERBS, CLOSE, CONIC, LINE, MOVE, Path, SharedPoints, rect_path
+from ..scene.path import (_RECT_VERBS, CLOSE, LINE, MOVE, Path, SharedPoints, rect_corners,
+                          rect_path)
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
@@ -34,8 +35,8 @@ from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
-from .shapes import (QUARTER_W, _ellipse_params, _rect_params, author_path_length,
-                     rounded_rect_path, shape_box, shape_path)
+from .shapes import (ELLIPSE_VERBS, _ellipse_params, _rect_params, author_path_length,
+                     ellipse_points, rounded_rect_path, shape_box, shape_path)
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
                     parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
@@ -309,70 +310,8 @@ assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
-#: ellipse_path's verbs: a moveto, four quarter conics, a close
-_ELLIPSE_VERBS = np.array((MOVE, CONIC, CONIC, CONIC, CONIC, CLOSE), np.uint8)
-
 #: _shape_run's mark between the places of its queued strokes
 _SEPARATOR = object()
-
-
-def _ellipse_points(params):
-    """The points shapes.ellipse_path makes for each row (cx, cy, rx, ry) of ``params``,
-    (n, 13, 2): its moveto and its four conics' control point, midpoint (Path.conicTo's,
-    from the same operations in the same order) and end."""
-    cx, cy, rx, ry = params.T
-    k, a = _K, _A
-    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
-    pts = np.empty((len(params), 13, 2))
-    x, y = pts[:, :, 0], pts[:, :, 1]
-    x[:, 0], y[:, 0] = xr, cy
-    x[:, 1], y[:, 1] = xr, yb                                   # (xr, cy) -> (cx, yb)
-    x[:, 2], y[:, 2] = a * (xr + cx) + k * xr, a * (cy + yb) + k * yb
-    x[:, 3], y[:, 3] = cx, yb
-    x[:, 4], y[:, 4] = xl, yb                                   # (cx, yb) -> (xl, cy)
-    x[:, 5], y[:, 5] = a * (cx + xl) + k * xl, a * (yb + cy) + k * yb
-    x[:, 6], y[:, 6] = xl, cy
-    x[:, 7], y[:, 7] = xl, yt                                   # (xl, cy) -> (cx, yt)
-    x[:, 8], y[:, 8] = a * (xl + cx) + k * xl, a * (cy + yt) + k * yt
-    x[:, 9], y[:, 9] = cx, yt
-    x[:, 10], y[:, 10] = xr, yt                                 # (cx, yt) -> (xr, cy)
-    x[:, 11], y[:, 11] = a * (cx + xr) + k * xr, a * (yt + cy) + k * yt
-    x[:, 12], y[:, 12] = xr, cy
-    return pts
-
-
-#: Path.conicTo's λ = w / (1 + w) for ellipse_path's weight, and its (1 − λ) / 2
-_K = QUARTER_W / (1.0 + QUARTER_W)
-_A = (1.0 - _K) * 0.5
-
-
-def _ellipse_row(cx, cy, rx, ry):
-    """One row of _ellipse_points in Python floats (the same operations: for a few shapes,
-    which numpy's calls on arrays would cost more than)."""
-    k, a = _K, _A
-    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
-    return ((xr, cy), (xr, yb), (a * (xr + cx) + k * xr, a * (cy + yb) + k * yb), (cx, yb),
-            (xl, yb), (a * (cx + xl) + k * xl, a * (yb + cy) + k * yb), (xl, cy),
-            (xl, yt), (a * (xl + cx) + k * xl, a * (cy + yt) + k * yt), (cx, yt),
-            (xr, yt), (a * (cx + xr) + k * xr, a * (yt + cy) + k * yt), (xr, cy))
-
-
-def _rect_row(x, y, w, h):
-    """One row of _rect_points in Python floats."""
-    r, b = x + w, y + h
-    return (x, y), (r, y), (r, b), (x, b)
-
-
-def _rect_points(params):
-    """The points scene.path.rect_path makes for each row (x, y, width, height), (n, 4, 2)."""
-    x, y, w, h = params.T
-    r, b = x + w, y + h
-    pts = np.empty((len(params), 4, 2))
-    pts[:, 0, 0], pts[:, 0, 1] = x, y
-    pts[:, 1, 0], pts[:, 1, 1] = r, y
-    pts[:, 2, 0], pts[:, 2, 1] = r, b
-    pts[:, 3, 0], pts[:, 3, 1] = x, b
-    return pts
 
 
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
@@ -395,17 +334,25 @@ class _ShapeBlock:
         self.params.append(params)
         return len(self.params) - 1
 
-    def finish(self, make, make_row, transform):
-        """The points, from make (the parameters' array) or, for a few shapes, make_row
-        (each row's)."""
+    def finish(self, make, transform):
+        """The points, (shapes, points per shape, 2), from make (shapes.ellipse_points or
+        scene.path.rect_corners): on each row's numbers for a few shapes, else on the
+        parameters' columns (_bulk_points)."""
         if self.params:
             if len(self.params) < _FEW_SHAPES:
-                pts = self.points = np.array([make_row(*row) for row in self.params],
+                pts = self.points = np.array([make(*row) for row in self.params],
                                              np.float64)
             else:
-                pts = self.points = make(np.array(self.params, np.float64))
+                pts = self.points = _bulk_points(make, self.params)
             self.device = pts if transform == IDENTITY else \
                 apply(transform, pts.reshape(-1, 2)).reshape(pts.shape)
+
+
+def _bulk_points(make, rows):
+    """The points make (shapes.ellipse_points, scene.path.rect_corners) gives each of rows
+    (each its parameters), (rows, points, 2), from one call on the parameters' columns."""
+    pairs = make(*np.array(rows, np.float64).T)        # ((x column, y column), ...)
+    return np.ascontiguousarray(np.array(pairs, np.float64).transpose(2, 0, 1))
 
 
 class _LocalBatch:
@@ -852,7 +799,7 @@ class Builder:
         identity = transform == IDENTITY
         viewport = ctx.viewport
         length = self.length
-        ellipses = _ShapeBlock(_ELLIPSE_VERBS)
+        ellipses = _ShapeBlock(ELLIPSE_VERBS)
         rects = _ShapeBlock(_RECT_VERBS)
         # per element: (element, style, plan, where its geometry is) with where one of
         # (block, row), (None, batch index) for a path of the document's path batch, or
@@ -899,8 +846,8 @@ class Builder:
                     todo.append((el, style, plan, False, path))
         if not todo:
             return
-        ellipses.finish(_ellipse_points, _ellipse_row, transform)
-        rects.finish(_rect_points, _rect_row, transform)
+        ellipses.finish(ellipse_points, transform)
+        rects.finish(rect_corners, transform)
         if batch is not None:
             vstart, pstart, drawing = batch.vstart, batch.pstart, batch.drawing()
             all_verbs, shared = batch.verbs, batch.points
@@ -962,7 +909,7 @@ class Builder:
                 elif block is False:
                     curved = bool(verbs.tobytes().translate(None, _LINE_VERBS))
                 else:
-                    curved = block.verbs is _ELLIPSE_VERBS
+                    curved = block.verbs is ELLIPSE_VERBS
                 kind = stroke_plan[0]
                 # (hairline_batch takes curves, conics included; the lines stroke kernel
                 # lines only: a curved outline stroke goes through stroke())
