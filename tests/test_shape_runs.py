@@ -217,3 +217,62 @@ def test_shapes_made_in_bulk_have_shapes_pens_points():
         assert made.verbs.tobytes() == pen.verbs.tobytes()
         assert made.points.tobytes() == pen.points.tobytes() == got.tobytes()
         assert np.array(rect_corners(*row)).tobytes() == got.tobytes()
+
+
+def test_shape_run_strokes_hairlines_at_once_and_reads_lengths_in_bulk(monkeypatch):
+    """A D3 scatter's circles (plain-number lengths, strokes under a pixel wide): no length()
+    call per circle (their lengths read as columns), one hairline kernel call for all of
+    their strokes, each stroke's runs in its circle's place; the same nodes as element()
+    makes of each circle."""
+    rng = random.Random(11)
+    circles = "".join(f'<circle cx="{rng.uniform(0, 100):.2f}" cy="{rng.uniform(0, 100):.2f}" '
+                      f'r="{rng.choice(["2.1", "3", "6.0", "0.5"])}" fill="steelblue" '
+                      f'fill-opacity="0.6" stroke="#333" stroke-width="0.5"/>'
+                      for _ in range(300))
+    svg = f'<svg {NS} width="100" height="100">{circles}</svg>'
+    calls = {"length": 0, "hairline": 0}
+
+    def counting(name, f):
+        def wrapped(*a, **k):
+            calls[name] += 1
+            return f(*a, **k)
+        return wrapped
+    monkeypatch.setattr(Builder, "length", counting("length", Builder.length))
+    monkeypatch.setattr(builder_module, "hairline_batch",
+                        counting("hairline", builder_module.hairline_batch))
+    monkeypatch.setattr(Builder, "shape_runs", True)
+    runs = canon(load_svg(svg, width=100).root)
+    assert calls["hairline"] == 1
+    assert calls["length"] <= 2              # (the style's stroke width, and no circle's)
+    monkeypatch.setattr(Builder, "shape_runs", False)
+    alone = canon(load_svg(svg, width=100).root)
+    assert runs == alone
+    # every circle's stroke drawn, in runs (a hairline circle's are several) after its fill
+    fills = [node for node in runs[-1] if node[4] == (0.2, 0.2, 0.2, 1.0)]
+    assert len(runs[-1]) - len(fills) == 300 and len(fills) > 300
+
+
+@pytest.mark.parametrize("texts", [
+    ["1", "2.5", "-3", "+4", ".5", "6."], ["1", None, "2"], [None, None], ["1", ""],
+    ["1", "1.2.3"], ["+"], ["1", "2e3"], ["1", " 2"], ["1", "3px"], ["1", "50%"],
+    ["1", "2em"], ["1", "calc(1px + 2px)"], ["1", "-"], ["1e400"], ["1", "\u0661"]])
+def test_lengths_read_in_bulk_are_lengths_read_one_by_one(texts):
+    """_shape_lengths' columns are Builder.length's of each text, whether all of them are
+    plain numbers (read at once) or one is not (then each goes through length())."""
+    svg = (f'<svg {NS} width="100" height="80" font-size="10">' +
+           "".join('<circle/>' for _ in texts) + '</svg>')
+    from vecmsaa.api import _Loaded
+    loaded = _Loaded(svg, 96, None, {})
+    builder, doc = loaded.builder, loaded.builder.doc
+    elements = list(doc.root.children)
+    for el, text in zip(elements, texts):
+        if text is not None:
+            el.attrs["cx"] = el.attrs["r"] = text
+    root_style = doc.document_style(doc.root)
+    styles = [root_style.child(el) for el in elements]
+    cx, r = builder._shape_lengths(elements, styles, (("cx", "x", 0.0), ("r", "xy", None)),
+                                   (100.0, 80.0))
+    for el, style, x, radius in zip(elements, styles, cx, r):
+        want_x = builder.length(el.attrs.get("cx"), "x", style, (100.0, 80.0), 0.0)
+        want_r = builder.length(el.attrs.get("r"), "xy", style, (100.0, 80.0), None)
+        assert repr(x) == repr(want_x) and repr(radius) == repr(want_r), texts

@@ -76,13 +76,23 @@ def author_path_length(el):
     return v if v is not None and v >= 0 else None
 
 
+#: the lengths of a <rect>'s geometry, (attribute, axis, default), in rect_params' order
+RECT_LENGTHS = (("x", "x", 0.0), ("y", "y", 0.0), ("width", "x", None), ("height", "y", None),
+                ("rx", "x", None), ("ry", "y", None))
+#: those of a <circle>'s, (cx, cy, r)
+CIRCLE_LENGTHS = (("cx", "x", 0.0), ("cy", "y", 0.0), ("r", "xy", 0.0))
+
+
 def _rect_params(length):
-    """(x, y, width, height, rx, ry) of a <rect>, radii clamped; None when it renders nothing."""
-    w, h = length("width", "x", None), length("height", "y", None)
+    """(x, y, width, height, rx, ry) of a <rect>, radii clamped; None when it renders nothing.
+    ``length(name, axis, default)`` as for shape_path."""
+    return rect_params(*[length(*spec) for spec in RECT_LENGTHS])
+
+
+def rect_params(x, y, w, h, rx, ry):
+    """_rect_params of a <rect>'s lengths (RECT_LENGTHS, None where absent or not read)."""
     if w is None or h is None or w <= 0 or h <= 0:
         return None
-    x, y = length("x", "x", 0.0), length("y", "y", 0.0)
-    rx, ry = length("rx", "x", None), length("ry", "y", None)
     if rx is not None and rx < 0:
         rx = None
     if ry is not None and ry < 0:
@@ -99,10 +109,8 @@ def _rect_params(length):
 def _ellipse_params(tag, length):
     """(cx, cy, rx, ry) of a <circle> or <ellipse>; None when it renders nothing."""
     if tag == "circle":
-        r = length("r", "xy", 0.0)
-        if r <= 0:
-            return None
-        return length("cx", "x", 0.0), length("cy", "y", 0.0), r, r
+        cx, cy, r = [length(*spec) for spec in CIRCLE_LENGTHS]
+        return None if r <= 0 else (cx, cy, r, r)
     rx, ry = length("rx", "x", None), length("ry", "y", None)
     # negative or missing radii mean "auto": take the other one (SVG 2)
     rx = None if rx is not None and rx < 0 else rx
