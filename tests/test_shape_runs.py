@@ -161,10 +161,8 @@ def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
     monkeypatch.setattr(Builder, "element", counting("element", Builder.element))
     monkeypatch.setattr(builder_module, "shape_path", counting("shape_path",
                                                                builder_module.shape_path))
-    monkeypatch.setattr(builder_module, "_ellipse_points",
-                        counting("points", builder_module._ellipse_points))
-    monkeypatch.setattr(builder_module, "_rect_points",
-                        counting("points", builder_module._rect_points))
+    monkeypatch.setattr(builder_module, "_bulk_points",
+                        counting("points", builder_module._bulk_points))
     kernels = builder_module.stroke_kernels
     monkeypatch.setattr(kernels, "stroke_lines_batch", counting("batch",
                                                                  kernels.stroke_lines_batch))
@@ -179,20 +177,102 @@ def test_shape_run_makes_each_shapes_geometry_once_for_all(monkeypatch):
 
 
 def test_shapes_made_in_bulk_have_shapes_pens_points():
-    """The bulk ellipse and rectangle points, and those made row by row for a few shapes,
-    are ellipse_path's and rect_path's to the bit, exactly representable or not."""
-    from vecmsaa.scene.path import rect_path
-    from vecmsaa.svg.shapes import ellipse_path
+    """ellipse_path and rect_path (made as arrays) record what the pen records for SVG's
+    outlines of the shapes (a moveto, four quarter conics weighted cos 45° through the box's
+    corners, a close; the corners clockwise), and the points a run makes of many shapes at
+    once (_bulk_points) or row by row are theirs, to the bit, exactly representable or not;
+    each conic's point at t = ½ is the ellipse's at 45°."""
+    from vecmsaa.scene.path import Path, rect_corners, rect_path
+    from vecmsaa.svg.shapes import QUARTER_W, ellipse_path, ellipse_points
     rng = np.random.default_rng(3)
     params = np.column_stack([rng.uniform(-1e3, 1e3, 200), rng.uniform(-1e3, 1e3, 200),
                               rng.uniform(1e-3, 50, 200), rng.uniform(1e-3, 50, 200)])
-    bulk = builder_module._ellipse_points(params)
+    params[:3] = [[1, 2, 3, 4], [0.1, 0.2, 0.3, 0.7], [-5.5, 1e-300, 1e300, 2.0]]
+    bulk = builder_module._bulk_points(ellipse_points, params.tolist())
     for row, got in zip(params.tolist(), bulk):
-        want = ellipse_path(*row)
-        assert want.verbs.tobytes() == builder_module._ELLIPSE_VERBS.tobytes()
-        assert want.points.tobytes() == got.tobytes()
-        assert np.array(builder_module._ellipse_row(*row)).tobytes() == got.tobytes()
-    rects = builder_module._rect_points(params)
+        cx, cy, rx, ry = row
+        pen = Path()
+        pen.moveTo((cx + rx, cy))
+        pen.conicTo((cx + rx, cy + ry), (cx, cy + ry), QUARTER_W)
+        pen.conicTo((cx - rx, cy + ry), (cx - rx, cy), QUARTER_W)
+        pen.conicTo((cx - rx, cy - ry), (cx, cy - ry), QUARTER_W)
+        pen.conicTo((cx + rx, cy - ry), (cx + rx, cy), QUARTER_W)
+        pen.closePath()
+        made = ellipse_path(*row)
+        assert made.verbs.tobytes() == pen.verbs.tobytes()
+        assert made.points.tobytes() == pen.points.tobytes() == got.tobytes()
+        assert np.array(ellipse_points(*row)).tobytes() == got.tobytes()
+        half = np.sqrt(0.5) * np.array([(rx, ry), (-rx, ry), (-rx, -ry), (rx, -ry)])
+        assert np.allclose(got[2::3], half + (cx, cy), rtol=0,
+                           atol=1e-14 * max(map(abs, row)))
+    rects = builder_module._bulk_points(rect_corners, params.tolist())
     for row, got in zip(params.tolist(), rects):
-        assert rect_path(*row).points.tobytes() == got.tobytes()
-        assert np.array(builder_module._rect_row(*row)).tobytes() == got.tobytes()
+        x, y, w, h = row
+        pen = Path()
+        pen.moveTo((x, y))
+        for q in ((x + w, y), (x + w, y + h), (x, y + h)):
+            pen.lineTo(q)
+        pen.closePath()
+        made = rect_path(*row)
+        assert made.verbs.tobytes() == pen.verbs.tobytes()
+        assert made.points.tobytes() == pen.points.tobytes() == got.tobytes()
+        assert np.array(rect_corners(*row)).tobytes() == got.tobytes()
+
+
+def test_shape_run_strokes_hairlines_at_once_and_reads_lengths_in_bulk(monkeypatch):
+    """A D3 scatter's circles (plain-number lengths, strokes under a pixel wide): no length()
+    call per circle (their lengths read as columns), one hairline kernel call for all of
+    their strokes, each stroke's runs in its circle's place; the same nodes as element()
+    makes of each circle."""
+    rng = random.Random(11)
+    circles = "".join(f'<circle cx="{rng.uniform(0, 100):.2f}" cy="{rng.uniform(0, 100):.2f}" '
+                      f'r="{rng.choice(["2.1", "3", "6.0", "0.5"])}" fill="steelblue" '
+                      f'fill-opacity="0.6" stroke="#333" stroke-width="0.5"/>'
+                      for _ in range(300))
+    svg = f'<svg {NS} width="100" height="100">{circles}</svg>'
+    calls = {"length": 0, "hairline": 0}
+
+    def counting(name, f):
+        def wrapped(*a, **k):
+            calls[name] += 1
+            return f(*a, **k)
+        return wrapped
+    monkeypatch.setattr(Builder, "length", counting("length", Builder.length))
+    monkeypatch.setattr(builder_module, "hairline_batch",
+                        counting("hairline", builder_module.hairline_batch))
+    monkeypatch.setattr(Builder, "shape_runs", True)
+    runs = canon(load_svg(svg, width=100).root)
+    assert calls["hairline"] == 1
+    assert calls["length"] <= 2              # (the style's stroke width, and no circle's)
+    monkeypatch.setattr(Builder, "shape_runs", False)
+    alone = canon(load_svg(svg, width=100).root)
+    assert runs == alone
+    # every circle's stroke drawn, in runs (a hairline circle's are several) after its fill
+    fills = [node for node in runs[-1] if node[4] == (0.2, 0.2, 0.2, 1.0)]
+    assert len(runs[-1]) - len(fills) == 300 and len(fills) > 300
+
+
+@pytest.mark.parametrize("texts", [
+    ["1", "2.5", "-3", "+4", ".5", "6."], ["1", None, "2"], [None, None], ["1", ""],
+    ["1", "1.2.3"], ["+"], ["1", "2e3"], ["1", " 2"], ["1", "3px"], ["1", "50%"],
+    ["1", "2em"], ["1", "calc(1px + 2px)"], ["1", "-"], ["1e400"], ["1", "\u0661"]])
+def test_lengths_read_in_bulk_are_lengths_read_one_by_one(texts):
+    """_shape_lengths' columns are Builder.length's of each text, whether all of them are
+    plain numbers (read at once) or one is not (then each goes through length())."""
+    svg = (f'<svg {NS} width="100" height="80" font-size="10">' +
+           "".join('<circle/>' for _ in texts) + '</svg>')
+    from vecmsaa.api import _Loaded
+    loaded = _Loaded(svg, 96, None, {})
+    builder, doc = loaded.builder, loaded.builder.doc
+    elements = list(doc.root.children)
+    for el, text in zip(elements, texts):
+        if text is not None:
+            el.attrs["cx"] = el.attrs["r"] = text
+    root_style = doc.document_style(doc.root)
+    styles = [root_style.child(el) for el in elements]
+    cx, r = builder._shape_lengths(elements, styles, (("cx", "x", 0.0), ("r", "xy", None)),
+                                   (100.0, 80.0))
+    for el, style, x, radius in zip(elements, styles, cx, r):
+        want_x = builder.length(el.attrs.get("cx"), "x", style, (100.0, 80.0), 0.0)
+        want_r = builder.length(el.attrs.get("r"), "xy", style, (100.0, 80.0), None)
+        assert repr(x) == repr(want_x) and repr(radius) == repr(want_r), texts

@@ -362,8 +362,14 @@ def rect_path(x, y, w, h) -> Path:
     """The rectangle's outline, corners from (x, y) clockwise (y down), closed. Made as
     arrays: the pen's five calls cost more than the rest of a filtered or clipped element's
     region, clip rectangle or bounding box (thousands of markers make one each)."""
+    return Path._of_arrays(_RECT_VERBS, np.array(rect_corners(x, y, w, h), np.float64))
+
+
+def rect_corners(x, y, w, h):
+    """rect_path's points as (x, y) pairs: of numbers for one rectangle, of arrays for many
+    (the same operations element by element: svg.builder makes a run's rectangles so)."""
     r, b = x + w, y + h
-    return Path._of_arrays(_RECT_VERBS, np.array(((x, y), (r, y), (r, b), (x, b)), np.float64))
+    return (x, y), (r, y), (r, b), (x, b)
 
 
 #: rect_path's verbs, shared by its paths (a Path's arrays are not written to: drawing into

@@ -18,12 +18,11 @@ import numpy as np
 
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
-from ..scene.path import _RECT_VERBS, CLOSE, CONIC, LINE, MOVE, Path, SharedPoints, rect_path
+from ..scene.path import _RECT_VERBS, CLOSE, LINE, MOVE, Path, rect_corners, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
-                                 hairline_outline, hairline_path, hairline_segments,
-                                 runs_paths)
+                                 hairline_outline, hairline_path, hairline_segments)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_path)
 from . import SvgError
@@ -34,8 +33,9 @@ from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
 from .resources import Resources
-from .shapes import (QUARTER_W, _ellipse_params, _rect_params, author_path_length,
-                     rounded_rect_path, shape_box, shape_path)
+from .shapes import (CIRCLE_LENGTHS, ELLIPSE_VERBS, RECT_LENGTHS, _ellipse_params,
+                     author_path_length, ellipse_points, rect_params, rounded_rect_path,
+                     shape_box, shape_path)
 from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
                     parse_length_list, parse_number, parse_opacity, parse_transform,
                     parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
@@ -216,41 +216,121 @@ def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, anti
         return [Fill(run, paint, "nonzero", opacity, antialias) for run in hairline_outline(
             *hairline_segments(path, m, cap, dashes, offset, resolution), alpha)]
     ov, op, rv, rp, _ = hairline_path(path, m, cap, alpha)
-    out = []
-    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
-    rv, rp = rv.tolist(), rp.tolist()
+    return _run_fills(ov, op, rv, rp, paint, opacity, antialias)[0]
+
+
+def _run_fills(ov, op, vo, po, paint, opacity, antialias):
+    """The Fills of an outline's runs (hairline_batch's, stroke_lines_batch's: run r is
+    ov[vo[r]:vo[r + 1]], op[po[r]:po[r + 1]]), a run without verbs left out, and the
+    indexes of the runs kept (None: all)."""
+    fills = []
+    append = fills.append
+    # Path._of_arrays written out: its call costs more than the Path (map data and scatter
+    # plots make tens of thousands here)
+    new_path = Path.__new__
+    rv, rp = vo.tolist(), po.tolist()
     for v0, v1, p0, p1 in zip(rv, rv[1:], rp, rp[1:]):
-        if v1 > v0:
-            run = new_path(Path)
-            run._arrays = ov[v0:v1], op[p0:p1]
-            out.append(Fill(run, paint, "nonzero", opacity, antialias))
-    return out
-
-
-def _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias):
-    """_place_outlines for hairlines of which some paths are several runs (or none): each
-    path's place in out (pending: (index in out, path's index in the batch)) takes the Fills
-    of its runs (hairline_batch's outline, owner: each run's index in pending)."""
-    placed = {}
-    vo, po = vo.tolist(), po.tolist()
-    new_path = Path.__new__             # (Path._of_arrays written out, as _place_outlines)
-    for w, v0, v1, p0, p1 in zip(owner.tolist(), vo, vo[1:], po, po[1:]):
         if v1 > v0:
             path = new_path(Path)
             path._arrays = ov[v0:v1], op[p0:p1]
-            at = pending[w][0]
-            fill = Fill(path, paint, "nonzero", opacity, antialias)
-            if at in placed:
-                placed[at].append(fill)
-            else:
-                placed[at] = [fill]
-    nodes = []
-    for i, node in enumerate(out):
-        if node is not None:
-            nodes.append(node)
+            append(Fill(path, paint, "nonzero", opacity, antialias))
+    if len(fills) == len(rv) - 1:
+        return fills, None
+    return fills, np.flatnonzero(vo[1:] > vo[:-1])
+
+
+def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
+    """The Fills of the stroke outlines (_stroke_plan's plan: a hairline, or a solid stroke
+    of lines) of the paths ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]],
+    points[pstart[i]:pstart[i + 1]]; int64 arrays), stroked in one kernel call (hairlines
+    made in the device, other outlines mapped there in one more call), and where each
+    path's are: (fills, bounds), path which[j]'s fills[bounds[j]:bounds[j + 1]]; bounds
+    None where each path has exactly one, fills[j]. ref: the stroke's PaintRef."""
+    paint, opacity = ref.paint, _stroke_opacity(plan, ref)
+    if plan[0] == "hairline":       # (runs: a path's may be several, or none; see hairline)
+        ov, op, vo, po, owner = hairline_batch(verbs, points, vstart, pstart, which,
+                                               transform, plan[1], blend_alpha(paint, opacity))
+    else:
+        (join, cap, limit, offset), width, tolerance = plan
+        ov, op, vo, po = stroke_kernels.stroke_lines_batch(
+            verbs, points, vstart, pstart, which, width / 2.0, tolerance, join, cap, limit,
+            _SOLID, offset)
+        if transform != IDENTITY and len(op):
+            op = apply(transform, op)
+        owner = None                # (an outline per path)
+    fills, kept = _run_fills(ov, op, vo, po, paint, opacity, antialias)
+    if kept is not None:
+        owner = kept if owner is None else owner[kept]
+    n = len(which)
+    if owner is None or (len(owner) == n and not (owner != np.arange(n)).any()):
+        return fills, None
+    return fills, np.searchsorted(owner, np.arange(n + 1)).tolist()
+
+
+def _stroke_opacity(plan, ref):
+    """The opacity of the Fills of a stroke (ref: its PaintRef) of a plan of _stroke_plan's
+    but (None,): a hairline's takes its coverage."""
+    return ref.opacity * (plan[2] if plan[0] == "hairline" else 1)
+
+
+def _batch_of(parts):
+    """Paths (verbs, points) in one batch as _outline_fills takes them: (verbs, points,
+    verb offsets, point offsets)."""
+    vstart = np.zeros(len(parts) + 1, np.int64)
+    pstart = np.zeros(len(parts) + 1, np.int64)
+    np.cumsum([len(v) for v, _ in parts], out=vstart[1:])
+    np.cumsum([len(p) for _, p in parts], out=pstart[1:])
+    return (np.concatenate([v for v, _ in parts]), np.concatenate([p for _, p in parts]),
+            vstart, pstart)
+
+
+def _plain_lengths(texts, default):
+    """Builder.length of each of texts (attribute values, None where absent: default) when
+    each is absent or a plain number, which length reads with float() whatever the axis,
+    style or viewport (digits, signs and points: exporters write lengths so); None when
+    one is something else (then each goes through length())."""
+    if None in texts:
+        given = [t for t in texts if t is not None]
+        if not given:
+            return [default] * len(texts)
+        values = _plain_lengths(given, default)
+        if values is None:
+            return None
+        values.reverse()
+        pop = values.pop
+        return [default if t is None else pop() for t in texts]
+    # (every character a plain number's: then the joined texts strip to nothing)
+    if "".join(texts).strip(_PLAIN_NUMBER_CHARS) or "" in texts:
+        return None
+    try:
+        return list(map(float, texts))
+    except ValueError:                  # ("1.2.3", "+"): length() reads these otherwise
+        return None
+
+
+def _put_fills(nodes, ats, fills, bounds) -> bool:
+    """Each path's outline Fills (_outline_fills' fills and bounds) in its place in nodes
+    (path j's at ats[j]): fills[j] where bounds is None, else the list of its Fills (for
+    _flat); True when lists were put."""
+    if bounds is None:
+        for at, fill in zip(ats, fills):
+            nodes[at] = fill
+        return False
+    for at, b0, b1 in zip(ats, bounds, bounds[1:]):
+        nodes[at] = fills[b0:b1]
+    return True
+
+
+def _flat(nodes) -> list:
+    """nodes with each list among them (_put_fills') replaced by its items."""
+    out = []
+    append, extend = out.append, out.extend
+    for node in nodes:
+        if node.__class__ is list:
+            extend(node)
         else:
-            nodes.extend(placed.get(i, ()))
-    out[:] = nodes
+            append(node)
+    return out
 
 
 def _stroke_fills(outline, ctx, ref, opacity, antialias):
@@ -309,72 +389,6 @@ assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
-#: ellipse_path's verbs: a moveto, four quarter conics, a close
-_ELLIPSE_VERBS = np.array((MOVE, CONIC, CONIC, CONIC, CONIC, CLOSE), np.uint8)
-
-#: _shape_run's mark between the places of its queued strokes
-_SEPARATOR = object()
-
-
-def _ellipse_points(params):
-    """The points shapes.ellipse_path makes for each row (cx, cy, rx, ry) of ``params``,
-    (n, 13, 2): its moveto and its four conics' control point, midpoint (Path.conicTo's,
-    from the same operations in the same order) and end."""
-    cx, cy, rx, ry = params.T
-    k, a = _K, _A
-    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
-    pts = np.empty((len(params), 13, 2))
-    x, y = pts[:, :, 0], pts[:, :, 1]
-    x[:, 0], y[:, 0] = xr, cy
-    x[:, 1], y[:, 1] = xr, yb                                   # (xr, cy) -> (cx, yb)
-    x[:, 2], y[:, 2] = a * (xr + cx) + k * xr, a * (cy + yb) + k * yb
-    x[:, 3], y[:, 3] = cx, yb
-    x[:, 4], y[:, 4] = xl, yb                                   # (cx, yb) -> (xl, cy)
-    x[:, 5], y[:, 5] = a * (cx + xl) + k * xl, a * (yb + cy) + k * yb
-    x[:, 6], y[:, 6] = xl, cy
-    x[:, 7], y[:, 7] = xl, yt                                   # (xl, cy) -> (cx, yt)
-    x[:, 8], y[:, 8] = a * (xl + cx) + k * xl, a * (cy + yt) + k * yt
-    x[:, 9], y[:, 9] = cx, yt
-    x[:, 10], y[:, 10] = xr, yt                                 # (cx, yt) -> (xr, cy)
-    x[:, 11], y[:, 11] = a * (cx + xr) + k * xr, a * (yt + cy) + k * yt
-    x[:, 12], y[:, 12] = xr, cy
-    return pts
-
-
-#: Path.conicTo's λ = w / (1 + w) for ellipse_path's weight, and its (1 − λ) / 2
-_K = QUARTER_W / (1.0 + QUARTER_W)
-_A = (1.0 - _K) * 0.5
-
-
-def _ellipse_row(cx, cy, rx, ry):
-    """One row of _ellipse_points in Python floats (the same operations: for a few shapes,
-    which numpy's calls on arrays would cost more than)."""
-    k, a = _K, _A
-    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
-    return ((xr, cy), (xr, yb), (a * (xr + cx) + k * xr, a * (cy + yb) + k * yb), (cx, yb),
-            (xl, yb), (a * (cx + xl) + k * xl, a * (yb + cy) + k * yb), (xl, cy),
-            (xl, yt), (a * (xl + cx) + k * xl, a * (cy + yt) + k * yt), (cx, yt),
-            (xr, yt), (a * (cx + xr) + k * xr, a * (yt + cy) + k * yt), (xr, cy))
-
-
-def _rect_row(x, y, w, h):
-    """One row of _rect_points in Python floats."""
-    r, b = x + w, y + h
-    return (x, y), (r, y), (r, b), (x, b)
-
-
-def _rect_points(params):
-    """The points scene.path.rect_path makes for each row (x, y, width, height), (n, 4, 2)."""
-    x, y, w, h = params.T
-    r, b = x + w, y + h
-    pts = np.empty((len(params), 4, 2))
-    pts[:, 0, 0], pts[:, 0, 1] = x, y
-    pts[:, 1, 0], pts[:, 1, 1] = r, y
-    pts[:, 2, 0], pts[:, 2, 1] = r, b
-    pts[:, 3, 0], pts[:, 3, 1] = x, b
-    return pts
-
-
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
 #: below this many strokes of lines of one style, _shape_run strokes each through stroke()
@@ -383,7 +397,7 @@ _FEW_STROKES = 4
 
 class _ShapeBlock:
     """_shape_run's shapes of one kind (one list of verbs): their parameters, then the points
-    of all of them made at once, in user space and on the device."""
+    of all of them made at once, in user space and on the device (finish)."""
     __slots__ = ("verbs", "params", "points", "device")
 
     def __init__(self, verbs):
@@ -395,31 +409,34 @@ class _ShapeBlock:
         self.params.append(params)
         return len(self.params) - 1
 
-    def finish(self, make, make_row, transform):
-        """The points, from make (the parameters' array) or, for a few shapes, make_row
-        (each row's)."""
+    def finish(self, make, transform):
+        """The points, (shapes, points per shape, 2), from make (shapes.ellipse_points or
+        scene.path.rect_corners): on each row's numbers for a few shapes, else on the
+        parameters' columns (_bulk_points)."""
         if self.params:
             if len(self.params) < _FEW_SHAPES:
-                pts = self.points = np.array([make_row(*row) for row in self.params],
+                pts = self.points = np.array([make(*row) for row in self.params],
                                              np.float64)
             else:
-                pts = self.points = make(np.array(self.params, np.float64))
+                pts = self.points = _bulk_points(make, self.params)
             self.device = pts if transform == IDENTITY else \
                 apply(transform, pts.reshape(-1, 2)).reshape(pts.shape)
 
+    def batch(self):
+        """The shapes in user space as _outline_fills takes a batch of paths: (verbs, points,
+        verb offsets, point offsets), shape i the i-th path."""
+        n, k = self.points.shape[:2]
+        nv = len(self.verbs)
+        return (np.tile(self.verbs, n), self.points.reshape(-1, 2),
+                np.arange(0, n * nv + 1, nv, dtype=np.int64),
+                np.arange(0, n * k + 1, k, dtype=np.int64))
 
-class _LocalBatch:
-    """Paths (verbs, points) in one batch as pathdata.PathBatch holds a document's, for
-    Builder._place_outlines."""
-    __slots__ = ("verbs", "points", "vstart", "pstart")
 
-    def __init__(self, parts):
-        self.verbs = np.concatenate([v for v, _ in parts])
-        self.points = SharedPoints(np.concatenate([p for _, p in parts]))
-        self.vstart = np.zeros(len(parts) + 1, np.int64)
-        self.pstart = np.zeros(len(parts) + 1, np.int64)
-        np.cumsum([len(v) for v, _ in parts], out=self.vstart[1:])
-        np.cumsum([len(p) for _, p in parts], out=self.pstart[1:])
+def _bulk_points(make, rows):
+    """The points make (shapes.ellipse_points, scene.path.rect_corners) gives each of rows
+    (each its parameters), (rows, points, 2), from one call on the parameters' columns."""
+    pairs = make(*np.array(rows, np.float64).T)        # ((x column, y column), ...)
+    return np.ascontiguousarray(np.array(pairs, np.float64).transpose(2, 0, 1))
 
 
 class Builder:
@@ -452,6 +469,7 @@ class Builder:
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
+        self._path_starts = None       # see _batch_starts
         self._path_curved = None       # per path of the batch: a verb besides M, L and Z
         self._path_odd = None          # per path of the batch: see _odd_in_run
         # Object bounding boxes and the geometry-pass nodes of elements other than shapes,
@@ -655,8 +673,9 @@ class Builder:
             plan = self._cached_stroke_plan(style, ctx, antialias)
             if plan is not None and plan[0] is not None:
                 lines_plan = plan
-                stroke_opacity = stroke_ref.opacity * (plan[2] if plan[0] == "hairline" else 1)
-        pending = []                            # (index in out, path's index in the batch)
+        # the run's strokes for _outline_fills: their places in out, their paths' indexes in
+        # the batch
+        ats, which = [], []
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
         path_data(run[0])                       # (reads the path data, the first time)
@@ -708,7 +727,8 @@ class Builder:
                                         antialias))
                 elif lines_plan is not None and path is None and \
                         (curved is None or not curved[i]):
-                    pending.append((len(out), i))   # stroked after the loop, all together
+                    ats.append(len(out))        # stroked after the loop, all together
+                    which.append(i)
                     out.append(None)
                 else:
                     if path is None:
@@ -736,7 +756,8 @@ class Builder:
                 if order == ("stroke",):
                     base = len(out)
                     out.extend(itertools.repeat(None, ib - ia))
-                    pending.extend(zip(range(base, base + ib - ia), range(ia, ib)))
+                    ats.extend(range(base, base + ib - ia))
+                    which.extend(range(ia, ib))
                 else:
                     for i, v0, v1, p0, p1 in zip(range(ia, ib), vstart[ia:ib],
                                                  vstart[ia + 1:ib + 1], pstart[ia:ib],
@@ -752,7 +773,8 @@ class Builder:
                                 out.append(Fill(device, fill_paint, rule, fill_opacity,
                                                 antialias))
                             else:
-                                pending.append((len(out), i))
+                                ats.append(len(out))
+                                which.append(i)
                                 out.append(None)
                 if odd < n:
                     one(run[odd])
@@ -760,45 +782,21 @@ class Builder:
         else:
             for el in run:
                 one(el)
-        if pending:
-            self._place_outlines(pending, out, batch, lines_plan, transform, stroke_ref.paint,
-                                 stroke_opacity, antialias)
+        if ats:
+            fills, bounds = _outline_fills(
+                batch.verbs, batch.points.points, *self._batch_starts(),
+                np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)
+            if _put_fills(out, ats, fills, bounds):
+                out[ats[0]:] = _flat(out[ats[0]:])
 
-    @staticmethod
-    def _place_outlines(pending, out, batch, plan, transform, paint, opacity, antialias):
-        """The Fills of a run's stroke outlines (pending: (index in out, path's index in the
-        batch)), stroked in one kernel call and mapped to the device in one more (hairlines:
-        made in the device); the places of outlines that draw nothing are removed from out."""
-        which = np.fromiter((i for _, i in pending), np.int64, len(pending))
-        vstart, pstart = np.asarray(batch.vstart, np.int64), np.asarray(batch.pstart, np.int64)
-        if plan[0] == "hairline":       # (runs: a path's may be several, see hairline)
-            ov, op, vo, po, owner = hairline_batch(batch.verbs, batch.points.points, vstart,
-                                                   pstart, which, transform, plan[1],
-                                                   blend_alpha(paint, opacity))
-            if len(owner) != len(which) or (owner != np.arange(len(which))).any():
-                _place_runs(pending, out, ov, op, vo, po, owner, paint, opacity, antialias)
-                return
-        else:
-            (join, cap, limit, offset), width, tolerance = plan
-            ov, op, vo, po = stroke_kernels.stroke_lines_batch(
-                batch.verbs, batch.points.points, vstart, pstart, which, width / 2.0,
-                tolerance, join, cap, limit, _SOLID, offset)
-            if transform != IDENTITY and len(op):
-                op = apply(transform, op)
-        vo, po = vo.tolist(), po.tolist()
-        empty = False
-        # Path._of_arrays written out: its call costs more than the Path (map data makes tens
-        # of thousands here)
-        new_path = Path.__new__
-        for (at, _), v0, v1, p0, p1 in zip(pending, vo, vo[1:], po, po[1:]):
-            if v1 > v0:
-                path = new_path(Path)
-                path._arrays = ov[v0:v1], op[p0:p1]
-                out[at] = Fill(path, paint, "nonzero", opacity, antialias)
-            else:
-                empty = True
-        if empty:
-            out[:] = [node for node in out if node is not None]
+    def _batch_starts(self):
+        """The document's path batch's verb and point offsets as int64 arrays, made once (the
+        batch keeps lists, to index path by path)."""
+        if self._path_starts is None:
+            batch = self._path_batch
+            self._path_starts = (np.asarray(batch.vstart, np.int64),
+                                 np.asarray(batch.pstart, np.int64))
+        return self._path_starts
 
     def _run_plan(self, style, ctx):
         """For _path_run: False when nothing is drawn, None when the elements must go through
@@ -840,20 +838,21 @@ class Builder:
         markers) and that have no condition or pathLength: what element() makes of each.
         items: (element, its Style, the style's plan). The styles may differ from one
         element to the next (class-styled exports); each style's plan is decided once. The
-        geometry of circles, ellipses and rectangles is made for all of them at once
-        (_ShapeBlock, the points shapes.py's pens make), the fills mapped to the device in
-        one call, and strokes of lines (solid, scaling) stroked per style in one kernel call
-        (_place_outlines); other strokes go through stroke() path by path."""
+        circles' and rectangles' lengths are read for all of them at once (_shape_lengths),
+        the geometry of circles, ellipses and rectangles made for all of them at once
+        (_ShapeBlock, the points of shapes.py's paths), the fills mapped to the device in
+        one call, and hairlines and strokes of lines (solid, scaling) stroked per style and
+        kind of geometry in one kernel call (_outline_fills); other strokes go through
+        stroke() path by path."""
         n = len(items)
         self.nodes_made += n
         if self.nodes_made > MAX_NODES:
             raise SvgError("document expands to too many elements")
         transform = ctx.transform
         identity = transform == IDENTITY
-        viewport = ctx.viewport
-        length = self.length
-        ellipses = _ShapeBlock(_ELLIPSE_VERBS)
+        ellipses = _ShapeBlock(ELLIPSE_VERBS)
         rects = _ShapeBlock(_RECT_VERBS)
+        circle_rows, rect_rows = self._shape_rows(items, ctx.viewport)
         # per element: (element, style, plan, where its geometry is) with where one of
         # (block, row), (None, batch index) for a path of the document's path batch, or
         # (False, Path) for a path of its own
@@ -864,13 +863,9 @@ class Builder:
                 continue
             tag = el.tag
             if tag == "circle":
-                # shapes._ellipse_params for a circle, written out
-                r = length(el.attrs.get("r"), "xy", style, viewport, 0.0)
-                if r <= 0:
-                    continue
-                todo.append((el, style, plan, ellipses, ellipses.add((
-                    length(el.attrs.get("cx"), "x", style, viewport, 0.0),
-                    length(el.attrs.get("cy"), "y", style, viewport, 0.0), r, r))))
+                row = next(circle_rows)
+                if row is not None:
+                    todo.append((el, style, plan, ellipses, ellipses.add(row)))
             elif tag == "path":
                 if batch is None:
                     if self._path_index is None:
@@ -881,40 +876,42 @@ class Builder:
                     todo.append((el, style, plan, False, self.path_data(el)))
                 else:
                     todo.append((el, style, plan, None, i))
-            elif tag == "ellipse":
-                e = _ellipse_params(tag, self.length_getter(el, style, ctx))
-                if e is not None:
-                    todo.append((el, style, plan, ellipses, ellipses.add(e)))
             elif tag == "rect":
-                r = _rect_params(self.length_getter(el, style, ctx))
+                r = next(rect_rows)
                 if r is None:
                     continue
                 if r[4] <= 0:                   # (rounded_rect_path: rect_path)
                     todo.append((el, style, plan, rects, rects.add(r[:4])))
                 else:
                     todo.append((el, style, plan, False, rounded_rect_path(*r)))
+            elif tag == "ellipse":
+                e = _ellipse_params(tag, self.length_getter(el, style, ctx))
+                if e is not None:
+                    todo.append((el, style, plan, ellipses, ellipses.add(e)))
             else:
                 path = shape_path(el, self.length_getter(el, style, ctx))
                 if path is not None:
                     todo.append((el, style, plan, False, path))
         if not todo:
             return
-        ellipses.finish(_ellipse_points, _ellipse_row, transform)
-        rects.finish(_rect_points, _rect_row, transform)
+        ellipses.finish(ellipse_points, transform)
+        rects.finish(rect_corners, transform)
         if batch is not None:
             vstart, pstart, drawing = batch.vstart, batch.pstart, batch.drawing()
             all_verbs, shared = batch.verbs, batch.points
         curved_paths = None
         nodes = []
-        # strokes for _place_outlines, per style and batch: (stroke plan, stroke PaintRef,
-        # antialias, style, whether in the document's path batch (else shapes_batch),
-        # [(slot: the list in nodes their Fills go to, index in the batch)])
+        # strokes for _outline_fills, per style and where their geometry is (the document's
+        # path batch: None; a _ShapeBlock; paths of their own: False, in own_paths): [stroke
+        # plan, stroke PaintRef, antialias, style, where, their places in nodes, their
+        # indexes in the batch, block or own_paths]
         queued = {}
-        shapes_batch = []                       # (verbs, points) of the shapes queued
+        own_paths = []                          # (verbs, points) of paths of their own queued
+        stroke_plans = {}                       # style -> its stroke plan here
         new_path = Path.__new__                 # (Path._of_arrays written out)
         for el, style, plan, block, at in todo:
             antialias, order, rule, fill_ref, stroke_ref = plan
-            device = user = None
+            user = None
             if block is None:                   # the document's path batch
                 i = at
                 if not drawing[i]:
@@ -952,7 +949,10 @@ class Builder:
                                       antialias))
                     continue
                 # the stroke
-                stroke_plan = self._cached_stroke_plan(style, ctx, antialias)
+                stroke_plan = stroke_plans.get(style, stroke_plans)
+                if stroke_plan is stroke_plans:
+                    stroke_plan = stroke_plans[style] = self._cached_stroke_plan(
+                        style, ctx, antialias)
                 if stroke_plan is None:
                     continue
                 if block is None:
@@ -962,24 +962,22 @@ class Builder:
                 elif block is False:
                     curved = bool(verbs.tobytes().translate(None, _LINE_VERBS))
                 else:
-                    curved = block.verbs is _ELLIPSE_VERBS
+                    curved = block.verbs is ELLIPSE_VERBS
                 kind = stroke_plan[0]
                 # (hairline_batch takes curves, conics included; the lines stroke kernel
                 # lines only: a curved outline stroke goes through stroke())
                 if kind is not None and (not curved or kind == "hairline"):
-                    key = (style, block is None)
-                    got = queued.get(key)
+                    got = queued.get((style, block))
                     if got is None:
-                        got = queued[key] = (stroke_plan, stroke_ref, antialias, style,
-                                             block is None, [])
-                    slot = []
-                    nodes.append(slot)
-                    if block is None:
-                        got[5].append((slot, i))
+                        got = queued[style, block] = (stroke_plan, stroke_ref, antialias, style,
+                                                      block, [], [])
+                    got[5].append(len(nodes))
+                    nodes.append(None)
+                    if block is False:
+                        got[6].append(len(own_paths))
+                        own_paths.append(user._freeze())
                     else:
-                        got[5].append((slot, len(shapes_batch)))
-                        shapes_batch.append((verbs, user._freeze()[1] if block is False
-                                             else block.points[at]))
+                        got[6].append(at)
                     continue
                 if user is None:
                     if block is None:
@@ -988,47 +986,74 @@ class Builder:
                         user = new_path(Path)
                         user._arrays = verbs, block.points[at]
                 nodes.extend(self.stroke(user, style, ctx, None, antialias))
-        if queued:
-            local = None
-            for stroke_plan, stroke_ref, antialias, style, in_batch, entries in \
-                    queued.values():
-                if len(entries) < _FEW_STROKES:
-                    # (a kernel call for a few paths costs more than stroke()'s for each)
-                    for slot, index in entries:
-                        if in_batch:
-                            user = Path._of_shared(all_verbs[vstart[index]:vstart[index + 1]],
-                                                   shared, pstart[index], pstart[index + 1])
-                        else:
-                            user = Path._of_arrays(*shapes_batch[index])
-                        slot.extend(self.stroke(user, style, ctx, None, antialias))
-                    continue
-                if not in_batch and local is None:
-                    local = _LocalBatch(shapes_batch)
-                opacity = stroke_ref.opacity * (
-                    stroke_plan[2] if stroke_plan[0] == "hairline" else 1)
-                # each entry's place in a list of its own, the places apart (_place_outlines
-                # removes the places of outlines that draw nothing, and puts a hairline's
-                # runs in its place): then the Fills between two separators are the entry's
-                pending, places = [], []
-                for j, (_, index) in enumerate(entries):
-                    pending.append((2 * j, index))
-                    places += (None, _SEPARATOR)
-                self._place_outlines(pending, places, batch if in_batch else local,
-                                     stroke_plan, transform, stroke_ref.paint, opacity,
-                                     antialias)
-                j = 0
-                for node in places:
-                    if node is _SEPARATOR:
-                        j += 1
-                    else:
-                        entries[j][0].append(node)
-            for node in nodes:
-                if node.__class__ is list:
-                    out.extend(node)
-                else:
-                    out.append(node)
-        else:
+        if not queued:
             out.extend(nodes)
+            return
+        lists = False                           # whether nodes holds lists of Fills
+        local = None
+        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes in queued.values():
+            if len(ats) < _FEW_STROKES:
+                # (a kernel call for a few paths costs more than stroke()'s for each)
+                for at, index in zip(ats, indexes):
+                    if block is None:
+                        user = Path._of_shared(all_verbs[vstart[index]:vstart[index + 1]],
+                                               shared, pstart[index], pstart[index + 1])
+                    elif block is False:
+                        user = Path._of_arrays(*own_paths[index])
+                    else:
+                        user = Path._of_arrays(block.verbs, block.points[index])
+                    nodes[at] = self.stroke(user, style, ctx, None, antialias)
+                lists = True
+                continue
+            if block is None:
+                arrays = (all_verbs, shared.points, *self._batch_starts())
+            elif block is False:
+                if local is None:
+                    local = _batch_of(own_paths)
+                arrays = local
+            else:
+                arrays = block.batch()
+            fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
+                                           transform, stroke_ref, antialias)
+            lists |= _put_fills(nodes, ats, fills, bounds)
+        out.extend(_flat(nodes) if lists else nodes)
+
+    def _shape_rows(self, items, viewport):
+        """For _shape_run: iterators over the parameters of the circles (_ellipse_params')
+        and of the rectangles (_rect_params') among items, those not of a plan False, in
+        order (None for one that draws nothing): their lengths read for all at once
+        (_shape_lengths)."""
+        circles = ([], [])
+        rects = ([], [])
+        for el, style, plan in items:
+            tag = el.tag
+            if plan is not False and (tag == "circle" or tag == "rect"):
+                got = circles if tag == "circle" else rects
+                got[0].append(el)
+                got[1].append(style)
+        circle_rows = rect_rows = ()
+        if circles[0]:
+            cx, cy, r = self._shape_lengths(*circles, CIRCLE_LENGTHS, viewport)
+            circle_rows = [None if s <= 0 else (x, y, s, s) for x, y, s in zip(cx, cy, r)]
+        if rects[0]:
+            rect_rows = itertools.starmap(rect_params, zip(*self._shape_lengths(
+                *rects, RECT_LENGTHS, viewport)))
+        return iter(circle_rows), iter(rect_rows)
+
+    def _shape_lengths(self, elements, styles, lengths, viewport) -> list:
+        """The lengths (name, axis, default) of lengths of each element, Builder.length's, as
+        columns: all of one at once where each element's value is a plain number or absent
+        (_plain_lengths), else each through length()."""
+        columns = []
+        for name, axis, default in lengths:
+            texts = [el.attrs.get(name) for el in elements]
+            values = _plain_lengths(texts, default)
+            if values is None:
+                length = self.length
+                values = [length(text, axis, style, viewport, default)
+                          for text, style in zip(texts, styles)]
+            columns.append(values)
+        return columns
 
     def element(self, el: Element, ctx: Ctx, parent_style: Style) -> list:
         if ctx.geometry and ctx.transform is IDENTITY and el.tag not in SHAPES:
@@ -1740,7 +1765,7 @@ class Builder:
             verbs = self._path_batch.verbs
             counts = np.zeros(len(verbs) + 1, np.int64)
             np.cumsum((verbs != MOVE) & (verbs != LINE) & (verbs != CLOSE), out=counts[1:])
-            at = np.asarray(self._path_batch.vstart, np.int64)
+            at = self._batch_starts()[0]
             self._path_curved = (counts[at[1:]] > counts[at[:-1]]).tolist()
         return self._path_curved
 
@@ -1751,7 +1776,7 @@ class Builder:
         if self._path_odd is None:
             batch = self._path_batch
             verbs = batch.verbs
-            at = np.asarray(batch.vstart, np.int64)
+            at = self._batch_starts()[0]
             two = at[1:] - at[:-1] == 2
             two[two] = verbs[at[:-1][two] + 1] == LINE
             self._path_odd = (np.array(batch.status, np.bool_)
@@ -1942,21 +1967,12 @@ class Builder:
         if plan[0] is None:
             return self._general_stroke(path, style, ctx, ref, antialias, dash_scale)
         # a solid, scaling stroke: everything but the path follows from style and transform
-        v, p = path._freeze()
+        opacity = _stroke_opacity(plan, ref)
         if plan[0] == "hairline":
-            _, cap, coverage = plan
-            opacity = ref.opacity * coverage
-            if v.tobytes().translate(None, _LINE_VERBS):
-                return _hairline_fills(path, ctx.transform, cap, None, 0.0, 1.0, ref, opacity,
-                                       antialias)
-            ov, op, rv, rp, _ = hairline_batch(v, p, np.array([0, len(v)]),
-                                               np.array([0, len(p)]), np.zeros(1, np.int64),
-                                               ctx.transform, cap,
-                                               blend_alpha(ref.paint, opacity))
-            return [Fill(run, ref.paint, opacity=opacity, antialias=antialias)
-                    for run in runs_paths(ov, op, rv, rp)]
+            return _hairline_fills(path, ctx.transform, plan[1], None, 0.0, 1.0, ref, opacity,
+                                   antialias)
+        v, p = path._freeze()
         codes, stroke_width, tolerance = plan
-        opacity = ref.opacity
         if not v.tobytes().translate(None, _LINE_VERBS):
             # lines only: stroke_path's own dispatch, without its per-call conversions
             join, cap, limit, offset = codes

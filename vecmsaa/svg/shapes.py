@@ -1,24 +1,39 @@
 """Basic shapes (rect, circle, ellipse, line, polyline, polygon) → paths in user units."""
 from __future__ import annotations
 
-from ..scene.path import Path, rect_path
+import numpy as np
+
+from ..scene.path import CLOSE, CONIC, MOVE, Path, rect_path
 from .units import parse_number, parse_number_prefix
 
 #: the weight of a quarter-ellipse conic, cos 45°
 QUARTER_W = 0.7071067811865476
+#: ellipse_path's verbs: a moveto, four quarter conics, a close
+ELLIPSE_VERBS = np.array((MOVE, CONIC, CONIC, CONIC, CONIC, CLOSE), np.uint8)
+#: Path.conicTo's λ = w / (1 + w) for QUARTER_W, and its (1 − λ) / 2
+_K = QUARTER_W / (1.0 + QUARTER_W)
+_A = (1.0 - _K) * 0.5
 
 
 def ellipse_path(cx, cy, rx, ry) -> Path:
-    """Four exact quarter-ellipse conics (control points at the bounding box's corners)."""
-    w = QUARTER_W
-    p = Path()
-    p.moveTo((cx + rx, cy))
-    p.conicTo((cx + rx, cy + ry), (cx, cy + ry), w)
-    p.conicTo((cx - rx, cy + ry), (cx - rx, cy), w)
-    p.conicTo((cx - rx, cy - ry), (cx, cy - ry), w)
-    p.conicTo((cx + rx, cy - ry), (cx + rx, cy), w)
-    p.closePath()
-    return p
+    """Four exact quarter-ellipse conics (control points at the bounding box's corners),
+    from (cx + rx, cy) through (cx, cy + ry) round, closed: what the pen's moveTo, four
+    conicTo(corner, end, QUARTER_W) and closePath record, made as arrays."""
+    return Path._of_arrays(ELLIPSE_VERBS, np.array(ellipse_points(cx, cy, rx, ry), np.float64))
+
+
+def ellipse_points(cx, cy, rx, ry):
+    """ellipse_path's 13 points as (x, y) pairs: the moveto, then each quarter conic's
+    control point, its point at t = ½ (Path.conicTo's, the same operations in the same
+    order) and its end. Of numbers for one ellipse, of arrays for many (element by element
+    the same operations: svg.builder makes a run's circles and ellipses so)."""
+    k, a = _K, _A
+    xr, xl, yb, yt = cx + rx, cx - rx, cy + ry, cy - ry
+    return ((xr, cy),
+            (xr, yb), (a * (xr + cx) + k * xr, a * (cy + yb) + k * yb), (cx, yb),
+            (xl, yb), (a * (cx + xl) + k * xl, a * (yb + cy) + k * yb), (xl, cy),
+            (xl, yt), (a * (xl + cx) + k * xl, a * (cy + yt) + k * yt), (cx, yt),
+            (xr, yt), (a * (cx + xr) + k * xr, a * (yt + cy) + k * yt), (xr, cy))
 
 
 def rounded_rect_path(x, y, w, h, rx, ry) -> Path:
@@ -61,13 +76,23 @@ def author_path_length(el):
     return v if v is not None and v >= 0 else None
 
 
+#: the lengths of a <rect>'s geometry, (attribute, axis, default), in rect_params' order
+RECT_LENGTHS = (("x", "x", 0.0), ("y", "y", 0.0), ("width", "x", None), ("height", "y", None),
+                ("rx", "x", None), ("ry", "y", None))
+#: those of a <circle>'s, (cx, cy, r)
+CIRCLE_LENGTHS = (("cx", "x", 0.0), ("cy", "y", 0.0), ("r", "xy", 0.0))
+
+
 def _rect_params(length):
-    """(x, y, width, height, rx, ry) of a <rect>, radii clamped; None when it renders nothing."""
-    w, h = length("width", "x", None), length("height", "y", None)
+    """(x, y, width, height, rx, ry) of a <rect>, radii clamped; None when it renders nothing.
+    ``length(name, axis, default)`` as for shape_path."""
+    return rect_params(*[length(*spec) for spec in RECT_LENGTHS])
+
+
+def rect_params(x, y, w, h, rx, ry):
+    """_rect_params of a <rect>'s lengths (RECT_LENGTHS, None where absent or not read)."""
     if w is None or h is None or w <= 0 or h <= 0:
         return None
-    x, y = length("x", "x", 0.0), length("y", "y", 0.0)
-    rx, ry = length("rx", "x", None), length("ry", "y", None)
     if rx is not None and rx < 0:
         rx = None
     if ry is not None and ry < 0:
@@ -84,10 +109,8 @@ def _rect_params(length):
 def _ellipse_params(tag, length):
     """(cx, cy, rx, ry) of a <circle> or <ellipse>; None when it renders nothing."""
     if tag == "circle":
-        r = length("r", "xy", 0.0)
-        if r <= 0:
-            return None
-        return length("cx", "x", 0.0), length("cy", "y", 0.0), r, r
+        cx, cy, r = [length(*spec) for spec in CIRCLE_LENGTHS]
+        return None if r <= 0 else (cx, cy, r, r)
     rx, ry = length("rx", "x", None), length("ry", "y", None)
     # negative or missing radii mean "auto": take the other one (SVG 2)
     rx = None if rx is not None and rx < 0 else rx
