@@ -21,9 +21,7 @@ JOINT_PIXELS = 16
 @njit(cache=True, inline="always")
 def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     """Appends the rectangle [u_lo, u_hi] x [v_lo, v_hi] of the (u, v) plane (u along x, or
-    along y when ymaj), wound as _emit_row's polygons."""
-    verbs = _grow(verbs, cnt[0] + 5)
-    pts = _grow_points(pts, cnt[1] + 4)
+    along y when ymaj), wound as _emit_row's polygons (verbs and pts have room: _rows_room)."""
     base = cnt[1]
     for j in range(4):
         u = u_lo if j == 0 or j == 3 else u_hi
@@ -38,7 +36,6 @@ def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     verbs[cnt[0] + 4] = CLOSE
     cnt[0] += 5
     cnt[1] += 4
-    return verbs, pts
 
 
 @njit(cache=True, inline="always")
@@ -51,10 +48,8 @@ def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
     for i in range(joint[1]):
         cov = min((1.0 - jrows[i, 1]) / alpha, 1.0)
         if cov > 0.0:
-            verbs, pts = _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0],
-                                    jrows[i, 0] + 1.0, ymaj)
+            _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0], jrows[i, 0] + 1.0, ymaj)
     joint[1] = 0
-    return verbs, pts
 
 
 @njit(cache=True, inline="always")
@@ -63,9 +58,9 @@ def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
     ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
     Returns False, adding nothing, when jrows has no room for two more pixels."""
     if joint[1] > 0 and joint[0] != col:
-        verbs, pts = _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
+        _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
     if joint[1] + 2 > jrows.shape[0]:
-        return verbs, pts, False
+        return False
     joint[0], joint[2] = int(col), 1 if ymaj else 0
     r0 = math.floor(v - 0.5)
     share = (r0 + 1.0) - (v - 0.5)          # of row r0; the rest falls in row r0 + 1
@@ -80,10 +75,10 @@ def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
             jrows[i, 0], jrows[i, 1] = row, 1.0
             joint[1] += 1
         jrows[i, 1] *= 1.0 - alpha * f * a
-    return verbs, pts, True
+    return True
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+@njit(cache=True, inline="always")
 def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, shared1,
               joint, jrows, alpha, runs, owner, run_rows):
     """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
@@ -92,12 +87,14 @@ def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, 
     parallelogram for a segment of |slope| below ``stair_slope``, or of more steps than
     ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). The step
     at the start (``shared0``) or the end (``shared1``) that another segment of the run shares
-    goes to the pending joint (_joint_step) instead. Returns (verbs, pts), grown as needed;
-    cnt: [verbs used, points used, steps counted]."""
+    goes to the pending joint (_joint_step) instead. verbs, pts and runs have room for it
+    (_rows_room); cnt: [verbs used, points used, steps counted, runs]. (Inlined, as the
+    helpers it calls: a call passing a dozen arrays cost more in the runtime's reference
+    counts than the segment's polygon.)"""
     dx, dy = x1 - x0, y1 - y0
     if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
                                          and math.isfinite(x1) and math.isfinite(y1)):
-        return verbs, pts
+        return
     ymaj = abs(dx) <= abs(dy)
     if ymaj:
         u0, v0, u1, v1 = y0, x0, y1, x1
@@ -122,14 +119,14 @@ def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, 
             if (shared0 if end == 0 else shared1) and kept1 > kept0:
                 col = first if end == 0 else first + steps - 1.0
                 lo, hi = max(u0, col), min(u1, col + 1.0)
-                verbs, pts, ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj,
-                                             hi - lo, v0 + slope * (col + 0.5 - u0))
+                ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, hi - lo,
+                                 v0 + slope * (col + 0.5 - u0))
                 if ok and end == 0:
                     kept0 += 1
                 elif ok:
                     kept1 -= 1
         if kept1 <= kept0:
-            return verbs, pts
+            return
     first_kept, steps = first + kept0, kept1 - kept0
     ua = u0 if kept0 == 0 else first_kept
     ub = u1 if kept1 == total else first + kept1
@@ -139,31 +136,30 @@ def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, 
     if not stair:
         v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
         v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
-        return _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+        _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+        return
     # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across, see
     # hairline.RUN_ROWS), each a run of its own
-    chunk = run_rows if ymaj else int(run_rows / max(abs(slope), 0.25))
+    chunk = max(1, run_rows if ymaj else int(run_rows / max(abs(slope), 0.25)))
     n = int(steps)
     k0 = 0
     while k0 < n:
-        room = chunk - (cnt[1] - runs[1][cnt[3] - 1]) // 4
+        room = chunk - (cnt[1] - runs[1, cnt[3] - 1]) // 4
         if room <= 0:
             _new_run(runs, cnt, owner)
             room = chunk
         k1 = min(n, k0 + room)
-        verbs, pts = _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1,
-                                 v0, 0.0, slope, ymaj, True)
+        _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1, v0, 0.0,
+                    slope, ymaj, True)
         k0 = k1
-    return verbs, pts
 
 
 @njit(cache=True, inline="always")
 def _new_run(runs, cnt, owner):
-    """Starts a run (runs: [verb offsets, point offsets, owners], cnt[3] runs so far)."""
+    """Starts a run (runs: rows verb offsets, point offsets, owners; cnt[3] runs so far;
+    room for it: _rows_room)."""
     nr = cnt[3]
-    for j in range(3):
-        runs[j] = _grow(runs[j], nr + 2)
-    runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
+    runs[0, nr], runs[1, nr], runs[2, nr] = cnt[0], cnt[1], owner
     cnt[3] += 1
 
 
@@ -175,8 +171,6 @@ def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
     the column; else the parallelogram one pixel thick across the axis from (u0, v0) to
     (u1, v1)."""
     n = int(c1 - c0) if stair else 1
-    verbs = _grow(verbs, cnt[0] + 4 * n + 1)
-    pts = _grow_points(pts, cnt[1] + 4 * n)
     base = cnt[1]
     for k in range(n):
         if stair:
@@ -207,7 +201,6 @@ def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
     verbs[cnt[0] + 4 * n] = CLOSE
     cnt[0] += 4 * n + 1
     cnt[1] += 4 * n
-    return verbs, pts
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -335,6 +328,42 @@ def _run_key(seg, r):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _rows_room(seg, ns, max_steps, run_rows):
+    """(polygon pieces, runs) the segments seg[:ns] of a subpath can make at most (_emit_rows):
+    a segment of n steps along its major axis (n at most max_steps[0] as a staircase, else
+    one parallelogram) takes at most n pieces of 4 points and 5 verbs (a polygon of k steps:
+    4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (_joint_step
+    adds at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
+    run for its direction and n // run_rows + 2 for the pieces of its staircase."""
+    quads = nruns = 0
+    rr = max(run_rows, 1)
+    for r in range(ns):
+        x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
+        dx, dy = x1 - x0, y1 - y0
+        if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
+                                             and math.isfinite(x1) and math.isfinite(y1)):
+            continue
+        lo, hi = (min(y0, y1), max(y0, y1)) if abs(dx) <= abs(dy) else \
+            (min(x0, x1), max(x0, x1))
+        n = int(min(math.ceil(hi) - math.floor(lo), float(max_steps[0])))
+        quads += n + 4
+        nruns += n // rr + 3
+    return quads, nruns
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _grow_runs(runs, need):
+    """runs (rows: verb offsets, point offsets, owners) with room for ``need`` runs."""
+    if need <= runs.shape[1]:
+        return runs
+    b = np.empty((3, max(need, 2 * runs.shape[1])), np.int64)
+    for j in range(3):
+        for i in range(runs.shape[1]):
+            b[j, i] = runs[j, i]
+    return b
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint, jrows,
                alpha, run_rows):
     """Appends the polygons of the segments seg[:ns] of one subpath, starting a run (runs:
@@ -342,7 +371,12 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
     wherever the major axis or the direction along it changes: within a run the segments'
     steps overlap only where one ends and the next begins within a step, and there the
     shared step's pixels are Skia's segment-by-segment blending (_joint_step); where runs
-    overlap (turns, crossings) the runs are drawn one over the other."""
+    overlap (turns, crossings) the runs are drawn one over the other. Returns (ov, op, runs),
+    grown once for the subpath (_rows_room)."""
+    quads, nruns = _rows_room(seg, ns, max_steps, run_rows)
+    ov = _grow(ov, cnt[0] + 5 * quads)
+    op = _grow_points(op, cnt[1] + 4 * quads)
+    runs = _grow_runs(runs, cnt[3] + nruns + 1)
     key = -1
     shared0 = False
     r = 0
@@ -353,7 +387,7 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
             continue
         if k != key:
             if joint[1] > 0:
-                ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
+                _flush_joint(ov, op, cnt, joint, jrows, alpha)
             key = k
             shared0 = False
             _new_run(runs, cnt, owner)
@@ -363,22 +397,21 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
         # the next segment of the run starts within the step this one ends in
         u_end = seg[r, 3] if k >= 2 else seg[r, 2]
         shared1 = nxt < ns and _run_key(seg, nxt) == k and u_end != math.floor(u_end)
-        ov, op = _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3],
-                           stair_slope, max_steps, shared0, shared1, joint, jrows, alpha, runs,
-                           owner, run_rows)
+        _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3], stair_slope,
+                  max_steps, shared0, shared1, joint, jrows, alpha, runs, owner, run_rows)
         shared0 = shared1
         r = nxt
     if joint[1] > 0:
-        ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
-    return ov, op
+        _flush_joint(ov, op, cnt, joint, jrows, alpha)
+    return ov, op, runs
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _runs_out(ov, op, cnt, runs):
     nr = cnt[3]
-    runs[0][nr], runs[1][nr] = cnt[0], cnt[1]
-    return (ov[:cnt[0]], op[:cnt[1]], runs[0][:nr + 1].copy(), runs[1][:nr + 1].copy(),
-            runs[2][:nr].copy())
+    runs[0, nr], runs[1, nr] = cnt[0], cnt[1]
+    return (ov[:cnt[0]], op[:cnt[1]], runs[0, :nr + 1].copy(), runs[1, :nr + 1].copy(),
+            runs[2, :nr].copy())
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -386,8 +419,10 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
                 stair_slope, max_steps, joint, jrows, alpha, run_rows):
     """Appends the hairline outline (runs owned by ``w``) of the path of lines verbs[v_lo:
     v_hi], its points from points[ip] on, under the transform m (see hairline_paths_batch).
-    Returns (ov, op, seg), grown as needed (seg: scratch rows of a subpath's segments)."""
+    Returns (ov, op, seg, runs), grown as needed (seg: scratch rows of a subpath's segments,
+    at most a verb's each)."""
     a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
+    seg = _grow_points(seg, v_hi - v_lo)
     ns = 0
     have_start = False
     sx = sy = cx = cy = 0.0
@@ -396,14 +431,13 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
         v = verbs[iv] if iv < v_hi else MOVE
         if v == MOVE or v == CLOSE:
             if v == CLOSE and have_start:
-                seg = _grow_points(seg, ns + 1)
                 seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, sx, sy
                 ns += 1
                 cx, cy = sx, sy
             elif v == MOVE and ns > 0 and outset > 0.0:
                 _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
-            ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+            ov, op, runs = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
+                                      joint, jrows, alpha, run_rows)
             ns = 0
             if v == MOVE and iv < v_hi:
                 x, y = points[ip, 0], points[ip, 1]
@@ -415,11 +449,10 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
             x, y = points[ip, 0], points[ip, 1]
             nx, ny = a * x + c * y + e, b * x + d * y + f
             ip += 1
-            seg = _grow_points(seg, ns + 1)
             seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
             ns += 1
             cx, cy = nx, ny
-    return ov, op, seg
+    return ov, op, seg, runs
 
 
 @njit(cache=True)
@@ -439,7 +472,7 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
     (The parameters that are the module hairline's constants come last: jit.bind_tail.)"""
     ov = np.empty(64, np.uint8)
     op = np.empty((64, 2))
-    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    runs = np.empty((3, 16), np.int64)
     cnt = np.zeros(4, np.int64)
     seg = np.empty((16, 4))
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
@@ -456,7 +489,7 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
                 if v == CONIC:
                     conic = True
         if not curved:
-            ov, op, seg = _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
+            ov, op, seg, runs = _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
                                       pstart[i], m, outset, runs, w, stair_slope, max_steps,
                                       joint, jrows, alpha, run_rows)
             continue
@@ -468,9 +501,9 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
             continue
         rows, rsubs = hairline_chords(kinds, segs, subs, flags, m, outset)
         for k in range(len(rsubs) - 1):
-            ov, op = _emit_rows(ov, op, cnt, rows[rsubs[k]:rsubs[k + 1]],
-                                rsubs[k + 1] - rsubs[k], runs, w, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+            ov, op, runs = _emit_rows(ov, op, cnt, rows[rsubs[k]:rsubs[k + 1]],
+                                      rsubs[k + 1] - rsubs[k], runs, w, stair_slope,
+                                      max_steps, joint, jrows, alpha, run_rows)
     return _runs_out(ov, op, cnt, runs)
 
 
@@ -480,12 +513,12 @@ def hairline_rows(rows, subs, stair_slope, max_steps, alpha, run_rows):
     device segments ``rows`` (N, 4), subpath k being rows subs[k]:subs[k + 1]."""
     verbs = np.empty(64, np.uint8)
     pts = np.empty((64, 2))
-    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    runs = np.empty((3, 16), np.int64)
     cnt = np.zeros(4, np.int64)
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
     for k in range(len(subs) - 1):
-        verbs, pts = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
-                                subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+        verbs, pts, runs = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
+                                      subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
+                                      joint, jrows, alpha, run_rows)
     out = _runs_out(verbs, pts, cnt, runs)
     return out[0], out[1], out[2], out[3]
