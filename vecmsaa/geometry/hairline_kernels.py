@@ -21,7 +21,7 @@ JOINT_PIXELS = 16
 @njit(cache=True, inline="always")
 def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     """Appends the rectangle [u_lo, u_hi] x [v_lo, v_hi] of the (u, v) plane (u along x, or
-    along y when ymaj), wound as _emit_row's polygons (verbs and pts have room: _rows_room)."""
+    along y when ymaj), wound as _emit_rows' polygons (verbs and pts have room: _rows_room)."""
     base = cnt[1]
     for j in range(4):
         u = u_lo if j == 0 or j == 3 else u_hi
@@ -50,108 +50,6 @@ def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
         if cov > 0.0:
             _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0], jrows[i, 0] + 1.0, ymaj)
     joint[1] = 0
-
-
-@njit(cache=True, inline="always")
-def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
-    """Adds to the pending shared step the step of column ``col`` a segment covers a fraction
-    ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
-    Returns False, adding nothing, when jrows has no room for two more pixels."""
-    if joint[1] > 0 and joint[0] != col:
-        _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
-    if joint[1] + 2 > jrows.shape[0]:
-        return False
-    joint[0], joint[2] = int(col), 1 if ymaj else 0
-    r0 = math.floor(v - 0.5)
-    share = (r0 + 1.0) - (v - 0.5)          # of row r0; the rest falls in row r0 + 1
-    for j in range(2):
-        row, a = (r0, share) if j == 0 else (r0 + 1.0, 1.0 - share)
-        if a <= 0.0:
-            continue
-        i = 0
-        while i < joint[1] and jrows[i, 0] != row:
-            i += 1
-        if i == joint[1]:
-            jrows[i, 0], jrows[i, 1] = row, 1.0
-            joint[1] += 1
-        jrows[i, 1] *= 1.0 - alpha * f * a
-    return True
-
-
-@njit(cache=True, inline="always")
-def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, shared1,
-              joint, jrows, alpha, runs, owner, run_rows):
-    """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
-    hairline): per step of the major axis u a rectangle one pixel thick across it, centred on
-    the segment's v at the step's centre, as long as the segment's part of the step; one
-    parallelogram for a segment of |slope| below ``stair_slope``, or of more steps than
-    ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). The step
-    at the start (``shared0``) or the end (``shared1``) that another segment of the run shares
-    goes to the pending joint (_joint_step) instead. verbs, pts and runs have room for it
-    (_rows_room); cnt: [verbs used, points used, steps counted, runs]. (Inlined, as the
-    helpers it calls: a call passing a dozen arrays cost more in the runtime's reference
-    counts than the segment's polygon.)"""
-    dx, dy = x1 - x0, y1 - y0
-    if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
-                                         and math.isfinite(x1) and math.isfinite(y1)):
-        return
-    ymaj = abs(dx) <= abs(dy)
-    if ymaj:
-        u0, v0, u1, v1 = y0, x0, y1, x1
-    else:
-        u0, v0, u1, v1 = x0, y0, x1, y1
-    back = u0 > u1
-    if back:
-        u0, u1, v0, v1 = u1, u0, v1, v0
-        shared0, shared1 = shared1, shared0
-    slope = (v1 - v0) / (u1 - u0)
-    first = math.floor(u0)
-    steps = math.ceil(u1) - first
-    total = int(steps)
-    stair = abs(slope) >= stair_slope and steps <= max_steps[0]
-    # the steps shared with the run's previous and next segments, in the path's order (the
-    # pending joint is the previous segment's), to the joint; the others kept: kept0 to
-    # kept1 - 1
-    kept0, kept1 = 0, total
-    if shared0 or shared1:
-        for i in range(2):
-            end = 1 - i if back else i
-            if (shared0 if end == 0 else shared1) and kept1 > kept0:
-                col = first if end == 0 else first + steps - 1.0
-                lo, hi = max(u0, col), min(u1, col + 1.0)
-                ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, hi - lo,
-                                 v0 + slope * (col + 0.5 - u0))
-                if ok and end == 0:
-                    kept0 += 1
-                elif ok:
-                    kept1 -= 1
-        if kept1 <= kept0:
-            return
-    first_kept, steps = first + kept0, kept1 - kept0
-    ua = u0 if kept0 == 0 else first_kept
-    ub = u1 if kept1 == total else first + kept1
-    if stair:
-        cnt[2] += int(steps)
-        stair = cnt[2] <= max_steps[1]
-    if not stair:
-        v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
-        v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
-        _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
-        return
-    # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across, see
-    # hairline.RUN_ROWS), each a run of its own
-    chunk = max(1, run_rows if ymaj else int(run_rows / max(abs(slope), 0.25)))
-    n = int(steps)
-    k0 = 0
-    while k0 < n:
-        room = chunk - (cnt[1] - runs[1, cnt[3] - 1]) // 4
-        if room <= 0:
-            _new_run(runs, cnt, owner)
-            room = chunk
-        k1 = min(n, k0 + room)
-        _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1, v0, 0.0,
-                    slope, ymaj, True)
-        k0 = k1
 
 
 @njit(cache=True, inline="always")
@@ -332,8 +230,8 @@ def _rows_room(seg, ns, max_steps, run_rows):
     """(polygon pieces, runs) the segments seg[:ns] of a subpath can make at most (_emit_rows):
     a segment of n steps along its major axis (n at most max_steps[0] as a staircase, else
     one parallelogram) takes at most n pieces of 4 points and 5 verbs (a polygon of k steps:
-    4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (_joint_step
-    adds at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
+    4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (the joint
+    takes at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
     run for its direction and n // run_rows + 2 for the pieces of its staircase."""
     quads = nruns = 0
     rr = max(run_rows, 1)
@@ -370,9 +268,10 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
     [verb offsets, point offsets, owners], cnt[3] runs so far) at the subpath's start and
     wherever the major axis or the direction along it changes: within a run the segments'
     steps overlap only where one ends and the next begins within a step, and there the
-    shared step's pixels are Skia's segment-by-segment blending (_joint_step); where runs
+    shared step's pixels are Skia's segment-by-segment blending (_flush_joint); where runs
     overlap (turns, crossings) the runs are drawn one over the other. Returns (ov, op, runs),
-    grown once for the subpath (_rows_room)."""
+    grown once for the subpath (_rows_room: the helpers write without checks); cnt: [verbs
+    used, points used, steps counted, runs]."""
     quads, nruns = _rows_room(seg, ns, max_steps, run_rows)
     ov = _grow(ov, cnt[0] + 5 * quads)
     op = _grow_points(op, cnt[1] + 4 * quads)
@@ -397,10 +296,99 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
         # the next segment of the run starts within the step this one ends in
         u_end = seg[r, 3] if k >= 2 else seg[r, 2]
         shared1 = nxt < ns and _run_key(seg, nxt) == k and u_end != math.floor(u_end)
-        _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3], stair_slope,
-                  max_steps, shared0, shared1, joint, jrows, alpha, runs, owner, run_rows)
+        sh0, sh1 = shared0, shared1
         shared0 = shared1
+        x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
         r = nxt
+        # the segment's polygon: per step of the major axis u a rectangle one pixel thick
+        # across it, centred on the segment's v at the step's centre, as long as the
+        # segment's part of the step; one parallelogram for a segment of |slope| below
+        # ``stair_slope``, or of more steps than max_steps[0] (cnt[2] counts the path's steps
+        # against max_steps[1]). The step at the start (sh0) or the end (sh1) that another
+        # segment of the run shares goes to the pending joint instead.
+        # (Written out here, its helpers inlined: a call passing a dozen arrays a segment
+        # cost more in the runtime's reference counts than the segment's polygon.)
+        dx, dy = x1 - x0, y1 - y0
+        if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
+                                             and math.isfinite(x1) and math.isfinite(y1)):
+            continue
+        ymaj = abs(dx) <= abs(dy)
+        if ymaj:
+            u0, v0, u1, v1 = y0, x0, y1, x1
+        else:
+            u0, v0, u1, v1 = x0, y0, x1, y1
+        back = u0 > u1
+        if back:
+            u0, u1, v0, v1 = u1, u0, v1, v0
+            sh0, sh1 = sh1, sh0
+        slope = (v1 - v0) / (u1 - u0)
+        first = math.floor(u0)
+        steps = math.ceil(u1) - first
+        total = int(steps)
+        stair = abs(slope) >= stair_slope and steps <= max_steps[0]
+        # the steps shared with the run's previous and next segments, in the path's order
+        # (the pending joint is the previous segment's), to the joint; the others kept:
+        # kept0 to kept1 - 1
+        kept0, kept1 = 0, total
+        if sh0 or sh1:
+            for i in range(2):
+                end = 1 - i if back else i
+                if (sh0 if end == 0 else sh1) and kept1 > kept0:
+                    col = first if end == 0 else first + steps - 1.0
+                    lo, hi = max(u0, col), min(u1, col + 1.0)
+                    # the segment's part f of the step, its band centred on vc, to the
+                    # pending shared step (flushed first if it is another column's), unless
+                    # jrows has no room for two more pixels
+                    if joint[1] > 0 and joint[0] != col:
+                        _flush_joint(ov, op, cnt, joint, jrows, alpha)
+                    ok = joint[1] + 2 <= jrows.shape[0]
+                    if ok:
+                        f, vc = hi - lo, v0 + slope * (col + 0.5 - u0)
+                        joint[0], joint[2] = int(col), 1 if ymaj else 0
+                        r0 = math.floor(vc - 0.5)
+                        share = (r0 + 1.0) - (vc - 0.5)     # of row r0; the rest row r0 + 1
+                        for j in range(2):
+                            row, a = (r0, share) if j == 0 else (r0 + 1.0, 1.0 - share)
+                            if a <= 0.0:
+                                continue
+                            q = 0
+                            while q < joint[1] and jrows[q, 0] != row:
+                                q += 1
+                            if q == joint[1]:
+                                jrows[q, 0], jrows[q, 1] = row, 1.0
+                                joint[1] += 1
+                            jrows[q, 1] *= 1.0 - alpha * f * a
+                    if ok and end == 0:
+                        kept0 += 1
+                    elif ok:
+                        kept1 -= 1
+            if kept1 <= kept0:
+                continue
+        first_kept, steps = first + kept0, kept1 - kept0
+        ua = u0 if kept0 == 0 else first_kept
+        ub = u1 if kept1 == total else first + kept1
+        if stair:
+            cnt[2] += int(steps)
+            stair = cnt[2] <= max_steps[1]
+        if not stair:
+            v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
+            v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
+            _emit_steps(ov, op, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+            continue
+        # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across,
+        # see hairline.RUN_ROWS), each a run of its own
+        chunk = max(1, run_rows if ymaj else int(run_rows / max(abs(slope), 0.25)))
+        n = int(steps)
+        k0 = 0
+        while k0 < n:
+            room = chunk - (cnt[1] - runs[1, cnt[3] - 1]) // 4
+            if room <= 0:
+                _new_run(runs, cnt, owner)
+                room = chunk
+            k1 = min(n, k0 + room)
+            _emit_steps(ov, op, cnt, first_kept + k0, first_kept + k1, u0, u1, v0, 0.0,
+                        slope, ymaj, True)
+            k0 = k1
     if joint[1] > 0:
         _flush_joint(ov, op, cnt, joint, jrows, alpha)
     return ov, op, runs
