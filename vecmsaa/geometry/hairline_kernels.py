@@ -11,7 +11,7 @@ import numpy as np
 from ..jit import njit
 from ..scene.conics import conics_as_cubics
 from ..scene.path import CLOSE, CONIC, LINE, MOVE
-from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points, path_segments
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points, path_segments
 
 #: pixels a step shared by several segments of a run may hold (a step's band covers two
 #: pixels, and the segments sharing a step lie within a pixel of each other across it)
@@ -119,15 +119,16 @@ def _extend_ends(seg, lo, hi, outset):
         seg[r, k + 1] += sign * uy * outset
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _chord_count(kind, s):
+@njit(cache=True, inline="always")
+def _chord_count(kind, x0, y0, x1, y1, x2, y2, x3, y3):
     """How many chords Skia's hairline cuts a curve into: a quadratic 2^level, the level
     from the whole pixels between its control point and its chord's midpoint (4x closer a
     halving, at most 32 chords); a cubic the least 2^i whose control points lie within
-    4^i / 8 px of the chord's thirds (at most 512)."""
+    4^i / 8 px of the chord's thirds (at most 512). The curve's points as scalars (x3, y3
+    unused for a quadratic)."""
     if kind == 3:
-        dx = min(math.ceil(abs((s[0] + s[4]) / 2.0 - s[2])), 1 << 30)
-        dy = min(math.ceil(abs((s[1] + s[5]) / 2.0 - s[3])), 1 << 30)
+        dx = min(math.ceil(abs((x0 + x2) / 2.0 - x1)), 1 << 30)
+        dy = min(math.ceil(abs((y0 + y2) / 2.0 - y1)), 1 << 30)
         if not (dx >= 0 and dy >= 0):
             return 1
         idx, idy = int(dx), int(dy)
@@ -139,15 +140,25 @@ def _chord_count(kind, s):
         return 1 << min(5, (bits + 1) >> 1)
     diff = 0.0
     for j in range(2):
-        p13 = s[6 + j] / 3.0 + s[j] * (2.0 / 3.0)
-        p23 = s[j] / 3.0 + s[6 + j] * (2.0 / 3.0)
-        diff = max(diff, abs(s[2 + j] - p13), abs(s[4 + j] - p23))
+        p0, p1, p2, p3 = (x0, x1, x2, x3) if j == 0 else (y0, y1, y2, y3)
+        p13 = p3 / 3.0 + p0 * (2.0 / 3.0)
+        p23 = p0 / 3.0 + p3 * (2.0 / 3.0)
+        diff = max(diff, abs(p1 - p13), abs(p2 - p23))
     tol = 1.0 / 8.0
     for i in range(9):
         if diff < tol:
             return 1 << i
         tol *= 4.0
     return 1 << 9
+
+
+@njit(cache=True, inline="always")
+def _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t):
+    """Point at t of the cubic (x0, y0) ... (x3, y3) (stroke_kernels._cubic_at on scalars,
+    the same arithmetic)."""
+    u = 1.0 - t
+    a, b, cc, d = u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t
+    return a * x0 + b * x1 + cc * x2 + d * x3, a * y0 + b * y1 + cc * y2 + d * y3
 
 
 @njit(cache=True)
@@ -166,7 +177,21 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
             x, y = user[i, j], user[i, j + 1]
             segs[i, j] = a * x + c * y + e
             segs[i, j + 1] = b * x + d * y + f
-    rows = np.empty((max(16, len(kinds)), 4))
+    # the rows' count first (one array of the right size, no segment's row views: each cost
+    # the runtime's reference counts)
+    total = 0
+    for k in range(len(flags)):
+        if flags[k] == SUB_DOT:
+            total += 1
+            continue
+        for si in range(subs[k], subs[k + 1]):
+            kind = kinds[si]
+            if kind == 3 or kind == 4:
+                total += _chord_count(kind, segs[si, 0], segs[si, 1], segs[si, 2], segs[si, 3],
+                                      segs[si, 4], segs[si, 5], segs[si, 6], segs[si, 7])
+            else:
+                total += 1
+    rows = np.empty((total, 4))
     rsubs = np.empty(len(flags) + 1, np.int64)
     nr = nsub = 0
     for k in range(len(flags)):
@@ -174,37 +199,34 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
         start = nr
         if flags[k] == SUB_DOT:
             if outset > 0.0:
-                rows = _grow_points(rows, nr + 1)
                 x, y = segs[lo, 0], segs[lo, 1]
                 rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = x + outset, y, x - outset, y
                 nr += 1
         else:
             for si in range(lo, hi):
                 kind = kinds[si]
-                s = segs[si]
+                x0, y0, x1, y1 = segs[si, 0], segs[si, 1], segs[si, 2], segs[si, 3]
+                x2, y2, x3, y3 = segs[si, 4], segs[si, 5], segs[si, 6], segs[si, 7]
                 if kind == 3 or kind == 4:
-                    n = _chord_count(kind, s)
-                    rows = _grow_points(rows, nr + n)
-                    px, py = s[0], s[1]
+                    n = _chord_count(kind, x0, y0, x1, y1, x2, y2, x3, y3)
+                    px, py = x0, y0
                     for i in range(1, n + 1):
                         if i == n:
-                            qx, qy = (s[4], s[5]) if kind == 3 else (s[6], s[7])
+                            qx, qy = (x2, y2) if kind == 3 else (x3, y3)
                         else:
                             t = i / n
                             mt = 1.0 - t
                             if kind == 3:
-                                qx = mt * mt * s[0] + 2 * mt * t * s[2] + t * t * s[4]
-                                qy = mt * mt * s[1] + 2 * mt * t * s[3] + t * t * s[5]
+                                qx = mt * mt * x0 + 2 * mt * t * x1 + t * t * x2
+                                qy = mt * mt * y0 + 2 * mt * t * y1 + t * t * y2
                             else:
-                                qx, qy = _cubic_at(s, t)
+                                qx, qy = _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t)
                         rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = px, py, qx, qy
                         nr += 1
                         px, py = qx, qy
                 else:           # a line (a conic here would be its chord)
-                    rows = _grow_points(rows, nr + 1)
-                    e = 2 if kind == 2 else 6
-                    rows[nr, 0], rows[nr, 1] = s[0], s[1]
-                    rows[nr, 2], rows[nr, 3] = s[e], s[e + 1]
+                    rows[nr, 0], rows[nr, 1] = x0, y0
+                    rows[nr, 2], rows[nr, 3] = (x1, y1) if kind == 2 else (x3, y3)
                     nr += 1
             if outset > 0.0 and flags[k] == SUB_OPEN and nr > start:
                 _extend_ends(rows, start, nr, outset)
@@ -212,7 +234,7 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
             rsubs[nsub] = start
             nsub += 1
     rsubs[nsub] = nr
-    return rows[:nr].copy(), rsubs[:nsub + 1].copy()
+    return rows[:nr].copy() if nr < total else rows, rsubs[:nsub + 1].copy()
 
 
 @njit(cache=True, inline="always")
