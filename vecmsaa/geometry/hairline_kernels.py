@@ -10,8 +10,8 @@ import numpy as np
 
 from ..jit import njit
 from ..scene.conics import conics_as_cubics
-from ..scene.path import CLOSE, CONIC, LINE, MOVE
-from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points, path_segments
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points
 
 #: pixels a step shared by several segments of a run may hold (a step's band covers two
 #: pixels, and the segments sharing a step lie within a pixel of each other across it)
@@ -254,8 +254,10 @@ def _rows_room(seg, ns, max_steps, run_rows):
     one parallelogram) takes at most n pieces of 4 points and 5 verbs (a polygon of k steps:
     4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (the joint
     takes at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
-    run for its direction and n // run_rows + 2 for the pieces of its staircase."""
-    quads = nruns = 0
+    run for its direction and n // run_rows + 2 for the pieces of its staircase (a run for
+    its direction even when it draws nothing: not finite)."""
+    quads = 0
+    nruns = ns
     rr = max(run_rows, 1)
     for r in range(ns):
         x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
@@ -267,7 +269,7 @@ def _rows_room(seg, ns, max_steps, run_rows):
             (min(x0, x1), max(x0, x1))
         n = int(min(math.ceil(hi) - math.floor(lo), float(max_steps[0])))
         quads += n + 4
-        nruns += n // rr + 3
+        nruns += n // rr + 2
     return quads, nruns
 
 
@@ -425,12 +427,14 @@ def _runs_out(ov, op, cnt, runs):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs, w,
-                stair_slope, max_steps, joint, jrows, alpha, run_rows):
-    """Appends the hairline outline (runs owned by ``w``) of the path of lines verbs[v_lo:
-    v_hi], its points from points[ip] on, under the transform m (see hairline_paths_batch).
-    Returns (ov, op, seg, runs), grown as needed (seg: scratch rows of a subpath's segments,
-    at most a verb's each)."""
+def _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs, w,
+                  stair_slope, max_steps, joint, jrows, alpha, run_rows):
+    """Appends the hairline outline (runs owned by ``w``) of the path verbs[v_lo:v_hi] (moves,
+    lines, quadratics, cubics, closes: no conics), its points from points[ip] on, under the
+    transform m (see hairline_paths_batch): what hairline_chords makes of path_segments'
+    subpaths (the same chords, in the same order, with the same arithmetic), each
+    subpath's chords drawn as they are made (_emit_rows). Returns (ov, op, seg, runs), grown
+    as needed (seg: scratch rows of a subpath's chords)."""
     a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
     seg = _grow_points(seg, v_hi - v_lo)
     ns = 0
@@ -455,13 +459,43 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
                 sy = cy = b * x + d * y + f
                 ip += 1
                 have_start = True
-        else:                           # a line
+        elif v == LINE:
             x, y = points[ip, 0], points[ip, 1]
             nx, ny = a * x + c * y + e, b * x + d * y + f
             ip += 1
             seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
             ns += 1
             cx, cy = nx, ny
+        else:                           # a curve cut into chords (hairline_chords)
+            kind = 3 if v == QUAD else 4
+            x1, y1 = points[ip, 0], points[ip, 1]
+            x2, y2 = points[ip + 1, 0], points[ip + 1, 1]
+            x3 = y3 = 0.0
+            if v == CUBIC:
+                x3, y3 = points[ip + 2, 0], points[ip + 2, 1]
+                x3, y3 = a * x3 + c * y3 + e, b * x3 + d * y3 + f
+            x1, y1 = a * x1 + c * y1 + e, b * x1 + d * y1 + f
+            x2, y2 = a * x2 + c * y2 + e, b * x2 + d * y2 + f
+            ip += kind - 1
+            n = _chord_count(kind, cx, cy, x1, y1, x2, y2, x3, y3)
+            # (room for the rest of the path's verbs too: a row each)
+            seg = _grow_points(seg, ns + n + v_hi - iv)
+            px, py = cx, cy
+            for i in range(1, n + 1):
+                if i == n:
+                    qx, qy = (x2, y2) if kind == 3 else (x3, y3)
+                else:
+                    t = i / n
+                    mt = 1.0 - t
+                    if kind == 3:
+                        qx = mt * mt * cx + 2 * mt * t * x1 + t * t * x2
+                        qy = mt * mt * cy + 2 * mt * t * y1 + t * t * y2
+                    else:
+                        qx, qy = _cubic_xy(cx, cy, x1, y1, x2, y2, x3, y3, t)
+                seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = px, py, qx, qy
+                ns += 1
+                px, py = qx, qy
+            cx, cy = px, py
     return ov, op, seg, runs
 
 
@@ -473,12 +507,11 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
     pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and square caps
     lengthening open subpaths' ends by ``outset``. Returns (verbs, points, run verb offsets,
     run point offsets, the index in ``which`` of each run's path): each path's outline is
-    its runs (_emit_rows), in order. A path of lines is read here (_lines_path, no arrays
-    of its own); any other (curves, conics) goes through the kernels hairline_segments
-    calls: conics as the cubics usvg makes of arcs (conics_as_cubics at
-    ``arc_tolerance``, at most ``max_arc`` cubics an arc: stroke.arc_cubics), the subpaths
-    (stroke_kernels.path_segments), curves cut into chords in the device (hairline_chords),
-    the chords' runs (_emit_rows, a path's steps counted against max_steps[1] together).
+    its runs (_emit_rows), in order. A path is read here (_path_outline: what the kernels
+    hairline_segments calls make of it, stroke_kernels.path_segments and hairline_chords,
+    without their arrays), its conics first made the cubics usvg makes of arcs
+    (conics_as_cubics at ``arc_tolerance``, at most ``max_arc`` cubics an arc:
+    stroke.arc_cubics); a path's steps are counted against max_steps[1] together.
     (The parameters that are the module hairline's constants come last: jit.bind_tail.)"""
     ov = np.empty(64, np.uint8)
     op = np.empty((64, 2))
@@ -491,29 +524,20 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
         cnt[2] = 0
         i = which[w]
         v_lo, v_hi = vstart[i], vstart[i + 1]
-        curved = conic = False
+        conic = False
         for iv in range(v_lo, v_hi):
-            v = verbs[iv]
-            if v != MOVE and v != LINE and v != CLOSE:
-                curved = True
-                if v == CONIC:
-                    conic = True
-        if not curved:
-            ov, op, seg, runs = _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
-                                      pstart[i], m, outset, runs, w, stair_slope, max_steps,
-                                      joint, jrows, alpha, run_rows)
+            if verbs[iv] == CONIC:
+                conic = True
+        if not conic:
+            ov, op, seg, runs = _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
+                                              pstart[i], m, outset, runs, w, stair_slope,
+                                              max_steps, joint, jrows, alpha, run_rows)
             continue
-        pv, pp = verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]]
-        if conic:
-            pv, pp = conics_as_cubics(pv, pp, keep, arc_tolerance, max_arc)
-        kinds, segs, subs, flags = path_segments(pv, pp)
-        if len(flags) == 0:
-            continue
-        rows, rsubs = hairline_chords(kinds, segs, subs, flags, m, outset)
-        for k in range(len(rsubs) - 1):
-            ov, op, runs = _emit_rows(ov, op, cnt, rows[rsubs[k]:rsubs[k + 1]],
-                                      rsubs[k + 1] - rsubs[k], runs, w, stair_slope,
-                                      max_steps, joint, jrows, alpha, run_rows)
+        pv, pp = conics_as_cubics(verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]], keep,
+                                  arc_tolerance, max_arc)
+        ov, op, seg, runs = _path_outline(ov, op, cnt, seg, pv, pp, 0, len(pv), 0, m, outset,
+                                          runs, w, stair_slope, max_steps, joint, jrows,
+                                          alpha, run_rows)
     return _runs_out(ov, op, cnt, runs)
 
 
