@@ -376,6 +376,8 @@ def test_room_reserved_for_a_subpath_holds_its_outline(seed):
             pts[rng.integers(0, n + 1)] = [1e12, -3e11]
         if trial % 10 == 2:
             pts[rng.integers(0, n + 1), 0] = np.nan
+        if trial % 10 == 3:
+            pts[rng.integers(0, n + 1)] = [rng.choice([-3e19, 3e19, 2e300]), 40]
         rows = np.ascontiguousarray(np.c_[pts[:-1], pts[1:]])
         max_steps = np.array([int(rng.integers(1, 40)), int(rng.integers(1, 400))], np.int64)
         run_rows = int(rng.integers(1, 8))

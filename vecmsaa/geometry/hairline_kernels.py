@@ -267,7 +267,9 @@ def _rows_room(seg, ns, max_steps, run_rows):
             continue
         lo, hi = (min(y0, y1), max(y0, y1)) if abs(dx) <= abs(dy) else \
             (min(x0, x1), max(x0, x1))
-        n = int(min(math.ceil(hi) - math.floor(lo), float(max_steps[0])))
+        # (at least one piece: past 2^63 the steps' count, as _emit_rows computes it, is
+        # the float-to-int conversion's overflow value, and the segment one parallelogram)
+        n = max(1, min(math.ceil(hi) - math.floor(lo), max_steps[0]))
         quads += n + 4
         nruns += n // rr + 2
     return quads, nruns
