@@ -353,3 +353,40 @@ def test_batch_of_curved_paths_is_each_paths_outline(seed):
                 rows, subs, hairline.STAIR_SLOPE, hairline.MAX_STEPS, alpha,
                 hairline.RUN_ROWS)):
             np.testing.assert_array_equal(x, y)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_room_reserved_for_a_subpath_holds_its_outline(seed):
+    """_emit_rows grows its arrays once a subpath, by _rows_room's bound, and then writes
+    without checks: on random subpaths (short and long segments, turns, segments meeting
+    within a step, points, huge and non-finite coordinates) under small step and run limits,
+    the outline the kernel makes of each subpath alone never exceeds the bound: verbs 5, points
+    4 a piece, runs as counted (a subpath's outline starts empty)."""
+    from vecmsaa.geometry import hairline_kernels
+    room = hairline_kernels._rows_room.py_func
+    rng = np.random.default_rng(seed)
+    drawn = 0
+    for trial in range(60):
+        n = int(rng.integers(1, 30))
+        scale = [0.7, 5.0, 60.0][trial % 3]
+        pts = np.cumsum(rng.normal(0, scale, (n + 1, 2)), axis=0) + 50
+        if trial % 4 == 0:
+            pts[rng.integers(0, n + 1)] = pts[rng.integers(0, n + 1)]   # a point segment
+        if trial % 10 == 1:
+            pts[rng.integers(0, n + 1)] = [1e12, -3e11]
+        if trial % 10 == 2:
+            pts[rng.integers(0, n + 1), 0] = np.nan
+        if trial % 10 == 3:
+            pts[rng.integers(0, n + 1)] = [rng.choice([-3e19, 3e19, 2e300]), 40]
+        rows = np.ascontiguousarray(np.c_[pts[:-1], pts[1:]])
+        max_steps = np.array([int(rng.integers(1, 40)), int(rng.integers(1, 400))], np.int64)
+        run_rows = int(rng.integers(1, 8))
+        alpha = float(rng.choice([1.0, 0.5]))
+        v, p, rv, rp = hairline_kernels.hairline_rows(
+            rows, np.array([0, n], np.int64), float(rng.choice([0.0, 0.25])), max_steps,
+            alpha, run_rows)
+        quads, runs = room(rows, n, max_steps, run_rows)
+        assert len(v) <= 5 * quads and len(p) <= 4 * quads
+        assert len(rv) - 1 <= runs
+        drawn += len(p) > 0
+    assert drawn > 40

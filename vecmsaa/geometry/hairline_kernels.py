@@ -10,8 +10,8 @@ import numpy as np
 
 from ..jit import njit
 from ..scene.conics import conics_as_cubics
-from ..scene.path import CLOSE, CONIC, LINE, MOVE
-from .stroke_kernels import SUB_DOT, SUB_OPEN, _cubic_at, _grow, _grow_points, path_segments
+from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
+from .stroke_kernels import SUB_DOT, SUB_OPEN, _grow, _grow_points
 
 #: pixels a step shared by several segments of a run may hold (a step's band covers two
 #: pixels, and the segments sharing a step lie within a pixel of each other across it)
@@ -21,9 +21,7 @@ JOINT_PIXELS = 16
 @njit(cache=True, inline="always")
 def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     """Appends the rectangle [u_lo, u_hi] x [v_lo, v_hi] of the (u, v) plane (u along x, or
-    along y when ymaj), wound as _emit_row's polygons."""
-    verbs = _grow(verbs, cnt[0] + 5)
-    pts = _grow_points(pts, cnt[1] + 4)
+    along y when ymaj), wound as _emit_rows' polygons (verbs and pts have room: _rows_room)."""
     base = cnt[1]
     for j in range(4):
         u = u_lo if j == 0 or j == 3 else u_hi
@@ -38,7 +36,6 @@ def _emit_rect(verbs, pts, cnt, u_lo, u_hi, v_lo, v_hi, ymaj):
     verbs[cnt[0] + 4] = CLOSE
     cnt[0] += 5
     cnt[1] += 4
-    return verbs, pts
 
 
 @njit(cache=True, inline="always")
@@ -51,119 +48,16 @@ def _flush_joint(verbs, pts, cnt, joint, jrows, alpha):
     for i in range(joint[1]):
         cov = min((1.0 - jrows[i, 1]) / alpha, 1.0)
         if cov > 0.0:
-            verbs, pts = _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0],
-                                    jrows[i, 0] + 1.0, ymaj)
+            _emit_rect(verbs, pts, cnt, col, col + cov, jrows[i, 0], jrows[i, 0] + 1.0, ymaj)
     joint[1] = 0
-    return verbs, pts
-
-
-@njit(cache=True, inline="always")
-def _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj, f, v):
-    """Adds to the pending shared step the step of column ``col`` a segment covers a fraction
-    ``f`` of, its band centred on ``v`` (flushing the pending one if it is another column).
-    Returns False, adding nothing, when jrows has no room for two more pixels."""
-    if joint[1] > 0 and joint[0] != col:
-        verbs, pts = _flush_joint(verbs, pts, cnt, joint, jrows, alpha)
-    if joint[1] + 2 > jrows.shape[0]:
-        return verbs, pts, False
-    joint[0], joint[2] = int(col), 1 if ymaj else 0
-    r0 = math.floor(v - 0.5)
-    share = (r0 + 1.0) - (v - 0.5)          # of row r0; the rest falls in row r0 + 1
-    for j in range(2):
-        row, a = (r0, share) if j == 0 else (r0 + 1.0, 1.0 - share)
-        if a <= 0.0:
-            continue
-        i = 0
-        while i < joint[1] and jrows[i, 0] != row:
-            i += 1
-        if i == joint[1]:
-            jrows[i, 0], jrows[i, 1] = row, 1.0
-            joint[1] += 1
-        jrows[i, 1] *= 1.0 - alpha * f * a
-    return verbs, pts, True
-
-
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _emit_row(verbs, pts, cnt, x0, y0, x1, y1, stair_slope, max_steps, shared0, shared1,
-              joint, jrows, alpha, runs, owner, run_rows):
-    """Appends the hairline polygon of the device segment (x0, y0)-(x1, y1) (see the module
-    hairline): per step of the major axis u a rectangle one pixel thick across it, centred on
-    the segment's v at the step's centre, as long as the segment's part of the step; one
-    parallelogram for a segment of |slope| below ``stair_slope``, or of more steps than
-    ``max_steps`` (per segment: cnt[2] counts a path's steps against max_steps[1]). The step
-    at the start (``shared0``) or the end (``shared1``) that another segment of the run shares
-    goes to the pending joint (_joint_step) instead. Returns (verbs, pts), grown as needed;
-    cnt: [verbs used, points used, steps counted]."""
-    dx, dy = x1 - x0, y1 - y0
-    if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
-                                         and math.isfinite(x1) and math.isfinite(y1)):
-        return verbs, pts
-    ymaj = abs(dx) <= abs(dy)
-    if ymaj:
-        u0, v0, u1, v1 = y0, x0, y1, x1
-    else:
-        u0, v0, u1, v1 = x0, y0, x1, y1
-    back = u0 > u1
-    if back:
-        u0, u1, v0, v1 = u1, u0, v1, v0
-        shared0, shared1 = shared1, shared0
-    slope = (v1 - v0) / (u1 - u0)
-    first = math.floor(u0)
-    steps = math.ceil(u1) - first
-    total = int(steps)
-    stair = abs(slope) >= stair_slope and steps <= max_steps[0]
-    # the steps shared with the run's previous and next segments, in the path's order (the
-    # pending joint is the previous segment's), to the joint; the others kept: kept0 to
-    # kept1 - 1
-    kept0, kept1 = 0, total
-    if shared0 or shared1:
-        for i in range(2):
-            end = 1 - i if back else i
-            if (shared0 if end == 0 else shared1) and kept1 > kept0:
-                col = first if end == 0 else first + steps - 1.0
-                lo, hi = max(u0, col), min(u1, col + 1.0)
-                verbs, pts, ok = _joint_step(verbs, pts, cnt, joint, jrows, alpha, col, ymaj,
-                                             hi - lo, v0 + slope * (col + 0.5 - u0))
-                if ok and end == 0:
-                    kept0 += 1
-                elif ok:
-                    kept1 -= 1
-        if kept1 <= kept0:
-            return verbs, pts
-    first_kept, steps = first + kept0, kept1 - kept0
-    ua = u0 if kept0 == 0 else first_kept
-    ub = u1 if kept1 == total else first + kept1
-    if stair:
-        cnt[2] += int(steps)
-        stair = cnt[2] <= max_steps[1]
-    if not stair:
-        v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
-        v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
-        return _emit_steps(verbs, pts, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
-    # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across, see
-    # hairline.RUN_ROWS), each a run of its own
-    chunk = run_rows if ymaj else int(run_rows / max(abs(slope), 0.25))
-    n = int(steps)
-    k0 = 0
-    while k0 < n:
-        room = chunk - (cnt[1] - runs[1][cnt[3] - 1]) // 4
-        if room <= 0:
-            _new_run(runs, cnt, owner)
-            room = chunk
-        k1 = min(n, k0 + room)
-        verbs, pts = _emit_steps(verbs, pts, cnt, first_kept + k0, first_kept + k1, u0, u1,
-                                 v0, 0.0, slope, ymaj, True)
-        k0 = k1
-    return verbs, pts
 
 
 @njit(cache=True, inline="always")
 def _new_run(runs, cnt, owner):
-    """Starts a run (runs: [verb offsets, point offsets, owners], cnt[3] runs so far)."""
+    """Starts a run (runs: rows verb offsets, point offsets, owners; cnt[3] runs so far;
+    room for it: _rows_room)."""
     nr = cnt[3]
-    for j in range(3):
-        runs[j] = _grow(runs[j], nr + 2)
-    runs[0][nr], runs[1][nr], runs[2][nr] = cnt[0], cnt[1], owner
+    runs[0, nr], runs[1, nr], runs[2, nr] = cnt[0], cnt[1], owner
     cnt[3] += 1
 
 
@@ -175,8 +69,6 @@ def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
     the column; else the parallelogram one pixel thick across the axis from (u0, v0) to
     (u1, v1)."""
     n = int(c1 - c0) if stair else 1
-    verbs = _grow(verbs, cnt[0] + 4 * n + 1)
-    pts = _grow_points(pts, cnt[1] + 4 * n)
     base = cnt[1]
     for k in range(n):
         if stair:
@@ -207,7 +99,6 @@ def _emit_steps(verbs, pts, cnt, c0, c1, u0, u1, v0, v1, slope, ymaj, stair):
     verbs[cnt[0] + 4 * n] = CLOSE
     cnt[0] += 4 * n + 1
     cnt[1] += 4 * n
-    return verbs, pts
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -228,15 +119,16 @@ def _extend_ends(seg, lo, hi, outset):
         seg[r, k + 1] += sign * uy * outset
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _chord_count(kind, s):
+@njit(cache=True, inline="always")
+def _chord_count(kind, x0, y0, x1, y1, x2, y2, x3, y3):
     """How many chords Skia's hairline cuts a curve into: a quadratic 2^level, the level
     from the whole pixels between its control point and its chord's midpoint (4x closer a
     halving, at most 32 chords); a cubic the least 2^i whose control points lie within
-    4^i / 8 px of the chord's thirds (at most 512)."""
+    4^i / 8 px of the chord's thirds (at most 512). The curve's points as scalars (x3, y3
+    unused for a quadratic)."""
     if kind == 3:
-        dx = min(math.ceil(abs((s[0] + s[4]) / 2.0 - s[2])), 1 << 30)
-        dy = min(math.ceil(abs((s[1] + s[5]) / 2.0 - s[3])), 1 << 30)
+        dx = min(math.ceil(abs((x0 + x2) / 2.0 - x1)), 1 << 30)
+        dy = min(math.ceil(abs((y0 + y2) / 2.0 - y1)), 1 << 30)
         if not (dx >= 0 and dy >= 0):
             return 1
         idx, idy = int(dx), int(dy)
@@ -248,15 +140,25 @@ def _chord_count(kind, s):
         return 1 << min(5, (bits + 1) >> 1)
     diff = 0.0
     for j in range(2):
-        p13 = s[6 + j] / 3.0 + s[j] * (2.0 / 3.0)
-        p23 = s[j] / 3.0 + s[6 + j] * (2.0 / 3.0)
-        diff = max(diff, abs(s[2 + j] - p13), abs(s[4 + j] - p23))
+        p0, p1, p2, p3 = (x0, x1, x2, x3) if j == 0 else (y0, y1, y2, y3)
+        p13 = p3 / 3.0 + p0 * (2.0 / 3.0)
+        p23 = p0 / 3.0 + p3 * (2.0 / 3.0)
+        diff = max(diff, abs(p1 - p13), abs(p2 - p23))
     tol = 1.0 / 8.0
     for i in range(9):
         if diff < tol:
             return 1 << i
         tol *= 4.0
     return 1 << 9
+
+
+@njit(cache=True, inline="always")
+def _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t):
+    """Point at t of the cubic (x0, y0) ... (x3, y3) (stroke_kernels._cubic_at on scalars,
+    the same arithmetic)."""
+    u = 1.0 - t
+    a, b, cc, d = u * u * u, 3.0 * u * u * t, 3.0 * u * t * t, t * t * t
+    return a * x0 + b * x1 + cc * x2 + d * x3, a * y0 + b * y1 + cc * y2 + d * y3
 
 
 @njit(cache=True)
@@ -275,7 +177,21 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
             x, y = user[i, j], user[i, j + 1]
             segs[i, j] = a * x + c * y + e
             segs[i, j + 1] = b * x + d * y + f
-    rows = np.empty((max(16, len(kinds)), 4))
+    # the rows' count first (one array of the right size, no segment's row views: each cost
+    # the runtime's reference counts)
+    total = 0
+    for k in range(len(flags)):
+        if flags[k] == SUB_DOT:
+            total += 1
+            continue
+        for si in range(subs[k], subs[k + 1]):
+            kind = kinds[si]
+            if kind == 3 or kind == 4:
+                total += _chord_count(kind, segs[si, 0], segs[si, 1], segs[si, 2], segs[si, 3],
+                                      segs[si, 4], segs[si, 5], segs[si, 6], segs[si, 7])
+            else:
+                total += 1
+    rows = np.empty((total, 4))
     rsubs = np.empty(len(flags) + 1, np.int64)
     nr = nsub = 0
     for k in range(len(flags)):
@@ -283,37 +199,34 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
         start = nr
         if flags[k] == SUB_DOT:
             if outset > 0.0:
-                rows = _grow_points(rows, nr + 1)
                 x, y = segs[lo, 0], segs[lo, 1]
                 rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = x + outset, y, x - outset, y
                 nr += 1
         else:
             for si in range(lo, hi):
                 kind = kinds[si]
-                s = segs[si]
+                x0, y0, x1, y1 = segs[si, 0], segs[si, 1], segs[si, 2], segs[si, 3]
+                x2, y2, x3, y3 = segs[si, 4], segs[si, 5], segs[si, 6], segs[si, 7]
                 if kind == 3 or kind == 4:
-                    n = _chord_count(kind, s)
-                    rows = _grow_points(rows, nr + n)
-                    px, py = s[0], s[1]
+                    n = _chord_count(kind, x0, y0, x1, y1, x2, y2, x3, y3)
+                    px, py = x0, y0
                     for i in range(1, n + 1):
                         if i == n:
-                            qx, qy = (s[4], s[5]) if kind == 3 else (s[6], s[7])
+                            qx, qy = (x2, y2) if kind == 3 else (x3, y3)
                         else:
                             t = i / n
                             mt = 1.0 - t
                             if kind == 3:
-                                qx = mt * mt * s[0] + 2 * mt * t * s[2] + t * t * s[4]
-                                qy = mt * mt * s[1] + 2 * mt * t * s[3] + t * t * s[5]
+                                qx = mt * mt * x0 + 2 * mt * t * x1 + t * t * x2
+                                qy = mt * mt * y0 + 2 * mt * t * y1 + t * t * y2
                             else:
-                                qx, qy = _cubic_at(s, t)
+                                qx, qy = _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t)
                         rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = px, py, qx, qy
                         nr += 1
                         px, py = qx, qy
                 else:           # a line (a conic here would be its chord)
-                    rows = _grow_points(rows, nr + 1)
-                    e = 2 if kind == 2 else 6
-                    rows[nr, 0], rows[nr, 1] = s[0], s[1]
-                    rows[nr, 2], rows[nr, 3] = s[e], s[e + 1]
+                    rows[nr, 0], rows[nr, 1] = x0, y0
+                    rows[nr, 2], rows[nr, 3] = (x1, y1) if kind == 2 else (x3, y3)
                     nr += 1
             if outset > 0.0 and flags[k] == SUB_OPEN and nr > start:
                 _extend_ends(rows, start, nr, outset)
@@ -321,7 +234,7 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
             rsubs[nsub] = start
             nsub += 1
     rsubs[nsub] = nr
-    return rows[:nr].copy(), rsubs[:nsub + 1].copy()
+    return rows[:nr].copy() if nr < total else rows, rsubs[:nsub + 1].copy()
 
 
 @njit(cache=True, inline="always")
@@ -335,14 +248,60 @@ def _run_key(seg, r):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _rows_room(seg, ns, max_steps, run_rows):
+    """(polygon pieces, runs) the segments seg[:ns] of a subpath can make at most (_emit_rows):
+    a segment of n steps along its major axis (n at most max_steps[0] as a staircase, else
+    one parallelogram) takes at most n pieces of 4 points and 5 verbs (a polygon of k steps:
+    4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (the joint
+    takes at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
+    run for its direction and n // run_rows + 2 for the pieces of its staircase (a run for
+    its direction even when it draws nothing: not finite)."""
+    quads = 0
+    nruns = ns
+    rr = max(run_rows, 1)
+    for r in range(ns):
+        x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
+        dx, dy = x1 - x0, y1 - y0
+        if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
+                                             and math.isfinite(x1) and math.isfinite(y1)):
+            continue
+        lo, hi = (min(y0, y1), max(y0, y1)) if abs(dx) <= abs(dy) else \
+            (min(x0, x1), max(x0, x1))
+        # (at least one piece: past 2^63 the steps' count, as _emit_rows computes it, is
+        # the float-to-int conversion's overflow value, and the segment one parallelogram)
+        n = max(1, min(math.ceil(hi) - math.floor(lo), max_steps[0]))
+        quads += n + 4
+        nruns += n // rr + 2
+    return quads, nruns
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _grow_runs(runs, need):
+    """runs (rows: verb offsets, point offsets, owners) with room for ``need`` runs."""
+    if need <= runs.shape[1]:
+        return runs
+    b = np.empty((3, max(need, 2 * runs.shape[1])), np.int64)
+    for j in range(3):
+        for i in range(runs.shape[1]):
+            b[j, i] = runs[j, i]
+    return b
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint, jrows,
                alpha, run_rows):
     """Appends the polygons of the segments seg[:ns] of one subpath, starting a run (runs:
     [verb offsets, point offsets, owners], cnt[3] runs so far) at the subpath's start and
     wherever the major axis or the direction along it changes: within a run the segments'
     steps overlap only where one ends and the next begins within a step, and there the
-    shared step's pixels are Skia's segment-by-segment blending (_joint_step); where runs
-    overlap (turns, crossings) the runs are drawn one over the other."""
+    shared step's pixels are Skia's segment-by-segment blending (_flush_joint); where runs
+    overlap (turns, crossings) the runs are drawn one over the other. Returns (ov, op, runs),
+    grown once for the subpath (_rows_room: the helpers write without checks); cnt: [verbs
+    used, points used, steps counted, runs]."""
+    quads, nruns = _rows_room(seg, ns, max_steps, run_rows)
+    ov = _grow(ov, cnt[0] + 5 * quads)
+    op = _grow_points(op, cnt[1] + 4 * quads)
+    runs = _grow_runs(runs, cnt[3] + nruns + 1)
     key = -1
     shared0 = False
     r = 0
@@ -353,7 +312,7 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
             continue
         if k != key:
             if joint[1] > 0:
-                ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
+                _flush_joint(ov, op, cnt, joint, jrows, alpha)
             key = k
             shared0 = False
             _new_run(runs, cnt, owner)
@@ -363,31 +322,123 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
         # the next segment of the run starts within the step this one ends in
         u_end = seg[r, 3] if k >= 2 else seg[r, 2]
         shared1 = nxt < ns and _run_key(seg, nxt) == k and u_end != math.floor(u_end)
-        ov, op = _emit_row(ov, op, cnt, seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3],
-                           stair_slope, max_steps, shared0, shared1, joint, jrows, alpha, runs,
-                           owner, run_rows)
+        sh0, sh1 = shared0, shared1
         shared0 = shared1
+        x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
         r = nxt
+        # the segment's polygon: per step of the major axis u a rectangle one pixel thick
+        # across it, centred on the segment's v at the step's centre, as long as the
+        # segment's part of the step; one parallelogram for a segment of |slope| below
+        # ``stair_slope``, or of more steps than max_steps[0] (cnt[2] counts the path's steps
+        # against max_steps[1]). The step at the start (sh0) or the end (sh1) that another
+        # segment of the run shares goes to the pending joint instead.
+        # (Written out here, its helpers inlined: a call passing a dozen arrays a segment
+        # cost more in the runtime's reference counts than the segment's polygon.)
+        dx, dy = x1 - x0, y1 - y0
+        if (dx == 0.0 and dy == 0.0) or not (math.isfinite(x0) and math.isfinite(y0)
+                                             and math.isfinite(x1) and math.isfinite(y1)):
+            continue
+        ymaj = abs(dx) <= abs(dy)
+        if ymaj:
+            u0, v0, u1, v1 = y0, x0, y1, x1
+        else:
+            u0, v0, u1, v1 = x0, y0, x1, y1
+        back = u0 > u1
+        if back:
+            u0, u1, v0, v1 = u1, u0, v1, v0
+            sh0, sh1 = sh1, sh0
+        slope = (v1 - v0) / (u1 - u0)
+        first = math.floor(u0)
+        steps = math.ceil(u1) - first
+        total = int(steps)
+        stair = abs(slope) >= stair_slope and steps <= max_steps[0]
+        # the steps shared with the run's previous and next segments, in the path's order
+        # (the pending joint is the previous segment's), to the joint; the others kept:
+        # kept0 to kept1 - 1
+        kept0, kept1 = 0, total
+        if sh0 or sh1:
+            for i in range(2):
+                end = 1 - i if back else i
+                if (sh0 if end == 0 else sh1) and kept1 > kept0:
+                    col = first if end == 0 else first + steps - 1.0
+                    lo, hi = max(u0, col), min(u1, col + 1.0)
+                    # the segment's part f of the step, its band centred on vc, to the
+                    # pending shared step (flushed first if it is another column's), unless
+                    # jrows has no room for two more pixels
+                    if joint[1] > 0 and joint[0] != col:
+                        _flush_joint(ov, op, cnt, joint, jrows, alpha)
+                    ok = joint[1] + 2 <= jrows.shape[0]
+                    if ok:
+                        f, vc = hi - lo, v0 + slope * (col + 0.5 - u0)
+                        joint[0], joint[2] = int(col), 1 if ymaj else 0
+                        r0 = math.floor(vc - 0.5)
+                        share = (r0 + 1.0) - (vc - 0.5)     # of row r0; the rest row r0 + 1
+                        for j in range(2):
+                            row, a = (r0, share) if j == 0 else (r0 + 1.0, 1.0 - share)
+                            if a <= 0.0:
+                                continue
+                            q = 0
+                            while q < joint[1] and jrows[q, 0] != row:
+                                q += 1
+                            if q == joint[1]:
+                                jrows[q, 0], jrows[q, 1] = row, 1.0
+                                joint[1] += 1
+                            jrows[q, 1] *= 1.0 - alpha * f * a
+                    if ok and end == 0:
+                        kept0 += 1
+                    elif ok:
+                        kept1 -= 1
+            if kept1 <= kept0:
+                continue
+        first_kept, steps = first + kept0, kept1 - kept0
+        ua = u0 if kept0 == 0 else first_kept
+        ub = u1 if kept1 == total else first + kept1
+        if stair:
+            cnt[2] += int(steps)
+            stair = cnt[2] <= max_steps[1]
+        if not stair:
+            v_lo = v0 if ua == u0 else v0 + slope * (ua - u0)
+            v_hi = v1 if ub == u1 else v0 + slope * (ub - u0)
+            _emit_steps(ov, op, cnt, 0, 1, ua, ub, v_lo, v_hi, 0.0, ymaj, False)
+            continue
+        # a run is cut into pieces of at most `chunk` steps (of about run_rows rows across,
+        # see hairline.RUN_ROWS), each a run of its own
+        chunk = max(1, run_rows if ymaj else int(run_rows / max(abs(slope), 0.25)))
+        n = int(steps)
+        k0 = 0
+        while k0 < n:
+            room = chunk - (cnt[1] - runs[1, cnt[3] - 1]) // 4
+            if room <= 0:
+                _new_run(runs, cnt, owner)
+                room = chunk
+            k1 = min(n, k0 + room)
+            _emit_steps(ov, op, cnt, first_kept + k0, first_kept + k1, u0, u1, v0, 0.0,
+                        slope, ymaj, True)
+            k0 = k1
     if joint[1] > 0:
-        ov, op = _flush_joint(ov, op, cnt, joint, jrows, alpha)
-    return ov, op
+        _flush_joint(ov, op, cnt, joint, jrows, alpha)
+    return ov, op, runs
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _runs_out(ov, op, cnt, runs):
     nr = cnt[3]
-    runs[0][nr], runs[1][nr] = cnt[0], cnt[1]
-    return (ov[:cnt[0]], op[:cnt[1]], runs[0][:nr + 1].copy(), runs[1][:nr + 1].copy(),
-            runs[2][:nr].copy())
+    runs[0, nr], runs[1, nr] = cnt[0], cnt[1]
+    return (ov[:cnt[0]], op[:cnt[1]], runs[0, :nr + 1].copy(), runs[1, :nr + 1].copy(),
+            runs[2, :nr].copy())
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs, w,
-                stair_slope, max_steps, joint, jrows, alpha, run_rows):
-    """Appends the hairline outline (runs owned by ``w``) of the path of lines verbs[v_lo:
-    v_hi], its points from points[ip] on, under the transform m (see hairline_paths_batch).
-    Returns (ov, op, seg), grown as needed (seg: scratch rows of a subpath's segments)."""
+def _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs, w,
+                  stair_slope, max_steps, joint, jrows, alpha, run_rows):
+    """Appends the hairline outline (runs owned by ``w``) of the path verbs[v_lo:v_hi] (moves,
+    lines, quadratics, cubics, closes: no conics), its points from points[ip] on, under the
+    transform m (see hairline_paths_batch): what hairline_chords makes of path_segments'
+    subpaths (the same chords, in the same order, with the same arithmetic), each
+    subpath's chords drawn as they are made (_emit_rows). Returns (ov, op, seg, runs), grown
+    as needed (seg: scratch rows of a subpath's chords)."""
     a, b, c, d, e, f = m[0], m[1], m[2], m[3], m[4], m[5]
+    seg = _grow_points(seg, v_hi - v_lo)
     ns = 0
     have_start = False
     sx = sy = cx = cy = 0.0
@@ -396,14 +447,13 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
         v = verbs[iv] if iv < v_hi else MOVE
         if v == MOVE or v == CLOSE:
             if v == CLOSE and have_start:
-                seg = _grow_points(seg, ns + 1)
                 seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, sx, sy
                 ns += 1
                 cx, cy = sx, sy
             elif v == MOVE and ns > 0 and outset > 0.0:
                 _extend_ends(seg, 0, ns, outset)    # open: the caps lengthen both ends
-            ov, op = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+            ov, op, runs = _emit_rows(ov, op, cnt, seg, ns, runs, w, stair_slope, max_steps,
+                                      joint, jrows, alpha, run_rows)
             ns = 0
             if v == MOVE and iv < v_hi:
                 x, y = points[ip, 0], points[ip, 1]
@@ -411,15 +461,44 @@ def _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, runs
                 sy = cy = b * x + d * y + f
                 ip += 1
                 have_start = True
-        else:                           # a line
+        elif v == LINE:
             x, y = points[ip, 0], points[ip, 1]
             nx, ny = a * x + c * y + e, b * x + d * y + f
             ip += 1
-            seg = _grow_points(seg, ns + 1)
             seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = cx, cy, nx, ny
             ns += 1
             cx, cy = nx, ny
-    return ov, op, seg
+        else:                           # a curve cut into chords (hairline_chords)
+            kind = 3 if v == QUAD else 4
+            x1, y1 = points[ip, 0], points[ip, 1]
+            x2, y2 = points[ip + 1, 0], points[ip + 1, 1]
+            x3 = y3 = 0.0
+            if v == CUBIC:
+                x3, y3 = points[ip + 2, 0], points[ip + 2, 1]
+                x3, y3 = a * x3 + c * y3 + e, b * x3 + d * y3 + f
+            x1, y1 = a * x1 + c * y1 + e, b * x1 + d * y1 + f
+            x2, y2 = a * x2 + c * y2 + e, b * x2 + d * y2 + f
+            ip += kind - 1
+            n = _chord_count(kind, cx, cy, x1, y1, x2, y2, x3, y3)
+            # (room for the rest of the path's verbs too: a row each)
+            seg = _grow_points(seg, ns + n + v_hi - iv)
+            px, py = cx, cy
+            for i in range(1, n + 1):
+                if i == n:
+                    qx, qy = (x2, y2) if kind == 3 else (x3, y3)
+                else:
+                    t = i / n
+                    mt = 1.0 - t
+                    if kind == 3:
+                        qx = mt * mt * cx + 2 * mt * t * x1 + t * t * x2
+                        qy = mt * mt * cy + 2 * mt * t * y1 + t * t * y2
+                    else:
+                        qx, qy = _cubic_xy(cx, cy, x1, y1, x2, y2, x3, y3, t)
+                seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = px, py, qx, qy
+                ns += 1
+                px, py = qx, qy
+            cx, cy = px, py
+    return ov, op, seg, runs
 
 
 @njit(cache=True)
@@ -430,16 +509,15 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
     pstart[i]:pstart[i + 1]) under the transform m (a, b, c, d, e, f), round and square caps
     lengthening open subpaths' ends by ``outset``. Returns (verbs, points, run verb offsets,
     run point offsets, the index in ``which`` of each run's path): each path's outline is
-    its runs (_emit_rows), in order. A path of lines is read here (_lines_path, no arrays
-    of its own); any other (curves, conics) goes through the kernels hairline_segments
-    calls: conics as the cubics usvg makes of arcs (conics_as_cubics at
-    ``arc_tolerance``, at most ``max_arc`` cubics an arc: stroke.arc_cubics), the subpaths
-    (stroke_kernels.path_segments), curves cut into chords in the device (hairline_chords),
-    the chords' runs (_emit_rows, a path's steps counted against max_steps[1] together).
+    its runs (_emit_rows), in order. A path is read here (_path_outline: what the kernels
+    hairline_segments calls make of it, stroke_kernels.path_segments and hairline_chords,
+    without their arrays), its conics first made the cubics usvg makes of arcs
+    (conics_as_cubics at ``arc_tolerance``, at most ``max_arc`` cubics an arc:
+    stroke.arc_cubics); a path's steps are counted against max_steps[1] together.
     (The parameters that are the module hairline's constants come last: jit.bind_tail.)"""
     ov = np.empty(64, np.uint8)
     op = np.empty((64, 2))
-    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    runs = np.empty((3, 16), np.int64)
     cnt = np.zeros(4, np.int64)
     seg = np.empty((16, 4))
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
@@ -448,29 +526,20 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
         cnt[2] = 0
         i = which[w]
         v_lo, v_hi = vstart[i], vstart[i + 1]
-        curved = conic = False
+        conic = False
         for iv in range(v_lo, v_hi):
-            v = verbs[iv]
-            if v != MOVE and v != LINE and v != CLOSE:
-                curved = True
-                if v == CONIC:
-                    conic = True
-        if not curved:
-            ov, op, seg = _lines_path(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
-                                      pstart[i], m, outset, runs, w, stair_slope, max_steps,
-                                      joint, jrows, alpha, run_rows)
+            if verbs[iv] == CONIC:
+                conic = True
+        if not conic:
+            ov, op, seg, runs = _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
+                                              pstart[i], m, outset, runs, w, stair_slope,
+                                              max_steps, joint, jrows, alpha, run_rows)
             continue
-        pv, pp = verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]]
-        if conic:
-            pv, pp = conics_as_cubics(pv, pp, keep, arc_tolerance, max_arc)
-        kinds, segs, subs, flags = path_segments(pv, pp)
-        if len(flags) == 0:
-            continue
-        rows, rsubs = hairline_chords(kinds, segs, subs, flags, m, outset)
-        for k in range(len(rsubs) - 1):
-            ov, op = _emit_rows(ov, op, cnt, rows[rsubs[k]:rsubs[k + 1]],
-                                rsubs[k + 1] - rsubs[k], runs, w, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+        pv, pp = conics_as_cubics(verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]], keep,
+                                  arc_tolerance, max_arc)
+        ov, op, seg, runs = _path_outline(ov, op, cnt, seg, pv, pp, 0, len(pv), 0, m, outset,
+                                          runs, w, stair_slope, max_steps, joint, jrows,
+                                          alpha, run_rows)
     return _runs_out(ov, op, cnt, runs)
 
 
@@ -480,12 +549,12 @@ def hairline_rows(rows, subs, stair_slope, max_steps, alpha, run_rows):
     device segments ``rows`` (N, 4), subpath k being rows subs[k]:subs[k + 1]."""
     verbs = np.empty(64, np.uint8)
     pts = np.empty((64, 2))
-    runs = [np.empty(16, np.int64), np.empty(16, np.int64), np.empty(16, np.int64)]
+    runs = np.empty((3, 16), np.int64)
     cnt = np.zeros(4, np.int64)
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
     for k in range(len(subs) - 1):
-        verbs, pts = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
-                                subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
-                                joint, jrows, alpha, run_rows)
+        verbs, pts, runs = _emit_rows(verbs, pts, cnt, rows[subs[k]:subs[k + 1]],
+                                      subs[k + 1] - subs[k], runs, 0, stair_slope, max_steps,
+                                      joint, jrows, alpha, run_rows)
     out = _runs_out(verbs, pts, cnt, runs)
     return out[0], out[1], out[2], out[3]
