@@ -1478,3 +1478,36 @@ def test_each_strip_visits_the_fills_whose_boxes_meet_it_in_batch_order(boxes, y
             now, then = then, now
             n = strip_fills(then, n, order, start[s], start[s + 1], last, s, now)
             assert now[:n].tolist() == want, (s, left)
+
+
+def test_batch_extents_are_each_paths_drawing_finite_points_and_their_box():
+    """batch_extents (which of a batch's paths _fill_batches keeps, and their points' boxes)
+    against each path's verbs and points looked at one by one: kept where some verb is
+    neither MOVE nor CLOSE and every coordinate is finite; the box the points' extremes."""
+    from vecmsaa.geometry.primitives import batch_arrays, batch_extents
+    from vecmsaa.scene.path import CLOSE, MOVE
+    rng = np.random.default_rng(3)
+    paths = []
+    for i in range(60):
+        p = Path()
+        p.moveTo(tuple(rng.uniform(-50, 50, 2)))
+        for _ in range(i % 4):
+            p.lineTo(tuple(rng.uniform(-50, 50, 2)))
+        if i % 5 == 0:
+            p.closePath()
+        paths.append(p)
+    paths[7].lineTo((np.nan, 3.0))
+    paths[11].lineTo((2.0, np.inf))
+    paths[13].moveTo((-np.inf, 0.0))
+    verbs, pts, voff, poff = batch_arrays(paths)
+    keep, box = batch_extents(verbs, pts, voff, poff)
+    for k in range(len(paths)):
+        v = verbs[voff[k]:voff[k + 1]].tolist()
+        q = pts[poff[k]:poff[k + 1]]
+        draws = any(x not in (MOVE, CLOSE) for x in v)
+        finite = all(math.isfinite(c) for c in q.ravel().tolist())
+        assert keep[k] == (draws and finite), k
+        if finite:
+            assert box[k].tolist() == [min(q[:, 0]), min(q[:, 1]), max(q[:, 0]), max(q[:, 1])]
+    assert keep[[7, 11, 13]].tolist() == [False, False, False]
+    assert not keep[[i for i in range(60) if i % 4 == 0 and i not in (7, 11, 13)]].any()
