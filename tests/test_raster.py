@@ -809,7 +809,26 @@ MARKERS_SVG = (
     'marker-start="url(#n)" marker-mid="url(#n)" marker-end="url(#n)"/></svg>')
 
 
-@pytest.mark.parametrize("source", ["layered", "filtered", "huge", "markers",
+def scatter_svg(count=1500, width=90, height=70, seed=5):
+    """Many small circles with 0.5 px strokes (hairlines: several small fills each), as a
+    D3 scatter plot draws them, some opaque in runs (occlusion runs), some translucent, a
+    few crossing the canvas edges: thousands of fills of a few pixels, most meeting one or
+    two strips."""
+    rng = np.random.default_rng(seed)
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}">']
+    for i in range(count):
+        x, y = rng.uniform(-3, width + 3), rng.uniform(-3, height + 3)
+        r = rng.uniform(0.4, 3.5)
+        opaque = (i // 7) % 2 == 0
+        fill = f'fill="#{rng.integers(0, 1 << 24):06x}"' + ("" if opaque else
+                                                           ' fill-opacity="0.6"')
+        stroke = ' stroke="#222" stroke-width="0.5"' if i % 3 else ""
+        parts.append(f'<circle cx="{x:.3f}" cy="{y:.3f}" r="{r:.3f}" {fill}{stroke}/>')
+    parts.append('</svg>')
+    return "".join(parts)
+
+
+@pytest.mark.parametrize("source", ["layered", "filtered", "huge", "markers", "scatter",
                                     "Ghostscript_Tiger", "alexandria-city-1"])
 def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     """Bands rendered on 1, 2 or 3 threads with several band budgets, and kernel strips
@@ -826,6 +845,8 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
         scene = load_svg(MARKERS_SVG, width=211)
         clipped = [g for g in scene.root.children if isinstance(g, Group) and g.clip]
         assert len(clipped) == 1 and len(scene.root.children) == 18
+    elif source == "scatter":
+        scene = load_svg(scatter_svg(), width=211)
     else:
         path = request.getfixturevalue("shared_dir") / "corpus" / f"{source}.svg"
         if not path.is_file():
@@ -1426,3 +1447,67 @@ def test_small_batches_tables_and_boxes_are_the_general_ones():
             assert (x0, y0, x1, y1) == (*pts[a:b].min(axis=0), *pts[a:b].max(axis=0))
         batch = render_module.FillBatch(fills, *arrays, RenderOptions(), extremes=ext)
         assert batch.cols == (batch.box[:, 0].min(), batch.box[:, 2].max())
+
+
+@given(st.lists(st.tuples(st.sampled_from([-np.inf, -3.5, -0.25, 0.0, 2.0, 7.999, 8.0, 11.5,
+                                           16.0, 30.0, 33.0, np.inf, np.nan]),
+                          st.sampled_from([-np.inf, -1.0, 0.0, 0.5, 4.0, 8.0, 15.999, 16.0,
+                                           19.0, 23.5, 24.0, 40.0, np.inf, np.nan]),
+                          st.sampled_from([-np.inf, -2.0, 0.0, 3.0, 20.0, 29.0, 30.0, np.nan]),
+                          st.floats(-3, 45, allow_nan=False, width=32)), max_size=40),
+       st.integers(-5, 20), st.integers(0, 40), st.integers(1, 9))
+@settings(max_examples=300, deadline=None)
+def test_each_strip_visits_the_fills_whose_boxes_meet_it_in_batch_order(boxes, y0, H, strip):
+    """strip_buckets and strip_fills (render_msaa's, render_csaa's and render_analytic's
+    lists of the fills each strip draws) against the box test done on every fill and strip
+    (the kernels' test before: box y1 >= the strip's first row, box y0 < its end, box x0 < W,
+    box x1 >= 0; NaN and infinite boxes included), in batch order."""
+    from vecmsaa.raster.scan import strip_buckets, strip_fills
+    W = 30
+    box = np.array([(x0, ya, x1, ya + dy) for x0, ya, x1, dy in boxes],
+                   np.float64).reshape(-1, 4)
+    for left in (True, False):
+        start, order, last = strip_buckets(box, y0, H, W, strip, left)
+        now, then = np.empty(len(order), np.int32), np.empty(len(order), np.int32)
+        n = 0
+        for s, sy0 in enumerate(range(y0, y0 + H, strip)):
+            rows = min(strip, y0 + H - sy0)
+            want = [k for k in range(len(box))
+                    if not (box[k, 3] < sy0 or box[k, 1] >= sy0 + rows)
+                    and not (box[k, 0] >= W or (left and box[k, 2] < 0.0))]
+            now, then = then, now
+            n = strip_fills(then, n, order, start[s], start[s + 1], last, s, now)
+            assert now[:n].tolist() == want, (s, left)
+
+
+def test_batch_extents_are_each_paths_drawing_finite_points_and_their_box():
+    """batch_extents (which of a batch's paths _fill_batches keeps, and their points' boxes)
+    against each path's verbs and points looked at one by one: kept where some verb is
+    neither MOVE nor CLOSE and every coordinate is finite; the box the points' extremes."""
+    from vecmsaa.geometry.primitives import batch_arrays, batch_extents
+    from vecmsaa.scene.path import CLOSE, MOVE
+    rng = np.random.default_rng(3)
+    paths = []
+    for i in range(60):
+        p = Path()
+        p.moveTo(tuple(rng.uniform(-50, 50, 2)))
+        for _ in range(i % 4):
+            p.lineTo(tuple(rng.uniform(-50, 50, 2)))
+        if i % 5 == 0:
+            p.closePath()
+        paths.append(p)
+    paths[7].lineTo((np.nan, 3.0))
+    paths[11].lineTo((2.0, np.inf))
+    paths[13].moveTo((-np.inf, 0.0))
+    verbs, pts, voff, poff = batch_arrays(paths)
+    keep, box = batch_extents(verbs, pts, voff, poff)
+    for k in range(len(paths)):
+        v = verbs[voff[k]:voff[k + 1]].tolist()
+        q = pts[poff[k]:poff[k + 1]]
+        draws = any(x not in (MOVE, CLOSE) for x in v)
+        finite = all(math.isfinite(c) for c in q.ravel().tolist())
+        assert keep[k] == (draws and finite), k
+        if finite:
+            assert box[k].tolist() == [min(q[:, 0]), min(q[:, 1]), max(q[:, 0]), max(q[:, 1])]
+    assert keep[[7, 11, 13]].tolist() == [False, False, False]
+    assert not keep[[i for i in range(60) if i % 4 == 0 and i not in (7, 11, 13)]].any()

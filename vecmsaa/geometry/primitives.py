@@ -1221,3 +1221,33 @@ def batch_arrays(paths):
     all_verbs = np.concatenate(verbs).astype(np.uint8, copy=False)
     all_pts = np.concatenate(pts).reshape(-1, 2).astype(np.float64, copy=False)
     return all_verbs, all_pts, verb_off, pt_off
+
+
+@njit(cache=True, nogil=True)
+def batch_extents(verbs, points, verb_off, point_off):
+    """Per path of a batch (batch_arrays' arrays): whether it can draw something (a verb
+    besides MOVE and CLOSE, and every point finite) and its points' box (x0, y0, x1, y1),
+    in one pass over the arrays, where numpy took five over the whole batch (a running sum
+    of drawing verbs, a finiteness test, two reductions per path, their columns: ~70 ms of
+    120,000 small fills). Returns (keep: (P,) bool, box: (P, 4) float64)."""
+    P = verb_off.shape[0] - 1
+    keep = np.empty(P, np.bool_)
+    box = np.empty((P, 4))
+    for k in range(P):
+        drawing = False
+        for v in range(verb_off[k], verb_off[k + 1]):
+            if verbs[v] != MOVE and verbs[v] != CLOSE:
+                drawing = True
+                break
+        finite = True
+        x0, y0, x1, y1 = np.inf, np.inf, -np.inf, -np.inf
+        for i in range(point_off[k], point_off[k + 1]):
+            x, y = points[i, 0], points[i, 1]
+            # (NaN compares false: not finite)
+            if not (abs(x) < np.inf and abs(y) < np.inf):
+                finite = False
+            x0, x1 = min(x0, x), max(x1, x)
+            y0, y1 = min(y0, y), max(y1, y)
+        keep[k] = drawing and finite
+        box[k, 0], box[k, 1], box[k, 2], box[k, 3] = x0, y0, x1, y1
+    return keep, box

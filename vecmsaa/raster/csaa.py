@@ -20,7 +20,7 @@ import numpy as np
 
 from ..jit import njit
 from .scan import (_floor_int, _sort_row, band_chunks, coverage_of, prim_rows, saturated,
-                   scan_edges, scan_lenses)
+                   scan_edges, scan_lenses, strip_buckets, strip_fills)
 from .shaders import shade_span
 
 
@@ -248,7 +248,6 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     transparent ``target``), then every split pixel resolved from its table."""
     H, W = target.shape[0], target.shape[1]
     n = sx.shape[0]
-    P = edge_off.shape[0] - 1
     (delta, local, dirty, dlist, dcount, cplx, slot_of, slot_pixel, colours, index, lens_stats,
      span) = scratch
     strip_rows = delta.shape[0]
@@ -267,16 +266,20 @@ def render_csaa(target, y0, edges, edge_off, prims, prim_off, path_box, rules, a
     counts = np.zeros(n, dtype=np.int64)
     key_entry = np.zeros(2 * colours.shape[1], dtype=np.int64)
     chunk_y = band_chunks(edges, edge_off, path_box, y0, H, strip_rows)
-    for sy0 in range(y0, y0 + H, strip_rows):
+    # each strip visits only the fills whose box meets it, in batch order (strip_buckets)
+    start, order, last = strip_buckets(path_box, y0, H, W, strip_rows, True)
+    now = np.empty(order.shape[0], dtype=np.int32)
+    then = np.empty(order.shape[0], dtype=np.int32)
+    nnow = 0
+    for si in range((H + strip_rows - 1) // strip_rows):
+        sy0 = y0 + si * strip_rows
         rows = min(strip_rows, y0 + H - sy0)
         fb = target[sy0 - y0:sy0 - y0 + rows]
+        now, then = then, now
+        nnow = strip_fills(then, nnow, order, start[si], start[si + 1], last, si, now)
         npool = np.int64(0)
-        for i in range(P):
-            k = P - 1 - i if saturate else i
-            if path_box[k, 3] < sy0 or path_box[k, 1] >= sy0 + rows:
-                continue
-            if path_box[k, 0] >= W or path_box[k, 2] < 0.0:
-                continue
+        for i in range(nnow):
+            k = now[nnow - 1 - i] if saturate else now[i]
             r_first = max(0, _floor_int(path_box[k, 1]) - sy0)
             r_last = min(rows - 1, _floor_int(path_box[k, 3]) - sy0)
             scan_edges(edges, chunk_y, edge_off[k], edge_off[k + 1], sy0, rows, W, sx, sy, delta,

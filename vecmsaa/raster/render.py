@@ -38,7 +38,8 @@ from .csaa import csaa_scratch, render_csaa
 from ..jit import bind_tail
 from .modes import EXACT_MODES, FILTERS, MODES, MSAA_MODES, SATURATE_MODES
 from ..geometry.primitives import (CULL_MARGIN, NO_CULL, QUAD_FALLBACK_TOL, RUN_VERBS,
-                                   batch_arrays, build_batch, build_run, path_runs)
+                                   batch_arrays, batch_extents, build_batch, build_run,
+                                   path_runs)
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
@@ -987,7 +988,7 @@ class FillBatch:
     runs = None
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
-                 extremes=None, canvas=NO_CULL):
+                 extremes=None, canvas=NO_CULL, boxes=None):
         moved = _crisp_at_centres(fills, pts, poff, opts)
         if _streams(fills, verbs, opts):
             built = None
@@ -1020,10 +1021,16 @@ class FillBatch:
                 self._one_fill(fills[0], box, lo, hi, built, opts)
                 return
         else:
-            starts = poff[:-1]
             box = np.empty((len(fills), 4))
-            box[:, :2] = np.minimum.reduceat(moved, starts, axis=0) - QUAD_FALLBACK_TOL
-            box[:, 2:] = np.maximum.reduceat(moved, starts, axis=0) + QUAD_FALLBACK_TOL
+            if boxes is None or moved is not pts:
+                starts = poff[:-1]
+                boxes = np.empty((len(fills), 4))
+                boxes[:, :2] = np.minimum.reduceat(moved, starts, axis=0)
+                boxes[:, 2:] = np.maximum.reduceat(moved, starts, axis=0)
+            # (``boxes``: batch_extents' of these points, _fill_batches'; the same extremes,
+            # but for the sign of a zero, which the margin added takes away)
+            box[:, :2] = boxes[:, :2] - QUAD_FALLBACK_TOL
+            box[:, 2:] = boxes[:, 2:] + QUAD_FALLBACK_TOL
             # (the columns' extremes in two reductions: a batch of one small fill costs its
             # reductions more than its geometry)
             lo, hi = box.min(axis=0), box.max(axis=0)
@@ -1657,8 +1664,6 @@ def _pixel_box(fill: Fill):
             math.floor(max(ys)) + 2)
 
 
-_NOT_DRAWING = np.zeros(256, np.bool_)
-_NOT_DRAWING[[MOVE, CLOSE]] = True
 _NOT_DRAWING_BYTES = bytes((MOVE, CLOSE))
 
 
@@ -1851,19 +1856,16 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
             return []
     if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
         return []
-    drawing = np.zeros(len(verbs) + 1, np.int64)
-    np.cumsum(~_NOT_DRAWING[verbs], out=drawing[1:])
-    keep = drawing[voff[1:]] > drawing[voff[:-1]]
-    if not np.isfinite(pts).all():
-        bad = np.zeros(len(pts) + 1, np.int64)
-        np.cumsum(~np.isfinite(pts).all(axis=1), out=bad[1:])
-        keep &= bad[poff[1:]] == bad[poff[:-1]]
+    # which paths draw (a verb besides MOVE and CLOSE, finite points) and their points'
+    # boxes, in one kernel pass (FillBatch's boxes of a batch whose points it does not move)
+    keep, boxes = batch_extents(verbs, pts, voff, poff)
     if not keep.all():
         fills = [f for f, k in zip(fills, keep.tolist()) if k]
         if not fills:
             return []
         arrays = _shifted_arrays(fills, shift)
-    return [FillBatch(fills, *arrays, opts, pool, None, canvas)]
+        boxes = boxes[keep]
+    return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
 
 
 _OPACITY = attrgetter("opacity")
