@@ -161,6 +161,20 @@ def _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t):
     return a * x0 + b * x1 + cc * x2 + d * x3, a * y0 + b * y1 + cc * y2 + d * y3
 
 
+@njit(cache=True, inline="always")
+def _chord_end(kind, i, n, x0, y0, x1, y1, x2, y2, x3, y3):
+    """The end of chord i (1 .. n) of the n at even steps of t of a quadratic (kind 3: (x0,
+    y0) .. (x2, y2)) or a cubic (kind 4); the last one ends on the curve's end exactly."""
+    if i == n:
+        return (x2, y2) if kind == 3 else (x3, y3)
+    t = i / n
+    mt = 1.0 - t
+    if kind == 3:
+        return (mt * mt * x0 + 2 * mt * t * x1 + t * t * x2,
+                mt * mt * y0 + 2 * mt * t * y1 + t * t * y2)
+    return _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t)
+
+
 @njit(cache=True)
 def hairline_chords(kinds, user, subs, flags, m, outset):
     """The line segments (rows (N, 4), subpath starts) of Skia's hairline of path_segments'
@@ -211,16 +225,7 @@ def hairline_chords(kinds, user, subs, flags, m, outset):
                     n = _chord_count(kind, x0, y0, x1, y1, x2, y2, x3, y3)
                     px, py = x0, y0
                     for i in range(1, n + 1):
-                        if i == n:
-                            qx, qy = (x2, y2) if kind == 3 else (x3, y3)
-                        else:
-                            t = i / n
-                            mt = 1.0 - t
-                            if kind == 3:
-                                qx = mt * mt * x0 + 2 * mt * t * x1 + t * t * x2
-                                qy = mt * mt * y0 + 2 * mt * t * y1 + t * t * y2
-                            else:
-                                qx, qy = _cubic_xy(x0, y0, x1, y1, x2, y2, x3, y3, t)
+                        qx, qy = _chord_end(kind, i, n, x0, y0, x1, y1, x2, y2, x3, y3)
                         rows[nr, 0], rows[nr, 1], rows[nr, 2], rows[nr, 3] = px, py, qx, qy
                         nr += 1
                         px, py = qx, qy
@@ -484,16 +489,7 @@ def _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi, ip, m, outset, ru
             seg = _grow_points(seg, ns + n + v_hi - iv)
             px, py = cx, cy
             for i in range(1, n + 1):
-                if i == n:
-                    qx, qy = (x2, y2) if kind == 3 else (x3, y3)
-                else:
-                    t = i / n
-                    mt = 1.0 - t
-                    if kind == 3:
-                        qx = mt * mt * cx + 2 * mt * t * x1 + t * t * x2
-                        qy = mt * mt * cy + 2 * mt * t * y1 + t * t * y2
-                    else:
-                        qx, qy = _cubic_xy(cx, cy, x1, y1, x2, y2, x3, y3, t)
+                qx, qy = _chord_end(kind, i, n, cx, cy, x1, y1, x2, y2, x3, y3)
                 seg[ns, 0], seg[ns, 1], seg[ns, 2], seg[ns, 3] = px, py, qx, qy
                 ns += 1
                 px, py = qx, qy
