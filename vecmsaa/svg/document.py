@@ -336,9 +336,6 @@ class Style:
         """The computed values (computed_down's name for them)."""
         return self.cache
 
-    def has_own(self, name):
-        return name in self.specified
-
     def font_size(self) -> float:
         """Computed font size in user units (em and % relative to the parent's)."""
         if self._font_size is None:

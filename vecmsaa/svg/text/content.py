@@ -150,15 +150,6 @@ def _space_preserved(el, inherited):
     return inherited if v is None else v == "preserve"
 
 
-def content_elements(text_el):
-    """<text> and its text content elements, depth first."""
-    stack = [text_el]
-    while stack:
-        el = stack.pop()
-        yield el
-        stack.extend(c for c in el.children if c.tag in TEXT_CONTENT)
-
-
 #: collapse_white_space's first step, on a node's string
 _TO_SPACE = str.maketrans("\r\n\t", "   ")
 _SPACES = re.compile(" {2,}")
