@@ -276,3 +276,96 @@ def test_lengths_read_in_bulk_are_lengths_read_one_by_one(texts):
         want_x = builder.length(el.attrs.get("cx"), "x", style, (100.0, 80.0), 0.0)
         want_r = builder.length(el.attrs.get("r"), "xy", style, (100.0, 80.0), None)
         assert repr(x) == repr(want_x) and repr(radius) == repr(want_r), texts
+
+
+#: targets of <use> as cairo writes its glyphs (a symbol of one path, overflow visible), and
+#: the others a run of uses may meet: a clipping symbol, groups and shapes with transforms
+#: and strokes, content that is built per instance (text, a nested use), a missing target
+USE_DEFS = (
+    '<defs><symbol overflow="visible" id="s0"><path style="stroke:none;" '
+    'd="M2 0L8 0L5 9Z" transform="scale(0.5,-0.5)"/></symbol>'
+    '<symbol overflow="visible" id="s1"><path d="M0 0h6v-6h-6z M1 -1h2v-2h-2z" '
+    'fill-rule="evenodd"/></symbol>'
+    '<symbol id="clipped" viewBox="0 0 10 10" width="6" height="6"><circle cx="5" cy="5" '
+    'r="7"/></symbol>'
+    '<g id="g"><rect width="4" height="3" transform="rotate(15)"/><circle cx="3" cy="3" r="2" '
+    'fill="none" stroke="navy" stroke-width="0.7"/></g>'
+    '<path id="p" d="M0 0 Q 5 -8 10 0" stroke="red" stroke-width="0.1" fill="teal"/>'
+    '<text id="t" x="0" y="0" font-size="4">a</text><use id="u" href="#s0" x="1"/>'
+    '</defs>')
+
+USE_TARGETS = ["#s0", "#s1", "#s0", "#s1", "#clipped", "#g", "#p", "#t", "#u", "#none", ""]
+
+
+def random_uses(rng):
+    """Runs of <use> siblings as cairo writes them (href, x, y), now and then one with a
+    width, a transform or a style of its own, or lengths in units, between paths."""
+    def coord():
+        v = rng.uniform(-5, 95)
+        return rng.choice([f"{v:.3f}"] * 8 + ["0", "", f"{v / 10:.2f}em", f"{v:.0f}%",
+                                               f"calc({v:.1f}px + 1px)", "junk"])
+    out = []
+    for _ in range(rng.randint(1, 60)):
+        attrs = f'xlink:href="{rng.choice(USE_TARGETS)}"'
+        if rng.random() < 0.9:
+            attrs += f' x="{coord()}"'
+        if rng.random() < 0.9:
+            attrs += f' y="{coord()}"'
+        attrs += rng.choice([""] * 20 + [' width="3"', ' transform="scale(2)"',
+                                          ' fill="red"', ' style="opacity:0.5"', ' id="q"',
+                                          ' systemLanguage="xx"'])
+        out.append(f"<use {attrs}/>")
+        if rng.random() < 0.05:
+            out.append('<path d="M0 0 L9 9 L0 9z"/>')
+    return "".join(out)
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_runs_of_uses_draw_as_each_use_alone(seed, monkeypatch):
+    """Builder._use_run's nodes are element()'s for each <use>, to the bit, in groups of
+    every kind of style (display none, opacity, a clip) and under transforms."""
+    rng = random.Random(seed)
+    body = []
+    for _ in range(rng.randint(1, 3)):
+        group = rng.choice(['', 'transform="scale(1.7)"', 'transform="rotate(20 50 50)"',
+                            'style="fill:rgb(0%,0%,0%);fill-opacity:1;"', 'opacity="0.5"',
+                            'clip-path="url(#c)"', 'stroke="gold" stroke-width="0.3"',
+                            'display="none"', 'transform="matrix(0 -1 1 0 0 100)"'])
+        body.append(f"<g {group}>{random_uses(rng)}</g>")
+    svg = (f'<svg {NS} width="100" height="100"><clipPath id="c"><rect width="50" '
+           f'height="60"/></clipPath>{USE_DEFS}{"".join(body)}</svg>')
+    for width in (100, 37, 410):
+        runs, alone = both_ways(svg, monkeypatch, width=width)
+        assert runs == alone, (seed, width)
+
+
+def test_a_page_of_glyph_uses_maps_its_points_in_one_call(monkeypatch):
+    """A run of glyph <use>s (pdftocairo's page) maps every instance's points in one
+    apply_each call, none through a point mapper of its own, and draws as each use alone."""
+    uses = "".join(f'<use xlink:href="#s{i % 2}" x="{i % 17 * 5.25:.2f}" y="{i // 17 * 6}"/>'
+                   for i in range(200))
+    svg = f'<svg {NS} width="100" height="100">{USE_DEFS}<g>{uses}</g></svg>'
+    calls = {"each": 0, "mapper": 0}
+    each = builder_module.apply_each
+
+    def counted_each(*a):
+        calls["each"] += 1
+        return each(*a)
+    monkeypatch.setattr(builder_module, "apply_each", counted_each)
+    mapper = builder_module.point_mapper
+
+    def counted_mapper(pts):
+        mapped = mapper(pts)
+
+        def wrapped(m):
+            calls["mapper"] += 1
+            return mapped(m)
+        return wrapped
+    monkeypatch.setattr(builder_module, "point_mapper", counted_mapper)
+    runs, alone = both_ways(svg, monkeypatch, width=100)
+    assert runs == alone
+    assert calls["each"] == 1
+    # (the first use of each glyph prepares it through element(), and the general way
+    # maps all 200 one by one)
+    assert calls["mapper"] == 2 + 200
+    assert len(runs[-1]) == 200

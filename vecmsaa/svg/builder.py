@@ -11,13 +11,14 @@ from __future__ import annotations
 import functools
 import itertools
 import math
+from operator import itemgetter
 import re
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..diagnostics import warn
-from ..scene.transform import IDENTITY, apply, compose, point_mapper, translate
+from ..scene.transform import IDENTITY, apply, apply_each, compose, point_mapper, translate
 from ..scene.path import _RECT_VERBS, CLOSE, LINE, MOVE, Path, rect_corners, rect_path
 from ..scene.nodes import Fill, Group, Scene, Solid
 from ..geometry import stroke_kernels
@@ -380,6 +381,8 @@ def _origin_values(text):
 #: the targets of <use> whose content may be prepared once for all instances (see
 #: Builder._prepare_instance)
 _INSTANCEABLE = SHAPES | {"symbol", "g", "a"}
+#: the attributes of a <use> that _use_run takes (with no style specified for it)
+_PLAIN_USE_ATTRIBUTES = frozenset(("href", "x", "y"))
 
 #: what Builder.length reads as a plain number without split_length (see there)
 _PLAIN_NUMBER_CHARS = "0123456789.+-"
@@ -601,11 +604,27 @@ class Builder:
         # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
         # path for the next instance (_shape_path)
         shape_runs = not (self.ref_stack or ctx.use_stack)
+        uses = []       # consecutive plain <use> children (see _use_run)
+        var_raw = self.doc.var_raw
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
             # call per path costs more than the test)
             tag = child.tag
+            if (tag == "use" and shape_runs and not child.specified
+                    and _PLAIN_USE_ATTRIBUTES.issuperset(child.attrs)
+                    and not (var_raw and id(child) in var_raw)):
+                if run:
+                    self._path_run(run, ctx, style, out)
+                    run = []
+                if shapes:
+                    self._shape_run(shapes, ctx, out)
+                    shapes = []
+                uses.append(child)
+                continue
+            if uses:
+                self._use_run(uses, ctx, style, out)
+                uses = []
             if (tag in SHAPES and "systemLanguage" not in child.attrs
                     and "requiredExtensions" not in child.attrs
                     and "pathLength" not in child.attrs):
@@ -640,7 +659,54 @@ class Builder:
             self._path_run(run, ctx, style, out)
         if shapes:
             self._shape_run(shapes, ctx, out)
+        if uses:
+            self._use_run(uses, ctx, style, out)
         return out
+
+    def _use_run(self, uses, ctx, parent_style, out) -> None:
+        """Append the nodes of sibling <use> elements that specify no style and have no
+        attribute but href, x and y (cairo's and pdftocairo's glyphs: thousands of them in a
+        page): what element() makes of each (use_translated, then use()'s prepared content),
+        with what depends on their one shared style decided once and every instance's points
+        mapped in one kernel call (apply_each maps each group as apply() maps it). A <use>
+        whose target has no prepared content yet, or none, goes through element()."""
+        style = parent_style.child(uses[0])     # the same Style for all: their key is ()
+        # (no transform, filter, clip path or mask of their own: element_transform gives
+        # IDENTITY and wrap() the nodes as they are when the style's values are plain)
+        if style.get("display").strip() == "none" or not self._plain_wrap(style):
+            for el in uses:
+                out.extend(self.element(el, ctx, parent_style))
+            return
+        doc, targets, links = self.doc, self._use_targets, self._links_back_memo
+        instanced = self._instanced
+        viewport, transform = ctx.viewport, ctx.transform
+        length = self.length
+        unmapped = []
+        for el in uses:
+            target = use_target(el, doc, targets, links)
+            got = None if target is None or target.tag not in _INSTANCEABLE else \
+                instanced.get((target, style, viewport, None, None))
+            if got is None or got.clip_rect is not None:
+                out.extend(self.element(el, ctx, parent_style))
+                continue
+            self.nodes_made += 1
+            attrs = el.attrs
+            x = length(attrs.get("x"), "x", style, viewport, 0.0)
+            y = length(attrs.get("y"), "y", style, viewport, 0.0)
+            top = transform if x == 0.0 and y == 0.0 else compose(transform, translate(x, y))
+            out.extend(self._instance(got, ctx, top, unmapped))
+        if not unmapped:
+            return
+        fills = list(map(itemgetter(1), unmapped))
+        points = list(map(itemgetter(2), fills))
+        mapped = apply_each(np.array(list(map(itemgetter(2), unmapped)), np.float64),
+                            np.fromiter(map(len, points), np.int64, len(points)),
+                            np.concatenate(points))
+        at = 0
+        for (device, fill, _), pts in zip(unmapped, points):
+            n = len(pts)
+            device._arrays = fill[0], mapped[at:at + n]
+            at += n
 
     def _path_run(self, run, ctx, parent_style, out) -> None:
         """Append the nodes of sibling <path> elements that specify no style (no presentation
@@ -1702,7 +1768,8 @@ class Builder:
                 # mapped by a point_mapper of its own, not through the document batch's
                 # SharedPoints (which would keep a count for every instance's matrix)
                 verbs, points = path._freeze()
-                prepared.items.append((matrices, (verbs, point_mapper(points)),
+                points = np.ascontiguousarray(points, dtype=np.float64)
+                prepared.items.append((matrices, (verbs, point_mapper(points), points),
                                        path, ref.paint,
                                        "evenodd" if rule == "evenodd" else "nonzero",
                                        ref.opacity, antialias))
@@ -1711,14 +1778,18 @@ class Builder:
                                        None))
         return True
 
-    def _instance(self, prepared, ctx):
+    def _instance(self, prepared, ctx, top=None, unmapped=None):
         """The nodes of one instance of prepared content (_Instanced) under the <use>'s
         context: the transforms composed as the build composes them, element by element,
-        so every point is where building the instance would put it."""
+        so every point is where building the instance would put it. ``top``: the use's
+        transform where ``ctx`` does not hold it (_use_run's: then the content clips to no
+        viewport); ``unmapped``: a list to which each fill's (Path, points, matrix) is
+        appended for the caller to map, the Path's points left unset (_use_run)."""
         self.nodes_made += prepared.count
         if self.nodes_made > MAX_NODES:
             raise SvgError("document expands to too many elements")
-        top = ctx.transform
+        if top is None:
+            top = ctx.transform
         if prepared.symbol_m is not None:
             top = compose(top, prepared.symbol_m)
         out = []
@@ -1733,9 +1804,12 @@ class Builder:
             if fill is not None:
                 if t == IDENTITY:                   # (path.transformed(t))
                     device = path
-                else:
+                elif unmapped is None:
                     device = new_path(Path)
                     device._arrays = fill[0], fill[1](t)
+                else:
+                    device = new_path(Path)
+                    unmapped.append((device, fill, t))
                 out.append(Fill(device, a, b, c, d))
             else:
                 out.extend(self.stroke(path, a, ctx_with(ctx, transform=t, viewport=c),
@@ -2210,7 +2284,8 @@ class _Instanced:
     """What one <use> key draws (Builder._prepare_instance): ``count`` elements (for
     MAX_NODES), the symbol's viewport transform (``symbol_m``, None for another target) and
     viewport clip rectangle (``clip_rect``, None when it does not clip), and ``items`` in
-    drawing order: (matrices, (verbs, point_mapper of the points), user-space path, paint,
+    drawing order: (matrices, (verbs, point_mapper of the points, the points), user-space
+    path, paint,
     fill rule, opacity, antialias) for a fill, (matrices, None, path, style, antialias,
     viewport, None) for a stroke (stroked per instance: its plan follows the transform),
     matrices being the element transforms below the top, composed in order."""
