@@ -63,8 +63,3 @@ def to_rgba8(img: np.ndarray) -> np.ndarray:
     out = np.empty(img.shape[:2] + (4,), dtype=np.uint8)
     unpremultiply_to_rgba8(img, out, NO_REFILL)
     return out
-
-
-def to_pil(img: np.ndarray):
-    from PIL import Image
-    return Image.fromarray(to_rgba8(img), "RGBA")

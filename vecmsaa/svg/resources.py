@@ -92,12 +92,6 @@ class Resources:
             warn(f"{_short(url)} not found")
         return None
 
-    def fetch_text(self, url):
-        got = self.fetch(url)
-        if got is None:
-            return None
-        return got[0].decode("utf-8", "replace")
-
 
 def _short(url: str) -> str:
     """A URL as a message shows it: at most 80 characters."""

@@ -417,16 +417,11 @@ def scale(sx, sy=None):
     return (float(sx), 0.0, 0.0, float(sx if sy is None else sy), 0.0, 0.0)
 
 
-def matrix_scale(m):
-    """Per-axis scale factors of a matrix (lengths of the images of the unit vectors)."""
-    a, b, c, d, _, _ = m
-    return math.hypot(a, b), math.hypot(c, d)
-
-
 def row_scale(m):
     """Per-axis scale factors as resvg computes a pattern tile's resolution (tiny-skia's
     ``Transform::get_scale``): the lengths of the matrix *rows*, (|(a, c)|, |(b, d)|). They
-    equal :func:`matrix_scale` for rotations and scales, and differ under skew."""
+    equal the lengths of its columns (the images of the unit vectors) for rotations and
+    scales, and differ under skew."""
     a, b, c, d, _, _ = m
     return math.hypot(a, c), math.hypot(b, d)
 
