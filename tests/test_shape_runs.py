@@ -292,9 +292,13 @@ USE_DEFS = (
     'fill="none" stroke="navy" stroke-width="0.7"/></g>'
     '<path id="p" d="M0 0 Q 5 -8 10 0" stroke="red" stroke-width="0.1" fill="teal"/>'
     '<text id="t" x="0" y="0" font-size="4">a</text><use id="u" href="#s0" x="1"/>'
+    '<path id="mk" d="M 0 1.4 C 0.4 1.4 1.4 0.4 1.4 0 C 1.4 -0.4 0.4 -1.4 0 -1.4 '
+    'C -0.4 -1.4 -1.4 -0.4 -1.4 0 C -1.4 0.4 -0.4 1.4 0 1.4 z" style="stroke: #1f77b4"/>'
+    '<path id="sq" d="M -1 -1 H 1 V 1 H -1 z" stroke-dasharray="0.5 0.2"/>'
     '</defs>')
 
-USE_TARGETS = ["#s0", "#s1", "#s0", "#s1", "#clipped", "#g", "#p", "#t", "#u", "#none", ""]
+USE_TARGETS = ["#s0", "#s1", "#s0", "#s1", "#clipped", "#g", "#p", "#t", "#u", "#none", "",
+               "#mk", "#mk", "#sq"]
 
 
 def random_uses(rng):
@@ -311,9 +315,16 @@ def random_uses(rng):
             attrs += f' x="{coord()}"'
         if rng.random() < 0.9:
             attrs += f' y="{coord()}"'
+        # (matplotlib's markers: a style of fill and stroke shared by the run's uses; its
+        # glyphs: a translation and a scale each)
         attrs += rng.choice([""] * 20 + [' width="3"', ' transform="scale(2)"',
                                           ' fill="red"', ' style="opacity:0.5"', ' id="q"',
-                                          ' systemLanguage="xx"'])
+                                          ' systemLanguage="xx"', ' display="none"',
+                                          ' transform="scale(0)"', ' mask="url(#none)"'] +
+                            [' style="fill: #1f77b4; fill-opacity: 0.6; stroke: #1f77b4; '
+                             'stroke-opacity: 0.6; stroke-width: 0.8"'] * 6 +
+                            [f' transform="translate({rng.uniform(0, 90):.4f} 3) '
+                             f'scale(0.5 -0.5)"'] * 3)
         out.append(f"<use {attrs}/>")
         if rng.random() < 0.05:
             out.append('<path d="M0 0 L9 9 L0 9z"/>')
@@ -331,12 +342,25 @@ def test_runs_of_uses_draw_as_each_use_alone(seed, monkeypatch):
                             'style="fill:rgb(0%,0%,0%);fill-opacity:1;"', 'opacity="0.5"',
                             'clip-path="url(#c)"', 'stroke="gold" stroke-width="0.3"',
                             'display="none"', 'transform="matrix(0 -1 1 0 0 100)"'])
-        body.append(f"<g {group}>{random_uses(rng)}</g>")
+        uses = random_uses(rng)
+        body.append(f"<g {group}>{uses}</g>")
+        if rng.random() < 0.5:
+            # the same uses in viewports of one size fitted at other scales (the same styles
+            # and viewport: a stroke's outline made once may not be reused at another scale)
+            for fit in rng.sample(["none", "xMidYMid", "xMinYMin slice", "xMaxYMax"], 2):
+                body.append(f'<svg width="90" height="30" viewBox="0 0 40 40" '
+                            f'preserveAspectRatio="{fit}">{uses}</svg>')
     svg = (f'<svg {NS} width="100" height="100"><clipPath id="c"><rect width="50" '
            f'height="60"/></clipPath>{USE_DEFS}{"".join(body)}</svg>')
     for width in (100, 37, 410):
         runs, alone = both_ways(svg, monkeypatch, width=width)
         assert runs == alone, (seed, width)
+        # and as each use's content built where it stands (no prepared content: its strokes
+        # stroked under each instance's transform)
+        monkeypatch.setattr(Builder, "_prepare_instance", lambda *a: None)
+        built = canon(load_svg(svg, width=width).root)
+        monkeypatch.undo()
+        assert runs == built, (seed, width)
 
 
 def test_a_page_of_glyph_uses_maps_its_points_in_one_call(monkeypatch):
@@ -369,3 +393,35 @@ def test_a_page_of_glyph_uses_maps_its_points_in_one_call(monkeypatch):
     # maps all 200 one by one)
     assert calls["mapper"] == 2 + 200
     assert len(runs[-1]) == 200
+
+
+def test_a_plots_markers_are_stroked_once(monkeypatch):
+    """matplotlib's scatter: thousands of <use>s of one marker path, with the style of fill
+    and stroke their run shares. The stroke's outline is made once (it depends on the
+    transform's linear part, which the uses share) and the instances' outlines and fills
+    mapped in one call; the scene is what building each use's content where it stands gives."""
+    style = ('fill: #1f77b4; fill-opacity: 0.6; stroke: #1f77b4; stroke-opacity: 0.6; '
+             'stroke-width: 0.8')
+    uses = "".join(f'<use xlink:href="#mk" x="{3 + i % 19 * 5.1:.4f}" y="{3 + i // 19 * 4.7:.4f}" '
+                   f'style="{style}"/>' for i in range(300))
+    svg = f'<svg {NS} width="100" height="100">{USE_DEFS}<g clip-path="url(#c)">{uses}</g>' \
+          f'<clipPath id="c"><rect width="80" height="90"/></clipPath></svg>'
+    calls = {"outline": 0, "each": 0}
+    outline, each = Builder._scaling_outline, builder_module.apply_each
+
+    def counted_outline(*a):
+        calls["outline"] += 1
+        return outline(*a)
+
+    def counted_each(*a):
+        calls["each"] += 1
+        return each(*a)
+    monkeypatch.setattr(Builder, "_scaling_outline", counted_outline)
+    monkeypatch.setattr(builder_module, "apply_each", counted_each)
+    runs = canon(load_svg(svg, width=400).root)
+    assert calls == {"outline": 1, "each": 1}
+    fills = runs[-1][0][-1]         # (the clipped group's children)
+    assert len(fills) == 600        # a fill and a stroke each
+    monkeypatch.setattr(Builder, "_prepare_instance", lambda *a: None)
+    assert canon(load_svg(svg, width=400).root) == runs
+    assert calls["outline"] == 1 + 300      # (stroke() strokes each use's path anew)

@@ -334,11 +334,11 @@ def _flat(nodes) -> list:
     return out
 
 
-def _stroke_fills(outline, ctx, ref, opacity, antialias):
+def _stroke_fills(outline, transform, ref, opacity, antialias):
     """The fill of a stroke outline in user space, mapped to the device, or none."""
     if outline is None or outline.is_empty():
         return []
-    return [Fill(outline.transformed(ctx.transform), ref.paint, opacity=opacity,
+    return [Fill(outline.transformed(transform), ref.paint, opacity=opacity,
                  antialias=antialias)]
 
 _ORIGIN_X = {"left": "0%", "center": "50%", "right": "100%"}
@@ -381,8 +381,6 @@ def _origin_values(text):
 #: the targets of <use> whose content may be prepared once for all instances (see
 #: Builder._prepare_instance)
 _INSTANCEABLE = SHAPES | {"symbol", "g", "a"}
-#: the attributes of a <use> that _use_run takes (with no style specified for it)
-_PLAIN_USE_ATTRIBUTES = frozenset(("href", "x", "y"))
 
 #: what Builder.length reads as a plain number without split_length (see there)
 _PLAIN_NUMBER_CHARS = "0123456789.+-"
@@ -484,6 +482,7 @@ class Builder:
         self._reference_boxes = {}     # see reference_box
         self._shape_memo = {}          # see _shape_path
         self._instanced = {}           # see use() and _Instanced
+        self._instance_strokes = {}    # see _instance_stroke
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -604,16 +603,13 @@ class Builder:
         # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
         # path for the next instance (_shape_path)
         shape_runs = not (self.ref_stack or ctx.use_stack)
-        uses = []       # consecutive plain <use> children (see _use_run)
-        var_raw = self.doc.var_raw
+        uses = []       # consecutive <use> children (see _use_run)
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
             # call per path costs more than the test)
             tag = child.tag
-            if (tag == "use" and shape_runs and not child.specified
-                    and _PLAIN_USE_ATTRIBUTES.issuperset(child.attrs)
-                    and not (var_raw and id(child) in var_raw)):
+            if tag == "use" and shape_runs:
                 if run:
                     self._path_run(run, ctx, style, out)
                     run = []
@@ -664,37 +660,46 @@ class Builder:
         return out
 
     def _use_run(self, uses, ctx, parent_style, out) -> None:
-        """Append the nodes of sibling <use> elements that specify no style and have no
-        attribute but href, x and y (cairo's and pdftocairo's glyphs: thousands of them in a
-        page): what element() makes of each (use_translated, then use()'s prepared content),
-        with what depends on their one shared style decided once and every instance's points
-        mapped in one kernel call (apply_each maps each group as apply() maps it). A <use>
-        whose target has no prepared content yet, or none, goes through element()."""
-        style = parent_style.child(uses[0])     # the same Style for all: their key is ()
-        # (no transform, filter, clip path or mask of their own: element_transform gives
-        # IDENTITY and wrap() the nodes as they are when the style's values are plain)
-        if style.get("display").strip() == "none" or not self._plain_wrap(style):
-            for el in uses:
-                out.extend(self.element(el, ctx, parent_style))
-            return
+        """Append the nodes of sibling <use> elements (cairo's and pdftocairo's glyphs,
+        matplotlib's markers and glyphs: thousands in a page or a plot): what element() makes
+        of each whose style is plain (displayed; no filter, clip path, mask, opacity, blending
+        or isolation, so wrap() gives its nodes as they are) and whose target has prepared
+        content (use()'s _Instanced) that clips to no viewport: its transform composed as
+        _element and use_translated compose it, the content instantiated by _instance, and
+        every instance's points mapped in one kernel call for the run (apply_each maps each
+        group as apply() maps it). Any other <use> goes through element()."""
         doc, targets, links = self.doc, self._use_targets, self._links_back_memo
         instanced = self._instanced
-        viewport, transform = ctx.viewport, ctx.transform
+        viewport = ctx.viewport
         length = self.length
+        plain = {}          # Style -> whether a use of it may be built here
         unmapped = []
         for el in uses:
-            target = use_target(el, doc, targets, links)
-            got = None if target is None or target.tag not in _INSTANCEABLE else \
-                instanced.get((target, style, viewport, None, None))
-            if got is None or got.clip_rect is not None:
+            style = parent_style.child(el)
+            ok = plain.get(style)
+            if ok is None:
+                ok = plain[style] = (style.get("display").strip() != "none"
+                                     and self._instance_plain(style))
+            got = m = None
+            if ok and conditions_pass(el):
+                target = use_target(el, doc, targets, links)
+                if target is not None and target.tag in _INSTANCEABLE:
+                    attrs = el.attrs
+                    got = instanced.get((target, style, viewport, attrs.get("width"),
+                                         attrs.get("height")))
+                if got is not None and got.clip_rect is None:
+                    m = self.element_transform(el, style, ctx)
+            if m is None:
                 out.extend(self.element(el, ctx, parent_style))
                 continue
             self.nodes_made += 1
-            attrs = el.attrs
+            c = ctx if m is IDENTITY else ctx_with(ctx, transform=compose(ctx.transform, m),
+                                                   chain=ctx.chain + (m,))
             x = length(attrs.get("x"), "x", style, viewport, 0.0)
             y = length(attrs.get("y"), "y", style, viewport, 0.0)
-            top = transform if x == 0.0 and y == 0.0 else compose(transform, translate(x, y))
-            out.extend(self._instance(got, ctx, top, unmapped))
+            top = c.transform if x == 0.0 and y == 0.0 else \
+                compose(c.transform, translate(x, y))
+            out.extend(self._instance(got, c, top, unmapped))
         if not unmapped:
             return
         fills = list(map(itemgetter(1), unmapped))
@@ -1812,11 +1817,49 @@ class Builder:
                     unmapped.append((device, fill, t))
                 out.append(Fill(device, a, b, c, d))
             else:
-                out.extend(self.stroke(path, a, ctx_with(ctx, transform=t, viewport=c),
-                                       LazyBounds(path), b))
+                out.extend(self._instance_stroke(path, a, ctx, t, c, b, unmapped))
         if out and prepared.clip_rect is not None:
             out = [Group(children=out, clip=self.viewport_clip(*prepared.clip_rect, ctx))]
         return out
+
+    def _instance_stroke(self, path, style, ctx, t, viewport, antialias, unmapped=None):
+        """stroke() of a path of prepared content under an instance's transform ``t``. A
+        solid scaling stroke's outline depends on the transform's linear part alone (its plan:
+        _stroke_plan), not on where the instance is: it is made once for each linear part and
+        mapped by each instance's ``t`` as stroke() maps it (a plot's thousands of markers),
+        or left to the caller to map with ``unmapped`` (see _instance). Other strokes
+        (hairlines, dashed, non-scaling) are stroke()'s for each instance."""
+        key = (id(path), style, t[:4], viewport, antialias)
+        got = self._instance_strokes.get(key)
+        if got is None:
+            c = ctx_with(ctx, transform=t, viewport=viewport)
+            ref = self.resolve_paint(style, "stroke", c, LazyBounds(path))
+            plan = None if ref is None else self._stroke_plan(style, c, antialias)
+            if plan is None:
+                got = ()                    # no stroke
+            elif plan[0] is None or plan[0] == "hairline":
+                got = False
+            else:
+                outline = self._scaling_outline(path, style, c, plan)
+                # (_stroke_fills' test: an outline that draws nothing makes no fill)
+                if outline is None or outline.is_empty():
+                    got = ()
+                else:
+                    v, p = outline._freeze()
+                    got = (outline, ref, _stroke_opacity(plan, ref),
+                           (v, None, np.ascontiguousarray(p, dtype=np.float64)))
+            self._instance_strokes[key] = got
+        if got is False:
+            return self.stroke(path, style, ctx_with(ctx, transform=t, viewport=viewport),
+                               LazyBounds(path), antialias)
+        if not got:
+            return []
+        outline, ref, opacity, arrays = got
+        if unmapped is None or t == IDENTITY:
+            return _stroke_fills(outline, t, ref, opacity, antialias)
+        device = Path.__new__(Path)
+        unmapped.append((device, arrays, t))
+        return [Fill(device, ref.paint, opacity=opacity, antialias=antialias)]
 
     # -- shapes and painting -----------------------------------------------------------------
     def path_data(self, el) -> Path:
@@ -2045,6 +2088,13 @@ class Builder:
         if plan[0] == "hairline":
             return _hairline_fills(path, ctx.transform, plan[1], None, 0.0, 1.0, ref, opacity,
                                    antialias)
+        return _stroke_fills(self._scaling_outline(path, style, ctx, plan), ctx.transform, ref,
+                             opacity, antialias)
+
+    def _scaling_outline(self, path, style, ctx, plan):
+        """The outline, in user space, of a solid scaling stroke of ``path`` (stroke()'s
+        plan: everything but the path follows from the style and the transform's linear
+        part)."""
         v, p = path._freeze()
         codes, stroke_width, tolerance = plan
         if not v.tobytes().translate(None, _LINE_VERBS):
@@ -2052,12 +2102,10 @@ class Builder:
             join, cap, limit, offset = codes
             ov, op = stroke_kernels.stroke_lines(v, p, stroke_width / 2.0, tolerance, join,
                                                  cap, limit, _SOLID, offset)
-            outline = Path._of_arrays(ov, op)
-        else:
-            _, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
-            outline = stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
-                                  dashes=dashes, dash_offset=offset, tolerance=tolerance)
-        return _stroke_fills(outline, ctx, ref, opacity, antialias)
+            return Path._of_arrays(ov, op)
+        _, join, cap, limit, dashes, offset = self.stroke_params(style, ctx)
+        return stroke_path(path, stroke_width, join=join, cap=cap, miterlimit=limit,
+                           dashes=dashes, dash_offset=offset, tolerance=tolerance)
 
     @staticmethod
     def outline_reach(params):
@@ -2152,7 +2200,7 @@ class Builder:
         outline = stroke_path(path, width, join=join, cap=cap, miterlimit=limit,
                               dashes=dashes, dash_offset=offset, tolerance=tolerance,
                               resolution=dash_resolution(ctx.transform))
-        return _stroke_fills(outline, ctx, ref, opacity, antialias)
+        return _stroke_fills(outline, ctx.transform, ref, opacity, antialias)
 
     # -- paints ----------------------------------------------------------------------------
     def paint_value(self, style, name):
