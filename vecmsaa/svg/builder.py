@@ -29,7 +29,8 @@ from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_re
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from . import document
-from .document import LAYER_PROPERTIES, SVG_ELEMENT_NAMES, Document, Element, Style
+from .document import (INHERITED, LAYER_PROPERTIES, SVG_ELEMENT_NAMES, Document, Element,
+                       Style)
 from ..scene.bounds import path_bounds, union
 from .markers import draw_markers
 from .pathdata import PathBatch, parse_path_data
@@ -334,6 +335,21 @@ def _flat(nodes) -> list:
     return out
 
 
+def _passes_on(style) -> bool:
+    """Whether the elements below an element of ``style`` that take nothing from it but by
+    inheritance (see Builder._inherits_within) get exactly the values they would get under its
+    parent's: it specifies only LAYER_PROPERTIES (not inherited) and inherited properties
+    with the value the parent passes on, as written (matplotlib's ``*{stroke-linejoin:
+    round}`` on every element); not font-size, whose relative values compound."""
+    got = style.cache.get("passes-on")
+    if got is None:
+        parent = style.parent
+        got = style.cache["passes-on"] = parent is not None and all(
+            k in LAYER_PROPERTIES or (k in INHERITED and k != "font-size" and parent.get(k) == v)
+            for k, v in style.specified.items())
+    return got
+
+
 def _stroke_fills(outline, transform, ref, opacity, antialias):
     """The fill of a stroke outline in user space, mapped to the device, or none."""
     if outline is None or outline.is_empty():
@@ -483,6 +499,7 @@ class Builder:
         self._shape_memo = {}          # see _shape_path
         self._instanced = {}           # see use() and _Instanced
         self._instance_strokes = {}    # see _instance_stroke
+        self._inherits_memo = {}       # see _inherits_within
 
     def enter_reference(self, el):
         """Push a clip path, mask, marker or feImage target being built (pop ref_stack when
@@ -685,8 +702,17 @@ class Builder:
                 target = use_target(el, doc, targets, links)
                 if target is not None and target.tag in _INSTANCEABLE:
                     attrs = el.attrs
-                    got = instanced.get((target, style, viewport, attrs.get("width"),
-                                         attrs.get("height")))
+                    # content that inherits nothing from the use's own values is prepared
+                    # under the style it inherits from (matplotlib's glyphs: a use each with
+                    # a translation of its own, one prepared content per glyph)
+                    owner = style
+                    if not self._inherits_within(target):
+                        while owner.parent is not None and _passes_on(owner):
+                            owner = owner.parent
+                    key = (target, owner, viewport, attrs.get("width"), attrs.get("height"))
+                    got = instanced.get(key, instanced)
+                    if got is instanced:
+                        got = instanced[key] = self._prepare_instance(el, target, owner, ctx)
                 if got is not None and got.clip_rect is None:
                     m = self.element_transform(el, style, ctx)
             if m is None:
@@ -1821,6 +1847,24 @@ class Builder:
         if out and prepared.clip_rect is not None:
             out = [Group(children=out, clip=self.viewport_clip(*prepared.clip_rect, ctx))]
         return out
+
+    def _inherits_within(self, target) -> bool:
+        """Whether an element of ``target``'s subtree may take a value from the element
+        above it other than by inheritance: a value "inherit" (of a property that is not
+        inherited, such as opacity, it takes the parent's own), or a var() (resolved later).
+        Without either, the subtree's values are the same under a <use> that specifies only
+        LAYER_PROPERTIES as under the style the use inherits from (see Style.child)."""
+        got = self._inherits_memo.get(target)
+        if got is None:
+            var_raw = self.doc.var_raw
+            stack, got = [target], False
+            while stack and not got:
+                el = stack.pop()
+                got = (var_raw and id(el) in var_raw) or \
+                    "inherit" in "\n".join(el.specified.values()).lower()
+                stack.extend(el.children)
+            self._inherits_memo[target] = got = bool(got)
+        return got
 
     def _instance_stroke(self, path, style, ctx, t, viewport, antialias, unmapped=None):
         """stroke() of a path of prepared content under an instance's transform ``t``. A
