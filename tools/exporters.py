@@ -14,7 +14,10 @@ writes, seeded (the same bytes every run):
 - ``xlists.svg``: a PDF converter's text, 90 lines of 110 characters, each line one
   ``<tspan>`` with an x for every character;
 - ``glyph_uses.svg`` (with ``--fonts``): cairo's SVG surface (pdftocairo, pdf2svg), every
-  glyph a ``<use>`` of a ``<symbol>`` holding its outline, 12,000 on an 800 x 1100 page.
+  glyph a ``<use>`` of a ``<symbol>`` holding its outline, 12,000 on an 800 x 1100 page;
+- ``plot_markers.svg`` (its labels with ``--fonts``): matplotlib's SVG backend, a scatter of
+  5,000 ``<use>``s of one stroked marker path, each with the style of fill and stroke, and
+  200 tick labels whose glyphs are ``<use>``s under a translation and scale each.
 
 Render each with ``/usr/bin/time -f "%e s %U u %M KB" vecmsaa render F -o v.png -w W`` and
 ``resvg -w W F r.png`` (add ``--use-fonts-dir FONTS --skip-system-fonts`` to both for text).
@@ -130,6 +133,44 @@ def glyph_uses(rng, fonts):
         f'{"".join(uses)}</g></svg>'
 
 
+def plot_markers(rng, fonts=None):
+    r = 1.414214
+    k = r * 0.2652            # (matplotlib's circle: four cubics, handles at 0.2652 r)
+    marker = (f'<path id="m0" d="M 0 {r} C {k} {r} {r - k} {r - k} {r} 0 C {r} {-k} '
+              f'{r - k} {-r + k} 0 {-r} C {-k} {-r} {-r + k} {-r + k} {-r} 0 C {-r} {k} '
+              f'{-r + k} {r - k} 0 {r} z" style="stroke: #1f77b4; stroke-opacity: 0.6"/>')
+    style = "fill: #1f77b4; fill-opacity: 0.6; stroke: #1f77b4; stroke-opacity: 0.6"
+    dots = "".join(f'<use xlink:href="#m0" x="{rng.gauss(360, 70):.6f}" '
+                   f'y="{rng.gauss(270, 50):.6f}" style="{style}"/>' for _ in range(5000))
+    labels, glyph_defs = [], ""
+    if fonts:
+        from fontTools.pens.svgPathPen import SVGPathPen
+        from fontTools.ttLib import TTFont
+        font = TTFont(os.path.join(fonts, "NotoSans-Regular.ttf"))
+        glyphs, cmap = font.getGlyphSet(), font.getBestCmap()
+        defs, advance = [], {}
+        for c in "0123456789.-":
+            pen = SVGPathPen(glyphs)
+            glyphs[cmap[ord(c)]].draw(pen)
+            defs.append(f'<path id="g{ord(c)}" d="{pen.getCommands()}"/>')
+            advance[c] = glyphs[cmap[ord(c)]].width
+        glyph_defs = "".join(defs)
+        for i in range(200):
+            text = f"{rng.uniform(-4, 4):.1f}"
+            x, uses = 0.0, []
+            for c in text:
+                move = f' transform="translate({x:.6f} 0)"' if x else ""
+                uses.append(f'<use xlink:href="#g{ord(c)}"{move}/>')
+                x += advance[c]
+            labels.append(f'<g transform="translate({50 + i % 20 * 35:.4f} '
+                          f'{30 + i // 20 * 50:.4f}) scale(0.01 -0.01)">{"".join(uses)}</g>')
+    return f'{SVG}width="720pt" height="540pt" viewBox="0 0 720 540"><defs>' \
+        f'<style type="text/css">*{{stroke-linejoin: round; stroke-linecap: butt}}</style>' \
+        f'{marker}{glyph_defs}</defs><g clip-path="url(#p0)">{dots}</g>' \
+        f'<g style="fill: #262626">{"".join(labels)}</g><defs><clipPath id="p0"><rect x="40" ' \
+        f'y="20" width="640" height="500"/></clipPath></defs></svg>'
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("out")
@@ -137,7 +178,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     docs = {"scatter": scatter, "classes": classes, "graph": graph, "ticks": ticks,
-            "xlists": xlists}
+            "xlists": xlists, "plot_markers": lambda rng: plot_markers(rng, args.fonts)}
     if args.fonts:
         docs["glyph_uses"] = lambda rng: glyph_uses(rng, args.fonts)
     for name, make in docs.items():
