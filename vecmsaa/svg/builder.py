@@ -363,45 +363,49 @@ def _fill_runs(stretch):
     concatenation (a piece per Fill and per path's runs), the runs without verbs left out."""
     vparts, pparts, vlens, plens, kinds = [], [], [], [], []
     vappend, pappend = vparts.append, pparts.append
+    vlen, plen, kind = vlens.append, plens.append, kinds.append
     styles, keys = [], {}
+    last = None                                 # (the last Fill's key and style index)
     for node in stretch:
         if node.__class__ is Fill:
-            v, p = node.path._arrays or node.path._freeze()
+            path = node.path
+            v, p = path._arrays or path._freeze()
             vappend(v)
             pappend(p)
-            vlens.append(len(v))
-            plens.append(len(p))
+            vlen(len(v))
+            plen(len(p))
             key = (id(node.paint), node.rule, node.opacity, node.antialias)
-            style = (node.paint, node.rule, node.opacity, node.antialias)
-        else:
-            b0, b1 = node.b0, node.b1
-            if b1 == b0:
-                continue
-            s = node.source
-            key = id(s)
-            style = s.style
-        k = keys.get(key)
-        if k is None:
-            k = keys[key] = len(styles)
-            styles.append(style)
-        if node.__class__ is Fill:
-            kinds.append(k)
+            if key != last:
+                k = keys.get(key)
+                if k is None:
+                    k = keys[key] = len(styles)
+                    styles.append((node.paint, node.rule, node.opacity, node.antialias))
+                last = key
+            kind(k)
             continue
+        b0, b1 = node.b0, node.b1
+        if b1 == b0:
+            continue
+        s = node.source
+        sk = keys.get(s)
+        if sk is None:
+            sk = keys[s] = len(styles)
+            styles.append(s.style)
         if s.whole:
             vo, po = s.vo, s.po
             vappend(s.ov[vo[b0]:vo[b1]])
             pappend(s.op[po[b0]:po[b1]])
             vlens += s.vl[b0:b1]
             plens += s.pl[b0:b1]
-            kinds += [k] * (b1 - b0)
+            kinds += [sk] * (b1 - b0)
             continue
         for r in range(b0, b1):
             if s.vl[r]:
                 vappend(s.ov[s.vo[r]:s.vo[r + 1]])
                 pappend(s.op[s.po[r]:s.po[r + 1]])
-                vlens.append(s.vl[r])
-                plens.append(s.pl[r])
-                kinds.append(k)
+                vlen(s.vl[r])
+                plen(s.pl[r])
+                kind(sk)
     voff = np.zeros(len(kinds) + 1, np.int64)
     poff = np.zeros(len(kinds) + 1, np.int64)
     np.cumsum(vlens, out=voff[1:])
