@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from vecmsaa.api import load_svg
-from vecmsaa.scene.nodes import Fill, Group, Mask, Solid
+from vecmsaa.scene.nodes import Fill, FillRuns, Group, Mask, Solid
 from vecmsaa.svg import builder as builder_module
 from vecmsaa.svg.builder import Builder
 
@@ -115,10 +115,18 @@ def canon(node):
                 node.antialias)
     if isinstance(node, Group):
         return ("group", node.opacity, node.blend, node.isolate, canon(node.clip),
-                canon(node.mask), repr(node.filters), [canon(c) for c in node.children])
+                canon(node.mask), repr(node.filters), [canon(c) for c in expanded(node.children)])
     if isinstance(node, Mask):
         return ("mask", node.kind, canon(node.content))
     return node
+
+
+def expanded(nodes):
+    """nodes with each FillRuns replaced by its Fills."""
+    out = []
+    for node in nodes:
+        out.extend(node.fills() if isinstance(node, FillRuns) else [node])
+    return out
 
 
 def both_ways(svg, monkeypatch, **kw):

@@ -48,8 +48,8 @@ from .scan import (MODE_IDS, MODE_PERSAMPLE, RULE_EVENODD, RULE_NONZERO, analyti
                    msaa_scratch, render_analytic, render_msaa, scan_run, sweep_fill)
 from ..scene import bounds
 from ..scene.color import linear_rgb_image
-from ..scene.nodes import (Fill, Group, ImagePaint, PatternPaint, Scene, Solid, translated,
-                           translated_filters)
+from ..scene.nodes import (Fill, FillRuns, Group, ImagePaint, PatternPaint, Scene, Solid,
+                           translated, translated_filters)
 from .shaders import PaintTable, solid_arrays, solid_row
 
 #: flattening tolerance of the exact modes (pixels)
@@ -1834,6 +1834,8 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
     ``shift``: (dx, dy), the fills moved by that many device pixels, as nodes.translated
     moves them (see _shifted_arrays). ``bound``: a device y range outside which the batch is
     not drawn (prepare_items), or None: a batch whose points all lie beyond it is left out."""
+    if FillRuns in set(map(type, fills)):
+        return _run_batches(fills, opts, pool, shift, bound, canvas)
     if not all(map(lt, repeat(0), map(_OPACITY, fills))):
         fills = [f for f in fills if f.opacity > 0]
     if not fills:
@@ -1866,6 +1868,90 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
         arrays = _shifted_arrays(fills, shift)
         boxes = boxes[keep]
     return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
+
+
+def _run_batches(nodes, opts: RenderOptions, pool=None, shift=None, bound=None,
+                 canvas=NO_CULL) -> list:
+    """_fill_batches of Fills and FillRuns: the FillRuns' arrays taken as they are, joined
+    with those of the Fills about them (batch_arrays) in one concatenation, and each run's
+    fill its style's (FillRuns.style_fills), the same batch as of the Fills the FillRuns
+    stand for (FillRuns.fills)."""
+    fills, parts, plain = [], [], []
+    for node in nodes:
+        if type(node) is FillRuns:
+            if plain:
+                parts.append(batch_arrays(list(map(_PATH, plain))))
+                fills += plain
+                plain = []
+            parts.append((node.verbs, node.points, node.voff, node.poff))
+            fills += node.style_fills()
+        else:
+            plain.append(node)
+    if plain:
+        parts.append(batch_arrays(list(map(_PATH, plain))))
+        fills += plain
+    arrays = _joined_arrays(parts)
+    if not all(map(lt, repeat(0), map(_OPACITY, fills))):
+        keep = [f.opacity > 0 for f in fills]
+        fills = [f for f, k in zip(fills, keep) if k]
+        arrays = _kept_arrays(arrays, np.array(keep, np.bool_))
+    if not fills:
+        return []
+    if shift is not None and shift != (0, 0):
+        # (the points may be a FillRuns' own: moved in a copy)
+        arrays = (arrays[0], arrays[1] + np.array(shift, dtype=np.float64), *arrays[2:])
+    verbs, pts, voff, poff = arrays
+    if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
+        return []
+    keep, boxes = batch_extents(verbs, pts, voff, poff)
+    if not keep.all():
+        fills = [f for f, k in zip(fills, keep.tolist()) if k]
+        if not fills:
+            return []
+        arrays = _kept_arrays(arrays, keep)
+        boxes = boxes[keep]
+    return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
+
+
+def _joined_arrays(parts):
+    """The batch arrays (verbs, points, verb offsets, point offsets) of several, one after
+    another."""
+    if len(parts) == 1:
+        return parts[0]
+    verbs = np.concatenate([p[0] for p in parts])
+    pts = np.concatenate([p[1] for p in parts])
+    voff = np.zeros(1 + sum(len(p[2]) - 1 for p in parts), np.int64)
+    poff = np.zeros(len(voff), np.int64)
+    i = v = q = 0
+    for _, _, vo, po in parts:
+        n = len(vo) - 1
+        voff[i + 1:i + n + 1] = vo[1:] + v
+        poff[i + 1:i + n + 1] = po[1:] + q
+        i, v, q = i + n, v + int(vo[-1]), q + int(po[-1])
+    return verbs, pts, voff, poff
+
+
+def _kept_arrays(arrays, keep):
+    """The batch arrays of the paths where ``keep`` (a bool per path) holds."""
+    verbs, pts, voff, poff = arrays
+    return (verbs[_kept_rows(voff, keep)], pts[_kept_rows(poff, keep)],
+            _kept_offsets(voff, keep), _kept_offsets(poff, keep))
+
+
+def _kept_offsets(off, keep):
+    out = np.zeros(int(np.count_nonzero(keep)) + 1, np.int64)
+    np.cumsum(np.diff(off)[keep], out=out[1:])
+    return out
+
+
+def _kept_rows(off, keep):
+    """The indexes of the rows of the paths kept (path i: rows off[i] .. off[i + 1] - 1)."""
+    lengths = np.diff(off)[keep]
+    starts = off[:-1][keep]
+    # row j of the kept ones: its path's start plus its place in that path
+    ends = np.cumsum(lengths)
+    return np.repeat(starts - (ends - lengths), lengths) + np.arange(int(ends[-1]) if len(ends)
+                                                                     else 0)
 
 
 _OPACITY = attrgetter("opacity")
@@ -2207,6 +2293,9 @@ def content_box(group: Group):
             p = node.path.points
             if len(p):
                 points.setdefault((grow, clip, shift), []).append(p)
+        elif isinstance(node, FillRuns):
+            if len(node.points):
+                points.setdefault((grow, clip, shift), []).append(node.points)
         elif node.filters:
             region = _grown(_filter_regions(node.filters), grow, clip, shift)
             if region is None:

@@ -13,7 +13,7 @@ from typing import Union
 
 import numpy as np
 
-from .transform import IDENTITY, compose
+from .transform import IDENTITY, apply, compose
 from .path import Path
 
 
@@ -130,7 +130,41 @@ class Group:
                 or self.blend != "normal" or self.isolate or bool(self.filters))
 
 
-Node = Union[Fill, Group]
+@dataclass(slots=True, eq=False)
+class FillRuns:
+    """Many fills as a batch's arrays, in paint order: run r is the path ``verbs[voff[r]:
+    voff[r + 1]]``, ``points[poff[r]:poff[r + 1]]`` (uint8 verbs, (P, 2) float64 device
+    points, int64 offsets of N + 1 entries), filled as ``styles[kind[r]]``, a (paint, rule,
+    opacity, antialias) as Fill's fields. What the SVG front end makes of a long run of
+    simple shapes and their strokes (a scatter plot's 20,000 circles and their 100,000
+    hairline runs), which the raster batches as they are; ``fills()`` gives the same as
+    Fills, for what walks a scene fill by fill. Every run draws something (a verb besides
+    MOVE and CLOSE is not promised, but none is empty of verbs)."""
+    verbs: np.ndarray
+    points: np.ndarray
+    voff: np.ndarray
+    poff: np.ndarray
+    styles: list
+    kind: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.kind)
+
+    def fills(self) -> list:
+        """The runs as Fills, each path a view of the arrays."""
+        verbs, points, styles = self.verbs, self.points, self.styles
+        vo, po = self.voff.tolist(), self.poff.tolist()
+        return [Fill(Path._of_arrays(verbs[v0:v1], points[p0:p1]), *styles[k])
+                for v0, v1, p0, p1, k in zip(vo, vo[1:], po, po[1:], self.kind.tolist())]
+
+    def style_fills(self) -> list:
+        """A Fill of each run's style (``styles[kind[r]]``) without its path (None), one
+        object per style: what a batch reads of its fills besides their geometry."""
+        protos = [Fill(None, *style) for style in self.styles]
+        return list(map(protos.__getitem__, self.kind.tolist()))
+
+
+Node = Union[Fill, FillRuns, Group]
 
 
 @dataclass
@@ -148,6 +182,8 @@ class Scene:
             node = stack.pop()
             if isinstance(node, Fill):
                 out.append(node)
+            elif isinstance(node, FillRuns):
+                out.extend(node.fills())
             else:
                 stack.extend(reversed(node.children))
         return out
@@ -158,15 +194,18 @@ def translated(node: Node, dx: float, dy: float) -> Node:
     and filters (regions, subregions and the device positions in primitive parameters); a
     filtered group's children are not copied but their move added to its ``shift``."""
     if isinstance(node, Fill):
-        paint = node.paint
-        if not isinstance(paint, Solid):
-            paint = replace(paint, to_paint=compose(paint.to_paint, (1.0, 0.0, 0.0, 1.0,
-                                                                      -dx, -dy)))
+        paint = _moved_paint(node.paint, dx, dy)
         # (copies made field by field, not by dataclasses.replace, which costs more than the
         # rest: each filtered layer is moved, and filtered markers come by the ten thousand;
         # test_svg_scene checks that every field is kept)
         return Fill(node.path.transformed((1.0, 0.0, 0.0, 1.0, dx, dy)), paint, node.rule,
                     node.opacity, node.antialias)
+    if isinstance(node, FillRuns):
+        m = (1.0, 0.0, 0.0, 1.0, dx, dy)
+        styles = [(_moved_paint(paint, dx, dy), rule, opacity, antialias)
+                  for paint, rule, opacity, antialias in node.styles]
+        return FillRuns(node.verbs, apply(m, node.points) if len(node.points) else node.points,
+                        node.voff, node.poff, styles, node.kind)
     if node.filters:
         children, shift = node.children, (node.shift[0] + dx, node.shift[1] + dy)
     else:
@@ -176,6 +215,13 @@ def translated(node: Node, dx: float, dy: float) -> Node:
         None if node.clip is None else translated(node.clip, dx, dy),
         None if node.mask is None else Mask(translated(node.mask.content, dx, dy), node.mask.kind),
         node.blend, node.isolate, translated_filters(node.filters, dx, dy), shift)
+
+
+def _moved_paint(paint, dx, dy):
+    """The paint of a fill moved by (dx, dy) device pixels (translated)."""
+    if isinstance(paint, Solid):
+        return paint
+    return replace(paint, to_paint=compose(paint.to_paint, (1.0, 0.0, 0.0, 1.0, -dx, -dy)))
 
 
 def translated_filters(filters, dx, dy):

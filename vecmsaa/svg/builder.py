@@ -20,7 +20,7 @@ import numpy as np
 from ..diagnostics import warn
 from ..scene.transform import IDENTITY, apply, apply_each, compose, point_mapper, translate
 from ..scene.path import _RECT_VERBS, CLOSE, LINE, MOVE, Path, rect_corners, rect_path
-from ..scene.nodes import Fill, Group, Scene, Solid
+from ..scene.nodes import Fill, FillRuns, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
                                  hairline_outline, hairline_path, hairline_segments)
@@ -241,25 +241,32 @@ def _run_fills(ov, op, vo, po, paint, opacity, antialias):
     return fills, np.flatnonzero(vo[1:] > vo[:-1])
 
 
-def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
-    """The Fills of the stroke outlines (_stroke_plan's plan: a hairline, or a solid stroke
-    of lines) of the paths ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]],
+def _outline_arrays(verbs, points, vstart, pstart, which, plan, transform, ref):
+    """The stroke outlines (_stroke_plan's plan: a hairline, or a solid stroke of lines) of
+    the paths ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]],
     points[pstart[i]:pstart[i + 1]]; int64 arrays), stroked in one kernel call (hairlines
-    made in the device, other outlines mapped there in one more call), and where each
-    path's are: (fills, bounds), path which[j]'s fills[bounds[j]:bounds[j + 1]]; bounds
-    None where each path has exactly one, fills[j]. ref: the stroke's PaintRef."""
-    paint, opacity = ref.paint, _stroke_opacity(plan, ref)
+    made in the device, other outlines mapped there in one more call): (ov, op, vo, po,
+    owner) as hairline_batch gives them (owner None: one run per path). ref: the stroke's
+    PaintRef."""
     if plan[0] == "hairline":       # (runs: a path's may be several, or none; see hairline)
-        ov, op, vo, po, owner = hairline_batch(verbs, points, vstart, pstart, which,
-                                               transform, plan[1], blend_alpha(paint, opacity))
-    else:
-        (join, cap, limit, offset), width, tolerance = plan
-        ov, op, vo, po = stroke_kernels.stroke_lines_batch(
-            verbs, points, vstart, pstart, which, width / 2.0, tolerance, join, cap, limit,
-            _SOLID, offset)
-        if transform != IDENTITY and len(op):
-            op = apply(transform, op)
-        owner = None                # (an outline per path)
+        return hairline_batch(verbs, points, vstart, pstart, which, transform, plan[1],
+                              blend_alpha(ref.paint, _stroke_opacity(plan, ref)))
+    (join, cap, limit, offset), width, tolerance = plan
+    ov, op, vo, po = stroke_kernels.stroke_lines_batch(
+        verbs, points, vstart, pstart, which, width / 2.0, tolerance, join, cap, limit,
+        _SOLID, offset)
+    if transform != IDENTITY and len(op):
+        op = apply(transform, op)
+    return ov, op, vo, po, None
+
+
+def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
+    """The Fills of the stroke outlines (_outline_arrays') of the paths ``which`` of a batch,
+    and where each path's are: (fills, bounds), path which[j]'s fills[bounds[j]:bounds[j +
+    1]]; bounds None where each path has exactly one, fills[j]."""
+    paint, opacity = ref.paint, _stroke_opacity(plan, ref)
+    ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
+                                            transform, ref)
     fills, kept = _run_fills(ov, op, vo, po, paint, opacity, antialias)
     if kept is not None:
         owner = kept if owner is None else owner[kept]
@@ -267,6 +274,147 @@ def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, a
     if owner is None or (len(owner) == n and not (owner != np.arange(n)).any()):
         return fills, None
     return fills, np.searchsorted(owner, np.arange(n + 1)).tolist()
+
+
+def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
+    """_outline_fills' outlines as a _Runs of each path (which[j]'s the j-th), not yet
+    Fills: _joined_runs makes them FillRuns, or Fills where few."""
+    ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
+                                            transform, ref)
+    source = _RunSource(ov, op, vo, po, (ref.paint, "nonzero", _stroke_opacity(plan, ref),
+                                         antialias))
+    n = len(which)
+    if owner is None:
+        bounds = range(n + 1)
+    else:
+        bounds = np.searchsorted(owner, np.arange(n + 1)).tolist()
+    return [_Runs(source, b0, b1) for b0, b1 in zip(bounds, bounds[1:])]
+
+
+class _RunSource:
+    """An outline kernel's arrays (_outline_arrays: run r is ov[vo[r]:vo[r + 1]],
+    op[po[r]:po[r + 1]]) and the style (paint, rule, opacity, antialias) of their Fills."""
+    __slots__ = ("ov", "op", "vo", "po", "style", "vl", "pl", "whole")
+
+    def __init__(self, ov, op, vo, po, style):
+        self.ov, self.op, self.style = ov, op, style
+        self.vo, self.po = vo.tolist(), po.tolist()
+        self.vl = np.diff(vo).tolist()
+        self.pl = np.diff(po).tolist()
+        self.whole = 0 not in self.vl           # (no run without verbs to leave out)
+
+
+class _Runs:
+    """A path's runs b0 .. b1 - 1 of a _RunSource, held in its place among nodes."""
+    __slots__ = ("source", "b0", "b1")
+
+    def __init__(self, source, b0, b1):
+        self.source, self.b0, self.b1 = source, b0, b1
+
+    def fills(self) -> list:
+        """The Fills _run_fills makes of these runs."""
+        s = self.source
+        ov, op, vo, po = s.ov, s.op, s.vo, s.po
+        return [Fill(Path._of_arrays(ov[vo[r]:vo[r + 1]], op[po[r]:po[r + 1]]), *s.style)
+                for r in range(self.b0, self.b1) if vo[r + 1] > vo[r]]
+
+
+#: runs (fills) in a stretch of nodes that _joined_runs makes one FillRuns of, at least
+#: (fewer are made Fills, as before FillRuns: a small document's scene keeps its Fills)
+MIN_JOINED_RUNS = 512
+
+
+def _joined_runs(nodes) -> list:
+    """nodes (Fills, Groups, _Runs, lists of Fills) with each stretch of Fills and _Runs of
+    at least MIN_JOINED_RUNS runs made one FillRuns, the other _Runs made Fills and the
+    lists replaced by their items: the same fills in the same order, where a long one
+    costs no object per fill (see FillRuns)."""
+    out = []
+    stretch = []
+    count = 0
+    for node in _flat(nodes):
+        cls = node.__class__
+        if cls is Fill:
+            stretch.append(node)
+            count += 1
+        elif cls is _Runs:
+            stretch.append(node)
+            count += node.b1 - node.b0
+        else:
+            _end_stretch(out, stretch, count)
+            stretch, count = [], 0
+            out.append(node)
+    _end_stretch(out, stretch, count)
+    return out
+
+
+def _end_stretch(out, stretch, count) -> None:
+    """Append a stretch of Fills and _Runs to out as _joined_runs does."""
+    if count >= MIN_JOINED_RUNS:
+        out.append(_fill_runs(stretch))
+        return
+    for node in stretch:
+        if node.__class__ is Fill:
+            out.append(node)
+        else:
+            out.extend(node.fills())
+
+
+def _fill_runs(stretch):
+    """The FillRuns of a stretch of Fills and _Runs: their arrays joined in one
+    concatenation (a piece per Fill and per path's runs), the runs without verbs left out."""
+    vparts, pparts, vlens, plens, kinds = [], [], [], [], []
+    vappend, pappend = vparts.append, pparts.append
+    vlen, plen, kind = vlens.append, plens.append, kinds.append
+    styles, keys = [], {}
+    last = None                                 # (the last Fill's key and style index)
+    for node in stretch:
+        if node.__class__ is Fill:
+            path = node.path
+            v, p = path._arrays or path._freeze()
+            vappend(v)
+            pappend(p)
+            vlen(len(v))
+            plen(len(p))
+            key = (id(node.paint), node.rule, node.opacity, node.antialias)
+            if key != last:
+                k = keys.get(key)
+                if k is None:
+                    k = keys[key] = len(styles)
+                    styles.append((node.paint, node.rule, node.opacity, node.antialias))
+                last = key
+            kind(k)
+            continue
+        b0, b1 = node.b0, node.b1
+        if b1 == b0:
+            continue
+        s = node.source
+        sk = keys.get(s)
+        if sk is None:
+            sk = keys[s] = len(styles)
+            styles.append(s.style)
+        if s.whole:
+            vo, po = s.vo, s.po
+            vappend(s.ov[vo[b0]:vo[b1]])
+            pappend(s.op[po[b0]:po[b1]])
+            vlens += s.vl[b0:b1]
+            plens += s.pl[b0:b1]
+            kinds += [sk] * (b1 - b0)
+            continue
+        for r in range(b0, b1):
+            if s.vl[r]:
+                vappend(s.ov[s.vo[r]:s.vo[r + 1]])
+                pappend(s.op[s.po[r]:s.po[r + 1]])
+                vlen(s.vl[r])
+                plen(s.pl[r])
+                kind(sk)
+    voff = np.zeros(len(kinds) + 1, np.int64)
+    poff = np.zeros(len(kinds) + 1, np.int64)
+    np.cumsum(vlens, out=voff[1:])
+    np.cumsum(plens, out=poff[1:])
+    verbs = np.concatenate(vparts).astype(np.uint8, copy=False)
+    points = np.concatenate(pparts).reshape(-1, 2).astype(np.float64, copy=False)
+    return FillRuns(verbs, points, voff, poff, styles, np.array(kinds, np.int64))
 
 
 def _stroke_opacity(plan, ref):
@@ -746,6 +894,7 @@ class Builder:
         shared style decided once. Map data is runs of thousands of these. Paints that depend
         on the element (paint servers, context paints) and markers go through element()."""
         style = parent_style.child(run[0])      # the same Style for all: their key is ()
+        first = len(out)                        # (where the run's nodes begin)
         try:
             plan = style.cache["run-plan"]
         except KeyError:                        # (nothing in it depends on ctx)
@@ -879,12 +1028,26 @@ class Builder:
         else:
             for el in run:
                 one(el)
-        if ats:
+        if ats and self._joins_runs(ctx):
+            # (the strokes' runs, and the fills about them, as FillRuns where many)
+            for at, runs in zip(ats, _outline_runs(
+                    batch.verbs, batch.points.points, *self._batch_starts(),
+                    np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)):
+                out[at] = runs
+            out[first:] = _joined_runs(out[first:])
+        elif ats:
             fills, bounds = _outline_fills(
                 batch.verbs, batch.points.points, *self._batch_starts(),
                 np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)
             if _put_fills(out, ats, fills, bounds):
                 out[ats[0]:] = _flat(out[ats[0]:])
+
+    def _joins_runs(self, ctx) -> bool:
+        """Whether _path_run and _shape_run give FillRuns (_joined_runs) here: in what is
+        drawn as it is built, not in the content of clip paths, masks, markers, <use>s or
+        patterns (built again per instance, and read fill by fill) nor in geometry built for
+        a bounding box."""
+        return not (self.ref_stack or ctx.use_stack or ctx.geometry)
 
     def _batch_starts(self):
         """The document's path batch's verb and point offsets as int64 arrays, made once (the
@@ -1083,8 +1246,9 @@ class Builder:
                         user = new_path(Path)
                         user._arrays = verbs, block.points[at]
                 nodes.extend(self.stroke(user, style, ctx, None, antialias))
+        joins = self._joins_runs(ctx)
         if not queued:
-            out.extend(nodes)
+            out.extend(_joined_runs(nodes) if joins else nodes)
             return
         lists = False                           # whether nodes holds lists of Fills
         local = None
@@ -1110,10 +1274,16 @@ class Builder:
                 arrays = local
             else:
                 arrays = block.batch()
+            if joins:
+                for at, runs in zip(ats, _outline_runs(*arrays, np.array(indexes, np.int64),
+                                                       stroke_plan, transform, stroke_ref,
+                                                       antialias)):
+                    nodes[at] = runs
+                continue
             fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
                                            transform, stroke_ref, antialias)
             lists |= _put_fills(nodes, ats, fills, bounds)
-        out.extend(_flat(nodes) if lists else nodes)
+        out.extend(_joined_runs(nodes) if joins else _flat(nodes) if lists else nodes)
 
     def _shape_rows(self, items, viewport):
         """For _shape_run: iterators over the parameters of the circles (_ellipse_params')

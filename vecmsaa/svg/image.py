@@ -11,7 +11,7 @@ from ..diagnostics import warn
 from ..scene.transform import compose, invert, translate
 from ..scene.bounds import path_bounds
 from ..scene.path import rect_path
-from ..scene.nodes import Fill, Group, ImagePaint
+from ..scene.nodes import Fill, FillRuns, Group, ImagePaint
 from .units import parse_aspect, viewbox_transform
 
 #: Pixels of one raster image, and of all distinct raster images of a document (each decoded
@@ -252,6 +252,8 @@ def _within(nodes, to_device, box) -> bool:
             if b is not None and not (b[0] >= x0 - eps and b[1] >= y0 - eps
                                       and b[2] <= x1 + eps and b[3] <= y1 + eps):
                 return False
+        elif isinstance(node, FillRuns):
+            stack.extend(node.fills())
         elif node.filters:
             return False
         else:

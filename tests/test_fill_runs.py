@@ -1,0 +1,194 @@
+"""FillRuns: a long run of shapes and their strokes handed from the SVG builder to the raster
+as one batch's arrays (scene.nodes.FillRuns), not as a Fill per run of each outline."""
+import random
+
+import numpy as np
+import pytest
+
+from vecmsaa.api import load_svg, render_svg_array
+from vecmsaa.geometry.primitives import batch_arrays
+from vecmsaa.raster import render as render_module
+from vecmsaa.scene.nodes import Fill, FillRuns, Group, Scene, Solid, translated
+from vecmsaa.scene.path import Path
+from vecmsaa.svg import builder as builder_module
+
+NS = 'xmlns="http://www.w3.org/2000/svg"'
+
+
+def scatter(n, seed=1, extra=""):
+    """A D3 scatter plot's circles: filled, with strokes under a pixel wide (hairlines)."""
+    rng = random.Random(seed)
+    return "".join(f'<circle cx="{rng.uniform(0, 100):.2f}" cy="{rng.uniform(0, 100):.2f}" '
+                   f'r="{rng.choice(["2.1", "3", "6.0", "0.5"])}" fill="steelblue" '
+                   f'fill-opacity="0.6" stroke="#333" stroke-width="0.5"{extra}/>'
+                   for _ in range(n))
+
+
+def classes(n, seed=2):
+    """An Illustrator export's class-styled paths: polygons, each class a fill colour and a
+    1-unit black stroke (stroked by the lines stroke kernel, not as hairlines)."""
+    rng = random.Random(seed)
+    style = "".join(f".st{k}{{fill:#{rng.randrange(1 << 24):06x};stroke:#000;"
+                    f"stroke-miterlimit:10;}}" for k in range(5))
+    paths = []
+    for _ in range(n):
+        x, y = rng.uniform(0, 95), rng.uniform(0, 95)
+        pts = " ".join(f"{x + rng.uniform(0, 6):.2f},{y + rng.uniform(0, 6):.2f}"
+                       for _ in range(rng.randint(3, 6)))
+        paths.append(f'<polygon class="st{rng.randrange(5)}" points="{pts}"/>')
+    return f"<style>{style}</style>{''.join(paths)}"
+
+
+def document(body, size=100):
+    return f'<svg {NS} width="{size}" height="{size}">{body}</svg>'
+
+
+def fills_of(nodes):
+    """(verbs bytes, points bytes, paint, rule, opacity, antialias) of each fill, FillRuns
+    expanded, groups walked in order."""
+    out = []
+    for node in nodes:
+        if isinstance(node, Group):
+            out += fills_of(node.children)
+        elif isinstance(node, FillRuns):
+            out += fills_of(node.fills())
+        else:
+            v, p = node.path._freeze()
+            paint = node.paint.color if isinstance(node.paint, Solid) else repr(node.paint)
+            out.append((v.tobytes(), p.shape, p.tobytes(), paint, node.rule, node.opacity,
+                        node.antialias))
+    return out
+
+
+def runs_in(group) -> int:
+    """The FillRuns in a group's tree."""
+    return sum(runs_in(c) if isinstance(c, Group) else isinstance(c, FillRuns)
+               for c in group.children)
+
+
+def without_runs(monkeypatch):
+    """The builder made to give Fills only (a stretch needs more runs than any here)."""
+    monkeypatch.setattr(builder_module, "MIN_JOINED_RUNS", 10 ** 9)
+
+
+@pytest.mark.parametrize("body", [scatter(300), classes(300),
+                                  # (map data: unstyled paths under a styled group)
+                                  '<g fill="none" stroke="#333" stroke-width="0.4">' +
+                                  "".join(f'<path d="M{i % 97} {i % 89}l5 3l-2 4z"/>'
+                                          for i in range(700)) + "</g>"])
+@pytest.mark.parametrize("width", [100, 37, 410])
+def test_fill_runs_expand_to_the_fills_made_without_them(body, width, monkeypatch):
+    """A FillRuns' fills() are the Fills the builder makes when it makes no FillRuns: the
+    same paths (verbs and points to the bit), paints, rules, opacities, in the same order."""
+    svg = document(body)
+    joined = load_svg(svg, width=width).root
+    assert runs_in(joined) >= 1
+    without_runs(monkeypatch)
+    alone = load_svg(svg, width=width).root
+    assert runs_in(alone) == 0
+    assert fills_of([joined]) == fills_of([alone])
+    assert len(Scene(1, 1, joined).fills()) == len(fills_of([alone]))
+
+
+def test_a_scatter_plot_is_one_node_not_a_fill_per_run():
+    """2,000 circles with hairline strokes (a fill per circle, a few runs per stroke) make
+    one FillRuns at the root, holding every run: no Fill object per run."""
+    scene = load_svg(document(scatter(2000)), width=100)
+    (node,) = scene.root.children
+    assert type(node) is FillRuns
+    runs = len(node)
+    assert runs > 2 * 2000
+    assert len(node.voff) == len(node.poff) == runs + 1
+    assert node.voff[-1] == len(node.verbs) and node.poff[-1] == len(node.points)
+    # two styles: the circles' fill and their strokes' (each hairline run its own coverage
+    # in its paint's alpha: one style for all of them)
+    assert len(node.styles) == 2
+    assert sorted(set(node.kind.tolist())) == [0, 1]
+    # every run draws something: a verb besides moveto and close
+    v, vo = node.verbs, node.voff.tolist()
+    assert all(bytes(v[a:b]).translate(None, bytes((0, 4))) for a, b in zip(vo, vo[1:]))
+
+
+def test_few_runs_stay_fills():
+    """A small document keeps its Fills (the stretch is shorter than MIN_JOINED_RUNS)."""
+    scene = load_svg(document(scatter(20)), width=100)
+    assert all(type(c) is Fill for c in scene.root.children)
+
+
+def _render(svg, **kw):
+    return render_svg_array(svg, **kw)
+
+
+WRAPPERS = ["{}", '<g opacity="0.5">{}</g>',
+            '<clipPath id="c"><circle cx="50" cy="50" r="40"/></clipPath>'
+            '<g clip-path="url(#c)">{}</g>',
+            '<mask id="m"><rect width="60" height="100" fill="#888"/></mask>'
+            '<g mask="url(#m)">{}</g>',
+            '<filter id="f" x="0" y="0" width="1" height="1"><feOffset dx="3" dy="2"/>'
+            '</filter><g filter="url(#f)">{}</g>',
+            '<filter id="b"><feGaussianBlur stdDeviation="1"/></filter>'
+            '<g filter="url(#b)"><rect x="-10.5" width="30" height="20" fill="red"/>{}</g>',
+            # (a plain Fill before and after the runs in the same batch; fills of opacity 0)
+            '<rect x="3" y="4" width="50" height="20" fill="gold" pathLength="3"/>{}'
+            '<rect x="30" y="40" width="50" height="20" fill="green" pathLength="3"/>',
+            '<g fill-opacity="0">{}</g>']
+
+
+@pytest.mark.parametrize("wrapper", WRAPPERS)
+@pytest.mark.parametrize("body", ['<g shape-rendering="crispEdges">' + classes(300) + "</g>",
+                                  scatter(250), classes(300)])
+def test_fill_runs_draw_the_bytes_of_their_fills(wrapper, body, monkeypatch):
+    """Rendered with FillRuns or with the Fills they stand for, the same bytes, in groups
+    of every kind (layers, clips, masks, filters that move their content)."""
+    svg = document(wrapper.format(body))
+    assert runs_in(load_svg(svg, width=100).root) == 1
+    kws = [dict(width=100), dict(width=173, threads=2)]
+    joined = [_render(svg, **kw) for kw in kws]
+    without_runs(monkeypatch)
+    for kw, image in zip(kws, joined):
+        assert np.array_equal(image, _render(svg, **kw)), kw
+
+
+@pytest.mark.parametrize("mode", ["analytic", "alpha", "persample", "none", "a2c",
+                                  "alpha-sat"])
+def test_fill_runs_draw_the_same_bytes_in_every_mode(mode, monkeypatch):
+    svg = document(scatter(300) + classes(300))
+    assert runs_in(load_svg(svg, width=100).root) == 2
+    joined = _render(svg, width=120, mode=mode)
+    without_runs(monkeypatch)
+    assert np.array_equal(joined, _render(svg, width=120, mode=mode))
+
+
+def test_kept_arrays_are_the_batch_arrays_of_the_paths_kept():
+    """_kept_arrays (rows gathered by offsets) against batch_arrays of the paths kept."""
+    rng = np.random.default_rng(5)
+    paths = []
+    for _ in range(60):
+        n = int(rng.integers(0, 5))
+        verbs = np.array([0] + [1] * n, np.uint8)
+        paths.append(Path._of_arrays(verbs, rng.normal(size=(n + 1, 2))))
+    arrays = batch_arrays(paths)
+    for keep in (rng.random(60) < 0.5, np.zeros(60, bool), np.ones(60, bool)):
+        got = render_module._kept_arrays(arrays, keep)
+        want = batch_arrays([p for p, k in zip(paths, keep) if k])
+        for a, b in zip(got, want):
+            assert a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def test_joined_arrays_are_the_batch_arrays_of_all_paths():
+    rng = np.random.default_rng(6)
+    paths = [Path._of_arrays(np.array([0, 1, 1, 4], np.uint8), rng.normal(size=(3, 2)))
+             for _ in range(30)]
+    parts = [batch_arrays(paths[a:b]) for a, b in ((0, 7), (7, 8), (8, 30))]
+    for a, b in zip(render_module._joined_arrays(parts), batch_arrays(paths)):
+        assert a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def test_translated_fill_runs_are_their_fills_translated():
+    scene = load_svg(document(scatter(300)), width=100)
+    (node,) = scene.root.children
+    moved = translated(node, 3.25, -4.5)
+    assert type(moved) is FillRuns
+    want = [translated(f, 3.25, -4.5) for f in node.fills()]
+    assert fills_of([moved]) == fills_of(want)
+    assert np.array_equal(node.points, scene.root.children[0].points)   # (not moved itself)
