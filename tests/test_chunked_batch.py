@@ -26,6 +26,7 @@ def draw(scene, chunked, monkeypatch, region_bytes=1, region_rows=1024, **kw):
     ``region_bytes`` 1) or none; the region builds' fill lists are returned."""
     with monkeypatch.context() as m:
         m.setattr(render, "CHUNK_BYTES", 0 if chunked else 1 << 62)
+        m.setattr(render, "CHUNK_FILL_ROWS", float("inf"))
         m.setattr(render, "CHUNK_REGION_BYTES", region_bytes)
         m.setattr(render, "CHUNK_REGION_ROWS", region_rows)
         calls = []
@@ -104,8 +105,8 @@ def text_lines(lines, per_line, width=200):
 def test_a_page_of_lines_holds_one_regions_geometry_at_a_time(monkeypatch):
     """60 lines of 40 rings: the batch holds no geometry; each region builds only the lines
     whose box meets it, each line is built in the regions it meets and no others (regions
-    of one 16-row strip: a line 7 px tall meets one or two), every lens of the whole build is
-    drawn, and the image is the whole geometry's."""
+    of 32 rows, two strips: the least above 4 times the lines' 6 rows; a line meets one or
+    two), every lens of the whole build is drawn, and the image is the whole geometry's."""
     W, H = 200, 600
     fills = text_lines(60, 40, W)
     opts = RenderOptions("approx", 8)
@@ -114,6 +115,7 @@ def test_a_page_of_lines_holds_one_regions_geometry_at_a_time(monkeypatch):
     (batch,) = render._fill_batches(fills, opts, canvas=(0, 0, W, H))
     assert isinstance(batch, FillBatch) and batch.source is not None
     assert batch.edges is None and batch.prims is None
+    assert batch.fill_rows == 6.0
     held = []
     build = render.region_fills
 
@@ -128,17 +130,17 @@ def test_a_page_of_lines_holds_one_regions_geometry_at_a_time(monkeypatch):
     whole = build_batch(verbs, pts, voff, poff, 0.0, MAX_SAGITTA,
                         np.array([0.0, 0.0, W, H]))
     lines_lenses = np.diff(whole[3])
-    assert len(held) == H // 16 + 1     # (the last region: rows 592 .. 599)
+    assert len(held) == H // 32 + 1     # (the last region: rows 576 .. 599)
     for i, (which, ne, nc) in enumerate(held):
-        # each region: the lines meeting its 16 rows (the boxes: y 3 .. 9 + 10 j, and
+        # each region: the lines meeting its 32 rows (the boxes: y 3 .. 9 + 10 j, and
         # QUAD_FALLBACK_TOL more: rows 2 + 10 j .. 9 + 10 j)
-        assert which == [j for j in range(60) if 2 + 10 * j < 16 * i + 16
-                         and 9 + 10 * j >= 16 * i]
-        # (three lines at most, of the page's 60)
-        assert nc == lines_lenses[which].sum() and nc <= 3 * lines_lenses.max()
+        assert which == [j for j in range(60) if 2 + 10 * j < 32 * i + 32
+                         and 9 + 10 * j >= 32 * i]
+        # (four lines at most, of the page's 60)
+        assert nc == lines_lenses[which].sum() and nc <= 4 * lines_lenses.max()
     # every line built once for each region it meets: 1 or 2
     times = np.bincount(np.concatenate([w for w, *_ in held]), minlength=60)
-    assert set(times.tolist()) <= {1, 2} and times.sum() < 1.5 * 60
+    assert set(times.tolist()) <= {1, 2} and times.sum() < 1.3 * 60
     assert sum(nc for *_, nc in held) == (lines_lenses * times).sum()
     # the same bytes as the whole geometry drawn at once
     monkeypatch.setattr(render, "CHUNK_BYTES", 1 << 62)
@@ -173,14 +175,32 @@ def test_region_fills_gives_the_listed_fills_their_rows_and_the_others_none():
 
 def test_which_batches_are_chunked(monkeypatch):
     """Only batches of several fills drawn by render_msaa whose estimated geometry reaches
-    CHUNK_BYTES; one reaching beyond FAR_X is built whole (clamp_far_edges moves its edges)."""
+    CHUNK_BYTES, their mean height (weighted by that) at most CHUNK_FILL_ROWS; one reaching
+    beyond FAR_X is built whole (clamp_far_edges moves its edges)."""
     fills = text_lines(30, 20)
     verbs, pts, voff, poff = batch_arrays([f.path for f in fills])
     # the estimate: 64 bytes a point, 2 lenses of 39 float64 a curve (80 cubics a line)
     want = np.diff(poff) * 64 + 80 * 2 * 8 * 39
     monkeypatch.setattr(render, "CHUNK_BYTES", int(want.sum()))
-    cost = render._chunked(fills, verbs, pts, voff, poff, RenderOptions("approx", 8))
-    assert np.array_equal(cost, want)
+    cost, rows = render._chunked(fills, verbs, pts, voff, poff, RenderOptions("approx", 8))
+    assert np.array_equal(cost, want) and rows == 6.0
+    # 24 lines 6 rows tall (each 340 points, 80 cubics) and a path 600 rows tall (300 times
+    # 7 points, 2 cubics): a mean of 141.6 rows
+    tall = Path()
+    for i in range(300):
+        tall.moveTo((1, 0))
+        tall.curveTo((2, 100), (1, 200), (3, 600))
+        tall.curveTo((3, 500), (2, 1), (1, 0))
+        tall.closePath()
+    mixed = fills[:24] + [Fill(tall, Solid((1, 0, 0, 1)))]
+    arrays = batch_arrays([f.path for f in mixed])
+    monkeypatch.setattr(render, "CHUNK_BYTES", 0)
+    assert render._chunked(mixed, *arrays, RenderOptions("approx", 8)) is None
+    monkeypatch.setattr(render, "CHUNK_FILL_ROWS", 142)
+    line, high = 340 * 64 + 80 * 624, 300 * (7 * 64 + 2 * 624)
+    assert render._chunked(mixed, *arrays, RenderOptions("approx", 8))[1] == \
+        pytest.approx((24 * line * 6 + high * 600) / (24 * line + high))
+    monkeypatch.setattr(render, "CHUNK_BYTES", int(want.sum()))
     monkeypatch.setattr(render, "CHUNK_BYTES", int(want.sum()) + 1)
     assert render._chunked(fills, verbs, pts, voff, poff, RenderOptions("approx", 8)) is None
     monkeypatch.setattr(render, "CHUNK_BYTES", 0)

@@ -870,8 +870,9 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     assert np.array_equal(render_scene_rgba8(scene, threads=1), one)
     monkeypatch.undo()
     # every batch of several fills built and drawn region by region (Raster.fill_chunked),
-    # regions of one strip and of up to 1024 rows
+    # regions of one strip (or of 4 mean fill heights) and of up to 1024 rows
     monkeypatch.setattr(render_module, "CHUNK_BYTES", 0)
+    monkeypatch.setattr(render_module, "CHUNK_FILL_ROWS", float("inf"))
     for region in (1, 1 << 16):
         monkeypatch.setattr(render_module, "CHUNK_REGION_BYTES", region)
         for threads, band_rows in ((1, 5), (2, 64), (3, 1), (2, 2048)):

@@ -926,17 +926,19 @@ class Raster:
         out = np.zeros_like(target) if o.saturate else target
         verbs, pts, voff, poff, canvas = b.source
         cost, box = b.cost, b.box
+        # regions of at least 4 mean fill heights: a fill is built again in each it meets
+        least = max(strip, math.ceil(4 * b.fill_rows / strip) * strip)
         # (NaN compares false: such a fill meets every region)
         y_lo, y_hi = np.floor(box[:, 1]), np.floor(box[:, 3])
         shown = ~(box[:, 0] >= W) & ~(box[:, 2] < 0.0)
         a = y0
         while a < y0 + H:
-            n = min(y0 + H - a, max(strip, CHUNK_REGION_ROWS // strip * strip))
+            n = min(y0 + H - a, max(least, CHUNK_REGION_ROWS // strip * strip))
             while True:
                 meets = shown & ~(y_hi < a) & ~(y_lo >= a + n)
-                if n <= strip or cost[meets].sum() <= CHUNK_REGION_BYTES:
+                if n <= least or cost[meets].sum() <= CHUNK_REGION_BYTES:
                     break
-                n = max(strip, n // 2 // strip * strip)
+                n = max(least, n // 2 // strip * strip)
             if meets.any():
                 edges, edge_off, prims, prim_off = region_fills(
                     verbs, pts, voff, poff, canvas, np.flatnonzero(meets))
@@ -1030,8 +1032,9 @@ class FillBatch:
     #: a batch built region by region (_chunked): (verbs, points, verb offsets, point
     #: offsets, canvas) for Raster.fill_chunked, and no geometry held; else None
     source = None
-    #: a chunked batch's estimated bytes of geometry per fill (_chunked)
-    cost = None
+    #: a chunked batch's estimated bytes of geometry per fill, and the mean height of its
+    #: fills weighted by those (_chunked)
+    cost = fill_rows = None
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
                  extremes=None, canvas=NO_CULL, boxes=None):
@@ -1046,12 +1049,13 @@ class FillBatch:
             self.edge_off = np.array([0, 2 * len(pts)], np.int64)
             self.prim_off = np.array([0, 5 * curves], np.int64)
             self.edges = self.prims = None
-        elif (cost := _chunked(fills, verbs, moved, voff, poff, opts)) is not None:
+        elif (chunks := _chunked(fills, verbs, moved, voff, poff, opts,
+                                 boxes if moved is pts else None)) is not None:
             # a batch too big to hold whole: built region by region as it is drawn
             # (Raster.fill_chunked), unless it reaches beyond FAR_X (below)
             built = None
             self.source = (verbs, moved, voff, poff, np.asarray(canvas, np.float64))
-            self.cost = cost
+            self.cost, self.fill_rows = chunks
         else:
             # the geometry is built on the pool's threads while this one does the rest
             built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool, canvas)
@@ -1241,6 +1245,9 @@ CHUNK_BYTES = 512 << 20
 #: than a strip), and rows of a region at most
 CHUNK_REGION_BYTES = 32 << 20
 CHUNK_REGION_ROWS = 1024
+#: mean height (rows) of a batch's fills, weighted by their geometry, up to which it is
+#: chunked (see _chunked)
+CHUNK_FILL_ROWS = 64
 #: estimated bytes per point (two edges of 32 bytes) and per curve (lenses of 312 bytes)
 _POINT_BYTES = 64
 _CURVE_BYTES = 2 * 8 * PRIM_FIELDS
@@ -1252,16 +1259,34 @@ def _curves_before(verbs, voff) -> np.ndarray:
     return np.searchsorted(np.flatnonzero(_IS_CURVE[verbs]), voff)
 
 
-def _chunked(fills, verbs, pts, voff, poff, opts: RenderOptions):
-    """Each path's estimated geometry in bytes (_POINT_BYTES a point, _CURVE_BYTES a curve)
-    where the batch is built region by region (FillBatch.source): several fills drawn by
-    render_msaa, their geometry estimated at CHUNK_BYTES or more; else None."""
+def _chunked(fills, verbs, pts, voff, poff, opts: RenderOptions, boxes=None):
+    """(each path's estimated geometry in bytes (_POINT_BYTES a point, _CURVE_BYTES a curve),
+    the paths' mean height in rows weighted by those) where the batch is built region by
+    region (FillBatch.source): several fills drawn by render_msaa, their geometry estimated
+    at CHUNK_BYTES or more, that mean height at most CHUNK_FILL_ROWS; else None. ``boxes``:
+    the paths' point extremes where known (batch_extents'). A fill is built once for each
+    region it meets, and regions are at least 4 such heights (fill_chunked), so the builds
+    of all regions cost at most (1 + CHUNK_FILL_ROWS / rows of a band) the whole build's on
+    average (a text line is built once or twice, where a batch of tall paths is not
+    chunked: each would be built again in every region)."""
     if len(fills) < 2 or opts.flatten_tol != 0 or not _draws_with_msaa(opts):
         return None
     if len(pts) * _POINT_BYTES + len(verbs) * _CURVE_BYTES < CHUNK_BYTES:
         return None         # (a bound on the estimate, without its passes)
     cost = np.diff(poff) * _POINT_BYTES + np.diff(_curves_before(verbs, voff)) * _CURVE_BYTES
-    return cost if int(cost.sum()) >= CHUNK_BYTES else None
+    total = int(cost.sum())
+    if total < CHUNK_BYTES:
+        return None
+    if boxes is None:
+        # (every path of a batch has a point: _fill_batches keeps only paths that draw)
+        ys = np.ascontiguousarray(pts[:, 1])
+        height = np.maximum.reduceat(ys, poff[:-1]) - np.minimum.reduceat(ys, poff[:-1])
+    else:
+        height = boxes[:, 3] - boxes[:, 1]
+    with np.errstate(invalid="ignore", over="ignore"):
+        rows = float((cost * height).sum()) / total
+    # (NaN, an infinite height: not chunked)
+    return (cost, rows) if rows <= CHUNK_FILL_ROWS and math.isfinite(rows) else None
 
 
 def _reserved_offsets(verbs, voff, poff):
