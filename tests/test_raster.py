@@ -869,6 +869,17 @@ def test_threads_and_bands_give_the_same_bytes(source, request, monkeypatch):
     monkeypatch.setattr(render_module, "MSAA_STRIP_ROWS", 256)
     assert np.array_equal(render_scene_rgba8(scene, threads=1), one)
     monkeypatch.undo()
+    # every batch of several fills built and drawn region by region (Raster.fill_chunked),
+    # regions of one strip (or of 4 mean fill heights) and of up to 1024 rows
+    monkeypatch.setattr(render_module, "CHUNK_BYTES", 0)
+    monkeypatch.setattr(render_module, "CHUNK_FILL_ROWS", float("inf"))
+    for region in (1, 1 << 16):
+        monkeypatch.setattr(render_module, "CHUNK_REGION_BYTES", region)
+        for threads, band_rows in ((1, 5), (2, 64), (3, 1), (2, 2048)):
+            assert np.array_equal(render_scene_rgba8(scene, threads=threads, band_budget=
+                                                     band_rows * scene.width * 16), one), \
+                (region, threads, band_rows)
+    monkeypatch.undo()
     # PNG rows deflated as bands arrive: the bytes of the whole image's encoding
     png = encode_png(one)
     assert render_scene_png(scene) == png

@@ -37,9 +37,9 @@ from ..output.rgba8 import NO_REFILL, unpremultiply_to_rgba8
 from .csaa import csaa_scratch, render_csaa
 from ..jit import bind_tail
 from .modes import EXACT_MODES, FILTERS, MODES, MSAA_MODES, SATURATE_MODES
-from ..geometry.primitives import (CULL_MARGIN, NO_CULL, QUAD_FALLBACK_TOL, RUN_VERBS,
-                                   batch_arrays, batch_extents, build_batch, build_run,
-                                   path_runs)
+from ..geometry.primitives import (CULL_MARGIN, NO_CULL, PRIM_FIELDS, QUAD_FALLBACK_TOL,
+                                   RUN_VERBS, batch_arrays, batch_extents, build_batch,
+                                   build_run, path_runs)
 from ..scene.path import CLOSE, CONIC, CUBIC, LINE, MOVE, QUAD
 from .resolve import RADIUS, accumulate, filter_weight, finish, resolve_weights
 from .sample_patterns import (SamplePattern, a2c_order, sample_pattern,
@@ -892,6 +892,9 @@ class Raster:
         if b.runs is not None:
             self.fill_streamed(b, target, y0)
             return
+        if b.source is not None:
+            self.fill_chunked(b, target, y0)
+            return
         kernel = self._fill or self.fill_kernel()
         if o.mode == "analytic":
             kernel(target, y0, b.edges, b.edge_off, b.box, b.rules, b.aa, b.kinds,
@@ -906,6 +909,46 @@ class Raster:
             with np.errstate(invalid="ignore", over="ignore"):
                 composite(out, target)
 
+
+    def fill_chunked(self, b: "FillBatch", target: np.ndarray, y0: int) -> None:
+        """Draw a batch built region by region (FillBatch.source) onto ``target`` (device rows
+        from y0): the band cut into regions of whole strips (their first rows where the band's
+        own strips begin), each drawn by render_msaa with the geometry of the fills whose box
+        meets it (region_fills) and no rows for the others, which no strip of the region
+        visits (scan.strip_buckets); each strip then does exactly what it does with the whole
+        geometry: the same fills, their same edges and lenses (a path's geometry depends only
+        on the path), the same paints and opaque runs (render_msaa's run_end is of the
+        paints). So the same bytes, with only a region's geometry held at once."""
+        o = self.opts
+        H, W = target.shape[0], target.shape[1]
+        strip = self.scratch[0].shape[0]
+        kernel = self._fill or self.fill_kernel()
+        out = np.zeros_like(target) if o.saturate else target
+        verbs, pts, voff, poff, canvas = b.source
+        cost, box = b.cost, b.box
+        # regions of at least 4 mean fill heights: a fill is built again in each it meets
+        least = max(strip, math.ceil(4 * b.fill_rows / strip) * strip)
+        # (NaN compares false: such a fill meets every region)
+        y_lo, y_hi = np.floor(box[:, 1]), np.floor(box[:, 3])
+        shown = ~(box[:, 0] >= W) & ~(box[:, 2] < 0.0)
+        a = y0
+        while a < y0 + H:
+            n = min(y0 + H - a, max(least, CHUNK_REGION_ROWS // strip * strip))
+            while True:
+                meets = shown & ~(y_hi < a) & ~(y_lo >= a + n)
+                if n <= least or cost[meets].sum() <= CHUNK_REGION_BYTES:
+                    break
+                n = max(least, n // 2 // strip * strip)
+            if meets.any():
+                edges, edge_off, prims, prim_off = region_fills(
+                    verbs, pts, voff, poff, canvas, np.flatnonzero(meets))
+                kernel(out[a - y0:a - y0 + n], a, edges, edge_off, prims, prim_off, box,
+                       b.rules, b.aa, b.kinds, b.params, b.lut, b.tex)
+                del edges, prims
+            a += n
+        if o.saturate:
+            with np.errstate(invalid="ignore", over="ignore"):
+                composite(out, target)
 
     def fill_streamed(self, b: "FillBatch", target: np.ndarray, y0: int) -> None:
         """Draw a streamed fill (FillBatch.runs) onto ``target`` (device rows from y0): in
@@ -986,6 +1029,12 @@ class FillBatch:
     edges and lenses (a text element of 100,000 glyphs: 118 MB and 840 MB) are never held
     at once. Otherwise ``runs`` is None."""
     runs = None
+    #: a batch built region by region (_chunked): (verbs, points, verb offsets, point
+    #: offsets, canvas) for Raster.fill_chunked, and no geometry held; else None
+    source = None
+    #: a chunked batch's estimated bytes of geometry per fill, and the mean height of its
+    #: fills weighted by those (_chunked)
+    cost = fill_rows = None
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
                  extremes=None, canvas=NO_CULL, boxes=None):
@@ -1000,6 +1049,13 @@ class FillBatch:
             self.edge_off = np.array([0, 2 * len(pts)], np.int64)
             self.prim_off = np.array([0, 5 * curves], np.int64)
             self.edges = self.prims = None
+        elif (chunks := _chunked(fills, verbs, moved, voff, poff, opts,
+                                 boxes if moved is pts else None)) is not None:
+            # a batch too big to hold whole: built region by region as it is drawn
+            # (Raster.fill_chunked), unless it reaches beyond FAR_X (below)
+            built = None
+            self.source = (verbs, moved, voff, poff, np.asarray(canvas, np.float64))
+            self.cost, self.fill_rows = chunks
         else:
             # the geometry is built on the pool's threads while this one does the rest
             built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, pool, canvas)
@@ -1053,8 +1109,13 @@ class FillBatch:
             table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
             self.kinds, self.params, self.lut, self.tex = table.arrays()
         if built is None:
+            if self.source is not None and lo[0] >= -FAR_X and hi[2] <= FAR_X:
+                # (heaviest_first's guess at the work: the sizes build_batch reserves)
+                self.edge_off, self.prim_off = _reserved_offsets(verbs, voff, poff)
+                self.edges = self.prims = None
+                return
             # (a streamed fill is one fill with finite points: _one_fill's case; not reached)
-            self.runs = None
+            self.runs = self.source = None
             built = build_in_parts(verbs, moved, voff, poff, opts.flatten_tol, None, canvas)
         self.edges, self.edge_off, self.prims, self.prim_off = built()
         # edges lie in their fills' boxes: only a batch reaching past x = ±FAR_X (or with a
@@ -1174,6 +1235,98 @@ def _edge_within(x0, y0, x1, y1):
             xb = x1 if tb == 1.0 else x0 + dx * tb
             out.append((min(max(xa, -FAR_X), FAR_X), ya, min(max(xb, -FAR_X), FAR_X), yb))
     return out
+
+
+#: estimated bytes of a batch's geometry (_chunked) from which it is built and drawn region
+#: by region (Raster.fill_chunked), not held whole: a page of 2,000 text lines' 200,000
+#: glyphs made 3.4 M edges and 2.3 M lenses, 840 MB
+CHUNK_BYTES = 512 << 20
+#: estimated bytes of the geometry of a region's fills at most (while the region is more
+#: than a strip), and rows of a region at most
+CHUNK_REGION_BYTES = 32 << 20
+CHUNK_REGION_ROWS = 1024
+#: mean height (rows) of a batch's fills, weighted by their geometry, up to which it is
+#: chunked (see _chunked)
+CHUNK_FILL_ROWS = 64
+#: estimated bytes per point (two edges of 32 bytes) and per curve (lenses of 312 bytes)
+_POINT_BYTES = 64
+_CURVE_BYTES = 2 * 8 * PRIM_FIELDS
+
+
+def _curves_before(verbs, voff) -> np.ndarray:
+    """The number of curve verbs before each offset of ``voff``. (By the curves' positions,
+    not a running sum over the verbs: numpy's cumsum of 6 M flags took 0.15 to 0.4 s.)"""
+    return np.searchsorted(np.flatnonzero(_IS_CURVE[verbs]), voff)
+
+
+def _chunked(fills, verbs, pts, voff, poff, opts: RenderOptions, boxes=None):
+    """(each path's estimated geometry in bytes (_POINT_BYTES a point, _CURVE_BYTES a curve),
+    the paths' mean height in rows weighted by those) where the batch is built region by
+    region (FillBatch.source): several fills drawn by render_msaa, their geometry estimated
+    at CHUNK_BYTES or more, that mean height at most CHUNK_FILL_ROWS; else None. ``boxes``:
+    the paths' point extremes where known (batch_extents'). A fill is built once for each
+    region it meets, and regions are at least 4 such heights (fill_chunked), so the builds
+    of all regions cost at most (1 + CHUNK_FILL_ROWS / rows of a band) the whole build's on
+    average (a text line is built once or twice, where a batch of tall paths is not
+    chunked: each would be built again in every region)."""
+    if len(fills) < 2 or opts.flatten_tol != 0 or not _draws_with_msaa(opts):
+        return None
+    if len(pts) * _POINT_BYTES + len(verbs) * _CURVE_BYTES < CHUNK_BYTES:
+        return None         # (a bound on the estimate, without its passes)
+    cost = np.diff(poff) * _POINT_BYTES + np.diff(_curves_before(verbs, voff)) * _CURVE_BYTES
+    total = int(cost.sum())
+    if total < CHUNK_BYTES:
+        return None
+    if boxes is None:
+        # (every path of a batch has a point: _fill_batches keeps only paths that draw)
+        ys = np.ascontiguousarray(pts[:, 1])
+        height = np.maximum.reduceat(ys, poff[:-1]) - np.minimum.reduceat(ys, poff[:-1])
+    else:
+        height = boxes[:, 3] - boxes[:, 1]
+    with np.errstate(invalid="ignore", over="ignore"):
+        rows = float((cost * height).sum()) / total
+    # (NaN, an infinite height: not chunked)
+    return (cost, rows) if rows <= CHUNK_FILL_ROWS and math.isfinite(rows) else None
+
+
+def _reserved_offsets(verbs, voff, poff):
+    """Edge and lens offsets of the sizes build_batch reserves for each path (two edges a
+    point, five lenses a curve): heaviest_first's guess at a chunked batch's work."""
+    curves = _curves_before(verbs, voff)
+    return 2 * (poff - poff[0]), 5 * (curves - curves[0])
+
+
+#: fills a region's build skips at most between two it builds: a gap that short is built
+#: along (its fills' geometry is never read) rather than cut into another build_batch call
+REGION_GAP = 16
+
+
+def region_fills(verbs, pts, voff, poff, canvas, which):
+    """build_batch's (edges, edge_off, prims, prim_off) of a batch, of its fills ``which``
+    (ascending indices) only: the other fills have no rows (edge_off and prim_off equal at
+    their ends), those listed the rows build_batch gives them. Fills between two listed
+    ones fewer than REGION_GAP apart are built too, in one call."""
+    P = len(voff) - 1
+    cuts = np.flatnonzero(np.diff(which) > REGION_GAP)
+    firsts = np.concatenate(([which[0]], which[cuts + 1]))
+    lasts = np.concatenate((which[cuts], [which[-1]]))
+    ecount = np.zeros(P, np.int64)
+    pcount = np.zeros(P, np.int64)
+    edges, prims = [], []
+    for f, l in zip(firsts.tolist(), lasts.tolist()):
+        e, eo, p, po = build_batch(verbs, pts, voff[f:l + 2], poff[f:l + 2], 0.0, MAX_SAGITTA,
+                                   canvas)
+        ecount[f:l + 1] = np.diff(eo)
+        pcount[f:l + 1] = np.diff(po)
+        edges.append(e)
+        prims.append(p)
+    edge_off = np.zeros(P + 1, np.int64)
+    prim_off = np.zeros(P + 1, np.int64)
+    np.cumsum(ecount, out=edge_off[1:])
+    np.cumsum(pcount, out=prim_off[1:])
+    if len(edges) == 1:
+        return edges[0], edge_off, prims[0], prim_off
+    return np.concatenate(edges), edge_off, np.concatenate(prims), prim_off
 
 
 #: build_batch's work per verb, roughly (a cubic: classified, split, a lens per piece), to
