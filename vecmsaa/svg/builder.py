@@ -24,7 +24,7 @@ from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
                                  hairline_outline, hairline_path, hairline_segments)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
-                               stroke_path)
+                               stroke_batch, stroke_path)
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from . import document
@@ -267,6 +267,24 @@ def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, a
     return fills, np.searchsorted(owner, np.arange(n + 1)).tolist()
 
 
+def _curve_outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref,
+                         antialias):
+    """_outline_fills for solid strokes wider than a hairline of paths with curves (plan:
+    _stroke_plan's ((join, cap, miterlimit, offset), width, tolerance)): the outlines that
+    stroke() makes of each path (stroke_path's), from one call of the curve stroker for all
+    of them (geometry.stroke.stroke_batch), mapped to the device in one more call. Returns
+    (fills, bounds) as _outline_fills does."""
+    (join, cap, limit, _), width, tolerance = plan
+    ov, op, vo, po = stroke_batch(verbs, points, vstart, pstart, which, width / 2.0,
+                                  tolerance, join, cap, limit)
+    if transform != IDENTITY and len(op):
+        op = apply(transform, op)
+    fills, kept = _run_fills(ov, op, vo, po, ref.paint, ref.opacity, antialias)
+    if kept is None:                # (an outline per path)
+        return fills, None
+    return fills, np.searchsorted(kept, np.arange(len(which) + 1)).tolist()
+
+
 def _stroke_opacity(plan, ref):
     """The opacity of the Fills of a stroke (ref: its PaintRef) of a plan of _stroke_plan's
     but (None,): a hairline's takes its coverage."""
@@ -391,7 +409,7 @@ _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
-#: below this many strokes of lines of one style, _shape_run strokes each through stroke()
+#: below this many strokes of one style and kind, _shape_run strokes each through stroke()
 _FEW_STROKES = 4
 
 
@@ -901,10 +919,11 @@ class Builder:
             all_verbs, shared = batch.verbs, batch.points
         curved_paths = None
         nodes = []
-        # strokes for _outline_fills, per style and where their geometry is (the document's
-        # path batch: None; a _ShapeBlock; paths of their own: False, in own_paths): [stroke
+        # strokes for _outline_fills (or _curve_outline_fills: curves, solid, wider than a
+        # hairline), per style, where their geometry is (the document's path batch: None; a
+        # _ShapeBlock; paths of their own: False, in own_paths) and whether curves: [stroke
         # plan, stroke PaintRef, antialias, style, where, their places in nodes, their
-        # indexes in the batch, block or own_paths]
+        # indexes in the batch, block or own_paths, whether curves]
         queued = {}
         own_paths = []                          # (verbs, points) of paths of their own queued
         stroke_plans = {}                       # style -> its stroke plan here
@@ -965,12 +984,13 @@ class Builder:
                     curved = block.verbs is ELLIPSE_VERBS
                 kind = stroke_plan[0]
                 # (hairline_batch takes curves, conics included; the lines stroke kernel
-                # lines only: a curved outline stroke goes through stroke())
-                if kind is not None and (not curved or kind == "hairline"):
-                    got = queued.get((style, block))
+                # lines only: a curved outline stroke goes to the curve stroker's batch)
+                if kind is not None:
+                    curves = curved and kind != "hairline"
+                    got = queued.get((style, block, curves))
                     if got is None:
-                        got = queued[style, block] = (stroke_plan, stroke_ref, antialias, style,
-                                                      block, [], [])
+                        got = queued[style, block, curves] = (stroke_plan, stroke_ref, antialias,
+                                                              style, block, [], [], curves)
                     got[5].append(len(nodes))
                     nodes.append(None)
                     if block is False:
@@ -991,7 +1011,9 @@ class Builder:
             return
         lists = False                           # whether nodes holds lists of Fills
         local = None
-        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes in queued.values():
+        block_batches = {}                      # _ShapeBlock -> its batch(), made once
+        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes, curves in \
+                queued.values():
             if len(ats) < _FEW_STROKES:
                 # (a kernel call for a few paths costs more than stroke()'s for each)
                 for at, index in zip(ats, indexes):
@@ -1012,9 +1034,12 @@ class Builder:
                     local = _batch_of(own_paths)
                 arrays = local
             else:
-                arrays = block.batch()
-            fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
-                                           transform, stroke_ref, antialias)
+                arrays = block_batches.get(block)
+                if arrays is None:
+                    arrays = block_batches[block] = block.batch()
+            fills, bounds = (_curve_outline_fills if curves else _outline_fills)(
+                *arrays, np.array(indexes, np.int64), stroke_plan, transform, stroke_ref,
+                antialias)
             lists |= _put_fills(nodes, ats, fills, bounds)
         out.extend(_flat(nodes) if lists else nodes)
 
