@@ -170,3 +170,34 @@ def test_run_of_curved_strokes_is_one_stroker_call(monkeypatch):
     assert len(runs[-1]) == 600          # a fill and a stroke per shape
     assert calls == {"stroke": 300, "stroke_segments": 2 + 300,
                      "path_segments_batch": 2 + 300}
+
+
+def test_run_of_unstyled_curved_paths_is_one_stroker_call(monkeypatch):
+    """A run of paths that specify no style (Builder._path_run: map data), 120 with curves
+    and 80 of lines only among them, under a stroke 3 px wide: the curved ones' outlines
+    from one call of the curve stroker, the others' from one call of the lines stroker, no
+    stroke() per path; the same nodes as element() makes of each."""
+    rng = random.Random(4)
+    paths = []
+    for k in range(200):
+        x, y = rng.uniform(0, 90), rng.uniform(0, 90)
+        paths.append(f'<path d="M{x:.1f},{y:.1f}l5,-3 4,6z"/>' if k % 5 < 2 else
+                     f'<path d="M{x:.1f},{y:.1f}c5,-3 10,2 12,8s-4,9 -10,7"/>')
+    svg = (f'<svg {NS} width="100" height="100"><g fill="none" stroke="navy" '
+           f'stroke-width="1.5" stroke-linecap="round">{"".join(paths)}</g></svg>')
+    calls = {"stroke": 0, "stroke_segments": 0, "stroke_lines_batch": 0}
+
+    def counting(name, f):
+        def wrapped(*a, **k):
+            calls[name] += 1
+            return f(*a, **k)
+        return wrapped
+    monkeypatch.setattr(Builder, "stroke", counting("stroke", Builder.stroke))
+    for name in ("stroke_segments", "stroke_lines_batch"):
+        monkeypatch.setattr(stroke_kernels, name,
+                            counting(name, getattr(stroke_kernels, name)))
+    runs, alone = both_ways(svg, monkeypatch, width=200)
+    assert runs == alone
+    assert len(runs[-1]) == 200
+    # (the second build: stroke() per path, stroke_lines is stroke_lines_batch for one path)
+    assert calls == {"stroke": 200, "stroke_segments": 1 + 120, "stroke_lines_batch": 1 + 80}

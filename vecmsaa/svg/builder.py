@@ -692,8 +692,10 @@ class Builder:
             if plan is not None and plan[0] is not None:
                 lines_plan = plan
         # the run's strokes for _outline_fills: their places in out, their paths' indexes in
-        # the batch
+        # the batch; those of curved paths (solid, wider than a hairline) for
+        # _curve_outline_fills
         ats, which = [], []
+        curve_ats, curve_which = [], []
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
         path_data(run[0])                       # (reads the path data, the first time)
@@ -743,10 +745,14 @@ class Builder:
                                                                                 p1))
                         out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
                                         antialias))
-                elif lines_plan is not None and path is None and \
-                        (curved is None or not curved[i]):
-                    ats.append(len(out))        # stroked after the loop, all together
-                    which.append(i)
+                elif lines_plan is not None and path is None:
+                    # stroked after the loop, all together
+                    if curved is None or not curved[i]:
+                        ats.append(len(out))
+                        which.append(i)
+                    else:
+                        curve_ats.append(len(out))
+                        curve_which.append(i)
                     out.append(None)
                 else:
                     if path is None:
@@ -768,7 +774,8 @@ class Builder:
             fill_opacity = fill_ref.opacity if filled else None
             new_path = Path.__new__             # (Path._of_arrays written out: see below)
             at = 0
-            # (curved paths are odd for the lines stroke kernel, not for a hairline's)
+            # (curved paths are odd for the lines stroke kernel, not for a hairline's: one()
+            # queues them for the curve stroker's)
             for odd in self._odd_in_run(i0, n, filled, stroked and curved is not None) + [n]:
                 ia, ib = i0 + at, i0 + odd
                 if order == ("stroke",):
@@ -800,12 +807,19 @@ class Builder:
         else:
             for el in run:
                 one(el)
-        if ats:
-            fills, bounds = _outline_fills(
-                batch.verbs, batch.points.points, *self._batch_starts(),
-                np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)
-            if _put_fills(out, ats, fills, bounds):
-                out[ats[0]:] = _flat(out[ats[0]:])
+        lists = False                           # whether out holds lists of Fills
+        for got_ats, got_which, outline_fills in ((ats, which, _outline_fills),
+                                                  (curve_ats, curve_which,
+                                                   _curve_outline_fills)):
+            if got_ats:
+                fills, bounds = outline_fills(
+                    batch.verbs, batch.points.points, *self._batch_starts(),
+                    np.array(got_which, np.int64), lines_plan, transform, stroke_ref,
+                    antialias)
+                lists |= _put_fills(out, got_ats, fills, bounds)
+        if lists:
+            first = min(ats[:1] + curve_ats[:1])
+            out[first:] = _flat(out[first:])
 
     def _batch_starts(self):
         """The document's path batch's verb and point offsets as int64 arrays, made once (the
