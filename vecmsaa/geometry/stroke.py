@@ -101,11 +101,26 @@ def _path_segments(path):
 
 
 def _segments_outline(segments, hw, tol, join, cap, miterlimit, general=False):
-    """Outline arrays of kernels.path_segments-style subpaths, from the compiled stroker
-    (general: lines too go through the curve stroker, as the tests compare them)."""
-    return kernels.stroke_segments(*segments, float(hw), float(tol),
-                                   kernels.JOIN_CODES.get(join, 0),
-                                   kernels.CAP_CODES.get(cap, 0), float(miterlimit), general)
+    """Outline arrays of kernels.path_segments-style subpaths (as one path's), from the
+    compiled stroker (general: lines too go through the curve stroker, as the tests compare
+    them)."""
+    return kernels.stroke_segments(*segments, np.array([0, len(segments[3])], np.int64),
+                                   float(hw), float(tol), kernels.JOIN_CODES.get(join, 0),
+                                   kernels.CAP_CODES.get(cap, 0), float(miterlimit),
+                                   general)[:2]
+
+
+def stroke_batch(verbs, points, vstart, pstart, which, hw, tol, join, cap, miterlimit):
+    """The solid stroke outlines of the paths ``which`` of a batch of paths, curves and all
+    (path i: verbs[vstart[i]:vstart[i + 1]], points[pstart[i]:pstart[i + 1]]; int64
+    offsets), in the kernels' arrays: (verbs, points, verb offsets, point offsets), path
+    which[k]'s outline verbs[vo[k]:vo[k + 1]], points[po[k]:po[k + 1]], empty where it draws
+    nothing. What stroke_path makes of each path alone, undashed (join and cap as codes,
+    miterlimit at least 1), from two kernel calls for them all: the subpaths of all, then
+    their outlines (the stroker's scratch made once for all)."""
+    return kernels.stroke_segments(
+        *kernels.path_segments_batch(verbs, points, vstart, pstart, which), float(hw),
+        float(tol), join, cap, float(miterlimit), False)
 
 
 # -- circular arcs --------------------------------------------------------------------------

@@ -1116,63 +1116,102 @@ def _as_cubic(stack, seg, kind):
 
 
 @njit(cache=True)
-def path_segments(verbs, points):
-    """A path's subpaths as stroke_segments takes them (kinds, segments, subpath starts,
-    subpath kinds), the closing lines made explicit. Subpaths with a moveto alone are dropped
+def path_segments_batch(verbs, points, vstart, pstart, which):
+    """The subpaths of the paths ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]],
+    points[pstart[i]:pstart[i + 1]]) as stroke_segments takes them: (kinds, segments, subpath
+    starts, subpath kinds, path starts), path k's subpaths those from path starts[k] to path
+    starts[k + 1], the closing lines made explicit. Subpaths with a moveto alone are dropped
     (they are not stroked); others are kept even if all their segments have zero length
     (round and square caps draw them as dots)."""
-    kinds = np.empty(len(verbs), np.int64)
-    segs = np.zeros((len(verbs), 8))
-    subs = np.empty(len(verbs) + 1, np.int64)
-    flags = np.empty(len(verbs), np.int64)
-    ns = nsub = first = ip = 0
-    drawn = have_start = False
-    sx = sy = cx = cy = 0.0
-    for v in verbs:
-        if v == MOVE:
-            if drawn:
-                subs[nsub] = first
-                flags[nsub] = SUB_OPEN
-                nsub += 1
-            first = ns
-            sx, sy = points[ip, 0], points[ip, 1]
-            cx, cy = sx, sy
-            ip += 1
-            drawn = False
-            have_start = True
-        elif v == CLOSE:
-            if have_start:
-                kinds[ns] = 2
-                segs[ns, 0], segs[ns, 1], segs[ns, 2], segs[ns, 3] = cx, cy, sx, sy
-                ns += 1
-                subs[nsub] = first
-                flags[nsub] = SUB_CLOSED
-                nsub += 1
-                cx, cy = sx, sy
-            ns = first = ns if have_start else first
-            drawn = False
-        else:
-            k = 3 if v == CUBIC or v == CONIC else (2 if v == QUAD else 1)
-            kinds[ns] = 5 if v == CONIC else k + 1     # (a conic: b0, b1, midpoint, b2)
-            segs[ns, 0], segs[ns, 1] = cx, cy
-            for j in range(k):
-                segs[ns, 2 + 2 * j] = points[ip + j, 0]
-                segs[ns, 3 + 2 * j] = points[ip + j, 1]
-            cx, cy = points[ip + k - 1, 0], points[ip + k - 1, 1]
-            ip += k
-            ns += 1
-            drawn = True
-    if drawn:
-        subs[nsub] = first
-        flags[nsub] = SUB_OPEN
-        nsub += 1
+    total = 0
+    for w in range(len(which)):
+        total += vstart[which[w] + 1] - vstart[which[w]]
+    kinds = np.empty(total, np.int64)
+    segs = np.zeros((total, 8))
+    subs = np.empty(total + 1, np.int64)
+    flags = np.empty(total, np.int64)
+    psubs = np.empty(len(which) + 1, np.int64)
+    ns = nsub = 0
+    for w in range(len(which)):
+        psubs[w] = nsub
+        i = which[w]
+        ip = pstart[i]
         first = ns
-    subs[nsub] = first
-    return kinds[:first], segs[:first], subs[:nsub + 1], flags[:nsub]
+        drawn = have_start = False
+        sx = sy = cx = cy = 0.0
+        for iv in range(vstart[i], vstart[i + 1]):
+            v = verbs[iv]
+            if v == MOVE:
+                if drawn:
+                    subs[nsub] = first
+                    flags[nsub] = SUB_OPEN
+                    nsub += 1
+                first = ns
+                sx, sy = points[ip, 0], points[ip, 1]
+                cx, cy = sx, sy
+                ip += 1
+                drawn = False
+                have_start = True
+            elif v == CLOSE:
+                if have_start:
+                    kinds[ns] = 2
+                    segs[ns, 0], segs[ns, 1], segs[ns, 2], segs[ns, 3] = cx, cy, sx, sy
+                    ns += 1
+                    subs[nsub] = first
+                    flags[nsub] = SUB_CLOSED
+                    nsub += 1
+                    cx, cy = sx, sy
+                ns = first = ns if have_start else first
+                drawn = False
+            else:
+                k = 3 if v == CUBIC or v == CONIC else (2 if v == QUAD else 1)
+                kinds[ns] = 5 if v == CONIC else k + 1     # (a conic: b0, b1, midpoint, b2)
+                segs[ns, 0], segs[ns, 1] = cx, cy
+                for j in range(k):
+                    segs[ns, 2 + 2 * j] = points[ip + j, 0]
+                    segs[ns, 3 + 2 * j] = points[ip + j, 1]
+                cx, cy = points[ip + k - 1, 0], points[ip + k - 1, 1]
+                ip += k
+                ns += 1
+                drawn = True
+        if drawn:
+            subs[nsub] = first
+            flags[nsub] = SUB_OPEN
+            nsub += 1
+            first = ns
+        ns = first          # (segments after the last subpath's end belong to none)
+    psubs[len(which)] = nsub
+    subs[nsub] = ns
+    return kinds[:ns], segs[:ns], subs[:nsub + 1], flags[:nsub], psubs
+
+
+def path_segments(verbs, points):
+    """A path's subpaths as stroke_segments takes them (kinds, segments, subpath starts,
+    subpath kinds): path_segments_batch's of the one path (contiguous uint8 verbs, float64
+    (N, 2) points)."""
+    return path_segments_batch(verbs, points, np.array([0, len(verbs)], np.int64),
+                               np.array([0, len(points)], np.int64), _ONE)[:4]
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _path_done(verbs, cnt, vo, po, w):
+    """Ends path w's outline in stroke_segments' output (from vo[w], po[w] to the counts
+    cnt): left out (cnt set back) when it draws nothing, only moves and closes, as
+    Path.is_empty judges. Returns the next path's index."""
+    drawn = False
+    for j in range(vo[w], cnt[0]):
+        if verbs[j] != MOVE and verbs[j] != CLOSE:
+            drawn = True
+            break
+    if not drawn:
+        cnt[0], cnt[1] = vo[w], po[w]
+    vo[w + 1], po[w + 1] = cnt[0], cnt[1]
+    return w + 1
 
 
 @njit(cache=True)
-def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, general):
+def stroke_segments(kinds, segs, subs, flags, psubs, hw, tol, join, cap, miterlimit,
+                    general):
     """Outline (verbs, points) of subpaths of segments (see path_segments). Subpaths of lines
     only go to _stroke_polyline unless general (tests compare the two strokers); the others to
     the general stroker, written out below rather than a kernel of its own: each call level
@@ -1212,7 +1251,12 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
     tv = np.empty(_SIDE_VERBS_PER_VERTEX, np.uint8)
     tp = np.empty((_SIDE_PTS_PER_VERTEX, 2))
     tc = np.zeros(2, np.int64)
+    vo = np.zeros(len(psubs), np.int64)
+    po = np.zeros(len(psubs), np.int64)
+    w = 0                   # the path whose subpaths are stroked
     for k in range(len(flags)):
+        while psubs[w + 1] <= k:
+            w = _path_done(verbs, cnt, vo, po, w)
         lo, hi = subs[k], subs[k + 1]
         if flags[k] == SUB_DOT:
             verbs = _grow(verbs, cnt[0] + _DOT_VERBS)
@@ -1500,7 +1544,9 @@ def stroke_segments(kinds, segs, subs, flags, hw, tol, join, cap, miterlimit, ge
                   hw, cap, _shape_tol(tab, np.int64(0), np.int64(0), tol))
         verbs[cnt[0]] = CLOSE
         cnt[0] += 1
-    return verbs[:cnt[0]], pts[:cnt[1]]
+    while w < len(psubs) - 1:
+        w = _path_done(verbs, cnt, vo, po, w)
+    return verbs[:cnt[0]], pts[:cnt[1]], vo, po
 
 
 # -- dashes of curves -----------------------------------------------------------------------

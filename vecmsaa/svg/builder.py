@@ -25,7 +25,7 @@ from ..geometry import stroke_kernels
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
                                  hairline_outline, hairline_path, hairline_segments)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
-                               stroke_path)
+                               stroke_batch, stroke_path)
 from . import SvgError
 from .color import parse_svg_color as parse_color
 from . import document
@@ -241,32 +241,38 @@ def _run_fills(ov, op, vo, po, paint, opacity, antialias):
     return fills, np.flatnonzero(vo[1:] > vo[:-1])
 
 
-def _outline_arrays(verbs, points, vstart, pstart, which, plan, transform, ref):
-    """The stroke outlines (_stroke_plan's plan: a hairline, or a solid stroke of lines) of
-    the paths ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]],
-    points[pstart[i]:pstart[i + 1]]; int64 arrays), stroked in one kernel call (hairlines
-    made in the device, other outlines mapped there in one more call): (ov, op, vo, po,
-    owner) as hairline_batch gives them (owner None: one run per path). ref: the stroke's
-    PaintRef."""
+def _outline_arrays(verbs, points, vstart, pstart, which, plan, transform, ref, curves=False):
+    """The stroke outlines (_stroke_plan's plan: a hairline, or a solid stroke) of the paths
+    ``which`` of a batch (path i: verbs[vstart[i]:vstart[i + 1]], points[pstart[i]:pstart[i
+    + 1]]; int64 arrays), stroked in one kernel call (hairlines made in the device, other
+    outlines mapped there in one more call): (ov, op, vo, po, owner) as hairline_batch gives
+    them (owner None: one run per path). ``curves``: paths with curves, stroked by the curve
+    stroker (geometry.stroke.stroke_batch: stroke_path's outline of each), else lines only.
+    ref: the stroke's PaintRef."""
     if plan[0] == "hairline":       # (runs: a path's may be several, or none; see hairline)
         return hairline_batch(verbs, points, vstart, pstart, which, transform, plan[1],
                               blend_alpha(ref.paint, _stroke_opacity(plan, ref)))
     (join, cap, limit, offset), width, tolerance = plan
-    ov, op, vo, po = stroke_kernels.stroke_lines_batch(
-        verbs, points, vstart, pstart, which, width / 2.0, tolerance, join, cap, limit,
-        _SOLID, offset)
+    if curves:
+        ov, op, vo, po = stroke_batch(verbs, points, vstart, pstart, which, width / 2.0,
+                                      tolerance, join, cap, limit)
+    else:
+        ov, op, vo, po = stroke_kernels.stroke_lines_batch(
+            verbs, points, vstart, pstart, which, width / 2.0, tolerance, join, cap, limit,
+            _SOLID, offset)
     if transform != IDENTITY and len(op):
         op = apply(transform, op)
     return ov, op, vo, po, None
 
 
-def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
+def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, antialias,
+                   curves=False):
     """The Fills of the stroke outlines (_outline_arrays') of the paths ``which`` of a batch,
     and where each path's are: (fills, bounds), path which[j]'s fills[bounds[j]:bounds[j +
     1]]; bounds None where each path has exactly one, fills[j]."""
     paint, opacity = ref.paint, _stroke_opacity(plan, ref)
     ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
-                                            transform, ref)
+                                            transform, ref, curves)
     fills, kept = _run_fills(ov, op, vo, po, paint, opacity, antialias)
     if kept is not None:
         owner = kept if owner is None else owner[kept]
@@ -276,11 +282,12 @@ def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, a
     return fills, np.searchsorted(owner, np.arange(n + 1)).tolist()
 
 
-def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, antialias):
+def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, antialias,
+                  curves=False):
     """_outline_fills' outlines as a _Runs of each path (which[j]'s the j-th), not yet
     Fills: _joined_runs makes them FillRuns, or Fills where few."""
     ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
-                                            transform, ref)
+                                            transform, ref, curves)
     source = _RunSource(ov, op, vo, po, (ref.paint, "nonzero", _stroke_opacity(plan, ref),
                                          antialias))
     n = len(which)
@@ -556,7 +563,7 @@ _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
-#: below this many strokes of lines of one style, _shape_run strokes each through stroke()
+#: below this many strokes of one style and kind, _shape_run strokes each through stroke()
 _FEW_STROKES = 4
 
 
@@ -920,8 +927,9 @@ class Builder:
             if plan is not None and plan[0] is not None:
                 lines_plan = plan
         # the run's strokes for _outline_fills: their places in out, their paths' indexes in
-        # the batch
+        # the batch; those of curved paths (solid, wider than a hairline) apart (curves=True)
         ats, which = [], []
+        curve_ats, curve_which = [], []
         # the paths' verbs and points straight from the document's path batch (the Paths
         # path_data would make are needed only for strokes that are not lines)
         path_data(run[0])                       # (reads the path data, the first time)
@@ -971,10 +979,14 @@ class Builder:
                                                                                 p1))
                         out.append(Fill(device, fill_ref.paint, rule, fill_ref.opacity,
                                         antialias))
-                elif lines_plan is not None and path is None and \
-                        (curved is None or not curved[i]):
-                    ats.append(len(out))        # stroked after the loop, all together
-                    which.append(i)
+                elif lines_plan is not None and path is None:
+                    # stroked after the loop, all together
+                    if curved is None or not curved[i]:
+                        ats.append(len(out))
+                        which.append(i)
+                    else:
+                        curve_ats.append(len(out))
+                        curve_which.append(i)
                     out.append(None)
                 else:
                     if path is None:
@@ -996,7 +1008,8 @@ class Builder:
             fill_opacity = fill_ref.opacity if filled else None
             new_path = Path.__new__             # (Path._of_arrays written out: see below)
             at = 0
-            # (curved paths are odd for the lines stroke kernel, not for a hairline's)
+            # (curved paths are odd for the lines stroke kernel, not for a hairline's: one()
+            # queues them for the curve stroker's)
             for odd in self._odd_in_run(i0, n, filled, stroked and curved is not None) + [n]:
                 ia, ib = i0 + at, i0 + odd
                 if order == ("stroke",):
@@ -1028,19 +1041,27 @@ class Builder:
         else:
             for el in run:
                 one(el)
-        if ats and self._joins_runs(ctx):
-            # (the strokes' runs, and the fills about them, as FillRuns where many)
-            for at, runs in zip(ats, _outline_runs(
-                    batch.verbs, batch.points.points, *self._batch_starts(),
-                    np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)):
-                out[at] = runs
+        # the strokes of lines, then of curves (each kind one kernel call), as FillRuns where
+        # many (with the fills about them), else Fills
+        joins = bool(ats or curve_ats) and self._joins_runs(ctx)
+        lists = False                           # whether out holds lists of Fills
+        for got_ats, got_which, curves in ((ats, which, False), (curve_ats, curve_which, True)):
+            if not got_ats:
+                continue
+            arrays = (batch.verbs, batch.points.points, *self._batch_starts(),
+                      np.array(got_which, np.int64), lines_plan, transform, stroke_ref,
+                      antialias)
+            if joins:
+                for at, runs in zip(got_ats, _outline_runs(*arrays, curves)):
+                    out[at] = runs
+            else:
+                fills, bounds = _outline_fills(*arrays, curves)
+                lists |= _put_fills(out, got_ats, fills, bounds)
+        if joins:
             out[first:] = _joined_runs(out[first:])
-        elif ats:
-            fills, bounds = _outline_fills(
-                batch.verbs, batch.points.points, *self._batch_starts(),
-                np.array(which, np.int64), lines_plan, transform, stroke_ref, antialias)
-            if _put_fills(out, ats, fills, bounds):
-                out[ats[0]:] = _flat(out[ats[0]:])
+        elif lists:
+            start = min(ats[:1] + curve_ats[:1])
+            out[start:] = _flat(out[start:])
 
     def _joins_runs(self, ctx) -> bool:
         """Whether _path_run and _shape_run give FillRuns (_joined_runs) here: in what is
@@ -1161,10 +1182,11 @@ class Builder:
             all_verbs, shared = batch.verbs, batch.points
         curved_paths = None
         nodes = []
-        # strokes for _outline_fills, per style and where their geometry is (the document's
-        # path batch: None; a _ShapeBlock; paths of their own: False, in own_paths): [stroke
+        # strokes for _outline_fills (curves=True: curves, solid, wider than a hairline), per
+        # style, where their geometry is (the document's path batch: None; a
+        # _ShapeBlock; paths of their own: False, in own_paths) and whether curves: [stroke
         # plan, stroke PaintRef, antialias, style, where, their places in nodes, their
-        # indexes in the batch, block or own_paths]
+        # indexes in the batch, block or own_paths, whether curves]
         queued = {}
         own_paths = []                          # (verbs, points) of paths of their own queued
         stroke_plans = {}                       # style -> its stroke plan here
@@ -1225,12 +1247,13 @@ class Builder:
                     curved = block.verbs is ELLIPSE_VERBS
                 kind = stroke_plan[0]
                 # (hairline_batch takes curves, conics included; the lines stroke kernel
-                # lines only: a curved outline stroke goes through stroke())
-                if kind is not None and (not curved or kind == "hairline"):
-                    got = queued.get((style, block))
+                # lines only: a curved outline stroke goes to the curve stroker's batch)
+                if kind is not None:
+                    curves = curved and kind != "hairline"
+                    got = queued.get((style, block, curves))
                     if got is None:
-                        got = queued[style, block] = (stroke_plan, stroke_ref, antialias, style,
-                                                      block, [], [])
+                        got = queued[style, block, curves] = (stroke_plan, stroke_ref, antialias,
+                                                              style, block, [], [], curves)
                     got[5].append(len(nodes))
                     nodes.append(None)
                     if block is False:
@@ -1252,7 +1275,9 @@ class Builder:
             return
         lists = False                           # whether nodes holds lists of Fills
         local = None
-        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes in queued.values():
+        block_batches = {}                      # _ShapeBlock -> its batch(), made once
+        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes, curves in \
+                queued.values():
             if len(ats) < _FEW_STROKES:
                 # (a kernel call for a few paths costs more than stroke()'s for each)
                 for at, index in zip(ats, indexes):
@@ -1273,15 +1298,17 @@ class Builder:
                     local = _batch_of(own_paths)
                 arrays = local
             else:
-                arrays = block.batch()
+                arrays = block_batches.get(block)
+                if arrays is None:
+                    arrays = block_batches[block] = block.batch()
             if joins:
                 for at, runs in zip(ats, _outline_runs(*arrays, np.array(indexes, np.int64),
                                                        stroke_plan, transform, stroke_ref,
-                                                       antialias)):
+                                                       antialias, curves)):
                     nodes[at] = runs
                 continue
             fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
-                                           transform, stroke_ref, antialias)
+                                           transform, stroke_ref, antialias, curves)
             lists |= _put_fills(nodes, ats, fills, bounds)
         out.extend(_joined_runs(nodes) if joins else _flat(nodes) if lists else nodes)
 
