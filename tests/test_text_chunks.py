@@ -43,9 +43,11 @@ class Captured:
     """The clusters build_text hands to draw_clusters (the layout's result)."""
 
     def __init__(self, monkeypatch):
-        from vecmsaa.svg.text import layout
+        from vecmsaa.svg.text import layout, line
         self.clusters = []
         real = layout.draw_clusters
+        # (the general route's clusters: plain lines make none, test_text_line.py)
+        monkeypatch.setattr(line, "ENABLED", False)
 
         def draw(text_el, chars, clusters, *rest):
             self.clusters.extend(clusters)

@@ -114,9 +114,11 @@ def test_repeated_labels_keep_their_own_fonts(monkeypatch):
     # the same characters in two fonts, texts alternating: each text's glyphs are its own
     # font's (cmap truth from fontTools), not the first text's
     from fontTools.ttLib import TTFont
-    from vecmsaa.svg.text import layout
+    from vecmsaa.svg.text import layout, line
     got = []
     real = layout.draw_clusters
+    # (the general route's clusters; plain lines draw the same, test_text_line.py)
+    monkeypatch.setattr(line, "ENABLED", False)
 
     def draw(text_el, chars, clusters, *rest):
         got.append([g.gid for c in clusters for g in c.glyphs])

@@ -33,14 +33,37 @@ def placement(origins, scale: float, skew: float = 0.0) -> np.ndarray:
 
 def glyphs_arrays(face, location, gids, matrices):
     """Concatenated (verbs, points) of many glyphs, glyph i transformed by matrices[i]."""
+    outlines = glyph_outlines(face, location, gids)
+    if outlines is None:
+        return np.zeros(0, np.uint8), np.zeros((0, 2))
+    verbs, points, counts = outlines
+    return verbs, _placed(points, counts, matrices)
+
+
+def glyph_outlines(face, location, gids):
+    """The font-unit outlines of glyphs ``gids`` one after the other: (verbs, points, each
+    glyph's point count), or None when all are empty (a caller placing one line's glyphs
+    many times keeps them: svg.text.line)."""
     outline = face.outline
     outlines = [outline(int(gid), location) for gid in gids]
     counts = [len(p) for _, p in outlines]
     if not sum(counts):
+        return None
+    return (np.concatenate([v for v, _ in outlines]), np.concatenate([p for _, p in outlines]),
+            np.array(counts, dtype=np.int64))
+
+
+def placed_outlines(outlines, matrices):
+    """(verbs, points) of glyph_outlines' ``outlines``, glyph i mapped by matrices[i] (new
+    arrays: the verbs are copied)."""
+    if outlines is None:
         return np.zeros(0, np.uint8), np.zeros((0, 2))
-    points = apply_each(np.asarray(matrices, dtype=np.float64).reshape(-1, 6), counts,
-                        np.concatenate([p for _, p in outlines]))
-    return np.concatenate([v for v, _ in outlines]), points
+    verbs, points, counts = outlines
+    return verbs.copy(), _placed(points, counts, matrices)
+
+
+def _placed(points, counts, matrices):
+    return apply_each(np.asarray(matrices, dtype=np.float64).reshape(-1, 6), counts, points)
 
 
 def glyphs_path(face, location, gids, matrices) -> Path:

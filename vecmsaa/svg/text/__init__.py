@@ -15,6 +15,9 @@ The steps follow SVG 1.1 §10 as resvg (usvg) implements them, one module per jo
    tangent.
 5. :mod:`.draw` — glyph outlines grouped by element, filled and stroked through the builder
    (``ctx.draw``), colour glyphs, text decorations, the object bounding box.
+6. :mod:`.line` — the plain line (one element's characters in one font, one chunk, left to
+   right, none of the features above): steps 3 to 5 as arrays, one kernel placing every
+   glyph (:mod:`vecmsaa.fonts.line_kernel`), the general route's floats.
 """
 from .layout import build_text
 

@@ -89,6 +89,11 @@ def draw_clusters(text_el, chars, clusters, ctx, styles, vertical):
     for deco_style, path, _, _ in decorations.get("line-through", []):
         if not path.is_empty():
             out.extend(ctx.draw(path, deco_style, bbox))
+    return finish_text(out, ctx)
+
+
+def finish_text(out, ctx):
+    """A text's nodes ``out`` with its antialiasing set and its fills noted (ctx)."""
     # Antialiasing of text, decorations included, is the <text> element's text-rendering
     # (optimizeSpeed draws aliased, as crispEdges); shape-rendering and text-rendering on a
     # tspan do not apply (as resvg)
@@ -306,6 +311,18 @@ def _span_decorations(span, above):
     return {**above, **{kind: span.el for kind in own}} if own else above
 
 
+def _outer_decorations(text_el):
+    """{kind: text_el} for the kinds declared outside <text> (on its ancestors)."""
+    declared = () if text_el.parent is None else \
+        text_el.parent.computed("decorations", _declared_decorations, ())
+    return {kind: text_el for kind in declared}
+
+
+def decorated(text_el, span):
+    """Whether the characters of ``span`` (of <text> ``text_el``) have a decoration."""
+    return bool(span.computed("decorations", _span_decorations, _outer_decorations(text_el)))
+
+
 def text_decorations(text_el, chars, clusters, styles, vertical):
     """{kind: [(style of the declaring element, user-space path, its rectangles, the
     declaring element)]}.
@@ -318,9 +335,7 @@ def text_decorations(text_el, chars, clusters, styles, vertical):
     dx/dy/rotate, placed on a path or starting a chunk.
     """
     out = {}
-    declared = () if text_el.parent is None else \
-        text_el.parent.computed("decorations", _declared_decorations, ())
-    outer = {kind: text_el for kind in declared}
+    outer = _outer_decorations(text_el)
     span_kinds = {}
     for c in clusters:
         span = chars[c.char].span

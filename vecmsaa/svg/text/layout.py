@@ -18,6 +18,7 @@ from ...scene.transform import IDENTITY, compose, rotate_at, translate
 from ..units import split_length, to_px
 from .content import (apply_positions, apply_text_transform, collapse_white_space,
                       collect_chars, span_values)
+from . import line
 from .draw import draw_clusters
 from .font_match import (assign_faces, document_faces, face_location, font_database,
                          font_spec, kerning_attribute, needs_no_face)
@@ -246,15 +247,17 @@ class _ClusterIndex:
         return self.starts[i] if i < len(self.starts) else end
 
 
-def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
-    """text[s:e] shaped with the face and settings of character k, as clusters; ``context``
-    (the chunk) is what HarfBuzz sees around the run."""
-    face = faces[k]
-    spec = specs[k]
-    loc = face_location(face, spec)
-    run = join_runs([shape_run(face, text, a, b, location=loc, features=features,
-                               direction=direction, context=context)
-                     for a, b, features in _joined_ligatures(spec.features, text, s, e)])
+def shaped_run(face, spec, loc, text, s, e, direction, context):
+    """text[s:e] shaped by HarfBuzz with ``face`` and ``spec``'s features at variation
+    location ``loc`` (one ShapedRun; pieces where ligatures are off, _joined_ligatures)."""
+    return join_runs([shape_run(face, text, a, b, location=loc, features=features,
+                                direction=direction, context=context)
+                      for a, b, features in _joined_ligatures(spec.features, text, s, e)])
+
+
+def cluster_owners(text, faces, s, e, run):
+    """{character: the character whose cluster it joins} for the characters of text[s:e]
+    that ``run`` (its shaping) left in clusters of their own but that extend a grapheme."""
     # One cluster per grapheme (SVG 2's typographic character, the unit resvg positions,
     # rotates, spaces and sizes): HarfBuzz's character-level clusters leave a combining mark
     # it did not merge with its base on its own, which then turned about its own origin, got
@@ -280,6 +283,17 @@ def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
             owner[i] = starts[k] if k >= 0 else base
         else:
             base = i
+    return owner
+
+
+def _shape_clusters(chars, faces, specs, text, s, e, direction, k, context):
+    """text[s:e] shaped with the face and settings of character k, as clusters; ``context``
+    (the chunk) is what HarfBuzz sees around the run."""
+    face = faces[k]
+    spec = specs[k]
+    loc = face_location(face, spec)
+    run = shaped_run(face, spec, loc, text, s, e, direction, context)
+    owner = cluster_owners(text, faces, s, e, run)
     out = []
     current = None
     pen = 0.0
@@ -952,6 +966,12 @@ def build_text(element, ctx):
     # (no spacing in any spec: apply_spacing would change nothing, a cluster's advance is
     # never -0.0, to which adding 0.0 would give 0.0)
     spaced = any(s.letter_spacing or s.word_spacing for s in {id(s): s for s in specs}.values())
+    if (line.ENABLED and len(bounds) == 2 and not vertical and not text_length and not spaced
+            and chars[0].text_path is None):
+        # a plain line (chart ticks, map labels, a page's lines) laid out as arrays
+        nodes = line.plain_line(element, chars, faces, specs, shifts, styles, ctx, text)
+        if nodes is not None:
+            return nodes
     for a, b in zip(bounds[:-1], bounds[1:]):
         clusters = shape_chunk(chars, faces, specs, a, b, text, upright, shape_memo)
         if not clusters:
