@@ -769,67 +769,57 @@ class Builder:
             for child in el.children:
                 out.extend(self.element(child, ctx, style))
             return out
-        run = []        # consecutive plain <path> children (see _path_run)
-        shapes = []     # consecutive other shapes of a plain shape plan (see _shape_run)
-        # not for content built again for each instance (a marker's on every vertex, a
+        # consecutive children built together: plain <path>s (_path_run), other shapes of a
+        # plain shape plan (_shape_run), <use>s (_use_run); ``kind`` the one pending
+        pending, kind = [], None
+        # (shapes not in content built again for each instance (a marker's on every vertex, a
         # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
-        # path for the next instance (_shape_path)
+        # path for the next instance (_shape_path); nor uses)
         shape_runs = not (self.ref_stack or ctx.use_stack)
-        uses = []       # consecutive <use> children (see _use_run)
         for child in el.children:
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
             # call per path costs more than the test)
             tag = child.tag
-            if tag == "use" and shape_runs:
-                if run:
-                    self._path_run(run, ctx, style, out)
-                    run = []
-                if shapes:
-                    self._shape_run(shapes, ctx, out)
-                    shapes = []
-                uses.append(child)
-                continue
-            if uses:
-                self._use_run(uses, ctx, style, out)
-                uses = []
-            if (tag in SHAPES and "systemLanguage" not in child.attrs
+            item = None
+            if tag == "use":
+                if shape_runs:
+                    item, what = child, "use"
+            elif (tag in SHAPES and "systemLanguage" not in child.attrs
                     and "requiredExtensions" not in child.attrs
                     and "pathLength" not in child.attrs):
                 if tag == "path" and not child.specified:
-                    if shapes:
-                        self._shape_run(shapes, ctx, out)
-                        shapes = []
-                    run.append(child)
-                    continue
-                if shape_runs:
+                    item, what = child, "path"
+                elif shape_runs:
                     child_style = style.child(child)
                     cache = child_style.cache
                     plan = cache.get("shape-plan", cache)
                     if plan is cache:
                         plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
-                else:
-                    plan = None
-                if plan is not None:
-                    if run:
-                        self._path_run(run, ctx, style, out)
-                        run = []
-                    shapes.append((child, child_style, plan))
-                    continue
-            if run:
-                self._path_run(run, ctx, style, out)
-                run = []
-            if shapes:
-                self._shape_run(shapes, ctx, out)
-                shapes = []
-            out.extend(self.element(child, ctx, style))
-        if run:
-            self._path_run(run, ctx, style, out)
-        if shapes:
-            self._shape_run(shapes, ctx, out)
-        if uses:
-            self._use_run(uses, ctx, style, out)
+                    if plan is not None:
+                        item, what = (child, child_style, plan), "shape"
+            if item is not None and what == kind:
+                pending.append(item)
+                continue
+            if pending:
+                self._built_together(kind, pending, ctx, style, out)
+            if item is None:
+                pending, kind = [], None
+                out.extend(self.element(child, ctx, style))
+            else:
+                pending, kind = [item], what
+        if pending:
+            self._built_together(kind, pending, ctx, style, out)
         return out
+
+    def _built_together(self, kind, items, ctx, style, out) -> None:
+        """children()'s pending run of ``kind``'s items, built and appended to ``out``."""
+        if kind == "path":
+            self._path_run(items, ctx, style, out)
+        elif kind == "shape":
+            self._shape_run(items, ctx, out)
+        else:
+            self._use_run(items, ctx, style, out)
 
     def _use_run(self, uses, ctx, parent_style, out) -> None:
         """Append the nodes of sibling <use> elements (cairo's and pdftocairo's glyphs,
