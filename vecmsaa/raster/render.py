@@ -2009,16 +2009,24 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
             return [FillBatch(fills, *arrays, opts, pool, extremes, canvas)]
         if len(fills) == 1:
             return []
+    return _drawing_batch(fills, arrays, opts, pool, bound, canvas)
+
+
+def _drawing_batch(fills, arrays, opts, pool, bound, canvas) -> list:
+    """[FillBatch] of those of ``fills`` (their batch ``arrays``, moved) that can draw
+    something, or [] for none: paths that draw (a verb besides MOVE and CLOSE, finite points)
+    and their points' boxes found in one kernel pass (FillBatch's boxes of a batch whose
+    points it does not move), the others' rows left out; none where all points lie beyond
+    ``bound``."""
+    verbs, pts, voff, poff = arrays
     if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
         return []
-    # which paths draw (a verb besides MOVE and CLOSE, finite points) and their points'
-    # boxes, in one kernel pass (FillBatch's boxes of a batch whose points it does not move)
     keep, boxes = batch_extents(verbs, pts, voff, poff)
     if not keep.all():
         fills = [f for f, k in zip(fills, keep.tolist()) if k]
         if not fills:
             return []
-        arrays = _shifted_arrays(fills, shift)
+        arrays = _kept_arrays(arrays, keep)
         boxes = boxes[keep]
     return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
 
@@ -2053,17 +2061,7 @@ def _run_batches(nodes, opts: RenderOptions, pool=None, shift=None, bound=None,
     if shift is not None and shift != (0, 0):
         # (the points may be a FillRuns' own: moved in a copy)
         arrays = (arrays[0], arrays[1] + np.array(shift, dtype=np.float64), *arrays[2:])
-    verbs, pts, voff, poff = arrays
-    if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
-        return []
-    keep, boxes = batch_extents(verbs, pts, voff, poff)
-    if not keep.all():
-        fills = [f for f, k in zip(fills, keep.tolist()) if k]
-        if not fills:
-            return []
-        arrays = _kept_arrays(arrays, keep)
-        boxes = boxes[keep]
-    return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
+    return _drawing_batch(fills, arrays, opts, pool, bound, canvas)
 
 
 def _joined_arrays(parts):
