@@ -321,9 +321,10 @@ class _Runs:
     def fills(self) -> list:
         """The Fills _run_fills makes of these runs."""
         s = self.source
-        ov, op, vo, po = s.ov, s.op, s.vo, s.po
-        return [Fill(Path._of_arrays(ov[vo[r]:vo[r + 1]], op[po[r]:po[r + 1]]), *s.style)
-                for r in range(self.b0, self.b1) if vo[r + 1] > vo[r]]
+        b0, b1 = self.b0, self.b1
+        paint, _, opacity, antialias = s.style          # (the rule: _run_fills' nonzero)
+        return _run_fills(s.ov, s.op, np.array(s.vo[b0:b1 + 1], np.int64),
+                          np.array(s.po[b0:b1 + 1], np.int64), paint, opacity, antialias)[0]
 
 
 #: runs (fills) in a stretch of nodes that _joined_runs makes one FillRuns of, at least
