@@ -103,22 +103,11 @@ def line_glyphs(advances, offsets, clusters, scale, ascent, descent, dx0, dy0, a
         placed[k, 5] = f
         x += cadv[k] * 1.0
     for i in range(n):
+        # the glyph's frame (scale, y flipped, its offset) in its cluster's
         k = of[i]
-        a = placed[k, 0]
-        b = placed[k, 1]
-        c = placed[k, 2]
-        d = placed[k, 3]
-        e = placed[k, 4]
-        f = placed[k, 5]
-        s = scale
-        dx = gdx[i]
-        dy = -offsets[i, 1] * scale
-        mats[i, 0] = a * s + c * 0.0
-        mats[i, 1] = b * s + d * 0.0
-        mats[i, 2] = a * 0.0 + c * -s
-        mats[i, 3] = b * 0.0 + d * -s
-        mats[i, 4] = a * dx + c * dy + e
-        mats[i, 5] = b * dx + d * dy + f
+        (mats[i, 0], mats[i, 1], mats[i, 2], mats[i, 3], mats[i, 4], mats[i, 5]) = _compose(
+            placed[k, 0], placed[k, 1], placed[k, 2], placed[k, 3], placed[k, 4],
+            placed[k, 5], scale, 0.0, 0.0, -scale, gdx[i], -offsets[i, 1] * scale)
     # the em boxes' union (draw.text_bbox: four corners a cluster, min and max keeping the
     # first of equals; a NaN anywhere makes all four NaN)
     top = -ascent
