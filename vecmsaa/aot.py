@@ -108,8 +108,13 @@ def cache_dirs() -> list[Path]:
 #: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
 #: conversion, path data and filters the other; the transforms and the turbulence filter go
 #: with geometry so that the two cost about the same (the first run waits for the larger).
+#: The hairline kernels are the exception, built with the raster: geometry had grown to twice
+#: the raster's CPU (the batch builder, three strokers, the dasher; 73 against 29 s at load 7,
+#: 7 Dec 2026), and they share nothing with the rest of geometry but stroke_kernels' two
+#: small _grow helpers (compiled in both) and conics_as_cubics (a raster-part kernel already).
 GEOMETRY_PART = ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
                  "vecmsaa.raster.filter_effects:_turbulence_pixels")
+RASTER_SIDE = ("vecmsaa.geometry.hairline_kernels:",)
 #: Kernels no default command calls are a part built on the first call of one of them, alone:
 #: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
 #: the curve function only tests call.
@@ -121,7 +126,7 @@ def part_of(kernel: str) -> int:
     """The build part of a kernel (``module:qualname``)."""
     if kernel.startswith(LAZY_KERNELS):
         return LAZY_PART
-    return 1 if kernel.startswith(GEOMETRY_PART) else 0
+    return 1 if kernel.startswith(GEOMETRY_PART) and not kernel.startswith(RASTER_SIDE) else 0
 
 
 def _manifest_lines() -> list[str]:
