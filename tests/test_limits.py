@@ -1028,3 +1028,30 @@ def test_fills_of_one_gradient_share_its_ramp(monkeypatch):
         assert np.abs(block[..., :3] - mix).max() <= 1
         assert np.abs(block[..., 3] - (127.5 if k % 2 else 255)).max() <= 1
     assert len(ramps) == 2
+
+
+#: a 48 px render of this path (an arc sized up to reach y = 5e9: a circle 10^9 px across)
+#: had its hairline kernel reserve over 2 GB of address space (room for max_steps[0] steps
+#: of each of thousands of chords, where a path's staircases take max_steps[1] steps in all)
+_HUGE_ARC = "M 40 100 A 60 60 0 0 1 100 4999999999 60 60 0 0 1 160 100"
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/self/status")
+def test_a_hairline_of_a_huge_arc_fits_in_a_bounded_address_space():
+    # in a child process: the address-space limit would stay with this one
+    code = f"""
+import resource
+from vecmsaa.geometry.hairline import hairline_path
+from vecmsaa.svg.pathdata import parse_path_data
+hairline_path(parse_path_data("M 0 0 L 10 10"), (1, 0, 0, 1, 0, 0))    # the kernels loaded
+size = [ln for ln in open("/proc/self/status") if ln.startswith("VmSize")][0]
+limit = int(size.split()[1]) * 1024 + (512 << 20)
+resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+verbs, points, rv, rp, owners = hairline_path(parse_path_data({_HUGE_ARC!r}),
+                                              (0.24, 0, 0, 0.24, 0, 0))
+print(len(verbs) > 0, len(rv) > 1)
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stdout.split() == ["True", "True"]

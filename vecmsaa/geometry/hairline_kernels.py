@@ -253,16 +253,20 @@ def _run_key(seg, r):
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _rows_room(seg, ns, max_steps, run_rows):
+def _rows_room(seg, ns, max_steps, run_rows, counted):
     """(polygon pieces, runs) the segments seg[:ns] of a subpath can make at most (_emit_rows):
-    a segment of n steps along its major axis (n at most max_steps[0] as a staircase, else
-    one parallelogram) takes at most n pieces of 4 points and 5 verbs (a polygon of k steps:
-    4k points, 4k + 1 verbs) and 4 more for the pixels of the joints at its ends (the joint
-    takes at most two pixels an end, _flush_joint a rectangle a pixel), and starts at most a
-    run for its direction and n // run_rows + 2 for the pieces of its staircase (a run for
-    its direction even when it draws nothing: not finite)."""
+    a segment of n steps along its major axis drawn as a staircase takes n pieces of 4 points
+    and 5 verbs (a polygon of k steps: 4k points, 4k + 1 verbs), else one parallelogram, and
+    4 more for the pixels of the joints at its ends (the joint takes at most two pixels an
+    end, _flush_joint a rectangle a pixel); it starts at most a run for its direction and
+    n // run_rows + 2 for the pieces of its staircase (a run for its direction even when it
+    draws nothing: not finite). Staircases are of at most max_steps[0] steps, and the
+    path's, ``counted`` steps so far, of max_steps[1] in all: the room for their steps is
+    bounded by what is left of that (a hairline of a circle 10^9 px across took one piece
+    for each of max_steps[0] steps of each of its thousands of chords: gigabytes reserved)."""
     quads = 0
     nruns = ns
+    stair_steps = 0
     rr = max(run_rows, 1)
     for r in range(ns):
         x0, y0, x1, y1 = seg[r, 0], seg[r, 1], seg[r, 2], seg[r, 3]
@@ -272,12 +276,15 @@ def _rows_room(seg, ns, max_steps, run_rows):
             continue
         lo, hi = (min(y0, y1), max(y0, y1)) if abs(dx) <= abs(dy) else \
             (min(x0, x1), max(x0, x1))
-        # (at least one piece: past 2^63 the steps' count, as _emit_rows computes it, is
-        # the float-to-int conversion's overflow value, and the segment one parallelogram)
-        n = max(1, min(math.ceil(hi) - math.floor(lo), max_steps[0]))
-        quads += n + 4
-        nruns += n // rr + 2
-    return quads, nruns
+        # (past 2^63 the steps' count, as _emit_rows computes it, is the float-to-int
+        # conversion's overflow value, and the segment one parallelogram)
+        n = math.ceil(hi) - math.floor(lo)
+        quads += 5
+        nruns += 2
+        if n <= max_steps[0]:
+            stair_steps += max(0, int(n))
+    stair_steps = min(stair_steps, max(0, max_steps[1] - counted))
+    return quads + stair_steps, nruns + stair_steps // rr
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -303,7 +310,7 @@ def _emit_rows(ov, op, cnt, seg, ns, runs, owner, stair_slope, max_steps, joint,
     overlap (turns, crossings) the runs are drawn one over the other. Returns (ov, op, runs),
     grown once for the subpath (_rows_room: the helpers write without checks); cnt: [verbs
     used, points used, steps counted, runs]."""
-    quads, nruns = _rows_room(seg, ns, max_steps, run_rows)
+    quads, nruns = _rows_room(seg, ns, max_steps, run_rows, cnt[2])
     ov = _grow(ov, cnt[0] + 5 * quads)
     op = _grow_points(op, cnt[1] + 4 * quads)
     runs = _grow_runs(runs, cnt[3] + nruns + 1)
