@@ -837,3 +837,46 @@ def test_big_pattern_tile_window_equals_the_whole_tile(monkeypatch, attrs, shape
     assert np.abs(premultiplied[0] - premultiplied[1]).max() <= 0.5
     assert np.array_equal(windowed[..., 3], whole[..., 3])
     assert (whole[..., 3] > 0).sum() > 3000
+
+
+# A paint server's transform is invalid only where it has no inverse (CSS Transforms 1 §6):
+# skewX(90) is [[1, tan 90°], [0, 1]] with tan 90° = 1.6e16 in floats, determinant exactly 1,
+# so it is invertible and the gradient paints. Every point of the box with v > 0 maps back to
+# u - 1.6e16 v, far before the start of the vector: a linear gradient pads with its first
+# stop there, a radial one (distance past its radius) with its last. (Chromium and resvg
+# paint so; the test before took the determinant relative to the largest entry squared,
+# 4e-33, for singular and painted nothing.)
+# (skewX(-90) maps back to u + 1.6e16 v, past the end: the last stop; skewY(90) to
+# v - 1.6e16 u, which a radial gradient's distance sees.)
+@pytest.mark.parametrize("tag, skew, colour", [
+    ("linearGradient", "skewX(90)", (0, 0, 255, 255)),
+    ("linearGradient", "skewX(-90)", (255, 0, 0, 255)),
+    ("radialGradient", "skewX(90)", (255, 0, 0, 255)),
+    ("radialGradient", "skewY(90)", (255, 0, 0, 255)),
+])
+def test_huge_skew_server_transform_is_invertible(tag, skew, colour):
+    img = render(f'<defs><{tag} id="g" gradientTransform="{skew}">{_STOPS}</{tag}></defs>'
+                 '<rect x="10" y="10" width="80" height="80" fill="url(#g) #0f0"/>')
+    assert tuple(img[60, 60]) == colour
+
+
+# Singular is ad - bc = 0 up to the rounding of the two products, whatever the scale: rank-one
+# matrices u vᵀ (rows parallel in exact arithmetic, rounded when formed) are singular, and
+# matrices whose determinant is far from the rounding of ad and bc are not, however unequal
+# their entries.
+def test_singular_linear_against_rank():
+    from vecmsaa.svg.paint import singular_linear
+
+    rng = np.random.default_rng(34)
+    for _ in range(2000):
+        u, v = rng.normal(size=2), rng.normal(size=2)
+        scale = 10.0 ** rng.uniform(-150, 150)
+        a, c, b, d = (np.outer(u, v) * scale).ravel()      # [[a, c], [b, d]] = s u vᵀ
+        assert singular_linear(a, b, c, d)
+    for _ in range(2000):
+        a, b, c, d = rng.normal(size=4) * 10.0 ** rng.uniform(-20, 20, size=4)
+        exact = abs(float(a) * float(d) - float(b) * float(c))
+        if exact > 1e-6 * (abs(a * d) + abs(b * c)):
+            assert not singular_linear(a, b, c, d)
+    assert singular_linear(1, 2, 2, 4) and singular_linear(0, 0, 0, 0)
+    assert not singular_linear(1, 0, 1.633123935319537e16, 1)

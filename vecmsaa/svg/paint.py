@@ -103,10 +103,7 @@ def _units_transform(builder, chain, attr, el_style, ctx):
     m = parse_transform(text, attribute=attribute) if text and text != "none" else IDENTITY
     if m is None or min(row_scale(m)) <= ZERO_SCALE:
         m = IDENTITY
-    # relative to the largest entry: scale-free (in floats: 1e308 squared is inf, not an error)
-    a, b, c, d = m[:4]
-    big = max(abs(a), abs(b), abs(c), abs(d))
-    if abs(a / big * (d / big) - b / big * (c / big)) <= 1e-12:
+    if singular_linear(*m[:4]):
         return None
     origin = chain[0].get("transform-origin")
     if origin and m != IDENTITY:
@@ -116,6 +113,22 @@ def _units_transform(builder, chain, attr, el_style, ctx):
         ox, oy = builder.transform_origin(origin, el_style, ctx.viewport)
         m = compose(compose(translate(ox, oy), m), translate(-ox, -oy))
     return m
+
+
+def singular_linear(a, b, c, d, rtol=1e-12):
+    """Whether the linear part [[a, c], [b, d]] is singular: its determinant ad - bc is zero
+    up to the rounding of its two products (within ``rtol`` of |ad| + |bc|), so a matrix whose
+    rows are parallel in exact arithmetic (matrix(1 2 2 4), matrix(0.5 0.866 1 1.732)) is,
+    and one far from singular is not however its entries' sizes differ: skewX(90) is
+    [[1, 1.6e16], [0, 1]] with determinant 1 (its entries, scaled by the largest, gave a
+    determinant of 4e-33, which the test before read as singular; Chromium and resvg paint
+    such a gradient, and SVG makes a paint server's transform invalid only when it has no
+    inverse). Scaled by the largest entry first: 1e200 squared is inf in floats."""
+    big = max(abs(a), abs(b), abs(c), abs(d))
+    if not big > 0:
+        return True
+    ad, bc = a / big * (d / big), b / big * (c / big)
+    return abs(ad - bc) <= rtol * (abs(ad) + abs(bc))
 
 
 def _own_transform(el, attr):
