@@ -170,7 +170,7 @@ def test_the_parts_modules_hold_one_entry_per_manifest_line_between_them():
     assert _run(CSAA + loaded, jit=False)[-1] == str(len(aot.parts()) + 1)
     k = aot.key(ensure_fresh_cache())
     paths, lazy = aot.find(k), aot.find(k, aot.parts(lazy=True))
-    assert paths is not None and len(paths) == len(aot.parts()) == 2
+    assert paths is not None and len(paths) == len(aot.parts()) == 4
     assert lazy is not None and len(lazy) == 1
     module, index = aot.load(paths + lazy)
     lines = [ln for ln in aot.MANIFEST.read_text().splitlines() if ln and not ln.startswith("#")]
@@ -239,3 +239,29 @@ def test_the_build_runs_each_part_in_a_process_of_its_own_and_fails_when_one_fai
                                                                   (tmp_path / "g", 0)]):
         assert aot.build_parts(failing) == 1
         assert all(path.exists() for path, part in failing if part != 9)
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="the build forks")
+@pytest.mark.parametrize("cores", [1, 2, 3])
+def test_the_build_runs_no_more_parts_at_once_than_there_are_cores(tmp_path, monkeypatch,
+                                                                    cores):
+    # each part's process takes about 300 MB: four parts on two cores run two at a time
+    import time
+    from vecmsaa import aot
+    monkeypatch.setattr(aot, "_prepare", lambda: ([], {}))
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: set(range(cores)))
+
+    def build(path, part, entries, spent, folder):
+        start = time.monotonic()
+        time.sleep(0.3)
+        path.write_text(f"{os.getpid()} {start} {time.monotonic()}")
+
+    monkeypatch.setattr(aot, "build", build)
+    jobs = [(tmp_path / f"part{i}", i) for i in range(5)]
+    assert aot.build_parts(jobs) == 0
+    spans = [tuple(map(float, path.read_text().split()[1:])) for path, _ in jobs]
+    assert len({path.read_text().split()[0] for path, _ in jobs}) == 5
+    # the most parts building at any moment (at each part's start)
+    busy = max(sum(s <= t < e for s, e in spans) for t, _ in spans)
+    assert busy == cores
+

@@ -103,30 +103,37 @@ def cache_dirs() -> list[Path]:
 
 
 #: The build runs in parts, each a process of its own compiling at the same time (numba's
-#: compiler is single-threaded and holds one lock), each making a module of its own. A kernel
-#: and the kernels it calls should share a part, or the callee is compiled in each: geometry
-#: (the batch builder and the stroker) forms one part, the raster stage with the RGBA8
-#: conversion, path data and filters the other; the transforms and the turbulence filter go
-#: with geometry so that the two cost about the same (the first run waits for the larger).
-#: The hairline kernels are the exception, built with the raster: geometry had grown to twice
-#: the raster's CPU (the batch builder, three strokers, the dasher; 73 against 29 s at load 7,
-#: 7 Dec 2026), and they share nothing with the rest of geometry but stroke_kernels' two
-#: small _grow helpers (compiled in both) and conics_as_cubics (a raster-part kernel already).
-GEOMETRY_PART = ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
-                 "vecmsaa.raster.filter_effects:_turbulence_pixels")
-RASTER_SIDE = ("vecmsaa.geometry.hairline_kernels:",)
-#: Kernels no default command calls are a part built on the first call of one of them, alone:
-#: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; ≈ 10 s of CPU) and
-#: the curve function only tests call.
-LAZY_KERNELS = ("vecmsaa.raster.csaa:", "vecmsaa.geometry.primitives:_eval_implicit")
+#: compiler is single-threaded and holds one lock; at most as many at once as there are
+#: cores, build_parts), each making a module of its own. A kernel and the kernels it calls
+#: should share a part, or the callee is compiled in each. Four parts of about the same CPU
+#: (7 Dec 2026, load 7-10: the raster's about 29 s, the batch builder's 20, the strokers' and
+#: dasher's 20, the hairlines' with path data, bounds and conics 21): on two cores the first
+#: run waits about as long as for two halves, on four or more about half as long. (With two
+#: parts, geometry had grown to 73 s of CPU against the raster's 29.) The first prefix list
+#: a kernel's ``module:qualname`` starts with names its part; any other kernel is the
+#: raster's, part 0. Kernels shared across parts: stroke_kernels' _grow helpers (hairlines),
+#: primitives' _conic_weight (strokers), scan.py's calls into primitives.py (raster).
+PARTS = (
+    # kernels no default command calls, a part built on the first call of one of them,
+    # alone: the CSAA mode's (``render``, ``font`` and ``demo`` draw nothing in it; about 10 s
+    # of CPU) and the curve function only tests call
+    (2, ("vecmsaa.raster.csaa:", "vecmsaa.geometry.primitives:_eval_implicit")),
+    (4, ("vecmsaa.geometry.hairline_kernels:", "vecmsaa.scene.conics:",
+         "vecmsaa.svg.pathdata:", "vecmsaa.scene.bounds:")),
+    (3, ("vecmsaa.geometry.stroke_kernels:", "vecmsaa.geometry.arclength:")),
+    # the batch builder, with the transforms and the turbulence filter
+    (1, ("vecmsaa.geometry.", "vecmsaa.scene.transform:",
+         "vecmsaa.raster.filter_effects:_turbulence_pixels")),
+)
 LAZY_PART = 2
 
 
 def part_of(kernel: str) -> int:
     """The build part of a kernel (``module:qualname``)."""
-    if kernel.startswith(LAZY_KERNELS):
-        return LAZY_PART
-    return 1 if kernel.startswith(GEOMETRY_PART) and not kernel.startswith(RASTER_SIDE) else 0
+    for part, prefixes in PARTS:
+        if kernel.startswith(prefixes):
+            return part
+    return 0
 
 
 def _manifest_lines() -> list[str]:
@@ -578,6 +585,8 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
     """Build the module of one part at ``path``, linking in pycc's C runtime from
     ``shared``."""
     t0, cpu0 = time.perf_counter(), time.process_time()
+    # (a part forked after this process built one starts from that part's timings)
+    spent.update(entries=0.0, module=0.0)
     cc = _cc(path.name[: -len(SUFFIX)])
     cc.output_dir = str(path.parent)
     cc.output_file = path.name + f".{os.getpid()}.tmp"
@@ -612,16 +621,16 @@ def build(path: Path, part: int, entries, spent, shared: Path) -> None:
 
 def build_parts(jobs: list[tuple[Path, int]]) -> int:
     """Build each (module path, part): the set-up once, then one process per part (forked,
-    so each starts from it), at once where there is more than one core. The exit status:
-    0 when every part was built."""
+    so each starts from it; this one builds the first), as many at once as there are cores
+    (each takes about 300 MB). The exit status: 0 when every part was built."""
     import gc
     import shutil
     import signal
     import subprocess
     import tempfile
     import traceback
-    parallel = len(os.sched_getaffinity(0)) > 1 if hasattr(os, "sched_getaffinity") else \
-        (os.cpu_count() or 1) > 1
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else \
+        (os.cpu_count() or 1)
     shared = Path(tempfile.mkdtemp(prefix="vecmsaa-build-"))
     # gcc on the runtime, on the other core while this process imports numba
     runtime = subprocess.Popen([sys.executable, "-m", "vecmsaa.aot", "--runtime", str(shared)])
@@ -639,8 +648,9 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
         # collection at all 13.9, 14.7 s and 425 MB)
         gc.freeze()
         gc.set_threshold(50000, 20, 100)
-        children = []
-        for path, part in jobs[1:]:
+        running, waiting = [], list(jobs[1:])
+
+        def start(path, part):
             pid = os.fork()
             if pid == 0:
                 code = 1
@@ -658,16 +668,31 @@ def build_parts(jobs: list[tuple[Path, int]]) -> int:
                         signal.signal(-code, signal.SIG_DFL)
                         os.kill(os.getpid(), -code)
                     os._exit(code)
-            children.append(pid)
-            if not parallel:
-                statuses.append(os.waitpid(pid, 0)[1])
-                children.pop()
+            running.append(pid)
+
+        def reap_one():
+            # (the parts' own processes only: not the runtime's, which Popen waits for)
+            while True:
+                for pid in running:
+                    done, status = os.waitpid(pid, os.WNOHANG)
+                    if done:
+                        running.remove(pid)
+                        statuses.append(status)
+                        return
+                time.sleep(0.05)
+
+        while waiting and len(running) < cores - 1:
+            start(*waiting.pop(0))
         try:
             build(*jobs[0], entries, spent, shared)
         except Exception:
             traceback.print_exc()
             statuses.append(1 << 8)
-        statuses += [os.waitpid(pid, 0)[1] for pid in children]
+        while waiting or running:
+            if waiting and len(running) < cores:
+                start(*waiting.pop(0))
+            else:
+                reap_one()
     finally:
         runtime.wait()
         shutil.rmtree(shared, ignore_errors=True)

@@ -3,7 +3,7 @@
 
 ``AOT`` says which: with the compiled module, ``njit`` makes a :class:`Kernel` that calls the
 module's entry for its arguments' types, and numba's JIT (imported then) for types the module
-lacks. A kernel of the part built on first use (aot.LAZY_KERNELS) loads that part, building
+lacks. A kernel of the part built on first use (aot.LAZY_PART) loads that part, building
 it if need be, on its first call. ``VECMSAA_JIT=1`` chooses numba's JIT for every kernel, as the module's own build does.
 
 In JIT mode, loading a kernel from numba's on-disk cache begins with
