@@ -31,11 +31,11 @@ def _bits(values):
     return b"".join(struct.pack("<d", float(v)) for v in values)
 
 
-def _scene(doc, enabled, monkeypatch, width=None):
+def _scene(doc, enabled, monkeypatch, width=None, fonts=FONTS):
     """Every fill of the document's scene as bytes: verbs, points, rule, antialiasing and
     paint (a gradient on the object bounding box holds the text's em box)."""
     monkeypatch.setattr(line, "ENABLED", enabled)
-    scene = load_svg(doc, width=width, **FONTS)
+    scene = load_svg(doc, width=width, **fonts)
     out = []
     for f in scene.fills():
         out.append((f.path.verbs.tobytes(), np.ascontiguousarray(f.path.points).tobytes(),
