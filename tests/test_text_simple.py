@@ -185,6 +185,19 @@ def test_white_space_collapses_on_the_string(monkeypatch):
     assert simple == [True] * 4
 
 
+def test_rotate_values_that_turn_nothing(monkeypatch):
+    # rotate's values that apply are the first n (n characters; the last repeats); zeros and
+    # an invalid list (ignored, as resvg) turn no character: a plain line
+    simple = []
+    plain_lines(monkeypatch, simple)
+    texts = ['<text x="10" y="20" font-family="Noto Sans" rotate="0">abc</text>',
+             '<text x="10" y="40" font-family="Noto Sans" rotate="-0 0 0 30">abc</text>',
+             '<text x="10" y="60" font-family="Noto Sans" rotate="10 x">abc</text>',
+             '<text x="10" y="80" font-family="Noto Sans" rotate="0 20">a</text>']
+    assert _scene(_doc(texts), True, monkeypatch) == _scene(_doc(texts), False, monkeypatch)
+    assert simple == [True] * 4
+
+
 GENERAL = [
     # (each of these needs the per-character route: the element's route leaves it)
     '<text x="10" y="20" font-family="Noto Sans">ab<tspan>cd</tspan></text>',
@@ -201,6 +214,8 @@ GENERAL = [
     '<text x="10" y="20" word-spacing="2" font-family="Noto Sans">a bc</text>',
     '<text x="10" y="20" writing-mode="tb" font-family="Noto Sans">abc</text>',
     '<text x="10" y="20" text-decoration="underline" font-family="Noto Sans">abc</text>',
+    '<g text-decoration="line-through"><text x="10" y="20" font-family="Noto Sans">abc</text>'
+    '</g>',
     '<text x="10" y="20" font-family="Noto Sans">ab \u05d0\u05d1</text>',
     '<text x="10" y="20" font-family="Roboto Flex">Hen\u00e9</text>',   # é: Noto Sans draws it
     '<text x="10" y="20" font-family="No Such Family">abc</text>',

@@ -30,9 +30,9 @@ from . import layout as _layout      # (layout imports this module: attributes a
 from ..builder import MAX_TEXT_CHARS
 from ..units import parse_length_list, parse_number_list
 from .content import _SPACES, _TO_SPACE, _USER_UNITS, Span, _space_preserved, text_transform
-from .draw import _nonzero, _within, decorated, finish_text
+from .draw import _nonzero, _within, decorated, finish_text, text_decorated
 from .font_match import (_draws, _load, document_faces, face_location, font_database,
-                         needs_no_face)
+                         kerning_attribute, needs_no_face)
 from .svg_glyphs import has_svg_glyphs
 
 #: whether build_text takes this route where it can (tests turn it off to compare)
@@ -72,12 +72,13 @@ def simple_text(element, ctx):
     which is not a plain line; rotate only where all the values that apply are zero),
     text-transform (none), the element's font spec and the face its family list finds
     (assign_faces: where that face draws every character that needs a face, it is every
-    character's), the baseline shift (baseline_offset of the element)."""
+    character's), the baseline shift (baseline_offset of the element): those that follow
+    from the element's computed style once per style (_line_style)."""
     string = element.text
     if element.children or not string or len(string) > MAX_TEXT_CHARS:
         return None
     style = ctx.style
-    if ctx.geometry_only or (style.get("writing-mode") or "lr").strip() in _VERTICAL:
+    if ctx.geometry_only:
         return None
     string = string.translate(_TO_SPACE)
     if not element.computed("xml:space", _space_preserved, False):
@@ -90,11 +91,15 @@ def simple_text(element, ctx):
             return None
     n = len(string)
     get = element.get
-    if get("textLength") is not None or text_transform(style):
+    if get("textLength") is not None:
         return None
     firsts = []
-    for name, axis in (("x", "x"), ("y", "y"), ("dx", "x"), ("dy", "y")):
-        values = parse_length_list(get(name))
+    for name, axis, default in _POSITIONS:
+        value = get(name)
+        if value is None:
+            firsts.append(default)
+            continue
+        values = parse_length_list(value)
         if len(values) > 1 and n > 1:
             return None
         if values:
@@ -104,22 +109,19 @@ def simple_text(element, ctx):
                 return None
             firsts.append(v)
         else:
-            firsts.append(None if axis == name else 0.0)
+            firsts.append(default)
     rotate = get("rotate")
-    if rotate is not None and any(parse_number_list(rotate)[:n]):
+    if rotate is not None:
+        # (an invalid list rotates nothing)
+        angles = parse_number_list(rotate)
+        if angles and any(angles[:n]):
+            return None
+    got = _line_style(element, style, ctx)
+    if got is None:
         return None
-    spec = _layout.element_spec(element, style, ctx)
-    if spec.letter_spacing or spec.word_spacing or not (math.isfinite(spec.size)
-                                                          and spec.size > 0):
+    spec, face, shift = got
+    if not _draws_all(face, string) or not _one_run(string) or text_decorated(element):
         return None
-    face = _face(spec, ctx)
-    if face is None or not _plain_face(face) or not _draws_all(face, string) \
-            or not _one_run(string):
-        return None
-    span = Span(element, style, None)
-    if decorated(element, span):
-        return None
-    shift = _layout.baseline_offset(span, face, spec, False)
     x, y, dx, dy = firsts
     placed = _place(face, spec, None, string, x, y, dx, dy, shift, style, ctx)
     if placed is None:
@@ -129,6 +131,37 @@ def simple_text(element, ctx):
 
 
 _VERTICAL = frozenset(("tb", "tb-rl", "vertical-rl", "vertical-lr"))
+#: the position attributes simple_text reads: (name, axis, value when absent)
+_POSITIONS = (("x", "x", None), ("y", "y", None), ("dx", "x", 0.0), ("dy", "y", 0.0))
+
+
+def _line_style(element, style, ctx):
+    """(font spec, face, baseline shift) of a <text> of computed ``style`` whose characters
+    may make a plain line, or None where its style says they do not (vertical writing,
+    text-transform,
+    letter- or word-spacing, a size that draws nothing, no family of its list, a face of
+    colour or SVG glyphs); once per (style, kerning attribute, viewport) for the document,
+    as its font spec (layout.element_spec): all of these follow from them, the baseline
+    shift of a <text> (layout.baseline_offset of its span) from its style and face."""
+    known = ctx.cache.setdefault("plain styles", {})
+    key = style, kerning_attribute(element), ctx.viewport
+    got = known.get(key)
+    if got is None:
+        got = known[key] = _style_of_line(element, style, ctx) or ()
+    return got or None
+
+
+def _style_of_line(element, style, ctx):
+    if text_transform(style) or (style.get("writing-mode") or "lr").strip() in _VERTICAL:
+        return None
+    spec = _layout.element_spec(element, style, ctx)
+    if spec.letter_spacing or spec.word_spacing or not (math.isfinite(spec.size)
+                                                          and spec.size > 0):
+        return None
+    face = _face(spec, ctx)
+    if face is None or not _plain_face(face):
+        return None
+    return spec, face, _layout.baseline_offset(Span(element, style, None), face, spec, False)
 
 
 def _plain_face(face):
