@@ -291,3 +291,35 @@ def test_characters_are_counted(monkeypatch):
     with pytest.raises(Exception, match="longer than"):
         load_svg(_doc(['<text x="1" y="9" font-family="Noto Sans">abcd</text>',
                        '<text x="1" y="29" font-family="Noto Sans">efg</text>']), **FONTS)
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.one_of(st.text("0123456789.+-e ", max_size=8),
+                 st.floats(allow_nan=False).map(repr), st.integers().map(str)))
+def test_a_plain_number_is_read_as_the_length_list_reads_it(value):
+    # the shortcut for x="166.0" gives parse_length_list's one unitless value, sign included,
+    # or leaves the value to it
+    from vecmsaa.svg.text.line import _plain_number
+    from vecmsaa.svg.units import parse_length_list
+    v = _plain_number(value)
+    if v is not None:
+        assert [(struct_bits(v), "")] == [(struct_bits(a), u) for a, u in
+                                          parse_length_list(value)]
+
+
+def struct_bits(v):
+    import struct
+    return struct.pack("<d", v)
+
+
+def test_characters_a_face_draws_are_kept_per_face(monkeypatch):
+    # (line._draws_all keeps the characters found in a face for the document) a character
+    # the face lacks, met after texts of characters it draws, still sends its text to the
+    # per-character route
+    simple = []
+    plain_lines(monkeypatch, simple)
+    texts = ['<text x="10" y="20" font-family="Roboto Flex">Hen</text>',
+             '<text x="10" y="40" font-family="Roboto Flex">neH</text>',
+             '<text x="10" y="60" font-family="Roboto Flex">Hen\u00e9</text>']
+    assert _scene(_doc(texts), True, monkeypatch) == _scene(_doc(texts), False, monkeypatch)
+    assert simple == [True, True, False]

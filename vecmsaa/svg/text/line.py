@@ -99,6 +99,10 @@ def simple_text(element, ctx):
         if value is None:
             firsts.append(default)
             continue
+        v = _plain_number(value)
+        if v is not None:
+            firsts.append(v)
+            continue
         values = parse_length_list(value)
         if len(values) > 1 and n > 1:
             return None
@@ -120,7 +124,7 @@ def simple_text(element, ctx):
     if got is None:
         return None
     spec, face, shift = got
-    if not _draws_all(face, string) or not _one_run(string) or text_decorated(element):
+    if not _draws_all(face, string, ctx) or not _one_run(string) or text_decorated(element):
         return None
     x, y, dx, dy = firsts
     placed = _place(face, spec, None, string, x, y, dx, dy, shift, style, ctx)
@@ -133,6 +137,18 @@ def simple_text(element, ctx):
 _VERTICAL = frozenset(("tb", "tb-rl", "vertical-rl", "vertical-lr"))
 #: the position attributes simple_text reads: (name, axis, value when absent)
 _POSITIONS = (("x", "x", None), ("y", "y", None), ("dx", "x", 0.0), ("dy", "y", 0.0))
+
+
+def _plain_number(value):
+    """A list of one number written with digits, a point and a sign at most (``166.0``), as
+    parse_length_list reads it (its NUMBER_RE and float agree on these characters), or None
+    for anything else, which takes parse_length_list."""
+    digits = value[1:] if value[:1] in ("+", "-") else value
+    if digits.isascii() and digits.replace(".", "", 1).isdigit():
+        v = float(value)
+        if math.isfinite(v):
+            return v
+    return None
 
 
 def _line_style(element, style, ctx):
@@ -196,13 +212,24 @@ def _face(spec, ctx):
     return got[1]
 
 
-def _draws_all(face, text):
+def _draws_all(face, text, ctx):
     """Whether ``face`` draws every character of ``text`` that needs a face (assign_faces
     then gives it every character: those that need none keep the primary face, and marks
-    and selectors follow their base's)."""
+    and selectors follow their base's). The characters found so are kept per face for the
+    document."""
+    known = ctx.cache.setdefault("plain characters", {})
+    got = known.get(id(face))
+    if got is None or got[0] is not face:
+        got = known[id(face)] = (face, set())
+    drawn = got[1]
+    chars = set(text)
+    if chars <= drawn:
+        return True
     cmap = face.cmap
-    return all(ord(ch) in cmap or needs_no_face(ch) or _draws(face, ch)
-               for ch in set(text))
+    if all(ord(ch) in cmap or needs_no_face(ch) or _draws(face, ch) for ch in chars - drawn):
+        drawn |= chars
+        return True
+    return False
 
 
 def _place(face, spec, faces, text, x, y, dx0, dy0, shift, style, ctx):
