@@ -8,6 +8,7 @@ import math
 import os
 import struct
 
+import pytest
 from hypothesis import given, settings, strategies as st
 
 from test_text_chunks import face_choices, shape_calls
@@ -100,14 +101,20 @@ def test_cluster_frame_shortcut_is_the_composition(x, y):
 
 def test_repeated_labels_shaped_once_per_document(monkeypatch):
     # 200 texts of the same two labels (an axis's ticks in each of many small charts): two
-    # HarfBuzz calls and two face choices for the document (one per text before)
-    calls = shape_calls(monkeypatch)
-    chosen = face_choices(monkeypatch)
+    # HarfBuzz calls and, by the per-character route, two face choices for the document (one
+    # per text before); the element's route (line.simple_text) chooses no face per chunk
+    from vecmsaa.svg.text import line
     body = "".join(f'<text x="{i % 20 * 19}" y="{10 + i // 20 * 12}">{("0.5", "1.0")[i % 2]}'
                    f'</text>' for i in range(200))
-    load_svg((f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
-              f'font-family="Noto Sans">{body}</svg>').encode(), **FONTS)
-    assert len(calls) == 2 and len(chosen) == 2
+    doc = (f'<svg xmlns="http://www.w3.org/2000/svg" width="400" height="400" '
+           f'font-family="Noto Sans">{body}</svg>').encode()
+    for enabled, choices in ((False, 2), (True, 0)):
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(line, "ENABLED", enabled)
+            calls = shape_calls(mp)
+            chosen = face_choices(mp)
+            load_svg(doc, **FONTS)
+            assert len(calls) == 2 and len(chosen) == choices
 
 
 def test_repeated_labels_keep_their_own_fonts(monkeypatch):

@@ -31,11 +31,11 @@ def _bits(values):
     return b"".join(struct.pack("<d", float(v)) for v in values)
 
 
-def _scene(doc, enabled, monkeypatch, width=None):
+def _scene(doc, enabled, monkeypatch, width=None, fonts=FONTS):
     """Every fill of the document's scene as bytes: verbs, points, rule, antialiasing and
     paint (a gradient on the object bounding box holds the text's em box)."""
     monkeypatch.setattr(line, "ENABLED", enabled)
-    scene = load_svg(doc, width=width, **FONTS)
+    scene = load_svg(doc, width=width, **fonts)
     out = []
     for f in scene.fills():
         out.append((f.path.verbs.tobytes(), np.ascontiguousarray(f.path.points).tobytes(),
@@ -43,16 +43,27 @@ def _scene(doc, enabled, monkeypatch, width=None):
     return out
 
 
-def plain_lines(monkeypatch):
-    """A list that gets True for each text the plain line drew, False for each it left."""
+def plain_lines(monkeypatch, simple=None):
+    """A list that gets True for each text the plain line drew (from its characters or from
+    the element: simple_text), False for each it left; ``simple``: a list that gets True
+    for each text simple_text drew."""
     got = []
-    real = line.plain_line
+    real, real_simple = line.plain_line, line.simple_text
 
     def plain_line(*args):
         nodes = real(*args)
         got.append(nodes is not None)
         return nodes
+
+    def simple_text(*args):
+        nodes = real_simple(*args)
+        if nodes is not None:
+            got.append(True)
+        if simple is not None:
+            simple.append(nodes is not None)
+        return nodes
     monkeypatch.setattr(line, "plain_line", plain_line)
+    monkeypatch.setattr(line, "simple_text", simple_text)
     return got
 
 

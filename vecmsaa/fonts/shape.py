@@ -12,6 +12,8 @@ HarfBuzz mirrors brackets in right-to-left runs (L4).
 """
 from __future__ import annotations
 
+import itertools
+import operator
 import re
 import unicodedata
 from dataclasses import dataclass
@@ -182,6 +184,10 @@ def visual_runs(text: str, base: str = "ltr"):
     return [(s, e, _direction(lv)) for s, e, lv in runs]
 
 
+_chain = itertools.chain.from_iterable
+_GID_CLUSTER = operator.attrgetter("codepoint", "cluster")
+
+
 def shape_run(face, text: str, start: int, end: int, *, location=(), features=None,
               direction="ltr", script=None, language=None, context=None) -> ShapedRun:
     """Shape text[start:end] as one run; text[lo:hi] around it, ``context`` = (lo, hi) (default
@@ -212,10 +218,12 @@ def shape_run(face, text: str, start: int, end: int, *, location=(), features=No
     infos = buf.glyph_infos
     positions = buf.glyph_positions
     n = len(infos)
-    gids = np.fromiter((i.codepoint for i in infos), np.int64, n)
-    clusters = np.fromiter((i.cluster for i in infos), np.int64, n) + lo
-    # (``position``: x_offset, y_offset, x_advance, y_advance in one attribute)
-    pos = np.array([p.position for p in positions], dtype=np.float64).reshape(-1, 4)
+    # (uharfbuzz gives a Python object per glyph, no arrays: each read once, its values
+    # chained into one array; ``position``: x_offset, y_offset, x_advance, y_advance)
+    ids = np.fromiter(_chain(map(_GID_CLUSTER, infos)), np.int64, 2 * n).reshape(-1, 2)
+    gids = ids[:, 0].copy()
+    clusters = ids[:, 1] + lo
+    pos = np.fromiter(_chain([p.position for p in positions]), np.float64, 4 * n).reshape(-1, 4)
     if direction in ("ttb", "btt") and not face.has_vertical_metrics:
         # A face without vmtx or VORG advances by its ascender-to-descender height (HarfBuzz's
         # fallback) and hangs every glyph from the ascender, its vertical origin half the

@@ -17,7 +17,10 @@ The steps follow SVG 1.1 §10 as resvg (usvg) implements them, one module per jo
    (``ctx.draw``), colour glyphs, text decorations, the object bounding box.
 6. :mod:`.line` — the plain line (one element's characters in one font, one chunk, left to
    right, none of the features above): steps 3 to 5 as arrays, one kernel placing every
-   glyph (:mod:`vecmsaa.fonts.line_kernel`), the general route's floats.
+   glyph (:mod:`vecmsaa.fonts.line_kernel`), the general route's floats. A ``<text>`` of
+   characters alone (a label, a tick, a line of a page) is recognised there from the element
+   before steps 1 and 2 make per-character lists (``simple_text``): white space, positions,
+   font and face are decided on its string and its computed style.
 """
 from .layout import build_text
 

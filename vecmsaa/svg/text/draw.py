@@ -323,6 +323,13 @@ def decorated(text_el, span):
     return bool(span.computed("decorations", _span_decorations, _outer_decorations(text_el)))
 
 
+def text_decorated(text_el):
+    """decorated() of the characters of a <text> without child elements (its own span, whose
+    value is the kinds declared outside it and those it declares): whether it or an
+    ancestor declares a decoration."""
+    return bool(_own_decorations(text_el)) or bool(_outer_decorations(text_el))
+
+
 def text_decorations(text_el, chars, clusters, styles, vertical):
     """{kind: [(style of the declaring element, user-space path, its rectangles, the
     declaring element)]}.

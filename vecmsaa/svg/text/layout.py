@@ -868,8 +868,30 @@ def text_lengths(chars, ctx):
 _UNSQUEEZED_PART = {"middle": 0.5, "end": 0.0}
 
 
+def element_spec(el, style, ctx):
+    """The font spec of a text content element of computed ``style``: one object per value
+    for the whole document (siblings that specify the same values share a Style
+    (document.Style.child), and so one spec, made once: a map of labels has thousands of
+    texts in one style; the Style is the key itself, kept alive by it)."""
+    spec_cache = ctx.cache.setdefault("font specs", {})
+    key = style, kerning_attribute(el), ctx.viewport
+    s = spec_cache.get(key)
+    if s is None:
+        # one object per value: the shaping memo is keyed by identity, and texts in other
+        # styles (each chart's axis its own) often have equal specs
+        spec_values = ctx.cache.setdefault("font spec values", {})
+        s = font_spec(style, ctx, el)
+        s = spec_cache[key] = spec_values.setdefault(s, s)
+    return s
+
+
 def build_text(element, ctx):
     """Scene nodes of one ``<text>`` element (see the module doc)."""
+    if line.ENABLED:
+        # a <text> of characters alone, recognised before its characters are made
+        nodes = line.simple_text(element, ctx)
+        if nodes is not None:
+            return nodes
     styles = {}
     chars = collapse_white_space(collect_chars(element, ctx, styles))
     ctx.count_characters(len(chars))
@@ -890,12 +912,8 @@ def build_text(element, ctx):
     if not chars:
         return []
     db = font_database(ctx)
-    # specs by (style, kerning attribute, viewport: the spacings' percentages) for the whole
-    # document: siblings that specify the same values share a Style (document.Style.child),
-    # and so one spec, made once (a map of labels has thousands of texts in one style); the
-    # Style is the key itself, kept alive by it
-    spec_of, spec_cache = {}, ctx.cache.setdefault("font specs", {})
-    spec_values = ctx.cache.setdefault("font spec values", {})
+    # each element's spec (by style, kerning attribute, viewport: the spacings' percentages)
+    spec_of = {}
     specs = []
     span = s = None
     for c in chars:
@@ -904,15 +922,7 @@ def build_text(element, ctx):
             el = span.el
             s = spec_of.get(id(el))
             if s is None:
-                style = styles[id(el)]
-                key = style, kerning_attribute(el), ctx.viewport
-                s = spec_cache.get(key)
-                if s is None:
-                    # one object per value: the shaping memo below is keyed by identity, and
-                    # texts in other styles (each chart's axis its own) often have equal specs
-                    s = font_spec(style, ctx, el)
-                    s = spec_cache[key] = spec_values.setdefault(s, s)
-                spec_of[id(el)] = s
+                s = spec_of[id(el)] = element_spec(el, styles[id(el)], ctx)
         specs.append(s)
     bounds = [i for i, c in enumerate(chars)
               if i == 0 or c.x is not None or c.y is not None

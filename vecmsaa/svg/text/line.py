@@ -5,6 +5,12 @@ map labels, lines of a page — laid out as arrays: HarfBuzz's glyph arrays go t
 (:func:`vecmsaa.fonts.line_kernel.line_glyphs`) that places every glyph and measures the
 line's em box, and the placed outlines become one path. No Cluster or Glyph objects.
 
+A ``<text>`` holding characters alone (no child element: a label, a tick, a line of a page)
+is recognised from the element before any per-character list is made (:func:`simple_text`):
+its white space collapsed on the string, its position lists read for the first character,
+its one font spec and face (the face of its family list that draws every character), its
+baseline shift, then the same arrays.
+
 Everything else, and anything the kernel declines (clusters out of order, non-finite
 positions), takes the general route (:func:`.layout.build_text` from the shaping on); so does
 a line that reaches past the image when glyphs are culled (``ctx.sampled``), which the
@@ -13,14 +19,20 @@ give the same floats (tests compare them bit for bit).
 """
 from __future__ import annotations
 
+import math
+
 from ...fonts.color import has_color_glyphs
 from ...fonts.layout import glyph_outlines, placed_outlines
 from ...fonts.line_kernel import ANCHORS, line_glyphs
 from ...scene.path import Path
 from ...scene.transform import IDENTITY, compose, translate
 from . import layout as _layout      # (layout imports this module: attributes at call time)
-from .draw import _nonzero, _within, decorated, finish_text
-from .font_match import face_location
+from ..builder import MAX_TEXT_CHARS
+from ..units import parse_length_list, parse_number_list
+from .content import _SPACES, _TO_SPACE, _USER_UNITS, Span, _space_preserved, text_transform
+from .draw import _nonzero, _within, decorated, finish_text, text_decorated
+from .font_match import (_draws, _load, document_faces, face_location, font_database,
+                         kerning_attribute, needs_no_face)
 from .svg_glyphs import has_svg_glyphs
 
 #: whether build_text takes this route where it can (tests turn it off to compare)
@@ -39,19 +51,202 @@ def plain_line(element, chars, faces, specs, shifts, styles, ctx, text):
     if (face is None or ctx.geometry_only or faces.count(face) != n or specs.count(spec) != n
             or shifts.count(shifts[0]) != n
             or any(c.span is not span or c.rotate or c.dx or c.dy for c in chars[1:])
-            or first.rotate or has_color_glyphs(face) or has_svg_glyphs(face)
-            or decorated(element, span)
-            # (bidi: no ASCII character can start a right-to-left run)
-            or not text.isascii() and _layout.shaping_runs(text, 0, n, None) != [(0, n, "ltr")]):
+            or first.rotate or not _plain_face(face) or decorated(element, span)
+            or not _one_run(text)):
         return None
-    anchor = ANCHORS.get((styles[id(span.el)].get("text-anchor") or "start").strip(), 0)
+    placed = _place(face, spec, faces, text, first.x, first.y, first.dx, first.dy, shifts[0],
+                    styles[id(span.el)], ctx)
+    return None if placed is None else _draw(placed, styles[id(span.el)], ctx)
+
+
+def simple_text(element, ctx):
+    """The scene nodes of a ``<text>`` whose content is characters alone (no child element)
+    that make a plain line, or None where build_text's per-character route must draw it
+    (that route decides everything this declines, so nothing here has an effect before it
+    is sure: no characters counted, no warning).
+
+    The steps are the per-character route's on one element: white space (content.collect_chars
+    and collapse_white_space on a single text node: newlines and tabs to spaces, runs of spaces
+    collapsed and the ends' spaces dropped unless preserved), the position lists (the first
+    value of x, y, dx and dy; a second value that applies makes another chunk or offset,
+    which is not a plain line; rotate only where all the values that apply are zero),
+    text-transform (none), the element's font spec and the face its family list finds
+    (assign_faces: where that face draws every character that needs a face, it is every
+    character's), the baseline shift (baseline_offset of the element): those that follow
+    from the element's computed style once per style (_line_style)."""
+    string = element.text
+    if element.children or not string or len(string) > MAX_TEXT_CHARS:
+        return None
+    style = ctx.style
+    if ctx.geometry_only:
+        return None
+    string = string.translate(_TO_SPACE)
+    if not element.computed("xml:space", _space_preserved, False):
+        string = _SPACES.sub(" ", string)
+        if string[:1] == " ":
+            string = string[1:]
+        if string[-1:] == " ":
+            string = string[:-1]
+        if not string:
+            return None
+    n = len(string)
+    get = element.get
+    if get("textLength") is not None:
+        return None
+    firsts = []
+    for name, axis, default in _POSITIONS:
+        value = get(name)
+        if value is None:
+            firsts.append(default)
+            continue
+        v = _plain_number(value)
+        if v is not None:
+            firsts.append(v)
+            continue
+        values = parse_length_list(value)
+        if len(values) > 1 and n > 1:
+            return None
+        if values:
+            v, unit = values[0]
+            v = v if unit in _USER_UNITS else ctx.length(f"{v!r}{unit}", axis, style)
+            if v is None:
+                return None
+            firsts.append(v)
+        else:
+            firsts.append(default)
+    rotate = get("rotate")
+    if rotate is not None:
+        # (an invalid list rotates nothing)
+        angles = parse_number_list(rotate)
+        if angles and any(angles[:n]):
+            return None
+    got = _line_style(element, style, ctx)
+    if got is None:
+        return None
+    spec, face, shift = got
+    if not _draws_all(face, string, ctx) or not _one_run(string) or text_decorated(element):
+        return None
+    x, y, dx, dy = firsts
+    placed = _place(face, spec, None, string, x, y, dx, dy, shift, style, ctx)
+    if placed is None:
+        return None
+    ctx.count_characters(n)
+    return _draw(placed, style, ctx)
+
+
+_VERTICAL = frozenset(("tb", "tb-rl", "vertical-rl", "vertical-lr"))
+#: the position attributes simple_text reads: (name, axis, value when absent)
+_POSITIONS = (("x", "x", None), ("y", "y", None), ("dx", "x", 0.0), ("dy", "y", 0.0))
+
+
+def _plain_number(value):
+    """A list of one number written with digits, a point and a sign at most (``166.0``), as
+    parse_length_list reads it (its NUMBER_RE and float agree on these characters), or None
+    for anything else, which takes parse_length_list."""
+    digits = value[1:] if value[:1] in ("+", "-") else value
+    if digits.isascii() and digits.replace(".", "", 1).isdigit():
+        v = float(value)
+        if math.isfinite(v):
+            return v
+    return None
+
+
+def _line_style(element, style, ctx):
+    """(font spec, face, baseline shift) of a <text> of computed ``style`` whose characters
+    may make a plain line, or None where its style says they do not (vertical writing,
+    text-transform,
+    letter- or word-spacing, a size that draws nothing, no family of its list, a face of
+    colour or SVG glyphs); once per (style, kerning attribute, viewport) for the document,
+    as its font spec (layout.element_spec): all of these follow from them, the baseline
+    shift of a <text> (layout.baseline_offset of its span) from its style and face."""
+    known = ctx.cache.setdefault("plain styles", {})
+    key = style, kerning_attribute(element), ctx.viewport
+    got = known.get(key)
+    if got is None:
+        got = known[key] = _style_of_line(element, style, ctx) or ()
+    return got or None
+
+
+def _style_of_line(element, style, ctx):
+    if text_transform(style) or (style.get("writing-mode") or "lr").strip() in _VERTICAL:
+        return None
+    spec = _layout.element_spec(element, style, ctx)
+    if spec.letter_spacing or spec.word_spacing or not (math.isfinite(spec.size)
+                                                          and spec.size > 0):
+        return None
+    face = _face(spec, ctx)
+    if face is None or not _plain_face(face):
+        return None
+    return spec, face, _layout.baseline_offset(Span(element, style, None), face, spec, False)
+
+
+def _plain_face(face):
+    return not has_color_glyphs(face) and not has_svg_glyphs(face)
+
+
+def _one_run(text):
+    """Whether the text is one left-to-right bidi run (no ASCII character starts a
+    right-to-left one)."""
+    return text.isascii() or _layout.shaping_runs(text, 0, len(text), None) == [
+        (0, len(text), "ltr")]
+
+
+def _face(spec, ctx):
+    """The loaded face of spec's family list (assign_faces' primary face), or None where the
+    list finds no family (the per-character route warns of that) or the face does not load;
+    once per spec for the document."""
+    known = ctx.cache.setdefault("plain faces", {})
+    got = known.get(id(spec))
+    if got is None or got[0] is not spec:
+        db = font_database(ctx)
+        families = list(spec.families)
+        face = None
+        if db.query(families, spec.weight, spec.style, spec.stretch) is not None:
+            info = db.query_or_default(families, spec.weight, spec.style, spec.stretch)
+            loaded = document_faces(ctx)
+            hit = loaded.get(id(info))
+            if hit is None:
+                hit = loaded[id(info)] = (info, _load(info))
+            face = hit[1]
+        got = known[id(spec)] = (spec, face)
+    return got[1]
+
+
+def _draws_all(face, text, ctx):
+    """Whether ``face`` draws every character of ``text`` that needs a face (assign_faces
+    then gives it every character: those that need none keep the primary face, and marks
+    and selectors follow their base's). The characters found so are kept per face for the
+    document."""
+    known = ctx.cache.setdefault("plain characters", {})
+    got = known.get(id(face))
+    if got is None or got[0] is not face:
+        got = known[id(face)] = (face, set())
+    drawn = got[1]
+    chars = set(text)
+    if chars <= drawn:
+        return True
+    cmap = face.cmap
+    if all(ord(ch) in cmap or needs_no_face(ch) or _draws(face, ch) for ch in chars - drawn):
+        drawn |= chars
+        return True
+    return False
+
+
+def _place(face, spec, faces, text, x, y, dx0, dy0, shift, style, ctx):
+    """(face, location, glyph ids, their matrices, the em box, the memo entry) of a plain
+    line of ``text`` (``faces``: each character's, None: all ``face``) whose first character
+    is at (x, y) (None: 0) moved by (dx0, dy0), baseline shifted by ``shift``; or None
+    where the kernel declines or the line reaches past the image while glyphs are culled."""
+    n = len(text)
+    anchor = ANCHORS.get((style.get("text-anchor") or "start").strip(), 0)
     loc = face_location(face, spec)
     memo = ctx.cache.setdefault("plain lines", {}) if n <= MEMO_LINE else None
     key = (text, id(face), id(spec))
     got = memo.get(key) if memo is not None else None
     if got is None:
         run = _layout.shaped_run(face, spec, loc, text, 0, n, "ltr", (0, n))
-        owner = _layout.cluster_owners(text, faces, 0, n, run)
+        owner = _layout.cluster_owners(text, faces or [face] * n, 0, n, run) \
+            if not text.isascii() else None
         clusters = run.clusters
         if owner:
             clusters = clusters.copy()
@@ -63,22 +258,28 @@ def plain_line(element, chars, faces, specs, shifts, styles, ctx, text):
         if memo is not None:
             memo[key] = got
     advances, offsets, clusters, gids, outlines = got
-    x = first.x if first.x is not None else 0.0
-    y = first.y if first.y is not None else 0.0
-    at = compose(IDENTITY, translate(x, y + shifts[0]))
+    x = x if x is not None else 0.0
+    y = y if y is not None else 0.0
+    at = compose(IDENTITY, translate(x, y + shift))
     scale = spec.size / face.units_per_em
     m = face.metrics
     mats, box, ok = line_glyphs(advances, offsets, clusters, float(scale), m.ascender * scale,
-                                m.descender * scale, float(first.dx), float(first.dy), anchor,
+                                m.descender * scale, float(dx0), float(dy0), anchor,
                                 *map(float, at))
     if not ok:
         return None
     bbox = (float(box[0]), float(box[1]), float(box[2]), float(box[3]))
     if ctx.sampled is not None and not _within(bbox, ctx.transform, ctx.sampled):
         return None
+    return face, loc, gids, mats, bbox, got
+
+
+def _draw(placed, style, ctx):
+    """The nodes of a placed plain line (_place) in ``style``."""
+    face, loc, gids, mats, bbox, got = placed
     out = []
-    style = styles[id(span.el)]
     if style.get("visibility").strip() not in ("hidden", "collapse"):
+        outlines = got[4]
         if outlines is None:
             outlines = got[4] = glyph_outlines(face, loc, gids.tolist()) or ()
         path = Path.from_arrays(*placed_outlines(outlines or None, mats))
