@@ -267,14 +267,17 @@ def test_a_run_of_shapes_makes_no_path_or_fill_per_shape(monkeypatch):
         made["Fill"] += 1
         fill_init(self, *args, **kw)
 
-    def counting_new(cls, *args, **kw):
-        made["Path"] += 1
-        return object.__new__(cls)
+    class CountingPath(Path):
+        """Path as the builder makes it, counted (a __new__ set on Path itself and deleted
+        after would leave Path refusing its arguments)."""
+        def __new__(cls, *args, **kw):
+            made["Path"] += 1
+            return super().__new__(cls)
     body = scatter(2000) + "".join(f'<path d="M{i % 90} {i % 80}l5 3l-2 4z" fill="teal"/>'
                                    for i in range(2000))
     svg = document(body)
     monkeypatch.setattr(Fill, "__init__", counting_init)
-    monkeypatch.setattr(Path, "__new__", counting_new)
+    monkeypatch.setattr(builder_module, "Path", CountingPath)
     scene = load_svg(svg, width=100)
     (node,) = scene.root.children
     assert type(node) is FillRuns and len(node) > 2000 + 2 * 2000
