@@ -243,7 +243,8 @@ RUN_WRAPPERS = ["{}", '<g transform="translate(3.5 -2) rotate(17) scale(1.3 0.8)
 def test_random_runs_as_arrays_are_the_fills_made_one_by_one(seed, wrapper, monkeypatch):
     """Random runs of mixed shapes, styles and transforms: the FillRuns made straight from
     the shapes' arrays expand to the Fills the builder makes without FillRuns (the same
-    verbs and points to the bit, styles, order), and draw the same bytes."""
+    verbs and points to the bit, styles, order) and to those of each element built alone,
+    and draw the same bytes."""
     svg = document(wrapper.format(random_run(seed)))
     joined = load_svg(svg, width=100).root
     assert runs_in(joined) >= 1
@@ -254,6 +255,9 @@ def test_random_runs_as_arrays_are_the_fills_made_one_by_one(seed, wrapper, monk
     assert fills_of([joined]) == fills_of([alone])
     assert np.array_equal(images[0], _render(svg, width=100))
     assert np.array_equal(images[1], _render(svg, width=90, threads=2))
+    # and the Fills of each element built alone (element(), no shape runs at all)
+    monkeypatch.setattr(builder_module.Builder, "shape_runs", False)
+    assert fills_of([load_svg(svg, width=100).root]) == fills_of([joined])
 
 
 def test_a_run_of_shapes_makes_no_path_or_fill_per_shape(monkeypatch):
