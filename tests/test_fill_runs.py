@@ -192,3 +192,149 @@ def test_translated_fill_runs_are_their_fills_translated():
     want = [translated(f, 3.25, -4.5) for f in node.fills()]
     assert fills_of([moved]) == fills_of(want)
     assert np.array_equal(node.points, scene.root.children[0].points)   # (not moved itself)
+
+
+def random_run(seed, n=700):
+    """A run of simple shapes as exporters write them, mixed: circles, ellipses, rects (some
+    rounded), lines, polylines, polygons and paths, each with one of several styles (plain
+    fills, evenodd, crispEdges, hairline and wide strokes, dashes, no fill, opacity 0)."""
+    rng = random.Random(seed)
+    styles = ['fill="steelblue" fill-opacity="0.6" stroke="#333" stroke-width="0.5"',
+              'fill="#c33" fill-rule="evenodd"', 'fill="none" stroke="navy" stroke-width="2"',
+              'fill="gold" shape-rendering="crispEdges" stroke="black" stroke-width="0.3"',
+              'fill="green" stroke="black" stroke-width="1.5" stroke-dasharray="2 1"',
+              'fill="purple" fill-opacity="0"', 'fill="#0a0"']
+    out = []
+    for _ in range(n):
+        x, y = rng.uniform(0, 95), rng.uniform(0, 95)
+        style = rng.choice(styles)
+        kind = rng.randrange(7)
+        if kind == 0:
+            out.append(f'<circle cx="{x:.2f}" cy="{y:.2f}" r="{rng.uniform(0.3, 4):.2f}" '
+                       f'{style}/>')
+        elif kind == 1:
+            out.append(f'<ellipse cx="{x:.2f}" cy="{y:.2f}" rx="{rng.uniform(0.5, 5):.2f}" '
+                       f'ry="{rng.uniform(0.5, 3):.2f}" {style}/>')
+        elif kind == 2:
+            rx = f' rx="{rng.uniform(0.2, 1):.2f}"' if rng.random() < 0.3 else ""
+            out.append(f'<rect x="{x:.2f}" y="{y:.2f}" width="{rng.uniform(0, 6):.2f}" '
+                       f'height="{rng.uniform(0.1, 6):.2f}"{rx} {style}/>')
+        elif kind == 3:
+            out.append(f'<line x1="{x:.2f}" y1="{y:.2f}" x2="{x + rng.uniform(-5, 5):.2f}" '
+                       f'y2="{y + rng.uniform(-5, 5):.2f}" {style}/>')
+        elif kind in (4, 5):
+            pts = " ".join(f"{x + rng.uniform(0, 6):.2f},{y + rng.uniform(0, 6):.2f}"
+                           for _ in range(rng.randint(2, 5)))
+            tag = "polyline" if kind == 4 else "polygon"
+            out.append(f'<{tag} points="{pts}" {style}/>')
+        else:
+            out.append(f'<path d="M{x:.2f} {y:.2f}q3 -4 5 0t4 2l-2 3z'
+                       f'{"m1 1h2v2" if rng.random() < 0.5 else ""}" {style}/>')
+    return "".join(out)
+
+
+RUN_WRAPPERS = ["{}", '<g transform="translate(3.5 -2) rotate(17) scale(1.3 0.8)">{}</g>',
+                '<svg viewBox="3 1 90 70" width="100" height="100" '
+                'preserveAspectRatio="none">{}</svg>']
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("wrapper", RUN_WRAPPERS)
+def test_random_runs_as_arrays_are_the_fills_made_one_by_one(seed, wrapper, monkeypatch):
+    """Random runs of mixed shapes, styles and transforms: the FillRuns made straight from
+    the shapes' arrays expand to the Fills the builder makes without FillRuns (the same
+    verbs and points to the bit, styles, order) and to those of each element built alone,
+    and draw the same bytes."""
+    svg = document(wrapper.format(random_run(seed)))
+    joined = load_svg(svg, width=100).root
+    assert runs_in(joined) >= 1
+    images = [_render(svg, width=100), _render(svg, width=90, threads=2)]
+    without_runs(monkeypatch)
+    alone = load_svg(svg, width=100).root
+    assert runs_in(alone) == 0
+    assert fills_of([joined]) == fills_of([alone])
+    assert np.array_equal(images[0], _render(svg, width=100))
+    assert np.array_equal(images[1], _render(svg, width=90, threads=2))
+    # and the Fills of each element built alone (element(), no shape runs at all)
+    monkeypatch.setattr(builder_module.Builder, "shape_runs", False)
+    assert fills_of([load_svg(svg, width=100).root]) == fills_of([joined])
+
+
+def test_a_run_of_shapes_makes_no_path_or_fill_per_shape(monkeypatch):
+    """2,000 circles and 2,000 paths with fills (and hairline strokes) in a run: their
+    geometry goes from the shapes' and the path batch's arrays to the FillRuns' without a
+    Path or a Fill object per shape."""
+    made = {"Fill": 0, "Path": 0}
+    fill_init = Fill.__init__
+
+    def counting_init(self, *args, **kw):
+        made["Fill"] += 1
+        fill_init(self, *args, **kw)
+
+    class CountingPath(Path):
+        """Path as the builder makes it, counted (a __new__ set on Path itself and deleted
+        after would leave Path refusing its arguments)."""
+        def __new__(cls, *args, **kw):
+            made["Path"] += 1
+            return super().__new__(cls)
+    body = scatter(2000) + "".join(f'<path d="M{i % 90} {i % 80}l5 3l-2 4z" fill="teal"/>'
+                                   for i in range(2000))
+    svg = document(body)
+    monkeypatch.setattr(Fill, "__init__", counting_init)
+    monkeypatch.setattr(builder_module, "Path", CountingPath)
+    scene = load_svg(svg, width=100)
+    (node,) = scene.root.children
+    assert type(node) is FillRuns and len(node) > 2000 + 2 * 2000
+    # (a Path of the first path's data, read before the document's path batch)
+    assert made["Fill"] == 0 and made["Path"] <= 1
+
+
+def test_a_batch_of_runs_reads_its_paints_per_style(monkeypatch):
+    """The raster's batch of a FillRuns of 2,000 circles and their strokes (two styles) hands
+    its paint table two fills' paints (shaders.style_arrays' styles, or PaintTable.add_fills'
+    fills), not one per run."""
+    from vecmsaa.raster import shaders
+    read = []
+    add_fills = shaders.PaintTable.add_fills
+
+    def counting_add(self, fills, pattern_tile):
+        read.append(len(fills))
+        return add_fills(self, fills, pattern_tile)
+    monkeypatch.setattr(shaders.PaintTable, "add_fills", counting_add)
+    style_arrays = getattr(render_module, "style_arrays", None)
+    if style_arrays is not None:
+        def counting_styles(styles, kind, pattern_tile):
+            read.append(len(styles))
+            return style_arrays(styles, kind, pattern_tile)
+        monkeypatch.setattr(render_module, "style_arrays", counting_styles)
+    _render(document(scatter(2000)), width=100)
+    assert sum(read) == 2
+
+
+def test_style_arrays_are_the_paint_table_of_each_fill():
+    """shaders.style_arrays of styles and each fill's index is PaintTable.add_fills of the
+    fills one by one, to the byte: solids, gradients (shared ramps), images (shared
+    texture), styles unused or used out of order."""
+    from vecmsaa.raster.shaders import PaintTable, style_arrays
+    from vecmsaa.scene.nodes import ImagePaint, LinearGradient, RadialGradient
+    rng = np.random.default_rng(8)
+    stops = [np.array([[0, 1, 0, 0, 1], [1, 0, 0, 1, 0.5]]),
+             np.array([[0, 0, 1, 0, 1], [0.4, 1, 1, 0, 1], [1, 0, 0, 0, 1]])]
+    image = rng.random((3, 4, 4)).astype(np.float32)
+    red = Solid((1, 0, 0, 0.8))
+    paints = [red, red, Solid((0, 0.5, 1, 1)), LinearGradient(0, 0, 10, 5, stops[0]),
+              LinearGradient(1, 2, 3, 4, stops[1], "reflect"),
+              RadialGradient(5, 5, 4, 4, 4, stops[0]), ImagePaint(image, (2, 0, 0, 2, 1, 1)),
+              ImagePaint(image)]
+    styles = [Fill(None, paint, "nonzero", opacity, True)
+              for paint in paints for opacity in (1.0, 0.5)]
+    for solids_only in (True, False):
+        use = [i for i, f in enumerate(styles)
+               if not solids_only or type(f.paint) is Solid]
+        kind = np.array([use[int(i)] for i in rng.integers(0, len(use) - 1, 500)], np.int64)
+        table = PaintTable()
+        table.add_fills([styles[k] for k in kind.tolist()], None)
+        want = table.arrays()
+        got = style_arrays(styles, kind, None)
+        for a, b in zip(got, want):
+            assert a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()

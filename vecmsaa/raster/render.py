@@ -50,7 +50,7 @@ from ..scene import bounds
 from ..scene.color import linear_rgb_image
 from ..scene.nodes import (Fill, FillRuns, Group, ImagePaint, PatternPaint, Scene, Solid,
                            translated, translated_filters)
-from .shaders import PaintTable, solid_arrays, solid_row
+from .shaders import PaintTable, solid_arrays, solid_row, style_arrays
 
 #: flattening tolerance of the exact modes (pixels)
 EXACT_TOLERANCE = 1.0 / 256.0
@@ -1037,7 +1037,7 @@ class FillBatch:
     cost = fill_rows = None
 
     def __init__(self, fills, verbs, pts, voff, poff, opts: RenderOptions, pool=None,
-                 extremes=None, canvas=NO_CULL, boxes=None):
+                 extremes=None, canvas=NO_CULL, boxes=None, styles=None):
         moved = _crisp_at_centres(fills, pts, poff, opts)
         if _streams(fills, verbs, opts):
             built = None
@@ -1093,21 +1093,33 @@ class FillBatch:
         self.box = box
         self.rows = (lo[1], hi[3])
         self.cols = (lo[0], hi[2])
-        # (by maps over the fills, not a Python expression each: 140,000 fills' took 70 ms)
-        evenodd = np.fromiter(map(eq, map(_RULE, fills), repeat("evenodd")), np.bool_,
-                              len(fills))
-        self.rules = np.where(evenodd, RULE_EVENODD, RULE_NONZERO).astype(np.int64)
-        self.aa = np.fromiter(map(_ANTIALIAS, fills), np.bool_, len(fills))
-        if (extremes is not None or len(fills) <= SOLID_ROWS) \
-                and all(type(f.paint) is Solid for f in fills):
-            # (PaintTable.arrays of solid paints, without its bookkeeping: a LayerRun's
-            # batch of 64 small layers' fills spent more on the table than on its geometry)
-            self.kinds, self.params, self.lut, self.tex = solid_arrays(
-                [solid_row(f.paint, f.opacity) for f in fills])
+        if styles is not None:
+            # (fills given as styles, _run_batches': each array made per style, then taken
+            # for each fill)
+            styles, kind = styles
+            evenodd = np.array([f.rule == "evenodd" for f in styles], np.bool_)
+            self.rules = np.where(evenodd, RULE_EVENODD, RULE_NONZERO).astype(np.int64)[kind]
+            self.aa = np.array([bool(f.antialias) for f in styles], np.bool_)[kind]
+            self.kinds, self.params, self.lut, self.tex = style_arrays(
+                styles, kind, lambda paint: pattern_tile(paint, opts))
         else:
-            table = PaintTable()
-            table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
-            self.kinds, self.params, self.lut, self.tex = table.arrays()
+            # (by maps over the fills, not a Python expression each: 140,000 fills' took
+            # 70 ms)
+            evenodd = np.fromiter(map(eq, map(_RULE, fills), repeat("evenodd")), np.bool_,
+                                  len(fills))
+            self.rules = np.where(evenodd, RULE_EVENODD, RULE_NONZERO).astype(np.int64)
+            self.aa = np.fromiter(map(_ANTIALIAS, fills), np.bool_, len(fills))
+            if (extremes is not None or len(fills) <= SOLID_ROWS) \
+                    and all(type(f.paint) is Solid for f in fills):
+                # (PaintTable.arrays of solid paints, without its bookkeeping: a LayerRun's
+                # batch of 64 small layers' fills spent more on the table than on its
+                # geometry)
+                self.kinds, self.params, self.lut, self.tex = solid_arrays(
+                    [solid_row(f.paint, f.opacity) for f in fills])
+            else:
+                table = PaintTable()
+                table.add_fills(fills, lambda paint: pattern_tile(paint, opts))
+                self.kinds, self.params, self.lut, self.tex = table.arrays()
         if built is None:
             if self.source is not None and lo[0] >= -FAR_X and hi[2] <= FAR_X:
                 # (heaviest_first's guess at the work: the sizes build_batch reserves)
@@ -2012,12 +2024,12 @@ def _fill_batches(fills, opts: RenderOptions, pool=None, shift=None, bound=None,
     return _drawing_batch(fills, arrays, opts, pool, bound, canvas)
 
 
-def _drawing_batch(fills, arrays, opts, pool, bound, canvas) -> list:
+def _drawing_batch(fills, arrays, opts, pool, bound, canvas, styles=None) -> list:
     """[FillBatch] of those of ``fills`` (their batch ``arrays``, moved) that can draw
     something, or [] for none: paths that draw (a verb besides MOVE and CLOSE, finite points)
     and their points' boxes found in one kernel pass (FillBatch's boxes of a batch whose
     points it does not move), the others' rows left out; none where all points lie beyond
-    ``bound``."""
+    ``bound``. ``styles``: FillBatch's (the fills' styles and each one's index there)."""
     verbs, pts, voff, poff = arrays
     if bound is not None and len(pts) and _beyond(pts[:, 1].min(), pts[:, 1].max(), bound):
         return []
@@ -2028,40 +2040,53 @@ def _drawing_batch(fills, arrays, opts, pool, bound, canvas) -> list:
             return []
         arrays = _kept_arrays(arrays, keep)
         boxes = boxes[keep]
-    return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes)]
+        if styles is not None:
+            styles = (styles[0], styles[1][keep])
+    return [FillBatch(fills, *arrays, opts, pool, None, canvas, boxes, styles)]
 
 
 def _run_batches(nodes, opts: RenderOptions, pool=None, shift=None, bound=None,
                  canvas=NO_CULL) -> list:
     """_fill_batches of Fills and FillRuns: the FillRuns' arrays taken as they are, joined
-    with those of the Fills about them (batch_arrays) in one concatenation, and each run's
-    fill its style's (FillRuns.style_fills), the same batch as of the Fills the FillRuns
-    stand for (FillRuns.fills)."""
-    fills, parts, plain = [], [], []
+    with those of the Fills about them (batch_arrays) in one concatenation, each run's
+    fill its style's (a Fill without a path per style, shared by its runs) and the batch's
+    paints, rules and antialiasing made per style (FillBatch's ``styles``, each Fill about
+    them a style of its own): the same batch as of the Fills the FillRuns stand for
+    (FillRuns.fills)."""
+    fills, parts, plain, protos, kinds = [], [], [], [], []
+
+    def end_plain():
+        parts.append(batch_arrays(list(map(_PATH, plain))))
+        kinds.append(np.arange(len(protos), len(protos) + len(plain), dtype=np.int64))
+        protos.extend(plain)
+        fills.extend(plain)
+        plain.clear()
     for node in nodes:
         if type(node) is FillRuns:
             if plain:
-                parts.append(batch_arrays(list(map(_PATH, plain))))
-                fills += plain
-                plain = []
+                end_plain()
             parts.append((node.verbs, node.points, node.voff, node.poff))
-            fills += node.style_fills()
+            own = [Fill(None, *style) for style in node.styles]
+            kinds.append(node.kind + len(protos) if protos else node.kind)
+            protos += own
+            fills += map(own.__getitem__, node.kind.tolist())
         else:
             plain.append(node)
     if plain:
-        parts.append(batch_arrays(list(map(_PATH, plain))))
-        fills += plain
+        end_plain()
     arrays = _joined_arrays(parts)
-    if not all(map(lt, repeat(0), map(_OPACITY, fills))):
-        keep = [f.opacity > 0 for f in fills]
-        fills = [f for f, k in zip(fills, keep) if k]
-        arrays = _kept_arrays(arrays, np.array(keep, np.bool_))
+    kind = kinds[0] if len(kinds) == 1 else np.concatenate(kinds)
+    if not all(map(lt, repeat(0), map(_OPACITY, protos))):
+        keep = np.array([f.opacity > 0 for f in protos], np.bool_)[kind]
+        fills = [f for f, k in zip(fills, keep.tolist()) if k]
+        arrays = _kept_arrays(arrays, keep)
+        kind = kind[keep]
     if not fills:
         return []
     if shift is not None and shift != (0, 0):
         # (the points may be a FillRuns' own: moved in a copy)
         arrays = (arrays[0], arrays[1] + np.array(shift, dtype=np.float64), *arrays[2:])
-    return _drawing_batch(fills, arrays, opts, pool, bound, canvas)
+    return _drawing_batch(fills, arrays, opts, pool, bound, canvas, (protos, kind))
 
 
 def _joined_arrays(parts):

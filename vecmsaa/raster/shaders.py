@@ -186,6 +186,29 @@ class PaintTable:
         return kinds, params, lut, tex
 
 
+def style_arrays(styles, kind, pattern_tile):
+    """PaintTable.arrays of fills given as a style each (Fills whose paint and opacity are
+    read: one per distinct style, FillRuns.styles') and each fill's index among them
+    (``kind``, an int64 array): a row made per style, not per fill, then taken for each
+    fill; the same arrays as add_fills of the fills gives. The gradients' ramps and the
+    images are laid out in the order the fills first use them, as add_fills lays them."""
+    if all(type(f.paint) is Solid for f in styles):
+        # (a row of a style no fill uses costs nothing: no ramp or image to lay out)
+        params = np.array([solid_row(f.paint, f.opacity) for f in styles],
+                          np.float64).reshape(-1, PAINT_FIELDS)
+        return np.full(len(kind), KIND_SOLID, np.int64), params[kind], _NO_LUT, _NO_TEX
+    used, first = np.unique(kind, return_index=True)
+    order = used[np.argsort(first, kind="stable")]
+    rank = np.zeros(len(styles), np.int64)
+    rank[order] = np.arange(len(order))
+    table = PaintTable()
+    for i in order.tolist():
+        table.add_fills([styles[i]], pattern_tile)
+    kinds, params, lut, tex = table.arrays()
+    rows = rank[kind]
+    return kinds[rows], params[rows], lut, tex
+
+
 _PAINT = attrgetter("paint")
 _OPACITY = attrgetter("opacity")
 _SOLID = {Solid}

@@ -157,12 +157,6 @@ class FillRuns:
         return [Fill(Path._of_arrays(verbs[v0:v1], points[p0:p1]), *styles[k])
                 for v0, v1, p0, p1, k in zip(vo, vo[1:], po, po[1:], self.kind.tolist())]
 
-    def style_fills(self) -> list:
-        """A Fill of each run's style (``styles[kind[r]]``) without its path (None), one
-        object per style: what a batch reads of its fills besides their geometry."""
-        protos = [Fill(None, *style) for style in self.styles]
-        return list(map(protos.__getitem__, self.kind.tolist()))
-
 
 Node = Union[Fill, FillRuns, Group]
 

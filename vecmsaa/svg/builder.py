@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 import itertools
 import math
-from operator import itemgetter
+from operator import attrgetter, itemgetter
 import re
 from dataclasses import dataclass, field
 
@@ -22,6 +22,7 @@ from ..scene.transform import IDENTITY, apply, apply_each, compose, point_mapper
 from ..scene.path import _RECT_VERBS, CLOSE, LINE, MOVE, Path, rect_corners, rect_path
 from ..scene.nodes import Fill, FillRuns, Group, Scene, Solid
 from ..geometry import stroke_kernels
+from ..geometry.primitives import batch_arrays, gather_runs
 from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
                                  hairline_outline, hairline_path, hairline_segments)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
@@ -221,7 +222,7 @@ def _hairline_fills(path, m, cap, dashes, offset, resolution, ref, opacity, anti
     return _run_fills(ov, op, rv, rp, paint, opacity, antialias)[0]
 
 
-def _run_fills(ov, op, vo, po, paint, opacity, antialias):
+def _run_fills(ov, op, vo, po, paint, opacity, antialias, rule="nonzero"):
     """The Fills of an outline's runs (hairline_batch's, stroke_lines_batch's: run r is
     ov[vo[r]:vo[r + 1]], op[po[r]:po[r + 1]]), a run without verbs left out, and the
     indexes of the runs kept (None: all)."""
@@ -235,7 +236,7 @@ def _run_fills(ov, op, vo, po, paint, opacity, antialias):
         if v1 > v0:
             path = new_path(Path)
             path._arrays = ov[v0:v1], op[p0:p1]
-            append(Fill(path, paint, "nonzero", opacity, antialias))
+            append(Fill(path, paint, rule, opacity, antialias))
     if len(fills) == len(rv) - 1:
         return fills, None
     return fills, np.flatnonzero(vo[1:] > vo[:-1])
@@ -288,43 +289,45 @@ def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, an
     Fills: _joined_runs makes them FillRuns, or Fills where few."""
     ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
                                             transform, ref, curves)
-    source = _RunSource(ov, op, vo, po, (ref.paint, "nonzero", _stroke_opacity(plan, ref),
-                                         antialias))
+    source = _RunSource(ov, op, vo, po)
+    style = (ref.paint, "nonzero", _stroke_opacity(plan, ref), antialias)
     n = len(which)
     if owner is None:
-        bounds = range(n + 1)
-    else:
-        bounds = np.searchsorted(owner, np.arange(n + 1)).tolist()
-    return [_Runs(source, b0, b1) for b0, b1 in zip(bounds, bounds[1:])]
+        return [_Runs(source, j, j + 1, style) for j in range(n)]
+    bounds = np.searchsorted(owner, np.arange(n + 1)).tolist()
+    return [_Runs(source, b0, b1, style) for b0, b1 in zip(bounds, bounds[1:])]
 
 
 class _RunSource:
-    """An outline kernel's arrays (_outline_arrays: run r is ov[vo[r]:vo[r + 1]],
-    op[po[r]:po[r + 1]]) and the style (paint, rule, opacity, antialias) of their Fills."""
-    __slots__ = ("ov", "op", "vo", "po", "style", "vl", "pl", "whole")
+    """Paths in a batch's arrays (an outline kernel's, _outline_arrays'; a _ShapeBlock's; the
+    document's path batch): run r is ov[vo[r]:vo[r + 1]], op[po[r]:po[r + 1]] (vo, po int64
+    arrays), mapped by ``transform`` (None: already on the device) as apply() maps them."""
+    __slots__ = ("ov", "op", "vo", "po", "transform")
 
-    def __init__(self, ov, op, vo, po, style):
-        self.ov, self.op, self.style = ov, op, style
-        self.vo, self.po = vo.tolist(), po.tolist()
-        self.vl = np.diff(vo).tolist()
-        self.pl = np.diff(po).tolist()
-        self.whole = 0 not in self.vl           # (no run without verbs to leave out)
+    def __init__(self, ov, op, vo, po, transform=None):
+        self.ov, self.op, self.vo, self.po = ov, op, vo, po
+        self.transform = transform
 
 
 class _Runs:
-    """A path's runs b0 .. b1 - 1 of a _RunSource, held in its place among nodes."""
-    __slots__ = ("source", "b0", "b1")
+    """Runs b0 .. b1 - 1 of a _RunSource (a path's outline runs, a shape's path) filled as
+    ``style`` (paint, rule, opacity, antialias: Fill's fields), held in its place among
+    nodes."""
+    __slots__ = ("source", "b0", "b1", "style")
 
-    def __init__(self, source, b0, b1):
-        self.source, self.b0, self.b1 = source, b0, b1
+    def __init__(self, source, b0, b1, style):
+        self.source, self.b0, self.b1, self.style = source, b0, b1, style
 
     def fills(self) -> list:
         """The Fills _run_fills makes of these runs."""
         s = self.source
         b0, b1 = self.b0, self.b1
-        paint, _, opacity, antialias = s.style          # (the rule: _run_fills' nonzero)
-        return _run_fills(s.ov, s.op, np.array(s.vo[b0:b1 + 1], np.int64),
-                          np.array(s.po[b0:b1 + 1], np.int64), paint, opacity, antialias)[0]
+        paint, rule, opacity, antialias = self.style
+        op, po = s.op, s.po[b0:b1 + 1]
+        if s.transform is not None and b1 > b0:
+            op = apply(s.transform, op[po[0]:po[-1]])
+            po = po - po[0]
+        return _run_fills(s.ov, op, s.vo[b0:b1 + 1], po, paint, opacity, antialias, rule)[0]
 
 
 #: runs (fills) in a stretch of nodes that _joined_runs makes one FillRuns of, at least
@@ -369,60 +372,108 @@ def _end_stretch(out, stretch, count) -> None:
 
 
 def _fill_runs(stretch):
-    """The FillRuns of a stretch of Fills and _Runs: their arrays joined in one
-    concatenation (a piece per Fill and per path's runs), the runs without verbs left out."""
-    vparts, pparts, vlens, plens, kinds = [], [], [], [], []
-    vappend, pappend = vparts.append, pparts.append
-    vlen, plen, kind = vlens.append, plens.append, kinds.append
-    styles, keys = [], {}
-    last = None                                 # (the last Fill's key and style index)
-    for node in stretch:
-        if node.__class__ is Fill:
-            path = node.path
-            v, p = path._arrays or path._freeze()
-            vappend(v)
-            pappend(p)
-            vlen(len(v))
-            plen(len(p))
-            key = (id(node.paint), node.rule, node.opacity, node.antialias)
-            if key != last:
-                k = keys.get(key)
-                if k is None:
-                    k = keys[key] = len(styles)
-                    styles.append((node.paint, node.rule, node.opacity, node.antialias))
-                last = key
-            kind(k)
-            continue
-        b0, b1 = node.b0, node.b1
-        if b1 == b0:
-            continue
-        s = node.source
-        sk = keys.get(s)
-        if sk is None:
-            sk = keys[s] = len(styles)
-            styles.append(s.style)
-        if s.whole:
-            vo, po = s.vo, s.po
-            vappend(s.ov[vo[b0]:vo[b1]])
-            pappend(s.op[po[b0]:po[b1]])
-            vlens += s.vl[b0:b1]
-            plens += s.pl[b0:b1]
-            kinds += [sk] * (b1 - b0)
-            continue
-        for r in range(b0, b1):
-            if s.vl[r]:
-                vappend(s.ov[s.vo[r]:s.vo[r + 1]])
-                pappend(s.op[s.po[r]:s.po[r + 1]])
-                vlen(s.vl[r])
-                plen(s.pl[r])
-                kind(sk)
-    voff = np.zeros(len(kinds) + 1, np.int64)
-    poff = np.zeros(len(kinds) + 1, np.int64)
-    np.cumsum(vlens, out=voff[1:])
-    np.cumsum(plens, out=poff[1:])
-    verbs = np.concatenate(vparts).astype(np.uint8, copy=False)
-    points = np.concatenate(pparts).reshape(-1, 2).astype(np.float64, copy=False)
-    return FillRuns(verbs, points, voff, poff, styles, np.array(kinds, np.int64))
+    """The FillRuns of a stretch of Fills and _Runs, the runs without verbs left out (a
+    Fill's path kept as it is): the stretch read as (source, first run, end, style) pieces
+    by maps over it, the Fills' paths made one source first, then every run's rows copied
+    from its source to the FillRuns' arrays (_gathered_runs)."""
+    loose = None
+    if Fill in set(map(type, stretch)):
+        stretch = list(stretch)
+        paths, styles_of = [], {}
+        loose = _RunSource(None, None, None, None)      # (its arrays set below)
+        for j, node in enumerate(stretch):
+            if node.__class__ is Fill:
+                key = (id(node.paint), node.rule, node.opacity, node.antialias)
+                style = styles_of.get(key)
+                if style is None:
+                    style = styles_of[key] = (node.paint, node.rule, node.opacity,
+                                              node.antialias)
+                stretch[j] = _Runs(loose, len(paths), len(paths) + 1, style)
+                paths.append(node.path)
+        loose.ov, loose.op, loose.vo, loose.po = batch_arrays(paths)
+    sources, seg_src = _first_uses(list(map(_SOURCE, stretch)))
+    styles, seg_kind = _first_uses(list(map(_STYLE, stretch)))
+    n = len(stretch)
+    verbs, points, voff, poff, kind = _gathered_runs(
+        sources, np.array(seg_src, np.int64), np.fromiter(map(_B0, stretch), np.int64, n),
+        np.fromiter(map(_B1, stretch), np.int64, n), np.array(seg_kind, np.int64),
+        next((i for i, source in enumerate(sources) if source is loose), None))
+    return FillRuns(verbs, points, voff, poff, styles, kind)
+
+
+def _first_uses(objects):
+    """The distinct objects (by identity) in order of first use, and each one's index
+    there, by maps (a Python turn per object cost a scatter plot's 40,000 pieces more)."""
+    ids = list(map(id, objects))
+    at = dict.fromkeys(ids)
+    for i, key in enumerate(at):
+        at[key] = i
+    by_id = dict(zip(ids, objects))
+    return [by_id[key] for key in at], list(map(at.__getitem__, ids))
+
+
+_SOURCE = attrgetter("source")
+_STYLE = attrgetter("style")
+_B0 = attrgetter("b0")
+_B1 = attrgetter("b1")
+
+
+def _gathered_runs(sources, seg_src, seg_b0, seg_b1, seg_kind, loose=None):
+    """(verbs, points, verb offsets, point offsets, kind) of the runs seg_b0[i] ..
+    seg_b1[i] - 1 of sources[seg_src[i]] filled as seg_kind[i], in that order, the runs
+    without verbs left out but those of sources[loose] (the Fills' paths, kept as they are):
+    each run's rows copied once, from its source to their place (gather_runs, a call per
+    source; a source with a transform gathered and mapped first)."""
+    lengths = seg_b1 - seg_b0
+    ends = np.cumsum(lengths)
+    n = int(ends[-1]) if len(ends) else 0
+    src = np.repeat(seg_src, lengths)
+    index = np.repeat(seg_b0 - (ends - lengths), lengths) + np.arange(n)
+    kind = np.repeat(seg_kind, lengths)
+    one = len(sources) == 1
+    where = [slice(None) if one else np.flatnonzero(src == i) for i in range(len(sources))]
+    vl, pl = np.empty(n, np.int64), np.empty(n, np.int64)
+    for source, rows in zip(sources, where):
+        at = index[rows]
+        vl[rows] = source.vo[at + 1] - source.vo[at]
+        pl[rows] = source.po[at + 1] - source.po[at]
+    keep = vl > 0
+    if loose is not None:
+        keep |= src == loose
+    if not keep.all():
+        src, index, kind, vl, pl = (a[keep] for a in (src, index, kind, vl, pl))
+        where = [slice(None) if one else np.flatnonzero(src == i)
+                 for i in range(len(sources))]
+    voff = np.zeros(len(kind) + 1, np.int64)
+    poff = np.zeros(len(kind) + 1, np.int64)
+    np.cumsum(vl, out=voff[1:])
+    np.cumsum(pl, out=poff[1:])
+    verbs = np.empty(int(voff[-1]), np.uint8)
+    points = np.empty((int(poff[-1]), 2), np.float64)
+    dest = np.arange(len(kind))
+    for source, rows in zip(sources, where):
+        ov, op, vo, po = source.ov, source.op, source.vo, source.po
+        runs = index[rows]
+        if source.transform is not None:
+            # (the runs gathered, in order, then mapped in one apply(): the bytes apply()
+            # gives each, a point mapped alone)
+            m = len(runs)
+            vo, po = np.zeros(m + 1, np.int64), np.zeros(m + 1, np.int64)
+            np.cumsum(vl[rows], out=vo[1:])
+            np.cumsum(pl[rows], out=po[1:])
+            ov, op = np.empty(int(vo[-1]), np.uint8), np.empty((int(po[-1]), 2), np.float64)
+            gather_runs(source.ov.astype(np.uint8, copy=False), _points64(source.op),
+                        source.vo, source.po, runs, dest[:m], ov, op, vo, po)
+            op = apply(source.transform, op)
+            runs = dest[:m]
+        gather_runs(ov.astype(np.uint8, copy=False), _points64(op), vo, po, runs, dest[rows],
+                    verbs, points, voff, poff)
+    return verbs, points, voff, poff, kind
+
+
+def _points64(points):
+    """(P, 2) C-contiguous float64 points (as gather_runs takes them)."""
+    return np.ascontiguousarray(points, np.float64).reshape(-1, 2)
 
 
 def _stroke_opacity(plan, ref):
@@ -571,12 +622,12 @@ _FEW_STROKES = 4
 class _ShapeBlock:
     """_shape_run's shapes of one kind (one list of verbs): their parameters, then the points
     of all of them made at once, in user space and on the device (finish)."""
-    __slots__ = ("verbs", "params", "points", "device")
+    __slots__ = ("verbs", "params", "points", "device", "source")
 
     def __init__(self, verbs):
         self.verbs = verbs
         self.params = []
-        self.points = self.device = None
+        self.points = self.device = self.source = None
 
     def add(self, params) -> int:
         self.params.append(params)
@@ -594,6 +645,16 @@ class _ShapeBlock:
                 pts = self.points = _bulk_points(make, self.params)
             self.device = pts if transform == IDENTITY else \
                 apply(transform, pts.reshape(-1, 2)).reshape(pts.shape)
+
+    def fill_source(self):
+        """The shapes on the device as a _RunSource, shape i run i (made once)."""
+        if self.source is None:
+            n, k = self.device.shape[:2]
+            nv = len(self.verbs)
+            self.source = _RunSource(np.tile(self.verbs, n), self.device.reshape(-1, 2),
+                                     np.arange(0, n * nv + 1, nv, dtype=np.int64),
+                                     np.arange(0, n * k + 1, k, dtype=np.int64))
+        return self.source
 
     def batch(self):
         """The shapes in user space as _outline_fills takes a batch of paths: (verbs, points,
@@ -1182,6 +1243,9 @@ class Builder:
         own_paths = []                          # (verbs, points) of paths of their own queued
         stroke_plans = {}                       # style -> its stroke plan here
         new_path = Path.__new__                 # (Path._of_arrays written out)
+        joins = self._joins_runs(ctx)
+        fill_styles = {}                        # id(plan) -> its fills' style (joins)
+        batch_source = None                     # the document's path batch as a _RunSource
         for el, style, plan, block, at in todo:
             antialias, order, rule, fill_ref, stroke_ref = plan
             user = None
@@ -1206,6 +1270,22 @@ class Builder:
                 if item == "fill":
                     if len(verbs) == 2 and verbs[1] == LINE:
                         continue                # a lone line segment encloses nothing
+                    if joins and block is not False:
+                        # (a run of a source, not a Path and a Fill: _fill_runs copies its
+                        # arrays straight into the FillRuns')
+                        fill_style = fill_styles.get(id(plan))
+                        if fill_style is None:
+                            fill_style = fill_styles[id(plan)] = (
+                                fill_ref.paint, rule, fill_ref.opacity, antialias)
+                        if block is None:
+                            if batch_source is None:
+                                batch_source = _RunSource(
+                                    all_verbs, shared.points, *self._batch_starts(),
+                                    None if identity else transform)
+                            nodes.append(_Runs(batch_source, i, i + 1, fill_style))
+                        else:
+                            nodes.append(_Runs(block.fill_source(), at, at + 1, fill_style))
+                        continue
                     if block is None:
                         device = new_path(Path)
                         if identity:            # (Path._of_shared)
@@ -1260,7 +1340,6 @@ class Builder:
                         user = new_path(Path)
                         user._arrays = verbs, block.points[at]
                 nodes.extend(self.stroke(user, style, ctx, None, antialias))
-        joins = self._joins_runs(ctx)
         if not queued:
             out.extend(_joined_runs(nodes) if joins else nodes)
             return
