@@ -187,3 +187,84 @@ def test_build_batch_leaves_out_the_horizontal_sides_on_row_boundaries(tol):
         assert edges[edge_off[p]:edge_off[p + 1]].tolist() == [list(s) for s in want]
     assert not any(on_row_boundary(e) for e in edges.tolist())
     assert dropped > len(edges) // 5
+
+
+def marking_polygons(rng):
+    """Edges (x0, y0, x1, y1) of closed polygons, as fills' ranges: hairline staircases, and
+    polygons with corners at whole and half pixels (rectangles among them), and at random."""
+    paths = staircase_paths(rng, 8)
+    for i in range(12):
+        k = int(rng.integers(3, 7))
+        pts = rng.uniform(-3, 27, (k, 2))
+        if i % 3 == 0:
+            pts = np.round(pts)
+        elif i % 3 == 1:
+            pts = np.round(pts * 2) / 2
+        paths.append(Path.from_arrays(np.array([MOVE] + [LINE] * (k - 1) + [CLOSE], np.uint8),
+                                      pts))
+    paths.append(rect_path(2.0, 3.0, 9.0, 5.0))
+    edges, edge_off, _, _ = build_batch(*batch_arrays(paths), 0.0, 1.0, NO_CULL)
+    return edges, edge_off
+
+
+def sample_winding(edges, W, H, sx, sy):
+    """The winding number at every sample of a W x H image by the raster's rule (docs/modes.md):
+    an edge from y_top to y_bottom counts for the sample rows y_top <= y < y_bottom, +1 going
+    down, -1 up, where the sample's x is at or beyond its crossing (worked out as the scan
+    works it out: x_top + (y - y_top) * dx/dy, less the sample's offset, rounded up)."""
+    X = np.arange(W)[None, :, None] + 0 * sx[None, None, :]
+    Y = np.arange(H)[:, None, None] + sy[None, None, :]
+    want = np.zeros((H, W, len(sx)))
+    for x0, y0, x1, y1 in edges:
+        if y0 == y1:
+            continue
+        (xt, yt, xb, yb), d = ((x0, y0, x1, y1), 1) if y0 < y1 else ((x1, y1, x0, y0), -1)
+        v = xt + (Y - yt) * ((xb - xt) / (yb - yt)) - sx[None, None, :]
+        want += np.where((Y >= yt) & (Y < yb) & (np.ceil(v) <= X), d, 0)
+    return want
+
+
+@pytest.mark.parametrize("samples", [1, 4, 8, 16])
+def test_scan_edges_marks_every_pixel_whose_samples_differ(samples):
+    """scan_edges' deltas sum to each sample's exact winding (crossings of the outline left
+    of it), land only on dirty pixels, and a pixel left clean has one winding at all its
+    samples (the sweep draws it as part of a span): for staircases and polygons whose
+    corners lie on pixel corners and sides, in strips of a few rows."""
+    from vecmsaa.raster.sample_patterns import standard_pattern
+    from vecmsaa.raster.scan import msaa_scratch, scan_edges
+    offsets = standard_pattern(samples) if samples > 1 else np.zeros((1, 2))
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    n, W, H, rows = len(sx), SIZE, SIZE, 5
+    edges, edge_off = marking_polygons(np.random.default_rng(samples))
+    for p in range(len(edge_off) - 1):
+        e = edges[edge_off[p]:edge_off[p + 1]]
+        want = sample_winding(e, W, H, sx, sy)
+        for sy0 in range(0, H, rows):
+            delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, n)[:5]
+            scan_edges(edges, np.empty((0, 2)), edge_off[p], edge_off[p + 1], sy0, rows, W, sx,
+                       sy, delta, dirty, dlist, dcount, np.zeros(rows, dtype=np.bool_),
+                       np.zeros(n, dtype=np.int64))
+            got = np.cumsum(delta[:, :W], axis=1)
+            assert np.array_equal(got, want[sy0:sy0 + rows]), (p, sy0)
+            marked = dirty[:, :W] != 0
+            assert not np.any(delta[:, :W][~marked]), (p, sy0)
+            clean = got[~marked]
+            assert np.all(clean == clean[:, :1]), (p, sy0)
+
+
+def test_a_rectangle_on_pixel_corners_marks_only_its_side_columns():
+    """A rectangle with its corners on pixel corners changes the winding only in the columns
+    of its left and right sides (all of a row's samples cross each side in that column; its
+    top and bottom split no pixel): those are all the dirty pixels, two a row."""
+    from vecmsaa.raster.scan import msaa_scratch, scan_edges
+    edges, edge_off, _, _ = build_batch(*batch_arrays([rect_path(3.0, 2.0, 7.0, 4.0)]), 0.0,
+                                        1.0, NO_CULL)
+    assert len(edges) == 2
+    offsets = np.array([[-0.375, -0.125], [0.125, -0.375], [-0.125, 0.375], [0.375, 0.125]])
+    sx, sy = offsets[:, 0] + 0.5, offsets[:, 1] + 0.5
+    rows, W = 8, 16
+    delta, _, dirty, dlist, dcount = msaa_scratch(rows, W, 4)[:5]
+    scan_edges(edges, np.empty((0, 2)), 0, len(edges), 0, rows, W, sx, sy, delta, dirty, dlist,
+               dcount, np.zeros(rows, dtype=np.bool_), np.zeros(4, dtype=np.int64))
+    assert [sorted(dlist[r, :dcount[r]].tolist()) for r in range(rows)] == \
+        [[]] * 2 + [[3, 10]] * 4 + [[]] * 2
