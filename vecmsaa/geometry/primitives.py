@@ -84,13 +84,28 @@ def _grow(arr, n):
 
 
 @njit(cache=True, inline="always")
+def _no_edge(x0, y0, x1, y1):
+    """Whether the line (x0, y0) - (x1, y1) is no edge for the scan converters: a point, or a
+    horizontal line on a row boundary (an integer y). A horizontal edge adds no winding
+    anywhere; it only splits the samples of the pixels it lies in, above it and below, and
+    the sample rows of pixel row floor(y) all lie at or below y = floor(y): the row's samples
+    are all on one side of it, so the scan marked its pixels dirty for nothing (a uniform
+    dirty pixel is drawn with its span's arithmetic: scan.sweep_rows), and the exact-area
+    kernel adds nothing for any horizontal line. A hairline's staircase is nearly a third
+    such lines (scan converters: docs/bench.md, session 34). (inf is an integer here: a row
+    no strip has.)"""
+    return y0 == y1 and (x0 == x1 or np.floor(y0) == y0)
+
+
+@njit(cache=True, inline="always")
 def _append_edge(edges, ne, x0, y0, x1, y1):
     """Edge ne of ``edges`` (grown if need be), unless it is a point. (Inlined in numba's IR
     into _push_edge and _push_line: as a call, its array arguments' reference counts cost a
     map's batch a third more time.)"""
-    if y0 == y1 and x0 == x1:
+    if _no_edge(x0, y0, x1, y1):
         return edges, ne
-    # horizontal edges cross no scanline but still split a pixel's samples: keep them
+    # horizontal edges cross no scanline but still split a pixel's samples: keep them (but
+    # those on a row boundary: _no_edge)
     edges = _grow(edges, ne)
     edges[ne, 0] = x0
     edges[ne, 1] = y0
@@ -189,8 +204,9 @@ def _store_line(edges, ne, x0, y0, x1, y1, top, bottom, right):
     reserves two edges a point). Inlined in numba's IR into the builders' loops over a path's
     lines: the call to _push_line costs the reference counts of the array it takes and
     returns, per edge (a third of the batch's build for 20,000 circles' hairline strokes)."""
-    if ne < edges.shape[0] and not (y0 == y1 and x0 == x1) \
-            and _adds_winding(x0, y0, x1, y1, top, bottom, right):
+    if _no_edge(x0, y0, x1, y1):
+        return edges, ne
+    if ne < edges.shape[0] and _adds_winding(x0, y0, x1, y1, top, bottom, right):
         edges[ne, 0] = x0
         edges[ne, 1] = y0
         edges[ne, 2] = x1

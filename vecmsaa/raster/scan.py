@@ -326,12 +326,13 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
             if min(x0, x1) >= W:
                 continue
             if y0 == y1:
-                # no crossing, but samples above and below it differ: the pixels it touches
-                # are dirty
+                # no crossing, but samples above and below it differ: the pixels whose
+                # inside it crosses are dirty (not one whose left side it ends on: the edge
+                # going on from that end marks it, see below)
                 r = _floor_int(y0) - sy0
                 if 0 <= r < rows and not hidden[r]:
                     lo_i = _pixel_index(min(x0, x1), W)
-                    hi_i = _pixel_index(_floor_int(max(x0, x1)) + 1, W)
+                    hi_i = _pixel_index(_ceil_int(max(x0, x1)) - 1, W)
                     for px in range(lo_i, hi_i + 1):
                         if dirty[r, px] == 0:
                             dirty[r, px] = 1
@@ -345,7 +346,10 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
             else:
                 xt, yt, xb, yb, d = x1, y1, x0, y0, np.float32(-1.0)
             r_lo = max(_floor_int(yt) - sy0, 0)
-            r_hi = min(_floor_int(yb) - sy0, rows - 1)
+            # an edge ending on a row boundary counts for no sample of the row below it
+            # (all at y >= yb) nor splits one there: not that row (a hairline staircase's
+            # side one row tall marked two rows)
+            r_hi = min(_floor_int(yb) - (1 if np.floor(yb) == yb else 0) - sy0, rows - 1)
             if r_lo > r_hi:
                 continue
             dxdy = (xb - xt) / (yb - yt)
@@ -365,14 +369,18 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
                 for s in range(n):
                     if col[s] < W:
                         delta[r, col[s], s] += d
-                # every pixel box this edge touches in the row becomes dirty (plus one to
-                # the right, where crossings of samples left of the edge land)
+                # every pixel box this edge touches in the row becomes dirty, and the one to
+                # the right, where crossings of samples left of the edge land: up to column
+                # ceil(x) for the rightmost x, since a sample's crossing (monotone in its y
+                # between ya and yb_) minus its sx >= 0 is at most x. An edge at an integer
+                # x (a hairline staircase's riser) lands all its samples in column x, whose
+                # right neighbour it marked for nothing
                 ya = max(yt, py)
                 yb_ = min(yb, py + 1.0)
                 xa = crossing_x(xt, yt, dxdy, ya)
                 xz = crossing_x(xt, yt, dxdy, yb_)
                 lo = _floor_int(min(xa, xz))
-                hi = _floor_int(max(xa, xz)) + 1
+                hi = _ceil_int(max(xa, xz))
                 lo_i = _pixel_index(lo, W)
                 hi_i = _pixel_index(hi, W)
                 for px in range(lo_i, hi_i + 1):
