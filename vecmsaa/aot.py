@@ -312,10 +312,10 @@ def _remove_others(folder: Path, name: str) -> None:
                 pass
 
 
-#: first run (`vecmsaa demo`), the two parts at once: 17.8-18.5 s wall, 34-36 s of CPU, 5 Dec
-#: 2026 on a 2-core AMD EPYC at load 2.5 (docs/bench.md, "Session 12, the first run"); the
-#: lazy part alone: 12.6 s of CPU
-BUILD_SECONDS = "18 s on two cores, 35 s of CPU"
+#: the build of the four parts (`python -m vecmsaa.aot`, the first run's wait): 54-57 s wall,
+#: 93-98 s of CPU, the longest part 28 s, 7 Dec 2026 on a 2-core AMD EPYC at load 1-1.5
+#: (docs/bench.md, "Session 34, the first run"); the lazy part alone: 12.6 s of CPU
+BUILD_SECONDS = "a minute on two cores, half that on four; 95 s of CPU"
 LAZY_BUILD_SECONDS = "13 s"
 
 
