@@ -361,7 +361,8 @@ def test_room_reserved_for_a_subpath_holds_its_outline(seed):
     without checks: on random subpaths (short and long segments, turns, segments meeting
     within a step, points, huge and non-finite coordinates) under small step and run limits,
     the outline the kernel makes of each subpath alone never exceeds the bound: verbs 5, points
-    4 a piece, runs as counted (a subpath's outline starts empty)."""
+    4 a piece, runs as counted (a subpath's outline starts empty; the steps' budget,
+    max_steps[1], as small as 1, bounds the room too)."""
     from vecmsaa.geometry import hairline_kernels
     room = hairline_kernels._rows_room.py_func
     rng = np.random.default_rng(seed)
@@ -385,7 +386,7 @@ def test_room_reserved_for_a_subpath_holds_its_outline(seed):
         v, p, rv, rp = hairline_kernels.hairline_rows(
             rows, np.array([0, n], np.int64), float(rng.choice([0.0, 0.25])), max_steps,
             alpha, run_rows)
-        quads, runs = room(rows, n, max_steps, run_rows)
+        quads, runs = room(rows, n, max_steps, run_rows, 0)   # (none counted before it)
         assert len(v) <= 5 * quads and len(p) <= 4 * quads
         assert len(rv) - 1 <= runs
         drawn += len(p) > 0
