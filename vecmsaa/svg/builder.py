@@ -703,7 +703,6 @@ class Builder:
         self.nodes_by_id = None        # a dict: the nodes of each element with an id go there
         self._path_index = None        # <path> element → its index in self._path_batch
         self._path_batch = None
-        self._path_starts = None       # see _batch_starts
         self._path_curved = None       # per path of the batch: a verb besides M, L and Z
         self._path_odd = None          # per path of the batch: see _odd_in_run
         # Object bounding boxes and the geometry-pass nodes of elements other than shapes,
@@ -1100,7 +1099,7 @@ class Builder:
         for got_ats, got_which, curves in ((ats, which, False), (curve_ats, curve_which, True)):
             if not got_ats:
                 continue
-            arrays = (batch.verbs, batch.points.points, *self._batch_starts(),
+            arrays = (batch.verbs, batch.points.points, *batch.offsets,
                       np.array(got_which, np.int64), lines_plan, transform, stroke_ref,
                       antialias)
             if joins:
@@ -1121,15 +1120,6 @@ class Builder:
         patterns (built again per instance, and read fill by fill) nor in geometry built for
         a bounding box."""
         return not (self.ref_stack or ctx.use_stack or ctx.geometry)
-
-    def _batch_starts(self):
-        """The document's path batch's verb and point offsets as int64 arrays, made once (the
-        batch keeps lists, to index path by path)."""
-        if self._path_starts is None:
-            batch = self._path_batch
-            self._path_starts = (np.asarray(batch.vstart, np.int64),
-                                 np.asarray(batch.pstart, np.int64))
-        return self._path_starts
 
     def _run_plan(self, style, ctx):
         """For _path_run: False when nothing is drawn, None when the elements must go through
@@ -1280,7 +1270,7 @@ class Builder:
                         if block is None:
                             if batch_source is None:
                                 batch_source = _RunSource(
-                                    all_verbs, shared.points, *self._batch_starts(),
+                                    all_verbs, shared.points, *self._path_batch.offsets,
                                     None if identity else transform)
                             nodes.append(_Runs(batch_source, i, i + 1, fill_style))
                         else:
@@ -1362,7 +1352,7 @@ class Builder:
                 lists = True
                 continue
             if block is None:
-                arrays = (all_verbs, shared.points, *self._batch_starts())
+                arrays = (all_verbs, shared.points, *self._path_batch.offsets)
             elif block is False:
                 if local is None:
                     local = _batch_of(own_paths)
@@ -2193,7 +2183,7 @@ class Builder:
             verbs = self._path_batch.verbs
             counts = np.zeros(len(verbs) + 1, np.int64)
             np.cumsum((verbs != MOVE) & (verbs != LINE) & (verbs != CLOSE), out=counts[1:])
-            at = self._batch_starts()[0]
+            at = self._path_batch.offsets[0]
             self._path_curved = (counts[at[1:]] > counts[at[:-1]]).tolist()
         return self._path_curved
 
@@ -2204,7 +2194,7 @@ class Builder:
         if self._path_odd is None:
             batch = self._path_batch
             verbs = batch.verbs
-            at = self._batch_starts()[0]
+            at = batch.offsets[0]
             two = at[1:] - at[:-1] == 2
             two[two] = verbs[at[:-1][two] + 1] == LINE
             self._path_odd = (np.array(batch.status, np.bool_)

@@ -554,7 +554,10 @@ class PathBatch:
         self.texts = texts
         self.verbs, self.origin = verbs[:nv].copy(), origin[:nv].copy()
         self.points = SharedPoints(pts[:npts].reshape(-1, 2).copy())
-        self.vstart, self.pstart = vstart.tolist(), (pstart // 2).tolist()
+        # the offsets as int64 arrays too (the kernels over the batch take them) and as
+        # lists (indexed path by path)
+        self.offsets = vstart, pstart // 2
+        self.vstart, self.pstart = vstart.tolist(), self.offsets[1].tolist()
         self.status = status.tolist()
         self._drawing = None
 
@@ -563,7 +566,7 @@ class PathBatch:
         if self._drawing is None:
             counts = np.zeros(len(self.verbs) + 1, np.int64)
             np.cumsum((self.verbs != MOVE) & (self.verbs != CLOSE), out=counts[1:])
-            at = np.asarray(self.vstart, np.int64)
+            at = self.offsets[0]
             self._drawing = (counts[at[1:]] > counts[at[:-1]]).tolist()
         return self._drawing
 
