@@ -44,11 +44,11 @@ def _scene(doc, enabled, monkeypatch, width=None, fonts=FONTS):
 
 
 def plain_lines(monkeypatch, simple=None):
-    """A list that gets True for each text the plain line drew (from its characters or from
-    the element: simple_text), False for each it left; ``simple``: a list that gets True
-    for each text simple_text drew."""
+    """A list that gets True for each text the plain line drew (from its characters, from
+    the element: simple_text, or as lines of one element each: span_lines), False for each
+    it left; ``simple``: a list that gets True for each text simple_text drew."""
     got = []
-    real, real_simple = line.plain_line, line.simple_text
+    real, real_simple, real_lines = line.plain_line, line.simple_text, line.span_lines
 
     def plain_line(*args):
         nodes = real(*args)
@@ -62,8 +62,14 @@ def plain_lines(monkeypatch, simple=None):
         if simple is not None:
             simple.append(nodes is not None)
         return nodes
+    def span_lines(*args):
+        nodes = real_lines(*args)
+        if nodes is not None:
+            got.append(True)
+        return nodes
     monkeypatch.setattr(line, "plain_line", plain_line)
     monkeypatch.setattr(line, "simple_text", simple_text)
+    monkeypatch.setattr(line, "span_lines", span_lines)
     return got
 
 

@@ -20,7 +20,9 @@ The steps follow SVG 1.1 §10 as resvg (usvg) implements them, one module per jo
    glyph (:mod:`vecmsaa.fonts.line_kernel`), the general route's floats. A ``<text>`` of
    characters alone (a label, a tick, a line of a page) is recognised there from the element
    before steps 1 and 2 make per-character lists (``simple_text``): white space, positions,
-   font and face are decided on its string and its computed style.
+   font and face are decided on its string and its computed style. A ``<text>`` of lines of
+   one element each (Inkscape's ``<tspan x=.. y=..>`` lines) takes steps 1's characters and
+   white space, then is laid out line by line so (``span_lines``).
 """
 from .layout import build_text
 

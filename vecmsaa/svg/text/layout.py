@@ -897,6 +897,11 @@ def build_text(element, ctx):
     ctx.count_characters(len(chars))
     if not chars:
         return []
+    if line.ENABLED and element.children:
+        # lines of one element each (Inkscape's tspans), each laid out as simple_text's
+        nodes = line.span_lines(element, chars, styles, ctx)
+        if nodes is not None:
+            return nodes
     apply_positions(element, chars, ctx, styles)
     chars = apply_text_transform(chars, styles, ctx.style)
     # A textPath in error renders none of its characters (SVG 2 textPath): they take no

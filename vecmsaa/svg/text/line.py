@@ -9,7 +9,9 @@ A ``<text>`` holding characters alone (no child element: a label, a tick, a line
 is recognised from the element before any per-character list is made (:func:`simple_text`):
 its white space collapsed on the string, its position lists read for the first character,
 its one font spec and face (the face of its family list that draws every character), its
-baseline shift, then the same arrays.
+baseline shift, then the same arrays. A ``<text>`` of lines of one element each (Inkscape's
+``<tspan x=.. y=..>`` lines, a label in a tspan) is laid out line by line so once its
+characters are collected and their white space collapsed (:func:`span_lines`).
 
 Everything else, and anything the kernel declines (clusters out of order, non-finite
 positions), takes the general route (:func:`.layout.build_text` from the shaping on); so does
@@ -93,33 +95,10 @@ def simple_text(element, ctx):
     get = element.get
     if get("textLength") is not None:
         return None
-    firsts = []
-    for name, axis, default in _POSITIONS:
-        value = get(name)
-        if value is None:
-            firsts.append(default)
-            continue
-        v = _plain_number(value)
-        if v is not None:
-            firsts.append(v)
-            continue
-        values = parse_length_list(value)
-        if len(values) > 1 and n > 1:
-            return None
-        if values:
-            v, unit = values[0]
-            v = v if unit in _USER_UNITS else ctx.length(f"{v!r}{unit}", axis, style)
-            if v is None:
-                return None
-            firsts.append(v)
-        else:
-            firsts.append(default)
-    rotate = get("rotate")
-    if rotate is not None:
-        # (an invalid list rotates nothing)
-        angles = parse_number_list(rotate)
-        if angles and any(angles[:n]):
-            return None
+    firsts = _first_positions(element, style, ctx, n)
+    if firsts is None or _rotates(element, n):
+        return None
+    firsts = [d if v is None else v for v, (_, _, d) in zip(firsts, _POSITIONS)]
     got = _line_style(element, style, ctx)
     if got is None:
         return None
@@ -139,6 +118,108 @@ _VERTICAL = frozenset(("tb", "tb-rl", "vertical-rl", "vertical-lr"))
 _POSITIONS = (("x", "x", None), ("y", "y", None), ("dx", "x", 0.0), ("dy", "y", 0.0))
 
 
+def span_lines(element, chars, styles, ctx):
+    """The scene nodes of a ``<text>`` with child elements whose characters are lines of one
+    element each, or None where the general route must draw it: the first line where the
+    text starts (the text's own characters or a ``<tspan>``'s), every other a ``<tspan>``
+    child with an x and a y of its own, so a chunk of its own (Inkscape's lines,
+    ``sodipodi:role="line"``; a label or a title in a tspan). ``chars`` are build_text's
+    after white space (read, not changed: the general route goes on with them where this
+    declines); ``styles`` collect_chars'. Each line is laid out as simple_text lays out a
+    ``<text>`` of its characters in its element's style and position values (the tspan's
+    first, else the text's for the first line), and the lines' fills, in order, share the
+    object bounding box of them all, as draw_clusters draws the runs of one element each."""
+    n = len(chars)
+    if ctx.geometry_only or (ctx.style.get("writing-mode") or "lr").strip() in _VERTICAL \
+            or element.get("textLength") is not None or _rotates(element, n) \
+            or any(child.get("textLength") is not None for child in element.children):
+        return None
+    outer = _first_positions(element, ctx.style, ctx, n)
+    if outer is None:
+        return None
+    # the lines: where each element's characters start (a span's follow each other)
+    starts = [i for i, (a, b) in enumerate(zip(chars, chars[1:]), 1) if a.span is not b.span]
+    lines = []                          # (decided before any is shaped)
+    for a, b in zip([0] + starts, starts + [n]):
+        span = chars[a].span
+        el = span.el
+        if chars[a].text_path is not None:
+            return None
+        style = styles[id(el)]
+        text = "".join(c.ch for c in chars[a:b])
+        if el is element:
+            if a:                       # (the text's own characters after a tspan's)
+                return None
+            firsts, got = outer, _line_style(el, style, ctx)
+        else:
+            if el.tag != "tspan" or span.parent.el is not element or _rotates(el, b - a):
+                return None
+            firsts = _first_positions(el, style, ctx, b - a)
+            if firsts is None or (a and (firsts[0] is None or firsts[1] is None)):
+                return None
+            if not a:                   # (the text's values where the tspan has none)
+                firsts = [o if v is None else v for v, o in zip(firsts, outer)]
+            got = _line_style(el, style, ctx, span)
+        if got is None:
+            return None
+        spec, face, shift = got
+        if (not _draws_all(face, text, ctx) or not _one_run(text)
+                or decorated(element, span)):
+            return None
+        lines.append((face, spec, text, firsts, shift, style))
+    placed_lines = []
+    for face, spec, text, (x, y, dx, dy), shift, style in lines:
+        placed = _place(face, spec, None, text, x, y, 0.0 if dx is None else dx,
+                        0.0 if dy is None else dy, shift, style, ctx)
+        if placed is None:
+            return None
+        placed_lines.append((placed, style))
+    boxes = [p[4] for p, _ in placed_lines]
+    if any(math.isnan(v) for box in boxes for v in box):
+        return None
+    bbox = (min(b[0] for b in boxes), min(b[1] for b in boxes), max(b[2] for b in boxes),
+            max(b[3] for b in boxes))
+    out = []
+    for placed, style in placed_lines:
+        out.extend(_line_nodes(placed, style, bbox, ctx))
+    return finish_text(out, ctx)
+
+
+def _first_positions(element, style, ctx, n):
+    """[x, y, dx, dy]: the first value of each of the element's position lists (user units;
+    None where it has none), or None where a value after the first applies to another of
+    its ``n`` characters (another chunk or offset: not a plain line) or a length does not
+    resolve."""
+    get = element.get
+    firsts = []
+    for name, axis, _ in _POSITIONS:
+        value = get(name)
+        if value is None:
+            firsts.append(None)
+            continue
+        v = _plain_number(value)
+        if v is not None:
+            firsts.append(v)
+            continue
+        values = parse_length_list(value)
+        if len(values) > 1 and n > 1:
+            return None
+        if values:
+            v, unit = values[0]
+            v = v if unit in _USER_UNITS else ctx.length(f"{v!r}{unit}", axis, style)
+            if v is None:
+                return None
+        firsts.append(v)
+    return firsts
+
+
+def _rotates(element, n):
+    """Whether the element's rotate list turns one of its ``n`` characters (the last value
+    turns those after it; an invalid list turns none)."""
+    rotate = element.get("rotate")
+    return rotate is not None and any((parse_number_list(rotate) or ())[:n])
+
+
 def _plain_number(value):
     """A list of one number written with digits, a point and a sign at most (``166.0``), as
     parse_length_list reads it (its NUMBER_RE and float agree on these characters), or None
@@ -151,23 +232,25 @@ def _plain_number(value):
     return None
 
 
-def _line_style(element, style, ctx):
+def _line_style(element, style, ctx, span=None):
     """(font spec, face, baseline shift) of a <text> of computed ``style`` whose characters
     may make a plain line, or None where its style says they do not (vertical writing,
     text-transform,
     letter- or word-spacing, a size that draws nothing, no family of its list, a face of
     colour or SVG glyphs); once per (style, kerning attribute, viewport) for the document,
     as its font spec (layout.element_spec): all of these follow from them, the baseline
-    shift of a <text> (layout.baseline_offset of its span) from its style and face."""
+    shift of a <text> (layout.baseline_offset of its span) from its style and face.
+    ``span``: a tspan's (span_lines), whose baseline shift and alignment add to its text's:
+    from its style too, whose parent is the text's (document.Style.child)."""
     known = ctx.cache.setdefault("plain styles", {})
-    key = style, kerning_attribute(element), ctx.viewport
+    key = style, kerning_attribute(element), ctx.viewport, span is None
     got = known.get(key)
     if got is None:
-        got = known[key] = _style_of_line(element, style, ctx) or ()
+        got = known[key] = _style_of_line(element, style, ctx, span) or ()
     return got or None
 
 
-def _style_of_line(element, style, ctx):
+def _style_of_line(element, style, ctx, span):
     if text_transform(style) or (style.get("writing-mode") or "lr").strip() in _VERTICAL:
         return None
     spec = _layout.element_spec(element, style, ctx)
@@ -177,7 +260,8 @@ def _style_of_line(element, style, ctx):
     face = _face(spec, ctx)
     if face is None or not _plain_face(face):
         return None
-    return spec, face, _layout.baseline_offset(Span(element, style, None), face, spec, False)
+    return spec, face, _layout.baseline_offset(span or Span(element, style, None), face, spec,
+                                               False)
 
 
 def _plain_face(face):
@@ -276,13 +360,17 @@ def _place(face, spec, faces, text, x, y, dx0, dy0, shift, style, ctx):
 
 def _draw(placed, style, ctx):
     """The nodes of a placed plain line (_place) in ``style``."""
-    face, loc, gids, mats, bbox, got = placed
-    out = []
-    if style.get("visibility").strip() not in ("hidden", "collapse"):
-        outlines = got[4]
-        if outlines is None:
-            outlines = got[4] = glyph_outlines(face, loc, gids.tolist()) or ()
-        path = Path.from_arrays(*placed_outlines(outlines or None, mats))
-        if not path.is_empty():
-            out = _nonzero(ctx.draw(path, style, bbox))
-    return finish_text(out, ctx)
+    return finish_text(_line_nodes(placed, style, placed[4], ctx), ctx)
+
+
+def _line_nodes(placed, style, bbox, ctx):
+    """The fill of a placed line's glyphs (none where hidden or empty), its object
+    bounding box ``bbox`` (the text's), before finish_text."""
+    face, loc, gids, mats, _, got = placed
+    if style.get("visibility").strip() in ("hidden", "collapse"):
+        return []
+    outlines = got[4]
+    if outlines is None:
+        outlines = got[4] = glyph_outlines(face, loc, gids.tolist()) or ()
+    path = Path.from_arrays(*placed_outlines(outlines or None, mats))
+    return [] if path.is_empty() else _nonzero(ctx.draw(path, style, bbox))
