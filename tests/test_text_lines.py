@@ -6,6 +6,7 @@ box), whatever the tspans hold, and the lines must take no per-character step pa
 space (no position lists written, no face assignment, no clusters)."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
@@ -87,7 +88,7 @@ def tspan_texts(draw):
     y = 0.0
     for k in range(draw(st.integers(1, 4))):
         own = []
-        position = draw(st.integers(0, 6 if lines else 9))
+        position = draw(st.integers(0, 7 if lines else 9))
         y += 12
         if position < 7:        # Inkscape's lines: both
             own.append(f'x="{draw(numbers(-300, 300))}" y="{y}"')
@@ -154,10 +155,11 @@ def test_inkscape_lines_take_no_per_character_step(monkeypatch):
 LEFT = [
     # (each needs the general route: span_lines leaves it, with the same fills)
     '<text x="10" y="20" font-family="Noto Sans">ab<tspan>cd</tspan></text>',
-    '<text font-family="Noto Sans"><tspan x="1" y="20">a</tspan><tspan x="1">b</tspan></text>',
     '<text font-family="Noto Sans"><tspan x="1" y="20">a</tspan><tspan y="30">b</tspan></text>',
-    '<text font-family="Noto Sans"><tspan x="1" y="20">a</tspan>\n<tspan x="1" y="30">b'
-    '</tspan></text>',
+    '<text font-family="Noto Sans" font-size="20"><tspan x="1" y="20" font-size="10">a</tspan>'
+    '\n<tspan x="1" y="30" font-size="10">b</tspan></text>',
+    '<text font-family="Noto Sans"><tspan x="1" y="20" baseline-shift="2">a</tspan>\n'
+    '<tspan x="1" y="30">b</tspan></text>',
     '<text x="10" y="20" font-family="Noto Sans"><tspan><tspan>a</tspan></tspan></text>',
     '<text x="10" y="20" font-family="Noto Sans"><a><tspan>a</tspan></a></text>',
     '<text x="10 30" y="20" font-family="Noto Sans"><tspan>ab</tspan></text>',
@@ -187,3 +189,20 @@ def test_the_lines_share_the_text_bounding_box(monkeypatch):
     scene = load_svg(doc, **FONTS)
     first, second = list(scene.fills())
     assert repr(first.paint) == repr(second.paint)
+
+
+def test_lines_of_x_alone_go_down_by_their_dy(monkeypatch):
+    # a tspan with an x and no y starts a chunk at the y where the chunk before ends (SVG 2
+    # text layout: the current text position), so dy="1.2em" puts each line 1.2 em (24 at
+    # font-size 20) below the one before; pretty-printed, the text's line breaks between the
+    # tspans are spaces at the lines' ends, which draw nothing
+    taken = span_lines_taken(monkeypatch)
+    doc = _doc(['<text x="30" y="40" font-family="Noto Sans" font-size="20">\n  '
+                '<tspan x="30" dy="0">ab</tspan>\n  <tspan x="30" dy="1.2em">ab</tspan>\n  '
+                '<tspan x="30" dy="1.2em">ab</tspan>\n</text>'])
+    fills = list(load_svg(doc, **FONTS).fills())
+    assert taken == [True] and len(fills) == 3
+    points = [f.path.points for f in fills]
+    for k in (1, 2):
+        assert np.allclose(points[k], points[0] + [0.0, 24.0 * k], atol=1e-9)
+    assert _scene(doc, True, monkeypatch) == _scene(doc, False, monkeypatch)

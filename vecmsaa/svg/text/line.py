@@ -148,14 +148,25 @@ def span_lines(element, chars, styles, ctx):
         style = styles[id(el)]
         text = "".join(c.ch for c in chars[a:b])
         if el is element:
-            if a:                       # (the text's own characters after a tspan's)
-                return None
-            firsts, got = outer, _line_style(el, style, ctx)
+            got = _line_style(el, style, ctx)
+            if a:
+                # the text's own characters after a line: only spaces in the line's font
+                # (a pretty-printed document's line breaks), which the line takes: the
+                # general route shapes and places them with its chunk, and their run draws
+                # nothing (the spaces' glyphs must be blank: checked once placed)
+                line = lines[-1]
+                if text.strip(" ") or got is None or got[0] is not line[1] \
+                        or got[1] is not line[0] or got[2] != line[4] \
+                        or decorated(element, span):
+                    return None
+                line[2] += text
+                continue
+            firsts = outer
         else:
             if el.tag != "tspan" or span.parent.el is not element or _rotates(el, b - a):
                 return None
             firsts = _first_positions(el, style, ctx, b - a)
-            if firsts is None or (a and (firsts[0] is None or firsts[1] is None)):
+            if firsts is None or (a and firsts[0] is None):
                 return None
             if not a:                   # (the text's values where the tspan has none)
                 firsts = [o if v is None else v for v, o in zip(firsts, outer)]
@@ -166,13 +177,24 @@ def span_lines(element, chars, styles, ctx):
         if (not _draws_all(face, text, ctx) or not _one_run(text)
                 or decorated(element, span)):
             return None
-        lines.append((face, spec, text, firsts, shift, style))
+        lines.append([face, spec, text, firsts, shift, style, b - a])
     placed_lines = []
-    for face, spec, text, (x, y, dx, dy), shift, style in lines:
-        placed = _place(face, spec, None, text, x, y, 0.0 if dx is None else dx,
-                        0.0 if dy is None else dy, shift, style, ctx)
+    y_end = 0.0                         # (where the line before ends: a line of x alone)
+    for face, spec, text, (x, y, dx, dy), shift, style, own in lines:
+        dx = 0.0 if dx is None else dx
+        dy = 0.0 if dy is None else dy
+        # a chunk started by x alone continues at the y the one before ends at: its y plus
+        # its first character's dy, as position_linear sums a horizontal chunk's dy
+        y = y_end if y is None else y
+        y_end = y + (0.0 + dy)
+        placed = _place(face, spec, None, text, x, y, dx, dy, shift, style, ctx)
         if placed is None:
             return None
+        if own < len(text):
+            _, loc, gids, _, _, (_, _, clusters, _, _) = placed
+            if any(face.outline_box(int(g), loc) is not None
+                   for g, c in zip(gids.tolist(), clusters.tolist()) if c >= own):
+                return None
         placed_lines.append((placed, style))
     boxes = [p[4] for p, _ in placed_lines]
     if any(math.isnan(v) for box in boxes for v in box):
