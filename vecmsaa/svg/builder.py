@@ -408,12 +408,13 @@ def _compose_rows(rows, m):
     a1, b1, c1, d1, e1, f1 = rows.T
     a2, b2, c2, d2, e2, f2 = m
     out = np.empty_like(rows)
-    out[:, 0] = a1 * a2 + c1 * b2
-    out[:, 1] = b1 * a2 + d1 * b2
-    out[:, 2] = a1 * c2 + c1 * d2
-    out[:, 3] = b1 * c2 + d1 * d2
-    out[:, 4] = a1 * e2 + c1 * f2 + e1
-    out[:, 5] = b1 * e2 + d1 * f2 + f1
+    with np.errstate(all="ignore"):     # (inf - inf is NaN here as in compose(), silently)
+        out[:, 0] = a1 * a2 + c1 * b2
+        out[:, 1] = b1 * a2 + d1 * b2
+        out[:, 2] = a1 * c2 + c1 * d2
+        out[:, 3] = b1 * c2 + d1 * d2
+        out[:, 4] = a1 * e2 + c1 * f2 + e1
+        out[:, 5] = b1 * e2 + d1 * f2 + f1
     return out
 
 
@@ -620,6 +621,10 @@ def _origin_values(text):
 #: the targets of <use> whose content may be prepared once for all instances (see
 #: Builder._prepare_instance)
 _INSTANCEABLE = SHAPES | {"symbol", "g", "a"}
+
+#: the properties that give an element a transform of its own (Builder.element_transform
+#: is IDENTITY for a style that specifies none of them)
+_TRANSFORMING = frozenset(("transform", "translate", "rotate", "scale"))
 
 #: what Builder.length reads as a plain number without split_length (see there)
 _PLAIN_NUMBER_CHARS = "0123456789.+-"
@@ -907,42 +912,42 @@ class Builder:
         _element and use_translated compose it; those of a stretch of such uses are made
         together (_use_instances). Any other <use> goes through element()."""
         doc, targets, links = self.doc, self._use_targets, self._links_back_memo
-        instanced = self._instanced
-        viewport = ctx.viewport
-        length = self.length
-        plain = {}          # Style -> whether a use of it may be built here
-        # the stretch of uses made together: each one's prepared content, x and y, and
-        # for a use with a transform of its own, (its index, that transform composed with
-        # the context's, its own)
-        gots, xs, ys, owns = [], [], [], []
+        # Style -> None where a use of it goes through element(), else whether it may
+        # have a transform of its own (element_transform is IDENTITY without one)
+        plain = {}
+        # (target, Style, width, height) -> the prepared content (None: element()'s way)
+        contents = {}
+        # the stretch of uses made together: each one's prepared content, x and y texts and
+        # Style, and for a use with a transform of its own, (its index, that transform
+        # composed with the context's, its own)
+        gots, xs, ys, styles, owns = [], [], [], [], []
         for el in uses:
             style = parent_style.child(el)
-            ok = plain.get(style)
-            if ok is None:
-                ok = plain[style] = (style.get("display").strip() != "none"
-                                     and self._instance_plain(style))
-            got = m = None
-            if ok and conditions_pass(el):
-                target = use_target(el, doc, targets, links)
+            moves = plain.get(style, plain)
+            if moves is plain:
+                moves = plain[style] = (
+                    (not _TRANSFORMING.isdisjoint(style.specified))
+                    if style.get("display").strip() != "none" and self._instance_plain(style)
+                    else None)
+            m = None
+            attrs = el.attrs
+            if moves is not None and ("systemLanguage" not in attrs and
+                                      "requiredExtensions" not in attrs
+                                      or conditions_pass(el)):
+                target = targets.get(el, targets)
+                if target is targets:
+                    target = use_target(el, doc, targets, links)
                 if target is not None and target.tag in _INSTANCEABLE:
-                    attrs = el.attrs
-                    # content that inherits nothing from the use's own values is prepared
-                    # under the style it inherits from (matplotlib's glyphs: a use each with
-                    # a translation of its own, one prepared content per glyph)
-                    owner = style
-                    if not self._inherits_within(target):
-                        while owner.parent is not None and _passes_on(owner):
-                            owner = owner.parent
-                    key = (target, owner, viewport, attrs.get("width"), attrs.get("height"))
-                    got = instanced.get(key, instanced)
-                    if got is instanced:
-                        got = instanced[key] = self._prepare_instance(el, target, owner, ctx)
-                if got is not None and got.clip_rect is None:
-                    m = self.element_transform(el, style, ctx)
+                    key = (target, style, attrs.get("width"), attrs.get("height"))
+                    got = contents.get(key, contents)
+                    if got is contents:
+                        got = contents[key] = self._use_content(el, target, style, ctx)
+                    if got is not None:
+                        m = self.element_transform(el, style, ctx) if moves else IDENTITY
             if m is None:
                 if gots:
-                    self._use_instances(gots, xs, ys, owns, ctx, out)
-                    gots, xs, ys, owns = [], [], [], []
+                    self._use_instances(gots, xs, ys, styles, owns, ctx, out)
+                    gots, xs, ys, styles, owns = [], [], [], [], []
                 out.extend(self.element(el, ctx, parent_style))
                 continue
             self.nodes_made += 1 + got.count
@@ -951,19 +956,42 @@ class Builder:
             if m is not IDENTITY:
                 owns.append((len(gots), compose(ctx.transform, m), m))
             gots.append(got)
-            xs.append(length(attrs.get("x"), "x", style, viewport, 0.0))
-            ys.append(length(attrs.get("y"), "y", style, viewport, 0.0))
+            xs.append(attrs.get("x"))
+            ys.append(attrs.get("y"))
+            styles.append(style)
         if gots:
-            self._use_instances(gots, xs, ys, owns, ctx, out)
+            self._use_instances(gots, xs, ys, styles, owns, ctx, out)
 
-    def _use_instances(self, gots, xs, ys, owns, ctx, out) -> None:
+    def _use_content(self, el, target, style, ctx):
+        """For _use_run: the prepared content (an _Instanced that clips to no viewport) a
+        <use> of ``style`` and ``target`` (one of _INSTANCEABLE) draws, kept in
+        self._instanced, or None where the use goes through element(). Content that
+        inherits nothing from the use's own values is prepared under the style it inherits
+        from (matplotlib's glyphs: a use each with a translation of its own, one prepared
+        content per glyph)."""
+        owner = style
+        if not self._inherits_within(target):
+            while owner.parent is not None and _passes_on(owner):
+                owner = owner.parent
+        attrs = el.attrs
+        key = (target, owner, ctx.viewport, attrs.get("width"), attrs.get("height"))
+        instanced = self._instanced
+        got = instanced.get(key, instanced)
+        if got is instanced:
+            got = instanced[key] = self._prepare_instance(el, target, owner, ctx)
+        return got if got is not None and got.clip_rect is None else None
+
+    def _use_instances(self, gots, xs, ys, styles, owns, ctx, out) -> None:
         """Append the nodes of a stretch of _use_run's uses: use i instantiates gots[i]
         under the transform compose(base, translate(xs[i], ys[i])) (base where both are 0),
         base being ctx's transform, or for a use in ``owns`` (i, base, its own transform)
         that composed with ctx's. Where the stretch has too few fills for a FillRuns
         (MIN_JOINED_RUNS), each instance is _instance's and every fill's points are mapped
         in one kernel call for the stretch (apply_each maps each group as apply() maps
-        it); else _use_arrays makes them."""
+        it); else _use_arrays makes them. xs and ys are the uses' attribute texts (None
+        where absent), read as Builder.length reads them under their ``styles``."""
+        xs = self._use_lengths(xs, "x", styles, ctx.viewport)
+        ys = self._use_lengths(ys, "y", styles, ctx.viewport)
         if sum(len(got.items) for got in gots) >= MIN_JOINED_RUNS:
             self._use_arrays(gots, xs, ys, owns, ctx, out)
             return
@@ -990,6 +1018,16 @@ class Builder:
             device._arrays = fill[0], mapped[at:at + n]
             at += n
 
+    def _use_lengths(self, texts, axis, styles, viewport) -> list:
+        """Builder.length of each of texts (0 where absent) under its Style: in one go
+        where each is a plain number or absent (_plain_lengths), else one by one."""
+        values = _plain_lengths(texts, 0.0)
+        if values is None:
+            length = self.length
+            values = [length(text, axis, style, viewport, 0.0)
+                      for text, style in zip(texts, styles)]
+        return values
+
     def _use_arrays(self, gots, xs, ys, owns, ctx, out) -> None:
         """_use_instances' stretch made as arrays, with Python work per prepared content
         and per transform's linear part (_use_plan) rather than per instance: every fill of
@@ -1004,12 +1042,14 @@ class Builder:
         n = len(gots)
         x, y = np.array(xs, np.float64), np.array(ys, np.float64)
         moved = ~((x == 0.0) & (y == 0.0))
-        # each instance's plan, by (content, the linear part of its base: None for ctx's,
-        # whether x or y moves it), made once for each in order of first use
+        # each instance's plan, by (content, the linear part of its base: None for ctx's),
+        # made once for each in order of first use (x and y change no linear part: the top
+        # compose() makes of a translation has the base's, zeros' signs aside, which no
+        # key tells apart)
         lins = [None] * n
         for i, base, _ in owns:
             lins[i] = base[:4]
-        keys = list(zip(gots, lins, moved.tolist()))
+        keys = list(zip(gots, lins))
         # (each key's first instance: the dict keeps the smallest index, set last)
         firsts = sorted(dict(zip(reversed(keys), range(n - 1, -1, -1))).items(),
                         key=itemgetter(1))
@@ -1020,9 +1060,9 @@ class Builder:
         plans, index = [], {}
         for key, i in firsts:
             index[key] = len(plans)
-            got, lin, move = key
+            got, lin = key
             base = ctx.transform if lin is None else own[i][0]
-            top = compose(base, translate(xs[i], ys[i])) if move else base
+            top = compose(base, translate(xs[i], ys[i])) if moved[i] else base
             plans.append(self._use_plan(got, top, ctx, chains, chain_of, sources, source_of,
                                         styles, style_of))
         at = np.fromiter(map(index.__getitem__, keys), np.int64, n)
