@@ -986,13 +986,15 @@ class Builder:
         under the transform compose(base, translate(xs[i], ys[i])) (base where both are 0),
         base being ctx's transform, or for a use in ``owns`` (i, base, its own transform)
         that composed with ctx's. Where the stretch has too few fills for a FillRuns
-        (MIN_JOINED_RUNS), each instance is _instance's and every fill's points are mapped
-        in one kernel call for the stretch (apply_each maps each group as apply() maps
-        it); else _use_arrays makes them. xs and ys are the uses' attribute texts (None
-        where absent), read as Builder.length reads them under their ``styles``."""
+        (MIN_JOINED_RUNS) or is not drawn as built (_joins_runs), each instance is
+        _instance's and every fill's points are mapped in one kernel call for the stretch
+        (apply_each maps each group as apply() maps it); else _use_arrays makes them. xs
+        and ys are the uses' attribute texts (None where absent), read as Builder.length
+        reads them under their ``styles``."""
         xs = self._use_lengths(xs, "x", styles, ctx.viewport)
         ys = self._use_lengths(ys, "y", styles, ctx.viewport)
-        if sum(len(got.items) for got in gots) >= MIN_JOINED_RUNS:
+        if (sum(len(got.items) for got in gots) >= MIN_JOINED_RUNS
+                and self._joins_runs(ctx)):
             self._use_arrays(gots, xs, ys, owns, ctx, out)
             return
         own = {i: (base, m) for i, base, m in owns}
