@@ -401,6 +401,24 @@ def _fill_runs(stretch):
     return FillRuns(verbs, points, voff, poff, styles, kind)
 
 
+def _map_unmapped(unmapped) -> None:
+    """The points of the Fills Builder._instance left to its caller (``unmapped``: (Path,
+    (verbs, mapper, points), matrix) each), mapped in one kernel call (apply_each maps each
+    group as apply() maps it) and set."""
+    if not unmapped:
+        return
+    fills = list(map(itemgetter(1), unmapped))
+    points = list(map(itemgetter(2), fills))
+    mapped = apply_each(np.array(list(map(itemgetter(2), unmapped)), np.float64),
+                        np.fromiter(map(len, points), np.int64, len(points)),
+                        np.concatenate(points))
+    at = 0
+    for (device, fill, _), pts in zip(unmapped, points):
+        n = len(pts)
+        device._arrays = fill[0], mapped[at:at + n]
+        at += n
+
+
 def _compose_rows(rows, m):
     """compose(row, m) for each row of an (N, 6) array of transforms, by the operations
     compose() does, on columns (the same bytes as each row composed alone); m's entries
@@ -1007,18 +1025,7 @@ class Builder:
             top = c.transform if x == 0.0 and y == 0.0 else \
                 compose(c.transform, translate(x, y))
             out.extend(self._instance(got, c, top, unmapped, counted=True))
-        if not unmapped:
-            return
-        fills = list(map(itemgetter(1), unmapped))
-        points = list(map(itemgetter(2), fills))
-        mapped = apply_each(np.array(list(map(itemgetter(2), unmapped)), np.float64),
-                            np.fromiter(map(len, points), np.int64, len(points)),
-                            np.concatenate(points))
-        at = 0
-        for (device, fill, _), pts in zip(unmapped, points):
-            n = len(pts)
-            device._arrays = fill[0], mapped[at:at + n]
-            at += n
+        _map_unmapped(unmapped)
 
     def _use_lengths(self, texts, axis, styles, viewport) -> list:
         """Builder.length of each of texts (0 where absent) under its Style: in one go
@@ -1083,6 +1090,7 @@ class Builder:
         pieces = []
         r0 = 0
         general = [j for j, plan in enumerate(plans) if plan is False]
+        unmapped = []
         if general:
             for i in np.flatnonzero(np.isin(at, general)).tolist():
                 c = ctx
@@ -1091,13 +1099,14 @@ class Builder:
                     c = ctx_with(ctx, transform=base, chain=ctx.chain + (m,))
                 top = compose(c.transform, translate(xs[i], ys[i])) if moved[i] else \
                     c.transform
-                nodes = self._instance(gots[i], c, top, counted=True)
+                nodes = self._instance(gots[i], c, top, unmapped, counted=True)
                 if nodes:
                     r1 = int(ends[i])
                     if r1 > r0:
                         pieces.append((r0, r1))
                         r0 = r1
                     pieces.append(nodes)
+        _map_unmapped(unmapped)
         if total > r0:
             pieces.append((r0, total))
         if not total:
