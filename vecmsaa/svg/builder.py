@@ -401,6 +401,41 @@ def _fill_runs(stretch):
     return FillRuns(verbs, points, voff, poff, styles, kind)
 
 
+def _map_unmapped(unmapped) -> None:
+    """The points of the Fills Builder._instance left to its caller (``unmapped``: (Path,
+    (verbs, mapper, points), matrix) each), mapped in one kernel call (apply_each maps each
+    group as apply() maps it) and set."""
+    if not unmapped:
+        return
+    fills = list(map(itemgetter(1), unmapped))
+    points = list(map(itemgetter(2), fills))
+    mapped = apply_each(np.array(list(map(itemgetter(2), unmapped)), np.float64),
+                        np.fromiter(map(len, points), np.int64, len(points)),
+                        np.concatenate(points))
+    at = 0
+    for (device, fill, _), pts in zip(unmapped, points):
+        n = len(pts)
+        device._arrays = fill[0], mapped[at:at + n]
+        at += n
+
+
+def _compose_rows(rows, m):
+    """compose(row, m) for each row of an (N, 6) array of transforms, by the operations
+    compose() does, on columns (the same bytes as each row composed alone); m's entries
+    numbers or arrays of N."""
+    a1, b1, c1, d1, e1, f1 = rows.T
+    a2, b2, c2, d2, e2, f2 = m
+    out = np.empty_like(rows)
+    with np.errstate(all="ignore"):     # (inf - inf is NaN here as in compose(), silently)
+        out[:, 0] = a1 * a2 + c1 * b2
+        out[:, 1] = b1 * a2 + d1 * b2
+        out[:, 2] = a1 * c2 + c1 * d2
+        out[:, 3] = b1 * c2 + d1 * d2
+        out[:, 4] = a1 * e2 + c1 * f2 + e1
+        out[:, 5] = b1 * e2 + d1 * f2 + f1
+    return out
+
+
 def _first_uses(objects):
     """The distinct objects (by identity) in order of first use, and each one's index
     there, by maps (a Python turn per object cost a scatter plot's 40,000 pieces more)."""
@@ -604,6 +639,10 @@ def _origin_values(text):
 #: the targets of <use> whose content may be prepared once for all instances (see
 #: Builder._prepare_instance)
 _INSTANCEABLE = SHAPES | {"symbol", "g", "a"}
+
+#: the properties that give an element a transform of its own (Builder.element_transform
+#: is IDENTITY for a style that specifies none of them)
+_TRANSFORMING = frozenset(("transform", "translate", "rotate", "scale"))
 
 #: what Builder.length reads as a plain number without split_length (see there)
 _PLAIN_NUMBER_CHARS = "0123456789.+-"
@@ -887,63 +926,303 @@ class Builder:
         matplotlib's markers and glyphs: thousands in a page or a plot): what element() makes
         of each whose style is plain (displayed; no filter, clip path, mask, opacity, blending
         or isolation, so wrap() gives its nodes as they are) and whose target has prepared
-        content (use()'s _Instanced) that clips to no viewport: its transform composed as
-        _element and use_translated compose it, the content instantiated by _instance, and
-        every instance's points mapped in one kernel call for the run (apply_each maps each
-        group as apply() maps it). Any other <use> goes through element()."""
+        content (use()'s _Instanced) that clips to no viewport, its transform composed as
+        _element and use_translated compose it; those of a stretch of such uses are made
+        together (_use_instances). Any other <use> goes through element()."""
         doc, targets, links = self.doc, self._use_targets, self._links_back_memo
-        instanced = self._instanced
-        viewport = ctx.viewport
-        length = self.length
-        plain = {}          # Style -> whether a use of it may be built here
-        unmapped = []
+        # Style -> None where a use of it goes through element(), else whether it may
+        # have a transform of its own (element_transform is IDENTITY without one)
+        plain = {}
+        # (target, Style, width, height) -> the prepared content (None: element()'s way)
+        contents = {}
+        # the stretch of uses made together: each one's prepared content, x and y texts and
+        # Style, and for a use with a transform of its own, (its index, that transform
+        # composed with the context's, its own)
+        gots, xs, ys, styles, owns = [], [], [], [], []
         for el in uses:
             style = parent_style.child(el)
-            ok = plain.get(style)
-            if ok is None:
-                ok = plain[style] = (style.get("display").strip() != "none"
-                                     and self._instance_plain(style))
-            got = m = None
-            if ok and conditions_pass(el):
-                target = use_target(el, doc, targets, links)
+            moves = plain.get(style, plain)
+            if moves is plain:
+                moves = plain[style] = (
+                    (not _TRANSFORMING.isdisjoint(style.specified))
+                    if style.get("display").strip() != "none" and self._instance_plain(style)
+                    else None)
+            m = None
+            attrs = el.attrs
+            if moves is not None and ("systemLanguage" not in attrs and
+                                      "requiredExtensions" not in attrs
+                                      or conditions_pass(el)):
+                target = targets.get(el, targets)
+                if target is targets:
+                    target = use_target(el, doc, targets, links)
                 if target is not None and target.tag in _INSTANCEABLE:
-                    attrs = el.attrs
-                    # content that inherits nothing from the use's own values is prepared
-                    # under the style it inherits from (matplotlib's glyphs: a use each with
-                    # a translation of its own, one prepared content per glyph)
-                    owner = style
-                    if not self._inherits_within(target):
-                        while owner.parent is not None and _passes_on(owner):
-                            owner = owner.parent
-                    key = (target, owner, viewport, attrs.get("width"), attrs.get("height"))
-                    got = instanced.get(key, instanced)
-                    if got is instanced:
-                        got = instanced[key] = self._prepare_instance(el, target, owner, ctx)
-                if got is not None and got.clip_rect is None:
-                    m = self.element_transform(el, style, ctx)
+                    key = (target, style, attrs.get("width"), attrs.get("height"))
+                    got = contents.get(key, contents)
+                    if got is contents:
+                        got = contents[key] = self._use_content(el, target, style, ctx)
+                    if got is not None:
+                        m = self.element_transform(el, style, ctx) if moves else IDENTITY
             if m is None:
+                if gots:
+                    self._use_instances(gots, xs, ys, styles, owns, ctx, out)
+                    gots, xs, ys, styles, owns = [], [], [], [], []
                 out.extend(self.element(el, ctx, parent_style))
                 continue
-            self.nodes_made += 1
-            c = ctx if m is IDENTITY else ctx_with(ctx, transform=compose(ctx.transform, m),
-                                                   chain=ctx.chain + (m,))
-            x = length(attrs.get("x"), "x", style, viewport, 0.0)
-            y = length(attrs.get("y"), "y", style, viewport, 0.0)
+            self.nodes_made += 1 + got.count
+            if self.nodes_made > MAX_NODES:
+                raise SvgError("document expands to too many elements")
+            if m is not IDENTITY:
+                owns.append((len(gots), compose(ctx.transform, m), m))
+            gots.append(got)
+            xs.append(attrs.get("x"))
+            ys.append(attrs.get("y"))
+            styles.append(style)
+        if gots:
+            self._use_instances(gots, xs, ys, styles, owns, ctx, out)
+
+    def _use_content(self, el, target, style, ctx):
+        """For _use_run: the prepared content (an _Instanced that clips to no viewport) a
+        <use> of ``style`` and ``target`` (one of _INSTANCEABLE) draws, kept in
+        self._instanced, or None where the use goes through element(). Content that
+        inherits nothing from the use's own values is prepared under the style it inherits
+        from (matplotlib's glyphs: a use each with a translation of its own, one prepared
+        content per glyph)."""
+        owner = style
+        if not self._inherits_within(target):
+            while owner.parent is not None and _passes_on(owner):
+                owner = owner.parent
+        attrs = el.attrs
+        key = (target, owner, ctx.viewport, attrs.get("width"), attrs.get("height"))
+        instanced = self._instanced
+        got = instanced.get(key, instanced)
+        if got is instanced:
+            got = instanced[key] = self._prepare_instance(el, target, owner, ctx)
+        return got if got is not None and got.clip_rect is None else None
+
+    def _use_instances(self, gots, xs, ys, styles, owns, ctx, out) -> None:
+        """Append the nodes of a stretch of _use_run's uses: use i instantiates gots[i]
+        under the transform compose(base, translate(xs[i], ys[i])) (base where both are 0),
+        base being ctx's transform, or for a use in ``owns`` (i, base, its own transform)
+        that composed with ctx's. Where the stretch has too few fills for a FillRuns
+        (MIN_JOINED_RUNS) or is not drawn as built (_joins_runs), each instance is
+        _instance's and every fill's points are mapped in one kernel call for the stretch
+        (apply_each maps each group as apply() maps it); else _use_arrays makes them. xs
+        and ys are the uses' attribute texts (None where absent), read as Builder.length
+        reads them under their ``styles``."""
+        xs = self._use_lengths(xs, "x", styles, ctx.viewport)
+        ys = self._use_lengths(ys, "y", styles, ctx.viewport)
+        if (sum(len(got.items) for got in gots) >= MIN_JOINED_RUNS
+                and self._joins_runs(ctx)):
+            self._use_arrays(gots, xs, ys, owns, ctx, out)
+            return
+        own = {i: (base, m) for i, base, m in owns}
+        unmapped = []
+        for i, (got, x, y) in enumerate(zip(gots, xs, ys)):
+            c = ctx
+            if i in own:
+                base, m = own[i]
+                c = ctx_with(ctx, transform=base, chain=ctx.chain + (m,))
             top = c.transform if x == 0.0 and y == 0.0 else \
                 compose(c.transform, translate(x, y))
-            out.extend(self._instance(got, c, top, unmapped))
-        if not unmapped:
+            out.extend(self._instance(got, c, top, unmapped, counted=True))
+        _map_unmapped(unmapped)
+
+    def _use_lengths(self, texts, axis, styles, viewport) -> list:
+        """Builder.length of each of texts (0 where absent) under its Style: in one go
+        where each is a plain number or absent (_plain_lengths), else one by one."""
+        values = _plain_lengths(texts, 0.0)
+        if values is None:
+            length = self.length
+            values = [length(text, axis, style, viewport, 0.0)
+                      for text, style in zip(texts, styles)]
+        return values
+
+    def _use_arrays(self, gots, xs, ys, owns, ctx, out) -> None:
+        """_use_instances' stretch made as arrays, with Python work per prepared content
+        and per transform's linear part (_use_plan) rather than per instance: every fill of
+        every instance (a prepared fill, or a stroke outline _instance_outline makes once
+        per linear part) is a run of one source's verbs and points, its transform composed
+        for all the instances at once (_compose_rows: the operations compose() does, on
+        columns), its points gathered and mapped by one apply_each call, and the runs
+        appended as one FillRuns (the same fills, in the same order, as _instance's). An
+        instance whose strokes are made per instance (hairlines, dashes, non-scaling) is
+        _instance's, between the runs of the others; runs between two such that are too
+        few for a FillRuns become Fills."""
+        n = len(gots)
+        x, y = np.array(xs, np.float64), np.array(ys, np.float64)
+        moved = ~((x == 0.0) & (y == 0.0))
+        # each instance's plan, by (content, the linear part of its base: None for ctx's),
+        # made once for each in order of first use (x and y change no linear part: the top
+        # compose() makes of a translation has the base's, zeros' signs aside, which no
+        # key tells apart)
+        lins = [None] * n
+        for i, base, _ in owns:
+            lins[i] = base[:4]
+        keys = list(zip(gots, lins))
+        # (each key's first instance: the dict keeps the smallest index, set last)
+        firsts = sorted(dict(zip(reversed(keys), range(n - 1, -1, -1))).items(),
+                        key=itemgetter(1))
+        own = {i: (base, m) for i, base, m in owns}
+        chains, chain_of = [], {}
+        sources, source_of = [], {}
+        styles, style_of = [], {}
+        plans, index = [], {}
+        for key, i in firsts:
+            index[key] = len(plans)
+            got, lin = key
+            base = ctx.transform if lin is None else own[i][0]
+            top = compose(base, translate(xs[i], ys[i])) if moved[i] else base
+            plans.append(self._use_plan(got, top, ctx, chains, chain_of, sources, source_of,
+                                        styles, style_of))
+        at = np.fromiter(map(index.__getitem__, keys), np.int64, n)
+        # the runs: each instance's plan's, in order
+        sizes = np.array([0 if plan is False else len(plan) for plan in plans], np.int64)
+        per = sizes[at]
+        table = np.array([e for plan in plans if plan is not False for e in plan] or
+                         np.empty((0, 3)), np.int64).reshape(-1, 3)
+        first = np.cumsum(sizes) - sizes
+        ends = np.cumsum(per)
+        total = int(ends[-1]) if n else 0
+        rows = np.repeat(first[at] - (ends - per), per) + np.arange(total)
+        chain_at, source_at, kind = (np.ascontiguousarray(table[rows, k]) for k in range(3))
+        # the stretch in order: runs r0..r1 (a tuple), or the node list of an instance whose
+        # strokes are made per instance
+        pieces = []
+        r0 = 0
+        general = [j for j, plan in enumerate(plans) if plan is False]
+        unmapped = []
+        if general:
+            for i in np.flatnonzero(np.isin(at, general)).tolist():
+                c = ctx
+                if i in own:
+                    base, m = own[i]
+                    c = ctx_with(ctx, transform=base, chain=ctx.chain + (m,))
+                top = compose(c.transform, translate(xs[i], ys[i])) if moved[i] else \
+                    c.transform
+                nodes = self._instance(gots[i], c, top, unmapped, counted=True)
+                if nodes:
+                    r1 = int(ends[i])
+                    if r1 > r0:
+                        pieces.append((r0, r1))
+                        r0 = r1
+                    pieces.append(nodes)
+        _map_unmapped(unmapped)
+        if total > r0:
+            pieces.append((r0, total))
+        if not total:
+            for piece in pieces:
+                out.extend(piece)
             return
-        fills = list(map(itemgetter(1), unmapped))
-        points = list(map(itemgetter(2), fills))
-        mapped = apply_each(np.array(list(map(itemgetter(2), unmapped)), np.float64),
-                            np.fromiter(map(len, points), np.int64, len(points)),
-                            np.concatenate(points))
-        at = 0
-        for (device, fill, _), pts in zip(unmapped, points):
-            n = len(pts)
-            device._arrays = fill[0], mapped[at:at + n]
-            at += n
+        # each instance's top transform, then each run's: its content's chain composed
+        tops = np.empty((n, 6), np.float64)
+        tops[:] = ctx.transform
+        if owns:
+            tops[[i for i, _, _ in owns]] = [base for _, base, _ in owns]
+        if moved.any():
+            tops[moved] = _compose_rows(tops[moved], (1.0, 0.0, 0.0, 1.0, x[moved], y[moved]))
+        ts = tops[np.repeat(np.arange(n), per)]
+        lengths = np.array([len(chain) for chain in chains], np.int64)
+        if lengths.any():
+            longest = int(lengths.max())
+            mats = np.zeros((len(chains), longest, 6), np.float64)
+            for c, chain in enumerate(chains):
+                if chain:
+                    mats[c, :len(chain)] = chain
+            run_lengths = lengths[chain_at]
+            for size in np.unique(lengths[lengths > 0]).tolist():
+                take = run_lengths == size
+                every = take.all()
+                t = ts if every else ts[take]
+                chain_mats = mats[chain_at if every else chain_at[take]]
+                for k in range(size):
+                    t = _compose_rows(t, chain_mats[:, k].T)
+                if every:
+                    ts = t
+                else:
+                    ts[take] = t
+        # the runs' verbs and points copied from their sources' (gather_runs), then mapped
+        vl = np.array([len(v) for v, _ in sources], np.int64)
+        pl = np.array([len(p) for _, p in sources], np.int64)
+        vo, po = np.zeros(len(sources) + 1, np.int64), np.zeros(len(sources) + 1, np.int64)
+        np.cumsum(vl, out=vo[1:])
+        np.cumsum(pl, out=po[1:])
+        lp = pl[source_at]
+        voff, poff = np.zeros(total + 1, np.int64), np.zeros(total + 1, np.int64)
+        np.cumsum(vl[source_at], out=voff[1:])
+        np.cumsum(lp, out=poff[1:])
+        verbs = np.empty(int(voff[-1]), np.uint8)
+        points = np.empty((int(poff[-1]), 2), np.float64)
+        gather_runs(np.concatenate([v for v, _ in sources]).astype(np.uint8, copy=False),
+                    _points64(np.concatenate([p for _, p in sources])), vo, po, source_at,
+                    np.arange(total), verbs, points, voff, poff)
+        mapped = apply_each(ts, lp, points)
+        # (a run under the identity is its source's points, as _instance gives them)
+        same = (ts == IDENTITY).all(axis=1)
+        if same.any():
+            rows = np.repeat(same, lp)
+            mapped[rows] = points[rows]
+        for piece in pieces:
+            if piece.__class__ is list:
+                out.extend(piece)
+                continue
+            b0, b1 = piece
+            if b1 - b0 >= MIN_JOINED_RUNS:
+                v0, v1, p0, p1 = voff[b0], voff[b1], poff[b0], poff[b1]
+                out.append(FillRuns(verbs[v0:v1], mapped[p0:p1], voff[b0:b1 + 1] - v0,
+                                    poff[b0:b1 + 1] - p0, styles, kind[b0:b1]))
+                continue
+            new_path = Path.__new__
+            bounds = poff[b0:b1 + 1].tolist()
+            for s, k, q0, q1 in zip(source_at[b0:b1].tolist(), kind[b0:b1].tolist(),
+                                    bounds, bounds[1:]):
+                path = new_path(Path)
+                path._arrays = sources[s][0], mapped[q0:q1]
+                out.append(Fill(path, *styles[k]))
+
+    def _use_plan(self, got, top, ctx, chains, chain_of, sources, source_of, styles,
+                  style_of):
+        """For _use_arrays: the runs an instance of prepared content ``got`` under a top
+        transform of ``top``'s linear part makes, as (chain, source, style) indexes into
+        the lists ``chains`` (each the matrices a run's transform composes with the top, in
+        order), ``sources`` ((verbs, points) of a fill or stroke outline in user space) and
+        ``styles`` ((paint, rule, opacity, antialias)), each kept once (``*_of``: its index
+        by key); False when a stroke is made per instance (_instance_outline's False)."""
+        symbol = () if got.symbol_m is None else (got.symbol_m,)
+        t0 = top if got.symbol_m is None else compose(top, got.symbol_m)
+        plan = []
+        last, t = (), t0
+        for matrices, fill, path, a, b, c, d in got.items:
+            if matrices is not last:
+                t = t0
+                for m in matrices:
+                    t = compose(t, m)
+                last = matrices
+            if fill is not None:
+                arrays, style = fill, (a, b, c, d)
+            else:
+                outline = self._instance_outline(path, a, ctx, t, c, b)
+                if outline is False:
+                    return False
+                if not outline:
+                    continue
+                _, ref, opacity, arrays = outline
+                style = (ref.paint, "nonzero", opacity, b)
+            key = (id(got), id(matrices))
+            ci = chain_of.get(key)
+            if ci is None:
+                ci = chain_of[key] = len(chains)
+                chains.append(symbol + matrices)
+            si = source_of.get(id(arrays))
+            if si is None:
+                si = source_of[id(arrays)] = len(sources)
+                sources.append((arrays[0], arrays[2]))
+            skey = (id(style[0]),) + style[1:]
+            ki = style_of.get(skey)
+            if ki is None:
+                ki = style_of[skey] = len(styles)
+                styles.append(style)
+            plan.append((ci, si, ki))
+        return plan
 
     def _path_run(self, run, ctx, parent_style, out) -> None:
         """Append the nodes of sibling <path> elements that specify no style (no presentation
@@ -2066,16 +2345,18 @@ class Builder:
                                        None))
         return True
 
-    def _instance(self, prepared, ctx, top=None, unmapped=None):
+    def _instance(self, prepared, ctx, top=None, unmapped=None, counted=False):
         """The nodes of one instance of prepared content (_Instanced) under the <use>'s
         context: the transforms composed as the build composes them, element by element,
         so every point is where building the instance would put it. ``top``: the use's
         transform where ``ctx`` does not hold it (_use_run's: then the content clips to no
         viewport); ``unmapped``: a list to which each fill's (Path, points, matrix) is
-        appended for the caller to map, the Path's points left unset (_use_run)."""
-        self.nodes_made += prepared.count
-        if self.nodes_made > MAX_NODES:
-            raise SvgError("document expands to too many elements")
+        appended for the caller to map, the Path's points left unset (_use_run);
+        ``counted``: the caller has counted the content's elements (MAX_NODES)."""
+        if not counted:
+            self.nodes_made += prepared.count
+            if self.nodes_made > MAX_NODES:
+                raise SvgError("document expands to too many elements")
         if top is None:
             top = ctx.transform
         if prepared.symbol_m is not None:
@@ -2124,12 +2405,32 @@ class Builder:
         return got
 
     def _instance_stroke(self, path, style, ctx, t, viewport, antialias, unmapped=None):
-        """stroke() of a path of prepared content under an instance's transform ``t``. A
-        solid scaling stroke's outline depends on the transform's linear part alone (its plan:
-        _stroke_plan), not on where the instance is: it is made once for each linear part and
-        mapped by each instance's ``t`` as stroke() maps it (a plot's thousands of markers),
-        or left to the caller to map with ``unmapped`` (see _instance). Other strokes
-        (hairlines, dashed, non-scaling) are stroke()'s for each instance."""
+        """stroke() of a path of prepared content under an instance's transform ``t``: a
+        solid scaling stroke's outline (_instance_outline's, made once for each linear part)
+        mapped by ``t`` as stroke() maps it (a plot's thousands of markers), or left to the
+        caller to map with ``unmapped`` (see _instance). Other strokes (hairlines, dashed,
+        non-scaling) are stroke()'s for each instance."""
+        got = self._instance_outline(path, style, ctx, t, viewport, antialias)
+        if got is False:
+            return self.stroke(path, style, ctx_with(ctx, transform=t, viewport=viewport),
+                               LazyBounds(path), antialias)
+        if not got:
+            return []
+        outline, ref, opacity, arrays = got
+        if unmapped is None or t == IDENTITY:
+            return _stroke_fills(outline, t, ref, opacity, antialias)
+        device = Path.__new__(Path)
+        unmapped.append((device, arrays, t))
+        return [Fill(device, ref.paint, opacity=opacity, antialias=antialias)]
+
+    def _instance_outline(self, path, style, ctx, t, viewport, antialias):
+        """The stroke of a path of prepared content under an instance's transform ``t``,
+        where it depends on ``t`` only through its linear part (its plan: _stroke_plan): a
+        solid scaling stroke's outline in user space, (outline Path, PaintRef, opacity,
+        (verbs, None, C-contiguous float64 points)), kept per (path, style, linear part,
+        viewport, antialias); () for no stroke (or an outline that draws nothing, which
+        _stroke_fills leaves out); False for a stroke that stroke() makes per instance
+        (hairlines, dashed, non-scaling)."""
         key = (id(path), style, t[:4], viewport, antialias)
         got = self._instance_strokes.get(key)
         if got is None:
@@ -2150,17 +2451,7 @@ class Builder:
                     got = (outline, ref, _stroke_opacity(plan, ref),
                            (v, None, np.ascontiguousarray(p, dtype=np.float64)))
             self._instance_strokes[key] = got
-        if got is False:
-            return self.stroke(path, style, ctx_with(ctx, transform=t, viewport=viewport),
-                               LazyBounds(path), antialias)
-        if not got:
-            return []
-        outline, ref, opacity, arrays = got
-        if unmapped is None or t == IDENTITY:
-            return _stroke_fills(outline, t, ref, opacity, antialias)
-        device = Path.__new__(Path)
-        unmapped.append((device, arrays, t))
-        return [Fill(device, ref.paint, opacity=opacity, antialias=antialias)]
+        return got
 
     # -- shapes and painting -----------------------------------------------------------------
     def path_data(self, el) -> Path:
