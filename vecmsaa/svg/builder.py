@@ -39,9 +39,9 @@ from .resources import Resources
 from .shapes import (CIRCLE_LENGTHS, ELLIPSE_VERBS, RECT_LENGTHS, _ellipse_params,
                      author_path_length, ellipse_points, rect_params, rounded_rect_path,
                      shape_box, shape_path)
-from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
-                    parse_length_list, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
+from .units import (NUMBER_RE, eval_calc, individual_transform, mean_scale, parse_aspect,
+                    parse_length_list, parse_number, parse_number_prefix, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
                     viewbox_transform, viewbox_transform_f32, zero_size_viewbox)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
@@ -636,6 +636,42 @@ _FLAT_GROUPS = frozenset(("g", "a"))
 _FEW_SHAPES = 16
 #: below this many strokes of one style and kind, _shape_run strokes each through stroke()
 _FEW_STROKES = 4
+
+
+#: a points list's items one after another (units._LIST_ITEM, whose matches at each place
+#: _points_path's finditer finds while they are contiguous)
+_POINTS_ITEM = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
+#: (a polyline's or polygon's points, whether closed) -> its verbs, for up to _FEW_POINTS
+_POINTS_VERBS = {}
+_FEW_POINTS = 64
+
+
+def _points_path(tag, el):
+    """shape_path's Path of a <polyline> or <polygon> (its moveTo, lineTos and closePath
+    recorded; None for fewer than two points) made as arrays: the list read by one
+    finditer where its items follow one another to its end and all are finite (the
+    numbers parse_number_prefix reads: the same float() of the same text), else by
+    parse_number_prefix; the verbs of each length made once."""
+    text = el.get("points", "") or ""
+    groups, end = [], 0
+    for m in _POINTS_ITEM.finditer(text):
+        if m.start() != end:
+            break
+        groups.append(m.group(1))
+        end = m.end()
+    nums = list(map(float, groups))
+    if end != len(text) or not all(map(math.isfinite, nums)):
+        nums = parse_number_prefix(text)
+    k = len(nums) // 2
+    if k < 2:
+        return None
+    closed = tag == "polygon"
+    verbs = _POINTS_VERBS.get((k, closed))
+    if verbs is None:
+        verbs = np.array([MOVE] + [LINE] * (k - 1) + [CLOSE] * closed, np.uint8)
+        if k <= _FEW_POINTS:
+            _POINTS_VERBS[k, closed] = verbs
+    return Path._of_arrays(verbs, np.array(nums[:2 * k], np.float64).reshape(k, 2))
 
 
 class _ShapeBlock:
@@ -1279,7 +1315,8 @@ class Builder:
                 if e is not None:
                     todo.append((el, style, plan, ellipses, ellipses.add(e)))
             else:
-                path = shape_path(el, self.length_getter(el, style, ctx))
+                path = _points_path(tag, el) if tag == "polygon" or tag == "polyline" else \
+                    shape_path(el, self.length_getter(el, style, ctx))
                 if path is not None:
                     todo.append((el, style, plan, False, path))
         # (the elements counted as element() counts them; a break's were)
