@@ -229,9 +229,9 @@ def test_shapes_made_in_bulk_have_shapes_pens_points():
 
 def test_shape_run_strokes_hairlines_at_once_and_reads_lengths_in_bulk(monkeypatch):
     """A D3 scatter's circles (plain-number lengths, strokes under a pixel wide): no length()
-    call per circle (their lengths read as columns), a hairline kernel call for each
-    HAIRLINE_CHUNK of their strokes, each stroke's runs in its circle's place; the same
-    nodes as element() makes of each circle."""
+    call per circle (their lengths read as columns), one hairline kernel call for all of
+    their strokes, each stroke's runs in its circle's place; the same nodes as element()
+    makes of each circle."""
     rng = random.Random(11)
     circles = "".join(f'<circle cx="{rng.uniform(0, 100):.2f}" cy="{rng.uniform(0, 100):.2f}" '
                       f'r="{rng.choice(["2.1", "3", "6.0", "0.5"])}" fill="steelblue" '
@@ -250,8 +250,7 @@ def test_shape_run_strokes_hairlines_at_once_and_reads_lengths_in_bulk(monkeypat
                         counting("hairline", builder_module.hairline_batch))
     monkeypatch.setattr(Builder, "shape_runs", True)
     runs = canon(load_svg(svg, width=100).root)
-    # (hairlines HAIRLINE_CHUNK circles a call)
-    assert calls["hairline"] == -(-300 // builder_module.HAIRLINE_CHUNK) < 300
+    assert calls["hairline"] == 1
     assert calls["length"] <= 2              # (the style's stroke width, and no circle's)
     monkeypatch.setattr(Builder, "shape_runs", False)
     alone = canon(load_svg(svg, width=100).root)

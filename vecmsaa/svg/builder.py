@@ -284,16 +284,14 @@ def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, a
 
 
 def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, antialias,
-                  curves=False):
+                  curves=False, chunk=None):
     """_outline_fills' outlines as a _Runs of each path (which[j]'s the j-th), not yet
-    Fills: _joined_runs makes them FillRuns, or Fills where few. Hairlines are stroked
-    HAIRLINE_CHUNK paths at a time, a kernel call and a _RunSource each (the kernel strokes
-    each path on its own: the same outlines): a call's arrays grow with its outlines (a
-    hairline's are hundreds of points), and past a few hundred paths growing them and
-    writing fresh memory cost more per path than the calls."""
+    Fills: _joined_runs makes them FillRuns, or Fills where few. ``chunk``: the paths
+    stroked that many at a time, a kernel call and a _RunSource each (the kernels stroke
+    each path on its own: the same outlines); None: all in one call."""
     style = (ref.paint, "nonzero", _stroke_opacity(plan, ref), antialias)
     out = []
-    chunk = HAIRLINE_CHUNK if plan[0] == "hairline" else max(len(which), 1)
+    chunk = chunk or max(len(which), 1)
     for c0 in range(0, len(which), chunk):
         part = which[c0:c0 + chunk]
         ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, part, plan,
@@ -308,9 +306,13 @@ def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, an
     return out
 
 
-#: hairlines stroked in one kernel call by _outline_runs, at most (8,000 class-styled paths
-#: at 1000 px: 14 us a path in one call, 6 to 7 in calls of 16 to 128, 8 of 512; the curve
-#: stroker's 2 px outlines of them: 7 us in one call, 6 in calls of 64 to 256)
+#: hairlines of several styles queued together (_shape_run) stroked this many paths a kernel
+#: call, at most: a call's arrays grow with its outlines (a hairline's are hundreds of points)
+#: and past a few hundred paths growing them and writing fresh memory cost more per path
+#: than the calls (8,000 class-styled paths at 1000 px: 14 us a path in one call, 6 to 7 in
+#: calls of 16 to 128, 8 of 512). One style's stay one call, as before (a D3 scatter's
+#: 20,000 circles: no faster in chunks, and 40 MB more at the peak, the chunks' freed room
+#: kept in the heap); the curve stroker hardly cares (7 us a path in one call, 6 in chunks)
 HAIRLINE_CHUNK = 128
 
 
@@ -1475,9 +1477,13 @@ class Builder:
                 if arrays is None:
                     arrays = block_batches[block] = block.batch()
             if joins:
+                # (several styles' hairlines, once calls of their own, a few calls: see
+                # HAIRLINE_CHUNK)
+                chunk = HAIRLINE_CHUNK if stroke_plan[0] == "hairline" and any(
+                    style is not styles[0] for style in styles) else None
                 for at, runs in zip(ats, _outline_runs(*arrays, np.array(indexes, np.int64),
                                                        stroke_plan, transform, stroke_ref,
-                                                       antialias, curves)):
+                                                       antialias, curves, chunk)):
                     nodes[at] = runs
                 continue
             fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
