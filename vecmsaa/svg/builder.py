@@ -636,7 +636,8 @@ _FLAT_GROUPS = frozenset(("g", "a"))
 
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
-#: below this many strokes of one style and kind, _shape_run strokes each through stroke()
+#: below this many strokes of one queue (_queue_key) and kind, _shape_run strokes each
+#: through stroke()
 _FEW_STROKES = 4
 
 
@@ -1269,9 +1270,11 @@ class Builder:
         circles' and rectangles' lengths are read for all of them at once (_shape_lengths),
         the geometry of circles, ellipses and rectangles made for all of them at once
         (_ShapeBlock, the points of shapes.py's paths), the fills mapped to the device in
-        one call, and hairlines and strokes of lines (solid, scaling) stroked per style and
-        kind of geometry in one kernel call (_outline_fills); other strokes go through
-        stroke() path by path."""
+        one call, and hairlines and strokes of lines (solid, scaling) stroked per stroke
+        (_queue_key: styles alike in their strokes together) and kind of geometry in one
+        kernel call (_outline_fills; several styles' hairlines in chunks, HAIRLINE_CHUNK);
+        other strokes go through stroke() path by path. Items (None, nodes, False) are
+        breaks (children(): other elements' nodes), put in their place."""
         breaks = 0
         transform = ctx.transform
         identity = transform == IDENTITY
@@ -1335,13 +1338,13 @@ class Builder:
         curved_paths = None
         nodes = []
         # strokes for _outline_fills (curves=True: curves, solid, wider than a hairline), per
-        # style, where their geometry is (the document's path batch: None; a
+        # stroke (_queue_key), where their geometry is (the document's path batch: None; a
         # _ShapeBlock; paths of their own: False, in own_paths) and whether curves: [stroke
-        # plan, stroke PaintRef, antialias, style, where, their places in nodes, their
-        # indexes in the batch, block or own_paths, whether curves]
+        # plan, stroke PaintRef, antialias, each one's style, where, their places in nodes,
+        # their indexes in the batch, block or own_paths, whether curves]
         queued = {}
         own_paths = []                          # (verbs, points) of paths of their own queued
-        stroke_plans = {}                       # style -> its stroke plan here
+        stroke_plans = {}                       # style -> its (stroke plan, queue key) here
         new_path = Path.__new__                 # (Path._of_arrays written out)
         joins = self._joins_runs(ctx)
         fill_styles = {}                        # id(plan) -> its fills' style (joins)
