@@ -39,9 +39,9 @@ from .resources import Resources
 from .shapes import (CIRCLE_LENGTHS, ELLIPSE_VERBS, RECT_LENGTHS, _ellipse_params,
                      author_path_length, ellipse_points, rect_params, rounded_rect_path,
                      shape_box, shape_path)
-from .units import (eval_calc, individual_transform, mean_scale, parse_aspect,
-                    parse_length_list, parse_number, parse_opacity, parse_transform,
-                    parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
+from .units import (NUMBER_RE, eval_calc, individual_transform, mean_scale, parse_aspect,
+                    parse_length_list, parse_number, parse_number_prefix, parse_opacity,
+                    parse_transform, parse_viewbox, split_length, to_px, UNIT_PX, url_argument,
                     viewbox_transform, viewbox_transform_f32, zero_size_viewbox)
 
 SHAPES = {"rect", "circle", "ellipse", "line", "polyline", "polygon", "path"}
@@ -284,18 +284,36 @@ def _outline_fills(verbs, points, vstart, pstart, which, plan, transform, ref, a
 
 
 def _outline_runs(verbs, points, vstart, pstart, which, plan, transform, ref, antialias,
-                  curves=False):
+                  curves=False, chunk=None):
     """_outline_fills' outlines as a _Runs of each path (which[j]'s the j-th), not yet
-    Fills: _joined_runs makes them FillRuns, or Fills where few."""
-    ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, which, plan,
-                                            transform, ref, curves)
-    source = _RunSource(ov, op, vo, po)
+    Fills: _joined_runs makes them FillRuns, or Fills where few. ``chunk``: the paths
+    stroked that many at a time, a kernel call and a _RunSource each (the kernels stroke
+    each path on its own: the same outlines); None: all in one call."""
     style = (ref.paint, "nonzero", _stroke_opacity(plan, ref), antialias)
-    n = len(which)
-    if owner is None:
-        return [_Runs(source, j, j + 1, style) for j in range(n)]
-    bounds = np.searchsorted(owner, np.arange(n + 1)).tolist()
-    return [_Runs(source, b0, b1, style) for b0, b1 in zip(bounds, bounds[1:])]
+    out = []
+    chunk = chunk or max(len(which), 1)
+    for c0 in range(0, len(which), chunk):
+        part = which[c0:c0 + chunk]
+        ov, op, vo, po, owner = _outline_arrays(verbs, points, vstart, pstart, part, plan,
+                                                transform, ref, curves)
+        source = _RunSource(ov, op, vo, po)
+        n = len(part)
+        if owner is None:
+            out.extend([_Runs(source, j, j + 1, style) for j in range(n)])
+            continue
+        bounds = np.searchsorted(owner, np.arange(n + 1)).tolist()
+        out.extend([_Runs(source, b0, b1, style) for b0, b1 in zip(bounds, bounds[1:])])
+    return out
+
+
+#: hairlines of several styles queued together (_shape_run) stroked this many paths a kernel
+#: call, at most: a call's arrays grow with its outlines (a hairline's are hundreds of points)
+#: and past a few hundred paths growing them and writing fresh memory cost more per path
+#: than the calls (8,000 class-styled paths at 1000 px: 14 us a path in one call, 6 to 7 in
+#: calls of 16 to 128, 8 of 512). One style's stay one call, as before (a D3 scatter's
+#: 20,000 circles: no faster in chunks, and 40 MB more at the peak, the chunks' freed room
+#: kept in the heap); the curve stroker hardly cares (7 us a path in one call, 6 in chunks)
+HAIRLINE_CHUNK = 128
 
 
 class _RunSource:
@@ -652,10 +670,50 @@ assert UNIT_PX[""] == 1.0       # (so split_length's value times it is the value
 _LENGTH_UNITS = frozenset(UNIT_PX).difference({""}).union({"%", "em", "ex"})
 
 
+#: containers whose children children() may walk as its own (see Builder._flat_group)
+_FLAT_GROUPS = frozenset(("g", "a"))
+
 #: below this many shapes of a kind, _ShapeBlock makes their points row by row
 _FEW_SHAPES = 16
-#: below this many strokes of one style and kind, _shape_run strokes each through stroke()
+#: below this many strokes of one queue (_queue_key) and kind, _shape_run strokes each
+#: through stroke()
 _FEW_STROKES = 4
+
+
+#: a points list's items one after another (units._LIST_ITEM, whose matches at each place
+#: _points_path's finditer finds while they are contiguous)
+_POINTS_ITEM = re.compile(rf"[ \t\n\r]*({NUMBER_RE})[ \t\n\r]*,?")
+#: (a polyline's or polygon's points, whether closed) -> its verbs, for up to _FEW_POINTS
+_POINTS_VERBS = {}
+_FEW_POINTS = 64
+
+
+def _points_path(tag, el):
+    """shape_path's Path of a <polyline> or <polygon> (its moveTo, lineTos and closePath
+    recorded; None for fewer than two points) made as arrays: the list read by one
+    finditer where its items follow one another to its end and all are finite (the
+    numbers parse_number_prefix reads: the same float() of the same text), else by
+    parse_number_prefix; the verbs of each length made once."""
+    text = el.get("points", "") or ""
+    groups, end = [], 0
+    for m in _POINTS_ITEM.finditer(text):
+        if m.start() != end:
+            break
+        groups.append(m.group(1))
+        end = m.end()
+    nums = list(map(float, groups))
+    if end != len(text) or not all(map(math.isfinite, nums)):
+        nums = parse_number_prefix(text)
+    k = len(nums) // 2
+    if k < 2:
+        return None
+    closed = tag == "polygon"
+    verbs = _POINTS_VERBS.get((k, closed))
+    if verbs is None:
+        verbs = np.array([MOVE] + [LINE] * (k - 1) + [CLOSE] * closed, np.uint8)
+        if k <= _FEW_POINTS:
+            _POINTS_VERBS[k, closed] = verbs
+    return Path._of_arrays(verbs, np.array(nums[:2 * k], np.float64).reshape(k, 2))
 
 
 class _ShapeBlock:
@@ -876,7 +934,24 @@ class Builder:
         # <use>'s, a pattern's, mask's or clip path's): there element() keeps each shape's
         # path for the next instance (_shape_path); nor uses)
         shape_runs = not (self.ref_stack or ctx.use_stack)
-        for child in el.children:
+        # the children of plain groups (_flat_group: what element() makes of one is its
+        # children's nodes as they are) are walked here as if they were el's, so that a run
+        # of shapes goes on across groups (Graphviz: a <g> per node and per edge); ``stack``
+        # the levels walked into, ``it`` and ``parent`` the one being walked. Other elements
+        # met while shapes are pending are built at once and their nodes kept in the run as
+        # a break (an item (None, nodes, False): _shape_run puts them in their place)
+        stack = []
+        it, parent = iter(el.children), style
+        while True:
+            child = next(it, None)
+            if child is None:
+                if not stack:
+                    break
+                if pending and kind != "shape":     # (a path or use run shares its parent)
+                    self._built_together(kind, pending, ctx, parent, out)
+                    pending, kind = [], None
+                it, parent = stack.pop()
+                continue
             # (no conditional processing attribute: conditions_pass holds without looking;
             # no pathLength, which only shape() applies; tested here, not in a function: a
             # call per path costs more than the test)
@@ -891,26 +966,57 @@ class Builder:
                 if tag == "path" and not child.specified:
                     item, what = child, "path"
                 elif shape_runs:
-                    child_style = style.child(child)
+                    child_style = parent.child(child)
                     cache = child_style.cache
                     plan = cache.get("shape-plan", cache)
                     if plan is cache:
                         plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
                     if plan is not None:
                         item, what = (child, child_style, plan), "shape"
+            elif tag in _FLAT_GROUPS and shape_runs:
+                group_style = parent.child(child)
+                if self._flat_group(group_style) and conditions_pass(child):
+                    self.nodes_made += 1                # (as element() counts it)
+                    if self.nodes_made > MAX_NODES:
+                        raise SvgError("document expands to too many elements")
+                    if pending and kind != "shape":
+                        self._built_together(kind, pending, ctx, parent, out)
+                        pending, kind = [], None
+                    stack.append((it, parent))
+                    it, parent = iter(child.children), group_style
+                    continue
             if item is not None and what == kind:
                 pending.append(item)
                 continue
+            if item is None and kind == "shape":
+                nodes = self.element(child, ctx, parent)
+                if nodes:
+                    pending.append((None, nodes, False))
+                continue
             if pending:
-                self._built_together(kind, pending, ctx, style, out)
+                self._built_together(kind, pending, ctx, parent, out)
             if item is None:
                 pending, kind = [], None
-                out.extend(self.element(child, ctx, style))
+                out.extend(self.element(child, ctx, parent))
             else:
                 pending, kind = [item], what
         if pending:
-            self._built_together(kind, pending, ctx, style, out)
+            self._built_together(kind, pending, ctx, parent, out)
         return out
+
+    def _flat_group(self, style) -> bool:
+        """Whether children() may walk the children of a <g> or <a> of this style as its own
+        (kept with the style as "flat-group"): displayed, and no transform, clip path, mask,
+        filter, opacity, blending or isolation of its own (_shape_plan's LAYER_PROPERTIES;
+        opacity 1 and the rest as _plain_wrap reads them), so that element() gives its
+        children's nodes as they are, built in the same context."""
+        cache = style.cache
+        flat = cache.get("flat-group")
+        if flat is None:
+            flat = cache["flat-group"] = (LAYER_PROPERTIES.isdisjoint(style.specified)
+                                          and style.get("display").strip() != "none"
+                                          and self._plain_wrap(style))
+        return flat
 
     def _built_together(self, kind, items, ctx, style, out) -> None:
         """children()'s pending run of ``kind``'s items, built and appended to ``out``."""
@@ -1443,13 +1549,12 @@ class Builder:
         circles' and rectangles' lengths are read for all of them at once (_shape_lengths),
         the geometry of circles, ellipses and rectangles made for all of them at once
         (_ShapeBlock, the points of shapes.py's paths), the fills mapped to the device in
-        one call, and hairlines and strokes of lines (solid, scaling) stroked per style and
-        kind of geometry in one kernel call (_outline_fills); other strokes go through
-        stroke() path by path."""
-        n = len(items)
-        self.nodes_made += n
-        if self.nodes_made > MAX_NODES:
-            raise SvgError("document expands to too many elements")
+        one call, and hairlines and strokes of lines (solid, scaling) stroked per stroke
+        (_queue_key: styles alike in their strokes together) and kind of geometry in one
+        kernel call (_outline_fills; several styles' hairlines in chunks, HAIRLINE_CHUNK);
+        other strokes go through stroke() path by path. Items (None, nodes, False) are
+        breaks (children(): other elements' nodes), put in their place."""
+        breaks = 0
         transform = ctx.transform
         identity = transform == IDENTITY
         ellipses = _ShapeBlock(ELLIPSE_VERBS)
@@ -1462,6 +1567,9 @@ class Builder:
         batch = None
         for el, style, plan in items:
             if plan is False:                   # display: none, or invisible
+                if el is None:                  # a break: other elements' nodes (children())
+                    todo.append((None, style, None, None, None))
+                    breaks += 1
                 continue
             tag = el.tag
             if tag == "circle":
@@ -1491,9 +1599,14 @@ class Builder:
                 if e is not None:
                     todo.append((el, style, plan, ellipses, ellipses.add(e)))
             else:
-                path = shape_path(el, self.length_getter(el, style, ctx))
+                path = _points_path(tag, el) if tag == "polygon" or tag == "polyline" else \
+                    shape_path(el, self.length_getter(el, style, ctx))
                 if path is not None:
                     todo.append((el, style, plan, False, path))
+        # (the elements counted as element() counts them; a break's were)
+        self.nodes_made += len(items) - breaks
+        if self.nodes_made > MAX_NODES:
+            raise SvgError("document expands to too many elements")
         if not todo:
             return
         ellipses.finish(ellipse_points, transform)
@@ -1504,18 +1617,21 @@ class Builder:
         curved_paths = None
         nodes = []
         # strokes for _outline_fills (curves=True: curves, solid, wider than a hairline), per
-        # style, where their geometry is (the document's path batch: None; a
+        # stroke (_queue_key), where their geometry is (the document's path batch: None; a
         # _ShapeBlock; paths of their own: False, in own_paths) and whether curves: [stroke
-        # plan, stroke PaintRef, antialias, style, where, their places in nodes, their
-        # indexes in the batch, block or own_paths, whether curves]
+        # plan, stroke PaintRef, antialias, each one's style, where, their places in nodes,
+        # their indexes in the batch, block or own_paths, whether curves]
         queued = {}
         own_paths = []                          # (verbs, points) of paths of their own queued
-        stroke_plans = {}                       # style -> its stroke plan here
+        stroke_plans = {}                       # style -> its (stroke plan, queue key) here
         new_path = Path.__new__                 # (Path._of_arrays written out)
         joins = self._joins_runs(ctx)
         fill_styles = {}                        # id(plan) -> its fills' style (joins)
         batch_source = None                     # the document's path batch as a _RunSource
         for el, style, plan, block, at in todo:
+            if el is None:                      # a break: its nodes (style) in their place
+                nodes.extend(style)
+                continue
             antialias, order, rule, fill_ref, stroke_ref = plan
             user = None
             if block is None:                   # the document's path batch
@@ -1571,10 +1687,11 @@ class Builder:
                                       antialias))
                     continue
                 # the stroke
-                stroke_plan = stroke_plans.get(style, stroke_plans)
-                if stroke_plan is stroke_plans:
-                    stroke_plan = stroke_plans[style] = self._cached_stroke_plan(
-                        style, ctx, antialias)
+                got = stroke_plans.get(style)
+                if got is None:
+                    got = stroke_plans[style] = self._queue_key(style, ctx, antialias,
+                                                                stroke_ref)
+                stroke_plan, stroke_key = got
                 if stroke_plan is None:
                     continue
                 if block is None:
@@ -1590,10 +1707,11 @@ class Builder:
                 # lines only: a curved outline stroke goes to the curve stroker's batch)
                 if kind is not None:
                     curves = curved and kind != "hairline"
-                    got = queued.get((style, block, curves))
+                    got = queued.get((stroke_key, block, curves))
                     if got is None:
-                        got = queued[style, block, curves] = (stroke_plan, stroke_ref, antialias,
-                                                              style, block, [], [], curves)
+                        got = queued[stroke_key, block, curves] = (
+                            stroke_plan, stroke_ref, antialias, [], block, [], [], curves)
+                    got[3].append(style)
                     got[5].append(len(nodes))
                     nodes.append(None)
                     if block is False:
@@ -1615,11 +1733,11 @@ class Builder:
         lists = False                           # whether nodes holds lists of Fills
         local = None
         block_batches = {}                      # _ShapeBlock -> its batch(), made once
-        for stroke_plan, stroke_ref, antialias, style, block, ats, indexes, curves in \
+        for stroke_plan, stroke_ref, antialias, styles, block, ats, indexes, curves in \
                 queued.values():
             if len(ats) < _FEW_STROKES:
                 # (a kernel call for a few paths costs more than stroke()'s for each)
-                for at, index in zip(ats, indexes):
+                for at, index, style in zip(ats, indexes, styles):
                     if block is None:
                         user = Path._of_shared(all_verbs[vstart[index]:vstart[index + 1]],
                                                shared, pstart[index], pstart[index + 1])
@@ -1641,15 +1759,33 @@ class Builder:
                 if arrays is None:
                     arrays = block_batches[block] = block.batch()
             if joins:
+                # (several styles' hairlines, once calls of their own, a few calls: see
+                # HAIRLINE_CHUNK)
+                chunk = HAIRLINE_CHUNK if stroke_plan[0] == "hairline" and any(
+                    style is not styles[0] for style in styles) else None
                 for at, runs in zip(ats, _outline_runs(*arrays, np.array(indexes, np.int64),
                                                        stroke_plan, transform, stroke_ref,
-                                                       antialias, curves)):
+                                                       antialias, curves, chunk)):
                     nodes[at] = runs
                 continue
             fills, bounds = _outline_fills(*arrays, np.array(indexes, np.int64), stroke_plan,
                                            transform, stroke_ref, antialias, curves)
             lists |= _put_fills(nodes, ats, fills, bounds)
         out.extend(_joined_runs(nodes) if joins else _flat(nodes) if lists else nodes)
+
+    def _queue_key(self, style, ctx, antialias, stroke_ref):
+        """For _shape_run: the stroke plan of a style (_cached_stroke_plan's) and the key its
+        strokes are queued by for one kernel call: the plan with the paint and opacity and
+        antialias the outlines' Fills take, so that strokes of styles that differ only
+        elsewhere (class-styled exports: a fill colour each, one stroke) are one call; the
+        outlines are the same, each path stroked on its own in the kernels. A solid paint
+        is keyed by its colour, another by identity."""
+        plan = self._cached_stroke_plan(style, ctx, antialias)
+        if plan is None or plan[0] is None:
+            return plan, None
+        paint = stroke_ref.paint
+        paint_key = paint.color if paint.__class__ is Solid else id(paint)
+        return plan, (plan, paint.__class__, paint_key, stroke_ref.opacity, antialias)
 
     def _shape_rows(self, items, viewport):
         """For _shape_run: iterators over the parameters of the circles (_ellipse_params')
@@ -1659,8 +1795,10 @@ class Builder:
         circles = ([], [])
         rects = ([], [])
         for el, style, plan in items:
+            if plan is False:                   # (a break among them too: see children())
+                continue
             tag = el.tag
-            if plan is not False and (tag == "circle" or tag == "rect"):
+            if tag == "circle" or tag == "rect":
                 got = circles if tag == "circle" else rects
                 got[0].append(el)
                 got[1].append(style)
