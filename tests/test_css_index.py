@@ -251,6 +251,16 @@ def test_simple_selectors_count_their_work_against_the_limit(monkeypatch, alike,
     # only CSS: type text/css, or none, or empty
     (SVG, '<style type="text/foo">x</style><style type=" text/css ">y</style>'
           '<style type="">z</style>', ["y", "z"]),
+    # a media type's type and subtype are case-insensitive (RFC 2045 5.1; HTML's style
+    # element: an ASCII case-insensitive match for text/css); a parameter is no match
+    (SVG, '<style type="TEXT/CSS">a</style><style type="Text/Css">b</style>'
+          '<style type="text/css; charset=utf-8">c</style><style type="TEXT/FOO">d</style>',
+     ["a", "b"]),
+    # a media attribute of other media types alone matches no screen (SVG 2 6.3, Media
+    # Queries 4 2.3); all, screen, an empty list and queries with features apply
+    (SVG, '<style media="print">a</style><style media="only print, speech">b</style>'
+          '<style media="print, screen">c</style><style media="ALL">d</style>'
+          '<style media="">e</style><style media="(min-width: 1px)">f</style>', ["c", "d", "e", "f"]),
     # a style element anywhere in the document, inside unknown and foreign elements too;
     # of SVG's namespace (or none, under a root of none), not of another
     (SVG, '<x:y xmlns:x="u"><style>s1</style></x:y><unknown><style>s2</style></unknown>'
