@@ -279,6 +279,21 @@ def test_style_sheets_are_the_style_elements_child_text(monkeypatch, root_ns, bo
     assert added == sheets
 
 
+@pytest.mark.parametrize("attrs, green", [
+    ('type="TEXT/CSS"', True), ('type="Text/Css"', True), ('media="print"', False),
+    ('media="only print, speech"', False), ('media="print, screen"', True), ('media="all"', True),
+    ('type="text/css; charset=utf-8"', False)])
+def test_style_element_type_and_media_when_drawn(attrs, green):
+    """A <style> whose type is text/css in any case applies (media types are case-insensitive,
+    RFC 2045 5.1); one whose media list names only other media types (print) does not (SVG 2
+    6.3, Media Queries 4): the sheet's green over the attribute's red, or the red."""
+    from vecmsaa import render_svg_array
+    svg = (f'<svg xmlns="{SVG}" width="10" height="10"><style {attrs}>rect {{fill: #00ff00}}'
+           '</style><rect width="10" height="10" fill="#ff0000"/></svg>')
+    px = render_svg_array(svg.encode(), width=10, height=10)[5, 5]
+    assert tuple(px) == ((0, 255, 0, 255) if green else (255, 0, 0, 255))
+
+
 @pytest.mark.parametrize("css, reads", [(".a {fill: red} rect, #b {stroke: blue}", 1),
                                         (".a {fill: red} g > rect {stroke: blue}", 2)])
 def test_the_elementtree_mirror_is_built_for_cssselect2_only(monkeypatch, css, reads):
