@@ -251,6 +251,16 @@ def test_simple_selectors_count_their_work_against_the_limit(monkeypatch, alike,
     # only CSS: type text/css, or none, or empty
     (SVG, '<style type="text/foo">x</style><style type=" text/css ">y</style>'
           '<style type="">z</style>', ["y", "z"]),
+    # a media type's type and subtype are case-insensitive (RFC 2045 5.1; HTML's style
+    # element: an ASCII case-insensitive match for text/css); a parameter is no match
+    (SVG, '<style type="TEXT/CSS">a</style><style type="Text/Css">b</style>'
+          '<style type="text/css; charset=utf-8">c</style><style type="TEXT/FOO">d</style>',
+     ["a", "b"]),
+    # a media attribute of other media types alone matches no screen (SVG 2 6.3, Media
+    # Queries 4 2.3); all, screen, an empty list and queries with features apply
+    (SVG, '<style media="print">a</style><style media="only print, speech">b</style>'
+          '<style media="print, screen">c</style><style media="ALL">d</style>'
+          '<style media="">e</style><style media="(min-width: 1px)">f</style>', ["c", "d", "e", "f"]),
     # a style element anywhere in the document, inside unknown and foreign elements too;
     # of SVG's namespace (or none, under a root of none), not of another
     (SVG, '<x:y xmlns:x="u"><style>s1</style></x:y><unknown><style>s2</style></unknown>'
@@ -267,6 +277,21 @@ def test_style_sheets_are_the_style_elements_child_text(monkeypatch, root_ns, bo
     xmlns = f' xmlns="{root_ns}"' if root_ns else ""
     load_document(f"<svg{xmlns}>{body}</svg>".encode())
     assert added == sheets
+
+
+@pytest.mark.parametrize("attrs, green", [
+    ('type="TEXT/CSS"', True), ('type="Text/Css"', True), ('media="print"', False),
+    ('media="only print, speech"', False), ('media="print, screen"', True), ('media="all"', True),
+    ('type="text/css; charset=utf-8"', False)])
+def test_style_element_type_and_media_when_drawn(attrs, green):
+    """A <style> whose type is text/css in any case applies (media types are case-insensitive,
+    RFC 2045 5.1); one whose media list names only other media types (print) does not (SVG 2
+    6.3, Media Queries 4): the sheet's green over the attribute's red, or the red."""
+    from vecmsaa import render_svg_array
+    svg = (f'<svg xmlns="{SVG}" width="10" height="10"><style {attrs}>rect {{fill: #00ff00}}'
+           '</style><rect width="10" height="10" fill="#ff0000"/></svg>')
+    px = render_svg_array(svg.encode(), width=10, height=10)[5, 5]
+    assert tuple(px) == ((0, 255, 0, 255) if green else (255, 0, 0, 255))
 
 
 @pytest.mark.parametrize("css, reads", [(".a {fill: red} rect, #b {stroke: blue}", 1),

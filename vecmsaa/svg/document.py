@@ -1852,10 +1852,30 @@ def _linking_elements(containers, link):
     return linking
 
 
-def _style_text(kind, text, sheets):
-    """Add a ``<style>`` element's sheet, of type attribute ``kind``, to ``sheets``."""
-    kind = (kind or "text/css").strip()
-    if kind in ("", "text/css"):
+def _media_matches(media):
+    """Whether a ``<style>`` element's ``media`` attribute (a media query list, SVG 2 §6.3)
+    may match a drawing on the screen: absent or empty, or any of its queries is more than
+    a bare media type (features, ``not``: kept, as before) or the type all or screen. A list
+    of other bare media types alone (``print``, ``only speech``) matches nothing (Media
+    Queries 4 §2.3), as Chromium 150 has it."""
+    if media is None or not media.strip():
+        return True
+    for query in media.lower().split(","):
+        words = query.split()
+        if words[:1] == ["only"]:
+            words = words[1:]
+        if len(words) != 1 or not words[0].isalpha() or words[0] in ("all", "screen"):
+            return True
+    return False
+
+
+def _style_text(kind, text, sheets, media=None):
+    """Add a ``<style>`` element's sheet, of type attribute ``kind``, to ``sheets``. The type
+    is a media type, whose type and subtype are case-insensitive (RFC 2045 §5.1; HTML: an
+    ASCII case-insensitive match for text/css): ``TEXT/CSS`` is CSS too. A sheet whose
+    ``media`` is only other media types (``print``) does not apply (_media_matches)."""
+    kind = (kind or "text/css").strip().lower()
+    if kind in ("", "text/css") and _media_matches(media):
         sheets.add(text)
 
 
@@ -1874,7 +1894,7 @@ def _mirror_stylesheets(xml_root, stylesheet):
             # in <style> are not CSS, and thousands of nested <style>s would otherwise read
             # the same text over and over (quadratic in memory)
             _style_text(node.get("type"), (node.text or "") + "".join(c.tail or "" for c in node),
-                        sheets)
+                        sheets, node.get("media"))
     return sheets
 
 
@@ -1889,7 +1909,7 @@ def _tree_stylesheets(styles, stylesheet):
         sheets.add(stylesheet)
     for el in styles:
         _style_text(el.attrs.get("type"), el.text + "".join(c.tail for c in el.children),
-                    sheets)
+                    sheets, el.attrs.get("media"))
     return sheets
 
 
