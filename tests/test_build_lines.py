@@ -200,3 +200,42 @@ def test_build_run_is_build_batch(tol):
             got_p.append(q)
         assert got_e == edges.tolist(), trial
         assert np.concatenate(got_p).tobytes() == prims.tobytes()
+
+
+class CountingPool:
+    """A band pool's interface for build_in_parts, running each task at once and counting."""
+    threads = 2
+
+    def __init__(self):
+        self.tasks = 0
+
+    def submit(self, fn, *args):
+        from concurrent.futures import Future
+        self.tasks += 1
+        f = Future()
+        f.set_result(fn(*args))
+        return f
+
+
+def test_a_batch_of_lines_is_built_whole_and_one_of_curves_in_parts():
+    """build_in_parts splits a batch among a pool's threads only where its curves' work
+    outweighs its lines' (joining the parts copies every row: a line's edge costs about as
+    much to copy as to build): a batch of staircases and rectangles is built in one part, a
+    batch of circles as cubics in several; both give build_batch's arrays."""
+    from vecmsaa.raster import render as render_module
+    rng = np.random.default_rng(5)
+    lines = [random_path(rng, 400) for _ in range(200)]
+    lines = [(v[(v != QUAD) & (v != CUBIC) & (v != CONIC)], None) for v, _ in lines]
+    lines = [(v, rng.uniform(0, 400, (int(np.count_nonzero((v == MOVE) | (v == LINE))), 2)))
+             for v, _ in lines]
+    circles = [circle_then_lines(1, radius=float(r)) for r in rng.uniform(2, 20, 300)]
+    for paths, split in ((lines, False), (circles, True)):
+        arrays = batch(paths)
+        assert len(arrays[0]) * 16 >= render_module.SPLIT_COST
+        pool = CountingPool()
+        got = render_module.build_in_parts(*arrays, 0.0, pool, NO_CULL)()
+        want = build_batch(*arrays, 0.0, render_module.MAX_SAGITTA, NO_CULL)
+        assert (pool.tasks > 1) == split, pool.tasks
+        assert pool.tasks == (2 * render_module.PARTS_PER_THREAD if split else 0)
+        for a, b in zip(got, want):
+            assert a.dtype == b.dtype and np.array_equal(a, b)
