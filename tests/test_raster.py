@@ -961,6 +961,7 @@ def test_geometry_built_in_parts_is_the_geometry_built_whole(threads, monkeypatc
     paths = random_paths(np.random.default_rng(7), 30, empty=lambda i: i == 4, most=8)
     arrays = batch_arrays(paths)
     monkeypatch.setattr(render_module, "SPLIT_COST", 0)
+    monkeypatch.setattr(render_module, "CURVE_SHARE", 0.0)
     # (a canvas that culls some of the paths' pieces: their geometry is built all the same)
     canvas = np.array([20.0, 30.0, 60.0, 70.0])
     for batch in (arrays, batch_arrays(paths[:2])):

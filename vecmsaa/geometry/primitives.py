@@ -990,21 +990,50 @@ def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, pr
     Inlined into both builders: their loops over many small paths would pay a call, and
     its arrays' reference counts, per path."""
     top, bottom, right = clip[1], clip[3], clip[2]
-    for vi in range(v0, v1):
+    vi = v0
+    while vi < v1:
+        # the moves, lines and closes up to the next curve, in a loop that assigns no array:
+        # numba copies an array variable assigned in a loop (a reference count up and down)
+        # on every pass, which cost a staircase's batch more than its edges (docs/bench.md,
+        # session 35). An edge that finds no room leaves the loop to grow the array.
+        room = edges.shape[0]
+        while vi < v1:
+            v = verbs[vi]
+            if v == LINE:
+                x, y = points[pi, 0], points[pi, 1]
+                if not _no_edge(cx, cy, x, y) and _adds_winding(cx, cy, x, y, top, bottom,
+                                                                 right):
+                    if ne >= room:
+                        break
+                    edges[ne, 0], edges[ne, 1], edges[ne, 2], edges[ne, 3] = cx, cy, x, y
+                    ne += 1
+                cx, cy = x, y
+                pi += 1
+            elif v == MOVE or v == CLOSE:
+                # the open subpath closed (a move starts the next one)
+                if open_ and not _no_edge(cx, cy, sx, sy) and \
+                        _adds_winding(cx, cy, sx, sy, top, bottom, right):
+                    if ne >= room:
+                        break
+                    edges[ne, 0], edges[ne, 1], edges[ne, 2], edges[ne, 3] = cx, cy, sx, sy
+                    ne += 1
+                if v == MOVE:
+                    sx, sy = points[pi, 0], points[pi, 1]
+                    pi += 1
+                    open_ = True
+                else:
+                    open_ = False
+                cx, cy = sx, sy
+            elif v == QUAD or v == CUBIC or v == CONIC:
+                break
+            vi += 1
+        if vi >= v1:
+            break
         v = verbs[vi]
-        if v == MOVE:
-            if open_:
-                edges, ne = _store_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-            sx, sy = points[pi, 0], points[pi, 1]
-            cx, cy = sx, sy
-            pi += 1
-            open_ = True
-        elif v == LINE:
-            x, y = points[pi, 0], points[pi, 1]
-            edges, ne = _store_line(edges, ne, cx, cy, x, y, top, bottom, right)
-            cx, cy = x, y
-            pi += 1
-        elif v == QUAD:
+        if v == LINE or v == MOVE or v == CLOSE:
+            edges = _grow(edges, ne)
+            continue
+        if v == QUAD:
             x1, y1 = points[pi, 0], points[pi, 1]
             x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
             if flatten_tol > 0:
@@ -1039,11 +1068,7 @@ def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, pr
                     flatten_tol if flatten else max_sagitta, flatten, clip, q)
             cx, cy = x2, y2
             pi += 3
-        elif v == CLOSE:
-            if open_:
-                edges, ne = _store_line(edges, ne, cx, cy, sx, sy, top, bottom, right)
-            cx, cy = sx, sy
-            open_ = False
+        vi += 1
     return edges, ne, prims, nc, sx, sy, cx, cy, open_
 
 
