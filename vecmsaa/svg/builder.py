@@ -454,6 +454,14 @@ def _compose_rows(rows, m):
     return out
 
 
+def _composed(top, matrices):
+    """``top`` composed with each of ``matrices`` in turn (an instance's chain: the
+    transforms from the used element down to one of its shapes)."""
+    for m in matrices:
+        top = compose(top, m)
+    return top
+
+
 def _first_uses(objects):
     """The distinct objects (by identity) in order of first use, and each one's index
     there, by maps (a Python turn per object cost a scatter plot's 40,000 pieces more)."""
@@ -1299,10 +1307,7 @@ class Builder:
         last, t = (), t0
         for matrices, fill, path, a, b, c, d in got.items:
             if matrices is not last:
-                t = t0
-                for m in matrices:
-                    t = compose(t, m)
-                last = matrices
+                t, last = _composed(t0, matrices), matrices
             if fill is not None:
                 arrays, style = fill, (a, b, c, d)
             else:
@@ -2504,10 +2509,7 @@ class Builder:
         new_path = Path.__new__             # (Path._of_arrays written out, as _path_run)
         for matrices, fill, path, a, b, c, d in prepared.items:
             if matrices is not last:
-                t = top
-                for m in matrices:
-                    t = compose(t, m)
-                last = matrices
+                t, last = _composed(top, matrices), matrices
             if fill is not None:
                 if t == IDENTITY:                   # (path.transformed(t))
                     device = path
