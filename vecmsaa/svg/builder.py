@@ -981,7 +981,10 @@ class Builder:
                         plan = cache["shape-plan"] = self._shape_plan(child_style, ctx)
                     if plan is not None:
                         item, what = (child, child_style, plan), "shape"
-            elif tag in _FLAT_GROUPS and shape_runs:
+            elif (tag in _FLAT_GROUPS and shape_runs
+                    and LAYER_PROPERTIES.isdisjoint(child.specified)):
+                # (a group with a transform or layer of its own, D3's every tick, is built by
+                # element(): its Style is not made twice)
                 group_style = parent.child(child)
                 if self._flat_group(group_style) and conditions_pass(child):
                     self.nodes_made += 1                # (as element() counts it)
