@@ -43,33 +43,34 @@ def _scene(doc, enabled, monkeypatch, width=None, fonts=FONTS):
     return out
 
 
+def recording(monkeypatch, name, record):
+    """line.<name> replaced by itself calling ``record(nodes)`` with what it returns."""
+    real = getattr(line, name)
+
+    def recorded(*args):
+        nodes = real(*args)
+        record(nodes)
+        return nodes
+    monkeypatch.setattr(line, name, recorded)
+
+
 def plain_lines(monkeypatch, simple=None):
     """A list that gets True for each text the plain line drew (from its characters, from
     the element: simple_text, or as lines of one element each: span_lines), False for each
     it left; ``simple``: a list that gets True for each text simple_text drew."""
     got = []
-    real, real_simple, real_lines = line.plain_line, line.simple_text, line.span_lines
 
-    def plain_line(*args):
-        nodes = real(*args)
-        got.append(nodes is not None)
-        return nodes
-
-    def simple_text(*args):
-        nodes = real_simple(*args)
+    def drawn(nodes):
         if nodes is not None:
             got.append(True)
+
+    def simple_drawn(nodes):
+        drawn(nodes)
         if simple is not None:
             simple.append(nodes is not None)
-        return nodes
-    def span_lines(*args):
-        nodes = real_lines(*args)
-        if nodes is not None:
-            got.append(True)
-        return nodes
-    monkeypatch.setattr(line, "plain_line", plain_line)
-    monkeypatch.setattr(line, "simple_text", simple_text)
-    monkeypatch.setattr(line, "span_lines", span_lines)
+    recording(monkeypatch, "plain_line", lambda nodes: got.append(nodes is not None))
+    recording(monkeypatch, "simple_text", simple_drawn)
+    recording(monkeypatch, "span_lines", drawn)
     return got
 
 

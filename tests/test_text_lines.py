@@ -10,22 +10,16 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from test_text_line import FONTS, GRADIENT, _doc, _escaped, _scene
+from test_text_line import FONTS, GRADIENT, _doc, _escaped, _scene, recording
 from test_text_simple import SCRIPTS, SUITE_FONTS, alphabet, needs_suite_fonts, numbers
 from vecmsaa.api import load_svg
-from vecmsaa.svg.text import layout, line
+from vecmsaa.svg.text import layout
 
 
 def span_lines_taken(monkeypatch):
     """A list that gets True for each text span_lines drew, False for each it left."""
     got = []
-    real = line.span_lines
-
-    def span_lines(*args):
-        nodes = real(*args)
-        got.append(nodes is not None)
-        return nodes
-    monkeypatch.setattr(line, "span_lines", span_lines)
+    recording(monkeypatch, "span_lines", lambda nodes: got.append(nodes is not None))
     return got
 
 
