@@ -387,9 +387,16 @@ def test_an_empty_declaration_is_dropped_and_what_it_would_override_applies():
     assert r.specified["stroke"] == "blue"
 
 
-def test_non_presentation_attributes_ignore_css():
-    d = doc('<style>#r { height: 160px }</style><rect id="r" width="10"/>')
+def test_geometry_in_css_is_an_svg_2_property():
+    """SVG 2 makes height a property (its attribute the presentation attribute): the rule
+    sets it; in a document that says it is SVG 1.1 it is an attribute only, and the rule
+    names no property (the resvg suite's non-presentational-attribute). Neither leaves it
+    among the specified properties."""
+    body = '<style>#r { height: 160px }</style><rect id="r" width="10"/>'
+    d = doc(body, 'width="100" height="100" version="1.1"')
     assert "height" not in d.ids["r"].specified and "height" not in d.ids["r"].attrs
+    d = doc(body)
+    assert "height" not in d.ids["r"].specified and d.ids["r"].attrs["height"] == "160px"
 
 
 def test_css_only_properties_are_not_attributes():

@@ -91,6 +91,29 @@ CSS_ONLY = {"mix-blend-mode", "isolation", "marker", "background-color", "font",
 #: properties that may be given as presentation attributes
 PRESENTATION = PROPERTIES - CSS_ONLY
 
+#: SVG 2's geometry properties (§"Geometry Properties"; ``d``: §9.3.1) by the elements they
+#: apply to. Their attributes are their presentation attributes, so a rule or a ``style``
+#: declaration overrides the attribute (CSS Cascade 4 §6.4: presentation hints come before
+#: all author rules). Read at load: apply_geometry_properties writes the cascaded value over
+#: the element's attribute, where every reader of the shape takes it. The outermost ``svg``
+#: is left out (its size is the document's intrinsic size, which CSS sizes in an embedding
+#: context), as are nested ``svg``, ``use``, ``symbol`` and ``foreignObject`` (see
+#: docs/svg.md, session 36).
+GEOMETRY_APPLIES = {
+    "rect": frozenset(("x", "y", "width", "height", "rx", "ry")),
+    "circle": frozenset(("cx", "cy", "r")),
+    "ellipse": frozenset(("cx", "cy", "rx", "ry")),
+    "path": frozenset(("d",)),
+    "image": frozenset(("x", "y", "width", "height")),
+}
+GEOMETRY_PROPERTIES = frozenset().union(*GEOMETRY_APPLIES.values())
+#: the key under which _specified leaves an element's geometry declarations, in cascade
+#: order (not a property name: CSS names have no space); apply_geometry_properties takes it
+GEOMETRY_KEY = " geometry"
+#: the initial values (SVG 2): for ``inherit`` on a parent that computes none of its own
+GEOMETRY_INITIAL = {"x": "0", "y": "0", "cx": "0", "cy": "0", "r": "0", "width": "auto",
+                    "height": "auto", "rx": "auto", "ry": "auto", "d": "none"}
+
 #: properties parsed but not applied, with the values that need no warning (their initial
 #: values: the drawing is then what the property asks for)
 UNSUPPORTED_PROPERTIES = {
@@ -672,6 +695,7 @@ class _TreeReader:
         self.styles = []           # the <style> Elements in document order (deferred)
         self.deferred = mirror or deferred
         self.warnings = []         # unsupported values, warned about once the tree is read
+        self.geometry = False      # an element's style has geometry declarations (GEOMETRY_KEY)
         self.error = None          # the first limit exceeded, in document order
         self.bad_root = False
         self.root = None
@@ -717,7 +741,10 @@ class _TreeReader:
             attribute; made once for each such pair (in a document with var(), each time),
             its warnings given again for each element."""
             if custom:
-                return _specified(_given_dict(given), None, style_attr, warnings, True)
+                spec = _specified(_given_dict(given), None, style_attr, warnings, True)
+                if GEOMETRY_KEY in spec:
+                    self.geometry = True
+                return spec
             got = made.get((given, style_attr))
             if got is not None:
                 warnings.extend(got[1])
@@ -725,6 +752,8 @@ class _TreeReader:
             before = len(warnings)
             spec = _specified(_given_dict(given), None, style_attr, warnings)
             made[given, style_attr] = spec, warnings[before:]
+            if GEOMETRY_KEY in spec:
+                self.geometry = True
             return spec
         tb = None
         if self._mirror:
@@ -1623,10 +1652,13 @@ def _specified(spec, found, style_attr, warnings, custom=False):
     values holding var() stay variables.Unresolved, for variables.substitute_document."""
     if custom:
         return _specified_with_variables(spec, found, style_attr, warnings)
+    geometry = None
     if found or style_attr:
         important = {}
         for name, value, imp in _in_cascade_order(found, style_attr):
             if name not in PROPERTIES:
+                if name in GEOMETRY_PROPERTIES:
+                    geometry = (geometry or []) + [(name, value, imp)]
                 continue
             for pname, pval in _expand_shorthand(name, value):
                 (important if imp else spec)[pname] = pval
@@ -1650,7 +1682,17 @@ def _specified(spec, found, style_attr, warnings, custom=False):
             value = value.strip().lower()
             if value not in UNSUPPORTED_PROPERTIES[name] and value not in _NO_WARNING:
                 warnings.append(f"{name}: {value[:40]} is not supported: ignored")
+    if geometry:
+        _keep_geometry(spec, geometry)
     return spec
+
+
+def _keep_geometry(spec, declared):
+    """Leave the geometry declarations ``declared`` ((name, value, important)... in cascade
+    order) in ``spec`` for apply_geometry_properties: the normal ones, then the important
+    ones (CSS Cascade 4 §6.1), each to override the one before where it is valid."""
+    spec[GEOMETRY_KEY] = tuple((n, v) for n, v, imp in declared if not imp) + tuple(
+        (n, v) for n, v, imp in declared if imp)
 
 
 def _in_cascade_order(found, style_attr):
@@ -1681,6 +1723,7 @@ def _specified_with_variables(spec, found, style_attr, warnings):
             else:
                 spec[name] = value
     important = {}
+    geometry = None
     for name, value, imp in _in_cascade_order(found, style_attr):
         if name[:2] == "--":
             if VAR.search(value) and unresolved(name, value) is None:
@@ -1688,6 +1731,9 @@ def _specified_with_variables(spec, found, style_attr, warnings):
             (important if imp else spec)[name] = value
             continue
         if name not in PROPERTIES:
+            if name in GEOMETRY_PROPERTIES and not VAR.search(value):
+                # (var() in a geometry property is not substituted: dropped, as invalid)
+                geometry = (geometry or []) + [(name, value, imp)]
             continue
         if VAR.search(value):
             value = unresolved(name, value)
@@ -1703,6 +1749,8 @@ def _specified_with_variables(spec, found, style_attr, warnings):
             del spec[name]
     spec = _specified(spec, None, None, warnings)
     spec.update(pending)
+    if geometry:
+        _keep_geometry(spec, geometry)
     return spec
 
 
@@ -1747,6 +1795,8 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
             if sheets is None:
                 sheets = _mirror_stylesheets(reader.mirror, stylesheet)
         _cascade(reader, sheets)
+    if reader.geometry and doc.root is not None:
+        apply_geometry_properties(doc)
     if custom and doc.root is not None and reader.error is None:
         from .variables import substitute_document
         substitute_document(doc, reader.warnings)
@@ -1761,6 +1811,71 @@ def load_document(data: bytes, base_dir=None, load_text=None, stylesheet=None,
 
 
 _VAR_FUNCTION = re.compile(rb"(?i)var\(")
+
+
+def apply_geometry_properties(doc):
+    """SVG 2's geometry properties given in CSS (GEOMETRY_APPLIES): the last valid one of
+    each element's declarations (_specified's GEOMETRY_KEY, which this takes out of every
+    element's specified style) replaces the attribute. A document that says it is SVG 1.1
+    (``version="1.1"`` on its root) keeps SVG 1.1's rule, where these are attributes only
+    and such a declaration names no property: ignored. An invalid value (not a length or
+    percentage, a negative size or radius, ``auto`` where the property has none, var()) is
+    dropped, so the declaration before it or the attribute stays (CSS Syntax 3 §8)."""
+    svg2 = (doc.root.attrs.get("version") or "").strip() != "1.1"
+    computed = {}       # id(element) -> {name: its value from CSS}, for children's inherit
+    for top in (doc.root, *doc.detached):
+        for el in _descendants(top):
+            spec = el.specified
+            declared = spec.pop(GEOMETRY_KEY, None) if spec else None
+            if declared is None or not svg2:
+                continue
+            own = {}
+            for name, value in declared:
+                value = _geometry_value(name, value, el, computed)
+                if value is not None:
+                    own[name] = value
+            computed[id(el)] = own
+            applies = GEOMETRY_APPLIES.get(el.tag)
+            if applies is not None:
+                for name, value in own.items():
+                    if name in applies:
+                        el.attrs[name] = value
+
+
+def _geometry_value(name, value, el, computed):
+    """A geometry declaration's value as its attribute would say it, None when invalid."""
+    value = _without_comments(value).strip() if "/*" in value else value.strip()
+    low = _ascii_lower(value)
+    if low in ("initial", "unset", "revert", "revert-layer"):
+        return GEOMETRY_INITIAL[name]          # none of them inherits
+    if low == "inherit":
+        parent = el.parent
+        if parent is None:
+            return GEOMETRY_INITIAL[name]
+        got = computed.get(id(parent), {}).get(name)
+        if got is None:
+            applies = GEOMETRY_APPLIES.get(parent.tag)
+            got = parent.attrs.get(name) if applies is not None and name in applies else None
+        return GEOMETRY_INITIAL[name] if got is None else got
+    if name == "d":
+        if low == "none":
+            return ""
+        m = _PATH_FUNCTION.match(value)
+        return m.group(2) if m else None
+    if low == "auto":
+        return "auto" if name in ("width", "height", "rx", "ry") else None
+    if low.startswith("calc("):
+        return value
+    parsed = split_length(value)
+    if parsed is None:
+        return None
+    if parsed[0] < 0 and name in ("width", "height", "r", "rx", "ry"):
+        return None         # negative sizes and radii are invalid (SVG 2 §"Geometry Properties")
+    return value
+
+
+#: CSS's path() with its string (CSS Shapes 1; SVG 2's ``d`` property takes it or none)
+_PATH_FUNCTION = re.compile(r"""(?is)path\(\s*(["'])(.*?)\1\s*\)$""")
 _URL_ID = re.compile(r"""^\s*url\(\s*["']?#([^"')\s]+)["']?\s*\)""")
 
 
@@ -1931,7 +2046,8 @@ def _cascade(reader, sheets):
     warnings = reader.warnings
     custom = reader.custom
     if simple is not None and not sheets.complex and not custom:
-        _indexed_cascade(reader.pending, sheets, warnings, charge)
+        if _indexed_cascade(reader.pending, sheets, warnings, charge):
+            reader.geometry = True
         return
     # the specified style of elements alike in their matches, presentation attributes and
     # style attribute: made once, copied for each (an element's dict is its own: the
@@ -1946,6 +2062,8 @@ def _cascade(reader, sheets):
             if found:
                 charge(len(found))
             el.specified = _specified(_given_dict(given), found, style_attr, warnings, custom)
+            if GEOMETRY_KEY in el.specified:
+                reader.geometry = True
             continue
         key = (id(found), given, style_attr)
         got = made.get(key)
@@ -1956,6 +2074,8 @@ def _cascade(reader, sheets):
             # the first element's dict stands for the others: nothing changes it in this loop
             el.specified = _specified(_given_dict(given), found, style_attr, warnings)
             made[key] = (el.specified, warnings[before:])
+            if GEOMETRY_KEY in el.specified:
+                reader.geometry = True
         else:
             el.specified = dict(got[0])
             warnings.extend(got[1])
@@ -1966,7 +2086,9 @@ def _indexed_cascade(pending, sheets, warnings, charge):
     specified style made once per distinct (tag and id where the index has them, class
     attribute, presentation attributes, style attribute) and copied for each element alike
     (with its warnings repeated), the index asked only for a new one. The matches (and
-    with them the steps charged) are those simple_matches gives per (tag, id, class)."""
+    with them the steps charged) are those simple_matches gives per (tag, id, class).
+    True when a style has geometry declarations (GEOMETRY_KEY)."""
+    geometry = False
     by_tag, by_id = sheets.key_tags, sheets.key_ids
     simple = sheets.simple_matches
     made = {}
@@ -1989,6 +2111,9 @@ def _indexed_cascade(pending, sheets, warnings, charge):
         # the first element's dict stands for the others: nothing changes it in this loop
         el.specified = _specified(_given_dict(given), found, style_attr, warnings)
         made[key] = (el.specified, warnings[before:])
+        if GEOMETRY_KEY in el.specified:
+            geometry = True
+    return geometry
 
 
 def _counted_matching(matcher):
