@@ -1183,6 +1183,54 @@ def _namespace_rule(rule, namespaces):
         namespaces[prefix] = tok.value
 
 
+#: a private @namespace prefix for xlink (_hyperlinks): CSS prefixes cannot hold a space
+_XLINK_PREFIX = "vecmsaa xlink"
+
+
+def _hyperlinks(prelude):
+    """A rule's selector tokens with ``:link`` and ``:any-link`` as SVG defines them, for
+    cssselect2 (which matches HTML's a, area and link only): Selectors 4 §9.2 leaves the
+    hyperlinks to the document language, and SVG 2 §16.2 makes an ``a`` with an ``href``
+    (or ``xlink:href``, which ``href`` overrides) one; an empty one is none, as Chromium 150
+    takes it. Each becomes ``:where(*|a):is([href], [xlink|href])`` with those conditions in
+    more :where(), of the same specificity as one pseudo-class (:where counts nothing).
+    ``:visited`` matches nothing (cssselect2's: a renderer has no history; Selectors 4 lets
+    all links be unvisited). The prelude itself when it names neither."""
+    import tinycss2
+
+    def rewrite(tokens):
+        out = []
+        changed = False
+        for i, tok in enumerate(tokens):
+            if (tok.type == "ident" and tok.lower_value in ("link", "any-link") and i and
+                    tokens[i - 1].type == "literal" and tokens[i - 1].value == ":"
+                    and not (i > 1 and tokens[i - 2].type == "literal"
+                             and tokens[i - 2].value == ":")):
+                out.extend(_HYPERLINK_TOKENS)
+                changed = True
+                continue
+            if tok.type == "function":
+                args, sub = rewrite(tok.arguments)
+                if sub:
+                    tok = tinycss2.ast.FunctionBlock(tok.source_line, tok.source_column,
+                                                     tok.name, args)
+                    changed = True
+            out.append(tok)
+        return out, changed
+
+    global _HYPERLINK_TOKENS
+    if _HYPERLINK_TOKENS is None:
+        # the ":" before the pseudo-class stays in the rule's tokens: these replace its name
+        _HYPERLINK_TOKENS = tuple(tinycss2.parse_component_value_list(
+            'where(*|a):is([href], [X|href]):where(:not([href=""])):where([href], '
+            ':not([X|href=""]))'.replace("X", _XLINK_PREFIX.replace(" ", "\\ "))))
+    got, changed = rewrite(prelude)
+    return got if changed else prelude
+
+
+_HYPERLINK_TOKENS = None
+
+
 #: cssselect2 compiles a selector into one Python expression nesting three parentheses per
 #: combinator, which Python's parser refuses past 200 (67 combinators); its parser also takes
 #: time quadratic in a selector's length (20,000 combinators: minutes). A rule with a longer
@@ -1426,8 +1474,13 @@ class Stylesheets:
             # selector tests too) is valid as it is: cssselect2 need not compile it
             simple = None if None in namespaces else [_simple_tokens(p) for p in parts]
             if simple is None or None in simple:
+                prelude, names = rule.prelude, namespaces
+                if "link" in tinycss2.serialize(prelude).lower():
+                    prelude = _hyperlinks(prelude)
+                    if prelude is not rule.prelude:
+                        names = {**namespaces, _XLINK_PREFIX: XLINK_NS}
                 try:
-                    selectors = cssselect2.compile_selector_list(rule.prelude, namespaces)
+                    selectors = cssselect2.compile_selector_list(prelude, names)
                 except Exception:   # cssselect2 raises its own SelectorError and others
                     continue
                 if len(parts) != len(selectors):
