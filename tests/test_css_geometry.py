@@ -1,6 +1,6 @@
 """SVG 2's geometry properties given in CSS (SVG 2 §"Geometry Properties", ``d`` §9.3.1):
 ``x y width height rx ry cx cy r`` and ``d`` are properties whose attributes are presentation
-attributes, so a ``<style>`` rule or a ``style`` declaration overrides the attribute (CSS
+attributes (SVG 2 §6.6's table: on rect, circle, ellipse, image, path, use ...), so a ``<style>`` rule or a ``style`` declaration overrides the attribute (CSS
 Cascade 4 §6.4), ``!important`` last; an invalid declaration is dropped (CSS Syntax 3 §8).
 Expected pixels are worked out by hand from the geometry each case asks for (Chromium 150
 draws every case so); a document that says it is SVG 1.1 keeps the attributes (the resvg
@@ -94,6 +94,11 @@ CASES = {
                        [(50, 50)], [(150, 150)]),
     "through use": ('<defs><rect id="a" style="x:100px" width="50" height="50" fill="green"/>'
                     '</defs><use href="#a"/>', [(125, 25)], [(25, 25)]),
+    "use x and y": ('<defs><rect id="a" width="50" height="50" fill="green"/></defs>'
+                    '<use href="#a" style="x:100px; y:50px" x="10"/>', [(125, 75)], [(35, 25)]),
+    "use y from a sheet": ('<style>use{y:100px}</style><defs><rect id="a" width="50" '
+                           'height="50" fill="green"/></defs><use href="#a" y="10"/>',
+                           [(25, 125)], [(25, 25)]),
     "stroked": ('<style>rect{width:100px; height:100px}</style><rect x="50" y="50" '
                 'fill="none" stroke="green" stroke-width="10"/>', [(150, 100), (50, 52)], []),
 }
@@ -128,6 +133,18 @@ def test_shape_runs_take_the_css_geometry():
         wide = i % 3 == 0
         assert at(img, 115, y) == (GREEN if wide else NONE)
         assert at(img, 46, y) == (NONE if wide else GREEN)
+
+
+def test_use_runs_take_the_css_geometry():
+    """<use>s drawn together (the builder's use runs) take each one's CSS x."""
+    uses = "".join(f'<use href="#a"{" class=%s" % chr(34) + "m" + chr(34) if i % 2 else ""} '
+                   f'y="{20 * i}"/>' for i in range(10))
+    img = draw('<style>.m{x:100px}</style><defs><rect id="a" width="10" height="10" '
+               f'fill="green"/></defs>{uses}')
+    for i in range(10):
+        moved = i % 2 == 1
+        assert at(img, 105, 20 * i + 5) == (GREEN if moved else NONE)
+        assert at(img, 5, 20 * i + 5) == (NONE if moved else GREEN)
 
 
 def test_bounding_box_takes_the_css_geometry():

@@ -97,14 +97,15 @@ PRESENTATION = PROPERTIES - CSS_ONLY
 #: all author rules). Read at load: apply_geometry_properties writes the cascaded value over
 #: the element's attribute, where every reader of the shape takes it. The outermost ``svg``
 #: is left out (its size is the document's intrinsic size, which CSS sizes in an embedding
-#: context), as are nested ``svg``, ``use``, ``symbol`` and ``foreignObject`` (see
-#: docs/svg.md, session 36).
+#: context), as are nested ``svg``, ``symbol``, ``foreignObject`` and a ``use``'s width and
+#: height, which Chromium 150 does not apply either (see docs/svg.md, session 36).
 GEOMETRY_APPLIES = {
     "rect": frozenset(("x", "y", "width", "height", "rx", "ry")),
     "circle": frozenset(("cx", "cy", "r")),
     "ellipse": frozenset(("cx", "cy", "rx", "ry")),
     "path": frozenset(("d",)),
     "image": frozenset(("x", "y", "width", "height")),
+    "use": frozenset(("x", "y")),
 }
 GEOMETRY_PROPERTIES = frozenset().union(*GEOMETRY_APPLIES.values())
 #: the key under which _specified leaves an element's geometry declarations, in cascade
