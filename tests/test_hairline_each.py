@@ -20,6 +20,7 @@ from vecmsaa.svg.pathdata import parse_path_data
 
 from test_use_runs import FEW_RUNS, canon, per_instance
 
+CHUNK = builder_module.HAIRLINE_CHUNK
 NS = 'xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink"'
 
 
@@ -161,7 +162,8 @@ def counted(monkeypatch, name):
 def test_hairline_markers_are_each_instance_stroked_alone(seed, monkeypatch):
     """Random runs of markers under transforms of every kind, their strokes about the
     hairline threshold, a few dashed (stroked per instance): as arrays, the hairlines of the
-    stretch are one kernel call, a single path's call only for a dashed one; the fills are
+    stretch are a kernel call for each HAIRLINE_CHUNK of them, a single path's call only for
+    a dashed one; the fills are
     those of the per-instance route (a hairline_batch call for each hairline), to the
     bit."""
     rng = random.Random(seed)
@@ -177,7 +179,8 @@ def test_hairline_markers_are_each_instance_stroked_alone(seed, monkeypatch):
         # between its FillRuns; a dashed stroke's hairline, made per instance, is a single
         # path's call)
         assert any(isinstance(node, FillRuns) for node in root.children), (seed, width)
-        assert len(each) == 1 and len(alone) <= svg.count("dasharray"), (seed, width)
+        assert each[:-1] == [CHUNK] * (len(each) - 1) and 0 < each[-1] <= CHUNK
+        assert len(alone) <= svg.count("dasharray"), (seed, width)
         with monkeypatch.context() as m:
             per_instance(m)
             each2 = counted(m, "hairline_paths_each")
@@ -203,7 +206,7 @@ def test_hairline_markers_draw_the_bytes_of_each_instance(monkeypatch):
 def test_a_scatter_of_hairline_markers_is_one_fill_runs(monkeypatch):
     """2,000 matplotlib markers whose 1-unit strokes are hairlines at 40 px for 100 units
     (fast length 0.4: coverage a hairline): one FillRuns, each marker's fill and then its
-    stroke's runs, the strokes in one kernel call of 2,000 paths."""
+    stroke's runs, the strokes in a kernel call for each HAIRLINE_CHUNK paths."""
     marks = "".join(f'<use xlink:href="#mk" x="{3 + i % 37 * 2.6:.4f}" '
                     f'y="{3 + i // 37 * 1.7:.4f}" style="fill: #1f77b4; stroke: #1f77b4"/>'
                     for i in range(2000))
@@ -212,7 +215,8 @@ def test_a_scatter_of_hairline_markers_is_one_fill_runs(monkeypatch):
     each = counted(monkeypatch, "hairline_paths_each")
     root = load_svg(svg, width=40).root
     (node,) = root.children
-    assert type(node) is FillRuns and each == [2000]
+    assert type(node) is FillRuns and sum(each) == 2000
+    assert each == [CHUNK] * (2000 // CHUNK) + ([2000 % CHUNK] if 2000 % CHUNK else [])
     # styles: the fill, the hairline's (nonzero; its opacity the coverage); each marker's
     # fill run first, then its stroke's, one run or more
     assert len(node.styles) == 2 and node.styles[1][1] == "nonzero"

@@ -489,8 +489,8 @@ def _gather_mapped(sources, source_at, ts):
 def _use_hairlines(sources, source_at, ts, kind, hairs):
     """For Builder._use_arrays, where some of a stretch's runs are hairlines (source_at[r] =
     -1 - h: the path of hairs[h], (verbs, points), cap outset, alpha; _use_plan): the other
-    runs as _gather_mapped makes them, and each hairline's runs (none or several) made in
-    one kernel call for the stretch (hairline_each: under ts[r], the same floats as
+    runs as _gather_mapped makes them, and each hairline's runs (none or several) made a
+    kernel call for HAIRLINE_CHUNK of them (hairline_each: under ts[r], the same floats as
     stroke() makes per instance, hairline_path's), in their place: (verbs, points, run verb
     offsets, run point offsets, each run's style index, the runs each row became)."""
     normal = source_at >= 0
@@ -505,28 +505,41 @@ def _use_hairlines(sources, source_at, ts, kind, hairs):
     hp = _points64(np.concatenate([p for (_, p), _, _ in hairs]))
     outsets = np.array([o for _, o, _ in hairs], np.float64)[h]
     alphas = np.array([a for _, _, a in hairs], np.float64)[h]
-    ov, op, rv, rp, owner = hairline_each(hv, hp, hvs, hps, h, ts[hw], outsets, alphas)
+    ms = ts[hw]
+    # (HAIRLINE_CHUNK paths a call: one call's arrays grown for 5,000 markers cost half as
+    # much again as the calls)
+    ovs, ops, rvs, rps, owners = [nv], [nm], [nvoff], [npoff], []
+    for c in range(0, len(h), HAIRLINE_CHUNK):
+        e = c + HAIRLINE_CHUNK
+        ov, op, rv, rp, owner = hairline_each(hv, hp, hvs, hps, h[c:e], ms[c:e], outsets[c:e],
+                                              alphas[c:e])
+        rvs.append(rv[1:] + rvs[-1][-1])
+        rps.append(rp[1:] + rps[-1][-1])
+        ovs.append(ov)
+        ops.append(op)
+        owners.append(owner + c)
+    # the pool of both: the other runs' (nn), then the hairlines'
+    nn = len(nvoff) - 1
+    vo, po = np.concatenate(rvs), np.concatenate(rps)
+    owner = np.concatenate(owners)
     # (a run without verbs left out, as _run_fills leaves it)
-    kept = np.flatnonzero(rv[1:] > rv[:-1])
+    kept = np.flatnonzero(vo[nn + 1:] > vo[nn:-1])
     owner = owner[kept]
     counts = np.ones(len(source_at), np.int64)
     counts[hw] = np.bincount(owner, minlength=len(hw))
     starts = np.cumsum(counts) - counts
-    nn = len(nvoff) - 1
     total = int(starts[-1] + counts[-1]) if len(counts) else 0
-    # each run's place in the pool of both: the other runs', then the hairlines'
+    # each run's place in the pool
     src = np.empty(total, np.int64)
     src[starts[normal]] = np.arange(nn)
     src[starts[hw][owner] + np.arange(len(owner)) - np.searchsorted(owner, owner)] = nn + kept
-    vo = np.concatenate([nvoff, rv[1:] + nvoff[-1]])
-    po = np.concatenate([npoff, rp[1:] + npoff[-1]])
     voff, poff = np.zeros(total + 1, np.int64), np.zeros(total + 1, np.int64)
     np.cumsum((vo[1:] - vo[:-1])[src], out=voff[1:])
     np.cumsum((po[1:] - po[:-1])[src], out=poff[1:])
     verbs = np.empty(int(voff[-1]), np.uint8)
     points = np.empty((int(poff[-1]), 2), np.float64)
-    gather_runs(np.concatenate([nv, ov]), np.concatenate([nm, op]), vo, po, src,
-                np.arange(total), verbs, points, voff, poff)
+    gather_runs(np.concatenate(ovs), np.concatenate(ops), vo, po, src, np.arange(total),
+                verbs, points, voff, poff)
     return verbs, points, voff, poff, np.repeat(kind, counts), counts
 
 
