@@ -1250,10 +1250,12 @@ class Builder:
         per linear part) is a run of one source's verbs and points, its transform composed
         for all the instances at once (_compose_rows: the operations compose() does, on
         columns), its points gathered and mapped by one apply_each call, and the runs
-        appended as one FillRuns (the same fills, in the same order, as _instance's). An
-        instance whose strokes are made per instance (hairlines, dashes, non-scaling) is
-        _instance's, between the runs of the others; runs between two such that are too
-        few for a FillRuns become Fills."""
+        appended as one FillRuns (the same fills, in the same order, as _instance's).
+        Hairline strokes, which follow each instance's whole transform, are each instance's
+        runs, made for the stretch in a few kernel calls (_use_hairlines). An instance whose
+        strokes are made per instance otherwise (dashes, non-scaling) is _instance's,
+        between the runs of the others; runs between two such that are too few for a
+        FillRuns become Fills."""
         n = len(gots)
         x, y = np.array(xs, np.float64), np.array(ys, np.float64)
         moved = ~((x == 0.0) & (y == 0.0))
