@@ -186,11 +186,14 @@ def _each_kernel():
 
 
 def _bind(kernel):
+    """``kernel`` with the constants bound, kept until they change (one binding a kernel;
+    the keys listed at once and dropped with pop: threads may bind at the same time)."""
     key = (kernel, STAIR_SLOPE, id(MAX_STEPS), RUN_ROWS)
     bound = _bound.get(key)
     if bound is None:
-        for old in [k for k in _bound if k[0] is kernel]:
-            del _bound[old]
+        for old in list(_bound):
+            if old[0] is kernel:
+                _bound.pop(old, None)
         bound = _bound[key] = bind_tail(kernel, (STAIR_SLOPE, MAX_STEPS, RUN_ROWS,
                                                  kernels.ARC_TOLERANCE, kernels.MAX_ARC_CUBICS))
     return bound
