@@ -257,10 +257,11 @@ def test_a_glyph_page_makes_a_plan_per_glyph(monkeypatch):
 
 
 def test_strokes_made_per_instance_split_the_runs(monkeypatch):
-    """Markers whose strokes are hairlines at this scale (stroked per instance) between
-    stretches of others: FillRuns where a stretch is long enough, Fills between, in order."""
-    body = markers(600) + markers(3, style="0.05") + markers(10) + markers(1, "0.05") + \
-        markers(700, style="1.1")
+    """Markers whose strokes are dashed (stroked per instance) between stretches of others:
+    FillRuns where a stretch is long enough, Fills between, in order."""
+    dashed = ' stroke-dasharray="0.4 0.3"'
+    body = markers(600) + markers(3, extra=dashed) + markers(10) + \
+        markers(1, extra=dashed) + markers(700, style="1.1")
     svg = f'<svg {NS} width="100" height="100">{DEFS}<g>{body}</g></svg>'
     root = load_svg(svg, width=300).root
     kinds = [type(node).__name__ for node in root.children]

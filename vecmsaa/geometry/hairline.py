@@ -146,6 +146,21 @@ def hairline_batch(verbs, points, vstart, pstart, which, m, cap, alpha: float = 
                            CAP_OUTSET.get(cap, 0.0), _alpha(alpha))
 
 
+def hairline_each(verbs, points, vstart, pstart, which, ms, outsets, alphas):
+    """hairline_batch with a transform, cap and alpha of each path drawn: path which[w]
+    under the transform ms[w] ((W, 6) float64), its cap's CAP_OUTSET outsets[w] and the
+    alpha alphas[w] (float64 arrays of W; blend_alpha's, as _alpha takes it), in one kernel
+    call; each path's runs (owned by w) are those hairline_batch makes of it alone under its
+    transform, the same floats (a stretch of <use> instances of one marker, each under a
+    translation of its own)."""
+    return _each_kernel()(verbs, points, vstart, pstart, which, ms, outsets, alphas)
+
+
+def use_alpha(alpha: float) -> float:
+    """The alpha hairline_batch and hairline_each blend with for a paint's ``alpha``."""
+    return _alpha(alpha)
+
+
 _ONE = np.zeros(1, np.int64)
 
 
@@ -163,11 +178,22 @@ _bound = {}
 
 
 def _paths_kernel():
-    kernel = hairline_kernels.hairline_paths_batch
+    return _bind(hairline_kernels.hairline_paths_batch)
+
+
+def _each_kernel():
+    return _bind(hairline_kernels.hairline_paths_each)
+
+
+def _bind(kernel):
+    """``kernel`` with the constants bound, kept until they change (one binding a kernel;
+    the keys listed at once and dropped with pop: threads may bind at the same time)."""
     key = (kernel, STAIR_SLOPE, id(MAX_STEPS), RUN_ROWS)
     bound = _bound.get(key)
     if bound is None:
-        _bound.clear()
+        for old in list(_bound):
+            if old[0] is kernel:
+                _bound.pop(old, None)
         bound = _bound[key] = bind_tail(kernel, (STAIR_SLOPE, MAX_STEPS, RUN_ROWS,
                                                  kernels.ARC_TOLERANCE, kernels.MAX_ARC_CUBICS))
     return bound

@@ -526,24 +526,55 @@ def hairline_paths_batch(verbs, points, vstart, pstart, which, m, outset, alpha,
     joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
     keep = np.zeros(0, np.bool_)
     for w in range(len(which)):
-        cnt[2] = 0
-        i = which[w]
-        v_lo, v_hi = vstart[i], vstart[i + 1]
-        conic = False
-        for iv in range(v_lo, v_hi):
-            if verbs[iv] == CONIC:
-                conic = True
-        if not conic:
-            ov, op, seg, runs = _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi,
-                                              pstart[i], m, outset, runs, w, stair_slope,
-                                              max_steps, joint, jrows, alpha, run_rows)
-            continue
-        pv, pp = conics_as_cubics(verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]], keep,
-                                  arc_tolerance, max_arc)
-        ov, op, seg, runs = _path_outline(ov, op, cnt, seg, pv, pp, 0, len(pv), 0, m, outset,
-                                          runs, w, stair_slope, max_steps, joint, jrows,
-                                          alpha, run_rows)
+        ov, op, seg, runs = _batch_path(ov, op, cnt, seg, runs, verbs, points, vstart, pstart,
+                                        which[w], w, m, outset, alpha, stair_slope, max_steps,
+                                        run_rows, arc_tolerance, max_arc, joint, jrows, keep)
     return _runs_out(ov, op, cnt, runs)
+
+
+@njit(cache=True)
+def hairline_paths_each(verbs, points, vstart, pstart, which, ms, outsets, alphas,
+                        stair_slope, max_steps, run_rows, arc_tolerance, max_arc):
+    """hairline_paths_batch with a transform, cap outset and alpha of each path drawn: path
+    which[w] under ms[w] ((W, 6): a, b, c, d, e, f), its open subpaths' ends lengthened by
+    outsets[w], blended with alphas[w] (the runs of a stretch of <use> instances, each with
+    a transform of its own, in one call; each path's outline the same floats as
+    hairline_paths_batch's of it alone under its transform)."""
+    ov = np.empty(64, np.uint8)
+    op = np.empty((64, 2))
+    runs = np.empty((3, 16), np.int64)
+    cnt = np.zeros(4, np.int64)
+    seg = np.empty((16, 4))
+    joint, jrows = np.zeros(3, np.int64), np.empty((JOINT_PIXELS, 2))
+    keep = np.zeros(0, np.bool_)
+    for w in range(len(which)):
+        ov, op, seg, runs = _batch_path(ov, op, cnt, seg, runs, verbs, points, vstart, pstart,
+                                        which[w], w, ms[w], outsets[w], alphas[w],
+                                        stair_slope, max_steps, run_rows, arc_tolerance,
+                                        max_arc, joint, jrows, keep)
+    return _runs_out(ov, op, cnt, runs)
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _batch_path(ov, op, cnt, seg, runs, verbs, points, vstart, pstart, i, w, m, outset, alpha,
+                stair_slope, max_steps, run_rows, arc_tolerance, max_arc, joint, jrows, keep):
+    """Appends the hairline outline of path i of a batch (runs owned by ``w``) under the
+    transform m: hairline_paths_batch's (and hairline_paths_each's) work for one path, its
+    steps counted from 0. Returns (ov, op, seg, runs), grown as needed."""
+    cnt[2] = 0
+    v_lo, v_hi = vstart[i], vstart[i + 1]
+    conic = False
+    for iv in range(v_lo, v_hi):
+        if verbs[iv] == CONIC:
+            conic = True
+    if not conic:
+        return _path_outline(ov, op, cnt, seg, verbs, points, v_lo, v_hi, pstart[i], m,
+                             outset, runs, w, stair_slope, max_steps, joint, jrows, alpha,
+                             run_rows)
+    pv, pp = conics_as_cubics(verbs[v_lo:v_hi], points[pstart[i]:pstart[i + 1]], keep,
+                              arc_tolerance, max_arc)
+    return _path_outline(ov, op, cnt, seg, pv, pp, 0, len(pv), 0, m, outset, runs, w,
+                         stair_slope, max_steps, joint, jrows, alpha, run_rows)
 
 
 @njit(cache=True)

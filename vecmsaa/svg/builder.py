@@ -23,8 +23,9 @@ from ..scene.path import _RECT_VERBS, CLOSE, LINE, MOVE, Path, rect_corners, rec
 from ..scene.nodes import Fill, FillRuns, Group, Scene, Solid
 from ..geometry import stroke_kernels
 from ..geometry.primitives import batch_arrays, gather_runs
-from ..geometry.hairline import (blend_alpha, hairline_batch, hairline_coverage,
-                                 hairline_outline, hairline_path, hairline_segments)
+from ..geometry.hairline import (CAP_OUTSET, blend_alpha, hairline_batch, hairline_coverage,
+                                 hairline_each, hairline_outline, hairline_path,
+                                 hairline_segments, use_alpha)
 from ..geometry.stroke import (dash_coverage, dash_length, dash_pattern, dash_resolution,
                                stroke_batch, stroke_path)
 from . import SvgError
@@ -452,6 +453,94 @@ def _compose_rows(rows, m):
         out[:, 4] = a1 * e2 + c1 * f2 + e1
         out[:, 5] = b1 * e2 + d1 * f2 + f1
     return out
+
+
+def _gather_mapped(sources, source_at, ts):
+    """For Builder._use_arrays: runs r of sources[source_at[r]] ((verbs, points), user space)
+    copied into one batch's arrays (gather_runs) and mapped by ts[r] (one apply_each call;
+    a run under the identity keeps its source's points, as _instance gives them): (verbs,
+    points, run verb offsets, run point offsets)."""
+    total = len(source_at)
+    voff, poff = np.zeros(total + 1, np.int64), np.zeros(total + 1, np.int64)
+    if not total:
+        return np.empty(0, np.uint8), np.empty((0, 2), np.float64), voff, poff
+    vl = np.array([len(v) for v, _ in sources], np.int64)
+    pl = np.array([len(p) for _, p in sources], np.int64)
+    vo, po = np.zeros(len(sources) + 1, np.int64), np.zeros(len(sources) + 1, np.int64)
+    np.cumsum(vl, out=vo[1:])
+    np.cumsum(pl, out=po[1:])
+    lp = pl[source_at]
+    np.cumsum(vl[source_at], out=voff[1:])
+    np.cumsum(lp, out=poff[1:])
+    verbs = np.empty(int(voff[-1]), np.uint8)
+    points = np.empty((int(poff[-1]), 2), np.float64)
+    gather_runs(np.concatenate([v for v, _ in sources]).astype(np.uint8, copy=False),
+                _points64(np.concatenate([p for _, p in sources])), vo, po, source_at,
+                np.arange(total), verbs, points, voff, poff)
+    mapped = apply_each(ts, lp, points)
+    # (a run under the identity is its source's points, as _instance gives them)
+    same = (ts == IDENTITY).all(axis=1)
+    if same.any():
+        rows = np.repeat(same, lp)
+        mapped[rows] = points[rows]
+    return verbs, mapped, voff, poff
+
+
+def _use_hairlines(sources, source_at, ts, kind, hairs):
+    """For Builder._use_arrays, where some of a stretch's runs are hairlines (source_at[r] =
+    -1 - h: the path of hairs[h], (verbs, points), cap outset, alpha; _use_plan): the other
+    runs as _gather_mapped makes them, and each hairline's runs (none or several) made a
+    kernel call for HAIRLINE_CHUNK of them (hairline_each: under ts[r], the same floats as
+    stroke() makes per instance, hairline_path's), in their place: (verbs, points, run verb
+    offsets, run point offsets, each run's style index, the runs each row became)."""
+    normal = source_at >= 0
+    hw = np.flatnonzero(~normal)
+    nv, nm, nvoff, npoff = _gather_mapped(sources, np.ascontiguousarray(source_at[normal]),
+                                          ts[normal])
+    h = -1 - source_at[hw]
+    hvs, hps = np.zeros(len(hairs) + 1, np.int64), np.zeros(len(hairs) + 1, np.int64)
+    np.cumsum([len(v) for (v, _), _, _ in hairs], out=hvs[1:])
+    np.cumsum([len(p) for (_, p), _, _ in hairs], out=hps[1:])
+    hv = np.concatenate([v for (v, _), _, _ in hairs]).astype(np.uint8, copy=False)
+    hp = _points64(np.concatenate([p for (_, p), _, _ in hairs]))
+    outsets = np.array([o for _, o, _ in hairs], np.float64)[h]
+    alphas = np.array([a for _, _, a in hairs], np.float64)[h]
+    ms = ts[hw]
+    # (HAIRLINE_CHUNK paths a call: one call's arrays grown for 5,000 markers cost half as
+    # much again as the calls)
+    ovs, ops, rvs, rps, owners = [nv], [nm], [nvoff], [npoff], []
+    for c in range(0, len(h), HAIRLINE_CHUNK):
+        e = c + HAIRLINE_CHUNK
+        ov, op, rv, rp, owner = hairline_each(hv, hp, hvs, hps, h[c:e], ms[c:e], outsets[c:e],
+                                              alphas[c:e])
+        rvs.append(rv[1:] + rvs[-1][-1])
+        rps.append(rp[1:] + rps[-1][-1])
+        ovs.append(ov)
+        ops.append(op)
+        owners.append(owner + c)
+    # the pool of both: the other runs' (nn), then the hairlines'
+    nn = len(nvoff) - 1
+    vo, po = np.concatenate(rvs), np.concatenate(rps)
+    owner = np.concatenate(owners)
+    # (a run without verbs left out, as _run_fills leaves it)
+    kept = np.flatnonzero(vo[nn + 1:] > vo[nn:-1])
+    owner = owner[kept]
+    counts = np.ones(len(source_at), np.int64)
+    counts[hw] = np.bincount(owner, minlength=len(hw))
+    starts = np.cumsum(counts) - counts
+    total = int(starts[-1] + counts[-1]) if len(counts) else 0
+    # each run's place in the pool
+    src = np.empty(total, np.int64)
+    src[starts[normal]] = np.arange(nn)
+    src[starts[hw][owner] + np.arange(len(owner)) - np.searchsorted(owner, owner)] = nn + kept
+    voff, poff = np.zeros(total + 1, np.int64), np.zeros(total + 1, np.int64)
+    np.cumsum((vo[1:] - vo[:-1])[src], out=voff[1:])
+    np.cumsum((po[1:] - po[:-1])[src], out=poff[1:])
+    verbs = np.empty(int(voff[-1]), np.uint8)
+    points = np.empty((int(poff[-1]), 2), np.float64)
+    gather_runs(np.concatenate(ovs), np.concatenate(ops), vo, po, src, np.arange(total),
+                verbs, points, voff, poff)
+    return verbs, points, voff, poff, np.repeat(kind, counts), counts
 
 
 def _composed(top, matrices):
@@ -1161,10 +1250,12 @@ class Builder:
         per linear part) is a run of one source's verbs and points, its transform composed
         for all the instances at once (_compose_rows: the operations compose() does, on
         columns), its points gathered and mapped by one apply_each call, and the runs
-        appended as one FillRuns (the same fills, in the same order, as _instance's). An
-        instance whose strokes are made per instance (hairlines, dashes, non-scaling) is
-        _instance's, between the runs of the others; runs between two such that are too
-        few for a FillRuns become Fills."""
+        appended as one FillRuns (the same fills, in the same order, as _instance's).
+        Hairline strokes, which follow each instance's whole transform, are each instance's
+        runs, made for the stretch in a few kernel calls (_use_hairlines). An instance whose
+        strokes are made per instance otherwise (dashes, non-scaling) is _instance's,
+        between the runs of the others; runs between two such that are too few for a
+        FillRuns become Fills."""
         n = len(gots)
         x, y = np.array(xs, np.float64), np.array(ys, np.float64)
         moved = ~((x == 0.0) & (y == 0.0))
@@ -1183,6 +1274,7 @@ class Builder:
         chains, chain_of = [], {}
         sources, source_of = [], {}
         styles, style_of = [], {}
+        hairs, hair_of = [], {}
         plans, index = [], {}
         for key, i in firsts:
             index[key] = len(plans)
@@ -1190,7 +1282,7 @@ class Builder:
             base = ctx.transform if lin is None else own[i][0]
             top = compose(base, translate(xs[i], ys[i])) if moved[i] else base
             plans.append(self._use_plan(got, top, ctx, chains, chain_of, sources, source_of,
-                                        styles, style_of))
+                                        styles, style_of, hairs, hair_of))
         at = np.fromiter(map(index.__getitem__, keys), np.int64, n)
         # the runs: each instance's plan's, in order
         sizes = np.array([0 if plan is False else len(plan) for plan in plans], np.int64)
@@ -1202,33 +1294,8 @@ class Builder:
         total = int(ends[-1]) if n else 0
         rows = np.repeat(first[at] - (ends - per), per) + np.arange(total)
         chain_at, source_at, kind = (np.ascontiguousarray(table[rows, k]) for k in range(3))
-        # the stretch in order: runs r0..r1 (a tuple), or the node list of an instance whose
-        # strokes are made per instance
-        pieces = []
-        r0 = 0
-        general = [j for j, plan in enumerate(plans) if plan is False]
-        unmapped = []
-        if general:
-            for i in np.flatnonzero(np.isin(at, general)).tolist():
-                c = ctx
-                if i in own:
-                    base, m = own[i]
-                    c = ctx_with(ctx, transform=base, chain=ctx.chain + (m,))
-                top = compose(c.transform, translate(xs[i], ys[i])) if moved[i] else \
-                    c.transform
-                nodes = self._instance(gots[i], c, top, unmapped, counted=True)
-                if nodes:
-                    r1 = int(ends[i])
-                    if r1 > r0:
-                        pieces.append((r0, r1))
-                        r0 = r1
-                    pieces.append(nodes)
-        _map_unmapped(unmapped)
-        if total > r0:
-            pieces.append((r0, total))
         if not total:
-            for piece in pieces:
-                out.extend(piece)
+            self._use_pieces(gots, xs, ys, own, moved, ctx, at, plans, ends, 0, out)
             return
         # each instance's top transform, then each run's: its content's chain composed
         tops = np.empty((n, 6), np.float64)
@@ -1257,27 +1324,53 @@ class Builder:
                     ts = t
                 else:
                     ts[take] = t
-        # the runs' verbs and points copied from their sources' (gather_runs), then mapped
-        vl = np.array([len(v) for v, _ in sources], np.int64)
-        pl = np.array([len(p) for _, p in sources], np.int64)
-        vo, po = np.zeros(len(sources) + 1, np.int64), np.zeros(len(sources) + 1, np.int64)
-        np.cumsum(vl, out=vo[1:])
-        np.cumsum(pl, out=po[1:])
-        lp = pl[source_at]
-        voff, poff = np.zeros(total + 1, np.int64), np.zeros(total + 1, np.int64)
-        np.cumsum(vl[source_at], out=voff[1:])
-        np.cumsum(lp, out=poff[1:])
-        verbs = np.empty(int(voff[-1]), np.uint8)
-        points = np.empty((int(poff[-1]), 2), np.float64)
-        gather_runs(np.concatenate([v for v, _ in sources]).astype(np.uint8, copy=False),
-                    _points64(np.concatenate([p for _, p in sources])), vo, po, source_at,
-                    np.arange(total), verbs, points, voff, poff)
-        mapped = apply_each(ts, lp, points)
-        # (a run under the identity is its source's points, as _instance gives them)
-        same = (ts == IDENTITY).all(axis=1)
-        if same.any():
-            rows = np.repeat(same, lp)
-            mapped[rows] = points[rows]
+        if hairs:
+            verbs, mapped, voff, poff, kind, counts = _use_hairlines(
+                sources, source_at, ts, kind, hairs)
+            # (run ends moved past each hairline's runs: an instance's end is the runs of
+            # its rows so far)
+            cum = np.zeros(total + 1, np.int64)
+            np.cumsum(counts, out=cum[1:])
+            ends, total, source_at = cum[ends], int(cum[-1]), None
+        else:
+            verbs, mapped, voff, poff = _gather_mapped(sources, source_at, ts)
+        self._use_pieces(gots, xs, ys, own, moved, ctx, at, plans, ends, total, out,
+                         (verbs, mapped, voff, poff, styles, kind, source_at, sources))
+
+    def _use_pieces(self, gots, xs, ys, own, moved, ctx, at, plans, ends, total, out,
+                    runs=None) -> None:
+        """For _use_arrays: the stretch appended to ``out`` in order: its runs (``runs``:
+        the device verbs, points, run verb and point offsets, styles and style index of
+        each of ``total`` runs, and the source of each or None, with ``sources``; instance
+        i's runs end at ends[i]) as FillRuns, or Fills where too few between two instances
+        whose strokes are made per instance (plans[at[i]] False: _instance's nodes)."""
+        pieces = []
+        r0 = 0
+        general = [j for j, plan in enumerate(plans) if plan is False]
+        unmapped = []
+        if general:
+            for i in np.flatnonzero(np.isin(at, general)).tolist():
+                c = ctx
+                if i in own:
+                    base, m = own[i]
+                    c = ctx_with(ctx, transform=base, chain=ctx.chain + (m,))
+                top = compose(c.transform, translate(xs[i], ys[i])) if moved[i] else \
+                    c.transform
+                nodes = self._instance(gots[i], c, top, unmapped, counted=True)
+                if nodes:
+                    r1 = int(ends[i])
+                    if r1 > r0:
+                        pieces.append((r0, r1))
+                        r0 = r1
+                    pieces.append(nodes)
+        _map_unmapped(unmapped)
+        if total > r0:
+            pieces.append((r0, total))
+        if not total:
+            for piece in pieces:
+                out.extend(piece)
+            return
+        verbs, mapped, voff, poff, styles, kind, source_at, sources = runs
         for piece in pieces:
             if piece.__class__ is list:
                 out.extend(piece)
@@ -1290,20 +1383,27 @@ class Builder:
                 continue
             new_path = Path.__new__
             bounds = poff[b0:b1 + 1].tolist()
-            for s, k, q0, q1 in zip(source_at[b0:b1].tolist(), kind[b0:b1].tolist(),
-                                    bounds, bounds[1:]):
+            if source_at is None:
+                vb = voff[b0:b1 + 1].tolist()
+                run_verbs = [verbs[v0:v1] for v0, v1 in zip(vb, vb[1:])]
+            else:
+                run_verbs = [sources[s][0] for s in source_at[b0:b1].tolist()]
+            for rv, k, q0, q1 in zip(run_verbs, kind[b0:b1].tolist(), bounds, bounds[1:]):
                 path = new_path(Path)
-                path._arrays = sources[s][0], mapped[q0:q1]
+                path._arrays = rv, mapped[q0:q1]
                 out.append(Fill(path, *styles[k]))
 
     def _use_plan(self, got, top, ctx, chains, chain_of, sources, source_of, styles,
-                  style_of):
+                  style_of, hairs, hair_of):
         """For _use_arrays: the runs an instance of prepared content ``got`` under a top
         transform of ``top``'s linear part makes, as (chain, source, style) indexes into
         the lists ``chains`` (each the matrices a run's transform composes with the top, in
         order), ``sources`` ((verbs, points) of a fill or stroke outline in user space) and
         ``styles`` ((paint, rule, opacity, antialias)), each kept once (``*_of``: its index
-        by key); False when a stroke is made per instance (_instance_outline's False)."""
+        by key); a hairline's source is -1 - h, ``hairs[h]`` ((verbs, points) of the path in
+        user space, its cap's outset, the alpha it blends with: _instance_hairline), its
+        runs made per instance (_use_hairlines); False when another stroke is made per
+        instance (dashed, non-scaling: _instance_outline's False)."""
         symbol = () if got.symbol_m is None else (got.symbol_m,)
         t0 = top if got.symbol_m is None else compose(top, got.symbol_m)
         plan = []
@@ -1316,20 +1416,35 @@ class Builder:
             else:
                 outline = self._instance_outline(path, a, ctx, t, c, b)
                 if outline is False:
-                    return False
-                if not outline:
+                    # a hairline: its runs made per instance (_use_hairlines), from the
+                    # path's own arrays, as source -1 - h of ``hairs``
+                    hair = self._instance_hairline(a, ctx, t, c, b)
+                    if hair is None:
+                        return False
+                    style, outset, alpha = hair
+                    hkey = (id(path), outset, alpha)
+                    hi = hair_of.get(hkey)
+                    if hi is None:
+                        hi = hair_of[hkey] = len(hairs)
+                        hairs.append((path._freeze(), outset, alpha))
+                    arrays = None
+                elif not outline:
                     continue
-                _, ref, opacity, arrays = outline
-                style = (ref.paint, "nonzero", opacity, b)
+                else:
+                    _, ref, opacity, arrays = outline
+                    style = (ref.paint, "nonzero", opacity, b)
             key = (id(got), id(matrices))
             ci = chain_of.get(key)
             if ci is None:
                 ci = chain_of[key] = len(chains)
                 chains.append(symbol + matrices)
-            si = source_of.get(id(arrays))
-            if si is None:
-                si = source_of[id(arrays)] = len(sources)
-                sources.append((arrays[0], arrays[2]))
+            if arrays is None:
+                si = -1 - hi
+            else:
+                si = source_of.get(id(arrays))
+                if si is None:
+                    si = source_of[id(arrays)] = len(sources)
+                    sources.append((arrays[0], arrays[2]))
             skey = (id(style[0]),) + style[1:]
             ki = style_of.get(skey)
             if ki is None:
@@ -2594,6 +2709,28 @@ class Builder:
                     got = (outline, ref, _stroke_opacity(plan, ref),
                            (v, None, np.ascontiguousarray(p, dtype=np.float64)))
             self._instance_strokes[key] = got
+        return got
+
+    def _instance_hairline(self, style, ctx, t, viewport, antialias):
+        """For a stroke _instance_outline leaves to stroke() per instance: where stroke()
+        draws it as a hairline under ``t`` (which its linear part decides: _stroke_plan),
+        (the Fills' style (paint, rule, opacity, antialias), the cap's outset and the alpha
+        the hairline kernel blends with, as _hairline_fills gives hairline_path them), kept
+        per (style, linear part, viewport, antialias); else None (dashed, non-scaling)."""
+        key = ("hairline", style, t[:4], viewport, antialias)
+        strokes = self._instance_strokes
+        got = strokes.get(key, strokes)
+        if got is strokes:
+            got = None
+            c = ctx_with(ctx, transform=t, viewport=viewport)
+            ref = self.resolve_paint(style, "stroke", c, None)
+            plan = None if ref is None else self._stroke_plan(style, c, antialias)
+            if plan is not None and plan[0] == "hairline":
+                opacity = _stroke_opacity(plan, ref)
+                got = ((ref.paint, "nonzero", opacity, antialias),
+                       float(CAP_OUTSET.get(plan[1], 0.0)),
+                       float(use_alpha(blend_alpha(ref.paint, opacity))))
+            strokes[key] = got
         return got
 
     # -- shapes and painting -----------------------------------------------------------------
