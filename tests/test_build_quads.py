@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from vecmsaa.geometry.primitives import (CULL_MARGIN, LINE_EPS, NO_CULL, P_CTRL, P_KIND,
-                                         P_NCTRL, PRIM_FIELDS, KIND_QUAD, _eval_implicit,
+                                         P_NCTRL, KIND_QUAD, _eval_implicit,
                                          build_batch, build_run, path_runs)
 from vecmsaa.scene.path import CLOSE, LINE, MOVE, QUAD
 
