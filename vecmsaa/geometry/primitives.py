@@ -305,10 +305,10 @@ def _within(q, n, clip):
     return True
 
 
-@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _quad_hull(q, x0, y0, x1, y1, x2, y2, ta, tb):
-    """The control points of the quadratic's part ta..tb into q (ends as _quad_point gives
-    them, the curve's own at t = 0 and 1); its middle one by blossoming."""
+@njit(cache=True, inline="always")
+def _quad_part(x0, y0, x1, y1, x2, y2, ta, tb):
+    """The control points of the quadratic's part ta..tb (ends as _quad_point gives them,
+    the curve's own at t = 0 and 1; the middle one by blossoming), as six numbers."""
     ax, ay = _quad_point(x0, y0, x1, y1, x2, y2, ta)
     bx, by = _quad_point(x0, y0, x1, y1, x2, y2, tb)
     if ta == 0.0:
@@ -316,10 +316,15 @@ def _quad_hull(q, x0, y0, x1, y1, x2, y2, ta, tb):
     if tb == 1.0:
         bx, by = x2, y2
     mt_a, mt_b = 1.0 - ta, 1.0 - tb
-    q[0, 0], q[0, 1] = ax, ay
-    q[1, 0] = mt_a * mt_b * x0 + (mt_a * tb + ta * mt_b) * x1 + ta * tb * x2
-    q[1, 1] = mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2
-    q[2, 0], q[2, 1] = bx, by
+    return (ax, ay, mt_a * mt_b * x0 + (mt_a * tb + ta * mt_b) * x1 + ta * tb * x2,
+            mt_a * mt_b * y0 + (mt_a * tb + ta * mt_b) * y1 + ta * tb * y2, bx, by)
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _quad_hull(q, x0, y0, x1, y1, x2, y2, ta, tb):
+    """_quad_part into q (3, 2)."""
+    q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = _quad_part(x0, y0, x1, y1, x2, y2,
+                                                                      ta, tb)
 
 
 @njit(cache=True, inline="always")
@@ -410,57 +415,58 @@ def _flatten_cubic(edges, ne, c, tol, clip, q):
 
 # -- curve primitives -----------------------------------------------------------------------------
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
-def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y, n0=-1.0, n1=-1.0):
-    """Everything of a lens primitive but its implicit function and its ``nctrl`` control
-    points (the caller has stored them: no array of them per piece): bounding
+def _set_lens(prims, nc, nctrl, sx, sy, t0x, t0y, t1x, t1y, n0=-1.0, n1=-1.0):
+    """Everything of the lens primitive prims[nc] but its implicit function and its ``nctrl``
+    control points (the caller has stored them: no array of them per piece; and the row
+    indexed, not taken as a view, which would cost its reference counts): bounding
     box, winding sign, the chord (first to last control point) sorted by y (as the scan
     converter sees it) with the side the lens lies on, judged from the point (sx, sy) known to
     be inside the lens, and the tangent half-planes through the ends along t0 and t1 (left at
     (0, 0, 1), none, for a zero tangent). ``n0``, ``n1``: the tangents' lengths where the
     caller has taken them (a cubic piece's refinement does), else negative."""
-    ctrl = prim[P_CTRL:P_CTRL + 2 * nctrl]
-    x0 = ctrl[0]
-    y0 = ctrl[1]
+    x0 = prims[nc, P_CTRL]
+    y0 = prims[nc, P_CTRL + 1]
     bx0, by0, bx1, by1 = x0, y0, x0, y0
     for i in range(nctrl):
-        bx0 = min(bx0, ctrl[2 * i])
-        by0 = min(by0, ctrl[2 * i + 1])
-        bx1 = max(bx1, ctrl[2 * i])
-        by1 = max(by1, ctrl[2 * i + 1])
-    prim[P_NCTRL] = nctrl
-    prim[P_BBOX] = bx0
-    prim[P_BBOX + 1] = by0
-    prim[P_BBOX + 2] = bx1
-    prim[P_BBOX + 3] = by1
+        bx0 = min(bx0, prims[nc, P_CTRL + 2 * i])
+        by0 = min(by0, prims[nc, P_CTRL + 2 * i + 1])
+        bx1 = max(bx1, prims[nc, P_CTRL + 2 * i])
+        by1 = max(by1, prims[nc, P_CTRL + 2 * i + 1])
+    prims[nc, P_NCTRL] = nctrl
+    prims[nc, P_BBOX] = bx0
+    prims[nc, P_BBOX + 1] = by0
+    prims[nc, P_BBOX + 2] = bx1
+    prims[nc, P_BBOX + 3] = by1
     # shoelace sign of the control polygon = orientation of the lens loop (curve, chord back);
     # with y down and +1 for downward edges left of a sample, a positive area winds −1.
     area = 0.0
     for i in range(nctrl):
         j = (i + 1) % nctrl
-        area += ctrl[2 * i] * ctrl[2 * j + 1] - ctrl[2 * j] * ctrl[2 * i + 1]
-    prim[P_WSIGN] = -1.0 if area > 0 else 1.0
+        area += prims[nc, P_CTRL + 2 * i] * prims[nc, P_CTRL + 2 * j + 1] - \
+            prims[nc, P_CTRL + 2 * j] * prims[nc, P_CTRL + 2 * i + 1]
+    prims[nc, P_WSIGN] = -1.0 if area > 0 else 1.0
     # the chord
-    x1, y1 = ctrl[2 * nctrl - 2], ctrl[2 * nctrl - 1]
+    x1, y1 = prims[nc, P_CTRL + 2 * nctrl - 2], prims[nc, P_CTRL + 2 * nctrl - 1]
     if y0 < y1 or (y0 == y1 and x0 <= x1):
         xt, yt, xb, yb = x0, y0, x1, y1
     else:
         xt, yt, xb, yb = x1, y1, x0, y0
-    prim[P_CHORD] = xt
-    prim[P_CHORD + 1] = yt
-    prim[P_CHORD + 2] = xb
-    prim[P_CHORD + 3] = yb
+    prims[nc, P_CHORD] = xt
+    prims[nc, P_CHORD + 1] = yt
+    prims[nc, P_CHORD + 2] = xb
+    prims[nc, P_CHORD + 3] = yb
     if yt == yb:
-        prim[P_RIGHT] = 1.0 if sy >= yt else 0.0
+        prims[nc, P_RIGHT] = 1.0 if sy >= yt else 0.0
     else:
         dxdy = (xb - xt) / (yb - yt)
-        prim[P_RIGHT] = 1.0 if sx >= xt + (sy - yt) * dxdy else 0.0
+        prims[nc, P_RIGHT] = 1.0 if sx >= xt + (sy - yt) * dxdy else 0.0
     # the tangent half-planes a·x + b·y + c ≥ 0, oriented so (sx, sy) is inside
     for e in range(2):
         base = P_T1 if e == 0 else P_T2
         px, py, dx, dy, ln = (x0, y0, t0x, t0y, n0) if e == 0 else (x1, y1, t1x, t1y, n1)
-        prim[base] = 0.0
-        prim[base + 1] = 0.0
-        prim[base + 2] = 1.0
+        prims[nc, base] = 0.0
+        prims[nc, base + 1] = 0.0
+        prims[nc, base + 2] = 1.0
         if ln < 0.0:
             ln = math.hypot(dx, dy)
         if ln == 0.0:
@@ -469,19 +475,28 @@ def _set_lens(prim, nctrl, sx, sy, t0x, t0y, t1x, t1y, n0=-1.0, n1=-1.0):
         c = -(a * px + b * py)
         if a * sx + b * sy + c < 0:
             a, b, c = -a, -b, -c
-        prim[base] = a
-        prim[base + 1] = b
-        prim[base + 2] = c - 1e-9 * (abs(c) + 1.0)
+        prims[nc, base] = a
+        prims[nc, base + 1] = b
+        prims[nc, base + 2] = c - 1e-9 * (abs(c) + 1.0)
+
+
+@njit(cache=True, inline="always")
+def _quad_split(x0, y0, x1, y1, x2, y2, max_sagitta):
+    """The pieces a quadratic is cut into (at least 1; not yet capped), or 0 where it is its
+    chord alone (straight within LINE_EPS, or not finite)."""
+    dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
+    if dev < LINE_EPS or not (math.isfinite(dev)):
+        return 0
+    # splitting into k pieces divides the bulge by k²
+    return int(math.ceil(math.sqrt(dev / max_sagitta)))
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta, clip, q):
-    dev = 0.25 * math.hypot(x0 - 2 * x1 + x2, y0 - 2 * y1 + y2)
-    if dev < LINE_EPS or not (math.isfinite(dev)):
+    k = _quad_split(x0, y0, x1, y1, x2, y2, max_sagitta)
+    if k == 0:
         edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
         return edges, ne, prims, nc
-    # splitting into k pieces divides the bulge by k²
-    k = int(math.ceil(math.sqrt(dev / max_sagitta)))
     q[0, 0], q[0, 1], q[1, 0], q[1, 1], q[2, 0], q[2, 1] = x0, y0, x1, y1, x2, y2
     cull = not _within(q, 3, clip)
     k = max(1, min(k, CULLED_MAX_PIECES if cull else MAX_PIECES))
@@ -504,36 +519,46 @@ def _emit_quad(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, max_sagitta, clip, 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     """Chord edge plus lens primitive for one conic piece (k² − l·m, lens where f < 0)."""
-    edges, ne = _push_edge(edges, ne, x0, y0, x2, y2)
+    edges = _grow(edges, ne)
+    prims = _grow(prims, nc)
+    ne, nc = _conic_piece_at(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w)
+    return edges, ne, prims, nc
+
+
+@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+def _conic_piece_at(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
+    """_emit_conic_piece where the rooms hold its edge and lens (ne and nc below their rows):
+    the new (ne, nc), no array returned (build_batch's in-place quadratics)."""
+    if not _no_edge(x0, y0, x2, y2):
+        edges[ne, 0], edges[ne, 1], edges[ne, 2], edges[ne, 3] = x0, y0, x2, y2
+        ne += 1
     s = max(math.hypot(x1 - x0, y1 - y0), math.hypot(x2 - x0, y2 - y0))
     if s == 0.0:
-        return edges, ne, prims, nc
+        return ne, nc
     inv = 1.0 / s
     X1, Y1 = (x1 - x0) * inv, (y1 - y0) * inv
     X2, Y2 = (x2 - x0) * inv, (y2 - y0) * inv
     det = X1 * Y2 - X2 * Y1
     if abs(det) < 1e-12:
-        return edges, ne, prims, nc
-    prims = _grow(prims, nc)
-    prim = prims[nc]
+        return ne, nc
     for j in range(PRIM_FIELDS):
-        prim[j] = 0.0
-    prim[P_KIND] = KIND_QUAD
-    prim[P_SIGMA] = 1.0
-    prim[P_OX], prim[P_OY], prim[P_INVS] = x0, y0, inv
+        prims[nc, j] = 0.0
+    prims[nc, P_KIND] = KIND_QUAD
+    prims[nc, P_SIGMA] = 1.0
+    prims[nc, P_OX], prims[nc, P_OY], prims[nc, P_INVS] = x0, y0, inv
     # barycentric coordinates in the frame (b0 at the origin): τ1 = (X·Y2 − Y·X2) / det,
     # τ2 = (X1·Y − Y1·X) / det, τ0 = 1 − τ1 − τ2; k = τ1 / 2w, l = τ0, m = τ2
     h = 0.5 / (w * det)
-    prim[P_K] = Y2 * h
-    prim[P_K + 1] = -X2 * h
-    prim[P_L] = (Y1 - Y2) / det
-    prim[P_L + 1] = (X2 - X1) / det
-    prim[P_L + 2] = 1.0
-    prim[P_M] = -Y1 / det
-    prim[P_M + 1] = X1 / det
-    prim[P_CTRL], prim[P_CTRL + 1] = x0, y0
-    prim[P_CTRL + 2], prim[P_CTRL + 3] = x1, y1
-    prim[P_CTRL + 4], prim[P_CTRL + 5] = x2, y2
+    prims[nc, P_K] = Y2 * h
+    prims[nc, P_K + 1] = -X2 * h
+    prims[nc, P_L] = (Y1 - Y2) / det
+    prims[nc, P_L + 1] = (X2 - X1) / det
+    prims[nc, P_L + 2] = 1.0
+    prims[nc, P_M] = -Y1 / det
+    prims[nc, P_M + 1] = X1 / det
+    prims[nc, P_CTRL], prims[nc, P_CTRL + 1] = x0, y0
+    prims[nc, P_CTRL + 2], prims[nc, P_CTRL + 3] = x1, y1
+    prims[nc, P_CTRL + 4], prims[nc, P_CTRL + 5] = x2, y2
     # inside: half-way between the curve's midpoint and the chord's
     lam = 0.5 * w / (1.0 + w)
     cx, cy = 0.5 * (x0 + x2), 0.5 * (y0 + y2)
@@ -541,8 +566,8 @@ def _emit_conic_piece(edges, ne, prims, nc, x0, y0, x1, y1, x2, y2, w):
     # the end tangents (b0 → b1, b1 → b2) close the control triangle around the lens: the
     # one-evaluation modes (alpha, a2c) then give no coverage beyond the lens's ends, where the
     # whole ellipse's distance says "near the curve"
-    _set_lens(prim, 3, qx, qy, x1 - x0, y1 - y0, x2 - x1, y2 - y1)
-    return edges, ne, prims, nc + 1
+    _set_lens(prims, nc, 3, qx, qy, x1 - x0, y1 - y0, x2 - x1, y2 - y1)
+    return ne, nc + 1
 
 
 @njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
@@ -800,7 +825,7 @@ def _emit_cubic_piece(edges, ne, prims, nc, c, M, ox, oy, inv, t0x, t0y, t1x, t1
     for i in range(4):
         prim[P_CTRL + 2 * i] = c[i, 0]
         prim[P_CTRL + 2 * i + 1] = c[i, 1]
-    _set_lens(prim, 4, qx, qy, t0x, t0y, t1x, t1y, n0, n1)
+    _set_lens(prims, nc, 4, qx, qy, t0x, t0y, t1x, t1y, n0, n1)
     edges, ne = _push_edge(edges, ne, c[0, 0], c[0, 1], c[3, 0], c[3, 1])
     return edges, ne, prims, nc + 1, True
 
@@ -989,14 +1014,18 @@ def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, pr
     Returns the arrays, their counts and the state after them (an open subpath left open).
     Inlined into both builders: their loops over many small paths would pay a call, and
     its arrays' reference counts, per path."""
-    top, bottom, right = clip[1], clip[3], clip[2]
+    left, top, right, bottom = clip[0], clip[1], clip[2], clip[3]
+    sample = not flatten_tol > 0
     vi = v0
     while vi < v1:
-        # the moves, lines and closes up to the next curve, in a loop that assigns no array:
-        # numba copies an array variable assigned in a loop (a reference count up and down)
-        # on every pass, which cost a staircase's batch more than its edges (docs/bench.md,
-        # session 35). An edge that finds no room leaves the loop to grow the array.
+        # the moves, lines and closes, and the quadratics of the sample modes that lie in the
+        # culling rect, in a loop that assigns no array: numba copies an array variable
+        # assigned in a loop (a reference count up and down) on every pass, which cost a
+        # staircase's batch more than its edges (docs/bench.md, session 35), and a glyph's
+        # quadratics as much again as their lenses (session 36). What finds no room leaves
+        # the loop to the code below, which grows the arrays; so do the other curves.
         room = edges.shape[0]
+        proom = prims.shape[0]
         while vi < v1:
             v = verbs[vi]
             if v == LINE:
@@ -1009,6 +1038,35 @@ def _build_verbs(verbs, points, v0, v1, pi, sx, sy, cx, cy, open_, edges, ne, pr
                     ne += 1
                 cx, cy = x, y
                 pi += 1
+            elif v == QUAD and sample:
+                # _emit_quad's edges and lenses of a quadratic wholly in the rect (none of
+                # its pieces is culled), written in place
+                x1, y1 = points[pi, 0], points[pi, 1]
+                x2, y2 = points[pi + 1, 0], points[pi + 1, 1]
+                if not _misses_rows(cy, y1, y2, y2, lo, hi):
+                    k = _quad_split(cx, cy, x1, y1, x2, y2, max_sagitta)
+                    if k == 0:
+                        if not _no_edge(cx, cy, x2, y2):
+                            if ne >= room:
+                                break
+                            edges[ne, 0], edges[ne, 1] = cx, cy
+                            edges[ne, 2], edges[ne, 3] = x2, y2
+                            ne += 1
+                    else:
+                        if not (left <= cx <= right and top <= cy <= bottom and
+                                left <= x1 <= right and top <= y1 <= bottom and
+                                left <= x2 <= right and top <= y2 <= bottom):
+                            break
+                        k = max(1, min(k, MAX_PIECES))
+                        if ne + k > room or nc + k > proom:
+                            break
+                        for i in range(k):
+                            ax, ay, bx, by, ex, ey = _quad_part(cx, cy, x1, y1, x2, y2, i / k,
+                                                                (i + 1) / k)
+                            ne, nc = _conic_piece_at(edges, ne, prims, nc, ax, ay, bx, by,
+                                                     ex, ey, 1.0)
+                cx, cy = x2, y2
+                pi += 2
             elif v == MOVE or v == CLOSE:
                 # the open subpath closed (a move starts the next one)
                 if open_ and not _no_edge(cx, cy, sx, sy) and \

@@ -343,13 +343,17 @@ def scan_edges(edges, chunk_y, e0, e1, sy0, rows, W, sx, sy, delta, dirty, dlist
             # way) without a conversion to double and back per sample
             if y0 < y1:
                 xt, yt, xb, yb, d = x0, y0, x1, y1, np.float32(1.0)
-            else:
+            elif y1 < y0:
                 xt, yt, xb, yb, d = x1, y1, x0, y0, np.float32(-1.0)
+            else:
+                # a NaN y (clamp_far_edges drops edges by their x only): no winding is made
+                # of it, where its rows came out as row 0 and its crossings as column 0
+                continue
             r_lo = max(_floor_int(yt) - sy0, 0)
             # an edge ending on a row boundary counts for no sample of the row below it
             # (all at y >= yb) nor splits one there: not that row (a hairline staircase's
             # side one row tall marked two rows)
-            r_hi = min(_floor_int(yb) - (1 if np.floor(yb) == yb else 0) - sy0, rows - 1)
+            r_hi = min(_ceil_int(yb) - 1 - sy0, rows - 1)
             if r_lo > r_hi:
                 continue
             dxdy = (xb - xt) / (yb - yt)
