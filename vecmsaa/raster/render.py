@@ -85,6 +85,20 @@ PARALLEL_ITEM_SECONDS = 50e-6
 #: items a band at most, on average, for the band threads to start at once; with more, one
 #: thread draws until BandPace has seen whether they are slow enough to share
 ITEMS_PER_BAND_AT_ONCE = 8
+#: pixels of an image, at most, whose band threads beyond the first wait for its first band
+#: that draws something however few its items are (BandPace): they join only when the rows
+#: left would take MIN_SHARED_SECONDS on one thread. A 200 px icon or suite test is a
+#: millisecond of drawing, and its render made an executor and a thread, split its 200 rows
+#: into 7 bands and handed the GIL back and forth: 1.3 times the CPU of one thread, and more
+#: wall time on a busy machine (docs/bench.md, session 36). Larger images keep starting their
+#: threads at once when their items are few (a band alone first would cost them up to an
+#: eighth of the draw)
+PACED_PIXELS = 1 << 20
+#: CPU seconds the rows left after the first band that draws something would take on one
+#: thread (that band's time per row), at least, for band threads beyond the first to join in
+#: an image of at most PACED_PIXELS: sharing saves at most half of it, against a thread's
+#: start, the GIL's hand-offs and the bands' split
+MIN_SHARED_SECONDS = 4e-3
 #: bytes the buffers of nested layers, clips and masks may hold together: each nesting level
 #: keeps a buffer of the band's rows (layer_buffer), so 1,000 nested groups with opacity would
 #: hold 16 GB in bands of BAND_BUDGET; deeper nesting draws in thinner bands instead
@@ -341,8 +355,8 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     most_rows = layer_rows(W, layer_depth(items))
     band_rows, solo_rows = min(band_rows, most_rows), min(solo_rows, most_rows)
     starts = range(0, H, band_rows)
-    pace = BandPace(items, starts, band_rows, solo_rows) if threads > 1 and len(starts) > 1 \
-        else None
+    pace = BandPace(items, starts, band_rows, solo_rows, H if W * H <= PACED_PIXELS else None) \
+        if threads > 1 and len(starts) > 1 else None
     if threads > 1 and len(starts) > threads and not (pace is not None and pace.wait):
         starts = heaviest_first(items, starts, band_rows)
     bands = [(y0, min(band_rows, H - y0)) for y0 in starts]
@@ -370,10 +384,11 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 band[0] = background
                 band[1:] = band[0]
                 filled = rows
-            began, drawn = time.perf_counter(), raster.drawn
+            began, cpu, drawn = time.perf_counter(), time.thread_time(), raster.drawn
             draw_items(items, band, y0, raster)
             if pace is not None and pace.decide is not None:
-                pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn)
+                pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn, rows,
+                                time.thread_time() - cpu)
             drawn_rows.band_done(y0, rows)
             if refill is None:
                 consume(y0, band)
@@ -428,25 +443,42 @@ class BandsDrawn:
 
 class BandPace:
     """Whether band threads beyond the first join in. At once when the items are few for the
-    bands (ITEMS_PER_BAND_AT_ONCE); otherwise the first band one thread draws that draws any
-    items decides (``band_drawn``): at PARALLEL_ITEM_SECONDS an item or more the others
-    join, taking the bands left heaviest first (``share``), below it the same thread draws
-    them, in bands of up to ``solo_rows`` (``regroup``: a layer crossing a band's edge is
-    drawn once in each band). The image depends neither on the threads nor on the bands."""
+    bands (ITEMS_PER_BAND_AT_ONCE) in an image of more than PACED_PIXELS; otherwise the
+    first band one thread draws that draws any items decides (``band_drawn``): the others
+    join, taking the bands left heaviest first (``share``), where the items are many at
+    PARALLEL_ITEM_SECONDS an item or more and, in an image of ``height`` rows (at most
+    PACED_PIXELS), where the rows left would take MIN_SHARED_SECONDS or more; otherwise the
+    same thread draws them, in bands of up to ``solo_rows`` (``regroup``: a layer crossing a
+    band's edge is drawn once in each band). The image depends neither on the threads nor on
+    the bands."""
 
-    def __init__(self, items, starts, band_rows: int, solo_rows: int):
+    def __init__(self, items, starts, band_rows: int, solo_rows: int,
+                 height: int | None = None):
         self.items, self.starts, self.band_rows = items, starts, band_rows
         self.solo_rows = solo_rows
-        self.wait = item_count(items) > ITEMS_PER_BAND_AT_ONCE * len(starts)
+        self.many = item_count(items) > ITEMS_PER_BAND_AT_ONCE * len(starts)
+        #: rows of a small image (PACED_PIXELS), None for a larger one
+        self.height = height
+        self.wait = self.many or height is not None
+        #: rows drawn before the deciding band (by this thread alone)
+        self.rows_before = 0
         #: (join, alone) from run_bands while undecided, then None
         self.decide = None
 
-    def band_drawn(self, seconds: float, drawn: int) -> None:
+    def band_drawn(self, seconds: float, drawn: int, rows: int = 0,
+                   cpu_seconds: float = 0.0) -> None:
+        """A band of ``rows`` rows drew ``drawn`` items in ``seconds`` (wall) and
+        ``cpu_seconds`` (its thread's CPU)."""
         if drawn == 0:
+            self.rows_before += rows
             return          # a band with nothing in it tells nothing
         join, alone = self.decide
         self.decide = None
-        (join if seconds >= PARALLEL_ITEM_SECONDS * drawn else alone)()
+        share = not self.many or seconds >= PARALLEL_ITEM_SECONDS * drawn
+        if share and self.height is not None and rows > 0:
+            left = self.height - self.rows_before - rows
+            share = cpu_seconds * left / rows >= MIN_SHARED_SECONDS
+        (join if share else alone)()
 
     def share(self, bands: list) -> list:
         """The (y0, rows) bands heaviest first (heaviest_first), for threads taking turns."""
