@@ -2,6 +2,8 @@
 many small renders in one process give each file's own bytes (docs/bench.md, session 36)."""
 import concurrent.futures
 import math
+import os
+import threading
 
 import numpy as np
 import pytest
@@ -72,3 +74,107 @@ def test_band_pace_decides_by_the_time_the_rows_left_would_take(monkeypatch):
     # the first band: 168 rows left, 168 / 32 * 0.7 ms = 3.675 ms
     pace().band_drawn(1.0, 3, 32, 0.7e-3)
     assert outcomes == ["join", "alone"]
+
+
+def _documents():
+    """Small documents unlike each other: shapes, a gradient, a group with opacity, a stroke."""
+    return [SMALL_SVG,
+            '<svg xmlns="http://www.w3.org/2000/svg" width="160" height="120"><defs>'
+            '<linearGradient id="g"><stop offset="0" stop-color="red"/><stop offset="1" '
+            'stop-color="blue"/></linearGradient></defs><ellipse cx="80" cy="60" rx="70" '
+            'ry="40" fill="url(#g)"/></svg>',
+            '<svg xmlns="http://www.w3.org/2000/svg" width="180" height="200">'
+            '<g opacity="0.5"><rect x="10" y="10" width="100" height="150" fill="green"/>'
+            '<rect x="50" y="40" width="100" height="150" fill="purple"/></g></svg>',
+            '<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">'
+            '<path d="M10 140 C 60 -40 140 -40 190 140" fill="none" stroke="black" '
+            'stroke-width="9" stroke-dasharray="20 7"/></svg>']
+
+
+def test_one_executor_serves_a_process_of_renders(executors, monkeypatch):
+    """Renders one after another on two threads whose bands are shared (MIN_SHARED_SECONDS
+    0) make one executor in all, not one each; each document gives the bytes it gives
+    rendered alone on one thread, in any order, however the ones before it were rendered;
+    release_band_pool ends its threads, and the next render makes a new one."""
+    monkeypatch.setattr(render_module, "MIN_SHARED_SECONDS", 0.0)
+    render_module.release_band_pool()
+    before = threading.active_count()
+    docs = _documents()
+    alone = [render_svg_array(d, threads=1) for d in docs]
+    assert executors == []
+    for order in (range(4), reversed(range(4)), [2, 0, 3, 1, 2, 0]):
+        for i in order:
+            assert np.array_equal(render_svg_array(docs[i], threads=2), alone[i]), i
+    assert len(executors) == 1
+    assert threading.active_count() > before
+    render_module.release_band_pool()
+    assert threading.active_count() == before
+    assert np.array_equal(render_svg_array(docs[0], threads=2), alone[0])
+    assert len(executors) == 2
+    # another number of threads: that process pool replaces the first
+    assert np.array_equal(render_svg_array(docs[1], threads=3), alone[1])
+    assert len(executors) == 3 and executors[1]._shutdown
+    render_module.release_band_pool()
+
+
+def test_renders_on_several_threads_at_once_each_get_their_bytes(monkeypatch):
+    """Renders running on several threads at once (a service): one borrows the process's
+    pool, the others make their own, as every render did before; every image is its
+    document's."""
+    from concurrent.futures import ThreadPoolExecutor
+    monkeypatch.setattr(render_module, "MIN_SHARED_SECONDS", 0.0)
+    docs = _documents()
+    alone = [render_svg_array(d, threads=1) for d in docs]
+    with ThreadPoolExecutor(4) as callers:
+        got = list(callers.map(lambda i: render_svg_array(docs[i % 4], threads=2), range(16)))
+    for i, image in enumerate(got):
+        assert np.array_equal(image, alone[i % 4]), i
+    render_module.release_band_pool()
+
+
+def _render_in_child(conn):
+    conn.send(render_svg_array(_documents()[2], threads=2).tobytes())
+    conn.close()
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork here")
+def test_a_forked_child_renders_with_threads_of_its_own(monkeypatch):
+    """A process forked after renders that kept their pool (the parent's pool threads do not
+    exist in the child) renders with threads all the same, the same bytes."""
+    import multiprocessing as mp
+    monkeypatch.setattr(render_module, "MIN_SHARED_SECONDS", 0.0)
+    doc = _documents()[2]
+    alone = render_svg_array(doc, threads=1)
+    assert np.array_equal(render_svg_array(doc, threads=2), alone)     # the pool now exists
+    ctx = mp.get_context("fork")
+    parent, child = ctx.Pipe()
+    process = ctx.Process(target=_render_in_child, args=(child,))
+    process.start()
+    assert parent.poll(120), "the child did not answer"
+    assert parent.recv() == alone.tobytes()
+    process.join(30)
+    assert process.exitcode == 0
+    render_module.release_band_pool()
+
+
+def test_the_command_ends_quickly_after_renders_that_kept_their_pool(tmp_path):
+    """console() ends without the interpreter's teardown (os._exit) only with its thread
+    alone: after a render whose bands were shared on two threads, the kept pool's threads are
+    ended first, so the quick exit still happens, with the image written."""
+    import subprocess
+    import sys
+    svg = tmp_path / "a.svg"
+    svg.write_text(SMALL_SVG)
+    code = ("import os, sys; real = os._exit; "
+            "os._exit = lambda c: (print('quick exit', flush=True), real(c)); "
+            "from vecmsaa.raster import render; render.MIN_SHARED_SECONDS = 0.0; "
+            "sys.argv = ['vecmsaa'] + sys.argv[1:]; "
+            "from vecmsaa.cli.main import console; console()")
+    out = tmp_path / "a.png"
+    proc = subprocess.run([sys.executable, "-c", code, "render", str(svg), "-o", str(out),
+                           "--threads", "2"], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "quick exit\n"
+    from PIL import Image
+    with Image.open(out) as im:
+        assert np.array_equal(np.asarray(im), render_svg_array(SMALL_SVG, threads=1))

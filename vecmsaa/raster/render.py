@@ -625,16 +625,30 @@ def _keep_kit(key, raster: Raster, buffer, filled: int, colour: np.ndarray) -> N
 
 @contextlib.contextmanager
 def band_pool(threads: int):
-    """An executor of ``threads`` threads for one render (None for one thread): the fill
-    batches' geometry is built on it (FillBatch), then the bands are drawn on it."""
+    """An executor of ``threads`` threads for a render (None for one thread): the fill
+    batches' geometry is built on it (FillBatch), then the bands are drawn on it. The
+    process's executor of that many threads (made on its first ``submit``, kept from render
+    to render: a batch or a service rendering file after file made and joined one a file),
+    or, while another render holds that one (renders on several threads at once) or renders
+    ask for different numbers of threads, one of the render's own. Either way every task
+    submitted has ended when the render gives it back."""
     if threads <= 1:
         yield None
         return
-    pool = _LazyPool(threads)
+    shared = _borrow_shared_pool(threads)
+    if shared is None:
+        pool = _LazyPool(threads)
+        try:
+            yield pool
+        finally:
+            pool.shutdown()
+        return
+    lent = _LentPool(shared)
     try:
-        yield pool
+        yield lent
     finally:
-        pool.shutdown()
+        lent.wait()
+        _give_back_shared_pool()
 
 
 class _LazyPool:
@@ -646,17 +660,85 @@ class _LazyPool:
         self.threads = threads
         self._executor = None
         self._lock = threading.Lock()
+        #: executors made (tests count them)
+        self.made = 0
 
     def submit(self, fn, *args):
         with self._lock:
             if self._executor is None:
                 from concurrent.futures import ThreadPoolExecutor
                 self._executor = ThreadPoolExecutor(self.threads)
+                self.made += 1
         return self._executor.submit(fn, *args)
 
     def shutdown(self) -> None:
         if self._executor is not None:
             self._executor.shutdown()
+
+
+class _LentPool:
+    """The process's pool as one render sees it: its submits are remembered, so that the
+    render ends with all of them (band_pool)."""
+
+    def __init__(self, pool: _LazyPool):
+        self.pool, self.threads, self.futures = pool, pool.threads, []
+
+    def submit(self, fn, *args):
+        future = self.pool.submit(fn, *args)
+        self.futures.append(future)
+        return future
+
+    def wait(self) -> None:
+        for future in self.futures:
+            future.exception()      # (waits; the render has seen or raised what it raised)
+
+
+#: the process's band pool (band_pool): (_LazyPool, lent to a render now)
+_shared_pool: list = [None, False]
+_shared_lock = threading.Lock()
+
+
+def _borrow_shared_pool(threads: int):
+    """The process's pool of ``threads`` threads, lent to the caller; None while it is lent
+    to another render."""
+    with _shared_lock:
+        pool, lent = _shared_pool
+        if lent:
+            return None
+        if pool is None or pool.threads != threads:
+            if pool is not None:
+                pool.shutdown()     # (idle: nothing is lent)
+            pool = _shared_pool[0] = _LazyPool(threads)
+        _shared_pool[1] = True
+        return pool
+
+
+def _give_back_shared_pool() -> None:
+    with _shared_lock:
+        _shared_pool[1] = False
+
+
+def release_band_pool() -> None:
+    """End the process's band pool's threads (they wait idle between renders): the command
+    line's quick exit (cli.main.console) needs this thread alone. A render after it makes a
+    new one."""
+    with _shared_lock:
+        pool, lent = _shared_pool
+        if pool is None or lent:
+            return
+        _shared_pool[0] = None
+    pool.shutdown()
+
+
+def _forget_band_pool() -> None:
+    """In a forked child: the parent's pool threads do not exist there."""
+    global _shared_lock
+    _shared_lock = threading.Lock()
+    _shared_pool[:] = [None, False]
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_band_pool)
 
 
 def run_bands(draw_bands, bands, threads: int, pool=None, pace: BandPace | None = None) -> None:
