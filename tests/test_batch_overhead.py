@@ -178,3 +178,72 @@ def test_the_command_ends_quickly_after_renders_that_kept_their_pool(tmp_path):
     from PIL import Image
     with Image.open(out) as im:
         assert np.array_equal(np.asarray(im), render_svg_array(SMALL_SVG, threads=1))
+
+
+def test_premultiplied_u8_is_the_rounded_product_for_every_colour_and_alpha():
+    """Every (channel, alpha) pair of 8 bits: c * alpha / 255 rounded to the nearest
+    integer (exact fractions), alpha kept; arrays of other integer types as 8-bit ones."""
+    from fractions import Fraction
+
+    from vecmsaa.tools.compare import largest_channel, premultiplied_u8
+    c, alpha = np.meshgrid(np.arange(256), np.arange(256), indexing="ij")
+    rgba = np.stack([c, 255 - c, c // 2, alpha], axis=-1).astype(np.uint8)
+    got = premultiplied_u8(rgba)
+    assert got.dtype == np.int16
+    expected = np.array([[round(Fraction(int(v) * int(a), 255)) for a in range(256)]
+                         for v in range(256)])
+    assert np.array_equal(got[..., 0], expected)
+    assert np.array_equal(got[..., 1], expected[::-1])
+    assert np.array_equal(got[..., 3], alpha)
+    assert np.array_equal(premultiplied_u8(rgba.astype(np.int64)), got)
+    d = np.random.default_rng(5).integers(-300, 300, (7, 9, 4)).astype(np.int16)
+    assert np.array_equal(largest_channel(d),
+                          [[max(px) for px in row] for row in d.tolist()])
+
+
+TEXT_SVG = ('<svg xmlns="http://www.w3.org/2000/svg" width="60" height="30">'
+            '<text x="5" y="22" font-family="Noto Sans" font-size="18">Abc</text></svg>')
+
+
+@pytest.fixture
+def text_suite(tmp_path):
+    """A suite of four tests (two of them texts) whose references are their renders."""
+    import shutil
+
+    from PIL import Image
+    fonts = tmp_path / "fonts"
+    fonts.mkdir()
+    shutil.copy(os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts",
+                             "NotoSans-Subset.ttf"), fonts)
+    folder = tmp_path / "tests" / "text" / "mini"
+    folder.mkdir(parents=True)
+    from vecmsaa.tools.suite import suite_options
+    for i, doc in enumerate([TEXT_SVG, _documents()[0], TEXT_SVG.replace("Abc", "Ox"),
+                             _documents()[2]]):
+        (folder / f"t{i}.svg").write_text(doc)
+        image = render_svg_array(doc, threads=1, **suite_options(str(tmp_path)))
+        Image.fromarray(image).save(folder / f"t{i}.png")
+    return tmp_path
+
+
+def test_suite_workers_inherit_the_font_folder_loaded_once(text_suite, tmp_path, monkeypatch):
+    """`vecmsaa suite -j 2`: the suite's font folder is loaded once, in the process that forks
+    the workers, not once in each worker (nor again each 200 tests); the results are those of
+    -j 1."""
+    from vecmsaa.fonts import db
+    from vecmsaa.tools.suite import collect, run_suite
+    names = collect(str(text_suite / "tests"))
+    assert len(names) == 4
+    log = tmp_path / "loads.txt"
+    load_dir = db.FontDatabase.load_dir
+
+    def counted(self, folder):
+        with open(log, "a") as f:
+            f.write(f"{os.getpid()}\n")
+        return load_dir(self, folder)
+    monkeypatch.setattr(db.FontDatabase, "load_dir", counted)
+    monkeypatch.setattr(db, "_DB_CACHE", {})
+    two = run_suite(str(text_suite), names, jobs=2)
+    assert log.read_text() == f"{os.getpid()}\n"
+    one = run_suite(str(text_suite), names, jobs=1)
+    assert all(r.plain for r in one.values()) and two == one
