@@ -247,3 +247,101 @@ def test_suite_workers_inherit_the_font_folder_loaded_once(text_suite, tmp_path,
     assert log.read_text() == f"{os.getpid()}\n"
     one = run_suite(str(text_suite), names, jobs=1)
     assert all(r.plain for r in one.values()) and two == one
+
+
+FIXTURE_FONT = os.path.join(os.path.dirname(__file__), "..", "fixtures", "fonts",
+                            "NotoSans-Subset.ttf")
+#: (document, options) of the renders one process does one after the other
+SEQUENCE = [(SMALL_SVG, {}),
+            (TEXT_SVG, {"use_font_file": [FIXTURE_FONT], "skip_system_fonts": True}),
+            (_documents()[1], {"width": 333}),
+            (TEXT_SVG, {"use_font_file": [FIXTURE_FONT], "skip_system_fonts": True,
+                        "font_size": 30, "background": "yellow"}),
+            (_documents()[3], {"samples": 4}),
+            (_documents()[2], {"mode": "analytic"}),
+            (SMALL_SVG, {"width": 64, "threads": 1})]
+
+ALONE = """
+import hashlib, json, sys
+sys.path.insert(0, {tests!r})
+from test_batch_overhead import SEQUENCE
+from vecmsaa.api import render_svg_array
+doc, opts = SEQUENCE[int(sys.argv[1])]
+print(hashlib.sha256(render_svg_array(doc, **opts).tobytes()).hexdigest())
+"""
+
+
+def test_each_render_of_a_process_gives_the_bytes_it_gives_alone(tmp_path):
+    """Renders one after the other in one process (a service's requests: other documents,
+    sizes, fonts, modes, backgrounds before it): each gives the bytes of the same render in a
+    fresh process. Nothing a render keeps for the next (the band pool and buffers, font
+    databases, faces) changes another's image."""
+    import hashlib
+    import subprocess
+    import sys
+    code = ALONE.format(tests=os.path.dirname(os.path.abspath(__file__)))
+    fresh = [subprocess.run([sys.executable, "-c", code, str(i)], capture_output=True,
+                            text=True, check=True, timeout=600).stdout.strip()
+             for i in range(len(SEQUENCE))]
+    order = list(range(len(SEQUENCE)))
+    for i in order + order[::-1] + [3, 1, 0, 3, 6, 2, 4, 5]:
+        doc, opts = SEQUENCE[i]
+        got = hashlib.sha256(render_svg_array(doc, **opts).tobytes()).hexdigest()
+        assert got == fresh[i], i
+    render_module.release_band_pool()
+
+
+def test_a_process_loads_a_font_folder_once_for_all_its_renders(tmp_path, monkeypatch):
+    """Text renders one after another with the same font options scan the font folder once
+    (the database is the process's), and another folder once more."""
+    import shutil
+
+    from vecmsaa.fonts import db
+    for name in ("a", "b"):
+        (tmp_path / name).mkdir()
+        shutil.copy(FIXTURE_FONT, tmp_path / name)
+    loads = []
+    load_dir = db.FontDatabase.load_dir
+    monkeypatch.setattr(db.FontDatabase, "load_dir",
+                        lambda self, folder: loads.append(folder) or load_dir(self, folder))
+    monkeypatch.setattr(db, "_DB_CACHE", {})
+    for i in range(6):
+        folder = str(tmp_path / ("a" if i < 4 else "b"))
+        image = render_svg_array(TEXT_SVG.replace("Abc", "Abc"[:1 + i % 3]),
+                                 use_fonts_dir=folder, skip_system_fonts=True)
+        assert image[..., 3].any()
+    assert loads == [str(tmp_path / "a"), str(tmp_path / "b")]
+
+
+def test_a_batch_gives_the_same_bytes_with_any_jobs_and_a_bad_file_fails_alone(tmp_path):
+    """`vecmsaa render FILES --out-dir DIR` with -j 1 and -j 2: every good file's PNG is the
+    file rendered alone; the broken one is one line naming it, the others are written, the
+    exit status is 1."""
+    import subprocess
+    import sys
+    src = tmp_path / "in"
+    src.mkdir()
+    docs = {f"d{i}": doc for i, doc in enumerate(_documents())}
+    docs["text"] = TEXT_SVG
+    for name, doc in docs.items():
+        (src / f"{name}.svg").write_text(doc)
+    (src / "broken.svg").write_text("<svg xmlns='http://www.w3.org/2000/svg'><rect")
+    fonts = ["--use-font-file", FIXTURE_FONT, "--skip-system-fonts"]
+    outputs = {}
+    for jobs in ("1", "2"):
+        out = tmp_path / f"out{jobs}"
+        proc = subprocess.run([sys.executable, "-m", "vecmsaa.cli", "render", str(src),
+                               "--out-dir", str(out), "-j", jobs, "-q", *fonts],
+                              capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 1
+        lines = proc.stderr.strip().splitlines()
+        assert len(lines) == 2 and lines[0].startswith(f"FAILED {src / 'broken.svg'}: ")
+        assert lines[1] == "vecmsaa render: 1 of 6 files failed"
+        assert sorted(os.listdir(out)) == sorted(f"{n}.png" for n in docs)
+        outputs[jobs] = {n: (out / f"{n}.png").read_bytes() for n in docs}
+    assert outputs["1"] == outputs["2"]
+    for name, doc in docs.items():
+        alone = tmp_path / f"{name}-alone.png"
+        subprocess.run([sys.executable, "-m", "vecmsaa.cli", "render", str(src / f"{name}.svg"),
+                        "-o", str(alone), "-q", *fonts], check=True, timeout=600)
+        assert alone.read_bytes() == outputs["1"][name], name
