@@ -345,3 +345,38 @@ def test_a_batch_gives_the_same_bytes_with_any_jobs_and_a_bad_file_fails_alone(t
         subprocess.run([sys.executable, "-m", "vecmsaa.cli", "render", str(src / f"{name}.svg"),
                         "-o", str(alone), "-q", *fonts], check=True, timeout=600)
         assert alone.read_bytes() == outputs["1"][name], name
+
+
+@pytest.mark.parametrize("texts", [True, False])
+def test_batch_workers_inherit_the_fonts_where_the_batch_has_texts(texts, tmp_path,
+                                                                   monkeypatch):
+    """`vecmsaa render ... --out-dir D -j 2`: where the batch's first files have texts, the
+    parent scans the font folder before forking its workers and no worker scans it again;
+    a batch without texts scans it nowhere. Every file is written."""
+    import shutil
+
+    from vecmsaa.cli.main import main
+    from vecmsaa.fonts import db
+    fonts = tmp_path / "fonts"
+    fonts.mkdir()
+    shutil.copy(FIXTURE_FONT, fonts)
+    src = tmp_path / "in"
+    src.mkdir()
+    docs = _documents() + ([TEXT_SVG, TEXT_SVG.replace("Abc", "Xyz")] if texts else [])
+    for i, doc in enumerate(docs):
+        (src / f"f{i}.svg").write_text(doc)
+    log = tmp_path / "loads.txt"
+    log.write_text("")
+    load_dir = db.FontDatabase.load_dir
+
+    def counted(self, folder):
+        with open(log, "a") as f:
+            f.write(f"{os.getpid()}\n")
+        return load_dir(self, folder)
+    monkeypatch.setattr(db.FontDatabase, "load_dir", counted)
+    monkeypatch.setattr(db, "_DB_CACHE", {})
+    out = tmp_path / "out"
+    assert main(["render", str(src), "--out-dir", str(out), "-j", "2", "-q",
+                 "--use-fonts-dir", str(fonts), "--skip-system-fonts"]) == 0
+    assert sorted(os.listdir(out)) == sorted(f"f{i}.png" for i in range(len(docs)))
+    assert log.read_text() == (f"{os.getpid()}\n" if texts else "")
