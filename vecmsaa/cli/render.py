@@ -56,11 +56,13 @@ WARM_UP_PEEK = 1 << 16
 
 def warm_up_svg(sources) -> bytes:
     """What the parent of a batch's workers renders before forking them: WARM_UP_TEXT_SVG
-    when one of the first WARM_UP_FILES files has a ``<text`` in its first WARM_UP_PEEK
-    bytes (each worker loaded the text modules, the font database and a face on its first
+    when one of the first WARM_UP_FILES files (regular files only) has a ``<text`` in its
+    first WARM_UP_PEEK bytes (each worker loaded the text modules, the font database and a face on its first
     text, ≈ 0.25 s of CPU each), else WARM_UP_SVG (a batch of icons would load them for
     nothing)."""
     for src in sources[:WARM_UP_FILES]:
+        if not os.path.isfile(src):
+            continue        # a FIFO or a device: reading it here could wait forever
         try:
             with open(src, "rb") as f:
                 if b"<text" in f.read(WARM_UP_PEEK):
