@@ -677,20 +677,40 @@ class _LazyPool:
 
 
 class _LentPool:
-    """The process's pool as one render sees it: its submits are remembered, so that the
-    render ends with all of them (band_pool)."""
+    """The process's pool as one render sees it: its tasks are counted, so that the render
+    ends with all of them (band_pool). Counted, not kept: a kept future holds its result
+    (a part of a batch's geometry) until the render ends (scatter@3000: 394 -> 603 MB)."""
 
     def __init__(self, pool: _LazyPool):
-        self.pool, self.threads, self.futures = pool, pool.threads, []
+        self.pool, self.threads = pool, pool.threads
+        self._running = 0
+        self._idle = threading.Condition()
 
     def submit(self, fn, *args):
-        future = self.pool.submit(fn, *args)
-        self.futures.append(future)
-        return future
+        with self._idle:
+            self._running += 1
+        try:
+            return self.pool.submit(self._run, fn, args)
+        except BaseException:
+            self._done()
+            raise
+
+    def _run(self, fn, args):
+        try:
+            return fn(*args)
+        finally:
+            self._done()
+
+    def _done(self) -> None:
+        with self._idle:
+            self._running -= 1
+            if not self._running:
+                self._idle.notify_all()
 
     def wait(self) -> None:
-        for future in self.futures:
-            future.exception()      # (waits; the render has seen or raised what it raised)
+        with self._idle:
+            while self._running:
+                self._idle.wait()
 
 
 #: the process's band pool (band_pool): (_LazyPool, lent to a render now)
