@@ -1114,12 +1114,14 @@ def test_paced_band_threads_give_the_same_bytes(source, decision, monkeypatch):
     monkeypatch.setattr(render_module, "ITEMS_PER_BAND_AT_ONCE", 0)
     monkeypatch.setattr(render_module, "PARALLEL_ITEM_SECONDS",
                         0.0 if decision == "join" else math.inf)
+    monkeypatch.setattr(render_module, "MIN_SHARED_SECONDS",
+                        0.0 if decision == "join" else math.inf)
     seen = []
     decide = render_module.BandPace.band_drawn
 
-    def band_drawn(pace, seconds, drawn):
+    def band_drawn(pace, seconds, drawn, *rows_and_cpu):
         seen.append(drawn)
-        decide(pace, seconds, drawn)
+        decide(pace, seconds, drawn, *rows_and_cpu)
     monkeypatch.setattr(render_module.BandPace, "band_drawn", band_drawn)
     # budgets of 5 rows (the threads' bands and one thread's alike), 64 and the default (one
     # thread's bands larger than the threads': the bands left are joined)

@@ -118,7 +118,10 @@ def console() -> None:
     start-up's imports (numpy's most) make tens of thousands of objects that all stay alive,
     and the 60 collections they triggered in a 16 px render freed 494 objects (≈ 6 ms of its
     0.14 s of CPU; a document's build and render pause the collector anyway, see
-    api.collector_paused). A long batch still collects its garbage cycles."""
+    api.collector_paused). A long batch still collects its garbage cycles.
+
+    The band threads' executor is kept from render to render (raster.render.band_pool): its
+    idle threads end first, so that this thread is alone."""
     import atexit
     import gc
     import os
@@ -127,6 +130,9 @@ def console() -> None:
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
     gc.set_threshold(50_000)
     code = main()
+    render = sys.modules.get("vecmsaa.raster.render")
+    if render is not None:
+        render.release_band_pool()      # its idle threads (kept from render to render)
     if threading.active_count() > 1 or not hasattr(atexit, "_run_exitfuncs"):
         sys.exit(code)
     atexit._run_exitfuncs()

@@ -85,6 +85,20 @@ PARALLEL_ITEM_SECONDS = 50e-6
 #: items a band at most, on average, for the band threads to start at once; with more, one
 #: thread draws until BandPace has seen whether they are slow enough to share
 ITEMS_PER_BAND_AT_ONCE = 8
+#: pixels of an image, at most, whose band threads beyond the first wait for its first band
+#: that draws something however few its items are (BandPace): they join only when the rows
+#: left would take MIN_SHARED_SECONDS on one thread. A 200 px icon or suite test is a
+#: millisecond of drawing, and its render made an executor and a thread, split its 200 rows
+#: into 7 bands and handed the GIL back and forth: 1.3 times the CPU of one thread, and more
+#: wall time on a busy machine (docs/bench.md, session 36). Larger images keep starting their
+#: threads at once when their items are few (a band alone first would cost them up to an
+#: eighth of the draw)
+PACED_PIXELS = 1 << 20
+#: CPU seconds the rows left after the first band that draws something would take on one
+#: thread (that band's time per row), at least, for band threads beyond the first to join in
+#: an image of at most PACED_PIXELS: sharing saves at most half of it, against a thread's
+#: start, the GIL's hand-offs and the bands' split
+MIN_SHARED_SECONDS = 4e-3
 #: bytes the buffers of nested layers, clips and masks may hold together: each nesting level
 #: keeps a buffer of the band's rows (layer_buffer), so 1,000 nested groups with opacity would
 #: hold 16 GB in bands of BAND_BUDGET; deeper nesting draws in thinner bands instead
@@ -341,8 +355,8 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
     most_rows = layer_rows(W, layer_depth(items))
     band_rows, solo_rows = min(band_rows, most_rows), min(solo_rows, most_rows)
     starts = range(0, H, band_rows)
-    pace = BandPace(items, starts, band_rows, solo_rows) if threads > 1 and len(starts) > 1 \
-        else None
+    pace = BandPace(items, starts, band_rows, solo_rows, H if W * H <= PACED_PIXELS else None) \
+        if threads > 1 and len(starts) > 1 else None
     if threads > 1 and len(starts) > threads and not (pace is not None and pace.wait):
         starts = heaviest_first(items, starts, band_rows)
     bands = [(y0, min(band_rows, H - y0)) for y0 in starts]
@@ -370,10 +384,11 @@ def _draw_prepared(scene, opts, consume, band_budget, threads, target, refills, 
                 band[0] = background
                 band[1:] = band[0]
                 filled = rows
-            began, drawn = time.perf_counter(), raster.drawn
+            began, cpu, drawn = time.perf_counter(), time.thread_time(), raster.drawn
             draw_items(items, band, y0, raster)
             if pace is not None and pace.decide is not None:
-                pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn)
+                pace.band_drawn(time.perf_counter() - began, raster.drawn - drawn, rows,
+                                time.thread_time() - cpu)
             drawn_rows.band_done(y0, rows)
             if refill is None:
                 consume(y0, band)
@@ -428,25 +443,42 @@ class BandsDrawn:
 
 class BandPace:
     """Whether band threads beyond the first join in. At once when the items are few for the
-    bands (ITEMS_PER_BAND_AT_ONCE); otherwise the first band one thread draws that draws any
-    items decides (``band_drawn``): at PARALLEL_ITEM_SECONDS an item or more the others
-    join, taking the bands left heaviest first (``share``), below it the same thread draws
-    them, in bands of up to ``solo_rows`` (``regroup``: a layer crossing a band's edge is
-    drawn once in each band). The image depends neither on the threads nor on the bands."""
+    bands (ITEMS_PER_BAND_AT_ONCE) in an image of more than PACED_PIXELS; otherwise the
+    first band one thread draws that draws any items decides (``band_drawn``): the others
+    join, taking the bands left heaviest first (``share``), where the items are many at
+    PARALLEL_ITEM_SECONDS an item or more and, in an image of ``height`` rows (at most
+    PACED_PIXELS), where the rows left would take MIN_SHARED_SECONDS or more; otherwise the
+    same thread draws them, in bands of up to ``solo_rows`` (``regroup``: a layer crossing a
+    band's edge is drawn once in each band). The image depends neither on the threads nor on
+    the bands."""
 
-    def __init__(self, items, starts, band_rows: int, solo_rows: int):
+    def __init__(self, items, starts, band_rows: int, solo_rows: int,
+                 height: int | None = None):
         self.items, self.starts, self.band_rows = items, starts, band_rows
         self.solo_rows = solo_rows
-        self.wait = item_count(items) > ITEMS_PER_BAND_AT_ONCE * len(starts)
+        self.many = item_count(items) > ITEMS_PER_BAND_AT_ONCE * len(starts)
+        #: rows of a small image (PACED_PIXELS), None for a larger one
+        self.height = height
+        self.wait = self.many or height is not None
+        #: rows drawn before the deciding band (by this thread alone)
+        self.rows_before = 0
         #: (join, alone) from run_bands while undecided, then None
         self.decide = None
 
-    def band_drawn(self, seconds: float, drawn: int) -> None:
+    def band_drawn(self, seconds: float, drawn: int, rows: int = 0,
+                   cpu_seconds: float = 0.0) -> None:
+        """A band of ``rows`` rows drew ``drawn`` items in ``seconds`` (wall) and
+        ``cpu_seconds`` (its thread's CPU)."""
         if drawn == 0:
+            self.rows_before += rows
             return          # a band with nothing in it tells nothing
         join, alone = self.decide
         self.decide = None
-        (join if seconds >= PARALLEL_ITEM_SECONDS * drawn else alone)()
+        share = not self.many or seconds >= PARALLEL_ITEM_SECONDS * drawn
+        if share and self.height is not None and rows > 0:
+            left = self.height - self.rows_before - rows
+            share = cpu_seconds * left / rows >= MIN_SHARED_SECONDS
+        (join if share else alone)()
 
     def share(self, bands: list) -> list:
         """The (y0, rows) bands heaviest first (heaviest_first), for threads taking turns."""
@@ -593,16 +625,30 @@ def _keep_kit(key, raster: Raster, buffer, filled: int, colour: np.ndarray) -> N
 
 @contextlib.contextmanager
 def band_pool(threads: int):
-    """An executor of ``threads`` threads for one render (None for one thread): the fill
-    batches' geometry is built on it (FillBatch), then the bands are drawn on it."""
+    """An executor of ``threads`` threads for a render (None for one thread): the fill
+    batches' geometry is built on it (FillBatch), then the bands are drawn on it. The
+    process's executor of that many threads (made on its first ``submit``, kept from render
+    to render: a batch or a service rendering file after file made and joined one a file),
+    or, while another render holds that one (renders on several threads at once) or renders
+    ask for different numbers of threads, one of the render's own. Either way every task
+    submitted has ended when the render gives it back."""
     if threads <= 1:
         yield None
         return
-    pool = _LazyPool(threads)
+    shared = _borrow_shared_pool(threads)
+    if shared is None:
+        pool = _LazyPool(threads)
+        try:
+            yield pool
+        finally:
+            pool.shutdown()
+        return
+    lent = _LentPool(shared)
     try:
-        yield pool
+        yield lent
     finally:
-        pool.shutdown()
+        lent.wait()
+        _give_back_shared_pool()
 
 
 class _LazyPool:
@@ -614,17 +660,105 @@ class _LazyPool:
         self.threads = threads
         self._executor = None
         self._lock = threading.Lock()
+        #: executors made (tests count them)
+        self.made = 0
 
     def submit(self, fn, *args):
         with self._lock:
             if self._executor is None:
                 from concurrent.futures import ThreadPoolExecutor
                 self._executor = ThreadPoolExecutor(self.threads)
+                self.made += 1
         return self._executor.submit(fn, *args)
 
     def shutdown(self) -> None:
         if self._executor is not None:
             self._executor.shutdown()
+
+
+class _LentPool:
+    """The process's pool as one render sees it: its tasks are counted, so that the render
+    ends with all of them (band_pool). Counted, not kept: a kept future holds its result
+    (a part of a batch's geometry) until the render ends (scatter@3000: 394 -> 603 MB)."""
+
+    def __init__(self, pool: _LazyPool):
+        self.pool, self.threads = pool, pool.threads
+        self._running = 0
+        self._idle = threading.Condition()
+
+    def submit(self, fn, *args):
+        with self._idle:
+            self._running += 1
+        try:
+            return self.pool.submit(self._run, fn, args)
+        except BaseException:
+            self._done()
+            raise
+
+    def _run(self, fn, args):
+        try:
+            return fn(*args)
+        finally:
+            self._done()
+
+    def _done(self) -> None:
+        with self._idle:
+            self._running -= 1
+            if not self._running:
+                self._idle.notify_all()
+
+    def wait(self) -> None:
+        with self._idle:
+            while self._running:
+                self._idle.wait()
+
+
+#: the process's band pool (band_pool): (_LazyPool, lent to a render now)
+_shared_pool: list = [None, False]
+_shared_lock = threading.Lock()
+
+
+def _borrow_shared_pool(threads: int):
+    """The process's pool of ``threads`` threads, lent to the caller; None while it is lent
+    to another render."""
+    with _shared_lock:
+        pool, lent = _shared_pool
+        if lent:
+            return None
+        if pool is None or pool.threads != threads:
+            if pool is not None:
+                pool.shutdown()     # (idle: nothing is lent)
+            pool = _shared_pool[0] = _LazyPool(threads)
+        _shared_pool[1] = True
+        return pool
+
+
+def _give_back_shared_pool() -> None:
+    with _shared_lock:
+        _shared_pool[1] = False
+
+
+def release_band_pool() -> None:
+    """End the process's band pool's threads (they wait idle between renders): the command
+    line's quick exit (cli.main.console) needs this thread alone. A render after it makes a
+    new one."""
+    with _shared_lock:
+        pool, lent = _shared_pool
+        if pool is None or lent:
+            return
+        _shared_pool[0] = None
+    pool.shutdown()
+
+
+def _forget_band_pool() -> None:
+    """In a forked child: the parent's pool threads do not exist there."""
+    global _shared_lock
+    _shared_lock = threading.Lock()
+    _shared_pool[:] = [None, False]
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_band_pool)
 
 
 def run_bands(draw_bands, bands, threads: int, pool=None, pace: BandPace | None = None) -> None:

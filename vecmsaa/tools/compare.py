@@ -55,10 +55,29 @@ def premultiplied_u8(rgba) -> np.ndarray:
         a = np.stack([a, a, a, np.full_like(a, 255)], axis=-1)
     elif a.shape[2] == 3:
         a = np.concatenate([a, np.full(a.shape[:2] + (1,), 255, a.dtype)], axis=-1)
+    if a.dtype == np.uint8:
+        # (c * alpha + 127) // 255 is c * alpha / 255 rounded to the nearest (it is never a
+        # half), which (t + (t >> 8)) >> 8 gives for t = c * alpha + 128 in 16 bits: 7 times
+        # as fast as the division in int32 (the suite judged a 200 px test in 11 ms, 2.5 times
+        # its render); tests/test_batch_overhead.py checks every (c, alpha)
+        t = a.astype(np.uint16)
+        t *= t[..., 3:4].copy()
+        t += 128
+        t += t >> 8
+        t >>= 8
+        out = t.view(np.int16)
+        out[..., 3] = a[..., 3]
+        return out
     a = a.astype(np.int32)
     alpha = a[..., 3:4]
     rgb = (a[..., :3] * alpha + 127) // 255
     return np.concatenate([rgb, alpha], axis=-1).astype(np.int16)
+
+
+def largest_channel(d: np.ndarray) -> np.ndarray:
+    """(H, W) the largest of the 4 channels of (H, W, 4) ``d``: ``d.max(axis=-1)``, as three
+    element-wise maxima (numpy's reduction over 4 values a pixel took 20 times as long)."""
+    return np.maximum(np.maximum(d[..., 0], d[..., 1]), np.maximum(d[..., 2], d[..., 3]))
 
 
 def channel_difference(actual, expected):
@@ -67,7 +86,7 @@ def channel_difference(actual, expected):
     e = premultiplied_u8(expected)
     if a.shape != e.shape:
         return None
-    return np.abs(a - e).max(axis=-1)
+    return largest_channel(np.abs(a - e))
 
 
 def flat_areas(premultiplied: np.ndarray, spread: int) -> np.ndarray:
@@ -95,7 +114,7 @@ def compare_images(actual, expected, threshold: int = THRESHOLD,
     if a.shape != e.shape:
         h, w = np.asarray(expected).shape[:2]
         return Comparison(False, h * w, h * w, 255, None)
-    diff = np.abs(a - e).max(axis=-1)
+    diff = largest_channel(np.abs(a - e))
     off = diff > threshold
     if flat_threshold is not None and flat_threshold < threshold:
         flat = flat_areas(a, FLAT_SPREAD) & flat_areas(e, FLAT_SPREAD)
