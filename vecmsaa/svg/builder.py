@@ -488,7 +488,7 @@ def _gather_mapped(sources, source_at, ts):
 
 def _use_hairlines(sources, source_at, ts, kind, hairs):
     """For Builder._use_arrays, where some of a stretch's runs are hairlines (source_at[r] =
-    -1 - h: the path of hairs[h], (verbs, points), cap outset, alpha; _use_plan): the other
+    -1 - h: the Path of hairs[h], cap outset, alpha; _use_plan): the other
     runs as _gather_mapped makes them, and each hairline's runs (none or several) made a
     kernel call for HAIRLINE_CHUNK of them (hairline_each: under ts[r], the same floats as
     stroke() makes per instance, hairline_path's), in their place: (verbs, points, run verb
@@ -498,11 +498,7 @@ def _use_hairlines(sources, source_at, ts, kind, hairs):
     nv, nm, nvoff, npoff = _gather_mapped(sources, np.ascontiguousarray(source_at[normal]),
                                           ts[normal])
     h = -1 - source_at[hw]
-    hvs, hps = np.zeros(len(hairs) + 1, np.int64), np.zeros(len(hairs) + 1, np.int64)
-    np.cumsum([len(v) for (v, _), _, _ in hairs], out=hvs[1:])
-    np.cumsum([len(p) for (_, p), _, _ in hairs], out=hps[1:])
-    hv = np.concatenate([v for (v, _), _, _ in hairs]).astype(np.uint8, copy=False)
-    hp = _points64(np.concatenate([p for (_, p), _, _ in hairs]))
+    hv, hp, hvs, hps = batch_arrays([path for path, _, _ in hairs])
     outsets = np.array([o for _, o, _ in hairs], np.float64)[h]
     alphas = np.array([a for _, _, a in hairs], np.float64)[h]
     ms = ts[hw]
@@ -1400,8 +1396,8 @@ class Builder:
         the lists ``chains`` (each the matrices a run's transform composes with the top, in
         order), ``sources`` ((verbs, points) of a fill or stroke outline in user space) and
         ``styles`` ((paint, rule, opacity, antialias)), each kept once (``*_of``: its index
-        by key); a hairline's source is -1 - h, ``hairs[h]`` ((verbs, points) of the path in
-        user space, its cap's outset, the alpha it blends with: _instance_hairline), its
+        by key); a hairline's source is -1 - h, ``hairs[h]`` (the Path in user space, its
+        cap's outset, the alpha it blends with: _instance_hairline), its
         runs made per instance (_use_hairlines); False when another stroke is made per
         instance (dashed, non-scaling: _instance_outline's False)."""
         symbol = () if got.symbol_m is None else (got.symbol_m,)
@@ -1426,7 +1422,7 @@ class Builder:
                     hi = hair_of.get(hkey)
                     if hi is None:
                         hi = hair_of[hkey] = len(hairs)
-                        hairs.append((path._freeze(), outset, alpha))
+                        hairs.append((path, outset, alpha))
                     arrays = None
                 elif not outline:
                     continue
