@@ -226,15 +226,12 @@ def text_suite(tmp_path):
     return tmp_path
 
 
-def test_suite_workers_inherit_the_font_folder_loaded_once(text_suite, tmp_path, monkeypatch):
-    """`vecmsaa suite -j 2`: the suite's font folder is loaded once, in the process that forks
-    the workers, not once in each worker (nor again each 200 tests); the results are those of
-    -j 1."""
+def _logged_font_loads(tmp_path, monkeypatch):
+    """A file (empty) to which every scan of a font folder, in this process or a forked
+    one, adds the scanning process's pid; the process's font databases forgotten."""
     from vecmsaa.fonts import db
-    from vecmsaa.tools.suite import collect, run_suite
-    names = collect(str(text_suite / "tests"))
-    assert len(names) == 4
     log = tmp_path / "loads.txt"
+    log.write_text("")
     load_dir = db.FontDatabase.load_dir
 
     def counted(self, folder):
@@ -243,6 +240,17 @@ def test_suite_workers_inherit_the_font_folder_loaded_once(text_suite, tmp_path,
         return load_dir(self, folder)
     monkeypatch.setattr(db.FontDatabase, "load_dir", counted)
     monkeypatch.setattr(db, "_DB_CACHE", {})
+    return log
+
+
+def test_suite_workers_inherit_the_font_folder_loaded_once(text_suite, tmp_path, monkeypatch):
+    """`vecmsaa suite -j 2`: the suite's font folder is loaded once, in the process that forks
+    the workers, not once in each worker (nor again each 200 tests); the results are those of
+    -j 1."""
+    from vecmsaa.tools.suite import collect, run_suite
+    names = collect(str(text_suite / "tests"))
+    assert len(names) == 4
+    log = _logged_font_loads(tmp_path, monkeypatch)
     two = run_suite(str(text_suite), names, jobs=2)
     assert log.read_text() == f"{os.getpid()}\n"
     one = run_suite(str(text_suite), names, jobs=1)
@@ -356,7 +364,6 @@ def test_batch_workers_inherit_the_fonts_where_the_batch_has_texts(texts, tmp_pa
     import shutil
 
     from vecmsaa.cli.main import main
-    from vecmsaa.fonts import db
     fonts = tmp_path / "fonts"
     fonts.mkdir()
     shutil.copy(FIXTURE_FONT, fonts)
@@ -365,16 +372,7 @@ def test_batch_workers_inherit_the_fonts_where_the_batch_has_texts(texts, tmp_pa
     docs = _documents() + ([TEXT_SVG, TEXT_SVG.replace("Abc", "Xyz")] if texts else [])
     for i, doc in enumerate(docs):
         (src / f"f{i}.svg").write_text(doc)
-    log = tmp_path / "loads.txt"
-    log.write_text("")
-    load_dir = db.FontDatabase.load_dir
-
-    def counted(self, folder):
-        with open(log, "a") as f:
-            f.write(f"{os.getpid()}\n")
-        return load_dir(self, folder)
-    monkeypatch.setattr(db.FontDatabase, "load_dir", counted)
-    monkeypatch.setattr(db, "_DB_CACHE", {})
+    log = _logged_font_loads(tmp_path, monkeypatch)
     out = tmp_path / "out"
     assert main(["render", str(src), "--out-dir", str(out), "-j", "2", "-q",
                  "--use-fonts-dir", str(fonts), "--skip-system-fonts"]) == 0
